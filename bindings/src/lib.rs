@@ -1,0 +1,214 @@
+//! Python bindings: `slipstep._engine.solve(model: dict, progress: bool) -> dict`.
+//! Only translation between numpy/dict and the engine's records lives here; the event loop
+//! runs in Rust with the GIL released (it re-attaches every few events to honour Ctrl-C).
+
+use numpy::ndarray::{Array1, Array2};
+use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use slipstep_core::material::{Material, Plane};
+use slipstep_core::mesh::Mesh;
+use slipstep_core::model::*;
+use std::io::Write;
+use std::time::Instant;
+
+fn get<'py>(d: &Bound<'py, PyDict>, key: &str) -> PyResult<Bound<'py, PyAny>> {
+    d.get_item(key)?.ok_or_else(|| PyValueError::new_err(format!("engine model: missing key '{key}'")))
+}
+
+fn f64_2d(d: &Bound<'_, PyDict>, key: &str, cols: usize) -> PyResult<Vec<[f64; 2]>> {
+    let arr: PyReadonlyArray2<f64> = get(d, key)?.extract().map_err(|_| PyValueError::new_err(format!("engine model: '{key}' must be a float64 array of shape (n, {cols})")))?;
+    let a = arr.as_array();
+    if a.ncols() != cols {
+        return Err(PyValueError::new_err(format!("engine model: '{key}' must have {cols} columns")));
+    }
+    Ok(a.rows().into_iter().map(|r| [r[0], r[1]]).collect())
+}
+
+fn i64_1d(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<i64>> {
+    let arr: PyReadonlyArray1<i64> = get(d, key)?.extract().map_err(|_| PyValueError::new_err(format!("engine model: '{key}' must be an int64 array")))?;
+    Ok(arr.as_array().to_vec())
+}
+
+fn f64_1d(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<f64>> {
+    let arr: PyReadonlyArray1<f64> = get(d, key)?.extract().map_err(|_| PyValueError::new_err(format!("engine model: '{key}' must be a float64 array")))?;
+    Ok(arr.as_array().to_vec())
+}
+
+fn to_index(v: i64, what: &str) -> PyResult<usize> {
+    usize::try_from(v).map_err(|_| PyValueError::new_err(format!("engine model: negative index {v} in {what}")))
+}
+
+fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
+    let nodes = f64_2d(d, "nodes", 2)?;
+    let tri: PyReadonlyArray2<i64> = get(d, "triangles")?.extract().map_err(|_| PyValueError::new_err("engine model: 'triangles' must be an int64 array of shape (m, 3)"))?;
+    let tri = tri.as_array();
+    if tri.ncols() != 3 {
+        return Err(PyValueError::new_err("engine model: 'triangles' must have 3 columns"));
+    }
+    let mut triangles = Vec::with_capacity(tri.nrows());
+    for r in tri.rows() {
+        triangles.push([to_index(r[0], "triangles")?, to_index(r[1], "triangles")?, to_index(r[2], "triangles")?]);
+    }
+    let element_material = i64_1d(d, "element_material")?.into_iter().map(|v| to_index(v, "element_material")).collect::<PyResult<_>>()?;
+    let mut materials = Vec::new();
+    for m in get(d, "materials")?.cast::<PyList>()?.iter() {
+        let m = m.cast::<PyDict>()?;
+        let young: f64 = get(m, "E")?.extract()?;
+        let poisson: f64 = get(m, "nu")?.extract()?;
+        let mut mat = Material::elastic(young, poisson);
+        if let Some(sy) = m.get_item("Sy")? {
+            if !sy.is_none() {
+                mat.yield_stress = sy.extract()?;
+            }
+        }
+        if let Some(h) = m.get_item("H")? {
+            if !h.is_none() {
+                mat.hardening = h.extract()?;
+            }
+        }
+        materials.push(mat);
+    }
+    let plane = match get(d, "plane")?.extract::<String>()?.as_str() {
+        "strain" => Plane::Strain,
+        "stress" => Plane::Stress,
+        other => return Err(PyValueError::new_err(format!("engine model: plane = '{other}': use 'strain' or 'stress'"))),
+    };
+    let thickness: f64 = get(d, "thickness")?.extract()?;
+    let fixed_dofs = i64_1d(d, "fixed_dofs")?.into_iter().map(|v| to_index(v, "fixed_dofs")).collect::<PyResult<_>>()?;
+    let load = f64_1d(d, "load")?;
+    let mut pairs = Vec::new();
+    if let Some(p) = d.get_item("pairs")? {
+        let p = p.cast::<PyDict>()?;
+        let a = i64_1d(p, "node_a")?;
+        let b = i64_1d(p, "node_b")?;
+        let normal = f64_2d(p, "normal", 2)?;
+        let gap = f64_1d(p, "gap")?;
+        let mu = f64_1d(p, "mu")?;
+        let n = a.len();
+        if [b.len(), normal.len(), gap.len(), mu.len()].iter().any(|&l| l != n) {
+            return Err(PyValueError::new_err("engine model: the pair arrays node_a, node_b, normal, gap, mu differ in length"));
+        }
+        for k in 0..n {
+            pairs.push(PairInput {
+                node_a: to_index(a[k], "pairs.node_a")?,
+                node_b: if b[k] < 0 { None } else { Some(b[k] as usize) },
+                normal: normal[k],
+                gap: gap[k],
+                mu: mu[k],
+            });
+        }
+    }
+    let mut options = Options::default();
+    if let Some(o) = d.get_item("options")? {
+        let o = o.cast::<PyDict>()?;
+        if let Some(v) = o.get_item("tie_tol")? {
+            options.tie_tol = v.extract()?;
+        }
+        if let Some(v) = o.get_item("max_events")? {
+            options.max_steps = v.extract()?;
+        }
+        if let Some(v) = o.get_item("equilibrium_tol")? {
+            options.equilibrium_tol = v.extract()?;
+        }
+        if let Some(v) = o.get_item("output")? {
+            options.snapshots = match v.extract::<String>()?.as_str() {
+                "events" => SnapshotRequest::EveryEvent,
+                "fractions" => SnapshotRequest::Fractions(f64_1d(o, "fractions")?),
+                other => return Err(PyValueError::new_err(format!("engine model: options.output = '{other}': use 'events' or 'fractions'"))),
+            };
+        }
+    }
+    Ok(Model { mesh: Mesh { nodes, triangles }, element_material, materials, plane, thickness, fixed_dofs, load, pairs, options })
+}
+
+fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    let ev = PyDict::new(py);
+    ev.set_item("step", r.events.iter().map(|e| e.step as i64).collect::<Vec<_>>().into_pyarray(py))?;
+    ev.set_item("load_fraction", r.events.iter().map(|e| e.load_fraction).collect::<Vec<_>>().into_pyarray(py))?;
+    ev.set_item("kind", r.events.iter().map(|e| e.kind.name()).collect::<Vec<_>>())?;
+    ev.set_item("entity", r.events.iter().map(|e| e.entity as i64).collect::<Vec<_>>().into_pyarray(py))?;
+    out.set_item("events", ev)?;
+    let st = PyDict::new(py);
+    st.set_item("load_fraction", r.steps.iter().map(|s| s.load_fraction).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item("scale", r.steps.iter().map(|s| s.scale).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item("residual", r.steps.iter().map(|s| s.residual).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item("n_closed", r.steps.iter().map(|s| s.n_closed as i64).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item("n_stick", r.steps.iter().map(|s| s.n_stick as i64).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item("n_slip", r.steps.iter().map(|s| s.n_slip as i64).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item("normal_force", r.steps.iter().map(|s| s.normal_force).collect::<Vec<_>>().into_pyarray(py))?;
+    out.set_item("steps", st)?;
+    let snaps = PyList::empty(py);
+    for s in r.snapshots {
+        let d = PyDict::new(py);
+        d.set_item("load_fraction", s.load_fraction)?;
+        let n = s.u.len() / 2;
+        d.set_item("u", Array2::from_shape_vec((n, 2), s.u).unwrap().into_pyarray(py))?;
+        let m = s.stress.len();
+        d.set_item("stress", Array2::from_shape_vec((m, 4), s.stress.into_iter().flatten().collect()).unwrap().into_pyarray(py))?;
+        d.set_item("lambda_n", s.lambda_n.into_pyarray(py))?;
+        d.set_item("lambda_t", s.lambda_t.into_pyarray(py))?;
+        d.set_item("status", Array1::from(s.status).into_pyarray(py))?;
+        d.set_item("gap", s.gap.into_pyarray(py))?;
+        d.set_item("rtd", s.rtd.into_pyarray(py))?;
+        snaps.append(d)?;
+    }
+    out.set_item("snapshots", snaps)?;
+    out.set_item("closure_fraction", r.closure_fraction.into_pyarray(py))?;
+    out.set_item("predicted_closure", r.predicted_closure.into_pyarray(py))?;
+    out.set_item("max_equilibrium_residual", r.max_equilibrium_residual)?;
+    out.set_item("n_factorizations", r.n_factorizations)?;
+    out.set_item("n_solves", r.n_solves)?;
+    out.set_item("interrupted", r.interrupted)?;
+    let t = PyDict::new(py);
+    t.set_item("assembly", r.timings.assembly)?;
+    t.set_item("factorization", r.timings.factorization)?;
+    t.set_item("solves", r.timings.solves)?;
+    t.set_item("events", r.timings.events)?;
+    out.set_item("timings", t)?;
+    Ok(out)
+}
+
+/// Run the adaptive incremental procedure on `model` (see docs/engine_api.md).
+#[pyfunction]
+#[pyo3(signature = (model, progress = true))]
+fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: bool) -> PyResult<Bound<'py, PyDict>> {
+    let model = read_model(model)?;
+    let result = py.detach(|| {
+        let start = Instant::now();
+        let mut last_print = Instant::now();
+        let mut printed = false;
+        let mut last_signal_check = Instant::now();
+        let r = slipstep_core::run(&model, |p: Progress| {
+            if progress && last_print.elapsed().as_secs_f64() > 0.5 {
+                last_print = Instant::now();
+                printed = true;
+                eprint!("\r  {} events, {} increments, load fraction {:.4}, {:.1} s   ", p.events, p.steps, p.load_fraction, start.elapsed().as_secs_f64());
+                let _ = std::io::stderr().flush();
+            }
+            // Ctrl-C: Python's handler raises KeyboardInterrupt when it runs; stop cleanly.
+            if last_signal_check.elapsed().as_secs_f64() > 0.1 {
+                last_signal_check = Instant::now();
+                return Python::attach(|py| py.check_signals().is_ok());
+            }
+            true
+        });
+        if printed {
+            eprintln!();
+        }
+        r
+    });
+    match result {
+        Ok(r) => result_to_dict(py, r),
+        Err(e) => Err(PyValueError::new_err(e.0)),
+    }
+}
+
+#[pymodule]
+fn _engine(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(solve, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

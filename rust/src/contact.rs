@@ -1,0 +1,154 @@
+//! Contact candidate pairs and their constraint vectors (paper eqs. 21–28, 45–46).
+//!
+//! A pair joins a contactor node `a` to a target: another body's node `b` (node-to-node) or
+//! a rigid straight line (node-to-rigid-line, `b = None`). With the target's unit normal n
+//! (pointing towards `a`) and tangent t = (−n_y, n_x), in global DOFs:
+//!
+//!   w_n = n at a, −n at b   ⇒ gap = gap₀ + w_nᵀ u ≥ 0        (eqs. 21–22, with C_n = −w_n)
+//!   w_t = t at a, −t at b   ⇒ RTD = w_tᵀ u                   (eq. 25, C_t = w_t)
+//!
+//! and the contact force on the bodies is w_n λ_n + w_t λ_t with λ_n ≥ 0 compressive
+//! (eqs. 23, 36). Coulomb (eqs. 1–3): |λ_t| ≤ μ λ_n; a slipping pair carries
+//! λ_t = −d μ λ_n where d = ±1 is the direction of its slip (eq. 41).
+
+/// A sparse vector over global DOFs: at most 4 entries (two nodes × two components).
+#[derive(Debug, Clone, Default)]
+pub struct SparseVec {
+    pub entries: Vec<(usize, f64)>,
+}
+
+impl SparseVec {
+    pub fn dot(&self, u: &[f64]) -> f64 {
+        self.entries.iter().map(|&(d, c)| c * u[d]).sum()
+    }
+
+    /// y += s · self
+    pub fn add_to(&self, s: f64, y: &mut [f64]) {
+        for &(d, c) in &self.entries {
+            y[d] += s * c;
+        }
+    }
+
+    /// Keep only the DOFs `keep` says are free.
+    pub fn restricted(&self, keep: impl Fn(usize) -> bool) -> SparseVec {
+        SparseVec { entries: self.entries.iter().copied().filter(|&(d, _)| keep(d)).collect() }
+    }
+
+    pub fn norm(&self) -> f64 {
+        self.entries.iter().map(|&(_, c)| c * c).sum::<f64>().sqrt()
+    }
+}
+
+/// The contact status of a pair (paper: C_nN open, C_ta stick, C_ts slip).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    Open,
+    /// Closed, no relative tangential motion. Also used for frictional pairs whose tangential
+    /// DOFs are all held by supports (a node on a symmetry line): their tangential constraint
+    /// would be redundant, so it is not imposed and λ_t stays 0.
+    Stick,
+    /// Closed and slipping with λ_t = −d μ λ_n. Frictionless closed pairs are Slip with μ = 0.
+    Slip { direction: i8 },
+}
+
+impl Status {
+    pub fn code(self) -> i8 {
+        match self {
+            Status::Open => 0,
+            Status::Stick => 1,
+            Status::Slip { .. } => 2,
+        }
+    }
+    pub fn is_closed(self) -> bool {
+        self != Status::Open
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct Pair {
+    pub node_a: usize,
+    pub node_b: Option<usize>,
+    pub normal: [f64; 2],
+    pub gap0: f64,
+    pub mu: f64,
+    /// Normal constraint vector over free DOFs (supports removed).
+    pub w_n: SparseVec,
+    /// Tangential constraint vector over free DOFs.
+    pub w_t: SparseVec,
+    /// The tangential direction is held entirely by supports: no stick constraint.
+    pub tangent_held: bool,
+}
+
+impl Pair {
+    pub fn new(node_a: usize, node_b: Option<usize>, normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
+        let t = [-normal[1], normal[0]];
+        let vec_of = |dir: [f64; 2]| {
+            let mut entries = vec![(2 * node_a, dir[0]), (2 * node_a + 1, dir[1])];
+            if let Some(b) = node_b {
+                entries.push((2 * b, -dir[0]));
+                entries.push((2 * b + 1, -dir[1]));
+            }
+            SparseVec { entries: entries.into_iter().filter(|&(_, c)| c != 0.0).collect() }
+        };
+        let free = |d: usize| !fixed[d];
+        let w_n = vec_of(normal).restricted(free);
+        let w_t = vec_of(t).restricted(free);
+        let tangent_held = w_t.norm() < 1e-12;
+        Pair { node_a, node_b, normal, gap0, mu, w_n, w_t, tangent_held }
+    }
+
+    pub fn frictional(&self) -> bool {
+        self.mu > 0.0 && !self.tangent_held
+    }
+
+    /// The status a pair takes when it closes: stick with friction (held tangentially by
+    /// its own constraint, or by the supports when `tangent_held`), frictionless sliding (μ = 0).
+    pub fn closed_status(&self) -> Status {
+        if self.mu > 0.0 {
+            Status::Stick
+        } else {
+            Status::Slip { direction: 0 }
+        }
+    }
+
+    pub fn gap(&self, u: &[f64]) -> f64 {
+        self.gap0 + self.w_n.dot(u)
+    }
+
+    pub fn rtd(&self, u: &[f64]) -> f64 {
+        self.w_t.dot(u)
+    }
+
+    /// λ_t = τ λ_n for a slipping pair (eq. 41): τ = −d μ.
+    pub fn slip_ratio(&self, status: Status) -> f64 {
+        match status {
+            Status::Slip { direction } => -(direction as f64) * self.mu,
+            _ => 0.0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gap_and_rtd_follow_the_conventions() {
+        // Node a (0) above node b (1), target normal +y: moving a up opens the gap,
+        // moving a along t = (−1, 0) is positive RTD.
+        let fixed = vec![false; 4];
+        let p = Pair::new(0, Some(1), [0.0, 1.0], 0.5, 0.2, &fixed);
+        let u = [-0.1, 0.2, 0.0, -0.3];
+        assert!((p.gap(&u) - (0.5 + 0.2 + 0.3)).abs() < 1e-15);
+        assert!((p.rtd(&u) - 0.1).abs() < 1e-15);
+    }
+
+    #[test]
+    fn tangent_on_a_symmetry_line_is_held() {
+        // Node 0 with u_x fixed on a rigid flat of normal +y: its tangential DOF is a support.
+        let fixed = vec![true, false];
+        let p = Pair::new(0, None, [0.0, 1.0], 0.0, 0.3, &fixed);
+        assert!(p.tangent_held && !p.frictional());
+        assert_eq!(p.closed_status(), Status::Stick);
+    }
+}

@@ -1,0 +1,714 @@
+//! The adaptive incremental procedure (paper §4).
+//!
+//! From the current state, one *trial* increment is solved for the whole remaining load in
+//! residual form (eq. 43/44: right-hand side = total load − internal force + current contact
+//! forces, so any drift is corrected by the next trial). Each candidate event gets its scale
+//! factor (eqs. 48–55, module `events`); the state advances by the smallest one (eqs. 57–62),
+//! the statuses of the pairs whose events fall at that scale change together, and the loop
+//! repeats until the whole load is applied (S = 1).
+//!
+//! Linear algebra. With K# a generalized inverse of the reduced stiffness (SPD Cholesky factor
+//! of K with supports and one pinned DOF per free rigid-body mode removed, `linalg`) and N the
+//! free rigid-body modes, the trial increment of eq. 44 is
+//!   Δu = K#(r + E Δλ) + N α,
+//! where the columns of E are the contact force directions of the closed pairs (w_n, w_t for
+//! stick; w_n − dμ w_t for slip, eq. 41: this makes the small system nonsymmetric) and the
+//! rows of C their constraints (w_n·Δu = −gap, w_t·Δu = 0 for stick). The multipliers and
+//! rigid amplitudes solve the small dense system
+//!   [Cᵀ K# E   Cᵀ N] [Δλ]   [h − Cᵀ K# r]
+//!   [Nᵀ E       0  ] [α ] = [  −Nᵀ r    ]
+//! whose second row is the equilibrium of each free body. K#w is cached per closed pair and
+//! the big factor is computed once for an elastic run: an event costs two triangular solves,
+//! the small dense solve, and O(active × DOFs) vector work.
+//!
+//! Simultaneous events: those whose scales agree within `tie_tol` (relative) are applied in
+//! one increment (symmetric meshes, flat punches). At zero scale only the most urgent class is
+//! applied per increment (`zero_length_priority`).
+//!
+//! Termination (anti-cycling rule). Positive-length increments advance the load; the loop
+//! stops when the trial reaches S = 1 and is bounded by `Options::max_steps`. Zero-length
+//! increments (stick→slip at S = 0, a pair that closes and reopens, ties) could cycle: within
+//! one run of zero-length increments each pair may change status at most
+//! `max_zero_length_switches` times; a pair that would switch once more is frozen in its status
+//! (a `frozen` event names it) and ignored until the load advances. Every zero-length increment
+//! switches or freezes at least one pair, so a zero-length run has at most (switches + 1) × pairs
+//! increments and the procedure always terminates. A frozen pair that then violates a contact
+//! condition is reported as an error naming it.
+
+use crate::bail;
+use crate::contact::{Pair, Status};
+use crate::element::Cst;
+use crate::error::Result;
+use crate::events::{self, Candidate, Noise};
+use crate::linalg::{assemble_lower, DofMap, DofRole, SpdSolver};
+use crate::model::*;
+use crate::rigid_modes::{free_modes, RigidMode};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use std::time::Instant;
+
+/// Scale factors at or below this are zero-length increments.
+const ZERO_SCALE: f64 = 1e-12;
+
+/// Order in which simultaneous zero-length events are applied (lowest first, one class per
+/// increment): releasing a violated constraint (stick→slip, separation) before closing a gap,
+/// and both before re-imposing stick. A slip reversal seen in a trial where a stuck pair
+/// already exceeds its cone is an artefact of that trial; applying all of them at once makes
+/// pairs chatter slip→stick→slip at every event.
+fn zero_length_priority(kind: EventKind) -> u8 {
+    match kind {
+        EventKind::StickToSlip | EventKind::Separate => 0,
+        EventKind::Close => 1,
+        EventKind::SlipToStick | EventKind::Frozen => 2,
+    }
+}
+
+/// The evolving state: accumulated displacement, stresses and contact forces (eqs. 59–62).
+#[derive(Clone)]
+struct State {
+    load_fraction: f64,
+    u: Vec<f64>,
+    stress: Vec<Vector3<f64>>,
+    stress_z: Vec<f64>,
+    lambda_n: Vec<f64>,
+    lambda_t: Vec<f64>,
+}
+
+/// One trial increment for the remaining load.
+struct TrialIncrement {
+    du: Vec<f64>,
+    dstress: Vec<Vector3<f64>>,
+    dstress_z: Vec<f64>,
+    dlambda_n: Vec<f64>,
+    dlambda_t: Vec<f64>,
+}
+
+/// A row of the small system: pair `pair`'s normal or tangential constraint.
+#[derive(Clone, Copy)]
+enum Row {
+    Normal(usize),
+    Tangent(usize),
+}
+
+struct Engine<'m> {
+    model: &'m Model,
+    elements: Vec<Cst>,
+    tangents: Vec<Matrix3<f64>>,
+    pairs: Vec<Pair>,
+    modes: Vec<RigidMode>,
+    map: DofMap,
+    fixed: Vec<bool>,
+    solver: SpdSolver,
+    /// K# w_n and K# w_t per pair, computed when first needed (valid for the current factor).
+    zn: Vec<Option<Vec<f64>>>,
+    zt: Vec<Option<Vec<f64>>>,
+    load_norm: f64,
+    /// Σ|load|: the scale of forces, for tolerances.
+    force_scale: f64,
+    noise: Noise,
+    length_scale: f64,
+    timings: Timings,
+}
+
+pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<RunResult> {
+    let t_start = Instant::now();
+    let mut eng = Engine::new(model)?;
+    eng.timings.assembly = t_start.elapsed().as_secs_f64();
+    eng.factor()?;
+
+    let n_pairs = eng.pairs.len();
+    let n_el = eng.elements.len();
+    let mut state = State {
+        load_fraction: 0.0,
+        u: vec![0.0; 2 * model.mesh.n_nodes()],
+        stress: vec![Vector3::zeros(); n_el],
+        stress_z: vec![0.0; n_el],
+        lambda_n: vec![0.0; n_pairs],
+        lambda_t: vec![0.0; n_pairs],
+    };
+    // Initially closed pairs (zero gap: receding/conforming contact) start in stick (paper §4).
+    let gap_tol = 1e-12 * eng.length_scale;
+    let mut status: Vec<Status> = eng
+        .pairs
+        .iter()
+        .map(|p| if p.gap0 <= gap_tol { p.closed_status() } else { Status::Open })
+        .collect();
+    let mut rtd_stick = vec![0.0; n_pairs];
+    let mut closure_fraction: Vec<f64> =
+        status.iter().map(|s| if s.is_closed() { 0.0 } else { f64::NAN }).collect();
+    let mut predicted_closure = vec![f64::INFINITY; n_pairs];
+    let mut zero_switches = vec![0usize; n_pairs];
+    let mut frozen = vec![false; n_pairs];
+
+    let mut events_out: Vec<EventRecord> = Vec::new();
+    let mut steps: Vec<StepRecord> = Vec::new();
+    let mut snapshots: Vec<Snapshot> = Vec::new();
+    let mut pending_fractions: Vec<f64> = match &model.options.snapshots {
+        SnapshotRequest::EveryEvent => {
+            snapshots.push(eng.snapshot(&state, &status));
+            vec![]
+        }
+        SnapshotRequest::Fractions(f) => {
+            let mut f = f.clone();
+            f.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            f
+        }
+    };
+    let max_steps = if model.options.max_steps > 0 { model.options.max_steps } else { 50 * (n_pairs + 1) + 1000 };
+    let mut max_residual: f64 = 0.0;
+    let mut interrupted = false;
+    let mut switch_count = vec![0usize; n_pairs];
+
+    loop {
+        if steps.len() >= max_steps {
+            let mut worst: Vec<usize> = (0..n_pairs).collect();
+            worst.sort_by_key(|&p| std::cmp::Reverse(switch_count[p]));
+            let names: Vec<String> = worst.iter().take(5).filter(|&&p| switch_count[p] > 0)
+                .map(|&p| format!("pair {p} (node {}, {} switches)", eng.pairs[p].node_a, switch_count[p])).collect();
+            bail!("the event loop reached max_events = {max_steps} increments at load fraction {:.6}: pairs switching most: {}; raise solver.max_events or coarsen the mesh", state.load_fraction, names.join(", "));
+        }
+        let t0 = Instant::now();
+        let trial = eng.trial(&state, &status, &rtd_stick)?;
+        eng.timings.solves += t0.elapsed().as_secs_f64();
+        let t1 = Instant::now();
+
+        let cands = events::candidates(
+            &events::PairState { pairs: &eng.pairs, status: &status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, frozen: &frozen },
+            &events::Trial { du: &trial.du, dlambda_n: &trial.dlambda_n, dlambda_t: &trial.dlambda_t },
+            eng.noise,
+        );
+        let s_min = cands.iter().map(|c| c.scale).fold(f64::INFINITY, f64::min);
+        let scale = s_min.min(1.0);
+        let last = s_min >= 1.0;
+        let phi0 = state.load_fraction;
+        let remaining = 1.0 - phi0;
+        if last {
+            for c in &cands {
+                if c.kind == EventKind::Close {
+                    predicted_closure[c.pair] = phi0 + c.scale * remaining;
+                }
+            }
+        }
+        let tie_limit = s_min * (1.0 + model.options.tie_tol) + 1e-14;
+        let mut group: Vec<Candidate> = if last { vec![] } else { cands.iter().copied().filter(|c| c.scale <= tie_limit).collect() };
+        if s_min <= ZERO_SCALE {
+            // Zero-length events come from a trial that is itself inadmissible; apply first
+            // the ones that release a violated constraint, and only then those that add one.
+            let top = group.iter().map(|c| zero_length_priority(c.kind)).min().unwrap_or(0);
+            group.retain(|c| zero_length_priority(c.kind) == top);
+        }
+
+        // Snapshots requested inside this increment (the path is linear in between).
+        let phi1 = if last { 1.0 } else { phi0 + scale * remaining };
+        while let Some(&f) = pending_fractions.first() {
+            if f > phi1 + 1e-15 {
+                break;
+            }
+            let s = if remaining > 0.0 { ((f - phi0) / remaining).clamp(0.0, scale) } else { 0.0 };
+            let mut st = eng.advance(&state, &trial, s);
+            st.load_fraction = f;
+            snapshots.push(eng.snapshot(&st, &status));
+            pending_fractions.remove(0);
+        }
+
+        // Advance by S (eqs. 58–62), then check the state at the event.
+        state = eng.advance(&state, &trial, scale);
+        state.load_fraction = phi1;
+        for (p, st) in status.iter().enumerate() {
+            if let Status::Slip { .. } = st {
+                state.lambda_t[p] = eng.pairs[p].slip_ratio(*st) * state.lambda_n[p];
+            }
+        }
+        let residual = eng.equilibrium_residual(&state);
+        max_residual = max_residual.max(residual);
+        if residual > model.options.equilibrium_tol {
+            bail!("equilibrium residual {residual:.3e} exceeds {:.1e} at load fraction {phi1:.6} (step {}): the linear system is ill-conditioned; check for nearly unsupported bodies or extreme element size ratios", model.options.equilibrium_tol, steps.len());
+        }
+        eng.check_contact(&state, &status, &frozen, phi1)?;
+
+        // Status changes of the events at this scale (with the anti-cycling rule).
+        let zero_length = scale <= ZERO_SCALE;
+        if !zero_length {
+            zero_switches.iter_mut().for_each(|c| *c = 0);
+            frozen.iter_mut().for_each(|f| *f = false);
+        }
+        let step_index = steps.len();
+        let mut seen = vec![false; n_pairs];
+        for c in &group {
+            let p = c.pair;
+            if seen[p] {
+                continue;
+            }
+            seen[p] = true;
+            if zero_length && zero_switches[p] >= model.options.max_zero_length_switches {
+                frozen[p] = true;
+                events_out.push(EventRecord { step: step_index, load_fraction: phi1, kind: EventKind::Frozen, entity: p });
+                continue;
+            }
+            if zero_length {
+                zero_switches[p] += 1;
+            }
+            switch_count[p] += 1;
+            let pair = &eng.pairs[p];
+            match c.kind {
+                EventKind::Close => {
+                    status[p] = pair.closed_status();
+                    rtd_stick[p] = pair.rtd(&state.u);
+                    closure_fraction[p] = phi1;
+                }
+                EventKind::Separate => {
+                    status[p] = Status::Open;
+                    state.lambda_n[p] = 0.0;
+                    state.lambda_t[p] = 0.0;
+                }
+                EventKind::StickToSlip => {
+                    status[p] = Status::Slip { direction: c.direction };
+                    state.lambda_t[p] = pair.slip_ratio(status[p]) * state.lambda_n[p];
+                }
+                EventKind::SlipToStick => {
+                    status[p] = Status::Stick;
+                    rtd_stick[p] = pair.rtd(&state.u);
+                }
+                EventKind::Frozen => {}
+            }
+            events_out.push(EventRecord { step: step_index, load_fraction: phi1, kind: c.kind, entity: p });
+        }
+
+        let n_closed = status.iter().filter(|s| s.is_closed()).count();
+        let n_stick = status.iter().filter(|s| **s == Status::Stick).count();
+        steps.push(StepRecord {
+            load_fraction: phi1,
+            scale,
+            residual,
+            n_closed,
+            n_stick,
+            n_slip: n_closed - n_stick,
+            normal_force: state.lambda_n.iter().sum(),
+        });
+        if let SnapshotRequest::EveryEvent = model.options.snapshots {
+            snapshots.push(eng.snapshot(&state, &status));
+        }
+        eng.timings.events += t1.elapsed().as_secs_f64();
+        if last {
+            break;
+        }
+        if !progress(Progress { steps: steps.len(), events: events_out.len(), load_fraction: phi1 }) {
+            interrupted = true;
+            break;
+        }
+    }
+    if let SnapshotRequest::Fractions(_) = model.options.snapshots {
+        if snapshots.last().map_or(true, |s| (s.load_fraction - state.load_fraction).abs() > 1e-14) {
+            snapshots.push(eng.snapshot(&state, &status));
+        }
+    }
+    Ok(RunResult {
+        events: events_out,
+        steps,
+        snapshots,
+        closure_fraction,
+        predicted_closure,
+        max_equilibrium_residual: max_residual,
+        n_factorizations: eng.solver.n_factorizations,
+        n_solves: eng.solver.n_solves,
+        interrupted,
+        timings: eng.timings.clone(),
+    })
+}
+
+impl<'m> Engine<'m> {
+    fn new(model: &'m Model) -> Result<Self> {
+        let mesh = &model.mesh;
+        mesh.validate()?;
+        let n_nodes = mesh.n_nodes();
+        let n_dofs = 2 * n_nodes;
+        if !(model.thickness.is_finite() && model.thickness > 0.0) {
+            bail!("thickness = {} is not allowed: give a positive out-of-plane thickness", model.thickness);
+        }
+        if model.materials.is_empty() {
+            bail!("no material given: every body needs a material with E and nu");
+        }
+        for (i, m) in model.materials.iter().enumerate() {
+            m.validate(i)?;
+        }
+        if model.element_material.len() != mesh.triangles.len() {
+            bail!("element_material has {} entries for {} elements", model.element_material.len(), mesh.triangles.len());
+        }
+        if let Some((e, &m)) = model.element_material.iter().enumerate().find(|(_, &m)| m >= model.materials.len()) {
+            bail!("element {e} uses material {m}, but only {} materials are given", model.materials.len());
+        }
+        if model.load.len() != n_dofs {
+            bail!("the load vector has {} entries for {} DOFs (2 per node)", model.load.len(), n_dofs);
+        }
+        if let Some(d) = model.load.iter().position(|v| !v.is_finite()) {
+            bail!("the load at node {} ({}) is not finite: check the pressure/traction values", d / 2, if d % 2 == 0 { "x" } else { "y" });
+        }
+        let mut fixed = vec![false; n_dofs];
+        for &d in &model.fixed_dofs {
+            if d >= n_dofs {
+                bail!("fixed DOF {d} is out of range (the mesh has {n_dofs} DOFs)");
+            }
+            fixed[d] = true;
+        }
+        let load_norm = model.load.iter().enumerate().filter(|(d, _)| !fixed[*d]).map(|(_, v)| v * v).sum::<f64>().sqrt();
+        if load_norm == 0.0 {
+            bail!("the load is zero on every free DOF: give a pressure, traction or point load on a part that is not held by supports");
+        }
+        let (xmin, xmax, ymin, ymax) = mesh.nodes.iter().fold((f64::MAX, f64::MIN, f64::MAX, f64::MIN), |b, p| (b.0.min(p[0]), b.1.max(p[0]), b.2.min(p[1]), b.3.max(p[1])));
+        let length_scale = ((xmax - xmin).powi(2) + (ymax - ymin).powi(2)).sqrt();
+        let (body_of_node, n_bodies) = mesh.bodies();
+
+        // Contact pairs.
+        let mut pairs = Vec::with_capacity(model.pairs.len());
+        let mut seen = std::collections::HashSet::new();
+        for (k, p) in model.pairs.iter().enumerate() {
+            let in_mesh = |i: usize| i < n_nodes && body_of_node[i] != usize::MAX;
+            if !in_mesh(p.node_a) || p.node_b.map_or(false, |b| !in_mesh(b)) {
+                bail!("contact pair {k}: node {} / {:?} is not a node of any element: check the contact surface tags", p.node_a, p.node_b);
+            }
+            if p.node_b == Some(p.node_a) {
+                bail!("contact pair {k} joins node {} to itself", p.node_a);
+            }
+            if !seen.insert((p.node_a, p.node_b)) {
+                bail!("contact pair {k} repeats the pair of node {} (a node may face one target once): remove the duplicate", p.node_a);
+            }
+            if !(p.mu.is_finite() && p.mu >= 0.0) {
+                bail!("contact pair {k}: mu = {} is not allowed: the friction coefficient must be >= 0", p.mu);
+            }
+            let nn = (p.normal[0].powi(2) + p.normal[1].powi(2)).sqrt();
+            if !nn.is_finite() || (nn - 1.0).abs() > 1e-6 {
+                bail!("contact pair {k}: the normal ({}, {}) is not a unit vector", p.normal[0], p.normal[1]);
+            }
+            if !p.gap.is_finite() {
+                bail!("contact pair {k}: the initial gap is not finite");
+            }
+            if p.gap < -1e-9 * length_scale {
+                bail!("initial penetration at contact pair {k} (node {}): gap {:.3e} < 0; move the bodies apart so that they at most touch", p.node_a, p.gap);
+            }
+            let normal = [p.normal[0] / nn, p.normal[1] / nn];
+            let pair = Pair::new(p.node_a, p.node_b, normal, p.gap.max(0.0), p.mu, &fixed);
+            if pair.w_n.norm() < 1e-12 {
+                bail!("contact pair {k} (node {}): its normal direction is held by supports, so it can carry no contact force; remove the pair or the support", p.node_a);
+            }
+            pairs.push(pair);
+        }
+
+        let (modes, pinned) = free_modes(&mesh.nodes, &body_of_node, n_bodies, &fixed);
+        let map = DofMap::new(n_dofs, &fixed, &pinned);
+        let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(mesh, e)).collect();
+        let tangents = model.element_material.iter().map(|&m| model.materials[m].elastic_tangent(model.plane)).collect();
+        let n_pairs = pairs.len();
+        let load_total: f64 = model.load.iter().map(|v| v.abs()).sum();
+        Ok(Engine {
+            model,
+            elements,
+            tangents,
+            pairs,
+            modes,
+            map,
+            fixed,
+            solver: SpdSolver::new(),
+            zn: vec![None; n_pairs],
+            zt: vec![None; n_pairs],
+            load_norm,
+            force_scale: load_total,
+            noise: Noise { displacement: 0.0, force: 1e-12 * load_total },
+            length_scale,
+            timings: Timings::default(),
+        })
+    }
+
+    fn factor(&mut self) -> Result<()> {
+        let t0 = Instant::now();
+        let k = assemble_lower(&self.elements, &self.tangents, self.model.thickness, &self.map)?;
+        let t1 = Instant::now();
+        self.timings.assembly += (t1 - t0).as_secs_f64();
+        let dof_of_eq: Vec<usize> = (0..self.map.role.len()).filter(|&d| self.map.equation(d).is_some()).collect();
+        self.solver.factor(&k, &dof_of_eq)?;
+        self.timings.factorization += t1.elapsed().as_secs_f64();
+        self.zn.iter_mut().for_each(|z| *z = None);
+        self.zt.iter_mut().for_each(|z| *z = None);
+        Ok(())
+    }
+
+    /// x = K# y over all DOFs (fixed and pinned DOFs get 0).
+    fn apply_ginv(&mut self, y: &[f64]) -> Vec<f64> {
+        let mut b = vec![0.0; self.map.n_equations];
+        for (d, role) in self.map.role.iter().enumerate() {
+            if let DofRole::Equation(i) = role {
+                b[*i] = y[d];
+            }
+        }
+        self.solver.solve_in_place(&mut b);
+        let mut x = vec![0.0; y.len()];
+        for (d, role) in self.map.role.iter().enumerate() {
+            if let DofRole::Equation(i) = role {
+                x[d] = b[*i];
+            }
+        }
+        x
+    }
+
+    fn ginv_of(&mut self, p: usize, tangential: bool) -> &Vec<f64> {
+        let n = self.map.role.len();
+        let missing = if tangential { self.zt[p].is_none() } else { self.zn[p].is_none() };
+        if missing {
+            let mut y = vec![0.0; n];
+            let w = if tangential { &self.pairs[p].w_t } else { &self.pairs[p].w_n };
+            w.add_to(1.0, &mut y);
+            let z = self.apply_ginv(&y);
+            if tangential { self.zt[p] = Some(z) } else { self.zn[p] = Some(z) }
+        }
+        if tangential { self.zt[p].as_ref().unwrap() } else { self.zn[p].as_ref().unwrap() }
+    }
+
+    fn z(&self, p: usize, tangential: bool) -> &[f64] {
+        if tangential { self.zt[p].as_ref().unwrap() } else { self.zn[p].as_ref().unwrap() }
+    }
+
+    /// Internal nodal forces Σ t A Bᵀ σ (eq. 42).
+    fn internal_force(&self, stress: &[Vector3<f64>]) -> Vec<f64> {
+        let mut f = vec![0.0; self.map.role.len()];
+        for (el, s) in self.elements.iter().zip(stress) {
+            let fe = el.internal_force(s, self.model.thickness);
+            for (k, d) in el.dofs().iter().enumerate() {
+                f[*d] += fe[k];
+            }
+        }
+        f
+    }
+
+    /// Out-of-balance force at load fraction `phi`: φ P − P_σ + contact forces, over free DOFs.
+    fn residual_vector(&self, state: &State, phi: f64) -> Vec<f64> {
+        let mut r = self.internal_force(&state.stress);
+        for (d, v) in r.iter_mut().enumerate() {
+            *v = if self.fixed[d] { 0.0 } else { phi * self.model.load[d] - *v };
+        }
+        for (p, pair) in self.pairs.iter().enumerate() {
+            pair.w_n.add_to(state.lambda_n[p], &mut r);
+            pair.w_t.add_to(state.lambda_t[p], &mut r);
+        }
+        r
+    }
+
+    fn equilibrium_residual(&self, state: &State) -> f64 {
+        let r = self.residual_vector(state, state.load_fraction);
+        r.iter().map(|v| v * v).sum::<f64>().sqrt() / self.load_norm
+    }
+
+    /// The trial increment for the remaining load (eq. 44 in residual form).
+    fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64]) -> Result<TrialIncrement> {
+        let r = self.residual_vector(state, 1.0);
+        let z0 = self.apply_ginv(&r);
+
+        // Rows (constraints) and their right-hand sides h.
+        let mut rows = Vec::new();
+        let mut h = Vec::new();
+        for (p, st) in status.iter().enumerate() {
+            if !st.is_closed() {
+                continue;
+            }
+            let pair = &self.pairs[p];
+            rows.push(Row::Normal(p));
+            h.push(-pair.gap(&state.u));
+            if *st == Status::Stick && pair.frictional() {
+                rows.push(Row::Tangent(p));
+                h.push(rtd_stick[p] - pair.rtd(&state.u));
+            }
+        }
+        for row in &rows {
+            match *row {
+                Row::Normal(p) => {
+                    self.ginv_of(p, false);
+                    if let Status::Slip { .. } = status[p] {
+                        if self.pairs[p].mu > 0.0 {
+                            self.ginv_of(p, true);
+                        }
+                    }
+                }
+                Row::Tangent(p) => {
+                    self.ginv_of(p, true);
+                }
+            }
+        }
+        let m = rows.len();
+        let nm = self.modes.len();
+        let size = m + nm;
+        // Column j: force direction e_j; z_j = K# e_j is a combination of cached K# w vectors.
+        let columns: Vec<Vec<(f64, usize, bool)>> = rows
+            .iter()
+            .map(|row| match *row {
+                Row::Normal(p) => {
+                    let tau = self.pairs[p].slip_ratio(status[p]);
+                    if tau != 0.0 { vec![(1.0, p, false), (tau, p, true)] } else { vec![(1.0, p, false)] }
+                }
+                Row::Tangent(p) => vec![(1.0, p, true)],
+            })
+            .collect();
+        let cvecs: Vec<_> = rows
+            .iter()
+            .map(|row| match *row {
+                Row::Normal(p) => self.pairs[p].w_n.clone(),
+                Row::Tangent(p) => self.pairs[p].w_t.clone(),
+            })
+            .collect();
+        let mut a = DMatrix::<f64>::zeros(size, size);
+        let mut rhs = DVector::<f64>::zeros(size);
+        for j in 0..m {
+            for i in 0..m {
+                a[(i, j)] = columns[j].iter().map(|&(c, p, t)| c * cvecs[i].dot(self.z(p, t))).sum();
+            }
+            // Nᵀ e_j
+            let (p, tangential) = match rows[j] {
+                Row::Normal(p) => (p, false),
+                Row::Tangent(p) => (p, true),
+            };
+            let pair = &self.pairs[p];
+            for (k, mode) in self.modes.iter().enumerate() {
+                let v = if tangential {
+                    pair.w_t.dot(&mode.vector)
+                } else {
+                    pair.w_n.dot(&mode.vector) + pair.slip_ratio(status[p]) * pair.w_t.dot(&mode.vector)
+                };
+                a[(m + k, j)] = v;
+            }
+        }
+        for (k, mode) in self.modes.iter().enumerate() {
+            for i in 0..m {
+                a[(i, m + k)] = cvecs[i].dot(&mode.vector);
+            }
+            rhs[m + k] = -mode.vector.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>();
+        }
+        for i in 0..m {
+            rhs[i] = h[i] - cvecs[i].dot(&z0);
+        }
+        self.check_restrained(&a, m, &rows)?;
+        let sol = if size == 0 {
+            DVector::zeros(0)
+        } else {
+            let lu = a.clone().full_piv_lu();
+            match lu.solve(&rhs) {
+                Some(x) if x.iter().all(|v| v.is_finite()) => x,
+                _ => {
+                    let closed: Vec<String> = rows.iter().filter_map(|r| if let Row::Normal(p) = r { Some(p.to_string()) } else { None }).collect();
+                    bail!("the contact system is singular at load fraction {:.6}: the closed pairs [{}] are redundant (two pairs on one node along the same direction?) — remove duplicate pairs", state.load_fraction, closed.join(", "));
+                }
+            }
+        };
+
+        // Δu = z0 + Σ z_j Δλ_j + N α
+        let mut du = z0;
+        let mut dlambda_n = vec![0.0; self.pairs.len()];
+        let mut dlambda_t = vec![0.0; self.pairs.len()];
+        for j in 0..m {
+            for &(c, p, t) in &columns[j] {
+                let s = c * sol[j];
+                du.iter_mut().zip(self.z(p, t)).for_each(|(d, zv)| *d += s * zv);
+            }
+            match rows[j] {
+                Row::Normal(p) => {
+                    dlambda_n[p] = sol[j];
+                    dlambda_t[p] = self.pairs[p].slip_ratio(status[p]) * sol[j];
+                }
+                Row::Tangent(p) => dlambda_t[p] = sol[j],
+            }
+        }
+        for (k, mode) in self.modes.iter().enumerate() {
+            let s = sol[m + k];
+            du.iter_mut().zip(&mode.vector).for_each(|(d, v)| *d += s * v);
+        }
+        let (dstress, dstress_z) = self.stress_increment(&du);
+        let umax = du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        self.noise.displacement = 1e-11 * umax;
+        Ok(TrialIncrement { du, dstress, dstress_z, dlambda_n, dlambda_t })
+    }
+
+    /// A free rigid-body mode that no closed pair holds makes the small system singular:
+    /// say which body and which motion.
+    fn check_restrained(&self, a: &DMatrix<f64>, m: usize, rows: &[Row]) -> Result<()> {
+        let nm = self.modes.len();
+        if nm == 0 {
+            return Ok(());
+        }
+        // Columns m.. of the constraint rows: Cᵀ N (m × nm) must have full column rank per body.
+        let mut bodies: Vec<usize> = self.modes.iter().map(|md| md.body).collect();
+        bodies.dedup();
+        for body in bodies {
+            let idx: Vec<usize> = (0..nm).filter(|&k| self.modes[k].body == body).collect();
+            let mut g = DMatrix::<f64>::zeros(m.max(1), idx.len());
+            for i in 0..m {
+                for (c, &k) in idx.iter().enumerate() {
+                    g[(i, c)] = a[(i, m + k)];
+                }
+            }
+            let sv = g.clone().singular_values();
+            let smax = sv.iter().fold(0.0f64, |x, v| x.max(*v));
+            let smin = sv.iter().fold(f64::INFINITY, |x, v| x.min(*v));
+            if m == 0 || sv.len() < idx.len() || smin <= 1e-9 * smax.max(1e-300) || smax == 0.0 {
+                let free: Vec<&str> = idx.iter().map(|&k| self.modes[k].description.as_str()).collect();
+                let closed = rows.iter().filter(|r| matches!(r, Row::Normal(_))).count();
+                bail!("body {body} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", free.join("; "));
+            }
+        }
+        Ok(())
+    }
+
+    fn stress_increment(&self, du: &[f64]) -> (Vec<Vector3<f64>>, Vec<f64>) {
+        let mut ds = Vec::with_capacity(self.elements.len());
+        let mut dz = Vec::with_capacity(self.elements.len());
+        for (e, el) in self.elements.iter().enumerate() {
+            let s = self.tangents[e] * el.strain(du);
+            let mat = &self.model.materials[self.model.element_material[e]];
+            dz.push(mat.sigma_z(self.model.plane, s[0], s[1]));
+            ds.push(s);
+        }
+        (ds, dz)
+    }
+
+    /// State + s × trial increment (eqs. 58–61).
+    fn advance(&self, state: &State, trial: &TrialIncrement, s: f64) -> State {
+        let mut st = state.clone();
+        st.u.iter_mut().zip(&trial.du).for_each(|(u, d)| *u += s * d);
+        st.stress.iter_mut().zip(&trial.dstress).for_each(|(u, d)| *u += s * d);
+        st.stress_z.iter_mut().zip(&trial.dstress_z).for_each(|(u, d)| *u += s * d);
+        st.lambda_n.iter_mut().zip(&trial.dlambda_n).for_each(|(u, d)| *u += s * d);
+        st.lambda_t.iter_mut().zip(&trial.dlambda_t).for_each(|(u, d)| *u += s * d);
+        st
+    }
+
+    /// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb cone.
+    fn check_contact(&self, state: &State, status: &[Status], frozen: &[bool], phi: f64) -> Result<()> {
+        let umax = state.u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let gap_tol = 1e-8 * umax + 1e-12 * self.length_scale;
+        let force_tol = 1e-9 * self.force_scale;
+        let why = |p: usize| if frozen[p] { " (the pair was frozen by the anti-cycling rule: it cycled between statuses at zero load increment)" } else { "" };
+        for (p, pair) in self.pairs.iter().enumerate() {
+            let g = pair.gap(&state.u);
+            if g < -gap_tol {
+                bail!("contact pair {p} (node {}) penetrates by {:.3e} at load fraction {phi:.6}{}", pair.node_a, -g, why(p));
+            }
+            if status[p].is_closed() {
+                let (ln, lt) = (state.lambda_n[p], state.lambda_t[p]);
+                if ln < -force_tol {
+                    bail!("contact pair {p} (node {}) carries a tensile force {ln:.3e} at load fraction {phi:.6}{}", pair.node_a, why(p));
+                }
+                if lt.abs() > pair.mu * ln + force_tol {
+                    bail!("contact pair {p} (node {}) violates Coulomb's law (|λ_t| = {:.3e} > μλ_n = {:.3e}) at load fraction {phi:.6}{}", pair.node_a, lt.abs(), pair.mu * ln, why(p));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn snapshot(&self, state: &State, status: &[Status]) -> Snapshot {
+        Snapshot {
+            load_fraction: state.load_fraction,
+            u: state.u.clone(),
+            stress: state.stress.iter().zip(&state.stress_z).map(|(s, z)| [s[0], s[1], *z, s[2]]).collect(),
+            lambda_n: state.lambda_n.clone(),
+            lambda_t: state.lambda_t.clone(),
+            status: status.iter().map(|s| s.code()).collect(),
+            gap: self.pairs.iter().map(|p| p.gap(&state.u)).collect(),
+            rtd: self.pairs.iter().map(|p| p.rtd(&state.u)).collect(),
+        }
+    }
+}

@@ -1,0 +1,127 @@
+//! Scale factors of the next events (paper §4, step 3, eqs. 48–57).
+//!
+//! From the current state (λ_n, λ_t, gaps) and a trial increment (Δu, Δλ_n, Δλ_t) computed
+//! for the whole remaining load, each candidate event has a scale S ∈ [0, ∞): the fraction of
+//! the trial increment at which it happens. The smallest S (capped at 1) is taken.
+
+use crate::contact::{Pair, Status};
+use crate::model::EventKind;
+
+#[derive(Debug, Clone, Copy)]
+pub struct Candidate {
+    pub scale: f64,
+    pub pair: usize,
+    pub kind: EventKind,
+    /// For stick→slip: the slip direction d (λ_t = −d μ λ_n afterwards).
+    pub direction: i8,
+}
+
+/// Noise floors below which a rate counts as zero (relative to the problem's scales).
+#[derive(Debug, Clone, Copy)]
+pub struct Noise {
+    pub displacement: f64,
+    pub force: f64,
+}
+
+pub struct PairState<'a> {
+    pub pairs: &'a [Pair],
+    pub status: &'a [Status],
+    pub lambda_n: &'a [f64],
+    pub lambda_t: &'a [f64],
+    pub u: &'a [f64],
+    /// Pairs excluded by the anti-cycling rule until the load advances.
+    pub frozen: &'a [bool],
+}
+
+pub struct Trial<'a> {
+    pub du: &'a [f64],
+    pub dlambda_n: &'a [f64],
+    pub dlambda_t: &'a [f64],
+}
+
+/// All candidate events of the trial increment, unsorted.
+pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candidate> {
+    let mut out = Vec::new();
+    for (p, pair) in state.pairs.iter().enumerate() {
+        if state.frozen[p] {
+            continue;
+        }
+        let push = |out: &mut Vec<Candidate>, scale: f64, kind, direction| {
+            out.push(Candidate { scale: scale.max(0.0), pair: p, kind, direction })
+        };
+        let (ln, lt) = (state.lambda_n[p], state.lambda_t[p]);
+        let (dln, dlt) = (trial.dlambda_n[p], trial.dlambda_t[p]);
+        match state.status[p] {
+            Status::Open => {
+                // Contact, eqs. 48–49: the gap closes at S_c = g / (−Δg).
+                let dgap = pair.w_n.dot(trial.du);
+                if dgap < -noise.displacement {
+                    push(&mut out, pair.gap(state.u).max(0.0) / -dgap, EventKind::Close, 0);
+                }
+            }
+            status => {
+                // Separation, eqs. 50–51: λ_n reaches zero at S_r = λ_n / (−Δλ_n).
+                if dln < -noise.force {
+                    push(&mut out, ln.max(0.0) / -dln, EventKind::Separate, 0);
+                }
+                match status {
+                    Status::Stick if pair.frictional() => {
+                        // Stick → slip, eqs. 52–53, on either side of the Coulomb cone.
+                        // Reaching λ_t = +μλ_n means slip in −t (d = −1), and vice versa.
+                        let mu = pair.mu;
+                        let den_plus = dlt - mu * dln;
+                        if den_plus > noise.force {
+                            push(&mut out, (mu * ln - lt) / den_plus, EventKind::StickToSlip, -1);
+                        }
+                        let den_minus = -dlt - mu * dln;
+                        if den_minus > noise.force {
+                            push(&mut out, (mu * ln + lt) / den_minus, EventKind::StickToSlip, 1);
+                        }
+                    }
+                    Status::Slip { direction } if pair.mu > 0.0 => {
+                        // Slip → stick, eqs. 54–55: the slip rate turns against the friction
+                        // force's direction; this happens at zero scale.
+                        let dslip = pair.w_t.dot(trial.du);
+                        if (direction as f64) * dslip < -noise.displacement {
+                            push(&mut out, 0.0, EventKind::SlipToStick, 0);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn one_pair(mu: f64) -> Vec<Pair> {
+        vec![Pair::new(0, None, [0.0, 1.0], 0.1, mu, &[false, false])]
+    }
+
+    #[test]
+    fn closing_scale_is_gap_over_closure() {
+        let pairs = one_pair(0.0);
+        let u = [0.0, -0.02];
+        let st = PairState { pairs: &pairs, status: &[Status::Open], lambda_n: &[0.0], lambda_t: &[0.0], u: &u, frozen: &[false] };
+        let du = [0.0, -0.32];
+        let c = candidates(&st, &Trial { du: &du, dlambda_n: &[0.0], dlambda_t: &[0.0] }, Noise { displacement: 1e-14, force: 1e-14 });
+        assert_eq!(c.len(), 1);
+        assert!((c[0].scale - 0.08 / 0.32).abs() < 1e-15);
+    }
+
+    #[test]
+    fn stick_slip_scale_hits_the_cone() {
+        // λ_n = 10, λ_t = 1, μ = 0.3; Δλ_n = 10, Δλ_t = 5: 1 + 5S = 0.3(10 + 10S) ⇒ S = 1.
+        let pairs = one_pair(0.3);
+        let st = PairState { pairs: &pairs, status: &[Status::Stick], lambda_n: &[10.0], lambda_t: &[1.0], u: &[0.0, 0.0], frozen: &[false] };
+        let c = candidates(&st, &Trial { du: &[0.0, 0.0], dlambda_n: &[10.0], dlambda_t: &[5.0] }, Noise { displacement: 1e-14, force: 1e-14 });
+        assert_eq!(c.len(), 1);
+        assert_eq!(c[0].kind, EventKind::StickToSlip);
+        assert_eq!(c[0].direction, -1);
+        assert!((c[0].scale - 1.0).abs() < 1e-14);
+    }
+}

@@ -1,0 +1,33 @@
+//! # slipstep-core
+//!
+//! 2D frictional contact of elastic bodies solved by the *adaptive incremental* procedure of
+//! Abdalla, Ali-Eldin & Ghazy: no penalty parameter and no load steps. From the current state
+//! the engine solves for the whole remaining load, computes the load scale at which the next
+//! event happens (a gap closes, a pair separates, a stuck pair starts to slip, a slipping pair
+//! sticks) and advances exactly to it. The result is an exact, piecewise-linear load path and
+//! its event history.
+//!
+//! One module per concept, in the order of the paper:
+//! - [`material`]: elasticity D (eqs. 9, 18); the place where plasticity (eq. 11) plugs in;
+//! - [`element`]: the constant-strain triangle (eq. 10, K of eq. 36, P_σ of eq. 42);
+//! - [`mesh`]: meshes, validation, bodies;
+//! - [`contact`]: candidate pairs, their constraint vectors and statuses (eqs. 21–28, 41, 45–46);
+//! - [`rigid_modes`]: rigid-body modes left free by the supports;
+//! - [`linalg`]: sparse assembly and the SPD Cholesky factor (faer);
+//! - [`events`]: scale factors of the next event (eqs. 48–57);
+//! - [`driver`]: the incremental loop (§4, eqs. 43–44, 58–62), termination rule, checks;
+//! - [`model`]: input and output records.
+
+pub mod contact;
+pub mod driver;
+pub mod element;
+pub mod error;
+pub mod events;
+pub mod linalg;
+pub mod material;
+pub mod mesh;
+pub mod model;
+pub mod rigid_modes;
+
+pub use driver::run;
+pub use error::{Error, Result};

@@ -1,0 +1,185 @@
+//! Sparse linear algebra: the reduced stiffness and its Cholesky factor.
+//!
+//! Supports (u = 0) are eliminated. A body that is held only by contact (the paper's cylinder
+//! on the flat, a block on a foundation) has rigid-body modes left in K; for those a few
+//! "pinned" DOFs are removed as well, which turns K into an SPD matrix K_reg. Solving with
+//! K_reg and setting the pinned DOFs to zero applies a generalized inverse K# (K K# K = K);
+//! the rigid-body amplitudes are then found together with the contact multipliers
+//! (see `driver`), so the big factor stays SPD and is never refactorized for a contact event.
+
+use crate::bail;
+use crate::element::Cst;
+use crate::error::Result;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{MatMut, Side};
+use faer::linalg::solvers::Solve;
+use nalgebra::Matrix3;
+
+/// Where a global DOF goes in the reduced system.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DofRole {
+    /// Prescribed zero displacement (support, symmetry).
+    Fixed,
+    /// Removed to make K_reg SPD; its value comes from the rigid-body amplitudes.
+    Pinned,
+    /// Equation number in K_reg.
+    Equation(usize),
+}
+
+#[derive(Debug, Clone)]
+pub struct DofMap {
+    pub role: Vec<DofRole>,
+    pub n_equations: usize,
+}
+
+impl DofMap {
+    pub fn new(n_dofs: usize, fixed: &[bool], pinned: &[usize]) -> Self {
+        let mut role = vec![DofRole::Fixed; n_dofs];
+        let mut is_pinned = vec![false; n_dofs];
+        for &d in pinned {
+            is_pinned[d] = true;
+        }
+        let mut n = 0;
+        for d in 0..n_dofs {
+            if fixed[d] {
+                continue;
+            }
+            role[d] = if is_pinned[d] {
+                DofRole::Pinned
+            } else {
+                n += 1;
+                DofRole::Equation(n - 1)
+            };
+        }
+        DofMap { role, n_equations: n }
+    }
+
+    pub fn equation(&self, dof: usize) -> Option<usize> {
+        match self.role[dof] {
+            DofRole::Equation(i) => Some(i),
+            _ => None,
+        }
+    }
+}
+
+/// Lower triangle of K_reg = Σ_e t A Bᵀ D_e B over the equation DOFs.
+pub fn assemble_lower(
+    elements: &[Cst],
+    tangents: &[Matrix3<f64>],
+    thickness: f64,
+    map: &DofMap,
+) -> Result<SparseColMat<usize, f64>> {
+    let mut triplets = Vec::with_capacity(elements.len() * 21);
+    for (el, d) in elements.iter().zip(tangents) {
+        let ke = el.stiffness(d, thickness);
+        let eqs = el.dofs().map(|g| map.equation(g));
+        for i in 0..6 {
+            let Some(ri) = eqs[i] else { continue };
+            for j in 0..6 {
+                let Some(cj) = eqs[j] else { continue };
+                if ri >= cj {
+                    triplets.push(Triplet::new(ri, cj, ke[(i, j)]));
+                }
+            }
+        }
+    }
+    let n = map.n_equations;
+    SparseColMat::try_new_from_triplets(n, n, &triplets)
+        .map_err(|e| crate::error::Error(format!("could not assemble the stiffness matrix: {e:?}")))
+}
+
+/// Cholesky factor of K_reg with the symbolic analysis kept for refactorization.
+pub struct SpdSolver {
+    symbolic: Option<SymbolicLlt<usize>>,
+    factor: Option<Llt<usize, f64>>,
+    pub n_factorizations: usize,
+    pub n_solves: usize,
+}
+
+impl SpdSolver {
+    pub fn new() -> Self {
+        SpdSolver { symbolic: None, factor: None, n_factorizations: 0, n_solves: 0 }
+    }
+
+    /// Factor `lower` (lower triangle of an SPD matrix). A non-positive pivot means a
+    /// mechanism: the message names the global DOF through `dof_of_equation`.
+    pub fn factor(&mut self, lower: &SparseColMat<usize, f64>, dof_of_equation: &[usize]) -> Result<()> {
+        if self.symbolic.is_none() {
+            let sym = SymbolicLlt::try_new(lower.symbolic(), Side::Lower)
+                .map_err(|e| crate::error::Error(format!("symbolic factorization failed: {e:?}")))?;
+            self.symbolic = Some(sym);
+        }
+        let sym = self.symbolic.clone().unwrap();
+        match Llt::try_new_with_symbolic(sym, lower.as_ref(), Side::Lower) {
+            Ok(f) => {
+                self.factor = Some(f);
+                self.n_factorizations += 1;
+                Ok(())
+            }
+            Err(faer::sparse::linalg::LltError::Numeric(
+                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index },
+            )) => {
+                // The pivot index is in the fill-reducing ordering; name a DOF of the
+                // original numbering only when it is in range, else stay generic.
+                let hint = dof_of_equation
+                    .get(index)
+                    .map(|&d| format!(" near node {} ({})", d / 2, if d % 2 == 0 { "x" } else { "y" }))
+                    .unwrap_or_default();
+                bail!("the stiffness matrix is singular{hint}: the model has a mechanism (a part held by nothing, or elements joined at a single node); add supports or check the mesh connectivity")
+            }
+            Err(e) => bail!("the Cholesky factorization failed: {e:?}"),
+        }
+    }
+
+    /// Solve K_reg x = b in place (b over the equation DOFs).
+    pub fn solve_in_place(&mut self, b: &mut [f64]) {
+        let n = b.len();
+        let f = self.factor.as_ref().expect("factor() before solve");
+        f.solve_in_place(MatMut::from_column_major_slice_mut(b, n, 1));
+        self.n_solves += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::{Material, Plane};
+    use crate::mesh::Mesh;
+
+    #[test]
+    fn assembled_stiffness_is_symmetric_positive_with_supports() {
+        // 2x2 squares of a cantilever, fixed on x = 0: K_reg must factor, and K x = b is solved.
+        let mut nodes = vec![];
+        for j in 0..3 {
+            for i in 0..3 {
+                nodes.push([i as f64, j as f64]);
+            }
+        }
+        let mut triangles = vec![];
+        for j in 0..2 {
+            for i in 0..2 {
+                let a = 3 * j + i;
+                triangles.push([a, a + 1, a + 4]);
+                triangles.push([a, a + 4, a + 3]);
+            }
+        }
+        let mesh = Mesh { nodes, triangles };
+        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e)).collect();
+        let d = Material::elastic(1000.0, 0.3).elastic_tangent(Plane::Stress);
+        let tangents = vec![d; els.len()];
+        let mut fixed = vec![false; 18];
+        for j in 0..3 {
+            fixed[2 * (3 * j)] = true;
+            fixed[2 * (3 * j) + 1] = true;
+        }
+        let map = DofMap::new(18, &fixed, &[]);
+        let k = assemble_lower(&els, &tangents, 1.0, &map).unwrap();
+        let mut s = SpdSolver::new();
+        let dofs: Vec<usize> = (0..18).filter(|&d| !fixed[d]).collect();
+        s.factor(&k, &dofs).unwrap();
+        let mut b = vec![1.0; map.n_equations];
+        s.solve_in_place(&mut b);
+        assert!(b.iter().all(|v| v.is_finite()));
+    }
+}

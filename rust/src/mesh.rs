@@ -1,0 +1,158 @@
+//! Triangle meshes: validation and the split into bodies (connected components).
+
+use crate::bail;
+use crate::error::Result;
+
+#[derive(Debug, Clone)]
+pub struct Mesh {
+    /// Node coordinates (x, y).
+    pub nodes: Vec<[f64; 2]>,
+    /// CST connectivity, counter-clockwise.
+    pub triangles: Vec<[usize; 3]>,
+}
+
+impl Mesh {
+    pub fn n_nodes(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Twice the signed area of element `e` (> 0 when counter-clockwise).
+    pub fn signed_area2(&self, e: usize) -> f64 {
+        let [a, b, c] = self.triangles[e];
+        let (pa, pb, pc) = (self.nodes[a], self.nodes[b], self.nodes[c]);
+        (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pc[0] - pa[0]) * (pb[1] - pa[1])
+    }
+
+    /// Reject meshes the element routines cannot integrate: no elements, NaN/inf coordinates,
+    /// node ids out of range, repeated nodes in a triangle, inverted or degenerate triangles.
+    pub fn validate(&self) -> Result<()> {
+        if self.triangles.is_empty() {
+            bail!("the mesh has no triangles: give each body a mesh with at least one element");
+        }
+        for (i, p) in self.nodes.iter().enumerate() {
+            if !p[0].is_finite() || !p[1].is_finite() {
+                bail!("node {i} has a non-finite coordinate ({}, {}): fix the mesh file", p[0], p[1]);
+            }
+        }
+        let n = self.nodes.len();
+        for (e, t) in self.triangles.iter().enumerate() {
+            if let Some(&bad) = t.iter().find(|&&v| v >= n) {
+                bail!("element {e} refers to node {bad}, but the mesh has only {n} nodes: fix the connectivity");
+            }
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                bail!("element {e} repeats a node ({:?}): remove the degenerate triangle", t);
+            }
+        }
+        for e in 0..self.triangles.len() {
+            let a2 = self.signed_area2(e);
+            let [a, b, c] = self.triangles[e];
+            let longest2 = [(a, b), (b, c), (c, a)]
+                .iter()
+                .map(|&(i, j)| {
+                    let (p, q) = (self.nodes[i], self.nodes[j]);
+                    (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
+                })
+                .fold(0.0, f64::max);
+            // Degenerate: height below 1e-10 of the longest side (zero area or collinear nodes).
+            if a2.abs() <= 1e-10 * longest2 {
+                bail!("element {e} is degenerate (area {:.3e} for a longest side of {:.3e}): remove it or move its nodes apart", a2 / 2.0, longest2.sqrt());
+            }
+            if a2 < 0.0 {
+                bail!("element {e} is inverted (signed area {:.3e}): list its nodes counter-clockwise", a2 / 2.0);
+            }
+        }
+        Ok(())
+    }
+
+    /// Body index of every node (connected components of the element graph); nodes used by
+    /// no element get `usize::MAX`. Returns (body_of_node, number_of_bodies).
+    pub fn bodies(&self) -> (Vec<usize>, usize) {
+        let n = self.nodes.len();
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn find(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        let mut used = vec![false; n];
+        for t in &self.triangles {
+            for &v in t {
+                used[v] = true;
+            }
+            for k in 1..3 {
+                let (ra, rb) = (find(&mut parent, t[0]), find(&mut parent, t[k]));
+                if ra != rb {
+                    parent[ra.max(rb)] = ra.min(rb);
+                }
+            }
+        }
+        let mut body_of_root = vec![usize::MAX; n];
+        let mut body = vec![usize::MAX; n];
+        let mut count = 0;
+        for i in 0..n {
+            if !used[i] {
+                continue;
+            }
+            let r = find(&mut parent, i);
+            if body_of_root[r] == usize::MAX {
+                body_of_root[r] = count;
+                count += 1;
+            }
+            body[i] = body_of_root[r];
+        }
+        (body, count)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> Mesh {
+        Mesh {
+            nodes: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        }
+    }
+
+    #[test]
+    fn inverted_triangle_is_named() {
+        let mut m = square();
+        m.triangles[1] = [0, 3, 2];
+        let err = m.validate().unwrap_err().0;
+        assert!(err.starts_with("element 1 is inverted"), "{err}");
+    }
+
+    #[test]
+    fn degenerate_triangle_is_named() {
+        let mut m = square();
+        m.nodes.push([2.0, 0.0]);
+        m.triangles.push([0, 1, 4]);
+        let err = m.validate().unwrap_err().0;
+        assert!(err.starts_with("element 2 is degenerate"), "{err}");
+    }
+
+    #[test]
+    fn nan_node_is_named() {
+        let mut m = square();
+        m.nodes[3][1] = f64::NAN;
+        assert!(m.validate().unwrap_err().0.starts_with("node 3 has a non-finite"));
+    }
+
+    #[test]
+    fn two_bodies_are_found() {
+        let mut m = square();
+        let off = m.nodes.len();
+        for p in square().nodes {
+            m.nodes.push([p[0] + 3.0, p[1]]);
+        }
+        m.triangles.push([off, off + 1, off + 2]);
+        let (body, n) = m.bodies();
+        assert_eq!(n, 2);
+        assert_eq!(body[0], 0);
+        assert_eq!(body[off], 1);
+        assert_eq!(body[off + 3], usize::MAX); // unused node
+    }
+}

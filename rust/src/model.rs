@@ -1,0 +1,150 @@
+//! What goes into the engine (a scene reduced to arrays) and what comes out (the event
+//! history and field snapshots). No Python types: the bindings translate.
+
+use crate::material::{Material, Plane};
+use crate::mesh::Mesh;
+
+/// A candidate contact pair as given by the front end (see `contact::Pair`).
+#[derive(Debug, Clone)]
+pub struct PairInput {
+    pub node_a: usize,
+    pub node_b: Option<usize>,
+    pub normal: [f64; 2],
+    pub gap: f64,
+    pub mu: f64,
+}
+
+#[derive(Debug, Clone)]
+pub enum SnapshotRequest {
+    /// A snapshot at the start and after every event.
+    EveryEvent,
+    /// Snapshots at exactly these load fractions (interpolated on the piecewise-linear path);
+    /// the final state is always added.
+    Fractions(Vec<f64>),
+}
+
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub snapshots: SnapshotRequest,
+    /// Events whose scale factors lie within S_min·(1 + tie_tol) are applied together.
+    pub tie_tol: f64,
+    /// Upper bound on the number of increments (0 = automatic: 50 per pair and element + 1000).
+    pub max_steps: usize,
+    /// Largest relative equilibrium residual accepted at an event.
+    pub equilibrium_tol: f64,
+    /// How many times a pair may change status within one zero-length run of events before
+    /// it is frozen until the load advances (anti-cycling rule, see `driver`).
+    pub max_zero_length_switches: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            snapshots: SnapshotRequest::EveryEvent,
+            tie_tol: 1e-9,
+            max_steps: 0,
+            equilibrium_tol: 1e-9,
+            max_zero_length_switches: 4,
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub mesh: Mesh,
+    pub element_material: Vec<usize>,
+    pub materials: Vec<Material>,
+    pub plane: Plane,
+    pub thickness: f64,
+    /// DOFs with u = 0 (2·node + component).
+    pub fixed_dofs: Vec<usize>,
+    /// Total nodal load at load fraction 1 (length 2·nodes).
+    pub load: Vec<f64>,
+    pub pairs: Vec<PairInput>,
+    pub options: Options,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EventKind {
+    Close,
+    Separate,
+    StickToSlip,
+    SlipToStick,
+    /// Anti-cycling: the pair was frozen in its status for the rest of a zero-length run.
+    Frozen,
+}
+
+impl EventKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            EventKind::Close => "close",
+            EventKind::Separate => "separate",
+            EventKind::StickToSlip => "stick_to_slip",
+            EventKind::SlipToStick => "slip_to_stick",
+            EventKind::Frozen => "frozen",
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct EventRecord {
+    pub step: usize,
+    pub load_fraction: f64,
+    pub kind: EventKind,
+    pub entity: usize,
+}
+
+#[derive(Debug, Clone)]
+pub struct StepRecord {
+    pub load_fraction: f64,
+    pub scale: f64,
+    pub residual: f64,
+    pub n_closed: usize,
+    pub n_stick: usize,
+    pub n_slip: usize,
+    pub normal_force: f64,
+}
+
+#[derive(Debug, Clone)]
+pub struct Snapshot {
+    pub load_fraction: f64,
+    /// Displacement, 2 per node.
+    pub u: Vec<f64>,
+    /// σx, σy, σz, τxy per element.
+    pub stress: Vec<[f64; 4]>,
+    pub lambda_n: Vec<f64>,
+    pub lambda_t: Vec<f64>,
+    pub status: Vec<i8>,
+    pub gap: Vec<f64>,
+    pub rtd: Vec<f64>,
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct Timings {
+    pub assembly: f64,
+    pub factorization: f64,
+    pub solves: f64,
+    pub events: f64,
+}
+
+#[derive(Debug, Clone)]
+pub struct RunResult {
+    pub events: Vec<EventRecord>,
+    pub steps: Vec<StepRecord>,
+    pub snapshots: Vec<Snapshot>,
+    pub closure_fraction: Vec<f64>,
+    pub predicted_closure: Vec<f64>,
+    pub max_equilibrium_residual: f64,
+    pub n_factorizations: usize,
+    pub n_solves: usize,
+    pub interrupted: bool,
+    pub timings: Timings,
+}
+
+/// What the driver reports while it runs; the callback returns `false` to stop (Ctrl-C).
+#[derive(Debug, Clone, Copy)]
+pub struct Progress {
+    pub steps: usize,
+    pub events: usize,
+    pub load_fraction: f64,
+}

@@ -1,0 +1,186 @@
+//! Rigid-body modes that the supports leave free.
+//!
+//! In 2D each body has three rigid modes (two translations, one rotation). A mode survives
+//! the supports when it vanishes on every fixed DOF of the body. Surviving modes span the
+//! null space N of the reduced stiffness; they must be held by contact, which the driver
+//! checks (a body free to move is an error, not a singular factorization). For each mode one
+//! DOF is "pinned" so that the rest of K is SPD (see `linalg`).
+
+use nalgebra::{DMatrix, Matrix3};
+
+/// A free rigid-body mode: its displacement vector over all DOFs (zero on fixed DOFs).
+#[derive(Debug, Clone)]
+pub struct RigidMode {
+    pub body: usize,
+    pub vector: Vec<f64>,
+    pub description: String,
+}
+
+/// Free rigid modes of every body, plus the pinned DOFs (one per mode).
+pub fn free_modes(
+    nodes: &[[f64; 2]],
+    body_of_node: &[usize],
+    n_bodies: usize,
+    fixed: &[bool],
+) -> (Vec<RigidMode>, Vec<usize>) {
+    let mut modes = Vec::new();
+    let mut pinned = Vec::new();
+    for body in 0..n_bodies {
+        let members: Vec<usize> = (0..nodes.len()).filter(|&i| body_of_node[i] == body).collect();
+        // Centroid and size, so that the rotation mode has O(1) entries.
+        let m = members.len() as f64;
+        let (cx, cy) = members.iter().fold((0.0, 0.0), |s, &i| (s.0 + nodes[i][0] / m, s.1 + nodes[i][1] / m));
+        let size = members
+            .iter()
+            .map(|&i| ((nodes[i][0] - cx).powi(2) + (nodes[i][1] - cy).powi(2)).sqrt())
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let mode_value = |dof: usize, k: usize| -> f64 {
+            let (i, c) = (dof / 2, dof % 2);
+            match k {
+                0 => (c == 0) as i32 as f64,
+                1 => (c == 1) as i32 as f64,
+                _ => {
+                    if c == 0 {
+                        -(nodes[i][1] - cy) / size
+                    } else {
+                        (nodes[i][0] - cx) / size
+                    }
+                }
+            }
+        };
+        // AᵀA over the fixed DOFs of this body; its null space = surviving combinations.
+        let mut ata = Matrix3::<f64>::zeros();
+        let mut n_rows = 0usize;
+        for &i in &members {
+            for c in 0..2 {
+                let dof = 2 * i + c;
+                if fixed[dof] {
+                    n_rows += 1;
+                    for k in 0..3 {
+                        for l in 0..3 {
+                            ata[(k, l)] += mode_value(dof, k) * mode_value(dof, l);
+                        }
+                    }
+                }
+            }
+        }
+        let eig = ata.symmetric_eigen();
+        let threshold = 1e-10 * (n_rows.max(1) as f64);
+        let mut body_vectors: Vec<Vec<f64>> = Vec::new();
+        for k in 0..3 {
+            if eig.eigenvalues[k] > threshold {
+                continue;
+            }
+            let coef = eig.eigenvectors.column(k);
+            let mut v = vec![0.0; fixed.len()];
+            for &i in &members {
+                for c in 0..2 {
+                    let dof = 2 * i + c;
+                    if !fixed[dof] {
+                        v[dof] = (0..3).map(|l| coef[l] * mode_value(dof, l)).sum();
+                    }
+                }
+            }
+            let description = describe(coef[0], coef[1], coef[2]);
+            body_vectors.push(v.clone());
+            modes.push(RigidMode { body, vector: v, description });
+        }
+        pinned.extend(pick_pinned_dofs(&members, &body_vectors));
+    }
+    (modes, pinned)
+}
+
+fn describe(tx: f64, ty: f64, rot: f64) -> String {
+    let parts: Vec<&str> = [(tx, "translation in x"), (ty, "translation in y"), (rot, "rotation")]
+        .iter()
+        .filter(|(c, _)| c.abs() > 0.3)
+        .map(|&(_, s)| s)
+        .collect();
+    parts.join(" + ")
+}
+
+/// Greedy pivoting: pick, for each mode, the DOF whose row of N is farthest from the span of
+/// the rows already picked; the picked r×r block of N is then well conditioned.
+fn pick_pinned_dofs(members: &[usize], vectors: &[Vec<f64>]) -> Vec<usize> {
+    let r = vectors.len();
+    if r == 0 {
+        return vec![];
+    }
+    let dofs: Vec<usize> = members.iter().flat_map(|&i| [2 * i, 2 * i + 1]).collect();
+    let mut rows = DMatrix::<f64>::zeros(dofs.len(), r);
+    for (j, &d) in dofs.iter().enumerate() {
+        for k in 0..r {
+            rows[(j, k)] = vectors[k][d];
+        }
+    }
+    let mut chosen = Vec::new();
+    let mut basis: Vec<nalgebra::DVector<f64>> = Vec::new();
+    for _ in 0..r {
+        let mut best = (0usize, -1.0);
+        for j in 0..dofs.len() {
+            let mut v = rows.row(j).transpose().into_owned();
+            for q in &basis {
+                let p = v.dot(q);
+                v -= q * p;
+            }
+            let n = v.norm();
+            if n > best.1 + 1e-12 {
+                best = (j, n);
+            }
+        }
+        let mut v = rows.row(best.0).transpose().into_owned();
+        for q in &basis {
+            let p = v.dot(q);
+            v -= q * p;
+        }
+        basis.push(v.normalize());
+        chosen.push(dofs[best.0]);
+    }
+    chosen
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square_nodes() -> Vec<[f64; 2]> {
+        vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+    }
+
+    #[test]
+    fn symmetry_line_leaves_only_vertical_translation() {
+        // u_x = 0 on the line x = 0 (nodes 0 and 3): translation x and rotation are held.
+        let nodes = square_nodes();
+        let mut fixed = vec![false; 8];
+        fixed[0] = true;
+        fixed[6] = true;
+        let (modes, pinned) = free_modes(&nodes, &[0; 4], 1, &fixed);
+        assert_eq!(modes.len(), 1);
+        assert_eq!(modes[0].description, "translation in y");
+        assert_eq!(pinned.len(), 1);
+        assert_eq!(pinned[0] % 2, 1);
+    }
+
+    #[test]
+    fn free_body_has_three_modes_and_three_pins() {
+        let nodes = square_nodes();
+        let (modes, pinned) = free_modes(&nodes, &[0; 4], 1, &vec![false; 8]);
+        assert_eq!(modes.len(), 3);
+        let mut p = pinned.clone();
+        p.sort();
+        p.dedup();
+        assert_eq!(p.len(), 3);
+    }
+
+    #[test]
+    fn clamped_body_has_no_mode() {
+        let nodes = square_nodes();
+        let mut fixed = vec![false; 8];
+        fixed[0] = true;
+        fixed[1] = true;
+        fixed[3] = true;
+        let (modes, _) = free_modes(&nodes, &[0; 4], 1, &fixed);
+        assert!(modes.is_empty());
+    }
+}
