@@ -112,6 +112,15 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
         if let Some(v) = o.get_item("equilibrium_tol")? {
             options.equilibrium_tol = v.extract()?;
         }
+        if let Some(v) = o.get_item("drift_control")? {
+            options.drift_control = v.extract()?;
+        }
+        if let Some(v) = o.get_item("max_stress_step")? {
+            options.max_stress_step = v.extract()?;
+        }
+        if let Some(v) = o.get_item("stop_at_first_yield")? {
+            options.stop_at_first_yield = v.extract()?;
+        }
         if let Some(v) = o.get_item("output")? {
             options.snapshots = match v.extract::<String>()?.as_str() {
                 "events" => SnapshotRequest::EveryEvent,
@@ -139,6 +148,8 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     st.set_item("n_stick", r.steps.iter().map(|s| s.n_stick as i64).collect::<Vec<_>>().into_pyarray(py))?;
     st.set_item("n_slip", r.steps.iter().map(|s| s.n_slip as i64).collect::<Vec<_>>().into_pyarray(py))?;
     st.set_item("normal_force", r.steps.iter().map(|s| s.normal_force).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item("n_plastic", r.steps.iter().map(|s| s.n_plastic as i64).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item("drift", r.steps.iter().map(|s| s.drift).collect::<Vec<_>>().into_pyarray(py))?;
     out.set_item("steps", st)?;
     let snaps = PyList::empty(py);
     for s in r.snapshots {
@@ -148,6 +159,8 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
         d.set_item("u", Array2::from_shape_vec((n, 2), s.u).unwrap().into_pyarray(py))?;
         let m = s.stress.len();
         d.set_item("stress", Array2::from_shape_vec((m, 4), s.stress.into_iter().flatten().collect()).unwrap().into_pyarray(py))?;
+        d.set_item("plastic_strain", s.plastic_strain.into_pyarray(py))?;
+        d.set_item("plastic", Array1::from(s.plastic).into_pyarray(py))?;
         d.set_item("lambda_n", s.lambda_n.into_pyarray(py))?;
         d.set_item("lambda_t", s.lambda_t.into_pyarray(py))?;
         d.set_item("status", Array1::from(s.status).into_pyarray(py))?;
@@ -159,6 +172,7 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     out.set_item("closure_fraction", r.closure_fraction.into_pyarray(py))?;
     out.set_item("predicted_closure", r.predicted_closure.into_pyarray(py))?;
     out.set_item("max_equilibrium_residual", r.max_equilibrium_residual)?;
+    out.set_item("max_drift", r.max_drift)?;
     out.set_item("n_factorizations", r.n_factorizations)?;
     out.set_item("n_solves", r.n_solves)?;
     out.set_item("interrupted", r.interrupted)?;

@@ -25,6 +25,15 @@
 //! one increment (symmetric meshes, flat punches). At zero scale only the most urgent class is
 //! applied per increment (`zero_length_priority`).
 //!
+//! Plasticity. Each element carries its tangent D or D_ep (eq. 11) built from the stress at
+//! the start of the increment; the trial gives every element's stress and plastic-strain
+//! increments, from which the yield scale S_p (eqs. 12–16) and plastic unloading (at S = 0)
+//! follow. Any change of tangent refactorizes K (the paper's procedure; a later rank-one
+//! update can replace this since D_ep − D is rank one). Drift control (default on) bounds the
+//! increment of plastic elements, returns them to the yield surface after the increment, and
+//! restores equilibrium at fixed load with one correction solve, so that every event is in
+//! equilibrium to round-off; `drift_control = false` is the paper without either.
+//!
 //! Termination (anti-cycling rule). Positive-length increments advance the load; the loop
 //! stops when the trial reaches S = 1 and is bounded by `Options::max_steps`. Zero-length
 //! increments (stick→slip at S = 0, a pair that closes and reopens, ties) could cycle: within
@@ -41,9 +50,10 @@ use crate::element::Cst;
 use crate::error::Result;
 use crate::events::{self, Candidate, Noise};
 use crate::linalg::{assemble_lower, DofMap, DofRole, SpdSolver};
+use crate::material::{von_mises, Material, Plane, Tangent};
 use crate::model::*;
 use crate::rigid_modes::{free_modes, RigidMode};
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{DMatrix, DVector, Vector3, Vector4};
 use std::time::Instant;
 
 /// Scale factors at or below this are zero-length increments.
@@ -57,8 +67,8 @@ const ZERO_SCALE: f64 = 1e-12;
 fn zero_length_priority(kind: EventKind) -> u8 {
     match kind {
         EventKind::StickToSlip | EventKind::Separate => 0,
-        EventKind::Close => 1,
-        EventKind::SlipToStick | EventKind::Frozen => 2,
+        EventKind::Close | EventKind::Yield => 1,
+        EventKind::SlipToStick | EventKind::Unload | EventKind::Frozen | EventKind::FrozenElement => 2,
     }
 }
 
@@ -67,8 +77,9 @@ fn zero_length_priority(kind: EventKind) -> u8 {
 struct State {
     load_fraction: f64,
     u: Vec<f64>,
-    stress: Vec<Vector3<f64>>,
-    stress_z: Vec<f64>,
+    /// σx, σy, σz, τxy per element.
+    stress: Vec<Vector4<f64>>,
+    plastic_strain: Vec<f64>,
     lambda_n: Vec<f64>,
     lambda_t: Vec<f64>,
 }
@@ -76,8 +87,9 @@ struct State {
 /// One trial increment for the remaining load.
 struct TrialIncrement {
     du: Vec<f64>,
-    dstress: Vec<Vector3<f64>>,
-    dstress_z: Vec<f64>,
+    dstress: Vec<Vector4<f64>>,
+    /// Equivalent plastic strain increment (negative: the element would unload).
+    dplastic: Vec<f64>,
     dlambda_n: Vec<f64>,
     dlambda_t: Vec<f64>,
 }
@@ -92,7 +104,11 @@ enum Row {
 struct Engine<'m> {
     model: &'m Model,
     elements: Vec<Cst>,
-    tangents: Vec<Matrix3<f64>>,
+    /// Material of every element.
+    material: Vec<Material>,
+    tangents: Vec<Tangent>,
+    /// The tangents changed since the last factorization.
+    tangents_changed: bool,
     pairs: Vec<Pair>,
     modes: Vec<RigidMode>,
     map: DofMap,
@@ -113,15 +129,15 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     let t_start = Instant::now();
     let mut eng = Engine::new(model)?;
     eng.timings.assembly = t_start.elapsed().as_secs_f64();
-    eng.factor()?;
+    let opts = &model.options;
 
     let n_pairs = eng.pairs.len();
     let n_el = eng.elements.len();
     let mut state = State {
         load_fraction: 0.0,
         u: vec![0.0; 2 * model.mesh.n_nodes()],
-        stress: vec![Vector3::zeros(); n_el],
-        stress_z: vec![0.0; n_el],
+        stress: vec![Vector4::zeros(); n_el],
+        plastic_strain: vec![0.0; n_el],
         lambda_n: vec![0.0; n_pairs],
         lambda_t: vec![0.0; n_pairs],
     };
@@ -132,19 +148,23 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         .iter()
         .map(|p| if p.gap0 <= gap_tol { p.closed_status() } else { Status::Open })
         .collect();
+    let mut plastic = vec![false; n_el];
     let mut rtd_stick = vec![0.0; n_pairs];
     let mut closure_fraction: Vec<f64> =
         status.iter().map(|s| if s.is_closed() { 0.0 } else { f64::NAN }).collect();
     let mut predicted_closure = vec![f64::INFINITY; n_pairs];
-    let mut zero_switches = vec![0usize; n_pairs];
-    let mut frozen = vec![false; n_pairs];
+    // Anti-cycling bookkeeping, pairs then elements (see the module documentation).
+    let n_entities = n_pairs + n_el;
+    let mut zero_switches = vec![0usize; n_entities];
+    let mut frozen = vec![false; n_entities];
+    let mut switch_count = vec![0usize; n_entities];
 
     let mut events_out: Vec<EventRecord> = Vec::new();
     let mut steps: Vec<StepRecord> = Vec::new();
     let mut snapshots: Vec<Snapshot> = Vec::new();
-    let mut pending_fractions: Vec<f64> = match &model.options.snapshots {
+    let mut pending_fractions: Vec<f64> = match &opts.snapshots {
         SnapshotRequest::EveryEvent => {
-            snapshots.push(eng.snapshot(&state, &status));
+            snapshots.push(eng.snapshot(&state, &status, &plastic));
             vec![]
         }
         SnapshotRequest::Fractions(f) => {
@@ -153,43 +173,53 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             f
         }
     };
-    let max_steps = if model.options.max_steps > 0 { model.options.max_steps } else { 50 * (n_pairs + 1) + 1000 };
+    let n_plastic_capable = eng.material.iter().filter(|m| m.is_plastic()).count();
+    let max_steps = if opts.max_steps > 0 { opts.max_steps } else { 50 * (n_pairs + n_plastic_capable + 1) + 1000 };
     let mut max_residual: f64 = 0.0;
+    let mut max_drift: f64 = 0.0;
     let mut interrupted = false;
-    let mut switch_count = vec![0usize; n_pairs];
 
     loop {
         if steps.len() >= max_steps {
-            let mut worst: Vec<usize> = (0..n_pairs).collect();
-            worst.sort_by_key(|&p| std::cmp::Reverse(switch_count[p]));
-            let names: Vec<String> = worst.iter().take(5).filter(|&&p| switch_count[p] > 0)
-                .map(|&p| format!("pair {p} (node {}, {} switches)", eng.pairs[p].node_a, switch_count[p])).collect();
-            bail!("the event loop reached max_events = {max_steps} increments at load fraction {:.6}: pairs switching most: {}; raise solver.max_events or coarsen the mesh", state.load_fraction, names.join(", "));
+            let mut worst: Vec<usize> = (0..n_entities).collect();
+            worst.sort_by_key(|&k| std::cmp::Reverse(switch_count[k]));
+            let names: Vec<String> = worst.iter().take(5).filter(|&&k| switch_count[k] > 0)
+                .map(|&k| if k < n_pairs { format!("pair {k} (node {}, {} switches)", eng.pairs[k].node_a, switch_count[k]) } else { format!("element {} ({} switches)", k - n_pairs, switch_count[k]) })
+                .collect();
+            bail!("the event loop reached max_events = {max_steps} increments at load fraction {:.6}: most switching: {}; raise solver.max_events or coarsen the mesh", state.load_fraction, names.join(", "));
+        }
+        eng.refresh_tangents(&state, &plastic);
+        if eng.tangents_changed {
+            eng.factor()?;
         }
         let t0 = Instant::now();
-        let trial = eng.trial(&state, &status, &rtd_stick)?;
+        let trial = eng.trial(&state, &status, &rtd_stick, 1.0)?;
         eng.timings.solves += t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
 
-        let cands = events::candidates(
-            &events::PairState { pairs: &eng.pairs, status: &status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, frozen: &frozen },
+        let (frozen_pairs, frozen_elements) = frozen.split_at(n_pairs);
+        let mut cands = events::candidates(
+            &events::PairState { pairs: &eng.pairs, status: &status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, frozen: frozen_pairs },
             &events::Trial { du: &trial.du, dlambda_n: &trial.dlambda_n, dlambda_t: &trial.dlambda_t },
             eng.noise,
         );
+        let elements = events::ElementState { material: &eng.material, stress: &state.stress, plastic_strain: &state.plastic_strain, plastic: &plastic, frozen: frozen_elements };
+        cands.extend(events::element_candidates(&elements, &trial.dstress, &trial.dplastic));
+        let drift_scale = if opts.drift_control { events::drift_bound(&elements, &trial.dstress, opts.max_stress_step) } else { f64::INFINITY };
         let s_min = cands.iter().map(|c| c.scale).fold(f64::INFINITY, f64::min);
-        let scale = s_min.min(1.0);
-        let last = s_min >= 1.0;
+        let scale = s_min.min(drift_scale).min(1.0);
+        let last = s_min >= 1.0 && drift_scale >= 1.0;
         let phi0 = state.load_fraction;
         let remaining = 1.0 - phi0;
         if last {
             for c in &cands {
                 if c.kind == EventKind::Close {
-                    predicted_closure[c.pair] = phi0 + c.scale * remaining;
+                    predicted_closure[c.entity] = phi0 + c.scale * remaining;
                 }
             }
         }
-        let tie_limit = s_min * (1.0 + model.options.tie_tol) + 1e-14;
-        let mut group: Vec<Candidate> = if last { vec![] } else { cands.iter().copied().filter(|c| c.scale <= tie_limit).collect() };
+        let tie_limit = s_min * (1.0 + opts.tie_tol) + 1e-14;
+        let mut group: Vec<Candidate> = if scale < s_min || last { vec![] } else { cands.iter().copied().filter(|c| c.scale <= tie_limit).collect() };
         if s_min <= ZERO_SCALE {
             // Zero-length events come from a trial that is itself inadmissible; apply first
             // the ones that release a violated constraint, and only then those that add one.
@@ -204,26 +234,34 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
                 break;
             }
             let s = if remaining > 0.0 { ((f - phi0) / remaining).clamp(0.0, scale) } else { 0.0 };
-            let mut st = eng.advance(&state, &trial, s);
+            let mut st = eng.advance(&state, &trial, s, &plastic);
             st.load_fraction = f;
-            snapshots.push(eng.snapshot(&st, &status));
+            snapshots.push(eng.snapshot(&st, &status, &plastic));
             pending_fractions.remove(0);
         }
 
         // Advance by S (eqs. 58–62), then check the state at the event.
-        state = eng.advance(&state, &trial, scale);
+        state = eng.advance(&state, &trial, scale, &plastic);
         state.load_fraction = phi1;
         for (p, st) in status.iter().enumerate() {
             if let Status::Slip { .. } = st {
                 state.lambda_t[p] = eng.pairs[p].slip_ratio(*st) * state.lambda_n[p];
             }
         }
+        let drift = eng.drift(&state, &plastic);
+        max_drift = max_drift.max(drift);
+        if opts.drift_control && drift > 0.0 {
+            eng.return_to_yield_surface(&mut state, &plastic);
+            let correction = eng.trial(&state, &status, &rtd_stick, phi1)?;
+            state = eng.advance(&state, &correction, 1.0, &plastic);
+            state.load_fraction = phi1;
+        }
         let residual = eng.equilibrium_residual(&state);
         max_residual = max_residual.max(residual);
-        if residual > model.options.equilibrium_tol {
-            bail!("equilibrium residual {residual:.3e} exceeds {:.1e} at load fraction {phi1:.6} (step {}): the linear system is ill-conditioned; check for nearly unsupported bodies or extreme element size ratios", model.options.equilibrium_tol, steps.len());
+        if residual > opts.equilibrium_tol {
+            bail!("equilibrium residual {residual:.3e} exceeds {:.1e} at load fraction {phi1:.6} (step {}): the linear system is ill-conditioned; check for nearly unsupported bodies or extreme element size ratios", opts.equilibrium_tol, steps.len());
         }
-        eng.check_contact(&state, &status, &frozen, phi1)?;
+        eng.check_contact(&state, &status, frozen_pairs_of(&frozen, n_pairs), phi1)?;
 
         // Status changes of the events at this scale (with the anti-cycling rule).
         let zero_length = scale <= ZERO_SCALE;
@@ -232,27 +270,28 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             frozen.iter_mut().for_each(|f| *f = false);
         }
         let step_index = steps.len();
-        let mut seen = vec![false; n_pairs];
+        let mut seen = vec![false; n_entities];
         for c in &group {
-            let p = c.pair;
-            if seen[p] {
+            let key = if c.kind.is_element_event() { n_pairs + c.entity } else { c.entity };
+            if seen[key] {
                 continue;
             }
-            seen[p] = true;
-            if zero_length && zero_switches[p] >= model.options.max_zero_length_switches {
-                frozen[p] = true;
-                events_out.push(EventRecord { step: step_index, load_fraction: phi1, kind: EventKind::Frozen, entity: p });
+            seen[key] = true;
+            if zero_length && zero_switches[key] >= opts.max_zero_length_switches {
+                frozen[key] = true;
+                let kind = if c.kind.is_element_event() { EventKind::FrozenElement } else { EventKind::Frozen };
+                events_out.push(EventRecord { step: step_index, load_fraction: phi1, kind, entity: c.entity });
                 continue;
             }
             if zero_length {
-                zero_switches[p] += 1;
+                zero_switches[key] += 1;
             }
-            switch_count[p] += 1;
-            let pair = &eng.pairs[p];
+            switch_count[key] += 1;
+            let p = c.entity;
             match c.kind {
                 EventKind::Close => {
-                    status[p] = pair.closed_status();
-                    rtd_stick[p] = pair.rtd(&state.u);
+                    status[p] = eng.pairs[p].closed_status();
+                    rtd_stick[p] = eng.pairs[p].rtd(&state.u);
                     closure_fraction[p] = phi1;
                 }
                 EventKind::Separate => {
@@ -262,15 +301,17 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
                 }
                 EventKind::StickToSlip => {
                     status[p] = Status::Slip { direction: c.direction };
-                    state.lambda_t[p] = pair.slip_ratio(status[p]) * state.lambda_n[p];
+                    state.lambda_t[p] = eng.pairs[p].slip_ratio(status[p]) * state.lambda_n[p];
                 }
                 EventKind::SlipToStick => {
                     status[p] = Status::Stick;
-                    rtd_stick[p] = pair.rtd(&state.u);
+                    rtd_stick[p] = eng.pairs[p].rtd(&state.u);
                 }
-                EventKind::Frozen => {}
+                EventKind::Yield => plastic[c.entity] = true,
+                EventKind::Unload => plastic[c.entity] = false,
+                EventKind::Frozen | EventKind::FrozenElement => {}
             }
-            events_out.push(EventRecord { step: step_index, load_fraction: phi1, kind: c.kind, entity: p });
+            events_out.push(EventRecord { step: step_index, load_fraction: phi1, kind: c.kind, entity: c.entity });
         }
 
         let n_closed = status.iter().filter(|s| s.is_closed()).count();
@@ -283,12 +324,14 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             n_stick,
             n_slip: n_closed - n_stick,
             normal_force: state.lambda_n.iter().sum(),
+            n_plastic: plastic.iter().filter(|&&p| p).count(),
+            drift,
         });
-        if let SnapshotRequest::EveryEvent = model.options.snapshots {
-            snapshots.push(eng.snapshot(&state, &status));
+        if let SnapshotRequest::EveryEvent = opts.snapshots {
+            snapshots.push(eng.snapshot(&state, &status, &plastic));
         }
         eng.timings.events += t1.elapsed().as_secs_f64();
-        if last {
+        if last || (opts.stop_at_first_yield && group.iter().any(|c| c.kind == EventKind::Yield)) {
             break;
         }
         if !progress(Progress { steps: steps.len(), events: events_out.len(), load_fraction: phi1 }) {
@@ -296,9 +339,9 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             break;
         }
     }
-    if let SnapshotRequest::Fractions(_) = model.options.snapshots {
+    if let SnapshotRequest::Fractions(_) = opts.snapshots {
         if snapshots.last().map_or(true, |s| (s.load_fraction - state.load_fraction).abs() > 1e-14) {
-            snapshots.push(eng.snapshot(&state, &status));
+            snapshots.push(eng.snapshot(&state, &status, &plastic));
         }
     }
     Ok(RunResult {
@@ -308,11 +351,16 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         closure_fraction,
         predicted_closure,
         max_equilibrium_residual: max_residual,
+        max_drift,
         n_factorizations: eng.solver.n_factorizations,
         n_solves: eng.solver.n_solves,
         interrupted,
         timings: eng.timings.clone(),
     })
+}
+
+fn frozen_pairs_of(frozen: &[bool], n_pairs: usize) -> &[bool] {
+    &frozen[..n_pairs]
 }
 
 impl<'m> Engine<'m> {
@@ -395,13 +443,16 @@ impl<'m> Engine<'m> {
         let (modes, pinned) = free_modes(&mesh.nodes, &body_of_node, n_bodies, &fixed);
         let map = DofMap::new(n_dofs, &fixed, &pinned);
         let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(mesh, e)).collect();
-        let tangents = model.element_material.iter().map(|&m| model.materials[m].elastic_tangent(model.plane)).collect();
+        let material: Vec<Material> = model.element_material.iter().map(|&m| model.materials[m]).collect();
+        let tangents = material.iter().map(|m| m.tangent(&Vector4::zeros(), false)).collect();
         let n_pairs = pairs.len();
         let load_total: f64 = model.load.iter().map(|v| v.abs()).sum();
         Ok(Engine {
             model,
             elements,
+            material,
             tangents,
+            tangents_changed: true,
             pairs,
             modes,
             map,
@@ -419,7 +470,9 @@ impl<'m> Engine<'m> {
 
     fn factor(&mut self) -> Result<()> {
         let t0 = Instant::now();
-        let k = assemble_lower(&self.elements, &self.tangents, self.model.thickness, &self.map)?;
+        let in_plane: Vec<_> = self.tangents.iter().map(|t| t.in_plane(self.model.plane)).collect();
+        let k = assemble_lower(&self.elements, &in_plane, self.model.thickness, &self.map)?;
+        self.tangents_changed = false;
         let t1 = Instant::now();
         self.timings.assembly += (t1 - t0).as_secs_f64();
         let dof_of_eq: Vec<usize> = (0..self.map.role.len()).filter(|&d| self.map.equation(d).is_some()).collect();
@@ -466,10 +519,10 @@ impl<'m> Engine<'m> {
     }
 
     /// Internal nodal forces Σ t A Bᵀ σ (eq. 42).
-    fn internal_force(&self, stress: &[Vector3<f64>]) -> Vec<f64> {
+    fn internal_force(&self, stress: &[Vector4<f64>]) -> Vec<f64> {
         let mut f = vec![0.0; self.map.role.len()];
         for (el, s) in self.elements.iter().zip(stress) {
-            let fe = el.internal_force(s, self.model.thickness);
+            let fe = el.internal_force(&Vector3::new(s[0], s[1], s[3]), self.model.thickness);
             for (k, d) in el.dofs().iter().enumerate() {
                 f[*d] += fe[k];
             }
@@ -495,9 +548,10 @@ impl<'m> Engine<'m> {
         r.iter().map(|v| v * v).sum::<f64>().sqrt() / self.load_norm
     }
 
-    /// The trial increment for the remaining load (eq. 44 in residual form).
-    fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64]) -> Result<TrialIncrement> {
-        let r = self.residual_vector(state, 1.0);
+    /// The trial increment that takes the state to load fraction `target` (eq. 44 in residual
+    /// form): 1 for the remaining load; the current fraction for an equilibrium correction.
+    fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64], target: f64) -> Result<TrialIncrement> {
+        let r = self.residual_vector(state, target);
         let z0 = self.apply_ginv(&r);
 
         // Rows (constraints) and their right-hand sides h.
@@ -616,10 +670,10 @@ impl<'m> Engine<'m> {
             let s = sol[m + k];
             du.iter_mut().zip(&mode.vector).for_each(|(d, v)| *d += s * v);
         }
-        let (dstress, dstress_z) = self.stress_increment(&du);
+        let (dstress, dplastic) = self.stress_increment(&du);
         let umax = du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         self.noise.displacement = 1e-11 * umax;
-        Ok(TrialIncrement { du, dstress, dstress_z, dlambda_n, dlambda_t })
+        Ok(TrialIncrement { du, dstress, dplastic, dlambda_n, dlambda_t })
     }
 
     /// A free rigid-body mode that no closed pair holds makes the small system singular:
@@ -652,24 +706,73 @@ impl<'m> Engine<'m> {
         Ok(())
     }
 
-    fn stress_increment(&self, du: &[f64]) -> (Vec<Vector3<f64>>, Vec<f64>) {
-        let mut ds = Vec::with_capacity(self.elements.len());
-        let mut dz = Vec::with_capacity(self.elements.len());
-        for (e, el) in self.elements.iter().enumerate() {
-            let s = self.tangents[e] * el.strain(du);
-            let mat = &self.model.materials[self.model.element_material[e]];
-            dz.push(mat.sigma_z(self.model.plane, s[0], s[1]));
-            ds.push(s);
+    /// Δσ and Δεp of every element for a displacement increment (eqs. 11, 18).
+    fn stress_increment(&self, du: &[f64]) -> (Vec<Vector4<f64>>, Vec<f64>) {
+        let plane = self.model.plane;
+        self.elements
+            .iter()
+            .zip(&self.tangents)
+            .map(|(el, t)| {
+                let e = el.strain(du);
+                (t.stress_increment(plane, &e), t.plastic_multiplier(plane, &e))
+            })
+            .unzip()
+    }
+
+    /// Rebuild the tangents of plastic elements at the current stress (the paper's D_ep at
+    /// the increment's start) and of elements whose plastic flag changed.
+    fn refresh_tangents(&mut self, state: &State, plastic: &[bool]) {
+        for e in 0..self.elements.len() {
+            let was_plastic = self.tangents[e].flow.is_some();
+            if plastic[e] || was_plastic {
+                self.tangents[e] = self.material[e].tangent(&state.stress[e], plastic[e]);
+                self.tangents_changed = true;
+            }
         }
-        (ds, dz)
+    }
+
+    /// Yield-surface drift: max |σe − σy(εp)| / σy(εp) over plastic elements.
+    fn drift(&self, state: &State, plastic: &[bool]) -> f64 {
+        (0..self.elements.len())
+            .filter(|&e| plastic[e])
+            .map(|e| {
+                let sy = self.material[e].current_yield(state.plastic_strain[e]);
+                (von_mises(&state.stress[e]) - sy).abs() / sy
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// Scale the stress of plastic elements back onto the yield surface: the deviator at fixed
+    /// mean stress in plane strain, the in-plane stress (keeping σz = 0) in plane stress.
+    fn return_to_yield_surface(&self, state: &mut State, plastic: &[bool]) {
+        for e in 0..self.elements.len() {
+            if !plastic[e] {
+                continue;
+            }
+            let sy = self.material[e].current_yield(state.plastic_strain[e]);
+            let s = state.stress[e];
+            let factor = sy / von_mises(&s);
+            state.stress[e] = match self.model.plane {
+                Plane::Stress => s * factor,
+                Plane::Strain => {
+                    let p = (s[0] + s[1] + s[2]) / 3.0;
+                    let mean = Vector4::new(p, p, p, 0.0);
+                    mean + (s - mean) * factor
+                }
+            };
+        }
     }
 
     /// State + s × trial increment (eqs. 58–61).
-    fn advance(&self, state: &State, trial: &TrialIncrement, s: f64) -> State {
+    fn advance(&self, state: &State, trial: &TrialIncrement, s: f64, plastic: &[bool]) -> State {
         let mut st = state.clone();
         st.u.iter_mut().zip(&trial.du).for_each(|(u, d)| *u += s * d);
         st.stress.iter_mut().zip(&trial.dstress).for_each(|(u, d)| *u += s * d);
-        st.stress_z.iter_mut().zip(&trial.dstress_z).for_each(|(u, d)| *u += s * d);
+        for e in 0..st.plastic_strain.len() {
+            if plastic[e] {
+                st.plastic_strain[e] += s * trial.dplastic[e].max(0.0);
+            }
+        }
         st.lambda_n.iter_mut().zip(&trial.dlambda_n).for_each(|(u, d)| *u += s * d);
         st.lambda_t.iter_mut().zip(&trial.dlambda_t).for_each(|(u, d)| *u += s * d);
         st
@@ -699,11 +802,13 @@ impl<'m> Engine<'m> {
         Ok(())
     }
 
-    fn snapshot(&self, state: &State, status: &[Status]) -> Snapshot {
+    fn snapshot(&self, state: &State, status: &[Status], plastic: &[bool]) -> Snapshot {
         Snapshot {
             load_fraction: state.load_fraction,
             u: state.u.clone(),
-            stress: state.stress.iter().zip(&state.stress_z).map(|(s, z)| [s[0], s[1], *z, s[2]]).collect(),
+            stress: state.stress.iter().map(|s| [s[0], s[1], s[2], s[3]]).collect(),
+            plastic_strain: state.plastic_strain.clone(),
+            plastic: plastic.iter().map(|&p| p as i8).collect(),
             lambda_n: state.lambda_n.clone(),
             lambda_t: state.lambda_t.clone(),
             status: status.iter().map(|s| s.code()).collect(),

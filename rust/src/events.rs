@@ -5,12 +5,15 @@
 //! the trial increment at which it happens. The smallest S (capped at 1) is taken.
 
 use crate::contact::{Pair, Status};
+use crate::material::{von_mises, yield_scale, Material};
 use crate::model::EventKind;
+use nalgebra::Vector4;
 
 #[derive(Debug, Clone, Copy)]
 pub struct Candidate {
     pub scale: f64,
-    pub pair: usize,
+    /// Pair index for contact events, element index for `Yield` / `Unload`.
+    pub entity: usize,
     pub kind: EventKind,
     /// For stick→slip: the slip direction d (λ_t = −d μ λ_n afterwards).
     pub direction: i8,
@@ -47,7 +50,7 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
             continue;
         }
         let push = |out: &mut Vec<Candidate>, scale: f64, kind, direction| {
-            out.push(Candidate { scale: scale.max(0.0), pair: p, kind, direction })
+            out.push(Candidate { scale: scale.max(0.0), entity: p, kind, direction })
         };
         let (ln, lt) = (state.lambda_n[p], state.lambda_t[p]);
         let (dln, dlt) = (trial.dlambda_n[p], trial.dlambda_t[p]);
@@ -92,6 +95,52 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
         }
     }
     out
+}
+
+pub struct ElementState<'a> {
+    pub material: &'a [Material],
+    pub stress: &'a [Vector4<f64>],
+    pub plastic_strain: &'a [f64],
+    pub plastic: &'a [bool],
+    pub frozen: &'a [bool],
+}
+
+/// Elastic → plastic at S_p (eqs. 12–16, 56), and plastic → elastic unloading at S = 0 when
+/// the trial's plastic multiplier is negative (the event the paper leaves out).
+/// `dstress` and `dplastic` are the trial's stress and plastic-strain increments.
+pub fn element_candidates(state: &ElementState, dstress: &[Vector4<f64>], dplastic: &[f64]) -> Vec<Candidate> {
+    let noise = 1e-10 * dplastic.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let mut out = Vec::new();
+    for e in 0..state.stress.len() {
+        let m = &state.material[e];
+        if !m.is_plastic() || state.frozen[e] {
+            continue;
+        }
+        if state.plastic[e] {
+            if dplastic[e] < -noise {
+                out.push(Candidate { scale: 0.0, entity: e, kind: EventKind::Unload, direction: 0 });
+            }
+        } else if let Some(s) = yield_scale(&state.stress[e], &dstress[e], m.current_yield(state.plastic_strain[e])) {
+            out.push(Candidate { scale: s, entity: e, kind: EventKind::Yield, direction: 0 });
+        }
+    }
+    out
+}
+
+/// Drift control: the largest scale at which no plastic element's stress changes by more
+/// than `max_step` × σy (von Mises norm of the increment). With the tangent frozen at the
+/// increment's start, the departure from the yield surface grows with the square of this.
+pub fn drift_bound(state: &ElementState, dstress: &[Vector4<f64>], max_step: f64) -> f64 {
+    let mut s = f64::INFINITY;
+    for e in 0..state.stress.len() {
+        if state.plastic[e] {
+            let change = von_mises(&dstress[e]);
+            if change > 0.0 {
+                s = s.min(max_step * state.material[e].current_yield(state.plastic_strain[e]) / change);
+            }
+        }
+    }
+    s
 }
 
 #[cfg(test)]

@@ -1,13 +1,20 @@
-//! Isotropic linear elasticity in the two planar idealisations (paper eqs. 9, 18).
+//! Isotropic elasticity and von Mises plasticity with linear isotropic hardening
+//! (paper §2.2, eqs. 4–11, 18 and Appendix A).
 //!
-//! The tangent matrix `D` relates (σx, σy, τxy) to (εx, εy, γxy) (engineering shear strain,
-//! eq. 10). Plasticity (Prandtl–Reuss, eq. 11 and Appendix A) will add an elastoplastic tangent
-//! `D_ep = D − (D a)(D a)ᵀ / (H' + aᵀ D a)` per element on top of this; the driver already asks
-//! each element for its tangent, so the yield event plugs into the same loop.
+//! Stresses and strains carry four components (x, y, z, xy) with engineering shear strain
+//! (eq. 10), so plane strain (εz = 0, σz tracked), plane stress (σz = 0) and, later,
+//! axisymmetry share one code path: the 4×4 tangent is built once and then restricted
+//! (plane strain) or statically condensed (plane stress) to the in-plane 3×3 matrix that the
+//! CST needs.
+//!
+//! Prandtl–Reuss (eqs. 5–7) with the flow vector a = ∂σe/∂σ gives the elastoplastic tangent in
+//! *stiffness* form,   D_ep = D − (D a)(D a)ᵀ / (H' + aᵀ D a)   (eq. 11),
+//! which stays finite for perfect plasticity H' = 0; the paper's compliance form (A.2–A.6)
+//! divides by H' (the tests check that both agree for H' > 0). D_ep − D is rank one.
 
 use crate::bail;
 use crate::error::Result;
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Matrix4, RowVector3, Vector3, Vector4};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Plane {
@@ -50,6 +57,41 @@ impl Material {
         Ok(())
     }
 
+    pub fn is_plastic(&self) -> bool {
+        self.yield_stress.is_finite()
+    }
+
+    /// Current yield stress σy(εp) = Sy + H' εp (linear isotropic hardening, eq. 6).
+    pub fn current_yield(&self, plastic_strain: f64) -> f64 {
+        self.yield_stress + self.hardening * plastic_strain
+    }
+
+    /// Isotropic D over (x, y, z, xy), engineering shear.
+    pub fn elastic_d4(&self) -> Matrix4<f64> {
+        let (e, nu) = (self.young, self.poisson);
+        let lame = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        let g = e / (2.0 * (1.0 + nu));
+        let d = lame + 2.0 * g;
+        Matrix4::new(
+            d, lame, lame, 0.0,
+            lame, d, lame, 0.0,
+            lame, lame, d, 0.0,
+            0.0, 0.0, 0.0, g,
+        )
+    }
+
+    /// Tangent at stress σ: elastic, or elastoplastic (eq. 11) for an element that is plastic.
+    pub fn tangent(&self, stress: &Vector4<f64>, plastic: bool) -> Tangent {
+        let d4 = self.elastic_d4();
+        if !plastic {
+            return Tangent { d4, flow: None };
+        }
+        let a = flow_vector(stress);
+        let da = d4 * a;
+        let denom = self.hardening + a.dot(&da);
+        Tangent { d4: d4 - da * da.transpose() / denom, flow: Some(Flow { da, denom }) }
+    }
+
     /// Elastic stiffness D (plane strain or plane stress).
     pub fn elastic_tangent(&self, plane: Plane) -> Matrix3<f64> {
         let (e, nu) = (self.young, self.poisson);
@@ -83,6 +125,104 @@ impl Material {
     }
 }
 
+/// σe = sqrt(3/2 s:s) (eq. 6) of (σx, σy, σz, τxy).
+pub fn von_mises(s: &Vector4<f64>) -> f64 {
+    von_mises_squared(s).max(0.0).sqrt()
+}
+
+/// σe² as the quadratic form σᵀ P σ of eqs. 12–13.
+pub fn von_mises_squared(s: &Vector4<f64>) -> f64 {
+    s[0] * s[0] + s[1] * s[1] + s[2] * s[2] - s[0] * s[1] - s[1] * s[2] - s[2] * s[0] + 3.0 * s[3] * s[3]
+}
+
+fn von_mises_bilinear(s: &Vector4<f64>, t: &Vector4<f64>) -> f64 {
+    s[0] * t[0] + s[1] * t[1] + s[2] * t[2] - 0.5 * (s[0] * t[1] + s[1] * t[0] + s[1] * t[2] + s[2] * t[1] + s[2] * t[0] + s[0] * t[2])
+        + 3.0 * s[3] * t[3]
+}
+
+/// a = ∂σe/∂σ = 3/(2σe) (sx, sy, sz, 2τxy) (engineering shear pairing).
+pub fn flow_vector(s: &Vector4<f64>) -> Vector4<f64> {
+    let se = von_mises(s);
+    let p = (s[0] + s[1] + s[2]) / 3.0;
+    Vector4::new(s[0] - p, s[1] - p, s[2] - p, 2.0 * s[3]) * (1.5 / se)
+}
+
+/// Yield scale factor S_p (eqs. 12–16): the smallest S ≥ 0 with σe(σ + S Δσ) = σy.
+/// Returns None if the increment never reaches the yield surface.
+pub fn yield_scale(stress: &Vector4<f64>, dstress: &Vector4<f64>, yield_stress: f64) -> Option<f64> {
+    let a2 = von_mises_squared(dstress); // Δσe of eq. 12/13
+    let a1 = 2.0 * von_mises_bilinear(stress, dstress); // D of eq. 12/13
+    let a0 = von_mises_squared(stress) - yield_stress * yield_stress; // σ̄e − Sy²
+    if a0 >= 0.0 {
+        return if a1 > 0.0 { Some(0.0) } else { None };
+    }
+    if a2 <= 0.0 {
+        return None;
+    }
+    let disc = (a1 * a1 - 4.0 * a2 * a0).sqrt(); // a0 < 0 ⇒ one positive root
+    Some(if a1 >= 0.0 { -2.0 * a0 / (a1 + disc) } else { (-a1 + disc) / (2.0 * a2) })
+}
+
+/// The plastic part of a tangent: D a and H' + aᵀ D a (both at the increment's start).
+#[derive(Debug, Clone, Copy)]
+pub struct Flow {
+    pub da: Vector4<f64>,
+    pub denom: f64,
+}
+
+/// A material tangent over (x, y, z, xy), and how it reduces to the plane.
+#[derive(Debug, Clone, Copy)]
+pub struct Tangent {
+    pub d4: Matrix4<f64>,
+    pub flow: Option<Flow>,
+}
+
+const IN_PLANE: [usize; 3] = [0, 1, 3];
+
+impl Tangent {
+    /// Out-of-plane strain per unit in-plane strain: 0 in plane strain; from σz = 0 in
+    /// plane stress (static condensation).
+    fn strain_z_row(&self, plane: Plane) -> RowVector3<f64> {
+        match plane {
+            Plane::Strain => RowVector3::zeros(),
+            Plane::Stress => {
+                let dz = self.d4[(2, 2)];
+                RowVector3::from_fn(|_, j| -self.d4[(2, IN_PLANE[j])] / dz)
+            }
+        }
+    }
+
+    /// The full strain (εx, εy, εz, γxy) of an in-plane strain (εx, εy, γxy).
+    pub fn full_strain(&self, plane: Plane, e: &Vector3<f64>) -> Vector4<f64> {
+        Vector4::new(e[0], e[1], (self.strain_z_row(plane) * e)[0], e[2])
+    }
+
+    /// In-plane 3×3 tangent for the CST.
+    pub fn in_plane(&self, plane: Plane) -> Matrix3<f64> {
+        let mut d = Matrix3::from_fn(|i, j| self.d4[(IN_PLANE[i], IN_PLANE[j])]);
+        if plane == Plane::Stress {
+            let col_z = Vector3::from_fn(|i, _| self.d4[(IN_PLANE[i], 2)]);
+            let row_z = RowVector3::from_fn(|_, j| self.d4[(2, IN_PLANE[j])]);
+            d -= col_z * row_z / self.d4[(2, 2)];
+        }
+        d
+    }
+
+    /// Δσ (4 components) for an in-plane strain increment.
+    pub fn stress_increment(&self, plane: Plane, e: &Vector3<f64>) -> Vector4<f64> {
+        self.d4 * self.full_strain(plane, e)
+    }
+
+    /// Equivalent plastic strain increment Δεp = (D a)ᵀ Δε / (H' + aᵀ D a) (Prandtl–Reuss);
+    /// negative means elastic unloading. 0 for an elastic tangent.
+    pub fn plastic_multiplier(&self, plane: Plane, e: &Vector3<f64>) -> f64 {
+        match self.flow {
+            None => 0.0,
+            Some(f) => f.da.dot(&self.full_strain(plane, e)) / f.denom,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -110,6 +250,64 @@ mod tests {
         let eps = nalgebra::Vector3::new(1.0 / 200.0, -0.25 / 200.0, 0.0);
         let s = d * eps;
         assert!((s - nalgebra::Vector3::new(1.0, 0.0, 0.0)).norm() < 1e-14);
+    }
+
+    /// The paper's compliance form (A.2): C_ep = C + a aᵀ / H' (a = ∂σe/∂σ).
+    fn compliance_a2(m: &Material, s: &Vector4<f64>) -> Matrix4<f64> {
+        let a = flow_vector(s);
+        m.elastic_d4().try_inverse().unwrap() + a * a.transpose() / m.hardening
+    }
+
+    #[test]
+    fn stiffness_form_agrees_with_compliance_form_a2_a3_a6() {
+        let mut m = Material::elastic(70_000.0, 0.3);
+        m.yield_stress = 200.0;
+        m.hardening = 700.0;
+        // Plane strain (A.6): the 4×4 forms are inverse to each other, hence also their
+        // εz = 0 restrictions (A.5–A.6 condense the compliance, we restrict the stiffness).
+        let s = Vector4::new(-150.0, -320.0, -141.0, 60.0);
+        let t = m.tangent(&s, true);
+        let c = compliance_a2(&m, &s);
+        assert!((t.d4 * c - Matrix4::identity()).norm() < 1e-10);
+        let ci = c.try_inverse().unwrap();
+        let d_strain = Matrix3::from_fn(|i, j| ci[(IN_PLANE[i], IN_PLANE[j])]);
+        assert!((t.in_plane(Plane::Strain) - d_strain).norm() < 1e-9 * d_strain.norm());
+        // Plane stress (A.3): σz = 0, the in-plane compliance is the 3×3 block of A.2.
+        let s = Vector4::new(120.0, -90.0, 0.0, 40.0);
+        let t = m.tangent(&s, true);
+        let c = compliance_a2(&m, &s);
+        let c3 = Matrix3::from_fn(|i, j| c[(IN_PLANE[i], IN_PLANE[j])]);
+        assert!((t.in_plane(Plane::Stress) * c3 - Matrix3::identity()).norm() < 1e-10);
+    }
+
+    #[test]
+    fn plastic_tangent_is_a_rank_one_update_that_survives_h_zero() {
+        let mut m = Material::elastic(70_000.0, 0.3);
+        m.yield_stress = 200.0;
+        m.hardening = 0.0; // perfect plasticity: A.2 would divide by zero
+        let s = Vector4::new(100.0, -100.0, 0.0, 20.0);
+        for plane in [Plane::Strain, Plane::Stress] {
+            let diff = m.tangent(&s, true).in_plane(plane) - m.tangent(&s, false).in_plane(plane);
+            let sv = diff.singular_values();
+            let mut v: Vec<f64> = sv.iter().copied().collect();
+            v.sort_by(|a, b| b.partial_cmp(a).unwrap());
+            assert!(v[0] > 0.0 && v[1] < 1e-9 * v[0], "{plane:?}: {v:?}");
+        }
+        // H' = 0: a plastic increment along the flow leaves σe unchanged (aᵀ D_ep = 0).
+        let t = m.tangent(&s, true);
+        let a = flow_vector(&s);
+        assert!((a.transpose() * t.d4).norm() < 1e-9 * t.d4.norm());
+    }
+
+    #[test]
+    fn yield_scale_lands_on_the_surface() {
+        let s = Vector4::new(50.0, -20.0, 9.0, 30.0);
+        let ds = Vector4::new(100.0, -40.0, 18.0, 10.0);
+        let sp = yield_scale(&s, &ds, 200.0).unwrap();
+        assert!((von_mises(&(s + ds * sp)) - 200.0).abs() < 1e-10);
+        // Unloading towards the origin reaches the surface only after reversing (S > 2).
+        assert!(yield_scale(&s, &(-s * 0.5), 200.0).unwrap() > 2.0);
+        assert!(yield_scale(&s, &Vector4::zeros(), 200.0).is_none());
     }
 
     #[test]

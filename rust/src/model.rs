@@ -35,6 +35,12 @@ pub struct Options {
     /// How many times a pair may change status within one zero-length run of events before
     /// it is frozen until the load advances (anti-cycling rule, see `driver`).
     pub max_zero_length_switches: usize,
+    /// Drift control for plastic elements (false = the paper exactly).
+    pub drift_control: bool,
+    /// With drift control: largest stress change of a plastic element per increment, × σy.
+    pub max_stress_step: f64,
+    /// Stop at the first yield event (the load capacity at the onset of plasticity).
+    pub stop_at_first_yield: bool,
 }
 
 impl Default for Options {
@@ -45,6 +51,9 @@ impl Default for Options {
             max_steps: 0,
             equilibrium_tol: 1e-9,
             max_zero_length_switches: 4,
+            drift_control: true,
+            max_stress_step: 0.05,
+            stop_at_first_yield: false,
         }
     }
 }
@@ -72,6 +81,12 @@ pub enum EventKind {
     SlipToStick,
     /// Anti-cycling: the pair was frozen in its status for the rest of a zero-length run.
     Frozen,
+    /// An elastic element reaches the yield surface (S_p, eq. 16).
+    Yield,
+    /// A plastic element unloads elastically.
+    Unload,
+    /// Anti-cycling for an element.
+    FrozenElement,
 }
 
 impl EventKind {
@@ -82,7 +97,14 @@ impl EventKind {
             EventKind::StickToSlip => "stick_to_slip",
             EventKind::SlipToStick => "slip_to_stick",
             EventKind::Frozen => "frozen",
+            EventKind::Yield => "yield",
+            EventKind::Unload => "unload",
+            EventKind::FrozenElement => "frozen_element",
         }
+    }
+
+    pub fn is_element_event(self) -> bool {
+        matches!(self, EventKind::Yield | EventKind::Unload | EventKind::FrozenElement)
     }
 }
 
@@ -103,6 +125,9 @@ pub struct StepRecord {
     pub n_stick: usize,
     pub n_slip: usize,
     pub normal_force: f64,
+    pub n_plastic: usize,
+    /// Max |σe − σy(εp)| / σy(εp) over plastic elements at the end of the step, before return.
+    pub drift: f64,
 }
 
 #[derive(Debug, Clone)]
@@ -112,6 +137,8 @@ pub struct Snapshot {
     pub u: Vec<f64>,
     /// σx, σy, σz, τxy per element.
     pub stress: Vec<[f64; 4]>,
+    pub plastic_strain: Vec<f64>,
+    pub plastic: Vec<i8>,
     pub lambda_n: Vec<f64>,
     pub lambda_t: Vec<f64>,
     pub status: Vec<i8>,
@@ -135,6 +162,7 @@ pub struct RunResult {
     pub closure_fraction: Vec<f64>,
     pub predicted_closure: Vec<f64>,
     pub max_equilibrium_residual: f64,
+    pub max_drift: f64,
     pub n_factorizations: usize,
     pub n_solves: usize,
     pub interrupted: bool,
