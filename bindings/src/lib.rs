@@ -176,6 +176,7 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     out.set_item("n_factorizations", r.n_factorizations)?;
     out.set_item("n_solves", r.n_solves)?;
     out.set_item("interrupted", r.interrupted)?;
+    out.set_item("stop_reason", r.stop_reason)?;
     let t = PyDict::new(py);
     t.set_item("assembly", r.timings.assembly)?;
     t.set_item("factorization", r.timings.factorization)?;

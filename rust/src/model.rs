@@ -166,6 +166,8 @@ pub struct RunResult {
     pub n_factorizations: usize,
     pub n_solves: usize,
     pub interrupted: bool,
+    /// Why the run stopped before load fraction 1 other than Ctrl-C (e.g. the event bound).
+    pub stop_reason: Option<String>,
     pub timings: Timings,
 }
 

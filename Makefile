@@ -1,0 +1,107 @@
+# slipstep: build, test and demo entry points.
+#
+#   make demo    set up everything, build the extension, run the embedded default case
+#   make test    set up everything, build, then cargo tests + pytest
+#   make bench   set up everything, build, then bench/run.py
+#
+# Set-up is idempotent and stamp-driven, so a second run with nothing changed does no apt, no pip
+# and no maturin:
+#   build/stamps/apt   Debian packages present (ci/setup-apt.sh; apt only if something is missing)
+#   .venv/.stamp-venv  venv made by /usr/bin/python3 --system-site-packages + pip packages, verified
+#   .venv/.stamp-ext   `maturin develop --release` done; redone only when rust/, bindings/, Cargo
+#                      files or pyproject.toml change (or the built _engine*.so has disappeared)
+
+SHELL := bash
+.SHELLFLAGS := -eu -o pipefail -c
+.DELETE_ON_ERROR:
+.DEFAULT_GOAL := help
+
+ROOT        := $(CURDIR)
+VENV        := $(ROOT)/.venv
+PY          := $(VENV)/bin/python
+STAMPS      := $(ROOT)/build/stamps
+APT_STAMP   := $(STAMPS)/apt
+VENV_STAMP  := $(VENV)/.stamp-venv
+EXT_STAMP   := $(VENV)/.stamp-ext
+
+# Environment for every recipe: the venv and rustup's cargo first on PATH; every pip install,
+# including the one maturin runs for the project's dependencies, is constrained (numpy==1.24.2).
+export VIRTUAL_ENV              := $(VENV)
+export PATH                     := $(VENV)/bin:$(HOME)/.cargo/bin:$(PATH)
+export PIP_CONSTRAINT           := $(ROOT)/ci/constraints.txt
+export PIP_DISABLE_PIP_VERSION_CHECK := 1
+
+# Everything that can change the compiled extension.
+EXT_INPUTS := $(shell find rust bindings -type f -not -path '*/target/*' 2>/dev/null) \
+              $(wildcard Cargo.toml Cargo.lock .cargo/config.toml rust-toolchain.toml) \
+              pyproject.toml
+# Rebuild if the installed extension module is gone (e.g. py/slipstep was wiped).
+EXT_SO     := $(wildcard py/slipstep/_engine*.so)
+
+.PHONY: help setup build demo test test-rust test-py bench fmt clean distclean FORCE
+
+help:
+	@echo "make demo | test | bench   (each does all set-up first; see README.md)"
+	@echo "make setup | build | test-rust | test-py | fmt | clean | distclean"
+
+# ---------------------------------------------------------------- set-up
+$(APT_STAMP): ci/setup-apt.sh ci/apt-packages.txt
+	ci/setup-apt.sh
+	@mkdir -p $(@D) && touch $@
+
+$(VENV_STAMP): ci/setup-venv.sh ci/check-env.py ci/requirements.txt ci/constraints.txt | $(APT_STAMP)
+	ci/setup-venv.sh
+	touch $@
+
+setup: $(VENV_STAMP)
+
+# ---------------------------------------------------------------- build
+# --release everywhere: the Rust tests below reuse every artifact this build leaves in
+# target/release (see test-rust).
+$(EXT_STAMP): $(EXT_INPUTS) $(VENV_STAMP) $(if $(EXT_SO),,FORCE)
+	maturin develop --release
+	$(PY) ci/check-env.py --built
+	touch $@
+
+build: $(EXT_STAMP)
+
+# ---------------------------------------------------------------- run
+demo: $(EXT_STAMP)
+	MPLBACKEND=Agg $(VENV)/bin/slipstep run --out results/demo
+
+# Rust tests: `cargo test --release --workspace` through ci/cargo-test.sh, which mirrors maturin's
+# PYO3_* environment, so it shares every artifact in target/release with `maturin develop
+# --release`. Measured on 2 cores, clean clone: maturin 3.8 min (placeholder crates) to 6.1 min
+# (current engine, with a concurrent pytest); then this compiles only the test harnesses of
+# slipstep-core and slipstep-py (0.5 s placeholder, 29 s engine), no dependency.
+# Rejected, measured: plain `cargo test` (dev/test profile, target/debug) compiles every
+# dependency again: +3.8 min, +790 MB. `cargo test --release -p slipstep-core` resolves features
+# without bindings/ (num-traits/num-complex lose "default") and so recompiles faer, nalgebra &
+# co.: +2.0 min, and slipstep-core twice after every change. Plain cargo without maturin's PYO3_*
+# variables re-runs pyo3's build script, and pyo3 is rebuilt back and forth (~10 s each way).
+test-rust: $(EXT_STAMP)
+	ci/cargo-test.sh
+
+# Exit code 5 (no tests collected) is a failure on purpose: it is not masked.
+test-py: $(EXT_STAMP)
+	MPLBACKEND=Agg $(PY) -m pytest -q tests
+
+test: $(EXT_STAMP)
+	ci/cargo-test.sh
+	MPLBACKEND=Agg $(PY) -m pytest -q tests
+
+bench: $(EXT_STAMP)
+	MPLBACKEND=Agg $(PY) bench/run.py
+
+fmt:
+	cargo fmt --all
+
+# clean: build products (keeps .venv, results/). distclean: also the venv.
+clean:
+	cargo clean
+	rm -rf build py/slipstep/_engine*.so $(EXT_STAMP)
+
+distclean: clean
+	rm -rf $(VENV)
+
+FORCE:

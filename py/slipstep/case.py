@@ -1,0 +1,689 @@
+"""The scene description: load a case TOML file, apply ``--set`` overrides, validate.
+
+A case is a TOML file (schema in ``cases/README.md``; the same schema is declared below in
+``SCHEMA`` and every key there is checked).  ``load_case`` returns a :class:`Case` whose
+``data`` is the validated document with every default filled in, so the rest of the package
+reads plain dicts and never guesses.
+
+Every problem is reported as a :class:`CaseError` with a one-line message that names the
+source, the key as ``--set`` would spell it, and the fix, e.g.::
+
+    cases/x.toml: material.nu = 0.5 is not allowed: Poisson's ratio must satisfy -1 < nu < 0.5 (use 0.499 for near-incompressible)
+
+Keys are spelled like ``--set`` paths: ``analysis.plane``, ``body.cylinder.material.E`` (an
+element of an array of tables by its ``name`` or its 0-based index; the index may be left out
+when the array has exactly one element, so ``contact.mu``), and for a case with a single body
+``mesh.*`` and ``material.*`` are short for ``body.<it>.mesh.*`` and ``body.<it>.material.*``.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any, Callable
+
+
+class CaseError(ValueError):
+    """A problem in a case file or an override; the message is one line and names the fix."""
+
+
+# --------------------------------------------------------------------------- the schema
+REQUIRED = object()  # marker: the key has no default
+
+
+@dataclass(frozen=True)
+class Key:
+    """One key of a table: its type, default, unit, meaning and an optional value check.
+
+    ``type`` is one of ``"float"``, ``"int"``, ``"str"``, ``"bool"``, ``"vec2"`` (two floats),
+    ``"axes"`` (a list of ``"x"``/``"y"``), ``"snapshots"`` (``"events"`` or a list of load
+    fractions).  ``check(value)`` returns ``None`` or the reason the value is not allowed.
+    """
+
+    type: str
+    default: Any = REQUIRED
+    unit: str = ""
+    doc: str = ""
+    check: Callable[[Any], str | None] | None = None
+    choices: tuple = ()
+
+
+def _positive(what: str) -> Callable[[Any], str | None]:
+    return lambda v: None if v > 0 else f"{what} must be > 0"
+
+
+def _non_negative(what: str) -> Callable[[Any], str | None]:
+    return lambda v: None if v >= 0 else f"{what} must be >= 0"
+
+
+def _check_nu(nu: float) -> str | None:
+    if -1.0 < nu < 0.5:
+        return None
+    return "Poisson's ratio must satisfy -1 < nu < 0.5 (use 0.499 for near-incompressible)"
+
+
+def _check_unit_free_vector(v) -> str | None:
+    return None if math.hypot(*v) > 0 else "the normal must be a non-zero vector"
+
+
+def _check_fraction_list(v) -> str | None:
+    if isinstance(v, str):
+        return None if v == "events" else 'use "events" or a list of load fractions in (0, 1]'
+    if not v:
+        return 'the list is empty: use "events" or e.g. [0.25, 0.5, 1.0]'
+    if any(not (0.0 < f <= 1.0) for f in v):
+        return "every load fraction must lie in (0, 1]"
+    if any(b <= a for a, b in zip(v, v[1:])):
+        return "the load fractions must be strictly increasing"
+    return None
+
+
+CASE_KEYS = {
+    "name": Key("str", "unnamed", doc="short name, used in file names and figure titles"),
+    "description": Key("str", "", doc="free text"),
+    "units": Key("str", "consistent units (e.g. mm, N, MPa)",
+                 doc="a note only: slipstep uses whatever consistent units the numbers are in"),
+}
+
+ANALYSIS_KEYS = {
+    "plane": Key("str", "strain", doc="2D idealisation", choices=("strain", "stress")),
+    "thickness": Key("float", 1.0, unit="length", doc="out-of-plane thickness t",
+                     check=_positive("the thickness")),
+}
+
+LOAD_KEYS = {
+    "P": Key("float", REQUIRED, unit="force/length",
+             doc="Hertz convenience: total compressive line load on the FULL cylinder per unit "
+                 "thickness; the quarter model gets pressure q = P/(2R) on its cut edge `top`",
+             check=_positive("the load P")),
+    "body": Key("str", "", doc="the quarter_cylinder body it acts on (default: the only one)"),
+}
+
+OUTPUT_KEYS = {
+    "snapshots": Key("snapshots", "events",
+                     doc='"events" (a snapshot after every event) or a list of load fractions '
+                         "in (0, 1] (1.0 is always added)", check=_check_fraction_list),
+    "figures": Key("bool", True, doc="write PNG figures"),
+    "xdmf": Key("bool", True, doc="write the XDMF/HDF5 time series of u and stresses"),
+}
+
+SOLVER_KEYS = {
+    "tie_tol": Key("float", 1e-9, doc="relative tie tolerance: events with S <= S_min(1+tie_tol) "
+                                      "are applied together", check=_non_negative("tie_tol")),
+    "max_events": Key("int", 0, doc="stop after this many events (0 = automatic bound)",
+                      check=_non_negative("max_events")),
+    "equilibrium_tol": Key("float", 1e-9, doc="relative equilibrium residual that is accepted",
+                           check=_positive("equilibrium_tol")),
+    "drift_control": Key("bool", True, doc="plasticity: bound the stress increment of plastic "
+                                           "elements and return to the yield surface after each "
+                                           "increment (false = the paper exactly)"),
+    "max_stress_step": Key("float", 0.05, doc="plasticity, with drift_control: largest von Mises "
+                                              "stress increment of a plastic element, x Sy",
+                           check=_positive("max_stress_step")),
+}
+
+BODY_KEYS = {
+    "name": Key("str", REQUIRED, doc="unique body name, used by [[bc]] and [[contact]]"),
+    # "mesh" and "material" are sub-tables, declared below
+}
+
+MATERIAL_KEYS = {
+    "E": Key("float", REQUIRED, unit="stress", doc="Young's modulus",
+             check=_positive("Young's modulus E")),
+    "nu": Key("float", REQUIRED, doc="Poisson's ratio", check=_check_nu),
+    "Sy": Key("float", None, unit="stress", doc="yield stress (optional; plasticity)",
+              check=_positive("the yield stress Sy")),
+    "H": Key("float", None, unit="stress", doc="plastic (hardening) modulus H' (optional; 0 = perfectly plastic)",
+             check=_non_negative("the hardening modulus H")),
+}
+
+QUARTER_CYLINDER_KEYS = {
+    "generator": Key("str", REQUIRED, doc='"quarter_cylinder"'),
+    "R": Key("float", REQUIRED, unit="length", doc="cylinder radius; centre at (0, R), bottom "
+                                                    "point at (0, 0)", check=_positive("R")),
+    "h_contact": Key("float", REQUIRED, unit="length",
+                     doc="element size within contact_zone of the bottom point (0, 0)",
+                     check=_positive("h_contact")),
+    "contact_zone": Key("float", REQUIRED, unit="length",
+                        doc="radius of the fine zone around (0, 0)",
+                        check=_positive("contact_zone")),
+    "h_max": Key("float", REQUIRED, unit="length", doc="largest element size",
+                 check=_positive("h_max")),
+    "growth": Key("float", 0.1, doc="size growth per unit distance outside the zone "
+                                    "(h = h_contact + growth * (d - contact_zone))",
+                  check=_positive("growth")),
+}
+
+BLOCK_KEYS = {
+    "generator": Key("str", REQUIRED, doc='"block"'),
+    "x0": Key("float", 0.0, unit="length", doc="lower-left corner x"),
+    "y0": Key("float", 0.0, unit="length", doc="lower-left corner y"),
+    "width": Key("float", REQUIRED, unit="length", doc="size in x", check=_positive("width")),
+    "height": Key("float", REQUIRED, unit="length", doc="size in y", check=_positive("height")),
+    "nx": Key("int", 0, doc="divisions in x (0: from h)", check=_non_negative("nx")),
+    "ny": Key("int", 0, doc="divisions in y (0: from h)", check=_non_negative("ny")),
+    "h": Key("float", 0.0, unit="length",
+             doc="target element size when nx/ny are 0 (n = round(size/h))",
+             check=_non_negative("h")),
+}
+
+FILE_MESH_KEYS = {
+    "file": Key("str", REQUIRED, doc="triangle mesh .msh (gmsh physical names = edge tags) or "
+                                     ".xdmf (meshio; line cells tagged by an integer cell "
+                                     "array); relative to the case file"),
+    "edge_file": Key("str", "", doc=".xdmf holding the tagged line cells when they are kept "
+                                    "apart from the triangles (dolfinx style)"),
+    "scale": Key("float", 1.0, doc="multiply the coordinates by this", check=_positive("scale")),
+}
+
+MESH_VARIANTS = {"quarter_cylinder": QUARTER_CYLINDER_KEYS, "block": BLOCK_KEYS}
+
+#: Edge tags that the generators create (file meshes bring their own).
+GENERATOR_EDGES = {
+    "quarter_cylinder": ("arc", "symmetry", "top"),
+    "block": ("bottom", "right", "top", "left"),
+}
+
+BC_KEYS = {
+    "name": Key("str", "", doc="optional name, to address it as bc.<name>.* in --set"),
+    "body": Key("str", REQUIRED, doc="body name"),
+    "edge": Key("str", "", doc="edge tag of that body (or give `nodes`)"),
+    "nodes": Key("str", "", doc="node-set name of that body (supports `fix` only)"),
+    "fix": Key("axes", [], doc='components held at zero: ["x"], ["y"] or ["x", "y"]'),
+    "symmetry": Key("bool", False, doc="hold the normal component (edge must be parallel to an axis)"),
+    "pressure": Key("float", 0.0, unit="stress",
+                    doc="uniform pressure q, acting against the outward normal"),
+    "traction": Key("vec2", [0.0, 0.0], unit="stress", doc="uniform traction [tx, ty]"),
+}
+
+POINT_LOAD_KEYS = {
+    "name": Key("str", "", doc="optional name"),
+    "body": Key("str", "", doc="restrict the node search to this body (default: all bodies)"),
+    "at": Key("vec2", REQUIRED, unit="length", doc="the load goes to the node nearest this point"),
+    "force": Key("vec2", REQUIRED, unit="force/length", doc="[Fx, Fy] per unit thickness"),
+}
+
+_CONTACT_COMMON = {
+    "kind": Key("str", REQUIRED, doc='"rigid_line" or "node_to_node"'),
+    "name": Key("str", "", doc="optional name"),
+    "mu": Key("float", 0.0, doc="Coulomb friction coefficient", check=_non_negative("mu")),
+}
+
+RIGID_LINE_KEYS = {
+    **_CONTACT_COMMON,
+    "body": Key("str", REQUIRED, doc="the deformable body"),
+    "edge": Key("str", REQUIRED, doc="its candidate edge tag"),
+    "point": Key("vec2", [0.0, 0.0], unit="length", doc="a point of the rigid line"),
+    "normal": Key("vec2", [0.0, 1.0], doc="normal of the line pointing to the body side",
+                  check=_check_unit_free_vector),
+    "x_min": Key("float", -math.inf, unit="length", doc="candidates: nodes with x >= x_min"),
+    "x_max": Key("float", math.inf, unit="length", doc="candidates: nodes with x <= x_max"),
+    "y_min": Key("float", -math.inf, unit="length", doc="candidates: nodes with y >= y_min"),
+    "y_max": Key("float", math.inf, unit="length", doc="candidates: nodes with y <= y_max"),
+    "tolerance": Key("float", 1e-9, unit="length",
+                     doc="gaps in [-tolerance, 0) count as 0; below -tolerance is an error",
+                     check=_non_negative("tolerance")),
+}
+
+NODE_TO_NODE_KEYS = {
+    **_CONTACT_COMMON,
+    "body_a": Key("str", REQUIRED, doc="contactor body"),
+    "edge_a": Key("str", REQUIRED, doc="contactor edge tag"),
+    "body_b": Key("str", REQUIRED, doc="target body"),
+    "edge_b": Key("str", REQUIRED, doc="target edge tag"),
+    "tolerance": Key("float", 1e-6, unit="length",
+                     doc="pair node a with the nearest node b within this distance",
+                     check=_positive("tolerance")),
+    "normal": Key("vec2", None, doc="fixed normal for every pair (default: outward normal of "
+                                    "edge_b averaged at node b)", check=_check_unit_free_vector),
+}
+
+CONTACT_VARIANTS = {"rigid_line": RIGID_LINE_KEYS, "node_to_node": NODE_TO_NODE_KEYS}
+
+#: Top-level tables and arrays of tables.
+TABLES = {"case": CASE_KEYS, "analysis": ANALYSIS_KEYS, "load": LOAD_KEYS,
+          "output": OUTPUT_KEYS, "solver": SOLVER_KEYS}
+ARRAYS = ("body", "bc", "point_load", "contact")
+
+
+def _union(*tables: dict) -> dict:
+    out: dict = {}
+    for t in tables:
+        out.update(t)
+    return out
+
+
+#: Every key an element of an array (or a body sub-table) may hold, for --set and unknown keys.
+ARRAY_KEYS = {
+    "body": BODY_KEYS,
+    "bc": BC_KEYS,
+    "point_load": POINT_LOAD_KEYS,
+    "contact": _union(RIGID_LINE_KEYS, NODE_TO_NODE_KEYS),
+}
+BODY_SUBTABLES = {"mesh": _union(QUARTER_CYLINDER_KEYS, BLOCK_KEYS, FILE_MESH_KEYS),
+                  "material": MATERIAL_KEYS}
+
+
+# --------------------------------------------------------------------------- the case object
+@dataclass
+class Case:
+    """A validated case: ``data`` holds every table with defaults filled in.
+
+    ``source`` is how messages name the file; ``base_dir`` resolves relative mesh paths.
+    """
+
+    data: dict
+    source: str
+    base_dir: Path
+
+    @property
+    def name(self) -> str:
+        return self.data["case"]["name"]
+
+    def body(self, name: str) -> dict:
+        for b in self.data["body"]:
+            if b["name"] == name:
+                return b
+        raise KeyError(name)
+
+    def error(self, key: str, message: str) -> CaseError:
+        """A CaseError about ``key`` (found after validation, e.g. while building the model)."""
+        return CaseError(f"{self.source}: {key}: {message}")
+
+
+def default_case_path() -> Path:
+    """The embedded default case (the Hertz cylinder of §5.1)."""
+    return Path(str(resources.files("slipstep") / "data" / "hertz_cylinder.toml"))
+
+
+def load_case(path: str | Path | None = None, overrides=()) -> Case:
+    """Read a case file (the embedded default if ``path`` is None), apply ``overrides``
+    (strings ``"key=value"``), validate, and return a :class:`Case`."""
+    if path is None:
+        path = default_case_path()
+        source = "hertz_cylinder.toml (built-in)"
+    else:
+        source = str(path)
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise CaseError(f"{source}: no such case file") from None
+    except OSError as exc:
+        raise CaseError(f"{source}: cannot read the case file: {exc.strerror}") from None
+    return parse_case(text, source=source, base_dir=path.resolve().parent, overrides=overrides)
+
+
+def parse_case(text: str, source: str = "<case>", base_dir: Path | str = ".",
+               overrides=()) -> Case:
+    """Like :func:`load_case`, from TOML text."""
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(f"{source}: invalid TOML: {exc}") from None
+    for item in overrides:
+        apply_override(raw, item, source)
+    data = _Validator(source).case(raw)
+    return Case(data=data, source=source, base_dir=Path(base_dir))
+
+
+# --------------------------------------------------------------------------- overrides
+def parse_override(item: str) -> tuple[str, Any]:
+    """Split ``"key=value"``; the value is a TOML literal (``0.35``, ``[0, 1]``, ``"strain"``,
+    ``true``); a bare word that is no TOML literal is taken as a string (``plane=stress``)."""
+    key, sep, text = item.partition("=")
+    key, text = key.strip(), text.strip()
+    if not sep or not key:
+        raise CaseError(f"--set {item}: expected KEY=VALUE, e.g. --set contact.mu=0.35")
+    try:
+        value = tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        if text and all(c.isalnum() or c in "_-./" for c in text):
+            value = text
+        else:
+            raise CaseError(f"--set {item}: {text!r} is not a TOML value "
+                            f'(numbers as 0.35, strings as "text", lists as [0, 1])') from None
+    return key, value
+
+
+def apply_override(raw: dict, item: str, source: str = "<case>") -> None:
+    """Apply one ``--set key=value`` to the raw TOML document, in place."""
+    key, value = parse_override(item)
+    where = f"--set {item}"
+    parts = key.split(".")
+    head, rest = parts[0], parts[1:]
+
+    if head in ("mesh", "material"):  # shorthand for the single body
+        bodies = raw.get("body", [])
+        if len(bodies) != 1:
+            raise CaseError(f"{where}: '{head}.*' is short for body.<name>.{head}.* only in a "
+                            f"case with one body; this one has {len(bodies)}: use "
+                            f"body.<name>.{key}")
+        head, rest = "body", ["0", head, *rest]
+
+    if head in TABLES:
+        _set_in_table(raw.setdefault(head, {}), TABLES[head], rest, value, where, f"[{head}]")
+        return
+    if head in ARRAYS:
+        elements = raw.get(head, [])
+        index, rest = _array_index(elements, head, rest, where)
+        element = elements[index]
+        if head == "body" and rest and rest[0] in BODY_SUBTABLES:
+            sub = rest[0]
+            table = element.setdefault(sub, {})
+            keys = BODY_SUBTABLES[sub]
+            if sub == "mesh":  # the keys of this mesh's form, if it has a known one
+                form = "file" if "file" in table else table.get("generator")
+                keys = FILE_MESH_KEYS if form == "file" else MESH_VARIANTS.get(form, keys)
+            _set_in_table(table, keys, rest[1:], value, where, f"[body.{sub}]")
+            return
+        keys = ARRAY_KEYS[head]
+        if head == "contact":  # the keys of this contact's kind, if it has a known one
+            keys = CONTACT_VARIANTS.get(element.get("kind"), keys)
+        _set_in_table(element, keys, rest, value, where, f"[[{head}]]",
+                      extra=tuple(BODY_SUBTABLES) if head == "body" else ())
+        return
+    valid = ", ".join([*TABLES, *ARRAYS, "mesh", "material"])
+    raise CaseError(f"{where}: unknown key '{head}'; valid first parts are {valid}")
+
+
+def _array_index(elements: list, head: str, rest: list[str], where: str) -> tuple[int, list]:
+    """Pick the element of an array of tables that an override addresses."""
+    if not elements:
+        raise CaseError(f"{where}: the case has no [[{head}]] entry to change")
+    if rest:
+        first = rest[0]
+        if first.isdigit():
+            i = int(first)
+            if i >= len(elements):
+                raise CaseError(f"{where}: [[{head}]] has {len(elements)} entries: "
+                                f"use an index 0..{len(elements) - 1}")
+            return i, rest[1:]
+        names = [e.get("name") for e in elements]
+        if first in names:
+            return names.index(first), rest[1:]
+    if len(elements) == 1:
+        return 0, rest
+    names = [str(e["name"]) for e in elements if "name" in e]
+    hint = f" or a name ({', '.join(names)})" if names else ""
+    raise CaseError(f"{where}: the case has {len(elements)} [[{head}]] entries: say which, "
+                    f"e.g. {head}.0.{'.'.join(rest) or 'KEY'} (an index{hint})")
+
+
+def _set_in_table(table: dict, keys: dict, rest: list[str], value, where: str, label: str,
+                  extra: tuple = ()) -> None:
+    valid = ", ".join([*keys, *extra])
+    if len(rest) != 1 or rest[0] not in keys:
+        name = ".".join(rest) or "(nothing)"
+        raise CaseError(f"{where}: unknown key '{name}' in {label}; valid keys: {valid}")
+    table[rest[0]] = value
+
+
+# --------------------------------------------------------------------------- validation
+def _fmt(value) -> str:
+    """A value as TOML would spell it, for messages."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    if isinstance(value, list):
+        return "[" + ", ".join(_fmt(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{...}"
+    return repr(value)
+
+
+_TYPE_HELP = {
+    "float": "a number", "int": "an integer", "str": "a string in quotes",
+    "bool": "true or false", "vec2": "two numbers, e.g. [0.0, 1.0]",
+    "axes": 'a list of "x"/"y", e.g. ["x", "y"]',
+    "snapshots": '"events" or a list of load fractions',
+}
+
+
+class _Validator:
+    """Walks the raw document, checks types and values, fills defaults."""
+
+    def __init__(self, source: str):
+        self.source = source
+
+    def fail(self, key: str, message: str) -> CaseError:
+        return CaseError(f"{self.source}: {key} {message}")
+
+    # ---- one table against its key declarations
+    def table(self, raw, keys: dict, label: str, prefix: str, skip=()) -> dict:
+        if not isinstance(raw, dict):
+            raise CaseError(f"{self.source}: {label} must be a table")
+        unknown = [k for k in raw if k not in keys and k not in skip]
+        if unknown:
+            valid = ", ".join([*keys, *skip])
+            raise CaseError(f"{self.source}: unknown key {prefix}{unknown[0]} in {label}; "
+                            f"valid keys: {valid}")
+        out = {}
+        for name, spec in keys.items():
+            full = prefix + name
+            if name not in raw:
+                if spec.default is REQUIRED:
+                    raise self.fail(full, f"is missing: {spec.doc}" +
+                                    (f" [{spec.unit}]" if spec.unit else "") +
+                                    f"; add `{name} = ...` to {label}")
+                out[name] = copy.deepcopy(spec.default)
+                continue
+            out[name] = self.value(raw[name], spec, full)
+        return out
+
+    def value(self, v, spec: Key, full: str):
+        shown = _fmt(v)  # as written, before int -> float
+        bad = self.fail(full, f"= {shown} is not allowed: expected {_TYPE_HELP[spec.type]}")
+        t = spec.type
+        if t == "float":
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise bad
+            v = float(v)
+            if math.isnan(v):
+                raise bad
+        elif t == "int":
+            if isinstance(v, bool) or not isinstance(v, int):
+                raise bad
+        elif t == "str":
+            if not isinstance(v, str):
+                raise bad
+        elif t == "bool":
+            if not isinstance(v, bool):
+                raise bad
+        elif t == "vec2":
+            if (not isinstance(v, list) or len(v) != 2 or
+                    any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in v)):
+                raise bad
+            v = [float(c) for c in v]
+        elif t == "axes":
+            if not isinstance(v, list) or any(c not in ("x", "y") for c in v) or len(set(v)) != len(v):
+                raise bad
+        elif t == "snapshots":
+            if isinstance(v, list):
+                if any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in v):
+                    raise bad
+                v = [float(c) for c in v]
+            elif not isinstance(v, str):
+                raise bad
+        if spec.choices and v not in spec.choices:
+            choices = " or ".join(_fmt(c) for c in spec.choices)
+            raise self.fail(full, f"= {shown} is not allowed: use {choices}")
+        if spec.check is not None and v is not None:
+            reason = spec.check(v)
+            if reason:
+                raise self.fail(full, f"= {shown} is not allowed: {reason}")
+        return v
+
+    # ---- arrays of tables
+    @staticmethod
+    def element_prefix(array: str, elements: list, i: int) -> str:
+        """How --set addresses element i of an array (see the module docstring)."""
+        if len(elements) == 1:
+            return f"{array}."
+        name = elements[i].get("name") if isinstance(elements[i], dict) else None
+        return f"{array}.{name}." if isinstance(name, str) and name else f"{array}.{i}."
+
+    def array(self, raw: dict, array: str) -> list:
+        elements = raw.get(array, [])
+        if not isinstance(elements, list) or any(not isinstance(e, dict) for e in elements):
+            raise CaseError(f"{self.source}: {array} must be an array of tables, "
+                            f"written [[{array}]]")
+        return elements
+
+    # ---- the whole document
+    def case(self, raw: dict) -> dict:
+        known = [*TABLES, *ARRAYS]
+        for k in raw:
+            if k not in known:
+                raise CaseError(f"{self.source}: unknown key {k}; valid top-level tables: "
+                                f"{', '.join(known)}")
+        data = {}
+        for name, keys in TABLES.items():
+            if name == "load":
+                continue
+            data[name] = self.table(raw.get(name, {}), keys, f"[{name}]", f"{name}.")
+        data["load"] = (self.table(raw["load"], LOAD_KEYS, "[load]", "load.")
+                        if "load" in raw else None)
+
+        bodies = self.array(raw, "body")
+        if not bodies:
+            raise CaseError(f"{self.source}: no [[body]]: a case needs at least one body "
+                            f"with a mesh and a material")
+        data["body"] = [self.body(b, self.element_prefix("body", bodies, i), len(bodies))
+                        for i, b in enumerate(bodies)]
+        names = [b["name"] for b in data["body"]]
+        for n in names:
+            if names.count(n) > 1:
+                raise CaseError(f"{self.source}: body.name = {_fmt(n)} is used twice: body "
+                                f"names must be unique")
+        edges = {b["name"]: b["mesh"]["edges"] for b in data["body"]}
+
+        data["bc"] = [self.bc(e, self.element_prefix("bc", raw.get("bc", []), i), edges)
+                      for i, e in enumerate(self.array(raw, "bc"))]
+        pls = self.array(raw, "point_load")
+        data["point_load"] = []
+        for i, e in enumerate(pls):
+            prefix = self.element_prefix("point_load", pls, i)
+            pl = self.table(e, POINT_LOAD_KEYS, "[[point_load]]", prefix)
+            if pl["body"]:
+                self.need_body(pl["body"], prefix + "body", edges)
+            data["point_load"].append(pl)
+        contacts = self.array(raw, "contact")
+        data["contact"] = [self.contact(c, self.element_prefix("contact", contacts, i), edges)
+                           for i, c in enumerate(contacts)]
+        self.load(data, edges)
+        return data
+
+    def body(self, raw: dict, prefix: str, n_bodies: int) -> dict:
+        body = self.table(raw, BODY_KEYS, "[[body]]", prefix, skip=("mesh", "material"))
+        sub = "" if n_bodies == 1 else prefix  # messages: material.nu for a single body
+        if "material" not in raw:
+            raise self.fail(f"{sub}material", "is missing: add a [body.material] table with "
+                                              "E and nu")
+        body["material"] = self.table(raw["material"], MATERIAL_KEYS, "[body.material]",
+                                      f"{sub}material.")
+        if "mesh" not in raw:
+            raise self.fail(f"{sub}mesh", 'is missing: add a [body.mesh] table with generator = '
+                                          '"quarter_cylinder" or "block", or file = "..."')
+        body["mesh"] = self.mesh(raw["mesh"], f"{sub}mesh.")
+        return body
+
+    def mesh(self, raw, prefix: str) -> dict:
+        if not isinstance(raw, dict):
+            raise CaseError(f"{self.source}: {prefix[:-1]} must be a table")
+        if "file" in raw and "generator" in raw:
+            raise self.fail(prefix + "file", "and generator are both given: keep one")
+        if "file" in raw:
+            mesh = self.table(raw, FILE_MESH_KEYS, "[body.mesh]", prefix)
+            mesh["edges"] = None  # known once the file is read
+            return mesh
+        gen = raw.get("generator")
+        if gen not in MESH_VARIANTS:
+            choices = " or ".join(_fmt(g) for g in MESH_VARIANTS)
+            what = "is missing" if gen is None else f"= {_fmt(gen)} is not allowed"
+            raise self.fail(prefix + "generator", f"{what}: use {choices}, or give "
+                                                  f'file = "mesh.msh"')
+        mesh = self.table(raw, MESH_VARIANTS[gen], "[body.mesh]", prefix)
+        if gen == "quarter_cylinder":
+            if mesh["h_contact"] > mesh["h_max"]:
+                raise self.fail(prefix + "h_contact", f"= {_fmt(mesh['h_contact'])} is not "
+                                f"allowed: it must not exceed h_max = {_fmt(mesh['h_max'])}")
+            if mesh["contact_zone"] >= mesh["R"]:
+                raise self.fail(prefix + "contact_zone", f"= {_fmt(mesh['contact_zone'])} is not"
+                                f" allowed: it must be smaller than R = {_fmt(mesh['R'])}")
+        if gen == "block":
+            for n, size in (("nx", "width"), ("ny", "height")):
+                if mesh[n] == 0 and mesh["h"] == 0:
+                    raise self.fail(prefix + n, f"is missing: give {n} (divisions along "
+                                                f"{size}) or h (element size)")
+        mesh["edges"] = GENERATOR_EDGES[gen]
+        return mesh
+
+    def need_body(self, name: str, key: str, edges: dict) -> None:
+        if name not in edges:
+            raise self.fail(key, f"= {_fmt(name)} is not allowed: no body has that name "
+                                 f"(bodies: {', '.join(edges)})")
+
+    def need_edge(self, body: str, tag: str, key: str, edges: dict) -> None:
+        known = edges[body]
+        if known is not None and tag not in known:
+            raise self.fail(key, f"= {_fmt(tag)} is not allowed: body {_fmt(body)} has no edge "
+                                 f"with that tag (its edges: {', '.join(known)})")
+
+    def bc(self, raw: dict, prefix: str, edges: dict) -> dict:
+        bc = self.table(raw, BC_KEYS, "[[bc]]", prefix)
+        self.need_body(bc["body"], prefix + "body", edges)
+        if bool(bc["edge"]) == bool(bc["nodes"]):
+            raise self.fail(prefix + "edge", "is missing: give exactly one of edge (an edge tag)"
+                                             " or nodes (a node set)")
+        if bc["edge"]:
+            self.need_edge(bc["body"], bc["edge"], prefix + "edge", edges)
+        loads = bc["pressure"] != 0.0 or bc["traction"] != [0.0, 0.0]
+        if not (bc["fix"] or bc["symmetry"] or loads):
+            raise CaseError(f"{self.source}: {prefix[:-1]} does nothing: give fix, symmetry, "
+                            f"pressure or traction")
+        if bc["nodes"] and (loads or bc["symmetry"]):
+            raise self.fail(prefix + "nodes", "supports fix only: put pressure, traction and "
+                                              "symmetry on an edge")
+        return bc
+
+    def contact(self, raw: dict, prefix: str, edges: dict) -> dict:
+        kind = raw.get("kind")
+        if kind not in CONTACT_VARIANTS:
+            choices = " or ".join(_fmt(k) for k in CONTACT_VARIANTS)
+            what = "is missing" if kind is None else f"= {_fmt(kind)} is not allowed"
+            raise self.fail(prefix + "kind", f"{what}: use {choices}")
+        c = self.table(raw, CONTACT_VARIANTS[kind], f'[[contact]] of kind "{kind}"', prefix)
+        if kind == "rigid_line":
+            self.need_body(c["body"], prefix + "body", edges)
+            self.need_edge(c["body"], c["edge"], prefix + "edge", edges)
+        else:
+            for side in "ab":
+                self.need_body(c[f"body_{side}"], f"{prefix}body_{side}", edges)
+                self.need_edge(c[f"body_{side}"], c[f"edge_{side}"], f"{prefix}edge_{side}",
+                               edges)
+        return c
+
+    def load(self, data: dict, edges: dict) -> None:
+        """`[load] P` needs a quarter_cylinder body to act on."""
+        load = data["load"]
+        if load is None:
+            return
+        cylinders = [b["name"] for b in data["body"]
+                     if b["mesh"].get("generator") == "quarter_cylinder"]
+        if load["body"]:
+            self.need_body(load["body"], "load.body", edges)
+            if load["body"] not in cylinders:
+                raise self.fail("load.body", f"= {_fmt(load['body'])} is not allowed: [load] P "
+                                             f"acts on a quarter_cylinder body")
+        elif len(cylinders) == 1:
+            load["body"] = cylinders[0]
+        else:
+            raise self.fail("load.P", "is not allowed here: [load] P is the Hertz convenience "
+                                      "for one quarter_cylinder body (give load.body, or use "
+                                      "[[bc]] pressure)")

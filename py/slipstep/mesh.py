@@ -1,0 +1,375 @@
+"""Triangle meshes: the built-in generators (gmsh / structured) and file readers.
+
+Every mesh is a :class:`Mesh` of linear (CST) triangles, counter-clockwise, with named edge
+tags whose segments are oriented with the body on their left (so the outward normal of a
+segment p -> q is the right-hand normal (t_y, -t_x) / |t|, t = q - p).
+"""
+
+from __future__ import annotations
+
+import contextlib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+
+class MeshError(ValueError):
+    """A mesh that cannot be used; one-line message naming the element/edge and the fix."""
+
+
+@dataclass
+class Mesh:
+    """A 2D triangle mesh of one body.
+
+    nodes     (N, 2) float64 coordinates
+    triangles (M, 3) int64, counter-clockwise
+    edges     tag -> (K, 2) int64 node pairs (boundary segments, body on the left)
+    node_sets name -> (n,) int64 node ids (every edge tag is also a node set)
+    """
+
+    nodes: np.ndarray
+    triangles: np.ndarray
+    edges: dict[str, np.ndarray] = field(default_factory=dict)
+    node_sets: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def __post_init__(self):
+        self.nodes = np.ascontiguousarray(self.nodes, dtype=np.float64)
+        self.triangles = np.ascontiguousarray(self.triangles, dtype=np.int64)
+        self.edges = {k: np.asarray(v, dtype=np.int64).reshape(-1, 2) for k, v in self.edges.items()}
+        for tag, segs in self.edges.items():
+            self.node_sets.setdefault(tag, np.unique(segs))
+        self.node_sets = {k: np.asarray(v, dtype=np.int64) for k, v in self.node_sets.items()}
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.nodes)
+
+    @property
+    def n_elements(self) -> int:
+        return len(self.triangles)
+
+    def edge_nodes(self, tag: str) -> np.ndarray:
+        """Sorted unique nodes of an edge tag."""
+        return np.unique(self.edges[tag])
+
+    def area(self) -> float:
+        return float(signed_areas(self.nodes, self.triangles).sum())
+
+
+# --------------------------------------------------------------------------- checks
+def signed_areas(nodes: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Signed area of each triangle (> 0 for counter-clockwise)."""
+    p = nodes[triangles]
+    a, b = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    return 0.5 * (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+
+
+def check_triangles(nodes: np.ndarray, triangles: np.ndarray, where: str = "") -> None:
+    """Raise MeshError naming the first inverted or degenerate element.
+
+    Degenerate: |area| <= 1e-12 * (longest side)^2.  Element ids are 0-based rows of
+    ``triangles`` (the engine uses the same numbering).
+    """
+    prefix = f"{where}: " if where else ""
+    if len(triangles) == 0:
+        raise MeshError(f"{prefix}the mesh has no triangles")
+    if triangles.min() < 0 or triangles.max() >= len(nodes):
+        bad = int(np.nonzero((triangles < 0).any(1) | (triangles >= len(nodes)).any(1))[0][0])
+        raise MeshError(f"{prefix}element {bad} refers to a node outside 0..{len(nodes) - 1}")
+    area = signed_areas(nodes, triangles)
+    p = nodes[triangles]
+    sides = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
+    longest2 = (sides ** 2).sum(-1).max(1)
+    degenerate = np.abs(area) <= 1e-12 * longest2
+    if degenerate.any():
+        e = int(np.nonzero(degenerate)[0][0])
+        raise MeshError(f"{prefix}element {e} is degenerate (area {area[e]:.3g}, nodes "
+                        f"{triangles[e].tolist()}): remove it or fix its nodes")
+    if (area < 0).any():
+        e = int(np.nonzero(area < 0)[0][0])
+        raise MeshError(f"{prefix}element {e} is inverted (signed area {area[e]:.3g}): reorder "
+                        f"its nodes counter-clockwise")
+
+
+def orient_edges(triangles: np.ndarray, edges: dict[str, np.ndarray], where: str = "") -> dict:
+    """Orient every tagged segment with the body on its left (as in its CCW triangle).
+
+    Raises MeshError if a tagged segment is not a boundary side of exactly one triangle.
+    """
+    prefix = f"{where}: " if where else ""
+    t = triangles
+    directed = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
+    key = np.sort(directed, axis=1)
+    # count sides: a boundary side belongs to one triangle only
+    uniq, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.reshape(-1)
+    lookup = {tuple(k): i for i, k in enumerate(uniq)}
+    first = np.full(len(uniq), -1, dtype=np.int64)
+    first[inverse[::-1]] = np.arange(len(directed))[::-1]
+    out = {}
+    for tag, segs in edges.items():
+        segs = np.asarray(segs, dtype=np.int64).reshape(-1, 2)
+        oriented = np.empty_like(segs)
+        for i, (p, q) in enumerate(segs):
+            k = lookup.get((min(p, q), max(p, q)))
+            if k is None:
+                raise MeshError(f"{prefix}edge '{tag}' segment {int(p)}-{int(q)} is not a side of "
+                                f"any triangle")
+            if counts[k] != 1:
+                raise MeshError(f"{prefix}edge '{tag}' segment {int(p)}-{int(q)} is inside the "
+                                f"mesh (shared by {counts[k]} triangles): tag boundary sides only")
+            oriented[i] = directed[first[k]]
+        out[tag] = oriented
+    return out
+
+
+def outward_normals(nodes: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """Unit outward normals of segments oriented with the body on the left."""
+    t = nodes[segments[:, 1]] - nodes[segments[:, 0]]
+    n = np.stack([t[:, 1], -t[:, 0]], axis=1)
+    return n / np.linalg.norm(n, axis=1, keepdims=True)
+
+
+def _finish(nodes, triangles, edges, node_sets=None, where="", flip_clockwise=False) -> Mesh:
+    """Drop unused nodes, fix a consistently clockwise mesh if asked, check, orient edges."""
+    nodes = np.asarray(nodes, dtype=np.float64)
+    triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    node_sets = dict(node_sets or {})
+    used = np.unique(triangles)
+    if len(used) != len(nodes):
+        new = np.full(len(nodes), -1, dtype=np.int64)
+        new[used] = np.arange(len(used))
+        nodes, triangles = nodes[used], new[triangles]
+        edges = {k: new[np.asarray(v, dtype=np.int64)] for k, v in edges.items()}
+        node_sets = {k: new[np.asarray(v, dtype=np.int64)] for k, v in node_sets.items()}
+        for k, v in [*edges.items(), *node_sets.items()]:
+            if (v < 0).any():
+                raise MeshError(f"{where}: tag '{k}' uses a node that belongs to no triangle")
+    if flip_clockwise and len(triangles) and (signed_areas(nodes, triangles) < 0).all():
+        triangles = triangles[:, [0, 2, 1]]
+    check_triangles(nodes, triangles, where)
+    edges = orient_edges(triangles, edges, where)
+    return Mesh(nodes, triangles, edges, node_sets)
+
+
+# --------------------------------------------------------------------------- gmsh
+@contextlib.contextmanager
+def _gmsh_session():
+    """An initialised, quiet gmsh API, finalised afterwards; Ctrl-C stays Python's."""
+    try:
+        import gmsh
+    except ImportError:
+        raise MeshError("the gmsh Python package is needed for the built-in meshes and .msh "
+                        "files: pip install gmsh") from None
+    if gmsh.isInitialized():
+        gmsh.finalize()
+    gmsh.initialize(["", "-v", "0"], readConfigFiles=False, interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        yield gmsh
+    finally:
+        gmsh.finalize()
+
+
+def _gmsh_triangles_and_edges(gmsh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
+    """Nodes (2D), triangles and the physical line / point groups of the current model."""
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    xyz = coords.reshape(-1, 3)
+    index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+    index[tags.astype(np.int64)] = np.arange(len(tags))
+
+    types = {int(t) for t in gmsh.model.mesh.getElementTypes(dim=2)}
+    if types - {2}:
+        names = [gmsh.model.mesh.getElementProperties(t)[0] for t in sorted(types - {2})]
+        raise MeshError(f"only 3-node triangles are supported; the mesh has {', '.join(names)}")
+    _, tri_nodes = gmsh.model.mesh.getElementsByType(2)
+    triangles = index[tri_nodes.astype(np.int64)].reshape(-1, 3)
+
+    edges, node_sets = {}, {}
+    for dim, ptag in gmsh.model.getPhysicalGroups():
+        name = gmsh.model.getPhysicalName(dim, ptag) or str(ptag)
+        if dim == 1:
+            segs = []
+            for ent in gmsh.model.getEntitiesForPhysicalGroup(dim, ptag):
+                etypes, _, enodes = gmsh.model.mesh.getElements(1, ent)
+                for et, en in zip(etypes, enodes):
+                    if et != 1:
+                        raise MeshError(f"edge '{name}': only 2-node lines are supported")
+                    segs.append(index[en.astype(np.int64)].reshape(-1, 2))
+            edges[name] = np.concatenate(segs) if segs else np.zeros((0, 2), np.int64)
+        elif dim == 0:
+            ids = []
+            for ent in gmsh.model.getEntitiesForPhysicalGroup(dim, ptag):
+                ntags, _, _ = gmsh.model.mesh.getNodes(0, ent)
+                ids.extend(index[ntags.astype(np.int64)])
+            node_sets[name] = np.asarray(ids, dtype=np.int64)
+    return xyz, triangles, edges, node_sets
+
+
+def quarter_cylinder(R: float, h_contact: float, contact_zone: float, h_max: float,
+                     growth: float = 0.1) -> Mesh:
+    """The quarter cylinder of radius R: centre (0, R), bottom point (0, 0), region x >= 0,
+    y <= R (Fig. 4 of the paper, right quarter).
+
+    Edge tags: ``arc`` (the circular surface, from (0, 0) to (R, R)), ``top`` (the cut y = R),
+    ``symmetry`` (x = 0).  Element size: h_contact within ``contact_zone`` of (0, 0), growing
+    linearly, h = h_contact + growth (d - contact_zone), up to h_max (gmsh Distance+Threshold).
+    A node sits exactly at (0, 0) (geometry point); arc nodes lie on the circle.
+    """
+    with _gmsh_session() as gmsh:
+        gmsh.model.add("quarter_cylinder")
+        geo = gmsh.model.geo
+        bottom = geo.addPoint(0.0, 0.0, 0.0)
+        centre = geo.addPoint(0.0, R, 0.0)
+        right = geo.addPoint(R, R, 0.0)
+        arc = geo.addCircleArc(bottom, centre, right)
+        top = geo.addLine(right, centre)
+        sym = geo.addLine(centre, bottom)
+        surface = geo.addPlaneSurface([geo.addCurveLoop([arc, top, sym])])
+        geo.synchronize()
+        for name, curve in (("arc", arc), ("top", top), ("symmetry", sym)):
+            gmsh.model.setPhysicalName(1, gmsh.model.addPhysicalGroup(1, [curve]), name)
+        gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [bottom]), "bottom_point")
+        gmsh.model.addPhysicalGroup(2, [surface])
+
+        fields = gmsh.model.mesh.field
+        dist = fields.add("Distance")
+        fields.setNumbers(dist, "PointsList", [bottom])
+        size = fields.add("Threshold")
+        fields.setNumber(size, "InField", dist)
+        fields.setNumber(size, "SizeMin", h_contact)
+        fields.setNumber(size, "SizeMax", h_max)
+        fields.setNumber(size, "DistMin", contact_zone)
+        fields.setNumber(size, "DistMax", contact_zone + (h_max - h_contact) / growth)
+        fields.setAsBackgroundMesh(size)
+        for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
+            gmsh.option.setNumber(f"Mesh.{opt}", 0)
+        gmsh.model.mesh.generate(2)
+        xyz, triangles, edges, node_sets = _gmsh_triangles_and_edges(gmsh)
+
+    nodes = xyz[:, :2].copy()
+    return _finish(nodes, triangles, edges, node_sets, where="quarter_cylinder mesh",
+                   flip_clockwise=True)
+
+
+def block(width: float, height: float, nx: int, ny: int, x0: float = 0.0,
+          y0: float = 0.0) -> Mesh:
+    """A structured rectangle [x0, x0+width] x [y0, y0+height], nx by ny cells, each cut into
+    two triangles (diagonals alternate, so the mesh has no preferred direction).
+
+    Edge tags ``bottom``, ``right``, ``top``, ``left``; node coordinates are x0 + i*width/nx,
+    so two blocks with the same spacing share node positions on a common interface.
+    """
+    if nx < 1 or ny < 1:
+        raise MeshError(f"block: nx = {nx}, ny = {ny}: need at least one division each way")
+    xs = x0 + width * np.arange(nx + 1) / nx
+    ys = y0 + height * np.arange(ny + 1) / ny
+    X, Y = np.meshgrid(xs, ys)  # row j = y index
+    nodes = np.column_stack([X.ravel(), Y.ravel()])
+
+    def nid(i, j):
+        return j * (nx + 1) + i
+
+    i, j = np.meshgrid(np.arange(nx), np.arange(ny))
+    i, j = i.ravel(), j.ravel()
+    a, b, c, d = nid(i, j), nid(i + 1, j), nid(i + 1, j + 1), nid(i, j + 1)
+    even = (i + j) % 2 == 0
+    # even cells: diagonal a-c; odd cells: diagonal b-d (both CCW)
+    t1 = np.where(even[:, None], np.column_stack([a, b, c]), np.column_stack([a, b, d]))
+    t2 = np.where(even[:, None], np.column_stack([a, c, d]), np.column_stack([b, c, d]))
+    triangles = np.concatenate([t1, t2])
+
+    bottom = np.column_stack([nid(np.arange(nx), 0), nid(np.arange(1, nx + 1), 0)])
+    right = np.column_stack([nid(nx, np.arange(ny)), nid(nx, np.arange(1, ny + 1))])
+    top = np.column_stack([nid(np.arange(nx, 0, -1), ny), nid(np.arange(nx - 1, -1, -1), ny)])
+    left = np.column_stack([nid(0, np.arange(ny, 0, -1)), nid(0, np.arange(ny - 1, -1, -1))])
+    corners = {"corner_bottom_left": [nid(0, 0)], "corner_bottom_right": [nid(nx, 0)],
+               "corner_top_right": [nid(nx, ny)], "corner_top_left": [nid(0, ny)]}
+    return _finish(nodes, triangles, {"bottom": bottom, "right": right, "top": top,
+                                      "left": left}, corners, where="block mesh")
+
+
+# --------------------------------------------------------------------------- files
+def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: float = 1.0) -> Mesh:
+    """Read a triangle mesh: ``.msh`` (through gmsh; physical line names are the edge tags,
+    physical points the node sets) or ``.xdmf`` (through meshio; line cells, from the same file
+    or from ``edge_file``, tagged by the first integer cell-data array; a tag is named by its
+    meshio field_data name if present, else by its number).
+
+    A mesh whose triangles are ALL clockwise is flipped; a mix is an error naming the first
+    inverted element.
+    """
+    path = Path(path)
+    where = str(path)
+    if not path.exists():
+        raise MeshError(f"{where}: no such mesh file")
+    suffix = path.suffix.lower()
+    if suffix == ".msh":
+        with _gmsh_session() as gmsh:
+            try:
+                gmsh.open(str(path))
+            except Exception as exc:  # gmsh raises bare Exception
+                raise MeshError(f"{where}: gmsh cannot read it: {exc}") from None
+            xyz, triangles, edges, node_sets = _gmsh_triangles_and_edges(gmsh)
+    elif suffix == ".xdmf":
+        xyz, triangles, edges = _read_xdmf(path)
+        node_sets = {}
+        if edge_file:
+            _, extra_tris, extra = _read_xdmf(Path(edge_file), need_triangles=False)
+            if len(extra_tris) and not np.array_equal(extra_tris, triangles):
+                raise MeshError(f"{edge_file}: holds triangles too: keep only the line cells")
+            edges.update(extra)
+    else:
+        raise MeshError(f"{where}: unknown mesh format '{suffix}': use .msh or .xdmf")
+    xyz = np.asarray(xyz, dtype=np.float64)
+    if xyz.shape[1] == 3:
+        zmax = np.abs(xyz[:, 2]).max(initial=0.0)
+        if zmax > 1e-12 * max(np.abs(xyz[:, :2]).max(initial=1.0), 1.0):
+            raise MeshError(f"{where}: the mesh is not planar (|z| up to {zmax:.3g}): slipstep "
+                            f"meshes lie in the x-y plane")
+    return _finish(xyz[:, :2] * scale, triangles, edges, node_sets, where=where,
+                   flip_clockwise=True)
+
+
+def _read_xdmf(path: Path, need_triangles: bool = True):
+    try:
+        import meshio
+    except ImportError:
+        raise MeshError("meshio is needed to read .xdmf meshes: pip install meshio") from None
+    if not path.exists():
+        raise MeshError(f"{path}: no such mesh file")
+    try:
+        m = meshio.read(str(path))
+    except SystemExit:  # meshio exits on multi-grid (time series) XDMF
+        raise MeshError(f"{path}: meshio cannot read this XDMF (several grids, e.g. a time "
+                        f"series?): write the mesh on its own") from None
+    except Exception as exc:
+        raise MeshError(f"{path}: meshio cannot read it: {exc}") from None
+    names = {int(v[0]): k for k, v in getattr(m, "field_data", {}).items()
+             if len(v) >= 2 and int(v[1]) == 1}
+    triangles, edges = [], {}
+    for i, block_ in enumerate(m.cells):
+        if block_.type == "triangle":
+            triangles.append(block_.data)
+        elif block_.type == "line":
+            tags = None
+            for arrays in m.cell_data.values():
+                a = np.asarray(arrays[i])
+                if a.ndim == 1 or (a.ndim == 2 and a.shape[1] == 1):
+                    if np.issubdtype(a.dtype, np.integer) or np.all(a == np.round(a)):
+                        tags = a.reshape(-1).astype(np.int64)
+                        break
+            if tags is None:
+                raise MeshError(f"{path}: line cells without an integer tag array: tag them")
+            for t in np.unique(tags):
+                name = names.get(int(t), str(int(t)))
+                segs = block_.data[tags == t]
+                edges[name] = np.concatenate([edges[name], segs]) if name in edges else segs
+        elif block_.type != "vertex":
+            raise MeshError(f"{path}: cells of type '{block_.type}': only triangles and lines "
+                            f"are supported")
+    if need_triangles and not triangles:
+        raise MeshError(f"{path}: no triangle cells")
+    tri = np.concatenate(triangles) if triangles else np.zeros((0, 3), np.int64)
+    return m.points, tri, edges

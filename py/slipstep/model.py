@@ -1,0 +1,372 @@
+"""Case + meshes -> the engine's ``model`` dict (docs/engine_api.md).
+
+Everything here is set up once, vectorised where it matters; the event loop itself is the
+engine's.  Besides the model, :class:`Scene` keeps what the output needs and the engine does
+not: which body each node belongs to, each candidate pair's node position and tributary
+length (contact pressure = lambda_n / (L t)), and the Hertz reference when it applies.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import mesh as meshes
+from .case import Case, CaseError
+
+
+@dataclass
+class Scene:
+    """The assembled problem: global mesh, the engine model, and per-pair bookkeeping."""
+
+    case: Case
+    bodies: list[str]
+    meshes: dict[str, meshes.Mesh]
+    offsets: dict[str, int]           # first global node id of each body
+    nodes: np.ndarray                 # (N, 2)
+    triangles: np.ndarray             # (M, 3)
+    element_body: np.ndarray          # (M,) index into bodies
+    model: dict                       # the engine model
+    pair_xy: np.ndarray               # (P, 2) position of node_a
+    pair_length: np.ndarray           # (P,) tributary length of node_a on its candidate edge
+    pair_contact: np.ndarray          # (P,) index of the [[contact]] entry it came from
+    # per [[contact]]: True when some nodes of its candidate edge are not candidates (window,
+    # no partner), so contact reaching the outermost candidate may be cut short
+    contact_truncated: list = field(default_factory=list)
+    reference: dict = field(default_factory=dict)  # Hertz a, p0 when the case is Hertz-like
+
+    @property
+    def n_dofs(self) -> int:
+        return 2 * len(self.nodes)
+
+    def global_edge(self, body: str, tag: str) -> np.ndarray:
+        """Segments of a body's edge tag in global node numbers (body on the left)."""
+        return self.meshes[body].edges[tag] + self.offsets[body]
+
+
+def mesh_body(case: Case, index: int) -> meshes.Mesh:
+    """Mesh one body from its [body.mesh] table."""
+    body = case.data["body"][index]
+    spec = body["mesh"]
+    where = f"body {body['name']!r}"
+    try:
+        if spec.get("file"):
+            path = (case.base_dir / spec["file"])
+            edge_file = case.base_dir / spec["edge_file"] if spec["edge_file"] else None
+            return meshes.read_mesh(path, edge_file, spec["scale"])
+        if spec["generator"] == "quarter_cylinder":
+            return meshes.quarter_cylinder(spec["R"], spec["h_contact"], spec["contact_zone"],
+                                           spec["h_max"], spec["growth"])
+        nx = spec["nx"] or max(1, round(spec["width"] / spec["h"]))
+        ny = spec["ny"] or max(1, round(spec["height"] / spec["h"]))
+        return meshes.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
+    except meshes.MeshError as exc:
+        raise CaseError(f"{case.source}: {where}: {exc}") from None
+
+
+def build_scene(case: Case) -> Scene:
+    """Mesh every body, merge them, and build the engine model."""
+    data = case.data
+    bodies = [b["name"] for b in data["body"]]
+    body_meshes = {name: mesh_body(case, i) for i, name in enumerate(bodies)}
+    _check_file_mesh_tags(case, body_meshes)
+
+    offsets, start = {}, 0
+    for name in bodies:
+        offsets[name] = start
+        start += body_meshes[name].n_nodes
+    nodes = np.concatenate([body_meshes[b].nodes for b in bodies])
+    triangles = np.concatenate([body_meshes[b].triangles + offsets[b] for b in bodies])
+    element_body = np.concatenate([np.full(body_meshes[b].n_elements, i, dtype=np.int64)
+                                   for i, b in enumerate(bodies)])
+
+    scene = Scene(case=case, bodies=bodies, meshes=body_meshes, offsets=offsets, nodes=nodes,
+                  triangles=triangles, element_body=element_body, model={},
+                  pair_xy=np.zeros((0, 2)), pair_length=np.zeros(0),
+                  pair_contact=np.zeros(0, dtype=np.int64))
+
+    thickness = data["analysis"]["thickness"]
+    materials = []
+    for b in data["body"]:
+        m = {"E": b["material"]["E"], "nu": b["material"]["nu"]}
+        if b["material"]["Sy"] is not None:
+            m["Sy"] = b["material"]["Sy"]
+            m["H"] = b["material"]["H"] if b["material"]["H"] is not None else 0.0
+        materials.append(m)
+
+    pairs = contact_pairs(scene)
+    scene.model = {
+        "nodes": nodes,
+        "triangles": triangles,
+        "element_material": element_body.copy(),
+        "materials": materials,
+        "plane": data["analysis"]["plane"],
+        "thickness": float(thickness),
+        "fixed_dofs": fixed_dofs(scene),
+        "load": load_vector(scene),
+        "pairs": pairs,
+        "options": solver_options(case),
+    }
+    scene.reference = hertz_reference(scene)
+    return scene
+
+
+def _check_file_mesh_tags(case: Case, body_meshes: dict) -> None:
+    """Edge tags of file meshes are only known now: check the BCs and contacts that use them."""
+    data = case.data
+    uses = []  # (key, body, tag)
+    for i, bc in enumerate(data["bc"]):
+        k = "bc." if len(data["bc"]) == 1 else f"bc.{i}."
+        if bc["edge"]:
+            uses.append((k + "edge", bc["body"], bc["edge"], "edges"))
+        if bc["nodes"]:
+            uses.append((k + "nodes", bc["body"], bc["nodes"], "node_sets"))
+    for i, c in enumerate(data["contact"]):
+        k = "contact." if len(data["contact"]) == 1 else f"contact.{i}."
+        if c["kind"] == "rigid_line":
+            uses.append((k + "edge", c["body"], c["edge"], "edges"))
+        else:
+            for s in "ab":
+                uses.append((f"{k}edge_{s}", c[f"body_{s}"], c[f"edge_{s}"], "edges"))
+    for key, body, tag, kind in uses:
+        known = getattr(body_meshes[body], kind)
+        if tag not in known:
+            what = "edge" if kind == "edges" else "node set"
+            raise CaseError(f'{case.source}: {key} = "{tag}" is not allowed: body "{body}" has '
+                            f"no {what} with that tag (its {what}s: {', '.join(known) or 'none'})")
+
+
+# --------------------------------------------------------------------------- supports
+def fixed_dofs(scene: Scene) -> np.ndarray:
+    """Homogeneous constraints: ``fix`` components, and ``symmetry`` = the normal component of
+    an edge parallel to an axis.  dof = 2*node + component."""
+    case = scene.case
+    dofs = []
+    for i, bc in enumerate(case.data["bc"]):
+        key = "bc" if len(case.data["bc"]) == 1 else f"bc.{i}"
+        if bc["edge"]:
+            nodes = scene.meshes[bc["body"]].edge_nodes(bc["edge"])
+        else:
+            nodes = scene.meshes[bc["body"]].node_sets[bc["nodes"]]
+        nodes = np.asarray(nodes, dtype=np.int64) + scene.offsets[bc["body"]]
+        components = {"xy".index(c) for c in bc["fix"]}
+        if bc["symmetry"]:
+            segs = scene.global_edge(bc["body"], bc["edge"])
+            n = meshes.outward_normals(scene.nodes, segs)
+            if np.all(np.abs(n[:, 0]) > 1 - 1e-9):
+                components.add(0)
+            elif np.all(np.abs(n[:, 1]) > 1 - 1e-9):
+                components.add(1)
+            else:
+                raise case.error(f"{key}.symmetry", f"edge '{bc['edge']}' is not a straight line "
+                                 f"parallel to the x or y axis: use fix = [...] instead")
+        for c in sorted(components):
+            dofs.append(2 * nodes + c)
+    if not dofs:
+        return np.zeros(0, dtype=np.int64)
+    return np.unique(np.concatenate(dofs)).astype(np.int64)
+
+
+# --------------------------------------------------------------------------- loads
+def edge_load(nodes: np.ndarray, segments: np.ndarray, n_nodes: int, thickness: float,
+              pressure: float = 0.0, traction=(0.0, 0.0)) -> np.ndarray:
+    """Consistent nodal loads of a uniform pressure and/or traction on linear edge segments.
+
+    Traction on a segment: t = traction - pressure * n (n outward); its resultant t L thickness
+    is shared half and half by the two end nodes (exact for linear shape functions).
+    Returns a (2 n_nodes,) vector.
+    """
+    f = np.zeros(2 * n_nodes)
+    if len(segments) == 0:
+        return f
+    p, q = nodes[segments[:, 0]], nodes[segments[:, 1]]
+    length = np.linalg.norm(q - p, axis=1)
+    t = np.asarray(traction, dtype=np.float64)[None, :] - pressure * meshes.outward_normals(nodes, segments)
+    half = 0.5 * t * (length * thickness)[:, None]
+    for end in (0, 1):
+        for c in (0, 1):
+            np.add.at(f, 2 * segments[:, end] + c, half[:, c])
+    return f
+
+
+def load_vector(scene: Scene) -> np.ndarray:
+    """The total nodal load at load fraction 1 (``[[bc]]`` pressure/traction, ``[load] P``,
+    ``[[point_load]]``), thickness included."""
+    data = scene.case.data
+    t = data["analysis"]["thickness"]
+    n = len(scene.nodes)
+    f = np.zeros(2 * n)
+    for bc in data["bc"]:
+        if bc["edge"] and (bc["pressure"] != 0.0 or bc["traction"] != [0.0, 0.0]):
+            f += edge_load(scene.nodes, scene.global_edge(bc["body"], bc["edge"]), n, t,
+                           bc["pressure"], bc["traction"])
+    if data["load"] is not None:
+        body = data["load"]["body"]
+        f += edge_load(scene.nodes, scene.global_edge(body, "top"), n, t,
+                       pressure=hertz_cut_pressure(scene.case))
+    for pl in data["point_load"]:
+        candidates = ([pl["body"]] if pl["body"] else scene.bodies)
+        ids = np.concatenate([np.arange(scene.meshes[b].n_nodes) + scene.offsets[b]
+                              for b in candidates])
+        d = np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1)
+        node = ids[np.argmin(d)]
+        f[2 * node:2 * node + 2] += np.asarray(pl["force"]) * t
+    return f
+
+
+def hertz_cut_pressure(case: Case) -> float:
+    """q = P / (2R): the quarter model carries half the total load P across its cut of
+    length R (the other half is carried by the mirrored quarter)."""
+    load = case.data["load"]
+    R = case.body(load["body"])["mesh"]["R"]
+    return load["P"] / (2.0 * R)
+
+
+# --------------------------------------------------------------------------- contact
+def contact_pairs(scene: Scene) -> dict:
+    """Candidate pairs of every ``[[contact]]``: node_a, node_b (-1 rigid), normal (from the
+    target towards node_a), initial gap, mu (the C_n, C_t columns of Eqs. 45-46 per pair).
+    Also fills the scene's pair positions and tributary lengths."""
+    case = scene.case
+    cols = {k: [] for k in ("node_a", "node_b", "normal", "gap", "mu", "length", "contact")}
+    for i, c in enumerate(case.data["contact"]):
+        key = "contact" if len(case.data["contact"]) == 1 else f"contact.{i}"
+        if c["kind"] == "rigid_line":
+            a, b, normal, gap = _rigid_line_pairs(scene, c, key)
+            body_a, edge_a = c["body"], c["edge"]
+        else:
+            a, b, normal, gap = _node_to_node_pairs(scene, c, key)
+            body_a, edge_a = c["body_a"], c["edge_a"]
+        edge_nodes = np.unique(scene.global_edge(body_a, edge_a))
+        scene.contact_truncated.append(bool(len(np.unique(a)) < len(edge_nodes)))
+        cols["node_a"].append(a)
+        cols["node_b"].append(b)
+        cols["normal"].append(normal)
+        cols["gap"].append(gap)
+        cols["mu"].append(np.full(len(a), c["mu"]))
+        cols["length"].append(tributary_lengths(scene.nodes, scene.global_edge(body_a, edge_a), a))
+        cols["contact"].append(np.full(len(a), i, dtype=np.int64))
+    if not cols["node_a"]:
+        scene.pair_xy = np.zeros((0, 2))
+        return {"node_a": np.zeros(0, np.int64), "node_b": np.zeros(0, np.int64),
+                "normal": np.zeros((0, 2)), "gap": np.zeros(0), "mu": np.zeros(0)}
+    pairs = {"node_a": np.concatenate(cols["node_a"]).astype(np.int64),
+             "node_b": np.concatenate(cols["node_b"]).astype(np.int64),
+             "normal": np.concatenate(cols["normal"]).reshape(-1, 2),
+             "gap": np.concatenate(cols["gap"]),
+             "mu": np.concatenate(cols["mu"]).astype(np.float64)}
+    scene.pair_xy = scene.nodes[pairs["node_a"]]
+    scene.pair_length = np.concatenate(cols["length"])
+    scene.pair_contact = np.concatenate(cols["contact"])
+    return pairs
+
+
+def tributary_lengths(nodes: np.ndarray, segments: np.ndarray, ids: np.ndarray) -> np.ndarray:
+    """Half the summed length of the edge segments touching each node (lumped length L)."""
+    length = np.linalg.norm(nodes[segments[:, 1]] - nodes[segments[:, 0]], axis=1)
+    per_node = np.zeros(len(nodes))
+    np.add.at(per_node, segments[:, 0], 0.5 * length)
+    np.add.at(per_node, segments[:, 1], 0.5 * length)
+    return per_node[ids]
+
+
+def _rigid_line_pairs(scene: Scene, c: dict, key: str):
+    """Body nodes on ``edge`` within the x/y window, against the line through ``point``."""
+    candidates = np.unique(scene.global_edge(c["body"], c["edge"]))
+    xy = scene.nodes[candidates]
+    inside = ((xy[:, 0] >= c["x_min"]) & (xy[:, 0] <= c["x_max"]) &
+              (xy[:, 1] >= c["y_min"]) & (xy[:, 1] <= c["y_max"]))
+    a = candidates[inside]
+    if len(a) == 0:
+        raise scene.case.error(f"{key}.x_max", f"no node of edge '{c['edge']}' of body "
+                               f"'{c['body']}' lies in the candidate window: widen x_min/x_max/"
+                               f"y_min/y_max")
+    n = np.asarray(c["normal"]) / np.linalg.norm(c["normal"])
+    gap = (scene.nodes[a] - np.asarray(c["point"])) @ n
+    _check_gaps(scene, a, gap, c["tolerance"], key,
+                "move the body away from the line or the line (contact.point) away from the body")
+    gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
+    return a, np.full(len(a), -1, dtype=np.int64), np.tile(n, (len(a), 1)), gap
+
+
+def _node_to_node_pairs(scene: Scene, c: dict, key: str):
+    """Each node of edge_a with the nearest node of edge_b within ``tolerance``; the normal is
+    body b's outward normal averaged over the edge_b segments at node b (or the given one)."""
+    seg_a = scene.global_edge(c["body_a"], c["edge_a"])
+    seg_b = scene.global_edge(c["body_b"], c["edge_b"])
+    nodes_a, nodes_b = np.unique(seg_a), np.unique(seg_b)
+    xa, xb = scene.nodes[nodes_a], scene.nodes[nodes_b]
+    d = np.linalg.norm(xa[:, None, :] - xb[None, :, :], axis=2)  # small: edge nodes only
+    nearest = np.argmin(d, axis=1)
+    ok = d[np.arange(len(nodes_a)), nearest] <= c["tolerance"]
+    if not ok.any():
+        raise scene.case.error(f"{key}.tolerance", f"no node of {c['body_a']}:{c['edge_a']} is "
+                               f"within {c['tolerance']:g} of a node of {c['body_b']}:"
+                               f"{c['edge_b']}: the meshes must match on the interface, or "
+                               f"increase tolerance")
+    a, b = nodes_a[ok], nodes_b[nearest[ok]]
+    if len(np.unique(b)) != len(b):
+        raise scene.case.error(f"{key}.tolerance", f"= {c['tolerance']:g} pairs one target node "
+                               f"with several contactor nodes: decrease it")
+    if c["normal"] is not None:
+        n = np.tile(np.asarray(c["normal"]) / np.linalg.norm(c["normal"]), (len(a), 1))
+    else:
+        seg_n = meshes.outward_normals(scene.nodes, seg_b)
+        acc = np.zeros((len(scene.nodes), 2))
+        np.add.at(acc, seg_b[:, 0], seg_n)
+        np.add.at(acc, seg_b[:, 1], seg_n)
+        n = acc[b] / np.linalg.norm(acc[b], axis=1, keepdims=True)
+    gap = np.einsum("ij,ij->i", scene.nodes[a] - scene.nodes[b], n)
+    _check_gaps(scene, a, gap, c["tolerance"], key,
+                f"move body '{c['body_a']}' away from body '{c['body_b']}'")
+    gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
+    return a, b, n, gap
+
+
+def _check_gaps(scene: Scene, a: np.ndarray, gap: np.ndarray, tol: float, key: str,
+                fix: str) -> None:
+    if (gap < -tol).any():
+        k = int(np.argmin(gap))
+        x, y = scene.nodes[a[k]]
+        raise scene.case.error(key, f"initial penetration at node {int(a[k])} ({x:.6g}, {y:.6g}) "
+                               f"by {-gap[k]:.3g}: {fix}")
+
+
+# --------------------------------------------------------------------------- options
+def solver_options(case: Case) -> dict:
+    """The engine's ``options``: snapshots at every event or at given load fractions."""
+    snaps = case.data["output"]["snapshots"]
+    solver = case.data["solver"]
+    options = {"tie_tol": float(solver["tie_tol"]), "max_events": int(solver["max_events"]),
+               "equilibrium_tol": float(solver["equilibrium_tol"]),
+               "drift_control": bool(solver["drift_control"]),
+               "max_stress_step": float(solver["max_stress_step"])}
+    if snaps == "events":
+        options["output"] = "events"
+    else:
+        fractions = sorted(set(snaps) | {1.0})
+        options["output"] = "fractions"
+        options["fractions"] = np.asarray(fractions, dtype=np.float64)
+    return options
+
+
+# --------------------------------------------------------------------------- reference
+def hertz_reference(scene: Scene) -> dict:
+    """Hertz line contact of a cylinder on a rigid flat (Johnson 1985, §4.3; §5.1 of the paper):
+    a = sqrt(4 P R / (pi E*)), p0 = 2 P / (pi a), E* = E / (1 - nu^2) in plane strain (E in
+    plane stress).  Only for a case with ``[load] P`` and a rigid_line contact on that body."""
+    data = scene.case.data
+    load = data["load"]
+    if load is None:
+        return {}
+    if not any(c["kind"] == "rigid_line" and c["body"] == load["body"] for c in data["contact"]):
+        return {}
+    body = scene.case.body(load["body"])
+    E, nu = body["material"]["E"], body["material"]["nu"]
+    E_star = E / (1.0 - nu ** 2) if data["analysis"]["plane"] == "strain" else E
+    P, R = load["P"], body["mesh"]["R"]
+    a = math.sqrt(4.0 * P * R / (math.pi * E_star))
+    return {"a_hertz": a, "p0_hertz": 2.0 * P / (math.pi * a), "P": P, "R": R,
+            "E_star": E_star}

@@ -1,0 +1,108 @@
+"""Shared fixtures for the Python-side tests.
+
+``synthetic_hertz_result`` builds a result dict with the exact layout of docs/engine_api.md
+from the closed-form frictionless Hertz solution (pairs close at f = (x/a)^2, pressure
+p0 sqrt(f) sqrt(1 - x^2/(a^2 f))).  It is NOT a solver: it only lets the output code be tested
+without the compiled engine, against numbers known in advance.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT / "py") not in sys.path:  # run from a checkout without installing
+    sys.path.insert(0, str(ROOT / "py"))
+
+CASES = ROOT / "cases"
+
+
+def _has_gmsh() -> bool:
+    try:
+        import gmsh  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+needs_gmsh = pytest.mark.skipif(not _has_gmsh(), reason="gmsh is not installed")
+
+
+def write_case(tmp_path: Path, text: str, name: str = "case.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def synthetic_hertz_result(scene, final_fraction: float = 1.0, interrupted: bool = False) -> dict:
+    """A frictionless Hertz result in the engine's layout, up to ``final_fraction``."""
+    ref = scene.reference
+    a, p0 = ref["a_hertz"], ref["p0_hertz"]
+    t = scene.model["thickness"]
+    x = scene.pair_xy[:, 0]
+    gap0 = scene.model["pairs"]["gap"]
+    closes_at = (x / a) ** 2            # a(f) = a sqrt(f)
+    closes_at[gap0 == 0.0] = 0.0
+
+    order = np.argsort(closes_at)
+    events = {"step": [], "load_fraction": [], "kind": [], "entity": []}
+    steps = {k: [] for k in ("load_fraction", "scale", "residual", "n_closed", "n_stick",
+                             "n_slip", "normal_force")}
+    snapshots = []
+    n_nodes, n_el = len(scene.nodes), len(scene.triangles)
+
+    def snapshot(f):
+        closed = closes_at <= f
+        af, pf = a * math.sqrt(f), p0 * math.sqrt(f)
+        p = np.where(closed, pf * np.sqrt(np.clip(1 - (x / af) ** 2, 0, None)), 0.0)
+        return {"load_fraction": f, "u": np.zeros((n_nodes, 2)), "stress": np.zeros((n_el, 4)),
+                "lambda_n": p * scene.pair_length * t, "lambda_t": np.zeros(len(x)),
+                "status": np.where(closed, 2, 0).astype(np.int8),
+                "gap": np.where(closed, 0.0, gap0 * (1 - f / np.maximum(closes_at, 1e-300))),
+                "rtd": np.zeros(len(x))}
+
+    step = 0
+    for i in order:
+        f = closes_at[i]
+        if f == 0.0 or f > final_fraction:
+            continue
+        step += 1
+        events["step"].append(step)
+        events["load_fraction"].append(f)
+        events["kind"].append("close")
+        events["entity"].append(int(i))
+        steps["load_fraction"].append(f)
+        snapshots.append(snapshot(f))
+    step += 1
+    steps["load_fraction"].append(final_fraction)
+    snapshots.append(snapshot(final_fraction))
+    n_steps = len(steps["load_fraction"])
+    for k in ("scale", "residual", "normal_force"):
+        steps[k] = np.zeros(n_steps)
+    for k in ("n_closed", "n_stick", "n_slip"):
+        steps[k] = np.zeros(n_steps, dtype=np.int64)
+    steps["load_fraction"] = np.asarray(steps["load_fraction"])
+
+    final = snapshots[-1]
+    closure = np.where(final["status"] > 0, closes_at, np.nan)
+    predicted = np.where(final["status"] > 0, np.nan, closes_at)
+    return {
+        "events": {"step": np.asarray(events["step"], dtype=np.int64),
+                   "load_fraction": np.asarray(events["load_fraction"]),
+                   "kind": events["kind"],
+                   "entity": np.asarray(events["entity"], dtype=np.int64)},
+        "steps": steps,
+        "snapshots": snapshots,
+        "closure_fraction": closure,
+        "predicted_closure": predicted,
+        "max_equilibrium_residual": 1e-12,
+        "n_factorizations": 1,
+        "n_solves": n_steps,
+        "interrupted": interrupted,
+        "timings": {"assembly": 0.0, "factorization": 0.0, "solves": 0.0, "events": 0.0},
+    }

@@ -1,0 +1,230 @@
+"""Meshes: the quarter cylinder, structured blocks, file readers, and the element checks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import CASES, needs_gmsh
+
+from slipstep import mesh as M
+from slipstep.case import load_case
+from slipstep.model import build_scene
+
+
+@pytest.fixture(scope="module")
+def default_cylinder():
+    """The mesh of the default Hertz case (R = 125, h_contact = 0.03 over 2.5 mm)."""
+    spec = load_case(None).data["body"][0]["mesh"]
+    return spec, M.quarter_cylinder(spec["R"], spec["h_contact"], spec["contact_zone"],
+                                     spec["h_max"], spec["growth"])
+
+
+@needs_gmsh
+def test_arc_nodes_lie_on_the_circle(default_cylinder):
+    spec, mesh = default_cylinder
+    R = spec["R"]
+    arc = mesh.edge_nodes("arc")
+    r = np.linalg.norm(mesh.nodes[arc] - [0.0, R], axis=1)
+    assert np.max(np.abs(r - R)) <= 1e-9 * R
+    assert len(arc) > 2.5 / spec["h_contact"]  # the fine zone is resolved on the arc
+
+
+@needs_gmsh
+def test_there_is_a_node_exactly_at_the_origin(default_cylinder):
+    _, mesh = default_cylinder
+    at_origin = np.flatnonzero((mesh.nodes[:, 0] == 0.0) & (mesh.nodes[:, 1] == 0.0))
+    assert len(at_origin) == 1
+    assert at_origin[0] in mesh.edge_nodes("arc") and at_origin[0] in mesh.edge_nodes("symmetry")
+
+
+@needs_gmsh
+def test_triangles_are_counter_clockwise(default_cylinder):
+    _, mesh = default_cylinder
+    assert (M.signed_areas(mesh.nodes, mesh.triangles) > 0).all()
+    M.check_triangles(mesh.nodes, mesh.triangles)  # no exception
+
+
+@needs_gmsh
+def test_area_is_the_quarter_disc_minus_the_circular_segments(default_cylinder):
+    """Mesh area + sum of the circular segments cut off by the arc chords = pi R^2 / 4.
+    A chord of length L on radius R cuts a segment of area R^2/2 (theta - sin theta),
+    theta = 2 asin(L / 2R): that is exactly the polygonal-approximation error."""
+    spec, mesh = default_cylinder
+    R = spec["R"]
+    segs = mesh.edges["arc"]
+    L = np.linalg.norm(mesh.nodes[segs[:, 1]] - mesh.nodes[segs[:, 0]], axis=1)
+    theta = 2.0 * np.arcsin(L / (2.0 * R))
+    assert abs(theta.sum() - math.pi / 2) <= 1e-9  # the chords span the quarter circle
+    deficit = np.sum(0.5 * R ** 2 * (theta - np.sin(theta)))
+    exact = math.pi * R ** 2 / 4
+    assert deficit > 0 and deficit < 1e-3 * exact
+    assert abs(mesh.area() + deficit - exact) <= 1e-9 * exact
+
+
+@needs_gmsh
+def test_edges_are_oriented_with_the_body_on_the_left(default_cylinder):
+    spec, mesh = default_cylinder
+    R = spec["R"]
+    sym = M.outward_normals(mesh.nodes, mesh.edges["symmetry"])
+    top = M.outward_normals(mesh.nodes, mesh.edges["top"])
+    assert np.allclose(sym, [-1.0, 0.0], atol=1e-12) and np.allclose(top, [0.0, 1.0], atol=1e-12)
+    segs = mesh.edges["arc"]
+    mid = 0.5 * (mesh.nodes[segs[:, 0]] + mesh.nodes[segs[:, 1]])
+    radial = (mid - [0.0, R]) / np.linalg.norm(mid - [0.0, R], axis=1, keepdims=True)
+    n = M.outward_normals(mesh.nodes, segs)
+    assert np.all(np.einsum("ij,ij->i", n, radial) > 0.999)
+    assert np.all(mesh.nodes[mesh.edge_nodes("symmetry"), 0] == 0.0)
+    assert np.all(mesh.nodes[mesh.edge_nodes("top"), 1] == R)
+
+
+@needs_gmsh
+def test_element_size_is_graded_from_the_contact_point(default_cylinder):
+    spec, mesh = default_cylinder
+    segs = mesh.edges["arc"]
+    p, q = mesh.nodes[segs[:, 0]], mesh.nodes[segs[:, 1]]
+    L = np.linalg.norm(q - p, axis=1)
+    d = np.linalg.norm(0.5 * (p + q), axis=1)
+    fine = d < 0.8 * spec["contact_zone"]
+    assert np.all(np.abs(L[fine] / spec["h_contact"] - 1.0) < 0.25)
+    assert L.max() <= 1.25 * spec["h_max"]
+    assert L.max() > 0.5 * spec["h_max"]
+
+
+@needs_gmsh
+def test_small_cylinder_generator_is_deterministic():
+    a = M.quarter_cylinder(10.0, 0.2, 1.0, 2.0, 0.3)
+    b = M.quarter_cylinder(10.0, 0.2, 1.0, 2.0, 0.3)
+    assert np.array_equal(a.nodes, b.nodes) and np.array_equal(a.triangles, b.triangles)
+
+
+# --------------------------------------------------------------------------- blocks
+def test_block_geometry_and_tags():
+    b = M.block(4.0, 2.0, 8, 5, x0=1.0, y0=-2.0)
+    assert b.n_nodes == 9 * 6 and b.n_elements == 2 * 8 * 5
+    assert (M.signed_areas(b.nodes, b.triangles) > 0).all()
+    assert abs(b.area() - 8.0) <= 1e-12 * 8.0
+    expected = {"bottom": [0, -1], "right": [1, 0], "top": [0, 1], "left": [-1, 0]}
+    for tag, n in expected.items():
+        assert np.allclose(M.outward_normals(b.nodes, b.edges[tag]), n)
+    assert np.allclose(b.nodes[b.edge_nodes("top"), 1], 0.0)
+    assert np.allclose(b.nodes[b.node_sets["corner_top_right"]], [[5.0, 0.0]])
+
+
+def test_stacked_blocks_have_matching_interface_nodes():
+    scene = build_scene(load_case(CASES / "two_blocks.toml"))
+    punch = scene.nodes[np.unique(scene.global_edge("punch", "bottom"))]
+    found = scene.nodes[np.unique(scene.global_edge("foundation", "top"))]
+    d = np.linalg.norm(punch[:, None, :] - found[None, :, :], axis=2).min(axis=1)
+    assert len(punch) == 21
+    assert d.max() <= 1e-12
+
+
+# --------------------------------------------------------------------------- checks
+def test_inverted_triangle_is_named_by_its_element_id():
+    b = M.block(2.0, 1.0, 4, 2)
+    tris = b.triangles.copy()
+    tris[5] = tris[5, [0, 2, 1]]
+    with pytest.raises(M.MeshError) as info:
+        M.check_triangles(b.nodes, tris, where="m.msh")
+    msg = str(info.value)
+    assert msg.startswith("m.msh: element 5 is inverted (signed area -0.125)")
+    assert "reorder its nodes counter-clockwise" in msg
+
+
+def test_degenerate_triangle_is_named():
+    nodes = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [0.0, 1.0]])
+    tris = np.array([[0, 1, 3], [0, 1, 2]])
+    with pytest.raises(M.MeshError, match=r"element 1 is degenerate"):
+        M.check_triangles(nodes, tris)
+
+
+def test_tagging_an_interior_side_is_an_error():
+    b = M.block(2.0, 1.0, 2, 1)
+    interior = b.triangles[0, [0, 2]]  # the diagonal of cell 0
+    with pytest.raises(M.MeshError, match=r"is inside the mesh"):
+        M.orient_edges(b.triangles, {"bad": interior[None, :]})
+
+
+# --------------------------------------------------------------------------- files
+def _square_triangles():
+    nodes = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]])
+    tris = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+    return nodes, tris
+
+
+def test_xdmf_mesh_with_line_tags(tmp_path):
+    import meshio
+    nodes, tris = _square_triangles()
+    lines = np.array([[1, 0], [3, 2]])  # bottom (reversed on purpose), top
+    m = meshio.Mesh(nodes, [("triangle", tris), ("line", lines)],
+                    cell_data={"tags": [np.zeros(4, np.int32), np.array([1, 3], np.int32)]})
+    path = tmp_path / "sq.xdmf"
+    meshio.write(path, m)
+    mesh = M.read_mesh(path)
+    assert set(mesh.edges) == {"1", "3"}
+    assert np.allclose(M.outward_normals(mesh.nodes, mesh.edges["1"]), [[0, -1]])
+    assert np.allclose(M.outward_normals(mesh.nodes, mesh.edges["3"]), [[0, 1]])
+
+
+def test_clockwise_file_mesh_is_flipped_and_mixed_one_rejected(tmp_path):
+    import meshio
+    nodes, tris = _square_triangles()
+    cw = tris[:, [0, 2, 1]]
+    meshio.write(tmp_path / "cw.xdmf", meshio.Mesh(nodes, [("triangle", cw)]))
+    assert (M.signed_areas(*(lambda m: (m.nodes, m.triangles))(
+        M.read_mesh(tmp_path / "cw.xdmf"))) > 0).all()
+    mixed = tris.copy()
+    mixed[2] = mixed[2, [0, 2, 1]]
+    meshio.write(tmp_path / "mixed.xdmf", meshio.Mesh(nodes, [("triangle", mixed)]))
+    with pytest.raises(M.MeshError, match=r"mixed.xdmf: element 2 is inverted"):
+        M.read_mesh(tmp_path / "mixed.xdmf")
+
+
+def test_multi_grid_xdmf_is_an_error_not_an_exit(tmp_path):
+    import meshio
+    nodes, tris = _square_triangles()
+    path = tmp_path / "series.xdmf"
+    import os
+    cwd = os.getcwd()
+    os.chdir(tmp_path)  # meshio's TimeSeriesWriter puts the .h5 in the working directory
+    try:
+        with meshio.xdmf.TimeSeriesWriter(path.name) as w:
+            w.write_points_cells(nodes, [("triangle", tris)])
+            w.write_data(0.0, point_data={"a": np.zeros(len(nodes))})
+            w.write_data(1.0, point_data={"a": np.ones(len(nodes))})
+    finally:
+        os.chdir(cwd)
+    with pytest.raises(M.MeshError, match=r"series.xdmf: meshio cannot read"):
+        M.read_mesh(path)
+
+
+@needs_gmsh
+def test_msh_file_with_physical_names(tmp_path):
+    import gmsh
+    gmsh.initialize(["", "-v", "0"], interruptible=False)
+    try:
+        gmsh.model.add("sq")
+        r = gmsh.model.occ.addRectangle(0, 0, 0, 2.0, 1.0)
+        gmsh.model.occ.synchronize()
+        bottom = [c for _, c in gmsh.model.getBoundary([(2, r)], oriented=False)
+                  if abs(gmsh.model.occ.getCenterOfMass(1, c)[1]) < 1e-9]
+        gmsh.model.setPhysicalName(1, gmsh.model.addPhysicalGroup(1, bottom), "base")
+        gmsh.model.addPhysicalGroup(2, [r])
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.25)
+        gmsh.model.mesh.generate(2)
+        gmsh.write(str(tmp_path / "sq.msh"))
+    finally:
+        gmsh.finalize()
+    mesh = M.read_mesh(tmp_path / "sq.msh", scale=10.0)
+    assert set(mesh.edges) == {"base"}
+    assert abs(mesh.area() - 200.0) <= 1e-9 * 200.0
+    assert np.allclose(M.outward_normals(mesh.nodes, mesh.edges["base"]), [0, -1])
+    assert np.allclose(mesh.nodes[mesh.edge_nodes("base"), 1], 0.0)
+
+
+def test_unknown_mesh_format(tmp_path):
+    (tmp_path / "m.stl").write_text("solid")
+    with pytest.raises(M.MeshError, match=r"unknown mesh format '.stl'"):
+        M.read_mesh(tmp_path / "m.stl")

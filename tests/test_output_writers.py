@@ -1,0 +1,226 @@
+"""Output: summary numbers, CSV/JSON/XDMF/PNG writers, atomic writing, and the CLI around them.
+
+The engine result is the synthetic frictionless Hertz one of conftest.py (exact layout of
+docs/engine_api.md, values known in closed form), so these tests run without the engine.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import math
+
+import numpy as np
+import pytest
+from conftest import CASES, synthetic_hertz_result
+
+from slipstep import cli, output
+from slipstep.case import load_case
+from slipstep.model import build_scene
+
+
+@pytest.fixture(scope="module")
+def hertz():
+    scene = build_scene(load_case(None))
+    return scene, synthetic_hertz_result(scene)
+
+
+# --------------------------------------------------------------------------- numbers
+def test_contact_half_width_interpolates_in_load_fraction():
+    x = np.array([0.0, 1.0, 2.0, 3.0])
+    status = np.array([2, 2, 0, 0])
+    closure = np.array([0.0, 0.4, np.nan, np.nan])
+    predicted = np.array([np.nan, np.nan, 1.6, 3.0])
+    # a = x_c + (x_o - x_c)(f - f_c)/(f_o - f_c) = 1 + (1 - 0.4)/(1.6 - 0.4)
+    assert output.contact_half_width(x, status, closure, predicted, 1.0) == pytest.approx(1.5,
+                                                                                          abs=1e-15)
+    assert output.contact_half_width(x, status, closure, predicted, 0.4) == 1.0
+    predicted[2] = np.inf  # not closing: the edge stays at the last closed node
+    assert output.contact_half_width(x, status, closure, predicted, 1.0) == 1.0
+    assert output.contact_half_width(x, np.zeros(4, int), closure, predicted, 1.0) == 0.0
+
+
+def test_stick_half_width():
+    x = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    assert output.stick_half_width(x, np.array([1, 1, 2, 2, 0]), 3.5) == 1.5
+    assert output.stick_half_width(x, np.array([1, 1, 1, 0, 0]), 2.5) == 2.5  # all closed stick
+    assert output.stick_half_width(x, np.array([2, 2, 2, 0, 0]), 2.5) == 0.0  # nothing sticks
+
+
+def test_von_mises():
+    s = np.array([[100.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 10.0], [50.0, 50.0, 50.0, 0.0]])
+    assert np.allclose(output.von_mises(s), [100.0, 10.0 * math.sqrt(3.0), 0.0], rtol=1e-14)
+
+
+def test_summary_of_the_synthetic_hertz_result(hertz):
+    scene, result = hertz
+    s = output.summarize(scene, result, wall_time_s=1.5)
+    h = 0.03  # h_contact of the default case
+    assert abs(s["contact_half_width"] - 1.4384) <= h / 2
+    assert abs(s["peak_pressure"] - 442.6) <= 0.05
+    assert s["stick_half_width"] == 0.0  # frictionless: everything closed slips
+    assert s["n_events"] == len(result["events"]["step"])
+    assert s["final_load_fraction"] == 1.0 and s["interrupted"] is False
+    assert s["n_dofs"] == 2 * s["n_nodes"] == 2 * len(scene.nodes)
+    assert s["n_elements"] == len(scene.triangles)
+    assert s["contact_reached_last_candidate"] is False
+    # the quarter model carries P/2 = 500 N/mm: the lumped Hertz pressure sums to it within
+    # the quadrature error of the nodal lumping
+    assert abs(s["total_normal_force"] - 500.0) <= 0.5
+    assert abs(s["hertz"]["a_rel_error"]) < 0.02
+
+
+def test_growth_curve_replays_the_events(hertz):
+    scene, result = hertz
+    f, a = output.contact_growth(scene, result)
+    assert f[0] == 0.0 and a[0] == 0.0 and f[-1] == 1.0
+    assert np.all(np.diff(f) >= 0) and np.all(np.diff(a) >= 0)
+    # each closure step is at f = (x / a_H)^2, so x = a_H sqrt(f) on the steps
+    assert np.allclose(a[1:], scene.reference["a_hertz"] * np.sqrt(f[1:]), atol=0.031)
+
+
+# --------------------------------------------------------------------------- files
+def test_write_results(hertz, tmp_path):
+    import meshio
+    scene, result = hertz
+    summary = output.summarize(scene, result, 1.0)
+    written = output.write_results(tmp_path, scene, result, summary)
+    names = sorted(p.name for p in written)
+    assert names == ["contact_growth.png", "contact_interface.png", "contact_profile.csv",
+                     "events.csv", "results.h5", "results.xdmf", "summary.json"]
+    assert not list(tmp_path.glob(".partial-*"))
+
+    with open(tmp_path / "events.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == len(result["events"]["step"])
+    first = rows[0]
+    pair = int(first["entity"])
+    assert first["kind"] == "close"
+    assert float(first["x"]) == scene.pair_xy[pair, 0]
+
+    with open(tmp_path / "contact_profile.csv") as fh:
+        prof = list(csv.DictReader(fh))
+    xs = [float(r["x"]) for r in prof]
+    assert xs == sorted(xs) and len(prof) == len(scene.pair_xy)
+    assert {r["status"] for r in prof} == {"open", "slip"}
+    assert float(prof[0]["pressure"]) == pytest.approx(summary["peak_pressure"], rel=1e-12)
+
+    data = json.loads((tmp_path / "summary.json").read_text())
+    for key in ("n_events", "final_load_fraction", "contact_half_width", "stick_half_width",
+                "peak_pressure", "total_normal_force", "max_equilibrium_residual",
+                "wall_time_s", "n_nodes", "n_elements", "n_dofs", "n_factorizations",
+                "interrupted"):
+        assert key in data, key
+
+    with meshio.xdmf.TimeSeriesReader(str(tmp_path / "results.xdmf")) as reader:
+        points, cells = reader.read_points_cells()
+        assert points.shape == (len(scene.nodes), 2)
+        assert cells[0].type == "triangle" and len(cells[0].data) == len(scene.triangles)
+        assert reader.num_steps == len(result["snapshots"])
+        t, point_data, cell_data = reader.read_data(reader.num_steps - 1)
+    assert t == 1.0
+    assert point_data["u"].shape == (len(scene.nodes), 3)
+    assert set(cell_data) == {"sigma_x", "sigma_y", "sigma_z", "tau_xy", "von_mises"}
+
+
+def test_failed_write_leaves_the_previous_results(hertz, tmp_path, monkeypatch):
+    scene, result = hertz
+    summary = output.summarize(scene, result, 1.0)
+    (tmp_path / "summary.json").write_text('{"old": true}\n')
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("disk full")
+
+    monkeypatch.setattr(output, "write_xdmf", broken)
+    with pytest.raises(RuntimeError, match="disk full"):
+        output.write_results(tmp_path, scene, result, summary, figures=False)
+    assert (tmp_path / "summary.json").read_text() == '{"old": true}\n'
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["summary.json"]
+
+
+def test_interrupted_run_writes_what_it_has(hertz, tmp_path):
+    scene, _ = hertz
+    partial = synthetic_hertz_result(scene, final_fraction=0.5, interrupted=True)
+    summary = output.summarize(scene, partial, 1.0)
+    assert summary["interrupted"] is True and summary["final_load_fraction"] == 0.5
+    # Hertz at f = 0.5: a sqrt(0.5)
+    assert abs(summary["contact_half_width"] - 1.4384 * math.sqrt(0.5)) <= 0.015
+    output.write_results(tmp_path, scene, partial, summary, xdmf=False, figures=False)
+    data = json.loads((tmp_path / "summary.json").read_text())
+    assert data["interrupted"] is True
+    assert data["hertz"]["a_hertz_at_final"] == pytest.approx(1.4384 * math.sqrt(0.5), rel=1e-4)
+
+
+# --------------------------------------------------------------------------- CLI
+def test_cli_errors_are_one_line_with_exit_2(tmp_path, capsys):
+    assert cli.main(["run", str(tmp_path / "none.toml")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("slipstep: error: ")
+    assert "none.toml: no such case file" in err
+
+    assert cli.main(["check", "--set", "contact.muu=0.3"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("slipstep: error: --set contact.muu=0.3: unknown key 'muu'")
+
+
+def test_cli_check_prints_the_size(capsys):
+    assert cli.main(["check", str(CASES / "two_blocks.toml")]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("two_blocks: 3552 nodes, 6800 elements, 7104 dofs, 21 contact pairs")
+
+
+def test_cli_run_with_a_stand_in_engine(hertz, tmp_path, monkeypatch, capsys):
+    """The CLI plumbing (not the engine): summary line, files, exit codes 0 and 130."""
+    scene, result = hertz
+    # the prepared mesh, with the case as loaded by the CLI (so its --set applies)
+    monkeypatch.setattr(cli, "build_scene", lambda case: dataclasses.replace(scene, case=case))
+    monkeypatch.setattr(cli, "solve", lambda s, progress: result)
+    assert cli.main(["run", "--out", str(tmp_path / "a"), "--set", "output.xdmf=false"]) == 0
+    line = capsys.readouterr().out
+    assert line.startswith("hertz_cylinder: ") and line.count("\n") == 1
+    assert (tmp_path / "a" / "summary.json").exists()
+
+    partial = synthetic_hertz_result(scene, final_fraction=0.3, interrupted=True)
+    monkeypatch.setattr(cli, "solve", lambda s, progress: partial)
+    assert cli.main(["run", "--out", str(tmp_path / "b"), "--quiet", "--set",
+                     "output.xdmf=false"]) == 130
+    captured = capsys.readouterr()
+    assert captured.out == "" and "interrupted at load fraction 0.3" in captured.err
+    assert json.loads((tmp_path / "b" / "summary.json").read_text())["interrupted"] is True
+
+
+def test_run_case_api_with_a_stand_in_engine(hertz, tmp_path, monkeypatch):
+    """run_case(path or None, out, overrides) -> (result, summary), through runner.engine()."""
+    import types
+
+    from slipstep import runner
+
+    scene, result = hertz
+    seen = {}
+
+    def solve(model, progress):
+        seen["model"], seen["progress"] = model, progress
+        return result
+
+    monkeypatch.setattr(runner, "engine", lambda: types.SimpleNamespace(solve=solve))
+    got, summary = runner.run_case(None, out=tmp_path, overrides=["output.xdmf=false",
+                                                                  "output.figures=false"])
+    assert got is result and seen["progress"] is False
+    assert seen["model"]["load"].shape == (2 * len(scene.nodes),)
+    assert summary["case"] == "hertz_cylinder" and summary["wall_time_s"] > 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["contact_profile.csv", "events.csv",
+                                                          "summary.json"]
+
+
+def test_reached_last_candidate_only_for_a_cut_candidate_window(hertz):
+    scene, result = hertz
+    final = dict(result["snapshots"][-1])
+    assert scene.contact_truncated == [True]  # x_max = 3 cuts the arc
+    assert output.reached_last_candidate(scene, final) is False
+    final["status"] = np.full(len(scene.pair_xy), 2)
+    assert output.reached_last_candidate(scene, final) is True
+    blocks = build_scene(load_case(CASES / "two_blocks.toml"))
+    assert blocks.contact_truncated == [False]  # the whole punch bottom is a candidate
+    closed = {"status": np.full(len(blocks.pair_xy), 1)}
+    assert output.reached_last_candidate(blocks, closed) is False
