@@ -49,7 +49,7 @@ use crate::contact::{Pair, Status};
 use crate::element::Cst;
 use crate::error::Result;
 use crate::events::{self, Candidate, Noise};
-use crate::linalg::{assemble_lower, DofMap, DofRole, SpdSolver};
+use crate::linalg::{DofMap, DofRole, SpdSolver, StiffnessPattern};
 use crate::material::{von_mises, Material, Plane, Tangent};
 use crate::model::*;
 use crate::rigid_modes::{free_modes, RigidMode};
@@ -112,6 +112,7 @@ struct Engine<'m> {
     pairs: Vec<Pair>,
     modes: Vec<RigidMode>,
     map: DofMap,
+    pattern: StiffnessPattern,
     fixed: Vec<bool>,
     solver: SpdSolver,
     /// K# w_n and K# w_t per pair, computed when first needed (valid for the current factor).
@@ -451,6 +452,7 @@ impl<'m> Engine<'m> {
         let (modes, pinned) = free_modes(&mesh.nodes, &body_of_node, n_bodies, &fixed);
         let map = DofMap::new(n_dofs, &fixed, &pinned);
         let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(mesh, e)).collect();
+        let pattern = StiffnessPattern::new(&elements, &map)?;
         let material: Vec<Material> = model.element_material.iter().map(|&m| model.materials[m]).collect();
         let tangents = material.iter().map(|m| m.tangent(&Vector4::zeros(), false)).collect();
         let n_pairs = pairs.len();
@@ -464,6 +466,7 @@ impl<'m> Engine<'m> {
             pairs,
             modes,
             map,
+            pattern,
             fixed,
             solver: SpdSolver::new(),
             zn: vec![None; n_pairs],
@@ -479,7 +482,7 @@ impl<'m> Engine<'m> {
     fn factor(&mut self) -> Result<()> {
         let t0 = Instant::now();
         let in_plane: Vec<_> = self.tangents.iter().map(|t| t.in_plane(self.model.plane)).collect();
-        let k = assemble_lower(&self.elements, &in_plane, self.model.thickness, &self.map)?;
+        let k = self.pattern.assemble(&self.elements, &in_plane, self.model.thickness, &self.map)?;
         self.tangents_changed = false;
         let t1 = Instant::now();
         self.timings.assembly += (t1 - t0).as_secs_f64();
@@ -491,35 +494,53 @@ impl<'m> Engine<'m> {
         Ok(())
     }
 
-    /// x = K# y over all DOFs (fixed and pinned DOFs get 0).
-    fn apply_ginv(&mut self, y: &[f64]) -> Vec<f64> {
-        let mut b = vec![0.0; self.map.n_equations];
-        for (d, role) in self.map.role.iter().enumerate() {
-            if let DofRole::Equation(i) = role {
-                b[*i] = y[d];
+    /// x = K# y over all DOFs (fixed and pinned DOFs get 0), for each y in `ys`.
+    fn apply_ginv(&mut self, ys: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        let (n, k) = (self.map.n_equations, ys.len());
+        let mut b = vec![0.0; n * k];
+        for (c, y) in ys.iter().enumerate() {
+            for (d, role) in self.map.role.iter().enumerate() {
+                if let DofRole::Equation(i) = role {
+                    b[c * n + *i] = y[d];
+                }
             }
         }
-        self.solver.solve_in_place(&mut b);
-        let mut x = vec![0.0; y.len()];
-        for (d, role) in self.map.role.iter().enumerate() {
-            if let DofRole::Equation(i) = role {
-                x[d] = b[*i];
-            }
+        if k > 0 {
+            self.solver.solve_in_place(&mut b, k);
         }
-        x
+        (0..k)
+            .map(|c| {
+                let mut x = vec![0.0; self.map.role.len()];
+                for (d, role) in self.map.role.iter().enumerate() {
+                    if let DofRole::Equation(i) = role {
+                        x[d] = b[c * n + *i];
+                    }
+                }
+                x
+            })
+            .collect()
     }
 
-    fn ginv_of(&mut self, p: usize, tangential: bool) -> &Vec<f64> {
-        let n = self.map.role.len();
-        let missing = if tangential { self.zt[p].is_none() } else { self.zn[p].is_none() };
-        if missing {
-            let mut y = vec![0.0; n];
-            let w = if tangential { &self.pairs[p].w_t } else { &self.pairs[p].w_n };
-            w.add_to(1.0, &mut y);
-            let z = self.apply_ginv(&y);
-            if tangential { self.zt[p] = Some(z) } else { self.zn[p] = Some(z) }
+    /// Make sure K# w_n / K# w_t are cached for the given (pair, tangential) columns, solving
+    /// all missing ones in one blocked solve.
+    fn cache_ginv(&mut self, wanted: &[(usize, bool)]) {
+        let missing: Vec<(usize, bool)> = wanted
+            .iter()
+            .copied()
+            .filter(|&(p, t)| if t { self.zt[p].is_none() } else { self.zn[p].is_none() })
+            .collect();
+        let ys: Vec<Vec<f64>> = missing
+            .iter()
+            .map(|&(p, t)| {
+                let mut y = vec![0.0; self.map.role.len()];
+                let w = if t { &self.pairs[p].w_t } else { &self.pairs[p].w_n };
+                w.add_to(1.0, &mut y);
+                y
+            })
+            .collect();
+        for ((p, t), z) in missing.into_iter().zip(self.apply_ginv(&ys)) {
+            if t { self.zt[p] = Some(z) } else { self.zn[p] = Some(z) }
         }
-        if tangential { self.zt[p].as_ref().unwrap() } else { self.zn[p].as_ref().unwrap() }
     }
 
     fn z(&self, p: usize, tangential: bool) -> &[f64] {
@@ -560,7 +581,7 @@ impl<'m> Engine<'m> {
     /// form): 1 for the remaining load; the current fraction for an equilibrium correction.
     fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64], target: f64) -> Result<TrialIncrement> {
         let r = self.residual_vector(state, target);
-        let z0 = self.apply_ginv(&r);
+        let z0 = self.apply_ginv(std::slice::from_ref(&r)).pop().unwrap();
 
         // Rows (constraints) and their right-hand sides h.
         let mut rows = Vec::new();
@@ -577,21 +598,19 @@ impl<'m> Engine<'m> {
                 h.push(rtd_stick[p] - pair.rtd(&state.u));
             }
         }
+        let mut wanted = Vec::new();
         for row in &rows {
             match *row {
                 Row::Normal(p) => {
-                    self.ginv_of(p, false);
-                    if let Status::Slip { .. } = status[p] {
-                        if self.pairs[p].mu > 0.0 {
-                            self.ginv_of(p, true);
-                        }
+                    wanted.push((p, false));
+                    if self.pairs[p].slip_ratio(status[p]) != 0.0 {
+                        wanted.push((p, true));
                     }
                 }
-                Row::Tangent(p) => {
-                    self.ginv_of(p, true);
-                }
+                Row::Tangent(p) => wanted.push((p, true)),
             }
         }
+        self.cache_ginv(&wanted);
         let m = rows.len();
         let nm = self.modes.len();
         let size = m + nm;

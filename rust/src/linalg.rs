@@ -11,7 +11,7 @@ use crate::bail;
 use crate::element::Cst;
 use crate::error::Result;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{MatMut, Side};
 use faer::linalg::solvers::Solve;
 use nalgebra::Matrix3;
@@ -63,30 +63,47 @@ impl DofMap {
     }
 }
 
-/// Lower triangle of K_reg = Σ_e t A Bᵀ D_e B over the equation DOFs.
-pub fn assemble_lower(
-    elements: &[Cst],
-    tangents: &[Matrix3<f64>],
-    thickness: f64,
-    map: &DofMap,
-) -> Result<SparseColMat<usize, f64>> {
-    let mut triplets = Vec::with_capacity(elements.len() * 21);
-    for (el, d) in elements.iter().zip(tangents) {
-        let ke = el.stiffness(d, thickness);
+/// The sparsity pattern of K_reg (lower triangle), analysed once: refilling it with new
+/// element tangents skips the sort of the triplets (plastic runs reassemble at every event).
+pub struct StiffnessPattern {
+    symbolic: SymbolicSparseColMat<usize>,
+    argsort: Argsort<usize>,
+}
+
+/// Visit every lower-triangle entry (row, col, element, i, j) of the assembly, in a fixed order.
+fn for_each_entry(elements: &[Cst], map: &DofMap, mut f: impl FnMut(usize, usize, usize, usize, usize)) {
+    for (e, el) in elements.iter().enumerate() {
         let eqs = el.dofs().map(|g| map.equation(g));
         for i in 0..6 {
             let Some(ri) = eqs[i] else { continue };
             for j in 0..6 {
                 let Some(cj) = eqs[j] else { continue };
                 if ri >= cj {
-                    triplets.push(Triplet::new(ri, cj, ke[(i, j)]));
+                    f(ri, cj, e, i, j);
                 }
             }
         }
     }
-    let n = map.n_equations;
-    SparseColMat::try_new_from_triplets(n, n, &triplets)
-        .map_err(|e| crate::error::Error(format!("could not assemble the stiffness matrix: {e:?}")))
+}
+
+impl StiffnessPattern {
+    pub fn new(elements: &[Cst], map: &DofMap) -> Result<Self> {
+        let mut idx = Vec::with_capacity(elements.len() * 21);
+        for_each_entry(elements, map, |r, c, _, _, _| idx.push(Pair::new(r, c)));
+        let n = map.n_equations;
+        let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &idx)
+            .map_err(|e| crate::error::Error(format!("could not analyse the stiffness pattern: {e:?}")))?;
+        Ok(StiffnessPattern { symbolic, argsort })
+    }
+
+    /// Lower triangle of K_reg = Σ_e t A Bᵀ D_e B over the equation DOFs.
+    pub fn assemble(&self, elements: &[Cst], tangents: &[Matrix3<f64>], thickness: f64, map: &DofMap) -> Result<SparseColMat<usize, f64>> {
+        let ke: Vec<_> = elements.iter().zip(tangents).map(|(el, d)| el.stiffness(d, thickness)).collect();
+        let mut values = Vec::with_capacity(elements.len() * 21);
+        for_each_entry(elements, map, |_, _, e, i, j| values.push(ke[e][(i, j)]));
+        SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &values)
+            .map_err(|e| crate::error::Error(format!("could not assemble the stiffness matrix: {e:?}")))
+    }
 }
 
 /// Cholesky factor of K_reg with the symbolic analysis kept for refactorization.
@@ -132,12 +149,13 @@ impl SpdSolver {
         }
     }
 
-    /// Solve K_reg x = b in place (b over the equation DOFs).
-    pub fn solve_in_place(&mut self, b: &mut [f64]) {
-        let n = b.len();
+    /// Solve K_reg X = B in place for `columns` right-hand sides stored column after column
+    /// (one blocked forward/backward substitution for all of them).
+    pub fn solve_in_place(&mut self, b: &mut [f64], columns: usize) {
+        let n = b.len() / columns.max(1);
         let f = self.factor.as_ref().expect("factor() before solve");
-        f.solve_in_place(MatMut::from_column_major_slice_mut(b, n, 1));
-        self.n_solves += 1;
+        f.solve_in_place(MatMut::from_column_major_slice_mut(b, n, columns));
+        self.n_solves += columns;
     }
 }
 
@@ -174,12 +192,12 @@ mod tests {
             fixed[2 * (3 * j) + 1] = true;
         }
         let map = DofMap::new(18, &fixed, &[]);
-        let k = assemble_lower(&els, &tangents, 1.0, &map).unwrap();
+        let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &tangents, 1.0, &map).unwrap();
         let mut s = SpdSolver::new();
         let dofs: Vec<usize> = (0..18).filter(|&d| !fixed[d]).collect();
         s.factor(&k, &dofs).unwrap();
         let mut b = vec![1.0; map.n_equations];
-        s.solve_in_place(&mut b);
+        s.solve_in_place(&mut b, 1);
         assert!(b.iter().all(|v| v.is_finite()));
     }
 }
