@@ -166,6 +166,61 @@ mod tests {
     use crate::mesh::Mesh;
 
     #[test]
+    fn global_stiffness_is_symmetric_and_annihilates_rigid_modes() {
+        // Unsupported 3x2-cell mesh: assembled K (dense, both triangles) is symmetric, its lower
+        // triangle is what the sparse assembly stores, and K r = 0 for the three rigid modes.
+        let mut nodes = vec![];
+        for j in 0..3 {
+            for i in 0..4 {
+                nodes.push([i as f64 * 0.7, j as f64 * 0.4 + 0.1 * i as f64]);
+            }
+        }
+        let mut triangles = vec![];
+        for j in 0..2 {
+            for i in 0..3 {
+                let a = 4 * j + i;
+                triangles.push([a, a + 1, a + 5]);
+                triangles.push([a, a + 5, a + 4]);
+            }
+        }
+        let mesh = Mesh { nodes, triangles };
+        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e)).collect();
+        let d = Material::elastic(1000.0, 0.3).elastic_tangent(Plane::Strain);
+        let n = 2 * mesh.nodes.len();
+        let mut k = nalgebra::DMatrix::<f64>::zeros(n, n);
+        for el in &els {
+            let ke = el.stiffness(&d, 2.0);
+            for (i, gi) in el.dofs().iter().enumerate() {
+                for (j, gj) in el.dofs().iter().enumerate() {
+                    k[(*gi, *gj)] += ke[(i, j)];
+                }
+            }
+        }
+        assert!((&k - k.transpose()).norm() < 1e-12 * k.norm());
+        let map = DofMap::new(n, &vec![false; n], &[]);
+        let lower = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &vec![d; els.len()], 2.0, &map).unwrap();
+        let dense_lower = lower.to_dense();
+        for i in 0..n {
+            for j in 0..n {
+                let expect = if i >= j { k[(i, j)] } else { 0.0 };
+                assert!((dense_lower[(i, j)] - expect).abs() < 1e-12 * k.norm());
+            }
+        }
+        for mode in 0..3 {
+            let r = nalgebra::DVector::from_fn(n, |dof, _| {
+                let p = mesh.nodes[dof / 2];
+                match (mode, dof % 2) {
+                    (0, 0) | (1, 1) => 1.0,
+                    (2, 0) => -p[1],
+                    (2, 1) => p[0],
+                    _ => 0.0,
+                }
+            });
+            assert!((&k * r).norm() < 1e-10 * k.norm());
+        }
+    }
+
+    #[test]
     fn assembled_stiffness_is_symmetric_positive_with_supports() {
         // 2x2 squares of a cantilever, fixed on x = 0: K_reg must factor, and K x = b is solved.
         let mut nodes = vec![];

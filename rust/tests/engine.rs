@@ -140,11 +140,9 @@ fn block_on_rigid_flat_closed_from_the_start() {
 
 #[test]
 fn flat_punch_gap_closes_at_the_predicted_load() {
-    // Block hanging 0.01 above the flat, pulled down by q with frictionless contact: the block
-    // is free in y, so it must start closed somewhere — here two pairs of a second body-fixed
-    // support do it: we instead support it by a soft column? Keep it simple: the block is
-    // clamped at its top and pushed down by a body load on the bottom row; the gap closes when
-    // the elastic shortening reaches 0.01: f_close = 0.01 / (u_y at full load).
+    // A column clamped at its top hangs 0.01 above a rigid flat and is pulled down by nodal
+    // loads on its bottom row. Without contact the bottom node moves u_y at full load; with
+    // contact the first closure must happen at f = 0.01 / |u_y| (the path is linear until then).
     let (w, h) = (1.0, 2.0);
     let mesh = rectangle(0.0, 0.01, w, h, 2, 4);
     let n = mesh.nodes.len();
@@ -250,4 +248,18 @@ fn two_blocks_conforming_contact_transmit_the_load() {
     for (k, st) in last.status.iter().enumerate() {
         assert!(last.lambda_t[k].abs() <= 0.2 * last.lambda_n[k] + 1e-9, "pair {k} status {st}");
     }
+}
+
+#[test]
+fn tractionless_body_returns_zero_stress() {
+    // Supported square without load: one increment, zero displacement and zero stress.
+    let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 3, 3);
+    let n = mesh.nodes.len();
+    let fixed: Vec<usize> = nodes_where(&mesh, |p| p[1].abs() < 1e-12).iter().flat_map(|&i| [2 * i, 2 * i + 1]).collect();
+    let m = model(mesh, fixed, vec![0.0; 2 * n], vec![], Plane::Strain);
+    let res = slipstep_core::run(&m, |_| true).unwrap();
+    let last = res.snapshots.last().unwrap();
+    assert_eq!(last.load_fraction, 1.0);
+    assert!(last.u.iter().all(|&v| v == 0.0));
+    assert!(last.stress.iter().all(|s| s.iter().all(|&v| v == 0.0)));
 }
