@@ -243,7 +243,7 @@ def test_readme_documents_every_key():
     tables = [case_mod.CASE_KEYS, case_mod.ANALYSIS_KEYS, case_mod.LOAD_KEYS,
               case_mod.OUTPUT_KEYS, case_mod.SOLVER_KEYS, case_mod.BODY_KEYS,
               case_mod.MATERIAL_KEYS, case_mod.QUARTER_CYLINDER_KEYS, case_mod.BLOCK_KEYS,
-              case_mod.FILE_MESH_KEYS, case_mod.BC_KEYS, case_mod.POINT_LOAD_KEYS,
+              case_mod.QUARTER_ANNULUS_KEYS, case_mod.FILE_MESH_KEYS, case_mod.BC_KEYS, case_mod.POINT_LOAD_KEYS,
               case_mod.RIGID_LINE_KEYS, case_mod.NODE_TO_NODE_KEYS]
     missing = sorted({k for t in tables for k in t if f"`{k}`" not in readme})
     assert not missing, f"cases/README.md does not document {missing}"

@@ -99,6 +99,39 @@ def test_small_cylinder_generator_is_deterministic():
     assert np.array_equal(a.nodes, b.nodes) and np.array_equal(a.triangles, b.triangles)
 
 
+# --------------------------------------------------------------------------- quarter annulus
+@needs_gmsh
+def test_quarter_annulus_geometry_tags_and_grading():
+    a, b, h, h_outer = 10.0, 20.0, 0.5, 1.0
+    m = M.quarter_annulus(a, b, h, h_outer)
+    assert (M.signed_areas(m.nodes, m.triangles) > 0).all()
+    r = np.linalg.norm(m.nodes, axis=1)
+    assert np.max(np.abs(r[m.edge_nodes("inner")] - a)) <= 1e-12 * a
+    assert np.max(np.abs(r[m.edge_nodes("outer")] - b)) <= 1e-12 * b
+    assert r.min() >= a * (1 - 1e-12) and r.max() <= b * (1 + 1e-12)
+    # the axes are exact and span [a, b]; outward normals (body on the left)
+    for tag, axis, n in (("x_axis", 1, [0.0, -1.0]), ("y_axis", 0, [-1.0, 0.0])):
+        ids = m.edge_nodes(tag)
+        assert np.all(m.nodes[ids, axis] == 0.0)
+        assert sorted(r[ids])[0] == pytest.approx(a) and sorted(r[ids])[-1] == pytest.approx(b)
+        assert np.allclose(M.outward_normals(m.nodes, m.edges[tag]), n, atol=1e-12)
+    for tag, sign in (("inner", -1.0), ("outer", 1.0)):  # outward = -radial at the bore
+        segs = m.edges[tag]
+        mid = 0.5 * (m.nodes[segs[:, 0]] + m.nodes[segs[:, 1]])
+        radial = mid / np.linalg.norm(mid, axis=1, keepdims=True)
+        assert np.all(sign * np.einsum("ij,ij->i", M.outward_normals(m.nodes, segs), radial)
+                      > 0.999)
+    # area = quarter ring minus the segments cut by the chords of both arcs (inner ones add)
+    assert abs(m.area() - math.pi / 4 * (b * b - a * a)) <= 1e-3 * m.area()
+    # grading: boundary segments are about h at the bore and h_outer at r = b
+    lengths = {t: np.linalg.norm(np.diff(m.nodes[m.edges[t]], axis=1)[:, 0], axis=1).mean()
+               for t in ("inner", "outer")}
+    assert lengths["inner"] == pytest.approx(h, rel=0.1)
+    assert lengths["outer"] == pytest.approx(h_outer, rel=0.1)
+    with pytest.raises(M.MeshError, match="need 0 < a < b"):
+        M.quarter_annulus(2.0, 1.0, 0.1)
+
+
 # --------------------------------------------------------------------------- blocks
 def test_block_geometry_and_tags():
     b = M.block(4.0, 2.0, 8, 5, x0=1.0, y0=-2.0)

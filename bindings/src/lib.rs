@@ -107,7 +107,8 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
             options.tie_tol = v.extract()?;
         }
         if let Some(v) = o.get_item("max_events")? {
-            options.max_steps = v.extract()?;
+            let n: i64 = v.extract()?;
+            options.max_steps = usize::try_from(n).map_err(|_| PyValueError::new_err(format!("engine model: options.max_events = {n} is not allowed: give 0 (automatic bound) or a positive count")))?;
         }
         if let Some(v) = o.get_item("equilibrium_tol")? {
             options.equilibrium_tol = v.extract()?;
@@ -129,6 +130,7 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
             };
         }
     }
+    options.validate().map_err(|e| PyValueError::new_err(format!("engine model: {}", e.0)))?;
     Ok(Model { mesh: Mesh { nodes, triangles }, element_material, materials, plane, thickness, fixed_dofs, load, pairs, options })
 }
 

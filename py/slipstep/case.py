@@ -124,6 +124,8 @@ SOLVER_KEYS = {
     "max_stress_step": Key("float", 0.05, doc="plasticity, with drift_control: largest von Mises "
                                               "stress increment of a plastic element, x Sy",
                            check=_positive("max_stress_step")),
+    "stop_at_first_yield": Key("bool", False, doc="plasticity: end the run right after the "
+                                                  "first yield event"),
 }
 
 BODY_KEYS = {
@@ -171,6 +173,19 @@ BLOCK_KEYS = {
              check=_non_negative("h")),
 }
 
+QUARTER_ANNULUS_KEYS = {
+    "generator": Key("str", REQUIRED, doc='"quarter_annulus"'),
+    "a": Key("float", REQUIRED, unit="length", doc="inner radius (the bore); centre (0, 0)",
+             check=_positive("the inner radius a")),
+    "b": Key("float", REQUIRED, unit="length", doc="outer radius, > a",
+             check=_positive("the outer radius b")),
+    "h": Key("float", REQUIRED, unit="length", doc="element size at the bore r = a",
+             check=_positive("h")),
+    "h_outer": Key("float", 0.0, unit="length",
+                   doc="element size at r = b, linear in r in between (0: uniform h)",
+                   check=_non_negative("h_outer")),
+}
+
 FILE_MESH_KEYS = {
     "file": Key("str", REQUIRED, doc="triangle mesh .msh (gmsh physical names = edge tags) or "
                                      ".xdmf (meshio; line cells tagged by an integer cell "
@@ -180,12 +195,14 @@ FILE_MESH_KEYS = {
     "scale": Key("float", 1.0, doc="multiply the coordinates by this", check=_positive("scale")),
 }
 
-MESH_VARIANTS = {"quarter_cylinder": QUARTER_CYLINDER_KEYS, "block": BLOCK_KEYS}
+MESH_VARIANTS = {"quarter_cylinder": QUARTER_CYLINDER_KEYS, "block": BLOCK_KEYS,
+                 "quarter_annulus": QUARTER_ANNULUS_KEYS}
 
 #: Edge tags that the generators create (file meshes bring their own).
 GENERATOR_EDGES = {
     "quarter_cylinder": ("arc", "symmetry", "top"),
     "block": ("bottom", "right", "top", "left"),
+    "quarter_annulus": ("inner", "outer", "x_axis", "y_axis"),
 }
 
 BC_KEYS = {
@@ -264,7 +281,8 @@ ARRAY_KEYS = {
     "point_load": POINT_LOAD_KEYS,
     "contact": _union(RIGID_LINE_KEYS, NODE_TO_NODE_KEYS),
 }
-BODY_SUBTABLES = {"mesh": _union(QUARTER_CYLINDER_KEYS, BLOCK_KEYS, FILE_MESH_KEYS),
+BODY_SUBTABLES = {"mesh": _union(QUARTER_CYLINDER_KEYS, BLOCK_KEYS, QUARTER_ANNULUS_KEYS,
+                                  FILE_MESH_KEYS),
                   "material": MATERIAL_KEYS}
 
 
@@ -315,6 +333,9 @@ def load_case(path: str | Path | None = None, overrides=()) -> Case:
         raise CaseError(f"{source}: no such case file") from None
     except OSError as exc:
         raise CaseError(f"{source}: cannot read the case file: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise CaseError(f"{source}: not a UTF-8 text file (byte {exc.start}): a case is a TOML "
+                        f"text file") from None
     return parse_case(text, source=source, base_dir=path.resolve().parent, overrides=overrides)
 
 
@@ -486,6 +507,8 @@ class _Validator:
             v = float(v)
             if math.isnan(v):
                 raise bad
+            if math.isinf(v) and not (isinstance(spec.default, float) and math.isinf(spec.default)):
+                raise self.fail(full, f"= {shown} is not allowed: expected a finite number")
         elif t == "int":
             if isinstance(v, bool) or not isinstance(v, int):
                 raise bad
@@ -500,6 +523,8 @@ class _Validator:
                     any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in v)):
                 raise bad
             v = [float(c) for c in v]
+            if not all(math.isfinite(c) for c in v):
+                raise self.fail(full, f"= {shown} is not allowed: expected two finite numbers")
         elif t == "axes":
             if not isinstance(v, list) or any(c not in ("x", "y") for c in v) or len(set(v)) != len(v):
                 raise bad
@@ -589,7 +614,8 @@ class _Validator:
                                       f"{sub}material.")
         if "mesh" not in raw:
             raise self.fail(f"{sub}mesh", 'is missing: add a [body.mesh] table with generator = '
-                                          '"quarter_cylinder" or "block", or file = "..."')
+                                          '"quarter_cylinder", "block" or "quarter_annulus", '
+                                          'or file = "..."')
         body["mesh"] = self.mesh(raw["mesh"], f"{sub}mesh.")
         return body
 
@@ -616,6 +642,15 @@ class _Validator:
             if mesh["contact_zone"] >= mesh["R"]:
                 raise self.fail(prefix + "contact_zone", f"= {_fmt(mesh['contact_zone'])} is not"
                                 f" allowed: it must be smaller than R = {_fmt(mesh['R'])}")
+        if gen == "quarter_annulus":
+            if mesh["b"] <= mesh["a"]:
+                raise self.fail(prefix + "b", f"= {_fmt(mesh['b'])} is not allowed: the outer "
+                                f"radius must exceed the inner radius a = {_fmt(mesh['a'])}")
+            for key in ("h", "h_outer"):
+                if mesh[key] > mesh["b"] - mesh["a"]:
+                    raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed: it must "
+                                    f"not exceed the wall thickness b - a = "
+                                    f"{_fmt(mesh['b'] - mesh['a'])}")
         if gen == "block":
             for n, size in (("nx", "width"), ("ny", "height")):
                 if mesh[n] == 0 and mesh["h"] == 0:

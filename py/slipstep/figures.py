@@ -1,5 +1,6 @@
-"""PNG figures of a run (matplotlib, Agg backend): the interface at the final snapshot and the
-growth of the contact half-length with the load fraction (cf. Figs. 6-9 of the paper)."""
+"""PNG figures of a run (matplotlib, Agg backend): the interface at the final snapshot, the
+growth of the contact half-length with the load fraction (cf. Figs. 6-9 of the paper) and, for
+elastoplastic runs, the von Mises map with the plastic zone outlined (cf. Fig. 5)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .output import contact_growth, contact_profile
+from .output import contact_growth, contact_profile, is_elastoplastic, von_mises
 
 STATUS_COLOURS = {0: "0.6", 1: "tab:blue", 2: "tab:red"}
 STATUS_LABELS = {0: "open", 1: "stick", 2: "slip"}
@@ -23,12 +24,15 @@ def _pyplot():
 
 
 def write_figures(folder: Path, scene, result, summary: dict) -> list[Path]:
-    """``contact_interface.png`` and ``contact_growth.png`` (when the case has contact pairs)."""
+    """``contact_interface.png`` and ``contact_growth.png`` (when the case has contact pairs),
+    ``von_mises.png`` (when a material has a yield stress)."""
     folder = Path(folder)
     paths = []
     if result.get("snapshots") and len(scene.pair_xy):
         paths.append(interface_figure(folder / "contact_interface.png", scene, result, summary))
         paths.append(growth_figure(folder / "contact_growth.png", scene, result, summary))
+    if result.get("snapshots") and is_elastoplastic(scene):
+        paths.append(von_mises_figure(folder / "von_mises.png", scene, result, summary))
     return paths
 
 
@@ -94,5 +98,101 @@ def growth_figure(path: Path, scene, result, summary: dict) -> Path:
     ax.legend()
     ax.set_title(f"{scene.case.name}: growth of the contact", fontsize=10)
     fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+# --------------------------------------------------------------------------- plasticity
+def zone_boundary(triangles: np.ndarray, inside: np.ndarray) -> np.ndarray:
+    """The sides shared by an element of the set ``inside`` (bool per element) and one outside
+    it: (K, 2) node pairs, the outline of the set within the body."""
+    sides = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    owner = np.tile(np.arange(len(triangles)), 3)
+    key = np.sort(sides, axis=1)
+    order = np.lexsort((key[:, 1], key[:, 0]))
+    key, owner = key[order], owner[order]
+    # an interior side appears twice, consecutively after sorting
+    twin = np.flatnonzero((key[1:] == key[:-1]).all(axis=1))
+    differ = inside[owner[twin]] != inside[owner[twin + 1]]
+    return key[twin[differ]]
+
+
+def zoom_window(scene, summary: dict):
+    """(x limits, y limits) of the contact region, or None for the whole body.
+
+    For a ``rigid_line`` contact with a horizontal line and a known contact half-width a (the
+    run's, else Hertz's): x in [-3a, 3a] (the scenes are symmetric about x = 0; clipped to the
+    body) and depth 0..2.5a from the line into the body, the region of Fig. 5.
+    """
+    contacts = [c for c in scene.case.data["contact"] if c["kind"] == "rigid_line"]
+    if not contacts:
+        return None
+    c = contacts[0]
+    n = np.asarray(c["normal"]) / np.linalg.norm(c["normal"])
+    a = summary.get("contact_half_width") or scene.reference.get("a_hertz") or 0.0
+    if a <= 0.0 or abs(n[1]) < 1.0 - 1e-9:
+        return None
+    x_lo, x_hi = scene.nodes[:, 0].min(), scene.nodes[:, 0].max()
+    y_line = c["point"][1]
+    ys = sorted((y_line, y_line + np.sign(n[1]) * 2.5 * a))
+    return (max(-3.0 * a, x_lo), min(3.0 * a, x_hi)), tuple(ys)
+
+
+def von_mises_figure(path: Path, scene, result, summary: dict) -> Path:
+    """Von Mises stress of the final snapshot (element values) with the plastic zone outlined:
+    solid = elements plastic now (on the yield surface and loading), dashed = elements with
+    plastic strain that have unloaded (drawn only when that set differs); x = first yield.
+    Zoomed to the contact region for a rigid-line contact (:func:`zoom_window`)."""
+    from matplotlib.collections import LineCollection
+
+    plt = _pyplot()
+    snap = result["snapshots"][-1]
+    vm = von_mises(np.asarray(snap["stress"], dtype=float).reshape(-1, 4))
+    x, y = scene.nodes[:, 0], scene.nodes[:, 1]
+    window = zoom_window(scene, summary)
+    centres = scene.nodes[scene.triangles].mean(axis=1)
+    shown = np.ones(len(vm), bool)
+    if window is not None:
+        (x0, x1), (y0, y1) = window
+        shown = ((centres[:, 0] >= x0) & (centres[:, 0] <= x1) &
+                 (centres[:, 1] >= y0) & (centres[:, 1] <= y1))
+        if not shown.any():
+            shown[:] = True
+
+    from mpl_toolkits.axes_grid1 import make_axes_locatable
+
+    fig, ax = plt.subplots(figsize=(7, 6))
+    art = ax.tripcolor(x, y, scene.triangles, facecolors=vm, cmap="viridis",
+                       vmin=float(vm[shown].min()), vmax=float(vm[shown].max()))
+    # a colour bar as tall as the (equal-aspect) map
+    fig.colorbar(art, cax=make_axes_locatable(ax).append_axes("right", "4%", pad=0.1),
+                 label="von Mises stress")
+    plastic = np.asarray(snap.get("plastic", np.zeros(len(vm))), dtype=bool)
+    yielded = np.asarray(snap.get("plastic_strain", np.zeros(len(vm)))) > 0.0
+    handles = []
+    for zone, style, label in ((plastic, "-", f"plastic ({int(plastic.sum())} elements)"),
+                               (yielded, "--", f"yielded, now elastic "
+                                               f"({int((yielded & ~plastic).sum())})")):
+        if style == "--" and np.array_equal(zone, plastic):
+            continue
+        segs = scene.nodes[zone_boundary(scene.triangles, zone)]
+        lines = LineCollection(segs, colors="tab:red", linewidths=1.2, linestyles=style,
+                               label=label)
+        ax.add_collection(lines)
+        handles.append(lines)
+    e = summary.get("first_yield_element")
+    if e is not None:
+        handles += ax.plot(*centres[e], "*", color="white", mec="black", ms=11, label="first yield")
+    if window is not None:
+        ax.set_xlim(*window[0])
+        ax.set_ylim(*window[1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    if handles:
+        ax.legend(handles=handles, fontsize=8, loc="best")
+    ax.set_title(f"{scene.case.name}: von Mises stress at load fraction "
+                 f"{float(snap['load_fraction']):.4g}", fontsize=10)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return path

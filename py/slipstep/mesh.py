@@ -68,7 +68,7 @@ def signed_areas(nodes: np.ndarray, triangles: np.ndarray) -> np.ndarray:
 def check_triangles(nodes: np.ndarray, triangles: np.ndarray, where: str = "") -> None:
     """Raise MeshError naming the first inverted or degenerate element.
 
-    Degenerate: |area| <= 1e-12 * (longest side)^2.  Element ids are 0-based rows of
+    Degenerate: |area| <= 0.5e-10 * (longest side)^2 (as in the engine).  Element ids are 0-based rows of
     ``triangles`` (the engine uses the same numbering).
     """
     prefix = f"{where}: " if where else ""
@@ -77,11 +77,17 @@ def check_triangles(nodes: np.ndarray, triangles: np.ndarray, where: str = "") -
     if triangles.min() < 0 or triangles.max() >= len(nodes):
         bad = int(np.nonzero((triangles < 0).any(1) | (triangles >= len(nodes)).any(1))[0][0])
         raise MeshError(f"{prefix}element {bad} refers to a node outside 0..{len(nodes) - 1}")
-    area = signed_areas(nodes, triangles)
-    p = nodes[triangles]
-    sides = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
-    longest2 = (sides ** 2).sum(-1).max(1)
-    degenerate = np.abs(area) <= 1e-12 * longest2
+    with np.errstate(all="ignore"):
+        area = signed_areas(nodes, triangles)
+        p = nodes[triangles]
+        sides = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
+        longest2 = (sides ** 2).sum(-1).max(1)
+    if not (np.isfinite(area).all() and np.isfinite(longest2).all()):
+        e = int(np.argmin(np.isfinite(area) & np.isfinite(longest2)))
+        raise MeshError(f"{prefix}element {e}: its size overflows (coordinates up to "
+                        f"{np.abs(nodes).max():.3g}): rescale the mesh (mesh.scale)")
+    # the engine's threshold (rust/src/mesh.rs): twice the area <= 1e-10 (longest side)^2
+    degenerate = np.abs(area) <= 0.5e-10 * longest2
     if degenerate.any():
         e = int(np.nonzero(degenerate)[0][0])
         raise MeshError(f"{prefix}element {e} is degenerate (area {area[e]:.3g}, nodes "
@@ -136,7 +142,20 @@ def _finish(nodes, triangles, edges, node_sets=None, where="", flip_clockwise=Fa
     nodes = np.asarray(nodes, dtype=np.float64)
     triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
     node_sets = dict(node_sets or {})
+    prefix = f"{where}: " if where else ""
+    if len(triangles) == 0:
+        raise MeshError(f"{prefix}the mesh has no triangles: give each body at least one "
+                        f"3-node triangle")
+    if triangles.min() < 0 or triangles.max() >= len(nodes):
+        bad = int(np.nonzero((triangles < 0).any(1) | (triangles >= len(nodes)).any(1))[0][0])
+        raise MeshError(f"{prefix}element {bad} refers to a node outside 0..{len(nodes) - 1}: "
+                        f"fix the connectivity")
     used = np.unique(triangles)
+    finite = np.isfinite(nodes[used]).all(axis=1)
+    if not finite.all():
+        k = int(used[np.argmin(finite)])
+        raise MeshError(f"{prefix}node {k} has a non-finite coordinate "
+                        f"({nodes[k, 0]}, {nodes[k, 1]}): fix the mesh file")
     if len(used) != len(nodes):
         new = np.full(len(nodes), -1, dtype=np.int64)
         new[used] = np.arange(len(used))
@@ -146,7 +165,9 @@ def _finish(nodes, triangles, edges, node_sets=None, where="", flip_clockwise=Fa
         for k, v in [*edges.items(), *node_sets.items()]:
             if (v < 0).any():
                 raise MeshError(f"{where}: tag '{k}' uses a node that belongs to no triangle")
-    if flip_clockwise and len(triangles) and (signed_areas(nodes, triangles) < 0).all():
+    with np.errstate(all="ignore"):  # overflow is reported by check_triangles
+        clockwise = (signed_areas(nodes, triangles) < 0).all()
+    if flip_clockwise and clockwise:
         triangles = triangles[:, [0, 2, 1]]
     check_triangles(nodes, triangles, where)
     edges = orient_edges(triangles, edges, where)
@@ -175,6 +196,9 @@ def _gmsh_session():
 def _gmsh_triangles_and_edges(gmsh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
     """Nodes (2D), triangles and the physical line / point groups of the current model."""
     tags, coords, _ = gmsh.model.mesh.getNodes()
+    if len(tags) == 0:
+        raise MeshError("the file holds no mesh (no nodes): save the mesh, not only the "
+                        "geometry")
     xyz = coords.reshape(-1, 3)
     index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
     index[tags.astype(np.int64)] = np.arange(len(tags))
@@ -253,6 +277,53 @@ def quarter_cylinder(R: float, h_contact: float, contact_zone: float, h_max: flo
                    flip_clockwise=True)
 
 
+def quarter_annulus(a: float, b: float, h: float, h_outer: float = 0.0) -> Mesh:
+    """The quarter of a thick-walled cylinder a <= r <= b, x >= 0, y >= 0, centre (0, 0).
+
+    Edge tags: ``inner`` (r = a, the bore), ``outer`` (r = b), ``x_axis`` (y = 0) and
+    ``y_axis`` (x = 0).  Element size h at the bore, growing linearly in r to ``h_outer`` at
+    r = b (``h_outer = 0``: uniform h).  Nodes of ``inner``/``outer`` lie on their circles
+    (so the polygonal bore is inscribed: its chords sit up to h^2/(8a) inside r = a).
+    """
+    if not 0.0 < a < b:
+        raise MeshError(f"quarter_annulus: need 0 < a < b (got a = {a:g}, b = {b:g})")
+    h_outer = h_outer if h_outer > 0.0 else h
+    with _gmsh_session() as gmsh:
+        gmsh.model.add("quarter_annulus")
+        geo = gmsh.model.geo
+        centre = geo.addPoint(0.0, 0.0, 0.0)
+        inner_x, outer_x = geo.addPoint(a, 0.0, 0.0), geo.addPoint(b, 0.0, 0.0)
+        outer_y, inner_y = geo.addPoint(0.0, b, 0.0), geo.addPoint(0.0, a, 0.0)
+        x_axis = geo.addLine(inner_x, outer_x)
+        outer = geo.addCircleArc(outer_x, centre, outer_y)
+        y_axis = geo.addLine(outer_y, inner_y)
+        inner = geo.addCircleArc(inner_y, centre, inner_x)
+        surface = geo.addPlaneSurface([geo.addCurveLoop([x_axis, outer, y_axis, inner])])
+        geo.synchronize()
+        for name, curve in (("inner", inner), ("outer", outer), ("x_axis", x_axis),
+                            ("y_axis", y_axis)):
+            gmsh.model.setPhysicalName(1, gmsh.model.addPhysicalGroup(1, [curve]), name)
+        gmsh.model.addPhysicalGroup(2, [surface])
+
+        # h(r) = h + (h_outer - h) (r - a) / (b - a): linear grading in the radius
+        fields = gmsh.model.mesh.field
+        size = fields.add("MathEval")
+        slope = (h_outer - h) / (b - a)
+        fields.setString(size, "F", f"{h!r} + {slope!r} * (sqrt(x*x + y*y) - {a!r})")
+        fields.setAsBackgroundMesh(size)
+        for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
+            gmsh.option.setNumber(f"Mesh.{opt}", 0)
+        gmsh.model.mesh.generate(2)
+        xyz, triangles, edges, node_sets = _gmsh_triangles_and_edges(gmsh)
+
+    nodes = xyz[:, :2].copy()
+    # the geometry points on the axes are exact; snap round-off of the other axis nodes
+    nodes[np.unique(edges["x_axis"]), 1] = 0.0
+    nodes[np.unique(edges["y_axis"]), 0] = 0.0
+    return _finish(nodes, triangles, edges, node_sets, where="quarter_annulus mesh",
+                   flip_clockwise=True)
+
+
 def block(width: float, height: float, nx: int, ny: int, x0: float = 0.0,
           y0: float = 0.0) -> Mesh:
     """A structured rectangle [x0, x0+width] x [y0, y0+height], nx by ny cells, each cut into
@@ -311,7 +382,10 @@ def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: floa
                 gmsh.open(str(path))
             except Exception as exc:  # gmsh raises bare Exception
                 raise MeshError(f"{where}: gmsh cannot read it: {exc}") from None
-            xyz, triangles, edges, node_sets = _gmsh_triangles_and_edges(gmsh)
+            try:
+                xyz, triangles, edges, node_sets = _gmsh_triangles_and_edges(gmsh)
+            except MeshError as exc:
+                raise MeshError(f"{where}: {exc}") from None
     elif suffix == ".xdmf":
         xyz, triangles, edges = _read_xdmf(path)
         node_sets = {}
@@ -323,6 +397,13 @@ def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: floa
     else:
         raise MeshError(f"{where}: unknown mesh format '{suffix}': use .msh or .xdmf")
     xyz = np.asarray(xyz, dtype=np.float64)
+    if xyz.ndim != 2 or xyz.shape[1] not in (2, 3):
+        raise MeshError(f"{where}: the node coordinates have shape {xyz.shape}: expected 2 or "
+                        f"3 columns")
+    if not np.isfinite(xyz).all():
+        k = int(np.nonzero(~np.isfinite(xyz).all(axis=1))[0][0])
+        raise MeshError(f"{where}: node {k} has a non-finite coordinate "
+                        f"({', '.join(str(c) for c in xyz[k])}): fix the mesh file")
     if xyz.shape[1] == 3:
         zmax = np.abs(xyz[:, 2]).max(initial=0.0)
         if zmax > 1e-12 * max(np.abs(xyz[:, :2]).max(initial=1.0), 1.0):

@@ -59,6 +59,8 @@ def mesh_body(case: Case, index: int) -> meshes.Mesh:
         if spec["generator"] == "quarter_cylinder":
             return meshes.quarter_cylinder(spec["R"], spec["h_contact"], spec["contact_zone"],
                                            spec["h_max"], spec["growth"])
+        if spec["generator"] == "quarter_annulus":
+            return meshes.quarter_annulus(spec["a"], spec["b"], spec["h"], spec["h_outer"])
         nx = spec["nx"] or max(1, round(spec["width"] / spec["h"]))
         ny = spec["ny"] or max(1, round(spec["height"] / spec["h"]))
         return meshes.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
@@ -97,6 +99,7 @@ def build_scene(case: Case) -> Scene:
         materials.append(m)
 
     pairs = contact_pairs(scene)
+    _check_duplicate_nodes(scene, pairs)
     scene.model = {
         "nodes": nodes,
         "triangles": triangles,
@@ -111,6 +114,32 @@ def build_scene(case: Case) -> Scene:
     }
     scene.reference = hertz_reference(scene)
     return scene
+
+
+def _check_duplicate_nodes(scene: Scene, pairs: dict) -> None:
+    """Two nodes of one body at the same point cut the mesh there (a crack, or parts that are
+    not connected): allowed only when a node_to_node contact pairs them."""
+    joined = {(min(a, b), max(a, b)) for a, b in zip(pairs["node_a"].tolist(),
+                                                      pairs["node_b"].tolist()) if b >= 0}
+    for name in scene.bodies:
+        xy = scene.meshes[name].nodes
+        if len(xy) < 2:
+            continue
+        size = float(np.ptp(xy, axis=0).max()) or 1.0
+        key = np.round(xy / (1e-9 * size)).astype(np.int64)
+        _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        inverse = inverse.reshape(-1)
+        for group in np.flatnonzero(counts > 1):
+            ids = np.flatnonzero(inverse == group) + scene.offsets[name]
+            for i, j in zip(ids[:-1], ids[1:]):
+                if (int(i), int(j)) not in joined:
+                    x, y = scene.nodes[i]
+                    raise CaseError(
+                        f"{scene.case.source}: body '{name}': nodes {int(i) - scene.offsets[name]}"
+                        f" and {int(j) - scene.offsets[name]} are both at ({x:.6g}, {y:.6g}) but "
+                        f"are not joined: duplicate nodes cut the mesh there (a crack or "
+                        f"unconnected parts); merge them (gmsh: Coherence), or pair the two "
+                        f"sides with a node_to_node [[contact]]")
 
 
 def _check_file_mesh_tags(case: Case, body_meshes: dict) -> None:
@@ -285,6 +314,8 @@ def _rigid_line_pairs(scene: Scene, c: dict, key: str):
                                f"y_min/y_max")
     n = np.asarray(c["normal"]) / np.linalg.norm(c["normal"])
     gap = (scene.nodes[a] - np.asarray(c["point"])) @ n
+    _check_facing(scene, a, np.tile(n, (len(a), 1)), gap, c["tolerance"],
+                  scene.global_edge(c["body"], c["edge"]), None, None, key)
     _check_gaps(scene, a, gap, c["tolerance"], key,
                 "move the body away from the line or the line (contact.point) away from the body")
     gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
@@ -307,6 +338,10 @@ def _node_to_node_pairs(scene: Scene, c: dict, key: str):
                                f"{c['edge_b']}: the meshes must match on the interface, or "
                                f"increase tolerance")
     a, b = nodes_a[ok], nodes_b[nearest[ok]]
+    label_a, label_b = f"{c['body_a']}:{c['edge_a']}", f"{c['body_b']}:{c['edge_b']}"
+    _check_matching(scene, nodes_a[~ok], seg_b, c["tolerance"], label_a, label_b, key)
+    _check_matching(scene, np.setdiff1d(nodes_b, b), seg_a, c["tolerance"], label_b, label_a,
+                    key)
     if len(np.unique(b)) != len(b):
         raise scene.case.error(f"{key}.tolerance", f"= {c['tolerance']:g} pairs one target node "
                                f"with several contactor nodes: decrease it")
@@ -319,10 +354,67 @@ def _node_to_node_pairs(scene: Scene, c: dict, key: str):
         np.add.at(acc, seg_b[:, 1], seg_n)
         n = acc[b] / np.linalg.norm(acc[b], axis=1, keepdims=True)
     gap = np.einsum("ij,ij->i", scene.nodes[a] - scene.nodes[b], n)
+    _check_facing(scene, a, n, gap, c["tolerance"], seg_a, b, seg_b, key)
     _check_gaps(scene, a, gap, c["tolerance"], key,
                 f"move body '{c['body_a']}' away from body '{c['body_b']}'")
     gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
     return a, b, n, gap
+
+
+def _node_normals(nodes: np.ndarray, segments: np.ndarray, ids: np.ndarray) -> np.ndarray:
+    """Outward normal of an edge at each node of ``ids``: the segment normals meeting there,
+    summed (not normalised; zero where they cancel)."""
+    acc = np.zeros((len(nodes), 2))
+    seg_n = meshes.outward_normals(nodes, segments)
+    np.add.at(acc, segments[:, 0], seg_n)
+    np.add.at(acc, segments[:, 1], seg_n)
+    return acc[ids]
+
+
+def _check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str) -> None:
+    """Pairs that start closed (or penetrating) must face each other: body a's surface faces
+    the target (its outward normal against n) and, node to node, body b's surface faces body a
+    (its outward normal along n).  Otherwise the normal points the wrong way and the pairing
+    is geometrically impossible (it would hold the bodies together, or report a penetration
+    that is not there)."""
+    touching = gap <= tol
+    away_a = touching & (np.einsum("ij,ij->i", _node_normals(scene.nodes, seg_a, a), n) > 1e-6)
+    away_b = np.zeros_like(away_a)
+    if b is not None:
+        away_b = touching & (np.einsum("ij,ij->i", _node_normals(scene.nodes, seg_b, b), n)
+                             < -1e-6)
+    if (away_a | away_b).any():
+        k = int(np.argmax(away_a | away_b))
+        x, y = scene.nodes[a[k]]
+        side = "the contactor surface faces away from the target" if away_a[k] else \
+            "the target surface faces away from the contactor"
+        raise scene.case.error(key, f"the contact normal ({n[k, 0]:.6g}, {n[k, 1]:.6g}) at node "
+                               f"{int(a[k])} ({x:.6g}, {y:.6g}) points the wrong way ({side}): "
+                               f"the normal must point from the target into the contactor body; "
+                               f"flip contact.normal (or swap the contactor and target edges)")
+
+
+def _check_matching(scene: Scene, unpaired, seg_other, tol: float, label: str, other: str,
+                    key: str) -> None:
+    """Node to node needs matching meshes: an unpaired node of one side that lies on the other
+    side's edge (within tolerance of one of its segments) would be free to pass through it."""
+    if len(unpaired) == 0 or len(seg_other) == 0:
+        return
+    x = scene.nodes[unpaired][:, None, :]
+    p, q = scene.nodes[seg_other[:, 0]][None], scene.nodes[seg_other[:, 1]][None]
+    d = q - p
+    t = np.einsum("ijk,ijk->ij", x - p, d) / np.einsum("ijk,ijk->ij", d, d)
+    dist = np.linalg.norm(x - (p + t[..., None] * d), axis=2)
+    # on a segment: within tolerance of it and strictly between its end nodes
+    on = ((dist <= tol) & (t > 1e-9) & (t < 1.0 - 1e-9)).any(axis=1)
+    if on.any():
+        k = int(unpaired[np.argmax(on)])
+        x0, y0 = scene.nodes[k]
+        raise scene.case.error(f"{key}.tolerance", f"non-matching interface: node {k} "
+                               f"({x0:.6g}, {y0:.6g}) of {label} lies on {other} but is paired "
+                               f"with no node of it within {tol:g}: node_to_node contact needs "
+                               f"matching interface nodes (same spacing and aligned origins "
+                               f"on both sides)")
 
 
 def _check_gaps(scene: Scene, a: np.ndarray, gap: np.ndarray, tol: float, key: str,
@@ -342,7 +434,8 @@ def solver_options(case: Case) -> dict:
     options = {"tie_tol": float(solver["tie_tol"]), "max_events": int(solver["max_events"]),
                "equilibrium_tol": float(solver["equilibrium_tol"]),
                "drift_control": bool(solver["drift_control"]),
-               "max_stress_step": float(solver["max_stress_step"])}
+               "max_stress_step": float(solver["max_stress_step"]),
+               "stop_at_first_yield": bool(solver["stop_at_first_yield"])}
     if snaps == "events":
         options["output"] = "events"
     else:

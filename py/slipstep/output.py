@@ -125,6 +125,67 @@ def reached_last_candidate(scene, snapshot) -> bool:
     return False
 
 
+def is_elastoplastic(scene) -> bool:
+    """True when some material has a yield stress (the run can have plasticity events)."""
+    return any(m.get("Sy") is not None for m in scene.model["materials"])
+
+
+def centroids(scene) -> np.ndarray:
+    """(M, 2) element centroids."""
+    return scene.nodes[scene.triangles].mean(axis=1)
+
+
+def element_depth(scene, element: int) -> float:
+    """Depth of an element's centroid below the initial contact surface of its body.
+
+    The surface near the element is taken as the tangent line at the nearest candidate pair of a
+    contact on the element's body: through the target point (node b, or for a rigid line the
+    foot of node a on the line, x_a - gap n) with the pair's normal n, so for a ``rigid_line``
+    contact this is the distance from the line.  Without contact on the body: the centroid's y.
+    """
+    c = centroids(scene)[element]
+    pairs = scene.model["pairs"]
+    node_a, node_b = np.asarray(pairs["node_a"]), np.asarray(pairs["node_b"])
+    if len(node_a):
+        lo = scene.offsets[scene.bodies[scene.element_body[element]]]
+        hi = lo + scene.meshes[scene.bodies[scene.element_body[element]]].n_nodes
+        mine = ((node_a >= lo) & (node_a < hi)) | ((node_b >= lo) & (node_b < hi))
+        if mine.any():
+            idx = np.flatnonzero(mine)
+            k = idx[np.argmin(np.linalg.norm(scene.pair_xy[idx] - c, axis=1))]
+            n = np.asarray(pairs["normal"])[k]
+            target = (scene.nodes[node_b[k]] if node_b[k] >= 0
+                      else scene.pair_xy[k] - pairs["gap"][k] * n)
+            return float(abs((c - target) @ n))
+    return float(c[1])
+
+
+def first_yield(scene, result) -> dict:
+    """The first ``yield`` event: load fraction, element, its centroid x and depth
+    (:func:`element_depth`); every value None when nothing yielded."""
+    kinds = list(result["events"]["kind"])
+    if "yield" not in kinds:
+        return {"first_yield_load_fraction": None, "first_yield_element": None,
+                "first_yield_x": None, "first_yield_depth": None}
+    k = kinds.index("yield")
+    e = int(result["events"]["entity"][k])
+    return {"first_yield_load_fraction": float(result["events"]["load_fraction"][k]),
+            "first_yield_element": e,
+            "first_yield_x": float(centroids(scene)[e, 0]),
+            "first_yield_depth": element_depth(scene, e)}
+
+
+def johnson_first_yield(scene) -> float | None:
+    """Johnson (Contact Mechanics §4.3/§6.2): a frictionless line contact first yields (von
+    Mises, nu = 0.3) below the surface when p0 = 1.79 Sy; p0 grows as sqrt(f), so at the load
+    fraction f = (1.79 Sy / p0_hertz)^2 with p0_hertz at full load.  None if the body is elastic."""
+    ref = scene.reference
+    if not ref:
+        return None
+    sy = scene.case.body(scene.case.data["load"]["body"])["material"]["Sy"]
+    return None if sy is None else (1.79 * sy / ref["p0_hertz"]) ** 2
+
+
 def final_load_fraction(result) -> float:
     steps = result.get("steps", {}).get("load_fraction", [])
     if len(steps):
@@ -152,6 +213,7 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         "n_solves": int(result.get("n_solves", 0)),
         "max_equilibrium_residual": float(result.get("max_equilibrium_residual", float("nan"))),
         "max_drift": float(result.get("max_drift", 0.0)),
+        "stop_reason": result.get("stop_reason"),
         "wall_time_s": float(wall_time_s),
         "engine_timings_s": {k: float(v) for k, v in result.get("timings", {}).items()},
     }
@@ -159,8 +221,10 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         last = snaps[-1]
         stress = np.asarray(last["stress"], dtype=float).reshape(-1, 4)
         summary["max_von_mises"] = float(von_mises(stress).max()) if len(stress) else 0.0
-        if "plastic" in last:
-            summary["n_plastic_elements"] = int(np.count_nonzero(last["plastic"]))
+    if is_elastoplastic(scene):
+        summary.update(first_yield(scene, result))
+        if snaps and "plastic" in snaps[-1]:
+            summary["n_plastic_elements"] = int(np.count_nonzero(snaps[-1]["plastic"]))
     if snaps and len(scene.pair_xy):
         last = snaps[-1]
         prof = contact_profile(scene, last)
@@ -187,6 +251,11 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         if "contact_half_width" in summary and ref["a_hertz_at_final"] > 0:
             ref["a_rel_error"] = summary["contact_half_width"] / ref["a_hertz_at_final"] - 1.0
             ref["p0_rel_error"] = summary["peak_pressure"] / ref["p0_hertz_at_final"] - 1.0
+        f_johnson = johnson_first_yield(scene)
+        if f_johnson is not None:
+            ref["f_yield_johnson"] = f_johnson
+            f_fe = summary.get("first_yield_load_fraction")
+            ref["first_yield_rel_error"] = None if f_fe is None else f_fe / f_johnson - 1.0
         summary["hertz"] = ref
     return summary
 
@@ -202,6 +271,9 @@ def one_line(summary: dict) -> str:
     if "hertz" in summary and "a_rel_error" in summary["hertz"]:
         h = summary["hertz"]
         parts.append(f"(Hertz a = {h['a_hertz_at_final']:.4g}, p0 = {h['p0_hertz_at_final']:.4g})")
+    if summary.get("first_yield_load_fraction") is not None:
+        parts.append(f"first yield at f = {summary['first_yield_load_fraction']:.4g}, "
+                     f"{summary.get('n_plastic_elements', 0)} plastic elements")
     parts += [f"{summary['n_dofs']} dofs", f"{summary['wall_time_s']:.2f} s"]
     if summary["interrupted"]:
         parts.append("INTERRUPTED")
@@ -210,22 +282,24 @@ def one_line(summary: dict) -> str:
 
 # --------------------------------------------------------------------------- writers
 def write_events_csv(path: Path, scene, result) -> None:
-    """One row per (event, entity): step, load_fraction, kind, entity, x, y (node a of the pair;
-    the element centroid for element events: yield, unload, frozen_element)."""
+    """One row per (event, entity): step, load_fraction, kind, entity, entity_kind (``pair`` or
+    ``element``), x, y (node a of the pair; the element centroid for the element events yield,
+    unload, frozen_element)."""
     ev = result["events"]
-    centroids = None
+    centres = None
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["step", "load_fraction", "kind", "entity", "x", "y"])
+        w.writerow(["step", "load_fraction", "kind", "entity", "entity_kind", "x", "y"])
         for k in range(len(ev["step"])):
             kind, entity = ev["kind"][k], int(ev["entity"][k])
             if kind in ELEMENT_EVENTS:
-                if centroids is None:
-                    centroids = scene.nodes[scene.triangles].mean(axis=1)
-                x, y = centroids[entity]
+                if centres is None:
+                    centres = centroids(scene)
+                x, y = centres[entity]
             else:
                 x, y = scene.pair_xy[entity]
             w.writerow([int(ev["step"][k]), repr(float(ev["load_fraction"][k])), kind, entity,
+                        "element" if kind in ELEMENT_EVENTS else "pair",
                         repr(float(x)), repr(float(y))])
 
 
@@ -259,11 +333,12 @@ def _working_directory(path: Path):
 def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     """``results.xdmf`` + ``results.h5``: a time series (time = load fraction) of point data
     ``u`` (padded to 3 components for ParaView) and cell data sigma_x, sigma_y, sigma_z, tau_xy,
-    von_mises (plus plastic_strain and plastic when the engine gives them, and body, the body
-    index, when there are several); 2D points."""
+    von_mises (plus plastic_strain, the equivalent plastic strain, and plastic, the 0/1 flag, in
+    elastoplastic cases; and body, the body index, when there are several); 2D points."""
     import meshio
 
     cells = [("triangle", scene.triangles)]
+    plastic_fields = ("plastic_strain", "plastic") if is_elastoplastic(scene) else ()
     n = len(scene.nodes)
     with _working_directory(folder):
         with meshio.xdmf.TimeSeriesWriter(f"{name}.xdmf") as writer:
@@ -274,7 +349,7 @@ def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
                 s = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
                 cell_data = {"sigma_x": [s[:, 0]], "sigma_y": [s[:, 1]], "sigma_z": [s[:, 2]],
                              "tau_xy": [s[:, 3]], "von_mises": [von_mises(s)]}
-                for key in ("plastic_strain", "plastic"):  # elastoplastic runs
+                for key in plastic_fields:
                     if key in snap:
                         cell_data[key] = [np.asarray(snap[key], dtype=np.float64)]
                 if len(scene.bodies) > 1:
@@ -292,7 +367,12 @@ def write_results(out: str | Path, scene, result, summary: dict, figures: bool |
     from . import figures as figs
 
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:  # a ValueError, so that the CLI reports it in one line
+        why = "it is a regular file" if out.is_file() else exc.strerror
+        raise ValueError(f"{out}: cannot write the results there ({why}): choose another "
+                         f"--out folder") from None
     options = scene.case.data["output"]
     figures = options["figures"] if figures is None else figures
     xdmf = options["xdmf"] if xdmf is None else xdmf

@@ -170,7 +170,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         }
         SnapshotRequest::Fractions(f) => {
             let mut f = f.clone();
-            f.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            f.sort_by(|a, b| a.total_cmp(b));
             f
         }
     };

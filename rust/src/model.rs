@@ -1,6 +1,8 @@
 //! What goes into the engine (a scene reduced to arrays) and what comes out (the event
 //! history and field snapshots). No Python types: the bindings translate.
 
+use crate::bail;
+use crate::error::Result;
 use crate::material::{Material, Plane};
 use crate::mesh::Mesh;
 
@@ -41,6 +43,28 @@ pub struct Options {
     pub max_stress_step: f64,
     /// Stop at the first yield event (the load capacity at the onset of plasticity).
     pub stop_at_first_yield: bool,
+}
+
+impl Options {
+    /// Reject option values that would make the run meaningless (NaN tolerances, snapshot
+    /// fractions outside (0, 1]), naming the option and the fix.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.tie_tol.is_finite() && self.tie_tol >= 0.0) {
+            bail!("options.tie_tol = {} is not allowed: give a finite tolerance >= 0 (default 1e-9)", self.tie_tol);
+        }
+        if !(self.equilibrium_tol.is_finite() && self.equilibrium_tol > 0.0) {
+            bail!("options.equilibrium_tol = {} is not allowed: give a finite tolerance > 0 (default 1e-9)", self.equilibrium_tol);
+        }
+        if !(self.max_stress_step.is_finite() && self.max_stress_step > 0.0) {
+            bail!("options.max_stress_step = {} is not allowed: give a finite fraction of Sy > 0 (default 0.05)", self.max_stress_step);
+        }
+        if let SnapshotRequest::Fractions(f) = &self.snapshots {
+            if let Some(bad) = f.iter().find(|v| !(v.is_finite() && **v > 0.0 && **v <= 1.0)) {
+                bail!("options.fractions: {bad} is not allowed: snapshot load fractions must lie in (0, 1]");
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for Options {
@@ -177,4 +201,27 @@ pub struct Progress {
     pub steps: usize,
     pub events: usize,
     pub load_fraction: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn options_with_nan_or_out_of_range_values_are_refused() {
+        assert!(Options::default().validate().is_ok());
+        let bad = [
+            Options { tie_tol: f64::NAN, ..Options::default() },
+            Options { tie_tol: -1.0, ..Options::default() },
+            Options { equilibrium_tol: f64::NAN, ..Options::default() },
+            Options { max_stress_step: 0.0, ..Options::default() },
+            Options { snapshots: SnapshotRequest::Fractions(vec![0.5, f64::NAN]), ..Options::default() },
+            Options { snapshots: SnapshotRequest::Fractions(vec![0.0]), ..Options::default() },
+            Options { snapshots: SnapshotRequest::Fractions(vec![1.5]), ..Options::default() },
+        ];
+        for o in bad {
+            let err = o.validate().unwrap_err().0;
+            assert!(err.starts_with("options.") && err.contains("is not allowed"), "{err}");
+        }
+    }
 }
