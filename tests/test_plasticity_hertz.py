@@ -95,3 +95,42 @@ def test_drift_bounded_and_smaller_than_paper_exact(plastic_runs):
     scene.model["options"]["drift_control"] = False
     exact = solve(scene)
     assert exact["max_drift"] > result["max_drift"]
+
+
+def test_unloading_is_elastic():
+    # mu = 0.35 redistributes stress near the surface: some plastic elements unload. After its
+    # `unload` event an element's plastic strain must stay frozen (elastic response) until it
+    # yields again, and its von Mises stress stays at or below the current yield stress.
+    scene = prepare(None, overrides=[*PLASTIC, "mesh.h_contact=0.15", "contact.mu=0.35", "output.snapshots=events"])
+    result = solve(scene)
+    ev = result["events"]
+    unloads = [(int(s), int(e)) for s, k, e in zip(ev["step"], ev["kind"], ev["entity"]) if k == "unload"]
+    assert unloads, "this scene has unloading elements"
+    snaps = result["snapshots"]  # snapshot k + 1 is the state after step k
+    for step, e in unloads:
+        later_yield = [int(s) for s, k, x in zip(ev["step"], ev["kind"], ev["entity"]) if k == "yield" and x == e and s > step]
+        end = later_yield[0] if later_yield else len(snaps) - 2
+        ep = [snaps[k + 1]["plastic_strain"][e] for k in range(step, end + 1)]
+        assert max(ep) - min(ep) <= 1e-12 * max(ep[0], 1e-12), (e, ep[:3])
+        for k in range(step, end + 1):
+            s = np.asarray(snaps[k + 1]["stress"][e])
+            se = np.sqrt(0.5 * ((s[0] - s[1]) ** 2 + (s[1] - s[2]) ** 2 + (s[2] - s[0]) ** 2) + 3 * s[3] ** 2)
+            assert se <= (SY + H * ep[0]) * (1 + 1e-9)
+
+
+def test_yield_drift_field_matches_the_engine_measure(tmp_path):
+    # The XDMF's per-element yield_drift is recomputed from stress and plastic strain; at every
+    # snapshot it must stay below the engine's max_drift (which is measured before the return).
+    import h5py
+
+    from slipstep import output
+
+    scene = prepare(None, overrides=[*PLASTIC, "mesh.h_contact=0.15", "output.snapshots=[0.8, 1.0]"])
+    result = solve(scene)
+    output.write_xdmf(tmp_path, scene, result)
+    with h5py.File(tmp_path / "results.h5") as h5:
+        drifts = [np.asarray(h5[k]) for k in h5 if k.startswith("data")]
+    assert len(drifts) > 0
+    per_element = [output.yield_drift(scene, s).max() for s in result["snapshots"]]
+    assert max(per_element) <= result["max_drift"] + 1e-12
+    assert max(per_element) > 0 or result["max_drift"] == 0

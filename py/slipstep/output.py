@@ -130,6 +130,19 @@ def is_elastoplastic(scene) -> bool:
     return any(m.get("Sy") is not None for m in scene.model["materials"])
 
 
+def yield_drift(scene, snap) -> np.ndarray:
+    """Per element |sigma_e - sigma_y(eps_p)| / sigma_y(eps_p) for plastic elements, 0 elsewhere:
+    how far the stored stress sits off the hardening yield surface (the engine's drift measure)."""
+    mats = scene.model["materials"]
+    index = np.asarray(scene.model["element_material"])
+    sy = np.array([m.get("Sy") or np.inf for m in mats], dtype=float)[index]
+    hp = np.array([m.get("H") or 0.0 for m in mats], dtype=float)[index]
+    current = sy + hp * np.asarray(snap["plastic_strain"], dtype=float)
+    se = von_mises(np.asarray(snap["stress"], dtype=float).reshape(-1, 4))
+    plastic = np.asarray(snap["plastic"]) > 0
+    return np.where(plastic, np.abs(se - current) / current, 0.0)
+
+
 def centroids(scene) -> np.ndarray:
     """(M, 2) element centroids."""
     return scene.nodes[scene.triangles].mean(axis=1)
@@ -334,7 +347,7 @@ def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     """``results.xdmf`` + ``results.h5``: a time series (time = load fraction) of point data
     ``u`` (padded to 3 components for ParaView) and cell data sigma_x, sigma_y, sigma_z, tau_xy,
     von_mises (plus plastic_strain, the equivalent plastic strain, and plastic, the 0/1 flag, in
-    elastoplastic cases; and body, the body index, when there are several); 2D points."""
+    elastoplastic cases, with yield_drift = |sigma_e - sigma_y(eps_p)|/sigma_y per plastic element; and body, the body index, when there are several); 2D points."""
     import meshio
 
     cells = [("triangle", scene.triangles)]
@@ -352,6 +365,8 @@ def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
                 for key in plastic_fields:
                     if key in snap:
                         cell_data[key] = [np.asarray(snap[key], dtype=np.float64)]
+                if plastic_fields and "plastic" in snap:
+                    cell_data["yield_drift"] = [yield_drift(scene, snap)]
                 if len(scene.bodies) > 1:
                     cell_data["body"] = [scene.element_body.astype(np.float64)]
                 writer.write_data(float(snap["load_fraction"]), point_data={"u": u},
