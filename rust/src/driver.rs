@@ -82,6 +82,8 @@ struct State {
     plastic_strain: Vec<f64>,
     lambda_n: Vec<f64>,
     lambda_t: Vec<f64>,
+    /// Rigid-body amplitudes (only tracked in the reduced elastic mode).
+    alpha: Vec<f64>,
 }
 
 /// One trial increment for the remaining load.
@@ -92,6 +94,7 @@ struct TrialIncrement {
     dplastic: Vec<f64>,
     dlambda_n: Vec<f64>,
     dlambda_t: Vec<f64>,
+    dalpha: Vec<f64>,
 }
 
 /// A row of the small system: pair `pair`'s normal or tangential constraint.
@@ -116,8 +119,21 @@ struct Engine<'m> {
     fixed: Vec<bool>,
     solver: SpdSolver,
     /// K# w_n and K# w_t per pair, computed when first needed (valid for the current factor).
+    /// (Stored only at the contact DOFs: that is all the small system needs, and memory stays
+    /// O(pairs²) instead of O(pairs × DOFs).)
     zn: Vec<Option<Vec<f64>>>,
     zt: Vec<Option<Vec<f64>>>,
+    /// Reduced elastic mode: no plastic material, so the state is fully described by the load
+    /// fraction, the multipliers and the rigid amplitudes, u = φ K#P + K#(W λ) + N α, and an
+    /// event needs only contact-DOF values: no triangular solve per event, only one per newly
+    /// closed pair (its K#w column) and one per requested snapshot.
+    reduced: bool,
+    max_snapshot_residual: f64,
+    /// K#P (full load), for the reduced mode.
+    u_load: Vec<f64>,
+    /// Position of each global DOF among the contact DOFs (usize::MAX if none).
+    contact_position: Vec<usize>,
+    n_contact_dofs: usize,
     load_norm: f64,
     /// Σ|load|: the scale of forces, for tolerances.
     force_scale: f64,
@@ -130,6 +146,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     let t_start = Instant::now();
     let mut eng = Engine::new(model)?;
     eng.timings.assembly = t_start.elapsed().as_secs_f64();
+    eng.factor()?;
     let opts = &model.options;
 
     let n_pairs = eng.pairs.len();
@@ -141,6 +158,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         plastic_strain: vec![0.0; n_el],
         lambda_n: vec![0.0; n_pairs],
         lambda_t: vec![0.0; n_pairs],
+        alpha: vec![0.0; eng.modes.len()],
     };
     // Initially closed pairs (zero gap: receding/conforming contact) start in stick (paper §4).
     let gap_tol = 1e-12 * eng.length_scale;
@@ -165,7 +183,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     let mut snapshots: Vec<Snapshot> = Vec::new();
     let mut pending_fractions: Vec<f64> = match &opts.snapshots {
         SnapshotRequest::EveryEvent => {
-            snapshots.push(eng.snapshot(&state, &status, &plastic));
+            snapshots.push(eng.snapshot(&state, &status, &plastic)?);
             vec![]
         }
         SnapshotRequest::Fractions(f) => {
@@ -239,7 +257,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             let s = if remaining > 0.0 { ((f - phi0) / remaining).clamp(0.0, scale) } else { 0.0 };
             let mut st = eng.advance(&state, &trial, s, &plastic);
             st.load_fraction = f;
-            snapshots.push(eng.snapshot(&st, &status, &plastic));
+            snapshots.push(eng.snapshot(&st, &status, &plastic)?);
             pending_fractions.remove(0);
         }
 
@@ -336,7 +354,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             drift,
         });
         if let SnapshotRequest::EveryEvent = opts.snapshots {
-            snapshots.push(eng.snapshot(&state, &status, &plastic));
+            snapshots.push(eng.snapshot(&state, &status, &plastic)?);
         }
         eng.timings.events += t1.elapsed().as_secs_f64();
         if last || (opts.stop_at_first_yield && group.iter().any(|c| c.kind == EventKind::Yield)) {
@@ -349,7 +367,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     }
     if interrupted || stop_reason.is_some() || matches!(opts.snapshots, SnapshotRequest::Fractions(_)) {
         if snapshots.last().map_or(true, |s| (s.load_fraction - state.load_fraction).abs() > 1e-14) {
-            snapshots.push(eng.snapshot(&state, &status, &plastic));
+            snapshots.push(eng.snapshot(&state, &status, &plastic)?);
         }
     }
     Ok(RunResult {
@@ -358,7 +376,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         snapshots,
         closure_fraction,
         predicted_closure,
-        max_equilibrium_residual: max_residual,
+        max_equilibrium_residual: max_residual.max(eng.max_snapshot_residual),
         max_drift,
         n_factorizations: eng.solver.n_factorizations,
         n_solves: eng.solver.n_solves,
@@ -452,6 +470,16 @@ impl<'m> Engine<'m> {
         let map = DofMap::new(n_dofs, &fixed, &pinned);
         let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(mesh, e)).collect();
         let pattern = StiffnessPattern::new(&elements, &map)?;
+        let mut contact_position = vec![usize::MAX; n_dofs];
+        let mut n_contact_dofs = 0;
+        for pair in &pairs {
+            for &(d, _) in pair.w_n.entries.iter().chain(&pair.w_t.entries) {
+                if contact_position[d] == usize::MAX {
+                    contact_position[d] = n_contact_dofs;
+                    n_contact_dofs += 1;
+                }
+            }
+        }
         let material: Vec<Material> = model.element_material.iter().map(|&m| model.materials[m]).collect();
         let tangents = material.iter().map(|m| m.tangent(&Vector4::zeros(), false)).collect();
         let n_pairs = pairs.len();
@@ -470,6 +498,11 @@ impl<'m> Engine<'m> {
             solver: SpdSolver::new(),
             zn: vec![None; n_pairs],
             zt: vec![None; n_pairs],
+            contact_position,
+            n_contact_dofs,
+            reduced: model.options.reduced_elastic && !model.materials.iter().any(|m| m.is_plastic()),
+            u_load: vec![],
+            max_snapshot_residual: 0.0,
             load_norm,
             force_scale: load_total,
             noise: Noise { displacement: 0.0, force: 1e-12 * load_total },
@@ -490,6 +523,10 @@ impl<'m> Engine<'m> {
         self.timings.factorization += t1.elapsed().as_secs_f64();
         self.zn.iter_mut().for_each(|z| *z = None);
         self.zt.iter_mut().for_each(|z| *z = None);
+        if self.reduced {
+            let load: Vec<f64> = self.model.load.iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { *v }).collect();
+            self.u_load = self.apply_ginv(std::slice::from_ref(&load)).pop().unwrap();
+        }
         Ok(())
     }
 
@@ -538,12 +575,20 @@ impl<'m> Engine<'m> {
             })
             .collect();
         for ((p, t), z) in missing.into_iter().zip(self.apply_ginv(&ys)) {
-            if t { self.zt[p] = Some(z) } else { self.zn[p] = Some(z) }
+            let mut at_contact = vec![0.0; self.n_contact_dofs];
+            for (d, &pos) in self.contact_position.iter().enumerate() {
+                if pos != usize::MAX {
+                    at_contact[pos] = z[d];
+                }
+            }
+            if t { self.zt[p] = Some(at_contact) } else { self.zn[p] = Some(at_contact) }
         }
     }
 
-    fn z(&self, p: usize, tangential: bool) -> &[f64] {
-        if tangential { self.zt[p].as_ref().unwrap() } else { self.zn[p].as_ref().unwrap() }
+    /// cᵀ K# w for a constraint vector c and a cached column (p, tangential).
+    fn dot_z(&self, c: &crate::contact::SparseVec, p: usize, tangential: bool) -> f64 {
+        let z = if tangential { self.zt[p].as_ref().unwrap() } else { self.zn[p].as_ref().unwrap() };
+        c.entries.iter().map(|&(d, v)| v * z[self.contact_position[d]]).sum()
     }
 
     /// Internal nodal forces Σ t A Bᵀ σ (eq. 42).
@@ -572,6 +617,17 @@ impl<'m> Engine<'m> {
     }
 
     fn equilibrium_residual(&self, state: &State) -> f64 {
+        if self.reduced {
+            // u = K#(φP + Wλ) + Nα is in equilibrium exactly when φP + Wλ is orthogonal to
+            // the free rigid modes (K K# y = y for y ⊥ N); snapshots check the full residual.
+            let mut y: Vec<f64> = self.model.load.iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { state.load_fraction * v }).collect();
+            for (p, pair) in self.pairs.iter().enumerate() {
+                pair.w_n.add_to(state.lambda_n[p], &mut y);
+                pair.w_t.add_to(state.lambda_t[p], &mut y);
+            }
+            let r2: f64 = self.modes.iter().map(|m| m.vector.iter().zip(&y).map(|(a, b)| a * b).sum::<f64>().powi(2)).sum();
+            return r2.sqrt() / self.load_norm;
+        }
         let r = self.residual_vector(state, state.load_fraction);
         r.iter().map(|v| v * v).sum::<f64>().sqrt() / self.load_norm
     }
@@ -579,8 +635,16 @@ impl<'m> Engine<'m> {
     /// The trial increment that takes the state to load fraction `target` (eq. 44 in residual
     /// form): 1 for the remaining load; the current fraction for an equilibrium correction.
     fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64], target: f64) -> Result<TrialIncrement> {
-        let r = self.residual_vector(state, target);
-        let z0 = self.apply_ginv(std::slice::from_ref(&r)).pop().unwrap();
+        let (r, z0) = if self.reduced {
+            // Elastic and in equilibrium: the out-of-balance force is (target − φ) P exactly.
+            let c = target - state.load_fraction;
+            let r: Vec<f64> = self.model.load.iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { c * v }).collect();
+            (r, self.u_load.iter().map(|v| c * v).collect())
+        } else {
+            let r = self.residual_vector(state, target);
+            let z0 = self.apply_ginv(std::slice::from_ref(&r)).pop().unwrap();
+            (r, z0)
+        };
 
         // Rows (constraints) and their right-hand sides h.
         let mut rows = Vec::new();
@@ -635,7 +699,7 @@ impl<'m> Engine<'m> {
         let mut rhs = DVector::<f64>::zeros(size);
         for j in 0..m {
             for i in 0..m {
-                a[(i, j)] = columns[j].iter().map(|&(c, p, t)| c * cvecs[i].dot(self.z(p, t))).sum();
+                a[(i, j)] = columns[j].iter().map(|&(c, p, t)| c * self.dot_z(&cvecs[i], p, t)).sum();
             }
             // Nᵀ e_j
             let (p, tangential) = match rows[j] {
@@ -675,14 +739,14 @@ impl<'m> Engine<'m> {
             }
         };
 
-        // Δu = z0 + Σ z_j Δλ_j + N α
-        let mut du = z0;
+        // Δu = z0 + K#(E Δλ) + N α: one more solve instead of O(active × DOFs) combinations.
+        let mut force = vec![0.0; self.map.role.len()];
         let mut dlambda_n = vec![0.0; self.pairs.len()];
         let mut dlambda_t = vec![0.0; self.pairs.len()];
         for j in 0..m {
             for &(c, p, t) in &columns[j] {
-                let s = c * sol[j];
-                du.iter_mut().zip(self.z(p, t)).for_each(|(d, zv)| *d += s * zv);
+                let w = if t { &self.pairs[p].w_t } else { &self.pairs[p].w_n };
+                w.add_to(c * sol[j], &mut force);
             }
             match rows[j] {
                 Row::Normal(p) => {
@@ -692,14 +756,39 @@ impl<'m> Engine<'m> {
                 Row::Tangent(p) => dlambda_t[p] = sol[j],
             }
         }
+        let mut du = z0;
+        if self.reduced {
+            // Only the contact DOFs are needed (gaps, slips): combine the cached columns there.
+            for (d, &pos) in self.contact_position.iter().enumerate() {
+                if pos == usize::MAX {
+                    continue;
+                }
+                let mut v = du[d];
+                for j in 0..m {
+                    for &(c, p, t) in &columns[j] {
+                        let z = if t { self.zt[p].as_ref().unwrap() } else { self.zn[p].as_ref().unwrap() };
+                        v += c * sol[j] * z[pos];
+                    }
+                }
+                du[d] = v;
+            }
+        } else if m > 0 {
+            let from_contact = self.apply_ginv(std::slice::from_ref(&force)).pop().unwrap();
+            du.iter_mut().zip(&from_contact).for_each(|(d, v)| *d += v);
+        }
+        let dalpha: Vec<f64> = (0..self.modes.len()).map(|k| sol[m + k]).collect();
         for (k, mode) in self.modes.iter().enumerate() {
             let s = sol[m + k];
             du.iter_mut().zip(&mode.vector).for_each(|(d, v)| *d += s * v);
         }
-        let (dstress, dplastic) = self.stress_increment(&du);
+        let (dstress, dplastic) = if self.reduced {
+            (vec![Vector4::zeros(); self.elements.len()], vec![0.0; self.elements.len()])
+        } else {
+            self.stress_increment(&du)
+        };
         let umax = du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         self.noise.displacement = 1e-11 * umax;
-        Ok(TrialIncrement { du, dstress, dplastic, dlambda_n, dlambda_t })
+        Ok(TrialIncrement { du, dstress, dplastic, dlambda_n, dlambda_t, dalpha })
     }
 
     /// A free rigid-body mode that no closed pair holds makes the small system singular:
@@ -801,6 +890,7 @@ impl<'m> Engine<'m> {
         }
         st.lambda_n.iter_mut().zip(&trial.dlambda_n).for_each(|(u, d)| *u += s * d);
         st.lambda_t.iter_mut().zip(&trial.dlambda_t).for_each(|(u, d)| *u += s * d);
+        st.alpha.iter_mut().zip(&trial.dalpha).for_each(|(u, d)| *u += s * d);
         st
     }
 
@@ -828,8 +918,17 @@ impl<'m> Engine<'m> {
         Ok(())
     }
 
-    fn snapshot(&self, state: &State, status: &[Status], plastic: &[bool]) -> Snapshot {
-        Snapshot {
+    /// The full fields of a state; in the reduced mode they are rebuilt here (one solve) and
+    /// their equilibrium is checked in full.
+    fn snapshot(&mut self, state: &State, status: &[Status], plastic: &[bool]) -> Result<Snapshot> {
+        let full;
+        let state = if self.reduced {
+            full = self.reconstruct(state)?;
+            &full
+        } else {
+            state
+        };
+        Ok(Snapshot {
             load_fraction: state.load_fraction,
             u: state.u.clone(),
             stress: state.stress.iter().map(|s| [s[0], s[1], s[2], s[3]]).collect(),
@@ -840,6 +939,32 @@ impl<'m> Engine<'m> {
             status: status.iter().map(|s| s.code()).collect(),
             gap: self.pairs.iter().map(|p| p.gap(&state.u)).collect(),
             rtd: self.pairs.iter().map(|p| p.rtd(&state.u)).collect(),
+        })
+    }
+
+    /// u = φ K#P + K#(W λ) + N α and its stresses, for the reduced elastic mode.
+    fn reconstruct(&mut self, state: &State) -> Result<State> {
+        let mut y = vec![0.0; self.map.role.len()];
+        for (p, pair) in self.pairs.iter().enumerate() {
+            pair.w_n.add_to(state.lambda_n[p], &mut y);
+            pair.w_t.add_to(state.lambda_t[p], &mut y);
         }
+        let mut u = self.apply_ginv(std::slice::from_ref(&y)).pop().unwrap();
+        u.iter_mut().zip(&self.u_load).for_each(|(a, b)| *a += state.load_fraction * b);
+        for (mode, a) in self.modes.iter().zip(&state.alpha) {
+            u.iter_mut().zip(&mode.vector).for_each(|(x, v)| *x += a * v);
+        }
+        let (stress, _) = self.stress_increment(&u);
+        let mut full = state.clone();
+        full.u = u;
+        full.stress = stress;
+        let saved = std::mem::replace(&mut self.reduced, false);
+        let residual = self.equilibrium_residual(&full);
+        self.reduced = saved;
+        self.max_snapshot_residual = self.max_snapshot_residual.max(residual);
+        if residual > self.model.options.equilibrium_tol {
+            bail!("equilibrium residual {residual:.3e} of the reconstructed fields exceeds {:.1e} at load fraction {:.6}: the linear system is ill-conditioned", self.model.options.equilibrium_tol, state.load_fraction);
+        }
+        Ok(full)
     }
 }

@@ -43,6 +43,9 @@ pub struct Options {
     pub max_stress_step: f64,
     /// Stop at the first yield event (the load capacity at the onset of plasticity).
     pub stop_at_first_yield: bool,
+    /// Elastic runs keep only contact-DOF values between events (see `driver`); false forces
+    /// the general path (for cross-checks).
+    pub reduced_elastic: bool,
 }
 
 impl Options {
@@ -78,6 +81,7 @@ impl Default for Options {
             drift_control: true,
             max_stress_step: 0.05,
             stop_at_first_yield: false,
+            reduced_elastic: true,
         }
     }
 }

@@ -202,12 +202,10 @@ fn initial_penetration_and_negative_mu_are_named() {
     assert!(e.contains("mu = -0.2"), "{e}");
 }
 
-#[test]
-fn two_blocks_conforming_contact_transmit_the_load() {
-    // Upper block on a lower block (matching interface nodes, zero gaps, node-to-node pairs),
-    // lower block clamped at its base, symmetry on x = 0, pressure q on the upper top.
-    // Force is conserved across the interface: Σλ_n = q·w_upper.
-    let (q, wu) = (2.0, 1.0);
+/// Upper block on a lower block (matching interface nodes, zero gaps, node-to-node pairs),
+/// lower block clamped at its base, symmetry on x = 0, pressure q on the upper top.
+/// Force is conserved across the interface: Σλ_n = q·w_upper.
+fn two_blocks(q: f64, wu: f64) -> Model {
     let lower = rectangle(0.0, 0.0, 2.0, 1.0, 8, 4);
     let upper = rectangle(0.0, 1.0, wu, 0.5, 4, 2);
     let off = lower.nodes.len();
@@ -240,7 +238,14 @@ fn two_blocks_conforming_contact_transmit_the_load() {
         let b = (0..off).find(|&b| (mesh.nodes[b][0] - mesh.nodes[a][0]).abs() < 1e-12 && (mesh.nodes[b][1] - 1.0).abs() < 1e-12).unwrap();
         pairs.push(PairInput { node_a: a, node_b: Some(b), normal: [0.0, 1.0], gap: 0.0, mu: 0.2 });
     }
-    let m = model(mesh, fixed, load, pairs, Plane::Strain);
+    model(mesh, fixed, load, pairs, Plane::Strain)
+}
+
+#[test]
+fn two_blocks_conforming_contact_transmit_the_load() {
+    // Force is conserved across the interface: Σλ_n = q·w_upper.
+    let (q, wu) = (2.0, 1.0);
+    let m = two_blocks(q, wu);
     let res = slipstep_core::run(&m, |_| true).unwrap();
     let last = res.snapshots.last().unwrap();
     let total: f64 = last.lambda_n.iter().sum();
@@ -335,4 +340,27 @@ fn plane_strain_compression_stays_on_the_hardening_line() {
     m.options.drift_control = false;
     let exact = slipstep_core::run(&m, |_| true).unwrap();
     assert!(exact.max_drift > res.max_drift);
+}
+
+#[test]
+fn reduced_elastic_mode_reproduces_the_general_path() {
+    // The reduced mode never forms u between events (u = φK#P + K#Wλ + Nα); it must give the
+    // same event history, multipliers and fields as the general residual-form path.
+    let mut m = two_blocks(2.0, 1.0);
+    let a = slipstep_core::run(&m, |_| true).unwrap();
+    m.options.reduced_elastic = false;
+    let b = slipstep_core::run(&m, |_| true).unwrap();
+    assert_eq!(a.events.len(), b.events.len());
+    for (x, y) in a.events.iter().zip(&b.events) {
+        assert_eq!((x.kind, x.entity), (y.kind, y.entity));
+        assert!((x.load_fraction - y.load_fraction).abs() < 1e-12);
+    }
+    for (x, y) in a.snapshots.iter().zip(&b.snapshots) {
+        for k in 0..x.lambda_n.len() {
+            assert!((x.lambda_n[k] - y.lambda_n[k]).abs() < 1e-10 && (x.lambda_t[k] - y.lambda_t[k]).abs() < 1e-10);
+        }
+        for k in 0..x.u.len() {
+            assert!((x.u[k] - y.u[k]).abs() < 1e-12);
+        }
+    }
 }
