@@ -30,6 +30,11 @@ from typing import Any, Callable
 class CaseError(ValueError):
     """A problem in a case file or an override; the message is one line and names the fix."""
 
+    def __init__(self, message: str = ""):
+        # one line, whatever a key, a value or a file name holds (TOML keys and strings may
+        # contain newlines): control characters are written as escapes
+        super().__init__("".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message)))
+
 
 # --------------------------------------------------------------------------- the schema
 REQUIRED = object()  # marker: the key has no default
@@ -387,24 +392,32 @@ def apply_override(raw: dict, item: str, source: str = "<case>") -> None:
         head, rest = "body", ["0", head, *rest]
 
     if head in TABLES:
-        _set_in_table(raw.setdefault(head, {}), TABLES[head], rest, value, where, f"[{head}]")
+        table = raw.setdefault(head, {})
+        if not isinstance(table, dict):
+            raise CaseError(f"{where}: {head} must be a table, written [{head}]")
+        _set_in_table(table, TABLES[head], rest, value, where, f"[{head}]")
         return
     if head in ARRAYS:
         elements = raw.get(head, [])
+        if not isinstance(elements, list) or any(not isinstance(e, dict) for e in elements):
+            raise CaseError(f"{where}: {head} must be an array of tables, written [[{head}]]")
         index, rest = _array_index(elements, head, rest, where)
         element = elements[index]
         if head == "body" and rest and rest[0] in BODY_SUBTABLES:
             sub = rest[0]
             table = element.setdefault(sub, {})
+            if not isinstance(table, dict):
+                raise CaseError(f"{where}: {sub} must be a table, written [body.{sub}]")
             keys = BODY_SUBTABLES[sub]
             if sub == "mesh":  # the keys of this mesh's form, if it has a known one
                 form = "file" if "file" in table else table.get("generator")
-                keys = FILE_MESH_KEYS if form == "file" else MESH_VARIANTS.get(form, keys)
+                keys = FILE_MESH_KEYS if form == "file" else MESH_VARIANTS.get(form if isinstance(form, str) else "", keys)
             _set_in_table(table, keys, rest[1:], value, where, f"[body.{sub}]")
             return
         keys = ARRAY_KEYS[head]
         if head == "contact":  # the keys of this contact's kind, if it has a known one
-            keys = CONTACT_VARIANTS.get(element.get("kind"), keys)
+            kind = element.get("kind")
+            keys = CONTACT_VARIANTS.get(kind if isinstance(kind, str) else "", keys)
         _set_in_table(element, keys, rest, value, where, f"[[{head}]]",
                       extra=tuple(BODY_SUBTABLES) if head == "body" else ())
         return
@@ -629,7 +642,7 @@ class _Validator:
             mesh["edges"] = None  # known once the file is read
             return mesh
         gen = raw.get("generator")
-        if gen not in MESH_VARIANTS:
+        if not isinstance(gen, str) or gen not in MESH_VARIANTS:
             choices = " or ".join(_fmt(g) for g in MESH_VARIANTS)
             what = "is missing" if gen is None else f"= {_fmt(gen)} is not allowed"
             raise self.fail(prefix + "generator", f"{what}: use {choices}, or give "
@@ -689,7 +702,7 @@ class _Validator:
 
     def contact(self, raw: dict, prefix: str, edges: dict) -> dict:
         kind = raw.get("kind")
-        if kind not in CONTACT_VARIANTS:
+        if not isinstance(kind, str) or kind not in CONTACT_VARIANTS:
             choices = " or ".join(_fmt(k) for k in CONTACT_VARIANTS)
             what = "is missing" if kind is None else f"= {_fmt(kind)} is not allowed"
             raise self.fail(prefix + "kind", f"{what}: use {choices}")

@@ -2,6 +2,9 @@
 
     slipstep run [CASE.toml] [--out DIR] [--set KEY=VALUE ...] [--quiet]
     slipstep check [CASE.toml] [--set KEY=VALUE ...]
+    slipstep crosscheck [CASE.toml] [--out DIR] [--set KEY=VALUE ...] [--steps 5,10,20,50]
+    slipstep sweep STUDY.toml [--out DIR] [--workers N] [--mpi]
+    slipstep reproduce [--out DIR] [--quick]
 
 Without CASE the built-in Hertz cylinder (paper §5.1) runs.  Errors print one line
 ``slipstep: error: ...`` on stderr and exit 2; Ctrl-C writes what was computed and exits 130.
@@ -39,6 +42,35 @@ def _parser() -> argparse.ArgumentParser:
         if name == "run":
             s.add_argument("--out", default=None, help="output folder (default: results/<case>)")
             s.add_argument("--quiet", action="store_true", help="no progress, no summary line")
+    s = sub.add_parser("sweep", help="run a parameter study (local processes or MPI)",
+                       description="run every case of a study TOML (see slipstep.sweep); "
+                       "finished cases are kept, so a rerun resumes")
+    s.add_argument("study", help="study file (studies/*.toml)")
+    s.add_argument("--out", default=None, help="output folder (default: results/<study>)")
+    s.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    s.add_argument("--mpi", action="store_true", help="use mpi4py.futures.MPIPoolExecutor: "
+                   "mpirun -n N python -m mpi4py.futures -m slipstep sweep STUDY --mpi")
+    s.add_argument("--set", dest="overrides", action="append", default=[],
+                   metavar="KEY=VALUE", help="override a key in every case (repeatable)")
+    s.add_argument("--quiet", action="store_true", help="no progress lines")
+    s = sub.add_parser("reproduce", help="regenerate the paper's table and figures + report.md",
+                       description="regenerate Table 1 and Figs. 5-16 of the paper with "
+                       "closed-form overlays, and report.md")
+    s.add_argument("--out", default="results/reproduce", help="output folder")
+    s.add_argument("--quick", action="store_true", help="coarse meshes (for tests)")
+    s.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    # cross-check against dolfinx (optional; slipstep.fenicsx imports dolfinx lazily)
+    text = "solve a case with slipstep and with dolfinx (FEniCSx) and write a comparison report"
+    s = sub.add_parser("crosscheck", help=text, description=text)
+    s.add_argument("case", nargs="?", default=None,
+                   help="case file (default: the built-in Hertz cylinder)")
+    s.add_argument("--out", default=None, help="report folder (default: results/<case>_crosscheck)")
+    s.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a key (repeatable; see cases/README.md)")
+    s.add_argument("--steps", default="5,10,20,50",
+                   help="dolfinx load steps to compare, elastoplastic bulk scenes (default 5,10,20,50)")
+    s.add_argument("--substeps", type=int, default=1,
+                   help="dolfinx steps per slipstep event, elastoplastic contact replay (default 1)")
     return p
 
 
@@ -52,6 +84,14 @@ def main(argv=None) -> int:
     try:
         if args.command == "check":
             return _check(args)
+        if args.command == "crosscheck":
+            return _crosscheck(args)
+        if args.command == "sweep":
+            from .sweep import main as sweep_main
+            return sweep_main(args)
+        if args.command == "reproduce":
+            from .reproduce import main as reproduce_main
+            return reproduce_main(args)
         return _run(args)
     except (CaseError, MeshError, EngineMissing, ValueError) as exc:
         # ValueError: the engine reports model errors that way (docs/engine_api.md)
@@ -69,6 +109,23 @@ def _check(args) -> int:
     print(f"{scene.case.name}: {len(m['nodes'])} nodes, {len(m['triangles'])} elements, "
           f"{2 * len(m['nodes'])} dofs, {len(m['pairs']['node_a'])} contact pairs, "
           f"{len(m['fixed_dofs'])} fixed dofs")
+    return 0
+
+
+def _crosscheck(args) -> int:
+    try:
+        steps = tuple(int(n) for n in args.steps.split(",") if n.strip())
+    except ValueError:
+        return _error(f"--steps {args.steps}: give load step counts like 5,10,20,50")
+    from .fenicsx import DolfinxMissing, require_dolfinx
+    out = args.out or f"results/{load_case(args.case, args.overrides).name}_crosscheck"
+    try:
+        require_dolfinx()
+        from .fenicsx.crosscheck import run
+        report = run(args.case, out, args.overrides, steps=steps, substeps=args.substeps)
+    except (DolfinxMissing, NotImplementedError) as exc:
+        return _error(str(exc))
+    print(f"{report['case']}: {report['mode']} -> {out}/crosscheck.md")
     return 0
 
 

@@ -15,8 +15,12 @@ STATUS_LABELS = {0: "open", 1: "stick", 2: "slip"}
 
 
 def _pyplot():
+    import warnings
+
     import matplotlib
 
+    # Debian's mpl_toolkits (3D axes) sits beside the venv's matplotlib; only 2D plots here.
+    warnings.filterwarnings("ignore", message="Unable to import Axes3D")
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -159,14 +163,11 @@ def von_mises_figure(path: Path, scene, result, summary: dict) -> Path:
         if not shown.any():
             shown[:] = True
 
-    from mpl_toolkits.axes_grid1 import make_axes_locatable
-
     fig, ax = plt.subplots(figsize=(7, 6))
     art = ax.tripcolor(x, y, scene.triangles, facecolors=vm, cmap="viridis",
                        vmin=float(vm[shown].min()), vmax=float(vm[shown].max()))
-    # a colour bar as tall as the (equal-aspect) map
-    fig.colorbar(art, cax=make_axes_locatable(ax).append_axes("right", "4%", pad=0.1),
-                 label="von Mises stress")
+    # colour bar sized to the map (no mpl_toolkits: Debian's copy can shadow the venv's)
+    fig.colorbar(art, ax=ax, fraction=0.046, pad=0.04, label="von Mises stress")
     plastic = np.asarray(snap.get("plastic", np.zeros(len(vm))), dtype=bool)
     yielded = np.asarray(snap.get("plastic_strain", np.zeros(len(vm)))) > 0.0
     handles = []

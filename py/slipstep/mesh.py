@@ -8,6 +8,7 @@ segment p -> q is the right-hand normal (t_y, -t_x) / |t|, t = q - p).
 from __future__ import annotations
 
 import contextlib
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -16,6 +17,11 @@ import numpy as np
 
 class MeshError(ValueError):
     """A mesh that cannot be used; one-line message naming the element/edge and the fix."""
+
+    def __init__(self, message: str = ""):
+        # one line, whatever a key, a value or a file name holds (TOML keys and strings may
+        # contain newlines): control characters are written as escapes
+        super().__init__("".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message)))
 
 
 @dataclass
@@ -150,6 +156,11 @@ def _finish(nodes, triangles, edges, node_sets=None, where="", flip_clockwise=Fa
         bad = int(np.nonzero((triangles < 0).any(1) | (triangles >= len(nodes)).any(1))[0][0])
         raise MeshError(f"{prefix}element {bad} refers to a node outside 0..{len(nodes) - 1}: "
                         f"fix the connectivity")
+    for k, v in [*edges.items(), *node_sets.items()]:
+        v = np.asarray(v, dtype=np.int64)
+        if v.size and (v.min() < 0 or v.max() >= len(nodes)):
+            raise MeshError(f"{prefix}tag '{k}' refers to a node that is not in the mesh: fix "
+                            f"the file")
     used = np.unique(triangles)
     finite = np.isfinite(nodes[used]).all(axis=1)
     if not finite.all():
@@ -200,15 +211,20 @@ def _gmsh_triangles_and_edges(gmsh) -> tuple[np.ndarray, np.ndarray, dict, dict]
         raise MeshError("the file holds no mesh (no nodes): save the mesh, not only the "
                         "geometry")
     xyz = coords.reshape(-1, 3)
-    index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-    index[tags.astype(np.int64)] = np.arange(len(tags))
+    order = np.argsort(tags, kind="stable")
+    sorted_tags = tags[order].astype(np.int64)
+
+    def index(t):  # node tags -> rows, -1 for a tag that is not a node (tags may be huge)
+        t = np.asarray(t).astype(np.int64)
+        pos = np.clip(np.searchsorted(sorted_tags, t), 0, len(sorted_tags) - 1)
+        return np.where(sorted_tags[pos] == t, order[pos], -1)
 
     types = {int(t) for t in gmsh.model.mesh.getElementTypes(dim=2)}
     if types - {2}:
         names = [gmsh.model.mesh.getElementProperties(t)[0] for t in sorted(types - {2})]
         raise MeshError(f"only 3-node triangles are supported; the mesh has {', '.join(names)}")
     _, tri_nodes = gmsh.model.mesh.getElementsByType(2)
-    triangles = index[tri_nodes.astype(np.int64)].reshape(-1, 3)
+    triangles = index(tri_nodes).reshape(-1, 3)
 
     edges, node_sets = {}, {}
     for dim, ptag in gmsh.model.getPhysicalGroups():
@@ -220,13 +236,13 @@ def _gmsh_triangles_and_edges(gmsh) -> tuple[np.ndarray, np.ndarray, dict, dict]
                 for et, en in zip(etypes, enodes):
                     if et != 1:
                         raise MeshError(f"edge '{name}': only 2-node lines are supported")
-                    segs.append(index[en.astype(np.int64)].reshape(-1, 2))
+                    segs.append(index(en).reshape(-1, 2))
             edges[name] = np.concatenate(segs) if segs else np.zeros((0, 2), np.int64)
         elif dim == 0:
             ids = []
             for ent in gmsh.model.getEntitiesForPhysicalGroup(dim, ptag):
                 ntags, _, _ = gmsh.model.mesh.getNodes(0, ent)
-                ids.extend(index[ntags.astype(np.int64)])
+                ids.extend(index(ntags))
             node_sets[name] = np.asarray(ids, dtype=np.int64)
     return xyz, triangles, edges, node_sets
 
@@ -377,15 +393,7 @@ def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: floa
         raise MeshError(f"{where}: no such mesh file")
     suffix = path.suffix.lower()
     if suffix == ".msh":
-        with _gmsh_session() as gmsh:
-            try:
-                gmsh.open(str(path))
-            except Exception as exc:  # gmsh raises bare Exception
-                raise MeshError(f"{where}: gmsh cannot read it: {exc}") from None
-            try:
-                xyz, triangles, edges, node_sets = _gmsh_triangles_and_edges(gmsh)
-            except MeshError as exc:
-                raise MeshError(f"{where}: {exc}") from None
+        xyz, triangles, edges, node_sets = _read_msh_isolated(path, where)
     elif suffix == ".xdmf":
         xyz, triangles, edges = _read_xdmf(path)
         node_sets = {}
@@ -413,6 +421,63 @@ def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: floa
                    flip_clockwise=True)
 
 
+def _read_msh(path: str, where: str):
+    """Nodes, triangles, edges and node sets of a .msh file, through gmsh."""
+    with _gmsh_session() as gmsh:
+        try:
+            gmsh.open(path)
+        except Exception as exc:  # gmsh raises bare Exception
+            raise MeshError(f"{where}: gmsh cannot read it: {' '.join(str(exc).split())}") \
+                from None
+        try:
+            return _gmsh_triangles_and_edges(gmsh)
+        except MeshError as exc:
+            raise MeshError(f"{where}: {exc}") from None
+
+
+def _msh_child(path: str, where: str, conn) -> None:
+    devnull = os.open(os.devnull, os.O_WRONLY)  # a crashing gmsh prints libc/C++ noise
+    os.dup2(devnull, 1)
+    os.dup2(devnull, 2)
+    try:
+        conn.send(("ok", _read_msh(path, where)))
+    except MeshError as exc:
+        conn.send(("error", str(exc)))
+    except BaseException as exc:  # noqa: BLE001 - anything else gmsh raises
+        conn.send(("error", f"{where}: gmsh cannot read it: {' '.join(str(exc).split())}"))
+    finally:
+        conn.close()
+
+
+def _read_msh_isolated(path: Path, where: str):
+    """:func:`_read_msh` in a forked child process: gmsh corrupts its memory on some damaged
+    .msh files and crashes the whole process (segmentation fault, abort; found by
+    tests/test_fuzz.py), so a crash there becomes a MeshError here."""
+    import multiprocessing
+
+    try:
+        ctx = multiprocessing.get_context("fork")
+    except ValueError:  # no fork on this platform: read in-process
+        return _read_msh(str(path), where)
+    receive, send = ctx.Pipe(duplex=False)
+    child = ctx.Process(target=_msh_child, args=(str(path), where, send), daemon=True)
+    child.start()
+    send.close()
+    try:
+        kind, payload = receive.recv()
+    except EOFError:  # the child died without an answer
+        kind, payload = None, None
+    finally:
+        receive.close()
+        child.join()
+    if kind == "ok":
+        return payload
+    if kind == "error":
+        raise MeshError(payload)
+    raise MeshError(f"{where}: gmsh crashed while reading it (exit code {child.exitcode}): the "
+                    f"file is damaged or truncated; export the mesh again")
+
+
 def _read_xdmf(path: Path, need_triangles: bool = True):
     try:
         import meshio
@@ -421,12 +486,16 @@ def _read_xdmf(path: Path, need_triangles: bool = True):
     if not path.exists():
         raise MeshError(f"{path}: no such mesh file")
     try:
-        m = meshio.read(str(path))
-    except SystemExit:  # meshio exits on multi-grid (time series) XDMF
-        raise MeshError(f"{path}: meshio cannot read this XDMF (several grids, e.g. a time "
-                        f"series?): write the mesh on its own") from None
-    except Exception as exc:
-        raise MeshError(f"{path}: meshio cannot read it: {exc}") from None
+        # the XDMF reader itself: meshio.read prints the reader's error and calls sys.exit
+        m = meshio.xdmf.read(str(path))
+    except SystemExit:
+        raise MeshError(f"{path}: meshio cannot read it") from None
+    except Exception as exc:  # noqa: BLE001 - XML, HDF5, numpy and meshio errors alike
+        why = " ".join(str(exc).split()) or f"{type(exc).__name__} (not a valid XDMF mesh)"
+        if "one grid" in why:  # meshio reads a single grid
+            raise MeshError(f"{path}: meshio cannot read this XDMF (several grids, e.g. a time "
+                            f"series?): write the mesh on its own") from None
+        raise MeshError(f"{path}: meshio cannot read it: {why}") from None
     names = {int(v[0]): k for k, v in getattr(m, "field_data", {}).items()
              if len(v) >= 2 and int(v[1]) == 1}
     triangles, edges = [], {}

@@ -112,6 +112,7 @@ def build_scene(case: Case) -> Scene:
         "pairs": pairs,
         "options": solver_options(case),
     }
+    _check_pairs_not_held(scene)
     scene.reference = hertz_reference(scene)
     return scene
 
@@ -140,6 +141,29 @@ def _check_duplicate_nodes(scene: Scene, pairs: dict) -> None:
                         f"are not joined: duplicate nodes cut the mesh there (a crack or "
                         f"unconnected parts); merge them (gmsh: Coherence), or pair the two "
                         f"sides with a node_to_node [[contact]]")
+
+
+def _check_pairs_not_held(scene: Scene) -> None:
+    """A pair whose normal direction is entirely held by supports can carry no contact force
+    (the engine refuses it too; here the message can name the case key)."""
+    pairs, fixed = scene.model["pairs"], np.zeros(2 * len(scene.nodes), dtype=bool)
+    fixed[scene.model["fixed_dofs"]] = True
+    n = pairs["normal"]
+    free = np.zeros(len(n), dtype=bool)
+    for node in (pairs["node_a"], pairs["node_b"]):
+        ok = node >= 0
+        for c in (0, 1):
+            free[ok] |= (n[ok, c] != 0.0) & ~fixed[2 * node[ok] + c]
+    if not free.all():
+        k = int(np.argmin(free))
+        i = int(pairs["node_a"][k])
+        c = int(scene.pair_contact[k])
+        key = "contact" if len(scene.case.data["contact"]) == 1 else f"contact.{c}"
+        x, y = scene.nodes[i]
+        raise scene.case.error(key, f"node {i} ({x:.6g}, {y:.6g}) is held by supports in the "
+                               f"contact normal direction, so its pair can carry no contact "
+                               f"force: remove the support ([[bc]] fix/symmetry) there or the "
+                               f"node from the candidates (x_min/x_max/y_min/y_max)")
 
 
 def _check_file_mesh_tags(case: Case, body_meshes: dict) -> None:

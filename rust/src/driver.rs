@@ -274,14 +274,16 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         }
         let drift = eng.drift(&state, &plastic);
         max_drift = max_drift.max(drift);
-        // The equilibrium correction moves nodes by a round-off-to-drift sized amount that no
-        // event of its own is computed for; an open pair it pushes past its gap by that much is
-        // closed by the next trial (S_c = 0), so the penetration check allows for it.
-        let mut correction_size = 0.0;
+        // The equilibrium correction moves nodes and contact forces by a drift-sized amount that
+        // no event of its own is computed for: an open pair pushed past its gap, or a stick pair
+        // that has just reached its cone pushed over it, is switched by the next trial at S = 0;
+        // the checks allow for that much.
+        let mut correction_size = (0.0, 0.0);
         if opts.drift_control && drift > 0.0 {
             eng.return_to_yield_surface(&mut state, &plastic);
             let correction = eng.trial(&state, &status, &rtd_stick, phi1)?;
-            correction_size = correction.du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            correction_size = (largest(&correction.du), largest(&correction.dlambda_n).max(largest(&correction.dlambda_t)));
             state = eng.advance(&state, &correction, 1.0, &plastic);
             state.load_fraction = phi1;
         }
@@ -290,7 +292,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         if residual > opts.equilibrium_tol {
             bail!("equilibrium residual {residual:.3e} exceeds {:.1e} at load fraction {phi1:.6} (step {}): the linear system is ill-conditioned; check for nearly unsupported bodies or extreme element size ratios", opts.equilibrium_tol, steps.len());
         }
-        eng.check_contact(&state, &status, frozen_pairs_of(&frozen, n_pairs), phi1, 2.0 * correction_size)?;
+        eng.check_contact(&state, &status, frozen_pairs_of(&frozen, n_pairs), phi1, (2.0 * correction_size.0, 4.0 * correction_size.1))?;
 
         // Status changes of the events at this scale (with the anti-cycling rule).
         let zero_length = scale <= ZERO_SCALE;
@@ -923,10 +925,10 @@ impl<'m> Engine<'m> {
     }
 
     /// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb cone.
-    fn check_contact(&self, state: &State, status: &[Status], frozen: &[bool], phi: f64, allowance: f64) -> Result<()> {
+    fn check_contact(&self, state: &State, status: &[Status], frozen: &[bool], phi: f64, allowance: (f64, f64)) -> Result<()> {
         let umax = state.u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let gap_tol = 1e-8 * umax + 1e-12 * self.length_scale + allowance;
-        let force_tol = 1e-9 * self.force_scale;
+        let gap_tol = 1e-8 * umax + 1e-12 * self.length_scale + allowance.0;
+        let force_tol = 1e-9 * self.force_scale + allowance.1;
         let why = |p: usize| if frozen[p] { " (the pair was frozen by the anti-cycling rule: it cycled between statuses at zero load increment)" } else { "" };
         for (p, pair) in self.pairs.iter().enumerate() {
             let g = pair.gap(&state.u);

@@ -42,7 +42,7 @@ impl Material {
     /// Reject values no solid can have, naming the material and the fix.
     pub fn validate(&self, index: usize) -> Result<()> {
         let (e, nu) = (self.young, self.poisson);
-        if !e.is_finite() || e <= 0.0 {
+        if !e.is_normal() || e <= 0.0 {
             bail!("material {index}: E = {e} is not allowed: Young's modulus must be a finite positive number");
         }
         if !nu.is_finite() || nu <= -1.0 || nu >= 0.5 {
@@ -50,6 +50,11 @@ impl Material {
         }
         if self.yield_stress.is_nan() || self.yield_stress <= 0.0 {
             bail!("material {index}: Sy = {} is not allowed: the yield stress must be positive (omit it for an elastic body)", self.yield_stress);
+        }
+        // A yield strain below 1e-12 means wrong units; it would also overflow the relative
+        // drift |σe − σy|/σy (found by tests/test_fuzz.py with Sy = 5e-324).
+        if self.yield_stress.is_finite() && self.yield_stress < 1e-12 * e {
+            bail!("material {index}: Sy = {} is not allowed: the yield strain Sy/E = {:.3e} is below 1e-12; check the units of Sy and E", self.yield_stress, self.yield_stress / e);
         }
         if !self.hardening.is_finite() || self.hardening < 0.0 {
             bail!("material {index}: H = {} is not allowed: the plastic modulus H' must be >= 0 (0 = perfectly plastic)", self.hardening);
@@ -226,6 +231,17 @@ impl Tangent {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn subnormal_moduli_and_vanishing_yield_strains_are_refused() {
+        let mut m = Material::elastic(5e-324, 0.3);
+        assert!(m.validate(0).unwrap_err().0.contains("E = "));
+        m = Material::elastic(70_000.0, 0.3);
+        m.yield_stress = 5e-324;
+        assert!(m.validate(0).unwrap_err().0.contains("yield strain"));
+        m.yield_stress = 200.0;
+        assert!(m.validate(0).is_ok());
+    }
 
     #[test]
     fn plane_strain_tangent_inverts_hooke() {
