@@ -139,8 +139,10 @@ def yield_drift(scene, snap) -> np.ndarray:
     hp = np.array([m.get("H") or 0.0 for m in mats], dtype=float)[index]
     current = sy + hp * np.asarray(snap["plastic_strain"], dtype=float)
     se = von_mises(np.asarray(snap["stress"], dtype=float).reshape(-1, 4))
-    plastic = np.asarray(snap["plastic"]) > 0
-    return np.where(plastic, np.abs(se - current) / current, 0.0)
+    plastic = (np.asarray(snap["plastic"]) > 0) & np.isfinite(current)  # elastic bodies: Sy = inf
+    drift = np.zeros(len(se))
+    drift[plastic] = np.abs(se[plastic] - current[plastic]) / current[plastic]
+    return drift
 
 
 def centroids(scene) -> np.ndarray:
