@@ -228,7 +228,9 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         cands.extend(events::element_candidates(&elements, &trial.dstress, &trial.dplastic));
         let drift_scale = if opts.drift_control { events::drift_bound(&elements, &trial.dstress, opts.max_stress_step) } else { f64::INFINITY };
         if eng.reduced {
+            let t = Instant::now();
             eng.prefetch_closing_columns(&cands);
+            eng.timings.solves += t.elapsed().as_secs_f64();
         }
         let s_min = cands.iter().map(|c| c.scale).fold(f64::INFINITY, f64::min);
         let scale = s_min.min(drift_scale).min(1.0);
