@@ -444,7 +444,8 @@ impl<'m> Engine<'m> {
         for (k, p) in model.pairs.iter().enumerate() {
             let in_mesh = |i: usize| i < n_nodes && body_of_node[i] != usize::MAX;
             if !in_mesh(p.node_a) || p.node_b.map_or(false, |b| !in_mesh(b)) {
-                bail!("contact pair {k}: node {} / {:?} is not a node of any element: check the contact surface tags", p.node_a, p.node_b);
+                let target = p.node_b.map_or(String::from("a rigid line"), |b| format!("node {b}"));
+                bail!("contact pair {k} (node {} against {target}) refers to a node of no element: check the contact surface tags", p.node_a);
             }
             if p.node_b == Some(p.node_a) {
                 bail!("contact pair {k} joins node {} to itself", p.node_a);
