@@ -214,3 +214,19 @@ def test_hill_yield_condition_in_the_plastic_zone(cylinder):
     diff = (sy - sx) * (c ** 2 - s ** 2) - 4.0 * txy * c * s  # sigma_theta - sigma_r
     ratio = diff[plastic] / (2.0 * K)
     assert ratio.max() <= 1.0 + 1e-6 and ratio.min() >= 0.99
+
+
+def test_run_beyond_the_limit_load_stops_at_hills_limit():
+    # Hill: the fully plastic cylinder collapses at p_L = 2k ln(b/a) = 200.1 MPa (k = Sy/sqrt(3)).
+    # Asked for 1.1 p_L, the engine must not report success on a singular tangent: it stops with
+    # a limit-load reason once the current stiffness falls to 1e-4 of the initial one, at a
+    # pressure within 2 % of p_L (CST on this mesh overshoots slightly: locking, see issue 7).
+    from slipstep import prepare, solve
+
+    p_limit = 2 * 250.0 / math.sqrt(3) * math.log(2.0)
+    scene = prepare(CASE, overrides=[f"bc.bore.pressure={1.1 * p_limit}", "output.snapshots=[1.0]"])
+    result = solve(scene)
+    assert result["stop_reason"] and result["stop_reason"].startswith("limit load reached")
+    p_stop = result["steps"]["load_fraction"][-1] * 1.1 * p_limit
+    assert p_stop == pytest.approx(p_limit, rel=0.02)
+    assert max(result["steps"]["residual"]) <= 1e-9

@@ -5,6 +5,7 @@
     slipstep crosscheck [CASE.toml] [--out DIR] [--set KEY=VALUE ...] [--steps 5,10,20,50]
     slipstep sweep STUDY.toml [--out DIR] [--workers N] [--mpi]
     slipstep reproduce [--out DIR] [--quick]
+    slipstep study stability [--out DIR] [--quick]
 
 Without CASE the built-in Hertz cylinder (paper §5.1) runs.  Errors print one line
 ``slipstep: error: ...`` on stderr and exit 2; Ctrl-C writes what was computed and exits 130.
@@ -59,6 +60,12 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--out", default="results/reproduce", help="output folder")
     s.add_argument("--quick", action="store_true", help="coarse meshes (for tests)")
     s.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    s = sub.add_parser("study", help="built-in studies: `study stability` (issue 7)",
+                       description="run a built-in study and write report.md, a chart and a "
+                       "CSV table")
+    s.add_argument("name", choices=["stability"], help="which study")
+    s.add_argument("--out", default="results/stability", help="output folder")
+    s.add_argument("--quick", action="store_true", help="coarse meshes, fewer runs (for tests)")
     # cross-check against dolfinx (optional; slipstep.fenicsx imports dolfinx lazily)
     text = "solve a case with slipstep and with dolfinx (FEniCSx) and write a comparison report"
     s = sub.add_parser("crosscheck", help=text, description=text)
@@ -89,6 +96,9 @@ def main(argv=None) -> int:
         if args.command == "sweep":
             from .sweep import main as sweep_main
             return sweep_main(args)
+        if args.command == "study":
+            from .stability import main as stability_main
+            return stability_main(args)
         if args.command == "reproduce":
             from .reproduce import main as reproduce_main
             return reproduce_main(args)

@@ -198,6 +198,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     let mut max_drift: f64 = 0.0;
     let mut interrupted = false;
     let mut stop_reason = None;
+    let mut initial_stiffness: Option<f64> = None;
 
     loop {
         if steps.len() >= max_steps {
@@ -216,6 +217,23 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         let t0 = Instant::now();
         let trial = eng.trial(&state, &status, &rtd_stick, 1.0)?;
         eng.timings.solves += t0.elapsed().as_secs_f64();
+        // Limit load: with a plastic mechanism the tangent turns (nearly) singular and the trial
+        // displacement explodes while the factorization still succeeds. Stop when the current
+        // stiffness |R|²/(R·Δu) of the remaining load R falls below `limit_stiffness` of the
+        // first increment's (a collapse, not a solution to report as complete).
+        if !eng.reduced {
+            let remaining: Vec<f64> = model.load.iter().enumerate().map(|(d, v)| if eng.fixed[d] { 0.0 } else { v * (1.0 - state.load_fraction) }).collect();
+            let r2: f64 = remaining.iter().map(|v| v * v).sum();
+            let work: f64 = remaining.iter().zip(&trial.du).map(|(a, b)| a * b).sum();
+            if r2 > 0.0 && work > 0.0 {
+                let stiffness = r2 / work;
+                let first = *initial_stiffness.get_or_insert(stiffness);
+                if stiffness < opts.limit_stiffness * first {
+                    stop_reason = Some(format!("limit load reached at load fraction {:.6}: the current stiffness fell to {:.1e} of the initial one (a plastic mechanism); the results up to there are kept: lower the load, or add hardening (H > 0)", state.load_fraction, stiffness / first));
+                    break;
+                }
+            }
+        }
         let t1 = Instant::now();
 
         let (frozen_pairs, frozen_elements) = frozen.split_at(n_pairs);

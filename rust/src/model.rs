@@ -46,6 +46,9 @@ pub struct Options {
     /// Elastic runs keep only contact-DOF values between events (see `driver`); false forces
     /// the general path (for cross-checks).
     pub reduced_elastic: bool,
+    /// Stop at a limit load: when the current stiffness of the remaining load falls below this
+    /// fraction of the initial one (plastic collapse).
+    pub limit_stiffness: f64,
 }
 
 impl Options {
@@ -82,6 +85,7 @@ impl Default for Options {
             max_stress_step: 0.05,
             stop_at_first_yield: false,
             reduced_elastic: true,
+            limit_stiffness: 1e-4,
         }
     }
 }
