@@ -266,10 +266,7 @@ def fig05(path: Path, runs: dict) -> Path:
     """Von Mises maps at full load with the plastic zone outlined, mu = 0, 0.1, 0.35."""
     from matplotlib.collections import LineCollection
 
-    try:  # helper C's outline of an element set (figures.py), when present
-        from .figures import zone_boundary
-    except ImportError:
-        zone_boundary = _zone_boundary
+    from .figures import zone_boundary
     plt = _plt()
     fig, axes = plt.subplots(1, len(MUS), figsize=(5 * len(MUS), 4.6), constrained_layout=True)
     from .output import von_mises
@@ -304,17 +301,6 @@ def fig05(path: Path, runs: dict) -> Path:
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
-
-
-def _zone_boundary(triangles, inside):
-    sides = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
-    owner = np.tile(np.arange(len(triangles)), 3)
-    key = np.sort(sides, axis=1)
-    order = np.lexsort((key[:, 1], key[:, 0]))
-    key, owner = key[order], owner[order]
-    twin = np.flatnonzero((key[1:] == key[:-1]).all(axis=1))
-    differ = inside[owner[twin]] != inside[owner[twin + 1]]
-    return key[twin[differ]]
 
 
 def fig_interface(path: Path, elastic: dict, plastic: dict, key: str, ylabel: str,
