@@ -19,6 +19,8 @@ import re
 import signal
 from collections import Counter
 
+import copy
+
 import numpy as np
 import pytest
 
@@ -73,6 +75,8 @@ def run_bounded(model: dict) -> tuple[dict | None, str | None]:
     assert longest_zero_length_run(steps["scale"]) <= (MAX_ZERO_LENGTH_SWITCHES + 1) * entities
     if result["stop_reason"] is None:
         assert steps["load_fraction"][-1] == 1.0
+    elif result["stop_reason"].startswith("limit load reached"):
+        assert plastic, "only a plastic mechanism can make the tangent lose its stiffness"
     else:
         assert n_steps == max_steps and "max_events" in result["stop_reason"]
     for i, snap in enumerate(result["snapshots"]):
@@ -262,7 +266,9 @@ force = [-0.5, 0.0]
 def test_perfect_plasticity_cycles_are_frozen():
     """One square of two perfectly plastic CST (nu = 0.499) pressed far beyond yield on a
     frictional flat: yield/unload and stick/slip alternate at zero load increment until the
-    rule freezes the pair and both elements; then the run completes.  (Found by the fuzzer.)"""
+    rule freezes the pair and both elements; then the run completes.  (Found by the fuzzer.)
+    The load is beyond collapse, so by default the engine stops at the limit load; the
+    limit-load stop is switched off here to exercise the anti-cycling rule itself."""
     model = {
         "nodes": np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]),
         "triangles": np.array([[0, 1, 3], [0, 3, 2]], dtype=np.int64),
@@ -277,6 +283,9 @@ def test_perfect_plasticity_cycles_are_frozen():
                   "mu": np.full(2, 0.1)},
         "options": {"output": "events", "tie_tol": 1e-3, "drift_control": False},
     }
+    default, error = run_bounded(copy.deepcopy(model))
+    assert error is None and default["stop_reason"].startswith("limit load reached"), error
+    model["options"]["limit_stiffness"] = 0.0
     result, error = run_bounded(model)
     assert error is None, error
     kinds = Counter(result["events"]["kind"])

@@ -119,6 +119,9 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
         if let Some(v) = o.get_item("max_stress_step")? {
             options.max_stress_step = v.extract()?;
         }
+        if let Some(v) = o.get_item("limit_stiffness")? {
+            options.limit_stiffness = v.extract()?;
+        }
         if let Some(v) = o.get_item("reduced_elastic")? {
             options.reduced_elastic = v.extract()?;
         }

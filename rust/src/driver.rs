@@ -225,8 +225,10 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             let remaining: Vec<f64> = model.load.iter().enumerate().map(|(d, v)| if eng.fixed[d] { 0.0 } else { v * (1.0 - state.load_fraction) }).collect();
             let r2: f64 = remaining.iter().map(|v| v * v).sum();
             let work: f64 = remaining.iter().zip(&trial.du).map(|(a, b)| a * b).sum();
-            if r2 > 0.0 && work > 0.0 {
-                let stiffness = r2 / work;
+            if r2 > 0.0 {
+                // Non-positive work of the remaining load: the tangent has lost positive
+                // definiteness along the path (past the limit): zero stiffness.
+                let stiffness = if work > 0.0 { r2 / work } else { 0.0 };
                 let first = *initial_stiffness.get_or_insert(stiffness);
                 if stiffness < opts.limit_stiffness * first {
                     stop_reason = Some(format!("limit load reached at load fraction {:.6}: the current stiffness fell to {:.1e} of the initial one (a plastic mechanism); the results up to there are kept: lower the load, or add hardening (H > 0)", state.load_fraction, stiffness / first));
