@@ -578,7 +578,7 @@ def run(out: str | Path, quick: bool = False, progress=print) -> dict:
           "is fully plastic at the limit for every nu. Rows: p(all plastic) / p_lim - 1 in "
           "`error vs ref`.",
           "- Beyond the limit load slipstep stops at collapse: once the current stiffness of "
-          "the remaining load falls below 1e-4 of the initial one the run ends with a "
+          "the remaining load falls below 1e-3 of the initial one the run ends with a "
           "`limit load reached` reason at the load it carried (status `limit load`; the "
           "results up to there are kept), instead of running on along a nearly singular "
           "tangent. Where locking keeps the mesh stiff (CST at nu = 0.499) the stop comes "

@@ -62,7 +62,7 @@ impl Options {
             bail!("options.equilibrium_tol = {} is not allowed: give a finite tolerance > 0 (default 1e-9)", self.equilibrium_tol);
         }
         if !(self.limit_stiffness.is_finite() && (0.0..1.0).contains(&self.limit_stiffness)) {
-            bail!("options.limit_stiffness = {} is not allowed: give a fraction in [0, 1) of the initial stiffness (0 disables the limit-load stop; default 1e-4)", self.limit_stiffness);
+            bail!("options.limit_stiffness = {} is not allowed: give a fraction in [0, 1) of the initial stiffness (0 disables the limit-load stop; default 1e-3)", self.limit_stiffness);
         }
         if !(self.max_stress_step.is_finite() && self.max_stress_step > 0.0) {
             bail!("options.max_stress_step = {} is not allowed: give a finite fraction of Sy > 0 (default 0.05)", self.max_stress_step);
@@ -88,7 +88,7 @@ impl Default for Options {
             max_stress_step: 0.05,
             stop_at_first_yield: false,
             reduced_elastic: true,
-            limit_stiffness: 1e-4,
+            limit_stiffness: 1e-3,
         }
     }
 }
