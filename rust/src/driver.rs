@@ -856,17 +856,30 @@ impl<'m> Engine<'m> {
         bodies.dedup();
         for body in bodies {
             let idx: Vec<usize> = (0..nm).filter(|&k| self.modes[k].body == body).collect();
-            let mut g = DMatrix::<f64>::zeros(m.max(1), idx.len());
+            // Padded with zero rows so that the SVD returns the full right singular basis.
+            let mut g = DMatrix::<f64>::zeros(m.max(idx.len()), idx.len());
             for i in 0..m {
                 for (c, &k) in idx.iter().enumerate() {
                     g[(i, c)] = a[(i, m + k)];
                 }
             }
-            let sv = g.clone().singular_values();
-            let smax = sv.iter().fold(0.0f64, |x, v| x.max(*v));
-            let smin = sv.iter().fold(f64::INFINITY, |x, v| x.min(*v));
-            if m == 0 || sv.len() < idx.len() || smin <= 1e-9 * smax.max(1e-300) || smax == 0.0 {
-                let free: Vec<&str> = idx.iter().map(|&k| self.modes[k].description.as_str()).collect();
+            let svd = g.svd(false, true);
+            let smax = svd.singular_values.iter().fold(0.0f64, |x, v| x.max(*v));
+            let v_t = svd.v_t.as_ref().expect("requested");
+            // Each (near-)zero singular value is a motion that no closed pair resists.
+            let free: Vec<String> = (0..svd.singular_values.len())
+                .filter(|&j| smax == 0.0 || svd.singular_values[j] <= 1e-9 * smax)
+                .map(|j| {
+                    let mut w = [0.0; 3];
+                    for (c, &k) in idx.iter().enumerate() {
+                        for (wl, ml) in w.iter_mut().zip(self.modes[k].weights) {
+                            *wl += v_t[(j, c)] * ml;
+                        }
+                    }
+                    crate::rigid_modes::describe(w[0], w[1], w[2])
+                })
+                .collect();
+            if !free.is_empty() {
                 let closed = rows.iter().filter(|r| matches!(r, Row::Normal(_))).count();
                 bail!("body {body} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", free.join("; "));
             }

@@ -14,6 +14,8 @@ pub struct RigidMode {
     pub body: usize,
     pub vector: Vec<f64>,
     pub description: String,
+    /// Weights of (translation x, translation y, rotation) that make up this mode.
+    pub weights: [f64; 3],
 }
 
 /// Free rigid modes of every body, plus the pinned DOFs (one per mode).
@@ -84,14 +86,15 @@ pub fn free_modes(
             }
             let description = describe(coef[0], coef[1], coef[2]);
             body_vectors.push(v.clone());
-            modes.push(RigidMode { body, vector: v, description });
+            modes.push(RigidMode { body, vector: v, description, weights: [coef[0], coef[1], coef[2]] });
         }
         pinned.extend(pick_pinned_dofs(&members, &body_vectors));
     }
     (modes, pinned)
 }
 
-fn describe(tx: f64, ty: f64, rot: f64) -> String {
+/// Words for a rigid motion with weights (translation x, translation y, rotation).
+pub fn describe(tx: f64, ty: f64, rot: f64) -> String {
     let parts: Vec<&str> = [(tx, "translation in x"), (ty, "translation in y"), (rot, "rotation")]
         .iter()
         .filter(|(c, _)| c.abs() > 0.3)
