@@ -8,7 +8,9 @@ without the compiled engine, against numbers known in advance.
 
 from __future__ import annotations
 
+import contextlib
 import math
+import signal
 import sys
 from pathlib import Path
 
@@ -106,3 +108,22 @@ def synthetic_hertz_result(scene, final_fraction: float = 1.0, interrupted: bool
         "interrupted": interrupted,
         "timings": {"assembly": 0.0, "factorization": 0.0, "solves": 0.0, "events": 0.0},
     }
+
+
+class Hang(Exception):
+    """A test block ran past its time limit (see ``time_limit``)."""
+
+
+@contextlib.contextmanager
+def time_limit(seconds: float, what: str = "the run"):
+    """Raise ``Hang`` if the block runs longer than ``seconds`` (SIGALRM; the engine checks
+    Python signals every 0.1 s and stops with ``interrupted``)."""
+    def alarm(signum, frame):
+        raise Hang(f"{what} took more than {seconds} s")
+    old = signal.signal(signal.SIGALRM, alarm)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)

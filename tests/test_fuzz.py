@@ -23,12 +23,12 @@ import json
 import math
 import os
 import re
-import signal
 import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import time_limit
 
 hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, given, settings  # noqa: E402
@@ -58,23 +58,6 @@ def budget(n: int):
                                            HealthCheck.function_scoped_fixture])
 
 
-class Hang(Exception):
-    pass
-
-
-@contextlib.contextmanager
-def time_limit(seconds: float, what: str):
-    """Fail (``Hang``) if the block runs longer than ``seconds`` (SIGALRM; the engine checks
-    Python signals every 0.1 s and stops with ``interrupted``)."""
-    def alarm(signum, frame):
-        raise Hang(f"{what} took more than {seconds} s")
-    old = signal.signal(signal.SIGALRM, alarm)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
 
 
 def assert_one_line(exc: BaseException) -> None:

@@ -14,15 +14,14 @@ or raise a one-line ValueError naming a pair or an element.
 
 from __future__ import annotations
 
-import contextlib
+import copy
 import re
-import signal
 from collections import Counter
 
-import copy
 
 import numpy as np
 import pytest
+from conftest import time_limit
 
 from slipstep import _engine
 from slipstep.case import parse_case
@@ -32,17 +31,6 @@ MAX_ZERO_LENGTH_SWITCHES = 4  # Options::default() in rust/src/model.rs
 ZERO_SCALE = 1e-12            # driver.rs: scale factors at or below this are zero-length
 
 
-@contextlib.contextmanager
-def time_limit(seconds: float):
-    def alarm(signum, frame):
-        raise TimeoutError(f"the run took more than {seconds} s")
-    old = signal.signal(signal.SIGALRM, alarm)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
 
 
 def longest_zero_length_run(scale) -> int:

@@ -204,6 +204,16 @@ def _gmsh_session():
         gmsh.finalize()
 
 
+def _mesh_with_size_field(gmsh, size: int):
+    """Mesh the current gmsh model in 2D with the element size given by field ``size`` alone
+    (no size from points, boundaries or curvature); return its triangles and tagged edges."""
+    gmsh.model.mesh.field.setAsBackgroundMesh(size)
+    for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
+        gmsh.option.setNumber(f"Mesh.{opt}", 0)
+    gmsh.model.mesh.generate(2)
+    return _gmsh_triangles_and_edges(gmsh)
+
+
 def _gmsh_triangles_and_edges(gmsh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
     """Nodes (2D), triangles and the physical line / point groups of the current model."""
     tags, coords, _ = gmsh.model.mesh.getNodes()
@@ -282,11 +292,7 @@ def quarter_cylinder(R: float, h_contact: float, contact_zone: float, h_max: flo
         fields.setNumber(size, "SizeMax", h_max)
         fields.setNumber(size, "DistMin", contact_zone)
         fields.setNumber(size, "DistMax", contact_zone + (h_max - h_contact) / growth)
-        fields.setAsBackgroundMesh(size)
-        for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
-            gmsh.option.setNumber(f"Mesh.{opt}", 0)
-        gmsh.model.mesh.generate(2)
-        xyz, triangles, edges, node_sets = _gmsh_triangles_and_edges(gmsh)
+        xyz, triangles, edges, node_sets = _mesh_with_size_field(gmsh, size)
 
     nodes = xyz[:, :2].copy()
     return _finish(nodes, triangles, edges, node_sets, where="quarter_cylinder mesh",
@@ -326,11 +332,7 @@ def quarter_annulus(a: float, b: float, h: float, h_outer: float = 0.0) -> Mesh:
         size = fields.add("MathEval")
         slope = (h_outer - h) / (b - a)
         fields.setString(size, "F", f"{h!r} + {slope!r} * (sqrt(x*x + y*y) - {a!r})")
-        fields.setAsBackgroundMesh(size)
-        for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
-            gmsh.option.setNumber(f"Mesh.{opt}", 0)
-        gmsh.model.mesh.generate(2)
-        xyz, triangles, edges, node_sets = _gmsh_triangles_and_edges(gmsh)
+        xyz, triangles, edges, node_sets = _mesh_with_size_field(gmsh, size)
 
     nodes = xyz[:, :2].copy()
     # the geometry points on the axes are exact; snap round-off of the other axis nodes
