@@ -18,7 +18,6 @@ import copy
 import re
 from collections import Counter
 
-
 import numpy as np
 import pytest
 from conftest import time_limit
