@@ -106,6 +106,9 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
         if let Some(v) = o.get_item("tie_tol")? {
             options.tie_tol = v.extract()?;
         }
+        if let Some(v) = o.get_item("group_tol")? {
+            options.group_tol = v.extract()?;
+        }
         if let Some(v) = o.get_item("max_events")? {
             let n: i64 = v.extract()?;
             options.max_steps = usize::try_from(n).map_err(|_| PyValueError::new_err(format!("engine model: options.max_events = {n} is not allowed: give 0 (automatic bound) or a positive count")))?;
@@ -190,6 +193,9 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     t.set_item("factorization", r.timings.factorization)?;
     t.set_item("solves", r.timings.solves)?;
     t.set_item("events", r.timings.events)?;
+    t.set_item("flexibility", r.timings.flexibility)?;
+    t.set_item("dense", r.timings.dense)?;
+    t.set_item("solve_pair", r.timings.solve_pair)?;
     out.set_item("timings", t)?;
     Ok(out)
 }

@@ -65,6 +65,10 @@ def _non_negative(what: str) -> Callable[[Any], str | None]:
     return lambda v: None if v >= 0 else f"{what} must be >= 0"
 
 
+def _fraction_below_one(what: str) -> Callable[[Any], str | None]:
+    return lambda v: None if 0 <= v < 1 else f"{what} must lie in [0, 1) (0 = the exact event procedure)"
+
+
 def _check_nu(nu: float) -> str | None:
     if -1.0 < nu < 0.5:
         return None
@@ -119,6 +123,10 @@ OUTPUT_KEYS = {
 SOLVER_KEYS = {
     "tie_tol": Key("float", 1e-9, doc="relative tie tolerance: events with S <= S_min(1+tie_tol) "
                                       "are applied together", check=_non_negative("tie_tol")),
+    "group_tol": Key("float", 0.0, doc="event grouping, the speed-accuracy knob (0 = exact): "
+                                       "friction and plasticity events predicted at load "
+                                       "fractions <= phi_min(1+group_tol) are taken together, "
+                                       "early, at phi_min; < 1", check=_fraction_below_one("group_tol")),
     "max_events": Key("int", 0, doc="stop after this many events (0 = automatic bound)",
                       check=_non_negative("max_events")),
     "equilibrium_tol": Key("float", 1e-9, doc="relative equilibrium residual that is accepted",

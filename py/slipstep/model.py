@@ -455,7 +455,8 @@ def solver_options(case: Case) -> dict:
     """The engine's ``options``: snapshots at every event or at given load fractions."""
     snaps = case.data["output"]["snapshots"]
     solver = case.data["solver"]
-    options = {"tie_tol": float(solver["tie_tol"]), "max_events": int(solver["max_events"]),
+    options = {"tie_tol": float(solver["tie_tol"]), "group_tol": float(solver["group_tol"]),
+               "max_events": int(solver["max_events"]),
                "equilibrium_tol": float(solver["equilibrium_tol"]),
                "drift_control": bool(solver["drift_control"]),
                "max_stress_step": float(solver["max_stress_step"]),

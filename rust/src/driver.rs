@@ -25,6 +25,14 @@
 //! one increment (symmetric meshes, flat punches). At zero scale only the most urgent class is
 //! applied per increment (`zero_length_priority`).
 //!
+//! Event grouping, the speed–accuracy knob δ = `group_tol` (0, the paper's procedure, is the
+//! default): the state advances to the first event, at load fraction φ_min, and the friction
+//! and plasticity events predicted at φ ≤ φ_min (1 + δ) switch with it (`may_be_taken_early`).
+//! The window is relative to the load, not to the scale S of the remaining load: late in a run
+//! S_min (1 + δ) would be a vanishing window. δ bounds how early an event is taken; an element
+//! that yields early flows from just inside its yield surface (the drift control returns it),
+//! a pair that slips early keeps its tangential force until the load brings it to the cone.
+//!
 //! Plasticity. Each element carries its tangent D or D_ep (eq. 11) built from the stress at
 //! the start of the increment; the trial gives every element's stress and plastic-strain
 //! increments, from which the yield scale S_p (eqs. 12–16) and plastic unloading (at S = 0)
@@ -70,6 +78,15 @@ fn zero_length_priority(kind: EventKind) -> u8 {
         EventKind::Close | EventKind::Yield => 1,
         EventKind::SlipToStick | EventKind::Unload | EventKind::Frozen | EventKind::FrozenElement => 2,
     }
+}
+
+/// Event grouping (`Options::group_tol`) may take these early: they change no contact
+/// force at the switch. A pair closed early is held at its small remaining gap (pulling it onto
+/// the target would be a tensile force), a pair that slips early keeps its tangential force, a
+/// yield changes the tangent only. Separating early would drop a compressive force: separations
+/// are taken exactly.
+fn may_be_taken_early(kind: EventKind) -> bool {
+    matches!(kind, EventKind::Close | EventKind::StickToSlip | EventKind::SlipToStick | EventKind::Yield | EventKind::Unload)
 }
 
 /// The evolving state: accumulated displacement, stresses and contact forces (eqs. 59–62).
@@ -118,22 +135,24 @@ struct Engine<'m> {
     pattern: StiffnessPattern,
     fixed: Vec<bool>,
     solver: SpdSolver,
-    /// K# w_n and K# w_t per pair, computed when first needed (valid for the current factor).
-    /// (Stored only at the contact DOFs: that is all the small system needs, and memory stays
-    /// O(pairs²) instead of O(pairs × DOFs).)
-    zn: Vec<Option<Vec<f64>>>,
-    zt: Vec<Option<Vec<f64>>>,
+    /// Flexibility of the contact DOFs: K# restricted to them (t × t over the contact DOFs that
+    /// are equations, indexed by `contact_slot`), read from the trailing block of the factor
+    /// (`SpdSolver::trailing_inverse`) after every factorization. Every Cᵀ K# E entry of the
+    /// small system comes from it: no triangular solve per contact pair.
+    flexibility: faer::Mat<f64>,
+    /// Slot in `flexibility` of each global DOF (usize::MAX: not a contact DOF, or fixed/pinned,
+    /// where K# is zero).
+    contact_slot: Vec<usize>,
+    /// Global DOF of each slot.
+    slot_dofs: Vec<usize>,
     /// Reduced elastic mode: no plastic material, so the state is fully described by the load
     /// fraction, the multipliers and the rigid amplitudes, u = φ K#P + K#(W λ) + N α, and an
-    /// event needs only contact-DOF values: no triangular solve per event, only one per newly
-    /// closed pair (its K#w column) and one per requested snapshot.
+    /// event needs only contact-DOF values: no triangular solve per event, one per requested
+    /// snapshot.
     reduced: bool,
     max_snapshot_residual: f64,
     /// K#P (full load), for the reduced mode.
     u_load: Vec<f64>,
-    /// Position of each global DOF among the contact DOFs (usize::MAX if none).
-    contact_position: Vec<usize>,
-    n_contact_dofs: usize,
     load_norm: f64,
     /// Σ|load|: the scale of forces, for tolerances.
     force_scale: f64,
@@ -169,6 +188,8 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         .collect();
     let mut plastic = vec![false; n_el];
     let mut rtd_stick = vec![0.0; n_pairs];
+    // Gap a pair closed at (nonzero only when grouping closed it early: it is held there).
+    let mut closed_gap = vec![0.0; n_pairs];
     let mut closure_fraction: Vec<f64> =
         status.iter().map(|s| if s.is_closed() { 0.0 } else { f64::NAN }).collect();
     let mut predicted_closure = vec![f64::INFINITY; n_pairs];
@@ -214,9 +235,11 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         if eng.tangents_changed {
             eng.factor()?;
         }
-        let t0 = Instant::now();
-        let trial = eng.trial(&state, &status, &rtd_stick, 1.0)?;
-        eng.timings.solves += t0.elapsed().as_secs_f64();
+        let (t0, dense0) = (Instant::now(), eng.timings.dense);
+        let trial = eng.trial(&state, &status, &rtd_stick, &closed_gap, 1.0)?;
+        // The small dense system is event bookkeeping, not a triangular solve.
+        eng.timings.solves += t0.elapsed().as_secs_f64() - (eng.timings.dense - dense0);
+        eng.timings.events += eng.timings.dense - dense0;
         // Limit load: with a plastic mechanism the tangent turns (nearly) singular and the trial
         // displacement explodes while the factorization still succeeds. Stop when the current
         // stiffness |R|²/(R·Δu) of the remaining load R falls below `limit_stiffness` of the
@@ -247,11 +270,6 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         let elements = events::ElementState { material: &eng.material, stress: &state.stress, plastic_strain: &state.plastic_strain, plastic: &plastic, frozen: frozen_elements };
         cands.extend(events::element_candidates(&elements, &trial.dstress, &trial.dplastic));
         let drift_scale = if opts.drift_control { events::drift_bound(&elements, &trial.dstress, opts.max_stress_step) } else { f64::INFINITY };
-        if eng.reduced {
-            let t = Instant::now();
-            eng.prefetch_closing_columns(&cands);
-            eng.timings.solves += t.elapsed().as_secs_f64();
-        }
         let s_min = cands.iter().map(|c| c.scale).fold(f64::INFINITY, f64::min);
         let scale = s_min.min(drift_scale).min(1.0);
         let last = s_min >= 1.0 && drift_scale >= 1.0;
@@ -265,7 +283,10 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             }
         }
         let tie_limit = s_min * (1.0 + opts.tie_tol) + 1e-14;
-        let mut group: Vec<Candidate> = if scale < s_min || last { vec![] } else { cands.iter().copied().filter(|c| c.scale <= tie_limit).collect() };
+        // Grouping (δ = group_tol): friction and plasticity events up to φ_min (1 + δ) come along.
+        let group_phi = (phi0 + s_min * remaining) * (1.0 + opts.group_tol);
+        let early = |c: &Candidate| opts.group_tol > 0.0 && s_min > ZERO_SCALE && may_be_taken_early(c.kind) && c.scale <= 1.0 && phi0 + c.scale * remaining <= group_phi;
+        let mut group: Vec<Candidate> = if scale < s_min || last { vec![] } else { cands.iter().copied().filter(|c| c.scale <= tie_limit || early(c)).collect() };
         if s_min <= ZERO_SCALE {
             // Zero-length events come from a trial that is itself inadmissible; apply first
             // the ones that release a violated constraint, and only then those that add one.
@@ -291,7 +312,12 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         state.load_fraction = phi1;
         for (p, st) in status.iter().enumerate() {
             if let Status::Slip { .. } = st {
-                state.lambda_t[p] = eng.pairs[p].slip_ratio(*st) * state.lambda_n[p];
+                // On the cone (round-off removed); a pair that grouping let slip early slips
+                // from below it and is only kept from crossing it.
+                let cone = eng.pairs[p].slip_ratio(*st) * state.lambda_n[p];
+                if opts.group_tol == 0.0 || state.lambda_t[p].abs() > cone.abs() {
+                    state.lambda_t[p] = cone;
+                }
             }
         }
         let drift = eng.drift(&state, &plastic);
@@ -303,7 +329,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         let mut correction_size = (0.0, 0.0);
         if opts.drift_control && drift > 0.0 {
             eng.return_to_yield_surface(&mut state, &plastic);
-            let correction = eng.trial(&state, &status, &rtd_stick, phi1)?;
+            let correction = eng.trial(&state, &status, &rtd_stick, &closed_gap, phi1)?;
             let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
             correction_size = (largest(&correction.du), largest(&correction.dlambda_n).max(largest(&correction.dlambda_t)));
             state = eng.advance(&state, &correction, 1.0, &plastic);
@@ -344,17 +370,24 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             match c.kind {
                 EventKind::Close => {
                     status[p] = eng.pairs[p].closed_status();
+                    // Closed early by grouping: held at its small remaining gap, never pulled
+                    // onto the target (that would be an adhesive, tensile force).
+                    closed_gap[p] = if c.scale <= tie_limit { 0.0 } else { eng.pairs[p].gap(&state.u).max(0.0) };
                     rtd_stick[p] = eng.pairs[p].rtd(&state.u);
                     closure_fraction[p] = phi1;
                 }
                 EventKind::Separate => {
                     status[p] = Status::Open;
+                    closed_gap[p] = 0.0;
                     state.lambda_n[p] = 0.0;
                     state.lambda_t[p] = 0.0;
                 }
                 EventKind::StickToSlip => {
                     status[p] = Status::Slip { direction: c.direction };
-                    state.lambda_t[p] = eng.pairs[p].slip_ratio(status[p]) * state.lambda_n[p];
+                    // On time the pair is on the cone; taken early it keeps its tangential force.
+                    if c.scale <= tie_limit {
+                        state.lambda_t[p] = eng.pairs[p].slip_ratio(status[p]) * state.lambda_n[p];
+                    }
                 }
                 EventKind::SlipToStick => {
                     status[p] = Status::Stick;
@@ -498,19 +531,20 @@ impl<'m> Engine<'m> {
         let map = DofMap::new(n_dofs, &fixed, &pinned);
         let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(mesh, e)).collect();
         let pattern = StiffnessPattern::new(&elements, &map)?;
-        let mut contact_position = vec![usize::MAX; n_dofs];
-        let mut n_contact_dofs = 0;
+        // The contact DOFs that are equations go last in the factor (their flexibility block).
+        let mut contact_slot = vec![usize::MAX; n_dofs];
+        let (mut trailing, mut slot_dofs) = (Vec::new(), Vec::new());
         for pair in &pairs {
             for &(d, _) in pair.w_n.entries.iter().chain(&pair.w_t.entries) {
-                if contact_position[d] == usize::MAX {
-                    contact_position[d] = n_contact_dofs;
-                    n_contact_dofs += 1;
+                if let (usize::MAX, Some(eq)) = (contact_slot[d], map.equation(d)) {
+                    contact_slot[d] = trailing.len();
+                    trailing.push(eq);
+                    slot_dofs.push(d);
                 }
             }
         }
         let material: Vec<Material> = model.element_material.iter().map(|&m| model.materials[m]).collect();
         let tangents = material.iter().map(|m| m.tangent(&Vector4::zeros(), false)).collect();
-        let n_pairs = pairs.len();
         let load_total: f64 = model.load.iter().map(|v| v.abs()).sum::<f64>().max(f64::MIN_POSITIVE);
         Ok(Engine {
             model,
@@ -523,11 +557,10 @@ impl<'m> Engine<'m> {
             map,
             pattern,
             fixed,
-            solver: SpdSolver::new(),
-            zn: vec![None; n_pairs],
-            zt: vec![None; n_pairs],
-            contact_position,
-            n_contact_dofs,
+            solver: SpdSolver::new(trailing),
+            flexibility: faer::Mat::zeros(0, 0),
+            contact_slot,
+            slot_dofs,
             reduced: model.options.reduced_elastic && !model.materials.iter().any(|m| m.is_plastic()),
             u_load: vec![],
             max_snapshot_residual: 0.0,
@@ -549,11 +582,26 @@ impl<'m> Engine<'m> {
         let dof_of_eq: Vec<usize> = (0..self.map.role.len()).filter(|&d| self.map.equation(d).is_some()).collect();
         self.solver.factor(&k, &dof_of_eq)?;
         self.timings.factorization += t1.elapsed().as_secs_f64();
-        self.zn.iter_mut().for_each(|z| *z = None);
-        self.zt.iter_mut().for_each(|z| *z = None);
+        let t2 = Instant::now();
+        self.flexibility = self.solver.trailing_inverse();
+        self.timings.flexibility += t2.elapsed().as_secs_f64();
         if self.reduced {
             let load: Vec<f64> = self.model.load.iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { *v }).collect();
+            let t3 = Instant::now();
             self.u_load = self.apply_ginv(std::slice::from_ref(&load)).pop().unwrap();
+            self.timings.solves += t3.elapsed().as_secs_f64();
+        }
+        if self.timings.solve_pair == 0.0 {
+            // The best of three (one measurement is at the mercy of the machine's load).
+            let mut best = f64::INFINITY;
+            for _ in 0..3 {
+                let mut b = vec![1.0; self.map.n_equations];
+                let t4 = Instant::now();
+                self.solver.solve_in_place(&mut b, 1);
+                best = best.min(t4.elapsed().as_secs_f64());
+                self.solver.n_solves -= 1;
+            }
+            self.timings.solve_pair = best;
         }
         Ok(())
     }
@@ -585,63 +633,27 @@ impl<'m> Engine<'m> {
             .collect()
     }
 
-    /// Make sure K# w_n / K# w_t are cached for the given (pair, tangential) columns, solving
-    /// all missing ones in one blocked solve.
-    fn cache_ginv(&mut self, wanted: &[(usize, bool)]) {
-        let missing: Vec<(usize, bool)> = wanted
-            .iter()
-            .copied()
-            .filter(|&(p, t)| if t { self.zt[p].is_none() } else { self.zn[p].is_none() })
-            .collect();
-        let ys: Vec<Vec<f64>> = missing
-            .iter()
-            .map(|&(p, t)| {
-                let mut y = vec![0.0; self.map.role.len()];
-                let w = if t { &self.pairs[p].w_t } else { &self.pairs[p].w_n };
-                w.add_to(1.0, &mut y);
-                y
-            })
-            .collect();
-        for ((p, t), z) in missing.into_iter().zip(self.apply_ginv(&ys)) {
-            let mut at_contact = vec![0.0; self.n_contact_dofs];
-            for (d, &pos) in self.contact_position.iter().enumerate() {
-                if pos != usize::MAX {
-                    at_contact[pos] = z[d];
-                }
+    /// K# y at the contact slots for a force y = Σ v e_d on contact DOFs (a column of the
+    /// flexibility matrix per entry).
+    fn flexibility_times(&self, y: &[(usize, f64)]) -> Vec<f64> {
+        let mut out = vec![0.0; self.flexibility.nrows()];
+        for &(d, v) in y {
+            let slot = self.contact_slot[d];
+            if slot == usize::MAX || v == 0.0 {
+                continue;
             }
-            if t { self.zt[p] = Some(at_contact) } else { self.zn[p] = Some(at_contact) }
+            let col = self.flexibility.col(slot);
+            out.iter_mut().zip(col.iter()).for_each(|(o, g)| *o += v * g);
         }
+        out
     }
 
-    /// Reduced mode: the K#w columns of the pairs that the trial predicts to close next are
-    /// computed together, a block of `PREFETCH` in one blocked substitution (measured ~3× cheaper
-    /// per column than one at a time at 200k DOFs), instead of one solve per closing event.
-    fn prefetch_closing_columns(&mut self, cands: &[Candidate]) {
-        const PREFETCH: usize = 16;
-        let next_missing = cands
-            .iter()
-            .filter(|c| c.kind == EventKind::Close && c.scale <= 1.0 && self.zn[c.entity].is_none())
-            .min_by(|a, b| a.scale.total_cmp(&b.scale));
-        if next_missing.is_none() {
-            return;
-        }
-        let mut closing: Vec<&Candidate> = cands.iter().filter(|c| c.kind == EventKind::Close && c.scale <= 1.0).collect();
-        closing.sort_by(|a, b| a.scale.total_cmp(&b.scale));
-        let wanted: Vec<(usize, bool)> = closing
-            .iter()
-            .take(PREFETCH)
-            .flat_map(|c| {
-                let p = c.entity;
-                std::iter::once((p, false)).chain(self.pairs[p].frictional().then_some((p, true)))
-            })
-            .collect();
-        self.cache_ginv(&wanted);
-    }
-
-    /// cᵀ K# w for a constraint vector c and a cached column (p, tangential).
-    fn dot_z(&self, c: &crate::contact::SparseVec, p: usize, tangential: bool) -> f64 {
-        let z = if tangential { self.zt[p].as_ref().unwrap() } else { self.zn[p].as_ref().unwrap() };
-        c.entries.iter().map(|&(d, v)| v * z[self.contact_position[d]]).sum()
+    /// cᵀ x for a constraint vector c and x given at the contact slots.
+    fn dot_slots(&self, c: &crate::contact::SparseVec, x: &[f64]) -> f64 {
+        c.entries.iter().map(|&(d, v)| match self.contact_slot[d] {
+            usize::MAX => 0.0,
+            slot => v * x[slot],
+        }).sum()
     }
 
     /// Internal nodal forces Σ t A Bᵀ σ (eq. 42).
@@ -687,7 +699,7 @@ impl<'m> Engine<'m> {
 
     /// The trial increment that takes the state to load fraction `target` (eq. 44 in residual
     /// form): 1 for the remaining load; the current fraction for an equilibrium correction.
-    fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64], target: f64) -> Result<TrialIncrement> {
+    fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64], closed_gap: &[f64], target: f64) -> Result<TrialIncrement> {
         let (r, z0) = if self.reduced {
             // Elastic and in equilibrium: the out-of-balance force is (target − φ) P exactly.
             let c = target - state.load_fraction;
@@ -708,65 +720,49 @@ impl<'m> Engine<'m> {
             }
             let pair = &self.pairs[p];
             rows.push(Row::Normal(p));
-            h.push(-pair.gap(&state.u));
+            h.push(closed_gap[p] - pair.gap(&state.u));
             if *st == Status::Stick && pair.frictional() {
                 rows.push(Row::Tangent(p));
                 h.push(rtd_stick[p] - pair.rtd(&state.u));
             }
         }
-        let mut wanted = Vec::new();
-        for row in &rows {
-            match *row {
-                Row::Normal(p) => {
-                    wanted.push((p, false));
-                    if self.pairs[p].slip_ratio(status[p]) != 0.0 {
-                        wanted.push((p, true));
-                    }
-                }
-                Row::Tangent(p) => wanted.push((p, true)),
-            }
-        }
-        self.cache_ginv(&wanted);
         let m = rows.len();
         let nm = self.modes.len();
         let size = m + nm;
-        // Column j: force direction e_j; z_j = K# e_j is a combination of cached K# w vectors.
-        let columns: Vec<Vec<(f64, usize, bool)>> = rows
+        // Column j: force direction e_j (w_n − dμ w_t for a slipping pair, eq. 41) and K# e_j
+        // at the contact DOFs, from the flexibility matrix.
+        let columns: Vec<Vec<(usize, f64)>> = rows
             .iter()
             .map(|row| match *row {
                 Row::Normal(p) => {
-                    let tau = self.pairs[p].slip_ratio(status[p]);
-                    if tau != 0.0 { vec![(1.0, p, false), (tau, p, true)] } else { vec![(1.0, p, false)] }
+                    let pair = &self.pairs[p];
+                    let tau = pair.slip_ratio(status[p]);
+                    let mut e = pair.w_n.entries.clone();
+                    if tau != 0.0 {
+                        e.extend(pair.w_t.entries.iter().map(|&(d, v)| (d, tau * v)));
+                    }
+                    e
                 }
-                Row::Tangent(p) => vec![(1.0, p, true)],
+                Row::Tangent(p) => self.pairs[p].w_t.entries.clone(),
             })
             .collect();
-        let cvecs: Vec<_> = rows
+        let flex_columns: Vec<Vec<f64>> = columns.iter().map(|e| self.flexibility_times(e)).collect();
+        let cvecs: Vec<&crate::contact::SparseVec> = rows
             .iter()
             .map(|row| match *row {
-                Row::Normal(p) => self.pairs[p].w_n.clone(),
-                Row::Tangent(p) => self.pairs[p].w_t.clone(),
+                Row::Normal(p) => &self.pairs[p].w_n,
+                Row::Tangent(p) => &self.pairs[p].w_t,
             })
             .collect();
         let mut a = DMatrix::<f64>::zeros(size, size);
         let mut rhs = DVector::<f64>::zeros(size);
         for j in 0..m {
             for i in 0..m {
-                a[(i, j)] = columns[j].iter().map(|&(c, p, t)| c * self.dot_z(&cvecs[i], p, t)).sum();
+                a[(i, j)] = self.dot_slots(cvecs[i], &flex_columns[j]);
             }
             // Nᵀ e_j
-            let (p, tangential) = match rows[j] {
-                Row::Normal(p) => (p, false),
-                Row::Tangent(p) => (p, true),
-            };
-            let pair = &self.pairs[p];
             for (k, mode) in self.modes.iter().enumerate() {
-                let v = if tangential {
-                    pair.w_t.dot(&mode.vector)
-                } else {
-                    pair.w_n.dot(&mode.vector) + pair.slip_ratio(status[p]) * pair.w_t.dot(&mode.vector)
-                };
-                a[(m + k, j)] = v;
+                a[(m + k, j)] = columns[j].iter().map(|&(d, v)| v * mode.vector[d]).sum();
             }
         }
         for (k, mode) in self.modes.iter().enumerate() {
@@ -779,28 +775,19 @@ impl<'m> Engine<'m> {
             rhs[i] = h[i] - cvecs[i].dot(&z0);
         }
         self.check_restrained(&a, m, &rows)?;
-        let sol = if size == 0 {
-            DVector::zeros(0)
-        } else {
-            let lu = a.clone().full_piv_lu();
-            match lu.solve(&rhs) {
-                Some(x) if x.iter().all(|v| v.is_finite()) => x,
-                _ => {
-                    let closed: Vec<String> = rows.iter().filter_map(|r| if let Row::Normal(p) = r { Some(p.to_string()) } else { None }).collect();
-                    bail!("the contact system is singular at load fraction {:.6}: the closed pairs [{}] are redundant (two pairs on one node along the same direction?) — remove duplicate pairs", state.load_fraction, closed.join(", "));
-                }
+        let t_dense = Instant::now();
+        let sol = match solve_dense(&a, &rhs) {
+            Some(x) => x,
+            None => {
+                let closed: Vec<String> = rows.iter().filter_map(|r| if let Row::Normal(p) = r { Some(p.to_string()) } else { None }).collect();
+                bail!("the contact system is singular at load fraction {:.6}: the closed pairs [{}] are redundant (two pairs on one node along the same direction?) — remove duplicate pairs", state.load_fraction, closed.join(", "));
             }
         };
+        self.timings.dense += t_dense.elapsed().as_secs_f64();
 
-        // Δu = z0 + K#(E Δλ) + N α: one more solve instead of O(active × DOFs) combinations.
-        let mut force = vec![0.0; self.map.role.len()];
         let mut dlambda_n = vec![0.0; self.pairs.len()];
         let mut dlambda_t = vec![0.0; self.pairs.len()];
         for j in 0..m {
-            for &(c, p, t) in &columns[j] {
-                let w = if t { &self.pairs[p].w_t } else { &self.pairs[p].w_n };
-                w.add_to(c * sol[j], &mut force);
-            }
             match rows[j] {
                 Row::Normal(p) => {
                     dlambda_n[p] = sol[j];
@@ -809,23 +796,23 @@ impl<'m> Engine<'m> {
                 Row::Tangent(p) => dlambda_t[p] = sol[j],
             }
         }
+        // Δu = z0 + K#(E Δλ) + N α.
         let mut du = z0;
         if self.reduced {
-            // Only the contact DOFs are needed (gaps, slips): combine the cached columns there.
-            for (d, &pos) in self.contact_position.iter().enumerate() {
-                if pos == usize::MAX {
-                    continue;
-                }
-                let mut v = du[d];
-                for j in 0..m {
-                    for &(c, p, t) in &columns[j] {
-                        let z = if t { self.zt[p].as_ref().unwrap() } else { self.zn[p].as_ref().unwrap() };
-                        v += c * sol[j] * z[pos];
-                    }
-                }
-                du[d] = v;
+            // Only the contact DOFs are needed (gaps, slips): Σ_j Δλ_j K# e_j there.
+            let mut at_slots = vec![0.0; self.slot_dofs.len()];
+            for j in 0..m {
+                at_slots.iter_mut().zip(&flex_columns[j]).for_each(|(x, g)| *x += sol[j] * g);
+            }
+            for (slot, &d) in self.slot_dofs.iter().enumerate() {
+                du[d] += at_slots[slot];
             }
         } else if m > 0 {
+            // One more solve instead of O(active × DOFs) combinations.
+            let mut force = vec![0.0; self.map.role.len()];
+            for j in 0..m {
+                columns[j].iter().for_each(|&(d, v)| force[d] += sol[j] * v);
+            }
             let from_contact = self.apply_ginv(std::slice::from_ref(&force)).pop().unwrap();
             du.iter_mut().zip(&from_contact).for_each(|(d, v)| *d += v);
         }
@@ -933,6 +920,12 @@ impl<'m> Engine<'m> {
             let sy = self.material[e].current_yield(state.plastic_strain[e]);
             let s = state.stress[e];
             let factor = sy / von_mises(&s);
+            if factor > 1.0 && self.model.options.group_tol > 0.0 {
+                // Yielded early by grouping and still inside the surface: flowing from there
+                // is the O(δ) error grouping accepts; lifting it onto the surface would add
+                // stress that no load put there.
+                continue;
+            }
             state.stress[e] = match self.model.plane {
                 Plane::Stress => s * factor,
                 Plane::Strain => {
@@ -1033,4 +1026,26 @@ impl<'m> Engine<'m> {
         }
         Ok(full)
     }
+}
+
+/// Solve the small dense system by LU with partial pivoting (faer's blocked kernel); None when
+/// it is singular to working precision (a pivot below 1e-13 of the largest).
+fn solve_dense(a: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>> {
+    let n = rhs.len();
+    if n == 0 {
+        return Some(DVector::zeros(0));
+    }
+    let mat = faer::MatRef::from_column_major_slice(a.as_slice(), n, n);
+    let lu = faer::linalg::solvers::PartialPivLu::new(mat);
+    let u = lu.U();
+    let pivots: Vec<f64> = (0..n).map(|i| u[(i, i)].abs()).collect();
+    let largest = pivots.iter().fold(0.0f64, |m, v| m.max(*v));
+    if !(largest > 0.0) || pivots.iter().any(|&p| p <= 1e-13 * largest) {
+        return None;
+    }
+    let mut x = faer::Mat::<f64>::from_fn(n, 1, |i, _| rhs[i]);
+    use faer::linalg::solvers::SolveCore;
+    lu.solve_in_place_with_conj(faer::Conj::No, x.as_mut());
+    let x = DVector::from_fn(n, |i, _| x[(i, 0)]);
+    x.iter().all(|v| v.is_finite()).then_some(x)
 }

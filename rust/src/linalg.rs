@@ -10,10 +10,17 @@
 use crate::bail;
 use crate::element::Cst;
 use crate::error::Result;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::perm::PermRef;
+use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering};
+use faer::linalg::cholesky::llt::factor::LltError;
+use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
-use faer::{MatMut, Side};
-use faer::linalg::solvers::Solve;
+use faer::{Accum, Conj, Mat, MatMut, Par, Side};
 use nalgebra::Matrix3;
 
 /// Where a global DOF goes in the reduced system.
@@ -107,45 +114,84 @@ impl StiffnessPattern {
 }
 
 /// Cholesky factor of K_reg with the symbolic analysis kept for refactorization.
+///
+/// The fill-reducing ordering (AMD) is modified to put a chosen set of *trailing* equations
+/// (the contact DOFs) last. With L Lᵀ = P K Pᵀ and the trailing equations in the last t
+/// positions, the forward substitution of a unit load at a trailing DOF only touches the last
+/// t rows, and the trailing rows of the backward substitution only the last t columns: the
+/// flexibility of the trailing DOFs (K⁻¹ restricted to them, the Delassus operator of the
+/// contact problem) is G = T⁻ᵀ T⁻¹ with T the trailing t × t block of L. One dense inversion
+/// then replaces one full solve per contact pair.
 pub struct SpdSolver {
-    symbolic: Option<SymbolicLlt<usize>>,
-    factor: Option<Llt<usize, f64>>,
+    symbolic: Option<SymbolicCholesky<usize>>,
+    values: Vec<f64>,
+    /// Equations ordered last, in the caller's order.
+    trailing: Vec<usize>,
     pub n_factorizations: usize,
     pub n_solves: usize,
 }
 
 impl SpdSolver {
-    pub fn new() -> Self {
-        SpdSolver { symbolic: None, factor: None, n_factorizations: 0, n_solves: 0 }
+    pub fn new(trailing: Vec<usize>) -> Self {
+        SpdSolver { symbolic: None, values: vec![], trailing, n_factorizations: 0, n_solves: 0 }
+    }
+
+    /// AMD on the whole pattern, then the trailing equations moved to the end (stable).
+    fn ordering(&self, lower: &SparseColMat<usize, f64>) -> Result<(Vec<usize>, Vec<usize>)> {
+        let n = lower.nrows();
+        let (mut fwd, mut inv) = (vec![0usize; n], vec![0usize; n]);
+        let nnz = lower.compute_nnz();
+        let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n, nnz))
+            .map_err(|_| crate::error::Error("out of memory for the AMD ordering".into()))?;
+        amd::order_maybe_unsorted(&mut fwd, &mut inv, lower.symbolic(), amd::Control::default(), MemStack::new(&mut mem))
+            .map_err(|e| crate::error::Error(format!("the AMD ordering failed: {e:?}")))?;
+        let mut is_trailing = vec![false; n];
+        for &e in &self.trailing {
+            is_trailing[e] = true;
+        }
+        // fwd[new] = old
+        let mut order: Vec<usize> = fwd.iter().copied().filter(|&e| !is_trailing[e]).collect();
+        order.extend_from_slice(&self.trailing);
+        for (new, &old) in order.iter().enumerate() {
+            inv[old] = new;
+        }
+        Ok((order, inv))
     }
 
     /// Factor `lower` (lower triangle of an SPD matrix). A non-positive pivot means a
     /// mechanism: the message names the global DOF through `dof_of_equation`.
     pub fn factor(&mut self, lower: &SparseColMat<usize, f64>, dof_of_equation: &[usize]) -> Result<()> {
         if self.symbolic.is_none() {
-            let sym = SymbolicLlt::try_new(lower.symbolic(), Side::Lower)
+            let (fwd, inv) = self.ordering(lower)?;
+            let perm = PermRef::new_checked(&fwd, &inv, fwd.len());
+            // Supernodal always: the trailing block is read from the supernodes.
+            let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() };
+            let sym = factorize_symbolic_cholesky(lower.symbolic(), Side::Lower, SymmetricOrdering::Custom(perm), params)
                 .map_err(|e| crate::error::Error(format!("symbolic factorization failed: {e:?}")))?;
+            self.values = vec![0.0; sym.len_val()];
             self.symbolic = Some(sym);
         }
-        let sym = self.symbolic.clone().unwrap();
-        match Llt::try_new_with_symbolic(sym, lower.as_ref(), Side::Lower) {
-            Ok(f) => {
-                self.factor = Some(f);
+        let sym = self.symbolic.as_ref().unwrap();
+        let par = Par::Seq;
+        let mut mem = MemBuffer::try_new(sym.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
+            .map_err(|_| crate::error::Error("out of memory for the Cholesky factorization".into()))?;
+        let result = sym.factorize_numeric_llt(&mut self.values, lower.as_ref(), Side::Lower, Default::default(), par, MemStack::new(&mut mem), Default::default());
+        match result {
+            Ok(_) => {
                 self.n_factorizations += 1;
                 Ok(())
             }
-            Err(faer::sparse::linalg::LltError::Numeric(
-                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index },
-            )) => {
-                // The pivot index is in the fill-reducing ordering; name a DOF of the
-                // original numbering only when it is in range, else stay generic.
-                let hint = dof_of_equation
-                    .get(index)
+            Err(LltError::NonPositivePivot { index }) => {
+                // The pivot index is in the fill-reducing ordering: map it back.
+                let hint = sym
+                    .perm()
+                    .map(|p| p.arrays().0[index])
+                    .and_then(|eq| dof_of_equation.get(eq))
                     .map(|&d| format!(" near node {} ({})", d / 2, if d % 2 == 0 { "x" } else { "y" }))
                     .unwrap_or_default();
                 bail!("the stiffness matrix is singular{hint}: the model has a mechanism (a part held by nothing, or elements joined at a single node); add supports or check the mesh connectivity")
             }
-            Err(e) => bail!("the Cholesky factorization failed: {e:?}"),
+
         }
     }
 
@@ -153,9 +199,49 @@ impl SpdSolver {
     /// (one blocked forward/backward substitution for all of them).
     pub fn solve_in_place(&mut self, b: &mut [f64], columns: usize) {
         let n = b.len() / columns.max(1);
-        let f = self.factor.as_ref().expect("factor() before solve");
-        f.solve_in_place(MatMut::from_column_major_slice_mut(b, n, columns));
+        let sym = self.symbolic.as_ref().expect("factor() before solve");
+        let par = Par::Seq;
+        let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(columns, par));
+        LltRef::new(sym, &self.values).solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(b, n, columns), par, MemStack::new(&mut mem));
         self.n_solves += columns;
+    }
+
+    /// G = K_reg⁻¹ restricted to the trailing equations (t × t, in the order given to `new`),
+    /// from the trailing block T of the factor: G = T⁻ᵀ T⁻¹ (see the type's documentation).
+    pub fn trailing_inverse(&self) -> Mat<f64> {
+        let t = self.trailing.len();
+        let sym = self.symbolic.as_ref().expect("factor() before trailing_inverse");
+        let n = sym.nrows();
+        let first = n - t;
+        let mut tb = Mat::<f64>::zeros(t, t);
+        if let SymbolicCholeskyRaw::Supernodal(sup) = sym.raw() {
+            let factor = SupernodalLltRef::new(sup, &self.values);
+            for s in (0..sup.n_supernodes()).rev() {
+                let node = factor.supernode(s);
+                let val = node.val();
+                let start = node.start();
+                let ncols = val.ncols();
+                if start + ncols <= first {
+                    break; // supernodes are contiguous column ranges in increasing order
+                }
+                let row_of = |i: usize| if i < ncols { start + i } else { node.pattern()[i - ncols] };
+                for c in 0..ncols {
+                    let j = start + c;
+                    if j < first {
+                        continue;
+                    }
+                    for i in c..val.nrows() {
+                        tb[(row_of(i) - first, j - first)] = val[(i, c)];
+                    }
+                }
+            }
+        }
+        // X = T⁻¹, G = Xᵀ X.
+        let mut x = Mat::<f64>::identity(t, t);
+        solve_lower_triangular_in_place(tb.as_ref(), x.as_mut(), Par::Seq);
+        let mut g = Mat::<f64>::zeros(t, t);
+        matmul(g.as_mut(), Accum::Replace, x.transpose(), x.as_ref(), 1.0, Par::Seq);
+        g
     }
 }
 
@@ -248,11 +334,56 @@ mod tests {
         }
         let map = DofMap::new(18, &fixed, &[]);
         let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &tangents, 1.0, &map).unwrap();
-        let mut s = SpdSolver::new();
+        let mut s = SpdSolver::new(vec![]);
         let dofs: Vec<usize> = (0..18).filter(|&d| !fixed[d]).collect();
         s.factor(&k, &dofs).unwrap();
         let mut b = vec![1.0; map.n_equations];
         s.solve_in_place(&mut b, 1);
         assert!(b.iter().all(|v| v.is_finite()));
+    }
+
+    #[test]
+    fn trailing_block_gives_the_flexibility_of_the_chosen_dofs() {
+        // A 6x4-cell cantilever: G from the trailing block of the factor must equal K⁻¹
+        // restricted to the chosen equations (here the free-end nodes, in scrambled order),
+        // computed by full solves with unit loads, to round-off.
+        let (nx, ny) = (7, 5);
+        let nodes: Vec<[f64; 2]> = (0..ny).flat_map(|j| (0..nx).map(move |i| [i as f64 * 0.5, j as f64 * 0.4])).collect();
+        let mut triangles = vec![];
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let a = nx * j + i;
+                triangles.push([a, a + 1, a + nx + 1]);
+                triangles.push([a, a + nx + 1, a + nx]);
+            }
+        }
+        let mesh = Mesh { nodes, triangles };
+        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e)).collect();
+        let d = Material::elastic(1000.0, 0.3).elastic_tangent(Plane::Strain);
+        let n_dofs = 2 * mesh.nodes.len();
+        let mut fixed = vec![false; n_dofs];
+        for j in 0..ny {
+            fixed[2 * nx * j] = true;
+            fixed[2 * nx * j + 1] = true;
+        }
+        let map = DofMap::new(n_dofs, &fixed, &[]);
+        let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &vec![d; els.len()], 1.0, &map).unwrap();
+        let chosen: Vec<usize> = [3, 0, 4, 2, 1].iter().flat_map(|&j| [2 * (nx * j + nx - 1) + 1, 2 * (nx * j + nx - 1)]).map(|g| map.equation(g).unwrap()).collect();
+        let mut s = SpdSolver::new(chosen.clone());
+        let dofs: Vec<usize> = (0..n_dofs).filter(|&g| !fixed[g]).collect();
+        s.factor(&k, &dofs).unwrap();
+        let g = s.trailing_inverse();
+        let n = map.n_equations;
+        let mut b = vec![0.0; n * chosen.len()];
+        for (c, &eq) in chosen.iter().enumerate() {
+            b[c * n + eq] = 1.0;
+        }
+        s.solve_in_place(&mut b, chosen.len());
+        let scale = (0..chosen.len()).map(|i| g[(i, i)]).fold(0.0, f64::max);
+        for (c, _) in chosen.iter().enumerate() {
+            for (r, &eq) in chosen.iter().enumerate() {
+                assert!((g[(r, c)] - b[c * n + eq]).abs() < 1e-12 * scale, "G[{r},{c}] = {} vs {}", g[(r, c)], b[c * n + eq]);
+            }
+        }
     }
 }

@@ -30,6 +30,11 @@ pub struct Options {
     pub snapshots: SnapshotRequest,
     /// Events whose scale factors lie within S_min·(1 + tie_tol) are applied together.
     pub tie_tol: f64,
+    /// Event grouping δ, the speed–accuracy knob (0 = the paper's procedure): besides the ties,
+    /// the friction (stick↔slip) and plasticity (yield, unload) events predicted at load
+    /// fractions φ ≤ φ_min (1 + δ) are taken early, at φ_min, in the same increment (see
+    /// `driver`).
+    pub group_tol: f64,
     /// Upper bound on the number of increments (0 = automatic: 50 per pair and element + 1000).
     pub max_steps: usize,
     /// Largest relative equilibrium residual accepted at an event.
@@ -58,6 +63,9 @@ impl Options {
         if !(self.tie_tol.is_finite() && self.tie_tol >= 0.0) {
             bail!("options.tie_tol = {} is not allowed: give a finite tolerance >= 0 (default 1e-9)", self.tie_tol);
         }
+        if !(self.group_tol.is_finite() && (0.0..1.0).contains(&self.group_tol)) {
+            bail!("options.group_tol = {} is not allowed: give a relative load window in [0, 1) (0 = the exact event procedure, the default; 1e-3 to 1e-1 trade accuracy for speed)", self.group_tol);
+        }
         if !(self.equilibrium_tol.is_finite() && self.equilibrium_tol > 0.0) {
             bail!("options.equilibrium_tol = {} is not allowed: give a finite tolerance > 0 (default 1e-9)", self.equilibrium_tol);
         }
@@ -81,6 +89,7 @@ impl Default for Options {
         Options {
             snapshots: SnapshotRequest::EveryEvent,
             tie_tol: 1e-9,
+            group_tol: 0.0,
             max_steps: 0,
             equilibrium_tol: 1e-9,
             max_zero_length_switches: 4,
@@ -185,8 +194,17 @@ pub struct Snapshot {
 pub struct Timings {
     pub assembly: f64,
     pub factorization: f64,
+    /// Reading the contact flexibility from the factor's trailing block (dense, per factor).
+    pub flexibility: f64,
+    /// Triangular solves (trial, corrections, snapshots).
     pub solves: f64,
+    /// The small dense contact systems (also counted in `events`).
+    pub dense: f64,
+    /// Event bookkeeping: scale factors, advancing, checks, the small dense systems.
     pub events: f64,
+    /// One forward + backward substitution with one right-hand side on the first factor
+    /// (the unit of the amortized cost of an event).
+    pub solve_pair: f64,
 }
 
 #[derive(Debug, Clone)]
@@ -224,6 +242,8 @@ mod tests {
         let bad = [
             Options { tie_tol: f64::NAN, ..Options::default() },
             Options { tie_tol: -1.0, ..Options::default() },
+            Options { group_tol: f64::NAN, ..Options::default() },
+            Options { group_tol: 1.0, ..Options::default() },
             Options { equilibrium_tol: f64::NAN, ..Options::default() },
             Options { max_stress_step: 0.0, ..Options::default() },
             Options { snapshots: SnapshotRequest::Fractions(vec![0.5, f64::NAN]), ..Options::default() },
