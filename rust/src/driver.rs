@@ -129,8 +129,16 @@ struct Engine<'m> {
     tangents: Vec<Tangent>,
     /// The tangents changed since the last factorization.
     tangents_changed: bool,
+    /// The pairs as the event loop sees them: over the global DOFs, or in the reduced elastic
+    /// mode over the reduced DOFs (see `reduced`).
     pairs: Vec<Pair>,
+    /// The pairs over the global DOFs (full fields, snapshots).
+    global_pairs: Vec<Pair>,
     modes: Vec<RigidMode>,
+    /// The rigid modes over the DOFs the event loop carries (all, or the reduced ones).
+    mode_vectors: Vec<Vec<f64>>,
+    /// Nᵀ P per mode (the reduced mode's rigid-body rows, without a full vector per event).
+    mode_load: Vec<f64>,
     map: DofMap,
     pattern: StiffnessPattern,
     fixed: Vec<bool>,
@@ -140,19 +148,24 @@ struct Engine<'m> {
     /// (`SpdSolver::trailing_inverse`) after every factorization. Every Cᵀ K# E entry of the
     /// small system comes from it: no triangular solve per contact pair.
     flexibility: faer::Mat<f64>,
-    /// Slot in `flexibility` of each global DOF (usize::MAX: not a contact DOF, or fixed/pinned,
-    /// where K# is zero).
+    /// Slot in `flexibility` of each DOF of the loop's DOF space (usize::MAX: not a contact
+    /// DOF, or fixed/pinned, where K# is zero). In the reduced mode slot = reduced index.
     contact_slot: Vec<usize>,
     /// Global DOF of each slot.
     slot_dofs: Vec<usize>,
     /// Reduced elastic mode: no plastic material, so the state is fully described by the load
     /// fraction, the multipliers and the rigid amplitudes, u = φ K#P + K#(W λ) + N α, and an
     /// event needs only contact-DOF values: no triangular solve per event, one per requested
-    /// snapshot.
+    /// snapshot. The loop then carries u only at the *reduced DOFs*: the contact DOFs that are
+    /// equations (index = flexibility slot), then the pinned ones; no element arrays. An event
+    /// costs O(contact DOFs²), independent of the mesh size.
     reduced: bool,
     max_snapshot_residual: f64,
-    /// K#P (full load), for the reduced mode.
+    /// K#P (full load), for the reduced mode, over all DOFs and over the reduced DOFs.
     u_load: Vec<f64>,
+    u_load_reduced: Vec<f64>,
+    /// Global DOF of each reduced DOF (reduced mode only).
+    reduced_dofs: Vec<usize>,
     load_norm: f64,
     /// Σ|load|: the scale of forces, for tolerances.
     force_scale: f64,
@@ -169,10 +182,11 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     let opts = &model.options;
 
     let n_pairs = eng.pairs.len();
-    let n_el = eng.elements.len();
+    // The reduced elastic mode carries no element arrays between events.
+    let n_el = if eng.reduced { 0 } else { eng.elements.len() };
     let mut state = State {
         load_fraction: 0.0,
-        u: vec![0.0; 2 * model.mesh.n_nodes()],
+        u: vec![0.0; eng.loop_dofs()],
         stress: vec![Vector4::zeros(); n_el],
         plastic_strain: vec![0.0; n_el],
         lambda_n: vec![0.0; n_pairs],
@@ -231,7 +245,9 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             stop_reason = Some(format!("the event loop reached max_events = {max_steps} increments at load fraction {:.6} (most switching: {}); the results up to there are kept: raise solver.max_events or coarsen the mesh", state.load_fraction, names.join(", ")));
             break;
         }
-        eng.refresh_tangents(&state, &plastic);
+        if !eng.reduced {
+            eng.refresh_tangents(&state, &plastic);
+        }
         if eng.tangents_changed {
             eng.factor()?;
         }
@@ -545,6 +561,30 @@ impl<'m> Engine<'m> {
         }
         let material: Vec<Material> = model.element_material.iter().map(|&m| model.materials[m]).collect();
         let tangents = material.iter().map(|m| m.tangent(&Vector4::zeros(), false)).collect();
+        let reduced = model.options.reduced_elastic && !model.materials.iter().any(|m| m.is_plastic());
+        let free_load: Vec<f64> = model.load.iter().enumerate().map(|(d, v)| if fixed[d] { 0.0 } else { *v }).collect();
+        let mode_load: Vec<f64> = modes.iter().map(|m| m.vector.iter().zip(&free_load).map(|(a, b)| a * b).sum()).collect();
+        let global_pairs = pairs.clone();
+        let (pairs, contact_slot, mode_vectors, reduced_dofs) = if reduced {
+            // Reduced DOFs: the slots, then the pinned contact DOFs (K# = 0 there, u = N α).
+            let mut reduced_index = contact_slot.clone();
+            let mut reduced_dofs = slot_dofs.clone();
+            for pair in &pairs {
+                for &(d, _) in pair.w_n.entries.iter().chain(&pair.w_t.entries) {
+                    if reduced_index[d] == usize::MAX {
+                        reduced_index[d] = reduced_dofs.len();
+                        reduced_dofs.push(d);
+                    }
+                }
+            }
+            let remap = |w: &crate::contact::SparseVec| crate::contact::SparseVec { entries: w.entries.iter().map(|&(d, v)| (reduced_index[d], v)).collect() };
+            let pairs = pairs.iter().map(|p| Pair { w_n: remap(&p.w_n), w_t: remap(&p.w_t), ..p.clone() }).collect();
+            let slot = (0..reduced_dofs.len()).map(|r| if r < slot_dofs.len() { r } else { usize::MAX }).collect();
+            let vectors = modes.iter().map(|m| reduced_dofs.iter().map(|&d| m.vector[d]).collect()).collect();
+            (pairs, slot, vectors, reduced_dofs)
+        } else {
+            (pairs, contact_slot, modes.iter().map(|m| m.vector.clone()).collect(), vec![])
+        };
         let load_total: f64 = model.load.iter().map(|v| v.abs()).sum::<f64>().max(f64::MIN_POSITIVE);
         Ok(Engine {
             model,
@@ -553,7 +593,10 @@ impl<'m> Engine<'m> {
             tangents,
             tangents_changed: true,
             pairs,
+            global_pairs,
             modes,
+            mode_vectors,
+            mode_load,
             map,
             pattern,
             fixed,
@@ -561,8 +604,10 @@ impl<'m> Engine<'m> {
             flexibility: faer::Mat::zeros(0, 0),
             contact_slot,
             slot_dofs,
-            reduced: model.options.reduced_elastic && !model.materials.iter().any(|m| m.is_plastic()),
+            reduced,
             u_load: vec![],
+            u_load_reduced: vec![],
+            reduced_dofs,
             max_snapshot_residual: 0.0,
             load_norm,
             force_scale: load_total,
@@ -589,6 +634,7 @@ impl<'m> Engine<'m> {
             let load: Vec<f64> = self.model.load.iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { *v }).collect();
             let t3 = Instant::now();
             self.u_load = self.apply_ginv(std::slice::from_ref(&load)).pop().unwrap();
+            self.u_load_reduced = self.reduced_dofs.iter().map(|&d| self.u_load[d]).collect();
             self.timings.solves += t3.elapsed().as_secs_f64();
         }
         if self.timings.solve_pair == 0.0 {
@@ -674,7 +720,7 @@ impl<'m> Engine<'m> {
         for (d, v) in r.iter_mut().enumerate() {
             *v = if self.fixed[d] { 0.0 } else { phi * self.model.load[d] - *v };
         }
-        for (p, pair) in self.pairs.iter().enumerate() {
+        for (p, pair) in self.global_pairs.iter().enumerate() {
             pair.w_n.add_to(state.lambda_n[p], &mut r);
             pair.w_t.add_to(state.lambda_t[p], &mut r);
         }
@@ -685,12 +731,15 @@ impl<'m> Engine<'m> {
         if self.reduced {
             // u = K#(φP + Wλ) + Nα is in equilibrium exactly when φP + Wλ is orthogonal to
             // the free rigid modes (K K# y = y for y ⊥ N); snapshots check the full residual.
-            let mut y: Vec<f64> = self.model.load.iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { state.load_fraction * v }).collect();
-            for (p, pair) in self.pairs.iter().enumerate() {
-                pair.w_n.add_to(state.lambda_n[p], &mut y);
-                pair.w_t.add_to(state.lambda_t[p], &mut y);
-            }
-            let r2: f64 = self.modes.iter().map(|m| m.vector.iter().zip(&y).map(|(a, b)| a * b).sum::<f64>().powi(2)).sum();
+            let r2: f64 = self
+                .mode_vectors
+                .iter()
+                .zip(&self.mode_load)
+                .map(|(mode, load)| {
+                    let contact: f64 = self.pairs.iter().enumerate().map(|(p, pair)| state.lambda_n[p] * pair.w_n.dot(mode) + state.lambda_t[p] * pair.w_t.dot(mode)).sum();
+                    (state.load_fraction * load + contact).powi(2)
+                })
+                .sum();
             return r2.sqrt() / self.load_norm;
         }
         let r = self.residual_vector(state, state.load_fraction);
@@ -700,15 +749,15 @@ impl<'m> Engine<'m> {
     /// The trial increment that takes the state to load fraction `target` (eq. 44 in residual
     /// form): 1 for the remaining load; the current fraction for an equilibrium correction.
     fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64], closed_gap: &[f64], target: f64) -> Result<TrialIncrement> {
-        let (r, z0) = if self.reduced {
+        // z0 = K# r and the rigid-body rows −Nᵀ r for the out-of-balance force r.
+        let (mode_rhs, z0): (Vec<f64>, Vec<f64>) = if self.reduced {
             // Elastic and in equilibrium: the out-of-balance force is (target − φ) P exactly.
             let c = target - state.load_fraction;
-            let r: Vec<f64> = self.model.load.iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { c * v }).collect();
-            (r, self.u_load.iter().map(|v| c * v).collect())
+            (self.mode_load.iter().map(|v| -c * v).collect(), self.u_load_reduced.iter().map(|v| c * v).collect())
         } else {
             let r = self.residual_vector(state, target);
             let z0 = self.apply_ginv(std::slice::from_ref(&r)).pop().unwrap();
-            (r, z0)
+            (self.mode_vectors.iter().map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>()).collect(), z0)
         };
 
         // Rows (constraints) and their right-hand sides h.
@@ -761,15 +810,15 @@ impl<'m> Engine<'m> {
                 a[(i, j)] = self.dot_slots(cvecs[i], &flex_columns[j]);
             }
             // Nᵀ e_j
-            for (k, mode) in self.modes.iter().enumerate() {
-                a[(m + k, j)] = columns[j].iter().map(|&(d, v)| v * mode.vector[d]).sum();
+            for (k, mode) in self.mode_vectors.iter().enumerate() {
+                a[(m + k, j)] = columns[j].iter().map(|&(d, v)| v * mode[d]).sum();
             }
         }
-        for (k, mode) in self.modes.iter().enumerate() {
+        for (k, mode) in self.mode_vectors.iter().enumerate() {
             for i in 0..m {
-                a[(i, m + k)] = cvecs[i].dot(&mode.vector);
+                a[(i, m + k)] = cvecs[i].dot(mode);
             }
-            rhs[m + k] = -mode.vector.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>();
+            rhs[m + k] = mode_rhs[k];
         }
         for i in 0..m {
             rhs[i] = h[i] - cvecs[i].dot(&z0);
@@ -804,9 +853,8 @@ impl<'m> Engine<'m> {
             for j in 0..m {
                 at_slots.iter_mut().zip(&flex_columns[j]).for_each(|(x, g)| *x += sol[j] * g);
             }
-            for (slot, &d) in self.slot_dofs.iter().enumerate() {
-                du[d] += at_slots[slot];
-            }
+            // (reduced index = slot)
+            du.iter_mut().zip(&at_slots).for_each(|(u, x)| *u += x);
         } else if m > 0 {
             // One more solve instead of O(active × DOFs) combinations.
             let mut force = vec![0.0; self.map.role.len()];
@@ -817,18 +865,30 @@ impl<'m> Engine<'m> {
             du.iter_mut().zip(&from_contact).for_each(|(d, v)| *d += v);
         }
         let dalpha: Vec<f64> = (0..self.modes.len()).map(|k| sol[m + k]).collect();
-        for (k, mode) in self.modes.iter().enumerate() {
+        for (k, mode) in self.mode_vectors.iter().enumerate() {
             let s = sol[m + k];
-            du.iter_mut().zip(&mode.vector).for_each(|(d, v)| *d += s * v);
+            du.iter_mut().zip(mode).for_each(|(d, v)| *d += s * v);
         }
-        let (dstress, dplastic) = if self.reduced {
-            (vec![Vector4::zeros(); self.elements.len()], vec![0.0; self.elements.len()])
-        } else {
-            self.stress_increment(&du)
-        };
-        let umax = du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let (dstress, dplastic) = if self.reduced { (vec![], vec![]) } else { self.stress_increment(&du) };
+        let umax = self.largest_displacement(&du, target - state.load_fraction);
         self.noise.displacement = 1e-11 * umax;
         Ok(TrialIncrement { du, dstress, dplastic, dlambda_n, dlambda_t, dalpha })
+    }
+
+    /// Length of the displacement vectors the event loop carries.
+    fn loop_dofs(&self) -> usize {
+        if self.reduced { self.reduced_dofs.len() } else { self.map.role.len() }
+    }
+
+    /// max |u| (for round-off tolerances). The reduced mode carries u at the contact DOFs only:
+    /// the load's share elsewhere is bounded by `load_fraction` × max |K#P|.
+    fn largest_displacement(&self, u: &[f64], load_fraction: f64) -> f64 {
+        let carried = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if self.reduced {
+            carried.max(load_fraction.abs() * self.u_load.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+        } else {
+            carried
+        }
     }
 
     /// A free rigid-body mode that no closed pair holds makes the small system singular:
@@ -901,7 +961,7 @@ impl<'m> Engine<'m> {
 
     /// Yield-surface drift: max |σe − σy(εp)| / σy(εp) over plastic elements.
     fn drift(&self, state: &State, plastic: &[bool]) -> f64 {
-        (0..self.elements.len())
+        (0..plastic.len())
             .filter(|&e| plastic[e])
             .map(|e| {
                 let sy = self.material[e].current_yield(state.plastic_strain[e]);
@@ -913,7 +973,7 @@ impl<'m> Engine<'m> {
     /// Scale the stress of plastic elements back onto the yield surface: the deviator at fixed
     /// mean stress in plane strain, the in-plane stress (keeping σz = 0) in plane stress.
     fn return_to_yield_surface(&self, state: &mut State, plastic: &[bool]) {
-        for e in 0..self.elements.len() {
+        for e in 0..plastic.len() {
             if !plastic[e] {
                 continue;
             }
@@ -955,7 +1015,7 @@ impl<'m> Engine<'m> {
 
     /// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb cone.
     fn check_contact(&self, state: &State, status: &[Status], frozen: &[bool], phi: f64, allowance: (f64, f64)) -> Result<()> {
-        let umax = state.u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let umax = self.largest_displacement(&state.u, state.load_fraction);
         let gap_tol = 1e-8 * umax + 1e-12 * self.length_scale + allowance.0;
         let force_tol = 1e-9 * self.force_scale + allowance.1;
         let why = |p: usize| if frozen[p] { " (the pair was frozen by the anti-cycling rule: it cycled between statuses at zero load increment)" } else { "" };
@@ -992,19 +1052,19 @@ impl<'m> Engine<'m> {
             u: state.u.clone(),
             stress: state.stress.iter().map(|s| [s[0], s[1], s[2], s[3]]).collect(),
             plastic_strain: state.plastic_strain.clone(),
-            plastic: plastic.iter().map(|&p| p as i8).collect(),
+            plastic: if plastic.is_empty() { vec![0; self.elements.len()] } else { plastic.iter().map(|&p| p as i8).collect() },
             lambda_n: state.lambda_n.clone(),
             lambda_t: state.lambda_t.clone(),
             status: status.iter().map(|s| s.code()).collect(),
-            gap: self.pairs.iter().map(|p| p.gap(&state.u)).collect(),
-            rtd: self.pairs.iter().map(|p| p.rtd(&state.u)).collect(),
+            gap: self.global_pairs.iter().map(|p| p.gap(&state.u)).collect(),
+            rtd: self.global_pairs.iter().map(|p| p.rtd(&state.u)).collect(),
         })
     }
 
     /// u = φ K#P + K#(W λ) + N α and its stresses, for the reduced elastic mode.
     fn reconstruct(&mut self, state: &State) -> Result<State> {
         let mut y = vec![0.0; self.map.role.len()];
-        for (p, pair) in self.pairs.iter().enumerate() {
+        for (p, pair) in self.global_pairs.iter().enumerate() {
             pair.w_n.add_to(state.lambda_n[p], &mut y);
             pair.w_t.add_to(state.lambda_t[p], &mut y);
         }
@@ -1017,6 +1077,7 @@ impl<'m> Engine<'m> {
         let mut full = state.clone();
         full.u = u;
         full.stress = stress;
+        full.plastic_strain = vec![0.0; self.elements.len()];
         let saved = std::mem::replace(&mut self.reduced, false);
         let residual = self.equilibrium_residual(&full);
         self.reduced = saved;
