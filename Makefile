@@ -90,8 +90,11 @@ test: $(EXT_STAMP)
 	ci/cargo-test.sh
 	MPLBACKEND=Agg $(PY) -m pytest -q tests
 
+# bench/run.py: the Hertz series (~30-40 min on 2 cores); bench/dolfinx_side_by_side.py: the
+# thick cylinder against dolfinx on identical meshes (~4 min). Both write into bench/.
 bench: $(EXT_STAMP)
 	MPLBACKEND=Agg $(PY) bench/run.py
+	MPLBACKEND=Agg $(PY) bench/dolfinx_side_by_side.py
 
 fmt:
 	cargo fmt --all

@@ -1,0 +1,413 @@
+"""Benchmark: slipstep and dolfinx side by side on identical meshes, thick cylinder (Hill).
+
+cases/thick_cylinder.toml (plane strain, elastic-perfectly plastic, bore pressure p = 175 MPa,
+no contact) is meshed once per mesh size; both codes solve that same mesh (dolfinx reads it
+through the XDMF exchange of slipstep.fenicsx, checked node for node here):
+
+- slipstep: the event procedure, one run (linear increments from one yield event to the next);
+- dolfinx 0.5: slipstep.fenicsx.bulk (Newton, consistent tangent, radial return) with the load
+  in N equal steps, N in STEPS.
+
+Errors at the final pressure against Hill's closed form (slipstep.fenicsx.hill):
+  e_u   = mean radial displacement on r = b / Hill's u(b) - 1   (crosscheck.hill_differences)
+  e_sig = ||sigma - sigma_Hill|| / ||sigma_Hill||, sigma = (sigma_r, sigma_theta),
+          ||s||^2 = sum_e A_e |s(x_e)|^2 (L2, one-point rule at the centroids x_e: CST)
+Both codes share the mesh, so the discretisation error is common; dolfinx adds its
+load-stepping error, measured against slipstep in the same norms:
+  d_sig = ||sigma_dolfinx - sigma_slipstep|| / ||sigma_Hill||,
+  d_u   = |u_dolfinx(b) - u_slipstep(b)| / Hill's u(b).
+Equal accuracy, the smallest N in STEPS with
+  (A) observed:   e_sig(N) <= 1.1 e_sig(slipstep) and |e_u(N)| <= 1.1 |e_u(slipstep)|;
+  (B) guaranteed: d_sig(N) <= 0.1 e_sig(slipstep) and d_u(N) <= 0.1 |e_u(slipstep)|,
+      which implies (A) whatever the signs, by the triangle inequality;
+  (C) path:       d_max(N) <= tol, tol in PATH_TOLS, d_max = the larger of the crosscheck
+      differences (max |dolfinx - slipstep| / max |slipstep| over the elements) of the four
+      stresses and of the equivalent plastic strain.
+(A) and (B) are met at N = 1 (measured): in the plastic zone sigma_r, sigma_theta follow from
+equilibrium and the yield condition (Hill's problem is statically determinate there), so they
+hardly depend on the load path; sigma_z and the plastic strain do, hence (C), which takes
+slipstep as the reference of the discrete (rate) problem: d_max(N) ~ C/N (backward Euler), and
+the fit d_inf = 2 d_max(N_max) - d_max(N_max/2) shows how close slipstep is to dolfinx's
+N -> infinity limit.  A tol not reached is extrapolated, N ~ N_max d_max(N_max) / tol, with
+the time per load step of N_max.
+
+Timed (wall clock, best of --repeat): slipstep engine().solve on the built model (snapshot at
+load fraction 1 only); dolfinx BulkProblem.solve_plastic(N).  Not timed: gmsh meshing and
+model assembly (common), dolfinx set-up (XDMF exchange, form JIT: reported apart).
+
+    MPLBACKEND=Agg .venv/bin/python bench/dolfinx_side_by_side.py [--quick] [--repeat R]
+
+Writes bench/dolfinx_side_by_side.md and bench/dolfinx_side_by_side.png (--quick: one coarse
+mesh, two N, into results/dolfinx_side_by_side_quick/).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import slipstep
+from slipstep.fenicsx import hill, require_dolfinx
+from slipstep.fenicsx.bulk import BulkProblem
+from slipstep.fenicsx.crosscheck import (bulk_differences, engine_result, hill_differences,
+                                         hill_setup)
+from slipstep.output import summarize
+
+HERE = Path(__file__).resolve().parent
+CASE = HERE.parent / "cases" / "thick_cylinder.toml"
+MESHES = [(0.5, 1.5), (0.25, 0.8), (0.125, 0.4)]  # (mesh.h at the bore, mesh.h_outer)
+STEPS = (1, 3, 5, 10, 20, 50, 100)  # N = 2 is N = 1: its first step (f = 0.5) is elastic
+QUICK_MESHES, QUICK_STEPS = MESHES[:1], (1, 10)
+OBSERVED, GUARANTEED = 1.1, 0.1   # criteria (A) and (B) of the module doc
+PATH_TOLS = (1e-2, 1e-3)          # criterion (C)
+GROUPING = (1e-2, 1e-1)           # slipstep's speed-accuracy knob solver.group_tol (delta)
+NO_REPEAT_ABOVE_S = 20.0          # a run longer than this is timed once
+QUICK_OUT = "results/dolfinx_side_by_side_quick"  # --quick leaves the bench/ report alone
+
+
+def timed(fn, repeat: int):
+    """(output of the fastest run, its wall time): best of ``repeat`` runs, one if slow."""
+    best, out = np.inf, None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        res = fn()
+        t = time.perf_counter() - t0
+        if t < best:
+            best, out = t, res
+        if t > NO_REPEAT_ABOVE_S:
+            break
+    return out, best
+
+
+def same_mesh(scene, bulk: BulkProblem) -> None:
+    """The dolfinx mesh is the scene's: same coordinates (exactly) and the same triangles."""
+    dm = bulk.dm
+    x = dm.mesh.geometry.x[dm.geom_of_node, :2]
+    assert np.array_equal(x, scene.nodes), "dolfinx nodes differ from slipstep's"
+    tri = np.sort(dm.slipstep_triangles()[dm.cell_of_element], axis=1)
+    assert np.array_equal(tri, np.sort(scene.triangles, axis=1)), "triangles differ"
+
+
+class HillNorms:
+    """The L2 norms of the module doc on one scene at its final pressure."""
+
+    def __init__(self, scene):
+        h = hill_setup(scene)
+        assert h is not None, "not Hill's scene"
+        self.scene = scene
+        p = scene.nodes[scene.triangles]
+        d1, d2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+        self.area = 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+        xc = p.mean(axis=1)
+        hr, ht = hill.stresses(np.linalg.norm(xc, axis=1), h["p"], h["a"], h["b"], h["Sy"])
+        self.hill = np.column_stack([hr, ht])
+        self.scale = self.norm(self.hill)
+
+    def norm(self, s) -> float:
+        return float(np.sqrt(np.sum(self.area * np.sum(s ** 2, axis=1))))
+
+    def polar_stress(self, u, stress) -> np.ndarray:
+        _, _, sr, st = hill.polar(self.scene.nodes, np.asarray(u), np.asarray(stress),
+                                  self.scene.triangles)
+        return np.column_stack([sr, st])
+
+    def errors(self, u, stress, plastic_strain) -> dict:
+        hd = hill_differences(self.scene, np.asarray(u), np.asarray(stress),
+                              np.asarray(plastic_strain))
+        s = self.polar_stress(u, stress)
+        return {"e_u": hd["u_outer"], "e_sig": self.norm(s - self.hill) / self.scale,
+                "c_fe": hd["plastic_radius"], "c_hill": hd["hill_c"], "sig": s}
+
+
+def one_mesh(h: float, h_outer: float, steps, repeat: int) -> dict:
+    scene = slipstep.prepare(CASE, overrides=[f"mesh.h={h}", f"mesh.h_outer={h_outer}"])
+    norms = HillNorms(scene)
+
+    result, t_s = timed(lambda: engine_result(scene)[0], repeat)
+    summary = summarize(scene, result, wall_time_s=t_s)
+    snap = result["snapshots"][-1]
+    es = norms.errors(snap["u"], snap["stress"], snap["plastic_strain"])
+    row = {"h": h, "h_outer": h_outer, "nodes": len(scene.nodes), "elements": len(scene.triangles),
+           "dofs": scene.n_dofs, "t_s": t_s, "events": summary["n_events"],
+           "factorizations": summary["n_factorizations"], "max_drift": summary["max_drift"],
+           "e_u_s": es["e_u"], "e_sig_s": es["e_sig"], "c_fe": es["c_fe"], "c_hill": es["c_hill"],
+           "n_plastic_s": int(np.count_nonzero(snap["plastic_strain"])), "runs": []}
+
+    # slipstep with event grouping: its path difference from the exact run, in the same measure
+    # d_max as dolfinx's (max over elements of the four stresses and of eps_p).
+    row["grouped"] = []
+    for delta in GROUPING:
+        grouped = slipstep.prepare(CASE, overrides=[f"mesh.h={h}", f"mesh.h_outer={h_outer}",
+                                                    f"solver.group_tol={delta}"])
+        res_g, t_g = timed(lambda: engine_result(grouped)[0], repeat)
+        sg = res_g["snapshots"][-1]
+        eg = norms.errors(sg["u"], sg["stress"], sg["plastic_strain"])
+        rel = lambda a, b: float(np.max(np.abs(np.asarray(a) - b)) / max(np.max(np.abs(b)), 1e-300))
+        d_max = max(rel(sg["stress"], np.asarray(snap["stress"])),
+                    rel(sg["plastic_strain"], np.asarray(snap["plastic_strain"])))
+        row["grouped"].append({"delta": delta, "t": t_g, "steps": len(res_g["steps"]["load_fraction"]),
+                               "factorizations": res_g["n_factorizations"], "e_sig": eg["e_sig"],
+                               "e_u": eg["e_u"], "d_max": d_max})
+
+    t0 = time.perf_counter()
+    bulk = BulkProblem(scene)
+    row["t_setup"] = time.perf_counter() - t0
+    same_mesh(scene, bulk)
+    for n in steps:
+        res, t_d = timed(lambda n=n: bulk.solve_plastic(n_steps=n), repeat)
+        ed = norms.errors(res.u, res.stress, res.plastic_strain)
+        cross = bulk_differences(snap, res)  # max-relative, all four stresses (crosscheck)
+        d_ep = cross.get("plastic_strain", 0.0)
+        row["runs"].append({
+            "N": n, "t_d": t_d, "newton": sum(x["iterations"] for x in res.newton),
+            "e_u": ed["e_u"], "e_sig": ed["e_sig"],
+            "d_u": abs(ed["e_u"] - es["e_u"]),  # both / Hill's u(b)
+            "d_sig": norms.norm(ed["sig"] - es["sig"]) / norms.scale,
+            "d_stress_max": cross["stress"], "d_ep_max": d_ep, "d_max": max(cross["stress"], d_ep),
+            "n_plastic": int(np.count_nonzero(res.plastic_strain))})
+    for key, ok in (("A", lambda r: r["e_sig"] <= OBSERVED * row["e_sig_s"]
+                     and abs(r["e_u"]) <= OBSERVED * abs(row["e_u_s"])),
+                    ("B", lambda r: r["d_sig"] <= GUARANTEED * row["e_sig_s"]
+                     and r["d_u"] <= GUARANTEED * abs(row["e_u_s"]))):
+        row[key] = next((r for r in row["runs"] if ok(r)), None)
+    last = row["runs"][-1]
+    half = next((r for r in row["runs"] if 2 * r["N"] == last["N"]), None)
+    row["d_inf"] = None if half is None else 2 * last["d_max"] - half["d_max"]
+    row["C"] = {}
+    for tol in PATH_TOLS:
+        hit = next((r for r in row["runs"] if r["d_max"] <= tol), None)
+        if hit is None:  # d_max ~ C/N: extrapolate N and the time (per load step of N_max)
+            n = int(np.ceil(last["N"] * last["d_max"] / tol))
+            hit = {"N": n, "t_d": last["t_d"] * n / last["N"], "newton": None, "extrapolated": True}
+        row["C"][tol] = hit
+    return row
+
+
+# --------------------------------------------------------------------------- report
+def versions() -> str:
+    import dolfinx
+    import petsc4py
+
+    load = os.getloadavg()[0]
+    return (f"Machine: {platform.machine()}, {os.cpu_count()} cores (shared; load average "
+            f"{load:.1f} at the start), {platform.system()} {platform.release()}; Python "
+            f"{sys.version.split()[0]}, numpy {np.__version__}, dolfinx {dolfinx.__version__}, "
+            f"petsc4py {petsc4py.__version__}, slipstep {_slipstep_version()}.")
+
+
+def _slipstep_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("slipstep")
+    except PackageNotFoundError:
+        return "?"
+
+
+def _ratio(a, b, fmt=".3g"):
+    return "—" if a is None else format(a / b, fmt)
+
+
+def _path_cell(r, tol):
+    c = r["C"][tol]
+    pre = "≈" if c.get("extrapolated") else ""
+    return (f"{pre}{c['N']} | {pre}{c['t_d']:.3g} | "
+            f"{'—' if c['newton'] is None else c['newton']} | {pre}{c['t_d'] / r['t_s']:.3g}")
+
+
+def markdown(rows, steps, repeat, machine, total_s) -> str:
+    L = ["# slipstep vs dolfinx on identical meshes: thick cylinder "
+         "(bench/dolfinx_side_by_side.py)",
+         "",
+         f"Case `cases/thick_cylinder.toml` (a = 10, b = 20 mm, p = 175 MPa, Sy = 250 MPa, H' = 0, "
+         f"plane strain; Hill's c = {rows[0]['c_hill']:.3f} mm), meshed once per size; dolfinx "
+         f"reads the same mesh through the XDMF exchange (nodes and triangles checked "
+         f"identical). slipstep: the event procedure, one run. dolfinx 0.5: "
+         f"`slipstep.fenicsx.bulk`, full Newton with the load in N equal steps, N in "
+         f"{{{', '.join(map(str, steps))}}}.",
+         "",
+         machine,
+         "",
+         f"Times: wall clock of the solve, best of {repeat} (a run over {NO_REPEAT_ABOVE_S:g} s "
+         f"is timed once). slipstep: `engine().solve` of the model (every event, snapshot at "
+         f"load fraction 1). dolfinx: `BulkProblem.solve_plastic(N)` (per Newton iteration: "
+         f"strain interpolation, numpy radial return, assembly, a new MUMPS LU). Not timed: gmsh "
+         f"meshing and model building (common), dolfinx set-up (XDMF exchange + form JIT, "
+         f"column 'setup s', small when the JIT cache is warm).",
+         "",
+         "Errors at p = 175 MPa against Hill: e_u = mean u_r(b) / Hill's u(b) − 1; e_σ = "
+         "‖σ − σ_Hill‖ / ‖σ_Hill‖ over (σ_r, σ_θ), L2 with the centroid rule. "
+         "dolfinx's "
+         "load-stepping error in the same norms, against slipstep: d_σ = ‖σ_dolfinx − "
+         "σ_slipstep‖ / ‖σ_Hill‖, d_u = |u_dolfinx(b) − u_slipstep(b)| / Hill's u(b). "
+         "Path-sensitive difference d_max: the larger of the `slipstep crosscheck` differences "
+         "max |dolfinx − slipstep| / max |slipstep| over the elements of the four stresses "
+         "(σ_z included) and of the equivalent plastic strain ε_p.",
+         "",
+         "## Against Hill, at equal accuracy",
+         "",
+         f"Smallest N with (A) e_σ ≤ {OBSERVED:g} e_σ(slipstep) and |e_u| ≤ {OBSERVED:g} "
+         f"|e_u(slipstep)| (observed), (B) d_σ ≤ {GUARANTEED:g} e_σ(slipstep) and d_u ≤ "
+         f"{GUARANTEED:g} |e_u(slipstep)| (implies (A) whatever the error signs). Ratios are "
+         f"dolfinx / slipstep.",
+         "",
+         "| h bore / outer [mm] | elements | DOFs | slipstep s | events | e_u | e_σ | "
+         "(A) N | dolfinx s | Newton its | e_u ratio | e_σ ratio | time ratio | (B) N | "
+         "time ratio | setup s |",
+         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        a, b = r["A"], r["B"]
+        L.append(
+            f"| {r['h']:g} / {r['h_outer']:g} | {r['elements']} | {r['dofs']} | {r['t_s']:.3g} | "
+            f"{r['events']} | {r['e_u_s']:.2e} | {r['e_sig_s']:.3e} | "
+            f"{'—' if a is None else a['N']} | "
+            f"{'—' if a is None else format(a['t_d'], '.3g')} | "
+            f"{'—' if a is None else a['newton']} | "
+            f"{_ratio(None if a is None else a['e_u'], r['e_u_s'], '.3f')} | "
+            f"{_ratio(None if a is None else a['e_sig'], r['e_sig_s'], '.4f')} | "
+            f"{_ratio(None if a is None else a['t_d'], r['t_s'])} | "
+            f"{'—' if b is None else b['N']} | "
+            f"{_ratio(None if b is None else b['t_d'], r['t_s'])} "
+            f"| {r['t_setup']:.2f} |")
+    L += ["", "— : not reached within the N tried.", ""]
+    if all(r[k] is not None and r[k]["N"] == steps[0] == 1 for r in rows for k in "AB"):
+        L += ["In the plastic zone σ_r and σ_θ follow from equilibrium and the yield condition "
+              "(Hill's problem is statically determinate there), so they hardly depend on the "
+              "load path: one dolfinx load step already gives slipstep's error against Hill, "
+              "which is the common discretisation error (plus Hill's ν = 1/2 approximation).", ""]
+    L += ["## On the load path (slipstep as the reference), at equal accuracy", "",
+          "σ_z and ε_p depend on the path (Hill gives them only for ν = 1/2). Smallest N with "
+          "d_max ≤ tol; ≈: not reached by the largest N, extrapolated with d_max ~ C/N and the "
+          "time per load step of the largest N. d_∞ = 2 d_max(N) − d_max(N/2) at the largest N "
+          "estimates the distance of slipstep from dolfinx's N → ∞ limit.", "",
+          "| h bore | slipstep s | events | d_∞ | "
+          + " | ".join(f"N (tol {t:g}) | dolfinx s | Newton its | time ratio" for t in PATH_TOLS)
+          + " |",
+          "|---|---|---|---|" + "---|---|---|---|" * len(PATH_TOLS)]
+    for r in rows:
+        L.append(f"| {r['h']:g} | {r['t_s']:.3g} | {r['events']} | "
+                 f"{'—' if r['d_inf'] is None else format(r['d_inf'], '.1e')} | "
+                 + " | ".join(_path_cell(r, t) for t in PATH_TOLS) + " |")
+    L += ["", "## slipstep's knob: event grouping δ (solver.group_tol) at equal path accuracy", "",
+          "slipstep with δ > 0 against the exact slipstep run in the same measure d_max, and "
+          "the smallest dolfinx N that is as close to the exact run (≈: extrapolated as above).",
+          "",
+          "| h bore | δ | slipstep s | increments | factorizations | e_σ | d_max | speed-up vs δ = 0 "
+          "| dolfinx N (d_max ≤ slipstep's) | dolfinx s | time ratio dolfinx / slipstep |",
+          "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        for g in r["grouped"]:
+            hit = next((d for d in r["runs"] if d["d_max"] <= g["d_max"]), None)
+            if hit is None:
+                last = r["runs"][-1]
+                n = int(np.ceil(last["N"] * last["d_max"] / g["d_max"]))
+                hit = {"N": f"≈{n}", "t_d": last["t_d"] * n / last["N"]}
+            L.append(f"| {r['h']:g} | {g['delta']:g} | {g['t']:.3g} | {g['steps']} | "
+                     f"{g['factorizations']} | {g['e_sig']:.4e} | {g['d_max']:.1e} | "
+                     f"{r['t_s'] / g['t']:.3g} | {hit['N']} | {hit['t_d']:.3g} | "
+                     f"{hit['t_d'] / g['t']:.3g} |")
+    L += ["", "## Every run", "",
+          "| h bore | code | N | time s | Newton its | e_u | e_σ | e_σ ratio | d_u | d_σ | "
+          "d_σ max | d_εp max | plastic elements | time ratio |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        L.append(f"| {r['h']:g} | slipstep | {r['events']} events | {r['t_s']:.3g} | — | "
+                 f"{r['e_u_s']:.3e} | {r['e_sig_s']:.4e} | 1 | 0 | 0 | 0 | 0 | "
+                 f"{r['n_plastic_s']} | 1 |")
+        for d in r["runs"]:
+            L.append(f"| {r['h']:g} | dolfinx | {d['N']} | {d['t_d']:.3g} | {d['newton']} | "
+                     f"{d['e_u']:.3e} | {d['e_sig']:.4e} | {d['e_sig'] / r['e_sig_s']:.4f} | "
+                     f"{d['d_u']:.1e} | {d['d_sig']:.1e} | {d['d_stress_max']:.1e} | "
+                     f"{d['d_ep_max']:.1e} | {d['n_plastic']} | {d['t_d'] / r['t_s']:.3g} |")
+    L += ["", "slipstep: largest yield-surface drift "
+          + ", ".join(f"{r['max_drift']:.1e}" for r in rows)
+          + "; factorizations " + ", ".join(str(r["factorizations"]) for r in rows)
+          + "; FE plastic front (largest plastic centroid radius) "
+          + ", ".join(f"{r['c_fe']:.3f}" for r in rows) + f" mm vs Hill's c = "
+          f"{rows[0]['c_hill']:.3f} mm (meshes in the order above).", "",
+          f"Chart: dolfinx_side_by_side.png. Whole run {total_s:.0f} s; load average at the "
+          f"end {os.getloadavg()[0]:.1f}.", ""]
+    return "\n".join(L)
+
+
+def figure(rows, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(12.5, 5))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for i, r in enumerate(rows):
+        c = colors[i % len(colors)]
+        t = [d["t_d"] for d in r["runs"]]
+        lab = f"h = {r['h']:g} ({r['dofs']} DOFs)"
+        axes[0].loglog(t, [d["e_sig"] for d in r["runs"]], "o-", color=c, ms=4,
+                       label=f"dolfinx over N, {lab}")
+        axes[0].loglog([r["t_s"]], [r["e_sig_s"]], "*", color=c, ms=14, mec="k",
+                       label=f"slipstep, {lab}")
+        axes[1].loglog(t, [d["d_max"] for d in r["runs"]], "o-", color=c, ms=4,
+                       label=f"d_max (σ incl. σ_z, ε_p), {lab}")
+        axes[1].loglog(t, [max(d["d_sig"], 1e-16) for d in r["runs"]], "s--", color=c, ms=3,
+                       lw=0.8, label=f"d_σ (Hill's norm), {lab}")
+        axes[1].axvline(r["t_s"], color=c, ls=":", lw=1.2)
+        for d in r["runs"]:
+            for ax, y in ((axes[0], d["e_sig"]), (axes[1], d["d_max"])):
+                ax.annotate(str(d["N"]), (d["t_d"], y), textcoords="offset points",
+                            xytext=(3, 3), fontsize=7, color=c)
+    for tol in PATH_TOLS:
+        axes[1].axhline(tol, color="grey", ls="-", lw=0.6)
+    axes[0].set_ylabel("e_σ = ‖σ − σ_Hill‖ / ‖σ_Hill‖")
+    axes[0].set_title("error against Hill (labels: dolfinx N)", fontsize=10)
+    axes[1].set_ylabel("dolfinx − slipstep (relative)")
+    axes[1].set_title("load-stepping error of dolfinx; dotted: slipstep's time, grey: tol",
+                      fontsize=10)
+    for ax in axes:
+        ax.set_xlabel("solve wall time [s]")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=7)
+    axes[1].set_ylim(bottom=min(d["d_sig"] for r in rows for d in r["runs"]) / 30)
+    axes[1].legend(fontsize=6.5, loc="lower left", ncol=2)
+    fig.suptitle("thick cylinder, p = 175 MPa: slipstep (events) vs dolfinx (N load steps), "
+                 "same meshes")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true",
+                    help=f"smoke test: mesh h = {QUICK_MESHES[0][0]} only, N in {QUICK_STEPS}")
+    ap.add_argument("--repeat", type=int, default=None,
+                    help="time each solve as the best of R runs (default 3, --quick 1)")
+    ap.add_argument("--out", type=Path, default=None,
+                    help=f"folder for the .md and .png (default {HERE.name}/, "
+                         f"--quick: {QUICK_OUT})")
+    args = ap.parse_args(argv)
+    require_dolfinx()
+    meshes, steps = (QUICK_MESHES, QUICK_STEPS) if args.quick else (MESHES, STEPS)
+    repeat = args.repeat or (1 if args.quick else 3)
+    machine = versions()
+    t0 = time.perf_counter()
+    rows = []
+    for h, h_outer in meshes:
+        rows.append(one_mesh(h, h_outer, steps, repeat))
+        print(f"h = {h:g}: {rows[-1]['dofs']} DOFs done ({time.perf_counter() - t0:.0f} s)",
+              flush=True)
+    text = markdown(rows, steps, repeat, machine, time.perf_counter() - t0)
+    out = args.out or (HERE.parent / QUICK_OUT if args.quick else HERE)
+    out.mkdir(parents=True, exist_ok=True)
+    figure(rows, out / "dolfinx_side_by_side.png")
+    (out / "dolfinx_side_by_side.md").write_text(text)
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
