@@ -151,8 +151,6 @@ struct Engine<'m> {
     /// Slot in `flexibility` of each DOF of the loop's DOF space (usize::MAX: not a contact
     /// DOF, or fixed/pinned, where K# is zero). In the reduced mode slot = reduced index.
     contact_slot: Vec<usize>,
-    /// Global DOF of each slot.
-    slot_dofs: Vec<usize>,
     /// Reduced elastic mode: no plastic material, so the state is fully described by the load
     /// fraction, the multipliers and the rigid amplitudes, u = φ K#P + K#(W λ) + N α, and an
     /// event needs only contact-DOF values: no triangular solve per event, one per requested
@@ -164,6 +162,8 @@ struct Engine<'m> {
     /// K#P (full load), for the reduced mode, over all DOFs and over the reduced DOFs.
     u_load: Vec<f64>,
     u_load_reduced: Vec<f64>,
+    /// max |K#P|, for round-off tolerances (reduced mode).
+    u_load_max: f64,
     /// Global DOF of each reduced DOF (reduced mode only).
     reduced_dofs: Vec<usize>,
     load_norm: f64,
@@ -603,10 +603,10 @@ impl<'m> Engine<'m> {
             solver: SpdSolver::new(trailing),
             flexibility: faer::Mat::zeros(0, 0),
             contact_slot,
-            slot_dofs,
             reduced,
             u_load: vec![],
             u_load_reduced: vec![],
+            u_load_max: 0.0,
             reduced_dofs,
             max_snapshot_residual: 0.0,
             load_norm,
@@ -635,6 +635,7 @@ impl<'m> Engine<'m> {
             let t3 = Instant::now();
             self.u_load = self.apply_ginv(std::slice::from_ref(&load)).pop().unwrap();
             self.u_load_reduced = self.reduced_dofs.iter().map(|&d| self.u_load[d]).collect();
+            self.u_load_max = self.u_load.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             self.timings.solves += t3.elapsed().as_secs_f64();
         }
         if self.timings.solve_pair == 0.0 {
@@ -849,7 +850,7 @@ impl<'m> Engine<'m> {
         let mut du = z0;
         if self.reduced {
             // Only the contact DOFs are needed (gaps, slips): Σ_j Δλ_j K# e_j there.
-            let mut at_slots = vec![0.0; self.slot_dofs.len()];
+            let mut at_slots = vec![0.0; self.flexibility.nrows()];
             for j in 0..m {
                 at_slots.iter_mut().zip(&flex_columns[j]).for_each(|(x, g)| *x += sol[j] * g);
             }
@@ -885,7 +886,7 @@ impl<'m> Engine<'m> {
     fn largest_displacement(&self, u: &[f64], load_fraction: f64) -> f64 {
         let carried = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if self.reduced {
-            carried.max(load_fraction.abs() * self.u_load.iter().fold(0.0f64, |a, v| a.max(v.abs())))
+            carried.max(load_fraction.abs() * self.u_load_max)
         } else {
             carried
         }

@@ -116,9 +116,7 @@ impl StiffnessPattern {
 /// One thread for the factor, the solves and the dense block. Measured on this 2-core
 /// machine, faer's parallel (rayon) supernodal factorization is slower: 6.8 s → 10.0 s at
 /// 955k DOFs, and 0.36 s → 0.75 s for 88 factorizations at 8.6k DOFs.
-fn parallelism(_size: usize) -> Par {
-    Par::Seq
-}
+const PAR: Par = Par::Seq;
 
 /// Cholesky factor of K_reg with the symbolic analysis kept for refactorization.
 ///
@@ -179,7 +177,7 @@ impl SpdSolver {
             self.symbolic = Some(sym);
         }
         let sym = self.symbolic.as_ref().unwrap();
-        let par = parallelism(self.values.len());
+        let par = PAR;
         let mut mem = MemBuffer::try_new(sym.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
             .map_err(|_| crate::error::Error("out of memory for the Cholesky factorization".into()))?;
         let result = sym.factorize_numeric_llt(&mut self.values, lower.as_ref(), Side::Lower, Default::default(), par, MemStack::new(&mut mem), Default::default());
@@ -207,7 +205,7 @@ impl SpdSolver {
     pub fn solve_in_place(&mut self, b: &mut [f64], columns: usize) {
         let n = b.len() / columns.max(1);
         let sym = self.symbolic.as_ref().expect("factor() before solve");
-        let par = parallelism(self.values.len());
+        let par = PAR;
         let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(columns, par));
         LltRef::new(sym, &self.values).solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(b, n, columns), par, MemStack::new(&mut mem));
         self.n_solves += columns;
@@ -245,7 +243,7 @@ impl SpdSolver {
         }
         // X = T⁻¹, G = Xᵀ X.
         let mut x = Mat::<f64>::identity(t, t);
-        let par = parallelism(t * t);
+        let par = PAR;
         solve_lower_triangular_in_place(tb.as_ref(), x.as_mut(), par);
         let mut g = Mat::<f64>::zeros(t, t);
         matmul(g.as_mut(), Accum::Replace, x.transpose(), x.as_ref(), 1.0, par);
