@@ -57,7 +57,7 @@ use crate::contact::{Pair, Status};
 use crate::element::Cst;
 use crate::error::Result;
 use crate::events::{self, Candidate, Noise};
-use crate::linalg::{DofMap, DofRole, SpdSolver, StiffnessPattern};
+use crate::linalg::{DofMap, DofRole, ElementScatter, SpdSolver, StiffnessPattern};
 use crate::material::{von_mises, Material, Plane, Tangent};
 use crate::model::*;
 use crate::rigid_modes::{free_modes, RigidMode};
@@ -141,6 +141,11 @@ struct Engine<'m> {
     mode_load: Vec<f64>,
     map: DofMap,
     pattern: StiffnessPattern,
+    /// Plastic runs: K with every element elastic (the first assembly) and where each element's
+    /// entries sit in it; a refactorization re-adds t A Bᵀ (D_ep − D) B of the plastic elements
+    /// only.
+    elastic_values: Vec<f64>,
+    scatter: Option<ElementScatter>,
     fixed: Vec<bool>,
     solver: SpdSolver,
     /// Flexibility of the contact DOFs: K# restricted to them (t × t over the contact DOFs that
@@ -234,6 +239,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     let mut interrupted = false;
     let mut stop_reason = None;
     let mut initial_stiffness: Option<f64> = None;
+    let mut internal_at_state: Option<Vec<f64>> = None;
 
     loop {
         if steps.len() >= max_steps {
@@ -252,7 +258,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             eng.factor()?;
         }
         let (t0, dense0) = (Instant::now(), eng.timings.dense);
-        let trial = eng.trial(&state, &status, &rtd_stick, &closed_gap, 1.0)?;
+        let trial = eng.trial(&state, &status, &rtd_stick, &closed_gap, 1.0, internal_at_state.take())?;
         // The small dense system is event bookkeeping, not a triangular solve.
         eng.timings.solves += t0.elapsed().as_secs_f64() - (eng.timings.dense - dense0);
         eng.timings.events += eng.timings.dense - dense0;
@@ -317,14 +323,15 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
                 break;
             }
             let s = if remaining > 0.0 { ((f - phi0) / remaining).clamp(0.0, scale) } else { 0.0 };
-            let mut st = eng.advance(&state, &trial, s, &plastic);
+            let mut st = state.clone();
+            eng.advance(&mut st, &trial, s, &plastic);
             st.load_fraction = f;
             snapshots.push(eng.snapshot(&st, &status, &plastic)?);
             pending_fractions.remove(0);
         }
 
         // Advance by S (eqs. 58–62), then check the state at the event.
-        state = eng.advance(&state, &trial, scale, &plastic);
+        eng.advance(&mut state, &trial, scale, &plastic);
         state.load_fraction = phi1;
         for (p, st) in status.iter().enumerate() {
             if let Status::Slip { .. } = st {
@@ -345,13 +352,15 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         let mut correction_size = (0.0, 0.0);
         if opts.drift_control && drift > 0.0 {
             eng.return_to_yield_surface(&mut state, &plastic);
-            let correction = eng.trial(&state, &status, &rtd_stick, &closed_gap, phi1)?;
+            let correction = eng.trial(&state, &status, &rtd_stick, &closed_gap, phi1, None)?;
             let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
             correction_size = (largest(&correction.du), largest(&correction.dlambda_n).max(largest(&correction.dlambda_t)));
-            state = eng.advance(&state, &correction, 1.0, &plastic);
+            eng.advance(&mut state, &correction, 1.0, &plastic);
             state.load_fraction = phi1;
         }
-        let residual = eng.equilibrium_residual(&state);
+        // (The internal force is reused by the next trial: status changes keep the stresses.)
+        let (residual, internal) = eng.equilibrium_residual(&state);
+        internal_at_state = internal;
         max_residual = max_residual.max(residual);
         if residual > opts.equilibrium_tol {
             bail!("equilibrium residual {residual:.3e} exceeds {:.1e} at load fraction {phi1:.6} (step {}): the linear system is ill-conditioned; check for nearly unsupported bodies or extreme element size ratios", opts.equilibrium_tol, steps.len());
@@ -599,6 +608,8 @@ impl<'m> Engine<'m> {
             mode_load,
             map,
             pattern,
+            elastic_values: vec![],
+            scatter: None,
             fixed,
             solver: SpdSolver::new(trailing),
             flexibility: faer::Mat::zeros(0, 0),
@@ -619,8 +630,26 @@ impl<'m> Engine<'m> {
 
     fn factor(&mut self) -> Result<()> {
         let t0 = Instant::now();
-        let in_plane: Vec<_> = self.tangents.iter().map(|t| t.in_plane(self.model.plane)).collect();
-        let k = self.pattern.assemble(&self.elements, &in_plane, self.model.thickness, &self.map)?;
+        let (plane, thickness) = (self.model.plane, self.model.thickness);
+        let k = if let Some(scatter) = &self.scatter {
+            // The elastic K plus t A Bᵀ (D_ep − D) B of the elements that are plastic now.
+            let mut values = self.elastic_values.clone();
+            for (e, t) in self.tangents.iter().enumerate() {
+                if t.flow.is_some() {
+                    let softening = t.in_plane(plane) - self.material[e].elastic_tangent(plane);
+                    scatter.add(e, &self.elements[e].stiffness(&softening, thickness), &mut values);
+                }
+            }
+            self.pattern.with_values(values)
+        } else {
+            let in_plane: Vec<_> = self.tangents.iter().map(|t| t.in_plane(plane)).collect();
+            let k = self.pattern.assemble(&self.elements, &in_plane, thickness, &self.map)?;
+            if !self.reduced && self.tangents.iter().all(|t| t.flow.is_none()) && self.material.iter().any(|m| m.is_plastic()) {
+                self.elastic_values = k.val().to_vec();
+                self.scatter = Some(self.pattern.element_scatter(&self.elements, &self.map));
+            }
+            k
+        };
         self.tangents_changed = false;
         let t1 = Instant::now();
         self.timings.assembly += (t1 - t0).as_secs_f64();
@@ -715,9 +744,10 @@ impl<'m> Engine<'m> {
         f
     }
 
-    /// Out-of-balance force at load fraction `phi`: φ P − P_σ + contact forces, over free DOFs.
-    fn residual_vector(&self, state: &State, phi: f64) -> Vec<f64> {
-        let mut r = self.internal_force(&state.stress);
+    /// Out-of-balance force at load fraction `phi`, φ P − P_σ + contact forces over the free
+    /// DOFs, from the internal force P_σ of the state's stresses.
+    fn residual_from(&self, internal: &[f64], state: &State, phi: f64) -> Vec<f64> {
+        let mut r = internal.to_vec();
         for (d, v) in r.iter_mut().enumerate() {
             *v = if self.fixed[d] { 0.0 } else { phi * self.model.load[d] - *v };
         }
@@ -728,7 +758,9 @@ impl<'m> Engine<'m> {
         r
     }
 
-    fn equilibrium_residual(&self, state: &State) -> f64 {
+    /// |φP − P_σ + Wλ| / |P|, and (full mode) the internal force P_σ it used, for the next
+    /// trial from the same stresses.
+    fn equilibrium_residual(&self, state: &State) -> (f64, Option<Vec<f64>>) {
         if self.reduced {
             // u = K#(φP + Wλ) + Nα is in equilibrium exactly when φP + Wλ is orthogonal to
             // the free rigid modes (K K# y = y for y ⊥ N); snapshots check the full residual.
@@ -741,24 +773,32 @@ impl<'m> Engine<'m> {
                     (state.load_fraction * load + contact).powi(2)
                 })
                 .sum();
-            return r2.sqrt() / self.load_norm;
+            return (r2.sqrt() / self.load_norm, None);
         }
-        let r = self.residual_vector(state, state.load_fraction);
-        r.iter().map(|v| v * v).sum::<f64>().sqrt() / self.load_norm
+        let internal = self.internal_force(&state.stress);
+        let r = self.residual_from(&internal, state, state.load_fraction);
+        (r.iter().map(|v| v * v).sum::<f64>().sqrt() / self.load_norm, Some(internal))
     }
 
     /// The trial increment that takes the state to load fraction `target` (eq. 44 in residual
     /// form): 1 for the remaining load; the current fraction for an equilibrium correction.
-    fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64], closed_gap: &[f64], target: f64) -> Result<TrialIncrement> {
-        // z0 = K# r and the rigid-body rows −Nᵀ r for the out-of-balance force r.
-        let (mode_rhs, z0): (Vec<f64>, Vec<f64>) = if self.reduced {
+    ///
+    /// `internal`: the internal force P_σ of `state`'s stresses if the caller has it.
+    fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64], closed_gap: &[f64], target: f64, internal: Option<Vec<f64>>) -> Result<TrialIncrement> {
+        // z0 = K# r at the contact slots and the rigid-body rows −Nᵀ r for the out-of-balance
+        // force r. In the full mode only the forward sweep of r is done here: the backward sweep
+        // waits for the contact forces (`SpdSolver::forward`), one solve per trial.
+        let (mode_rhs, z0, forward_sweep): (Vec<f64>, Vec<f64>, Vec<f64>) = if self.reduced {
             // Elastic and in equilibrium: the out-of-balance force is (target − φ) P exactly.
             let c = target - state.load_fraction;
-            (self.mode_load.iter().map(|v| -c * v).collect(), self.u_load_reduced.iter().map(|v| c * v).collect())
+            (self.mode_load.iter().map(|v| -c * v).collect(), self.u_load_reduced.iter().map(|v| c * v).collect(), vec![])
         } else {
-            let r = self.residual_vector(state, target);
-            let z0 = self.apply_ginv(std::slice::from_ref(&r)).pop().unwrap();
-            (self.mode_vectors.iter().map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>()).collect(), z0)
+            let internal = internal.unwrap_or_else(|| self.internal_force(&state.stress));
+            let r = self.residual_from(&internal, state, target);
+            let r_eq: Vec<f64> = self.map.role.iter().zip(&r).filter(|(role, _)| matches!(role, DofRole::Equation(_))).map(|(_, v)| *v).collect();
+            let w = self.solver.forward(&r_eq);
+            let z0_slots = self.solver.trailing_solution(&w);
+            (self.mode_vectors.iter().map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>()).collect(), z0_slots, w)
         };
 
         // Rows (constraints) and their right-hand sides h.
@@ -822,7 +862,7 @@ impl<'m> Engine<'m> {
             rhs[m + k] = mode_rhs[k];
         }
         for i in 0..m {
-            rhs[i] = h[i] - cvecs[i].dot(&z0);
+            rhs[i] = h[i] - self.dot_slots(cvecs[i], &z0);
         }
         self.check_restrained(&a, m, &rows)?;
         let t_dense = Instant::now();
@@ -846,8 +886,8 @@ impl<'m> Engine<'m> {
                 Row::Tangent(p) => dlambda_t[p] = sol[j],
             }
         }
-        // Δu = z0 + K#(E Δλ) + N α.
-        let mut du = z0;
+        // Δu = K#(r + E Δλ) + N α.
+        let mut du = if self.reduced { z0 } else { vec![] };
         if self.reduced {
             // Only the contact DOFs are needed (gaps, slips): Σ_j Δλ_j K# e_j there.
             let mut at_slots = vec![0.0; self.flexibility.nrows()];
@@ -856,14 +896,28 @@ impl<'m> Engine<'m> {
             }
             // (reduced index = slot)
             du.iter_mut().zip(&at_slots).for_each(|(u, x)| *u += x);
-        } else if m > 0 {
-            // One more solve instead of O(active × DOFs) combinations.
-            let mut force = vec![0.0; self.map.role.len()];
-            for j in 0..m {
-                columns[j].iter().for_each(|&(d, v)| force[d] += sol[j] * v);
+        } else {
+            // The contact forces E Δλ sit on contact DOFs: their forward sweep only touches the
+            // trailing rows. Then one backward sweep gives K#(r + E Δλ).
+            let mut w = forward_sweep;
+            if m > 0 {
+                let mut force_slots = vec![0.0; self.flexibility.nrows()];
+                for j in 0..m {
+                    for &(d, v) in &columns[j] {
+                        if let Some(slot) = Some(self.contact_slot[d]).filter(|&s| s != usize::MAX) {
+                            force_slots[slot] += sol[j] * v;
+                        }
+                    }
+                }
+                self.solver.add_trailing_force(&mut w, &force_slots);
             }
-            let from_contact = self.apply_ginv(std::slice::from_ref(&force)).pop().unwrap();
-            du.iter_mut().zip(&from_contact).for_each(|(d, v)| *d += v);
+            let v = self.solver.backward(w);
+            du = vec![0.0; self.map.role.len()];
+            for (d, role) in self.map.role.iter().enumerate() {
+                if let DofRole::Equation(i) = role {
+                    du[d] = v[*i];
+                }
+            }
         }
         let dalpha: Vec<f64> = (0..self.modes.len()).map(|k| sol[m + k]).collect();
         for (k, mode) in self.mode_vectors.iter().enumerate() {
@@ -998,9 +1052,8 @@ impl<'m> Engine<'m> {
         }
     }
 
-    /// State + s × trial increment (eqs. 58–61).
-    fn advance(&self, state: &State, trial: &TrialIncrement, s: f64, plastic: &[bool]) -> State {
-        let mut st = state.clone();
+    /// state += s × trial increment (eqs. 58–61).
+    fn advance(&self, st: &mut State, trial: &TrialIncrement, s: f64, plastic: &[bool]) {
         st.u.iter_mut().zip(&trial.du).for_each(|(u, d)| *u += s * d);
         st.stress.iter_mut().zip(&trial.dstress).for_each(|(u, d)| *u += s * d);
         for e in 0..st.plastic_strain.len() {
@@ -1011,7 +1064,6 @@ impl<'m> Engine<'m> {
         st.lambda_n.iter_mut().zip(&trial.dlambda_n).for_each(|(u, d)| *u += s * d);
         st.lambda_t.iter_mut().zip(&trial.dlambda_t).for_each(|(u, d)| *u += s * d);
         st.alpha.iter_mut().zip(&trial.dalpha).for_each(|(u, d)| *u += s * d);
-        st
     }
 
     /// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb cone.
@@ -1080,7 +1132,7 @@ impl<'m> Engine<'m> {
         full.stress = stress;
         full.plastic_strain = vec![0.0; self.elements.len()];
         let saved = std::mem::replace(&mut self.reduced, false);
-        let residual = self.equilibrium_residual(&full);
+        let (residual, _) = self.equilibrium_residual(&full);
         self.reduced = saved;
         self.max_snapshot_residual = self.max_snapshot_residual.max(residual);
         if residual > self.model.options.equilibrium_tol {

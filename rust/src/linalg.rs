@@ -103,6 +103,35 @@ impl StiffnessPattern {
         Ok(StiffnessPattern { symbolic, argsort })
     }
 
+    /// Where each element's lower-triangle entries sit among the values of the assembled matrix
+    /// (in the `assemble` order): the plastic loop re-adds only the elements whose tangent
+    /// changed instead of reassembling all of them.
+    pub fn element_scatter(&self, elements: &[Cst], map: &DofMap) -> ElementScatter {
+        let (col_ptr, row_idx) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
+        let mut offsets = Vec::with_capacity(elements.len() + 1);
+        let mut entries = Vec::with_capacity(elements.len() * 21);
+        offsets.push(0);
+        let mut current = 0;
+        for_each_entry(elements, map, |r, c, e, i, j| {
+            while current < e {
+                offsets.push(entries.len());
+                current += 1;
+            }
+            let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+            let pos = col_ptr[c] + rows.binary_search(&r).expect("entry in the pattern");
+            entries.push(ScatterEntry { position: pos, local: (i as u8, j as u8) });
+        });
+        while offsets.len() <= elements.len() {
+            offsets.push(entries.len());
+        }
+        ElementScatter { offsets, entries }
+    }
+
+    /// The matrix with the pattern and the given values (in the pattern's storage order).
+    pub fn with_values(&self, values: Vec<f64>) -> SparseColMat<usize, f64> {
+        SparseColMat::new(self.symbolic.clone(), values)
+    }
+
     /// Lower triangle of K_reg = Σ_e t A Bᵀ D_e B over the equation DOFs.
     pub fn assemble(&self, elements: &[Cst], tangents: &[Matrix3<f64>], thickness: f64, map: &DofMap) -> Result<SparseColMat<usize, f64>> {
         let ke: Vec<_> = elements.iter().zip(tangents).map(|(el, d)| el.stiffness(d, thickness)).collect();
@@ -110,6 +139,28 @@ impl StiffnessPattern {
         for_each_entry(elements, map, |_, _, e, i, j| values.push(ke[e][(i, j)]));
         SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &values)
             .map_err(|e| crate::error::Error(format!("could not assemble the stiffness matrix: {e:?}")))
+    }
+}
+
+#[derive(Clone, Copy)]
+struct ScatterEntry {
+    position: usize,
+    local: (u8, u8),
+}
+
+/// Positions of every element's stiffness entries in the assembled values (see
+/// `StiffnessPattern::element_scatter`).
+pub struct ElementScatter {
+    offsets: Vec<usize>,
+    entries: Vec<ScatterEntry>,
+}
+
+impl ElementScatter {
+    /// values += the lower-triangle entries of element `e`'s 6 × 6 matrix `ke`.
+    pub fn add(&self, e: usize, ke: &nalgebra::SMatrix<f64, 6, 6>, values: &mut [f64]) {
+        for entry in &self.entries[self.offsets[e]..self.offsets[e + 1]] {
+            values[entry.position] += ke[(entry.local.0 as usize, entry.local.1 as usize)];
+        }
     }
 }
 
@@ -127,35 +178,73 @@ const PAR: Par = Par::Seq;
 /// flexibility of the trailing DOFs (K⁻¹ restricted to them, the Delassus operator of the
 /// contact problem) is G = T⁻ᵀ T⁻¹ with T the trailing t × t block of L. One dense inversion
 /// then replaces one full solve per contact pair.
+///
+/// The same block splits a solve K x = b + f with f on the trailing equations into one
+/// forward and one backward substitution (`forward`, `trailing_solution`,
+/// `add_trailing_force`, `backward`): the trailing part of K⁻¹b is known after the forward
+/// sweep, and the forward sweep of f only touches the trailing rows (w_t += T⁻¹ f_t). The
+/// event loop uses it to find the contact forces between the sweeps: one solve per trial.
 pub struct SpdSolver {
     symbolic: Option<SymbolicCholesky<usize>>,
     values: Vec<f64>,
     /// Equations ordered last, in the caller's order.
     trailing: Vec<usize>,
+    /// T⁻¹ for the trailing block T of the current factor (lower triangular, t × t).
+    trailing_block_inverse: Mat<f64>,
+    /// Work space of the numeric factorization and of one-column solves, kept between calls.
+    factor_scratch: Option<MemBuffer>,
+    solve_scratch: Option<MemBuffer>,
     pub n_factorizations: usize,
     pub n_solves: usize,
 }
 
 impl SpdSolver {
     pub fn new(trailing: Vec<usize>) -> Self {
-        SpdSolver { symbolic: None, values: vec![], trailing, n_factorizations: 0, n_solves: 0 }
+        SpdSolver {
+            symbolic: None,
+            values: vec![],
+            trailing,
+            trailing_block_inverse: Mat::zeros(0, 0),
+            factor_scratch: None,
+            solve_scratch: None,
+            n_factorizations: 0,
+            n_solves: 0,
+        }
     }
 
-    /// AMD on the whole pattern, then the trailing equations moved to the end (stable).
+    /// AMD on the pattern without the trailing equations, then the trailing ones last.
     fn ordering(&self, lower: &SparseColMat<usize, f64>) -> Result<(Vec<usize>, Vec<usize>)> {
         let n = lower.nrows();
-        let (mut fwd, mut inv) = (vec![0usize; n], vec![0usize; n]);
-        let nnz = lower.compute_nnz();
-        let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n, nnz))
-            .map_err(|_| crate::error::Error("out of memory for the AMD ordering".into()))?;
-        amd::order_maybe_unsorted(&mut fwd, &mut inv, lower.symbolic(), amd::Control::default(), MemStack::new(&mut mem))
-            .map_err(|e| crate::error::Error(format!("the AMD ordering failed: {e:?}")))?;
         let mut is_trailing = vec![false; n];
         for &e in &self.trailing {
             is_trailing[e] = true;
         }
+        // The leading equations, renumbered 0..n−t, and their pattern.
+        let leading: Vec<usize> = (0..n).filter(|&e| !is_trailing[e]).collect();
+        let mut index = vec![usize::MAX; n];
+        for (i, &e) in leading.iter().enumerate() {
+            index[e] = i;
+        }
+        let (col_ptr, row_idx) = (lower.symbolic().col_ptr(), lower.symbolic().row_idx());
+        let mut entries = Vec::with_capacity(row_idx.len());
+        for c in 0..n {
+            for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
+                if index[r] != usize::MAX && index[c] != usize::MAX {
+                    entries.push(Pair::new(index[r], index[c]));
+                }
+            }
+        }
+        let m = leading.len();
+        let (sub, _) = SymbolicSparseColMat::try_new_from_indices(m, m, &entries)
+            .map_err(|e| crate::error::Error(format!("could not analyse the stiffness pattern: {e:?}")))?;
+        let (mut fwd, mut inv) = (vec![0usize; m], vec![0usize; m]);
+        let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(m, entries.len()))
+            .map_err(|_| crate::error::Error("out of memory for the AMD ordering".into()))?;
+        amd::order_maybe_unsorted(&mut fwd, &mut inv, sub.as_ref(), amd::Control::default(), MemStack::new(&mut mem))
+            .map_err(|e| crate::error::Error(format!("the AMD ordering failed: {e:?}")))?;
         // fwd[new] = old
-        let mut order: Vec<usize> = fwd.iter().copied().filter(|&e| !is_trailing[e]).collect();
+        let mut order: Vec<usize> = fwd.iter().map(|&i| leading[i]).collect();
+        let mut inv = vec![0usize; n];
         order.extend_from_slice(&self.trailing);
         for (new, &old) in order.iter().enumerate() {
             inv[old] = new;
@@ -178,9 +267,14 @@ impl SpdSolver {
         }
         let sym = self.symbolic.as_ref().unwrap();
         let par = PAR;
-        let mut mem = MemBuffer::try_new(sym.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
-            .map_err(|_| crate::error::Error("out of memory for the Cholesky factorization".into()))?;
-        let result = sym.factorize_numeric_llt(&mut self.values, lower.as_ref(), Side::Lower, Default::default(), par, MemStack::new(&mut mem), Default::default());
+        if self.factor_scratch.is_none() {
+            self.factor_scratch = Some(
+                MemBuffer::try_new(sym.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
+                    .map_err(|_| crate::error::Error("out of memory for the Cholesky factorization".into()))?,
+            );
+        }
+        let mem = self.factor_scratch.as_mut().unwrap();
+        let result = sym.factorize_numeric_llt(&mut self.values, lower.as_ref(), Side::Lower, Default::default(), par, MemStack::new(mem), Default::default());
         match result {
             Ok(_) => {
                 self.n_factorizations += 1;
@@ -213,7 +307,7 @@ impl SpdSolver {
 
     /// G = K_reg⁻¹ restricted to the trailing equations (t × t, in the order given to `new`),
     /// from the trailing block T of the factor: G = T⁻ᵀ T⁻¹ (see the type's documentation).
-    pub fn trailing_inverse(&self) -> Mat<f64> {
+    pub fn trailing_inverse(&mut self) -> Mat<f64> {
         let t = self.trailing.len();
         let sym = self.symbolic.as_ref().expect("factor() before trailing_inverse");
         let n = sym.nrows();
@@ -247,7 +341,74 @@ impl SpdSolver {
         solve_lower_triangular_in_place(tb.as_ref(), x.as_mut(), par);
         let mut g = Mat::<f64>::zeros(t, t);
         matmul(g.as_mut(), Accum::Replace, x.transpose(), x.as_ref(), 1.0, par);
+        self.trailing_block_inverse = x;
         g
+    }
+
+    fn supernodal(&self) -> (&SymbolicCholesky<usize>, SupernodalLltRef<'_, usize, f64>) {
+        let sym = self.symbolic.as_ref().expect("factor() before a solve");
+        match sym.raw() {
+            SymbolicCholeskyRaw::Supernodal(sup) => (sym, SupernodalLltRef::new(sup, &self.values)),
+            SymbolicCholeskyRaw::Simplicial(_) => unreachable!("the factor is always supernodal"),
+        }
+    }
+
+    fn one_column_scratch(&mut self) -> MemBuffer {
+        let sym = self.symbolic.as_ref().expect("factor() before a solve");
+        self.solve_scratch.take().unwrap_or_else(|| MemBuffer::new(sym.solve_in_place_scratch::<f64>(1, PAR)))
+    }
+
+    /// Forward sweep w = L⁻¹ P b for b over the equations (w in the factor's ordering).
+    pub fn forward(&mut self, b: &[f64]) -> Vec<f64> {
+        let mut mem = self.one_column_scratch();
+        let (sym, factor) = self.supernodal();
+        let order = sym.perm().expect("custom ordering").arrays().0;
+        let mut w: Vec<f64> = order.iter().map(|&old| b[old]).collect();
+        let n = w.len();
+        factor.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut w, n, 1), PAR, MemStack::new(&mut mem));
+        self.solve_scratch = Some(mem);
+        w
+    }
+
+    /// The trailing equations' part of K⁻¹b, from the forward sweep w of b: T⁻ᵀ w_t (caller's
+    /// order of the trailing equations).
+    pub fn trailing_solution(&self, w: &[f64]) -> Vec<f64> {
+        let t = self.trailing.len();
+        let w_t = &w[w.len() - t..];
+        let x = &self.trailing_block_inverse;
+        // (T⁻ᵀ w_t)_i = Σ_j X_ji w_j, X lower triangular.
+        (0..t).map(|i| (i..t).map(|j| x[(j, i)] * w_t[j]).sum()).collect()
+    }
+
+    /// Add a force f given on the trailing equations (caller's order) to a forward sweep:
+    /// w_t += T⁻¹ f.
+    pub fn add_trailing_force(&self, w: &mut [f64], f: &[f64]) {
+        let t = self.trailing.len();
+        let first = w.len() - t;
+        let x = &self.trailing_block_inverse;
+        for (j, &fj) in f.iter().enumerate() {
+            if fj != 0.0 {
+                for i in j..t {
+                    w[first + i] += x[(i, j)] * fj;
+                }
+            }
+        }
+    }
+
+    /// Backward sweep: x = Pᵀ L⁻ᵀ w, over the equations. Counts one solve.
+    pub fn backward(&mut self, mut w: Vec<f64>) -> Vec<f64> {
+        let mut mem = self.one_column_scratch();
+        let (sym, factor) = self.supernodal();
+        let n = w.len();
+        factor.l_transpose_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut w, n, 1), PAR, MemStack::new(&mut mem));
+        let order = sym.perm().expect("custom ordering").arrays().0;
+        let mut x = vec![0.0; n];
+        for (new, &old) in order.iter().enumerate() {
+            x[old] = w[new];
+        }
+        self.solve_scratch = Some(mem);
+        self.n_solves += 1;
+        x
     }
 }
 
@@ -390,6 +551,32 @@ mod tests {
             for (r, &eq) in chosen.iter().enumerate() {
                 assert!((g[(r, c)] - b[c * n + eq]).abs() < 1e-12 * scale, "G[{r},{c}] = {} vs {}", g[(r, c)], b[c * n + eq]);
             }
+        }
+
+        // The split solve: forward sweep of a load y, the trailing part of K⁻¹y read from it,
+        // a force f on the chosen DOFs added between the sweeps; the backward sweep must give
+        // K⁻¹(y + f) as one full solve does (to round-off, relative to the largest entry).
+        let y: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let f: Vec<f64> = (0..chosen.len()).map(|c| 1.0 + c as f64).collect();
+        let mut full = y.clone();
+        s.solve_in_place(&mut full, 1);
+        let w = s.forward(&y);
+        let at_chosen = s.trailing_solution(&w);
+        let big = full.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        for (c, &eq) in chosen.iter().enumerate() {
+            assert!((at_chosen[c] - full[eq]).abs() < 1e-12 * big, "trailing part {c}: {} vs {}", at_chosen[c], full[eq]);
+        }
+        let mut with_force = y.clone();
+        for (c, &eq) in chosen.iter().enumerate() {
+            with_force[eq] += f[c];
+        }
+        s.solve_in_place(&mut with_force, 1);
+        let mut w = w;
+        s.add_trailing_force(&mut w, &f);
+        let x = s.backward(w);
+        let big = with_force.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        for i in 0..n {
+            assert!((x[i] - with_force[i]).abs() < 1e-12 * big, "x[{i}] = {} vs {}", x[i], with_force[i]);
         }
     }
 }
