@@ -13,7 +13,6 @@ use crate::error::Result;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
-use faer::perm::PermRef;
 use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
 use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering};
@@ -67,6 +66,62 @@ impl DofMap {
             DofRole::Equation(i) => Some(i),
             _ => None,
         }
+    }
+
+    /// Equations numbered in the order of the Cholesky factor, so that the factor needs no
+    /// permutation: a fill-reducing order (AMD on the mesh's node graph, both DOFs of a node
+    /// together) of the nodes that carry no `trailing` DOF, then the other equations of those
+    /// that do, then the `trailing` DOFs in the order given: they end the factor (`SpdSolver`).
+    /// Every trailing DOF must be an equation (neither fixed nor pinned).
+    pub fn ordered(elements: &[Cst], n_dofs: usize, fixed: &[bool], pinned: &[usize], trailing: &[usize]) -> Result<Self> {
+        let mut is_pinned = vec![false; n_dofs];
+        pinned.iter().for_each(|&d| is_pinned[d] = true);
+        let is_equation = |d: usize| !fixed[d] && !is_pinned[d];
+        let mut role: Vec<DofRole> = (0..n_dofs).map(|d| if is_pinned[d] && !fixed[d] { DofRole::Pinned } else { DofRole::Fixed }).collect();
+        let n_nodes = n_dofs / 2;
+        let mut node_is_trailing = vec![false; n_nodes];
+        trailing.iter().for_each(|&d| node_is_trailing[d / 2] = true);
+        // The node graph of the leading nodes, renumbered 0..m.
+        let mut index = vec![usize::MAX; n_nodes];
+        let mut leading = Vec::new();
+        for node in 0..n_nodes {
+            if !node_is_trailing[node] && (is_equation(2 * node) || is_equation(2 * node + 1)) {
+                index[node] = leading.len();
+                leading.push(node);
+            }
+        }
+        let m = leading.len();
+        let mut edges: Vec<Pair<usize, usize>> = (0..m).map(|i| Pair::new(i, i)).collect();
+        for el in elements {
+            let ids = el.nodes.map(|n| index[n]);
+            for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+                if ids[a] != usize::MAX && ids[b] != usize::MAX {
+                    edges.push(Pair::new(ids[a].max(ids[b]), ids[a].min(ids[b])));
+                }
+            }
+        }
+        let (graph, _) = SymbolicSparseColMat::try_new_from_indices(m, m, &edges)
+            .map_err(|e| crate::error::Error(format!("could not analyse the mesh graph: {e:?}")))?;
+        let (mut fwd, mut inv) = (vec![0usize; m], vec![0usize; m]);
+        let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(m, graph.compute_nnz()))
+            .map_err(|_| crate::error::Error("out of memory for the AMD ordering".into()))?;
+        amd::order_maybe_unsorted(&mut fwd, &mut inv, graph.as_ref(), amd::Control::default(), MemStack::new(&mut mem))
+            .map_err(|e| crate::error::Error(format!("the AMD ordering failed: {e:?}")))?;
+        let mut is_trailing = vec![false; n_dofs];
+        trailing.iter().for_each(|&d| is_trailing[d] = true);
+        // fwd[new] = old
+        let leading_dofs = fwd.iter().flat_map(|&i| [2 * leading[i], 2 * leading[i] + 1]);
+        let rest = (0..n_nodes).filter(|&n| node_is_trailing[n]).flat_map(|n| [2 * n, 2 * n + 1]).filter(|&d| !is_trailing[d]);
+        let mut n_equations = 0;
+        for d in leading_dofs.chain(rest).chain(trailing.iter().copied()) {
+            if is_equation(d) {
+                role[d] = DofRole::Equation(n_equations);
+                n_equations += 1;
+            } else if is_trailing[d] {
+                bail!("internal: trailing DOF {d} is not an equation");
+            }
+        }
+        Ok(DofMap { role, n_equations })
     }
 }
 
@@ -171,9 +226,9 @@ const PAR: Par = Par::Seq;
 
 /// Cholesky factor of K_reg with the symbolic analysis kept for refactorization.
 ///
-/// The fill-reducing ordering (AMD) is modified to put a chosen set of *trailing* equations
-/// (the contact DOFs) last. With L Lᵀ = P K Pᵀ and the trailing equations in the last t
-/// positions, the forward substitution of a unit load at a trailing DOF only touches the last
+/// The equations come numbered in the factor's order (`DofMap::ordered`: fill-reducing, with
+/// a chosen set of *trailing* equations, the contact DOFs, last), so the factor is L Lᵀ = K
+/// without a permutation. With the trailing equations in the last t positions, the forward substitution of a unit load at a trailing DOF only touches the last
 /// t rows, and the trailing rows of the backward substitution only the last t columns: the
 /// flexibility of the trailing DOFs (K⁻¹ restricted to them, the Delassus operator of the
 /// contact problem) is G = T⁻ᵀ T⁻¹ with T the trailing t × t block of L. One dense inversion
@@ -187,8 +242,8 @@ const PAR: Par = Par::Seq;
 pub struct SpdSolver {
     symbolic: Option<SymbolicCholesky<usize>>,
     values: Vec<f64>,
-    /// Equations ordered last, in the caller's order.
-    trailing: Vec<usize>,
+    /// The last `n_trailing` equations form the trailing block.
+    n_trailing: usize,
     /// T⁻¹ for the trailing block T of the current factor (lower triangular, t × t).
     trailing_block_inverse: Mat<f64>,
     /// Work space of the numeric factorization and of one-column solves, kept between calls.
@@ -199,11 +254,12 @@ pub struct SpdSolver {
 }
 
 impl SpdSolver {
-    pub fn new(trailing: Vec<usize>) -> Self {
+    /// A solver for matrices whose last `n_trailing` equations form the trailing block.
+    pub fn new(n_trailing: usize) -> Self {
         SpdSolver {
             symbolic: None,
             values: vec![],
-            trailing,
+            n_trailing,
             trailing_block_inverse: Mat::zeros(0, 0),
             factor_scratch: None,
             solve_scratch: None,
@@ -212,55 +268,16 @@ impl SpdSolver {
         }
     }
 
-    /// AMD on the pattern without the trailing equations, then the trailing ones last.
-    fn ordering(&self, lower: &SparseColMat<usize, f64>) -> Result<(Vec<usize>, Vec<usize>)> {
-        let n = lower.nrows();
-        let mut is_trailing = vec![false; n];
-        for &e in &self.trailing {
-            is_trailing[e] = true;
-        }
-        // The leading equations, renumbered 0..n−t, and their pattern.
-        let leading: Vec<usize> = (0..n).filter(|&e| !is_trailing[e]).collect();
-        let mut index = vec![usize::MAX; n];
-        for (i, &e) in leading.iter().enumerate() {
-            index[e] = i;
-        }
-        let (col_ptr, row_idx) = (lower.symbolic().col_ptr(), lower.symbolic().row_idx());
-        let mut entries = Vec::with_capacity(row_idx.len());
-        for c in 0..n {
-            for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
-                if index[r] != usize::MAX && index[c] != usize::MAX {
-                    entries.push(Pair::new(index[r], index[c]));
-                }
-            }
-        }
-        let m = leading.len();
-        let (sub, _) = SymbolicSparseColMat::try_new_from_indices(m, m, &entries)
-            .map_err(|e| crate::error::Error(format!("could not analyse the stiffness pattern: {e:?}")))?;
-        let (mut fwd, mut inv) = (vec![0usize; m], vec![0usize; m]);
-        let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(m, entries.len()))
-            .map_err(|_| crate::error::Error("out of memory for the AMD ordering".into()))?;
-        amd::order_maybe_unsorted(&mut fwd, &mut inv, sub.as_ref(), amd::Control::default(), MemStack::new(&mut mem))
-            .map_err(|e| crate::error::Error(format!("the AMD ordering failed: {e:?}")))?;
-        // fwd[new] = old
-        let mut order: Vec<usize> = fwd.iter().map(|&i| leading[i]).collect();
-        let mut inv = vec![0usize; n];
-        order.extend_from_slice(&self.trailing);
-        for (new, &old) in order.iter().enumerate() {
-            inv[old] = new;
-        }
-        Ok((order, inv))
-    }
-
     /// Factor `lower` (lower triangle of an SPD matrix). A non-positive pivot means a
     /// mechanism: the message names the global DOF through `dof_of_equation`.
     pub fn factor(&mut self, lower: &SparseColMat<usize, f64>, dof_of_equation: &[usize]) -> Result<()> {
         if self.symbolic.is_none() {
-            let (fwd, inv) = self.ordering(lower)?;
-            let perm = PermRef::new_checked(&fwd, &inv, fwd.len());
+            // The equations are numbered in the factor's order already (`DofMap::ordered`).
             // Supernodal always: the trailing block is read from the supernodes.
             let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() };
-            let sym = factorize_symbolic_cholesky(lower.symbolic(), Side::Lower, SymmetricOrdering::Custom(perm), params)
+            // (Without a permutation faer's analysis reads the upper triangle: hand it Lᵀ's.)
+            let upper = lower.as_ref().transpose().to_col_major().map_err(|e| crate::error::Error(format!("could not transpose the stiffness pattern: {e:?}")))?;
+            let sym = factorize_symbolic_cholesky(upper.symbolic(), Side::Upper, SymmetricOrdering::Identity, params)
                 .map_err(|e| crate::error::Error(format!("symbolic factorization failed: {e:?}")))?;
             self.values = vec![0.0; sym.len_val()];
             self.symbolic = Some(sym);
@@ -281,11 +298,9 @@ impl SpdSolver {
                 Ok(())
             }
             Err(LltError::NonPositivePivot { index }) => {
-                // The pivot index is in the fill-reducing ordering: map it back.
-                let hint = sym
-                    .perm()
-                    .map(|p| p.arrays().0[index])
-                    .and_then(|eq| dof_of_equation.get(eq))
+                // (The equations are in the factor's order: no permutation to undo.)
+                let hint = dof_of_equation
+                    .get(index)
                     .map(|&d| format!(" near node {} ({})", d / 2, if d % 2 == 0 { "x" } else { "y" }))
                     .unwrap_or_default();
                 bail!("the stiffness matrix is singular{hint}: the model has a mechanism (a part held by nothing, or elements joined at a single node); add supports or check the mesh connectivity")
@@ -305,10 +320,10 @@ impl SpdSolver {
         self.n_solves += columns;
     }
 
-    /// G = K_reg⁻¹ restricted to the trailing equations (t × t, in the order given to `new`),
+    /// G = K_reg⁻¹ restricted to the trailing equations (the last t),
     /// from the trailing block T of the factor: G = T⁻ᵀ T⁻¹ (see the type's documentation).
     pub fn trailing_inverse(&mut self) -> Mat<f64> {
-        let t = self.trailing.len();
+        let t = self.n_trailing;
         let sym = self.symbolic.as_ref().expect("factor() before trailing_inverse");
         let n = sym.nrows();
         let first = n - t;
@@ -358,32 +373,31 @@ impl SpdSolver {
         self.solve_scratch.take().unwrap_or_else(|| MemBuffer::new(sym.solve_in_place_scratch::<f64>(1, PAR)))
     }
 
-    /// Forward sweep w = L⁻¹ P b for b over the equations (w in the factor's ordering).
+    /// Forward sweep w = L⁻¹ b for b over the equations.
     pub fn forward(&mut self, b: &[f64]) -> Vec<f64> {
         let mut mem = self.one_column_scratch();
-        let (sym, factor) = self.supernodal();
-        let order = sym.perm().expect("custom ordering").arrays().0;
-        let mut w: Vec<f64> = order.iter().map(|&old| b[old]).collect();
+        let (_, factor) = self.supernodal();
+        let mut w = b.to_vec();
         let n = w.len();
         factor.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut w, n, 1), PAR, MemStack::new(&mut mem));
         self.solve_scratch = Some(mem);
         w
     }
 
-    /// The trailing equations' part of K⁻¹b, from the forward sweep w of b: T⁻ᵀ w_t (caller's
-    /// order of the trailing equations).
+    /// The trailing equations' part of K⁻¹b, from the forward sweep w of b: T⁻ᵀ w_t (in the order of the
+    /// trailing equations).
     pub fn trailing_solution(&self, w: &[f64]) -> Vec<f64> {
-        let t = self.trailing.len();
+        let t = self.n_trailing;
         let w_t = &w[w.len() - t..];
         let x = &self.trailing_block_inverse;
         // (T⁻ᵀ w_t)_i = Σ_j X_ji w_j, X lower triangular.
         (0..t).map(|i| (i..t).map(|j| x[(j, i)] * w_t[j]).sum()).collect()
     }
 
-    /// Add a force f given on the trailing equations (caller's order) to a forward sweep:
+    /// Add a force f given on the trailing equations to a forward sweep:
     /// w_t += T⁻¹ f.
     pub fn add_trailing_force(&self, w: &mut [f64], f: &[f64]) {
-        let t = self.trailing.len();
+        let t = self.n_trailing;
         let first = w.len() - t;
         let x = &self.trailing_block_inverse;
         for (j, &fj) in f.iter().enumerate() {
@@ -395,20 +409,15 @@ impl SpdSolver {
         }
     }
 
-    /// Backward sweep: x = Pᵀ L⁻ᵀ w, over the equations. Counts one solve.
+    /// Backward sweep: x = L⁻ᵀ w, over the equations. Counts one solve.
     pub fn backward(&mut self, mut w: Vec<f64>) -> Vec<f64> {
         let mut mem = self.one_column_scratch();
-        let (sym, factor) = self.supernodal();
+        let (_, factor) = self.supernodal();
         let n = w.len();
         factor.l_transpose_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut w, n, 1), PAR, MemStack::new(&mut mem));
-        let order = sym.perm().expect("custom ordering").arrays().0;
-        let mut x = vec![0.0; n];
-        for (new, &old) in order.iter().enumerate() {
-            x[old] = w[new];
-        }
         self.solve_scratch = Some(mem);
         self.n_solves += 1;
-        x
+        w
     }
 }
 
@@ -501,12 +510,19 @@ mod tests {
         }
         let map = DofMap::new(18, &fixed, &[]);
         let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &tangents, 1.0, &map).unwrap();
-        let mut s = SpdSolver::new(vec![]);
+        let mut s = SpdSolver::new(0);
         let dofs: Vec<usize> = (0..18).filter(|&d| !fixed[d]).collect();
         s.factor(&k, &dofs).unwrap();
-        let mut b = vec![1.0; map.n_equations];
-        s.solve_in_place(&mut b, 1);
-        assert!(b.iter().all(|v| v.is_finite()));
+        let rhs: Vec<f64> = (0..map.n_equations).map(|i| 1.0 + i as f64).collect();
+        let mut x = rhs.clone();
+        s.solve_in_place(&mut x, 1);
+        // K x = b, with K applied from its stored lower triangle (round-off: 1e-10 of |b|).
+        let dense = k.to_dense();
+        let n = map.n_equations;
+        for i in 0..n {
+            let kx: f64 = (0..n).map(|j| if i >= j { dense[(i, j)] } else { dense[(j, i)] } * x[j]).sum();
+            assert!((kx - rhs[i]).abs() < 1e-10 * n as f64, "row {i}: {kx} vs {}", rhs[i]);
+        }
     }
 
     #[test]
@@ -533,11 +549,16 @@ mod tests {
             fixed[2 * nx * j] = true;
             fixed[2 * nx * j + 1] = true;
         }
-        let map = DofMap::new(n_dofs, &fixed, &[]);
+        let chosen_dofs: Vec<usize> = [3, 0, 4, 2, 1].iter().flat_map(|&j| [2 * (nx * j + nx - 1) + 1, 2 * (nx * j + nx - 1)]).collect();
+        let map = DofMap::ordered(&els, n_dofs, &fixed, &[], &chosen_dofs).unwrap();
         let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &vec![d; els.len()], 1.0, &map).unwrap();
-        let chosen: Vec<usize> = [3, 0, 4, 2, 1].iter().flat_map(|&j| [2 * (nx * j + nx - 1) + 1, 2 * (nx * j + nx - 1)]).map(|g| map.equation(g).unwrap()).collect();
-        let mut s = SpdSolver::new(chosen.clone());
-        let dofs: Vec<usize> = (0..n_dofs).filter(|&g| !fixed[g]).collect();
+        let chosen: Vec<usize> = chosen_dofs.iter().map(|&g| map.equation(g).unwrap()).collect();
+        // The chosen DOFs are the last equations, in the order given.
+        let t = chosen.len();
+        assert_eq!(chosen, (map.n_equations - t..map.n_equations).collect::<Vec<_>>());
+        let mut s = SpdSolver::new(t);
+        let mut dofs = vec![0; map.n_equations];
+        (0..n_dofs).for_each(|g| if let Some(eq) = map.equation(g) { dofs[eq] = g });
         s.factor(&k, &dofs).unwrap();
         let g = s.trailing_inverse();
         let n = map.n_equations;
