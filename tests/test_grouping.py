@@ -1,16 +1,15 @@
 """Event grouping, the speed-accuracy knob delta = solver.group_tol (issue 6).
 
-With delta > 0 the friction, closure and plasticity events predicted at load fractions
-phi <= phi_min (1 + delta) are taken early, at phi_min, in one increment; separations never.
-What must hold, whatever delta:
+With delta > 0 the friction (stick <-> slip) and plasticity (yield, unload) events predicted at
+load fractions phi <= phi_min (1 + delta) are taken early, at phi_min, in one increment;
+contact changes (closures, separations) never. What must hold, whatever delta:
 * the first yield load moves by less than the window;
 * every increment is in equilibrium (grouping switches no contact force);
-* an event is taken at most a factor (1 + delta) early in load, which bounds the contact
-  half-width from both sides: a Hertz node at x closes when a(phi) = x and a ~ sqrt(phi);
+* contact closes exactly: no standoff, so the contact width and peak pressure of an elastic
+  run are those of delta = 0 (closures taken early and held at their remaining gap raised the
+  Hertz peak pressure by 8.6 % at h = 0.03 and 61 % at h = 0.011, delta = 0.1);
 * fewer increments (the point of the knob).
 """
-
-import math
 
 import numpy as np
 import pytest
@@ -67,22 +66,22 @@ def test_grouped_plastic_result_stays_within_the_window(plastic):
     assert s1["n_plastic_elements"] == pytest.approx(s0["n_plastic_elements"], rel=0.05)
 
 
-def test_early_closures_bound_the_contact_width():
-    # Elastic, mu = 0.3, delta = 0.1: a node closes at most (1 + delta) early in load, so
-    # a0 - h <= a_delta <= a0 sqrt(1 + delta) + h (h: contact element size, one node spacing).
+def test_grouping_closes_contacts_exactly():
+    # Elastic, mu = 0.3, delta = 0.1 (the coarsest setting of the bench): only slips are taken
+    # early. Every closed pair must touch (gap ~ 0: no standoff), carry no tension, and the
+    # contact width must be that of delta = 0 to one node spacing h. The peak pressure may move
+    # only through the tangential forces of early slips: 2 % (the held-gap design was off by
+    # 8.6 % on this mesh). Equilibrium to 1e-9.
     h, delta = 0.03, 0.1
     base = ["contact.mu=0.3", f"mesh.h_contact={h}"]
     _, r0, s0 = run(base, 0.0)
     _, r1, s1 = run(base, delta)
-    a0, a1 = s0["contact_half_width"], s1["contact_half_width"]
-    assert a0 - h <= a1 <= a0 * math.sqrt(1 + delta) + h
-    assert len(r1["steps"]["load_fraction"]) < len(r0["steps"]["load_fraction"])
+    assert abs(s1["contact_half_width"] - s0["contact_half_width"]) <= h
+    assert s1["peak_pressure"] == pytest.approx(s0["peak_pressure"], rel=2e-2)
     snap = r1["snapshots"][-1]
     closed = np.asarray(snap["status"]) != 0
-    # Closed early, a pair is held at its remaining gap: never pulled (no tension), and that gap
-    # is what the load would have closed within the window (far below one element size).
+    assert np.all(np.abs(np.asarray(snap["gap"])[closed]) < 1e-6 * h)
     assert np.all(np.asarray(snap["lambda_n"])[closed] >= -1e-9 * P_HALF)
-    assert np.all(np.asarray(snap["gap"])[closed] < 0.01 * h)
     assert np.sum(snap["lambda_n"]) == pytest.approx(P_HALF, rel=1e-9)
 
 

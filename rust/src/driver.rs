@@ -86,12 +86,13 @@ fn zero_length_priority(kind: EventKind) -> u8 {
 }
 
 /// Event grouping (`Options::group_tol`) may take these early: they change no contact
-/// force at the switch. A pair closed early is held at its small remaining gap (pulling it onto
-/// the target would be a tensile force), a pair that slips early keeps its tangential force, a
-/// yield changes the tangent only. Separating early would drop a compressive force: separations
-/// are taken exactly.
+/// force at the switch. A pair that slips early keeps its tangential force, a yield changes
+/// the tangent only. Contact changes are taken exactly: separating early would drop a
+/// compressive force, and a pair closed early would have to be held at its remaining gap (pulling
+/// it onto the target is a tensile force), a standoff that stays: measured, it raised the Hertz
+/// peak pressure by 16 % (24.5k DOFs) to 61 % (106k DOFs) at δ = 0.1, growing under refinement.
 fn may_be_taken_early(kind: EventKind) -> bool {
-    matches!(kind, EventKind::Close | EventKind::StickToSlip | EventKind::SlipToStick | EventKind::Yield | EventKind::Unload)
+    matches!(kind, EventKind::StickToSlip | EventKind::SlipToStick | EventKind::Yield | EventKind::Unload)
 }
 
 /// The evolving state: accumulated displacement, stresses and contact forces (eqs. 59–62).
@@ -212,8 +213,6 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         .collect();
     let mut plastic = vec![false; n_el];
     let mut rtd_stick = vec![0.0; n_pairs];
-    // Gap a pair closed at (nonzero only when grouping closed it early: it is held there).
-    let mut closed_gap = vec![0.0; n_pairs];
     let mut closure_fraction: Vec<f64> =
         status.iter().map(|s| if s.is_closed() { 0.0 } else { f64::NAN }).collect();
     let mut predicted_closure = vec![f64::INFINITY; n_pairs];
@@ -245,6 +244,8 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     let mut stop_reason = None;
     let mut initial_stiffness: Option<f64> = None;
     let mut internal_at_state: Option<Vec<f64>> = None;
+    // Size of the last equilibrium correction (see the contact check below).
+    let mut correction_size = (0.0, 0.0);
 
     loop {
         if steps.len() >= max_steps {
@@ -263,7 +264,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             eng.factor()?;
         }
         let (t0, dense0) = (Instant::now(), eng.timings.dense);
-        let trial = eng.trial(&state, &status, &rtd_stick, &closed_gap, 1.0, internal_at_state.take())?;
+        let trial = eng.trial(&state, &status, &rtd_stick, 1.0, internal_at_state.take())?;
         // The small dense system is event bookkeeping, not a triangular solve.
         eng.timings.solves += t0.elapsed().as_secs_f64() - (eng.timings.dense - dense0);
         eng.timings.events += eng.timings.dense - dense0;
@@ -353,11 +354,16 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         // The equilibrium correction moves nodes and contact forces by a drift-sized amount that
         // no event of its own is computed for: an open pair pushed past its gap, or a stick pair
         // that has just reached its cone pushed over it, is switched by the next trial at S = 0;
-        // the checks allow for that much.
-        let mut correction_size = (0.0, 0.0);
-        if opts.drift_control && drift > 0.0 {
+        // the checks allow for that much. A zero-length increment of contact events only
+        // changed no stress: the drift was corrected at the last event (whose allowance still
+        // holds), and skipping it keeps the tangents, so K needs no refactorization.
+        let stresses_kept = scale <= ZERO_SCALE && !group.iter().any(|c| c.kind.is_element_event());
+        if !stresses_kept {
+            correction_size = (0.0, 0.0);
+        }
+        if opts.drift_control && drift > 0.0 && !stresses_kept {
             eng.return_to_yield_surface(&mut state, &plastic);
-            let correction = eng.trial(&state, &status, &rtd_stick, &closed_gap, phi1, None)?;
+            let correction = eng.trial(&state, &status, &rtd_stick, phi1, None)?;
             let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
             correction_size = (largest(&correction.du), largest(&correction.dlambda_n).max(largest(&correction.dlambda_t)));
             eng.advance(&mut state, &correction, 1.0, &plastic);
@@ -400,15 +406,11 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
             match c.kind {
                 EventKind::Close => {
                     status[p] = eng.pairs[p].closed_status();
-                    // Closed early by grouping: held at its small remaining gap, never pulled
-                    // onto the target (that would be an adhesive, tensile force).
-                    closed_gap[p] = if c.scale <= tie_limit { 0.0 } else { eng.pairs[p].gap(&state.u).max(0.0) };
                     rtd_stick[p] = eng.pairs[p].rtd(&state.u);
                     closure_fraction[p] = phi1;
                 }
                 EventKind::Separate => {
                     status[p] = Status::Open;
-                    closed_gap[p] = 0.0;
                     state.lambda_n[p] = 0.0;
                     state.lambda_t[p] = 0.0;
                 }
@@ -792,7 +794,7 @@ impl<'m> Engine<'m> {
     /// form): 1 for the remaining load; the current fraction for an equilibrium correction.
     ///
     /// `internal`: the internal force P_σ of `state`'s stresses if the caller has it.
-    fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64], closed_gap: &[f64], target: f64, internal: Option<Vec<f64>>) -> Result<TrialIncrement> {
+    fn trial(&mut self, state: &State, status: &[Status], rtd_stick: &[f64], target: f64, internal: Option<Vec<f64>>) -> Result<TrialIncrement> {
         // z0 = K# r at the contact slots and the rigid-body rows −Nᵀ r for the out-of-balance
         // force r. In the full mode only the forward sweep of r is done here: the backward sweep
         // waits for the contact forces (`SpdSolver::forward`), one solve per trial.
@@ -819,7 +821,7 @@ impl<'m> Engine<'m> {
             }
             let pair = &self.pairs[p];
             rows.push(Row::Normal(p));
-            h.push(closed_gap[p] - pair.gap(&state.u));
+            h.push(-pair.gap(&state.u));
             if *st == Status::Stick && pair.frictional() {
                 rows.push(Row::Tangent(p));
                 h.push(rtd_stick[p] - pair.rtd(&state.u));
@@ -1012,13 +1014,17 @@ impl<'m> Engine<'m> {
     }
 
     /// Rebuild the tangents of plastic elements at the current stress (the paper's D_ep at
-    /// the increment's start) and of elements whose plastic flag changed.
+    /// the increment's start) and of elements whose plastic flag changed; K is refactorized
+    /// only if one of them differs (not after a zero-length increment without a yield/unload).
     fn refresh_tangents(&mut self, state: &State, plastic: &[bool]) {
         for e in 0..self.elements.len() {
             let was_plastic = self.tangents[e].flow.is_some();
             if plastic[e] || was_plastic {
-                self.tangents[e] = self.material[e].tangent(&state.stress[e], plastic[e]);
-                self.tangents_changed = true;
+                let tangent = self.material[e].tangent(&state.stress[e], plastic[e]);
+                if tangent.d4 != self.tangents[e].d4 || plastic[e] != was_plastic {
+                    self.tangents[e] = tangent;
+                    self.tangents_changed = true;
+                }
             }
         }
     }
