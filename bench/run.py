@@ -395,6 +395,8 @@ def report(runs: list[dict], mach: dict, out: Path, timeout: float) -> str:
          "events in units of one forward+backward solve with one right-hand side (the engine's "
          "`solve_pair`; * = estimated as solves time / solves where it reports none); it is "
          "meaningless for the smallest runs with a handful of events.", ""]
+    if mach.get("note"):
+        L += [f"Note: {mach['note']}", ""]
     if mach.get("engine_mtime_end") and mach["engine_mtime_end"] != mach["engine_mtime"]:
         L += [f"**Warning:** the engine library changed during the benchmark "
               f"({mach['engine_mtime']} → {mach['engine_mtime_end']}); the runs mix builds.", ""]
