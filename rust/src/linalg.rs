@@ -18,7 +18,7 @@ use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
 use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering};
 use faer::linalg::cholesky::llt::factor::LltError;
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
+use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Accum, Conj, Mat, MatMut, Par, Side};
 use nalgebra::Matrix3;
 
@@ -137,11 +137,10 @@ impl DofMap {
     }
 }
 
-/// The sparsity pattern of K_reg (lower triangle), analysed once: refilling it with new
-/// element tangents skips the sort of the triplets (plastic runs reassemble at every event).
+/// The sparsity pattern of K_reg (lower triangle), built once from the mesh's node adjacency:
+/// refilling it with new element tangents needs no sort (plastic runs refactorize often).
 pub struct StiffnessPattern {
     symbolic: SymbolicSparseColMat<usize>,
-    argsort: Argsort<usize>,
 }
 
 /// Visit every lower-triangle entry (row, col, element, i, j) of the assembly, in a fixed order.
@@ -161,20 +160,68 @@ fn for_each_entry(elements: &[Cst], map: &DofMap, mut f: impl FnMut(usize, usize
 }
 
 impl StiffnessPattern {
+    /// Column by column from the node adjacency (two nodes couple when an element joins
+    /// them; both DOFs of a node together): no sort of the 21 entries per element, which at
+    /// 1M DOFs is ~40M index pairs and their argsort.
     pub fn new(elements: &[Cst], map: &DofMap) -> Result<Self> {
-        let mut idx = Vec::with_capacity(elements.len() * 21);
-        for_each_entry(elements, map, |r, c, _, _, _| idx.push(Pair::new(r, c)));
         let n = map.n_equations;
-        let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &idx)
-            .map_err(|e| crate::error::Error(format!("could not analyse the stiffness pattern: {e:?}")))?;
-        Ok(StiffnessPattern { symbolic, argsort })
+        let n_nodes = map.role.len() / 2;
+        // Neighbours of each node (itself included), compressed rows.
+        let mut degree = vec![1usize; n_nodes + 1];
+        for el in elements {
+            el.nodes.iter().for_each(|&a| degree[a] += 2);
+        }
+        let mut start = vec![0usize; n_nodes + 1];
+        for a in 0..n_nodes {
+            start[a + 1] = start[a] + degree[a];
+        }
+        let mut fill = start.clone();
+        let mut neighbours = vec![0usize; start[n_nodes]];
+        for a in 0..n_nodes {
+            neighbours[fill[a]] = a;
+            fill[a] += 1;
+        }
+        for el in elements {
+            for (k, &a) in el.nodes.iter().enumerate() {
+                for (l, &b) in el.nodes.iter().enumerate() {
+                    if k != l {
+                        neighbours[fill[a]] = b;
+                        fill[a] += 1;
+                    }
+                }
+            }
+        }
+        let mut dof_of_equation = vec![0usize; n];
+        (0..map.role.len()).for_each(|d| if let Some(eq) = map.equation(d) { dof_of_equation[eq] = d });
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(9 * n);
+        col_ptr.push(0);
+        let mut rows = Vec::new();
+        for c in 0..n {
+            let a = dof_of_equation[c] / 2;
+            rows.clear();
+            for &b in &neighbours[start[a]..fill[a]] {
+                rows.extend([2 * b, 2 * b + 1].iter().filter_map(|&d| map.equation(d)).filter(|&r| r >= c));
+            }
+            rows.sort_unstable();
+            rows.dedup();
+            row_idx.extend_from_slice(&rows);
+            col_ptr.push(row_idx.len());
+        }
+        let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        Ok(StiffnessPattern { symbolic })
+    }
+
+    /// Position of entry (r, c), r ≥ c, among the values.
+    fn position(&self, r: usize, c: usize) -> usize {
+        let (col_ptr, row_idx) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
+        col_ptr[c] + row_idx[col_ptr[c]..col_ptr[c + 1]].binary_search(&r).expect("entry in the pattern")
     }
 
     /// Where each element's lower-triangle entries sit among the values of the assembled matrix
     /// (in the `assemble` order): the plastic loop re-adds only the elements whose tangent
     /// changed instead of reassembling all of them.
     pub fn element_scatter(&self, elements: &[Cst], map: &DofMap) -> ElementScatter {
-        let (col_ptr, row_idx) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
         let mut offsets = Vec::with_capacity(elements.len() + 1);
         let mut entries = Vec::with_capacity(elements.len() * 21);
         offsets.push(0);
@@ -184,9 +231,7 @@ impl StiffnessPattern {
                 offsets.push(entries.len());
                 current += 1;
             }
-            let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
-            let pos = col_ptr[c] + rows.binary_search(&r).expect("entry in the pattern");
-            entries.push(ScatterEntry { position: pos, local: (i as u8, j as u8) });
+            entries.push(ScatterEntry { position: self.position(r, c), local: (i as u8, j as u8) });
         });
         while offsets.len() <= elements.len() {
             offsets.push(entries.len());
@@ -201,11 +246,17 @@ impl StiffnessPattern {
 
     /// Lower triangle of K_reg = Σ_e t A Bᵀ D_e B over the equation DOFs.
     pub fn assemble(&self, elements: &[Cst], tangents: &[Matrix3<f64>], thickness: f64, map: &DofMap) -> Result<SparseColMat<usize, f64>> {
-        let ke: Vec<_> = elements.iter().zip(tangents).map(|(el, d)| el.stiffness(d, thickness)).collect();
-        let mut values = Vec::with_capacity(elements.len() * 21);
-        for_each_entry(elements, map, |_, _, e, i, j| values.push(ke[e][(i, j)]));
-        SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &values)
-            .map_err(|e| crate::error::Error(format!("could not assemble the stiffness matrix: {e:?}")))
+        let mut values = vec![0.0; self.symbolic.row_idx().len()];
+        // (for_each_entry visits the elements in turn: one element matrix at a time)
+        let mut current: Option<(usize, nalgebra::SMatrix<f64, 6, 6>)> = None;
+        for_each_entry(elements, map, |r, c, e, i, j| {
+            if current.as_ref().map_or(true, |(k, _)| *k != e) {
+                current = Some((e, elements[e].stiffness(&tangents[e], thickness)));
+            }
+            let ke = &current.as_ref().expect("set above").1;
+            values[self.position(r, c)] += ke[(i, j)];
+        });
+        Ok(self.with_values(values))
     }
 }
 
