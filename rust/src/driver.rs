@@ -62,7 +62,7 @@ use crate::contact::{Pair, Status};
 use crate::element::Cst;
 use crate::error::Result;
 use crate::events::{self, Candidate, Noise};
-use crate::linalg::{DofMap, DofRole, ElementScatter, SpdSolver, StiffnessPattern};
+use crate::linalg::{DofMap, ElementScatter, SpdSolver, StiffnessPattern};
 use crate::material::{von_mises, Material, Plane, Tangent};
 use crate::model::*;
 use crate::rigid_modes::{free_modes, RigidMode};
@@ -662,9 +662,7 @@ impl<'m> Engine<'m> {
         self.tangents_changed = false;
         let t1 = Instant::now();
         self.timings.assembly += (t1 - t0).as_secs_f64();
-        let mut dof_of_eq = vec![0; self.map.n_equations];
-        (0..self.map.role.len()).for_each(|d| if let Some(eq) = self.map.equation(d) { dof_of_eq[eq] = d });
-        self.solver.factor(&k, &dof_of_eq)?;
+        self.solver.factor(&k, &self.map.dof_of_equation)?;
         self.timings.factorization += t1.elapsed().as_secs_f64();
         let t2 = Instant::now();
         self.flexibility = self.solver.trailing_inverse();
@@ -695,28 +693,11 @@ impl<'m> Engine<'m> {
     /// x = K# y over all DOFs (fixed and pinned DOFs get 0), for each y in `ys`.
     fn apply_ginv(&mut self, ys: &[Vec<f64>]) -> Vec<Vec<f64>> {
         let (n, k) = (self.map.n_equations, ys.len());
-        let mut b = vec![0.0; n * k];
-        for (c, y) in ys.iter().enumerate() {
-            for (d, role) in self.map.role.iter().enumerate() {
-                if let DofRole::Equation(i) = role {
-                    b[c * n + *i] = y[d];
-                }
-            }
-        }
+        let mut b: Vec<f64> = ys.iter().flat_map(|y| self.map.to_equations(y)).collect();
         if k > 0 {
             self.solver.solve_in_place(&mut b, k);
         }
-        (0..k)
-            .map(|c| {
-                let mut x = vec![0.0; self.map.role.len()];
-                for (d, role) in self.map.role.iter().enumerate() {
-                    if let DofRole::Equation(i) = role {
-                        x[d] = b[c * n + *i];
-                    }
-                }
-                x
-            })
-            .collect()
+        (0..k).map(|c| self.map.from_equations(&b[c * n..(c + 1) * n])).collect()
     }
 
     /// K# y at the contact slots for a force y = Σ v e_d on contact DOFs (a column of the
@@ -805,9 +786,7 @@ impl<'m> Engine<'m> {
         } else {
             let internal = internal.unwrap_or_else(|| self.internal_force(&state.stress));
             let r = self.residual_from(&internal, state, target);
-            let mut r_eq = vec![0.0; self.map.n_equations];
-            (0..r.len()).for_each(|d| if let Some(eq) = self.map.equation(d) { r_eq[eq] = r[d] });
-            let w = self.solver.forward(&r_eq);
+            let w = self.solver.forward(&self.map.to_equations(&r));
             let z0_slots = self.solver.trailing_solution(&w);
             (self.mode_vectors.iter().map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>()).collect(), z0_slots, w)
         };
@@ -898,15 +877,14 @@ impl<'m> Engine<'m> {
             }
         }
         // Δu = K#(r + E Δλ) + N α.
-        let mut du = if self.reduced { z0 } else { vec![] };
-        if self.reduced {
-            // Only the contact DOFs are needed (gaps, slips): Σ_j Δλ_j K# e_j there.
-            let mut at_slots = vec![0.0; self.flexibility.nrows()];
+        let mut du = if self.reduced {
+            // Only the contact DOFs are needed (gaps, slips): Σ_j Δλ_j K# e_j there
+            // (reduced index = slot).
+            let mut du = z0;
             for j in 0..m {
-                at_slots.iter_mut().zip(&flex_columns[j]).for_each(|(x, g)| *x += sol[j] * g);
+                du.iter_mut().zip(&flex_columns[j]).for_each(|(x, g)| *x += sol[j] * g);
             }
-            // (reduced index = slot)
-            du.iter_mut().zip(&at_slots).for_each(|(u, x)| *u += x);
+            du
         } else {
             // The contact forces E Δλ sit on contact DOFs: their forward sweep only touches the
             // trailing rows. Then one backward sweep gives K#(r + E Δλ).
@@ -915,21 +893,15 @@ impl<'m> Engine<'m> {
                 let mut force_slots = vec![0.0; self.flexibility.nrows()];
                 for j in 0..m {
                     for &(d, v) in &columns[j] {
-                        if let Some(slot) = Some(self.contact_slot[d]).filter(|&s| s != usize::MAX) {
-                            force_slots[slot] += sol[j] * v;
+                        if self.contact_slot[d] != usize::MAX {
+                            force_slots[self.contact_slot[d]] += sol[j] * v;
                         }
                     }
                 }
                 self.solver.add_trailing_force(&mut w, &force_slots);
             }
-            let v = self.solver.backward(w);
-            du = vec![0.0; self.map.role.len()];
-            for (d, role) in self.map.role.iter().enumerate() {
-                if let DofRole::Equation(i) = role {
-                    du[d] = v[*i];
-                }
-            }
-        }
+            self.map.from_equations(&self.solver.backward(w))
+        };
         let dalpha: Vec<f64> = (0..self.modes.len()).map(|k| sol[m + k]).collect();
         for (k, mode) in self.mode_vectors.iter().enumerate() {
             let s = sol[m + k];

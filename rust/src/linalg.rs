@@ -37,6 +37,8 @@ pub enum DofRole {
 pub struct DofMap {
     pub role: Vec<DofRole>,
     pub n_equations: usize,
+    /// The global DOF of each equation.
+    pub dof_of_equation: Vec<usize>,
 }
 
 impl DofMap {
@@ -58,7 +60,17 @@ impl DofMap {
                 DofRole::Equation(n - 1)
             };
         }
-        DofMap { role, n_equations: n }
+        DofMap::with_roles(role, n)
+    }
+
+    fn with_roles(role: Vec<DofRole>, n_equations: usize) -> Self {
+        let mut dof_of_equation = vec![0; n_equations];
+        for (d, r) in role.iter().enumerate() {
+            if let DofRole::Equation(i) = r {
+                dof_of_equation[*i] = d;
+            }
+        }
+        DofMap { role, n_equations, dof_of_equation }
     }
 
     pub fn equation(&self, dof: usize) -> Option<usize> {
@@ -66,6 +78,18 @@ impl DofMap {
             DofRole::Equation(i) => Some(i),
             _ => None,
         }
+    }
+
+    /// The equations' entries of a vector over all DOFs.
+    pub fn to_equations(&self, v: &[f64]) -> Vec<f64> {
+        self.dof_of_equation.iter().map(|&d| v[d]).collect()
+    }
+
+    /// A vector over all DOFs from its equations' entries (0 at fixed and pinned DOFs).
+    pub fn from_equations(&self, x: &[f64]) -> Vec<f64> {
+        let mut v = vec![0.0; self.role.len()];
+        self.dof_of_equation.iter().zip(x).for_each(|(&d, &xi)| v[d] = xi);
+        v
     }
 
     /// Equations numbered in the order of the Cholesky factor, so that the factor needs no
@@ -133,7 +157,7 @@ impl DofMap {
                 bail!("internal: trailing DOF {d} is not an equation");
             }
         }
-        Ok(DofMap { role, n_equations })
+        Ok(DofMap::with_roles(role, n_equations))
     }
 }
 
@@ -191,14 +215,12 @@ impl StiffnessPattern {
                 }
             }
         }
-        let mut dof_of_equation = vec![0usize; n];
-        (0..map.role.len()).for_each(|d| if let Some(eq) = map.equation(d) { dof_of_equation[eq] = d });
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::with_capacity(9 * n);
         col_ptr.push(0);
         let mut rows = Vec::new();
         for c in 0..n {
-            let a = dof_of_equation[c] / 2;
+            let a = map.dof_of_equation[c] / 2;
             rows.clear();
             for &b in &neighbours[start[a]..fill[a]] {
                 rows.extend([2 * b, 2 * b + 1].iter().filter_map(|&d| map.equation(d)).filter(|&r| r >= c));
@@ -423,10 +445,10 @@ impl SpdSolver {
         g
     }
 
-    fn supernodal(&self) -> (&SymbolicCholesky<usize>, SupernodalLltRef<'_, usize, f64>) {
+    fn supernodal(&self) -> SupernodalLltRef<'_, usize, f64> {
         let sym = self.symbolic.as_ref().expect("factor() before a solve");
         match sym.raw() {
-            SymbolicCholeskyRaw::Supernodal(sup) => (sym, SupernodalLltRef::new(sup, &self.values)),
+            SymbolicCholeskyRaw::Supernodal(sup) => SupernodalLltRef::new(sup, &self.values),
             SymbolicCholeskyRaw::Simplicial(_) => unreachable!("the factor is always supernodal"),
         }
     }
@@ -439,7 +461,7 @@ impl SpdSolver {
     /// Forward sweep w = L⁻¹ b for b over the equations.
     pub fn forward(&mut self, b: &[f64]) -> Vec<f64> {
         let mut mem = self.one_column_scratch();
-        let (_, factor) = self.supernodal();
+        let factor = self.supernodal();
         let mut w = b.to_vec();
         let n = w.len();
         factor.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut w, n, 1), PAR, MemStack::new(&mut mem));
@@ -475,7 +497,7 @@ impl SpdSolver {
     /// Backward sweep: x = L⁻ᵀ w, over the equations. Counts one solve.
     pub fn backward(&mut self, mut w: Vec<f64>) -> Vec<f64> {
         let mut mem = self.one_column_scratch();
-        let (_, factor) = self.supernodal();
+        let factor = self.supernodal();
         let n = w.len();
         factor.l_transpose_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut w, n, 1), PAR, MemStack::new(&mut mem));
         self.solve_scratch = Some(mem);
@@ -574,8 +596,7 @@ mod tests {
         let map = DofMap::new(18, &fixed, &[]);
         let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &tangents, 1.0, &map).unwrap();
         let mut s = SpdSolver::new(0);
-        let dofs: Vec<usize> = (0..18).filter(|&d| !fixed[d]).collect();
-        s.factor(&k, &dofs).unwrap();
+        s.factor(&k, &map.dof_of_equation).unwrap();
         let rhs: Vec<f64> = (0..map.n_equations).map(|i| 1.0 + i as f64).collect();
         let mut x = rhs.clone();
         s.solve_in_place(&mut x, 1);
@@ -620,9 +641,7 @@ mod tests {
         let t = chosen.len();
         assert_eq!(chosen, (map.n_equations - t..map.n_equations).collect::<Vec<_>>());
         let mut s = SpdSolver::new(t);
-        let mut dofs = vec![0; map.n_equations];
-        (0..n_dofs).for_each(|g| if let Some(eq) = map.equation(g) { dofs[eq] = g });
-        s.factor(&k, &dofs).unwrap();
+        s.factor(&k, &map.dof_of_equation).unwrap();
         let g = s.trailing_inverse();
         let n = map.n_equations;
         let mut b = vec![0.0; n * chosen.len()];
