@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use slipstep_core::material::{Material, Plane};
 use slipstep_core::mesh::Mesh;
+use slipstep_core::error::ErrorKind;
 use slipstep_core::model::*;
 use std::io::Write;
 use std::time::Instant;
@@ -87,7 +88,11 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
         let gap = f64_1d(p, "gap")?;
         let mu = f64_1d(p, "mu")?;
         let n = a.len();
-        if [b.len(), normal.len(), gap.len(), mu.len()].iter().any(|&l| l != n) {
+        let contact = match p.get_item("contact")? {
+            Some(_) => Some(i64_1d(p, "contact")?.into_iter().map(|v| to_index(v, "pairs.contact")).collect::<PyResult<Vec<_>>>()?),
+            None => None,
+        };
+        if [b.len(), normal.len(), gap.len(), mu.len()].iter().any(|&l| l != n) || contact.as_ref().map_or(false, |c| c.len() != n) {
             return Err(PyValueError::new_err("engine model: the pair arrays node_a, node_b, normal, gap, mu differ in length"));
         }
         for k in 0..n {
@@ -97,6 +102,7 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
                 normal: normal[k],
                 gap: gap[k],
                 mu: mu[k],
+                contact: contact.as_ref().map_or(0, |c| c[k]),
             });
         }
     }
@@ -139,8 +145,23 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
             };
         }
     }
-    options.validate().map_err(|e| PyValueError::new_err(format!("engine model: {}", e.0)))?;
-    Ok(Model { mesh: Mesh { nodes, triangles }, element_material, materials, plane, thickness, fixed_dofs, load, pairs, options })
+    let names = read_names(d)?;
+    Ok(Model { mesh: Mesh { nodes, triangles }, element_material, materials, plane, thickness, fixed_dofs, load, pairs, names, options })
+}
+
+/// The case's names for messages (optional keys body_names, element_body, contact_names).
+fn read_names(d: &Bound<'_, PyDict>) -> PyResult<Names> {
+    let strings = |key: &str| -> PyResult<Vec<String>> {
+        match d.get_item(key)? {
+            Some(v) => v.extract().map_err(|_| PyValueError::new_err(format!("engine model: '{key}' must be a list of str"))),
+            None => Ok(vec![]),
+        }
+    };
+    let element_body = match d.get_item("element_body")? {
+        Some(_) => i64_1d(d, "element_body")?.into_iter().map(|v| to_index(v, "element_body")).collect::<PyResult<_>>()?,
+        None => vec![],
+    };
+    Ok(Names { bodies: strings("body_names")?, element_body, contacts: strings("contact_names")? })
 }
 
 fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyDict>> {
@@ -186,8 +207,17 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     out.set_item("max_drift", r.max_drift)?;
     out.set_item("n_factorizations", r.n_factorizations)?;
     out.set_item("n_solves", r.n_solves)?;
-    out.set_item("interrupted", r.interrupted)?;
-    out.set_item("stop_reason", r.stop_reason)?;
+    let stop = PyDict::new(py);
+    stop.set_item("kind", r.stop.name())?;
+    stop.set_item("message", r.stop.message())?;
+    stop.set_item("load_fraction", r.steps.last().map_or(0.0, |s| s.load_fraction))?;
+    out.set_item("interrupted", matches!(r.stop, StopReason::Interrupted { .. }))?;
+    out.set_item("stop_reason", match r.stop {
+        StopReason::LimitLoad { .. } | StopReason::EventBound { .. } => r.stop.message(),
+        _ => None,
+    })?;
+    out.set_item("stop", stop)?;
+    out.set_item("n_rate_problems", r.n_rate_problems)?;
     let t = PyDict::new(py);
     t.set_item("assembly", r.timings.assembly)?;
     t.set_item("factorization", r.timings.factorization)?;
@@ -231,7 +261,27 @@ fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: bool) -> Py
     });
     match result {
         Ok(r) => result_to_dict(py, r),
-        Err(e) => Err(PyValueError::new_err(e.0)),
+        Err(e) => Err(python_error(py, &e)),
+    }
+}
+
+/// The engine's error as the exception class of `slipstep.errors` for its kind (ValueError, or
+/// RuntimeError for an internal error, when that module cannot be imported).
+fn python_error(py: Python<'_>, e: &slipstep_core::Error) -> PyErr {
+    let class = match e.kind {
+        ErrorKind::Input => "InputError",
+        ErrorKind::FreeBody => "FreeBodyError",
+        ErrorKind::GrossSliding => "GrossSlidingError",
+        ErrorKind::Singular => "SingularSystemError",
+        ErrorKind::Equilibrium => "EquilibriumError",
+        ErrorKind::IllPosed => "IllPosedError",
+        ErrorKind::Internal => "InternalError",
+    };
+    let raised = py.import("slipstep.errors").and_then(|m| m.getattr(class)).and_then(|c| c.call1((e.message.clone(),)));
+    match raised {
+        Ok(exc) => PyErr::from_value(exc),
+        Err(_) if e.kind == ErrorKind::Internal => pyo3::exceptions::PyRuntimeError::new_err(e.message.clone()),
+        Err(_) => PyValueError::new_err(e.message.clone()),
     }
 }
 

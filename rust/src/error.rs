@@ -1,14 +1,60 @@
-//! One error type for everything the engine can refuse. Every message names the place
-//! (element, node, pair, key) and the fix, so that the front ends can show it as one line.
+//! What the engine can refuse, one variant per kind of failure. Every message names the place
+//! (body, contact, node, element, key, by the case's names where the model carries them) and
+//! the fix, so that the front ends can show it as one line; the kind lets them map it to an
+//! exception class without reading the text.
 
 use std::fmt;
 
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// Malformed or unsupported input: NaN, out-of-range values, bad indices, degenerate mesh,
+    /// initial penetration.
+    Input,
+    /// A body (or part of one) is free to move: a mechanism the supports and closed contacts
+    /// leave unresisted.
+    FreeBody,
+    /// The tangential load exceeds what friction can hold: a body slides as a whole.
+    GrossSliding,
+    /// A linear system is singular: redundant constraints or a stiffness with a mechanism.
+    Singular,
+    /// Equilibrium is lost beyond `Options::equilibrium_tol` (ill-conditioning).
+    Equilibrium,
+    /// The last-resort anti-cycling rule froze a status and a contact condition is violated:
+    /// the scene may be ill-posed for its friction coefficient.
+    IllPosed,
+    /// A broken invariant of the engine itself: a bug.
+    Internal,
+}
+
+impl ErrorKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            ErrorKind::Input => "input",
+            ErrorKind::FreeBody => "free_body",
+            ErrorKind::GrossSliding => "gross_sliding",
+            ErrorKind::Singular => "singular",
+            ErrorKind::Equilibrium => "equilibrium",
+            ErrorKind::IllPosed => "ill_posed",
+            ErrorKind::Internal => "internal",
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
-pub struct Error(pub String);
+pub struct Error {
+    pub kind: ErrorKind,
+    pub message: String,
+}
+
+impl Error {
+    pub fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
+        Error { kind, message: message.into() }
+    }
+}
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
+        f.write_str(&self.message)
     }
 }
 
@@ -16,8 +62,18 @@ impl std::error::Error for Error {}
 
 pub type Result<T> = std::result::Result<T, Error>;
 
-/// `bail!("...")` returns an `Error` built with `format!`.
+/// `bail!(Kind, "...", args)` returns an `Error` of `ErrorKind::Kind` built with `format!`.
 #[macro_export]
 macro_rules! bail {
-    ($($arg:tt)*) => { return Err($crate::error::Error(format!($($arg)*))) };
+    ($kind:ident, $($arg:tt)*) => {
+        return Err($crate::error::Error::new($crate::error::ErrorKind::$kind, format!($($arg)*)))
+    };
+}
+
+/// `fail!(Kind, "...", args)`: the same `Error` as a value (for `map_err`, `ok_or_else`).
+#[macro_export]
+macro_rules! fail {
+    ($kind:ident, $($arg:tt)*) => {
+        $crate::error::Error::new($crate::error::ErrorKind::$kind, format!($($arg)*))
+    };
 }

@@ -15,11 +15,15 @@
 //! - [`rigid_modes`]: rigid-body modes left free by the supports;
 //! - [`linalg`]: sparse assembly and the SPD Cholesky factor (faer);
 //! - [`events`]: scale factors of the next event (eqs. 48–57);
-//! - [`driver`]: the incremental loop (§4, eqs. 43–44, 58–62), termination rule, checks;
-//! - [`model`]: input and output records.
+//! - [`driver`]: the incremental loop (§4), one module per phase (see its table);
+//! - [`lcp`]: Lemke's method for the zero-length rate problem;
+//! - [`model`]: input records and their validation; [`records`]: output records;
+//! - [`error`]: typed errors, one kind per failure.
 
 pub mod contact;
 pub mod driver;
+pub mod lcp;
+pub mod records;
 pub mod element;
 pub mod error;
 pub mod events;

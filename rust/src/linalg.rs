@@ -137,12 +137,12 @@ impl DofMap {
             }
         }
         let (graph, _) = SymbolicSparseColMat::try_new_from_indices(m, m, &edges)
-            .map_err(|e| crate::error::Error(format!("could not analyse the mesh graph: {e:?}")))?;
+            .map_err(|e| crate::fail!(Internal, "could not analyse the mesh graph: {e:?}"))?;
         let (mut fwd, mut inv) = (vec![0usize; m], vec![0usize; m]);
         let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(m, graph.compute_nnz()))
-            .map_err(|_| crate::error::Error("out of memory for the AMD ordering".into()))?;
+            .map_err(|_| crate::fail!(Internal, "out of memory for the AMD ordering"))?;
         amd::order_maybe_unsorted(&mut fwd, &mut inv, graph.as_ref(), amd::Control::default(), MemStack::new(&mut mem))
-            .map_err(|e| crate::error::Error(format!("the AMD ordering failed: {e:?}")))?;
+            .map_err(|e| crate::fail!(Internal, "the AMD ordering failed: {e:?}"))?;
         let mut is_trailing = vec![false; n_dofs];
         trailing.iter().for_each(|&d| is_trailing[d] = true);
         // fwd[new] = old
@@ -154,7 +154,7 @@ impl DofMap {
                 role[d] = DofRole::Equation(n_equations);
                 n_equations += 1;
             } else if is_trailing[d] {
-                bail!("internal: trailing DOF {d} is not an equation");
+                bail!(Internal, "internal: trailing DOF {d} is not an equation");
             }
         }
         Ok(DofMap::with_roles(role, n_equations))
@@ -361,9 +361,9 @@ impl SpdSolver {
             // Supernodal always: the trailing block is read from the supernodes.
             let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() };
             // (Without a permutation faer's analysis reads the upper triangle: hand it Lᵀ's.)
-            let upper = lower.as_ref().transpose().to_col_major().map_err(|e| crate::error::Error(format!("could not transpose the stiffness pattern: {e:?}")))?;
+            let upper = lower.as_ref().transpose().to_col_major().map_err(|e| crate::fail!(Internal, "could not transpose the stiffness pattern: {e:?}"))?;
             let sym = factorize_symbolic_cholesky(upper.symbolic(), Side::Upper, SymmetricOrdering::Identity, params)
-                .map_err(|e| crate::error::Error(format!("symbolic factorization failed: {e:?}")))?;
+                .map_err(|e| crate::fail!(Internal, "symbolic factorization failed: {e:?}"))?;
             self.values = vec![0.0; sym.len_val()];
             self.symbolic = Some(sym);
         }
@@ -372,7 +372,7 @@ impl SpdSolver {
         if self.factor_scratch.is_none() {
             self.factor_scratch = Some(
                 MemBuffer::try_new(sym.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
-                    .map_err(|_| crate::error::Error("out of memory for the Cholesky factorization".into()))?,
+                    .map_err(|_| crate::fail!(Internal, "out of memory for the Cholesky factorization"))?,
             );
         }
         let mem = self.factor_scratch.as_mut().unwrap();
@@ -388,7 +388,7 @@ impl SpdSolver {
                     .get(index)
                     .map(|&d| format!(" near node {} ({})", d / 2, if d % 2 == 0 { "x" } else { "y" }))
                     .unwrap_or_default();
-                bail!("the stiffness matrix is singular{hint}: the model has a mechanism (a part held by nothing, or elements joined at a single node); add supports or check the mesh connectivity")
+                bail!(FreeBody, "the stiffness matrix is singular{hint}: the model has a mechanism (a part held by nothing, or elements joined at a single node); add supports or check the mesh connectivity")
             }
 
         }

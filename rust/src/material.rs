@@ -43,21 +43,21 @@ impl Material {
     pub fn validate(&self, index: usize) -> Result<()> {
         let (e, nu) = (self.young, self.poisson);
         if !e.is_normal() || e <= 0.0 {
-            bail!("material {index}: E = {e} is not allowed: Young's modulus must be a finite positive number");
+            bail!(Input, "material {index}: E = {e} is not allowed: Young's modulus must be a finite positive number");
         }
         if !nu.is_finite() || nu <= -1.0 || nu >= 0.5 {
-            bail!("material {index}: nu = {nu} is not allowed: Poisson's ratio must satisfy -1 < nu < 0.5 (use 0.499 for a near-incompressible solid)");
+            bail!(Input, "material {index}: nu = {nu} is not allowed: Poisson's ratio must satisfy -1 < nu < 0.5 (use 0.499 for a near-incompressible solid)");
         }
         if self.yield_stress.is_nan() || self.yield_stress <= 0.0 {
-            bail!("material {index}: Sy = {} is not allowed: the yield stress must be positive (omit it for an elastic body)", self.yield_stress);
+            bail!(Input, "material {index}: Sy = {} is not allowed: the yield stress must be positive (omit it for an elastic body)", self.yield_stress);
         }
         // A yield strain below 1e-12 means wrong units; it would also overflow the relative
         // drift |σe − σy|/σy (found by tests/test_fuzz.py with Sy = 5e-324).
         if self.yield_stress.is_finite() && self.yield_stress < 1e-12 * e {
-            bail!("material {index}: Sy = {} is not allowed: the yield strain Sy/E = {:.3e} is below 1e-12; check the units of Sy and E", self.yield_stress, self.yield_stress / e);
+            bail!(Input, "material {index}: Sy = {} is not allowed: the yield strain Sy/E = {:.3e} is below 1e-12; check the units of Sy and E", self.yield_stress, self.yield_stress / e);
         }
         if !self.hardening.is_finite() || self.hardening < 0.0 {
-            bail!("material {index}: H = {} is not allowed: the plastic modulus H' must be >= 0 (0 = perfectly plastic)", self.hardening);
+            bail!(Input, "material {index}: H = {} is not allowed: the plastic modulus H' must be >= 0 (0 = perfectly plastic)", self.hardening);
         }
         Ok(())
     }
@@ -235,10 +235,10 @@ mod tests {
     #[test]
     fn subnormal_moduli_and_vanishing_yield_strains_are_refused() {
         let mut m = Material::elastic(5e-324, 0.3);
-        assert!(m.validate(0).unwrap_err().0.contains("E = "));
+        assert!(m.validate(0).unwrap_err().message.contains("E = "));
         m = Material::elastic(70_000.0, 0.3);
         m.yield_stress = 5e-324;
-        assert!(m.validate(0).unwrap_err().0.contains("yield strain"));
+        assert!(m.validate(0).unwrap_err().message.contains("yield strain"));
         m.yield_stress = 200.0;
         assert!(m.validate(0).is_ok());
     }
@@ -328,7 +328,7 @@ mod tests {
 
     #[test]
     fn bad_values_are_named() {
-        assert!(Material::elastic(-1.0, 0.3).validate(0).unwrap_err().0.contains("E = -1"));
-        assert!(Material::elastic(1.0, 0.5).validate(2).unwrap_err().0.contains("material 2: nu = 0.5"));
+        assert!(Material::elastic(-1.0, 0.3).validate(0).unwrap_err().message.contains("E = -1"));
+        assert!(Material::elastic(1.0, 0.5).validate(2).unwrap_err().message.contains("material 2: nu = 0.5"));
     }
 }

@@ -23,24 +23,30 @@ impl Mesh {
         (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pc[0] - pa[0]) * (pb[1] - pa[1])
     }
 
+    /// Length of the diagonal of the bounding box: the length scale of tolerances.
+    pub fn diameter(&self) -> f64 {
+        let (xmin, xmax, ymin, ymax) = self.nodes.iter().fold((f64::MAX, f64::MIN, f64::MAX, f64::MIN), |b, p| (b.0.min(p[0]), b.1.max(p[0]), b.2.min(p[1]), b.3.max(p[1])));
+        ((xmax - xmin).powi(2) + (ymax - ymin).powi(2)).sqrt()
+    }
+
     /// Reject meshes the element routines cannot integrate: no elements, NaN/inf coordinates,
     /// node ids out of range, repeated nodes in a triangle, inverted or degenerate triangles.
     pub fn validate(&self) -> Result<()> {
         if self.triangles.is_empty() {
-            bail!("the mesh has no triangles: give each body a mesh with at least one element");
+            bail!(Input, "the mesh has no triangles: give each body a mesh with at least one element");
         }
         for (i, p) in self.nodes.iter().enumerate() {
             if !p[0].is_finite() || !p[1].is_finite() {
-                bail!("node {i} has a non-finite coordinate ({}, {}): fix the mesh file", p[0], p[1]);
+                bail!(Input, "node {i} has a non-finite coordinate ({}, {}): fix the mesh file", p[0], p[1]);
             }
         }
         let n = self.nodes.len();
         for (e, t) in self.triangles.iter().enumerate() {
             if let Some(&bad) = t.iter().find(|&&v| v >= n) {
-                bail!("element {e} refers to node {bad}, but the mesh has only {n} nodes: fix the connectivity");
+                bail!(Input, "element {e} refers to node {bad}, but the mesh has only {n} nodes: fix the connectivity");
             }
             if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
-                bail!("element {e} repeats a node ({:?}): remove the degenerate triangle", t);
+                bail!(Input, "element {e} repeats a node ({:?}): remove the degenerate triangle", t);
             }
         }
         for e in 0..self.triangles.len() {
@@ -55,10 +61,10 @@ impl Mesh {
                 .fold(0.0, f64::max);
             // Degenerate: height below 1e-10 of the longest side (zero area or collinear nodes).
             if a2.abs() <= 1e-10 * longest2 {
-                bail!("element {e} is degenerate (area {:.3e} for a longest side of {:.3e}): remove it or move its nodes apart", a2 / 2.0, longest2.sqrt());
+                bail!(Input, "element {e} is degenerate (area {:.3e} for a longest side of {:.3e}): remove it or move its nodes apart", a2 / 2.0, longest2.sqrt());
             }
             if a2 < 0.0 {
-                bail!("element {e} is inverted (signed area {:.3e}): list its nodes counter-clockwise", a2 / 2.0);
+                bail!(Input, "element {e} is inverted (signed area {:.3e}): list its nodes counter-clockwise", a2 / 2.0);
             }
         }
         Ok(())
@@ -121,7 +127,7 @@ mod tests {
     fn inverted_triangle_is_named() {
         let mut m = square();
         m.triangles[1] = [0, 3, 2];
-        let err = m.validate().unwrap_err().0;
+        let err = m.validate().unwrap_err().message;
         assert!(err.starts_with("element 1 is inverted"), "{err}");
     }
 
@@ -130,7 +136,7 @@ mod tests {
         let mut m = square();
         m.nodes.push([2.0, 0.0]);
         m.triangles.push([0, 1, 4]);
-        let err = m.validate().unwrap_err().0;
+        let err = m.validate().unwrap_err().message;
         assert!(err.starts_with("element 2 is degenerate"), "{err}");
     }
 
@@ -138,7 +144,7 @@ mod tests {
     fn nan_node_is_named() {
         let mut m = square();
         m.nodes[3][1] = f64::NAN;
-        assert!(m.validate().unwrap_err().0.starts_with("node 3 has a non-finite"));
+        assert!(m.validate().unwrap_err().message.starts_with("node 3 has a non-finite"));
     }
 
     #[test]

@@ -1,10 +1,12 @@
-//! What goes into the engine (a scene reduced to arrays) and what comes out (the event
-//! history and field snapshots). No Python types: the bindings translate.
+//! What goes into the engine: a scene reduced to arrays, the names the messages use, the solver
+//! options, and their validation (the core checks its own input, so every caller gets the same
+//! checks). The output records live in `records` (re-exported here).
 
 use crate::bail;
 use crate::error::Result;
 use crate::material::{Material, Plane};
 use crate::mesh::Mesh;
+pub use crate::records::*;
 
 /// A candidate contact pair as given by the front end (see `contact::Pair`).
 #[derive(Debug, Clone)]
@@ -14,6 +16,18 @@ pub struct PairInput {
     pub normal: [f64; 2],
     pub gap: f64,
     pub mu: f64,
+    /// Index into `Names::contacts` of the case's contact this pair comes from.
+    pub contact: usize,
+}
+
+/// The case's names, so that messages say "body 'punch'" and "contact 'bottom'" instead of
+/// indices. Empty vectors: bodies and contacts are named by number.
+#[derive(Debug, Clone, Default)]
+pub struct Names {
+    pub bodies: Vec<String>,
+    /// Body (index into `bodies`) of every element.
+    pub element_body: Vec<usize>,
+    pub contacts: Vec<String>,
 }
 
 #[derive(Debug, Clone)]
@@ -61,23 +75,23 @@ impl Options {
     /// fractions outside (0, 1]), naming the option and the fix.
     pub fn validate(&self) -> Result<()> {
         if !(self.tie_tol.is_finite() && self.tie_tol >= 0.0) {
-            bail!("options.tie_tol = {} is not allowed: give a finite tolerance >= 0 (default 1e-9)", self.tie_tol);
+            bail!(Input, "options.tie_tol = {} is not allowed: give a finite tolerance >= 0 (default 1e-9)", self.tie_tol);
         }
         if !(self.group_tol.is_finite() && (0.0..1.0).contains(&self.group_tol)) {
-            bail!("options.group_tol = {} is not allowed: give a relative load window in [0, 1) (0 = the exact event procedure, the default; 1e-3 to 1e-1 trade accuracy for speed)", self.group_tol);
+            bail!(Input, "options.group_tol = {} is not allowed: give a relative load window in [0, 1) (0 = the exact event procedure, the default; 1e-3 to 1e-1 trade accuracy for speed)", self.group_tol);
         }
         if !(self.equilibrium_tol.is_finite() && self.equilibrium_tol > 0.0) {
-            bail!("options.equilibrium_tol = {} is not allowed: give a finite tolerance > 0 (default 1e-9)", self.equilibrium_tol);
+            bail!(Input, "options.equilibrium_tol = {} is not allowed: give a finite tolerance > 0 (default 1e-9)", self.equilibrium_tol);
         }
         if !(self.limit_stiffness.is_finite() && (0.0..1.0).contains(&self.limit_stiffness)) {
-            bail!("options.limit_stiffness = {} is not allowed: give a fraction in [0, 1) of the initial stiffness (0 disables the limit-load stop; default 1e-3)", self.limit_stiffness);
+            bail!(Input, "options.limit_stiffness = {} is not allowed: give a fraction in [0, 1) of the initial stiffness (0 disables the limit-load stop; default 1e-3)", self.limit_stiffness);
         }
         if !(self.max_stress_step.is_finite() && self.max_stress_step > 0.0) {
-            bail!("options.max_stress_step = {} is not allowed: give a finite fraction of Sy > 0 (default 0.05)", self.max_stress_step);
+            bail!(Input, "options.max_stress_step = {} is not allowed: give a finite fraction of Sy > 0 (default 0.05)", self.max_stress_step);
         }
         if let SnapshotRequest::Fractions(f) = &self.snapshots {
             if let Some(bad) = f.iter().find(|v| !(v.is_finite() && **v > 0.0 && **v <= 1.0)) {
-                bail!("options.fractions: {bad} is not allowed: snapshot load fractions must lie in (0, 1]");
+                bail!(Input, "options.fractions: {bad} is not allowed: snapshot load fractions must lie in (0, 1]");
             }
         }
         Ok(())
@@ -114,122 +128,118 @@ pub struct Model {
     /// Total nodal load at load fraction 1 (length 2·nodes).
     pub load: Vec<f64>,
     pub pairs: Vec<PairInput>,
+    pub names: Names,
     pub options: Options,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum EventKind {
-    Close,
-    Separate,
-    StickToSlip,
-    SlipToStick,
-    /// Anti-cycling: the pair was frozen in its status for the rest of a zero-length run.
-    Frozen,
-    /// An elastic element reaches the yield surface (S_p, eq. 16).
-    Yield,
-    /// A plastic element unloads elastically.
-    Unload,
-    /// Anti-cycling for an element.
-    FrozenElement,
-}
+impl Model {
+    /// Every check the engine needs before it assembles anything: mesh, materials, loads,
+    /// supports, contact pairs, names and options. Errors name the place and the fix.
+    pub fn validate(&self) -> Result<()> {
+        self.mesh.validate()?;
+        self.options.validate()?;
+        self.validate_bulk()?;
+        self.validate_names()?;
+        let length_scale = self.mesh.diameter();
+        let (body_of_node, _) = self.mesh.bodies();
+        let mut seen = std::collections::HashSet::new();
+        for (k, p) in self.pairs.iter().enumerate() {
+            self.validate_pair(k, p, &body_of_node, length_scale)?;
+            if !seen.insert((p.node_a, p.node_b)) {
+                bail!(Input, "{} repeats the pair of node {} (a node may face one target once): remove the duplicate", self.pair_name(k), p.node_a);
+            }
+        }
+        Ok(())
+    }
 
-impl EventKind {
-    pub fn name(self) -> &'static str {
-        match self {
-            EventKind::Close => "close",
-            EventKind::Separate => "separate",
-            EventKind::StickToSlip => "stick_to_slip",
-            EventKind::SlipToStick => "slip_to_stick",
-            EventKind::Frozen => "frozen",
-            EventKind::Yield => "yield",
-            EventKind::Unload => "unload",
-            EventKind::FrozenElement => "frozen_element",
+    fn validate_bulk(&self) -> Result<()> {
+        let n_dofs = 2 * self.mesh.n_nodes();
+        if !(self.thickness.is_finite() && self.thickness > 0.0) {
+            bail!(Input, "thickness = {} is not allowed: give a positive out-of-plane thickness", self.thickness);
+        }
+        if self.materials.is_empty() {
+            bail!(Input, "no material given: every body needs a material with E and nu");
+        }
+        for (i, m) in self.materials.iter().enumerate() {
+            m.validate(i)?;
+        }
+        if self.element_material.len() != self.mesh.triangles.len() {
+            bail!(Input, "element_material has {} entries for {} elements", self.element_material.len(), self.mesh.triangles.len());
+        }
+        if let Some((e, &m)) = self.element_material.iter().enumerate().find(|(_, &m)| m >= self.materials.len()) {
+            bail!(Input, "element {e} uses material {m}, but only {} materials are given", self.materials.len());
+        }
+        if self.load.len() != n_dofs {
+            bail!(Input, "the load vector has {} entries for {} DOFs (2 per node)", self.load.len(), n_dofs);
+        }
+        if let Some(d) = self.load.iter().position(|v| !v.is_finite()) {
+            bail!(Input, "the load at node {} ({}) is not finite: check the pressure/traction values", d / 2, if d % 2 == 0 { "x" } else { "y" });
+        }
+        if let Some(&d) = self.fixed_dofs.iter().find(|&&d| d >= n_dofs) {
+            bail!(Input, "fixed DOF {d} is out of range (the mesh has {n_dofs} DOFs)");
+        }
+        Ok(())
+    }
+
+    fn validate_names(&self) -> Result<()> {
+        let n = &self.names;
+        if !n.element_body.is_empty() && n.element_body.len() != self.mesh.triangles.len() {
+            bail!(Input, "names.element_body has {} entries for {} elements", n.element_body.len(), self.mesh.triangles.len());
+        }
+        if let Some(&b) = n.element_body.iter().find(|&&b| b >= n.bodies.len()) {
+            bail!(Input, "names.element_body refers to body {b}, but only {} body names are given", n.bodies.len());
+        }
+        if !n.contacts.is_empty() {
+            if let Some((k, p)) = self.pairs.iter().enumerate().find(|(_, p)| p.contact >= n.contacts.len()) {
+                bail!(Input, "pair {k} refers to contact {}, but only {} contact names are given", p.contact, n.contacts.len());
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_pair(&self, k: usize, p: &PairInput, body_of_node: &[usize], length_scale: f64) -> Result<()> {
+        let name = self.pair_name(k);
+        let in_mesh = |i: usize| i < self.mesh.n_nodes() && body_of_node[i] != usize::MAX;
+        if !in_mesh(p.node_a) || p.node_b.map_or(false, |b| !in_mesh(b)) {
+            let target = p.node_b.map_or(String::from("a rigid line"), |b| format!("node {b}"));
+            bail!(Input, "{name} (node {} against {target}) refers to a node of no element: check the contact surface tags", p.node_a);
+        }
+        if p.node_b == Some(p.node_a) {
+            bail!(Input, "{name} joins node {} to itself", p.node_a);
+        }
+        if !(p.mu.is_finite() && p.mu >= 0.0) {
+            bail!(Input, "{name}: mu = {} is not allowed: the friction coefficient must be >= 0", p.mu);
+        }
+        let nn = (p.normal[0].powi(2) + p.normal[1].powi(2)).sqrt();
+        if !nn.is_finite() || (nn - 1.0).abs() > 1e-6 {
+            bail!(Input, "{name}: the normal ({}, {}) is not a unit vector", p.normal[0], p.normal[1]);
+        }
+        if !p.gap.is_finite() {
+            bail!(Input, "{name}: the initial gap is not finite");
+        }
+        if p.gap < -1e-9 * length_scale {
+            bail!(Input, "initial penetration at {name} (node {}): gap {:.3e} < 0; move the bodies apart so that they at most touch", p.node_a, p.gap);
+        }
+        Ok(())
+    }
+
+    /// "contact 'NAME' pair k (node n at (x, y))", or "contact pair k (node n)" without names.
+    pub fn pair_name(&self, k: usize) -> String {
+        let p = &self.pairs[k];
+        let at = self.mesh.nodes.get(p.node_a).map(|x| format!(" at ({:.6}, {:.6})", x[0], x[1])).unwrap_or_default();
+        match self.names.contacts.get(p.contact) {
+            Some(c) => format!("contact '{c}' pair {k} (node {}{at})", p.node_a),
+            None => format!("contact pair {k} (node {}{at})", p.node_a),
         }
     }
 
-    pub fn is_element_event(self) -> bool {
-        matches!(self, EventKind::Yield | EventKind::Unload | EventKind::FrozenElement)
+    /// "body 'NAME'" of a connected component of the mesh (named by its first element).
+    pub fn body_name(&self, first_element: usize) -> String {
+        match self.names.element_body.get(first_element).and_then(|&b| self.names.bodies.get(b)) {
+            Some(b) => format!("body '{b}'"),
+            None => format!("the body of element {first_element}"),
+        }
     }
-}
-
-#[derive(Debug, Clone)]
-pub struct EventRecord {
-    pub step: usize,
-    pub load_fraction: f64,
-    pub kind: EventKind,
-    pub entity: usize,
-}
-
-#[derive(Debug, Clone)]
-pub struct StepRecord {
-    pub load_fraction: f64,
-    pub scale: f64,
-    pub residual: f64,
-    pub n_closed: usize,
-    pub n_stick: usize,
-    pub n_slip: usize,
-    pub normal_force: f64,
-    pub n_plastic: usize,
-    /// Max |σe − σy(εp)| / σy(εp) over plastic elements at the end of the step, before return.
-    pub drift: f64,
-}
-
-#[derive(Debug, Clone)]
-pub struct Snapshot {
-    pub load_fraction: f64,
-    /// Displacement, 2 per node.
-    pub u: Vec<f64>,
-    /// σx, σy, σz, τxy per element.
-    pub stress: Vec<[f64; 4]>,
-    pub plastic_strain: Vec<f64>,
-    pub plastic: Vec<i8>,
-    pub lambda_n: Vec<f64>,
-    pub lambda_t: Vec<f64>,
-    pub status: Vec<i8>,
-    pub gap: Vec<f64>,
-    pub rtd: Vec<f64>,
-}
-
-#[derive(Debug, Clone, Default)]
-pub struct Timings {
-    pub assembly: f64,
-    pub factorization: f64,
-    /// Reading the contact flexibility from the factor's trailing block (dense, per factor).
-    pub flexibility: f64,
-    /// Triangular solves (trial, corrections, snapshots).
-    pub solves: f64,
-    /// The small dense contact systems (also counted in `events`).
-    pub dense: f64,
-    /// Event bookkeeping: scale factors, advancing, checks, the small dense systems.
-    pub events: f64,
-    /// One forward + backward substitution with one right-hand side on the first factor
-    /// (the unit of the amortized cost of an event).
-    pub solve_pair: f64,
-}
-
-#[derive(Debug, Clone)]
-pub struct RunResult {
-    pub events: Vec<EventRecord>,
-    pub steps: Vec<StepRecord>,
-    pub snapshots: Vec<Snapshot>,
-    pub closure_fraction: Vec<f64>,
-    pub predicted_closure: Vec<f64>,
-    pub max_equilibrium_residual: f64,
-    pub max_drift: f64,
-    pub n_factorizations: usize,
-    pub n_solves: usize,
-    pub interrupted: bool,
-    /// Why the run stopped before load fraction 1 other than Ctrl-C (e.g. the event bound).
-    pub stop_reason: Option<String>,
-    pub timings: Timings,
-}
-
-/// What the driver reports while it runs; the callback returns `false` to stop (Ctrl-C).
-#[derive(Debug, Clone, Copy)]
-pub struct Progress {
-    pub steps: usize,
-    pub events: usize,
-    pub load_fraction: f64,
 }
 
 #[cfg(test)]
@@ -251,7 +261,7 @@ mod tests {
             Options { snapshots: SnapshotRequest::Fractions(vec![1.5]), ..Options::default() },
         ];
         for o in bad {
-            let err = o.validate().unwrap_err().0;
+            let err = o.validate().unwrap_err().message;
             assert!(err.starts_with("options.") && err.contains("is not allowed"), "{err}");
         }
     }

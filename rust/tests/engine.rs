@@ -58,6 +58,7 @@ fn model(mesh: Mesh, fixed: Vec<usize>, load: Vec<f64>, pairs: Vec<PairInput>, p
         fixed_dofs: fixed,
         load,
         pairs,
+        names: Names::default(),
         options: Options::default(),
     }
 }
@@ -116,7 +117,7 @@ fn block_on_rigid_flat_closed_from_the_start() {
     for mu in [0.0, 0.5] {
         let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12)
             .into_iter()
-            .map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.0, mu })
+            .map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.0, mu, contact: 0 })
             .collect();
         let m = model(mesh.clone(), fixed.clone(), load.clone(), pairs, Plane::Strain);
         let res = slipstep_core::run(&m, |_| true).unwrap();
@@ -159,7 +160,7 @@ fn flat_punch_gap_closes_at_the_predicted_load() {
     // Reference: the same model without contact gives u_y at full load.
     let free = model(mesh.clone(), fixed.clone(), load.clone(), vec![], Plane::Stress);
     let uy_full = slipstep_core::run(&free, |_| true).unwrap().snapshots.last().unwrap().u[2 * bottom[0] + 1];
-    let pairs = bottom.iter().map(|&i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.01, mu: 0.0 }).collect();
+    let pairs = bottom.iter().map(|&i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.01, mu: 0.0, contact: 0 }).collect();
     let m = model(mesh, fixed, load, pairs, Plane::Stress);
     let res = slipstep_core::run(&m, |_| true).unwrap();
     let closes: Vec<_> = res.events.iter().filter(|e| e.kind == EventKind::Close).collect();
@@ -183,10 +184,10 @@ fn body_free_to_translate_is_a_clear_error() {
     top_traction(&mesh, 1.1, [0.0, -1.0], &mut load);
     let pairs = nodes_where(&mesh, |p| (p[1] - 0.1).abs() < 1e-12)
         .into_iter()
-        .map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.1, mu: 0.0 })
+        .map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.1, mu: 0.0, contact: 0 })
         .collect();
     let m = model(mesh, fixed, load, pairs, Plane::Strain);
-    let err = slipstep_core::run(&m, |_| true).unwrap_err().0;
+    let err = slipstep_core::run(&m, |_| true).unwrap_err().message;
     assert!(err.contains("free to move") && err.contains("translation in y"), "{err}");
 }
 
@@ -195,10 +196,10 @@ fn initial_penetration_and_negative_mu_are_named() {
     let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 1, 1);
     let mut load = vec![0.0; 8];
     load[5] = -1.0;
-    let mk = |gap: f64, mu: f64| model(mesh.clone(), vec![0, 6], load.clone(), vec![PairInput { node_a: 1, node_b: None, normal: [0.0, 1.0], gap, mu }], Plane::Strain);
-    let e = slipstep_core::run(&mk(-0.1, 0.0), |_| true).unwrap_err().0;
+    let mk = |gap: f64, mu: f64| model(mesh.clone(), vec![0, 6], load.clone(), vec![PairInput { node_a: 1, node_b: None, normal: [0.0, 1.0], gap, mu, contact: 0 }], Plane::Strain);
+    let e = slipstep_core::run(&mk(-0.1, 0.0), |_| true).unwrap_err().message;
     assert!(e.starts_with("initial penetration at contact pair 0"), "{e}");
-    let e = slipstep_core::run(&mk(0.0, -0.2), |_| true).unwrap_err().0;
+    let e = slipstep_core::run(&mk(0.0, -0.2), |_| true).unwrap_err().message;
     assert!(e.contains("mu = -0.2"), "{e}");
 }
 
@@ -236,7 +237,7 @@ fn two_blocks(q: f64, wu: f64) -> Model {
             continue;
         }
         let b = (0..off).find(|&b| (mesh.nodes[b][0] - mesh.nodes[a][0]).abs() < 1e-12 && (mesh.nodes[b][1] - 1.0).abs() < 1e-12).unwrap();
-        pairs.push(PairInput { node_a: a, node_b: Some(b), normal: [0.0, 1.0], gap: 0.0, mu: 0.2 });
+        pairs.push(PairInput { node_a: a, node_b: Some(b), normal: [0.0, 1.0], gap: 0.0, mu: 0.2, contact: 0 });
     }
     model(mesh, fixed, load, pairs, Plane::Strain)
 }

@@ -1,0 +1,78 @@
+//! Advancing the state to the event (paper §4 step 5, eqs. 58–62) and switching the statuses
+//! of the events that happen there (step 6).
+
+use super::engine::Engine;
+use super::selection::Selection;
+use super::state::{State, TrialIncrement};
+use crate::contact::Status;
+use crate::events::Candidate;
+use crate::model::EventKind;
+
+impl Engine<'_> {
+    /// u, σ, λ += S × trial (eqs. 58–61); slipping pairs on the Coulomb cone (eq. 62).
+    pub fn advance(&self, state: &mut State, trial: &TrialIncrement, sel: &Selection) {
+        state.advance(trial, sel.scale);
+        state.load_fraction = sel.phi;
+        self.project_onto_cone(state);
+    }
+
+    /// λ_t = −d μ λ_n for slipping pairs (round-off removed); a pair that grouping let slip
+    /// early slips from below the cone and is only kept from crossing it.
+    fn project_onto_cone(&self, state: &mut State) {
+        let grouping = self.model.options.group_tol != 0.0;
+        for (p, st) in state.status.iter().enumerate() {
+            if let Status::Slip { .. } = st {
+                let cone = self.pairs[p].slip_ratio(*st) * state.lambda_n[p];
+                if !grouping || state.lambda_t[p].abs() > cone.abs() {
+                    state.lambda_t[p] = cone;
+                }
+            }
+        }
+    }
+
+    /// Apply one event's status change and the forces it sets. `on_time`: the event falls at
+    /// this increment's scale (not taken early by grouping).
+    pub fn switch(&self, state: &mut State, c: &Candidate, on_time: bool) {
+        let p = c.entity;
+        match c.kind {
+            EventKind::Close => {
+                state.status[p] = self.pairs[p].closed_status();
+                state.rtd_stick[p] = self.pairs[p].rtd(&state.u);
+            }
+            EventKind::Separate => {
+                state.status[p] = Status::Open;
+                state.lambda_n[p] = 0.0;
+                state.lambda_t[p] = 0.0;
+            }
+            EventKind::StickToSlip => {
+                state.status[p] = Status::Slip { direction: c.direction };
+                // On time the pair is on the cone; taken early it keeps its tangential force.
+                if on_time {
+                    state.lambda_t[p] = self.pairs[p].slip_ratio(state.status[p]) * state.lambda_n[p];
+                }
+            }
+            EventKind::SlipToStick => {
+                state.status[p] = Status::Stick;
+                state.rtd_stick[p] = self.pairs[p].rtd(&state.u);
+            }
+            EventKind::Yield => state.plastic[p] = true,
+            EventKind::Unload => state.plastic[p] = false,
+            EventKind::Frozen | EventKind::FrozenElement => {}
+        }
+    }
+}
+
+/// The events that take pair p from status `from` to `to` (for the rate problem's statuses).
+pub(super) fn transitions(p: usize, from: Status, to: Status) -> Vec<Candidate> {
+    let event = |kind, direction| Candidate { scale: 0.0, entity: p, kind, direction };
+    match (from, to) {
+        (a, b) if a == b => vec![],
+        (_, Status::Open) => vec![event(EventKind::Separate, 0)],
+        (Status::Open, Status::Slip { direction }) if direction != 0 => vec![event(EventKind::Close, 0), event(EventKind::StickToSlip, direction)],
+        (Status::Open, _) => vec![event(EventKind::Close, 0)],
+        (Status::Slip { .. }, Status::Stick) => vec![event(EventKind::SlipToStick, 0)],
+        (Status::Stick, Status::Slip { direction }) => vec![event(EventKind::StickToSlip, direction)],
+        (Status::Slip { .. }, Status::Slip { direction }) => vec![event(EventKind::SlipToStick, 0), event(EventKind::StickToSlip, direction)],
+        (Status::Stick, Status::Stick) => vec![],
+    }
+}

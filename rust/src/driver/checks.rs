@@ -1,0 +1,116 @@
+//! Checks at every event: equilibrium (eq. 36 with Δ = 0), the contact conditions (eqs. 22–24,
+//! 1–2), and the limit-load stop (a plastic mechanism).
+
+use super::engine::Engine;
+use super::plasticity::Correction;
+use super::space::Space;
+use super::state::{State, TrialIncrement};
+use crate::bail;
+use crate::error::Result;
+use crate::model::StopReason;
+
+/// Gap tolerance: × max|u| (round-off of the solves) + × the length scale (of coordinates).
+const GAP_ROUND_OFF: f64 = 1e-8;
+const GAP_COORDINATE: f64 = 1e-12;
+/// Force tolerance: × Σ|load|.
+const FORCE_ROUND_OFF: f64 = 1e-9;
+/// The correction moves gaps by up to its displacement and forces by up to its force size;
+/// these multiples of the last correction are allowed on top (see `Correction`).
+const CORRECTION_GAP_ALLOWANCE: f64 = 2.0;
+const CORRECTION_FORCE_ALLOWANCE: f64 = 4.0;
+
+impl Engine<'_> {
+    /// |φP − P_σ + Wλ| / |P| over all DOFs, from the stresses of a full state, and the internal
+    /// force P_σ it used (reused by the next trial from the same stresses).
+    pub fn full_residual(&self, state: &State) -> (f64, Vec<f64>) {
+        let internal = self.internal_force(&state.stress);
+        let r = self.residual_from(&internal, state, state.load_fraction);
+        (r.iter().map(|v| v * v).sum::<f64>().sqrt() / self.scales.load_norm, internal)
+    }
+
+    /// The relative equilibrium residual of the loop's state. In the reduced space u =
+    /// K#(φP + Wλ) + Nα is in equilibrium exactly when φP + Wλ is orthogonal to the free rigid
+    /// modes (K K# y = y for y ⊥ N): only that part is measured here; snapshots check in full.
+    pub fn equilibrium_residual(&self, state: &State) -> (f64, Option<Vec<f64>>) {
+        if let Space::Full(_) = self.space {
+            let (r, internal) = self.full_residual(state);
+            return (r, Some(internal));
+        }
+        let r2: f64 = self
+            .mode_vectors
+            .iter()
+            .zip(&self.mode_load)
+            .map(|(mode, load)| {
+                let contact: f64 = self.pairs.iter().enumerate().map(|(p, pair)| state.lambda_n[p] * pair.w_n.dot(mode) + state.lambda_t[p] * pair.w_t.dot(mode)).sum();
+                (state.load_fraction * load + contact).powi(2)
+            })
+            .sum();
+        (r2.sqrt() / self.scales.load_norm, None)
+    }
+
+    /// An error unless the residual is within `equilibrium_tol`.
+    pub fn check_equilibrium(&self, residual: f64, phi: f64, step: usize) -> Result<()> {
+        let tol = self.model.options.equilibrium_tol;
+        if residual > tol {
+            bail!(Equilibrium, "equilibrium residual {residual:.3e} exceeds {tol:.1e} at load fraction {phi:.6} (step {step}): the linear system is ill-conditioned; check for nearly unsupported bodies or extreme element size ratios");
+        }
+        Ok(())
+    }
+
+    /// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb's cone. A violation
+    /// by a pair the last-resort anti-cycling rule froze is reported as an ill-posed scene.
+    pub fn check_contact(&self, state: &State, frozen: &[bool], correction: Correction) -> Result<()> {
+        let umax = self.largest_displacement(&state.u, state.load_fraction);
+        let gap_tol = GAP_ROUND_OFF * umax + GAP_COORDINATE * self.scales.length + CORRECTION_GAP_ALLOWANCE * correction.displacement;
+        let force_tol = FORCE_ROUND_OFF * self.scales.force + CORRECTION_FORCE_ALLOWANCE * correction.force;
+        let phi = state.load_fraction;
+        for (p, pair) in self.pairs.iter().enumerate() {
+            let g = pair.gap(&state.u);
+            let (ln, lt) = (state.lambda_n[p], state.lambda_t[p]);
+            let closed = state.status[p].is_closed();
+            let violation = if g < -gap_tol {
+                format!("penetrates by {:.3e}", -g)
+            } else if closed && ln < -force_tol {
+                format!("carries a tensile force {ln:.3e}")
+            } else if closed && lt.abs() > pair.mu * ln + force_tol {
+                format!("violates Coulomb's law (|λ_t| = {:.3e} > μλ_n = {:.3e})", lt.abs(), pair.mu * ln)
+            } else {
+                continue;
+            };
+            let name = self.model.pair_name(p);
+            if frozen[p] {
+                bail!(IllPosed, "{name} {violation} at load fraction {phi:.6}: its statuses cycled at zero load increment, the complementarity (rate) problem found no admissible set, and the last-resort anti-cycling rule froze it; the scene may be ill-posed for mu = {}: lower mu, or load it differently", pair.mu);
+            }
+            bail!(Internal, "{name} {violation} at load fraction {phi:.6}: an event was missed (a bug; please report it with the case)");
+        }
+        Ok(())
+    }
+}
+
+/// The limit-load stop: with a plastic mechanism the tangent turns (nearly) singular and the
+/// trial displacement explodes while the factorization still succeeds. The current stiffness
+/// |R|²/(R·Δu) of the remaining load R is compared with the first increment's.
+#[derive(Default)]
+pub(super) struct LimitLoad {
+    initial_stiffness: Option<f64>,
+}
+
+impl LimitLoad {
+    pub fn check(&mut self, eng: &Engine, state: &State, trial: &TrialIncrement) -> Option<StopReason> {
+        if eng.is_reduced() {
+            return None;
+        }
+        let remaining: Vec<f64> = eng.model.load.iter().enumerate().map(|(d, v)| if eng.fixed[d] { 0.0 } else { v * (1.0 - state.load_fraction) }).collect();
+        let r2: f64 = remaining.iter().map(|v| v * v).sum();
+        let work: f64 = remaining.iter().zip(&trial.du).map(|(a, b)| a * b).sum();
+        if r2 <= 0.0 {
+            return None;
+        }
+        // Non-positive work of the remaining load: the tangent has lost positive definiteness
+        // along the path (past the limit): zero stiffness.
+        let stiffness = if work > 0.0 { r2 / work } else { 0.0 };
+        let first = *self.initial_stiffness.get_or_insert(stiffness);
+        let ratio = stiffness / first;
+        (stiffness < eng.model.options.limit_stiffness * first).then_some(StopReason::LimitLoad { load_fraction: state.load_fraction, stiffness_ratio: ratio })
+    }
+}

@@ -1,0 +1,198 @@
+//! The assembled problem the procedure works on: elements and their tangents, contact pairs
+//! (eqs. 45–46), free rigid-body modes, the SPD factor of K with the contact DOFs last, and the
+//! contact flexibility read from it.
+
+use super::space::{Full, Reduced, Space};
+use crate::bail;
+use crate::contact::Pair;
+use crate::element::Cst;
+use crate::error::Result;
+use crate::events::Noise;
+use crate::linalg::{DofMap, SpdSolver, StiffnessPattern};
+use crate::material::{Material, Tangent};
+use crate::model::{Model, Timings};
+use crate::rigid_modes::{free_modes, RigidMode};
+use nalgebra::Vector4;
+use std::time::Instant;
+
+/// Round-off scale of forces: noise floor of a force rate, × Σ|load|.
+const FORCE_NOISE: f64 = 1e-12;
+
+/// The scales tolerances are relative to.
+pub(super) struct Scales {
+    /// |P| over the free DOFs (1 for a tractionless scene: residuals are then absolute).
+    pub load_norm: f64,
+    /// Σ|P|: the scale of forces.
+    pub force: f64,
+    /// The mesh's bounding-box diagonal.
+    pub length: f64,
+}
+
+pub(super) struct Engine<'m> {
+    pub model: &'m Model,
+    pub elements: Vec<Cst>,
+    /// Material of every element.
+    pub material: Vec<Material>,
+    /// D or D_ep of every element (eq. 11), and whether one changed since the last factor.
+    pub tangents: Vec<Tangent>,
+    pub tangents_changed: bool,
+    /// The pairs over the DOFs the loop carries (`space`).
+    pub pairs: Vec<Pair>,
+    pub modes: Vec<RigidMode>,
+    /// Body (connected component) of every node, and the first element of every body (its
+    /// name in messages, `Model::body_name`).
+    pub body_of_node: Vec<usize>,
+    pub body_first_element: Vec<usize>,
+    /// The rigid modes over the DOFs the loop carries.
+    pub mode_vectors: Vec<Vec<f64>>,
+    /// Nᵀ P per mode (the rigid-body rows without a full vector per event).
+    pub mode_load: Vec<f64>,
+    pub map: DofMap,
+    pub pattern: StiffnessPattern,
+    pub fixed: Vec<bool>,
+    pub solver: SpdSolver,
+    /// K# restricted to the contact DOFs that are equations (t × t, by slot), read from the
+    /// trailing block of the factor after every factorization: every Cᵀ K# E entry of the
+    /// small system is a lookup here, no triangular solve per contact pair.
+    pub flexibility: faer::Mat<f64>,
+    /// Slot in `flexibility` of each DOF of the loop's DOF space (usize::MAX: not a contact
+    /// DOF, or fixed/pinned, where K# is zero).
+    pub contact_slot: Vec<usize>,
+    pub space: Space,
+    pub max_snapshot_residual: f64,
+    pub scales: Scales,
+    pub noise: Noise,
+    pub timings: Timings,
+}
+
+impl<'m> Engine<'m> {
+    /// Assemble everything up to (not including) the first factorization. `model` must have
+    /// passed `Model::validate`.
+    pub fn new(model: &'m Model) -> Result<Self> {
+        let mesh = &model.mesh;
+        let n_dofs = 2 * mesh.n_nodes();
+        let mut fixed = vec![false; n_dofs];
+        model.fixed_dofs.iter().for_each(|&d| fixed[d] = true);
+        let pairs = contact_pairs(model, &fixed)?;
+        let (body_of_node, n_bodies) = mesh.bodies();
+        let (modes, pinned) = free_modes(&mesh.nodes, &body_of_node, n_bodies, &fixed);
+        let (contact_slot, slot_dofs) = contact_slots(&pairs, &fixed, &pinned);
+        let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(mesh, e)).collect();
+        let map = DofMap::ordered(&elements, n_dofs, &fixed, &pinned, &slot_dofs)?;
+        let pattern = StiffnessPattern::new(&elements, &map)?;
+        let material: Vec<Material> = model.element_material.iter().map(|&m| model.materials[m]).collect();
+        let tangents = material.iter().map(|m| m.tangent(&Vector4::zeros(), false)).collect();
+        let free_load: Vec<f64> = model.load.iter().enumerate().map(|(d, v)| if fixed[d] { 0.0 } else { *v }).collect();
+        let mode_load = modes.iter().map(|m| m.vector.iter().zip(&free_load).map(|(a, b)| a * b).sum()).collect();
+        let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();
+        let elastic = !model.materials.iter().any(|m| m.is_plastic());
+        let (space, pairs, contact_slot, mode_vectors) = if model.options.reduced_elastic && elastic {
+            let (reduced, view) = Reduced::new(pairs, &slot_dofs, &contact_slot, &full_modes);
+            (Space::Reduced(reduced), view.pairs, view.contact_slot, view.mode_vectors)
+        } else {
+            (Space::Full(Full::default()), pairs, contact_slot, full_modes)
+        };
+        let load_norm = free_load.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let force = model.load.iter().map(|v| v.abs()).sum::<f64>().max(f64::MIN_POSITIVE);
+        Ok(Engine {
+            model,
+            elements,
+            material,
+            tangents,
+            tangents_changed: true,
+            pairs,
+            modes,
+            body_first_element: first_elements(model, &body_of_node, n_bodies),
+            body_of_node,
+            mode_vectors,
+            mode_load,
+            map,
+            pattern,
+            fixed,
+            solver: SpdSolver::new(slot_dofs.len()),
+            flexibility: faer::Mat::zeros(0, 0),
+            contact_slot,
+            space,
+            max_snapshot_residual: 0.0,
+            scales: Scales { load_norm: if load_norm > 0.0 { load_norm } else { 1.0 }, force, length: mesh.diameter() },
+            noise: Noise { displacement: 0.0, force: FORCE_NOISE * force },
+            timings: Timings::default(),
+        })
+    }
+
+    pub fn is_reduced(&self) -> bool {
+        matches!(self.space, Space::Reduced(_))
+    }
+
+    /// The pairs over the global DOFs (full fields, snapshots).
+    pub fn global_pairs(&self) -> &[Pair] {
+        match &self.space {
+            Space::Reduced(r) => &r.global_pairs,
+            Space::Full(_) => &self.pairs,
+        }
+    }
+
+    /// Length of the displacement vectors the loop carries.
+    pub fn loop_dofs(&self) -> usize {
+        match &self.space {
+            Space::Reduced(r) => r.dofs.len(),
+            Space::Full(_) => self.map.role.len(),
+        }
+    }
+
+    /// Number of element arrays the loop carries (none in the reduced space).
+    pub fn loop_elements(&self) -> usize {
+        if self.is_reduced() { 0 } else { self.elements.len() }
+    }
+}
+
+/// The contact pairs over the global DOFs (eqs. 45–46), supports removed from their vectors.
+fn contact_pairs(model: &Model, fixed: &[bool]) -> Result<Vec<Pair>> {
+    let mut pairs = Vec::with_capacity(model.pairs.len());
+    for (k, p) in model.pairs.iter().enumerate() {
+        let nn = (p.normal[0].powi(2) + p.normal[1].powi(2)).sqrt();
+        let normal = [p.normal[0] / nn, p.normal[1] / nn];
+        let pair = Pair::new(p.node_a, p.node_b, normal, p.gap.max(0.0), p.mu, fixed);
+        if pair.w_n.norm() < 1e-12 {
+            bail!(Input, "{}: its normal direction is held by supports, so it can carry no contact force; remove the pair or the support", model.pair_name(k));
+        }
+        pairs.push(pair);
+    }
+    Ok(pairs)
+}
+
+/// The contact DOFs that are equations (neither fixed nor pinned) go last in the factor, in
+/// slot order: their flexibility block (`SpdSolver`). Returns the slot of every DOF and the
+/// DOF of every slot.
+fn contact_slots(pairs: &[Pair], fixed: &[bool], pinned: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let mut is_pinned = vec![false; fixed.len()];
+    pinned.iter().for_each(|&d| is_pinned[d] = true);
+    let mut slot = vec![usize::MAX; fixed.len()];
+    let mut slot_dofs = Vec::new();
+    for pair in pairs {
+        for &(d, _) in pair.w_n.entries.iter().chain(&pair.w_t.entries) {
+            if slot[d] == usize::MAX && !fixed[d] && !is_pinned[d] {
+                slot[d] = slot_dofs.len();
+                slot_dofs.push(d);
+            }
+        }
+    }
+    (slot, slot_dofs)
+}
+
+/// The first element of every body (connected component).
+fn first_elements(model: &Model, body_of_node: &[usize], n_bodies: usize) -> Vec<usize> {
+    let mut first = vec![usize::MAX; n_bodies];
+    for (e, t) in model.mesh.triangles.iter().enumerate() {
+        let b = body_of_node[t[0]];
+        if first[b] == usize::MAX {
+            first[b] = e;
+        }
+    }
+    first
+}
+
+/// Seconds since `t`.
+pub(super) fn since(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64()
+}

@@ -1,0 +1,153 @@
+//! The adaptive incremental procedure (paper §4).
+//!
+//! From the current state one *trial* increment is solved for the whole remaining load in
+//! residual form (eq. 44), each candidate event gets its scale factor (eqs. 48–56), the state
+//! advances by the smallest (eqs. 57–62), the statuses of the events there switch, and the loop
+//! repeats until the whole load is applied (S = 1). [`run`] reads as that list; each phase is a
+//! module:
+//!
+//! | phase | module | paper |
+//! |---|---|---|
+//! | the assembled problem, K and its factor, flexibility | [`engine`], [`stiffness`], [`space`] | eqs. 36, 45–46 |
+//! | state and trial increment records | [`state`] | eqs. 59–62 |
+//! | trial for the remaining load (small contact system) | [`trial`] | eqs. 43–44 |
+//! | free bodies and gross sliding | [`restraint`] | |
+//! | scale factors, S_min, ties, zero-length order, grouping | [`selection`] | eqs. 48–57 |
+//! | advance and status switches | [`advance`] | eqs. 58–62 |
+//! | tangents, drift return, equilibrium correction | [`plasticity`] | eq. 11 |
+//! | equilibrium, contact conditions, limit load | [`checks`] | eqs. 22–24, 1–2 |
+//! | termination of zero-length runs | [`anticycling`], [`rate_problem`] | |
+//! | event history, increments, snapshots | [`recording`] | |
+//!
+//! Linear algebra: K# is a generalized inverse of the stiffness with the supports and one
+//! pinned DOF per free rigid-body mode removed; the contact DOFs are last in its SPD factor, so
+//! their flexibility is read from the factor's trailing block and a trial costs one solve.
+//!
+//! Simultaneous events whose scales agree within `tie_tol` switch in one increment. Event
+//! grouping δ = `group_tol` (0, the paper's procedure, by default) lets friction and plasticity
+//! events predicted at φ ≤ φ_min (1 + δ) switch with the first one; the window is relative to
+//! the load, so it does not vanish late in a run. Plastic elements carry D_ep from the stress
+//! at the increment's start; any change of tangent refactorizes K (the paper re-evaluates D_ep
+//! of every plastic element at each increment, so K changes by a term of rank ~2 × plastic
+//! elements: no low-rank update applies).
+
+mod advance;
+mod anticycling;
+mod checks;
+mod engine;
+mod plasticity;
+mod rate_problem;
+mod recording;
+mod restraint;
+mod selection;
+mod space;
+mod state;
+mod stiffness;
+mod trial;
+
+use crate::error::Result;
+use crate::model::{EventKind, Model, Progress, RunResult, StopReason};
+use anticycling::{Admission, AntiCycling};
+use checks::LimitLoad;
+use engine::{since, Engine};
+use plasticity::Correction;
+use recording::Recorder;
+use selection::Selection;
+use state::State;
+use std::time::Instant;
+
+/// Zero-gap pairs start closed: a gap within this × the length scale counts as zero.
+const INITIAL_CONTACT: f64 = 1e-12;
+
+/// Run the procedure on a model; `progress` is called after every increment and stops the run
+/// (keeping the results so far) when it returns false.
+pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<RunResult> {
+    model.validate()?;
+    let started = Instant::now();
+    let mut eng = Engine::new(model)?;
+    eng.timings.assembly = since(started);
+    eng.factor()?;
+    let mut state = State::initial(&eng.pairs, eng.loop_dofs(), eng.loop_elements(), eng.modes.len(), INITIAL_CONTACT * eng.scales.length);
+    let mut rec = Recorder::new(&mut eng, &state)?;
+    let mut cycles = AntiCycling::new(eng.pairs.len(), eng.loop_elements(), model.options.max_zero_length_switches);
+    let mut limit = LimitLoad::default();
+    let mut correction = Correction::default();
+    let stop = loop {
+        if let Some(stop) = rec.event_bound(&eng, &state, &cycles) {
+            break stop;
+        }
+        eng.update_tangents(&state)?;
+        let trial = timed_trial(&mut eng, &state, rec.internal.take())?;
+        if let Some(stop) = limit.check(&eng, &state, &trial) {
+            break stop;
+        }
+        let t_events = Instant::now();
+        let sel = eng.select(&state, &trial, &cycles);
+        rec.snapshots_inside(&mut eng, &state, &trial, &sel)?;
+        eng.advance(&mut state, &trial, &sel);
+        let drift = eng.drift(&state);
+        rec.max_drift = rec.max_drift.max(drift);
+        correction = eng.control_drift(&mut state, &sel, drift, correction)?;
+        let (residual, internal) = eng.equilibrium_residual(&state);
+        rec.internal = internal;
+        rec.max_residual = rec.max_residual.max(residual);
+        eng.check_equilibrium(residual, sel.phi, rec.steps.len())?;
+        eng.check_contact(&state, cycles.frozen().0, correction)?;
+        switch_statuses(&mut eng, &mut state, &sel, &mut cycles, &mut rec);
+        rec.step(&mut eng, &state, sel.scale, residual, drift)?;
+        eng.timings.events += since(t_events);
+        if sel.last {
+            break StopReason::Completed;
+        }
+        if model.options.stop_at_first_yield && sel.group.iter().any(|c| c.kind == EventKind::Yield) {
+            break StopReason::FirstYield;
+        }
+        if !progress(Progress { steps: rec.steps.len(), events: rec.events.len(), load_fraction: sel.phi }) {
+            break StopReason::Interrupted { load_fraction: sel.phi };
+        }
+    };
+    rec.finish(eng, &state, stop, cycles.rate_problems)
+}
+
+/// The trial for the remaining load (eq. 44), its small dense system timed as event work.
+fn timed_trial(eng: &mut Engine, state: &State, internal: Option<Vec<f64>>) -> Result<state::TrialIncrement> {
+    let (t0, dense0) = (Instant::now(), eng.timings.dense);
+    let trial = eng.trial(state, 1.0, internal)?;
+    eng.timings.solves += since(t0) - (eng.timings.dense - dense0);
+    eng.timings.events += eng.timings.dense - dense0;
+    Ok(trial)
+}
+
+/// Switch the statuses of the selected events (step 6) under the anti-cycling rule: when the
+/// one-at-a-time rule cycles, the rate problem sets the critical pairs' statuses together.
+fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &mut AntiCycling, rec: &mut Recorder) {
+    let zero_length = sel.zero_length();
+    if !zero_length {
+        cycles.load_advanced();
+    }
+    if zero_length && cycles.wants_rate_problem(&sel.group) {
+        if let Some(status) = eng.solve_rate_problem(state) {
+            let changes: Vec<_> = (0..status.len()).flat_map(|p| advance::transitions(p, state.status[p], status[p])).collect();
+            if !changes.is_empty() {
+                cycles.rate_problem_solved();
+                for c in &changes {
+                    cycles.count(c, true);
+                    eng.switch(state, c, true);
+                    rec.event(c, c.kind, sel.phi);
+                }
+                return;
+            }
+        }
+    }
+    let mut seen = vec![false; cycles.n_entities()];
+    for c in &sel.group {
+        match cycles.admit(c, zero_length, &mut seen) {
+            Admission::Skip => {}
+            Admission::Freeze => rec.event(c, if c.kind.is_element_event() { EventKind::FrozenElement } else { EventKind::Frozen }, sel.phi),
+            Admission::Apply => {
+                eng.switch(state, c, c.scale <= sel.tie_limit);
+                rec.event(c, c.kind, sel.phi);
+            }
+        }
+    }
+}

@@ -1,0 +1,195 @@
+//! What the run keeps: the event history, one record per increment, field snapshots (after
+//! every event, or at requested load fractions on the piecewise-linear path), and per pair the
+//! load fraction at which it closed.
+
+use super::anticycling::AntiCycling;
+use super::engine::Engine;
+use super::selection::Selection;
+use super::space::Space;
+use super::state::{State, TrialIncrement};
+use crate::bail;
+use crate::error::Result;
+use crate::events::Candidate;
+use crate::model::{EventKind, EventRecord, RunResult, Snapshot, SnapshotRequest, StepRecord, StopReason};
+
+/// A requested snapshot fraction this close past the increment's end still falls inside it.
+const FRACTION_SLACK: f64 = 1e-15;
+/// The final state is added unless the last snapshot is this close to it.
+const SAME_FRACTION: f64 = 1e-14;
+/// How many of the most switching entities the event-bound message names.
+const BUSIEST_NAMED: usize = 5;
+
+pub(super) struct Recorder {
+    pub events: Vec<EventRecord>,
+    pub steps: Vec<StepRecord>,
+    pub snapshots: Vec<Snapshot>,
+    /// Requested snapshot fractions not reached yet (ascending).
+    pending: Vec<f64>,
+    every_event: bool,
+    pub closure_fraction: Vec<f64>,
+    pub predicted_closure: Vec<f64>,
+    pub max_residual: f64,
+    pub max_drift: f64,
+    /// The internal force of the state's stresses, for the next trial (None: recompute).
+    pub internal: Option<Vec<f64>>,
+    pub max_steps: usize,
+}
+
+impl Recorder {
+    pub fn new(eng: &mut Engine, state: &State) -> Result<Self> {
+        let opts = &eng.model.options;
+        let n_pairs = eng.pairs.len();
+        let plastic_capable = eng.material.iter().filter(|m| m.is_plastic()).count();
+        let mut rec = Recorder {
+            events: vec![],
+            steps: vec![],
+            snapshots: vec![],
+            pending: vec![],
+            every_event: matches!(opts.snapshots, SnapshotRequest::EveryEvent),
+            closure_fraction: state.status.iter().map(|s| if s.is_closed() { 0.0 } else { f64::NAN }).collect(),
+            predicted_closure: vec![f64::INFINITY; n_pairs],
+            max_residual: 0.0,
+            max_drift: 0.0,
+            internal: None,
+            max_steps: if opts.max_steps > 0 { opts.max_steps } else { 50 * (n_pairs + plastic_capable + 1) + 1000 },
+        };
+        match &opts.snapshots {
+            SnapshotRequest::EveryEvent => rec.snapshots.push(eng.snapshot(state)?),
+            SnapshotRequest::Fractions(f) => {
+                rec.pending = f.clone();
+                rec.pending.sort_by(|a, b| a.total_cmp(b));
+            }
+        }
+        Ok(rec)
+    }
+
+    /// The event bound (`Options::max_steps`), naming the entities that switched most.
+    pub fn event_bound(&self, eng: &Engine, state: &State, cycles: &AntiCycling) -> Option<StopReason> {
+        if self.steps.len() < self.max_steps {
+            return None;
+        }
+        let n_pairs = eng.pairs.len();
+        let count = &cycles.switch_count;
+        let mut worst: Vec<usize> = (0..cycles.n_entities()).collect();
+        worst.sort_by_key(|&k| std::cmp::Reverse(count[k]));
+        let name = |k: usize| if k < n_pairs { format!("{}, {} switches", eng.model.pair_name(k), count[k]) } else { format!("element {} ({} switches)", k - n_pairs, count[k]) };
+        let busiest: Vec<String> = worst.iter().take(BUSIEST_NAMED).filter(|&&k| count[k] > 0).map(|&k| name(k)).collect();
+        Some(StopReason::EventBound { load_fraction: state.load_fraction, max_steps: self.max_steps, busiest: busiest.join("; ") })
+    }
+
+    /// Snapshots requested inside this increment (the path is linear in between).
+    pub fn snapshots_inside(&mut self, eng: &mut Engine, state: &State, trial: &TrialIncrement, sel: &Selection) -> Result<()> {
+        let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
+        while let Some(&f) = self.pending.first() {
+            if f > sel.phi + FRACTION_SLACK {
+                break;
+            }
+            let s = if remaining > 0.0 { ((f - phi0) / remaining).clamp(0.0, sel.scale) } else { 0.0 };
+            let mut st = state.clone();
+            st.advance(trial, s);
+            st.load_fraction = f;
+            self.snapshots.push(eng.snapshot(&st)?);
+            self.pending.remove(0);
+        }
+        for &(p, phi) in &sel.predicted_closures {
+            self.predicted_closure[p] = phi;
+        }
+        Ok(())
+    }
+
+    pub fn event(&mut self, c: &Candidate, kind: EventKind, phi: f64) {
+        if kind == EventKind::Close {
+            self.closure_fraction[c.entity] = phi;
+        }
+        self.events.push(EventRecord { step: self.steps.len(), load_fraction: phi, kind, entity: c.entity });
+    }
+
+    /// One record per increment, and its snapshot when every event is requested.
+    pub fn step(&mut self, eng: &mut Engine, state: &State, scale: f64, residual: f64, drift: f64) -> Result<()> {
+        let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
+        self.steps.push(StepRecord { load_fraction: state.load_fraction, scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift });
+        if self.every_event {
+            self.snapshots.push(eng.snapshot(state)?);
+        }
+        Ok(())
+    }
+
+    /// The final snapshot (for requested fractions, and for runs that stopped early) and the
+    /// result.
+    pub fn finish(mut self, mut eng: Engine, state: &State, stop: StopReason, rate_problems: usize) -> Result<RunResult> {
+        let early = !matches!(stop, StopReason::Completed | StopReason::FirstYield);
+        if early || !self.every_event {
+            if self.snapshots.last().map_or(true, |s| (s.load_fraction - state.load_fraction).abs() > SAME_FRACTION) {
+                self.snapshots.push(eng.snapshot(state)?);
+            }
+        }
+        Ok(RunResult {
+            events: self.events,
+            steps: self.steps,
+            snapshots: self.snapshots,
+            closure_fraction: self.closure_fraction,
+            predicted_closure: self.predicted_closure,
+            max_equilibrium_residual: self.max_residual.max(eng.max_snapshot_residual),
+            max_drift: self.max_drift,
+            n_factorizations: eng.solver.n_factorizations,
+            n_solves: eng.solver.n_solves,
+            n_rate_problems: rate_problems,
+            stop,
+            timings: std::mem::take(&mut eng.timings),
+        })
+    }
+}
+
+impl Engine<'_> {
+    /// The full fields of a state; in the reduced space they are rebuilt (one solve) and their
+    /// equilibrium is checked in full.
+    pub fn snapshot(&mut self, state: &State) -> Result<Snapshot> {
+        let full;
+        let state = if self.is_reduced() {
+            full = self.reconstruct(state)?;
+            &full
+        } else {
+            state
+        };
+        let pairs = self.global_pairs();
+        Ok(Snapshot {
+            load_fraction: state.load_fraction,
+            u: state.u.clone(),
+            stress: state.stress.iter().map(|s| [s[0], s[1], s[2], s[3]]).collect(),
+            plastic_strain: state.plastic_strain.clone(),
+            plastic: if state.plastic.is_empty() { vec![0; self.elements.len()] } else { state.plastic.iter().map(|&p| p as i8).collect() },
+            lambda_n: state.lambda_n.clone(),
+            lambda_t: state.lambda_t.clone(),
+            status: state.status.iter().map(|s| s.code()).collect(),
+            gap: pairs.iter().map(|p| p.gap(&state.u)).collect(),
+            rtd: pairs.iter().map(|p| p.rtd(&state.u)).collect(),
+        })
+    }
+
+    /// u = φ K#P + K#(W λ) + N α and its stresses, for the reduced space.
+    fn reconstruct(&mut self, state: &State) -> Result<State> {
+        let mut y = vec![0.0; self.map.role.len()];
+        for (p, pair) in self.global_pairs().iter().enumerate() {
+            pair.w_n.add_to(state.lambda_n[p], &mut y);
+            pair.w_t.add_to(state.lambda_t[p], &mut y);
+        }
+        let mut u = self.apply_ginv(std::slice::from_ref(&y)).pop().unwrap();
+        if let Space::Reduced(r) = &self.space {
+            u.iter_mut().zip(&r.u_load).for_each(|(a, b)| *a += state.load_fraction * b);
+        }
+        for (mode, a) in self.modes.iter().zip(&state.alpha) {
+            u.iter_mut().zip(&mode.vector).for_each(|(x, v)| *x += a * v);
+        }
+        let (stress, _) = self.stress_increment(&u);
+        let mut full = state.clone();
+        full.u = u;
+        full.stress = stress;
+        full.plastic_strain = vec![0.0; self.elements.len()];
+        let (residual, _) = self.full_residual(&full);
+        self.max_snapshot_residual = self.max_snapshot_residual.max(residual);
+        if residual > self.model.options.equilibrium_tol {
+            bail!(Equilibrium, "equilibrium residual {residual:.3e} of the reconstructed fields exceeds {:.1e} at load fraction {:.6}: the linear system is ill-conditioned", self.model.options.equilibrium_tol, state.load_fraction);
+        }
+        Ok(full)
+    }
+}

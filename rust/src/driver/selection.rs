@@ -1,0 +1,96 @@
+//! Which events happen next (paper §4 steps 3–4): every candidate's scale factor (eqs. 48–56,
+//! module `events`), the smallest S (eq. 57), the events that come with it (ties, grouping),
+//! and the order of simultaneous zero-length events.
+
+use super::anticycling::AntiCycling;
+use super::engine::Engine;
+use super::state::{State, TrialIncrement};
+use crate::events::{self, Candidate, ElementState, PairState, Trial};
+use crate::model::EventKind;
+
+/// Scale factors at or below this are zero-length increments.
+pub(super) const ZERO_SCALE: f64 = 1e-12;
+/// Absolute slack added to the tie window S_min (1 + tie_tol).
+const TIE_SLACK: f64 = 1e-14;
+
+/// The outcome of one selection.
+pub(super) struct Selection {
+    /// The scale the state advances by: min(S_min, drift bound, 1).
+    pub scale: f64,
+    /// S_min ≥ 1: the trial completes the load (step 8).
+    pub last: bool,
+    /// Load fraction after the advance.
+    pub phi: f64,
+    /// Events within S_min (1 + tie_tol) are on time; others in `group` were taken early.
+    pub tie_limit: f64,
+    /// The events that switch at `phi` (empty when the drift bound cut the increment short).
+    pub group: Vec<Candidate>,
+    /// Last trial only: the load fraction at which each open pair would have closed.
+    pub predicted_closures: Vec<(usize, f64)>,
+}
+
+impl Selection {
+    pub fn zero_length(&self) -> bool {
+        self.scale <= ZERO_SCALE
+    }
+}
+
+/// Order in which simultaneous zero-length events are applied (lowest first, one class per
+/// increment): releasing a violated constraint (stick→slip, separation) before closing a gap,
+/// and both before re-imposing stick. A slip reversal seen in a trial where a stuck pair
+/// already exceeds its cone is an artefact of that trial; applying all of them at once makes
+/// pairs chatter slip→stick→slip at every event.
+fn zero_length_priority(kind: EventKind) -> u8 {
+    match kind {
+        EventKind::StickToSlip | EventKind::Separate => 0,
+        EventKind::Close | EventKind::Yield => 1,
+        EventKind::SlipToStick | EventKind::Unload | EventKind::Frozen | EventKind::FrozenElement => 2,
+    }
+}
+
+/// Event grouping (`Options::group_tol`) may take these early: they change no contact force at
+/// the switch. A pair that slips early keeps its tangential force, a yield changes the tangent
+/// only. Contact changes are taken exactly: separating early would drop a compressive force,
+/// and a pair closed early would have to be held at its remaining gap, a standoff that stays
+/// (measured: +16 % to +61 % Hertz peak pressure at δ = 0.1, growing under refinement).
+fn may_be_taken_early(kind: EventKind) -> bool {
+    matches!(kind, EventKind::StickToSlip | EventKind::SlipToStick | EventKind::Yield | EventKind::Unload)
+}
+
+impl Engine<'_> {
+    /// Every candidate event of the trial (contacts, yields, unloads) and the drift bound.
+    fn candidates(&self, state: &State, trial: &TrialIncrement, cycles: &AntiCycling) -> (Vec<Candidate>, f64) {
+        let (frozen_pairs, frozen_elements) = cycles.frozen();
+        let pairs = PairState { pairs: &self.pairs, status: &state.status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, frozen: frozen_pairs };
+        let mut cands = events::candidates(&pairs, &Trial { du: &trial.du, dlambda_n: &trial.dlambda_n, dlambda_t: &trial.dlambda_t }, self.noise);
+        let elements = ElementState { material: &self.material, stress: &state.stress, plastic_strain: &state.plastic_strain, plastic: &state.plastic, frozen: frozen_elements };
+        cands.extend(events::element_candidates(&elements, &trial.dstress, &trial.dplastic));
+        let opts = &self.model.options;
+        let drift_scale = if opts.drift_control { events::drift_bound(&elements, &trial.dstress, opts.max_stress_step) } else { f64::INFINITY };
+        (cands, drift_scale)
+    }
+
+    /// S = min(S_c, S_p, S_f, S_r, S_A) (eq. 57) and the events that switch with it.
+    pub fn select(&self, state: &State, trial: &TrialIncrement, cycles: &AntiCycling) -> Selection {
+        let opts = &self.model.options;
+        let (cands, drift_scale) = self.candidates(state, trial, cycles);
+        let s_min = cands.iter().map(|c| c.scale).fold(f64::INFINITY, f64::min);
+        let scale = s_min.min(drift_scale).min(1.0);
+        let last = s_min >= 1.0 && drift_scale >= 1.0;
+        let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
+        let predicted_closures = if last { cands.iter().filter(|c| c.kind == EventKind::Close).map(|c| (c.entity, phi0 + c.scale * remaining)).collect() } else { vec![] };
+        let tie_limit = s_min * (1.0 + opts.tie_tol) + TIE_SLACK;
+        // Grouping (δ = group_tol): friction and plasticity events up to φ_min (1 + δ) come along.
+        let group_phi = (phi0 + s_min * remaining) * (1.0 + opts.group_tol);
+        let early = |c: &Candidate| opts.group_tol > 0.0 && s_min > ZERO_SCALE && may_be_taken_early(c.kind) && c.scale <= 1.0 && phi0 + c.scale * remaining <= group_phi;
+        let mut group: Vec<Candidate> = if scale < s_min || last { vec![] } else { cands.iter().copied().filter(|c| c.scale <= tie_limit || early(c)).collect() };
+        if s_min <= ZERO_SCALE {
+            // Zero-length events come from a trial that is itself inadmissible; apply first
+            // the ones that release a violated constraint, and only then those that add one.
+            let top = group.iter().map(|c| zero_length_priority(c.kind)).min().unwrap_or(0);
+            group.retain(|c| zero_length_priority(c.kind) == top);
+        }
+        let phi = if last { 1.0 } else { phi0 + scale * remaining };
+        Selection { scale, last, phi, tie_limit, group, predicted_closures }
+    }
+}

@@ -1,0 +1,82 @@
+//! The evolving state of the procedure (eqs. 59–62) and one trial increment (eq. 44).
+
+use crate::contact::{Pair, Status};
+use nalgebra::Vector4;
+
+/// Everything that changes along the load path: accumulated displacement, stresses and
+/// contact forces, and the statuses (open / stick / slip per pair, elastic / plastic per
+/// element).
+#[derive(Clone)]
+pub(super) struct State {
+    pub load_fraction: f64,
+    /// Displacement over the DOFs the loop carries (`Space`).
+    pub u: Vec<f64>,
+    /// σx, σy, σz, τxy per element (empty in the reduced elastic space).
+    pub stress: Vec<Vector4<f64>>,
+    pub plastic_strain: Vec<f64>,
+    pub lambda_n: Vec<f64>,
+    pub lambda_t: Vec<f64>,
+    /// Rigid-body amplitudes (tracked in the reduced elastic space only).
+    pub alpha: Vec<f64>,
+    pub status: Vec<Status>,
+    /// RTD at which each stick pair stuck: its tangential constraint holds RTD there (eq. 39).
+    pub rtd_stick: Vec<f64>,
+    pub plastic: Vec<bool>,
+}
+
+impl State {
+    /// The start of the path (paper §4): zero load; pairs with zero initial gap (receding or
+    /// conforming contact) start closed, in stick when frictional.
+    pub fn initial(pairs: &[Pair], n_dofs: usize, n_elements: usize, n_modes: usize, gap_tol: f64) -> Self {
+        let n_pairs = pairs.len();
+        State {
+            load_fraction: 0.0,
+            u: vec![0.0; n_dofs],
+            stress: vec![Vector4::zeros(); n_elements],
+            plastic_strain: vec![0.0; n_elements],
+            lambda_n: vec![0.0; n_pairs],
+            lambda_t: vec![0.0; n_pairs],
+            alpha: vec![0.0; n_modes],
+            status: pairs.iter().map(|p| if p.gap0 <= gap_tol { p.closed_status() } else { Status::Open }).collect(),
+            rtd_stick: vec![0.0; n_pairs],
+            plastic: vec![false; n_elements],
+        }
+    }
+
+    pub fn n_closed(&self) -> usize {
+        self.status.iter().filter(|s| s.is_closed()).count()
+    }
+
+    pub fn n_stick(&self) -> usize {
+        self.status.iter().filter(|s| **s == Status::Stick).count()
+    }
+
+    pub fn n_plastic(&self) -> usize {
+        self.plastic.iter().filter(|&&p| p).count()
+    }
+
+    /// state += s × increment (eqs. 58–61); plastic strain grows only where it flows.
+    pub fn advance(&mut self, inc: &TrialIncrement, s: f64) {
+        self.u.iter_mut().zip(&inc.du).for_each(|(u, d)| *u += s * d);
+        self.stress.iter_mut().zip(&inc.dstress).for_each(|(u, d)| *u += s * d);
+        for e in 0..self.plastic_strain.len() {
+            if self.plastic[e] {
+                self.plastic_strain[e] += s * inc.dplastic[e].max(0.0);
+            }
+        }
+        self.lambda_n.iter_mut().zip(&inc.dlambda_n).for_each(|(u, d)| *u += s * d);
+        self.lambda_t.iter_mut().zip(&inc.dlambda_t).for_each(|(u, d)| *u += s * d);
+        self.alpha.iter_mut().zip(&inc.dalpha).for_each(|(u, d)| *u += s * d);
+    }
+}
+
+/// One trial increment towards a target load fraction (eq. 44 in residual form).
+pub(super) struct TrialIncrement {
+    pub du: Vec<f64>,
+    pub dstress: Vec<Vector4<f64>>,
+    /// Equivalent plastic strain increment (negative: the element would unload).
+    pub dplastic: Vec<f64>,
+    pub dlambda_n: Vec<f64>,
+    pub dlambda_t: Vec<f64>,
+    pub dalpha: Vec<f64>,
+}

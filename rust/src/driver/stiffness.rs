@@ -1,0 +1,126 @@
+//! K = Σ t A Bᵀ D B (eq. 36) with the current tangents, its SPD factor, and the products with
+//! K# the loop needs: full solves (K# y) and flexibility lookups at the contact DOFs.
+
+use super::engine::{since, Engine};
+use super::space::Space;
+use crate::contact::SparseVec;
+use crate::error::Result;
+use std::time::Instant;
+
+/// Measurements of one solve pair taken for the timing unit (the best is kept).
+const SOLVE_PAIR_SAMPLES: usize = 3;
+
+impl Engine<'_> {
+    /// Assemble K with the current tangents and factor it; read the contact flexibility from
+    /// the factor; in the reduced space also K#P.
+    pub fn factor(&mut self) -> Result<()> {
+        let t0 = Instant::now();
+        let k = self.assemble()?;
+        self.tangents_changed = false;
+        let t1 = Instant::now();
+        self.timings.assembly += (t1 - t0).as_secs_f64();
+        self.solver.factor(&k, &self.map.dof_of_equation)?;
+        self.timings.factorization += since(t1);
+        let t2 = Instant::now();
+        self.flexibility = self.solver.trailing_inverse();
+        self.timings.flexibility += since(t2);
+        if self.is_reduced() {
+            self.solve_full_load();
+        }
+        if self.timings.solve_pair == 0.0 {
+            self.measure_solve_pair();
+        }
+        Ok(())
+    }
+
+    /// K with the current tangents. Plastic runs keep the elastic K and re-add
+    /// t A Bᵀ (D_ep − D) B of the elements that are plastic now.
+    fn assemble(&mut self) -> Result<faer::sparse::SparseColMat<usize, f64>> {
+        let (plane, thickness) = (self.model.plane, self.model.thickness);
+        if let Space::Full(full) = &self.space {
+            if let Some(scatter) = &full.scatter {
+                let mut values = full.elastic_values.clone();
+                for (e, t) in self.tangents.iter().enumerate() {
+                    if t.flow.is_some() {
+                        let softening = t.in_plane(plane) - self.material[e].elastic_tangent(plane);
+                        scatter.add(e, &self.elements[e].stiffness(&softening, thickness), &mut values);
+                    }
+                }
+                return Ok(self.pattern.with_values(values));
+            }
+        }
+        let in_plane: Vec<_> = self.tangents.iter().map(|t| t.in_plane(plane)).collect();
+        let k = self.pattern.assemble(&self.elements, &in_plane, thickness, &self.map)?;
+        let all_elastic_now = self.tangents.iter().all(|t| t.flow.is_none());
+        let plastic_run = self.material.iter().any(|m| m.is_plastic());
+        if let Space::Full(full) = &mut self.space {
+            if all_elastic_now && plastic_run {
+                full.elastic_values = k.val().to_vec();
+                full.scatter = Some(self.pattern.element_scatter(&self.elements, &self.map));
+            }
+        }
+        Ok(k)
+    }
+
+    /// Reduced space: u_load = K#P (the full load) over all DOFs and at the reduced DOFs.
+    fn solve_full_load(&mut self) {
+        let load: Vec<f64> = self.model.load.iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { *v }).collect();
+        let t0 = Instant::now();
+        let u_load = self.apply_ginv(std::slice::from_ref(&load)).pop().unwrap();
+        if let Space::Reduced(r) = &mut self.space {
+            r.u_load_reduced = r.dofs.iter().map(|&d| u_load[d]).collect();
+            r.u_load_max = u_load.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            r.u_load = u_load;
+        }
+        self.timings.solves += since(t0);
+    }
+
+    /// The timing unit: one forward + backward substitution, best of a few.
+    fn measure_solve_pair(&mut self) {
+        let mut best = f64::INFINITY;
+        for _ in 0..SOLVE_PAIR_SAMPLES {
+            let mut b = vec![1.0; self.map.n_equations];
+            let t = Instant::now();
+            self.solver.solve_in_place(&mut b, 1);
+            best = best.min(since(t));
+            self.solver.n_solves -= 1;
+        }
+        self.timings.solve_pair = best;
+    }
+
+    /// x = K# y over all DOFs (fixed and pinned DOFs get 0), for each y in `ys`.
+    pub fn apply_ginv(&mut self, ys: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        let (n, k) = (self.map.n_equations, ys.len());
+        let mut b: Vec<f64> = ys.iter().flat_map(|y| self.map.to_equations(y)).collect();
+        if k > 0 {
+            self.solver.solve_in_place(&mut b, k);
+        }
+        (0..k).map(|c| self.map.from_equations(&b[c * n..(c + 1) * n])).collect()
+    }
+
+    /// K# y at the contact slots for a force y = Σ v e_d on contact DOFs (a column of the
+    /// flexibility matrix per entry).
+    pub fn flexibility_times(&self, y: &[(usize, f64)]) -> Vec<f64> {
+        let mut out = vec![0.0; self.flexibility.nrows()];
+        for &(d, v) in y {
+            let slot = self.contact_slot[d];
+            if slot == usize::MAX || v == 0.0 {
+                continue;
+            }
+            let col = self.flexibility.col(slot);
+            out.iter_mut().zip(col.iter()).for_each(|(o, g)| *o += v * g);
+        }
+        out
+    }
+
+    /// cᵀ x for a constraint vector c and x given at the contact slots.
+    pub fn dot_slots(&self, c: &SparseVec, x: &[f64]) -> f64 {
+        c.entries
+            .iter()
+            .map(|&(d, v)| match self.contact_slot[d] {
+                usize::MAX => 0.0,
+                slot => v * x[slot],
+            })
+            .sum()
+    }
+}

@@ -1,0 +1,279 @@
+//! The trial increment for the remaining load (eqs. 43–44 in residual form).
+//!
+//! With K# the generalized inverse of the reduced stiffness and N the free rigid-body modes,
+//!   Δu = K#(r + E Δλ) + N α,
+//! r = φ_target P − P_σ + (current contact forces) the out-of-balance force (eqs. 36, 42). The
+//! columns of E are the force directions of the closed pairs (w_n, w_t for stick; w_n − dμ w_t
+//! for slip, eq. 41, which makes the small system nonsymmetric), the rows of C their
+//! constraints (w_n·Δu = −gap, eq. 38; w_t·Δu = 0 for stick, eq. 39). Δλ and α solve
+//!   [Cᵀ K# E   Cᵀ N] [Δλ]   [h − Cᵀ K# r]
+//!   [Nᵀ E       0  ] [α ] = [  −Nᵀ r    ]
+//! whose second row is the equilibrium of each free body. Every Cᵀ K# E entry is a lookup in
+//! the flexibility; a trial is one forward sweep of r, this small solve, and one backward sweep
+//! of r + E Δλ (the contact DOFs are last in the factor).
+
+use super::engine::{since, Engine};
+use super::space::Space;
+use super::state::{State, TrialIncrement};
+use crate::bail;
+use crate::contact::{SparseVec, Status};
+use crate::error::Result;
+use nalgebra::{DMatrix, DVector, Vector3, Vector4};
+use std::time::Instant;
+
+/// A pivot of the small system's LU below this × the largest one means "singular".
+const SINGULAR_PIVOT: f64 = 1e-13;
+/// Displacement noise floor: × max |Δu| of the trial.
+const DISPLACEMENT_NOISE: f64 = 1e-11;
+
+/// A row of the small system: pair p's normal or tangential constraint.
+#[derive(Clone, Copy)]
+pub(super) enum Row {
+    Normal(usize),
+    Tangent(usize),
+}
+
+/// K# r at the contact slots and the rigid-body rows −Nᵀ r for the out-of-balance force r; in
+/// the full space also r's forward sweep, whose backward sweep waits for the contact forces.
+pub(super) struct OutOfBalance {
+    pub z0: Vec<f64>,
+    pub mode_rhs: Vec<f64>,
+    forward_sweep: Vec<f64>,
+}
+
+/// The closed pairs' constraint rows with their right-hand sides h, force directions E and
+/// K# E at the contact slots.
+pub(super) struct ContactSystem {
+    pub rows: Vec<Row>,
+    pub h: Vec<f64>,
+    pub columns: Vec<Vec<(usize, f64)>>,
+    pub flex_columns: Vec<Vec<f64>>,
+}
+
+impl Engine<'_> {
+    /// The trial increment that takes the state to load fraction `target`: 1 for the remaining
+    /// load, the current fraction for an equilibrium correction. `internal`: the internal
+    /// force P_σ of the state's stresses if the caller has it.
+    pub fn trial(&mut self, state: &State, target: f64, internal: Option<Vec<f64>>) -> Result<TrialIncrement> {
+        let oob = self.out_of_balance(state, target, internal);
+        let sys = self.contact_system(state);
+        let sol = self.solve_small_system(state, &sys, &oob)?;
+        Ok(self.increment(state, target, &sys, oob, &sol))
+    }
+
+    pub fn out_of_balance(&mut self, state: &State, target: f64, internal: Option<Vec<f64>>) -> OutOfBalance {
+        if let Space::Reduced(r) = &self.space {
+            // Elastic and in equilibrium: the out-of-balance force is (target − φ) P exactly.
+            let c = target - state.load_fraction;
+            let mode_rhs = self.mode_load.iter().map(|v| -c * v).collect();
+            return OutOfBalance { z0: r.u_load_reduced.iter().map(|v| c * v).collect(), mode_rhs, forward_sweep: vec![] };
+        }
+        let internal = internal.unwrap_or_else(|| self.internal_force(&state.stress));
+        let r = self.residual_from(&internal, state, target);
+        let w = self.solver.forward(&self.map.to_equations(&r));
+        let z0 = self.solver.trailing_solution(&w);
+        let mode_rhs = self.mode_vectors.iter().map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>()).collect();
+        OutOfBalance { z0, mode_rhs, forward_sweep: w }
+    }
+
+    /// Rows of the closed pairs: normal (h = −gap) and, for frictional stick, tangential
+    /// (h = RTD at sticking − RTD).
+    pub fn contact_system(&self, state: &State) -> ContactSystem {
+        let (mut rows, mut h) = (Vec::new(), Vec::new());
+        for (p, st) in state.status.iter().enumerate() {
+            if !st.is_closed() {
+                continue;
+            }
+            let pair = &self.pairs[p];
+            rows.push(Row::Normal(p));
+            h.push(-pair.gap(&state.u));
+            if *st == Status::Stick && pair.frictional() {
+                rows.push(Row::Tangent(p));
+                h.push(state.rtd_stick[p] - pair.rtd(&state.u));
+            }
+        }
+        let columns: Vec<Vec<(usize, f64)>> = rows.iter().map(|row| self.force_direction(*row, &state.status)).collect();
+        let flex_columns = columns.iter().map(|e| self.flexibility_times(e)).collect();
+        ContactSystem { rows, h, columns, flex_columns }
+    }
+
+    /// Column e_j: w_n (+ τ w_t for a slipping pair, τ = −dμ, eq. 41) or w_t.
+    fn force_direction(&self, row: Row, status: &[Status]) -> Vec<(usize, f64)> {
+        match row {
+            Row::Normal(p) => {
+                let pair = &self.pairs[p];
+                let tau = pair.slip_ratio(status[p]);
+                let mut e = pair.w_n.entries.clone();
+                if tau != 0.0 {
+                    e.extend(pair.w_t.entries.iter().map(|&(d, v)| (d, tau * v)));
+                }
+                e
+            }
+            Row::Tangent(p) => self.pairs[p].w_t.entries.clone(),
+        }
+    }
+
+    pub fn constraint(&self, row: Row) -> &SparseVec {
+        match row {
+            Row::Normal(p) => &self.pairs[p].w_n,
+            Row::Tangent(p) => &self.pairs[p].w_t,
+        }
+    }
+
+    /// Assemble and solve the small system for (Δλ, α).
+    fn solve_small_system(&mut self, state: &State, sys: &ContactSystem, oob: &OutOfBalance) -> Result<DVector<f64>> {
+        let (m, nm) = (sys.rows.len(), self.modes.len());
+        let mut a = DMatrix::<f64>::zeros(m + nm, m + nm);
+        let mut rhs = DVector::<f64>::zeros(m + nm);
+        for j in 0..m {
+            for i in 0..m {
+                a[(i, j)] = self.dot_slots(self.constraint(sys.rows[i]), &sys.flex_columns[j]);
+            }
+            for (k, mode) in self.mode_vectors.iter().enumerate() {
+                a[(m + k, j)] = sys.columns[j].iter().map(|&(d, v)| v * mode[d]).sum();
+            }
+        }
+        for (k, mode) in self.mode_vectors.iter().enumerate() {
+            for i in 0..m {
+                a[(i, m + k)] = self.constraint(sys.rows[i]).dot(mode);
+            }
+            rhs[m + k] = oob.mode_rhs[k];
+        }
+        for i in 0..m {
+            rhs[i] = sys.h[i] - self.dot_slots(self.constraint(sys.rows[i]), &oob.z0);
+        }
+        self.check_restrained(state, &a, &sys.rows, oob)?;
+        let t = Instant::now();
+        let sol = solve_dense(&a, &rhs);
+        self.timings.dense += since(t);
+        match sol {
+            Some(x) => Ok(x),
+            None => {
+                let closed: Vec<String> = sys.rows.iter().filter_map(|r| if let Row::Normal(p) = r { Some(p.to_string()) } else { None }).collect();
+                bail!(Singular, "the contact system is singular at load fraction {:.6}: the closed pairs [{}] are redundant (two pairs on one node along the same direction?) — remove duplicate pairs", state.load_fraction, closed.join(", "))
+            }
+        }
+    }
+
+    /// Δλ, Δu = K#(r + E Δλ) + N α, and the element stress increments.
+    fn increment(&mut self, state: &State, target: f64, sys: &ContactSystem, oob: OutOfBalance, sol: &DVector<f64>) -> TrialIncrement {
+        let (m, n_pairs) = (sys.rows.len(), self.pairs.len());
+        let (mut dlambda_n, mut dlambda_t) = (vec![0.0; n_pairs], vec![0.0; n_pairs]);
+        for j in 0..m {
+            match sys.rows[j] {
+                Row::Normal(p) => {
+                    dlambda_n[p] = sol[j];
+                    dlambda_t[p] = self.pairs[p].slip_ratio(state.status[p]) * sol[j];
+                }
+                Row::Tangent(p) => dlambda_t[p] = sol[j],
+            }
+        }
+        let mut du = self.displacement(sys, oob, sol);
+        let dalpha: Vec<f64> = (0..self.modes.len()).map(|k| sol[m + k]).collect();
+        for (mode, s) in self.mode_vectors.iter().zip(&dalpha) {
+            du.iter_mut().zip(mode).for_each(|(d, v)| *d += s * v);
+        }
+        let (dstress, dplastic) = if self.is_reduced() { (vec![], vec![]) } else { self.stress_increment(&du) };
+        let umax = self.largest_displacement(&du, target - state.load_fraction);
+        self.noise.displacement = DISPLACEMENT_NOISE * umax;
+        TrialIncrement { du, dstress, dplastic, dlambda_n, dlambda_t, dalpha }
+    }
+
+    /// K#(r + E Δλ): in the reduced space only at the contact DOFs, Σ_j Δλ_j K# e_j (reduced
+    /// index = slot); in the full space the forces E Δλ on contact DOFs touch only the
+    /// trailing rows of the forward sweep, then one backward sweep.
+    fn displacement(&mut self, sys: &ContactSystem, oob: OutOfBalance, sol: &DVector<f64>) -> Vec<f64> {
+        let m = sys.rows.len();
+        if self.is_reduced() {
+            let mut du = oob.z0;
+            for j in 0..m {
+                du.iter_mut().zip(&sys.flex_columns[j]).for_each(|(x, g)| *x += sol[j] * g);
+            }
+            return du;
+        }
+        let mut w = oob.forward_sweep;
+        if m > 0 {
+            let mut force_slots = vec![0.0; self.flexibility.nrows()];
+            for j in 0..m {
+                for &(d, v) in &sys.columns[j] {
+                    if self.contact_slot[d] != usize::MAX {
+                        force_slots[self.contact_slot[d]] += sol[j] * v;
+                    }
+                }
+            }
+            self.solver.add_trailing_force(&mut w, &force_slots);
+        }
+        self.map.from_equations(&self.solver.backward(w))
+    }
+
+    /// max |u| (for round-off tolerances). The reduced space carries u at the contact DOFs
+    /// only: the load's share elsewhere is bounded by `load_fraction` × max |K#P|.
+    pub fn largest_displacement(&self, u: &[f64], load_fraction: f64) -> f64 {
+        let carried = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        match &self.space {
+            Space::Reduced(r) => carried.max(load_fraction.abs() * r.u_load_max),
+            Space::Full(_) => carried,
+        }
+    }
+
+    /// Δσ and Δεp of every element for a displacement increment (eqs. 10, 11, 18).
+    pub fn stress_increment(&self, du: &[f64]) -> (Vec<Vector4<f64>>, Vec<f64>) {
+        let plane = self.model.plane;
+        self.elements
+            .iter()
+            .zip(&self.tangents)
+            .map(|(el, t)| {
+                let e = el.strain(du);
+                (t.stress_increment(plane, &e), t.plastic_multiplier(plane, &e))
+            })
+            .unzip()
+    }
+
+    /// Internal nodal forces P_σ = Σ t A Bᵀ σ (eq. 42).
+    pub fn internal_force(&self, stress: &[Vector4<f64>]) -> Vec<f64> {
+        let mut f = vec![0.0; self.map.role.len()];
+        for (el, s) in self.elements.iter().zip(stress) {
+            let fe = el.internal_force(&Vector3::new(s[0], s[1], s[3]), self.model.thickness);
+            for (k, d) in el.dofs().iter().enumerate() {
+                f[*d] += fe[k];
+            }
+        }
+        f
+    }
+
+    /// Out-of-balance force at load fraction `phi`: φ P − P_σ + contact forces over the free
+    /// DOFs (the right-hand side of eq. 43), from the internal force P_σ of the stresses.
+    pub fn residual_from(&self, internal: &[f64], state: &State, phi: f64) -> Vec<f64> {
+        let mut r = internal.to_vec();
+        for (d, v) in r.iter_mut().enumerate() {
+            *v = if self.fixed[d] { 0.0 } else { phi * self.model.load[d] - *v };
+        }
+        for (p, pair) in self.global_pairs().iter().enumerate() {
+            pair.w_n.add_to(state.lambda_n[p], &mut r);
+            pair.w_t.add_to(state.lambda_t[p], &mut r);
+        }
+        r
+    }
+}
+
+/// Solve the small dense system by LU with partial pivoting (faer's blocked kernel); None when
+/// it is singular to working precision.
+pub(super) fn solve_dense(a: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>> {
+    let n = rhs.len();
+    if n == 0 {
+        return Some(DVector::zeros(0));
+    }
+    let mat = faer::MatRef::from_column_major_slice(a.as_slice(), n, n);
+    let lu = faer::linalg::solvers::PartialPivLu::new(mat);
+    let u = lu.U();
+    let pivots: Vec<f64> = (0..n).map(|i| u[(i, i)].abs()).collect();
+    let largest = pivots.iter().fold(0.0f64, |m, v| m.max(*v));
+    if !(largest > 0.0) || pivots.iter().any(|&p| p <= SINGULAR_PIVOT * largest) {
+        return None;
+    }
+    let mut x = faer::Mat::<f64>::from_fn(n, 1, |i, _| rhs[i]);
+    use faer::linalg::solvers::SolveCore;
+    lu.solve_in_place_with_conj(faer::Conj::No, x.as_mut());
+    let x = DVector::from_fn(n, |i, _| x[(i, 0)]);
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}

@@ -1,0 +1,157 @@
+//! What comes out of the engine: the event history, the increments, field snapshots, why the
+//! run stopped, and where the time went. No Python types: the bindings translate.
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EventKind {
+    Close,
+    Separate,
+    StickToSlip,
+    SlipToStick,
+    /// Anti-cycling: the pair was frozen in its status for the rest of a zero-length run.
+    Frozen,
+    /// An elastic element reaches the yield surface (S_p, eq. 16).
+    Yield,
+    /// A plastic element unloads elastically.
+    Unload,
+    /// Anti-cycling for an element.
+    FrozenElement,
+}
+
+impl EventKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            EventKind::Close => "close",
+            EventKind::Separate => "separate",
+            EventKind::StickToSlip => "stick_to_slip",
+            EventKind::SlipToStick => "slip_to_stick",
+            EventKind::Frozen => "frozen",
+            EventKind::Yield => "yield",
+            EventKind::Unload => "unload",
+            EventKind::FrozenElement => "frozen_element",
+        }
+    }
+
+    pub fn is_element_event(self) -> bool {
+        matches!(self, EventKind::Yield | EventKind::Unload | EventKind::FrozenElement)
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct EventRecord {
+    pub step: usize,
+    pub load_fraction: f64,
+    pub kind: EventKind,
+    pub entity: usize,
+}
+
+#[derive(Debug, Clone)]
+pub struct StepRecord {
+    pub load_fraction: f64,
+    pub scale: f64,
+    pub residual: f64,
+    pub n_closed: usize,
+    pub n_stick: usize,
+    pub n_slip: usize,
+    pub normal_force: f64,
+    pub n_plastic: usize,
+    /// Max |σe − σy(εp)| / σy(εp) over plastic elements at the end of the step, before return.
+    pub drift: f64,
+}
+
+#[derive(Debug, Clone)]
+pub struct Snapshot {
+    pub load_fraction: f64,
+    /// Displacement, 2 per node.
+    pub u: Vec<f64>,
+    /// σx, σy, σz, τxy per element.
+    pub stress: Vec<[f64; 4]>,
+    pub plastic_strain: Vec<f64>,
+    pub plastic: Vec<i8>,
+    pub lambda_n: Vec<f64>,
+    pub lambda_t: Vec<f64>,
+    pub status: Vec<i8>,
+    pub gap: Vec<f64>,
+    pub rtd: Vec<f64>,
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct Timings {
+    pub assembly: f64,
+    pub factorization: f64,
+    /// Reading the contact flexibility from the factor's trailing block (dense, per factor).
+    pub flexibility: f64,
+    /// Triangular solves (trial, corrections, snapshots).
+    pub solves: f64,
+    /// The small dense contact systems (also counted in `events`).
+    pub dense: f64,
+    /// Event bookkeeping: scale factors, advancing, checks, the small dense systems.
+    pub events: f64,
+    /// One forward + backward substitution with one right-hand side on the first factor
+    /// (the unit of the amortized cost of an event).
+    pub solve_pair: f64,
+}
+
+/// Why the event loop stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StopReason {
+    /// The whole load is applied (S = 1 reached, paper §4 step 8).
+    Completed,
+    /// `Options::stop_at_first_yield`: stopped at the first yield event.
+    FirstYield,
+    /// The current stiffness of the remaining load fell below `Options::limit_stiffness` of
+    /// the initial one: a plastic mechanism (collapse).
+    LimitLoad { load_fraction: f64, stiffness_ratio: f64 },
+    /// `Options::max_steps` increments were taken; `busiest` names the entities that switched
+    /// most often.
+    EventBound { load_fraction: f64, max_steps: usize, busiest: String },
+    /// The progress callback asked to stop (Ctrl-C).
+    Interrupted { load_fraction: f64 },
+}
+
+impl StopReason {
+    pub fn name(&self) -> &'static str {
+        match self {
+            StopReason::Completed => "completed",
+            StopReason::FirstYield => "first_yield",
+            StopReason::LimitLoad { .. } => "limit_load",
+            StopReason::EventBound { .. } => "event_bound",
+            StopReason::Interrupted { .. } => "interrupted",
+        }
+    }
+
+    /// A one-line explanation with the fix, for stops before the whole load.
+    pub fn message(&self) -> Option<String> {
+        match self {
+            StopReason::LimitLoad { load_fraction, stiffness_ratio } => Some(format!("limit load reached at load fraction {load_fraction:.6}: the current stiffness fell to {stiffness_ratio:.1e} of the initial one (a plastic mechanism); the results up to there are kept: lower the load, or add hardening (H > 0)")),
+            StopReason::EventBound { load_fraction, max_steps, busiest } => Some(format!("the event loop reached max_events = {max_steps} increments at load fraction {load_fraction:.6} (most switching: {busiest}); the results up to there are kept: raise solver.max_events or coarsen the mesh")),
+            StopReason::Interrupted { load_fraction } => Some(format!("interrupted at load fraction {load_fraction:.6}; the results up to there are kept")),
+            StopReason::Completed | StopReason::FirstYield => None,
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct RunResult {
+    pub events: Vec<EventRecord>,
+    pub steps: Vec<StepRecord>,
+    pub snapshots: Vec<Snapshot>,
+    pub closure_fraction: Vec<f64>,
+    pub predicted_closure: Vec<f64>,
+    pub max_equilibrium_residual: f64,
+    pub max_drift: f64,
+    pub n_factorizations: usize,
+    pub n_solves: usize,
+    /// How many zero-length runs the rate problem (Lemke) resolved.
+    pub n_rate_problems: usize,
+    pub stop: StopReason,
+    pub timings: Timings,
+}
+
+/// What the driver reports while it runs; the callback returns `false` to stop (Ctrl-C).
+#[derive(Debug, Clone, Copy)]
+pub struct Progress {
+    pub steps: usize,
+    pub events: usize,
+    pub load_fraction: f64,
+}
+
