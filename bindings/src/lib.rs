@@ -106,8 +106,16 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
             });
         }
     }
+    let options = read_options(d)?;
+    let names = read_names(d)?;
+    Ok(Model { mesh: Mesh { nodes, triangles }, element_material, materials, plane, thickness, fixed_dofs, load, pairs, names, options })
+}
+
+/// The solver options (key "options"; absent keys keep their defaults).
+fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
     let mut options = Options::default();
-    if let Some(o) = d.get_item("options")? {
+    let Some(o) = d.get_item("options")? else { return Ok(options) };
+    {
         let o = o.cast::<PyDict>()?;
         if let Some(v) = o.get_item("tie_tol")? {
             options.tie_tol = v.extract()?;
@@ -145,8 +153,7 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
             };
         }
     }
-    let names = read_names(d)?;
-    Ok(Model { mesh: Mesh { nodes, triangles }, element_material, materials, plane, thickness, fixed_dofs, load, pairs, names, options })
+    Ok(options)
 }
 
 /// The case's names for messages (optional keys body_names, element_body, contact_names).

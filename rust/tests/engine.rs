@@ -365,3 +365,49 @@ fn reduced_elastic_mode_reproduces_the_general_path() {
         }
     }
 }
+
+/// A block of width 2 on the rigid flat y = 0 (all pairs closed, gap 0), pressed by q = 1 and
+/// sheared by a traction τ on its top, held by nothing else in x: by equilibrium of the whole
+/// block the pairs must carry Σλ_t = −2τ with Σλ_n = 2, so friction holds it iff τ ≤ μ q.
+fn sheared_block(mu: f64, tau: f64) -> Model {
+    let mesh = rectangle(0.0, 0.0, 2.0, 1.0, 4, 2);
+    let n = mesh.nodes.len();
+    let mut load = vec![0.0; 2 * n];
+    top_traction(&mesh, 1.0, [tau, -1.0], &mut load);
+    let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12).into_iter().map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.0, mu, contact: 0 }).collect();
+    let mut m = model(mesh, vec![], load, pairs, Plane::Strain);
+    m.names = Names { bodies: vec!["block".into()], element_body: vec![0; m.mesh.triangles.len()], contacts: vec!["base".into()] };
+    m
+}
+
+#[test]
+fn the_core_validates_its_options_itself() {
+    // Before the core validated its own options, tie_tol = NaN ran 1,200 increments and
+    // returned Ok with no event.
+    let mut m = sheared_block(0.5, 0.1);
+    m.options.tie_tol = f64::NAN;
+    let err = slipstep_core::run(&m, |_| true).unwrap_err();
+    assert_eq!(err.kind, slipstep_core::error::ErrorKind::Input);
+    assert!(err.message.starts_with("options.tie_tol = NaN is not allowed"), "{}", err.message);
+    let mut m = sheared_block(0.5, 0.1);
+    m.pairs[0].contact = 3;
+    assert_eq!(slipstep_core::run(&m, |_| true).unwrap_err().kind, slipstep_core::error::ErrorKind::Input);
+}
+
+#[test]
+fn shear_beyond_the_friction_limit_is_gross_sliding_of_the_named_body() {
+    // τ = 0.6 > μ q = 0.5: the block slides. The last stick pair slips at a load fraction
+    // f ≤ 1 where f τ_total = μ f q_total cannot hold (τ/q > μ at every f), so the error comes at
+    // the first moment every pair slips; the message names the body and the contact capacity.
+    let err = slipstep_core::run(&sheared_block(0.5, 0.6), |_| true).unwrap_err();
+    assert_eq!(err.kind, slipstep_core::error::ErrorKind::GrossSliding, "{}", err.message);
+    assert!(err.message.starts_with("body 'block' slides as a whole"), "{}", err.message);
+    assert!(err.message.contains("translation in x"), "{}", err.message);
+    // Below the limit (τ = 0.25 = μq/2) the block is held: Σλ_t = −2τ, Σλ_n = 2 (equilibrium).
+    let res = slipstep_core::run(&sheared_block(0.5, 0.25), |_| true).unwrap();
+    assert_eq!(res.stop, StopReason::Completed);
+    let last = res.snapshots.last().unwrap();
+    let (fn_, ft): (f64, f64) = (last.lambda_n.iter().sum(), last.lambda_t.iter().sum());
+    // λ_t is along t = (−n_y, n_x) = (−1, 0): the pairs push the block by −λ_t in x.
+    assert!((fn_ - 2.0).abs() < 1e-9 && (ft - 0.5).abs() < 1e-9, "Σλ_n = {fn_}, Σλ_t = {ft}");
+}
