@@ -142,6 +142,9 @@ fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
         if let Some(v) = o.get_item("reduced_elastic")? {
             options.reduced_elastic = v.extract()?;
         }
+        if let Some(v) = o.get_item("max_zero_length_switches")? {
+            options.max_zero_length_switches = v.extract()?;
+        }
         if let Some(v) = o.get_item("stop_at_first_yield")? {
             options.stop_at_first_yield = v.extract()?;
         }

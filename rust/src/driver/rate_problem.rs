@@ -117,7 +117,8 @@ impl Engine<'_> {
         }
         let y = solve(&prob)?;
         let scale = kin_n.iter().chain(&kin_t).map(|a| a.eval(&y).abs()).fold(self.largest_displacement(&state.u, state.load_fraction), f64::max);
-        Some(self.statuses(state, &q, &roles, &forces, &kin_t, &y, scale))
+        let touching: Vec<bool> = q.iter().zip(&kin_n).map(|(&p, g)| self.pairs[p].gap(&state.u) + g.eval(&y) <= CRITICAL_GAP * scale).collect();
+        Some(self.statuses(state, &q, &roles, &forces, (&kin_t, &touching), &y, scale))
     }
 
     /// Closed pairs, and open ones at zero gap.
@@ -200,9 +201,10 @@ impl Engine<'_> {
         }
     }
 
-    /// The status of every pair after the solution y (pairs outside q keep theirs).
-    #[allow(clippy::too_many_arguments)]
-    fn statuses(&self, state: &State, q: &[usize], roles: &[Role], forces: &[(Affine, Affine)], kin_t: &[Affine], y: &[f64], scale: f64) -> Vec<Status> {
+    /// The status of every pair after the solution y (pairs outside q keep theirs). A pair
+    /// with zero force that ends the trial touching (g' = 0) stays closed: it may be what
+    /// holds a rigid mode.
+    fn statuses(&self, state: &State, q: &[usize], roles: &[Role], forces: &[(Affine, Affine)], (kin_t, touching): (&[Affine], &[bool]), y: &[f64], scale: f64) -> Vec<Status> {
         let tol = CRITICAL_FORCE * self.scales.force;
         let mut status = state.status.clone();
         for (i, (&p, &role)) in q.iter().zip(roles).enumerate() {
@@ -213,7 +215,7 @@ impl Engine<'_> {
                 Role::Normal | Role::Stick => state.status[p],
                 Role::Cone { sigma } if slipping && -sigma * slip > 0.0 => Status::Slip { direction: (-sigma) as i8 },
                 Role::Cone { .. } => Status::Stick,
-                Role::Critical if forces[i].0.eval(y) <= tol => Status::Open,
+                Role::Critical if forces[i].0.eval(y) <= tol && !touching[i] => Status::Open,
                 Role::Critical if pair.frictional() && slipping => Status::Slip { direction: if slip > 0.0 { 1 } else { -1 } },
                 Role::Critical => pair.closed_status(),
             };
