@@ -10,6 +10,10 @@
 //! ray). It succeeds whenever M is a P-matrix, and for copositive-plus M (e.g. positive
 //! semidefinite) whenever the LCP is feasible, so a ray then proves infeasibility. Each pivot
 //! costs O(n²) on the dense tableau.
+//!
+//! Lemke's path depends on the covering vector d; for M that is not copositive-plus (friction)
+//! a ray with one d proves nothing, so d = 1 is tried first and then `COVERING_RESTARTS` seeded
+//! positive vectors. Each attempt terminates, so the call does.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -37,6 +41,7 @@ pub struct LcpSolution {
 
 /// The tableau [B⁻¹ | B⁻¹(−M) | B⁻¹(−d) | B⁻¹q] over the variables w (0..n), z (n..2n), z₀
 /// (2n), with the basic variable of every row.
+#[derive(Clone)]
 struct Tableau {
     n: usize,
     t: DMatrix<f64>,
@@ -55,7 +60,11 @@ impl Tableau {
             t[(i, 2 * n)] = -1.0;
             t[(i, 2 * n + 1)] = q[i];
         }
-        Tableau { n, t, basic: (0..n).collect() }
+        Tableau {
+            n,
+            t,
+            basic: (0..n).collect(),
+        }
     }
 
     fn rhs(&self) -> usize {
@@ -84,19 +93,28 @@ impl Tableau {
     /// The lexicographic key of row i for entering column c: (rhs, B⁻¹ row) / pivot.
     fn key(&self, i: usize, c: usize) -> Vec<f64> {
         let p = self.t[(i, c)];
-        std::iter::once(self.t[(i, self.rhs())] / p).chain((0..self.n).map(|j| self.t[(i, j)] / p)).collect()
+        std::iter::once(self.t[(i, self.rhs())] / p)
+            .chain((0..self.n).map(|j| self.t[(i, j)] / p))
+            .collect()
     }
 
     /// The leaving row for entering column c by the lexicographic minimum-ratio test; z₀'s row
     /// wins a tie (the method then ends). None: a ray.
     fn leaving_row(&self, c: usize) -> Option<usize> {
-        let largest = (0..self.n).map(|i| self.t[(i, c)].abs()).fold(0.0, f64::max);
+        let largest = (0..self.n)
+            .map(|i| self.t[(i, c)].abs())
+            .fold(0.0, f64::max);
         let mut best: Option<(usize, Vec<f64>)> = None;
         for i in (0..self.n).filter(|&i| self.t[(i, c)] > PIVOT_TOL * largest) {
             let key = self.key(i, c);
             let better = match &best {
                 None => true,
-                Some((b, bk)) => lex_less(&key, bk) || (!lex_less(bk, &key) && self.basic[i] == 2 * self.n && self.basic[*b] != 2 * self.n),
+                Some((b, bk)) => {
+                    lex_less(&key, bk)
+                        || (!lex_less(bk, &key)
+                            && self.basic[i] == 2 * self.n
+                            && self.basic[*b] != 2 * self.n)
+                }
             };
             if better {
                 best = Some((i, key));
@@ -117,23 +135,83 @@ fn lex_less(a: &[f64], b: &[f64]) -> bool {
     false
 }
 
-/// Solve the LCP (M, q) by Lemke's method. `max_pivots` bounds the work.
-pub fn lemke(m: &DMatrix<f64>, q: &DVector<f64>, max_pivots: usize) -> Result<LcpSolution, LcpFailure> {
+/// Solve the LCP (M, q) by Lemke's method, restarting with other covering vectors after a
+/// ray. `max_pivots` bounds the work of one attempt.
+pub fn lemke(
+    m: &DMatrix<f64>,
+    q: &DVector<f64>,
+    max_pivots: usize,
+) -> Result<LcpSolution, LcpFailure> {
     let n = q.len();
     if m.nrows() != n || m.ncols() != n || m.iter().chain(q.iter()).any(|v| !v.is_finite()) {
         return Err(LcpFailure::BadInput);
     }
     if q.iter().all(|&v| v >= 0.0) {
-        return Ok(LcpSolution { z: DVector::zeros(n), w: q.clone(), pivots: 0 });
+        return Ok(LcpSolution {
+            z: DVector::zeros(n),
+            w: q.clone(),
+            pivots: 0,
+        });
     }
+    let mut seed = COVERING_SEED;
+    let mut failure = LcpFailure::Ray { pivots: 0 };
+    for attempt in 0..=COVERING_RESTARTS {
+        let covering: Vec<f64> = (0..n)
+            .map(|_| {
+                if attempt == 0 {
+                    1.0
+                } else {
+                    covering_entry(&mut seed)
+                }
+            })
+            .collect();
+        match complementary_pivoting(m, q, &covering, max_pivots) {
+            Ok(solution) => return Ok(solution),
+            Err(f) => failure = f,
+        }
+    }
+    Err(failure)
+}
+
+/// Covering vectors tried after d = 1, and their entries' range.
+const COVERING_RESTARTS: usize = 32;
+const COVERING_SEED: u64 = 0x2545_f491_4f6c_dd1d;
+const COVERING_RANGE: (f64, f64) = (0.1, 10.0);
+
+/// A pseudo-random entry in COVERING_RANGE (xorshift: deterministic runs).
+fn covering_entry(seed: &mut u64) -> f64 {
+    *seed ^= *seed << 13;
+    *seed ^= *seed >> 7;
+    *seed ^= *seed << 17;
+    let u = (*seed >> 11) as f64 / (1u64 << 53) as f64;
+    COVERING_RANGE.0 + u * (COVERING_RANGE.1 - COVERING_RANGE.0)
+}
+
+/// One run of Lemke's method with covering vector d.
+fn complementary_pivoting(
+    m: &DMatrix<f64>,
+    q: &DVector<f64>,
+    d: &[f64],
+    max_pivots: usize,
+) -> Result<LcpSolution, LcpFailure> {
+    let n = q.len();
     let mut tab = Tableau::new(m, q);
-    // z₀ enters at the most negative q (lexicographic among ties: the last such row).
-    let first = (0..n).fold(0, |b, i| if q[i] <= q[b] { i } else { b });
+    for i in 0..n {
+        tab.t[(i, 2 * n)] = -d[i];
+    }
+    // z₀ enters where it is needed most: the smallest q_i / d_i.
+    let first = (0..n).fold(0, |b, i| if q[i] / d[i] <= q[b] / d[b] { i } else { b });
     let mut leaving = tab.basic[first];
     tab.pivot(first, 2 * n);
     for pivots in 1..=max_pivots {
-        let entering = if leaving < n { leaving + n } else { leaving - n };
-        let Some(r) = tab.leaving_row(entering) else { return Err(LcpFailure::Ray { pivots }) };
+        let entering = if leaving < n {
+            leaving + n
+        } else {
+            leaving - n
+        };
+        let Some(r) = tab.leaving_row(entering) else {
+            return Err(LcpFailure::Ray { pivots });
+        };
         leaving = tab.basic[r];
         tab.pivot(r, entering);
         if leaving == 2 * n {
@@ -151,7 +229,11 @@ fn polish(m: &DMatrix<f64>, q: &DVector<f64>, basic: &[usize], pivots: usize) ->
     let mut b = DMatrix::<f64>::zeros(n, n);
     for (k, &v) in basic.iter().enumerate() {
         for i in 0..n {
-            b[(i, k)] = if v < n { (i == v) as u8 as f64 } else { -m[(i, v - n)] };
+            b[(i, k)] = if v < n {
+                (i == v) as u8 as f64
+            } else {
+                -m[(i, v - n)]
+            };
         }
     }
     let x = b.lu().solve(q).unwrap_or_else(|| DVector::zeros(n));
@@ -175,7 +257,10 @@ mod tests {
         let scale = m.amax() * z.amax() + q.amax();
         for i in 0..q.len() {
             assert!(z[i] >= 0.0 && w[i] >= -tol * scale, "z = {z}, w = {w}");
-            assert!((z[i] * w[i]).abs() <= tol * scale * (1.0 + z.amax()), "z = {z}, w = {w}");
+            assert!(
+                (z[i] * w[i]).abs() <= tol * scale * (1.0 + z.amax()),
+                "z = {z}, w = {w}"
+            );
         }
     }
 
@@ -187,7 +272,13 @@ mod tests {
             let idx: Vec<usize> = (0..n).filter(|&i| mask >> i & 1 == 1).collect();
             let sub = DMatrix::from_fn(idx.len(), idx.len(), |a, b| m[(idx[a], idx[b])]);
             let rhs = DVector::from_fn(idx.len(), |a, _| -q[idx[a]]);
-            let zs = if idx.is_empty() { DVector::zeros(0) } else if let Some(x) = sub.lu().solve(&rhs) { x } else { continue };
+            let zs = if idx.is_empty() {
+                DVector::zeros(0)
+            } else if let Some(x) = sub.lu().solve(&rhs) {
+                x
+            } else {
+                continue;
+            };
             let mut z = DVector::zeros(n);
             idx.iter().zip(zs.iter()).for_each(|(&i, &v)| z[i] = v);
             let w = m * &z + q;
@@ -211,7 +302,12 @@ mod tests {
 
     #[test]
     fn nonnegative_q_is_solved_by_zero() {
-        let s = lemke(&DMatrix::identity(3, 3), &DVector::from_vec(vec![1.0, 0.0, 2.0]), 10).unwrap();
+        let s = lemke(
+            &DMatrix::identity(3, 3),
+            &DVector::from_vec(vec![1.0, 0.0, 2.0]),
+            10,
+        )
+        .unwrap();
         assert_eq!(s.pivots, 0);
         assert!(s.z.iter().all(|&v| v == 0.0));
     }
@@ -231,7 +327,12 @@ mod tests {
             assert_solves(&m, &q, &s.z, 1e-10);
             let all = enumerate(&m, &q);
             assert_eq!(all.len(), 1);
-            assert!((&all[0] - &s.z).amax() <= 1e-9 * (1.0 + s.z.amax()), "{} vs {}", all[0], s.z);
+            assert!(
+                (&all[0] - &s.z).amax() <= 1e-9 * (1.0 + s.z.amax()),
+                "{} vs {}",
+                all[0],
+                s.z
+            );
         }
     }
 
@@ -249,7 +350,10 @@ mod tests {
         // M = [[0, −1], [1, 0]] (skew: positive semidefinite), q = (−1, −1): w₁ = −z₂ − 1 ≥ 0
         // needs z₂ ≤ −1 < 0: no feasible point, so Lemke must end on a ray.
         let m = DMatrix::from_row_slice(2, 2, &[0.0, -1.0, 1.0, 0.0]);
-        assert!(matches!(lemke(&m, &DVector::from_vec(vec![-1.0, -1.0]), 100), Err(LcpFailure::Ray { .. })));
+        assert!(matches!(
+            lemke(&m, &DVector::from_vec(vec![-1.0, -1.0]), 100),
+            Err(LcpFailure::Ray { .. })
+        ));
     }
 
     #[test]
@@ -259,16 +363,31 @@ mod tests {
         // g = q_n + Λn ⊥ Λn, γ + v ⊥ β⁺, γ − v ⊥ β⁻, μΛn − β⁺ − β⁻ ⊥ γ with v = q_t + Λt.
         // Sticking would need |Λt| = 0.5 > μΛn = 0.3, so it slips: Λn = 1, Λt = 0.3, v = −0.2.
         let mu = 0.3;
-        let m = DMatrix::from_row_slice(4, 4, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, -1.0, 1.0, 0.0, -1.0, 1.0, 1.0, mu, -1.0, -1.0, 0.0]);
+        let m = DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                1.0, 0.0, 0.0, 0.0, 0.0, 1.0, -1.0, 1.0, 0.0, -1.0, 1.0, 1.0, mu, -1.0, -1.0, 0.0,
+            ],
+        );
         let q = DVector::from_vec(vec![-1.0, -0.5, 0.5, 0.0]);
         let s = lemke(&m, &q, 100).unwrap();
         assert_solves(&m, &q, &s.z, 1e-12);
-        assert!((s.z[0] - 1.0).abs() < 1e-12 && (s.z[1] - s.z[2] - 0.3).abs() < 1e-12 && (s.z[3] - 0.2).abs() < 1e-12, "{}", s.z);
+        assert!(
+            (s.z[0] - 1.0).abs() < 1e-12
+                && (s.z[1] - s.z[2] - 0.3).abs() < 1e-12
+                && (s.z[3] - 0.2).abs() < 1e-12,
+            "{}",
+            s.z
+        );
     }
 
     #[test]
     fn nan_is_bad_input() {
         let m = DMatrix::from_row_slice(1, 1, &[f64::NAN]);
-        assert_eq!(lemke(&m, &DVector::from_vec(vec![-1.0]), 10).err(), Some(LcpFailure::BadInput));
+        assert_eq!(
+            lemke(&m, &DVector::from_vec(vec![-1.0]), 10).err(),
+            Some(LcpFailure::BadInput)
+        );
     }
 }
