@@ -396,13 +396,13 @@ fn the_core_validates_its_options_itself() {
 
 #[test]
 fn shear_beyond_the_friction_limit_is_gross_sliding_of_the_named_body() {
-    // τ = 0.6 > μ q = 0.5: the block slides. The last stick pair slips at a load fraction
-    // f ≤ 1 where f τ_total = μ f q_total cannot hold (τ/q > μ at every f), so the error comes at
-    // the first moment every pair slips; the message names the body and the contact capacity.
+    // τ = 0.6 > μ q = 0.5: the block slides (τ/q > μ at every load level). The message names
+    // the body, and under the full load T = 2τ = 1.2 against μN = 0.5 × 2q = 1.
     let err = slipstep_core::run(&sheared_block(0.5, 0.6), |_| true).unwrap_err();
     assert_eq!(err.kind, slipstep_core::error::ErrorKind::GrossSliding, "{}", err.message);
     assert!(err.message.starts_with("body 'block' slides as a whole"), "{}", err.message);
     assert!(err.message.contains("translation in x"), "{}", err.message);
+    assert!(err.message.contains("T = 1.2000e0") && err.message.contains("μN = 1.0000e0"), "{}", err.message);
     // Below the limit (τ = 0.25 = μq/2) the block is held: Σλ_t = −2τ, Σλ_n = 2 (equilibrium).
     let res = slipstep_core::run(&sheared_block(0.5, 0.25), |_| true).unwrap();
     assert_eq!(res.stop, StopReason::Completed);

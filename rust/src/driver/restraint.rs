@@ -60,20 +60,32 @@ impl Engine<'_> {
         describe(w[0], w[1], w[2])
     }
 
-    /// The gross-sliding error: the load along the free motion against the friction capacity
-    /// μ Σ λ_n of the body's closed pairs.
+    /// The gross-sliding error: under the full load, the body's load along the sliding
+    /// direction T against μN, N its load along the mean normal of its closed pairs.
     fn gross_sliding(&self, body: usize, state: &State, idx: &[usize], v: &[f64], words: &str, oob: &OutOfBalance) -> crate::error::Error {
-        // −Nᵀ r along the motion is the out-of-balance force that nothing holds; its sign
-        // gives the direction of sliding.
+        // −Nᵀ r along the motion is the out-of-balance force nothing holds: the sense of sliding.
         let push: f64 = idx.iter().zip(v).map(|(&k, c)| -c * oob.mode_rhs[k]).sum();
-        let load: f64 = idx.iter().zip(v).map(|(&k, c)| c * self.mode_load[k]).sum::<f64>() * state.load_fraction;
-        let (mut capacity, mut n) = (0.0, 0);
-        for p in (0..self.pairs.len()).filter(|&p| state.status[p].is_closed() && self.body_of_pair(p) == body) {
-            capacity += self.pairs[p].mu * state.lambda_n[p];
-            n += 1;
-        }
+        let closed: Vec<usize> = (0..self.pairs.len()).filter(|&p| state.status[p].is_closed() && self.body_of_pair(p) == body).collect();
+        let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
+        let (normal, mu) = ([mean(&|p| p.normal[0]), mean(&|p| p.normal[1])], mean(&|p| p.mu));
+        let slide = self.translation_of(idx, v);
+        let load_along = |dir: [f64; 2]| -> f64 {
+            let len = dir[0].hypot(dir[1]).max(f64::MIN_POSITIVE);
+            (0..self.body_of_node.len()).filter(|&i| self.body_of_node[i] == body).map(|i| (self.model.load[2 * i] * dir[0] + self.model.load[2 * i + 1] * dir[1]) / len).sum()
+        };
+        let (t, n) = (load_along(slide).abs(), load_along(normal).abs());
         let sense = if push >= 0.0 { "+" } else { "−" };
-        crate::fail!(GrossSliding, "{} slides as a whole at load fraction {:.6} ({sense}{words}): the tangential load {:.4e} exceeds the friction capacity μΣλ_n = {capacity:.4e} of its {n} closed pair(s), all slipping; lower the tangential load, raise mu, or add a support", self.model.body_name(self.body_first_element[body]), state.load_fraction, load.abs())
+        crate::fail!(GrossSliding, "{} slides as a whole at load fraction {:.6} ({sense}{words}): its {} closed pair(s) all slip; under the full load the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal): lower the tangential load, raise mu, or add a support", self.model.body_name(self.body_first_element[body]), state.load_fraction, closed.len(), mu * n)
+    }
+
+    /// The translation part (x, y) of a combination `v` of the body's modes `idx`.
+    fn translation_of(&self, idx: &[usize], v: &[f64]) -> [f64; 2] {
+        let mut w = [0.0; 2];
+        for (c, &k) in idx.iter().enumerate() {
+            w[0] += v[c] * self.modes[k].weights[0];
+            w[1] += v[c] * self.modes[k].weights[1];
+        }
+        w
     }
 }
 
