@@ -11,6 +11,10 @@
 //! (eqs. 23, 36). Coulomb (eqs. 1–3): |λ_t| ≤ μ λ_n; a slipping pair carries
 //! λ_t = −d μ λ_n where d = ±1 is the direction of its slip (eq. 41).
 
+/// A constraint vector shorter than this has all its DOFs held by supports (unit normals and
+/// tangents: entries are 0 or of order 1).
+pub const HELD_BY_SUPPORTS: f64 = 1e-12;
+
 /// A sparse vector over global DOFs: at most 4 entries (two nodes × two components).
 #[derive(Debug, Clone, Default)]
 pub struct SparseVec {
@@ -93,7 +97,7 @@ impl Pair {
         let free = |d: usize| !fixed[d];
         let w_n = vec_of(normal).restricted(free);
         let w_t = vec_of(t).restricted(free);
-        let tangent_held = w_t.norm() < 1e-12;
+        let tangent_held = w_t.norm() < HELD_BY_SUPPORTS;
         Pair { node_a, node_b, normal, gap0, mu, w_n, w_t, tangent_held }
     }
 

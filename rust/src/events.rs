@@ -97,6 +97,9 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
     out
 }
 
+/// A plastic multiplier below this × the largest of the trial counts as zero (no unloading).
+const PLASTIC_NOISE: f64 = 1e-10;
+
 pub struct ElementState<'a> {
     pub material: &'a [Material],
     pub stress: &'a [Vector4<f64>],
@@ -109,7 +112,7 @@ pub struct ElementState<'a> {
 /// the trial's plastic multiplier is negative (the event the paper leaves out).
 /// `dstress` and `dplastic` are the trial's stress and plastic-strain increments.
 pub fn element_candidates(state: &ElementState, dstress: &[Vector4<f64>], dplastic: &[f64]) -> Vec<Candidate> {
-    let noise = 1e-10 * dplastic.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let noise = PLASTIC_NOISE * dplastic.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let mut out = Vec::new();
     for e in 0..state.stress.len() {
         let m = &state.material[e];

@@ -8,6 +8,14 @@
 
 use nalgebra::{DMatrix, Matrix3};
 
+/// An eigenvalue of AᵀA (A: the supports' rows of the rigid modes) below this × the rows counts
+/// as zero: that combination of modes survives the supports.
+const MODE_EIGENVALUE: f64 = 1e-10;
+/// A mode weight above this is named in `describe`.
+const NAMED_WEIGHT: f64 = 0.3;
+/// A candidate pinned DOF must improve the distance by more than this.
+const PIN_IMPROVEMENT: f64 = 1e-12;
+
 /// A free rigid-body mode: its displacement vector over all DOFs (zero on fixed DOFs).
 #[derive(Debug, Clone)]
 pub struct RigidMode {
@@ -68,7 +76,7 @@ pub fn free_modes(
             }
         }
         let eig = ata.symmetric_eigen();
-        let threshold = 1e-10 * (n_rows.max(1) as f64);
+        let threshold = MODE_EIGENVALUE * (n_rows.max(1) as f64);
         let mut body_vectors: Vec<Vec<f64>> = Vec::new();
         for k in 0..3 {
             if eig.eigenvalues[k] > threshold {
@@ -97,7 +105,7 @@ pub fn free_modes(
 pub fn describe(tx: f64, ty: f64, rot: f64) -> String {
     let parts: Vec<&str> = [(tx, "translation in x"), (ty, "translation in y"), (rot, "rotation")]
         .iter()
-        .filter(|(c, _)| c.abs() > 0.3)
+        .filter(|(c, _)| c.abs() > NAMED_WEIGHT)
         .map(|&(_, s)| s)
         .collect();
     parts.join(" + ")
@@ -128,7 +136,7 @@ fn pick_pinned_dofs(members: &[usize], vectors: &[Vec<f64>]) -> Vec<usize> {
                 v -= q * p;
             }
             let n = v.norm();
-            if n > best.1 + 1e-12 {
+            if n > best.1 + PIN_IMPROVEMENT {
                 best = (j, n);
             }
         }

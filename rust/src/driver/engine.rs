@@ -4,7 +4,7 @@
 
 use super::space::{Full, Reduced, Space};
 use crate::bail;
-use crate::contact::Pair;
+use crate::contact::{Pair, HELD_BY_SUPPORTS};
 use crate::element::Cst;
 use crate::error::Result;
 use crate::events::Noise;
@@ -153,7 +153,7 @@ fn contact_pairs(model: &Model, fixed: &[bool]) -> Result<Vec<Pair>> {
         let nn = (p.normal[0].powi(2) + p.normal[1].powi(2)).sqrt();
         let normal = [p.normal[0] / nn, p.normal[1] / nn];
         let pair = Pair::new(p.node_a, p.node_b, normal, p.gap.max(0.0), p.mu, fixed);
-        if pair.w_n.norm() < 1e-12 {
+        if pair.w_n.norm() < HELD_BY_SUPPORTS {
             bail!(Input, "{}: its normal direction is held by supports, so it can carry no contact force; remove the pair or the support", model.pair_name(k));
         }
         pairs.push(pair);
