@@ -15,38 +15,38 @@ use std::io::Write;
 use std::time::Instant;
 
 fn get<'py>(d: &Bound<'py, PyDict>, key: &str) -> PyResult<Bound<'py, PyAny>> {
-    d.get_item(key)?.ok_or_else(|| PyValueError::new_err(format!("engine model: missing key '{key}'")))
+    d.get_item(key)?.ok_or_else(|| input_error(format!("engine model: missing key '{key}'")))
 }
 
 fn f64_2d(d: &Bound<'_, PyDict>, key: &str, cols: usize) -> PyResult<Vec<[f64; 2]>> {
-    let arr: PyReadonlyArray2<f64> = get(d, key)?.extract().map_err(|_| PyValueError::new_err(format!("engine model: '{key}' must be a float64 array of shape (n, {cols})")))?;
+    let arr: PyReadonlyArray2<f64> = get(d, key)?.extract().map_err(|_| input_error(format!("engine model: '{key}' must be a float64 array of shape (n, {cols})")))?;
     let a = arr.as_array();
     if a.ncols() != cols {
-        return Err(PyValueError::new_err(format!("engine model: '{key}' must have {cols} columns")));
+        return Err(input_error(format!("engine model: '{key}' must have {cols} columns")));
     }
     Ok(a.rows().into_iter().map(|r| [r[0], r[1]]).collect())
 }
 
 fn i64_1d(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<i64>> {
-    let arr: PyReadonlyArray1<i64> = get(d, key)?.extract().map_err(|_| PyValueError::new_err(format!("engine model: '{key}' must be an int64 array")))?;
+    let arr: PyReadonlyArray1<i64> = get(d, key)?.extract().map_err(|_| input_error(format!("engine model: '{key}' must be an int64 array")))?;
     Ok(arr.as_array().to_vec())
 }
 
 fn f64_1d(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<f64>> {
-    let arr: PyReadonlyArray1<f64> = get(d, key)?.extract().map_err(|_| PyValueError::new_err(format!("engine model: '{key}' must be a float64 array")))?;
+    let arr: PyReadonlyArray1<f64> = get(d, key)?.extract().map_err(|_| input_error(format!("engine model: '{key}' must be a float64 array")))?;
     Ok(arr.as_array().to_vec())
 }
 
 fn to_index(v: i64, what: &str) -> PyResult<usize> {
-    usize::try_from(v).map_err(|_| PyValueError::new_err(format!("engine model: negative index {v} in {what}")))
+    usize::try_from(v).map_err(|_| input_error(format!("engine model: negative index {v} in {what}")))
 }
 
 fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
     let nodes = f64_2d(d, "nodes", 2)?;
-    let tri: PyReadonlyArray2<i64> = get(d, "triangles")?.extract().map_err(|_| PyValueError::new_err("engine model: 'triangles' must be an int64 array of shape (m, 3)"))?;
+    let tri: PyReadonlyArray2<i64> = get(d, "triangles")?.extract().map_err(|_| input_error("engine model: 'triangles' must be an int64 array of shape (m, 3)"))?;
     let tri = tri.as_array();
     if tri.ncols() != 3 {
-        return Err(PyValueError::new_err("engine model: 'triangles' must have 3 columns"));
+        return Err(input_error("engine model: 'triangles' must have 3 columns"));
     }
     let mut triangles = Vec::with_capacity(tri.nrows());
     for r in tri.rows() {
@@ -74,7 +74,7 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
     let plane = match get(d, "plane")?.extract::<String>()?.as_str() {
         "strain" => Plane::Strain,
         "stress" => Plane::Stress,
-        other => return Err(PyValueError::new_err(format!("engine model: plane = '{other}': use 'strain' or 'stress'"))),
+        other => return Err(input_error(format!("engine model: plane = '{other}': use 'strain' or 'stress'"))),
     };
     let thickness: f64 = get(d, "thickness")?.extract()?;
     let fixed_dofs = i64_1d(d, "fixed_dofs")?.into_iter().map(|v| to_index(v, "fixed_dofs")).collect::<PyResult<_>>()?;
@@ -93,7 +93,7 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
             None => None,
         };
         if [b.len(), normal.len(), gap.len(), mu.len()].iter().any(|&l| l != n) || contact.as_ref().map_or(false, |c| c.len() != n) {
-            return Err(PyValueError::new_err("engine model: the pair arrays node_a, node_b, normal, gap, mu differ in length"));
+            return Err(input_error("engine model: the pair arrays node_a, node_b, normal, gap, mu differ in length"));
         }
         for k in 0..n {
             pairs.push(PairInput {
@@ -125,7 +125,7 @@ fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
         }
         if let Some(v) = o.get_item("max_events")? {
             let n: i64 = v.extract()?;
-            options.max_steps = usize::try_from(n).map_err(|_| PyValueError::new_err(format!("engine model: options.max_events = {n} is not allowed: give 0 (automatic bound) or a positive count")))?;
+            options.max_steps = usize::try_from(n).map_err(|_| input_error(format!("engine model: options.max_events = {n} is not allowed: give 0 (automatic bound) or a positive count")))?;
         }
         if let Some(v) = o.get_item("equilibrium_tol")? {
             options.equilibrium_tol = v.extract()?;
@@ -152,7 +152,7 @@ fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
             options.snapshots = match v.extract::<String>()?.as_str() {
                 "events" => SnapshotRequest::EveryEvent,
                 "fractions" => SnapshotRequest::Fractions(f64_1d(o, "fractions")?),
-                other => return Err(PyValueError::new_err(format!("engine model: options.output = '{other}': use 'events' or 'fractions'"))),
+                other => return Err(input_error(format!("engine model: options.output = '{other}': use 'events' or 'fractions'"))),
             };
         }
     }
@@ -163,7 +163,7 @@ fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
 fn read_names(d: &Bound<'_, PyDict>) -> PyResult<Names> {
     let strings = |key: &str| -> PyResult<Vec<String>> {
         match d.get_item(key)? {
-            Some(v) => v.extract().map_err(|_| PyValueError::new_err(format!("engine model: '{key}' must be a list of str"))),
+            Some(v) => v.extract().map_err(|_| input_error(format!("engine model: '{key}' must be a list of str"))),
             None => Ok(vec![]),
         }
     };
@@ -244,7 +244,7 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
 #[pyfunction]
 #[pyo3(signature = (model, progress = true))]
 fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: bool) -> PyResult<Bound<'py, PyDict>> {
-    let model = read_model(model)?;
+    let model = read_model(model).map_err(|e| malformed(py, e))?;
     let result = py.detach(|| {
         let start = Instant::now();
         let mut last_print = Instant::now();
@@ -273,6 +273,23 @@ fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: bool) -> Py
         Ok(r) => result_to_dict(py, r),
         Err(e) => Err(python_error(py, &e)),
     }
+}
+
+/// Any failure while reading the model dict (a wrong type pyo3 could not extract, say) is an
+/// input error of the model, not a bug of the caller's Python.
+fn malformed(py: Python<'_>, e: PyErr) -> PyErr {
+    let already = py.import("slipstep.errors").and_then(|m| m.getattr("InputError")).map(|c| e.is_instance(py, &c)).unwrap_or(false);
+    if already {
+        e
+    } else {
+        input_error(format!("engine model: {}", e.value(py)))
+    }
+}
+
+/// A malformed model dict: `slipstep.errors.InputError` (ValueError if that cannot be imported).
+fn input_error(message: impl Into<String>) -> PyErr {
+    let message = message.into();
+    Python::attach(|py| python_error(py, &slipstep_core::Error::new(ErrorKind::Input, message)))
 }
 
 /// The engine's error as the exception class of `slipstep.errors` for its kind (ValueError, or
