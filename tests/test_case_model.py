@@ -205,3 +205,50 @@ def test_hertz_reference_values(hertz):
     ref = hertz.reference
     assert abs(ref["a_hertz"] - 1.4384) <= 1e-4
     assert abs(ref["p0_hertz"] - 442.6) <= 0.05
+
+
+def test_model_names_bodies_and_contacts_for_the_engine(blocks):
+    """The contract's naming keys: body_names in case order, element_body indexing them,
+    contact_names (the [[contact]]'s name, else "contact <i>") and pairs.contact indexing
+    those."""
+    m = blocks.model
+    assert m["body_names"] == ["punch", "foundation"]
+    eb = m["element_body"]
+    assert eb.dtype == np.int64 and eb.shape == (len(m["triangles"]),)
+    # the punch's elements come first: as many as its own mesh has
+    assert np.count_nonzero(eb == 0) == blocks.meshes["punch"].n_elements
+    assert np.array_equal(eb, np.repeat([0, 1], [blocks.meshes["punch"].n_elements,
+                                                 blocks.meshes["foundation"].n_elements]))
+    assert m["contact_names"] == ["contact 0"]  # two_blocks' contact has no name
+    contact = m["pairs"]["contact"]
+    assert contact.dtype == np.int64 and np.all(contact == 0)
+    assert len(contact) == len(m["pairs"]["node_a"])
+
+
+def test_contact_names_come_from_the_case():
+    text = MINIMAL.replace('[[contact]]\nkind = "rigid_line"',
+                           '[[contact]]\nname = "lid"\nkind = "rigid_line"')
+    text += ('\n[[contact]]\nkind = "rigid_line"\nbody = "b"\nedge = "right"\n'
+             'point = [2.0, 0.0]\nnormal = [-1.0, 0.0]\ny_min = 0.5\n')
+    m = build_scene(parse_case(text)).model
+    assert m["contact_names"] == ["lid", "contact 1"]
+    top, right = 4 + 1, 2  # nx = 4, ny = 2: the top nodes, the right ones at y >= 0.5
+    assert m["pairs"]["contact"].tolist() == [0] * top + [1] * right
+
+
+def test_build_scene_takes_a_ready_mesh_for_a_body():
+    """A body whose mesh is given is not meshed: the scene holds exactly that mesh (here 3 x 5
+    divisions where the case says 4 x 2)."""
+    given = M.block(2.0, 1.0, 3, 5)
+    scene = build_scene(parse_case(MINIMAL), meshes={"b": given})
+    assert scene.meshes["b"] is given
+    assert np.array_equal(scene.model["nodes"], given.nodes)
+    assert np.array_equal(scene.model["triangles"], given.triangles)
+    assert len(scene.model["pairs"]["node_a"]) == 3 + 1  # the top edge of the given mesh
+
+
+def test_build_scene_refuses_a_mesh_for_an_unknown_body():
+    from slipstep.errors import InputError
+
+    with pytest.raises(InputError, match=r"meshes given for 'nope'.*its bodies: b"):
+        build_scene(parse_case(MINIMAL), meshes={"nope": M.block(1.0, 1.0, 1, 1)})

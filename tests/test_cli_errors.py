@@ -1,6 +1,10 @@
-"""Bad input through the command line: one clear line on stderr naming the place and the fix,
-exit code 2, no traceback and no panic (issue #2 acceptance list)."""
+"""The command line's errors: bad input gives one clear line on stderr naming the place and the
+fix, exit code 2, no traceback and no panic (issue #2 acceptance list); only SlipstepError is
+caught that way, a bug shows its traceback; runs go through run_case (--set reaches the engine,
+an early engine stop still writes its results)."""
 
+import csv
+import json
 import os
 import subprocess
 import sys
@@ -107,3 +111,106 @@ def test_failed_run_leaves_earlier_results_alone(tmp_path):
     (out / "summary.json").write_text("{\"keep\": true}")
     slipstep("run", "--set", "material.nu=0.5", "--out", out)
     assert (out / "summary.json").read_text() == "{\"keep\": true}"
+
+
+# --------------------------------------------------------------------------- what the CLI catches
+def test_a_slipstep_error_is_one_line_and_exit_2(monkeypatch, capsys):
+    from slipstep import cli
+    from slipstep.errors import FreeBodyError
+
+    def free(*args, **kwargs):
+        raise FreeBodyError("body 'b' is free to move (translation in x):\nadd a support")
+
+    monkeypatch.delenv("SLIPSTEP_TRACEBACK", raising=False)
+    monkeypatch.setattr(cli, "run_case", free)
+    assert cli.main(["run", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    # the newline inside the message is written as an escape: still one line
+    assert err == "slipstep: error: body 'b' is free to move (translation in x):\\nadd a " \
+                  "support\n"
+
+
+@pytest.mark.parametrize("error", [RuntimeError("a bug"), ValueError("a bug"),
+                                   "InternalError"])
+def test_other_exceptions_are_not_swallowed(monkeypatch, error):
+    """A bug (any exception that is not a SlipstepError, the engine's InternalError included)
+    reaches the caller with its traceback instead of an error line."""
+    from slipstep import cli
+    from slipstep.errors import InternalError
+
+    if error == "InternalError":
+        error = InternalError("an invariant broke")
+
+    def broken(*args, **kwargs):
+        raise error
+
+    monkeypatch.setattr(cli, "run_case", broken)
+    with pytest.raises(type(error)):
+        cli.main(["run", "--quiet"])
+
+
+def test_a_bug_in_a_subprocess_shows_its_traceback(tmp_path):
+    # the same through the real entry point: an exception from inside run_case
+    code = ("import sys, slipstep.cli as c\n"
+            "def boom(*a, **k):\n    raise RuntimeError('a bug')\n"
+            "c.run_case = boom\nsys.exit(c.main(['run', '--quiet']))\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120, env=dict(os.environ, MPLBACKEND="Agg"))
+    assert proc.returncode == 1
+    assert "Traceback" in proc.stderr and "RuntimeError: a bug" in proc.stderr
+    assert "slipstep: error" not in proc.stderr
+
+
+# --------------------------------------------------------------------------- runs through run_case
+COARSE = ["--set", "mesh.h_contact=0.2", "--set", "output.xdmf=false", "--set",
+          "output.figures=false", "--set", "output.snapshots=[1.0]"]
+
+
+def test_set_reaches_the_engine(tmp_path):
+    """--set contact.mu=0.3 on the (frictionless) built-in case: the written profile shows
+    Coulomb friction with exactly that mu, |tangential stress| = 0.3 x pressure at every
+    slipping pair (to round-off, 1e-9 relative) and below it where pairs stick."""
+    proc = slipstep("run", "--quiet", "--out", tmp_path, *COARSE, "--set", "contact.mu=0.3")
+    assert proc.returncode == 0, proc.stderr
+    with open(tmp_path / "contact_profile.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    slip = [r for r in rows if r["status"] == "slip"]
+    stick = [r for r in rows if r["status"] == "stick"]
+    assert slip and stick
+    for r in slip:
+        p, t = float(r["pressure"]), float(r["tangential_stress"])
+        assert abs(abs(t) - 0.3 * p) <= 1e-9 * p
+    assert all(abs(float(r["tangential_stress"])) <= 0.3 * float(r["pressure"]) for r in stick)
+
+
+def test_an_event_bound_stop_writes_results_and_exits_2(tmp_path):
+    out = tmp_path / "o"
+    proc = slipstep("run", "--quiet", "--out", out, *COARSE, "--set", "solver.max_events=3")
+    assert_clear_error(proc, "max_events = 3", f"(partial results in {out})")
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["stop"]["kind"] == "event_bound" and summary["final_load_fraction"] < 1.0
+    assert summary["stop"]["message"] in proc.stderr
+
+
+def test_ctrl_c_while_writing_keeps_the_old_results(tmp_path, monkeypatch, capsys):
+    from slipstep import cli, runner
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    out = tmp_path / "o"
+    monkeypatch.setattr(runner, "write_results", interrupted)
+    assert cli.main(["run", "--quiet", "--out", str(out), *COARSE]) == 130
+    assert capsys.readouterr().err == (f"slipstep: interrupted while writing results; nothing "
+                                       f"was replaced in {out}\n")
+
+
+def test_ctrl_c_before_the_run_says_interrupted(monkeypatch, capsys):
+    from slipstep import cli
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli, "load_case", interrupted)
+    assert cli.main(["run", "--quiet"]) == 130
+    assert capsys.readouterr().err == "slipstep: interrupted\n"

@@ -26,14 +26,11 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Callable
 
+from .errors import InputError
 
-class CaseError(ValueError):
+
+class CaseError(InputError):
     """A problem in a case file or an override; the message is one line and names the fix."""
-
-    def __init__(self, message: str = ""):
-        # one line, whatever a key, a value or a file name holds (TOML keys and strings may
-        # contain newlines): control characters are written as escapes
-        super().__init__("".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message)))
 
 
 # --------------------------------------------------------------------------- the schema

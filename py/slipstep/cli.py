@@ -7,8 +7,10 @@
     slipstep reproduce [--out DIR] [--quick]
     slipstep study stability [--out DIR] [--quick]
 
-Without CASE the built-in Hertz cylinder (paper §5.1) runs.  Errors print one line
-``slipstep: error: ...`` on stderr and exit 2; Ctrl-C writes what was computed and exits 130.
+Without CASE the built-in Hertz cylinder (paper §5.1) runs.  A :class:`~slipstep.errors.
+SlipstepError` prints one line ``slipstep: error: ...`` on stderr and exits 2 (set
+SLIPSTEP_TRACEBACK=1 for its traceback); any other exception is a bug and shows its traceback.
+Ctrl-C writes what was computed and exits 130.
 """
 
 from __future__ import annotations
@@ -16,13 +18,12 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import time
 
-from .case import CaseError, load_case
-from .mesh import MeshError
+from .case import load_case
+from .errors import InputError, SlipstepError
 from .model import build_scene
-from .output import one_line, summarize, write_results
-from .runner import EngineMissing, solve
+from .runner import run_case
+from .summary import one_line
 
 EXIT_ERROR = 2
 EXIT_INTERRUPTED = 130
@@ -89,28 +90,31 @@ def _error(message: str) -> int:
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     try:
-        if args.command == "check":
-            return _check(args)
-        if args.command == "crosscheck":
-            return _crosscheck(args)
-        if args.command == "sweep":
-            from .sweep import main as sweep_main
-            return sweep_main(args)
-        if args.command == "study":
-            from .stability import main as stability_main
-            return stability_main(args)
-        if args.command == "reproduce":
-            from .reproduce import main as reproduce_main
-            return reproduce_main(args)
-        return _run(args)
-    except (CaseError, MeshError, EngineMissing, ValueError) as exc:
-        # ValueError: the engine reports model errors that way (docs/engine_api.md)
+        return _command(args)
+    except SlipstepError as exc:
         if os.environ.get("SLIPSTEP_TRACEBACK"):
             raise
         return _error(str(exc))
-    except KeyboardInterrupt:
-        print("slipstep: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        print(f"slipstep: {str(exc) or 'interrupted'}", file=sys.stderr)
         return EXIT_INTERRUPTED
+
+
+def _command(args) -> int:
+    if args.command == "check":
+        return _check(args)
+    if args.command == "crosscheck":
+        return _crosscheck(args)
+    if args.command == "sweep":
+        from .sweep import main as sweep_main
+        return sweep_main(args)
+    if args.command == "study":
+        from .stability import main as stability_main
+        return stability_main(args)
+    if args.command == "reproduce":
+        from .reproduce import main as reproduce_main
+        return reproduce_main(args)
+    return _run(args)
 
 
 def _check(args) -> int:
@@ -126,41 +130,33 @@ def _crosscheck(args) -> int:
     try:
         steps = tuple(int(n) for n in args.steps.split(",") if n.strip())
     except ValueError:
-        return _error(f"--steps {args.steps}: give load step counts like 5,10,20,50")
-    from .fenicsx import DolfinxMissing, require_dolfinx
+        raise InputError(f"--steps {args.steps}: give load step counts like 5,10,20,50") from None
+    from .fenicsx import require_dolfinx
     out = args.out or f"results/{load_case(args.case, args.overrides).name}_crosscheck"
     try:
         require_dolfinx()
         from .fenicsx.crosscheck import run
         report = run(args.case, out, args.overrides, steps=steps, substeps=args.substeps)
-    except (DolfinxMissing, NotImplementedError) as exc:
+    except NotImplementedError as exc:  # a scene the cross-check does not cover
         return _error(str(exc))
     print(f"{report['case']}: {report['mode']} -> {out}/crosscheck.md")
     return 0
 
 
 def _run(args) -> int:
-    start = time.perf_counter()
     case = load_case(args.case, args.overrides)
     out = args.out or f"results/{case.name}"
-    scene = build_scene(case)
-    result = solve(scene, progress=not args.quiet)
-    summary = summarize(scene, result, wall_time_s=time.perf_counter() - start)
-    try:
-        write_results(out, scene, result, summary)
-    except KeyboardInterrupt:
-        print("slipstep: interrupted while writing results; nothing was replaced in "
-              f"{out}", file=sys.stderr)
-        return EXIT_INTERRUPTED
+    result, summary = run_case(case, out, progress=not args.quiet)
     if not args.quiet:
         print(f"{one_line(summary)} -> {out}")
     if summary.get("contact_reached_last_candidate"):
-        print("slipstep: warning: the outermost candidate pair is closed, so the contact may "
-              "extend beyond the candidates: widen the candidate window (contact.x_max)",
-              file=sys.stderr)
-    if result.get("stop_reason"):
-        return _error(f"{result['stop_reason']} (partial results in {out})")
-    if summary["interrupted"]:
+        print("slipstep: warning: the last candidate pair of a contact is closed, so the "
+              "contact may extend beyond the candidates: widen the candidate window "
+              "(contact.x_min/x_max/y_min/y_max)", file=sys.stderr)
+    stop = result["stop"]
+    if stop["kind"] in ("limit_load", "event_bound"):
+        return _error(f"{stop['message']} (partial results in {out})")
+    if stop["kind"] == "interrupted":
         print(f"slipstep: interrupted at load fraction {summary['final_load_fraction']:.4g}; "
               f"partial results in {out}", file=sys.stderr)
         return EXIT_INTERRUPTED

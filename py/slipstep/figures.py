@@ -8,7 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .output import contact_growth, contact_profile, is_elastoplastic, von_mises
+from .derived import centroids, contact_growth, contact_profile, is_elastoplastic, von_mises
+from .summary import contact_text
 
 STATUS_COLOURS = {0: "0.6", 1: "tab:blue", 2: "tab:red"}
 STATUS_LABELS = {0: "open", 1: "stick", 2: "slip"}
@@ -47,9 +48,11 @@ def interface_figure(path: Path, scene, result, summary: dict) -> Path:
     snap = result["snapshots"][-1]
     prof = contact_profile(scene, snap)
     x, status = prof["x"], prof["status"]
-    a = summary.get("contact_half_width", 0.0)
-    xmax = max(2.0 * a, x[status > 0].max() * 1.5 if (status > 0).any() else x.max())
-    show = x <= xmax if xmax > 0 else np.ones(len(x), bool)
+    a = summary.get("contact_half_width")  # a half model: show the contact and as far again
+    show = np.ones(len(x), bool)
+    if a is not None:
+        xmax = max(2.0 * a, x[status > 0].max() * 1.5 if (status > 0).any() else x.max())
+        show = x <= xmax if xmax > 0 else show
 
     fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7, 8), constrained_layout=True)
     panels = [("pressure", "contact pressure"),
@@ -70,14 +73,13 @@ def interface_figure(path: Path, scene, result, summary: dict) -> Path:
         xs = np.linspace(0.0, ah, 200)
         axes[0].plot(xs, p0 * np.sqrt(np.clip(1 - (xs / ah) ** 2, 0, None)), "k--", lw=1,
                      label=f"Hertz (a = {ah:.4g}, p0 = {p0:.4g})")
-    if a > 0:
+    if a:
         for ax in axes:
             ax.axvline(a, color="k", lw=0.7, ls=":")
     axes[0].legend(fontsize=8)
     axes[-1].set_xlabel("x")
     fig.suptitle(f"{scene.case.name}: interface at load fraction "
-                 f"{float(snap['load_fraction']):.4g}   (a = {a:.4g}, "
-                 f"c = {summary.get('stick_half_width', 0.0):.4g})", fontsize=10)
+                 f"{float(snap['load_fraction']):.4g}   ({contact_text(summary)})", fontsize=10)
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
@@ -154,7 +156,7 @@ def von_mises_figure(path: Path, scene, result, summary: dict) -> Path:
     vm = von_mises(np.asarray(snap["stress"], dtype=float).reshape(-1, 4))
     x, y = scene.nodes[:, 0], scene.nodes[:, 1]
     window = zoom_window(scene, summary)
-    centres = scene.nodes[scene.triangles].mean(axis=1)
+    centres = centroids(scene.nodes, scene.triangles)
     shown = np.ones(len(vm), bool)
     if window is not None:
         (x0, x1), (y0, y1) = window

@@ -14,14 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import InputError
 
-class MeshError(ValueError):
+
+class MeshError(InputError):
     """A mesh that cannot be used; one-line message naming the element/edge and the fix."""
-
-    def __init__(self, message: str = ""):
-        # one line, whatever a key, a value or a file name holds (TOML keys and strings may
-        # contain newlines): control characters are written as escapes
-        super().__init__("".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message)))
 
 
 @dataclass

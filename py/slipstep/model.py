@@ -13,8 +13,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import mesh as meshes
+from . import mesh as meshing
 from .case import Case, CaseError
+from .errors import InputError
 
 
 @dataclass
@@ -23,7 +24,7 @@ class Scene:
 
     case: Case
     bodies: list[str]
-    meshes: dict[str, meshes.Mesh]
+    meshes: dict[str, meshing.Mesh]
     offsets: dict[str, int]           # first global node id of each body
     nodes: np.ndarray                 # (N, 2)
     triangles: np.ndarray             # (M, 3)
@@ -46,7 +47,7 @@ class Scene:
         return self.meshes[body].edges[tag] + self.offsets[body]
 
 
-def mesh_body(case: Case, index: int) -> meshes.Mesh:
+def mesh_body(case: Case, index: int) -> meshing.Mesh:
     """Mesh one body from its [body.mesh] table."""
     body = case.data["body"][index]
     spec = body["mesh"]
@@ -55,24 +56,31 @@ def mesh_body(case: Case, index: int) -> meshes.Mesh:
         if spec.get("file"):
             path = (case.base_dir / spec["file"])
             edge_file = case.base_dir / spec["edge_file"] if spec["edge_file"] else None
-            return meshes.read_mesh(path, edge_file, spec["scale"])
+            return meshing.read_mesh(path, edge_file, spec["scale"])
         if spec["generator"] == "quarter_cylinder":
-            return meshes.quarter_cylinder(spec["R"], spec["h_contact"], spec["contact_zone"],
-                                           spec["h_max"], spec["growth"])
+            return meshing.quarter_cylinder(spec["R"], spec["h_contact"], spec["contact_zone"],
+                                            spec["h_max"], spec["growth"])
         if spec["generator"] == "quarter_annulus":
-            return meshes.quarter_annulus(spec["a"], spec["b"], spec["h"], spec["h_outer"])
+            return meshing.quarter_annulus(spec["a"], spec["b"], spec["h"], spec["h_outer"])
         nx = spec["nx"] or max(1, round(spec["width"] / spec["h"]))
         ny = spec["ny"] or max(1, round(spec["height"] / spec["h"]))
-        return meshes.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
-    except meshes.MeshError as exc:
+        return meshing.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
+    except meshing.MeshError as exc:
         raise CaseError(f"{case.source}: {where}: {exc}") from None
 
 
-def build_scene(case: Case) -> Scene:
-    """Mesh every body, merge them, and build the engine model."""
+def build_scene(case: Case, meshes: dict[str, meshing.Mesh] | None = None) -> Scene:
+    """Mesh every body (except those whose mesh ``meshes`` gives, by body name), merge them,
+    and build the engine model."""
     data = case.data
     bodies = [b["name"] for b in data["body"]]
-    body_meshes = {name: mesh_body(case, i) for i, name in enumerate(bodies)}
+    given = dict(meshes or {})
+    unknown = sorted(set(given) - set(bodies))
+    if unknown:
+        raise InputError(f"build_scene: meshes given for {', '.join(map(repr, unknown))}, "
+                         f"which the case has no body of (its bodies: {', '.join(bodies)})")
+    body_meshes = {name: given[name] if name in given else mesh_body(case, i)
+                   for i, name in enumerate(bodies)}
     _check_file_mesh_tags(case, body_meshes)
 
     offsets, start = {}, 0
@@ -88,33 +96,59 @@ def build_scene(case: Case) -> Scene:
                   triangles=triangles, element_body=element_body, model={},
                   pair_xy=np.zeros((0, 2)), pair_length=np.zeros(0),
                   pair_contact=np.zeros(0, dtype=np.int64))
-
-    thickness = data["analysis"]["thickness"]
-    materials = []
-    for b in data["body"]:
-        m = {"E": b["material"]["E"], "nu": b["material"]["nu"]}
-        if b["material"]["Sy"] is not None:
-            m["Sy"] = b["material"]["Sy"]
-            m["H"] = b["material"]["H"] if b["material"]["H"] is not None else 0.0
-        materials.append(m)
-
     pairs = contact_pairs(scene)
     _check_duplicate_nodes(scene, pairs)
     scene.model = {
         "nodes": nodes,
         "triangles": triangles,
         "element_material": element_body.copy(),
-        "materials": materials,
+        "materials": materials(case),
         "plane": data["analysis"]["plane"],
-        "thickness": float(thickness),
+        "thickness": float(data["analysis"]["thickness"]),
         "fixed_dofs": fixed_dofs(scene),
         "load": load_vector(scene),
         "pairs": pairs,
         "options": solver_options(case),
+        # names for the engine's messages (docs/engine_api.md)
+        "body_names": list(bodies),
+        "element_body": element_body,
+        "contact_names": contact_names(case),
     }
     _check_pairs_not_held(scene)
     scene.reference = hertz_reference(scene)
     return scene
+
+
+def materials(case: Case) -> list[dict]:
+    """The engine's material of each body, in body order (``Sy``, ``H`` only when plastic)."""
+    out = []
+    for b in case.data["body"]:
+        m = {"E": b["material"]["E"], "nu": b["material"]["nu"]}
+        if b["material"]["Sy"] is not None:
+            m["Sy"] = b["material"]["Sy"]
+            m["H"] = b["material"]["H"] if b["material"]["H"] is not None else 0.0
+        out.append(m)
+    return out
+
+
+def contact_names(case: Case) -> list[str]:
+    """The name of each [[contact]]: its ``name``, else ``contact <i>`` (0-based)."""
+    return [c["name"] or f"contact {i}" for i, c in enumerate(case.data["contact"])]
+
+
+def contactor_edge(contact: dict) -> tuple[str, str]:
+    """(body, edge tag) of a [[contact]]'s contactor side: the deformable body of a
+    ``rigid_line``, body_a/edge_a of a ``node_to_node``."""
+    if contact["kind"] == "rigid_line":
+        return contact["body"], contact["edge"]
+    return contact["body_a"], contact["edge_a"]
+
+
+def contact_bodies(contact: dict) -> list[str]:
+    """The deformable bodies a [[contact]] touches, contactor first."""
+    if contact["kind"] == "rigid_line":
+        return [contact["body"]]
+    return [contact["body_a"], contact["body_b"]]
 
 
 def _check_duplicate_nodes(scene: Scene, pairs: dict) -> None:
@@ -207,7 +241,7 @@ def fixed_dofs(scene: Scene) -> np.ndarray:
         components = {"xy".index(c) for c in bc["fix"]}
         if bc["symmetry"]:
             segs = scene.global_edge(bc["body"], bc["edge"])
-            n = meshes.outward_normals(scene.nodes, segs)
+            n = meshing.outward_normals(scene.nodes, segs)
             if np.all(np.abs(n[:, 0]) > 1 - 1e-9):
                 components.add(0)
             elif np.all(np.abs(n[:, 1]) > 1 - 1e-9):
@@ -236,7 +270,7 @@ def edge_load(nodes: np.ndarray, segments: np.ndarray, n_nodes: int, thickness: 
         return f
     p, q = nodes[segments[:, 0]], nodes[segments[:, 1]]
     length = np.linalg.norm(q - p, axis=1)
-    t = np.asarray(traction, dtype=np.float64)[None, :] - pressure * meshes.outward_normals(nodes, segments)
+    t = np.asarray(traction, dtype=np.float64)[None, :] - pressure * meshing.outward_normals(nodes, segments)
     half = 0.5 * t * (length * thickness)[:, None]
     for end in (0, 1):
         for c in (0, 1):
@@ -288,10 +322,9 @@ def contact_pairs(scene: Scene) -> dict:
         key = "contact" if len(case.data["contact"]) == 1 else f"contact.{i}"
         if c["kind"] == "rigid_line":
             a, b, normal, gap = _rigid_line_pairs(scene, c, key)
-            body_a, edge_a = c["body"], c["edge"]
         else:
             a, b, normal, gap = _node_to_node_pairs(scene, c, key)
-            body_a, edge_a = c["body_a"], c["edge_a"]
+        body_a, edge_a = contactor_edge(c)
         edge_nodes = np.unique(scene.global_edge(body_a, edge_a))
         scene.contact_truncated.append(bool(len(np.unique(a)) < len(edge_nodes)))
         cols["node_a"].append(a)
@@ -304,15 +337,17 @@ def contact_pairs(scene: Scene) -> dict:
     if not cols["node_a"]:
         scene.pair_xy = np.zeros((0, 2))
         return {"node_a": np.zeros(0, np.int64), "node_b": np.zeros(0, np.int64),
-                "normal": np.zeros((0, 2)), "gap": np.zeros(0), "mu": np.zeros(0)}
+                "normal": np.zeros((0, 2)), "gap": np.zeros(0), "mu": np.zeros(0),
+                "contact": np.zeros(0, np.int64)}
     pairs = {"node_a": np.concatenate(cols["node_a"]).astype(np.int64),
              "node_b": np.concatenate(cols["node_b"]).astype(np.int64),
              "normal": np.concatenate(cols["normal"]).reshape(-1, 2),
              "gap": np.concatenate(cols["gap"]),
-             "mu": np.concatenate(cols["mu"]).astype(np.float64)}
+             "mu": np.concatenate(cols["mu"]).astype(np.float64),
+             "contact": np.concatenate(cols["contact"]).astype(np.int64)}
     scene.pair_xy = scene.nodes[pairs["node_a"]]
     scene.pair_length = np.concatenate(cols["length"])
-    scene.pair_contact = np.concatenate(cols["contact"])
+    scene.pair_contact = pairs["contact"]
     return pairs
 
 
@@ -372,7 +407,7 @@ def _node_to_node_pairs(scene: Scene, c: dict, key: str):
     if c["normal"] is not None:
         n = np.tile(np.asarray(c["normal"]) / np.linalg.norm(c["normal"]), (len(a), 1))
     else:
-        seg_n = meshes.outward_normals(scene.nodes, seg_b)
+        seg_n = meshing.outward_normals(scene.nodes, seg_b)
         acc = np.zeros((len(scene.nodes), 2))
         np.add.at(acc, seg_b[:, 0], seg_n)
         np.add.at(acc, seg_b[:, 1], seg_n)
@@ -389,7 +424,7 @@ def _node_normals(nodes: np.ndarray, segments: np.ndarray, ids: np.ndarray) -> n
     """Outward normal of an edge at each node of ``ids``: the segment normals meeting there,
     summed (not normalised; zero where they cancel)."""
     acc = np.zeros((len(nodes), 2))
-    seg_n = meshes.outward_normals(nodes, segments)
+    seg_n = meshing.outward_normals(nodes, segments)
     np.add.at(acc, segments[:, 0], seg_n)
     np.add.at(acc, segments[:, 1], seg_n)
     return acc[ids]

@@ -30,6 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from . import sweep
+from .derived import centroids, contact_half_width, stick_half_width, von_mises
+from .output import json_safe
 
 # --------------------------------------------------------------------------- constants
 SY, H_PLASTIC = 200.0, 700.0           # Al-5%Mg yield stress (paper) and our hardening modulus
@@ -183,8 +185,6 @@ class Run:
         return float(self.summary["peak_pressure"] / (self.summary["total_normal_force"] / self.a))
 
     def slip_length(self, k: int = -1, a: float | None = None) -> float:
-        from .output import stick_half_width
-
         a = self.a if a is None else a
         return a - stick_half_width(self.x, self.status(k), a)
 
@@ -269,8 +269,6 @@ def fig05(path: Path, runs: dict) -> Path:
     from .figures import zone_boundary
     plt = _plt()
     fig, axes = plt.subplots(1, len(MUS), figsize=(5 * len(MUS), 4.6), constrained_layout=True)
-    from .output import von_mises
-
     vms = {mu: von_mises(runs[mu].data["stress"]) for mu in MUS}
     a = max(runs[mu].a for mu in MUS)
     window = (0.0, 2.5 * a), (0.0, 2.0 * a)
@@ -533,8 +531,6 @@ def threshold_half_width(el: Run, yl: Run, f_y: float) -> float:
     Up to f_y the elastoplastic run IS the elastic one (same mesh, mu = 0), so the closure
     fractions of the elastic run give the same interpolation the summary uses:
     a = x_c + (x_o - x_c) (f_y - f_c) / (f_o - f_c)."""
-    from .output import contact_half_width
-
     if not np.allclose(el.x, yl.x):
         return yl.a
     status = yl.status()
@@ -548,9 +544,7 @@ def table1(el: Run, yl: Run, h: float) -> dict:
     s = yl.summary
     p_y, f_y = float(s["peak_pressure"]), float(s["first_yield_load_fraction"])
     a_y = threshold_half_width(el, yl, f_y)
-    depth = s.get("first_yield_depth")
-    if depth is None:
-        depth = s.get("first_yield_y")
+    depth = s["first_yield_depth"]
     return {"h_contact": h,
             "elastic_a": el.a, "elastic_a_err": el.a / A_HERTZ - 1,
             "elastic_p0": float(el.summary["peak_pressure"]),
@@ -731,7 +725,7 @@ def reproduce(out: str | Path, quick: bool = False, workers: int | None = None,
     fig10_rows = []
     for t in study.tasks():
         sm = sweep.load_summary(fig10_dir, t["case_id"])
-        depth = sm.get("first_yield_depth", sm.get("first_yield_y"))
+        depth = sm["first_yield_depth"]
         fig10_rows.append({"mu": t["params"]["contact.mu"],
                            "f": sm["first_yield_load_fraction"], "depth": depth,
                            "x": sm["first_yield_x"], "a": sm["contact_half_width"]})
@@ -813,7 +807,7 @@ def reproduce(out: str | Path, quick: bool = False, workers: int | None = None,
     write_report(out / "report.md", numbers)
     numbers["wall_time_s"]["total"] = time.perf_counter() - start
     with open(out / ".reproduce.json.partial", "w") as fh:
-        json.dump(sweep._json_safe(numbers), fh, indent=2)
+        json.dump(json_safe(numbers), fh, indent=2)
         fh.write("\n")
     (out / ".reproduce.json.partial").replace(out / "reproduce.json")
     if log:
@@ -836,7 +830,7 @@ def _block_numbers(blocks: dict, reference: Run) -> dict:
         d = r.data
         eb = d["element_body"]
         yielded = d["plastic_strain"] > 0
-        cent = d["nodes"][d["triangles"]].mean(axis=1)
+        cent = centroids(d["nodes"], d["triangles"])
         lower = yielded & (eb == 1)
         out[f"plastic_mu{mu:g}"] = {
             "p_centre": float(r.profile("pressure")[0]),

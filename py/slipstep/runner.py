@@ -6,12 +6,12 @@ import time
 from pathlib import Path
 
 from .case import Case, load_case
+from .errors import EngineMissing
 from .model import Scene, build_scene
-from .output import summarize, write_results
+from .results import write_results
+from .summary import summarize
 
-
-class EngineMissing(RuntimeError):
-    """The compiled engine ``slipstep._engine`` is not built."""
+__all__ = ["EngineMissing", "engine", "prepare", "run_case", "solve"]
 
 
 def engine():
@@ -24,15 +24,16 @@ def engine():
     return _engine
 
 
-def prepare(case_or_path: Case | str | Path | None = None, overrides=()) -> Scene:
-    """Load (unless given a Case) and assemble a case into a Scene."""
+def prepare(case_or_path: Case | str | Path | None = None, overrides=(), meshes=None) -> Scene:
+    """Load (unless given a Case) and assemble a case into a Scene; ``meshes`` (body name ->
+    Mesh) replaces the meshing of those bodies (:func:`slipstep.model.build_scene`)."""
     if isinstance(case_or_path, Case):
         if overrides:
             raise ValueError("overrides apply when loading: pass a path, not a Case")
         case = case_or_path
     else:
         case = load_case(case_or_path, overrides)
-    return build_scene(case)
+    return build_scene(case, meshes)
 
 
 def solve(scene: Scene, progress: bool = False) -> dict:
@@ -43,11 +44,20 @@ def solve(scene: Scene, progress: bool = False) -> dict:
 def run_case(case_or_path: Case | str | Path | None = None, out: str | Path | None = None,
              overrides=(), progress: bool = False) -> tuple[dict, dict]:
     """Run a case (a path, a Case, or None for the built-in Hertz cylinder); write results to
-    ``out`` if given.  Returns ``(result, summary)``."""
+    ``out`` if given.  Returns ``(result, summary)``.
+
+    A run the engine stops early (Ctrl-C, limit load, event bound: ``result["stop"]``) is
+    written like a complete one.  Ctrl-C while the files are being written raises
+    KeyboardInterrupt with the message that nothing was replaced in ``out``.
+    """
     start = time.perf_counter()
     scene = prepare(case_or_path, overrides)
     result = solve(scene, progress)
     summary = summarize(scene, result, wall_time_s=time.perf_counter() - start)
     if out is not None:
-        write_results(out, scene, result, summary)
+        try:
+            write_results(out, scene, result, summary)
+        except KeyboardInterrupt:
+            raise KeyboardInterrupt(f"interrupted while writing results; nothing was replaced "
+                                    f"in {out}") from None
     return result, summary

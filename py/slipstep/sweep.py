@@ -43,7 +43,6 @@ import csv
 import hashlib
 import itertools
 import json
-import math
 import os
 import re
 import shutil
@@ -55,11 +54,15 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import InputError
+from .output import json_safe, write_summary_json
+from .summary import contact_text
+
 STUDY_KEYS = {"name", "description", "base", "set"}
 OUTPUT_KEYS = {"stop_at_first_yield": False, "results": False, "fields": False}
 
 
-class StudyError(ValueError):
+class StudyError(InputError):
     """A problem in a study file; one line naming the file, the key and the fix."""
 
 
@@ -182,30 +185,17 @@ def check_study(study: Study) -> None:
 
 
 # --------------------------------------------------------------------------- one case
-def first_yield(scene, result) -> dict:
-    """Load fraction and place (element centroid) of the first yield event, if any."""
-    ev = result["events"]
-    kinds = list(ev["kind"])
-    if "yield" not in kinds:
-        return {}
-    k = kinds.index("yield")
-    e = int(ev["entity"][k])
-    cx, cy = scene.nodes[scene.triangles[e]].mean(axis=0)
-    return {"first_yield_load_fraction": float(ev["load_fraction"][k]),
-            "first_yield_element": e, "first_yield_x": float(cx), "first_yield_y": float(cy)}
-
-
 def result_arrays(scene, result, fields: bool = False) -> dict[str, np.ndarray]:
     """The compact record of a run for result.npz (see the module docstring)."""
-    from .output import ELEMENT_EVENTS, contact_growth, contact_profile
+    from .derived import ELEMENT_EVENTS, centroids, contact_growth, contact_profile
 
     ev = result["events"]
     kinds = np.asarray(list(ev["kind"]), dtype="U16")
     entity = np.asarray(ev["entity"], dtype=np.int64)
-    centroids = scene.nodes[scene.triangles].mean(axis=1)
+    centres = centroids(scene.nodes, scene.triangles)
     xy = np.zeros((len(entity), 2))
     for k, (kind, e) in enumerate(zip(kinds, entity)):
-        xy[k] = centroids[e] if kind in ELEMENT_EVENTS else scene.pair_xy[e]
+        xy[k] = centres[e] if kind in ELEMENT_EVENTS else scene.pair_xy[e]
     arrays = {"events_step": np.asarray(ev["step"], dtype=np.int64),
               "events_load_fraction": np.asarray(ev["load_fraction"], dtype=float),
               "events_kind": kinds, "events_entity": entity, "events_xy": xy}
@@ -243,8 +233,9 @@ def result_arrays(scene, result, fields: bool = False) -> dict[str, np.ndarray]:
 def run_task(task: dict) -> dict:
     """Worker: solve one case and return its summary and arrays (the parent writes them).
     Never raises for a bad case: the error comes back as ``{"error": message}``."""
-    from .output import summarize, write_results
+    from .results import write_results
     from .runner import prepare, solve
+    from .summary import summarize
 
     start = time.perf_counter()
     out = {"case_id": task["case_id"], "host": os.uname().nodename, "pid": os.getpid()}
@@ -254,12 +245,9 @@ def run_task(task: dict) -> dict:
             scene.model["options"]["stop_at_first_yield"] = True
         result = solve(scene)
         summary = summarize(scene, result, wall_time_s=time.perf_counter() - start)
-        for key, value in first_yield(scene, result).items():
-            summary.setdefault(key, value)
-        if result.get("stop_reason"):
-            summary["stop_reason"] = result["stop_reason"]
         arrays = result_arrays(scene, result, task["options"].get("fields", False))
-        if task["options"].get("results") and not result.get("interrupted"):
+        interrupted = result["stop"]["kind"] == "interrupted"
+        if task["options"].get("results") and not interrupted:
             try:
                 write_results(task["stage"], scene, result, summary)
             except Exception as exc:  # noqa: BLE001 - a broken plot must not lose the run
@@ -271,7 +259,7 @@ def run_task(task: dict) -> dict:
     except Exception as exc:  # noqa: BLE001 - reported per case, the sweep goes on
         out["error"] = f"{type(exc).__name__}: {exc}"
         return out
-    out.update(summary=summary, arrays=arrays, interrupted=bool(result.get("interrupted")))
+    out.update(summary=summary, arrays=arrays, interrupted=interrupted)
     return out
 
 
@@ -294,18 +282,6 @@ def is_done(out: Path, task: dict) -> bool:
     return {k: recorded.get(k) for k in ("base", "overrides", "options")} == _identity(task)
 
 
-def _json_safe(value):
-    if isinstance(value, dict):
-        return {k: _json_safe(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_json_safe(v) for v in value]
-    if isinstance(value, (np.floating, np.integer)):
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
-
-
 def write_case(out: Path, task: dict, payload: dict) -> Path:
     """Write one finished case atomically: stage, then rename the folder into place."""
     stage = out / f".partial-{task['case_id']}"
@@ -314,9 +290,7 @@ def write_case(out: Path, task: dict, payload: dict) -> Path:
     summary["sweep"] = {"case_id": task["case_id"], "params": task["params"],
                         "host": payload.get("host"), **_identity(task)}
     np.savez_compressed(stage / "result.npz", **payload["arrays"])
-    with open(stage / "summary.json", "w") as fh:
-        json.dump(_json_safe(summary), fh, indent=2)
-        fh.write("\n")
+    write_summary_json(stage / "summary.json", summary)
     final = out / task["case_id"]
     if final.exists():
         shutil.rmtree(final)
@@ -347,7 +321,7 @@ def _flatten(d: dict, prefix: str = "") -> dict:
 
 
 FIRST_COLUMNS = ("case", "final_load_fraction", "first_yield_load_fraction", "first_yield_x",
-                 "first_yield_y", "contact_half_width", "stick_half_width", "peak_pressure",
+                 "first_yield_depth", "contact_half_width", "stick_half_width", "peak_pressure",
                  "n_events", "n_plastic_elements", "wall_time_s")
 
 
@@ -450,7 +424,7 @@ def run_tasks(tasks: list[dict], out: str | Path, workers: int | None = None, mp
     for stale in out.glob(".partial-*"):  # left by a sweep that was killed
         shutil.rmtree(stale, ignore_errors=True)
     with open(out / ".study.json.partial", "w") as fh:
-        json.dump(_json_safe({"name": name, **(about or {}), "tasks": tasks}), fh, indent=2)
+        json.dump(json_safe({"name": name, **(about or {}), "tasks": tasks}), fh, indent=2)
     os.replace(out / ".study.json.partial", out / "study.json")
 
     todo = [t for t in tasks if not is_done(out, t)]
@@ -501,8 +475,8 @@ def _brief(s: dict) -> str:
     parts = [f"f = {s['final_load_fraction']:.4g}"]
     if s.get("first_yield_load_fraction") is not None:
         parts.append(f"first yield at f = {s['first_yield_load_fraction']:.4g}")
-    if "contact_half_width" in s:
-        parts.append(f"a = {s['contact_half_width']:.4g}")
+    if contact_text(s):
+        parts.append(contact_text(s))
     parts.append(f"{s['n_events']} events, {s['wall_time_s']:.2f} s")
     return ", ".join(parts)
 

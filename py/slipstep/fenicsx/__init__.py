@@ -23,9 +23,11 @@ Serial only (one MPI process): the maps are built from process-local numbering.
 
 from __future__ import annotations
 
+from ..errors import SlipstepError
 
-class DolfinxMissing(ImportError):
-    """dolfinx (FEniCSx 0.5) is not importable."""
+
+class DolfinxMissing(SlipstepError, ImportError):
+    """dolfinx (FEniCSx 0.5) is not importable: install it (the message says how)."""
 
 
 def require_dolfinx():

@@ -46,8 +46,8 @@ def engine_result(scene, events: bool = False) -> tuple[dict, float]:
     model["options"] = options
     t0 = time.perf_counter()
     result = engine().solve(model, False)
-    if result.get("stop_reason") or result.get("interrupted"):
-        raise RuntimeError(f"slipstep stopped early: {result.get('stop_reason') or 'interrupted'}")
+    if result["stop"]["kind"] in ("limit_load", "event_bound", "interrupted"):
+        raise RuntimeError(f"slipstep stopped early: {result['stop']['message'] or 'interrupted'}")
     return result, time.perf_counter() - t0
 
 
@@ -308,7 +308,7 @@ def _figure(path: Path, scene, report: dict, snap: dict, last) -> None:
     ax.legend(fontsize=8) if ax.get_legend_handles_labels()[0] else None
     ax.grid(True, which="both", alpha=0.3)
     ax = axes[1]
-    from ..output import von_mises
+    from ..derived import von_mises
     tri = Triangulation(scene.nodes[:, 0], scene.nodes[:, 1], scene.triangles)
     if "replay" in report and last is not None:
         from .replay import replay_conditions

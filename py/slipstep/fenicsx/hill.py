@@ -23,6 +23,8 @@ import math
 
 import numpy as np
 
+from ..derived import centroids
+
 
 def first_yield_pressure(a: float, b: float, Sy: float, nu: float) -> float:
     """Exact von Mises first yield at the bore (Lame stresses, sigma_z = 2 nu A)."""
@@ -79,7 +81,7 @@ def polar(nodes: np.ndarray, u: np.ndarray, stress: np.ndarray, triangles: np.nd
     from Cartesian results centred at the origin."""
     r_n = np.linalg.norm(nodes, axis=1)
     ur = np.einsum("ij,ij->i", u, nodes) / np.where(r_n > 0, r_n, 1.0)
-    xc = nodes[triangles].mean(axis=1)
+    xc = centroids(nodes, triangles)
     rc = np.linalg.norm(xc, axis=1)
     c, s = xc[:, 0] / rc, xc[:, 1] / rc
     sx, sy, txy = stress[:, 0], stress[:, 1], stress[:, 3]

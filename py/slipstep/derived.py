@@ -1,0 +1,270 @@
+"""Quantities derived from a scene and an engine result, shared by the summary, the file
+writers, the figures and the studies (numpy only, nothing is written here).
+
+Contact quantities per candidate pair follow the engine's conventions (docs/engine_api.md):
+pressure = lambda_n / (L t), tangential stress = lambda_t / (L t), with L the tributary length
+of node a on its edge and t the thickness.
+
+Position along a contact: ``s``, the coordinate of node a along the unit vector
+tau = (n_y, -n_x) of the contact's target surface (n = the normal pointing from the target
+into the contactor), measured from the line's ``point`` for a ``rigid_line`` and from the
+coordinate origin for a ``node_to_node`` (n = its fixed normal, else the mean of its pair
+normals).  For a flat below the body (n = (0, 1)) tau = +x, so s = x - point_x.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .model import contactor_edge
+
+#: Event kinds whose entity is an element (the others are contact pairs).
+ELEMENT_EVENTS = ("yield", "unload", "frozen_element")
+
+
+# --------------------------------------------------------------------------- bulk
+def von_mises(stress: np.ndarray) -> np.ndarray:
+    """Equivalent stress of (M, 4) rows sigma_x, sigma_y, sigma_z, tau_xy."""
+    sx, sy, sz, txy = stress.T
+    return np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2) + 3.0 * txy ** 2)
+
+
+def centroids(nodes: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """(M, 2) centroids of the triangles (rows of node ids into ``nodes``)."""
+    return np.asarray(nodes)[np.asarray(triangles)].mean(axis=1)
+
+
+def is_elastoplastic(scene) -> bool:
+    """True when some material has a yield stress (the run can have plasticity events)."""
+    return any(m.get("Sy") is not None for m in scene.model["materials"])
+
+
+def yield_drift(scene, snap) -> np.ndarray:
+    """Per element |sigma_e - sigma_y(eps_p)| / sigma_y(eps_p) for plastic elements, 0 elsewhere:
+    how far the stored stress sits off the hardening yield surface (the engine's drift measure)."""
+    mats = scene.model["materials"]
+    index = np.asarray(scene.model["element_material"])
+    sy = np.array([m.get("Sy") or np.inf for m in mats], dtype=float)[index]
+    hp = np.array([m.get("H") or 0.0 for m in mats], dtype=float)[index]
+    current = sy + hp * np.asarray(snap["plastic_strain"], dtype=float)
+    se = von_mises(np.asarray(snap["stress"], dtype=float).reshape(-1, 4))
+    plastic = (np.asarray(snap["plastic"]) > 0) & np.isfinite(current)  # elastic bodies: Sy = inf
+    drift = np.zeros(len(se))
+    drift[plastic] = np.abs(se[plastic] - current[plastic]) / current[plastic]
+    return drift
+
+
+def element_depth(scene, element: int) -> float:
+    """Depth of an element's centroid below the initial contact surface of its body.
+
+    The surface near the element is taken as the tangent line at the nearest candidate pair of a
+    contact on the element's body: through the pair's target point (:func:`target_points`) with
+    the pair's normal n, so for a ``rigid_line`` contact this is the distance from the line.
+    Without contact on the body: the centroid's y.
+    """
+    c = centroids(scene.nodes, scene.triangles[[element]])[0]
+    pairs = scene.model["pairs"]
+    node_a, node_b = np.asarray(pairs["node_a"]), np.asarray(pairs["node_b"])
+    body = scene.bodies[scene.element_body[element]]
+    lo = scene.offsets[body]
+    hi = lo + scene.meshes[body].n_nodes
+    mine = ((node_a >= lo) & (node_a < hi)) | ((node_b >= lo) & (node_b < hi))
+    if not mine.any():
+        return float(c[1])
+    idx = np.flatnonzero(mine)
+    k = idx[np.argmin(np.linalg.norm(scene.pair_xy[idx] - c, axis=1))]
+    return float(abs((c - target_points(scene)[k]) @ np.asarray(pairs["normal"])[k]))
+
+
+def first_yield(scene, result) -> dict:
+    """The first ``yield`` event: load fraction, element, its centroid x and depth
+    (:func:`element_depth`); every value None when nothing yielded."""
+    kinds = list(result["events"]["kind"])
+    if "yield" not in kinds:
+        return {"first_yield_load_fraction": None, "first_yield_element": None,
+                "first_yield_x": None, "first_yield_depth": None}
+    k = kinds.index("yield")
+    e = int(result["events"]["entity"][k])
+    return {"first_yield_load_fraction": float(result["events"]["load_fraction"][k]),
+            "first_yield_element": e,
+            "first_yield_x": float(centroids(scene.nodes, scene.triangles[[e]])[0, 0]),
+            "first_yield_depth": element_depth(scene, e)}
+
+
+def johnson_first_yield(scene) -> float | None:
+    """Johnson (Contact Mechanics §4.3/§6.2): a frictionless line contact first yields (von
+    Mises, nu = 0.3) below the surface when p0 = 1.79 Sy; p0 grows as sqrt(f), so at the load
+    fraction f = (1.79 Sy / p0_hertz)^2 with p0_hertz at full load.  None if the body is elastic."""
+    ref = scene.reference
+    if not ref:
+        return None
+    sy = scene.case.body(scene.case.data["load"]["body"])["material"]["Sy"]
+    return None if sy is None else (1.79 * sy / ref["p0_hertz"]) ** 2
+
+
+def final_load_fraction(result) -> float:
+    """The load fraction the run reached (end of its last increment)."""
+    steps = result.get("steps", {}).get("load_fraction", [])
+    if len(steps):
+        return float(steps[-1])
+    snaps = result.get("snapshots", [])
+    return float(snaps[-1]["load_fraction"]) if snaps else 0.0
+
+
+# --------------------------------------------------------------------------- contact geometry
+def target_points(scene) -> np.ndarray:
+    """(P, 2) the target point of each pair: node b, or for a rigid line the foot of node a on
+    the line, x_a - gap n."""
+    pairs = scene.model["pairs"]
+    node_b = np.asarray(pairs["node_b"])
+    foot = scene.pair_xy - np.asarray(pairs["gap"])[:, None] * np.asarray(pairs["normal"])
+    return np.where((node_b >= 0)[:, None], scene.nodes[np.maximum(node_b, 0)], foot)
+
+
+def contact_axis(scene, index: int) -> tuple[np.ndarray, np.ndarray]:
+    """(origin, tau) of [[contact]] ``index``: s = (x - origin) . tau (module docstring)."""
+    c = scene.case.data["contact"][index]
+    if c["kind"] == "rigid_line":
+        n, origin = np.asarray(c["normal"], dtype=float), np.asarray(c["point"], dtype=float)
+    else:
+        mine = scene.pair_contact == index
+        n = (np.asarray(c["normal"], dtype=float) if c["normal"] is not None
+             else np.asarray(scene.model["pairs"]["normal"])[mine].sum(axis=0))
+        origin = np.zeros(2)
+    length = np.linalg.norm(n)
+    n = n / length if length > 0 else np.array([0.0, 1.0])  # normals that cancel (a ring): s = x
+    return origin, np.array([n[1], -n[0]]) + 0.0  # + 0.0: no -0.0 in the summary
+
+
+def pair_coordinate(scene) -> np.ndarray:
+    """(P,) s of every candidate pair along its own contact (module docstring)."""
+    s = np.zeros(len(scene.pair_xy))
+    for i in range(len(scene.case.data["contact"])):
+        mine = scene.pair_contact == i
+        origin, tau = contact_axis(scene, i)
+        s[mine] = (scene.pair_xy[mine] - origin) @ tau
+    return s
+
+
+def contact_profile(scene, snapshot: dict) -> dict:
+    """Per candidate pair at one snapshot, sorted by x (then y) of node a: x, y, s (position
+    along its contact), contact (index), pressure, tangential stress, RTD, status (0 open,
+    1 stick, 2 slip), gap."""
+    t = scene.model["thickness"]
+    order = np.lexsort((scene.pair_xy[:, 1], scene.pair_xy[:, 0]))
+    area = scene.pair_length * t
+    return {
+        "pair": order,
+        "node_a": scene.model["pairs"]["node_a"][order],
+        "x": scene.pair_xy[order, 0],
+        "y": scene.pair_xy[order, 1],
+        "s": pair_coordinate(scene)[order],
+        "contact": scene.pair_contact[order],
+        "pressure": (np.asarray(snapshot["lambda_n"]) / area)[order],
+        "tangential_stress": (np.asarray(snapshot["lambda_t"]) / area)[order],
+        "rtd": np.asarray(snapshot["rtd"])[order],
+        "status": np.asarray(snapshot["status"]).astype(int)[order],
+        "gap": np.asarray(snapshot["gap"])[order],
+    }
+
+
+# --------------------------------------------------------------------------- contact extents
+def contact_half_width(s, status, closure, predicted, f) -> float:
+    """The far end (largest s) of the closed zone at load fraction f: between the outermost
+    closed pair (s_c, closed at f_c = closure) and the next open pair (s_o, predicted to close
+    at f_o), linear in the load fraction, s_c + (s_o - s_c) (f - f_c) / (f_o - f_c), clipped to
+    [s_c, s_o]; 0 if nothing is closed.  With s measured from the symmetry line of a half
+    model this is the contact half-width a."""
+    closed = status > 0
+    if not closed.any():
+        return 0.0
+    ic = np.flatnonzero(closed)[np.argmax(s[closed])]
+    sc, fc = s[ic], closure[ic]
+    beyond = np.flatnonzero(~closed & (s > sc))
+    if len(beyond) == 0:
+        return float(sc)
+    io = beyond[np.argmin(s[beyond])]
+    so, fo = s[io], predicted[io]
+    if not (np.isfinite(fo) and np.isfinite(fc)) or fo <= fc:
+        return float(sc)
+    w = min(max((f - fc) / (fo - fc), 0.0), 1.0)
+    return float(sc + (so - sc) * w)
+
+
+def stick_half_width(s, status, edge) -> float:
+    """The far end (largest s) of the stick zone: the midpoint between the outermost stick pair
+    and the first closed (slipping) pair beyond it; ``edge`` (the closed zone's end) if every
+    closed pair out there sticks; 0 if nothing sticks.  The stick half-width c of a half
+    model."""
+    stick = status == 1
+    if not stick.any():
+        return 0.0
+    ss = s[stick].max()
+    beyond = np.flatnonzero((status > 0) & (s > ss))
+    if len(beyond) == 0:
+        return float(edge)
+    return float(0.5 * (ss + s[beyond].min()))
+
+
+def closed_extent(s, status, closure, predicted, f) -> list[float] | None:
+    """[s_min, s_max] of the closed zone, each end placed as :func:`contact_half_width` places
+    the far one; None if nothing is closed."""
+    if not (status > 0).any():
+        return None
+    return [-contact_half_width(-s, status, closure, predicted, f),
+            contact_half_width(s, status, closure, predicted, f)]
+
+
+def stick_extent(s, status, closed: list[float]) -> list[float] | None:
+    """[s_min, s_max] spanned by the stick pairs, each end placed as :func:`stick_half_width`
+    places the far one (``closed`` = the closed extent); None if nothing sticks."""
+    if not (status == 1).any():
+        return None
+    return [-stick_half_width(-s, status, -closed[0]), stick_half_width(s, status, closed[1])]
+
+
+def reached_last_candidate(scene, snapshot) -> bool:
+    """True if a contact whose candidates stop short of the end of its edge (x/y window,
+    unpaired nodes) has its last candidate on that side closed: the contact may be cut short."""
+    status = np.asarray(snapshot["status"])
+    s_pair = pair_coordinate(scene)
+    for i, c in enumerate(scene.case.data["contact"]):
+        mine = np.flatnonzero(scene.pair_contact == i)
+        origin, tau = contact_axis(scene, i)
+        edge = np.unique(scene.global_edge(*contactor_edge(c)))
+        s_edge = (scene.nodes[edge] - origin) @ tau
+        tol = 1e-9 * max(float(np.ptp(s_edge)), 1.0)  # round-off of the node coordinates
+        for sign in (1.0, -1.0):
+            last = mine[np.argmax(sign * s_pair[mine])]
+            cut = (sign * s_edge > sign * s_pair[last] + tol).any()
+            if cut and status[last] > 0:
+                return True
+    return False
+
+
+def contact_growth(scene, result) -> tuple[np.ndarray, np.ndarray]:
+    """Outermost closed node x after each step, replaying the close/separate events
+    (initially closed pairs, gap = 0, start closed).  Returns (load_fraction, x) from f = 0."""
+    x = scene.pair_xy[:, 0]
+    closed = set(np.flatnonzero(np.asarray(scene.model["pairs"]["gap"]) == 0.0).tolist())
+
+    def outer():
+        return max((x[i] for i in closed), default=0.0)
+
+    fs, xs = [0.0], [outer()]
+    ev = result["events"]
+    steps = np.asarray(ev["step"])
+    for k in range(len(steps)):
+        kind, entity = ev["kind"][k], int(ev["entity"][k])
+        if kind == "close":
+            closed.add(entity)
+        elif kind == "separate":
+            closed.discard(entity)
+        if k + 1 == len(steps) or steps[k + 1] != steps[k]:
+            fs.append(float(ev["load_fraction"][k]))
+            xs.append(outer())
+    final = final_load_fraction(result)
+    if final > fs[-1]:
+        fs.append(final)
+        xs.append(xs[-1])
+    return np.asarray(fs), np.asarray(xs)

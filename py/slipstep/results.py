@@ -1,0 +1,54 @@
+"""Every file of a run in one folder, all or nothing: the writers of :mod:`slipstep.output`
+and the figures of :mod:`slipstep.figures` write into a staging folder inside the output
+folder, which is then renamed into place, so a run that fails half-way leaves the previous
+results intact."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+from . import figures as figs
+from . import output
+from .errors import InputError
+
+
+def write_results(out: str | Path, scene, result, summary: dict, figures: bool | None = None,
+                  xdmf: bool | None = None) -> list[Path]:
+    """Write every output file of a run into ``out`` (created if needed); returns the paths.
+    ``figures`` and ``xdmf`` default to the case's ``[output]`` choices.
+
+    Staged in ``out/.partial-<pid>`` and renamed into place at the end.
+    """
+    out = Path(out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        why = "it is a regular file" if out.is_file() else exc.strerror
+        raise InputError(f"{out}: cannot write the results there ({why}): choose another "
+                         f"--out folder") from None
+    options = scene.case.data["output"]
+    figures = options["figures"] if figures is None else figures
+    xdmf = options["xdmf"] if xdmf is None else xdmf
+    stage = out / f".partial-{os.getpid()}"
+    if stage.exists():
+        shutil.rmtree(stage)
+    stage.mkdir()
+    try:
+        snaps = result.get("snapshots", [])
+        output.write_events_csv(stage / "events.csv", scene, result)
+        if snaps and len(scene.pair_xy):
+            output.write_profile_csv(stage / "contact_profile.csv", scene, snaps[-1])
+        if xdmf and snaps:
+            output.write_xdmf(stage, scene, result)
+        if figures:
+            figs.write_figures(stage, scene, result, summary)
+        output.write_summary_json(stage / "summary.json", summary)
+        written = []
+        for item in sorted(stage.iterdir()):
+            os.replace(item, out / item.name)
+            written.append(out / item.name)
+        return written
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)

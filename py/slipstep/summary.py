@@ -1,0 +1,193 @@
+"""The numbers of a run: the content of ``summary.json`` and the line the CLI prints.
+
+Contacts are summarised one by one, keyed by their case name, along the coordinate s of
+:mod:`slipstep.derived` (for a flat below the body, s = x - point_x).  The top-level
+``contact_half_width`` a and ``stick_half_width`` c exist only for a symmetric half model
+(:func:`half_model_side`); every key is documented in cases/README.md (Outputs).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .derived import (closed_extent, contact_axis, contact_profile, final_load_fraction,
+                      first_yield, is_elastoplastic, johnson_first_yield, pair_coordinate,
+                      reached_last_candidate, stick_extent, von_mises)
+from .model import contact_bodies
+
+
+def half_model_side(scene, index: int) -> int:
+    """+1 (or -1) when [[contact]] ``index`` is one half of a scene mirrored across s = 0:
+    every body it touches has a [[bc]] symmetry edge lying on the line s = 0 (so that line is
+    perpendicular to the contact surface and through its origin), and every candidate pair
+    lies at s >= 0 (or s <= 0); else 0."""
+    case = scene.case
+    origin, tau = contact_axis(scene, index)
+    tol = 1e-9 * float(np.ptp(scene.nodes, axis=0).max())  # round-off of the node coordinates
+    for body in contact_bodies(case.data["contact"][index]):
+        mirrors = [bc for bc in case.data["bc"] if bc["symmetry"] and bc["body"] == body]
+        on_line = [np.abs((scene.nodes[np.unique(scene.global_edge(body, bc["edge"]))]
+                           - origin) @ tau).max() <= tol for bc in mirrors]
+        if not any(on_line):
+            return 0
+    s = pair_coordinate(scene)[scene.pair_contact == index]
+    if (s >= -tol).all():
+        return 1
+    if (s <= tol).all():
+        return -1
+    return 0
+
+
+def contact_summaries(scene, result, snapshot: dict, sides: list[int]) -> dict[str, dict]:
+    """Per [[contact]] (by name) at ``snapshot``: its axis (origin, tangent), whether it is a
+    half model, pair counts, closed and stick extents [s_min, s_max] (None when empty), total
+    normal force and peak pressure."""
+    prof = contact_profile(scene, snapshot)
+    closure = np.asarray(result["closure_fraction"], dtype=float)[prof["pair"]]
+    predicted = np.asarray(result["predicted_closure"], dtype=float)[prof["pair"]]
+    f = float(snapshot["load_fraction"])
+    lambda_n = np.asarray(snapshot["lambda_n"], dtype=float)[prof["pair"]]
+    out = {}
+    for i, name in enumerate(scene.model["contact_names"]):
+        mine = prof["contact"] == i
+        s, status = prof["s"][mine], prof["status"][mine]
+        closed = closed_extent(s, status, closure[mine], predicted[mine], f)
+        origin, tau = contact_axis(scene, i)
+        out[name] = {
+            "kind": scene.case.data["contact"][i]["kind"],
+            "origin": origin.tolist(), "tangent": tau.tolist(), "half_model": sides[i] != 0,
+            "n_pairs": int(mine.sum()), "n_closed": int((status > 0).sum()),
+            "n_stick": int((status == 1).sum()), "n_slip": int((status == 2).sum()),
+            "closed_extent": closed,
+            "stick_extent": None if closed is None else stick_extent(s, status, closed),
+            "total_normal_force": float(lambda_n[mine].sum()),
+            "peak_pressure": float(prof["pressure"][mine].max()),
+        }
+    return out
+
+
+def half_widths(contacts: dict[str, dict], sides: list[int]) -> dict:
+    """``contact_half_width`` a and ``stick_half_width`` c (the far ends of the closed and stick
+    extents, measured from the symmetry line; 0 when empty) when the scene has one contact and
+    it is a symmetric half model; else nothing."""
+    if len(sides) != 1 or sides[0] == 0:
+        return {}
+    side, (entry,) = sides[0], contacts.values()
+    far = 1 if side > 0 else 0
+    closed, stick = entry["closed_extent"], entry["stick_extent"]
+    return {"contact_half_width": side * closed[far] if closed else 0.0,
+            "stick_half_width": side * stick[far] if stick else 0.0}
+
+
+def _contact_numbers(scene, result) -> dict:
+    """The contact part of the summary at the final snapshot (empty without pairs)."""
+    snaps = result.get("snapshots", [])
+    if not (snaps and len(scene.pair_xy)):
+        return {}
+    last = snaps[-1]
+    status = np.asarray(last["status"])
+    sides = [half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
+    contacts = contact_summaries(scene, result, last, sides)
+    return {
+        "snapshot_load_fraction": float(last["load_fraction"]),
+        **half_widths(contacts, sides),
+        "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
+        "total_normal_force": float(np.sum(last["lambda_n"])),
+        "n_open": int((status == 0).sum()),
+        "n_stick": int((status == 1).sum()),
+        "n_slip": int((status == 2).sum()),
+        "contact_reached_last_candidate": reached_last_candidate(scene, last),
+        "contacts": contacts,
+    }
+
+
+def _hertz_numbers(scene, summary: dict, f: float) -> dict:
+    """The closed-form Hertz values at the reached load fraction (a ~ sqrt(f), p0 ~ sqrt(f))
+    and the run's relative errors against them; Johnson's first yield when plastic."""
+    ref = dict(scene.reference)
+    ref["a_hertz_at_final"] = ref["a_hertz"] * math.sqrt(max(f, 0.0))
+    ref["p0_hertz_at_final"] = ref["p0_hertz"] * math.sqrt(max(f, 0.0))
+    if "contact_half_width" in summary and ref["a_hertz_at_final"] > 0:
+        ref["a_rel_error"] = summary["contact_half_width"] / ref["a_hertz_at_final"] - 1.0
+        ref["p0_rel_error"] = summary["peak_pressure"] / ref["p0_hertz_at_final"] - 1.0
+    f_johnson = johnson_first_yield(scene)
+    if f_johnson is not None:
+        ref["f_yield_johnson"] = f_johnson
+        f_fe = summary.get("first_yield_load_fraction")
+        ref["first_yield_rel_error"] = None if f_fe is None else f_fe / f_johnson - 1.0
+    return ref
+
+
+def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
+    """The numbers of a run, for summary.json and the one-line report."""
+    model = scene.model
+    snaps = result.get("snapshots", [])
+    f = final_load_fraction(result)
+    stop = result["stop"]
+    summary = {
+        "case": scene.case.name,
+        "n_events": int(len(result["events"]["step"])),
+        "n_steps": int(len(result["steps"]["load_fraction"])),
+        "final_load_fraction": f,
+        "stop": {"kind": stop["kind"], "message": stop["message"],
+                 "load_fraction": float(stop["load_fraction"])},
+        "interrupted": stop["kind"] == "interrupted",
+        "stop_reason": result.get("stop_reason"),
+        "n_nodes": int(len(model["nodes"])),
+        "n_elements": int(len(model["triangles"])),
+        "n_dofs": int(2 * len(model["nodes"])),
+        "n_pairs": int(len(model["pairs"]["node_a"])),
+        "n_factorizations": int(result.get("n_factorizations", 0)),
+        "n_solves": int(result.get("n_solves", 0)),
+        "max_equilibrium_residual": float(result.get("max_equilibrium_residual", float("nan"))),
+        "max_drift": float(result.get("max_drift", 0.0)),
+        "wall_time_s": float(wall_time_s),
+        "engine_timings_s": {k: float(v) for k, v in result.get("timings", {}).items()},
+    }
+    if snaps:
+        stress = np.asarray(snaps[-1]["stress"], dtype=float).reshape(-1, 4)
+        summary["max_von_mises"] = float(von_mises(stress).max()) if len(stress) else 0.0
+    if is_elastoplastic(scene):
+        summary.update(first_yield(scene, result))
+        if snaps and "plastic" in snaps[-1]:
+            summary["n_plastic_elements"] = int(np.count_nonzero(snaps[-1]["plastic"]))
+    summary.update(_contact_numbers(scene, result))
+    if scene.reference:
+        summary["hertz"] = _hertz_numbers(scene, summary, f)
+    return summary
+
+
+def contact_text(summary: dict) -> str:
+    """The contact state in a few words: a and c of a half model, else each contact's closed
+    and stick extents along s; empty without contact."""
+    if "contact_half_width" in summary:
+        return f"a = {summary['contact_half_width']:.4g}, c = {summary['stick_half_width']:.4g}"
+    parts = []
+    for name, c in summary.get("contacts", {}).items():
+        closed, stick = c["closed_extent"], c["stick_extent"]
+        text = f"{name}: " + (f"closed s in [{closed[0]:.4g}, {closed[1]:.4g}]" if closed
+                              else "open")
+        if stick:
+            text += f", stick [{stick[0]:.4g}, {stick[1]:.4g}]"
+        parts.append(text)
+    return "; ".join(parts)
+
+
+def one_line(summary: dict) -> str:
+    """The summary the CLI prints."""
+    parts = [f"{summary['case']}: {summary['n_events']} events",
+             f"f = {summary['final_load_fraction']:.4g}"]
+    if contact_text(summary):
+        parts += [contact_text(summary), f"p0 = {summary['peak_pressure']:.4g}"]
+    if "hertz" in summary and "a_rel_error" in summary["hertz"]:
+        h = summary["hertz"]
+        parts.append(f"(Hertz a = {h['a_hertz_at_final']:.4g}, p0 = {h['p0_hertz_at_final']:.4g})")
+    if summary.get("first_yield_load_fraction") is not None:
+        parts.append(f"first yield at f = {summary['first_yield_load_fraction']:.4g}, "
+                     f"{summary.get('n_plastic_elements', 0)} plastic elements")
+    parts += [f"{summary['n_dofs']} dofs", f"{summary['wall_time_s']:.2f} s"]
+    if summary["stop"]["kind"] == "interrupted":
+        parts.append("INTERRUPTED")
+    return ", ".join(parts)
