@@ -76,28 +76,21 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         if let Some(stop) = rec.event_bound(&eng, &state, &cycles) {
             break stop;
         }
-        eng.update_tangents(&state)?;
-        let trial = timed_trial(&mut eng, &state, rec.internal.take())?;
+        eng.update_tangents(&state)?; // D or D_ep at the increment's start (eq. 11)
+        let trial = timed_trial(&mut eng, &state, rec.internal.take())?; // the remaining load (eq. 44)
         if let Some(stop) = limit.check(&eng, &state, &trial) {
             break stop;
         }
         let t_events = Instant::now();
-        let sel = eng.select(&state, &trial, &cycles);
+        let sel = eng.select(&state, &trial, &cycles); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
         rec.snapshots_inside(&mut eng, &state, &trial, &sel)?;
-        eng.advance(&mut state, &trial, &sel);
-        let drift = eng.drift(&state);
-        rec.max_drift = rec.max_drift.max(drift);
-        correction = eng.control_drift(&mut state, &sel, drift, correction)?;
-        let (residual, internal) = eng.equilibrium_residual(&state);
-        rec.internal = internal;
-        rec.max_residual = rec.max_residual.max(residual);
-        eng.check_equilibrium(residual, sel.phi, rec.steps.len())?;
-        eng.check_contact(&state, cycles.frozen().0, correction)?;
-        switch_statuses(&mut eng, &mut state, &sel, &mut cycles, &mut rec);
-        rec.step(&mut eng, &state, sel.scale, residual, drift)?;
+        eng.advance(&mut state, &trial, &sel); // eqs. 58–62
+        let residual = settle(&mut eng, &mut state, &sel, &cycles, &mut rec, &mut correction)?;
+        switch_statuses(&mut eng, &mut state, &sel, &mut cycles, &mut rec); // step 6
+        rec.step(&mut eng, &state, sel.scale, residual)?;
         eng.timings.events += since(t_events);
         if sel.last {
-            break StopReason::Completed;
+            break StopReason::Completed; // S = 1 (step 8)
         }
         if model.options.stop_at_first_yield && sel.group.iter().any(|c| c.kind == EventKind::Yield) {
             break StopReason::FirstYield;
@@ -116,6 +109,21 @@ fn timed_trial(eng: &mut Engine, state: &State, internal: Option<Vec<f64>>) -> R
     eng.timings.solves += since(t0) - (eng.timings.dense - dense0);
     eng.timings.events += eng.timings.dense - dense0;
     Ok(trial)
+}
+
+/// After the advance: drift control (return to the yield surface, equilibrium correction),
+/// then the checks at the event (equilibrium, contact conditions). Returns the residual.
+fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCycling, rec: &mut Recorder, correction: &mut Correction) -> Result<f64> {
+    let drift = eng.drift(state);
+    rec.max_drift = rec.max_drift.max(drift);
+    rec.drift = drift;
+    *correction = eng.control_drift(state, sel, drift, *correction)?;
+    let (residual, internal) = eng.equilibrium_residual(state);
+    rec.internal = internal;
+    rec.max_residual = rec.max_residual.max(residual);
+    eng.check_equilibrium(residual, sel.phi, rec.steps.len())?;
+    eng.check_contact(state, cycles.frozen().0, *correction)?;
+    Ok(residual)
 }
 
 /// Switch the statuses of the selected events (step 6) under the anti-cycling rule: when the

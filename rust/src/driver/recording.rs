@@ -30,6 +30,8 @@ pub(super) struct Recorder {
     pub predicted_closure: Vec<f64>,
     pub max_residual: f64,
     pub max_drift: f64,
+    /// Yield-surface drift of the current increment, before its return.
+    pub drift: f64,
     /// The internal force of the state's stresses, for the next trial (None: recompute).
     pub internal: Option<Vec<f64>>,
     pub max_steps: usize,
@@ -50,6 +52,7 @@ impl Recorder {
             predicted_closure: vec![f64::INFINITY; n_pairs],
             max_residual: 0.0,
             max_drift: 0.0,
+            drift: 0.0,
             internal: None,
             max_steps: if opts.max_steps > 0 { opts.max_steps } else { 50 * (n_pairs + plastic_capable + 1) + 1000 },
         };
@@ -105,7 +108,8 @@ impl Recorder {
     }
 
     /// One record per increment, and its snapshot when every event is requested.
-    pub fn step(&mut self, eng: &mut Engine, state: &State, scale: f64, residual: f64, drift: f64) -> Result<()> {
+    pub fn step(&mut self, eng: &mut Engine, state: &State, scale: f64, residual: f64) -> Result<()> {
+        let drift = self.drift;
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
         self.steps.push(StepRecord { load_fraction: state.load_fraction, scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift });
         if self.every_event {
