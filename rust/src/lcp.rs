@@ -1,393 +1,768 @@
 //! Linear complementarity problems by Lemke's complementary pivoting method.
 //!
-//! LCP(M, q): find z ≥ 0 with w = M z + q ≥ 0 and zᵀw = 0 (M dense, any sign pattern, not
-//! necessarily symmetric). Lemke's method adds an artificial variable z₀ with covering vector
-//! d = 1, w = M z + q + d z₀, starts from the basis of all w with z₀ just large enough to make
-//! q + d z₀ ≥ 0, and then pivots complementarily: the variable entering is always the
-//! complement of the one that just left, the leaving one is found by the minimum-ratio test
-//! (ties broken lexicographically with the rows of the basis inverse, so it cannot cycle). It
-//! stops when z₀ leaves (a solution) or when no row limits the entering variable (a secondary
-//! ray). It succeeds whenever M is a P-matrix, and for copositive-plus M (e.g. positive
-//! semidefinite) whenever the LCP is feasible, so a ray then proves infeasibility. Each pivot
-//! costs O(n²) on the dense tableau.
+//! LCP(M, q): given M (n×n, dense, any sign pattern, not necessarily symmetric) and q, find
+//! z ≥ 0 with w = M z + q ≥ 0 and zᵀw = 0, i.e. z_i = 0 or w_i = 0 for every i.
 //!
-//! Lemke's path depends on the covering vector d; for M that is not copositive-plus (friction)
-//! a ray with one d proves nothing, so d = 1 is tried first and then `COVERING_RESTARTS` seeded
-//! positive vectors. Each attempt terminates, so the call does.
+//! Lemke's method adds an artificial variable z₀ ≥ 0 with a covering vector d > 0 (here d = 1):
+//! w = M z + q + d z₀. It starts from the basis of all w with z₀ = max_i(−q_i / d_i), so that
+//! every basic value is ≥ 0; every later basis is almost complementary (one pair (w_i, z_i)
+//! has neither variable basic). The complementary pivot rule lets enter the complement of the
+//! variable that just left; the minimum ratio test min_i b_i / a_i over the entering column's
+//! positive entries a_i (b = basic values) picks the row that leaves, so b stays ≥ 0. Ties
+//! (degeneracy) are broken lexicographically with the rows of the basis inverse,
+//! (b_i, (B⁻¹)_i) / a_i, which keeps every row lexicographically positive: no basis repeats,
+//! the method cannot cycle. It ends when z₀ leaves (a solution) or when the entering column
+//! has no positive entry (a secondary ray).
+//!
+//! It is guaranteed to end on a solution when M is a P-matrix (all principal minors > 0, e.g.
+//! S + K with S symmetric positive definite and K skew), and when M is copositive-plus (e.g.
+//! positive semidefinite) and the LCP is feasible; for copositive-plus M a ray therefore
+//! proves that no z ≥ 0 with M z + q ≥ 0 exists. For other M (Coulomb friction is copositive
+//! but not copositive-plus) a ray proves nothing; [`lemke_with_covering`] lets a caller retry
+//! with another d.
+//!
+//! Each pivot is a Gauss–Jordan step on the dense n × (2n + 2) tableau, O(n²). Numerics:
+//! - the tableau is built for the symmetrically equilibrated problem (D M D, D q / s, D d, by
+//!   powers of two: exact), which follows the same path in exact arithmetic;
+//! - before each ratio test the basic values and the entering column get one step of
+//!   iterative refinement against the original columns (O(n²)), so that ties which exact
+//!   arithmetic would see (frequent in friction problems) are seen to round-off;
+//! - ties use the tolerances below; the final basis is solved once more from the original
+//!   M and q (LU), so the result is accurate to round-off and z_i w_i = 0 exactly.
+//!
+//! The accuracy is relative to the largest |q_i|: z₀ d adds ≈ max |q_i| to every row, so a
+//! row whose q_i is 10⁻⁹ of that keeps only the digits left over.
 
 use nalgebra::{DMatrix, DVector};
 
-/// A pivot element must exceed this × the largest entry of its column.
-const PIVOT_TOL: f64 = 1e-11;
-/// Ratios within this (relative) are ties, broken lexicographically.
+/// A pivot element a_i must exceed PIVOT_TOL × max_k |a_k| of its column (smaller: a zero
+/// polluted by round-off).
+const PIVOT_TOL: f64 = 1e-10;
+/// Ratios (and lexicographic keys) within TIE_TOL, relative, are a tie.
 const TIE_TOL: f64 = 1e-12;
+/// A basic value below ZERO_TOL × max_k |b_k| is round-off of a degenerate zero (so its ratio
+/// ties with the least one within ZERO_TOL max_k |b_k| / a_i).
+const ZERO_TOL: f64 = 1e-13;
+/// Sweeps of symmetric Ruiz equilibration of M (a few bring rows and columns near unit size).
+const EQUILIBRATION_SWEEPS: usize = 8;
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum LcpFailure {
     /// Lemke ended on a secondary ray: no solution is reachable (for copositive-plus M: none
     /// exists).
     Ray { pivots: usize },
-    /// The pivot bound was reached (a guard: the lexicographic rule does not cycle).
+    /// The pivot bound was reached (should not happen with the lexicographic rule; a guard).
     PivotLimit { pivots: usize },
     /// M or q contains NaN/inf, or the dimensions disagree.
     BadInput,
 }
 
+#[derive(Debug, Clone)]
 pub struct LcpSolution {
     pub z: DVector<f64>,
     pub w: DVector<f64>,
     pub pivots: usize,
 }
 
-/// The tableau [B⁻¹ | B⁻¹(−M) | B⁻¹(−d) | B⁻¹q] over the variables w (0..n), z (n..2n), z₀
-/// (2n), with the basic variable of every row.
-#[derive(Clone)]
-struct Tableau {
-    n: usize,
-    t: DMatrix<f64>,
-    basic: Vec<usize>,
-}
-
-impl Tableau {
-    fn new(m: &DMatrix<f64>, q: &DVector<f64>) -> Self {
-        let n = q.len();
-        let mut t = DMatrix::<f64>::zeros(n, 2 * n + 2);
-        for i in 0..n {
-            t[(i, i)] = 1.0;
-            for j in 0..n {
-                t[(i, n + j)] = -m[(i, j)];
-            }
-            t[(i, 2 * n)] = -1.0;
-            t[(i, 2 * n + 1)] = q[i];
-        }
-        Tableau {
-            n,
-            t,
-            basic: (0..n).collect(),
-        }
-    }
-
-    fn rhs(&self) -> usize {
-        2 * self.n + 1
-    }
-
-    /// Make column `c` basic in row `r` (Gauss–Jordan).
-    fn pivot(&mut self, r: usize, c: usize) {
-        let p = self.t[(r, c)];
-        let mut row = self.t.row(r).clone_owned();
-        row /= p;
-        for i in 0..self.n {
-            if i != r {
-                let f = self.t[(i, c)];
-                if f != 0.0 {
-                    for j in 0..self.t.ncols() {
-                        self.t[(i, j)] -= f * row[j];
-                    }
-                }
-            }
-        }
-        self.t.set_row(r, &row);
-        self.basic[r] = c;
-    }
-
-    /// The lexicographic key of row i for entering column c: (rhs, B⁻¹ row) / pivot.
-    fn key(&self, i: usize, c: usize) -> Vec<f64> {
-        let p = self.t[(i, c)];
-        std::iter::once(self.t[(i, self.rhs())] / p)
-            .chain((0..self.n).map(|j| self.t[(i, j)] / p))
-            .collect()
-    }
-
-    /// The leaving row for entering column c by the lexicographic minimum-ratio test; z₀'s row
-    /// wins a tie (the method then ends). None: a ray.
-    fn leaving_row(&self, c: usize) -> Option<usize> {
-        let largest = (0..self.n)
-            .map(|i| self.t[(i, c)].abs())
-            .fold(0.0, f64::max);
-        let mut best: Option<(usize, Vec<f64>)> = None;
-        for i in (0..self.n).filter(|&i| self.t[(i, c)] > PIVOT_TOL * largest) {
-            let key = self.key(i, c);
-            let better = match &best {
-                None => true,
-                Some((b, bk)) => {
-                    lex_less(&key, bk)
-                        || (!lex_less(bk, &key)
-                            && self.basic[i] == 2 * self.n
-                            && self.basic[*b] != 2 * self.n)
-                }
-            };
-            if better {
-                best = Some((i, key));
-            }
-        }
-        best.map(|(i, _)| i)
-    }
-}
-
-/// a < b lexicographically, with entries within TIE_TOL (relative) counted equal.
-fn lex_less(a: &[f64], b: &[f64]) -> bool {
-    for (x, y) in a.iter().zip(b) {
-        let scale = x.abs().max(y.abs()).max(f64::MIN_POSITIVE);
-        if (x - y).abs() > TIE_TOL * scale {
-            return x < y;
-        }
-    }
-    false
-}
-
-/// Solve the LCP (M, q) by Lemke's method, restarting with other covering vectors after a
-/// ray. `max_pivots` bounds the work of one attempt.
+/// Solve the LCP (M, q) by Lemke's method. `max_pivots` bounds the work (callers pass e.g.
+/// 50 n + 100).
 pub fn lemke(
     m: &DMatrix<f64>,
     q: &DVector<f64>,
     max_pivots: usize,
 ) -> Result<LcpSolution, LcpFailure> {
+    lemke_with_covering(m, q, &DVector::from_element(q.len(), 1.0), max_pivots)
+}
+
+/// Lemke's method with covering vector d (every d_i > 0 and finite, else `BadInput`).
+pub fn lemke_with_covering(
+    m: &DMatrix<f64>,
+    q: &DVector<f64>,
+    d: &DVector<f64>,
+    max_pivots: usize,
+) -> Result<LcpSolution, LcpFailure> {
     let n = q.len();
-    if m.nrows() != n || m.ncols() != n || m.iter().chain(q.iter()).any(|v| !v.is_finite()) {
+    let finite = m
+        .iter()
+        .chain(q.iter())
+        .chain(d.iter())
+        .all(|v| v.is_finite());
+    if m.shape() != (n, n) || d.len() != n || !finite || d.iter().any(|&v| v <= 0.0) {
         return Err(LcpFailure::BadInput);
     }
     if q.iter().all(|&v| v >= 0.0) {
+        let z = DVector::zeros(n);
         return Ok(LcpSolution {
-            z: DVector::zeros(n),
+            z,
             w: q.clone(),
             pivots: 0,
         });
     }
-    let mut seed = COVERING_SEED;
-    let mut failure = LcpFailure::Ray { pivots: 0 };
-    for attempt in 0..=COVERING_RESTARTS {
-        let covering: Vec<f64> = (0..n)
-            .map(|_| {
-                if attempt == 0 {
-                    1.0
+    let scaling = Scaling::new(m, q);
+    let mut tab = Tableau::new(m, q, d, &scaling);
+    let pivots = tab.run(max_pivots)?;
+    Ok(polish(m, q, &tab, &scaling, pivots))
+}
+
+/// The symmetric scaling M' = D M D, q' = D q / s, d' = D d: then z = s D z', w = s D⁻¹ w'
+/// (z_i w_i = s² z'_i w'_i, so complementarity, P-matrix and copositivity carry over).
+struct Scaling {
+    diag: DVector<f64>,
+    s: f64,
+}
+
+impl Scaling {
+    fn new(m: &DMatrix<f64>, q: &DVector<f64>) -> Self {
+        let n = q.len();
+        let mut d = DVector::from_element(n, 1.0);
+        for _ in 0..EQUILIBRATION_SWEEPS {
+            // D_i ← D_i / √(max |(D M D)_ij|, |(D M D)_ji| over j), rounded to a power of two.
+            let f = DVector::from_fn(n, |i, _| {
+                let big = (0..n)
+                    .map(|j| {
+                        (d[i] * m[(i, j)] * d[j])
+                            .abs()
+                            .max((d[j] * m[(j, i)] * d[i]).abs())
+                    })
+                    .fold(0.0, f64::max);
+                if big > 0.0 {
+                    power_of_two(1.0 / big.sqrt())
                 } else {
-                    covering_entry(&mut seed)
+                    1.0
                 }
-            })
-            .collect();
-        match complementary_pivoting(m, q, &covering, max_pivots) {
-            Ok(solution) => return Ok(solution),
-            Err(f) => failure = f,
+            });
+            d.component_mul_assign(&f);
+        }
+        if d.iter().any(|v| !v.is_normal()) {
+            d.fill(1.0);
+        }
+        let s = power_of_two(q.component_mul(&d).amax());
+        Scaling {
+            diag: d,
+            s: if s.is_normal() { s } else { 1.0 },
         }
     }
-    Err(failure)
 }
 
-/// Covering vectors tried after d = 1, and their entries' range.
-const COVERING_RESTARTS: usize = 32;
-const COVERING_SEED: u64 = 0x2545_f491_4f6c_dd1d;
-const COVERING_RANGE: (f64, f64) = (0.1, 10.0);
-
-/// A pseudo-random entry in COVERING_RANGE (xorshift: deterministic runs).
-fn covering_entry(seed: &mut u64) -> f64 {
-    *seed ^= *seed << 13;
-    *seed ^= *seed >> 7;
-    *seed ^= *seed << 17;
-    let u = (*seed >> 11) as f64 / (1u64 << 53) as f64;
-    COVERING_RANGE.0 + u * (COVERING_RANGE.1 - COVERING_RANGE.0)
+/// 2^round(log₂ x) for x > 0: scaling by it is exact.
+fn power_of_two(x: f64) -> f64 {
+    x.log2().round().clamp(-1000.0, 1000.0).exp2()
 }
 
-/// One run of Lemke's method with covering vector d.
-fn complementary_pivoting(
+/// The tableau B⁻¹ [I | −M | −d | q] of the scaled problem over the variables w (columns
+/// 0..n), z (n..2n), z₀ (2n), right-hand side (2n + 1), with the basic variable of each row.
+/// Columns 0..n hold B⁻¹ itself, which the lexicographic rule reads; `t0` is the initial
+/// tableau [I | −M | −d | q], the original columns.
+struct Tableau {
+    n: usize,
+    t: DMatrix<f64>,
+    t0: DMatrix<f64>,
+    basic: Vec<usize>,
+}
+
+impl Tableau {
+    fn new(m: &DMatrix<f64>, q: &DVector<f64>, d: &DVector<f64>, sc: &Scaling) -> Self {
+        let n = q.len();
+        let mut t = DMatrix::zeros(n, 2 * n + 2);
+        for i in 0..n {
+            t[(i, i)] = 1.0;
+            for j in 0..n {
+                t[(i, n + j)] = -(sc.diag[i] * m[(i, j)] * sc.diag[j]);
+            }
+            t[(i, 2 * n)] = -(sc.diag[i] * d[i]);
+            t[(i, 2 * n + 1)] = sc.diag[i] * q[i] / sc.s;
+        }
+        Tableau {
+            n,
+            t0: t.clone(),
+            t,
+            basic: (0..n).collect(),
+        }
+    }
+
+    fn z0(&self) -> usize {
+        2 * self.n
+    }
+
+    fn rhs(&self, i: usize) -> f64 {
+        self.t[(i, 2 * self.n + 1)]
+    }
+
+    /// Complementary pivoting until z₀ leaves; the number of pivots.
+    fn run(&mut self, max_pivots: usize) -> Result<usize, LcpFailure> {
+        if max_pivots == 0 {
+            return Err(LcpFailure::PivotLimit { pivots: 0 });
+        }
+        // z₀ enters in the row of the lexicographically least (q_i, e_iᵀ) / d_i (its column
+        // holds −d): afterwards b_k = q_k − d_k q_r / d_r ≥ 0 for all k.
+        let z0 = self.z0();
+        let d = |i: usize| -self.t[(i, z0)];
+        let all: Vec<usize> = (0..self.n).collect();
+        let r = self
+            .lex_min(&all, |i| self.rhs(i) / d(i), d)
+            .ok_or(LcpFailure::Ray { pivots: 0 })?;
+        let mut leaving = self.basic[r];
+        self.pivot(r, z0);
+        let mut pivots = 1;
+        while leaving != z0 {
+            if pivots >= max_pivots {
+                return Err(LcpFailure::PivotLimit { pivots });
+            }
+            let entering = if leaving < self.n {
+                leaving + self.n
+            } else {
+                leaving - self.n
+            };
+            self.refine(2 * self.n + 1);
+            self.refine(entering);
+            let r = self
+                .leaving_row(entering)
+                .ok_or(LcpFailure::Ray { pivots })?;
+            leaving = self.basic[r];
+            self.pivot(r, entering);
+            pivots += 1;
+        }
+        Ok(pivots)
+    }
+
+    /// The row leaving when column c enters (minimum ratio test, lexicographic ties); None
+    /// when no entry of the column is positive: a ray.
+    fn leaving_row(&self, c: usize) -> Option<usize> {
+        let a = |i: usize| self.t[(i, c)];
+        let largest = (0..self.n).map(|i| a(i).abs()).fold(0.0, f64::max);
+        let rows: Vec<usize> = (0..self.n)
+            .filter(|&i| a(i) > PIVOT_TOL * largest)
+            .collect();
+        // θ_i = b_i / a_i, a round-off negative b_i counted as the zero it is.
+        self.lex_min(&rows, |i| self.rhs(i).max(0.0) / a(i), a)
+    }
+
+    /// Among `rows`, the least key (θ_i, (B⁻¹)_i / a_i) lexicographically, θ = `ratio` and
+    /// a = `div` > 0. θ_i ties with θ_min when θ_i ≤ θ_min + TIE_TOL |θ_min| + ZERO_TOL β / a_i
+    /// (β = max_k |b_k|); z₀'s row wins a tie (its leaving ends the method). Later keys tie
+    /// alike, with the floor ZERO_TOL ρ, ρ the largest |key| of the tied rows.
+    fn lex_min(
+        &self,
+        rows: &[usize],
+        ratio: impl Fn(usize) -> f64,
+        div: impl Fn(usize) -> f64,
+    ) -> Option<usize> {
+        let theta_min = rows.iter().map(|&i| ratio(i)).fold(f64::INFINITY, f64::min);
+        let beta = (0..self.n).map(|i| self.rhs(i).abs()).fold(0.0, f64::max);
+        let tied =
+            |i: usize| ratio(i) <= theta_min + TIE_TOL * theta_min.abs() + ZERO_TOL * beta / div(i);
+        let mut ties: Vec<usize> = rows.iter().copied().filter(|&i| tied(i)).collect();
+        if let Some(&i) = ties.iter().find(|&&i| self.basic[i] == self.z0()) {
+            return Some(i);
+        }
+        // ρ: the largest |(B⁻¹)_ij| / a_i of the tied rows, the scale of the keys' round-off.
+        let key = |i: usize, j: usize| self.t[(i, j)] / div(i);
+        let rho = ties
+            .iter()
+            .flat_map(|&i| (0..self.n).map(move |j| key(i, j).abs()))
+            .fold(0.0, f64::max);
+        for j in 0..self.n {
+            if ties.len() <= 1 {
+                break;
+            }
+            let least = ties
+                .iter()
+                .map(|&i| key(i, j))
+                .fold(f64::INFINITY, f64::min);
+            ties.retain(|&i| key(i, j) <= least + TIE_TOL * least.abs() + ZERO_TOL * rho);
+        }
+        ties.first().copied()
+    }
+
+    /// Gauss–Jordan step making column c basic in row r: row_r /= t_rc, then
+    /// row_i −= t_ic row_r for i ≠ r.
+    fn pivot(&mut self, r: usize, c: usize) {
+        let p = self.t[(r, c)];
+        let col: Vec<f64> = self.t.column(c).iter().copied().collect();
+        for j in 0..self.t.ncols() {
+            let f = self.t[(r, j)] / p;
+            self.t[(r, j)] = f;
+            if f != 0.0 {
+                for (i, &a) in col.iter().enumerate().filter(|&(i, _)| i != r) {
+                    self.t[(i, j)] -= a * f;
+                }
+            }
+        }
+        self.t.column_mut(c).fill(0.0);
+        self.t[(r, c)] = 1.0;
+        self.basic[r] = c;
+    }
+
+    /// One step of iterative refinement of tableau column c = B⁻¹ x (x: its original column),
+    /// which pivoting alone lets drift: r = x − B (B⁻¹ x) from the original columns of the
+    /// basis, then B⁻¹ x += B⁻¹ r. O(n²), so exact ties stay ties to round-off.
+    fn refine(&mut self, c: usize) {
+        let mut r = self.t0.column(c).clone_owned();
+        for (k, &v) in self.basic.iter().enumerate() {
+            r.axpy(-self.t[(k, c)], &self.t0.column(v), 1.0);
+        }
+        let correction = self.t.columns(0, self.n) * r;
+        for (i, dx) in correction.iter().enumerate() {
+            self.t[(i, c)] += dx;
+        }
+    }
+
+    /// z read off the tableau (basic z_j = b_r, unscaled: z = s D z'), clamped at 0.
+    fn z(&self, sc: &Scaling) -> DVector<f64> {
+        let mut z = DVector::zeros(self.n);
+        for (r, &v) in self.basic.iter().enumerate() {
+            if (self.n..2 * self.n).contains(&v) {
+                let j = v - self.n;
+                z[j] = (sc.s * sc.diag[j] * self.rhs(r)).max(0.0);
+            }
+        }
+        z
+    }
+}
+
+/// The final complementary basis solved again from the original data: B x = q with column
+/// e_i for a basic w_i and −M_j for a basic z_j. Of that z and the tableau's, the one with the
+/// smaller violation is kept; w = M z + q, set to exactly 0 where z_i > 0 (w_i is nonbasic).
+fn polish(
     m: &DMatrix<f64>,
     q: &DVector<f64>,
-    d: &[f64],
-    max_pivots: usize,
-) -> Result<LcpSolution, LcpFailure> {
+    tab: &Tableau,
+    sc: &Scaling,
+    pivots: usize,
+) -> LcpSolution {
     let n = q.len();
-    let mut tab = Tableau::new(m, q);
-    for i in 0..n {
-        tab.t[(i, 2 * n)] = -d[i];
-    }
-    // z₀ enters where it is needed most: the smallest q_i / d_i.
-    let first = (0..n).fold(0, |b, i| if q[i] / d[i] <= q[b] / d[b] { i } else { b });
-    let mut leaving = tab.basic[first];
-    tab.pivot(first, 2 * n);
-    for pivots in 1..=max_pivots {
-        let entering = if leaving < n {
-            leaving + n
-        } else {
-            leaving - n
-        };
-        let Some(r) = tab.leaving_row(entering) else {
-            return Err(LcpFailure::Ray { pivots });
-        };
-        leaving = tab.basic[r];
-        tab.pivot(r, entering);
-        if leaving == 2 * n {
-            return Ok(polish(m, q, &tab.basic, pivots));
+    let b = DMatrix::from_fn(n, n, |i, k| match tab.basic[k] {
+        v if v < n => f64::from(u8::from(i == v)),
+        v => -m[(i, v - n)],
+    });
+    let mut z = tab.z(sc);
+    if let Some(x) = b.lu().solve(q).filter(|x| x.iter().all(|v| v.is_finite())) {
+        let mut z_lu = DVector::zeros(n);
+        for (k, &v) in tab.basic.iter().enumerate() {
+            if v >= n {
+                z_lu[v - n] = x[k].max(0.0);
+            }
+        }
+        if violation(m, q, &z_lu, sc) <= violation(m, q, &z, sc) {
+            z = z_lu;
         }
     }
-    Err(LcpFailure::PivotLimit { pivots: max_pivots })
+    let mut w = m * &z + q;
+    for i in 0..n {
+        if z[i] > 0.0 {
+            w[i] = 0.0;
+        }
+    }
+    LcpSolution { z, w, pivots }
 }
 
-/// The solution of the final basis recomputed from the original data (w − M z = q with the
-/// nonbasic variables zero), so that z_i w_i = 0 holds exactly and round-off of the pivots is
-/// not carried.
-fn polish(m: &DMatrix<f64>, q: &DVector<f64>, basic: &[usize], pivots: usize) -> LcpSolution {
-    let n = q.len();
-    let mut b = DMatrix::<f64>::zeros(n, n);
-    for (k, &v) in basic.iter().enumerate() {
-        for i in 0..n {
-            b[(i, k)] = if v < n {
-                (i == v) as u8 as f64
+/// max_i of the error of w_i = (M z + q)_i, |w_i| where z_i > 0 (complementarity) and
+/// max(−w_i, 0) elsewhere (feasibility), relative to the size of its terms in the equilibrated
+/// problem: |q_i| + Σ_j |M_ij| D_j ζ with ζ = max_k z_k / D_k (a degenerate z_k that is
+/// round-off of 0 then does not set the scale).
+fn violation(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>, sc: &Scaling) -> f64 {
+    let w = m * z + q;
+    let zeta = z.component_div(&sc.diag).amax();
+    (0..q.len())
+        .map(|i| {
+            let terms = (0..q.len())
+                .map(|j| m[(i, j)].abs() * sc.diag[j])
+                .sum::<f64>();
+            let err = if z[i] > 0.0 {
+                w[i].abs()
             } else {
-                -m[(i, v - n)]
+                (-w[i]).max(0.0)
             };
-        }
-    }
-    let x = b.lu().solve(q).unwrap_or_else(|| DVector::zeros(n));
-    let mut z = DVector::<f64>::zeros(n);
-    for (k, &v) in basic.iter().enumerate() {
-        if v >= n {
-            z[v - n] = x[k].max(0.0);
-        }
-    }
-    let w = m * &z + q;
-    LcpSolution { z, w, pivots }
+            if err > 0.0 {
+                err / (q[i].abs() + terms * zeta)
+            } else {
+                0.0
+            }
+        })
+        .fold(0.0, f64::max)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The LCP conditions checked from the definition, at a tolerance of `tol` × the data scale.
-    fn assert_solves(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>, tol: f64) {
-        let w = m * z + q;
-        let scale = m.amax() * z.amax() + q.amax();
+    /// Seeded xorshift64 (no rand crate): uniform in [lo, hi).
+    struct Rng(u64);
+
+    impl Rng {
+        fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
+        }
+
+        fn matrix(&mut self, n: usize) -> DMatrix<f64> {
+            DMatrix::from_fn(n, n, |_, _| self.uniform(-1.0, 1.0))
+        }
+    }
+
+    /// The LCP conditions from the definition, w recomputed here: z ≥ 0, w ≥ −tol·scale_i,
+    /// |z_i w_i| ≤ tol·z_i·scale_i with scale_i = |q_i| + Σ_j |M_ij z_j| (the size of the terms
+    /// of w_i); the returned w must be M z + q and exactly complementary to z.
+    fn assert_solves(m: &DMatrix<f64>, q: &DVector<f64>, s: &LcpSolution, tol: f64) {
+        let w = m * &s.z + q;
         for i in 0..q.len() {
-            assert!(z[i] >= 0.0 && w[i] >= -tol * scale, "z = {z}, w = {w}");
+            let scale = q[i].abs()
+                + (0..q.len())
+                    .map(|j| (m[(i, j)] * s.z[j]).abs())
+                    .sum::<f64>();
+            let ctx = format!("i = {i}, z = {}, w = {}", s.z, w);
+            assert!(s.z[i] >= -1e-12 * s.z.amax(), "z ≥ 0 fails: {ctx}");
+            assert!(w[i] >= -tol * scale, "w ≥ 0 fails: {ctx}");
             assert!(
-                (z[i] * w[i]).abs() <= tol * scale * (1.0 + z.amax()),
-                "z = {z}, w = {w}"
+                (s.z[i] * w[i]).abs() <= tol * s.z[i].abs() * scale,
+                "z w = 0 fails: {ctx}"
+            );
+            assert!(
+                (s.w[i] - w[i]).abs() <= tol * scale,
+                "returned w ≠ M z + q: {ctx}"
+            );
+            assert!(
+                s.z[i] * s.w[i] == 0.0,
+                "returned pair not complementary: {ctx}"
             );
         }
     }
 
-    /// Every complementary basis tried: the solutions that exist (for a P-matrix exactly one).
-    fn enumerate(m: &DMatrix<f64>, q: &DVector<f64>) -> Vec<DVector<f64>> {
+    /// Every complementary basis (z_i basic for i in the mask, w_i otherwise) whose basic
+    /// solution satisfies the LCP within `tol` (relative, as in `assert_solves`).
+    fn enumerate(m: &DMatrix<f64>, q: &DVector<f64>, tol: f64) -> Vec<DVector<f64>> {
         let n = q.len();
         let mut out = vec![];
-        for mask in 0..(1usize << n) {
+        for mask in 0..1usize << n {
             let idx: Vec<usize> = (0..n).filter(|&i| mask >> i & 1 == 1).collect();
-            let sub = DMatrix::from_fn(idx.len(), idx.len(), |a, b| m[(idx[a], idx[b])]);
-            let rhs = DVector::from_fn(idx.len(), |a, _| -q[idx[a]]);
-            let zs = if idx.is_empty() {
-                DVector::zeros(0)
-            } else if let Some(x) = sub.lu().solve(&rhs) {
-                x
+            let m_bb = DMatrix::from_fn(idx.len(), idx.len(), |a, b| m[(idx[a], idx[b])]);
+            let q_b = DVector::from_fn(idx.len(), |a, _| -q[idx[a]]);
+            // (nalgebra's LU panics on 0 × 0.)
+            let z_b = if idx.is_empty() {
+                Some(q_b)
             } else {
-                continue;
+                m_bb.lu().solve(&q_b)
             };
+            let Some(z_b) = z_b else { continue };
             let mut z = DVector::zeros(n);
-            idx.iter().zip(zs.iter()).for_each(|(&i, &v)| z[i] = v);
+            idx.iter().zip(z_b.iter()).for_each(|(&i, &v)| z[i] = v);
             let w = m * &z + q;
-            if z.iter().chain(w.iter()).all(|&v| v >= -1e-12) {
+            let ok = (0..n).all(|i| {
+                let scale = q[i].abs() + (0..n).map(|j| (m[(i, j)] * z[j]).abs()).sum::<f64>();
+                z[i] >= -tol * z.amax() && w[i] >= -tol * scale
+            });
+            if ok {
                 out.push(z);
             }
         }
         out
     }
 
-    /// A seeded xorshift in [−1, 1).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        }
-    }
-
     #[test]
     fn nonnegative_q_is_solved_by_zero() {
-        let s = lemke(
-            &DMatrix::identity(3, 3),
-            &DVector::from_vec(vec![1.0, 0.0, 2.0]),
-            10,
-        )
-        .unwrap();
+        let m = DMatrix::from_row_slice(2, 2, &[-1.0, 3.0, 2.0, -5.0]);
+        let q = DVector::from_vec(vec![0.0, 2.0]);
+        let s = lemke(&m, &q, 10).unwrap();
         assert_eq!(s.pivots, 0);
-        assert!(s.z.iter().all(|&v| v == 0.0));
+        assert!(s.z.iter().all(|&v| v == 0.0) && s.w == q);
     }
 
     #[test]
-    fn random_p_matrices_match_enumeration() {
-        // S + K with S symmetric positive definite and K skew is a P-matrix: the solution is
-        // unique, so Lemke's must equal the one found by trying all 2^n bases.
-        let mut rng = Rng(0x9e3779b97f4a7c15);
+    fn textbook_two_by_two() {
+        // M = [[2, 1], [−1, 2]] is a P-matrix (minors 2, 2, 5). The four complementary bases,
+        // q = (−3, 1): {} w = q ✗; {z₁}: z₁ = 3/2, w₂ = −1/2 ✗; {z₂}: z₂ = −1/2 ✗;
+        // {z₁, z₂}: M z = (3, −1) ⇒ z = (7/5, 1/5) ✓, the unique solution.
+        let m = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, -1.0, 2.0]);
+        let q = DVector::from_vec(vec![-3.0, 1.0]);
+        let all = enumerate(&m, &q, 1e-14);
+        assert_eq!(all.len(), 1);
+        assert!((&all[0] - DVector::from_vec(vec![1.4, 0.2])).amax() < 1e-15);
+        let s = lemke(&m, &q, 100).unwrap();
+        assert_solves(&m, &q, &s, 1e-14);
+        assert!((&s.z - &all[0]).amax() < 1e-15, "z = {}", s.z);
+    }
+
+    /// A random P-matrix of one of three kinds: A Aᵀ + I; S + K (S SPD, K skew); D (S + K) D
+    /// with D_i in 10^[−3, 3], so entries span 1e−6..1e6 (D M D stays a P-matrix).
+    fn random_p_lcp(rng: &mut Rng, n: usize, kind: usize) -> (DMatrix<f64>, DVector<f64>) {
+        let a = rng.matrix(n);
+        let mut m = &a * a.transpose() + DMatrix::identity(n, n);
+        let mut q = DVector::from_fn(n, |_, _| rng.uniform(-1.0, 1.0));
+        if kind >= 1 {
+            let k = rng.matrix(n) * 2.0;
+            m = m * 0.2 + (&k - k.transpose());
+        }
+        if kind == 2 {
+            let d = DVector::from_fn(n, |_, _| 10f64.powf(rng.uniform(-3.0, 3.0)));
+            m = DMatrix::from_diagonal(&d) * m * DMatrix::from_diagonal(&d);
+            q.component_mul_assign(&d);
+        }
+        (m, q)
+    }
+
+    #[test]
+    fn random_p_matrices_solve_and_match_enumeration() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
         for trial in 0..200 {
-            let n = 1 + trial % 8;
-            let a = DMatrix::from_fn(n, n, |_, _| rng.next());
-            let k = DMatrix::from_fn(n, n, |_, _| rng.next());
-            let m = &a * a.transpose() + DMatrix::identity(n, n) * 0.1 + (&k - k.transpose());
-            let q = DVector::from_fn(n, |_, _| rng.next());
+            let n = if trial < 150 {
+                1 + trial % 10
+            } else {
+                11 + trial % 20
+            };
+            let (m, q) = random_p_lcp(&mut rng, n, trial % 3);
             let s = lemke(&m, &q, 50 * n + 100).expect("a P-matrix LCP has a solution");
-            assert_solves(&m, &q, &s.z, 1e-10);
-            let all = enumerate(&m, &q);
-            assert_eq!(all.len(), 1);
-            assert!(
-                (&all[0] - &s.z).amax() <= 1e-9 * (1.0 + s.z.amax()),
-                "{} vs {}",
-                all[0],
-                s.z
-            );
+            assert_solves(&m, &q, &s, 1e-10);
+            // Another covering vector takes another path to the same (unique) solution.
+            let d = DVector::from_fn(n, |_, _| rng.uniform(0.1, 10.0));
+            let s_d = lemke_with_covering(&m, &q, &d, 50 * n + 100).expect("solved");
+            assert_solves(&m, &q, &s_d, 1e-10);
+            for (&a, &b) in s.z.iter().zip(s_d.z.iter()) {
+                assert!(
+                    (a - b).abs() <= 1e-8 * a.abs().max(b.abs()),
+                    "trial {trial}: {a} vs {b}"
+                );
+            }
+            if n <= 10 {
+                // P-matrix: exactly one complementary basis is feasible.
+                let all = enumerate(&m, &q, 1e-10);
+                assert_eq!(all.len(), 1, "trial {trial}");
+                for (&a, &b) in all[0].iter().zip(s.z.iter()) {
+                    assert!((a - b).abs() <= 1e-8 * a.abs(), "trial {trial}: {a} vs {b}");
+                }
+            }
+        }
+    }
+
+    /// Not a check (Lemke's worst case is exponential): prints the pivot counts, run with
+    /// `cargo test --release pivot_counts -- --nocapture`.
+    #[test]
+    fn pivot_counts_on_random_p_matrices() {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        for n in [10, 30] {
+            for kind in 0..3 {
+                let counts: Vec<usize> = (0..100)
+                    .map(|_| {
+                        let (m, q) = random_p_lcp(&mut rng, n, kind);
+                        let s = lemke(&m, &q, 50 * n + 100).unwrap();
+                        assert_solves(&m, &q, &s, 1e-10);
+                        s.pivots
+                    })
+                    .collect();
+                let mean = counts.iter().sum::<usize>() as f64 / counts.len() as f64;
+                let max = counts.iter().max().unwrap();
+                eprintln!("n = {n}, kind {kind}: pivots mean {mean:.1}, max {max}");
+            }
+        }
+    }
+
+    /// Lemke's method with ties broken by the smallest row index instead of lexicographically
+    /// (and z₀'s row first); true if a basis repeats, i.e. it cycles.
+    fn cycles_without_lexicographic_rule(m: &DMatrix<f64>, q: &DVector<f64>) -> bool {
+        let n = q.len();
+        let mut t = DMatrix::from_fn(n, 2 * n + 2, |i, j| match j {
+            j if j < n => f64::from(u8::from(i == j)),
+            j if j < 2 * n => -m[(i, j - n)],
+            j if j == 2 * n => -1.0,
+            _ => q[i],
+        });
+        let mut basic: Vec<usize> = (0..n).collect();
+        let mut seen = std::collections::HashSet::new();
+        let (mut r, mut c) = (
+            (0..n).fold(0, |b, i| if q[i] < q[b] { i } else { b }),
+            2 * n,
+        );
+        for _ in 0..100 {
+            let row = t.row(r) / t[(r, c)];
+            for i in 0..n {
+                let f = t[(i, c)];
+                t.set_row(
+                    i,
+                    &(if i == r {
+                        row.clone()
+                    } else {
+                        t.row(i) - row.clone() * f
+                    }),
+                );
+            }
+            let leaving = std::mem::replace(&mut basic[r], c);
+            let mut key = basic.clone();
+            key.sort_unstable();
+            if leaving == 2 * n || !seen.insert((key, leaving)) {
+                return leaving != 2 * n;
+            }
+            c = if leaving < n {
+                leaving + n
+            } else {
+                leaving - n
+            };
+            let ratio = |i: usize| t[(i, 2 * n + 1)] / t[(i, c)];
+            let rows: Vec<usize> = (0..n).filter(|&i| t[(i, c)] > 1e-9).collect();
+            let least = rows.iter().map(|&i| ratio(i)).fold(f64::INFINITY, f64::min);
+            let ties: Vec<usize> = rows
+                .into_iter()
+                .filter(|&i| ratio(i) <= least + 1e-9)
+                .collect();
+            let Some(&first) = ties.first() else {
+                return false;
+            };
+            r = ties
+                .iter()
+                .copied()
+                .find(|&i| basic[i] == 2 * n)
+                .unwrap_or(first);
+        }
+        false
+    }
+
+    #[test]
+    fn degenerate_problem_that_cycles_under_a_naive_rule_terminates() {
+        // Rows 1 and 2 of (M, q) repeat, q₃ = 0 and the other q_i tie: every ratio test
+        // after the first pivot is degenerate. Smallest-row-index tie breaking revisits a
+        // basis after 5 pivots; the lexicographic rule cannot.
+        #[rustfmt::skip]
+        let m = DMatrix::from_row_slice(5, 5, &[
+            -1.0, 1.0, -1.0, 1.0, 2.0,
+            -1.0, 1.0, -1.0, 1.0, 2.0,
+            -1.0, 1.0, -1.0, 2.0, -2.0,
+            0.0, 1.0, -1.0, 0.0, 2.0,
+            -2.0, 0.0, 1.0, 0.0, 1.0,
+        ]);
+        let q = DVector::from_vec(vec![-1.0, -1.0, 0.0, -1.0, -1.0]);
+        assert!(cycles_without_lexicographic_rule(&m, &q));
+        let s = lemke(&m, &q, 1000).expect("terminates on a solution");
+        assert_solves(&m, &q, &s, 1e-14);
+        // Hand check: z = (0, 0, 1/3, 5/6, 2/3) gives w = (5/6, 5/6, 0, 0, 0).
+        let hand = DVector::from_vec(vec![0.0, 0.0, 1.0 / 3.0, 5.0 / 6.0, 2.0 / 3.0]);
+        assert!((&s.z - hand).amax() < 1e-15, "z = {}", s.z);
+    }
+
+    #[test]
+    fn infeasible_copositive_plus_problems_end_on_a_ray() {
+        // M = [[0, −1], [1, 0]] is skew, so zᵀM z = 0 and (M + Mᵀ) z = 0: copositive-plus.
+        // With q = (−1, −1), w₁ = −z₂ − 1 ≤ −1 < 0 for every z ≥ 0: infeasible.
+        let skew = DMatrix::from_row_slice(2, 2, &[0.0, -1.0, 1.0, 0.0]);
+        // M = [[1, −1], [−1, 1]] is positive semidefinite (copositive-plus); with
+        // q = (−1, −1), w₁ + w₂ = −2 < 0 for every z: infeasible.
+        let psd = DMatrix::from_row_slice(2, 2, &[1.0, -1.0, -1.0, 1.0]);
+        let q = DVector::from_vec(vec![-1.0, -1.0]);
+        for m in [skew, psd] {
+            let r = lemke(&m, &q, 100);
+            assert!(matches!(r, Err(LcpFailure::Ray { .. })), "{r:?}");
+        }
+    }
+
+    /// The 2D Coulomb-friction LCP of k contacts with flexibility C (SPD, rows ordered
+    /// n₁, t₁, n₂, t₂, …): per contact the unknowns (λn, β⁺, β⁻, γ), λt = β⁺ − β⁻, with
+    /// complements g = qn + (C λ)_n ⊥ λn, γ + v ⊥ β⁺, γ − v ⊥ β⁻, μ λn − β⁺ − β⁻ ⊥ γ, where
+    /// v = qt + (C λ)_t is the slip rate.
+    fn friction_lcp(
+        c: &DMatrix<f64>,
+        qn: &[f64],
+        qt: &[f64],
+        mu: f64,
+    ) -> (DMatrix<f64>, DVector<f64>) {
+        let k = qn.len();
+        let mut m = DMatrix::zeros(4 * k, 4 * k);
+        let mut q = DVector::zeros(4 * k);
+        for a in 0..k {
+            for b in 0..k {
+                // Columns λn_b, β⁺_b, β⁻_b of the rows g_a and v_a.
+                for (row, sign_v, ca) in
+                    [(0, 1.0, 2 * a), (1, 1.0, 2 * a + 1), (2, -1.0, 2 * a + 1)]
+                {
+                    m[(4 * a + row, 4 * b)] = sign_v * c[(ca, 2 * b)];
+                    m[(4 * a + row, 4 * b + 1)] = sign_v * c[(ca, 2 * b + 1)];
+                    m[(4 * a + row, 4 * b + 2)] = -sign_v * c[(ca, 2 * b + 1)];
+                }
+            }
+            m[(4 * a + 1, 4 * a + 3)] = 1.0;
+            m[(4 * a + 2, 4 * a + 3)] = 1.0;
+            m[(4 * a + 3, 4 * a)] = mu;
+            m[(4 * a + 3, 4 * a + 1)] = -1.0;
+            m[(4 * a + 3, 4 * a + 2)] = -1.0;
+            q[4 * a] = qn[a];
+            (q[4 * a + 1], q[4 * a + 2]) = (qt[a], -qt[a]);
+        }
+        (m, q)
+    }
+
+    #[test]
+    fn coulomb_friction_contacts() {
+        #[rustfmt::skip]
+        let c = DMatrix::from_row_slice(6, 6, &[
+            2.0, 0.3, 0.5, 0.1, 0.2, 0.0,
+            0.3, 1.0, 0.1, 0.4, 0.0, 0.1,
+            0.5, 0.1, 2.0, 0.3, 0.5, 0.1,
+            0.1, 0.4, 0.3, 1.0, 0.1, 0.4,
+            0.2, 0.0, 0.5, 0.1, 2.0, 0.3,
+            0.0, 0.1, 0.1, 0.4, 0.3, 1.0,
+        ]);
+        assert!(c.clone().cholesky().is_some(), "the flexibility is SPD");
+        // Contacts 1, 2 pushed in, 3 pulled off; all driven sideways.
+        let (qn, qt) = ([-1.0, -0.5, 0.3], [0.8, -0.3, 0.2]);
+        for mu in [0.3, 2.0] {
+            let (m, q) = friction_lcp(&c, &qn, &qt, mu);
+            let s = lemke(&m, &q, 1000).expect("solved");
+            assert_solves(&m, &q, &s, 1e-12);
+            // Coulomb's law read back: |λt| ≤ μ λn, and slip v ≠ 0 only at λt = −μ λn sign v.
+            let w = &m * &s.z + &q;
+            for a in 0..qn.len() {
+                let (lambda_n, lambda_t) = (s.z[4 * a], s.z[4 * a + 1] - s.z[4 * a + 2]);
+                let slip = (w[4 * a + 1] - w[4 * a + 2]) / 2.0;
+                assert!(
+                    lambda_t.abs() <= mu * lambda_n * (1.0 + 1e-12) + 1e-15,
+                    "μ = {mu}"
+                );
+                if slip.abs() > 1e-12 {
+                    assert!(
+                        (lambda_t + mu * lambda_n * slip.signum()).abs() < 1e-12,
+                        "μ = {mu}"
+                    );
+                }
+            }
         }
     }
 
     #[test]
-    fn degenerate_problems_terminate() {
-        // Repeated rows and zeros in q: ties in every ratio test.
-        let m = DMatrix::from_row_slice(3, 3, &[1.0, 2.0, 0.0, 1.0, 2.0, 0.0, 0.0, 0.0, 1.0]);
-        let q = DVector::from_vec(vec![-1.0, -1.0, 0.0]);
-        let s = lemke(&m, &q, 1000).unwrap();
-        assert_solves(&m, &q, &s.z, 1e-12);
-    }
-
-    #[test]
-    fn an_infeasible_psd_problem_ends_on_a_ray() {
-        // M = [[0, −1], [1, 0]] (skew: positive semidefinite), q = (−1, −1): w₁ = −z₂ − 1 ≥ 0
-        // needs z₂ ≤ −1 < 0: no feasible point, so Lemke must end on a ray.
-        let m = DMatrix::from_row_slice(2, 2, &[0.0, -1.0, 1.0, 0.0]);
-        assert!(matches!(
-            lemke(&m, &DVector::from_vec(vec![-1.0, -1.0]), 100),
-            Err(LcpFailure::Ray { .. })
-        ));
-    }
-
-    #[test]
-    fn one_coulomb_pair_slips_with_the_hand_solution() {
-        // One pair, flexibility [[1, 0], [0, 1]], pushed into the target (q_n = −1) and
-        // sideways (q_t = −0.5), μ = 0.3; unknowns (Λn, β⁺, β⁻, γ), Λt = β⁺ − β⁻, rows
-        // g = q_n + Λn ⊥ Λn, γ + v ⊥ β⁺, γ − v ⊥ β⁻, μΛn − β⁺ − β⁻ ⊥ γ with v = q_t + Λt.
-        // Sticking would need |Λt| = 0.5 > μΛn = 0.3, so it slips: Λn = 1, Λt = 0.3, v = −0.2.
-        let mu = 0.3;
-        let m = DMatrix::from_row_slice(
-            4,
-            4,
-            &[
-                1.0, 0.0, 0.0, 0.0, 0.0, 1.0, -1.0, 1.0, 0.0, -1.0, 1.0, 1.0, mu, -1.0, -1.0, 0.0,
-            ],
-        );
-        let q = DVector::from_vec(vec![-1.0, -0.5, 0.5, 0.0]);
-        let s = lemke(&m, &q, 100).unwrap();
-        assert_solves(&m, &q, &s.z, 1e-12);
-        assert!(
-            (s.z[0] - 1.0).abs() < 1e-12
-                && (s.z[1] - s.z[2] - 0.3).abs() < 1e-12
-                && (s.z[3] - 0.2).abs() < 1e-12,
-            "{}",
-            s.z
-        );
-    }
-
-    #[test]
-    fn nan_is_bad_input() {
-        let m = DMatrix::from_row_slice(1, 1, &[f64::NAN]);
+    fn bad_input() {
+        let q = DVector::from_vec(vec![-1.0, 1.0]);
+        let mut m = DMatrix::identity(2, 2);
+        m[(0, 1)] = f64::NAN;
+        assert_eq!(lemke(&m, &q, 10).err(), Some(LcpFailure::BadInput));
+        let inf_q = DVector::from_vec(vec![-1.0, f64::INFINITY]);
         assert_eq!(
-            lemke(&m, &DVector::from_vec(vec![-1.0]), 10).err(),
+            lemke(&DMatrix::identity(2, 2), &inf_q, 10).err(),
             Some(LcpFailure::BadInput)
         );
+        assert_eq!(
+            lemke(&DMatrix::identity(3, 3), &q, 10).err(),
+            Some(LcpFailure::BadInput)
+        );
+        let zero_d = DVector::from_vec(vec![1.0, 0.0]);
+        let r = lemke_with_covering(&DMatrix::identity(2, 2), &q, &zero_d, 10);
+        assert_eq!(r.err(), Some(LcpFailure::BadInput));
+    }
+
+    #[test]
+    fn edge_cases_do_not_panic() {
+        let empty = lemke(&DMatrix::zeros(0, 0), &DVector::zeros(0), 10).unwrap();
+        assert_eq!((empty.z.len(), empty.pivots), (0, 0));
+        let q = DVector::from_vec(vec![-1.0, 2.0]);
+        let id = DMatrix::identity(2, 2);
+        assert_eq!(
+            lemke(&id, &q, 0).err(),
+            Some(LcpFailure::PivotLimit { pivots: 0 })
+        );
+        // M = 0 with some q_i < 0: w = q is infeasible, the first column is zero: a ray.
+        assert!(matches!(
+            lemke(&DMatrix::zeros(2, 2), &q, 10),
+            Err(LcpFailure::Ray { .. })
+        ));
+        // Extreme but finite magnitudes.
+        let m = DMatrix::from_row_slice(2, 2, &[1e300, 0.0, 0.0, 1e-300]);
+        let q = DVector::from_vec(vec![-1e-300, -1e300]);
+        let _ = lemke(&m, &q, 10);
     }
 }

@@ -18,13 +18,13 @@
 //! unknowns are eliminated (or split, for the rigid amplitudes), and Lemke's method (module
 //! `lcp`) solves the rest: without friction it is the KKT system of a convex QP, solved
 //! whenever a solution exists; with friction the condensed matrix is a P-matrix for small μ
-//! (Klarbring), where Lemke always succeeds, and otherwise restarts with other covering vectors
-//! help. It terminates in every case. The statuses follow from the solution.
+//! (Klarbring), where Lemke always succeeds; otherwise restarts with other covering vectors
+//! help (`lemke_restarted`). It terminates in every case. The statuses follow from the solution.
 
 use super::engine::Engine;
 use super::state::State;
 use crate::contact::Status;
-use crate::lcp::lemke;
+use crate::lcp::{lemke_with_covering, LcpSolution};
 use nalgebra::{DMatrix, DVector};
 
 /// A force below this × Σ|load| counts as zero: the pair is critical (or open, in a solution).
@@ -355,9 +355,7 @@ fn solve(prob: &Problem) -> Option<Vec<f64>> {
     };
     let m_c = pick(&bounded, &bounded) - &m_cf * &x_fc;
     let q_c = DVector::from_fn(bounded.len(), |i, _| q[bounded[i]]) - &m_cf * &x_q;
-    let z_c = lemke(&m_c, &q_c, PIVOTS_PER_VARIABLE * bounded.len() + 100)
-        .ok()?
-        .z;
+    let z_c = lemke_restarted(&m_c, &q_c)?.z;
     let x_f = -(&x_fc * &z_c + &x_q);
     let mut z = DVector::<f64>::zeros(q.len());
     bounded.iter().zip(z_c.iter()).for_each(|(&r, &v)| z[r] = v);
@@ -373,6 +371,33 @@ fn solve(prob: &Problem) -> Option<Vec<f64>> {
             })
             .collect(),
     )
+}
+
+/// Lemke's method with d = 1, then with up to `COVERING_RESTARTS` seeded positive covering
+/// vectors: its path depends on d, and for M that is not copositive-plus (friction) a ray with
+/// one d proves nothing. Every attempt terminates, so this does.
+fn lemke_restarted(m: &DMatrix<f64>, q: &DVector<f64>) -> Option<LcpSolution> {
+    let n = q.len();
+    let max_pivots = PIVOTS_PER_VARIABLE * n + 100;
+    let mut seed = COVERING_SEED;
+    (0..=COVERING_RESTARTS).find_map(|attempt| {
+        let d = DVector::from_fn(n, |_, _| if attempt == 0 { 1.0 } else { covering_entry(&mut seed) });
+        lemke_with_covering(m, q, &d, max_pivots).ok()
+    })
+}
+
+/// Covering vectors tried after d = 1, their seed and the range of their entries.
+const COVERING_RESTARTS: usize = 32;
+const COVERING_SEED: u64 = 0x2545_f491_4f6c_dd1d;
+const COVERING_RANGE: (f64, f64) = (0.1, 10.0);
+
+/// A pseudo-random entry in COVERING_RANGE (xorshift: deterministic runs).
+fn covering_entry(seed: &mut u64) -> f64 {
+    *seed ^= *seed << 13;
+    *seed ^= *seed >> 7;
+    *seed ^= *seed << 17;
+    let u = (*seed >> 11) as f64 / (1u64 << 53) as f64;
+    COVERING_RANGE.0 + u * (COVERING_RANGE.1 - COVERING_RANGE.0)
 }
 
 /// M y + q over the unknowns with every saddle unknown split in two; which were split, and the
