@@ -403,6 +403,10 @@ fn shear_beyond_the_friction_limit_is_gross_sliding_of_the_named_body() {
     assert!(err.message.starts_with("body 'block' slides as a whole"), "{}", err.message);
     assert!(err.message.contains("translation in x"), "{}", err.message);
     assert!(err.message.contains("T = 1.2000e0") && err.message.contains("μN = 1.0000e0"), "{}", err.message);
+    // Frictionless, any tangential load slides the block: capacity μN = 0.
+    let err = slipstep_core::run(&sheared_block(0.0, 0.1), |_| true).unwrap_err();
+    assert_eq!(err.kind, slipstep_core::error::ErrorKind::GrossSliding, "{}", err.message);
+    assert!(err.message.contains("μN = 0.0000e0"), "{}", err.message);
     // Below the limit (τ = 0.25 = μq/2) the block is held: Σλ_t = −2τ, Σλ_n = 2 (equilibrium).
     let res = slipstep_core::run(&sheared_block(0.5, 0.25), |_| true).unwrap();
     assert_eq!(res.stop, StopReason::Completed);

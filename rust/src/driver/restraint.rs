@@ -46,7 +46,8 @@ impl Engine<'_> {
     }
 
     fn slipping_pairs_of<'a>(&'a self, body: usize, state: &'a State) -> impl Iterator<Item = usize> + 'a {
-        (0..self.pairs.len()).filter(move |&p| matches!(state.status[p], Status::Slip { .. }) && self.pairs[p].frictional() && self.body_of_pair(p) == body)
+        // Frictionless closed pairs (Slip with μ = 0) slip too: they hold no tangential load.
+        (0..self.pairs.len()).filter(move |&p| matches!(state.status[p], Status::Slip { .. }) && !self.pairs[p].tangent_held && self.body_of_pair(p) == body)
     }
 
     /// Words for a combination `v` of the body's modes `idx`.
