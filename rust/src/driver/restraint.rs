@@ -14,6 +14,8 @@ use nalgebra::DMatrix;
 
 /// A singular value of Cᵀ N below this × the largest is a motion no closed pair resists.
 const FREE_MOTION: f64 = 1e-9;
+/// T within this (relative) of μN is not gross sliding: the body is at the limit, not beyond.
+const CAPACITY_TIE: f64 = 1e-9;
 
 impl Engine<'_> {
     /// Check, per body with free rigid modes, that the closed pairs' rows Cᵀ N (columns m.. of
@@ -32,11 +34,17 @@ impl Engine<'_> {
             }
             let words: Vec<String> = free.iter().map(|v| self.describe_motion(&idx, v)).collect();
             let slip_rows: Vec<Vec<f64>> = self.slipping_pairs_of(body, state).map(|p| idx.iter().map(|&k| self.pairs[p].w_t.dot(&self.mode_vectors[k])).collect()).collect();
-            if !slip_rows.is_empty() && free_motions(&[rows_n.as_slice(), slip_rows.as_slice()].concat(), idx.len()).is_empty() {
-                return Err(self.gross_sliding(body, state, &idx, &free[0], &words[0], oob));
+            let held_if_stuck = !slip_rows.is_empty() && free_motions(&[rows_n.as_slice(), slip_rows.as_slice()].concat(), idx.len()).is_empty();
+            let name = self.model.body_name(self.body_first_element[body]);
+            if held_if_stuck {
+                let (t, n, mu) = self.tangential_and_normal_load(body, state, &idx, &free[0]);
+                if t > mu * n * (1.0 + CAPACITY_TIE) {
+                    return Err(self.gross_sliding(&name, state, (t, n, mu), &words[0], &idx, &free[0], oob));
+                }
+                bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
             }
             let closed = rows.iter().filter(|r| matches!(r, Row::Normal(p) if self.body_of_pair(*p) == body)).count();
-            bail!(FreeBody, "{} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", self.model.body_name(self.body_first_element[body]), words.join("; "));
+            bail!(FreeBody, "{name} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", words.join("; "));
         }
         Ok(())
     }
@@ -61,22 +69,26 @@ impl Engine<'_> {
         describe(w[0], w[1], w[2])
     }
 
-    /// The gross-sliding error: under the full load, the body's load along the sliding
-    /// direction T against μN, N its load along the mean normal of its closed pairs.
-    fn gross_sliding(&self, body: usize, state: &State, idx: &[usize], v: &[f64], words: &str, oob: &OutOfBalance) -> crate::error::Error {
-        // −Nᵀ r along the motion is the out-of-balance force nothing holds: the sense of sliding.
-        let push: f64 = idx.iter().zip(v).map(|(&k, c)| -c * oob.mode_rhs[k]).sum();
+    /// Under the full load: the body's load T along the sliding translation, N along the mean
+    /// normal of its closed pairs, and their mean μ.
+    fn tangential_and_normal_load(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> (f64, f64, f64) {
         let closed: Vec<usize> = (0..self.pairs.len()).filter(|&p| state.status[p].is_closed() && self.body_of_pair(p) == body).collect();
         let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
         let (normal, mu) = ([mean(&|p| p.normal[0]), mean(&|p| p.normal[1])], mean(&|p| p.mu));
-        let slide = self.translation_of(idx, v);
         let load_along = |dir: [f64; 2]| -> f64 {
             let len = dir[0].hypot(dir[1]).max(f64::MIN_POSITIVE);
             (0..self.body_of_node.len()).filter(|&i| self.body_of_node[i] == body).map(|i| (self.model.load[2 * i] * dir[0] + self.model.load[2 * i + 1] * dir[1]) / len).sum()
         };
-        let (t, n) = (load_along(slide).abs(), load_along(normal).abs());
+        (load_along(self.translation_of(idx, v)).abs(), load_along(normal).abs(), mu)
+    }
+
+    /// The gross-sliding error: T against μN under the full load (see above).
+    #[allow(clippy::too_many_arguments)]
+    fn gross_sliding(&self, name: &str, state: &State, (t, n, mu): (f64, f64, f64), words: &str, idx: &[usize], v: &[f64], oob: &OutOfBalance) -> crate::error::Error {
+        // −Nᵀ r along the motion is the out-of-balance force nothing holds: the sense of sliding.
+        let push: f64 = idx.iter().zip(v).map(|(&k, c)| -c * oob.mode_rhs[k]).sum();
         let sense = if push >= 0.0 { "+" } else { "−" };
-        crate::fail!(GrossSliding, "{} slides as a whole at load fraction {:.6} ({sense}{words}): its {} closed pair(s) all slip; under the full load the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal): lower the tangential load, raise mu, or add a support", self.model.body_name(self.body_first_element[body]), state.load_fraction, closed.len(), mu * n)
+        crate::fail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} ({sense}{words}): its closed pairs all slip; under the full load the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal): lower the tangential load, raise mu, or add a support", state.load_fraction, mu * n)
     }
 
     /// The translation part (x, y) of a combination `v` of the body's modes `idx`.
