@@ -81,6 +81,11 @@ impl Engine<'_> {
             if frozen[p] {
                 bail!(IllPosed, "{name} {violation} at load fraction {phi:.6}: its statuses cycled at zero load increment, the complementarity (rate) problem found no admissible set, and the last-resort anti-cycling rule froze it; the scene may be ill-posed for mu = {}: lower mu, or load it differently", pair.mu);
             }
+            if correction.displacement > 0.0 || correction.force > 0.0 {
+                // The equilibrium correction after a plastic return moves contact forces with no
+                // event of its own; beyond its allowance that is the drift control's limit.
+                bail!(Equilibrium, "{name} {violation} at load fraction {phi:.6} after the equilibrium correction of the plastic drift: lower solver.max_stress_step (default 0.05) or refine the mesh");
+            }
             bail!(Internal, "{name} {violation} at load fraction {phi:.6}: an event was missed (a bug; please report it with the case)");
         }
         Ok(())
