@@ -31,9 +31,12 @@ impl Engine<'_> {
     }
 
     /// Apply one event's status change and the forces it sets. `on_time`: the event falls at
-    /// this increment's scale (not taken early by grouping).
-    pub fn switch(&self, state: &mut State, c: &Candidate, on_time: bool) {
+    /// this increment's scale (not taken early by grouping). Returns the change of λ_t it made
+    /// (a pair the equilibrium correction moved off the cone is put back on it: a force jump
+    /// that the caller rebalances).
+    pub fn switch(&self, state: &mut State, c: &Candidate, on_time: bool) -> f64 {
         let p = c.entity;
+        let before = if c.kind == EventKind::StickToSlip { state.lambda_t[p] } else { 0.0 };
         match c.kind {
             EventKind::Close => {
                 state.status[p] = self.pairs[p].closed_status();
@@ -59,6 +62,7 @@ impl Engine<'_> {
             EventKind::Unload => state.plastic[p] = false,
             EventKind::Frozen | EventKind::FrozenElement => {}
         }
+        if c.kind == EventKind::StickToSlip { (state.lambda_t[p] - before).abs() } else { 0.0 }
     }
 }
 

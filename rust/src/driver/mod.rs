@@ -86,7 +86,8 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         rec.snapshots_inside(&mut eng, &state, &trial, &sel)?;
         eng.advance(&mut state, &trial, &sel); // eqs. 58–62
         let residual = settle(&mut eng, &mut state, &sel, &cycles, &mut rec, &mut correction)?;
-        switch_statuses(&mut eng, &mut state, &sel, &mut cycles, &mut rec); // step 6
+        let jump = switch_statuses(&mut eng, &mut state, &sel, &mut cycles, &mut rec); // step 6
+        let residual = if jump > eng.noise.force { rebalance(&mut eng, &mut state, sel.phi, &mut rec)? } else { residual };
         rec.step(&mut eng, &state, sel.scale, residual)?;
         eng.timings.events += since(t_events);
         if sel.last {
@@ -126,9 +127,25 @@ fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCyc
     Ok(residual)
 }
 
+/// A pair that the drift correction had moved off the Coulomb cone and that now slips was put
+/// back on it: restore equilibrium at fixed load with the new statuses (one more correction
+/// solve), and check it again. Returns the residual.
+fn rebalance(eng: &mut Engine, state: &mut State, phi: f64, rec: &mut Recorder) -> Result<f64> {
+    let correction = eng.trial(state, phi, None)?;
+    state.advance(&correction, 1.0);
+    state.load_fraction = phi;
+    let (residual, internal) = eng.equilibrium_residual(state);
+    rec.internal = internal;
+    rec.max_residual = rec.max_residual.max(residual);
+    eng.check_equilibrium(residual, phi, rec.steps.len())?;
+    Ok(residual)
+}
+
 /// Switch the statuses of the selected events (step 6) under the anti-cycling rule: when the
 /// one-at-a-time rule cycles, the rate problem sets the critical pairs' statuses together.
-fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &mut AntiCycling, rec: &mut Recorder) {
+/// Returns the largest force jump a switch made (see `rebalance`).
+fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &mut AntiCycling, rec: &mut Recorder) -> f64 {
+    let mut jump: f64 = 0.0;
     let zero_length = sel.zero_length();
     if !zero_length {
         cycles.load_advanced();
@@ -140,10 +157,10 @@ fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles:
                 cycles.rate_problem_solved();
                 for c in &changes {
                     cycles.count(c, true);
-                    eng.switch(state, c, true);
+                    jump = jump.max(eng.switch(state, c, true));
                     rec.event(c, c.kind, sel.phi);
                 }
-                return;
+                return jump;
             }
         }
     }
@@ -153,9 +170,10 @@ fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles:
             Admission::Skip => {}
             Admission::Freeze => rec.event(c, if c.kind.is_element_event() { EventKind::FrozenElement } else { EventKind::Frozen }, sel.phi),
             Admission::Apply => {
-                eng.switch(state, c, c.scale <= sel.tie_limit);
+                jump = jump.max(eng.switch(state, c, c.scale <= sel.tie_limit));
                 rec.event(c, c.kind, sel.phi);
             }
         }
     }
+    jump
 }

@@ -16,6 +16,8 @@ use nalgebra::DMatrix;
 const FREE_MOTION: f64 = 1e-9;
 /// T within this (relative) of μN is not gross sliding: the body is at the limit, not beyond.
 const CAPACITY_TIE: f64 = 1e-9;
+/// A tangential load below this × Σ|load| is round-off (of a moment of the other loads, say).
+const LOAD_ROUND_OFF: f64 = 1e-9;
 
 impl Engine<'_> {
     /// Check, per body with free rigid modes, that the closed pairs' rows Cᵀ N (columns m.. of
@@ -38,7 +40,7 @@ impl Engine<'_> {
             let name = self.model.body_name(self.body_first_element[body]);
             if held_if_stuck {
                 let (t, n, mu) = self.tangential_and_normal_load(body, state, &idx, &free[0]);
-                if t > mu * n * (1.0 + CAPACITY_TIE) {
+                if t > mu * n * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.scales.force {
                     return Err(self.gross_sliding(&name, state, (t, n, mu), &words[0], &idx, &free[0], oob));
                 }
                 bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
