@@ -106,6 +106,9 @@ def synthetic_hertz_result(scene, final_fraction: float = 1.0, interrupted: bool
         "n_factorizations": 1,
         "n_solves": n_steps,
         "interrupted": interrupted,
+        "stop": {"kind": "interrupted" if interrupted else "completed", "message": None,
+                 "load_fraction": final_fraction},
+        "stop_reason": None,
         "timings": {"assembly": 0.0, "factorization": 0.0, "solves": 0.0, "events": 0.0},
     }
 

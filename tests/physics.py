@@ -1,39 +1,66 @@
-"""Independent physics checks on result arrays (not the engine's own residuals).
+"""Independent physics checks on result arrays (not the engine's own residuals), and closed-form
+or independently computed references.  Nothing here calls the engine or slipstep.
 
-``equilibrium_residual(model, snapshot)`` recomputes equilibrium of a snapshot from its arrays
-alone: the internal force Σ_e t A_e B_eᵀ σ_e of the constant-strain triangles (B from the
-nodes), minus the applied load at the snapshot's load fraction, minus the contact forces
-λ_n n + λ_t t on node a (and the opposite on node b; t = (−n_y, n_x), docs/engine_api.md),
-over the DOFs that are not supported.  It does not call the engine.
+Equilibrium
+    ``equilibrium_residual(model, snapshot)`` recomputes equilibrium of a snapshot from its
+    arrays alone: the internal force Σ_e t A_e B_eᵀ σ_e of the constant-strain triangles (B from
+    the nodes), minus the applied load at the snapshot's load fraction, minus the contact forces
+    λ_n n + λ_t t on node a (and the opposite on node b; t = (−n_y, n_x), docs/engine_api.md and
+    the module doc of rust/src/contact.rs: gap = gap0 + w_nᵀu, force on the bodies
+    w_n λ_n + w_t λ_t), over the DOFs that are not supported.  ``model["plane"]`` does not enter:
+    in plane strain and in plane stress alike σz does no work on in-plane virtual strains, so the
+    internal force is built from (σx, σy, τxy) = stress columns 0, 1, 3 and the thickness.
+
+Hertz line contact (Johnson, Contact Mechanics, §4.3): a = √(4PR/(πE*)), p0 = 2P/(πa); for an
+    elastic body on a rigid flat E* = E/(1−ν²) in plane strain and E* = E in plane stress.
+
+Spence's stick zone (frictional Hertz line contact, monotonic normal loading): see
+    ``goodman_stick_ratio`` (closed form, Goodman's approximation) and ``spence_stick_ratio``
+    (the exact coupled problem, solved numerically).
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+# Relative equilibrium residual accepted on every snapshot: the engine's documented
+# equilibrium_tol default (docs/engine_api.md), i.e. its contract.  What the recomputation
+# itself adds is round-off of summing element forces of size |σ| h t into nodal sums, ~1e-16 of
+# them relative to the load (far below); a state off equilibrium by an unbalanced force of
+# relative size 1e-9 or more is not a round-off effect.
+EQUILIBRIUM_TOL = 1e-9
 
+
+# --------------------------------------------------------------------------- equilibrium
 def internal_force(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray,
                    thickness: float) -> np.ndarray:
-    """Σ_e t A_e B_eᵀ (σx, σy, τxy)_e over all DOFs (2 per node)."""
+    """Σ_e t A_e B_eᵀ (σx, σy, τxy)_e over all DOFs (2 per node), for triangles of either
+    orientation."""
+    nodes, triangles = np.asarray(nodes, dtype=float), np.asarray(triangles)
+    stress = np.asarray(stress, dtype=float).reshape(-1, 4)
     x, y = nodes[triangles, 0], nodes[triangles, 1]            # (M, 3)
     area2 = (x[:, 1] - x[:, 0]) * (y[:, 2] - y[:, 0]) - (x[:, 2] - x[:, 0]) * (y[:, 1] - y[:, 0])
-    b = np.stack([y[:, 1] - y[:, 2], y[:, 2] - y[:, 0], y[:, 0] - y[:, 1]], axis=1)  # A2 ∂N/∂x
-    c = np.stack([x[:, 2] - x[:, 1], x[:, 0] - x[:, 2], x[:, 1] - x[:, 0]], axis=1)  # A2 ∂N/∂y
+    b = np.stack([y[:, 1] - y[:, 2], y[:, 2] - y[:, 0], y[:, 0] - y[:, 1]], axis=1)  # area2 ∂N/∂x
+    c = np.stack([x[:, 2] - x[:, 1], x[:, 0] - x[:, 2], x[:, 1] - x[:, 0]], axis=1)  # area2 ∂N/∂y
     sx, sy, txy = stress[:, 0:1], stress[:, 1:2], stress[:, 3:4]
-    # t A Bᵀσ with A = area2/2 and B's entries ∂N/∂x = b/area2: t/2 (b σx + c τxy, c σy + b τxy)
-    fx = 0.5 * thickness * (b * sx + c * txy)
-    fy = 0.5 * thickness * (c * sy + b * txy)
-    f = np.zeros(2 * len(nodes))
-    np.add.at(f, 2 * triangles, fx)
-    np.add.at(f, 2 * triangles + 1, fy)
-    return f
+    # t A Bᵀσ with A = |area2|/2 and ∂N/∂x = b/area2: sign(area2) t/2 (b σx + c τxy, c σy + b τxy)
+    half_t = 0.5 * thickness * np.sign(area2)[:, None]
+    fx = half_t * (b * sx + c * txy)
+    fy = half_t * (c * sy + b * txy)
+    n = 2 * len(nodes)
+    return (np.bincount((2 * triangles).ravel(), weights=fx.ravel(), minlength=n)
+            + np.bincount((2 * triangles + 1).ravel(), weights=fy.ravel(), minlength=n))
 
 
 def contact_force(n_nodes: int, pairs: dict, lambda_n: np.ndarray,
                   lambda_t: np.ndarray) -> np.ndarray:
-    """The contact forces on the bodies over all DOFs."""
-    normal = np.asarray(pairs["normal"], dtype=float)
+    """The contact forces on the bodies over all DOFs: λ_n n + λ_t t on node a, the opposite on
+    node b (none for node_b = −1, a rigid target); t = (−n_y, n_x)."""
+    normal = np.asarray(pairs["normal"], dtype=float).reshape(-1, 2)
     tangent = np.stack([-normal[:, 1], normal[:, 0]], axis=1)
+    lambda_n, lambda_t = np.asarray(lambda_n, dtype=float), np.asarray(lambda_t, dtype=float)
     force = lambda_n[:, None] * normal + lambda_t[:, None] * tangent
     f = np.zeros(2 * n_nodes)
     a, b = np.asarray(pairs["node_a"]), np.asarray(pairs["node_b"])
@@ -56,3 +83,162 @@ def equilibrium_residual(model: dict, snapshot: dict) -> float:
     free[np.asarray(model["fixed_dofs"], dtype=np.int64)] = False
     scale = np.linalg.norm(np.asarray(model["load"], dtype=float)[free])
     return float(np.linalg.norm(r[free]) / (scale if scale > 0 else 1.0))
+
+
+def worst_equilibrium(model: dict, snapshots) -> tuple[float, int, float]:
+    """(largest recomputed residual, index of its snapshot, that snapshot's load fraction) over
+    a sequence of snapshots, for assertion messages."""
+    residuals = [equilibrium_residual(model, s) for s in snapshots]
+    k = int(np.argmax(residuals))
+    return residuals[k], k, float(snapshots[k]["load_fraction"])
+
+
+# --------------------------------------------------------------------------- stresses
+def von_mises(stress: np.ndarray) -> np.ndarray:
+    """Von Mises stress of (M, 4) rows σx, σy, σz, τxy, from the deviator: √(3/2 s:s)."""
+    s = np.asarray(stress, dtype=float).reshape(-1, 4)
+    mean = s[:, :3].mean(axis=1, keepdims=True)
+    dev = s[:, :3] - mean
+    return np.sqrt(1.5 * (np.sum(dev ** 2, axis=1) + 2.0 * s[:, 3] ** 2))
+
+
+# --------------------------------------------------------------------------- Hertz
+def hertz_line(P: float, R: float, E: float, nu: float, plane: str = "strain") -> tuple[float, float]:
+    """Contact half-width a and peak pressure p0 of an elastic cylinder (radius R, line load P
+    per unit thickness on the full cylinder) on a rigid flat."""
+    e_star = E / (1.0 - nu ** 2) if plane == "strain" else E
+    a = math.sqrt(4.0 * P * R / (math.pi * e_star))
+    return a, 2.0 * P / (math.pi * a)
+
+
+def dundurs_beta(nu: float, plane: str = "strain") -> float:
+    """Dundurs' β of an elastic body (ν) against a rigid one: (1 − 2ν)/(2(1 − ν)) in plane
+    strain; plane stress is plane strain with ν/(1 + ν), giving (1 − ν)/2."""
+    if plane == "stress":
+        nu = nu / (1.0 + nu)
+    return (1.0 - 2.0 * nu) / (2.0 * (1.0 - nu))
+
+
+# --------------------------------------------------------------------------- Spence
+#
+# The problem (2D, half-plane theory, Johnson's Contact Mechanics ch. 2 and 5): an elastic
+# half-plane (compliance A = 2(1−ν²)/E per unit load, Dundurs' β) indented by a rigid profile,
+# contact |x| < a, pressure p, shear q.  Surface displacements (z into the body):
+#     u_z(x) = −(A/π) ∫ p(s) ln|x − s| ds + (βA/2) ∫ q(s) sgn(x − s) ds
+#     u_x(x) = −(A/π) ∫ q(s) ln|x − s| ds − (βA/2) ∫ p(s) sgn(x − s) ds
+# (the sgn terms: a normal line load pulls surface points towards it, Johnson ch. 2, line
+# loading of a half-space; the sign of the other is fixed by reciprocity).  Under monotonic loading of a Hertz
+# profile the solution is self-similar (Spence 1968, Proc. R. Soc. A 305, 55-80; 1975,
+# J. Elasticity 5, 297-319): the stick zone |x| < c grows with a at a fixed ratio c/a, and the
+# rates ṗ = ∂p/∂a, q̇ = ∂q/∂a at fixed x solve a flat-punch problem (∂/∂a of the profile term
+# x/R vanishes): u̇_z = const on |x| < a, u̇_x = 0 in the stick zone, q̇ = μ ṗ sgn(x) in the slip
+# zones c < |x| < a (friction on the body points outwards: the body's surface moves inwards).
+# c/a is the one for which q̇ stays bounded at ±c; it depends on μ and β only.
+#
+# Goodman's approximation drops β q from u_z (ṗ is then the flat-punch 1/√(a²−x²)); with
+# q̇ = μ sgn(x) ṗ + q*, q* supported on the stick zone, the stick condition is a finite Hilbert
+# transform equation for q* on (−c, c) whose solution is bounded at both ends only if its
+# right-hand side g has ∫ g/√(c²−x²) dx = 0 (a = 1, k = √(1−x²)):
+#     g = −β/k + (μ/(πk)) ln((1−k)/(1+k)),   ∫_0^c dx/(k√(c²−x²)) = K(c),
+#     ∫_0^c ln((1+k)/(1−k)) dx/(k√(c²−x²)) = π K'(c)   (checked numerically to 1e-10),
+# so that
+#     β/μ = K'(c/a) / K(c/a)          (K complete elliptic integral of the 1st kind, modulus c/a).
+# Its limits: c/a → 0 as μ/β → 0, c/a ≈ 4 exp(−πβ/(2μ)); c/a → 1 only as μ/β → ∞,
+# √(1 − (c/a)²) ≈ 4 exp(−πμ/(2β)); self-dual: c(β/μ)² + c(μ/β)² = 1, c = 1/√2 at μ = β.
+# The exact (coupled) problem is a vector Riemann-Hilbert problem without an elementary closed
+# form; ``spence_stick_ratio`` solves it by collocation (piecewise-constant tractions, the
+# kernels above integrated exactly over each panel, the stick zone found by bisection on its
+# number of panels), and with ``coupled=False`` reproduces the closed form (a check of the
+# solver, tests/test_spence.py).
+
+
+def _elliptic_ratio(k: float) -> float:
+    """K'(k)/K(k) for the modulus k in (0, 1), accurate near both ends."""
+    from scipy.special import ellipkm1
+
+    kp2 = (1.0 - k) * (1.0 + k)                  # k'² without cancellation
+    return float(ellipkm1(k * k) / ellipkm1(kp2))  # K(m = 1 − k²) / K(m = k²)
+
+
+def goodman_stick_ratio(beta_over_mu: float) -> float:
+    """c/a from β/μ = K'(c/a)/K(c/a) (Goodman's approximation), by bisection (brentq)."""
+    from scipy.optimize import brentq
+
+    if beta_over_mu <= 0:
+        return 1.0
+    return float(brentq(lambda k: _elliptic_ratio(k) - beta_over_mu, 1e-300, 1.0 - 1e-16,
+                        xtol=1e-15, rtol=1e-14))
+
+
+def _panel_log(x, s1, s2):
+    """−(1/π) ∫_{s1}^{s2} ln|x − s| ds."""
+    def F(t):
+        at = np.abs(t)
+        return np.where(at > 0, t * np.log(np.where(at > 0, at, 1.0)) - t, 0.0)
+    return -(F(x - s1) - F(x - s2)) / math.pi
+
+
+def _panel_sign(x, s1, s2):
+    """(1/2) ∫_{s1}^{s2} sgn(x − s) ds."""
+    return 0.5 * (np.abs(x - s1) - np.abs(x - s2))
+
+
+def spence_stick_ratio(mu: float, beta: float, panels: int = 1000, coupled: bool = True) -> float:
+    """c/a of the self-similar frictional Hertz line contact (the flat-punch rate problem
+    above), by collocation with ``panels`` equal panels on 0 < x < a = 1 (p even, q odd).
+    The stick zone is located to one panel: the result is the panel edge between the last stick
+    and the first slip panel (resolution 1/panels of a)."""
+    e = np.linspace(0.0, 1.0, panels + 1)
+    x = 0.5 * (e[1:] + e[:-1])[:, None]
+    s1, s2 = e[None, :-1], e[None, 1:]
+    length = np.diff(e)
+    log_p = _panel_log(x, s1, s2) + _panel_log(x, -s2, -s1)   # even density on both halves
+    log_q = _panel_log(x, s1, s2) - _panel_log(x, -s2, -s1)   # odd density
+    sgn_p = _panel_sign(x, s1, s2) + _panel_sign(x, -s2, -s1)
+    sgn_q = _panel_sign(x, s1, s2) - _panel_sign(x, -s2, -s1)
+    uz_p, uz_q = log_p, (beta * sgn_q if coupled else 0.0 * sgn_q)
+    ux_p, ux_q = -beta * sgn_p, log_q
+    n = panels
+
+    def solve(k):
+        """Tractions with the first k panels sticking, the others slipping (q = μ p: friction
+        on the body outwards); returns (a stick panel beyond the cone outwards, a slip panel
+        slipping against its friction, every stick panel inside the cone)."""
+        stick = np.arange(n) < k
+        M = np.zeros((2 * n + 1, 2 * n + 1))
+        rhs = np.zeros(2 * n + 1)
+        M[:n, :n], M[:n, n:2 * n], M[:n, 2 * n] = uz_p, uz_q, -1.0   # u_z = rigid approach
+        M[n:2 * n, :n] = np.where(stick[:, None], ux_p, 0.0)         # stick: u_x = 0
+        M[n:2 * n, n:2 * n] = np.where(stick[:, None], ux_q, 0.0)
+        slip = np.flatnonzero(~stick)                                # slip: q = μ p
+        M[n + slip, n + slip] = 1.0
+        M[n + slip, slip] = -mu
+        M[2 * n, :n] = 2.0 * length                                  # total load 1
+        rhs[2 * n] = 1.0
+        sol = np.linalg.solve(M, rhs)
+        p, q = sol[:n], sol[n:2 * n]
+        ux = ux_p @ p + ux_q @ q
+        over = bool(np.any(q[stick] > mu * p[stick]))
+        inside = bool(np.all(np.abs(q[stick]) <= mu * p[stick]))
+        return over, bool(np.any(ux[~stick] > 0)), inside
+
+    # Bisection on the number k of stick panels: too many and q̇ exceeds the cone outwards at
+    # the stick edge (the square-root singularity of an oversized stick zone), too few and q̇
+    # turns inwards there while the slip next to it runs against its friction.
+    lo, hi = 0, n          # invariant: k <= lo is too small (or 0), k >= hi too large (or n)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        over, against, _ = solve(mid)
+        if over and against:
+            raise RuntimeError(f"spence_stick_ratio: no consistent stick zone near {mid}/{n}")
+        if over:
+            hi = mid
+        elif against:
+            lo = mid
+        else:
+            lo = hi = mid
+    k = lo
+    over, against, inside = solve(k)
+    if over or against:
+        raise RuntimeError("spence_stick_ratio: the stick/slip set is not consistent")
+    return float(e[k])

@@ -1,7 +1,8 @@
 """Output: summary numbers, CSV/JSON/XDMF/PNG writers, atomic writing, and the CLI around them.
 
 The engine result is the synthetic frictionless Hertz one of conftest.py (exact layout of
-docs/engine_api.md, values known in closed form), so these tests run without the engine.
+docs/engine_api.md, values known in closed form), so these tests run without the engine --
+except the XDMF read-back, which needs non-zero fields: an elastoplastic engine run.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from conftest import CASES, synthetic_hertz_result
 from slipstep import cli, output
 from slipstep.case import load_case
 from slipstep.model import build_scene
+from slipstep.results import write_results
 
 
 @pytest.fixture(scope="module")
@@ -85,7 +87,7 @@ def test_write_results(hertz, tmp_path):
     import meshio
     scene, result = hertz
     summary = output.summarize(scene, result, 1.0)
-    written = output.write_results(tmp_path, scene, result, summary)
+    written = write_results(tmp_path, scene, result, summary)
     names = sorted(p.name for p in written)
     assert names == ["contact_growth.png", "contact_interface.png", "contact_profile.csv",
                      "events.csv", "results.h5", "results.xdmf", "summary.json"]
@@ -124,6 +126,52 @@ def test_write_results(hertz, tmp_path):
     assert set(cell_data) == {"sigma_x", "sigma_y", "sigma_z", "tau_xy", "von_mises"}
 
 
+def test_xdmf_reads_back_every_step_of_an_elastoplastic_run(tmp_path):
+    """results.xdmf/.h5 read back (meshio's TimeSeriesReader) against the run's snapshots at
+    every time step: mesh, time = load fraction, u, the stress components and the plastic
+    fields are copies (float64 into HDF5 and back: bit-exact); von Mises and the yield drift
+    are derived, recomputed here from the stresses (tests/physics.py) to round-off: 1e-12 of
+    the largest stress (a few operations in double precision)."""
+    import meshio
+    from physics import von_mises
+
+    from slipstep import prepare, solve
+
+    sy, hp = 200.0, 700.0
+    scene = prepare(None, [f"material.Sy={sy}", f"material.H={hp}", "mesh.h_contact=0.15",
+                           "contact.mu=0.3", "output.snapshots=[0.6, 0.7, 0.8, 0.9, 1.0]"])
+    result = solve(scene)
+    snaps = result["snapshots"]
+    assert len(snaps) >= 5 and max(s["plastic_strain"].max() for s in snaps) > 0
+    output.write_xdmf(tmp_path, scene, result)
+    stress_scale = max(np.abs(s["stress"]).max() for s in snaps)
+    with meshio.xdmf.TimeSeriesReader(str(tmp_path / "results.xdmf")) as reader:
+        points, cells = reader.read_points_cells()
+        assert np.array_equal(points[:, :2], scene.nodes)
+        assert len(cells) == 1 and cells[0].type == "triangle"
+        assert np.array_equal(cells[0].data, scene.triangles)
+        assert reader.num_steps == len(snaps)
+        for k, snap in enumerate(snaps):
+            t, point_data, cell_data = reader.read_data(k)
+            assert t == snap["load_fraction"], k
+            u = point_data["u"]
+            assert u.shape == (len(scene.nodes), 3)
+            assert np.array_equal(u[:, :2], snap["u"]) and np.all(u[:, 2] == 0.0), k
+            assert set(cell_data) == {"sigma_x", "sigma_y", "sigma_z", "tau_xy", "von_mises",
+                                      "plastic_strain", "plastic", "yield_drift"}, k
+            stress = np.asarray(snap["stress"])
+            for col, key in enumerate(("sigma_x", "sigma_y", "sigma_z", "tau_xy")):
+                assert np.array_equal(cell_data[key][0], stress[:, col]), (k, key)
+            assert np.array_equal(cell_data["plastic_strain"][0], snap["plastic_strain"]), k
+            assert np.array_equal(cell_data["plastic"][0], np.asarray(snap["plastic"], float)), k
+            vm = von_mises(stress)
+            assert np.abs(cell_data["von_mises"][0] - vm).max() <= 1e-12 * stress_scale, k
+            current = sy + hp * np.asarray(snap["plastic_strain"])
+            plastic = np.asarray(snap["plastic"]) > 0
+            drift = np.where(plastic, np.abs(vm - current) / current, 0.0)
+            assert np.abs(cell_data["yield_drift"][0] - drift).max() <= 1e-12 * stress_scale / sy, k
+
+
 def test_failed_write_leaves_the_previous_results(hertz, tmp_path, monkeypatch):
     scene, result = hertz
     summary = output.summarize(scene, result, 1.0)
@@ -134,7 +182,7 @@ def test_failed_write_leaves_the_previous_results(hertz, tmp_path, monkeypatch):
 
     monkeypatch.setattr(output, "write_xdmf", broken)
     with pytest.raises(RuntimeError, match="disk full"):
-        output.write_results(tmp_path, scene, result, summary, figures=False)
+        write_results(tmp_path, scene, result, summary, figures=False)
     assert (tmp_path / "summary.json").read_text() == '{"old": true}\n'
     assert sorted(p.name for p in tmp_path.iterdir()) == ["summary.json"]
 
@@ -146,7 +194,7 @@ def test_interrupted_run_writes_what_it_has(hertz, tmp_path):
     assert summary["interrupted"] is True and summary["final_load_fraction"] == 0.5
     # Hertz at f = 0.5: a sqrt(0.5)
     assert abs(summary["contact_half_width"] - 1.4384 * math.sqrt(0.5)) <= 0.015
-    output.write_results(tmp_path, scene, partial, summary, xdmf=False, figures=False)
+    write_results(tmp_path, scene, partial, summary, xdmf=False, figures=False)
     data = json.loads((tmp_path / "summary.json").read_text())
     assert data["interrupted"] is True
     assert data["hertz"]["a_hertz_at_final"] == pytest.approx(1.4384 * math.sqrt(0.5), rel=1e-4)
@@ -172,17 +220,25 @@ def test_cli_check_prints_the_size(capsys):
 
 def test_cli_run_with_a_stand_in_engine(hertz, tmp_path, monkeypatch, capsys):
     """The CLI plumbing (not the engine): summary line, files, exit codes 0 and 130."""
+    import types
+
+    from slipstep import runner
+
     scene, result = hertz
-    # the prepared mesh, with the case as loaded by the CLI (so its --set applies)
-    monkeypatch.setattr(cli, "build_scene", lambda case: dataclasses.replace(scene, case=case))
-    monkeypatch.setattr(cli, "solve", lambda s, progress: result)
+    # the prepared mesh, with the case as loaded by the CLI (so its --set applies); the CLI
+    # runs through runner.run_case, which meshes with runner.build_scene and solves with
+    # runner.engine().solve
+    monkeypatch.setattr(runner, "build_scene",
+                        lambda case, meshes=None: dataclasses.replace(scene, case=case))
+    answer = {"result": result}
+    monkeypatch.setattr(runner, "engine", lambda: types.SimpleNamespace(
+        solve=lambda model, progress: answer["result"]))
     assert cli.main(["run", "--out", str(tmp_path / "a"), "--set", "output.xdmf=false"]) == 0
     line = capsys.readouterr().out
     assert line.startswith("hertz_cylinder: ") and line.count("\n") == 1
     assert (tmp_path / "a" / "summary.json").exists()
 
-    partial = synthetic_hertz_result(scene, final_fraction=0.3, interrupted=True)
-    monkeypatch.setattr(cli, "solve", lambda s, progress: partial)
+    answer["result"] = synthetic_hertz_result(scene, final_fraction=0.3, interrupted=True)
     assert cli.main(["run", "--out", str(tmp_path / "b"), "--quiet", "--set",
                      "output.xdmf=false"]) == 130
     captured = capsys.readouterr()

@@ -20,6 +20,7 @@ from slipstep import mesh as M
 from slipstep.case import CaseError, load_case
 from slipstep.figures import zone_boundary, zoom_window
 from slipstep.model import build_scene
+from slipstep.results import write_results
 
 SY, H = 200.0, 700.0
 
@@ -28,7 +29,7 @@ def run_and_write(case, overrides, out):
     scene = prepare(case, overrides)
     result = solve(scene)
     summary = output.summarize(scene, result, wall_time_s=0.0)
-    output.write_results(out, scene, result, summary)
+    write_results(out, scene, result, summary)
     return scene, result, summary
 
 
