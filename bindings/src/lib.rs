@@ -115,46 +115,44 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
 fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
     let mut options = Options::default();
     let Some(o) = d.get_item("options")? else { return Ok(options) };
-    {
-        let o = o.cast::<PyDict>()?;
-        if let Some(v) = o.get_item("tie_tol")? {
-            options.tie_tol = v.extract()?;
-        }
-        if let Some(v) = o.get_item("group_tol")? {
-            options.group_tol = v.extract()?;
-        }
-        if let Some(v) = o.get_item("max_events")? {
-            let n: i64 = v.extract()?;
-            options.max_steps = usize::try_from(n).map_err(|_| input_error(format!("engine model: options.max_events = {n} is not allowed: give 0 (automatic bound) or a positive count")))?;
-        }
-        if let Some(v) = o.get_item("equilibrium_tol")? {
-            options.equilibrium_tol = v.extract()?;
-        }
-        if let Some(v) = o.get_item("drift_control")? {
-            options.drift_control = v.extract()?;
-        }
-        if let Some(v) = o.get_item("max_stress_step")? {
-            options.max_stress_step = v.extract()?;
-        }
-        if let Some(v) = o.get_item("limit_stiffness")? {
-            options.limit_stiffness = v.extract()?;
-        }
-        if let Some(v) = o.get_item("reduced_elastic")? {
-            options.reduced_elastic = v.extract()?;
-        }
-        if let Some(v) = o.get_item("max_zero_length_switches")? {
-            options.max_zero_length_switches = v.extract()?;
-        }
-        if let Some(v) = o.get_item("stop_at_first_yield")? {
-            options.stop_at_first_yield = v.extract()?;
-        }
-        if let Some(v) = o.get_item("output")? {
-            options.snapshots = match v.extract::<String>()?.as_str() {
-                "events" => SnapshotRequest::EveryEvent,
-                "fractions" => SnapshotRequest::Fractions(f64_1d(o, "fractions")?),
-                other => return Err(input_error(format!("engine model: options.output = '{other}': use 'events' or 'fractions'"))),
-            };
-        }
+    let o = o.cast::<PyDict>()?;
+    if let Some(v) = o.get_item("tie_tol")? {
+        options.tie_tol = v.extract()?;
+    }
+    if let Some(v) = o.get_item("group_tol")? {
+        options.group_tol = v.extract()?;
+    }
+    if let Some(v) = o.get_item("max_events")? {
+        let n: i64 = v.extract()?;
+        options.max_steps = usize::try_from(n).map_err(|_| input_error(format!("engine model: options.max_events = {n} is not allowed: give 0 (automatic bound) or a positive count")))?;
+    }
+    if let Some(v) = o.get_item("equilibrium_tol")? {
+        options.equilibrium_tol = v.extract()?;
+    }
+    if let Some(v) = o.get_item("drift_control")? {
+        options.drift_control = v.extract()?;
+    }
+    if let Some(v) = o.get_item("max_stress_step")? {
+        options.max_stress_step = v.extract()?;
+    }
+    if let Some(v) = o.get_item("limit_stiffness")? {
+        options.limit_stiffness = v.extract()?;
+    }
+    if let Some(v) = o.get_item("reduced_elastic")? {
+        options.reduced_elastic = v.extract()?;
+    }
+    if let Some(v) = o.get_item("max_zero_length_switches")? {
+        options.max_zero_length_switches = v.extract()?;
+    }
+    if let Some(v) = o.get_item("stop_at_first_yield")? {
+        options.stop_at_first_yield = v.extract()?;
+    }
+    if let Some(v) = o.get_item("output")? {
+        options.snapshots = match v.extract::<String>()?.as_str() {
+            "events" => SnapshotRequest::EveryEvent,
+            "fractions" => SnapshotRequest::Fractions(f64_1d(o, "fractions")?),
+            other => return Err(input_error(format!("engine model: options.output = '{other}': use 'events' or 'fractions'"))),
+        };
     }
     Ok(options)
 }

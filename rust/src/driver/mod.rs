@@ -119,11 +119,18 @@ fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCyc
     rec.max_drift = rec.max_drift.max(drift);
     rec.drift = drift;
     *correction = eng.control_drift(state, sel, drift, *correction)?;
+    let residual = checked_equilibrium(eng, state, sel.phi, rec)?;
+    eng.check_contact(state, cycles.frozen().0, *correction)?;
+    Ok(residual)
+}
+
+/// The state's equilibrium residual, recorded (with the internal force the next trial reuses)
+/// and checked against `equilibrium_tol`.
+fn checked_equilibrium(eng: &Engine, state: &State, phi: f64, rec: &mut Recorder) -> Result<f64> {
     let (residual, internal) = eng.equilibrium_residual(state);
     rec.internal = internal;
     rec.max_residual = rec.max_residual.max(residual);
-    eng.check_equilibrium(residual, sel.phi, rec.steps.len())?;
-    eng.check_contact(state, cycles.frozen().0, *correction)?;
+    eng.check_equilibrium(residual, phi, rec.steps.len())?;
     Ok(residual)
 }
 
@@ -134,11 +141,7 @@ fn rebalance(eng: &mut Engine, state: &mut State, phi: f64, rec: &mut Recorder) 
     let correction = eng.trial(state, phi, None)?;
     state.advance(&correction, 1.0);
     state.load_fraction = phi;
-    let (residual, internal) = eng.equilibrium_residual(state);
-    rec.internal = internal;
-    rec.max_residual = rec.max_residual.max(residual);
-    eng.check_equilibrium(residual, phi, rec.steps.len())?;
-    Ok(residual)
+    checked_equilibrium(eng, state, phi, rec)
 }
 
 /// Switch the statuses of the selected events (step 6) under the anti-cycling rule: when the

@@ -62,13 +62,19 @@ impl Engine<'_> {
 
     /// Words for a combination `v` of the body's modes `idx`.
     fn describe_motion(&self, idx: &[usize], v: &[f64]) -> String {
+        let w = self.motion_weights(idx, v);
+        describe(w[0], w[1], w[2])
+    }
+
+    /// (translation x, translation y, rotation) of a combination `v` of the body's modes `idx`.
+    fn motion_weights(&self, idx: &[usize], v: &[f64]) -> [f64; 3] {
         let mut w = [0.0; 3];
         for (c, &k) in idx.iter().enumerate() {
             for (wl, ml) in w.iter_mut().zip(self.modes[k].weights) {
                 *wl += v[c] * ml;
             }
         }
-        describe(w[0], w[1], w[2])
+        w
     }
 
     /// Under the full load: the body's load T along the sliding translation, N along the mean
@@ -95,12 +101,8 @@ impl Engine<'_> {
 
     /// The translation part (x, y) of a combination `v` of the body's modes `idx`.
     fn translation_of(&self, idx: &[usize], v: &[f64]) -> [f64; 2] {
-        let mut w = [0.0; 2];
-        for (c, &k) in idx.iter().enumerate() {
-            w[0] += v[c] * self.modes[k].weights[0];
-            w[1] += v[c] * self.modes[k].weights[1];
-        }
-        w
+        let w = self.motion_weights(idx, v);
+        [w[0], w[1]]
     }
 }
 
