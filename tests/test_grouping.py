@@ -22,6 +22,7 @@ import pytest
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 from slipstep import prepare, solve
+from slipstep.errors import InputError
 from slipstep.output import summarize
 
 PLASTIC = ["material.Sy=200", "material.H=700", "contact.mu=0.3", "mesh.h_contact=0.1"]
@@ -113,5 +114,5 @@ def test_grouping_closes_contacts_exactly():
 
 @pytest.mark.parametrize("bad", ["-0.1", "1.0", "nan"])
 def test_group_tol_out_of_range_is_refused(bad):
-    with pytest.raises(Exception, match="group_tol"):
+    with pytest.raises(InputError, match="group_tol"):
         prepare(None, overrides=[f"solver.group_tol={bad}"])
