@@ -108,7 +108,57 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
     }
     let options = read_options(d)?;
     let names = read_names(d)?;
-    Ok(Model { mesh: Mesh { nodes, triangles }, element_material, materials, plane, thickness, fixed_dofs, load, pairs, names, options })
+    let (patterns, stages) = read_path(d)?;
+    Ok(Model { mesh: Mesh { nodes, triangles }, element_material, materials, plane, thickness, fixed_dofs, load, patterns, stages, pairs, names, options })
+}
+
+/// The load path: optional `patterns` (list of dict) and `stages` (list of dict), see
+/// docs/engine_api.md.
+fn read_path(d: &Bound<'_, PyDict>) -> PyResult<(Vec<LoadPattern>, Vec<Stage>)> {
+    let list = |key: &str| -> PyResult<Vec<Bound<'_, PyDict>>> {
+        match d.get_item(key)? {
+            None => Ok(vec![]),
+            Some(v) => v.cast::<PyList>().map_err(|_| input_error(format!("engine model: '{key}' must be a list of dict")))?.iter().map(|x| x.cast_into::<PyDict>().map_err(|_| input_error(format!("engine model: '{key}' must be a list of dict")))).collect(),
+        }
+    };
+    let optional = |p: &Bound<'_, PyDict>, key: &str| -> PyResult<bool> { Ok(p.get_item(key)?.is_some()) };
+    let mut patterns = Vec::new();
+    for p in list("patterns")? {
+        let name: String = get(&p, "name")?.extract()?;
+        let force = if optional(&p, "force")? { f64_1d(&p, "force")? } else { vec![] };
+        let mut displacement = Vec::new();
+        if optional(&p, "displacement_dofs")? {
+            let dofs = i64_1d(&p, "displacement_dofs")?;
+            let values = f64_1d(&p, "displacement_values")?;
+            if dofs.len() != values.len() {
+                return Err(input_error(format!("engine model: pattern '{name}': displacement_dofs and displacement_values differ in length")));
+            }
+            for (dof, v) in dofs.into_iter().zip(values) {
+                displacement.push((to_index(dof, "displacement_dofs")?, v));
+            }
+        }
+        let mut motion = Vec::new();
+        if optional(&p, "motion_contacts")? {
+            let contacts = i64_1d(&p, "motion_contacts")?;
+            let m = f64_2d(&p, "motion", 2)?;
+            if contacts.len() != m.len() {
+                return Err(input_error(format!("engine model: pattern '{name}': motion_contacts and motion differ in length")));
+            }
+            for (c, v) in contacts.into_iter().zip(m) {
+                motion.push((to_index(c, "motion_contacts")?, v));
+            }
+        }
+        patterns.push(LoadPattern { name, force, displacement, motion });
+    }
+    let mut stages = Vec::new();
+    for s in list("stages")? {
+        let name = match s.get_item("name")? {
+            Some(v) if !v.is_none() => v.extract()?,
+            _ => String::new(),
+        };
+        stages.push(Stage { name, factors: f64_1d(&s, "factors")? });
+    }
+    Ok((patterns, stages))
 }
 
 /// The solver options (key "options"; absent keys keep their defaults).
@@ -150,8 +200,9 @@ fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
     if let Some(v) = o.get_item("output")? {
         options.snapshots = match v.extract::<String>()?.as_str() {
             "events" => SnapshotRequest::EveryEvent,
-            "fractions" => SnapshotRequest::Fractions(f64_1d(o, "fractions")?),
-            other => return Err(input_error(format!("engine model: options.output = '{other}': use 'events' or 'fractions'"))),
+            "times" => SnapshotRequest::Times(f64_1d(o, "times")?),
+            "fractions" => SnapshotRequest::Times(f64_1d(o, "fractions")?),
+            other => return Err(input_error(format!("engine model: options.output = '{other}': use 'events' or 'times'"))),
         };
     }
     Ok(options)
@@ -177,11 +228,15 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     let ev = PyDict::new(py);
     ev.set_item("step", r.events.iter().map(|e| e.step as i64).collect::<Vec<_>>().into_pyarray(py))?;
     ev.set_item("load_fraction", r.events.iter().map(|e| e.load_fraction).collect::<Vec<_>>().into_pyarray(py))?;
+    ev.set_item("t", r.events.iter().map(|e| e.time).collect::<Vec<_>>().into_pyarray(py))?;
+    ev.set_item("stage", r.events.iter().map(|e| e.stage as i64).collect::<Vec<_>>().into_pyarray(py))?;
     ev.set_item("kind", r.events.iter().map(|e| e.kind.name()).collect::<Vec<_>>())?;
     ev.set_item("entity", r.events.iter().map(|e| e.entity as i64).collect::<Vec<_>>().into_pyarray(py))?;
     out.set_item("events", ev)?;
     let st = PyDict::new(py);
     st.set_item("load_fraction", r.steps.iter().map(|s| s.load_fraction).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item("t", r.steps.iter().map(|s| s.time).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item("stage", r.steps.iter().map(|s| s.stage as i64).collect::<Vec<_>>().into_pyarray(py))?;
     st.set_item("scale", r.steps.iter().map(|s| s.scale).collect::<Vec<_>>().into_pyarray(py))?;
     st.set_item("residual", r.steps.iter().map(|s| s.residual).collect::<Vec<_>>().into_pyarray(py))?;
     st.set_item("n_closed", r.steps.iter().map(|s| s.n_closed as i64).collect::<Vec<_>>().into_pyarray(py))?;
@@ -195,7 +250,10 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     for s in r.snapshots {
         let d = PyDict::new(py);
         d.set_item("load_fraction", s.load_fraction)?;
+        d.set_item("t", s.time)?;
+        d.set_item("stage", s.stage)?;
         let n = s.u.len() / 2;
+        d.set_item("reaction", Array2::from_shape_vec((n, 2), s.reaction).unwrap().into_pyarray(py))?;
         d.set_item("u", Array2::from_shape_vec((n, 2), s.u).unwrap().into_pyarray(py))?;
         let m = s.stress.len();
         d.set_item("stress", Array2::from_shape_vec((m, 4), s.stress.into_iter().flatten().collect()).unwrap().into_pyarray(py))?;
@@ -219,6 +277,9 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     stop.set_item("kind", r.stop.name())?;
     stop.set_item("message", r.stop.message())?;
     stop.set_item("load_fraction", r.steps.last().map_or(0.0, |s| s.load_fraction))?;
+    stop.set_item("t", r.steps.last().map_or(0.0, |s| s.time))?;
+    out.set_item("n_stages", r.stage_names.len())?;
+    out.set_item("stage_names", r.stage_names.clone())?;
     out.set_item("interrupted", matches!(r.stop, StopReason::Interrupted { .. }))?;
     out.set_item("stop_reason", match r.stop {
         StopReason::LimitLoad { .. } | StopReason::EventBound { .. } => r.stop.message(),
@@ -252,7 +313,7 @@ fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: bool) -> Py
             if progress && last_print.elapsed().as_secs_f64() > 0.5 {
                 last_print = Instant::now();
                 printed = true;
-                eprint!("\r  {} events, {} increments, load fraction {:.4}, {:.1} s   ", p.events, p.steps, p.load_fraction, start.elapsed().as_secs_f64());
+                eprint!("\r  {} events, {} increments, t = {:.4}, {:.1} s   ", p.events, p.steps, p.load_fraction, start.elapsed().as_secs_f64());
                 let _ = std::io::stderr().flush();
             }
             // Ctrl-C: Python's handler raises KeyboardInterrupt when it runs; stop cleanly.

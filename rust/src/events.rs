@@ -32,6 +32,8 @@ pub struct PairState<'a> {
     pub lambda_n: &'a [f64],
     pub lambda_t: &'a [f64],
     pub u: &'a [f64],
+    /// Per pair: the gap and RTD shift of its obstacle's motion (c_n, c_t).
+    pub shift: &'a [[f64; 2]],
     /// Pairs excluded by the anti-cycling rule until the load advances.
     pub frozen: &'a [bool],
 }
@@ -40,6 +42,8 @@ pub struct Trial<'a> {
     pub du: &'a [f64],
     pub dlambda_n: &'a [f64],
     pub dlambda_t: &'a [f64],
+    /// Change of the obstacle shifts (c_n, c_t) over the trial.
+    pub dshift: &'a [[f64; 2]],
 }
 
 /// All candidate events of the trial increment, unsorted.
@@ -56,10 +60,11 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
         let (dln, dlt) = (trial.dlambda_n[p], trial.dlambda_t[p]);
         match state.status[p] {
             Status::Open => {
-                // Contact, eqs. 48–49: the gap closes at S_c = g / (−Δg).
-                let dgap = pair.w_n.dot(trial.du);
+                // Contact, eqs. 48–49: the gap closes at S_c = g / (−Δg) (Δg with the
+                // obstacle's motion).
+                let dgap = pair.w_n.dot(trial.du) + trial.dshift[p][0];
                 if dgap < -noise.displacement {
-                    push(&mut out, pair.gap(state.u).max(0.0) / -dgap, EventKind::Close, 0);
+                    push(&mut out, (pair.gap(state.u) + state.shift[p][0]).max(0.0) / -dgap, EventKind::Close, 0);
                 }
             }
             status => {
@@ -84,7 +89,7 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                     Status::Slip { direction } if pair.mu > 0.0 => {
                         // Slip → stick, eqs. 54–55: the slip rate turns against the friction
                         // force's direction; this happens at zero scale.
-                        let dslip = pair.w_t.dot(trial.du);
+                        let dslip = pair.w_t.dot(trial.du) + trial.dshift[p][1];
                         if (direction as f64) * dslip < -noise.displacement {
                             push(&mut out, 0.0, EventKind::SlipToStick, 0);
                         }
@@ -158,9 +163,9 @@ mod tests {
     fn closing_scale_is_gap_over_closure() {
         let pairs = one_pair(0.0);
         let u = [0.0, -0.02];
-        let st = PairState { pairs: &pairs, status: &[Status::Open], lambda_n: &[0.0], lambda_t: &[0.0], u: &u, frozen: &[false] };
+        let st = PairState { pairs: &pairs, status: &[Status::Open], lambda_n: &[0.0], lambda_t: &[0.0], u: &u, shift: &[[0.0; 2]], frozen: &[false] };
         let du = [0.0, -0.32];
-        let c = candidates(&st, &Trial { du: &du, dlambda_n: &[0.0], dlambda_t: &[0.0] }, Noise { displacement: 1e-14, force: 1e-14 });
+        let c = candidates(&st, &Trial { du: &du, dlambda_n: &[0.0], dlambda_t: &[0.0], dshift: &[[0.0; 2]] }, Noise { displacement: 1e-14, force: 1e-14 });
         assert_eq!(c.len(), 1);
         assert!((c[0].scale - 0.08 / 0.32).abs() < 1e-15);
     }
@@ -169,8 +174,8 @@ mod tests {
     fn stick_slip_scale_hits_the_cone() {
         // λ_n = 10, λ_t = 1, μ = 0.3; Δλ_n = 10, Δλ_t = 5: 1 + 5S = 0.3(10 + 10S) ⇒ S = 1.
         let pairs = one_pair(0.3);
-        let st = PairState { pairs: &pairs, status: &[Status::Stick], lambda_n: &[10.0], lambda_t: &[1.0], u: &[0.0, 0.0], frozen: &[false] };
-        let c = candidates(&st, &Trial { du: &[0.0, 0.0], dlambda_n: &[10.0], dlambda_t: &[5.0] }, Noise { displacement: 1e-14, force: 1e-14 });
+        let st = PairState { pairs: &pairs, status: &[Status::Stick], lambda_n: &[10.0], lambda_t: &[1.0], u: &[0.0, 0.0], shift: &[[0.0; 2]], frozen: &[false] };
+        let c = candidates(&st, &Trial { du: &[0.0, 0.0], dlambda_n: &[10.0], dlambda_t: &[5.0], dshift: &[[0.0; 2]] }, Noise { displacement: 1e-14, force: 1e-14 });
         assert_eq!(c.len(), 1);
         assert_eq!(c[0].kind, EventKind::StickToSlip);
         assert_eq!(c[0].direction, -1);

@@ -30,13 +30,34 @@ pub struct Names {
     pub contacts: Vec<String>,
 }
 
+/// A load pattern at factor 1: forces, prescribed displacements and rigid-obstacle motions
+/// that a stage scales together (issue 13: named loads).
+#[derive(Debug, Clone, Default)]
+pub struct LoadPattern {
+    pub name: String,
+    /// Nodal forces (2 per node), or empty: none.
+    pub force: Vec<f64>,
+    /// Prescribed displacement components (DOF, value); these DOFs are eliminated like supports.
+    pub displacement: Vec<(usize, f64)>,
+    /// Rigid obstacle translations (index into `Names::contacts`, [dx, dy]).
+    pub motion: Vec<(usize, [f64; 2])>,
+}
+
+/// One stage of the load path: the factor every pattern reaches at its end (`load` first, then
+/// `Model::patterns`); factors start at 0 and are linear within a stage.
+#[derive(Debug, Clone)]
+pub struct Stage {
+    pub name: String,
+    pub factors: Vec<f64>,
+}
+
 #[derive(Debug, Clone)]
 pub enum SnapshotRequest {
     /// A snapshot at the start and after every event.
     EveryEvent,
-    /// Snapshots at exactly these load fractions (interpolated on the piecewise-linear path);
-    /// the final state is always added.
-    Fractions(Vec<f64>),
+    /// Snapshots at exactly these path times t (stage k runs over [k − 1, k]; interpolated on
+    /// the piecewise-linear path); the final state is always added.
+    Times(Vec<f64>),
 }
 
 #[derive(Debug, Clone)]
@@ -89,9 +110,14 @@ impl Options {
         if !(self.max_stress_step.is_finite() && self.max_stress_step > 0.0) {
             bail!(Input, "options.max_stress_step = {} is not allowed: give a finite fraction of Sy > 0 (default 0.05)", self.max_stress_step);
         }
-        if let SnapshotRequest::Fractions(f) = &self.snapshots {
-            if let Some(bad) = f.iter().find(|v| !(v.is_finite() && **v > 0.0 && **v <= 1.0)) {
-                bail!(Input, "options.fractions: {bad} is not allowed: snapshot load fractions must lie in (0, 1]");
+        Ok(())
+    }
+
+    /// Snapshot times must lie on the path, in (0, number of stages].
+    fn validate_times(&self, n_stages: usize) -> Result<()> {
+        if let SnapshotRequest::Times(f) = &self.snapshots {
+            if let Some(bad) = f.iter().find(|v| !(v.is_finite() && **v > 0.0 && **v <= n_stages as f64)) {
+                bail!(Input, "options.times: {bad} is not allowed: snapshot times must lie in (0, {n_stages}] (stage k runs over t in [k-1, k])");
             }
         }
         Ok(())
@@ -125,8 +151,12 @@ pub struct Model {
     pub thickness: f64,
     /// DOFs with u = 0 (2·node + component).
     pub fixed_dofs: Vec<usize>,
-    /// Total nodal load at load fraction 1 (length 2·nodes).
+    /// The force of the pattern named `load` at factor 1 (length 2·nodes).
     pub load: Vec<f64>,
+    /// Further load patterns (forces, prescribed displacements, obstacle motions).
+    pub patterns: Vec<LoadPattern>,
+    /// The load path; empty: one stage with every pattern at factor 1.
+    pub stages: Vec<Stage>,
     pub pairs: Vec<PairInput>,
     pub names: Names,
     pub options: Options,
@@ -140,6 +170,7 @@ impl Model {
         self.options.validate()?;
         self.validate_bulk()?;
         self.validate_names()?;
+        self.validate_path()?;
         let length_scale = self.mesh.diameter();
         let (body_of_node, _) = self.mesh.bodies();
         let mut seen = std::collections::HashSet::new();
@@ -179,6 +210,55 @@ impl Model {
             bail!(Input, "fixed DOF {d} is out of range (the mesh has {n_dofs} DOFs)");
         }
         Ok(())
+    }
+
+    /// Patterns (finite, in range, prescribed DOFs not also fixed or repeated, motions on rigid
+    /// contacts only) and stages (one factor per pattern, finite, each stage changes something).
+    fn validate_path(&self) -> Result<()> {
+        let n_dofs = 2 * self.mesh.n_nodes();
+        let mut prescribed = vec![false; n_dofs];
+        self.fixed_dofs.iter().filter(|&&d| d < n_dofs).for_each(|&d| prescribed[d] = true);
+        for pat in &self.patterns {
+            let name = &pat.name;
+            if !pat.force.is_empty() && pat.force.len() != n_dofs {
+                bail!(Input, "load '{name}': the force vector has {} entries for {n_dofs} DOFs", pat.force.len());
+            }
+            if pat.force.iter().any(|v| !v.is_finite()) {
+                bail!(Input, "load '{name}': a force is not finite: check its pressure/traction values");
+            }
+            for &(d, v) in &pat.displacement {
+                if d >= n_dofs || !v.is_finite() {
+                    bail!(Input, "load '{name}': prescribed DOF {d} is out of range or its value {v} is not finite");
+                }
+                if std::mem::replace(&mut prescribed[d], true) {
+                    bail!(Input, "load '{name}': node {} {} is already held by a support or another prescribed displacement: prescribe each component once", d / 2, if d % 2 == 0 { "x" } else { "y" });
+                }
+            }
+            for &(c, m) in &pat.motion {
+                if !m.iter().all(|v| v.is_finite()) {
+                    bail!(Input, "load '{name}': the motion of contact {c} is not finite");
+                }
+                if let Some(k) = self.pairs.iter().position(|p| p.contact == c && p.node_b.is_some()) {
+                    bail!(Input, "load '{name}': motion on {}, a pair of deformable bodies: motion moves a rigid obstacle; prescribe a displacement on one of the bodies instead", self.pair_name(k));
+                }
+            }
+        }
+        let n_factors = 1 + self.patterns.len();
+        let mut previous = vec![0.0; n_factors];
+        for (k, stage) in self.stages.iter().enumerate() {
+            let name = if stage.name.is_empty() { format!("stage {}", k + 1) } else { format!("stage '{}'", stage.name) };
+            if stage.factors.len() != n_factors {
+                bail!(Input, "{name} has {} factors for {n_factors} load patterns (load first)", stage.factors.len());
+            }
+            if stage.factors.iter().any(|v| !v.is_finite()) {
+                bail!(Input, "{name}: a load factor is not finite");
+            }
+            if stage.factors == previous {
+                bail!(Input, "{name} changes no load factor: remove it, or give the factors it should reach");
+            }
+            previous = stage.factors.clone();
+        }
+        self.options.validate_times(self.stages.len().max(1))
     }
 
     fn validate_names(&self) -> Result<()> {
@@ -256,13 +336,18 @@ mod tests {
             Options { group_tol: 1.0, ..Options::default() },
             Options { equilibrium_tol: f64::NAN, ..Options::default() },
             Options { max_stress_step: 0.0, ..Options::default() },
-            Options { snapshots: SnapshotRequest::Fractions(vec![0.5, f64::NAN]), ..Options::default() },
-            Options { snapshots: SnapshotRequest::Fractions(vec![0.0]), ..Options::default() },
-            Options { snapshots: SnapshotRequest::Fractions(vec![1.5]), ..Options::default() },
         ];
         for o in bad {
             let err = o.validate().unwrap_err().message;
             assert!(err.starts_with("options.") && err.contains("is not allowed"), "{err}");
         }
+        // Snapshot times lie on the path (0, n_stages].
+        for (times, n_stages) in [(vec![0.5, f64::NAN], 1), (vec![0.0], 1), (vec![1.5], 1), (vec![2.5], 2)] {
+            let o = Options { snapshots: SnapshotRequest::Times(times), ..Options::default() };
+            let err = o.validate_times(n_stages).unwrap_err().message;
+            assert!(err.starts_with("options.times") && err.contains("is not allowed"), "{err}");
+        }
+        let o = Options { snapshots: SnapshotRequest::Times(vec![0.5, 2.0]), ..Options::default() };
+        assert!(o.validate_times(2).is_ok());
     }
 }

@@ -39,14 +39,19 @@ impl EventKind {
 #[derive(Debug, Clone)]
 pub struct EventRecord {
     pub step: usize,
+    /// The stage (0-based), the fraction of it applied, and path time t = stage + fraction.
+    pub stage: usize,
     pub load_fraction: f64,
+    pub time: f64,
     pub kind: EventKind,
     pub entity: usize,
 }
 
 #[derive(Debug, Clone)]
 pub struct StepRecord {
+    pub stage: usize,
     pub load_fraction: f64,
+    pub time: f64,
     pub scale: f64,
     pub residual: f64,
     pub n_closed: usize,
@@ -60,7 +65,9 @@ pub struct StepRecord {
 
 #[derive(Debug, Clone)]
 pub struct Snapshot {
+    pub stage: usize,
     pub load_fraction: f64,
+    pub time: f64,
     /// Displacement, 2 per node.
     pub u: Vec<f64>,
     /// σx, σy, σz, τxy per element.
@@ -72,6 +79,9 @@ pub struct Snapshot {
     pub status: Vec<i8>,
     pub gap: Vec<f64>,
     pub rtd: Vec<f64>,
+    /// Support reactions, 2 per node: P_σ − P at fixed and prescribed DOFs (the force the
+    /// supports exert on the body), 0 elsewhere.
+    pub reaction: Vec<f64>,
 }
 
 #[derive(Debug, Clone, Default)]
@@ -99,7 +109,8 @@ pub enum StopReason {
     /// `Options::stop_at_first_yield`: stopped at the first yield event.
     FirstYield,
     /// The current stiffness of the remaining load fell below `Options::limit_stiffness` of
-    /// the initial one: a plastic mechanism (collapse).
+    /// the initial one: a plastic mechanism (collapse). The `load_fraction` of the stops is the
+    /// path time t (= the load fraction for a single stage).
     LimitLoad { load_fraction: f64, stiffness_ratio: f64 },
     /// `Options::max_steps` increments were taken; `busiest` names the entities that switched
     /// most often.
@@ -132,6 +143,7 @@ impl StopReason {
 
 #[derive(Debug, Clone)]
 pub struct RunResult {
+    pub stage_names: Vec<String>,
     pub events: Vec<EventRecord>,
     pub steps: Vec<StepRecord>,
     pub snapshots: Vec<Snapshot>,
@@ -152,6 +164,7 @@ pub struct RunResult {
 pub struct Progress {
     pub steps: usize,
     pub events: usize,
+    /// Path time t (the load fraction for a single stage).
     pub load_fraction: f64,
 }
 

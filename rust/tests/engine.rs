@@ -57,6 +57,8 @@ fn model(mesh: Mesh, fixed: Vec<usize>, load: Vec<f64>, pairs: Vec<PairInput>, p
         thickness: 1.0,
         fixed_dofs: fixed,
         load,
+        patterns: vec![],
+        stages: vec![],
         pairs,
         names: Names::default(),
         options: Options::default(),
@@ -291,7 +293,7 @@ fn square_on_rollers(load_right: f64, load_top: f64, plane: Plane, sy: f64, h: f
     let mut m = model(mesh, fixed, load, vec![], plane);
     m.materials[0].yield_stress = sy;
     m.materials[0].hardening = h;
-    m.options.snapshots = SnapshotRequest::Fractions((1..=20).map(|k| k as f64 / 20.0).collect());
+    m.options.snapshots = SnapshotRequest::Times((1..=20).map(|k| k as f64 / 20.0).collect());
     m
 }
 
@@ -414,4 +416,113 @@ fn shear_beyond_the_friction_limit_is_gross_sliding_of_the_named_body() {
     let (fn_, ft): (f64, f64) = (last.lambda_n.iter().sum(), last.lambda_t.iter().sum());
     // λ_t is along t = (−n_y, n_x) = (−1, 0): the pairs push the block by −λ_t in x.
     assert!((fn_ - 2.0).abs() < 1e-9 && (ft - 0.5).abs() < 1e-9, "Σλ_n = {fn_}, Σλ_t = {ft}");
+}
+
+/// A column [0, 1] × [0.01, 2.01] clamped at its top, hanging 0.01 above the rigid flat y = 0,
+/// with a candidate pair at every bottom node; `pull` is the downward force per bottom node.
+fn hanging_column(pull: f64, mu: f64) -> (Model, Vec<usize>) {
+    let mesh = rectangle(0.0, 0.01, 1.0, 2.0, 2, 4);
+    let n = mesh.nodes.len();
+    let fixed: Vec<usize> = nodes_where(&mesh, |p| (p[1] - 2.01).abs() < 1e-12).into_iter().flat_map(|i| [2 * i, 2 * i + 1]).collect();
+    let bottom = nodes_where(&mesh, |p| (p[1] - 0.01).abs() < 1e-12);
+    let mut load = vec![0.0; 2 * n];
+    bottom.iter().for_each(|&i| load[2 * i + 1] = -pull);
+    let pairs = bottom.iter().map(|&i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.01, mu, contact: 0 }).collect();
+    (model(mesh, fixed, load, pairs, Plane::Stress), bottom)
+}
+
+fn stage(factors: &[f64]) -> Stage {
+    Stage { name: String::new(), factors: factors.to_vec() }
+}
+
+#[test]
+fn elastic_load_then_unload_retraces_the_path() {
+    // Frictionless and elastic, the path is reversible: unloading to zero returns u and λ to
+    // zero (to round-off of the solves: 1e-12 of the largest value), and every pair that closed
+    // at load factor f during loading separates at the same factor, i.e. at t = 2 − f.
+    let (mut m, _) = hanging_column(10.0, 0.0);
+    m.stages = vec![stage(&[1.0]), stage(&[0.0])];
+    let res = slipstep_core::run(&m, |_| true).unwrap();
+    assert_eq!(res.stop, StopReason::Completed);
+    let (loaded, last) = (res.snapshots.iter().find(|s| s.time == 1.0).unwrap(), res.snapshots.last().unwrap());
+    assert_eq!(last.time, 2.0);
+    let umax = loaded.u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let lmax = loaded.lambda_n.iter().fold(0.0f64, |a, v| a.max(*v));
+    assert!(umax > 0.0 && lmax > 0.0, "the load must close some pairs");
+    assert!(last.u.iter().all(|v| v.abs() <= 1e-12 * umax), "u does not return to 0");
+    assert!(last.lambda_n.iter().all(|v| v.abs() <= 1e-12 * lmax), "λ_n does not return to 0");
+    let closes: Vec<_> = res.events.iter().filter(|e| e.kind == EventKind::Close).collect();
+    assert!(!closes.is_empty());
+    for c in closes {
+        let sep = res.events.iter().find(|e| e.kind == EventKind::Separate && e.entity == c.entity);
+        let t = sep.map_or(2.0, |e| e.time); // the last to close may separate exactly at t = 2
+        assert!((t - (2.0 - c.time)).abs() < 1e-9, "pair {} closed at {} but separates at {t}", c.entity, c.time);
+    }
+}
+
+#[test]
+fn prescribed_displacement_is_held_by_the_force_that_produces_it() {
+    // Force control gives u at the bottom row; prescribing that u instead must give the same
+    // fields (1e-9 relative: two different solves of one linear system) and reactions equal to
+    // the forces (the supports now supply them; 1e-9 of the force).
+    let (mut free, bottom) = hanging_column(10.0, 0.0);
+    free.pairs.clear();
+    let forced = slipstep_core::run(&free, |_| true).unwrap();
+    let u = &forced.snapshots.last().unwrap().u;
+    let mut held = free.clone();
+    held.load = vec![0.0; u.len()];
+    held.patterns = vec![LoadPattern { name: "pull".into(), displacement: bottom.iter().flat_map(|&i| [(2 * i, u[2 * i]), (2 * i + 1, u[2 * i + 1])]).collect(), ..Default::default() }];
+    held.options.reduced_elastic = false;
+    for reduced in [false, true] {
+        held.options.reduced_elastic = reduced;
+        let res = slipstep_core::run(&held, |_| true).unwrap();
+        let snap = res.snapshots.last().unwrap();
+        let umax = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        assert!(snap.u.iter().zip(u).all(|(a, b)| (a - b).abs() <= 1e-9 * umax), "reduced = {reduced}: fields differ");
+        for &i in &bottom {
+            assert!((snap.reaction[2 * i + 1] - (-10.0)).abs() < 1e-9 * 10.0, "reaction {} at node {i}", snap.reaction[2 * i + 1]);
+            assert!(snap.reaction[2 * i].abs() < 1e-9 * 10.0);
+        }
+    }
+}
+
+#[test]
+fn a_moving_obstacle_equals_the_body_moved_against_it() {
+    // Flat moving up by 0.03 into the column clamped at its top, or the column's top moved down
+    // by 0.03 onto the fixed flat: the same contact problem seen from two frames, so the same
+    // contact forces, events and stresses; displacements differ by the rigid translation.
+    let (mut a, _) = hanging_column(0.0, 0.3);
+    a.patterns = vec![LoadPattern { name: "lift".into(), motion: vec![(0, [0.0, 0.03])], ..Default::default() }];
+    let top: Vec<usize> = a.fixed_dofs.clone();
+    let mut b = a.clone();
+    b.fixed_dofs = top.iter().copied().filter(|d| d % 2 == 0).collect();
+    b.patterns = vec![LoadPattern { name: "press".into(), displacement: top.iter().copied().filter(|d| d % 2 == 1).map(|d| (d, -0.03)).collect(), ..Default::default() }];
+    let (ra, rb) = (slipstep_core::run(&a, |_| true).unwrap(), slipstep_core::run(&b, |_| true).unwrap());
+    let kinds = |r: &RunResult| r.events.iter().map(|e| (e.kind, e.entity)).collect::<Vec<_>>();
+    assert_eq!(kinds(&ra), kinds(&rb));
+    let (sa, sb) = (ra.snapshots.last().unwrap(), rb.snapshots.last().unwrap());
+    let lmax = sa.lambda_n.iter().fold(0.0f64, |m, v| m.max(*v));
+    assert!(lmax > 0.0, "the flat must reach the column");
+    for k in 0..sa.lambda_n.len() {
+        assert!((sa.lambda_n[k] - sb.lambda_n[k]).abs() < 1e-9 * lmax && (sa.lambda_t[k] - sb.lambda_t[k]).abs() < 1e-9 * lmax);
+        assert!((sa.gap[k] - sb.gap[k]).abs() < 1e-12);
+    }
+    for i in 0..sa.u.len() / 2 {
+        assert!((sa.u[2 * i] - sb.u[2 * i]).abs() < 1e-12 && (sa.u[2 * i + 1] - (sb.u[2 * i + 1] + 0.03)).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn path_input_errors_name_the_load_or_stage() {
+    let (mut m, bottom) = hanging_column(10.0, 0.0);
+    m.stages = vec![stage(&[1.0]), stage(&[1.0])];
+    let err = slipstep_core::run(&m, |_| true).unwrap_err();
+    assert!(err.message.starts_with("stage 2 changes no load factor"), "{}", err.message);
+    m.stages = vec![stage(&[1.0, 0.5])];
+    assert!(slipstep_core::run(&m, |_| true).unwrap_err().message.contains("has 2 factors for 1 load patterns"));
+    m.stages.clear();
+    m.patterns = vec![LoadPattern { name: "push".into(), displacement: vec![(m.fixed_dofs[0], 0.1)], ..Default::default() }];
+    let err = slipstep_core::run(&m, |_| true).unwrap_err();
+    assert!(err.message.starts_with("load 'push'") && err.message.contains("already held"), "{}", err.message);
+    let _ = bottom;
 }

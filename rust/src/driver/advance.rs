@@ -40,7 +40,7 @@ impl Engine<'_> {
         match c.kind {
             EventKind::Close => {
                 state.status[p] = self.pairs[p].closed_status();
-                state.rtd_stick[p] = self.pairs[p].rtd(&state.u);
+                state.rtd_stick[p] = self.rtd(state, p);
             }
             EventKind::Separate => {
                 state.status[p] = Status::Open;
@@ -56,7 +56,7 @@ impl Engine<'_> {
             }
             EventKind::SlipToStick => {
                 state.status[p] = Status::Stick;
-                state.rtd_stick[p] = self.pairs[p].rtd(&state.u);
+                state.rtd_stick[p] = self.rtd(state, p);
             }
             EventKind::Yield => state.plastic[p] = true,
             EventKind::Unload => state.plastic[p] = false,

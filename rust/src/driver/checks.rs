@@ -20,7 +20,7 @@ const CORRECTION_GAP_ALLOWANCE: f64 = 2.0;
 const CORRECTION_FORCE_ALLOWANCE: f64 = 4.0;
 
 impl Engine<'_> {
-    /// |φP − P_σ + Wλ| / |P| over all DOFs, from the stresses of a full state, and the internal
+    /// |P(s) − P_σ + Wλ| / |P| over all DOFs, from the stresses of a full state, and the internal
     /// force P_σ it used (reused by the next trial from the same stresses).
     pub fn full_residual(&self, state: &State) -> (f64, Vec<f64>) {
         let internal = self.internal_force(&state.stress);
@@ -31,6 +31,7 @@ impl Engine<'_> {
     /// The relative equilibrium residual of the loop's state. In the reduced space u =
     /// K#(φP + Wλ) + Nα is in equilibrium exactly when φP + Wλ is orthogonal to the free rigid
     /// modes (K K# y = y for y ⊥ N): only that part is measured here; snapshots check in full.
+    /// (With stages, P(s) is the stage's load and K#P the sum of the stages' K# loads.)
     pub fn equilibrium_residual(&self, state: &State) -> (f64, Option<Vec<f64>>) {
         if let Space::Full(_) = self.space {
             let (r, internal) = self.full_residual(state);
@@ -39,10 +40,10 @@ impl Engine<'_> {
         let r2: f64 = self
             .mode_vectors
             .iter()
-            .zip(&self.mode_load)
-            .map(|(mode, load)| {
+            .enumerate()
+            .map(|(k, mode)| {
                 let contact: f64 = self.pairs.iter().enumerate().map(|(p, pair)| state.lambda_n[p] * pair.w_n.dot(mode) + state.lambda_t[p] * pair.w_t.dot(mode)).sum();
-                (state.load_fraction * load + contact).powi(2)
+                (self.mode_force_at(k, state.load_fraction) + contact).powi(2)
             })
             .sum();
         (r2.sqrt() / self.scales.load_norm, None)
@@ -65,7 +66,7 @@ impl Engine<'_> {
         let force_tol = FORCE_ROUND_OFF * self.scales.force + CORRECTION_FORCE_ALLOWANCE * correction.force;
         let phi = state.load_fraction;
         for (p, pair) in self.pairs.iter().enumerate() {
-            let g = pair.gap(&state.u);
+            let g = self.gap(state, p);
             let (ln, lt) = (state.lambda_n[p], state.lambda_t[p]);
             let closed = state.status[p].is_closed();
             let violation = if g < -gap_tol {
@@ -94,7 +95,8 @@ impl Engine<'_> {
 
 /// The limit-load stop: with a plastic mechanism the tangent turns (nearly) singular and the
 /// trial displacement explodes while the factorization still succeeds. The current stiffness
-/// |R|²/(R·Δu) of the remaining load R is compared with the first increment's.
+/// |R|²/(R·Δu) of the stage's remaining force R is compared with the stage's first increment's
+/// (a new stage, e.g. unloading, starts a new reference).
 #[derive(Default)]
 pub(super) struct LimitLoad {
     initial_stiffness: Option<f64>,
@@ -105,7 +107,7 @@ impl LimitLoad {
         if eng.is_reduced() {
             return None;
         }
-        let remaining: Vec<f64> = eng.model.load.iter().enumerate().map(|(d, v)| if eng.fixed[d] { 0.0 } else { v * (1.0 - state.load_fraction) }).collect();
+        let remaining: Vec<f64> = eng.stage.force_change().iter().enumerate().map(|(d, v)| if eng.fixed[d] { 0.0 } else { v * (1.0 - state.load_fraction) }).collect();
         let r2: f64 = remaining.iter().map(|v| v * v).sum();
         let work: f64 = remaining.iter().zip(&trial.du).map(|(a, b)| a * b).sum();
         if r2 <= 0.0 {
@@ -116,6 +118,6 @@ impl LimitLoad {
         let stiffness = if work > 0.0 { r2 / work } else { 0.0 };
         let first = *self.initial_stiffness.get_or_insert(stiffness);
         let ratio = stiffness / first;
-        (stiffness < eng.model.options.limit_stiffness * first).then_some(StopReason::LimitLoad { load_fraction: state.load_fraction, stiffness_ratio: ratio })
+        (stiffness < eng.model.options.limit_stiffness * first).then_some(StopReason::LimitLoad { load_fraction: state.time(), stiffness_ratio: ratio })
     }
 }

@@ -2,6 +2,7 @@
 //! (eqs. 45–46), free rigid-body modes, the SPD factor of K with the contact DOFs last, and the
 //! contact flexibility read from it.
 
+use super::path::{LoadPath, StageLoad};
 use super::space::{Full, Reduced, Space};
 use crate::bail;
 use crate::contact::{Pair, HELD_BY_SUPPORTS};
@@ -45,8 +46,14 @@ pub(super) struct Engine<'m> {
     pub body_first_element: Vec<usize>,
     /// The rigid modes over the DOFs the loop carries.
     pub mode_vectors: Vec<Vec<f64>>,
-    /// Nᵀ P per mode (the rigid-body rows without a full vector per event).
-    pub mode_load: Vec<f64>,
+    /// Nᵀ P_start and Nᵀ ΔP of the current stage per mode (the rigid-body rows without a full
+    /// vector per event).
+    pub mode_force: Vec<[f64; 2]>,
+    /// The load path and the current stage's loads.
+    pub path: LoadPath,
+    pub stage: StageLoad,
+    /// Elements with a prescribed DOF (their K_fp Δū loads the free DOFs).
+    pub prescribed_elements: Vec<usize>,
     pub map: DofMap,
     pub pattern: StiffnessPattern,
     pub fixed: Vec<bool>,
@@ -71,8 +78,9 @@ impl<'m> Engine<'m> {
     pub fn new(model: &'m Model) -> Result<Self> {
         let mesh = &model.mesh;
         let n_dofs = 2 * mesh.n_nodes();
+        let path = LoadPath::new(model);
         let mut fixed = vec![false; n_dofs];
-        model.fixed_dofs.iter().for_each(|&d| fixed[d] = true);
+        model.fixed_dofs.iter().chain(&path.prescribed_dofs()).for_each(|&d| fixed[d] = true);
         let pairs = contact_pairs(model, &fixed)?;
         let (body_of_node, n_bodies) = mesh.bodies();
         let (modes, pinned) = free_modes(&mesh.nodes, &body_of_node, n_bodies, &fixed);
@@ -82,8 +90,8 @@ impl<'m> Engine<'m> {
         let pattern = StiffnessPattern::new(&elements, &map)?;
         let material: Vec<Material> = model.element_material.iter().map(|&m| model.materials[m]).collect();
         let tangents = material.iter().map(|m| m.tangent(&Vector4::zeros(), false)).collect();
-        let free_load: Vec<f64> = model.load.iter().enumerate().map(|(d, v)| if fixed[d] { 0.0 } else { *v }).collect();
-        let mode_load = modes.iter().map(|m| m.vector.iter().zip(&free_load).map(|(a, b)| a * b).sum()).collect();
+        let prescribed_elements = elements_touching(&elements, &path.prescribed_dofs());
+        let n_pairs = pairs.len();
         let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();
         let elastic = !model.materials.iter().any(|m| m.is_plastic());
         let (space, pairs, contact_slot, mode_vectors) = if model.options.reduced_elastic && elastic {
@@ -92,9 +100,7 @@ impl<'m> Engine<'m> {
         } else {
             (Space::Full(Full::default()), pairs, contact_slot, full_modes)
         };
-        let load_norm = free_load.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let force = model.load.iter().map(|v| v.abs()).sum::<f64>().max(f64::MIN_POSITIVE);
-        Ok(Engine {
+        let mut eng = Engine {
             model,
             elements,
             material,
@@ -105,7 +111,10 @@ impl<'m> Engine<'m> {
             body_first_element: first_elements(model, &body_of_node, n_bodies),
             body_of_node,
             mode_vectors,
-            mode_load,
+            mode_force: vec![],
+            stage: path.stage(0, n_dofs, n_pairs),
+            path,
+            prescribed_elements,
             map,
             pattern,
             fixed,
@@ -114,10 +123,16 @@ impl<'m> Engine<'m> {
             contact_slot,
             space,
             max_snapshot_residual: 0.0,
-            scales: Scales { load_norm: if load_norm > 0.0 { load_norm } else { 1.0 }, force, length: mesh.diameter() },
-            noise: Noise { displacement: 0.0, force: FORCE_NOISE * force },
+            scales: Scales { load_norm: 1.0, force: 1.0, length: mesh.diameter() },
+            noise: Noise { displacement: 0.0, force: 0.0 },
             timings: Timings::default(),
-        })
+        };
+        let (load_norm, force) = eng.path_force_scales();
+        let force = force.max(f64::MIN_POSITIVE);
+        eng.scales.load_norm = if load_norm > 0.0 { load_norm } else { 1.0 };
+        eng.scales.force = force;
+        eng.noise.force = FORCE_NOISE * force;
+        Ok(eng)
     }
 
     pub fn is_reduced(&self) -> bool {
@@ -178,6 +193,15 @@ fn contact_slots(pairs: &[Pair], fixed: &[bool], pinned: &[usize]) -> (Vec<usize
         }
     }
     (slot, slot_dofs)
+}
+
+/// The elements with a DOF in `dofs`.
+fn elements_touching(elements: &[Cst], dofs: &[usize]) -> Vec<usize> {
+    if dofs.is_empty() {
+        return vec![];
+    }
+    let set: std::collections::HashSet<usize> = dofs.iter().copied().collect();
+    (0..elements.len()).filter(|&e| elements[e].dofs().iter().any(|d| set.contains(d))).collect()
 }
 
 /// The first element of every body (connected component).

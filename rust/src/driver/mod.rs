@@ -3,13 +3,15 @@
 //! From the current state one *trial* increment is solved for the whole remaining load in
 //! residual form (eq. 44), each candidate event gets its scale factor (eqs. 48–56), the state
 //! advances by the smallest (eqs. 57–62), the statuses of the events there switch, and the loop
-//! repeats until the whole load is applied (S = 1). [`run`] reads as that list; each phase is a
-//! module:
+//! repeats until the whole load is applied (S = 1). A load path of several stages (unloading,
+//! displacement control, moving obstacles; module [`path`]) runs that loop once per stage from
+//! the state the previous one left. [`run`] reads as that list; each phase is a module:
 //!
 //! | phase | module | paper |
 //! |---|---|---|
 //! | the assembled problem, K and its factor, flexibility | [`engine`], [`stiffness`], [`space`] | eqs. 36, 45–46 |
 //! | state and trial increment records | [`state`] | eqs. 59–62 |
+//! | the load path: patterns, stages, prescribed displacements, obstacle motion | [`path`] | |
 //! | trial for the remaining load (small contact system) | [`trial`] | eqs. 43–44 |
 //! | free bodies and gross sliding | [`restraint`] | |
 //! | scale factors, S_min, ties, zero-length order, grouping | [`selection`] | eqs. 48–57 |
@@ -35,6 +37,7 @@ mod advance;
 mod anticycling;
 mod checks;
 mod engine;
+mod path;
 mod plasticity;
 mod rate_problem;
 mod recording;
@@ -59,8 +62,9 @@ use std::time::Instant;
 /// Zero-gap pairs start closed: a gap within this × the length scale counts as zero.
 const INITIAL_CONTACT: f64 = 1e-12;
 
-/// Run the procedure on a model; `progress` is called after every increment and stops the run
-/// (keeping the results so far) when it returns false.
+/// Run the procedure on a model, stage by stage along its load path (`path`); `progress` is
+/// called after every increment and stops the run (keeping the results so far) when it returns
+/// false.
 pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<RunResult> {
     model.validate()?;
     let started = Instant::now();
@@ -68,39 +72,57 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     eng.timings.assembly = since(started);
     eng.factor()?;
     let mut state = State::initial(&eng.pairs, eng.loop_dofs(), eng.loop_elements(), eng.modes.len(), INITIAL_CONTACT * eng.scales.length);
+    eng.begin_stage(0, &mut state);
     let mut rec = Recorder::new(&mut eng, &state)?;
     let mut cycles = AntiCycling::new(eng.pairs.len(), eng.loop_elements(), model.options.max_zero_length_switches);
+    let mut stop = StopReason::Completed;
+    for k in 0..eng.path.n_stages() {
+        if k > 0 {
+            eng.begin_stage(k, &mut state); // the next stage's remaining load, from this state
+            rec.stage = k;
+            cycles.load_advanced();
+        }
+        stop = run_stage(&mut eng, &mut state, &mut rec, &mut cycles, &mut progress)?;
+        if stop != StopReason::Completed {
+            break;
+        }
+    }
+    rec.finish(eng, &state, stop, cycles.rate_problems)
+}
+
+/// The procedure of §4 over one stage, s from 0 to 1: returns `Completed` at S = 1, or why it
+/// stopped before.
+fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &mut AntiCycling, progress: &mut impl FnMut(Progress) -> bool) -> Result<StopReason> {
     let mut limit = LimitLoad::default();
     let mut correction = Correction::default();
-    let stop = loop {
-        if let Some(stop) = rec.event_bound(&eng, &state, &cycles) {
-            break stop;
+    loop {
+        if let Some(stop) = rec.event_bound(eng, state, cycles) {
+            return Ok(stop);
         }
-        eng.update_tangents(&state)?; // D or D_ep at the increment's start (eq. 11)
-        let trial = timed_trial(&mut eng, &state, rec.internal.take())?; // the remaining load (eq. 44)
-        if let Some(stop) = limit.check(&eng, &state, &trial) {
-            break stop;
+        eng.update_tangents(state)?; // D or D_ep at the increment's start (eq. 11)
+        let trial = timed_trial(eng, state, rec.internal.take())?; // the remaining load (eq. 44)
+        if let Some(stop) = limit.check(eng, state, &trial) {
+            return Ok(stop);
         }
         let t_events = Instant::now();
-        let sel = eng.select(&state, &trial, &cycles); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
-        rec.snapshots_inside(&mut eng, &state, &trial, &sel)?;
-        eng.advance(&mut state, &trial, &sel); // eqs. 58–62
-        let residual = settle(&mut eng, &mut state, &sel, &cycles, &mut rec, &mut correction)?;
-        let jump = switch_statuses(&mut eng, &mut state, &sel, &mut cycles, &mut rec); // step 6
-        let residual = if jump > eng.noise.force { rebalance(&mut eng, &mut state, sel.phi, &mut rec)? } else { residual };
-        rec.step(&mut eng, &state, sel.scale, residual)?;
+        let sel = eng.select(state, &trial, cycles); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
+        rec.snapshots_inside(eng, state, &trial, &sel)?;
+        eng.advance(state, &trial, &sel); // eqs. 58–62
+        let residual = settle(eng, state, &sel, cycles, rec, &mut correction)?;
+        let jump = switch_statuses(eng, state, &sel, cycles, rec); // step 6
+        let residual = if jump > eng.noise.force { rebalance(eng, state, sel.phi, rec)? } else { residual };
+        rec.step(eng, state, sel.scale, residual)?;
         eng.timings.events += since(t_events);
         if sel.last {
-            break StopReason::Completed; // S = 1 (step 8)
+            return Ok(StopReason::Completed); // S = 1 (step 8)
         }
-        if model.options.stop_at_first_yield && sel.group.iter().any(|c| c.kind == EventKind::Yield) {
-            break StopReason::FirstYield;
+        if eng.model.options.stop_at_first_yield && sel.group.iter().any(|c| c.kind == EventKind::Yield) {
+            return Ok(StopReason::FirstYield);
         }
-        if !progress(Progress { steps: rec.steps.len(), events: rec.events.len(), load_fraction: sel.phi }) {
-            break StopReason::Interrupted { load_fraction: sel.phi };
+        if !progress(Progress { steps: rec.steps.len(), events: rec.events.len(), load_fraction: state.time() }) {
+            return Ok(StopReason::Interrupted { load_fraction: state.time() });
         }
-    };
-    rec.finish(eng, &state, stop, cycles.rate_problems)
+    }
 }
 
 /// The trial for the remaining load (eq. 44), its small dense system timed as event work.

@@ -131,11 +131,11 @@ impl Engine<'_> {
         for (i, (&p, &role)) in q.iter().zip(&roles).enumerate() {
             let g = kin_n[i]
                 .clone()
-                .scaled_add(1.0, &Affine::constant(self.pairs[p].gap(&state.u)));
+                .scaled_add(1.0, &Affine::constant(self.gap(state, p) + oob.dshift[p][0]));
             let h_t = if state.status[p] == Status::Stick {
-                state.rtd_stick[p] - self.pairs[p].rtd(&state.u)
+                state.rtd_stick[p] - self.rtd(state, p) - oob.dshift[p][1]
             } else {
-                0.0
+                -oob.dshift[p][1]
             };
             let v = kin_t[i].clone().scaled_add(-1.0, &Affine::constant(h_t));
             self.pair_rows(&mut prob, p, role, &forces[i], g, v);
@@ -165,7 +165,7 @@ impl Engine<'_> {
         let touching = q
             .iter()
             .zip(&kin_n)
-            .map(|(&p, g)| self.pairs[p].gap(&state.u) + g.eval(&y) <= CRITICAL_GAP * scale)
+            .map(|(&p, g)| self.gap(state, p) + oob.dshift[p][0] + g.eval(&y) <= CRITICAL_GAP * scale)
             .collect();
         Some(self.statuses(
             state,
@@ -184,7 +184,7 @@ impl Engine<'_> {
     fn in_rate_problem(&self, state: &State, p: usize) -> bool {
         let umax = self.largest_displacement(&state.u, state.load_fraction);
         state.status[p].is_closed()
-            || self.pairs[p].gap(&state.u)
+            || self.gap(state, p)
                 <= CRITICAL_GAP * umax + GAP_ROUND_OFF * self.scales.length
     }
 

@@ -1,6 +1,6 @@
 //! What the run keeps: the event history, one record per increment, field snapshots (after
-//! every event, or at requested load fractions on the piecewise-linear path), and per pair the
-//! load fraction at which it closed.
+//! every event, or at requested path times on the piecewise-linear path), and per pair the
+//! path time at which it closed. Path time t = stage + the fraction s of it (`path`).
 
 use super::anticycling::AntiCycling;
 use super::engine::Engine;
@@ -12,9 +12,9 @@ use crate::error::Result;
 use crate::events::Candidate;
 use crate::model::{EventKind, EventRecord, RunResult, Snapshot, SnapshotRequest, StepRecord, StopReason};
 
-/// A requested snapshot fraction this close past the increment's end still falls inside it.
+/// A requested snapshot time this close past the increment's end still falls inside it.
 const FRACTION_SLACK: f64 = 1e-15;
-/// The final state is added unless the last snapshot is this close to it.
+/// The final state is added unless the last snapshot is this close to it (in path time).
 const SAME_FRACTION: f64 = 1e-14;
 /// How many of the most switching entities the event-bound message names.
 const BUSIEST_NAMED: usize = 5;
@@ -23,8 +23,10 @@ pub(super) struct Recorder {
     pub events: Vec<EventRecord>,
     pub steps: Vec<StepRecord>,
     pub snapshots: Vec<Snapshot>,
-    /// Requested snapshot fractions not reached yet (ascending).
+    /// Requested snapshot times not reached yet (ascending).
     pending: Vec<f64>,
+    /// The current stage (0-based).
+    pub stage: usize,
     every_event: bool,
     pub closure_fraction: Vec<f64>,
     pub predicted_closure: Vec<f64>,
@@ -47,6 +49,7 @@ impl Recorder {
             steps: vec![],
             snapshots: vec![],
             pending: vec![],
+            stage: 0,
             every_event: matches!(opts.snapshots, SnapshotRequest::EveryEvent),
             closure_fraction: state.status.iter().map(|s| if s.is_closed() { 0.0 } else { f64::NAN }).collect(),
             predicted_closure: vec![f64::INFINITY; n_pairs],
@@ -58,7 +61,7 @@ impl Recorder {
         };
         match &opts.snapshots {
             SnapshotRequest::EveryEvent => rec.snapshots.push(eng.snapshot(state)?),
-            SnapshotRequest::Fractions(f) => {
+            SnapshotRequest::Times(f) => {
                 rec.pending = f.clone();
                 rec.pending.sort_by(|a, b| a.total_cmp(b));
             }
@@ -77,13 +80,15 @@ impl Recorder {
         worst.sort_by_key(|&k| std::cmp::Reverse(count[k]));
         let name = |k: usize| if k < n_pairs { format!("{}, {} switches", eng.model.pair_name(k), count[k]) } else { format!("element {} ({} switches)", k - n_pairs, count[k]) };
         let busiest: Vec<String> = worst.iter().take(BUSIEST_NAMED).filter(|&&k| count[k] > 0).map(|&k| name(k)).collect();
-        Some(StopReason::EventBound { load_fraction: state.load_fraction, max_steps: self.max_steps, busiest: busiest.join("; ") })
+        Some(StopReason::EventBound { load_fraction: state.time(), max_steps: self.max_steps, busiest: busiest.join("; ") })
     }
 
     /// Snapshots requested inside this increment (the path is linear in between).
     pub fn snapshots_inside(&mut self, eng: &mut Engine, state: &State, trial: &TrialIncrement, sel: &Selection) -> Result<()> {
         let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
-        while let Some(&f) = self.pending.first() {
+        let stage = state.stage as f64;
+        while let Some(&t) = self.pending.first() {
+            let f = t - stage;
             if f > sel.phi + FRACTION_SLACK {
                 break;
             }
@@ -95,23 +100,24 @@ impl Recorder {
             self.pending.remove(0);
         }
         for &(p, phi) in &sel.predicted_closures {
-            self.predicted_closure[p] = phi;
+            self.predicted_closure[p] = stage + phi;
         }
         Ok(())
     }
 
     pub fn event(&mut self, c: &Candidate, kind: EventKind, phi: f64) {
+        let time = self.stage as f64 + phi;
         if kind == EventKind::Close {
-            self.closure_fraction[c.entity] = phi;
+            self.closure_fraction[c.entity] = time;
         }
-        self.events.push(EventRecord { step: self.steps.len(), load_fraction: phi, kind, entity: c.entity });
+        self.events.push(EventRecord { step: self.steps.len(), stage: self.stage, load_fraction: phi, time, kind, entity: c.entity });
     }
 
     /// One record per increment, and its snapshot when every event is requested.
     pub fn step(&mut self, eng: &mut Engine, state: &State, scale: f64, residual: f64) -> Result<()> {
         let drift = self.drift;
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
-        self.steps.push(StepRecord { load_fraction: state.load_fraction, scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift });
+        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift });
         if self.every_event {
             self.snapshots.push(eng.snapshot(state)?);
         }
@@ -123,11 +129,12 @@ impl Recorder {
     pub fn finish(mut self, mut eng: Engine, state: &State, stop: StopReason, rate_problems: usize) -> Result<RunResult> {
         let early = !matches!(stop, StopReason::Completed | StopReason::FirstYield);
         if early || !self.every_event {
-            if self.snapshots.last().map_or(true, |s| (s.load_fraction - state.load_fraction).abs() > SAME_FRACTION) {
+            if self.snapshots.last().map_or(true, |s| (s.time - state.time()).abs() > SAME_FRACTION) {
                 self.snapshots.push(eng.snapshot(state)?);
             }
         }
         Ok(RunResult {
+            stage_names: eng.path.stage_names.clone(),
             events: self.events,
             steps: self.steps,
             snapshots: self.snapshots,
@@ -145,19 +152,23 @@ impl Recorder {
 }
 
 impl Engine<'_> {
-    /// The full fields of a state; in the reduced space they are rebuilt (one solve) and their
-    /// equilibrium is checked in full.
+    /// The full fields of a state and its support reactions; in the reduced space they are
+    /// rebuilt (one solve) and their equilibrium is checked in full.
     pub fn snapshot(&mut self, state: &State) -> Result<Snapshot> {
         let full;
-        let state = if self.is_reduced() {
-            full = self.reconstruct(state)?;
-            &full
+        let (state, internal) = if self.is_reduced() {
+            let (s, internal) = self.reconstruct(state)?;
+            full = s;
+            (&full, internal)
         } else {
-            state
+            (state, self.internal_force(&state.stress))
         };
+        let reaction = (0..internal.len()).map(|d| if self.fixed[d] { internal[d] - self.stage.force(d, state.load_fraction) } else { 0.0 }).collect();
         let pairs = self.global_pairs();
         Ok(Snapshot {
+            stage: state.stage,
             load_fraction: state.load_fraction,
+            time: state.time(),
             u: state.u.clone(),
             stress: state.stress.iter().map(|s| [s[0], s[1], s[2], s[3]]).collect(),
             plastic_strain: state.plastic_strain.clone(),
@@ -165,13 +176,15 @@ impl Engine<'_> {
             lambda_n: state.lambda_n.clone(),
             lambda_t: state.lambda_t.clone(),
             status: state.status.iter().map(|s| s.code()).collect(),
-            gap: pairs.iter().map(|p| p.gap(&state.u)).collect(),
-            rtd: pairs.iter().map(|p| p.rtd(&state.u)).collect(),
+            gap: pairs.iter().zip(&state.shift).map(|(p, c)| p.gap(&state.u) + c[0]).collect(),
+            rtd: pairs.iter().zip(&state.shift).map(|(p, c)| p.rtd(&state.u) + c[1]).collect(),
+            reaction,
         })
     }
 
-    /// u = φ K#P + K#(W λ) + N α and its stresses, for the reduced space.
-    fn reconstruct(&mut self, state: &State) -> Result<State> {
+    /// u = Σ u_stage (completed) + s u_stage + K#(W λ) + N α, ū at the prescribed DOFs, and
+    /// its stresses, for the reduced space; also the internal force P_σ.
+    fn reconstruct(&mut self, state: &State) -> Result<(State, Vec<f64>)> {
         let mut y = vec![0.0; self.map.role.len()];
         for (p, pair) in self.global_pairs().iter().enumerate() {
             pair.w_n.add_to(state.lambda_n[p], &mut y);
@@ -180,7 +193,9 @@ impl Engine<'_> {
         let mut u = self.apply_ginv(std::slice::from_ref(&y)).pop().unwrap();
         if let Space::Reduced(r) = &self.space {
             u.iter_mut().zip(&r.u_load).for_each(|(a, b)| *a += state.load_fraction * b);
+            u.iter_mut().zip(&r.u_done).for_each(|(a, b)| *a += b);
         }
+        self.stage.prescribed_at(state.load_fraction).for_each(|(d, v)| u[d] = v);
         for (mode, a) in self.modes.iter().zip(&state.alpha) {
             u.iter_mut().zip(&mode.vector).for_each(|(x, v)| *x += a * v);
         }
@@ -189,11 +204,11 @@ impl Engine<'_> {
         full.u = u;
         full.stress = stress;
         full.plastic_strain = vec![0.0; self.elements.len()];
-        let (residual, _) = self.full_residual(&full);
+        let (residual, internal) = self.full_residual(&full);
         self.max_snapshot_residual = self.max_snapshot_residual.max(residual);
         if residual > self.model.options.equilibrium_tol {
             bail!(Equilibrium, "equilibrium residual {residual:.3e} of the reconstructed fields exceeds {:.1e} at load fraction {:.6}: the linear system is ill-conditioned", self.model.options.equilibrium_tol, state.load_fraction);
         }
-        Ok(full)
+        Ok((full, internal))
     }
 }

@@ -77,15 +77,16 @@ impl Engine<'_> {
         w
     }
 
-    /// Under the full load: the body's load T along the sliding translation, N along the mean
+    /// Under the stage's end load: the body's load T along the sliding translation, N along the mean
     /// normal of its closed pairs, and their mean μ.
     fn tangential_and_normal_load(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> (f64, f64, f64) {
         let closed: Vec<usize> = (0..self.pairs.len()).filter(|&p| state.status[p].is_closed() && self.body_of_pair(p) == body).collect();
         let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
         let (normal, mu) = ([mean(&|p| p.normal[0]), mean(&|p| p.normal[1])], mean(&|p| p.mu));
+        let load = self.stage.force_end();
         let load_along = |dir: [f64; 2]| -> f64 {
             let len = dir[0].hypot(dir[1]).max(f64::MIN_POSITIVE);
-            (0..self.body_of_node.len()).filter(|&i| self.body_of_node[i] == body).map(|i| (self.model.load[2 * i] * dir[0] + self.model.load[2 * i + 1] * dir[1]) / len).sum()
+            (0..self.body_of_node.len()).filter(|&i| self.body_of_node[i] == body).map(|i| (load[2 * i] * dir[0] + load[2 * i + 1] * dir[1]) / len).sum()
         };
         (load_along(self.translation_of(idx, v)).abs(), load_along(normal).abs(), mu)
     }
@@ -96,7 +97,7 @@ impl Engine<'_> {
         // −Nᵀ r along the motion is the out-of-balance force nothing holds: the sense of sliding.
         let push: f64 = idx.iter().zip(v).map(|(&k, c)| -c * oob.mode_rhs[k]).sum();
         let sense = if push >= 0.0 { "+" } else { "−" };
-        crate::fail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} ({sense}{words}): its closed pairs all slip; under the full load the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal): lower the tangential load, raise mu, or add a support", state.load_fraction, mu * n)
+        crate::fail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} ({sense}{words}): its closed pairs all slip; under the stage's full load the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal): lower the tangential load, raise mu, or add a support", state.load_fraction, self.path.stage_names[state.stage], mu * n)
     }
 
     /// The translation part (x, y) of a combination `v` of the body's modes `idx`.

@@ -31,10 +31,14 @@ pub(super) struct Reduced {
     pub global_pairs: Vec<Pair>,
     /// Global DOF of each reduced DOF.
     pub dofs: Vec<usize>,
-    /// K#P (the full load) over all DOFs and over the reduced DOFs; max |K#P| for tolerances.
+    /// u_stage = K#(ΔP − K_fp Δū) of the current stage (`path`) over all DOFs and over the
+    /// reduced DOFs; max |u_stage| for tolerances.
     pub u_load: Vec<f64>,
     pub u_load_reduced: Vec<f64>,
     pub u_load_max: f64,
+    /// Σ u_stage of the completed stages (empty in the first) and its max |·|.
+    pub u_done: Vec<f64>,
+    pub u_done_max: f64,
 }
 
 /// The loop's view of the problem in the reduced space: pairs, flexibility slots and rigid
@@ -65,6 +69,6 @@ impl Reduced {
             contact_slot: (0..dofs.len()).map(|r| if r < slot_dofs.len() { r } else { usize::MAX }).collect(),
             mode_vectors: modes.iter().map(|m| dofs.iter().map(|&d| m[d]).collect()).collect(),
         };
-        (Reduced { global_pairs: pairs, dofs, u_load: vec![], u_load_reduced: vec![], u_load_max: 0.0 }, view)
+        (Reduced { global_pairs: pairs, dofs, u_load: vec![], u_load_reduced: vec![], u_load_max: 0.0, u_done: vec![], u_done_max: 0.0 }, view)
     }
 }

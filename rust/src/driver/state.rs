@@ -8,6 +8,9 @@ use nalgebra::Vector4;
 /// element).
 #[derive(Clone)]
 pub(super) struct State {
+    /// The stage (0-based) and the fraction s of it applied (the paper's load fraction for a
+    /// single stage); path time t = stage + s.
+    pub stage: usize,
     pub load_fraction: f64,
     /// Displacement over the DOFs the loop carries (`Space`).
     pub u: Vec<f64>,
@@ -22,6 +25,8 @@ pub(super) struct State {
     /// RTD at which each stick pair stuck: its tangential constraint holds RTD there (eq. 39).
     pub rtd_stick: Vec<f64>,
     pub plastic: Vec<bool>,
+    /// Per pair: the gap and RTD shift (c_n, c_t) of its obstacle's motion (`path`).
+    pub shift: Vec<[f64; 2]>,
 }
 
 impl State {
@@ -30,6 +35,7 @@ impl State {
     pub fn initial(pairs: &[Pair], n_dofs: usize, n_elements: usize, n_modes: usize, gap_tol: f64) -> Self {
         let n_pairs = pairs.len();
         State {
+            stage: 0,
             load_fraction: 0.0,
             u: vec![0.0; n_dofs],
             stress: vec![Vector4::zeros(); n_elements],
@@ -40,7 +46,13 @@ impl State {
             status: pairs.iter().map(|p| if p.gap0 <= gap_tol { p.closed_status() } else { Status::Open }).collect(),
             rtd_stick: vec![0.0; n_pairs],
             plastic: vec![false; n_elements],
+            shift: vec![[0.0; 2]; n_pairs],
         }
+    }
+
+    /// Path time t = stage + s.
+    pub fn time(&self) -> f64 {
+        self.stage as f64 + self.load_fraction
     }
 
     pub fn n_closed(&self) -> usize {
@@ -67,6 +79,10 @@ impl State {
         self.lambda_n.iter_mut().zip(&inc.dlambda_n).for_each(|(u, d)| *u += s * d);
         self.lambda_t.iter_mut().zip(&inc.dlambda_t).for_each(|(u, d)| *u += s * d);
         self.alpha.iter_mut().zip(&inc.dalpha).for_each(|(u, d)| *u += s * d);
+        for (c, d) in self.shift.iter_mut().zip(&inc.dshift) {
+            c[0] += s * d[0];
+            c[1] += s * d[1];
+        }
     }
 }
 
@@ -79,4 +95,6 @@ pub(super) struct TrialIncrement {
     pub dlambda_n: Vec<f64>,
     pub dlambda_t: Vec<f64>,
     pub dalpha: Vec<f64>,
+    /// Change of every pair's obstacle shift (c_n, c_t) (`path`).
+    pub dshift: Vec<[f64; 2]>,
 }

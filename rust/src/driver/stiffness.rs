@@ -12,7 +12,7 @@ const SOLVE_PAIR_SAMPLES: usize = 3;
 
 impl Engine<'_> {
     /// Assemble K with the current tangents and factor it; read the contact flexibility from
-    /// the factor; in the reduced space also K#P.
+    /// the factor.
     pub fn factor(&mut self) -> Result<()> {
         let t0 = Instant::now();
         let k = self.assemble()?;
@@ -24,9 +24,6 @@ impl Engine<'_> {
         let t2 = Instant::now();
         self.flexibility = self.solver.trailing_inverse();
         self.timings.flexibility += since(t2);
-        if self.is_reduced() {
-            self.solve_full_load();
-        }
         if self.timings.solve_pair == 0.0 {
             self.measure_solve_pair();
         }
@@ -60,19 +57,6 @@ impl Engine<'_> {
             }
         }
         Ok(k)
-    }
-
-    /// Reduced space: u_load = K#P (the full load) over all DOFs and at the reduced DOFs.
-    fn solve_full_load(&mut self) {
-        let load: Vec<f64> = self.model.load.iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { *v }).collect();
-        let t0 = Instant::now();
-        let u_load = self.apply_ginv(std::slice::from_ref(&load)).pop().unwrap();
-        if let Space::Reduced(r) = &mut self.space {
-            r.u_load_reduced = r.dofs.iter().map(|&d| u_load[d]).collect();
-            r.u_load_max = u_load.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            r.u_load = u_load;
-        }
-        self.timings.solves += since(t0);
     }
 
     /// The timing unit: one forward + backward substitution, best of a few.

@@ -39,6 +39,10 @@ pub(super) struct OutOfBalance {
     pub z0: Vec<f64>,
     pub mode_rhs: Vec<f64>,
     forward_sweep: Vec<f64>,
+    /// The prescribed displacement increments ū(target) − u (full space).
+    prescribed: Vec<(usize, f64)>,
+    /// The obstacle shift increments (c_n, c_t)(target) − (c_n, c_t) per pair.
+    pub dshift: Vec<[f64; 2]>,
 }
 
 /// The closed pairs' constraint rows with their right-hand sides h, force directions E and
@@ -56,40 +60,46 @@ impl Engine<'_> {
     /// force P_σ of the state's stresses if the caller has it.
     pub fn trial(&mut self, state: &State, target: f64, internal: Option<Vec<f64>>) -> Result<TrialIncrement> {
         let oob = self.out_of_balance(state, target, internal);
-        let sys = self.contact_system(state);
+        let sys = self.contact_system(state, &oob.dshift);
         let sol = self.solve_small_system(state, &sys, &oob)?;
         Ok(self.increment(state, target, &sys, oob, &sol))
     }
 
+    /// The stage's remaining load from the state to `target` (forces, prescribed displacement
+    /// increments and obstacle motion), in residual form.
     pub fn out_of_balance(&mut self, state: &State, target: f64, internal: Option<Vec<f64>>) -> OutOfBalance {
+        let dshift = self.shift_increment(state, target);
         if let Space::Reduced(r) = &self.space {
-            // Elastic and in equilibrium: the out-of-balance force is (target − φ) P exactly.
+            // Elastic and in equilibrium: the out-of-balance force is (target − s)(ΔP − K_fp Δū) exactly.
             let c = target - state.load_fraction;
-            let mode_rhs = self.mode_load.iter().map(|v| -c * v).collect();
-            return OutOfBalance { z0: r.u_load_reduced.iter().map(|v| c * v).collect(), mode_rhs, forward_sweep: vec![] };
+            let mode_rhs = self.mode_force.iter().map(|v| -c * v[1]).collect();
+            return OutOfBalance { z0: r.u_load_reduced.iter().map(|v| c * v).collect(), mode_rhs, forward_sweep: vec![], prescribed: vec![], dshift };
         }
         let internal = internal.unwrap_or_else(|| self.internal_force(&state.stress));
-        let r = self.residual_from(&internal, state, target);
+        let mut r = self.residual_from(&internal, state, target);
+        let prescribed = self.prescribed_increment(state, target);
+        if let Some(f) = self.prescribed_force(&prescribed) {
+            r.iter_mut().zip(&f).for_each(|(a, b)| *a += b);
+        }
         let w = self.solver.forward(&self.map.to_equations(&r));
         let z0 = self.solver.trailing_solution(&w);
         let mode_rhs = self.mode_vectors.iter().map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>()).collect();
-        OutOfBalance { z0, mode_rhs, forward_sweep: w }
+        OutOfBalance { z0, mode_rhs, forward_sweep: w, prescribed, dshift }
     }
 
-    /// Rows of the closed pairs: normal (h = −gap) and, for frictional stick, tangential
-    /// (h = RTD at sticking − RTD).
-    pub fn contact_system(&self, state: &State) -> ContactSystem {
+    /// Rows of the closed pairs: normal (h = −gap − Δc_n) and, for frictional stick, tangential
+    /// (h = RTD at sticking − RTD − Δc_t), with Δc the obstacle's motion over the trial.
+    pub fn contact_system(&self, state: &State, dshift: &[[f64; 2]]) -> ContactSystem {
         let (mut rows, mut h) = (Vec::new(), Vec::new());
         for (p, st) in state.status.iter().enumerate() {
             if !st.is_closed() {
                 continue;
             }
-            let pair = &self.pairs[p];
             rows.push(Row::Normal(p));
-            h.push(-pair.gap(&state.u));
-            if *st == Status::Stick && pair.frictional() {
+            h.push(-self.gap(state, p) - dshift[p][0]);
+            if *st == Status::Stick && self.pairs[p].frictional() {
                 rows.push(Row::Tangent(p));
-                h.push(state.rtd_stick[p] - pair.rtd(&state.u));
+                h.push(state.rtd_stick[p] - self.rtd(state, p) - dshift[p][1]);
             }
         }
         let columns: Vec<Vec<(usize, f64)>> = rows.iter().map(|row| self.force_direction(*row, &state.status)).collect();
@@ -156,7 +166,7 @@ impl Engine<'_> {
     }
 
     /// Δλ, Δu = K#(r + E Δλ) + N α, and the element stress increments.
-    fn increment(&mut self, state: &State, target: f64, sys: &ContactSystem, oob: OutOfBalance, sol: &DVector<f64>) -> TrialIncrement {
+    fn increment(&mut self, state: &State, target: f64, sys: &ContactSystem, mut oob: OutOfBalance, sol: &DVector<f64>) -> TrialIncrement {
         let (m, n_pairs) = (sys.rows.len(), self.pairs.len());
         let (mut dlambda_n, mut dlambda_t) = (vec![0.0; n_pairs], vec![0.0; n_pairs]);
         for j in 0..m {
@@ -168,15 +178,18 @@ impl Engine<'_> {
                 Row::Tangent(p) => dlambda_t[p] = sol[j],
             }
         }
+        let dshift = std::mem::take(&mut oob.dshift);
+        let prescribed = std::mem::take(&mut oob.prescribed);
         let mut du = self.displacement(sys, oob, sol);
+        prescribed.iter().for_each(|&(d, v)| du[d] = v);
         let dalpha: Vec<f64> = (0..self.modes.len()).map(|k| sol[m + k]).collect();
         for (mode, s) in self.mode_vectors.iter().zip(&dalpha) {
             du.iter_mut().zip(mode).for_each(|(d, v)| *d += s * v);
         }
         let (dstress, dplastic) = if self.is_reduced() { (vec![], vec![]) } else { self.stress_increment(&du) };
-        let umax = self.largest_displacement(&du, target - state.load_fraction);
+        let umax = self.largest_increment(&du, target - state.load_fraction);
         self.noise.displacement = DISPLACEMENT_NOISE * umax;
-        TrialIncrement { du, dstress, dplastic, dlambda_n, dlambda_t, dalpha }
+        TrialIncrement { du, dstress, dplastic, dlambda_n, dlambda_t, dalpha, dshift }
     }
 
     /// K#(r + E Δλ): in the reduced space only at the contact DOFs, Σ_j Δλ_j K# e_j (reduced
@@ -206,12 +219,22 @@ impl Engine<'_> {
         self.map.from_equations(&self.solver.backward(w))
     }
 
-    /// max |u| (for round-off tolerances). The reduced space carries u at the contact DOFs
-    /// only: the load's share elsewhere is bounded by `load_fraction` × max |K#P|.
-    pub fn largest_displacement(&self, u: &[f64], load_fraction: f64) -> f64 {
+    /// max |u| of a state at stage fraction s (for round-off tolerances). The reduced space
+    /// carries u at the contact DOFs only: the loads' share elsewhere is bounded by
+    /// max |Σ u_stage of completed stages| + s × max |u_stage|.
+    pub fn largest_displacement(&self, u: &[f64], s: f64) -> f64 {
         let carried = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         match &self.space {
-            Space::Reduced(r) => carried.max(load_fraction.abs() * r.u_load_max),
+            Space::Reduced(r) => carried.max(r.u_done_max + s.abs() * r.u_load_max),
+            Space::Full(_) => carried,
+        }
+    }
+
+    /// max |Δu| of an increment over a stage fraction c (as `largest_displacement`).
+    fn largest_increment(&self, du: &[f64], c: f64) -> f64 {
+        let carried = du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        match &self.space {
+            Space::Reduced(r) => carried.max(c.abs() * r.u_load_max),
             Space::Full(_) => carried,
         }
     }
@@ -241,12 +264,12 @@ impl Engine<'_> {
         f
     }
 
-    /// Out-of-balance force at load fraction `phi`: φ P − P_σ + contact forces over the free
+    /// Out-of-balance force at stage fraction `phi`: P(φ) − P_σ + contact forces over the free
     /// DOFs (the right-hand side of eq. 43), from the internal force P_σ of the stresses.
     pub fn residual_from(&self, internal: &[f64], state: &State, phi: f64) -> Vec<f64> {
         let mut r = internal.to_vec();
         for (d, v) in r.iter_mut().enumerate() {
-            *v = if self.fixed[d] { 0.0 } else { phi * self.model.load[d] - *v };
+            *v = if self.fixed[d] { 0.0 } else { self.stage.force(d, phi) - *v };
         }
         for (p, pair) in self.global_pairs().iter().enumerate() {
             pair.w_n.add_to(state.lambda_n[p], &mut r);
