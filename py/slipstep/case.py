@@ -14,6 +14,13 @@ Keys are spelled like ``--set`` paths: ``analysis.plane``, ``body.cylinder.mater
 element of an array of tables by its ``name`` or its 0-based index; the index may be left out
 when the array has exactly one element, so ``contact.mu``), and for a case with a single body
 ``mesh.*`` and ``material.*`` are short for ``body.<it>.mesh.*`` and ``body.<it>.material.*``.
+Entries of inline tables are one level further: ``stage.unload.factors.load``,
+``bc.push.displacement.y``.
+
+Load path (issue 13): every load (``[load]``, a ``[[bc]]`` with pressure, traction or
+displacement, a ``[[point_load]]``, a ``[[contact]]`` with motion) is a pattern at factor 1;
+``[[stage]]`` tables give the factor each named load reaches at the end of each stage
+(:class:`LoadPath`, ``Case.path``).
 """
 
 from __future__ import annotations
@@ -42,8 +49,10 @@ class Key:
     """One key of a table: its type, default, unit, meaning and an optional value check.
 
     ``type`` is one of ``"float"``, ``"int"``, ``"str"``, ``"bool"``, ``"vec2"`` (two floats),
-    ``"axes"`` (a list of ``"x"``/``"y"``), ``"snapshots"`` (``"events"`` or a list of load
-    fractions).  ``check(value)`` returns ``None`` or the reason the value is not allowed.
+    ``"axes"`` (a list of ``"x"``/``"y"``), ``"snapshots"`` (``"events"`` or a list of path
+    times), ``"xy"`` (an inline table of floats x and/or y), ``"factors"`` (an inline table of
+    floats by load name).  ``check(value)`` returns ``None`` or the reason the value is not
+    allowed.
     """
 
     type: str
@@ -76,15 +85,23 @@ def _check_unit_free_vector(v) -> str | None:
     return None if math.hypot(*v) > 0 else "the normal must be a non-zero vector"
 
 
-def _check_fraction_list(v) -> str | None:
+def _check_snapshots_form(v) -> str | None:
+    """The form only; the range (0, n_stages] is checked once the stages are known."""
     if isinstance(v, str):
         return None if v == "events" else 'use "events" or a list of load fractions in (0, 1]'
     if not v:
         return 'the list is empty: use "events" or e.g. [0.25, 0.5, 1.0]'
-    if any(not (0.0 < f <= 1.0) for f in v):
-        return "every load fraction must lie in (0, 1]"
+    return None
+
+
+def _check_snapshot_times(v: list, n_stages: int) -> str | None:
+    """Times in (0, n_stages], strictly increasing (worded as load fractions for one stage)."""
+    what = "load fraction" if n_stages == 1 else "snapshot time"
+    where = "" if n_stages == 1 else " (stage k runs over path time t in [k-1, k])"
+    if any(not (0.0 < f <= n_stages) for f in v):
+        return f"every {what} must lie in (0, {n_stages}]{where}"
     if any(b <= a for a, b in zip(v, v[1:])):
-        return "the load fractions must be strictly increasing"
+        return f"the {what}s must be strictly increasing"
     return None
 
 
@@ -111,8 +128,9 @@ LOAD_KEYS = {
 
 OUTPUT_KEYS = {
     "snapshots": Key("snapshots", "events",
-                     doc='"events" (a snapshot after every event) or a list of load fractions '
-                         "in (0, 1] (1.0 is always added)", check=_check_fraction_list),
+                     doc='"events" (a snapshot after every event) or a list of path times in '
+                         "(0, n_stages] (= load fractions in (0, 1] without [[stage]]; every "
+                         "stage end is always added)", check=_check_snapshots_form),
     "figures": Key("bool", True, doc="write PNG figures"),
     "xdmf": Key("bool", True, doc="write the XDMF/HDF5 time series of u and stresses"),
 }
@@ -219,12 +237,16 @@ BC_KEYS = {
     "name": Key("str", "", doc="optional name, to address it as bc.<name>.* in --set"),
     "body": Key("str", REQUIRED, doc="body name"),
     "edge": Key("str", "", doc="edge tag of that body (or give `nodes`)"),
-    "nodes": Key("str", "", doc="node-set name of that body (supports `fix` only)"),
+    "nodes": Key("str", "", doc="node-set name of that body (supports `fix` and "
+                                "`displacement` only)"),
     "fix": Key("axes", [], doc='components held at zero: ["x"], ["y"] or ["x", "y"]'),
     "symmetry": Key("bool", False, doc="hold the normal component (edge must be parallel to an axis)"),
     "pressure": Key("float", 0.0, unit="stress",
                     doc="uniform pressure q, acting against the outward normal"),
     "traction": Key("vec2", [0.0, 0.0], unit="stress", doc="uniform traction [tx, ty]"),
+    "displacement": Key("xy", {}, unit="length",
+                        doc="prescribed displacement components at factor 1, e.g. {y = -0.1} "
+                            "(a load, eliminated exactly like a support)"),
 }
 
 POINT_LOAD_KEYS = {
@@ -254,6 +276,8 @@ RIGID_LINE_KEYS = {
     "tolerance": Key("float", 1e-9, unit="length",
                      doc="gaps in [-tolerance, 0) count as 0; below -tolerance is an error",
                      check=_non_negative("tolerance")),
+    "motion": Key("vec2", None, unit="length",
+                  doc="translation [dx, dy] of the rigid line at factor 1 (a load)"),
 }
 
 NODE_TO_NODE_KEYS = {
@@ -271,10 +295,17 @@ NODE_TO_NODE_KEYS = {
 
 CONTACT_VARIANTS = {"rigid_line": RIGID_LINE_KEYS, "node_to_node": NODE_TO_NODE_KEYS}
 
+STAGE_KEYS = {
+    "name": Key("str", "", doc='optional name (default "stage <k>", 1-based)'),
+    "factors": Key("factors", REQUIRED,
+                   doc="the factor each named load reaches at the end of the stage, e.g. "
+                       "{load = 1.0}; loads not named keep their factor"),
+}
+
 #: Top-level tables and arrays of tables.
 TABLES = {"case": CASE_KEYS, "analysis": ANALYSIS_KEYS, "load": LOAD_KEYS,
           "output": OUTPUT_KEYS, "solver": SOLVER_KEYS}
-ARRAYS = ("body", "bc", "point_load", "contact")
+ARRAYS = ("body", "bc", "point_load", "contact", "stage")
 
 
 def _union(*tables: dict) -> dict:
@@ -290,6 +321,7 @@ ARRAY_KEYS = {
     "bc": BC_KEYS,
     "point_load": POINT_LOAD_KEYS,
     "contact": _union(RIGID_LINE_KEYS, NODE_TO_NODE_KEYS),
+    "stage": STAGE_KEYS,
 }
 BODY_SUBTABLES = {"mesh": _union(QUARTER_CYLINDER_KEYS, BLOCK_KEYS, QUARTER_ANNULUS_KEYS,
                                   FILE_MESH_KEYS),
@@ -321,6 +353,11 @@ class Case:
     def error(self, key: str, message: str) -> CaseError:
         """A CaseError about ``key`` (found after validation, e.g. while building the model)."""
         return CaseError(f"{self.source}: {key}: {message}")
+
+    @property
+    def path(self) -> LoadPath:
+        """The load path: named loads, stages and the factor table (see :func:`load_path`)."""
+        return load_path(self.data, self.source)
 
 
 def default_case_path() -> Path:
@@ -423,6 +460,8 @@ def apply_override(raw: dict, item: str, source: str = "<case>") -> None:
         if head == "contact":  # the keys of this contact's kind, if it has a known one
             kind = element.get("kind")
             keys = CONTACT_VARIANTS.get(kind if isinstance(kind, str) else "", keys)
+            if kind == "node_to_node" and rest == ["motion"]:  # refused by the validator,
+                keys = {**keys, "motion": RIGID_LINE_KEYS["motion"]}  # with the reason
         _set_in_table(element, keys, rest, value, where, f"[[{head}]]",
                       extra=tuple(BODY_SUBTABLES) if head == "body" else ())
         return
@@ -455,11 +494,21 @@ def _array_index(elements: list, head: str, rest: list[str], where: str) -> tupl
 
 def _set_in_table(table: dict, keys: dict, rest: list[str], value, where: str, label: str,
                   extra: tuple = ()) -> None:
+    """Set ``rest`` = [key] in ``table``, or [key, entry] of an inline-table key
+    (``factors.load``, ``displacement.y``); entries are checked by the validator."""
     valid = ", ".join([*keys, *extra])
-    if len(rest) != 1 or rest[0] not in keys:
+    inline = len(rest) == 2 and rest[0] in keys and keys[rest[0]].type in ("xy", "factors")
+    if not inline and (len(rest) != 1 or rest[0] not in keys):
         name = ".".join(rest) or "(nothing)"
         raise CaseError(f"{where}: unknown key '{name}' in {label}; valid keys: {valid}")
-    table[rest[0]] = value
+    if not inline:
+        table[rest[0]] = value
+        return
+    sub = table.setdefault(rest[0], {})
+    if not isinstance(sub, dict):
+        raise CaseError(f"{where}: {rest[0]} must be an inline table, e.g. "
+                        f"{rest[0]} = {{{rest[1]} = 1.0}}")
+    sub[rest[1]] = value
 
 
 # --------------------------------------------------------------------------- validation
@@ -481,6 +530,8 @@ _TYPE_HELP = {
     "bool": "true or false", "vec2": "two numbers, e.g. [0.0, 1.0]",
     "axes": 'a list of "x"/"y", e.g. ["x", "y"]',
     "snapshots": '"events" or a list of load fractions',
+    "xy": "an inline table of numbers x and/or y, e.g. {x = 0.0, y = -0.1}",
+    "factors": "an inline table of load names and numbers, e.g. {load = 1.0}",
 }
 
 
@@ -553,6 +604,10 @@ class _Validator:
                 v = [float(c) for c in v]
             elif not isinstance(v, str):
                 raise bad
+        elif t in ("xy", "factors"):
+            if not isinstance(v, dict):
+                raise bad
+            v = self.inline_numbers(v, t, full)
         if spec.choices and v not in spec.choices:
             choices = " or ".join(_fmt(c) for c in spec.choices)
             raise self.fail(full, f"= {shown} is not allowed: use {choices}")
@@ -561,6 +616,28 @@ class _Validator:
             if reason:
                 raise self.fail(full, f"= {shown} is not allowed: {reason}")
         return v
+
+    def inline_numbers(self, v: dict, t: str, full: str) -> dict:
+        """An inline table of finite numbers: x/y of a displacement, or load factors."""
+        if t == "xy":
+            other = [k for k in v if k not in ("x", "y")]
+            if other:
+                raise self.fail(f"{full}.{other[0]}", "is not allowed: a displacement has "
+                                "components x and y only, e.g. displacement = {x = 0.0, y = -0.1}")
+            if not v:
+                raise self.fail(full, "= {} is not allowed: give x and/or y, e.g. "
+                                      "displacement = {y = -0.1}")
+        what = "the displacement component" if t == "xy" else "the factor that load reaches"
+        out = {}
+        for k, c in v.items():
+            if isinstance(c, bool) or not isinstance(c, (int, float)):
+                raise self.fail(f"{full}.{k}", f"= {_fmt(c)} is not allowed: expected a number "
+                                               f"({what})")
+            if not math.isfinite(c):
+                raise self.fail(f"{full}.{k}", f"= {_fmt(c)} is not allowed: expected a finite "
+                                               f"number")
+            out[k] = float(c)
+        return out
 
     # ---- arrays of tables
     @staticmethod
@@ -620,7 +697,26 @@ class _Validator:
         data["contact"] = [self.contact(c, self.element_prefix("contact", contacts, i), edges)
                            for i, c in enumerate(contacts)]
         self.load(data, edges)
+        stages = self.array(raw, "stage")
+        data["stage"] = [self.table(s, STAGE_KEYS, "[[stage]]",
+                                    self.element_prefix("stage", stages, i))
+                         for i, s in enumerate(stages)]
+        self.stage_names(data["stage"])
+        n_stages = load_path(data, self.source).n_stages  # checks loads, names and factors
+        snaps = data["output"]["snapshots"]
+        reason = _check_snapshot_times(snaps, n_stages) if isinstance(snaps, list) else None
+        if reason:
+            raise self.fail("output.snapshots", f"= {_fmt(snaps)} is not allowed: {reason}")
         return data
+
+    def stage_names(self, stages: list) -> None:
+        """Stage names must be unique (--set and the outputs address stages by name)."""
+        names = [s["name"] for s in stages]
+        for k, n in enumerate(names):
+            if n and n in names[:k]:  # by index: --set finds the first of a shared name
+                raise self.fail(f"stage.{k}.name", f"= {_fmt(n)} is used twice (also by stage."
+                                                   f"{names.index(n)}): stage names must be "
+                                                   f"unique; rename one")
 
     def body(self, raw: dict, prefix: str, n_bodies: int) -> dict:
         body = self.table(raw, BODY_KEYS, "[[body]]", prefix, skip=("mesh", "material"))
@@ -697,12 +793,17 @@ class _Validator:
         if bc["edge"]:
             self.need_edge(bc["body"], bc["edge"], prefix + "edge", edges)
         loads = bc["pressure"] != 0.0 or bc["traction"] != [0.0, 0.0]
-        if not (bc["fix"] or bc["symmetry"] or loads):
+        if not (bc["fix"] or bc["symmetry"] or loads or bc["displacement"]):
             raise CaseError(f"{self.source}: {prefix[:-1]} does nothing: give fix, symmetry, "
-                            f"pressure or traction")
+                            f"pressure, traction or displacement")
         if bc["nodes"] and (loads or bc["symmetry"]):
-            raise self.fail(prefix + "nodes", "supports fix only: put pressure, traction and "
-                                              "symmetry on an edge")
+            raise self.fail(prefix + "nodes", "supports fix and displacement only: put "
+                                              "pressure, traction and symmetry on an edge")
+        for c in bc["displacement"]:
+            if c in bc["fix"]:
+                raise self.fail(f"{prefix}displacement.{c}", f"is not allowed: fix also holds "
+                                f"{c} (at zero): a component is fixed or prescribed, not both; "
+                                f'remove "{c}" from fix or {c} from displacement')
         return bc
 
     def contact(self, raw: dict, prefix: str, edges: dict) -> dict:
@@ -711,6 +812,10 @@ class _Validator:
             choices = " or ".join(_fmt(k) for k in CONTACT_VARIANTS)
             what = "is missing" if kind is None else f"= {_fmt(kind)} is not allowed"
             raise self.fail(prefix + "kind", f"{what}: use {choices}")
+        if kind == "node_to_node" and "motion" in raw:
+            raise self.fail(prefix + "motion", "is not allowed: motion on a deformable-pair "
+                            'contact (kind "node_to_node"): motion moves a rigid obstacle; '
+                            "prescribe a displacement [[bc]] on one of the bodies instead")
         c = self.table(raw, CONTACT_VARIANTS[kind], f'[[contact]] of kind "{kind}"', prefix)
         if kind == "rigid_line":
             self.need_body(c["body"], prefix + "body", edges)
@@ -740,3 +845,139 @@ class _Validator:
             raise self.fail("load.P", "is not allowed here: [load] P is the Hertz convenience "
                                       "for one quarter_cylinder body (give load.body, or use "
                                       "[[bc]] pressure)")
+
+
+# --------------------------------------------------------------------------- the load path
+@dataclass(frozen=True)
+class Load:
+    """One load pattern at factor 1: ``[load]``, a ``[[bc]]`` with pressure, traction or
+    displacement, a ``[[point_load]]``, or a ``[[contact]]`` with motion."""
+
+    name: str        # its `name` ("load" for [load]); "" when unnamed
+    key: str         # the element as --set spells it: "load", "bc", "bc.1", "bc.push"
+    array: str       # "load", "bc", "point_load" or "contact"
+    index: int       # its position in that array
+    force: bool      # applies forces (P, pressure, traction, a point force)
+    kinematic: bool  # prescribes displacements or moves a rigid obstacle
+
+    @property
+    def label(self) -> str:
+        """Its name, else "<array> <index>" (like the engine's "contact <i>")."""
+        return self.name or f"{self.array} {self.index}"
+
+    @property
+    def place(self) -> str:
+        """How messages point at it: its --set key, "[load]" for the table."""
+        return "[load]" if self.array == "load" else self.key
+
+
+@dataclass(frozen=True)
+class LoadPath:
+    """Named loads, their grouping into the engine's patterns, and the stages.
+
+    ``names`` is the factor order: "load" (the engine's ``load`` vector), then ``patterns``.
+    ``head`` is the load whose force is the engine's ``load`` in a staged case (None: zeros);
+    without ``[[stage]]`` every force is summed into ``load`` and only displacement and motion
+    loads are patterns.  ``factors[k]`` holds the factors at path time t = k.
+    """
+
+    loads: tuple
+    head: Load | None
+    patterns: tuple
+    names: tuple
+    stage_names: tuple
+    factors: tuple
+    staged: bool
+
+    @property
+    def n_stages(self) -> int:
+        return len(self.stage_names)
+
+    @property
+    def new(self) -> bool:
+        """The model needs the engine's `patterns`/`stages` (else it is the pre-issue-13 one)."""
+        return self.staged or bool(self.patterns)
+
+
+def element_key(array: str, elements: list, i: int) -> str:
+    """How --set addresses element i of an array: ``bc``, ``bc.push`` or ``bc.1``."""
+    return _Validator.element_prefix(array, elements, i)[:-1]
+
+
+def case_loads(data: dict) -> tuple:
+    """Every load of a validated document, in order: [load], bc, point_load, contact."""
+    out = [Load("load", "load", "load", 0, True, False)] if data["load"] is not None else []
+    for i, bc in enumerate(data["bc"]):
+        force = bc["pressure"] != 0.0 or bc["traction"] != [0.0, 0.0]
+        if force or bc["displacement"]:
+            out.append(Load(bc["name"], element_key("bc", data["bc"], i), "bc", i, force,
+                            bool(bc["displacement"])))
+    for i, pl in enumerate(data["point_load"]):
+        out.append(Load(pl["name"], element_key("point_load", data["point_load"], i),
+                        "point_load", i, True, False))
+    for i, c in enumerate(data["contact"]):
+        if c.get("motion") is not None:
+            out.append(Load(c["name"], element_key("contact", data["contact"], i), "contact", i,
+                            False, True))
+    return tuple(out)
+
+
+def load_path(data: dict, source: str = "<case>") -> LoadPath:
+    """The load path of a validated document; CaseError for unnamed or duplicate loads, a
+    displacement/motion load named "load", unknown names in factors, a stage that changes
+    nothing."""
+    loads = case_loads(data)
+    stages = data.get("stage", [])
+    if not stages:
+        patterns = tuple(x for x in loads if x.kinematic)
+        _check_load_names(patterns, source)
+        n = 1 + len(patterns)
+        return LoadPath(loads, None, patterns, ("load", *(x.label for x in patterns)),
+                        ("stage 1",), ((0.0,) * n, (1.0,) * n), False)
+    for x in loads:
+        if not x.name:
+            raise CaseError(f"{source}: {x.key} is a load without a name: with [[stage]] every "
+                            f'load needs one; add name = "..." to it (stages name loads in '
+                            f"factors)")
+    _check_load_names(loads, source)
+    head = next((x for x in loads if x.name == "load"), None)
+    patterns = tuple(x for x in loads if x is not head)
+    names = ("load", *(x.name for x in patterns))
+    rows = _factor_rows(stages, names, head is not None, source)
+    stage_names = tuple(s["name"] or f"stage {k + 1}" for k, s in enumerate(stages))
+    return LoadPath(loads, head, patterns, names, stage_names, rows, True)
+
+
+def _check_load_names(loads, source: str) -> None:
+    """Unique names; "load" only for a force load (it is the engine's `load` vector)."""
+    seen = {}
+    for x in loads:
+        if x.label == "load" and x.kinematic:
+            raise CaseError(f'{source}: {x.key}.name = "load" is not allowed: "load" names the '
+                            f"force pattern ([load], or a force [[bc]]/[[point_load]] named so); "
+                            f'a displacement or motion load needs another name, e.g. "push"')
+        if x.label in seen:  # by index: --set finds the first of a shared name
+            raise CaseError(f"{source}: {x.array}.{x.index}.name = {_fmt(x.label)} is used twice "
+                            f"(also by {seen[x.label]}): load names must be unique; rename one")
+        seen[x.label] = x.place
+
+
+def _factor_rows(stages: list, names: tuple, has_load: bool, source: str) -> tuple:
+    """Factors at t = 0, 1, ..., n_stages: all 0 at first; a stage sets the loads it names,
+    the others keep theirs."""
+    valid = [n for n in names if n != "load" or has_load]
+    current, rows = [0.0] * len(names), [(0.0,) * len(names)]
+    for k, stage in enumerate(stages):
+        key = element_key("stage", stages, k) + ".factors"
+        for name, value in stage["factors"].items():
+            if name not in valid:
+                raise CaseError(f"{source}: {key}.{name} = {_fmt(value)} is not allowed: no load "
+                                f"is named {_fmt(name)} (loads: {', '.join(valid) or 'none'}); "
+                                f'a load is named by its name key ([load] is "load")')
+            current[names.index(name)] = value
+        if tuple(current) == rows[-1]:
+            raise CaseError(f"{source}: {key} changes nothing: every factor equals its value at "
+                            f"the end of the previous stage (all start at 0); give a factor that "
+                            f"changes, or remove the stage")
+        rows.append(tuple(current))
+    return tuple(rows)

@@ -3,7 +3,8 @@
 Everything here is set up once, vectorised where it matters; the event loop itself is the
 engine's.  Besides the model, :class:`Scene` keeps what the output needs and the engine does
 not: which body each node belongs to, each candidate pair's node position and tributary
-length (contact pressure = lambda_n / (L t)), and the Hertz reference when it applies.
+length (contact pressure = lambda_n / (L t)), the Hertz reference when it applies, and the
+load path (named loads, stages, factors, supports and prescribed displacements, issue 13).
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import mesh as meshing
-from .case import Case, CaseError
+from .case import Case, CaseError, Load, LoadPath, case_loads, element_key
 from .errors import InputError
 
 
@@ -37,6 +38,14 @@ class Scene:
     # no partner), so contact reaching the outermost candidate may be cut short
     contact_truncated: list = field(default_factory=list)
     reference: dict = field(default_factory=dict)  # Hertz a, p0 when the case is Hertz-like
+    # the load path (docs: cases/README.md, [[stage]]); see build_scene
+    load_names: list = field(default_factory=lambda: ["load"])  # factor order, "load" first
+    stage_names: list = field(default_factory=lambda: ["stage 1"])
+    n_stages: int = 1
+    support_dofs: dict = field(default_factory=dict)  # bc name -> (k,) DOFs it holds
+    prescribed: dict = field(default_factory=dict)    # load name -> {"dofs", "values"}
+    motions: dict = field(default_factory=dict)       # load name -> {"contact", "motion"}
+    factors: np.ndarray = field(default_factory=lambda: np.array([[0.0], [1.0]]))
 
     @property
     def n_dofs(self) -> int:
@@ -98,6 +107,8 @@ def build_scene(case: Case, meshes: dict[str, meshing.Mesh] | None = None) -> Sc
                   pair_contact=np.zeros(0, dtype=np.int64))
     pairs = contact_pairs(scene)
     _check_duplicate_nodes(scene, pairs)
+    path = case.path
+    fixed = supports(scene)
     scene.model = {
         "nodes": nodes,
         "triangles": triangles,
@@ -105,8 +116,8 @@ def build_scene(case: Case, meshes: dict[str, meshing.Mesh] | None = None) -> Sc
         "materials": materials(case),
         "plane": data["analysis"]["plane"],
         "thickness": float(data["analysis"]["thickness"]),
-        "fixed_dofs": fixed_dofs(scene),
-        "load": load_vector(scene),
+        "fixed_dofs": fixed,
+        "load": load_vector(scene) if not path.staged else load_force(scene, path.head),
         "pairs": pairs,
         "options": solver_options(case),
         # names for the engine's messages (docs/engine_api.md)
@@ -114,6 +125,7 @@ def build_scene(case: Case, meshes: dict[str, meshing.Mesh] | None = None) -> Sc
         "element_body": element_body,
         "contact_names": contact_names(case),
     }
+    set_load_path(scene, path)
     _check_pairs_not_held(scene)
     scene.reference = hertz_reference(scene)
     return scene
@@ -178,10 +190,13 @@ def _check_duplicate_nodes(scene: Scene, pairs: dict) -> None:
 
 
 def _check_pairs_not_held(scene: Scene) -> None:
-    """A pair whose normal direction is entirely held by supports can carry no contact force
-    (the engine refuses it too; here the message can name the case key)."""
+    """A pair whose normal direction is entirely held by supports or prescribed displacements
+    can carry no contact force (the engine refuses it too; here the message can name the case
+    key)."""
     pairs, fixed = scene.model["pairs"], np.zeros(2 * len(scene.nodes), dtype=bool)
     fixed[scene.model["fixed_dofs"]] = True
+    for p in scene.prescribed.values():
+        fixed[p["dofs"]] = True
     n = pairs["normal"]
     free = np.zeros(len(n), dtype=bool)
     for node in (pairs["node_a"], pairs["node_b"]):
@@ -196,8 +211,9 @@ def _check_pairs_not_held(scene: Scene) -> None:
         x, y = scene.nodes[i]
         raise scene.case.error(key, f"node {i} ({x:.6g}, {y:.6g}) is held by supports in the "
                                f"contact normal direction, so its pair can carry no contact "
-                               f"force: remove the support ([[bc]] fix/symmetry) there or the "
-                               f"node from the candidates (x_min/x_max/y_min/y_max)")
+                               f"force: remove the support ([[bc]] fix/symmetry/displacement) "
+                               f"there or the node from the candidates (x_min/x_max/y_min/"
+                               f"y_max)")
 
 
 def _check_file_mesh_tags(case: Case, body_meshes: dict) -> None:
@@ -226,34 +242,91 @@ def _check_file_mesh_tags(case: Case, body_meshes: dict) -> None:
 
 
 # --------------------------------------------------------------------------- supports
-def fixed_dofs(scene: Scene) -> np.ndarray:
-    """Homogeneous constraints: ``fix`` components, and ``symmetry`` = the normal component of
-    an edge parallel to an axis.  dof = 2*node + component."""
-    case = scene.case
-    dofs = []
-    for i, bc in enumerate(case.data["bc"]):
-        key = "bc" if len(case.data["bc"]) == 1 else f"bc.{i}"
-        if bc["edge"]:
-            nodes = scene.meshes[bc["body"]].edge_nodes(bc["edge"])
-        else:
-            nodes = scene.meshes[bc["body"]].node_sets[bc["nodes"]]
-        nodes = np.asarray(nodes, dtype=np.int64) + scene.offsets[bc["body"]]
+def supports(scene: Scene) -> np.ndarray:
+    """The engine's ``fixed_dofs``: ``fix`` components, and ``symmetry`` = the normal component
+    of an edge parallel to an axis (dof = 2*node + component).  Fills ``scene.support_dofs``
+    (per bc name: its fix, symmetry and displacement DOFs) and ``scene.prescribed`` (per load
+    name: the displacement DOFs and their values at factor 1, never among the fixed ones)."""
+    bcs = scene.case.data["bc"]
+    holder = np.full(2 * len(scene.nodes), -1, dtype=np.int64)  # the bc fixing each DOF
+    fixed, scene.support_dofs, scene.prescribed = [], {}, {}
+    for i, bc in enumerate(bcs):
+        nodes = _bc_nodes(scene, bc)
         components = {"xy".index(c) for c in bc["fix"]}
         if bc["symmetry"]:
-            segs = scene.global_edge(bc["body"], bc["edge"])
-            n = meshing.outward_normals(scene.nodes, segs)
-            if np.all(np.abs(n[:, 0]) > 1 - 1e-9):
-                components.add(0)
-            elif np.all(np.abs(n[:, 1]) > 1 - 1e-9):
-                components.add(1)
-            else:
-                raise case.error(f"{key}.symmetry", f"edge '{bc['edge']}' is not a straight line "
-                                 f"parallel to the x or y axis: use fix = [...] instead")
-        for c in sorted(components):
-            dofs.append(2 * nodes + c)
-    if not dofs:
+            components.add(_symmetry_component(scene, bc, element_key("bc", bcs, i)))
+        dofs = [2 * nodes + c for c in sorted(components)]
+        fixed.extend(dofs)
+        for d in dofs:
+            holder[d[holder[d] < 0]] = i
+        _add_support(scene, bc["name"] or f"bc {i}", dofs)
+    owner = holder.copy()  # the bc fixing or prescribing each DOF
+    for load in case_loads(scene.case.data):
+        if load.array == "bc" and load.kinematic:
+            dofs, values = _prescribed(scene, load, owner, holder)
+            scene.prescribed[load.label] = {"dofs": dofs, "values": values}
+            _add_support(scene, bcs[load.index]["name"] or f"bc {load.index}", [dofs])
+    if not fixed:
         return np.zeros(0, dtype=np.int64)
-    return np.unique(np.concatenate(dofs)).astype(np.int64)
+    return np.unique(np.concatenate(fixed)).astype(np.int64)
+
+
+def _add_support(scene: Scene, name: str, dofs: list) -> None:
+    """Add DOFs to a bc's entry of ``scene.support_dofs`` (bcs sharing a name share it; a bc
+    that holds nothing, a pure force load, has none)."""
+    if name not in scene.support_dofs and not any(len(d) for d in dofs):
+        return
+    old = scene.support_dofs.get(name, np.zeros(0, dtype=np.int64))
+    scene.support_dofs[name] = np.unique(np.concatenate([old, *dofs])).astype(np.int64)
+
+
+def _bc_nodes(scene: Scene, bc: dict) -> np.ndarray:
+    """Global ids (sorted, unique) of the nodes of a [[bc]]'s edge or node set."""
+    mesh = scene.meshes[bc["body"]]
+    nodes = mesh.edge_nodes(bc["edge"]) if bc["edge"] else mesh.node_sets[bc["nodes"]]
+    return np.unique(np.asarray(nodes, dtype=np.int64)) + scene.offsets[bc["body"]]
+
+
+def _symmetry_component(scene: Scene, bc: dict, key: str) -> int:
+    """The component a ``symmetry`` edge holds: x for a vertical edge, y for a horizontal one
+    (each segment normal within 1e-9 of the axis: straight up to round-off)."""
+    n = meshing.outward_normals(scene.nodes, scene.global_edge(bc["body"], bc["edge"]))
+    for c in (0, 1):
+        if np.all(np.abs(n[:, c]) > 1 - 1e-9):
+            if "xy"[c] in bc["displacement"]:
+                raise scene.case.error(f"{key}.displacement.{'xy'[c]}", f"symmetry = true "
+                                       f"holds {'xy'[c]} on edge '{bc['edge']}' (its normal "
+                                       f"component): a component is held or prescribed, not "
+                                       f"both; remove symmetry or {'xy'[c]} from displacement")
+            return c
+    raise scene.case.error(f"{key}.symmetry", f"edge '{bc['edge']}' is not a straight line "
+                           f"parallel to the x or y axis: use fix = [...] instead")
+
+
+def _prescribed(scene: Scene, load: Load, owner: np.ndarray, holder: np.ndarray):
+    """(dofs, values) of a displacement [[bc]], sorted by DOF; a DOF already fixed or
+    prescribed by another [[bc]] is an error (the engine eliminates each DOF once)."""
+    bcs = scene.case.data["bc"]
+    bc = bcs[load.index]
+    nodes = _bc_nodes(scene, bc)
+    comps = sorted("xy".index(c) for c in bc["displacement"])
+    dofs = np.concatenate([2 * nodes + c for c in comps])
+    values = np.concatenate([np.full(len(nodes), bc["displacement"]["xy"[c]]) for c in comps])
+    order = np.argsort(dofs, kind="stable")
+    dofs, values = dofs[order], values[order]
+    clash = owner[dofs] >= 0
+    if clash.any():
+        d = int(dofs[np.argmax(clash)])
+        c, (x, y) = "xy"[d % 2], scene.nodes[d // 2]
+        how = "fix/symmetry" if holder[d] >= 0 else "displacement"
+        raise scene.case.error(f"{load.key}.displacement.{c}", f"node {d // 2} ({x:.6g}, "
+                               f"{y:.6g}) is also held in {c} by "
+                               f"{element_key('bc', bcs, int(owner[d]))} ({how}): each "
+                               f"component is fixed or prescribed once; drop {c} from one of "
+                               f'them (a zero component is a support: fix = ["{c}"] may '
+                               f"overlap others), or use a node set without that node")
+    owner[dofs] = load.index
+    return dofs.astype(np.int64), values.astype(np.float64)
 
 
 # --------------------------------------------------------------------------- loads
@@ -279,28 +352,71 @@ def edge_load(nodes: np.ndarray, segments: np.ndarray, n_nodes: int, thickness: 
 
 
 def load_vector(scene: Scene) -> np.ndarray:
-    """The total nodal load at load fraction 1 (``[[bc]]`` pressure/traction, ``[load] P``,
-    ``[[point_load]]``), thickness included."""
-    data = scene.case.data
-    t = data["analysis"]["thickness"]
-    n = len(scene.nodes)
-    f = np.zeros(2 * n)
-    for bc in data["bc"]:
-        if bc["edge"] and (bc["pressure"] != 0.0 or bc["traction"] != [0.0, 0.0]):
-            f += edge_load(scene.nodes, scene.global_edge(bc["body"], bc["edge"]), n, t,
-                           bc["pressure"], bc["traction"])
-    if data["load"] is not None:
-        body = data["load"]["body"]
-        f += edge_load(scene.nodes, scene.global_edge(body, "top"), n, t,
-                       pressure=hertz_cut_pressure(scene.case))
-    for pl in data["point_load"]:
-        candidates = ([pl["body"]] if pl["body"] else scene.bodies)
-        ids = np.concatenate([np.arange(scene.meshes[b].n_nodes) + scene.offsets[b]
-                              for b in candidates])
-        d = np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1)
-        node = ids[np.argmin(d)]
-        f[2 * node:2 * node + 2] += np.asarray(pl["force"]) * t
+    """The summed nodal force at load fraction 1 of a case without [[stage]] (``[[bc]]``
+    pressure/traction, ``[load] P``, ``[[point_load]]``, in this order), thickness included."""
+    rank = {"bc": 0, "load": 1, "point_load": 2}
+    f = np.zeros(2 * len(scene.nodes))
+    for load in sorted((x for x in case_loads(scene.case.data) if x.force),
+                       key=lambda x: rank[x.array]):
+        f += load_force(scene, load)
     return f
+
+
+def load_force(scene: Scene, load: Load | None) -> np.ndarray:
+    """The nodal force of one load at factor 1, thickness included (zeros for None or a load
+    without force)."""
+    data, n = scene.case.data, len(scene.nodes)
+    t = data["analysis"]["thickness"]
+    f = np.zeros(2 * n)
+    if load is None or not load.force:
+        return f
+    if load.array == "load":
+        return edge_load(scene.nodes, scene.global_edge(data["load"]["body"], "top"), n, t,
+                         pressure=hertz_cut_pressure(scene.case))
+    if load.array == "bc":
+        bc = data["bc"][load.index]
+        return edge_load(scene.nodes, scene.global_edge(bc["body"], bc["edge"]), n, t,
+                         bc["pressure"], bc["traction"])
+    pl = data["point_load"][load.index]
+    candidates = ([pl["body"]] if pl["body"] else scene.bodies)
+    ids = np.concatenate([np.arange(scene.meshes[b].n_nodes) + scene.offsets[b]
+                          for b in candidates])
+    node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1))]
+    f[2 * node:2 * node + 2] += np.asarray(pl["force"]) * t
+    return f
+
+
+def set_load_path(scene: Scene, path: LoadPath) -> None:
+    """The engine's ``patterns`` and ``stages`` (only when the case needs them: a case without
+    [[stage]], displacement and motion keeps the model it always had) and the scene's load-path
+    attributes."""
+    scene.load_names = list(path.names)
+    scene.stage_names = list(path.stage_names)
+    scene.n_stages = path.n_stages
+    scene.factors = np.array(path.factors, dtype=np.float64)
+    contacts = scene.case.data["contact"]
+    scene.motions = {x.label: {"contact": x.index, "motion": list(contacts[x.index]["motion"])}
+                     for x in path.loads if x.array == "contact"}
+    if path.patterns:
+        scene.model["patterns"] = [load_pattern(scene, x, path.staged) for x in path.patterns]
+    if path.staged:
+        scene.model["stages"] = [{"name": s["name"], "factors": np.array(row, dtype=np.float64)}
+                                 for s, row in zip(scene.case.data["stage"], path.factors[1:])]
+
+
+def load_pattern(scene: Scene, load: Load, with_force: bool) -> dict:
+    """One entry of the engine's ``patterns`` (its force only ``with_force``: without
+    [[stage]] forces are summed into ``load``)."""
+    out = {"name": load.label}
+    if with_force and load.force:
+        out["force"] = load_force(scene, load)
+    if load.label in scene.prescribed:
+        out["displacement_dofs"] = scene.prescribed[load.label]["dofs"]
+        out["displacement_values"] = scene.prescribed[load.label]["values"]
+    if load.label in scene.motions:
+        out["motion_contacts"] = np.array([load.index], dtype=np.int64)
+        out["motion"] = np.array([scene.motions[load.label]["motion"]], dtype=np.float64)
+    return out
 
 
 def hertz_cut_pressure(case: Case) -> float:
@@ -487,7 +603,9 @@ def _check_gaps(scene: Scene, a: np.ndarray, gap: np.ndarray, tol: float, key: s
 
 # --------------------------------------------------------------------------- options
 def solver_options(case: Case) -> dict:
-    """The engine's ``options``: snapshots at every event or at given load fractions."""
+    """The engine's ``options``: snapshots at every event or at given path times, every stage
+    end added (``"fractions"`` as always for a case without [[stage]], displacement and
+    motion, ``"times"`` otherwise)."""
     snaps = case.data["output"]["snapshots"]
     solver = case.data["solver"]
     options = {"tie_tol": float(solver["tie_tol"]), "group_tol": float(solver["group_tol"]),
@@ -499,9 +617,10 @@ def solver_options(case: Case) -> dict:
     if snaps == "events":
         options["output"] = "events"
     else:
-        fractions = sorted(set(snaps) | {1.0})
-        options["output"] = "fractions"
-        options["fractions"] = np.asarray(fractions, dtype=np.float64)
+        path = case.path
+        times = sorted(set(snaps) | {float(k) for k in range(1, path.n_stages + 1)})
+        options["output"] = "times" if path.new else "fractions"
+        options[options["output"]] = np.asarray(times, dtype=np.float64)
     return options
 
 
