@@ -103,12 +103,153 @@ def johnson_first_yield(scene) -> float | None:
 
 
 def final_load_fraction(result) -> float:
-    """The load fraction the run reached (end of its last increment)."""
+    """The load fraction the run reached (end of its last increment; within its stage)."""
     steps = result.get("steps", {}).get("load_fraction", [])
     if len(steps):
         return float(steps[-1])
     snaps = result.get("snapshots", [])
     return float(snaps[-1]["load_fraction"]) if snaps else 0.0
+
+
+# --------------------------------------------------------------------------- load path
+# Results without stages (engines before issue 13) have no ``t``/``stage``: one stage, t = f.
+def snapshot_time(snap: dict) -> float:
+    """Path time t of a snapshot (its load fraction in a result without stages)."""
+    return float(snap.get("t", snap["load_fraction"]))
+
+
+def event_times(result) -> tuple[np.ndarray, np.ndarray]:
+    """(t, stage) of every events row, stage 0-based."""
+    ev = result["events"]
+    t = np.asarray(ev.get("t", ev["load_fraction"]), dtype=float)
+    stage = np.asarray(ev.get("stage", np.zeros(len(t))), dtype=np.int64)
+    return t, stage
+
+
+def final_time(result) -> float:
+    """The path time the run reached (``stop.t``, else the end of its last increment)."""
+    if "t" in result.get("stop", {}):
+        return float(result["stop"]["t"])
+    steps = result.get("steps", {})
+    if len(steps.get("t", [])):
+        return float(steps["t"][-1])
+    return final_load_fraction(result)
+
+
+def stage_names(scene, result) -> list[str]:
+    """The name of every stage of the load path (``stage 1`` for a run without stages)."""
+    names = result.get("stage_names") or getattr(scene, "stage_names", None)
+    n = int(result.get("n_stages", getattr(scene, "n_stages", len(names or [1]))))
+    return list(names) if names and len(names) == n else [f"stage {k + 1}" for k in range(n)]
+
+
+def stage_ends(result, n_stages: int) -> list[tuple[int, int]]:
+    """(stage k 0-based, snapshot index) for every completed stage: the last snapshot of stage
+    k at load fraction 1, or at t = k + 1 (each within 1e-12)."""
+    out = []
+    snaps = result.get("snapshots", [])
+    for k in range(n_stages):
+        at_end = [i for i, s in enumerate(snaps)
+                  if (int(s.get("stage", 0)) == k and abs(float(s["load_fraction"]) - 1.0) <= 1e-12)
+                  or abs(snapshot_time(s) - (k + 1)) <= 1e-12]
+        if at_end:
+            out.append((k, at_end[-1]))
+    return out
+
+
+def is_staged(scene, result) -> bool:
+    """True for a load path with several stages, prescribed displacements or motions."""
+    return (len(stage_names(scene, result)) > 1 or bool(getattr(scene, "prescribed", {}))
+            or bool(getattr(scene, "motions", {})))
+
+
+def load_factor(scene, name: str, t):
+    """Factor of load pattern ``name`` at path time(s) t: ``scene.factors`` (rows at
+    t = 0, 1, ..., n_stages) interpolated linearly; t itself without stages."""
+    names = getattr(scene, "load_names", None)
+    factors = getattr(scene, "factors", None)
+    if factors is None or not names or name not in names:
+        return np.asarray(t, dtype=float)
+    column = np.asarray(factors, dtype=float)[:, list(names).index(name)]
+    return np.interp(t, np.arange(len(column)), column)
+
+
+def reactions(scene, snapshot: dict) -> dict[str, tuple[float, float]]:
+    """Per [[bc]] name (``scene.support_dofs``): the summed support reaction (Rx, Ry) its DOFs
+    exert on the body at ``snapshot``; empty without ``reaction`` in the snapshot."""
+    if "reaction" not in snapshot:
+        return {}
+    r = np.asarray(snapshot["reaction"], dtype=float).reshape(-1)
+    out = {}
+    for name, dofs in getattr(scene, "support_dofs", {}).items():
+        dofs = np.unique(np.asarray(dofs, dtype=np.int64))
+        out[name] = (float(r[dofs[dofs % 2 == 0]].sum()), float(r[dofs[dofs % 2 == 1]].sum()))
+    return out
+
+
+def path_history(scene, result) -> dict:
+    """Per snapshot along the load path: ``t``, ``stage``, and per contact (columns in
+    ``contact_names`` order) ``normal_force`` = sum lambda_n, ``tangential_force`` =
+    sum lambda_t, ``n_closed`` and ``extent`` = [s_min, s_max] of its closed pairs (NaN when
+    open; the pairs' own positions, no interpolation); ``total_normal_force`` and
+    ``total_tangential_force`` over every contact."""
+    snaps = result.get("snapshots", [])
+    n_c = len(scene.model["contact_names"])
+    which = np.asarray(scene.pair_contact, dtype=np.int64)
+    s = pair_coordinate(scene)
+    out = {"t": np.array([snapshot_time(x) for x in snaps]),
+           "stage": np.array([int(x.get("stage", 0)) for x in snaps], dtype=np.int64),
+           "normal_force": np.zeros((len(snaps), n_c)),
+           "tangential_force": np.zeros((len(snaps), n_c)),
+           "n_closed": np.zeros((len(snaps), n_c), dtype=np.int64),
+           "extent": np.full((len(snaps), n_c, 2), np.nan)}
+    for k, snap in enumerate(snaps):
+        closed = np.asarray(snap["status"]) > 0
+        out["normal_force"][k] = np.bincount(which, np.asarray(snap["lambda_n"]), n_c)
+        out["tangential_force"][k] = np.bincount(which, np.asarray(snap["lambda_t"]), n_c)
+        out["n_closed"][k] = np.bincount(which[closed], minlength=n_c)
+        for c in np.unique(which[closed]):
+            mine = s[closed & (which == c)]
+            out["extent"][k, c] = mine.min(), mine.max()
+    out["total_normal_force"] = out["normal_force"].sum(axis=1)
+    out["total_tangential_force"] = out["tangential_force"].sum(axis=1)
+    return out
+
+
+def force_displacement(scene, result) -> dict[str, dict]:
+    """The load-path curves, from t = 0 (all zero) through every snapshot, by load name:
+    for a prescribed displacement (``scene.prescribed``) the displacement d = factor(t) A
+    (A = its largest nodal displacement at factor 1) against the work-conjugate support force
+    sum_dofs R u1 / A (the reaction along the prescribed direction for a uniform one); for a
+    motion of a rigid contact (``scene.motions``) the motion along the contact normal
+    against its total normal force (along its tangent t = (-n_y, n_x) and sum lambda_t for a
+    mainly tangential motion).  Each: ``t``, ``displacement``, ``force``, ``what``."""
+    snaps = result.get("snapshots", [])
+    t = np.array([0.0] + [snapshot_time(x) for x in snaps])
+    out = {}
+    for name, p in getattr(scene, "prescribed", {}).items():
+        dofs, u1 = np.asarray(p["dofs"], dtype=np.int64), np.asarray(p["values"], dtype=float)
+        per_node = np.zeros((len(scene.nodes), 2))
+        per_node[dofs // 2, dofs % 2] = u1
+        amp = float(np.linalg.norm(per_node, axis=1).max()) if len(dofs) else 0.0
+        if amp == 0.0 or not snaps or "reaction" not in snaps[0]:
+            continue
+        force = [np.asarray(x["reaction"], dtype=float).reshape(-1)[dofs] @ u1 / amp
+                 for x in snaps]
+        out[name] = {"t": t, "displacement": load_factor(scene, name, t) * amp,
+                     "force": np.array([0.0] + force), "what": "support reaction"}
+    which = np.asarray(scene.pair_contact, dtype=np.int64)
+    for name, m in getattr(scene, "motions", {}).items():
+        c, motion = int(m["contact"]), np.asarray(m["motion"], dtype=float)
+        _, tau = contact_axis(scene, c)
+        n, tangent = np.array([-tau[1], tau[0]]), -tau
+        key, axis = (("lambda_n", n) if abs(motion @ n) >= abs(motion @ tangent)
+                     else ("lambda_t", tangent))
+        force = [float(np.asarray(x[key])[which == c].sum()) for x in snaps]
+        out[name] = {"t": t, "displacement": load_factor(scene, name, t) * float(motion @ axis),
+                     "force": np.array([0.0] + force),
+                     "what": "normal force" if key == "lambda_n" else "tangential force"}
+    return out
 
 
 # --------------------------------------------------------------------------- contact geometry
@@ -244,7 +385,8 @@ def reached_last_candidate(scene, snapshot) -> bool:
 
 def contact_growth(scene, result) -> tuple[np.ndarray, np.ndarray]:
     """Outermost closed node x after each step, replaying the close/separate events
-    (initially closed pairs, gap = 0, start closed).  Returns (load_fraction, x) from f = 0."""
+    (initially closed pairs, gap = 0, start closed).  Returns (t, x) from t = 0 (t = the path
+    time, the load fraction of a run without stages)."""
     x = scene.pair_xy[:, 0]
     closed = set(np.flatnonzero(np.asarray(scene.model["pairs"]["gap"]) == 0.0).tolist())
 
@@ -253,6 +395,7 @@ def contact_growth(scene, result) -> tuple[np.ndarray, np.ndarray]:
 
     fs, xs = [0.0], [outer()]
     ev = result["events"]
+    times, _ = event_times(result)
     steps = np.asarray(ev["step"])
     for k in range(len(steps)):
         kind, entity = ev["kind"][k], int(ev["entity"][k])
@@ -261,9 +404,9 @@ def contact_growth(scene, result) -> tuple[np.ndarray, np.ndarray]:
         elif kind == "separate":
             closed.discard(entity)
         if k + 1 == len(steps) or steps[k + 1] != steps[k]:
-            fs.append(float(ev["load_fraction"][k]))
+            fs.append(float(times[k]))
             xs.append(outer())
-    final = final_load_fraction(result)
+    final = final_time(result)
     if final > fs[-1]:
         fs.append(final)
         xs.append(xs[-1])

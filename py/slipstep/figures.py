@@ -1,6 +1,8 @@
 """PNG figures of a run (matplotlib, Agg backend): the interface at the final snapshot, the
 growth of the contact half-length with the load fraction (cf. Figs. 6-9 of the paper) and, for
-elastoplastic runs, the von Mises map with the plastic zone outlined (cf. Fig. 5)."""
+elastoplastic runs, the von Mises map with the plastic zone outlined (cf. Fig. 5).  A load path
+(several stages, prescribed displacements or motions) adds its force-displacement curves and
+the contact extent against the path time t."""
 
 from __future__ import annotations
 
@@ -8,7 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .derived import centroids, contact_growth, contact_profile, is_elastoplastic, von_mises
+from .derived import (centroids, contact_growth, contact_profile, force_displacement,
+                      is_elastoplastic, is_staged, path_history, snapshot_time, stage_names,
+                      von_mises)
 from .summary import contact_text
 
 STATUS_COLOURS = {0: "0.6", 1: "tab:blue", 2: "tab:red"}
@@ -29,14 +33,25 @@ def _pyplot():
 
 
 def write_figures(folder: Path, scene, result, summary: dict) -> list[Path]:
-    """``contact_interface.png`` and ``contact_growth.png`` (when the case has contact pairs),
-    ``von_mises.png`` (when a material has a yield stress)."""
+    """``contact_interface.png`` and, for one stage, ``contact_growth.png`` (when the case has
+    contact pairs), ``von_mises.png`` (when a material has a yield stress); for a load path
+    (:func:`slipstep.derived.is_staged`) ``force_displacement.png`` (when it has prescribed
+    displacements or motions and reactions) and ``contact_extent.png`` (with contact pairs)."""
     folder = Path(folder)
     paths = []
-    if result.get("snapshots") and len(scene.pair_xy):
+    snaps = result.get("snapshots")
+    if snaps and len(scene.pair_xy):
         paths.append(interface_figure(folder / "contact_interface.png", scene, result, summary))
-        paths.append(growth_figure(folder / "contact_growth.png", scene, result, summary))
-    if result.get("snapshots") and is_elastoplastic(scene):
+        if len(stage_names(scene, result)) == 1:
+            paths.append(growth_figure(folder / "contact_growth.png", scene, result, summary))
+    if snaps and is_staged(scene, result):
+        curves = force_displacement(scene, result)
+        if curves:
+            paths.append(force_displacement_figure(folder / "force_displacement.png", scene,
+                                                   result, curves))
+        if len(scene.pair_xy):
+            paths.append(extent_figure(folder / "contact_extent.png", scene, result))
+    if snaps and is_elastoplastic(scene):
         paths.append(von_mises_figure(folder / "von_mises.png", scene, result, summary))
     return paths
 
@@ -68,7 +83,7 @@ def interface_figure(path: Path, scene, result, summary: dict) -> Path:
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
     hertz = summary.get("hertz")
-    if hertz:
+    if hertz and hertz["a_hertz_at_final"] > 0:  # 0: the load unloaded to nothing
         ah, p0 = hertz["a_hertz_at_final"], hertz["p0_hertz_at_final"]
         xs = np.linspace(0.0, ah, 200)
         axes[0].plot(xs, p0 * np.sqrt(np.clip(1 - (xs / ah) ** 2, 0, None)), "k--", lw=1,
@@ -78,8 +93,8 @@ def interface_figure(path: Path, scene, result, summary: dict) -> Path:
             ax.axvline(a, color="k", lw=0.7, ls=":")
     axes[0].legend(fontsize=8)
     axes[-1].set_xlabel("x")
-    fig.suptitle(f"{scene.case.name}: interface at load fraction "
-                 f"{float(snap['load_fraction']):.4g}   ({contact_text(summary)})", fontsize=10)
+    fig.suptitle(f"{scene.case.name}: interface at {_when(scene, result, snap)}   "
+                 f"({contact_text(summary)})", fontsize=10)
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
@@ -103,6 +118,94 @@ def growth_figure(path: Path, scene, result, summary: dict) -> Path:
     ax.grid(alpha=0.3)
     ax.legend()
     ax.set_title(f"{scene.case.name}: growth of the contact", fontsize=10)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def _when(scene, result, snap: dict) -> str:
+    """``load fraction f`` for one stage, else ``t = ... (stage name)``."""
+    names = stage_names(scene, result)
+    if len(names) == 1:
+        return f"load fraction {float(snap['load_fraction']):.4g}"
+    return f"t = {snapshot_time(snap):.4g} ({names[int(snap.get('stage', 0))]})"
+
+
+# --------------------------------------------------------------------------- load paths
+def _stage_masks(t: np.ndarray, names: list[str]):
+    """(k, name, points of stage k): t in [k, k + 1], both ends, so the branches join."""
+    for k, name in enumerate(names):
+        m = (t >= k - 1e-12) & (t <= k + 1 + 1e-12)
+        if m.sum() > 1:
+            yield k, name, m
+
+
+def _stage_lines(ax, names: list[str], label: bool) -> None:
+    """Dotted lines at the stage ends; with ``label`` each stage named above its span."""
+    for k, name in enumerate(names):
+        if k:
+            ax.axvline(k, color="k", lw=0.7, ls=":")
+        if label:
+            ax.text(k + 0.5, 1.0, name, transform=ax.get_xaxis_transform(), ha="center",
+                    va="bottom", fontsize=8)
+    ax.set_xlim(0, len(names))
+
+
+def _steps(t: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A value held from each t to the next as explicit points (NaN = a gap)."""
+    return np.repeat(t, 2)[1:], np.repeat(v, 2)[:-1]
+
+
+def force_displacement_figure(path: Path, scene, result, curves: dict) -> Path:
+    """One panel per prescribed displacement or motion (:func:`slipstep.derived.
+    force_displacement`): force against displacement from t = 0, one colour per stage, so the
+    loading and unloading branches (and any hysteresis) show."""
+    plt = _pyplot()
+    names = stage_names(scene, result)
+    fig, axes = plt.subplots(1, len(curves), figsize=(5 * len(curves), 4.2), squeeze=False,
+                             constrained_layout=True)
+    for ax, (load, c) in zip(axes[0], curves.items()):
+        for k, name, m in _stage_masks(c["t"], names):
+            ax.plot(c["displacement"][m], c["force"][m], "-o", ms=2.5, lw=1.2,
+                    color=f"C{k % 10}", label=name)
+        kind = "motion" if c["what"] != "support reaction" else "prescribed displacement"
+        ax.set_xlabel(f"{load}: {kind}")
+        ax.set_ylabel(c["what"])
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(f"{scene.case.name}: force against displacement along the load path",
+                 fontsize=10)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def extent_figure(path: Path, scene, result) -> Path:
+    """Per contact against the path time t: the closed extent [s_min, s_max] of its closed
+    pairs (top) and its total normal force (solid) and tangential force (dashed, bottom);
+    dotted lines at the stage ends."""
+    plt = _pyplot()
+    h = path_history(scene, result)
+    names = stage_names(scene, result)
+    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7, 6),
+                                      constrained_layout=True)
+    for c, contact in enumerate(scene.model["contact_names"]):
+        colour = f"C{c % 10}"
+        (x, lo), (_, hi) = (_steps(h["t"], h["extent"][:, c, j]) for j in (0, 1))
+        top.fill_between(x, lo, hi, color=colour, alpha=0.3, label=contact)
+        for edge in (lo, hi):
+            top.plot(x, edge, color=colour, lw=1)
+        bottom.plot(h["t"], h["normal_force"][:, c], "-", color=colour, label=f"{contact}: normal")
+        bottom.plot(h["t"], h["tangential_force"][:, c], "--", color=colour,
+                    label=f"{contact}: tangential")
+    top.set_ylabel("closed extent along s")
+    bottom.set_ylabel("contact force")
+    bottom.set_xlabel("path time t")
+    for ax in (top, bottom):
+        _stage_lines(ax, names, ax is top)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(f"{scene.case.name}: contact along the load path", fontsize=10)
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
@@ -194,8 +297,8 @@ def von_mises_figure(path: Path, scene, result, summary: dict) -> Path:
     ax.set_ylabel("y")
     if handles:
         ax.legend(handles=handles, fontsize=8, loc="best")
-    ax.set_title(f"{scene.case.name}: von Mises stress at load fraction "
-                 f"{float(snap['load_fraction']):.4g}", fontsize=10)
+    ax.set_title(f"{scene.case.name}: von Mises stress at {_when(scene, result, snap)}",
+                 fontsize=10)
     fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return path

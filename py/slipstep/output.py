@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .derived import (ELEMENT_EVENTS, centroids, contact_profile, is_elastoplastic, von_mises,
-                      yield_drift)
+from .derived import (ELEMENT_EVENTS, centroids, contact_profile, event_times, is_elastoplastic,
+                      snapshot_time, von_mises, yield_drift)
 # Kept importable from here for existing callers; they live in derived and summary.
 from .derived import (contact_growth, contact_half_width, element_depth,  # noqa: F401
                       reached_last_candidate, stick_half_width)
@@ -31,14 +31,16 @@ STATUS_NAMES = ("open", "stick", "slip")
 
 # --------------------------------------------------------------------------- writers
 def write_events_csv(path: Path, scene, result) -> None:
-    """One row per (event, entity): step, load_fraction, kind, entity, entity_kind (``pair`` or
-    ``element``), x, y (node a of the pair; the element centroid for the element events yield,
-    unload, frozen_element)."""
+    """One row per (event, entity): step, load_fraction (within its stage), kind, entity,
+    entity_kind (``pair`` or ``element``), x, y (node a of the pair; the element centroid for
+    the element events yield, unload, frozen_element), t (path time) and stage (1-based)."""
     ev = result["events"]
+    times, stages = event_times(result)
     centres = None
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["step", "load_fraction", "kind", "entity", "entity_kind", "x", "y"])
+        w.writerow(["step", "load_fraction", "kind", "entity", "entity_kind", "x", "y", "t",
+                    "stage"])
         for k in range(len(ev["step"])):
             kind, entity = ev["kind"][k], int(ev["entity"][k])
             if kind in ELEMENT_EVENTS:
@@ -49,7 +51,8 @@ def write_events_csv(path: Path, scene, result) -> None:
                 x, y = scene.pair_xy[entity]
             w.writerow([int(ev["step"][k]), repr(float(ev["load_fraction"][k])), kind, entity,
                         "element" if kind in ELEMENT_EVENTS else "pair",
-                        repr(float(x)), repr(float(y))])
+                        repr(float(x)), repr(float(y)), repr(float(times[k])),
+                        int(stages[k]) + 1])
 
 
 def write_profile_csv(path: Path, scene, snapshot: dict) -> None:
@@ -83,10 +86,12 @@ def _working_directory(path: Path):
 
 
 def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
-    """``results.xdmf`` + ``results.h5``: a time series (time = load fraction) of point data
-    ``u`` (padded to 3 components for ParaView) and cell data sigma_x, sigma_y, sigma_z, tau_xy,
+    """``results.xdmf`` + ``results.h5``: a time series (time = path time t, the load fraction
+    of a run without stages) of point data ``u`` and, when the result has it, ``reaction``
+    (each padded to 3 components for ParaView) and cell data sigma_x, sigma_y, sigma_z, tau_xy,
     von_mises (plus plastic_strain, the equivalent plastic strain, and plastic, the 0/1 flag, in
-    elastoplastic cases, with yield_drift = |sigma_e - sigma_y(eps_p)|/sigma_y per plastic element; and body, the body index, when there are several); 2D points."""
+    elastoplastic cases, with yield_drift = |sigma_e - sigma_y(eps_p)|/sigma_y per plastic
+    element; and body, the body index, when there are several); 2D points."""
     import meshio
 
     cells = [("triangle", scene.triangles)]
@@ -96,8 +101,8 @@ def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
         with meshio.xdmf.TimeSeriesWriter(f"{name}.xdmf") as writer:
             writer.write_points_cells(scene.nodes, cells)
             for snap in result["snapshots"]:
-                u = np.zeros((n, 3))
-                u[:, :2] = np.asarray(snap["u"]).reshape(n, 2)
+                point_data = {key: _padded(snap[key], n) for key in ("u", "reaction")
+                              if key in snap}
                 s = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
                 cell_data = {"sigma_x": [s[:, 0]], "sigma_y": [s[:, 1]], "sigma_z": [s[:, 2]],
                              "tau_xy": [s[:, 3]], "von_mises": [von_mises(s)]}
@@ -108,8 +113,15 @@ def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
                     cell_data["yield_drift"] = [yield_drift(scene, snap)]
                 if len(scene.bodies) > 1:
                     cell_data["body"] = [scene.element_body.astype(np.float64)]
-                writer.write_data(float(snap["load_fraction"]), point_data={"u": u},
+                writer.write_data(snapshot_time(snap), point_data=point_data,
                                   cell_data=cell_data)
+
+
+def _padded(values, n: int) -> np.ndarray:
+    """(n, 3) float64: (n, 2) nodal vectors with z = 0, for ParaView."""
+    out = np.zeros((n, 3))
+    out[:, :2] = np.asarray(values, dtype=float).reshape(n, 2)
+    return out
 
 
 def write_summary_json(path: Path, summary: dict) -> None:

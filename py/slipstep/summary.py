@@ -12,9 +12,10 @@ import math
 
 import numpy as np
 
-from .derived import (closed_extent, contact_axis, contact_profile, final_load_fraction,
-                      first_yield, is_elastoplastic, johnson_first_yield, pair_coordinate,
-                      reached_last_candidate, stick_extent, von_mises)
+from .derived import (closed_extent, contact_axis, contact_profile, event_times,
+                      final_load_fraction, final_time, first_yield, is_elastoplastic,
+                      johnson_first_yield, load_factor, pair_coordinate, reached_last_candidate,
+                      reactions, snapshot_time, stage_ends, stage_names, stick_extent, von_mises)
 from .model import contact_bodies
 
 
@@ -40,15 +41,21 @@ def half_model_side(scene, index: int) -> int:
     return 0
 
 
-def contact_summaries(scene, result, snapshot: dict, sides: list[int]) -> dict[str, dict]:
+def contact_summaries(scene, result, snapshot: dict, sides: list[int],
+                      interpolate: bool = True) -> dict[str, dict]:
     """Per [[contact]] (by name) at ``snapshot``: its axis (origin, tangent), whether it is a
     half model, pair counts, closed and stick extents [s_min, s_max] (None when empty), total
-    normal force and peak pressure."""
+    normal and tangential force and peak pressure.  The closed extent is interpolated in path
+    time at the snapshot's t (the closure times are those of the run's end: ``interpolate``
+    False for an earlier snapshot puts its ends at the outermost closed pairs)."""
     prof = contact_profile(scene, snapshot)
     closure = np.asarray(result["closure_fraction"], dtype=float)[prof["pair"]]
     predicted = np.asarray(result["predicted_closure"], dtype=float)[prof["pair"]]
-    f = float(snapshot["load_fraction"])
+    if not interpolate:
+        predicted = np.full(len(predicted), np.nan)
+    f = snapshot_time(snapshot)
     lambda_n = np.asarray(snapshot["lambda_n"], dtype=float)[prof["pair"]]
+    lambda_t = np.asarray(snapshot["lambda_t"], dtype=float)[prof["pair"]]
     out = {}
     for i, name in enumerate(scene.model["contact_names"]):
         mine = prof["contact"] == i
@@ -63,6 +70,7 @@ def contact_summaries(scene, result, snapshot: dict, sides: list[int]) -> dict[s
             "closed_extent": closed,
             "stick_extent": None if closed is None else stick_extent(s, status, closed),
             "total_normal_force": float(lambda_n[mine].sum()),
+            "total_tangential_force": float(lambda_t[mine].sum()),
             "peak_pressure": float(prof["pressure"][mine].max()),
         }
     return out
@@ -92,9 +100,11 @@ def _contact_numbers(scene, result) -> dict:
     contacts = contact_summaries(scene, result, last, sides)
     return {
         "snapshot_load_fraction": float(last["load_fraction"]),
+        "snapshot_t": snapshot_time(last),
         **half_widths(contacts, sides),
         "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
         "total_normal_force": float(np.sum(last["lambda_n"])),
+        "total_tangential_force": float(np.sum(last["lambda_t"])),
         "n_open": int((status == 0).sum()),
         "n_stick": int((status == 1).sum()),
         "n_slip": int((status == 2).sum()),
@@ -103,9 +113,50 @@ def _contact_numbers(scene, result) -> dict:
     }
 
 
+STAGE_CONTACT_KEYS = ("closed_extent", "stick_extent", "n_closed", "n_stick", "n_slip",
+                      "total_normal_force", "total_tangential_force", "peak_pressure")
+
+
+def _snapshot_numbers(scene, result, snap: dict, sides: list[int], interpolate: bool) -> dict:
+    """Contact forces, per-contact extents, plastic elements and support reactions at one
+    snapshot (the parts that apply)."""
+    out = {}
+    if len(scene.pair_xy):
+        contacts = contact_summaries(scene, result, snap, sides, interpolate)
+        out.update({
+            "total_normal_force": float(np.sum(snap["lambda_n"])),
+            "total_tangential_force": float(np.sum(snap["lambda_t"])),
+            "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
+            "contacts": {name: {k: c[k] for k in STAGE_CONTACT_KEYS}
+                         for name, c in contacts.items()}})
+    if "plastic" in snap:
+        out["n_plastic_elements"] = int(np.count_nonzero(snap["plastic"]))
+    out["reactions"] = {name: list(r) for name, r in reactions(scene, snap).items()}
+    return out
+
+
+def stage_records(scene, result) -> list[dict]:
+    """One record per completed stage, at the snapshot ending it (:func:`stage_ends`): stage
+    (1-based), name, t_end, n_events (rows of events.csv in the stage), then
+    :func:`_snapshot_numbers`."""
+    snaps = result.get("snapshots", [])
+    names = stage_names(scene, result)
+    _, ev_stage = event_times(result)
+    sides = ([half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
+             if len(scene.pair_xy) else [])
+    records = []
+    for k, i in stage_ends(result, len(names)):
+        last = i == len(snaps) - 1
+        records.append({"stage": k + 1, "name": names[k], "t_end": snapshot_time(snaps[i]),
+                        "n_events": int(np.count_nonzero(ev_stage == k)),
+                        **_snapshot_numbers(scene, result, snaps[i], sides, last)})
+    return records
+
+
 def _hertz_numbers(scene, summary: dict, f: float) -> dict:
-    """The closed-form Hertz values at the reached load fraction (a ~ sqrt(f), p0 ~ sqrt(f))
-    and the run's relative errors against them; Johnson's first yield when plastic."""
+    """The closed-form Hertz values at the reached factor f of the load (a ~ sqrt(f),
+    p0 ~ sqrt(f)) and the run's relative errors against them; Johnson's first yield when
+    plastic."""
     ref = dict(scene.reference)
     ref["a_hertz_at_final"] = ref["a_hertz"] * math.sqrt(max(f, 0.0))
     ref["p0_hertz_at_final"] = ref["p0_hertz"] * math.sqrt(max(f, 0.0))
@@ -126,13 +177,17 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
     snaps = result.get("snapshots", [])
     f = final_load_fraction(result)
     stop = result["stop"]
+    names = stage_names(scene, result)
     summary = {
         "case": scene.case.name,
         "n_events": int(len(result["events"]["step"])),
         "n_steps": int(len(result["steps"]["load_fraction"])),
         "final_load_fraction": f,
         "stop": {"kind": stop["kind"], "message": stop["message"],
-                 "load_fraction": float(stop["load_fraction"])},
+                 "load_fraction": float(stop["load_fraction"]), "t": final_time(result)},
+        "final_t": final_time(result),
+        "n_stages": len(names),
+        "stage_names": names,
         "interrupted": stop["kind"] == "interrupted",
         "stop_reason": result.get("stop_reason"),
         "n_nodes": int(len(model["nodes"])),
@@ -154,8 +209,13 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         if snaps and "plastic" in snaps[-1]:
             summary["n_plastic_elements"] = int(np.count_nonzero(snaps[-1]["plastic"]))
     summary.update(_contact_numbers(scene, result))
+    if snaps and "reaction" in snaps[-1]:
+        summary["reactions"] = {k: list(r) for k, r in reactions(scene, snaps[-1]).items()}
+    summary["stages"] = stage_records(scene, result)
     if scene.reference:
-        summary["hertz"] = _hertz_numbers(scene, summary, f)
+        # one stage: every factor is f; else the factor of the load pattern at the end
+        load = f if len(names) == 1 else float(load_factor(scene, "load", summary["final_t"]))
+        summary["hertz"] = _hertz_numbers(scene, summary, load)
     return summary
 
 
@@ -179,6 +239,8 @@ def one_line(summary: dict) -> str:
     """The summary the CLI prints."""
     parts = [f"{summary['case']}: {summary['n_events']} events",
              f"f = {summary['final_load_fraction']:.4g}"]
+    if summary.get("n_stages", 1) > 1:
+        parts[1] = f"t = {summary['final_t']:.4g} of {summary['n_stages']} stages"
     if contact_text(summary):
         parts += [contact_text(summary), f"p0 = {summary['peak_pressure']:.4g}"]
     if "hertz" in summary and "a_rel_error" in summary["hertz"]:
