@@ -70,18 +70,55 @@ def contact_force(n_nodes: int, pairs: dict, lambda_n: np.ndarray,
     return f
 
 
+def path_factors(model: dict, t: float) -> np.ndarray:
+    """The factor of every load pattern (``load`` first, then ``model["patterns"]``) at path
+    time t: linear from 0 at t = 0 through each stage's factors at t = 1, 2, … (one stage
+    with every factor 1 when the model has no ``stages``; docs/engine_api.md)."""
+    n = 1 + len(model.get("patterns", []))
+    ends = [np.asarray(s["factors"], dtype=float) for s in model.get("stages", [])] or [np.ones(n)]
+    table = np.vstack([np.zeros(n), *ends])
+    k = min(int(math.floor(t)), len(ends) - 1)
+    return table[k] + (t - k) * (table[k + 1] - table[k])
+
+
+def applied_load(model: dict, t: float) -> np.ndarray:
+    """Σ factor_j(t) P_j over the patterns' forces (the applied load at path time t)."""
+    f = path_factors(model, t)
+    load = f[0] * np.asarray(model["load"], dtype=float)
+    for fj, pat in zip(f[1:], model.get("patterns", [])):
+        if "force" in pat:
+            load = load + fj * np.asarray(pat["force"], dtype=float)
+    return load
+
+
+def held_dofs(model: dict) -> np.ndarray:
+    """Supported DOFs: fixed ones and those with a prescribed displacement."""
+    held = [np.asarray(model["fixed_dofs"], dtype=np.int64)]
+    held += [np.asarray(p["displacement_dofs"], dtype=np.int64)
+             for p in model.get("patterns", []) if "displacement_dofs" in p]
+    return np.concatenate(held)
+
+
 def equilibrium_residual(model: dict, snapshot: dict) -> float:
-    """|internal − load − contact| over the unsupported DOFs, relative to |load| there
-    (absolute for a scene without load)."""
+    """|internal − load − contact| over the unsupported DOFs, relative to the largest |load|
+    there along the path (absolute for a scene without load); the load is the path's at the
+    snapshot's time t (its load fraction for a run without stages).  With prescribed
+    displacements or obstacle motions (``patterns``) the scale is at least |internal force| at
+    the supported DOFs (the reactions, recomputed), so a displacement-driven run is measured
+    relative to the forces it carries."""
     nodes = np.asarray(model["nodes"], dtype=float)
-    r = (internal_force(nodes, np.asarray(model["triangles"]), np.asarray(snapshot["stress"]),
-                        model["thickness"])
-         - snapshot["load_fraction"] * np.asarray(model["load"], dtype=float)
+    t = float(snapshot.get("t", snapshot["load_fraction"]))
+    internal = internal_force(nodes, np.asarray(model["triangles"]),
+                              np.asarray(snapshot["stress"]), model["thickness"])
+    r = (internal - applied_load(model, t)
          - contact_force(len(nodes), model["pairs"], np.asarray(snapshot["lambda_n"]),
                          np.asarray(snapshot["lambda_t"])))
     free = np.ones(len(r), bool)
-    free[np.asarray(model["fixed_dofs"], dtype=np.int64)] = False
-    scale = np.linalg.norm(np.asarray(model["load"], dtype=float)[free])
+    free[held_dofs(model)] = False
+    n_stages = max(1, len(model.get("stages", [])))
+    scale = max(np.linalg.norm(applied_load(model, k)[free]) for k in range(1, n_stages + 1))
+    if "patterns" in model:  # displacement control: the supports' forces set the scale too
+        scale = max(scale, float(np.linalg.norm(internal[~free])))
     return float(np.linalg.norm(r[free]) / (scale if scale > 0 else 1.0))
 
 

@@ -314,7 +314,8 @@ class BulkProblem:
         each entry is reached in ``substeps`` steps, every value ramped linearly from where
         the previous entry left it (a newly constrained dof from its current displacement).
         Full Newton per step with the consistent tangent; converged when the free-dof
-        residual <= tol * |f_ext|.  ``callback(result)`` after every entry.
+        residual <= tol * the largest |f_ext| of the path so far (so that unloading to zero
+        load converges too).  ``callback(result)`` after every entry.
         """
         from dolfinx.fem.petsc import assemble_matrix, assemble_vector
 
@@ -332,8 +333,10 @@ class BulkProblem:
         newton_log = []
         result = None
         lf_prev, f_prev = 0.0, np.zeros(len(self.perm))
+        f_scale = 0.0  # the largest load so far: residuals of an unloaded state are relative to it
         for lf, presc, extra in schedule:
             f_end = self._to_dolfinx(self.load * lf + (extra if extra is not None else 0.0))
+            f_scale = max(f_scale, np.linalg.norm(f_end))
             dofs_all, target_end = self._constraints(presc)
             start = x[dofs_all].copy()
             free = np.ones(len(self.perm), bool)
@@ -342,7 +345,7 @@ class BulkProblem:
                 s = k / substeps
                 f_d = f_prev + s * (f_end - f_prev)
                 target = start + s * (target_end - start)
-                fnorm = max(np.linalg.norm(f_d), np.linalg.norm(f_end), 1e-300)
+                fnorm = max(np.linalg.norm(f_d), f_scale, 1e-300)
                 it, res = 0, np.inf
                 while True:
                     self.u_fn.x.array[:] = x
