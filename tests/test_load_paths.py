@@ -400,3 +400,14 @@ def test_elastoplastic_unloading_leaves_a_dent_and_self_equilibrated_stresses(pl
     assert np.linalg.norm(f_final[free]) <= 1e-9 * np.linalg.norm(f_loaded[free])
     assert np.abs(final["stress"]).max() > 0.05 * 200, "no residual stress left"
     assert_in_equilibrium(scene, result)
+
+
+def test_dolfinx_cross_check_refuses_a_displacement_driven_scene():
+    """The bulk cross-check scales forces only; a prescribed displacement would silently be
+    dropped, so it is refused with the load's name."""
+    pytest.importorskip("dolfinx")
+    from slipstep.errors import InputError
+    from slipstep.fenicsx.bulk import BulkProblem
+
+    with pytest.raises(InputError, match="load 'press' prescribes a displacement"):
+        BulkProblem(build_scene(cylinder_case(PRESS)))

@@ -157,8 +157,10 @@ def _run(args) -> int:
     if stop["kind"] in ("limit_load", "event_bound"):
         return _error(f"{stop['message']} (partial results in {out})")
     if stop["kind"] == "interrupted":
-        print(f"slipstep: interrupted at load fraction {summary['final_load_fraction']:.4g}; "
-              f"partial results in {out}", file=sys.stderr)
+        where = (f"t = {summary['final_t']:.4g} of {summary['n_stages']} stages"
+                 if summary.get("n_stages", 1) > 1 else
+                 f"load fraction {summary['final_load_fraction']:.4g}")
+        print(f"slipstep: interrupted at {where}; partial results in {out}", file=sys.stderr)
         return EXIT_INTERRUPTED
     return 0
 

@@ -34,6 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
 from . import plasticity, require_dolfinx
 from .exchange import DolfinxMesh, scene_to_dolfinx
 
@@ -53,6 +54,16 @@ class BulkResult:
     newton: list = field(default_factory=list)  # per load step: iterations, final residual
 
 
+def _refuse_unmodelled_loads(scene) -> None:
+    """The bulk problem scales the case's forces by load fractions only: prescribed
+    displacements and obstacle motions (model patterns) would silently be dropped."""
+    for pattern in scene.model.get("patterns", []):
+        if "displacement_dofs" in pattern or "motion" in pattern:
+            raise InputError(f"{scene.case.source}: load '{pattern['name']}' prescribes a "
+                             f"displacement or moves an obstacle, which the dolfinx bulk "
+                             f"cross-check does not model: cross-check a force-driven variant")
+
+
 def _edge_name(scene, body: str, tag: str) -> str:
     return f"{body}.{tag}" if len(scene.bodies) > 1 else tag
 
@@ -67,6 +78,7 @@ class BulkProblem:
 
         t0 = time.perf_counter()
         self.scene = scene
+        _refuse_unmodelled_loads(scene)
         if dm is None:
             if workdir is None:
                 self._tmp = tempfile.TemporaryDirectory(prefix="slipstep-fenicsx-")
