@@ -139,6 +139,22 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
     return np.sqrt(1.5 * (np.sum(dev ** 2, axis=1) + 2.0 * s[:, 3] ** 2))
 
 
+# --------------------------------------------------------------------------- thick cylinder
+def hill_pressure(c: float, a: float, b: float, k: float) -> float:
+    """Hill (ch. V): internal pressure at which the plastic zone of a thick cylinder (bore a,
+    outer radius b, shear yield stress k) reaches radius c: k [2 ln(c/a) + 1 − c²/b²]."""
+    return k * (2.0 * math.log(c / a) + 1.0 - c ** 2 / b ** 2)
+
+
+def hill_radius(p: float, a: float, b: float, k: float) -> float:
+    """Inverse of hill_pressure on [a, b] (increasing there: dp/dc = 2k (1/c − c/b²) > 0)."""
+    lo, hi = a, b
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if hill_pressure(mid, a, b, k) < p else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
 # --------------------------------------------------------------------------- Hertz
 def hertz_line(P: float, R: float, E: float, nu: float, plane: str = "strain") -> tuple[float, float]:
     """Contact half-width a and peak pressure p0 of an elastic cylinder (radius R, line load P

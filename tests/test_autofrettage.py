@@ -35,7 +35,7 @@ import re
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
-from physics import EQUILIBRIUM_TOL, worst_equilibrium
+from physics import EQUILIBRIUM_TOL, hill_radius, worst_equilibrium
 
 from slipstep import build_scene, parse_case, prepare, solve
 
@@ -47,19 +47,7 @@ K = SY / math.sqrt(3.0)
 H_BORE = 0.25  # the case's element size at the bore
 
 
-def hill_pressure(c):
-    return K * (2.0 * math.log(c / A_IN) + 1.0 - c ** 2 / B_OUT ** 2)
-
-
-def hill_radius(p):
-    lo, hi = A_IN, B_OUT
-    for _ in range(100):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if hill_pressure(mid) < p else (lo, mid)
-    return 0.5 * (lo + hi)
-
-
-C = hill_radius(P)
+C = hill_radius(P, A_IN, B_OUT, K)
 LAME_A = P * A_IN ** 2 / (B_OUT ** 2 - A_IN ** 2)
 LAME_B = P * A_IN ** 2 * B_OUT ** 2 / (B_OUT ** 2 - A_IN ** 2)
 

@@ -29,6 +29,7 @@ import math
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
+import physics
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 from slipstep import prepare, solve
@@ -58,16 +59,11 @@ P_LIMIT = 2.0 * K * math.log(B_OUT / A_IN)       # fully plastic
 
 def hill_pressure(c):
     """Hill: internal pressure at which the plastic zone reaches radius c."""
-    return K * (2.0 * math.log(c / A_IN) + 1.0 - c ** 2 / B_OUT ** 2)
+    return physics.hill_pressure(c, A_IN, B_OUT, K)
 
 
 def hill_radius(p):
-    """Inverse of hill_pressure on [a, b] (increasing there: dp/dc = 2k (1/c - c/b^2) > 0)."""
-    lo, hi = A_IN, B_OUT
-    for _ in range(100):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if hill_pressure(mid) < p else (lo, mid)
-    return 0.5 * (lo + hi)
+    return physics.hill_radius(p, A_IN, B_OUT, K)
 
 
 def element_size(r):
