@@ -11,7 +11,7 @@
 //! |---|---|---|
 //! | the assembled problem, K and its factor, flexibility | [`engine`], [`stiffness`], [`space`] | eqs. 36, 45–46 |
 //! | state and trial increment records | [`state`] | eqs. 59–62 |
-//! | the load path: patterns, stages, prescribed displacements, obstacle motion | [`path`] | |
+//! | the load path: patterns, stages, prescribed displacements, obstacle motion | [`path`], [`loads`] | |
 //! | trial for the remaining load (small contact system) | [`trial`] | eqs. 43–44 |
 //! | free bodies and gross sliding | [`restraint`] | |
 //! | scale factors, S_min, ties, zero-length order, grouping | [`selection`] | eqs. 48–57 |
@@ -37,6 +37,7 @@ mod advance;
 mod anticycling;
 mod checks;
 mod engine;
+mod loads;
 mod path;
 mod plasticity;
 mod rate_problem;
