@@ -57,16 +57,24 @@ def internal_force(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray,
 def contact_force(n_nodes: int, pairs: dict, lambda_n: np.ndarray,
                   lambda_t: np.ndarray) -> np.ndarray:
     """The contact forces on the bodies over all DOFs: λ_n n + λ_t t on node a, the opposite on
-    node b (none for node_b = −1, a rigid target); t = (−n_y, n_x)."""
+    node b (none for node_b = −1, a rigid target); t = (−n_y, n_x). A node-to-segment row
+    (``weight_ptr`` etc.) puts c_i (λ_n n + λ_t t) on each of its nodes i instead."""
     normal = np.asarray(pairs["normal"], dtype=float).reshape(-1, 2)
     tangent = np.stack([-normal[:, 1], normal[:, 0]], axis=1)
     lambda_n, lambda_t = np.asarray(lambda_n, dtype=float), np.asarray(lambda_t, dtype=float)
     force = lambda_n[:, None] * normal + lambda_t[:, None] * tangent
     f = np.zeros(2 * n_nodes)
     a, b = np.asarray(pairs["node_a"]), np.asarray(pairs["node_b"])
+    ptr = np.asarray(pairs.get("weight_ptr", np.zeros(len(a) + 1, dtype=np.int64)))
+    weighted = np.diff(ptr) > 0  # node-to-segment rows: Σ_i c_i force at node i
     for comp in (0, 1):
-        np.add.at(f, 2 * a + comp, force[:, comp])
-        np.add.at(f, 2 * b[b >= 0] + comp, -force[b >= 0, comp])
+        plain = ~weighted
+        np.add.at(f, 2 * a[plain] + comp, force[plain, comp])
+        np.add.at(f, 2 * b[plain & (b >= 0)] + comp, -force[plain & (b >= 0), comp])
+        if weighted.any():
+            rows = np.repeat(np.arange(len(a)), np.diff(ptr))
+            np.add.at(f, 2 * np.asarray(pairs["weight_node"]) + comp,
+                      np.asarray(pairs["weight_value"]) * force[rows, comp])
     return f
 
 

@@ -95,6 +95,7 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
         if [b.len(), normal.len(), gap.len(), mu.len()].iter().any(|&l| l != n) || contact.as_ref().map_or(false, |c| c.len() != n) {
             return Err(input_error("engine model: the pair arrays node_a, node_b, normal, gap, mu differ in length"));
         }
+        let weights = read_pair_weights(p, n)?;
         for k in 0..n {
             pairs.push(PairInput {
                 node_a: to_index(a[k], "pairs.node_a")?,
@@ -103,6 +104,7 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
                 gap: gap[k],
                 mu: mu[k],
                 contact: contact.as_ref().map_or(0, |c| c[k]),
+                weights: weights[k].clone(),
             });
         }
     }
@@ -110,6 +112,22 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
     let names = read_names(d)?;
     let (patterns, stages) = read_path(d)?;
     Ok(Model { mesh: Mesh { nodes, triangles }, element_material, materials, plane, thickness, fixed_dofs, load, patterns, stages, pairs, names, options })
+}
+
+/// Node-to-segment pairs' weights, in compressed rows (optional keys `weight_ptr` (P+1),
+/// `weight_node`, `weight_value`); pairs without weights get an empty list.
+fn read_pair_weights(p: &Bound<'_, PyDict>, n: usize) -> PyResult<Vec<Vec<(usize, f64)>>> {
+    if p.get_item("weight_ptr")?.is_none() {
+        return Ok(vec![vec![]; n]);
+    }
+    let ptr = i64_1d(p, "weight_ptr")?;
+    let nodes = i64_1d(p, "weight_node")?;
+    let values = f64_1d(p, "weight_value")?;
+    let bad = ptr.len() != n + 1 || nodes.len() != values.len() || ptr.windows(2).any(|w| w[0] > w[1]) || ptr.first() != Some(&0) || ptr.last().map_or(true, |&e| e as usize != nodes.len());
+    if bad {
+        return Err(input_error("engine model: pairs.weight_ptr must have P+1 non-decreasing entries from 0 to len(weight_node) = len(weight_value)"));
+    }
+    (0..n).map(|k| (ptr[k] as usize..ptr[k + 1] as usize).map(|i| Ok((to_index(nodes[i], "pairs.weight_node")?, values[i]))).collect()).collect()
 }
 
 /// The load path: optional `patterns` (list of dict) and `stages` (list of dict), see

@@ -1,14 +1,17 @@
 //! Contact candidate pairs and their constraint vectors (paper eqs. 21–28, 45–46).
 //!
 //! A pair joins a contactor node `a` to a target: another body's node `b` (node-to-node) or
-//! a rigid straight line (node-to-rigid-line, `b = None`). With the target's unit normal n
-//! (pointing towards `a`) and tangent t = (−n_y, n_x), in global DOFs:
+//! a rigid obstacle (`b = None`). With the target's unit normal n (pointing towards `a`) and
+//! tangent t = (−n_y, n_x), in global DOFs:
 //!
 //!   w_n = n at a, −n at b   ⇒ gap = gap₀ + w_nᵀ u ≥ 0        (eqs. 21–22, with C_n = −w_n)
 //!   w_t = t at a, −t at b   ⇒ RTD = w_tᵀ u                   (eq. 25, C_t = w_t)
 //!
 //! and the contact force on the bodies is w_n λ_n + w_t λ_t with λ_n ≥ 0 compressive
-//! (eqs. 23, 36). Coulomb (eqs. 1–3): |λ_t| ≤ μ λ_n; a slipping pair carries
+//! (eqs. 23, 36). A weighted pair (node-to-segment, mortar-style) spreads the same column over
+//! more nodes: w_n = Σ_i c_i n at node i (contactor weights c_i > 0 summing to 1, target
+//! weights < 0 summing to −1), so its gap is a weighted mean over the interface; it is still
+//! one row of the paper's C_n / C_t. Coulomb (eqs. 1–3): |λ_t| ≤ μ λ_n; a slipping pair carries
 //! λ_t = −d μ λ_n where d = ±1 is the direction of its slip (eq. 41).
 
 /// A constraint vector shorter than this has all its DOFs held by supports (unit normals and
@@ -85,19 +88,30 @@ pub struct Pair {
 
 impl Pair {
     pub fn new(node_a: usize, node_b: Option<usize>, normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
+        let mut weights = vec![(node_a, 1.0)];
+        weights.extend(node_b.map(|b| (b, -1.0)));
+        Self::build(node_a, node_b, &weights, false, normal, gap0, mu, fixed)
+    }
+
+    /// A pair whose constraint column is Σ_i c_i (n or t) at the nodes of `weights` (c_i).
+    pub fn weighted(node_a: usize, node_b: Option<usize>, weights: &[(usize, f64)], normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
+        Self::build(node_a, node_b, weights, true, normal, gap0, mu, fixed)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn build(node_a: usize, node_b: Option<usize>, weights: &[(usize, f64)], weighted: bool, normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
         let t = [-normal[1], normal[0]];
         let vec_of = |dir: [f64; 2]| {
-            let mut entries = vec![(2 * node_a, dir[0]), (2 * node_a + 1, dir[1])];
-            if let Some(b) = node_b {
-                entries.push((2 * b, -dir[0]));
-                entries.push((2 * b + 1, -dir[1]));
-            }
-            SparseVec { entries: entries.into_iter().filter(|&(_, c)| c != 0.0).collect() }
+            let entries = weights.iter().flat_map(|&(i, c)| [(2 * i, c * dir[0]), (2 * i + 1, c * dir[1])]);
+            SparseVec { entries: entries.filter(|&(_, c)| c != 0.0).collect() }
         };
         let free = |d: usize| !fixed[d];
         let w_n = vec_of(normal).restricted(free);
         let w_t = vec_of(t).restricted(free);
-        let tangent_held = w_t.norm() < HELD_BY_SUPPORTS;
+        // Node to node: held when every tangential DOF is; a weighted row (its force on node a
+        // alone) when node a's are: its remaining entries would constrain the target only.
+        let own = |w: &SparseVec| w.entries.iter().filter(|&&(d, _)| d / 2 == node_a).map(|&(_, c)| c * c).sum::<f64>().sqrt();
+        let tangent_held = if weighted { own(&w_t) < HELD_BY_SUPPORTS } else { w_t.norm() < HELD_BY_SUPPORTS };
         Pair { node_a, node_b, normal, gap0, mu, w_n, w_t, tangent_held }
     }
 
@@ -145,6 +159,21 @@ mod tests {
         let u = [-0.1, 0.2, 0.0, -0.3];
         assert!((p.gap(&u) - (0.5 + 0.2 + 0.3)).abs() < 1e-15);
         assert!((p.rtd(&u) - 0.1).abs() < 1e-15);
+    }
+
+    #[test]
+    fn weighted_rows_spread_the_column_and_cancel() {
+        // Contactor node 0 (weight 1), target nodes 1, 2 (−0.25, −0.75): moving everything by
+        // the same vector keeps the gap; the gap is u0 − (0.25 u1 + 0.75 u2) along n.
+        let fixed = vec![false; 6];
+        let p = Pair::weighted(0, Some(2), &[(0, 1.0), (1, -0.25), (2, -0.75)], [0.0, 1.0], 0.0, 0.3, &fixed);
+        let shift = [0.3, -0.2, 0.3, -0.2, 0.3, -0.2];
+        assert!(p.gap(&shift).abs() < 1e-15 && p.rtd(&shift).abs() < 1e-15);
+        let u = [0.0, 0.1, 0.0, 0.4, 0.0, 0.0];
+        assert!((p.gap(&u) - (0.1 - 0.25 * 0.4)).abs() < 1e-15);
+        // Node 0 held in x on a symmetry line: no stick row, although the targets are free.
+        let held = Pair::weighted(0, Some(2), &[(0, 1.0), (1, -0.25), (2, -0.75)], [0.0, 1.0], 0.0, 0.3, &[true, false, false, false, false, false]);
+        assert!(held.tangent_held && !p.tangent_held);
     }
 
     #[test]

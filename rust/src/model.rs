@@ -18,7 +18,13 @@ pub struct PairInput {
     pub mu: f64,
     /// Index into `Names::contacts` of the case's contact this pair comes from.
     pub contact: usize,
+    /// Node-to-segment (mortar-style) pairs: the weight c_i of every node in the constraint
+    /// column (contactor > 0, target < 0, summing to 0). Empty: 1 at node_a, −1 at node_b.
+    pub weights: Vec<(usize, f64)>,
 }
+
+/// Weights of a pair must cancel to this × their size (a rigid translation keeps the gap).
+const WEIGHT_BALANCE: f64 = 1e-9;
 
 /// The case's names, so that messages say "body 'punch'" and "contact 'bottom'" instead of
 /// indices. Empty vectors: bodies and contacts are named by number.
@@ -289,6 +295,13 @@ impl Model {
         }
         if !(p.mu.is_finite() && p.mu >= 0.0) {
             bail!(Input, "{name}: mu = {} is not allowed: the friction coefficient must be >= 0", p.mu);
+        }
+        if let Some(&(i, c)) = p.weights.iter().find(|&&(i, c)| !in_mesh(i) || !c.is_finite()) {
+            bail!(Input, "{name}: weight {c} on node {i} is not allowed: node-to-segment weights need finite values on nodes of an element");
+        }
+        let (sum, size) = p.weights.iter().fold((0.0, 0.0), |(s, a), &(_, c)| (s + c, a + c.abs()));
+        if sum.abs() > WEIGHT_BALANCE * size {
+            bail!(Input, "{name}: its node weights sum to {sum:.3e}, not 0: the contactor weights must sum to 1 and the target weights to -1");
         }
         let nn = (p.normal[0].powi(2) + p.normal[1].powi(2)).sqrt();
         if !nn.is_finite() || (nn - 1.0).abs() > 1e-6 {

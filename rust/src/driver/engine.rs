@@ -167,7 +167,10 @@ fn contact_pairs(model: &Model, fixed: &[bool]) -> Result<Vec<Pair>> {
     for (k, p) in model.pairs.iter().enumerate() {
         let nn = (p.normal[0].powi(2) + p.normal[1].powi(2)).sqrt();
         let normal = [p.normal[0] / nn, p.normal[1] / nn];
-        let pair = Pair::new(p.node_a, p.node_b, normal, p.gap.max(0.0), p.mu, fixed);
+        let pair = match p.weights.is_empty() {
+            true => Pair::new(p.node_a, p.node_b, normal, p.gap.max(0.0), p.mu, fixed),
+            false => Pair::weighted(p.node_a, p.node_b, &p.weights, normal, p.gap.max(0.0), p.mu, fixed),
+        };
         if pair.w_n.norm() < HELD_BY_SUPPORTS {
             bail!(Input, "{}: its normal direction is held by supports, so it can carry no contact force; remove the pair or the support", model.pair_name(k));
         }
