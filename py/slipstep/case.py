@@ -172,7 +172,7 @@ MATERIAL_KEYS = {
 }
 
 QUARTER_CYLINDER_KEYS = {
-    "generator": Key("str", REQUIRED, doc='"quarter_cylinder"'),
+    "generator": Key("str", REQUIRED, doc='"quarter_cylinder" (x >= 0) or "half_cylinder" (the quarter mirrored: tags arc, top)'),
     "R": Key("float", REQUIRED, unit="length", doc="cylinder radius; centre at (0, R), bottom "
                                                     "point at (0, 0)", check=_positive("R")),
     "h_contact": Key("float", REQUIRED, unit="length",
@@ -199,6 +199,22 @@ BLOCK_KEYS = {
     "h": Key("float", 0.0, unit="length",
              doc="target element size when nx/ny are 0 (n = round(size/h))",
              check=_non_negative("h")),
+    # the graded block (gmsh), when h_contact > 0; nx, ny and h are then not used
+    "h_contact": Key("float", 0.0, unit="length",
+                     doc="graded block (gmsh): element size within contact_zone of focus "
+                         "(0 = the structured block of nx/ny or h)",
+                     check=_non_negative("h_contact")),
+    "contact_zone": Key("float", 0.0, unit="length",
+                        doc="graded block: radius of the fine zone around focus",
+                        check=_positive("contact_zone")),
+    "h_max": Key("float", 0.0, unit="length", doc="graded block: largest element size",
+                 check=_positive("h_max")),
+    "growth": Key("float", 0.1, doc="graded block: size growth per unit distance outside the "
+                                    "zone (h = h_contact + growth * (d - contact_zone))",
+                  check=_positive("growth")),
+    "focus": Key("vec2", None, unit="length",
+                 doc="graded block: the point [x, y] it is fine around, inside or on the "
+                     "boundary (default: the middle of the top edge)"),
 }
 
 QUARTER_ANNULUS_KEYS = {
@@ -223,12 +239,14 @@ FILE_MESH_KEYS = {
     "scale": Key("float", 1.0, doc="multiply the coordinates by this", check=_positive("scale")),
 }
 
-MESH_VARIANTS = {"quarter_cylinder": QUARTER_CYLINDER_KEYS, "block": BLOCK_KEYS,
+MESH_VARIANTS = {"quarter_cylinder": QUARTER_CYLINDER_KEYS,
+                 "half_cylinder": QUARTER_CYLINDER_KEYS, "block": BLOCK_KEYS,
                  "quarter_annulus": QUARTER_ANNULUS_KEYS}
 
 #: Edge tags that the generators create (file meshes bring their own).
 GENERATOR_EDGES = {
     "quarter_cylinder": ("arc", "symmetry", "top"),
+    "half_cylinder": ("arc", "top"),
     "block": ("bottom", "right", "top", "left"),
     "quarter_annulus": ("inner", "outer", "x_axis", "y_axis"),
 }
@@ -257,7 +275,9 @@ POINT_LOAD_KEYS = {
 }
 
 _CONTACT_COMMON = {
-    "kind": Key("str", REQUIRED, doc='"rigid_line" or "node_to_node"'),
+    "kind": Key("str", REQUIRED, doc='the contact kind: "rigid_line", "rigid_circle", '
+                                     '"rigid_polyline" (a deformable body against a rigid '
+                                     'obstacle) or a deformable pair ("node_to_node", ...)'),
     "name": Key("str", "", doc="optional name"),
     "mu": Key("float", 0.0, doc="Coulomb friction coefficient", check=_non_negative("mu")),
 }
@@ -280,6 +300,62 @@ RIGID_LINE_KEYS = {
                   doc="translation [dx, dy] of the rigid line at factor 1 (a load)"),
 }
 
+def _check_polyline(points) -> str | None:
+    """At least two points, no zero-length segment, no segment folding back onto the last."""
+    if len(points) < 2:
+        return f"a polyline needs at least 2 points, got {len(points)}"
+    for k in range(len(points) - 1):
+        if points[k] == points[k + 1]:
+            return (f"points {k} and {k + 1} are both {_fmt(points[k])}: a zero-length segment; "
+                    f"remove one of them")
+        dx, dy = points[k + 1][0] - points[k][0], points[k + 1][1] - points[k][1]
+        if not 0.0 < dx * dx + dy * dy < math.inf:  # its squared length under- or overflows
+            return (f"the segment from point {k} to point {k + 1} is too short or too long to "
+                    f"compute with: rescale the coordinates")
+    for k in range(len(points) - 2):
+        (x0, y0), (x1, y1), (x2, y2) = points[k:k + 3]
+        d, e = (x1 - x0, y1 - y0), (x2 - x1, y2 - y1)
+        if d[0] * e[1] - d[1] * e[0] == 0.0 and d[0] * e[0] + d[1] * e[1] < 0.0:
+            return (f"the segments before and after point {k + 1} fold back onto each other "
+                    f"(the normal at that vertex is undefined): remove point {k + 1}")
+    return None
+
+
+def _rigid_obstacle_keys(shape: dict, what: str) -> dict:
+    """The keys of a rigid obstacle of any shape: body, edge, the ``shape`` keys, the candidate
+    window, tolerance and motion (as for the rigid line)."""
+    return {
+        **_CONTACT_COMMON,
+        "body": RIGID_LINE_KEYS["body"],
+        "edge": RIGID_LINE_KEYS["edge"],
+        **shape,
+        **{k: RIGID_LINE_KEYS[k] for k in ("x_min", "x_max", "y_min", "y_max", "tolerance")},
+        "motion": Key("vec2", None, unit="length",
+                      doc=f"translation [dx, dy] of the {what} at factor 1 (a load)"),
+    }
+
+
+RIGID_CIRCLE_KEYS = _rigid_obstacle_keys({
+    "centre": Key("vec2", REQUIRED, unit="length", doc="centre [x, y] of the rigid circle"),
+    "radius": Key("float", REQUIRED, unit="length", doc="radius of the rigid circle",
+                  check=_positive("the radius")),
+    "side": Key("str", "outside", doc='where the body is: "outside" the circle (a rigid '
+                                      'cylinder pressed into it) or "inside" (in a circular '
+                                      'hole or cup)', choices=("outside", "inside")),
+}, "circle")
+
+RIGID_POLYLINE_KEYS = _rigid_obstacle_keys({
+    "points": Key("points", REQUIRED, unit="length",
+                  doc="vertices [[x, y], ...] of the rigid polyline, at least 2, no two "
+                      "consecutive ones equal", check=_check_polyline),
+    "side": Key("str", REQUIRED, doc='the side the body lies on, walking the polyline from its '
+                                     'first point to its last: "left" or "right"',
+                choices=("left", "right")),
+}, "polyline")
+
+#: The contact kinds whose target is a rigid obstacle (node_b = -1; they take `motion`).
+RIGID_KINDS = ("rigid_line", "rigid_circle", "rigid_polyline")
+
 NODE_TO_NODE_KEYS = {
     **_CONTACT_COMMON,
     "body_a": Key("str", REQUIRED, doc="contactor body"),
@@ -293,7 +369,26 @@ NODE_TO_NODE_KEYS = {
                                     "edge_b averaged at node b)", check=_check_unit_free_vector),
 }
 
-CONTACT_VARIANTS = {"rigid_line": RIGID_LINE_KEYS, "node_to_node": NODE_TO_NODE_KEYS}
+NODE_TO_SEGMENT_KEYS = {
+    **_CONTACT_COMMON,
+    "body_a": Key("str", REQUIRED, doc="contactor body (its nodes get the constraint rows)"),
+    "edge_a": Key("str", REQUIRED, doc="contactor edge tag"),
+    "body_b": Key("str", REQUIRED, doc="target body"),
+    "edge_b": Key("str", REQUIRED, doc="target edge tag (a polyline: its segments' outward "
+                                       "normals are the contact normals)"),
+    "x_min": Key("float", -math.inf, unit="length", doc="candidates: contactor nodes with x >= x_min"),
+    "x_max": Key("float", math.inf, unit="length", doc="candidates: contactor nodes with x <= x_max"),
+    "y_min": Key("float", -math.inf, unit="length", doc="candidates: contactor nodes with y >= y_min"),
+    "y_max": Key("float", math.inf, unit="length", doc="candidates: contactor nodes with y <= y_max"),
+    "tolerance": Key("float", 1e-9, unit="length",
+                     doc="initial gaps in [-tolerance, 0) count as 0 (touching); below "
+                         "-tolerance is an initial penetration (an error)",
+                     check=_non_negative("tolerance")),
+}
+
+CONTACT_VARIANTS = {"rigid_line": RIGID_LINE_KEYS, "rigid_circle": RIGID_CIRCLE_KEYS,
+                    "rigid_polyline": RIGID_POLYLINE_KEYS, "node_to_node": NODE_TO_NODE_KEYS,
+                    "node_to_segment": NODE_TO_SEGMENT_KEYS}
 
 STAGE_KEYS = {
     "name": Key("str", "", doc='optional name (default "stage <k>", 1-based)'),
@@ -320,7 +415,8 @@ ARRAY_KEYS = {
     "body": BODY_KEYS,
     "bc": BC_KEYS,
     "point_load": POINT_LOAD_KEYS,
-    "contact": _union(RIGID_LINE_KEYS, NODE_TO_NODE_KEYS),
+    "contact": _union(RIGID_LINE_KEYS, RIGID_CIRCLE_KEYS, RIGID_POLYLINE_KEYS,
+                      NODE_TO_NODE_KEYS, NODE_TO_SEGMENT_KEYS),
     "stage": STAGE_KEYS,
 }
 BODY_SUBTABLES = {"mesh": _union(QUARTER_CYLINDER_KEYS, BLOCK_KEYS, QUARTER_ANNULUS_KEYS,
@@ -460,7 +556,7 @@ def apply_override(raw: dict, item: str, source: str = "<case>") -> None:
         if head == "contact":  # the keys of this contact's kind, if it has a known one
             kind = element.get("kind")
             keys = CONTACT_VARIANTS.get(kind if isinstance(kind, str) else "", keys)
-            if kind == "node_to_node" and rest == ["motion"]:  # refused by the validator,
+            if kind in ("node_to_node", "node_to_segment") and rest == ["motion"]:  # refused by the validator,
                 keys = {**keys, "motion": RIGID_LINE_KEYS["motion"]}  # with the reason
         _set_in_table(element, keys, rest, value, where, f"[[{head}]]",
                       extra=tuple(BODY_SUBTABLES) if head == "body" else ())
@@ -532,6 +628,7 @@ _TYPE_HELP = {
     "snapshots": '"events" or a list of load fractions',
     "xy": "an inline table of numbers x and/or y, e.g. {x = 0.0, y = -0.1}",
     "factors": "an inline table of load names and numbers, e.g. {load = 1.0}",
+    "points": "a list of [x, y] points, e.g. [[0.0, 1.0], [10.0, 1.0]]",
 }
 
 
@@ -604,6 +701,15 @@ class _Validator:
                 v = [float(c) for c in v]
             elif not isinstance(v, str):
                 raise bad
+        elif t == "points":
+            if (not isinstance(v, list) or
+                    any(not isinstance(p, list) or len(p) != 2 or
+                        any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in p)
+                        for p in v)):
+                raise bad
+            v = [[float(c) for c in p] for p in v]
+            if not all(math.isfinite(c) for p in v for c in p):
+                raise self.fail(full, f"= {shown} is not allowed: expected finite numbers")
         elif t in ("xy", "factors"):
             if not isinstance(v, dict):
                 raise bad
@@ -728,7 +834,7 @@ class _Validator:
                                       f"{sub}material.")
         if "mesh" not in raw:
             raise self.fail(f"{sub}mesh", 'is missing: add a [body.mesh] table with generator = '
-                                          '"quarter_cylinder", "block" or "quarter_annulus", '
+                                          '"quarter_cylinder", "half_cylinder", "block" or "quarter_annulus", '
                                           'or file = "..."')
         body["mesh"] = self.mesh(raw["mesh"], f"{sub}mesh.")
         return body
@@ -749,7 +855,7 @@ class _Validator:
             raise self.fail(prefix + "generator", f"{what}: use {choices}, or give "
                                                   f'file = "mesh.msh"')
         mesh = self.table(raw, MESH_VARIANTS[gen], "[body.mesh]", prefix)
-        if gen == "quarter_cylinder":
+        if gen in ("quarter_cylinder", "half_cylinder"):
             if mesh["h_contact"] > mesh["h_max"]:
                 raise self.fail(prefix + "h_contact", f"= {_fmt(mesh['h_contact'])} is not "
                                 f"allowed: it must not exceed h_max = {_fmt(mesh['h_max'])}")
@@ -766,10 +872,43 @@ class _Validator:
                                     f"not exceed the wall thickness b - a = "
                                     f"{_fmt(mesh['b'] - mesh['a'])}")
         if gen == "block":
-            for n, size in (("nx", "width"), ("ny", "height")):
-                if mesh[n] == 0 and mesh["h"] == 0:
-                    raise self.fail(prefix + n, f"is missing: give {n} (divisions along "
-                                                f"{size}) or h (element size)")
+            if mesh["h_contact"] == 0:  # structured: nx/ny or h
+                for n, size in (("nx", "width"), ("ny", "height")):
+                    if mesh[n] == 0 and mesh["h"] == 0:
+                        raise self.fail(prefix + n, f"is missing: give {n} (divisions along "
+                                        f"{size}) or h (element size), or h_contact (a graded "
+                                        f"gmsh mesh)")
+                for key in ("contact_zone", "h_max", "growth", "focus"):  # would do nothing
+                    if key in raw:
+                        raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed "
+                                        f"without h_contact: it shapes the graded block "
+                                        f"(h_contact > 0); add h_contact or drop {key}")
+            else:  # graded (gmsh) around focus
+                hc = _fmt(mesh["h_contact"])
+                for key in ("nx", "ny", "h"):
+                    if mesh[key] > 0:
+                        raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed "
+                                        f"together with h_contact = {hc}: nx/ny/h make the "
+                                        f"structured block, h_contact the graded one; drop "
+                                        f"{key} (or h_contact)")
+                for key, what in (("contact_zone", "the radius of the fine zone around focus"),
+                                  ("h_max", "the largest element size")):
+                    if mesh[key] == 0:
+                        raise self.fail(prefix + key, f"is missing: the graded block "
+                                        f"(h_contact = {hc}) needs {what} [length]; add "
+                                        f"`{key} = ...` to [body.mesh]")
+                if mesh["h_contact"] > mesh["h_max"]:
+                    raise self.fail(prefix + "h_contact", f"= {hc} is not allowed: it must not "
+                                    f"exceed h_max = {_fmt(mesh['h_max'])}")
+                if mesh["focus"] is not None:
+                    (fx, fy), x0, y0 = mesh["focus"], mesh["x0"], mesh["y0"]
+                    x1, y1 = x0 + mesh["width"], y0 + mesh["height"]
+                    tol = 1e-9 * max(mesh["width"], mesh["height"])  # as mesh.graded_block
+                    if not (x0 - tol <= fx <= x1 + tol and y0 - tol <= fy <= y1 + tol):
+                        raise self.fail(prefix + "focus", f"= {_fmt(mesh['focus'])} is not "
+                                        f"allowed: it lies outside the block [{_fmt(x0)}, "
+                                        f"{_fmt(x1)}] x [{_fmt(y0)}, {_fmt(y1)}]; move it "
+                                        f"inside or onto the boundary")
         mesh["edges"] = GENERATOR_EDGES[gen]
         return mesh
 
@@ -812,12 +951,12 @@ class _Validator:
             choices = " or ".join(_fmt(k) for k in CONTACT_VARIANTS)
             what = "is missing" if kind is None else f"= {_fmt(kind)} is not allowed"
             raise self.fail(prefix + "kind", f"{what}: use {choices}")
-        if kind == "node_to_node" and "motion" in raw:
+        if kind in ("node_to_node", "node_to_segment") and "motion" in raw:
             raise self.fail(prefix + "motion", "is not allowed: motion on a deformable-pair "
-                            'contact (kind "node_to_node"): motion moves a rigid obstacle; '
+                            f'contact (kind "{kind}"): motion moves a rigid obstacle; '
                             "prescribe a displacement [[bc]] on one of the bodies instead")
         c = self.table(raw, CONTACT_VARIANTS[kind], f'[[contact]] of kind "{kind}"', prefix)
-        if kind == "rigid_line":
+        if kind in RIGID_KINDS:
             self.need_body(c["body"], prefix + "body", edges)
             self.need_edge(c["body"], c["edge"], prefix + "edge", edges)
         else:

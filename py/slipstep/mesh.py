@@ -211,6 +211,22 @@ def _mesh_with_size_field(gmsh, size: int):
     return _gmsh_triangles_and_edges(gmsh)
 
 
+def _mesh_graded_around(gmsh, point: int, h_contact: float, contact_zone: float, h_max: float,
+                        growth: float):
+    """Mesh the model with h = h_contact within contact_zone of geometry point `point`, growing
+    linearly, h = h_contact + growth (d - contact_zone), up to h_max (Distance + Threshold)."""
+    fields = gmsh.model.mesh.field
+    dist = fields.add("Distance")
+    fields.setNumbers(dist, "PointsList", [point])
+    size = fields.add("Threshold")
+    fields.setNumber(size, "InField", dist)
+    fields.setNumber(size, "SizeMin", h_contact)
+    fields.setNumber(size, "SizeMax", h_max)
+    fields.setNumber(size, "DistMin", contact_zone)
+    fields.setNumber(size, "DistMax", contact_zone + (h_max - h_contact) / growth)
+    return _mesh_with_size_field(gmsh, size)
+
+
 def _gmsh_triangles_and_edges(gmsh) -> tuple[np.ndarray, np.ndarray, dict, dict]:
     """Nodes (2D), triangles and the physical line / point groups of the current model."""
     tags, coords, _ = gmsh.model.mesh.getNodes()
@@ -280,20 +296,33 @@ def quarter_cylinder(R: float, h_contact: float, contact_zone: float, h_max: flo
         gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [bottom]), "bottom_point")
         gmsh.model.addPhysicalGroup(2, [surface])
 
-        fields = gmsh.model.mesh.field
-        dist = fields.add("Distance")
-        fields.setNumbers(dist, "PointsList", [bottom])
-        size = fields.add("Threshold")
-        fields.setNumber(size, "InField", dist)
-        fields.setNumber(size, "SizeMin", h_contact)
-        fields.setNumber(size, "SizeMax", h_max)
-        fields.setNumber(size, "DistMin", contact_zone)
-        fields.setNumber(size, "DistMax", contact_zone + (h_max - h_contact) / growth)
-        xyz, triangles, edges, node_sets = _mesh_with_size_field(gmsh, size)
+        xyz, triangles, edges, node_sets = _mesh_graded_around(gmsh, bottom, h_contact,
+                                                               contact_zone, h_max, growth)
 
     nodes = xyz[:, :2].copy()
     return _finish(nodes, triangles, edges, node_sets, where="quarter_cylinder mesh",
                    flip_clockwise=True)
+
+
+def half_cylinder(R: float, h_contact: float, contact_zone: float, h_max: float,
+                  growth: float = 0.1) -> Mesh:
+    """The lower half of the cylinder of radius R, centre (0, R), bottom point (0, 0): the
+    quarter_cylinder mirrored across x = 0 (so the mesh is symmetric, and its nodes on x = 0
+    are shared). For tangential loads, which a symmetric quarter cannot carry.
+
+    Edge tags: ``arc`` (from (-R, R) through (0, 0) to (R, R)) and ``top`` (the cut y = R).
+    """
+    quarter = quarter_cylinder(R, h_contact, contact_zone, h_max, growth)
+    x = quarter.nodes[:, 0]
+    on_axis = np.abs(x) <= 1e-12 * R
+    mirror = np.arange(len(x))
+    mirror[~on_axis] = len(x) + np.arange(int((~on_axis).sum()))
+    nodes = np.vstack([quarter.nodes, quarter.nodes[~on_axis] * [-1.0, 1.0]])
+    triangles = np.vstack([quarter.triangles, mirror[quarter.triangles][:, ::-1]])
+    edges = {tag: np.vstack([quarter.edges[tag], mirror[quarter.edges[tag]][:, ::-1]])
+             for tag in ("arc", "top")}
+    return _finish(nodes, triangles, edges, {"bottom_point": quarter.node_sets["bottom_point"]},
+                   where="half_cylinder mesh")
 
 
 def quarter_annulus(a: float, b: float, h: float, h_outer: float = 0.0) -> Mesh:
@@ -374,6 +403,87 @@ def block(width: float, height: float, nx: int, ny: int, x0: float = 0.0,
                "corner_top_right": [nid(nx, ny)], "corner_top_left": [nid(0, ny)]}
     return _finish(nodes, triangles, {"bottom": bottom, "right": right, "top": top,
                                       "left": left}, corners, where="block mesh")
+
+
+def graded_block(width: float, height: float, h_contact: float, contact_zone: float,
+                 h_max: float, growth: float = 0.1, focus=None, x0: float = 0.0,
+                 y0: float = 0.0) -> Mesh:
+    """The rectangle [x0, x0+width] x [y0, y0+height], meshed unstructured by gmsh, fine
+    around the point ``focus`` (default: the middle of the top edge, (x0 + width/2, y0 +
+    height)).
+
+    Edge tags ``bottom``, ``right``, ``top``, ``left`` (body on the left, as :func:`block`);
+    node sets ``corner_bottom_left``, ``corner_bottom_right``, ``corner_top_right``,
+    ``corner_top_left`` and ``focus``.  Element size, with d the distance from focus:
+    h = h_contact for d <= contact_zone, then h = h_contact + growth (d - contact_zone), up
+    to h_max (gmsh Distance+Threshold, as :func:`quarter_cylinder`).  There is a node exactly
+    at focus (a geometry point: on the boundary it splits its edge, inside it is embedded);
+    the nodes of each edge lie exactly on its line.  ``focus`` may lie on the boundary or
+    inside, within 1e-9 max(width, height) of the rectangle; nearer than that to a side it
+    is moved onto it.
+    """
+    where = "block mesh"
+    if not (width > 0 and height > 0):
+        raise MeshError(f"{where}: width = {width:g}, height = {height:g}: both must be > 0")
+    if not 0 < h_contact <= h_max:
+        raise MeshError(f"{where}: h_contact = {h_contact:g}, h_max = {h_max:g}: need "
+                        f"0 < h_contact <= h_max")
+    if not (contact_zone > 0 and growth > 0):
+        raise MeshError(f"{where}: contact_zone = {contact_zone:g}, growth = {growth:g}: both "
+                        f"must be > 0")
+    x1, y1 = x0 + width, y0 + height
+    if focus is None:
+        focus = (x0 + 0.5 * width, y1)
+    fx, fy = float(focus[0]), float(focus[1])
+    tol = 1e-9 * max(width, height)  # round-off of a focus written on the boundary
+    if not (x0 - tol <= fx <= x1 + tol and y0 - tol <= fy <= y1 + tol):
+        raise MeshError(f"{where}: focus ({fx:g}, {fy:g}) lies outside the block "
+                        f"[{x0:g}, {x1:g}] x [{y0:g}, {y1:g}]: move it inside or onto its "
+                        f"boundary")
+    fx = x0 if abs(fx - x0) <= tol else x1 if abs(fx - x1) <= tol else fx
+    fy = y0 if abs(fy - y0) <= tol else y1 if abs(fy - y1) <= tol else fy
+
+    with _gmsh_session() as gmsh:
+        gmsh.model.add("graded_block")
+        geo = gmsh.model.geo
+        corners = {"corner_bottom_left": (x0, y0), "corner_bottom_right": (x1, y0),
+                   "corner_top_right": (x1, y1), "corner_top_left": (x0, y1)}
+        points = {name: geo.addPoint(x, y, 0.0) for name, (x, y) in corners.items()}
+        at_corner = [name for name, xy in corners.items() if xy == (fx, fy)]
+        # the sides counter-clockwise (body on the left), each a list of its gmsh lines
+        sides = {"bottom": ("corner_bottom_left", "corner_bottom_right", fy == y0),
+                 "right": ("corner_bottom_right", "corner_top_right", fx == x1),
+                 "top": ("corner_top_right", "corner_top_left", fy == y1),
+                 "left": ("corner_top_left", "corner_bottom_left", fx == x0)}
+        focus_point = points[at_corner[0]] if at_corner else geo.addPoint(fx, fy, 0.0)
+        lines = {}
+        for tag, (a, b, on_it) in sides.items():
+            if on_it and not at_corner:  # split the side at focus
+                lines[tag] = [geo.addLine(points[a], focus_point),
+                              geo.addLine(focus_point, points[b])]
+            else:
+                lines[tag] = [geo.addLine(points[a], points[b])]
+        loop = geo.addCurveLoop([c for tag in sides for c in lines[tag]])
+        surface = geo.addPlaneSurface([loop])
+        geo.synchronize()
+        inside = x0 < fx < x1 and y0 < fy < y1
+        if inside:
+            gmsh.model.mesh.embed(0, [focus_point], 2, surface)
+        for tag in sides:
+            gmsh.model.setPhysicalName(1, gmsh.model.addPhysicalGroup(1, lines[tag]), tag)
+        for name, p in [*points.items(), ("focus", focus_point)]:
+            gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [p]), name)
+        gmsh.model.addPhysicalGroup(2, [surface])
+
+        xyz, triangles, edges, node_sets = _mesh_graded_around(gmsh, focus_point, h_contact,
+                                                               contact_zone, h_max, growth)
+
+    nodes = xyz[:, :2].copy()
+    # the sides are exact lines; snap round-off of their nodes (the corners and focus are exact)
+    for tag, axis, value in (("bottom", 1, y0), ("right", 0, x1), ("top", 1, y1),
+                             ("left", 0, x0)):
+        nodes[np.unique(edges[tag]), axis] = value
+    return _finish(nodes, triangles, edges, node_sets, where=where, flip_clockwise=True)
 
 
 # --------------------------------------------------------------------------- files

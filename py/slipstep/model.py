@@ -15,7 +15,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import mesh as meshing
-from .case import Case, CaseError, Load, LoadPath, case_loads, element_key
+from . import mortar
+from .case import RIGID_KINDS, Case, CaseError, Load, LoadPath, case_loads, element_key
 from .errors import InputError
 
 
@@ -66,11 +67,16 @@ def mesh_body(case: Case, index: int) -> meshing.Mesh:
             path = (case.base_dir / spec["file"])
             edge_file = case.base_dir / spec["edge_file"] if spec["edge_file"] else None
             return meshing.read_mesh(path, edge_file, spec["scale"])
-        if spec["generator"] == "quarter_cylinder":
-            return meshing.quarter_cylinder(spec["R"], spec["h_contact"], spec["contact_zone"],
-                                            spec["h_max"], spec["growth"])
+        if spec["generator"] in ("quarter_cylinder", "half_cylinder"):
+            make = getattr(meshing, spec["generator"])
+            return make(spec["R"], spec["h_contact"], spec["contact_zone"], spec["h_max"],
+                        spec["growth"])
         if spec["generator"] == "quarter_annulus":
             return meshing.quarter_annulus(spec["a"], spec["b"], spec["h"], spec["h_outer"])
+        if spec["h_contact"] > 0:  # the graded block (gmsh); else the structured one
+            return meshing.graded_block(spec["width"], spec["height"], spec["h_contact"],
+                                        spec["contact_zone"], spec["h_max"], spec["growth"],
+                                        spec["focus"], spec["x0"], spec["y0"])
         nx = spec["nx"] or max(1, round(spec["width"] / spec["h"]))
         ny = spec["ny"] or max(1, round(spec["height"] / spec["h"]))
         return meshing.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
@@ -127,6 +133,7 @@ def build_scene(case: Case, meshes: dict[str, meshing.Mesh] | None = None) -> Sc
     }
     set_load_path(scene, path)
     _check_pairs_not_held(scene)
+    _check_stick_on_half_held(scene)
     scene.reference = hertz_reference(scene)
     return scene
 
@@ -150,15 +157,16 @@ def contact_names(case: Case) -> list[str]:
 
 def contactor_edge(contact: dict) -> tuple[str, str]:
     """(body, edge tag) of a [[contact]]'s contactor side: the deformable body of a
-    ``rigid_line``, body_a/edge_a of a ``node_to_node``."""
-    if contact["kind"] == "rigid_line":
+    rigid obstacle (``rigid_line``, ``rigid_circle``, ``rigid_polyline``), body_a/edge_a of a
+    deformable pair."""
+    if contact["kind"] in RIGID_KINDS:
         return contact["body"], contact["edge"]
     return contact["body_a"], contact["edge_a"]
 
 
 def contact_bodies(contact: dict) -> list[str]:
     """The deformable bodies a [[contact]] touches, contactor first."""
-    if contact["kind"] == "rigid_line":
+    if contact["kind"] in RIGID_KINDS:
         return [contact["body"]]
     return [contact["body_a"], contact["body_b"]]
 
@@ -216,6 +224,44 @@ def _check_pairs_not_held(scene: Scene) -> None:
                                f"y_max)")
 
 
+def _check_stick_on_half_held(scene: Scene) -> None:
+    """A frictional pair of a rigid circle or polyline on a node with one component held (a
+    symmetry line) would close in stick with its normal and tangential conditions both acting
+    on the one free component (a singular system), unless its normal or tangent lies along the
+    held component (the engine's tolerance 1e-12; the normal entirely held is refused above).
+    Refused with the fix (the rigid line's fixed normal is the user's, and is left to the
+    engine)."""
+    pairs, contacts = scene.model["pairs"], scene.case.data["contact"]
+    fixed = np.zeros(2 * len(scene.nodes), dtype=bool)
+    fixed[scene.model["fixed_dofs"]] = True
+    for p in scene.prescribed.values():
+        fixed[p["dofs"]] = True
+    a, n = np.asarray(pairs["node_a"]), np.asarray(pairs["normal"])
+    curved = np.isin(np.array([c["kind"] for c in contacts] or [""])[scene.pair_contact],
+                     ("rigid_circle", "rigid_polyline"))
+    held_x, held_y = fixed[2 * a], fixed[2 * a + 1]
+    free = np.where(held_x, 1, 0)  # the one free component when exactly one is held
+    n_free = np.abs(n[np.arange(len(a)), free])
+    t_free = np.abs(n[np.arange(len(a)), 1 - free])  # t = (-n_y, n_x): t_x = -n_y, t_y = n_x
+    bad = (curved & (held_x != held_y) & (np.asarray(pairs["mu"]) > 0.0)
+           & (n_free >= 1e-12) & (t_free >= 1e-12))
+    if bad.any():
+        k = int(np.argmax(bad))
+        i, c = int(a[k]), int(scene.pair_contact[k])
+        key = "contact" if len(contacts) == 1 else f"contact.{c}"
+        x, y = scene.nodes[i]
+        held, other = ("x", "y") if held_x[k] else ("y", "x")
+        raise scene.case.error(key, f"node {i} ({x:.6g}, {y:.6g}) is held in {held} by "
+                               f"supports and its contact normal ({n[k, 0]:.6g}, {n[k, 1]:.6g}) "
+                               f"is oblique to {other}, its free component: with mu > 0 it would "
+                               f"stick with both contact conditions on that one component (a "
+                               f"singular system); make the obstacle's normal there along "
+                               f"{other} (on a symmetry line: the circle's centre, or a polyline "
+                               f"vertex between mirrored segments or a segment across it at a "
+                               f"right angle), or leave the node out of the candidates "
+                               f"(x_min/x_max/y_min/y_max)")
+
+
 def _check_file_mesh_tags(case: Case, body_meshes: dict) -> None:
     """Edge tags of file meshes are only known now: check the BCs and contacts that use them."""
     data = case.data
@@ -228,7 +274,7 @@ def _check_file_mesh_tags(case: Case, body_meshes: dict) -> None:
             uses.append((k + "nodes", bc["body"], bc["nodes"], "node_sets"))
     for i, c in enumerate(data["contact"]):
         k = "contact." if len(data["contact"]) == 1 else f"contact.{i}."
-        if c["kind"] == "rigid_line":
+        if c["kind"] in RIGID_KINDS:
             uses.append((k + "edge", c["body"], c["edge"], "edges"))
         else:
             for s in "ab":
@@ -433,14 +479,20 @@ def contact_pairs(scene: Scene) -> dict:
     target towards node_a), initial gap, mu (the C_n, C_t columns of Eqs. 45-46 per pair).
     Also fills the scene's pair positions and tributary lengths."""
     case = scene.case
-    cols = {k: [] for k in ("node_a", "node_b", "normal", "gap", "mu", "length", "contact")}
+    cols = {k: [] for k in ("node_a", "node_b", "normal", "gap", "mu", "length", "contact",
+                            "weights")}
     for i, c in enumerate(case.data["contact"]):
         key = "contact" if len(case.data["contact"]) == 1 else f"contact.{i}"
-        if c["kind"] == "rigid_line":
-            a, b, normal, gap = _rigid_line_pairs(scene, c, key)
+        body_a, edge_a = contactor_edge(c)
+        if c["kind"] == "node_to_segment":
+            a, b, normal, gap, length, weights = _node_to_segment_pairs(scene, c, key)
+        elif c["kind"] in RIGID_KINDS:
+            a, b, normal, gap = RIGID_PAIRS[c["kind"]](scene, c, key)
         else:
             a, b, normal, gap = _node_to_node_pairs(scene, c, key)
-        body_a, edge_a = contactor_edge(c)
+        if c["kind"] != "node_to_segment":
+            length = tributary_lengths(scene.nodes, scene.global_edge(body_a, edge_a), a)
+            weights = [[]] * len(a)
         edge_nodes = np.unique(scene.global_edge(body_a, edge_a))
         scene.contact_truncated.append(bool(len(np.unique(a)) < len(edge_nodes)))
         cols["node_a"].append(a)
@@ -448,8 +500,9 @@ def contact_pairs(scene: Scene) -> dict:
         cols["normal"].append(normal)
         cols["gap"].append(gap)
         cols["mu"].append(np.full(len(a), c["mu"]))
-        cols["length"].append(tributary_lengths(scene.nodes, scene.global_edge(body_a, edge_a), a))
+        cols["length"].append(length)
         cols["contact"].append(np.full(len(a), i, dtype=np.int64))
+        cols["weights"].extend(weights)
     if not cols["node_a"]:
         scene.pair_xy = np.zeros((0, 2))
         return {"node_a": np.zeros(0, np.int64), "node_b": np.zeros(0, np.int64),
@@ -461,10 +514,39 @@ def contact_pairs(scene: Scene) -> dict:
              "gap": np.concatenate(cols["gap"]),
              "mu": np.concatenate(cols["mu"]).astype(np.float64),
              "contact": np.concatenate(cols["contact"]).astype(np.int64)}
+    if any(cols["weights"]):  # node-to-segment rows (docs/engine_api.md)
+        pairs["weight_ptr"], pairs["weight_node"], pairs["weight_value"] = \
+            mortar.compressed_weights(cols["weights"])
     scene.pair_xy = scene.nodes[pairs["node_a"]]
     scene.pair_length = np.concatenate(cols["length"])
     scene.pair_contact = pairs["contact"]
     return pairs
+
+
+def _node_to_segment_pairs(scene: Scene, c: dict, key: str):
+    """Mortar-style rows of the contactor nodes of edge_a in the window against the polyline
+    edge_b (slipstep.mortar): node_a, node_b, normal, gap, tributary length, weights."""
+    seg_a = scene.global_edge(c["body_a"], c["edge_a"])
+    seg_b = scene.global_edge(c["body_b"], c["edge_b"])
+    candidates = np.unique(seg_a)
+    xy = scene.nodes[candidates]
+    inside = ((xy[:, 0] >= c["x_min"]) & (xy[:, 0] <= c["x_max"]) &
+              (xy[:, 1] >= c["y_min"]) & (xy[:, 1] <= c["y_max"]))
+    length_scale = float(np.linalg.norm(scene.nodes[seg_a[:, 1]] - scene.nodes[seg_a[:, 0]], axis=1).min())
+    rows = mortar.node_to_segment_pairs(scene.nodes, seg_a, seg_b, candidates[inside],
+                                        1e-9 * length_scale)
+    if not rows["node_a"]:
+        raise scene.case.error(f"{key}.edge_b", f"no node of {c['body_a']}:{c['edge_a']} in the "
+                               f"candidate window projects onto {c['body_b']}:{c['edge_b']}: "
+                               f"check the edges, or widen x_min/x_max/y_min/y_max")
+    a = np.asarray(rows["node_a"], dtype=np.int64)
+    normal, gap, point = (np.asarray(rows[k]) for k in ("normal", "gap", "point_gap"))
+    _check_gaps(scene, a, np.minimum(gap, point), c["tolerance"], key,
+                f"move body '{c['body_a']}' away from body '{c['body_b']}'")
+    # a node that touches starts its row closed (slipstep.mortar: first point of contact)
+    gap = np.where((np.abs(gap) <= c["tolerance"]) | (np.abs(point) <= c["tolerance"]), 0.0, gap)
+    return (a, np.asarray(rows["node_b"], dtype=np.int64), normal, gap,
+            np.asarray(rows["length"]), rows["weights"])
 
 
 def tributary_lengths(nodes: np.ndarray, segments: np.ndarray, ids: np.ndarray) -> np.ndarray:
@@ -476,8 +558,8 @@ def tributary_lengths(nodes: np.ndarray, segments: np.ndarray, ids: np.ndarray) 
     return per_node[ids]
 
 
-def _rigid_line_pairs(scene: Scene, c: dict, key: str):
-    """Body nodes on ``edge`` within the x/y window, against the line through ``point``."""
+def _window_candidates(scene: Scene, c: dict, key: str) -> np.ndarray:
+    """Global ids (sorted) of the nodes of a rigid contact's ``edge`` inside its x/y window."""
     candidates = np.unique(scene.global_edge(c["body"], c["edge"]))
     xy = scene.nodes[candidates]
     inside = ((xy[:, 0] >= c["x_min"]) & (xy[:, 0] <= c["x_max"]) &
@@ -487,14 +569,138 @@ def _rigid_line_pairs(scene: Scene, c: dict, key: str):
         raise scene.case.error(f"{key}.x_max", f"no node of edge '{c['edge']}' of body "
                                f"'{c['body']}' lies in the candidate window: widen x_min/x_max/"
                                f"y_min/y_max")
+    return a
+
+
+def _rigid_pairs(scene: Scene, c: dict, key: str, a, n, gap, fix: str, flip: str):
+    """The pairs of a rigid obstacle from its candidates ``a``, their normals ``n`` (from the
+    obstacle into the body, fixed: small sliding) and initial gaps: the facing and penetration
+    checks, gaps within tolerance snapped to 0, node_b = -1."""
+    _check_facing(scene, a, n, gap, c["tolerance"], scene.global_edge(c["body"], c["edge"]),
+                  None, None, key, flip)
+    _check_gaps(scene, a, gap, c["tolerance"], key, fix)
+    gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
+    return a, np.full(len(a), -1, dtype=np.int64), n, gap
+
+
+def _rigid_line_pairs(scene: Scene, c: dict, key: str):
+    """Body nodes on ``edge`` within the x/y window, against the line through ``point``."""
+    a = _window_candidates(scene, c, key)
     n = np.asarray(c["normal"]) / np.linalg.norm(c["normal"])
     gap = (scene.nodes[a] - np.asarray(c["point"])) @ n
-    _check_facing(scene, a, np.tile(n, (len(a), 1)), gap, c["tolerance"],
-                  scene.global_edge(c["body"], c["edge"]), None, None, key)
-    _check_gaps(scene, a, gap, c["tolerance"], key,
-                "move the body away from the line or the line (contact.point) away from the body")
-    gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
-    return a, np.full(len(a), -1, dtype=np.int64), np.tile(n, (len(a), 1)), gap
+    return _rigid_pairs(scene, c, key, a, np.tile(n, (len(a), 1)), gap,
+                        "move the body away from the line or the line (contact.point) away "
+                        "from the body", FLIP)
+
+
+def _rigid_circle_pairs(scene: Scene, c: dict, key: str):
+    """Body nodes on ``edge`` within the x/y window, against the circle (``centre``,
+    ``radius``): per node the closest point of the circle, the normal from the circle into the
+    body, (x - c)/|x - c| for a body ``outside`` it and (c - x)/|x - c| ``inside``, and the gap
+    |x - c| - R (outside) or R - |x - c| (inside).  A candidate at the centre (within 1e-9 R:
+    round-off) has no closest point, hence no normal: an error naming it."""
+    a = _window_candidates(scene, c, key)
+    centre, radius = np.asarray(c["centre"], dtype=float), float(c["radius"])
+    d = scene.nodes[a] - centre
+    r = np.linalg.norm(d, axis=1)
+    at_centre = r <= 1e-9 * radius
+    if at_centre.any():
+        k = int(np.argmax(at_centre))
+        x, y = scene.nodes[a[k]]
+        raise scene.case.error(f"{key}.centre", f"node {int(a[k])} ({x:.6g}, {y:.6g}) lies at "
+                               f"the centre of the rigid circle, where the normal (the direction "
+                               f"to the nearest point of the circle) is undefined: move the "
+                               f"centre, or leave the node out of the candidates (x_min/x_max/"
+                               f"y_min/y_max)")
+    sign = 1.0 if c["side"] == "outside" else -1.0
+    n = sign * d / r[:, None]
+    gap = sign * (r - radius)
+    return _rigid_pairs(scene, c, key, a, n, gap,
+                        "move the body or the circle (contact.centre, contact.radius) so that "
+                        "they do not overlap",
+                        'check contact.side ("outside": the body is outside the circle; '
+                        '"inside": in a hole or cup) and contact.centre')
+
+
+def _rigid_polyline_pairs(scene: Scene, c: dict, key: str):
+    """Body nodes on ``edge`` within the x/y window, against the polyline ``points``
+    (:func:`polyline_closest`): gap = (x - closest point).n, the signed distance on a
+    segment, positive on the body's ``side``; n = that segment's normal towards the body side,
+    at an interior vertex the normalised average of its two segments' normals.  A node that
+    projects nowhere (its closest point is an end point of an open polyline and it lies
+    beyond it) is not a candidate."""
+    a = _window_candidates(scene, c, key)
+    near = polyline_closest(np.asarray(c["points"], dtype=float), c["side"], scene.nodes[a])
+    if not near["onto"].any():
+        raise scene.case.error(f"{key}.points", f"no candidate node of edge '{c['edge']}' of "
+                               f"body '{c['body']}' projects onto the rigid polyline (a "
+                               f"contactor node that projects nowhere is not a candidate): "
+                               f"extend the polyline (points) or widen the window (x_min/x_max/"
+                               f"y_min/y_max)")
+    keep = near["onto"]
+    return _rigid_pairs(scene, c, key, a[keep], near["normal"][keep], near["gap"][keep],
+                        "move the body or the polyline (contact.points) so that they do not "
+                        "overlap",
+                        'check contact.side (the side the body lies on, walking the polyline '
+                        'from its first point to its last)')
+
+
+def polyline_closest(points: np.ndarray, side: str, xy: np.ndarray) -> dict:
+    """The closest points of the polyline ``points`` (M, 2) to the points ``xy`` (N, 2).
+
+    Per point: ``segment`` (the closest segment, the first one of a tie), ``vertex`` (the index
+    of the vertex that is the closest point, else -1), ``foot`` (the closest point), ``normal``
+    (the unit normal of that segment towards ``side``, "left" or "right" walking from the first
+    point to the last; at an interior vertex the normalised sum of the normals of its two
+    segments, and at the joint of a closed polyline, first point = last, of the last and first
+    segments), ``gap`` = (x - foot).normal, ``onto`` (False for a point that projects nowhere:
+    its closest point is an end point of an open polyline and its projection on that end
+    segment lies beyond it, by more than 1e-9 of the segment's length) and ``s`` (the arc
+    length of the foot from the first point; beyond an end, the projection on the extended end
+    segment, so s < 0 before the first point and s > the length after the last)."""
+    points, xy = np.asarray(points, dtype=float), np.asarray(xy, dtype=float).reshape(-1, 2)
+    start, d = points[:-1], np.diff(points, axis=0)
+    length = np.linalg.norm(d, axis=1)
+    cum = np.concatenate([[0.0], np.cumsum(length)])
+    seg_n = np.stack([-d[:, 1], d[:, 0]], axis=1) / length[:, None]  # left normals
+    if side == "right":
+        seg_n = -seg_n
+    raw = np.einsum("psk,sk->ps", xy[:, None, :] - start[None], d) / length ** 2
+    t = np.clip(raw, 0.0, 1.0)
+    dist = np.linalg.norm(xy[:, None, :] - (start[None] + t[..., None] * d[None]), axis=2)
+    seg = np.argmin(dist, axis=1)
+    rows = np.arange(len(xy))
+    t_seg, raw_seg = t[rows, seg], raw[rows, seg]
+    vertex = np.where(t_seg == 0.0, seg, np.where(t_seg == 1.0, seg + 1, -1))
+    foot = start[seg] + t_seg[:, None] * d[seg]
+    at = vertex >= 0
+    foot[at] = points[vertex[at]]
+    normal = seg_n[seg].copy()
+    closed = bool(np.array_equal(points[0], points[-1]))
+    last = len(d) - 1
+    for k in np.unique(vertex[at]):
+        if 0 < k < len(points) - 1:
+            before, after = k - 1, k
+        elif closed:
+            before, after = last, 0
+        else:
+            continue  # an end point: its one segment's normal
+        m = seg_n[before] + seg_n[after]  # never 0: the schema refuses folding segments
+        normal[vertex == k] = m / np.linalg.norm(m)
+    gap = np.einsum("pk,pk->p", xy - foot, normal)
+    beyond = np.zeros(len(xy), dtype=bool)
+    if not closed:
+        beyond = (((seg == 0) & (raw_seg < -1e-9)) | ((seg == last) & (raw_seg > 1.0 + 1e-9)))
+    s = cum[seg] + t_seg * length[seg]
+    s = np.where(beyond & (seg == 0) & (raw_seg < 0.0), raw_seg * length[0], s)
+    s = np.where(beyond & (seg == last) & (raw_seg > 1.0), cum[last] + raw_seg * length[last], s)
+    return {"segment": seg, "vertex": vertex, "foot": foot, "normal": normal, "gap": gap,
+            "onto": ~beyond, "s": s}
+
+
+#: The pair builder of each rigid obstacle kind.
+RIGID_PAIRS = {"rigid_line": _rigid_line_pairs, "rigid_circle": _rigid_circle_pairs,
+               "rigid_polyline": _rigid_polyline_pairs}
 
 
 def _node_to_node_pairs(scene: Scene, c: dict, key: str):
@@ -546,7 +752,11 @@ def _node_normals(nodes: np.ndarray, segments: np.ndarray, ids: np.ndarray) -> n
     return acc[ids]
 
 
-def _check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str) -> None:
+FLIP = "flip contact.normal (or swap the contactor and target edges)"
+
+
+def _check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str,
+                  fix: str = FLIP) -> None:
     """Pairs that start closed (or penetrating) must face each other: body a's surface faces
     the target (its outward normal against n) and, node to node, body b's surface faces body a
     (its outward normal along n).  Otherwise the normal points the wrong way and the pairing
@@ -566,7 +776,7 @@ def _check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str) -> No
         raise scene.case.error(key, f"the contact normal ({n[k, 0]:.6g}, {n[k, 1]:.6g}) at node "
                                f"{int(a[k])} ({x:.6g}, {y:.6g}) points the wrong way ({side}): "
                                f"the normal must point from the target into the contactor body; "
-                               f"flip contact.normal (or swap the contactor and target edges)")
+                               f"{fix}")
 
 
 def _check_matching(scene: Scene, unpaired, seg_other, tol: float, label: str, other: str,
