@@ -107,7 +107,10 @@ VOCABULARY = ["case", "analysis", "load", "output", "solver", "body", "bc", "poi
               "body_a", "body_b", "edge_a", "edge_b", "mu", "normal", "point", "tolerance",
               "x_min", "x_max", "snapshots", "events", "figures", "xdmf", "tie_tol",
               "max_events", "plane", "thickness", "strain", "stress", "P", "at", "force",
-              "top", "bottom", "left", "right", "arc", "x", "y", "scale", "edge_file"]
+              "top", "bottom", "left", "right", "arc", "x", "y", "scale", "edge_file",
+              # load paths (issue 13) and contact geometry (issue 14)
+              "stage", "factors", "displacement", "motion", "node_to_segment", "rigid_circle",
+              "rigid_polyline", "centre", "radius", "side", "points", "focus", "half_cylinder"]
 
 names = st.sampled_from(VOCABULARY) | st.text(min_size=1, max_size=8)
 scalars = (st.integers(min_value=-10**20, max_value=10**20)
