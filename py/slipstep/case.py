@@ -855,62 +855,74 @@ class _Validator:
             raise self.fail(prefix + "generator", f"{what}: use {choices}, or give "
                                                   f'file = "mesh.msh"')
         mesh = self.table(raw, MESH_VARIANTS[gen], "[body.mesh]", prefix)
-        if gen in ("quarter_cylinder", "half_cylinder"):
-            if mesh["h_contact"] > mesh["h_max"]:
-                raise self.fail(prefix + "h_contact", f"= {_fmt(mesh['h_contact'])} is not "
-                                f"allowed: it must not exceed h_max = {_fmt(mesh['h_max'])}")
-            if mesh["contact_zone"] >= mesh["R"]:
-                raise self.fail(prefix + "contact_zone", f"= {_fmt(mesh['contact_zone'])} is not"
-                                f" allowed: it must be smaller than R = {_fmt(mesh['R'])}")
-        if gen == "quarter_annulus":
-            if mesh["b"] <= mesh["a"]:
-                raise self.fail(prefix + "b", f"= {_fmt(mesh['b'])} is not allowed: the outer "
-                                f"radius must exceed the inner radius a = {_fmt(mesh['a'])}")
-            for key in ("h", "h_outer"):
-                if mesh[key] > mesh["b"] - mesh["a"]:
-                    raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed: it must "
-                                    f"not exceed the wall thickness b - a = "
-                                    f"{_fmt(mesh['b'] - mesh['a'])}")
+        check = {"quarter_cylinder": self.cylinder_mesh, "half_cylinder": self.cylinder_mesh,
+                 "quarter_annulus": self.annulus_mesh}
         if gen == "block":
-            if mesh["h_contact"] == 0:  # structured: nx/ny or h
-                for n, size in (("nx", "width"), ("ny", "height")):
-                    if mesh[n] == 0 and mesh["h"] == 0:
-                        raise self.fail(prefix + n, f"is missing: give {n} (divisions along "
-                                        f"{size}) or h (element size), or h_contact (a graded "
-                                        f"gmsh mesh)")
-                for key in ("contact_zone", "h_max", "growth", "focus"):  # would do nothing
-                    if key in raw:
-                        raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed "
-                                        f"without h_contact: it shapes the graded block "
-                                        f"(h_contact > 0); add h_contact or drop {key}")
-            else:  # graded (gmsh) around focus
-                hc = _fmt(mesh["h_contact"])
-                for key in ("nx", "ny", "h"):
-                    if mesh[key] > 0:
-                        raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed "
-                                        f"together with h_contact = {hc}: nx/ny/h make the "
-                                        f"structured block, h_contact the graded one; drop "
-                                        f"{key} (or h_contact)")
-                for key, what in (("contact_zone", "the radius of the fine zone around focus"),
-                                  ("h_max", "the largest element size")):
-                    if mesh[key] == 0:
-                        raise self.fail(prefix + key, f"is missing: the graded block "
-                                        f"(h_contact = {hc}) needs {what} [length]; add "
-                                        f"`{key} = ...` to [body.mesh]")
-                if mesh["h_contact"] > mesh["h_max"]:
-                    raise self.fail(prefix + "h_contact", f"= {hc} is not allowed: it must not "
-                                    f"exceed h_max = {_fmt(mesh['h_max'])}")
-                if mesh["focus"] is not None:
-                    (fx, fy), x0, y0 = mesh["focus"], mesh["x0"], mesh["y0"]
-                    x1, y1 = x0 + mesh["width"], y0 + mesh["height"]
-                    tol = 1e-9 * max(mesh["width"], mesh["height"])  # as mesh.graded_block
-                    if not (x0 - tol <= fx <= x1 + tol and y0 - tol <= fy <= y1 + tol):
-                        raise self.fail(prefix + "focus", f"= {_fmt(mesh['focus'])} is not "
-                                        f"allowed: it lies outside the block [{_fmt(x0)}, "
-                                        f"{_fmt(x1)}] x [{_fmt(y0)}, {_fmt(y1)}]; move it "
-                                        f"inside or onto the boundary")
+            self.block_mesh(mesh, raw, prefix)
+        elif gen in check:
+            check[gen](mesh, prefix)
         mesh["edges"] = GENERATOR_EDGES[gen]
         return mesh
+
+    def cylinder_mesh(self, mesh: dict, prefix: str) -> None:
+        """quarter_cylinder / half_cylinder: h_contact <= h_max, contact_zone < R."""
+        if mesh["h_contact"] > mesh["h_max"]:
+            raise self.fail(prefix + "h_contact", f"= {_fmt(mesh['h_contact'])} is not "
+                            f"allowed: it must not exceed h_max = {_fmt(mesh['h_max'])}")
+        if mesh["contact_zone"] >= mesh["R"]:
+            raise self.fail(prefix + "contact_zone", f"= {_fmt(mesh['contact_zone'])} is not"
+                            f" allowed: it must be smaller than R = {_fmt(mesh['R'])}")
+
+    def annulus_mesh(self, mesh: dict, prefix: str) -> None:
+        """quarter_annulus: b > a, element sizes within the wall."""
+        if mesh["b"] <= mesh["a"]:
+            raise self.fail(prefix + "b", f"= {_fmt(mesh['b'])} is not allowed: the outer "
+                            f"radius must exceed the inner radius a = {_fmt(mesh['a'])}")
+        for key in ("h", "h_outer"):
+            if mesh[key] > mesh["b"] - mesh["a"]:
+                raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed: it must "
+                                f"not exceed the wall thickness b - a = "
+                                f"{_fmt(mesh['b'] - mesh['a'])}")
+
+    def block_mesh(self, mesh: dict, raw: dict, prefix: str) -> None:
+        """block: structured (nx/ny or h) or graded (h_contact around focus), not both."""
+        if mesh["h_contact"] == 0:  # structured: nx/ny or h
+            for n, size in (("nx", "width"), ("ny", "height")):
+                if mesh[n] == 0 and mesh["h"] == 0:
+                    raise self.fail(prefix + n, f"is missing: give {n} (divisions along "
+                                    f"{size}) or h (element size), or h_contact (a graded "
+                                    f"gmsh mesh)")
+            for key in ("contact_zone", "h_max", "growth", "focus"):  # would do nothing
+                if key in raw:
+                    raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed "
+                                    f"without h_contact: it shapes the graded block "
+                                    f"(h_contact > 0); add h_contact or drop {key}")
+        else:  # graded (gmsh) around focus
+            hc = _fmt(mesh["h_contact"])
+            for key in ("nx", "ny", "h"):
+                if mesh[key] > 0:
+                    raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed "
+                                    f"together with h_contact = {hc}: nx/ny/h make the "
+                                    f"structured block, h_contact the graded one; drop "
+                                    f"{key} (or h_contact)")
+            for key, what in (("contact_zone", "the radius of the fine zone around focus"),
+                              ("h_max", "the largest element size")):
+                if mesh[key] == 0:
+                    raise self.fail(prefix + key, f"is missing: the graded block "
+                                    f"(h_contact = {hc}) needs {what} [length]; add "
+                                    f"`{key} = ...` to [body.mesh]")
+            if mesh["h_contact"] > mesh["h_max"]:
+                raise self.fail(prefix + "h_contact", f"= {hc} is not allowed: it must not "
+                                f"exceed h_max = {_fmt(mesh['h_max'])}")
+            if mesh["focus"] is not None:
+                (fx, fy), x0, y0 = mesh["focus"], mesh["x0"], mesh["y0"]
+                x1, y1 = x0 + mesh["width"], y0 + mesh["height"]
+                tol = 1e-9 * max(mesh["width"], mesh["height"])  # as mesh.graded_block
+                if not (x0 - tol <= fx <= x1 + tol and y0 - tol <= fy <= y1 + tol):
+                    raise self.fail(prefix + "focus", f"= {_fmt(mesh['focus'])} is not "
+                                    f"allowed: it lies outside the block [{_fmt(x0)}, "
+                                    f"{_fmt(x1)}] x [{_fmt(y0)}, {_fmt(y1)}]; move it "
+                                    f"inside or onto the boundary")
 
     def need_body(self, name: str, key: str, edges: dict) -> None:
         if name not in edges:

@@ -405,23 +405,8 @@ def block(width: float, height: float, nx: int, ny: int, x0: float = 0.0,
                                       "left": left}, corners, where="block mesh")
 
 
-def graded_block(width: float, height: float, h_contact: float, contact_zone: float,
-                 h_max: float, growth: float = 0.1, focus=None, x0: float = 0.0,
-                 y0: float = 0.0) -> Mesh:
-    """The rectangle [x0, x0+width] x [y0, y0+height], meshed unstructured by gmsh, fine
-    around the point ``focus`` (default: the middle of the top edge, (x0 + width/2, y0 +
-    height)).
-
-    Edge tags ``bottom``, ``right``, ``top``, ``left`` (body on the left, as :func:`block`);
-    node sets ``corner_bottom_left``, ``corner_bottom_right``, ``corner_top_right``,
-    ``corner_top_left`` and ``focus``.  Element size, with d the distance from focus:
-    h = h_contact for d <= contact_zone, then h = h_contact + growth (d - contact_zone), up
-    to h_max (gmsh Distance+Threshold, as :func:`quarter_cylinder`).  There is a node exactly
-    at focus (a geometry point: on the boundary it splits its edge, inside it is embedded);
-    the nodes of each edge lie exactly on its line.  ``focus`` may lie on the boundary or
-    inside, within 1e-9 max(width, height) of the rectangle; nearer than that to a side it
-    is moved onto it.
-    """
+def _graded_block_focus(width, height, h_contact, contact_zone, h_max, growth, focus, x0, y0):
+    """Check graded_block's arguments; the focus, snapped onto a side within round-off."""
     where = "block mesh"
     if not (width > 0 and height > 0):
         raise MeshError(f"{where}: width = {width:g}, height = {height:g}: both must be > 0")
@@ -442,7 +427,29 @@ def graded_block(width: float, height: float, h_contact: float, contact_zone: fl
                         f"boundary")
     fx = x0 if abs(fx - x0) <= tol else x1 if abs(fx - x1) <= tol else fx
     fy = y0 if abs(fy - y0) <= tol else y1 if abs(fy - y1) <= tol else fy
+    return fx, fy
 
+
+def graded_block(width: float, height: float, h_contact: float, contact_zone: float,
+                 h_max: float, growth: float = 0.1, focus=None, x0: float = 0.0,
+                 y0: float = 0.0) -> Mesh:
+    """The rectangle [x0, x0+width] x [y0, y0+height], meshed unstructured by gmsh, fine
+    around the point ``focus`` (default: the middle of the top edge, (x0 + width/2, y0 +
+    height)).
+
+    Edge tags ``bottom``, ``right``, ``top``, ``left`` (body on the left, as :func:`block`);
+    node sets ``corner_bottom_left``, ``corner_bottom_right``, ``corner_top_right``,
+    ``corner_top_left`` and ``focus``.  Element size, with d the distance from focus:
+    h = h_contact for d <= contact_zone, then h = h_contact + growth (d - contact_zone), up
+    to h_max (gmsh Distance+Threshold, as :func:`quarter_cylinder`).  There is a node exactly
+    at focus (a geometry point: on the boundary it splits its edge, inside it is embedded);
+    the nodes of each edge lie exactly on its line.  ``focus`` may lie on the boundary or
+    inside, within 1e-9 max(width, height) of the rectangle; nearer than that to a side it
+    is moved onto it.
+    """
+    fx, fy = _graded_block_focus(width, height, h_contact, contact_zone, h_max, growth, focus,
+                                 x0, y0)
+    x1, y1 = x0 + width, y0 + height
     with _gmsh_session() as gmsh:
         gmsh.model.add("graded_block")
         geo = gmsh.model.geo
@@ -483,7 +490,7 @@ def graded_block(width: float, height: float, h_contact: float, contact_zone: fl
     for tag, axis, value in (("bottom", 1, y0), ("right", 0, x1), ("top", 1, y1),
                              ("left", 0, x0)):
         nodes[np.unique(edges[tag]), axis] = value
-    return _finish(nodes, triangles, edges, node_sets, where=where, flip_clockwise=True)
+    return _finish(nodes, triangles, edges, node_sets, where="block mesh", flip_clockwise=True)
 
 
 # --------------------------------------------------------------------------- files
