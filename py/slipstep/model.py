@@ -35,6 +35,10 @@ class Scene:
     pair_xy: np.ndarray               # (P, 2) position of node_a
     pair_length: np.ndarray           # (P,) tributary length of node_a on its candidate edge
     pair_contact: np.ndarray          # (P,) index of the [[contact]] entry it came from
+    # node-to-segment rows: node a's closest target point (end nodes l1, l2 and parameter eta)
+    # and its own initial gap, where the outputs measure gap and RTD; (-1, -1, 0) and nan else
+    pair_foot: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    pair_point_gap: np.ndarray = field(default_factory=lambda: np.zeros(0))
     # per [[contact]]: True when some nodes of its candidate edge are not candidates (window,
     # no partner), so contact reaching the outermost candidate may be cut short
     contact_truncated: list = field(default_factory=list)
@@ -480,12 +484,12 @@ def contact_pairs(scene: Scene) -> dict:
     Also fills the scene's pair positions and tributary lengths."""
     case = scene.case
     cols = {k: [] for k in ("node_a", "node_b", "normal", "gap", "mu", "length", "contact",
-                            "weights")}
+                            "weights", "foot", "point_gap")}
     for i, c in enumerate(case.data["contact"]):
         key = "contact" if len(case.data["contact"]) == 1 else f"contact.{i}"
         body_a, edge_a = contactor_edge(c)
         if c["kind"] == "node_to_segment":
-            a, b, normal, gap, length, weights = _node_to_segment_pairs(scene, c, key)
+            a, b, normal, gap, length, weights, foot, point = _node_to_segment_pairs(scene, c, key)
         elif c["kind"] in RIGID_KINDS:
             a, b, normal, gap = RIGID_PAIRS[c["kind"]](scene, c, key)
         else:
@@ -493,6 +497,7 @@ def contact_pairs(scene: Scene) -> dict:
         if c["kind"] != "node_to_segment":
             length = tributary_lengths(scene.nodes, scene.global_edge(body_a, edge_a), a)
             weights = [[]] * len(a)
+            foot, point = np.tile([-1.0, -1.0, 0.0], (len(a), 1)), np.full(len(a), np.nan)
         edge_nodes = np.unique(scene.global_edge(body_a, edge_a))
         scene.contact_truncated.append(bool(len(np.unique(a)) < len(edge_nodes)))
         cols["node_a"].append(a)
@@ -503,6 +508,8 @@ def contact_pairs(scene: Scene) -> dict:
         cols["length"].append(length)
         cols["contact"].append(np.full(len(a), i, dtype=np.int64))
         cols["weights"].extend(weights)
+        cols["foot"].append(foot)
+        cols["point_gap"].append(point)
     if not cols["node_a"]:
         scene.pair_xy = np.zeros((0, 2))
         return {"node_a": np.zeros(0, np.int64), "node_b": np.zeros(0, np.int64),
@@ -518,6 +525,8 @@ def contact_pairs(scene: Scene) -> dict:
         pairs["weight_ptr"], pairs["weight_node"], pairs["weight_value"] = \
             mortar.compressed_weights(cols["weights"])
     scene.pair_xy = scene.nodes[pairs["node_a"]]
+    scene.pair_foot = np.concatenate(cols["foot"]).reshape(-1, 3)
+    scene.pair_point_gap = np.concatenate(cols["point_gap"])
     scene.pair_length = np.concatenate(cols["length"])
     scene.pair_contact = pairs["contact"]
     return pairs
@@ -546,7 +555,8 @@ def _node_to_segment_pairs(scene: Scene, c: dict, key: str):
     # a node that touches starts its row closed (slipstep.mortar: first point of contact)
     gap = np.where((np.abs(gap) <= c["tolerance"]) | (np.abs(point) <= c["tolerance"]), 0.0, gap)
     return (a, np.asarray(rows["node_b"], dtype=np.int64), normal, gap,
-            np.asarray(rows["length"]), rows["weights"])
+            np.asarray(rows["length"]), rows["weights"], np.asarray(rows["foot"], dtype=float),
+            point)
 
 
 def tributary_lengths(nodes: np.ndarray, segments: np.ndarray, ids: np.ndarray) -> np.ndarray:

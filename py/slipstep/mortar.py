@@ -21,7 +21,9 @@ contactor side (e_j alone: its mean slip is then off by the N_j-centroid's offse
 The row of a contactor node that itself touches the target starts closed with gap 0: on a
 curved contactor (a cylinder on a block) the weighted mean gap at the first point of contact is
 second order in the element size, h²/(12R), and a contact that starts at one point must start
-closed there (else nothing holds the body). `point_gap` is that node's own distance.
+closed there (else nothing holds the body). `point_gap` is that node's own distance, `foot` its
+closest target point (segment end nodes and parameter): the outputs report a row's gap and RTD
+there, node by node as for the other kinds, not the row's weighted means.
 A row whose contactor node is held tangentially by supports (a symmetry line) carries no stick
 constraint, as a node-to-node pair there (the engine's `tangent_held`): with matching meshes
 its slip row would repeat its neighbour's.
@@ -115,8 +117,8 @@ def node_to_segment_pairs(nodes, contactor, target, candidates, min_length):
     weights as a list of [(node, c)] per row. Rows with S_j <= min_length are dropped (they
     project nowhere)."""
     D, M, G, NS = mortar_integrals(nodes, contactor, target, [int(j) for j in candidates])
-    out = {"node_a": [], "node_b": [], "normal": [], "gap": [], "point_gap": [], "length": [],
-           "weights": []}
+    out = {"node_a": [], "node_b": [], "normal": [], "gap": [], "point_gap": [], "foot": [],
+           "length": [], "weights": []}
     for j in candidates:
         j = int(j)
         S = sum(D[j].values())
@@ -127,8 +129,9 @@ def node_to_segment_pairs(nodes, contactor, target, candidates, min_length):
         out["node_b"].append(max(M[j], key=lambda l: M[j][l]))
         out["normal"].append(n)
         out["gap"].append(G[j] / S)
-        seg, _, y, _ = _closest_on_target(nodes[j][None], nodes, target)
+        seg, eta, y, _ = _closest_on_target(nodes[j][None], nodes, target)
         out["point_gap"].append(float((nodes[j] - y[0]) @ meshing.outward_normals(nodes, target[seg])[0]))
+        out["foot"].append((int(target[seg[0], 0]), int(target[seg[0], 1]), float(eta[0])))
         out["length"].append(S)
         out["weights"].append([(k, v / S) for k, v in D[j].items() if v != 0.0] +
                               [(l, -v / S) for l, v in M[j].items() if v != 0.0])
