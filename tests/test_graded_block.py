@@ -297,3 +297,18 @@ def test_focus_on_the_boundary_is_allowed():
     for focus in ("[-1.5, 2.25]", "[1.5, 3.0]", "[0.0, 3.95]", "[0.0, 3.0]"):
         case = parse_case(CASE.format(mesh=f"{GRADED}\nfocus = {focus}"))
         assert case.data["body"][0]["mesh"]["focus"] is not None
+
+
+@needs_gmsh
+def test_uniform_edges_put_nodes_where_a_structured_body_has_them():
+    """A 100 x 100 half-space graded around the punch corner (10, 0) with uniform_edges: its top
+    nodes on [0, 10] are exactly the structured punch's (x = 0, 1, ..., 10, to round-off of the
+    coordinates, 1e-12 of the block size), so node_to_node contact can pair them."""
+    mesh = M.graded_block(100.0, 100.0, 1.0, 10.0, 10.0, 0.12, focus=(10.0, 0.0), x0=0.0,
+                          y0=-100.0, uniform_edges=True)
+    top = np.unique(mesh.edges["top"])
+    x = np.sort(mesh.nodes[top, 0])
+    near = x[x <= 10.0 + 1e-9]
+    assert np.abs(near - np.arange(11.0)).max() <= 1e-12 * 100.0
+    # beyond the zone the side is graded as before: fewer nodes than a uniform division
+    assert len(x) < 11 + 90

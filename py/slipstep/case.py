@@ -215,6 +215,10 @@ BLOCK_KEYS = {
     "focus": Key("vec2", None, unit="length",
                  doc="graded block: the point [x, y] it is fine around, inside or on the "
                      "boundary (default: the middle of the top edge)"),
+    "uniform_edges": Key("bool", False,
+                         doc="graded block with focus on the boundary: divide the side from "
+                             "focus to a corner within contact_zone uniformly at h_contact, so "
+                             "a structured body's nodes can match it (node_to_node)"),
 }
 
 QUARTER_ANNULUS_KEYS = {
@@ -892,7 +896,7 @@ class _Validator:
                     raise self.fail(prefix + n, f"is missing: give {n} (divisions along "
                                     f"{size}) or h (element size), or h_contact (a graded "
                                     f"gmsh mesh)")
-            for key in ("contact_zone", "h_max", "growth", "focus"):  # would do nothing
+            for key in ("contact_zone", "h_max", "growth", "focus", "uniform_edges"):  # would do nothing
                 if key in raw:
                     raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed "
                                     f"without h_contact: it shapes the graded block "

@@ -430,9 +430,18 @@ def _graded_block_focus(width, height, h_contact, contact_zone, h_max, growth, f
     return fx, fy
 
 
+def _uniform_near_focus(geo, lines, ends, focus, h_contact, contact_zone):
+    """Divide each of the two side lines from `focus` to a corner `ends[i]` no farther than
+    contact_zone uniformly at (about) h_contact: n = round(length / h_contact) segments."""
+    for line, end in zip(lines, ends):
+        length = float(np.hypot(end[0] - focus[0], end[1] - focus[1]))
+        if length <= contact_zone * (1 + 1e-12):
+            geo.mesh.setTransfiniteCurve(line, max(1, round(length / h_contact)) + 1)
+
+
 def graded_block(width: float, height: float, h_contact: float, contact_zone: float,
                  h_max: float, growth: float = 0.1, focus=None, x0: float = 0.0,
-                 y0: float = 0.0) -> Mesh:
+                 y0: float = 0.0, uniform_edges: bool = False) -> Mesh:
     """The rectangle [x0, x0+width] x [y0, y0+height], meshed unstructured by gmsh, fine
     around the point ``focus`` (default: the middle of the top edge, (x0 + width/2, y0 +
     height)).
@@ -445,7 +454,9 @@ def graded_block(width: float, height: float, h_contact: float, contact_zone: fl
     at focus (a geometry point: on the boundary it splits its edge, inside it is embedded);
     the nodes of each edge lie exactly on its line.  ``focus`` may lie on the boundary or
     inside, within 1e-9 max(width, height) of the rectangle; nearer than that to a side it
-    is moved onto it.
+    is moved onto it.  ``uniform_edges``: the side from a boundary focus to a corner no farther
+    than contact_zone is divided uniformly, n = round(length / h_contact) segments, so that
+    another body's structured nodes can match it (a punch on a graded half-space, node_to_node).
     """
     fx, fy = _graded_block_focus(width, height, h_contact, contact_zone, h_max, growth, focus,
                                  x0, y0)
@@ -468,6 +479,9 @@ def graded_block(width: float, height: float, h_contact: float, contact_zone: fl
             if on_it and not at_corner:  # split the side at focus
                 lines[tag] = [geo.addLine(points[a], focus_point),
                               geo.addLine(focus_point, points[b])]
+                if uniform_edges:
+                    _uniform_near_focus(geo, lines[tag], [corners[a], corners[b]], (fx, fy),
+                                        h_contact, contact_zone)
             else:
                 lines[tag] = [geo.addLine(points[a], points[b])]
         loop = geo.addCurveLoop([c for tag in sides for c in lines[tag]])

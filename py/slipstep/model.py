@@ -80,7 +80,8 @@ def mesh_body(case: Case, index: int) -> meshing.Mesh:
         if spec["h_contact"] > 0:  # the graded block (gmsh); else the structured one
             return meshing.graded_block(spec["width"], spec["height"], spec["h_contact"],
                                         spec["contact_zone"], spec["h_max"], spec["growth"],
-                                        spec["focus"], spec["x0"], spec["y0"])
+                                        spec["focus"], spec["x0"], spec["y0"],
+                                        spec["uniform_edges"])
         nx = spec["nx"] or max(1, round(spec["width"] / spec["h"]))
         ny = spec["ny"] or max(1, round(spec["height"] / spec["h"]))
         return meshing.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
