@@ -4,6 +4,7 @@
 //! whole path that the tolerances use.
 
 use super::engine::{since, Engine};
+use super::path::StageLoad;
 use super::space::Space;
 use super::state::State;
 use nalgebra::Vector3;
@@ -37,20 +38,20 @@ impl Engine<'_> {
         self.mode_force[k][0] + s * self.mode_force[k][1]
     }
 
-    /// The stage's effective load over the free DOFs: ΔP − K_fp Δū.
-    fn stage_effective_load(&self) -> Vec<f64> {
-        let mut load: Vec<f64> = self.stage.force_change().iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { *v }).collect();
-        let changes: Vec<(usize, f64)> = self.stage.prescribed.iter().map(|&(d, _, c)| (d, c)).collect();
-        if let Some(f) = self.prescribed_force(&changes) {
-            load.iter_mut().zip(&f).for_each(|(l, x)| *l += x);
+    /// A stage's effective load over the free DOFs, ΔP − K_fp Δū, and its part −K_fp Δū.
+    fn effective_load(&self, stage: &StageLoad) -> (Vec<f64>, Option<Vec<f64>>) {
+        let mut load: Vec<f64> = stage.force_change().iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { *v }).collect();
+        let held = self.prescribed_force(&stage.prescribed_changes());
+        if let Some(f) = &held {
+            load.iter_mut().zip(f).for_each(|(l, x)| *l += x);
         }
-        load
+        (load, held)
     }
 
     /// Reduced space: u_stage = K#(ΔP − K_fp Δū) over all DOFs and at the reduced DOFs; the
     /// completed stages' share is accumulated (u = Σ u_stage + s u_stage + K#Wλ + Nα).
     fn solve_stage_load(&mut self) {
-        let load = self.stage_effective_load();
+        let (load, _) = self.effective_load(&self.stage);
         let t0 = Instant::now();
         let u_stage = self.apply_ginv(std::slice::from_ref(&load)).pop().unwrap();
         if let Space::Reduced(r) = &mut self.space {
@@ -120,20 +121,19 @@ impl Engine<'_> {
     /// Scales of the whole path: max over stages of |ΔP − K_fp Δū| over the free DOFs, and
     /// of Σ|ΔP| (+ Σ|K_fp Δū|); an obstacle motion Δc counts as the force E t |Δc| per pair
     /// (the order of what moving a surface node by Δc takes). (norm, sum)
-    pub fn path_force_scales(&mut self) -> (f64, f64) {
+    pub fn path_force_scales(&self) -> (f64, f64) {
         let young = self.material.iter().map(|m| m.young).fold(0.0f64, f64::max);
         let (mut norm, mut sum) = (0.0f64, 0.0f64);
         for k in 0..self.path.n_stages() {
-            self.stage = self.path.stage(k, self.map.role.len(), self.global_pairs().len());
-            let mut total: f64 = self.stage.force_change().iter().map(|v| v.abs()).sum();
-            let mut effective = self.stage_effective_load();
-            let changes: Vec<(usize, f64)> = self.stage.prescribed.iter().map(|&(d, _, c)| (d, c)).collect();
-            if let Some(f) = self.prescribed_force(&changes) {
+            let stage = self.path.stage(k, self.map.role.len(), self.global_pairs().len());
+            let mut total: f64 = stage.force_change().iter().map(|v| v.abs()).sum();
+            let (mut effective, held) = self.effective_load(&stage);
+            if let Some(f) = held {
                 total += f.iter().map(|v| v.abs()).sum::<f64>();
             }
             for p in 0..self.global_pairs().len() {
-                let c = self.stage.shift(p, 1.0);
-                let c0 = self.stage.shift(p, 0.0);
+                let c = stage.shift(p, 1.0);
+                let c0 = stage.shift(p, 0.0);
                 let moved = young * self.model.thickness * (c[0] - c0[0]).hypot(c[1] - c0[1]);
                 total += moved;
                 effective.push(moved);

@@ -45,6 +45,11 @@ impl StageLoad {
         (0..self.force_start.len()).map(|d| self.force(d, 1.0)).collect()
     }
 
+    /// Δū over the whole stage at every prescribed DOF.
+    pub fn prescribed_changes(&self) -> Vec<(usize, f64)> {
+        self.prescribed.iter().map(|&(d, _, change)| (d, change)).collect()
+    }
+
     /// ū(s) at every prescribed DOF.
     pub fn prescribed_at(&self, s: f64) -> impl Iterator<Item = (usize, f64)> + '_ {
         self.prescribed.iter().map(move |&(d, start, change)| (d, start + s * change))
