@@ -286,13 +286,18 @@ def _motion_curve(scene, result, index: int, motion: np.ndarray, factor) -> dict
 
 
 # --------------------------------------------------------------------------- contact geometry
+def weighted_rows(pairs: dict) -> np.ndarray:
+    """(P,) True for the node-to-segment rows (pairs with their own node weights)."""
+    if "weight_ptr" not in pairs:
+        return np.zeros(len(pairs["node_a"]), dtype=bool)
+    return np.diff(pairs["weight_ptr"]) > 0
+
+
 def target_points(scene) -> np.ndarray:
     """(P, 2) the target point of each pair: node b, or for a rigid obstacle and a
     node-to-segment row (whose node b only names it) the foot of node a, x_a - gap n."""
     pairs = scene.model["pairs"]
-    node_b = np.asarray(pairs["node_b"]).copy()
-    if "weight_ptr" in pairs:
-        node_b[np.diff(pairs["weight_ptr"]) > 0] = -1
+    node_b = np.where(weighted_rows(pairs), -1, np.asarray(pairs["node_b"]))
     foot = scene.pair_xy - np.asarray(pairs["gap"])[:, None] * np.asarray(pairs["normal"])
     return np.where((node_b >= 0)[:, None], scene.nodes[np.maximum(node_b, 0)], foot)
 
@@ -368,10 +373,10 @@ def contactor_forces(scene, lam) -> np.ndarray:
     ±10 % at a punch edge, against ±5 % for the forces)."""
     lam = np.asarray(lam, dtype=float)
     pairs = scene.model["pairs"]
-    if "weight_ptr" not in pairs:
+    weighted = weighted_rows(pairs)
+    if not weighted.any():
         return lam
     ptr, node, value = pairs["weight_ptr"], pairs["weight_node"], pairs["weight_value"]
-    weighted = np.diff(ptr) > 0
     rows = np.repeat(np.arange(len(lam)), np.diff(ptr))
     at_node = np.zeros(len(scene.nodes))
     np.add.at(at_node, node[value > 0], value[value > 0] * lam[rows[value > 0]])

@@ -60,7 +60,7 @@ impl Recorder {
             max_steps: if opts.max_steps > 0 { opts.max_steps } else { 50 * (n_pairs + plastic_capable + 1) + 1000 },
         };
         match &opts.snapshots {
-            SnapshotRequest::EveryEvent => rec.snapshots.push(eng.snapshot(state)?),
+            SnapshotRequest::EveryEvent => rec.snapshots.push(eng.snapshot(state, None)?),
             SnapshotRequest::Times(f) => {
                 rec.pending = f.clone();
                 rec.pending.sort_by(|a, b| a.total_cmp(b));
@@ -96,7 +96,7 @@ impl Recorder {
             let mut st = state.clone();
             st.advance(trial, s);
             st.load_fraction = f;
-            self.snapshots.push(eng.snapshot(&st)?);
+            self.snapshots.push(eng.snapshot(&st, None)?);
             self.pending.remove(0);
         }
         for &(p, phi) in &sel.predicted_closures {
@@ -119,7 +119,8 @@ impl Recorder {
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
         self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift });
         if self.every_event {
-            self.snapshots.push(eng.snapshot(state)?);
+            // the equilibrium check left the internal force of these stresses in `internal`
+            self.snapshots.push(eng.snapshot(state, self.internal.as_deref())?);
         }
         Ok(())
     }
@@ -130,7 +131,7 @@ impl Recorder {
         let early = !matches!(stop, StopReason::Completed | StopReason::FirstYield);
         if early || !self.every_event {
             if self.snapshots.last().map_or(true, |s| (s.time - state.time()).abs() > SAME_FRACTION) {
-                self.snapshots.push(eng.snapshot(state)?);
+                self.snapshots.push(eng.snapshot(state, None)?);
             }
         }
         Ok(RunResult {
@@ -153,15 +154,16 @@ impl Recorder {
 
 impl Engine<'_> {
     /// The full fields of a state and its support reactions; in the reduced space they are
-    /// rebuilt (one solve) and their equilibrium is checked in full.
-    pub fn snapshot(&mut self, state: &State) -> Result<Snapshot> {
+    /// rebuilt (one solve) and their equilibrium is checked in full. `internal`: the internal
+    /// force of the state's stresses when the caller has it (full space).
+    pub fn snapshot(&mut self, state: &State, internal: Option<&[f64]>) -> Result<Snapshot> {
         let full;
         let (state, internal) = if self.is_reduced() {
             let (s, internal) = self.reconstruct(state)?;
             full = s;
             (&full, internal)
         } else {
-            (state, self.internal_force(&state.stress))
+            (state, internal.map_or_else(|| self.internal_force(&state.stress), <[f64]>::to_vec))
         };
         let reaction = (0..internal.len()).map(|d| if self.fixed[d] { internal[d] - self.stage.force(d, state.load_fraction) } else { 0.0 }).collect();
         let pairs = self.global_pairs();
