@@ -9,6 +9,8 @@
 //!
 //! One module per concept, in the order of the paper:
 //! - [`material`]: elasticity D (eqs. 9, 18); the place where plasticity (eq. 11) plugs in;
+//! - [`stress_integration`]: an element's stress along a strain increment (the elastic–plastic
+//!   split of eq. 16, Prandtl–Reuss integrated with error control);
 //! - [`element`]: the constant-strain triangle (eq. 10, K of eq. 36, P_σ of eq. 42);
 //! - [`mesh`]: meshes, validation, bodies;
 //! - [`contact`]: candidate pairs, their constraint vectors and statuses (eqs. 21–28, 41, 45–46);
@@ -32,6 +34,7 @@ pub mod material;
 pub mod mesh;
 pub mod model;
 pub mod rigid_modes;
+pub mod stress_integration;
 
 pub use driver::run;
 pub use error::{Error, Result};
