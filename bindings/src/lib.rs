@@ -200,6 +200,9 @@ fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
     if let Some(v) = o.get_item("drift_control")? {
         options.drift_control = v.extract()?;
     }
+    if let Some(v) = o.get_item("tangent_turn")? {
+        options.tangent_turn = v.extract()?;
+    }
     if let Some(v) = o.get_item("max_stress_step")? {
         options.max_stress_step = v.extract()?;
     }
@@ -291,6 +294,7 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     out.set_item("max_drift", r.max_drift)?;
     out.set_item("n_factorizations", r.n_factorizations)?;
     out.set_item("n_solves", r.n_solves)?;
+    out.set_item("n_low_rank_updates", r.n_low_rank_updates)?;
     let stop = PyDict::new(py);
     stop.set_item("kind", r.stop.name())?;
     stop.set_item("message", r.stop.message())?;
@@ -312,6 +316,7 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     t.set_item("events", r.timings.events)?;
     t.set_item("flexibility", r.timings.flexibility)?;
     t.set_item("dense", r.timings.dense)?;
+    t.set_item("low_rank", r.timings.low_rank)?;
     t.set_item("solve_pair", r.timings.solve_pair)?;
     out.set_item("timings", t)?;
     Ok(out)

@@ -152,6 +152,11 @@ SOLVER_KEYS = {
     "max_stress_step": Key("float", 0.05, doc="plasticity, with drift_control: largest von Mises "
                                               "stress increment of a plastic element, x Sy",
                            check=_positive("max_stress_step")),
+    "tangent_turn": Key("float", 0.05, doc="plasticity: a plastic element's tangent in the "
+                                           "stiffness is renewed when its flow direction has "
+                                           "turned by more than this angle (radians; 0 = at "
+                                           "every increment, as the paper)",
+                        check=_non_negative("tangent_turn")),
     "stop_at_first_yield": Key("bool", False, doc="plasticity: end the run right after the "
                                                   "first yield event"),
 }

@@ -834,6 +834,7 @@ def solver_options(case: Case) -> dict:
                "equilibrium_tol": float(solver["equilibrium_tol"]),
                "drift_control": bool(solver["drift_control"]),
                "max_stress_step": float(solver["max_stress_step"]),
+               "tangent_turn": float(solver["tangent_turn"]),
                "stop_at_first_yield": bool(solver["stop_at_first_yield"])}
     if snaps == "events":
         options["output"] = "events"

@@ -15,7 +15,8 @@
 //! - [`mesh`]: meshes, validation, bodies;
 //! - [`contact`]: candidate pairs, their constraint vectors and statuses (eqs. 21–28, 41, 45–46);
 //! - [`rigid_modes`]: rigid-body modes left free by the supports;
-//! - [`linalg`]: sparse assembly and the SPD Cholesky factor (faer);
+//! - [`linalg`]: sparse assembly and the SPD Cholesky factor (faer); [`low_rank`]: the factor
+//!   plus a few rank-one terms (Woodbury), so that a yield needs no refactorization;
 //! - [`events`]: scale factors of the next event (eqs. 48–57);
 //! - [`driver`]: the incremental loop (§4), one module per phase (see its table);
 //! - [`lcp`]: Lemke's method for the zero-length rate problem;
@@ -30,6 +31,7 @@ pub mod element;
 pub mod error;
 pub mod events;
 pub mod linalg;
+pub mod low_rank;
 pub mod material;
 pub mod mesh;
 pub mod model;

@@ -10,6 +10,7 @@
 use crate::bail;
 use crate::element::Cst;
 use crate::error::Result;
+use crate::low_rank::Cost;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
@@ -392,6 +393,25 @@ impl SpdSolver {
             }
 
         }
+    }
+
+    /// The work of a factorization and of a solve pair, from the supernodal structure: a
+    /// supernode of c columns with r rows below them costs c³/3 + c² r + c r² to factor (its
+    /// own block, the panel below it, the update of its ancestors) and holds c(c+1)/2 + c r
+    /// entries, each used twice by a solve pair (2 flops each way).
+    pub fn cost(&self) -> Cost {
+        let sym = self.symbolic.as_ref().expect("factor() before cost()");
+        let (mut factorization, mut entries) = (0.0, 0.0);
+        if let SymbolicCholeskyRaw::Supernodal(sup) = sym.raw() {
+            let ptr = sup.col_ptr_for_row_idx();
+            for s in 0..sup.n_supernodes() {
+                let c = (sup.supernode_end()[s] - sup.supernode_begin()[s]) as f64;
+                let r = (ptr[s + 1] - ptr[s]) as f64;
+                factorization += c * c * c / 3.0 + c * c * r + c * r * r;
+                entries += c * (c + 1.0) / 2.0 + c * r;
+            }
+        }
+        Cost { factorization, solve_pair: 4.0 * entries, equations: sym.nrows() as f64 }
     }
 
     /// Solve K_reg X = B in place for `columns` right-hand sides stored column after column

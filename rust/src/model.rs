@@ -66,6 +66,9 @@ pub enum SnapshotRequest {
     Times(Vec<f64>),
 }
 
+/// Default of `Options::tangent_turn` (radians).
+pub const DEFAULT_TANGENT_TURN: f64 = 0.05;
+
 #[derive(Debug, Clone)]
 pub struct Options {
     pub snapshots: SnapshotRequest,
@@ -87,6 +90,10 @@ pub struct Options {
     pub drift_control: bool,
     /// With drift control: largest stress change of a plastic element per increment, × σy.
     pub max_stress_step: f64,
+    /// A plastic element's tangent in K is renewed when its flow direction D a has turned by
+    /// more than this angle (radians) since; 0 renews every plastic tangent at every
+    /// increment (the paper). Its stress is integrated either way (`stress_integration`).
+    pub tangent_turn: f64,
     /// Stop at the first yield event (the load capacity at the onset of plasticity).
     pub stop_at_first_yield: bool,
     /// Elastic runs keep only contact-DOF values between events (see `driver`); false forces
@@ -112,6 +119,9 @@ impl Options {
         }
         if !(self.limit_stiffness.is_finite() && (0.0..1.0).contains(&self.limit_stiffness)) {
             bail!(Input, "options.limit_stiffness = {} is not allowed: give a fraction in [0, 1) of the initial stiffness (0 disables the limit-load stop; default 1e-3)", self.limit_stiffness);
+        }
+        if !(self.tangent_turn.is_finite() && (0.0..=std::f64::consts::FRAC_PI_2).contains(&self.tangent_turn)) {
+            bail!(Input, "options.tangent_turn = {} is not allowed: give an angle in [0, pi/2] radians (0 renews every plastic tangent at every increment; default {DEFAULT_TANGENT_TURN})", self.tangent_turn);
         }
         if !(self.max_stress_step.is_finite() && self.max_stress_step > 0.0) {
             bail!(Input, "options.max_stress_step = {} is not allowed: give a finite fraction of Sy > 0 (default 0.05)", self.max_stress_step);
@@ -141,6 +151,7 @@ impl Default for Options {
             max_zero_length_switches: 4,
             drift_control: true,
             max_stress_step: 0.05,
+            tangent_turn: DEFAULT_TANGENT_TURN,
             stop_at_first_yield: false,
             reduced_elastic: true,
             limit_stiffness: 1e-3,
@@ -349,6 +360,8 @@ mod tests {
             Options { group_tol: 1.0, ..Options::default() },
             Options { equilibrium_tol: f64::NAN, ..Options::default() },
             Options { max_stress_step: 0.0, ..Options::default() },
+            Options { tangent_turn: f64::NAN, ..Options::default() },
+            Options { tangent_turn: 2.0, ..Options::default() },
         ];
         for o in bad {
             let err = o.validate().unwrap_err().message;

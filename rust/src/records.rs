@@ -96,6 +96,8 @@ pub struct Timings {
     pub dense: f64,
     /// Event bookkeeping: scale factors, advancing, checks, the small dense systems.
     pub events: f64,
+    /// Low-rank updates of the factor: solving their columns, their capacitance (`low_rank`).
+    pub low_rank: f64,
     /// One forward + backward substitution with one right-hand side on the first factor
     /// (the unit of the amortized cost of an event).
     pub solve_pair: f64,
@@ -152,6 +154,8 @@ pub struct RunResult {
     pub max_equilibrium_residual: f64,
     pub max_drift: f64,
     pub n_factorizations: usize,
+    /// Tangent changes taken as low-rank terms on the last factor instead of a refactorization.
+    pub n_low_rank_updates: usize,
     pub n_solves: usize,
     /// How many zero-length runs the rate problem (Lemke) resolved.
     pub n_rate_problems: usize,

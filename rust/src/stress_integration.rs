@@ -57,7 +57,7 @@ pub fn integrate(m: &Material, plane: Plane, start: &PointState, e: &Vector3<f64
     let elastic = m.tangent(&start.stress, false);
     let d_elastic = elastic.stress_increment(plane, e);
     let mut out = Integrated { end: PointState { stress: start.stress + d_elastic, ..*start }, yielded_at: None, unloaded: false, substeps: 0 };
-    if !m.is_plastic() {
+    if !m.is_plastic() || strain_size(e) == 0.0 {
         return out;
     }
     let sy = m.current_yield(start.plastic_strain);

@@ -2,6 +2,7 @@
 //! of the events that happen there (step 6).
 
 use super::engine::Engine;
+use super::plasticity::InsideEvent;
 use super::selection::Selection;
 use super::state::{State, TrialIncrement};
 use crate::contact::Status;
@@ -9,11 +10,17 @@ use crate::events::Candidate;
 use crate::model::EventKind;
 
 impl Engine<'_> {
-    /// u, σ, λ += S × trial (eqs. 58–61); slipping pairs on the Coulomb cone (eq. 62).
-    pub fn advance(&self, state: &mut State, trial: &TrialIncrement, sel: &Selection) {
+    /// u, σ, λ += S × trial (eqs. 58–61), the stresses of plastic elements (and, grouped, of
+    /// those that yield inside) integrated (`plasticity`); slipping pairs on the Coulomb cone
+    /// (eq. 62). Returns the yields and unloads inside the increment, and whether any stress
+    /// was integrated (it then needs an equilibrium correction).
+    pub fn advance(&self, state: &mut State, trial: &TrialIncrement, sel: &Selection) -> (Vec<InsideEvent>, bool) {
+        let integrated = self.integrate_stresses(state, trial, sel.scale, sel.plastic_inside);
         state.advance(trial, sel.scale);
         state.load_fraction = sel.phi;
+        let inside = self.place_integrated(state, &integrated);
         self.project_onto_cone(state);
+        (inside, !integrated.is_empty())
     }
 
     /// λ_t = −d μ λ_n for slipping pairs (round-off removed); a pair that grouping let slip

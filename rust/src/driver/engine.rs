@@ -10,6 +10,7 @@ use crate::element::Cst;
 use crate::error::Result;
 use crate::events::Noise;
 use crate::linalg::{DofMap, SpdSolver, StiffnessPattern};
+use crate::low_rank::{Cost, LowRank};
 use crate::material::{Material, Tangent};
 use crate::model::{Model, Timings};
 use crate::rigid_modes::{free_modes, RigidMode};
@@ -34,9 +35,18 @@ pub(super) struct Engine<'m> {
     pub elements: Vec<Cst>,
     /// Material of every element.
     pub material: Vec<Material>,
-    /// D or D_ep of every element (eq. 11), and whether one changed since the last factor.
+    /// D or D_ep of every element (eq. 11) as K holds it (`tangents`), and whether K must be
+    /// refactorized for them.
     pub tangents: Vec<Tangent>,
     pub tangents_changed: bool,
+    /// The tangents in the last factor K_f; K = K_f + the low-rank terms of the elements whose
+    /// tangent changed since (`low_rank`), and what those terms have cost so far (flops).
+    pub factored: Vec<Tangent>,
+    pub low_rank: LowRank,
+    pub low_rank_spent: f64,
+    pub n_low_rank_updates: usize,
+    /// The work of a factorization and of a solve pair (from the factor's structure).
+    pub cost: Cost,
     /// The pairs over the DOFs the loop carries (`space`).
     pub pairs: Vec<Pair>,
     pub modes: Vec<RigidMode>,
@@ -59,9 +69,11 @@ pub(super) struct Engine<'m> {
     pub fixed: Vec<bool>,
     pub solver: SpdSolver,
     /// K# restricted to the contact DOFs that are equations (t × t, by slot), read from the
-    /// trailing block of the factor after every factorization: every Cᵀ K# E entry of the
-    /// small system is a lookup here, no triangular solve per contact pair.
+    /// trailing block of the factor after every factorization (`flexibility_factored`) and
+    /// corrected for the low-rank terms: every Cᵀ K# E entry of the small system is a lookup
+    /// here, no triangular solve per contact pair.
     pub flexibility: faer::Mat<f64>,
+    pub flexibility_factored: faer::Mat<f64>,
     /// Slot in `flexibility` of each DOF of the loop's DOF space (usize::MAX: not a contact
     /// DOF, or fixed/pinned, where K# is zero).
     pub contact_slot: Vec<usize>,
@@ -89,7 +101,7 @@ impl<'m> Engine<'m> {
         let map = DofMap::ordered(&elements, n_dofs, &fixed, &pinned, &slot_dofs)?;
         let pattern = StiffnessPattern::new(&elements, &map)?;
         let material: Vec<Material> = model.element_material.iter().map(|&m| model.materials[m]).collect();
-        let tangents = material.iter().map(|m| m.tangent(&Vector4::zeros(), false)).collect();
+        let tangents: Vec<Tangent> = material.iter().map(|m| m.tangent(&Vector4::zeros(), false)).collect();
         let prescribed_elements = elements_touching(&elements, &path.prescribed_dofs());
         let n_pairs = pairs.len();
         let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();
@@ -104,8 +116,13 @@ impl<'m> Engine<'m> {
             model,
             elements,
             material,
+            factored: tangents.clone(),
             tangents,
             tangents_changed: true,
+            low_rank: LowRank::default(),
+            low_rank_spent: 0.0,
+            n_low_rank_updates: 0,
+            cost: Cost::default(),
             pairs,
             modes,
             body_first_element: first_elements(model, &body_of_node, n_bodies),
@@ -120,6 +137,7 @@ impl<'m> Engine<'m> {
             fixed,
             solver: SpdSolver::new(slot_dofs.len()),
             flexibility: faer::Mat::zeros(0, 0),
+            flexibility_factored: faer::Mat::zeros(0, 0),
             contact_slot,
             space,
             max_snapshot_residual: 0.0,

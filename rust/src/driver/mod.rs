@@ -47,6 +47,7 @@ mod selection;
 mod space;
 mod state;
 mod stiffness;
+mod tangents;
 mod trial;
 
 use crate::error::Result;
@@ -106,10 +107,13 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
             return Ok(stop);
         }
         let t_events = Instant::now();
-        let sel = eng.select(state, &trial, cycles); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
+        let cut = rec.snapshot_cut(eng, state);
+        let sel = eng.select(state, &trial, cycles, cut); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
         rec.snapshots_inside(eng, state, &trial, &sel)?;
-        eng.advance(state, &trial, &sel); // eqs. 58–62
-        let residual = settle(eng, state, &sel, cycles, rec, &mut correction)?;
+        let phi0 = state.load_fraction;
+        let (inside, integrated) = eng.advance(state, &trial, &sel); // eqs. 58–62
+        inside.iter().for_each(|ev| rec.event_inside(ev, phi0 + ev.at * (sel.phi - phi0)));
+        let residual = settle(eng, state, &sel, cycles, rec, &mut correction, integrated)?;
         let jump = switch_statuses(eng, state, &sel, cycles, rec); // step 6
         let residual = if jump > eng.noise.force { rebalance(eng, state, sel.phi, rec)? } else { residual };
         rec.step(eng, state, sel.scale, residual)?;
@@ -135,13 +139,14 @@ fn timed_trial(eng: &mut Engine, state: &State, internal: Option<Vec<f64>>) -> R
     Ok(trial)
 }
 
-/// After the advance: drift control (return to the yield surface, equilibrium correction),
-/// then the checks at the event (equilibrium, contact conditions). Returns the residual.
-fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCycling, rec: &mut Recorder, correction: &mut Correction) -> Result<f64> {
+/// After the advance: the equilibrium correction of integrated stresses (with the tangents
+/// brought up to date), then the checks at the event (equilibrium, contact conditions).
+/// Returns the residual.
+fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCycling, rec: &mut Recorder, correction: &mut Correction, integrated: bool) -> Result<f64> {
+    *correction = eng.restore_equilibrium(state, sel, integrated, *correction)?;
     let drift = eng.drift(state);
     rec.max_drift = rec.max_drift.max(drift);
     rec.drift = drift;
-    *correction = eng.control_drift(state, sel, drift, *correction)?;
     let residual = checked_equilibrium(eng, state, sel.phi, rec)?;
     eng.check_contact(state, cycles.frozen().0, *correction)?;
     Ok(residual)

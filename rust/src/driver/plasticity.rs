@@ -1,14 +1,21 @@
-//! Plasticity in the loop: each element's tangent D or D_ep (eq. 11) at the increment's start,
-//! and drift control after it: plastic elements return to their yield surface and one
-//! correction solve at fixed load restores equilibrium, so that every event is in equilibrium
-//! to round-off (`drift_control = false` is the paper without either).
+//! Plasticity in the loop (eqs. 5–11, 59): the elements' stresses over an increment, and the
+//! equilibrium correction after it.
+//!
+//! The trial moves every element with the tangent K holds (`tangents`), which is exact for the
+//! elastic ones. With `drift_control` (the default) the stress of every element that is plastic,
+//! or (grouped increments) crosses its yield surface inside the increment, is integrated along
+//! its strain instead (`stress_integration`: the elastic–plastic split, Prandtl–Reuss with error
+//! control); one correction solve at fixed load, with the tangents brought up to date, then
+//! restores equilibrium, so that every event is in equilibrium to round-off.
+//! `drift_control = false` is the paper exactly: the tangent's linear increment, no correction.
 
 use super::engine::Engine;
-use super::selection::Selection;
-use super::state::State;
+use super::selection::{Selection, ZERO_SCALE};
+use super::state::{State, TrialIncrement};
 use crate::error::Result;
-use crate::material::{von_mises, Plane};
-use nalgebra::Vector4;
+use crate::material::von_mises;
+use crate::model::EventKind;
+use crate::stress_integration::{integrate, onto_yield_surface, Integrated, PointState};
 
 /// The size of the last equilibrium correction (displacement, force): the correction moves
 /// nodes and contact forces by that much with no event of its own, so the contact checks
@@ -19,29 +26,14 @@ pub(super) struct Correction {
     pub force: f64,
 }
 
-impl Engine<'_> {
-    /// Rebuild the tangents of plastic elements at the current stress (the paper's D_ep at the
-    /// increment's start) and of elements whose plastic flag changed; K is refactorized only
-    /// if one of them differs (not after a zero-length increment without a yield/unload).
-    pub fn update_tangents(&mut self, state: &State) -> Result<()> {
-        if !self.is_reduced() {
-            for e in 0..self.elements.len() {
-                let was_plastic = self.tangents[e].flow.is_some();
-                if state.plastic[e] || was_plastic {
-                    let tangent = self.material[e].tangent(&state.stress[e], state.plastic[e]);
-                    if tangent.d4 != self.tangents[e].d4 || state.plastic[e] != was_plastic {
-                        self.tangents[e] = tangent;
-                        self.tangents_changed = true;
-                    }
-                }
-            }
-        }
-        if self.tangents_changed {
-            self.factor()?;
-        }
-        Ok(())
-    }
+/// A yield or unload inside an increment: the element and the fraction of the increment.
+pub(super) struct InsideEvent {
+    pub element: usize,
+    pub kind: EventKind,
+    pub at: f64,
+}
 
+impl Engine<'_> {
     /// Yield-surface drift: max |σe − σy(εp)| / σy(εp) over plastic elements.
     pub fn drift(&self, state: &State) -> f64 {
         (0..state.plastic.len())
@@ -53,51 +45,73 @@ impl Engine<'_> {
             .fold(0.0, f64::max)
     }
 
-    /// Drift control after an increment: return plastic elements to the yield surface, then
-    /// correct equilibrium at fixed load. A zero-length increment of contact events only
-    /// changed no stress: the last correction (and its allowance) still holds, and skipping
-    /// it keeps the tangents, so K needs no refactorization. Returns the correction's size.
-    pub fn control_drift(&mut self, state: &mut State, sel: &Selection, drift: f64, last: Correction) -> Result<Correction> {
+    /// The stress of each element that is plastic at the increment's start, or (`crossing`)
+    /// that the linear increment takes beyond its yield surface, integrated over `scale` ×
+    /// the trial's strain from `state` (before the advance).
+    pub fn integrate_stresses(&self, state: &State, trial: &TrialIncrement, scale: f64, crossing: bool) -> Vec<(usize, Integrated)> {
+        if !self.model.options.drift_control || scale <= ZERO_SCALE {
+            return vec![]; // a zero-length increment changes no stress (and gets no correction)
+        }
+        let plane = self.model.plane;
+        let mut out = vec![];
+        for e in 0..state.stress.len() {
+            let m = &self.material[e];
+            if !m.is_plastic() {
+                continue;
+            }
+            let plastic = state.plastic[e];
+            let beyond = || von_mises(&(state.stress[e] + trial.dstress[e] * scale)) > m.current_yield(state.plastic_strain[e]);
+            if plastic || (crossing && beyond()) {
+                let mut stress = state.stress[e];
+                if plastic {
+                    // back onto the surface first: the last correction left it a little off
+                    stress = onto_yield_surface(&stress, m.current_yield(state.plastic_strain[e]), plane);
+                }
+                let start = PointState { stress, plastic_strain: state.plastic_strain[e], plastic };
+                out.push((e, integrate(m, plane, &start, &(trial.dstrain[e] * scale))));
+            }
+        }
+        out
+    }
+
+    /// Put the integrated states in place; returns the yields and unloads that happened inside
+    /// the increment, in order.
+    pub fn place_integrated(&self, state: &mut State, integrated: &[(usize, Integrated)]) -> Vec<InsideEvent> {
+        let mut inside = vec![];
+        for (e, out) in integrated {
+            let e = *e;
+            state.stress[e] = out.end.stress;
+            state.plastic_strain[e] = out.end.plastic_strain;
+            if out.unloaded && state.plastic[e] {
+                inside.push(InsideEvent { element: e, kind: EventKind::Unload, at: 0.0 });
+            }
+            if let Some(at) = out.yielded_at {
+                inside.push(InsideEvent { element: e, kind: EventKind::Yield, at });
+            }
+            state.plastic[e] = out.end.plastic;
+        }
+        inside.sort_by(|a, b| a.at.total_cmp(&b.at));
+        inside
+    }
+
+    /// Equilibrium after an increment whose stresses were integrated: the tangents follow the
+    /// state (`update_tangents`), then one correction solve at fixed load. A zero-length
+    /// increment of contact events only changed no stress: the last correction (and its
+    /// allowance) still holds. Returns the correction's size.
+    pub fn restore_equilibrium(&mut self, state: &mut State, sel: &Selection, integrated: bool, last: Correction) -> Result<Correction> {
         let stresses_kept = sel.zero_length() && !sel.group.iter().any(|c| c.kind.is_element_event());
         if stresses_kept {
             return Ok(last);
         }
-        if !(self.model.options.drift_control && drift > 0.0) {
+        if !integrated {
             return Ok(Correction::default());
         }
-        self.return_to_yield_surface(state);
+        self.update_tangents(state)?;
         let correction = self.trial(state, sel.phi, None)?;
         let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         let size = Correction { displacement: largest(&correction.du), force: largest(&correction.dlambda_n).max(largest(&correction.dlambda_t)) };
         state.advance(&correction, 1.0);
         state.load_fraction = sel.phi;
         Ok(size)
-    }
-
-    /// Scale the stress of plastic elements back onto the yield surface: the deviator at fixed
-    /// mean stress in plane strain, the in-plane stress (keeping σz = 0) in plane stress.
-    fn return_to_yield_surface(&self, state: &mut State) {
-        for e in 0..state.plastic.len() {
-            if !state.plastic[e] {
-                continue;
-            }
-            let sy = self.material[e].current_yield(state.plastic_strain[e]);
-            let s = state.stress[e];
-            let factor = sy / von_mises(&s);
-            if factor > 1.0 && self.model.options.group_tol > 0.0 {
-                // Yielded early by grouping and still inside the surface: flowing from there
-                // is the O(δ) error grouping accepts; lifting it onto the surface would add
-                // stress that no load put there.
-                continue;
-            }
-            state.stress[e] = match self.model.plane {
-                Plane::Stress => s * factor,
-                Plane::Strain => {
-                    let p = (s[0] + s[1] + s[2]) / 3.0;
-                    let mean = Vector4::new(p, p, p, 0.0);
-                    mean + (s - mean) * factor
-                }
-            };
-        }
     }
 }

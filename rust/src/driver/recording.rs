@@ -4,6 +4,7 @@
 
 use super::anticycling::AntiCycling;
 use super::engine::Engine;
+use super::plasticity::InsideEvent;
 use super::selection::Selection;
 use super::space::Space;
 use super::state::{State, TrialIncrement};
@@ -83,11 +84,38 @@ impl Recorder {
         Some(StopReason::EventBound { load_fraction: state.time(), max_steps: self.max_steps, busiest: busiest.join("; ") })
     }
 
-    /// Snapshots requested inside this increment (the path is linear in between).
+    /// The scale of the trial at which the next requested snapshot falls, in the full space:
+    /// increments end there, so that the snapshot lies on the integrated path (∞ for none, or
+    /// in the reduced space, where the path between events is linear and interpolated).
+    pub fn snapshot_cut(&self, eng: &Engine, state: &State) -> f64 {
+        let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
+        match self.pending.first() {
+            Some(&t) if !eng.is_reduced() && remaining > 0.0 && t - (state.stage as f64) <= 1.0 => ((t - state.stage as f64 - phi0) / remaining).max(0.0),
+            _ => f64::INFINITY,
+        }
+    }
+
+    /// Full space: the requested snapshots at the state's path time (where an increment was cut).
+    pub fn snapshots_at_end(&mut self, eng: &mut Engine, state: &State) -> Result<()> {
+        while let Some(&t) = self.pending.first() {
+            if eng.is_reduced() || t > state.time() + FRACTION_SLACK {
+                break;
+            }
+            let internal = self.internal.clone();
+            self.snapshots.push(eng.snapshot(state, internal.as_deref())?);
+            self.pending.remove(0);
+        }
+        Ok(())
+    }
+
+    /// Snapshots requested inside this increment (the path is linear in between; reduced space).
     pub fn snapshots_inside(&mut self, eng: &mut Engine, state: &State, trial: &TrialIncrement, sel: &Selection) -> Result<()> {
         let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
         let stage = state.stage as f64;
         while let Some(&t) = self.pending.first() {
+            if !eng.is_reduced() {
+                break;
+            }
             let f = t - stage;
             if f > sel.phi + FRACTION_SLACK {
                 break;
@@ -103,6 +131,12 @@ impl Recorder {
             self.predicted_closure[p] = stage + phi;
         }
         Ok(())
+    }
+
+    /// A yield or unload inside a grouped increment, at load fraction `phi`.
+    pub fn event_inside(&mut self, ev: &InsideEvent, phi: f64) {
+        let c = Candidate { scale: 0.0, entity: ev.element, kind: ev.kind, direction: 0 };
+        self.event(&c, ev.kind, phi);
     }
 
     pub fn event(&mut self, c: &Candidate, kind: EventKind, phi: f64) {
@@ -122,7 +156,7 @@ impl Recorder {
             // the equilibrium check left the internal force of these stresses in `internal`
             self.snapshots.push(eng.snapshot(state, self.internal.as_deref())?);
         }
-        Ok(())
+        self.snapshots_at_end(eng, state)
     }
 
     /// The final snapshot (for requested fractions, and for runs that stopped early) and the
@@ -144,6 +178,7 @@ impl Recorder {
             max_equilibrium_residual: self.max_residual.max(eng.max_snapshot_residual),
             max_drift: self.max_drift,
             n_factorizations: eng.solver.n_factorizations,
+            n_low_rank_updates: eng.n_low_rank_updates,
             n_solves: eng.solver.n_solves,
             n_rate_problems: rate_problems,
             stop,
@@ -201,7 +236,7 @@ impl Engine<'_> {
         for (mode, a) in self.modes.iter().zip(&state.alpha) {
             u.iter_mut().zip(&mode.vector).for_each(|(x, v)| *x += a * v);
         }
-        let (stress, _) = self.stress_increment(&u);
+        let (stress, _, _) = self.stress_increment(&u);
         let mut full = state.clone();
         full.u = u;
         full.stress = stress;

@@ -33,6 +33,9 @@ pub(super) struct Selection {
     pub group: Vec<Candidate>,
     /// Last trial only: the load fraction at which each open pair would have closed.
     pub predicted_closures: Vec<(usize, f64)>,
+    /// Grouped increments: yields and unloads happen inside the increment (integrated), not
+    /// at its end.
+    pub plastic_inside: bool,
 }
 
 impl Selection {
@@ -76,17 +79,21 @@ impl Engine<'_> {
         (cands, drift_scale)
     }
 
-    /// S = min(S_c, S_p, S_f, S_r, S_A) (eq. 57) and the events that switch with it.
-    pub fn select(&self, state: &State, trial: &TrialIncrement, cycles: &AntiCycling) -> Selection {
+    /// S = min(S_c, S_p, S_f, S_r, S_A) (eq. 57) and the events that switch with it. `cut`:
+    /// a scale the increment must not pass (a requested snapshot time; ∞ for none).
+    pub fn select(&self, state: &State, trial: &TrialIncrement, cycles: &AntiCycling, cut: f64) -> Selection {
         let opts = &self.model.options;
         let (mut cands, drift_scale) = self.candidates(state, trial, cycles);
         let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
         for c in cands.iter_mut().filter(|c| c.scale < 1.0 && phi0 + c.scale * remaining >= 1.0 - STAGE_END) {
             c.scale = 1.0; // ties with the stage's end (see STAGE_END)
         }
+        let plastic_inside = self.plastic_events_inside();
+        let window = if plastic_inside { plastic_window(&mut cands, phi0, remaining, opts.group_tol) } else { f64::INFINITY };
         let s_min = cands.iter().map(|c| c.scale).fold(f64::INFINITY, f64::min);
-        let scale = s_min.min(drift_scale).min(1.0);
-        let last = s_min >= 1.0 && drift_scale >= 1.0;
+        let bound = drift_scale.min(window).min(cut);
+        let scale = s_min.min(bound).min(1.0);
+        let last = s_min >= 1.0 && bound >= 1.0;
         let predicted_closures = if last { cands.iter().filter(|c| c.kind == EventKind::Close).map(|c| (c.entity, phi0 + c.scale * remaining)).collect() } else { vec![] };
         let tie_limit = s_min * (1.0 + opts.tie_tol) + TIE_SLACK;
         // Grouping (δ = group_tol): friction and plasticity events up to φ_min (1 + δ) come along.
@@ -100,6 +107,30 @@ impl Engine<'_> {
             group.retain(|c| zero_length_priority(c.kind) == top);
         }
         let phi = if last { 1.0 } else { phi0 + scale * remaining };
-        Selection { scale, last, phi, tie_limit, group, predicted_closures }
+        Selection { scale, last, phi, tie_limit, group, predicted_closures, plastic_inside }
     }
+
+    /// Grouped increments (δ > 0) with integrated stresses: an element yields or unloads inside
+    /// the increment, with its exact elastic–plastic split, instead of ending it. Not when the
+    /// run stops at the first yield (that needs the yield's exact load).
+    fn plastic_events_inside(&self) -> bool {
+        let opts = &self.model.options;
+        opts.group_tol > 0.0 && opts.drift_control && !opts.stop_at_first_yield && !self.is_reduced()
+    }
+}
+
+/// A stage that starts yielding at once still advances by this × δ of the stage per grouped
+/// increment (the window is relative to the load fraction otherwise).
+const WINDOW_FLOOR: f64 = 0.05;
+
+/// Take the yields and unloads out of the candidates; the scale at which the grouped
+/// increment ends for them: the first one's load fraction φ_p, then δ max(φ_p, floor) more.
+fn plastic_window(cands: &mut Vec<Candidate>, phi0: f64, remaining: f64, delta: f64) -> f64 {
+    let first = cands.iter().filter(|c| c.kind.is_element_event()).map(|c| c.scale).fold(f64::INFINITY, f64::min);
+    cands.retain(|c| !c.kind.is_element_event());
+    if !first.is_finite() || remaining <= 0.0 {
+        return f64::INFINITY;
+    }
+    let phi = phi0 + first * remaining;
+    (phi + delta * phi.max(WINDOW_FLOOR) - phi0) / remaining
 }

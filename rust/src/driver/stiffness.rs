@@ -22,9 +22,12 @@ impl Engine<'_> {
         self.solver.factor(&k, &self.map.dof_of_equation)?;
         self.timings.factorization += since(t1);
         let t2 = Instant::now();
-        self.flexibility = self.solver.trailing_inverse();
+        self.flexibility_factored = self.solver.trailing_inverse();
+        self.flexibility.clone_from(&self.flexibility_factored);
         self.timings.flexibility += since(t2);
+        self.tangents_factored();
         if self.timings.solve_pair == 0.0 {
+            self.cost = self.solver.cost();
             self.measure_solve_pair();
         }
         Ok(())

@@ -43,6 +43,8 @@ pub(super) struct OutOfBalance {
     prescribed: Vec<(usize, f64)>,
     /// The obstacle shift increments (c_n, c_t)(target) − (c_n, c_t) per pair.
     pub dshift: Vec<[f64; 2]>,
+    /// C⁻¹ Zᵀ r of the low-rank terms (`low_rank`; empty without them).
+    low_rank_coefficients: Vec<f64>,
 }
 
 /// The closed pairs' constraint rows with their right-hand sides h, force directions E and
@@ -73,7 +75,7 @@ impl Engine<'_> {
             // Elastic and in equilibrium: the out-of-balance force is (target − s)(ΔP − K_fp Δū) exactly.
             let c = target - state.load_fraction;
             let mode_rhs = self.mode_force.iter().map(|v| -c * v[1]).collect();
-            return OutOfBalance { z0: r.u_load_reduced.iter().map(|v| c * v).collect(), mode_rhs, forward_sweep: vec![], prescribed: vec![], dshift };
+            return OutOfBalance { z0: r.u_load_reduced.iter().map(|v| c * v).collect(), mode_rhs, forward_sweep: vec![], prescribed: vec![], dshift, low_rank_coefficients: vec![] };
         }
         let internal = internal.unwrap_or_else(|| self.internal_force(&state.stress));
         let mut r = self.residual_from(&internal, state, target);
@@ -81,10 +83,17 @@ impl Engine<'_> {
         if let Some(f) = self.prescribed_force(&prescribed) {
             r.iter_mut().zip(&f).for_each(|(a, b)| *a += b);
         }
-        let w = self.solver.forward(&self.map.to_equations(&r));
-        let z0 = self.solver.trailing_solution(&w);
+        let r_eq = self.map.to_equations(&r);
+        let w = self.solver.forward(&r_eq);
+        let mut z0 = self.solver.trailing_solution(&w);
+        let mut low_rank_coefficients = vec![];
+        if !self.low_rank.is_empty() {
+            // K⁻¹ r = K_f⁻¹ r − Z C⁻¹ Zᵀ r (`low_rank`), at the contact slots here.
+            low_rank_coefficients = self.low_rank.coefficients(&r_eq);
+            self.low_rank.subtract_trailing(&mut z0, &low_rank_coefficients);
+        }
         let mode_rhs = self.mode_vectors.iter().map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>()).collect();
-        OutOfBalance { z0, mode_rhs, forward_sweep: w, prescribed, dshift }
+        OutOfBalance { z0, mode_rhs, forward_sweep: w, prescribed, dshift, low_rank_coefficients }
     }
 
     /// Rows of the closed pairs: normal (h = −gap − Δc_n) and, for frictional stick, tangential
@@ -186,10 +195,10 @@ impl Engine<'_> {
         for (mode, s) in self.mode_vectors.iter().zip(&dalpha) {
             du.iter_mut().zip(mode).for_each(|(d, v)| *d += s * v);
         }
-        let (dstress, dplastic) = if self.is_reduced() { (vec![], vec![]) } else { self.stress_increment(&du) };
+        let (dstress, dplastic, dstrain) = if self.is_reduced() { (vec![], vec![], vec![]) } else { self.stress_increment(&du) };
         let umax = self.largest_increment(&du, target - state.load_fraction);
         self.noise.displacement = DISPLACEMENT_NOISE * umax;
-        TrialIncrement { du, dstress, dplastic, dlambda_n, dlambda_t, dalpha, dshift }
+        TrialIncrement { du, dstress, dplastic, dstrain, dlambda_n, dlambda_t, dalpha, dshift }
     }
 
     /// K#(r + E Δλ): in the reduced space only at the contact DOFs, Σ_j Δλ_j K# e_j (reduced
@@ -205,18 +214,27 @@ impl Engine<'_> {
             return du;
         }
         let mut w = oob.forward_sweep;
-        if m > 0 {
-            let mut force_slots = vec![0.0; self.flexibility.nrows()];
-            for j in 0..m {
-                for &(d, v) in &sys.columns[j] {
-                    if self.contact_slot[d] != usize::MAX {
-                        force_slots[self.contact_slot[d]] += sol[j] * v;
-                    }
+        let mut force_slots = vec![0.0; self.flexibility.nrows()];
+        for j in 0..m {
+            for &(d, v) in &sys.columns[j] {
+                if self.contact_slot[d] != usize::MAX {
+                    force_slots[self.contact_slot[d]] += sol[j] * v;
                 }
             }
+        }
+        if m > 0 {
             self.solver.add_trailing_force(&mut w, &force_slots);
         }
-        self.map.from_equations(&self.solver.backward(w))
+        let mut x = self.solver.backward(w);
+        if !self.low_rank.is_empty() {
+            // K⁻¹(r + EΔλ) = K_f⁻¹(r + EΔλ) − Z C⁻¹ Zᵀ (r + EΔλ)
+            let mut c = oob.low_rank_coefficients;
+            let from_forces = self.low_rank.trailing_coefficients(&force_slots);
+            c.iter_mut().zip(&from_forces).for_each(|(a, b)| *a += b);
+            self.low_rank.subtract(&mut x, &c);
+            self.count_low_rank_solve();
+        }
+        self.map.from_equations(&x)
     }
 
     /// max |u| of a state at stage fraction s (for round-off tolerances). The reduced space
@@ -239,17 +257,19 @@ impl Engine<'_> {
         }
     }
 
-    /// Δσ and Δεp of every element for a displacement increment (eqs. 10, 11, 18).
-    pub fn stress_increment(&self, du: &[f64]) -> (Vec<Vector4<f64>>, Vec<f64>) {
+    /// Δσ, Δεp and Δε of every element for a displacement increment (eqs. 10, 11, 18), with
+    /// the tangents K holds.
+    pub fn stress_increment(&self, du: &[f64]) -> (Vec<Vector4<f64>>, Vec<f64>, Vec<Vector3<f64>>) {
         let plane = self.model.plane;
-        self.elements
-            .iter()
-            .zip(&self.tangents)
-            .map(|(el, t)| {
-                let e = el.strain(du);
-                (t.stress_increment(plane, &e), t.plastic_multiplier(plane, &e))
-            })
-            .unzip()
+        let n = self.elements.len();
+        let (mut dstress, mut dplastic, mut dstrain) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        for (el, t) in self.elements.iter().zip(&self.tangents) {
+            let e = el.strain(du);
+            dstress.push(t.stress_increment(plane, &e));
+            dplastic.push(t.plastic_multiplier(plane, &e));
+            dstrain.push(e);
+        }
+        (dstress, dplastic, dstrain)
     }
 
     /// Internal nodal forces P_σ = Σ t A Bᵀ σ (eq. 42).

@@ -1,0 +1,110 @@
+//! The stiffness the loop solves with: K = Σ t A Bᵀ D B (eq. 36) with D or D_ep (eq. 11) per
+//! element, and how K follows when an element's tangent changes.
+//!
+//! The paper takes D_ep of every plastic element at each increment's start, so K changes at
+//! every increment. Here an element's tangent changes when it yields or unloads, and a plastic
+//! element's when its flow direction D a has turned by more than `Options::tangent_turn` since
+//! the tangent K holds (0: at every increment, as the paper). The stresses themselves are
+//! integrated (`stress_integration`), so a tangent that lags changes no stress; it changes the
+//! trial's displacement, which the equilibrium correction completes.
+//!
+//! A change is a term of rank one or two per element on the last factor (`low_rank`), until
+//! those terms have cost as much as a refactorization (counted in floating-point operations
+//! from the factor's structure, so the choice is the same on every machine).
+
+use super::engine::{since, Engine};
+use super::state::State;
+use crate::error::Result;
+use crate::low_rank::Column;
+use nalgebra::{Matrix3, SymmetricEigen};
+use std::time::Instant;
+
+/// Eigenvalues of an element's tangent change below this × its largest are round-off.
+const RANK_NOISE: f64 = 1e-10;
+
+impl Engine<'_> {
+    /// Bring every element's tangent in K up to date with the state (full space): yields,
+    /// unloads, turned flow directions; then K follows (refactorization or low-rank terms).
+    pub fn update_tangents(&mut self, state: &State) -> Result<()> {
+        if self.is_reduced() {
+            return if self.tangents_changed { self.factor() } else { Ok(()) };
+        }
+        let changed: Vec<usize> = (0..self.elements.len()).filter(|&e| self.refresh_tangent(e, state)).collect();
+        if self.tangents_changed {
+            return self.factor();
+        }
+        if changed.is_empty() {
+            return Ok(());
+        }
+        let columns: Vec<Column> = changed.iter().flat_map(|&e| self.tangent_columns(e)).collect();
+        let extra = self.cost.update(self.low_rank.rank(), columns.len());
+        if self.low_rank_spent + extra > self.cost.factorization {
+            return self.factor();
+        }
+        self.low_rank_spent += extra;
+        let (n, t0) = (self.map.n_equations, Instant::now());
+        self.low_rank.update(&mut self.solver, n, &changed, columns);
+        self.flexibility = self.flexibility_factored.clone();
+        if !self.low_rank.is_empty() {
+            let t = self.flexibility.nrows();
+            self.flexibility += self.low_rank.trailing_correction(t);
+        }
+        self.n_low_rank_updates += 1;
+        self.timings.low_rank += since(t0);
+        Ok(())
+    }
+
+    /// Set element e's tangent from the state if it must change (yield, unload, or a flow
+    /// direction turned by more than `tangent_turn`); true if it changed.
+    fn refresh_tangent(&mut self, e: usize, state: &State) -> bool {
+        let held = &self.tangents[e];
+        let change = match (held.flow, state.plastic[e]) {
+            (None, false) => false,
+            (Some(_), false) | (None, true) => true,
+            (Some(f), true) => {
+                let da = self.material[e].tangent(&state.stress[e], true).flow.expect("plastic").da;
+                let cos = f.da.dot(&da) / (f.da.norm() * da.norm());
+                cos.clamp(-1.0, 1.0).acos() > self.model.options.tangent_turn
+            }
+        };
+        if change {
+            self.tangents[e] = self.material[e].tangent(&state.stress[e], state.plastic[e]);
+        }
+        change
+    }
+
+    /// K_e(held) − K_e(factored) of element e as signed rank-one terms over the equations:
+    /// t A Bᵀ ΔD B with ΔD = Σ λ v vᵀ (its eigenvalues), so each term is s w wᵀ with
+    /// w = √(t A |λ|) Bᵀ v.
+    fn tangent_columns(&self, e: usize) -> Vec<Column> {
+        let plane = self.model.plane;
+        let delta: Matrix3<f64> = self.tangents[e].in_plane(plane) - self.factored[e].in_plane(plane);
+        let eig = SymmetricEigen::new(delta);
+        let largest = eig.eigenvalues.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let el = &self.elements[e];
+        let weight = el.area * self.model.thickness;
+        (0..3)
+            .filter(|&i| eig.eigenvalues[i].abs() > RANK_NOISE * largest)
+            .map(|i| {
+                let lambda = eig.eigenvalues[i];
+                let w = el.b.transpose() * eig.eigenvectors.column(i) * (weight * lambda.abs()).sqrt();
+                let entries = el.dofs().iter().zip(w.iter()).filter_map(|(&g, &v)| self.map.equation(g).map(|q| (q, v))).collect();
+                Column { entries, sign: lambda.signum(), owner: e }
+            })
+            .collect()
+    }
+
+    /// After a factorization: K_f holds every element's current tangent.
+    pub fn tangents_factored(&mut self) {
+        self.factored.clone_from(&self.tangents);
+        self.low_rank.clear();
+        self.low_rank_spent = 0.0;
+    }
+
+    /// A solve with low-rank terms costs 4 n k more: counted towards the next refactorization.
+    pub fn count_low_rank_solve(&mut self) {
+        if !self.low_rank.is_empty() {
+            self.low_rank_spent += self.cost.per_solve(self.low_rank.rank());
+        }
+    }
+}
