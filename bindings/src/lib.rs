@@ -317,6 +317,8 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     t.set_item("flexibility", r.timings.flexibility)?;
     t.set_item("dense", r.timings.dense)?;
     t.set_item("low_rank", r.timings.low_rank)?;
+    t.set_item("integration", r.timings.integration)?;
+    t.set_item("corrections", r.timings.corrections)?;
     t.set_item("solve_pair", r.timings.solve_pair)?;
     out.set_item("timings", t)?;
     Ok(out)

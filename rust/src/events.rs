@@ -114,41 +114,38 @@ pub struct ElementState<'a> {
 }
 
 /// Elastic → plastic at S_p (eqs. 12–16, 56), and plastic → elastic unloading at S = 0 when
-/// the trial's plastic multiplier is negative (the event the paper leaves out).
-/// `dstress` and `dplastic` are the trial's stress and plastic-strain increments.
-pub fn element_candidates(state: &ElementState, dstress: &[Vector4<f64>], dplastic: &[f64]) -> Vec<Candidate> {
+/// the trial's plastic multiplier is negative (the event the paper leaves out); with drift
+/// control also the drift bound: the largest scale at which no plastic element's stress
+/// changes by more than `max_step` × σy (von Mises norm of the increment; with the tangent
+/// frozen at the increment's start, the departure from the yield surface grows with the square
+/// of this). `dstress` and `dplastic` are the trial's stress and plastic-strain increments.
+pub fn element_candidates(state: &ElementState, dstress: &[Vector4<f64>], dplastic: &[f64], max_step: Option<f64>) -> (Vec<Candidate>, f64) {
     let noise = PLASTIC_NOISE * dplastic.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let mut out = Vec::new();
+    let mut bound = f64::INFINITY;
     for e in 0..state.stress.len() {
         let m = &state.material[e];
-        if !m.is_plastic() || state.frozen[e] {
+        if !m.is_plastic() {
             continue;
         }
+        let sy = m.current_yield(state.plastic_strain[e]);
         if state.plastic[e] {
-            if dplastic[e] < -noise {
+            if let Some(step) = max_step {
+                let change = von_mises(&dstress[e]);
+                if change > 0.0 {
+                    bound = bound.min(step * sy / change);
+                }
+            }
+            if dplastic[e] < -noise && !state.frozen[e] {
                 out.push(Candidate { scale: 0.0, entity: e, kind: EventKind::Unload, direction: 0 });
             }
-        } else if let Some(s) = yield_scale(&state.stress[e], &dstress[e], m.current_yield(state.plastic_strain[e])) {
+        } else if state.frozen[e] {
+            continue;
+        } else if let Some(s) = yield_scale(&state.stress[e], &dstress[e], sy) {
             out.push(Candidate { scale: s, entity: e, kind: EventKind::Yield, direction: 0 });
         }
     }
-    out
-}
-
-/// Drift control: the largest scale at which no plastic element's stress changes by more
-/// than `max_step` × σy (von Mises norm of the increment). With the tangent frozen at the
-/// increment's start, the departure from the yield surface grows with the square of this.
-pub fn drift_bound(state: &ElementState, dstress: &[Vector4<f64>], max_step: f64) -> f64 {
-    let mut s = f64::INFINITY;
-    for e in 0..state.stress.len() {
-        if state.plastic[e] {
-            let change = von_mises(&dstress[e]);
-            if change > 0.0 {
-                s = s.min(max_step * state.material[e].current_yield(state.plastic_strain[e]) / change);
-            }
-        }
-    }
-    s
+    (out, bound)
 }
 
 #[cfg(test)]

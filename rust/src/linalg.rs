@@ -10,7 +10,7 @@
 use crate::bail;
 use crate::element::Cst;
 use crate::error::Result;
-use crate::low_rank::Cost;
+use crate::low_rank::{Cost, FACTOR_FLOP_WEIGHT};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
@@ -411,17 +411,20 @@ impl SpdSolver {
                 entries += c * (c + 1.0) / 2.0 + c * r;
             }
         }
-        Cost { factorization, solve_pair: 4.0 * entries, equations: sym.nrows() as f64 }
+        Cost { factorization: FACTOR_FLOP_WEIGHT * factorization, solve_pair: 4.0 * entries, equations: sym.nrows() as f64 }
     }
 
     /// Solve K_reg X = B in place for `columns` right-hand sides stored column after column
     /// (one blocked forward/backward substitution for all of them).
     pub fn solve_in_place(&mut self, b: &mut [f64], columns: usize) {
         let n = b.len() / columns.max(1);
-        let sym = self.symbolic.as_ref().expect("factor() before solve");
         let par = PAR;
-        let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(columns, par));
+        let mut mem = if columns == 1 { self.one_column_scratch() } else { MemBuffer::new(self.symbolic.as_ref().expect("factor() before solve").solve_in_place_scratch::<f64>(columns, par)) };
+        let sym = self.symbolic.as_ref().expect("factor() before solve");
         LltRef::new(sym, &self.values).solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(b, n, columns), par, MemStack::new(&mut mem));
+        if columns == 1 {
+            self.solve_scratch = Some(mem);
+        }
         self.n_solves += columns;
     }
 

@@ -98,6 +98,10 @@ pub struct Timings {
     pub events: f64,
     /// Low-rank updates of the factor: solving their columns, their capacitance (`low_rank`).
     pub low_rank: f64,
+    /// Integrating the stresses of plastic elements (`stress_integration`; also in `events`).
+    pub integration: f64,
+    /// Equilibrium corrections after integrated increments (also in `events`).
+    pub corrections: f64,
     /// One forward + backward substitution with one right-hand side on the first factor
     /// (the unit of the amortized cost of an event).
     pub solve_pair: f64,

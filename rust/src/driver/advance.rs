@@ -1,7 +1,8 @@
 //! Advancing the state to the event (paper §4 step 5, eqs. 58–62) and switching the statuses
 //! of the events that happen there (step 6).
 
-use super::engine::Engine;
+use super::engine::{since, Engine};
+use std::time::Instant;
 use super::plasticity::InsideEvent;
 use super::selection::Selection;
 use super::state::{State, TrialIncrement};
@@ -14,11 +15,18 @@ impl Engine<'_> {
     /// those that yield inside) integrated (`plasticity`); slipping pairs on the Coulomb cone
     /// (eq. 62). Returns the yields and unloads inside the increment, and whether any stress
     /// was integrated (it then needs an equilibrium correction).
-    pub fn advance(&self, state: &mut State, trial: &TrialIncrement, sel: &Selection) -> (Vec<InsideEvent>, bool) {
+    pub fn advance(&mut self, state: &mut State, trial: &TrialIncrement, sel: &Selection) -> (Vec<InsideEvent>, bool) {
+        let t0 = Instant::now();
         let integrated = self.integrate_stresses(state, trial, sel.scale, sel.plastic_inside);
+        self.timings.integration += since(t0);
         state.advance(trial, sel.scale);
         state.load_fraction = sel.phi;
         let inside = self.place_integrated(state, &integrated);
+        // Elements that reach their surface at this increment's end are plastic for the
+        // correction already (their tangent then comes with the others: one update per step).
+        for c in sel.group.iter().filter(|c| c.kind == EventKind::Yield && c.scale <= sel.tie_limit) {
+            state.plastic[c.entity] = true;
+        }
         self.project_onto_cone(state);
         (inside, !integrated.is_empty())
     }

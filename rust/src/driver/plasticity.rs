@@ -6,16 +6,20 @@
 //! or (grouped increments) crosses its yield surface inside the increment, is integrated along
 //! its strain instead (`stress_integration`: the elastic–plastic split, Prandtl–Reuss with error
 //! control); one correction solve at fixed load, with the tangents brought up to date, then
-//! restores equilibrium, so that every event is in equilibrium to round-off.
-//! `drift_control = false` is the paper exactly: the tangent's linear increment, no correction.
+//! restores equilibrium, so that every event is in equilibrium to round-off. (Keeping the
+//! linear stresses while they stay within a tolerance of the surface saves corrections but
+//! biases the path: measured on the elastoplastic Hertz at 8.6k DOFs, p0 −0.24 %, −0.05 % and
+//! −0.03 % for tolerances 1e-3, 1e-4 and 1e-5 of σy.) `drift_control = false` is the paper
+//! exactly: the tangent's linear increment, no correction.
 
-use super::engine::Engine;
+use super::engine::{since, Engine};
 use super::selection::{Selection, ZERO_SCALE};
 use super::state::{State, TrialIncrement};
 use crate::error::Result;
 use crate::material::von_mises;
 use crate::model::EventKind;
 use crate::stress_integration::{integrate, onto_yield_surface, Integrated, PointState};
+use std::time::Instant;
 
 /// The size of the last equilibrium correction (displacement, force): the correction moves
 /// nodes and contact forces by that much with no event of its own, so the contact checks
@@ -95,19 +99,19 @@ impl Engine<'_> {
     }
 
     /// Equilibrium after an increment whose stresses were integrated: the tangents follow the
-    /// state (`update_tangents`), then one correction solve at fixed load. A zero-length
-    /// increment of contact events only changed no stress: the last correction (and its
-    /// allowance) still holds. Returns the correction's size.
+    /// state (`update_tangents`), then one correction solve at fixed load. An increment that
+    /// kept the tangent's linear stresses is in equilibrium already; the last correction (and
+    /// the allowance it gives the contact checks for what it moved) still holds. Returns the
+    /// correction's size.
     pub fn restore_equilibrium(&mut self, state: &mut State, sel: &Selection, integrated: bool, last: Correction) -> Result<Correction> {
         let stresses_kept = sel.zero_length() && !sel.group.iter().any(|c| c.kind.is_element_event());
-        if stresses_kept {
+        if stresses_kept || !integrated {
             return Ok(last);
         }
-        if !integrated {
-            return Ok(Correction::default());
-        }
+        let t0 = Instant::now();
         self.update_tangents(state)?;
         let correction = self.trial(state, sel.phi, None)?;
+        self.timings.corrections += since(t0);
         let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         let size = Correction { displacement: largest(&correction.du), force: largest(&correction.dlambda_n).max(largest(&correction.dlambda_t)) };
         state.advance(&correction, 1.0);

@@ -16,7 +16,7 @@ use super::engine::{since, Engine};
 use super::state::State;
 use crate::error::Result;
 use crate::low_rank::Column;
-use nalgebra::{Matrix3, SymmetricEigen};
+use nalgebra::{Matrix3, SymmetricEigen, Vector4};
 use std::time::Instant;
 
 /// Eigenvalues of an element's tangent change below this × its largest are round-off.
@@ -38,6 +38,7 @@ impl Engine<'_> {
         }
         let columns: Vec<Column> = changed.iter().flat_map(|&e| self.tangent_columns(e)).collect();
         let extra = self.cost.update(self.low_rank.rank(), columns.len());
+        if std::env::var("SLIPSTEP_DEBUG").is_ok() { eprintln!("RANK {} +{} spent {:.2e}", self.low_rank.rank(), columns.len(), self.low_rank_spent); }
         if self.low_rank_spent + extra > self.cost.factorization {
             return self.factor();
         }
@@ -61,11 +62,7 @@ impl Engine<'_> {
         let change = match (held.flow, state.plastic[e]) {
             (None, false) => false,
             (Some(_), false) | (None, true) => true,
-            (Some(f), true) => {
-                let da = self.material[e].tangent(&state.stress[e], true).flow.expect("plastic").da;
-                let cos = f.da.dot(&da) / (f.da.norm() * da.norm());
-                cos.clamp(-1.0, 1.0).acos() > self.model.options.tangent_turn
-            }
+            (Some(f), true) => turn(&f.da, &state.stress[e]) > self.model.options.tangent_turn,
         };
         if change {
             self.tangents[e] = self.material[e].tangent(&state.stress[e], state.plastic[e]);
@@ -107,4 +104,13 @@ impl Engine<'_> {
             self.low_rank_spent += self.cost.per_solve(self.low_rank.rank());
         }
     }
+}
+
+/// The angle between a held flow direction D a and the current one. For von Mises D a is
+/// 3G/σe (s_x, s_y, s_z, τ_xy), s the stress deviator: compared without building a tangent.
+fn turn(held_da: &Vector4<f64>, stress: &Vector4<f64>) -> f64 {
+    let p = (stress[0] + stress[1] + stress[2]) / 3.0;
+    let now = Vector4::new(stress[0] - p, stress[1] - p, stress[2] - p, stress[3]);
+    let cos = held_da.dot(&now) / (held_da.norm() * now.norm());
+    cos.clamp(-1.0, 1.0).acos()
 }
