@@ -16,7 +16,8 @@ import numpy as np
 
 from . import mesh as meshing
 from . import mortar
-from .case import RIGID_KINDS, Case, CaseError, Load, LoadPath, case_loads, element_key
+from .case import (RIGID_KINDS, Case, CaseError, Load, LoadPath, block_divisions,
+                   case_loads, element_key)
 from .errors import InputError
 
 
@@ -82,8 +83,11 @@ def mesh_body(case: Case, index: int) -> meshing.Mesh:
                                         spec["contact_zone"], spec["h_max"], spec["growth"],
                                         spec["focus"], spec["x0"], spec["y0"],
                                         spec["uniform_edges"])
-        nx = spec["nx"] or max(1, round(spec["width"] / spec["h"]))
-        ny = spec["ny"] or max(1, round(spec["height"] / spec["h"]))
+        nx, ny = block_divisions(spec)
+        if spec["refine_box"] is not None:  # the structured grid inside it, coarse outside
+            return meshing.refined_block(spec["width"], spec["height"], nx, ny,
+                                         spec["refine_box"], spec["h_max"], spec["growth"],
+                                         spec["x0"], spec["y0"])
         return meshing.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
     except meshing.MeshError as exc:
         raise CaseError(f"{case.source}: {where}: {exc}") from None
