@@ -128,11 +128,12 @@ def require_dolfinx() -> SimpleNamespace:
 
 def _import() -> SimpleNamespace:
     try:
+        from mpi4py import MPI  # first, as dolfinx's demos do: MPI before the bindings load
+
         import dolfinx
-        import dolfinx.fem.petsc
+        import dolfinx.fem.petsc  # explicit since v0.7.0 (#2703): no branch needed
         import dolfinx.io
         import ufl as ufl_module
-        from mpi4py import MPI
         from petsc4py import PETSc
     except ImportError as exc:
         raise DolfinxMissing(f"dolfinx is not available ({exc}): install Debian's "

@@ -46,6 +46,14 @@ EDGE_GRID = "edges"
 
 
 # --------------------------------------------------------------------------- scene -> arrays
+def edge_id(edge_names: dict, name: str) -> int:
+    """The tag value of the edge called ``name`` in ``edge_names`` (value -> name)."""
+    for k, v in edge_names.items():
+        if v == name:
+            return int(k)
+    raise KeyError(f"no edge tag named {name!r} (known: {', '.join(edge_names.values())})")
+
+
 @dataclass
 class MeshData:
     """A tagged 2D triangle mesh as plain arrays (any numbering).
@@ -64,10 +72,7 @@ class MeshData:
     node_sets: dict = field(default_factory=dict)
 
     def edge_id(self, name: str) -> int:
-        for k, v in self.edge_names.items():
-            if v == name:
-                return int(k)
-        raise KeyError(f"no edge tag named {name!r} (known: {', '.join(self.edge_names.values())})")
+        return edge_id(self.edge_names, name)
 
 
 def scene_mesh_data(scene) -> MeshData:
@@ -320,10 +325,7 @@ class DolfinxMesh:
         return len(self.element_of_cell)
 
     def edge_id(self, name: str) -> int:
-        for k, v in self.edge_names.items():
-            if v == name:
-                return int(k)
-        raise KeyError(f"no edge tag named {name!r} (known: {', '.join(self.edge_names.values())})")
+        return edge_id(self.edge_names, name)
 
     def facets(self, name: str) -> np.ndarray:
         """dolfinx facet indices of an edge tag."""
