@@ -199,7 +199,7 @@ class BulkProblem:
         return self.perm[keys], vals
 
     def _cell_strain(self, x: np.ndarray) -> np.ndarray:
-        """(M, 3) strain per element of the displacement x (dolfinx dof order)."""
+        """(M, len(STRAIN)) strain per element of the displacement x (dolfinx dof order)."""
         api.dof_values(self.u_fn)[:] = x
         api.interpolate(self.strain_fn, self._strain_expr)
         return self.dm.cell_function_values(self.strain_fn)
@@ -248,8 +248,8 @@ class BulkProblem:
                 fractions = np.arange(1, n_steps + 1) / n_steps
             schedule = [(float(lf), {d: v * lf for d, v in (prescribed or {}).items()},
                          None if extra_load is None else extra_load * lf) for lf in fractions]
-        M = self.n_elements
-        state = (np.zeros((M, 4)), np.zeros(M), np.zeros((M, 3)))  # stress, alpha, strain
+        M, n_strain = self.n_elements, len(self.section.STRAIN)
+        state = (np.zeros((M, 4)), np.zeros(M), np.zeros((M, n_strain)))  # stress, alpha, strain
         x = np.zeros(len(self.perm))          # dolfinx order
         newton_log, result = [], None
         lf_prev, f_prev = 0.0, np.zeros(len(self.perm))

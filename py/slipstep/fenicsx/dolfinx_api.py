@@ -161,11 +161,6 @@ def ufl():
     return require_dolfinx().ufl
 
 
-def version() -> tuple[int, int]:
-    """(major, minor) of the loaded dolfinx."""
-    return require_dolfinx().version
-
-
 # --------------------------------------------------------------------------- spaces, functions
 def function_space(mesh, family: str, degree: int, shape: tuple = ()):
     """The space of ``family`` ('Lagrange', 'DG') elements of ``degree``, values of ``shape``
@@ -182,8 +177,7 @@ def function_space(mesh, family: str, degree: int, shape: tuple = ()):
 
 def function(V, name: str | None = None):
     """A zero Function on V."""
-    fem = require_dolfinx().fem
-    return fem.Function(V) if name is None else fem.Function(V, name=name)
+    return require_dolfinx().fem.Function(V, name=name)
 
 
 def constant(mesh, value: float):
