@@ -7,7 +7,6 @@ use super::engine::{since, Engine};
 use super::path::StageLoad;
 use super::space::Space;
 use super::state::State;
-use nalgebra::Vector3;
 use std::time::Instant;
 
 impl Engine<'_> {
@@ -84,11 +83,10 @@ impl Engine<'_> {
         let mut du = vec![0.0; self.map.role.len()];
         increments.iter().for_each(|&(d, v)| du[d] = v);
         let mut f = vec![0.0; du.len()];
-        let (plane, thickness) = (self.model.plane, self.model.thickness);
         for &e in &self.prescribed_elements {
             let el = &self.elements[e];
-            let s = self.tangents[e].stress_increment(plane, &el.strain(&du));
-            let fe = el.internal_force(&Vector3::new(s[0], s[1], s[3]), thickness);
+            let s = self.tangents[e].stress_increment(self.model.plane, &el.strain(&du));
+            let fe = el.internal_force(&s);
             for (k, &d) in el.dofs().iter().enumerate() {
                 if !self.fixed[d] {
                     f[d] -= fe[k];
