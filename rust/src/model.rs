@@ -201,6 +201,15 @@ impl Model {
         dofs
     }
 
+    /// The out-of-plane extent forces scale with: the thickness t in plane strain and plane
+    /// stress, the largest circumference 2π r_max in axisymmetry (forces are ring totals).
+    pub fn depth(&self) -> f64 {
+        match self.plane {
+            Plane::Axisymmetric => 2.0 * std::f64::consts::PI * self.mesh.nodes.iter().fold(0.0f64, |m, p| m.max(p[0])),
+            Plane::Strain | Plane::Stress => self.thickness,
+        }
+    }
+
     fn validate_bulk(&self) -> Result<()> {
         let n_dofs = 2 * self.mesh.n_nodes();
         if self.plane == Plane::Axisymmetric {

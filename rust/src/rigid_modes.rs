@@ -95,9 +95,23 @@ pub fn free_modes(
             body_vectors.push(v.clone());
             modes.push(RigidMode { body, vector: v, description, weights: [coef[0], coef[1], coef[2]] });
         }
-        pinned.extend(pick_pinned_dofs(&members, &body_vectors));
+        pinned.extend(match plane {
+            Plane::Axisymmetric => pin_on_the_largest_ring(nodes, &members, &body_vectors),
+            Plane::Strain | Plane::Stress => pick_pinned_dofs(&members, &body_vectors),
+        });
     }
     (modes, pinned)
+}
+
+/// The axial translation of a ring body, pinned at the axial DOF of its node of largest radius.
+/// Solving with K# puts the body's whole unbalanced load on the pinned DOF, and the contact
+/// forces take it off again: a point load on the axis would raise stresses ~P/h² that cancel
+/// to round-off, a ring load on the largest ring only ~P/(2π r h). (Measured on the Hertz
+/// sphere: the relative residual of a snapshot 4e-10 pinned at the contact point, where the
+/// plane's greedy choice lands, against 1e-11 of the full path.)
+fn pin_on_the_largest_ring(nodes: &[[f64; 2]], members: &[usize], vectors: &[Vec<f64>]) -> Vec<usize> {
+    let outer = members.iter().copied().fold(members[0], |best, i| if nodes[i][0] > nodes[best][0] { i } else { best });
+    vectors.iter().map(|_| 2 * outer + 1).collect()
 }
 
 /// The combinations (weights of translation x, translation y, rotation) of a body's zero-energy
@@ -218,8 +232,7 @@ mod tests {
         assert_eq!(modes.len(), 1);
         assert_eq!(modes[0].description, "translation in y");
         assert_eq!(modes[0].vector, vec![0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0]);
-        assert_eq!(pinned.len(), 1);
-        assert_eq!(pinned[0] % 2, 1);
+        assert_eq!(pinned, vec![3]); // u_y of node 1, the first at the largest radius x = 1
         let mut fixed = vec![false; 8];
         fixed[0] = true;
         fixed[6] = true;

@@ -118,7 +118,7 @@ impl Engine<'_> {
 
     /// Scales of the whole path: max over stages of |ΔP − K_fp Δū| over the free DOFs, and
     /// of Σ|ΔP| (+ Σ|K_fp Δū|); an obstacle motion Δc counts as the force E t |Δc| per pair
-    /// (the order of what moving a surface node by Δc takes). (norm, sum)
+    /// (the order of what moving a surface node by Δc takes; t = `Model::depth`). (norm, sum)
     pub fn path_force_scales(&self) -> (f64, f64) {
         let young = self.material.iter().map(|m| m.young).fold(0.0f64, f64::max);
         let (mut norm, mut sum) = (0.0f64, 0.0f64);
@@ -132,7 +132,7 @@ impl Engine<'_> {
             for p in 0..self.global_pairs().len() {
                 let c = stage.shift(p, 1.0);
                 let c0 = stage.shift(p, 0.0);
-                let moved = young * self.model.thickness * (c[0] - c0[0]).hypot(c[1] - c0[1]);
+                let moved = young * self.model.depth() * (c[0] - c0[0]).hypot(c[1] - c0[1]);
                 total += moved;
                 effective.push(moved);
             }
