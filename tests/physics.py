@@ -202,6 +202,37 @@ def hill_radius(p: float, a: float, b: float, k: float) -> float:
     return 0.5 * (lo + hi)
 
 
+# --------------------------------------------------------------------------- thick sphere
+def thick_sphere_lame(rho, p: float, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
+    """Lamé's elastic sphere a <= ρ <= b under internal pressure p: (σ_R, σ_t) at the spherical
+    radius ρ, σ_R = −p (b³/ρ³ − 1)/(b³/a³ − 1), σ_t = σθ = σφ = p (b³/(2ρ³) + 1)/(b³/a³ − 1)."""
+    rho = np.asarray(rho, dtype=float)
+    k = b ** 3 / a ** 3 - 1.0
+    return -p * (b ** 3 / rho ** 3 - 1.0) / k, p * (0.5 * b ** 3 / rho ** 3 + 1.0) / k
+
+
+def thick_sphere_displacement(rho, p: float, a: float, b: float, E: float, nu: float) -> np.ndarray:
+    """Lamé's radial displacement: p a³/(E (b³ − a³)) [(1 − 2ν) ρ + (1 + ν) b³/(2ρ²)]."""
+    rho = np.asarray(rho, dtype=float)
+    return p * a ** 3 / (E * (b ** 3 - a ** 3)) * ((1 - 2 * nu) * rho + (1 + nu) * b ** 3 / (2 * rho ** 2))
+
+
+def thick_sphere_pressure(c: float, a: float, b: float, Y: float) -> float:
+    """Hill (ch. V): internal pressure at which the plastic zone of a thick sphere (von Mises =
+    Tresca here: σθ = σφ) reaches radius c: 2Y ln(c/a) + (2Y/3)(1 − c³/b³).  At c = a it is the
+    elastic limit p_e = (2Y/3)(1 − a³/b³), at c = b the limit 2Y ln(b/a)."""
+    return 2.0 * Y * math.log(c / a) + 2.0 * Y / 3.0 * (1.0 - c ** 3 / b ** 3)
+
+
+def thick_sphere_radius(p: float, a: float, b: float, Y: float) -> float:
+    """Inverse of thick_sphere_pressure on [a, b] (increasing: dp/dc = 2Y (1/c − c²/b³) > 0)."""
+    lo, hi = a, b
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if thick_sphere_pressure(mid, a, b, Y) < p else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
 # --------------------------------------------------------------------------- Hertz
 def hertz_line(P: float, R: float, E: float, nu: float, plane: str = "strain") -> tuple[float, float]:
     """Contact half-width a and peak pressure p0 of an elastic cylinder (radius R, line load P

@@ -214,8 +214,8 @@ impl Model {
         let n_dofs = 2 * self.mesh.n_nodes();
         if self.plane == Plane::Axisymmetric {
             if let Some((e, i)) = self.mesh.element_left_of_axis() {
-                let p = self.mesh.nodes[i];
-                bail!(Input, "element {e} of {} has node {i} at r = x = {:.6} < 0: an axisymmetric mesh lies in x = r >= 0 (the axis is x = 0); move the body to x >= 0", self.body_name(e), p[0]);
+                let body = self.names.element_body.get(e).and_then(|&b| self.names.bodies.get(b)).map(|b| format!(" of body '{b}'")).unwrap_or_default();
+                bail!(Input, "element {e}{body} has node {i} at r = x = {:.6} < 0: an axisymmetric mesh lies in x = r >= 0 (the axis is x = 0); move the body to x >= 0", self.mesh.nodes[i][0]);
             }
         } else if !(self.thickness.is_finite() && self.thickness > 0.0) {
             bail!(Input, "thickness = {} is not allowed: give a positive out-of-plane thickness", self.thickness);
