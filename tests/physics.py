@@ -195,10 +195,14 @@ def hill_pressure(c: float, a: float, b: float, k: float) -> float:
 
 def hill_radius(p: float, a: float, b: float, k: float) -> float:
     """Inverse of hill_pressure on [a, b] (increasing there: dp/dc = 2k (1/c − c/b²) > 0)."""
-    lo, hi = a, b
+    return _inverse(lambda c: hill_pressure(c, a, b, k), p, a, b)
+
+
+def _inverse(increasing, value: float, lo: float, hi: float) -> float:
+    """x in [lo, hi] with increasing(x) = value, by bisection (100 halvings: to round-off)."""
     for _ in range(100):
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if hill_pressure(mid, a, b, k) < p else (lo, mid)
+        lo, hi = (mid, hi) if increasing(mid) < value else (lo, mid)
     return 0.5 * (lo + hi)
 
 
@@ -226,11 +230,7 @@ def thick_sphere_pressure(c: float, a: float, b: float, Y: float) -> float:
 
 def thick_sphere_radius(p: float, a: float, b: float, Y: float) -> float:
     """Inverse of thick_sphere_pressure on [a, b] (increasing: dp/dc = 2Y (1/c − c²/b³) > 0)."""
-    lo, hi = a, b
-    for _ in range(100):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if thick_sphere_pressure(mid, a, b, Y) < p else (lo, mid)
-    return 0.5 * (lo + hi)
+    return _inverse(lambda c: thick_sphere_pressure(c, a, b, Y), p, a, b)
 
 
 # --------------------------------------------------------------------------- Hertz
