@@ -114,15 +114,21 @@ CASE_KEYS = {
 }
 
 ANALYSIS_KEYS = {
-    "plane": Key("str", "strain", doc="2D idealisation", choices=("strain", "stress")),
-    "thickness": Key("float", 1.0, unit="length", doc="out-of-plane thickness t",
+    "plane": Key("str", "strain", doc='2D idealisation: "strain", "stress" or "axisymmetric" '
+                                      "(rings about the axis x = 0: x = r >= 0, y = z; forces "
+                                      "are totals over the full ring)",
+                 choices=("strain", "stress", "axisymmetric")),
+    "thickness": Key("float", 1.0, unit="length", doc="out-of-plane thickness t (plane strain "
+                                                      "and plane stress only)",
                      check=_positive("the thickness")),
 }
 
 LOAD_KEYS = {
     "P": Key("float", REQUIRED, unit="force/length",
              doc="Hertz convenience: total compressive line load on the FULL cylinder per unit "
-                 "thickness; the quarter model gets pressure q = P/(2R) on its cut edge `top`",
+                 "thickness; the quarter model gets pressure q = P/(2R) on its cut edge `top`. "
+                 'With plane = "axisymmetric" the quarter section is a hemisphere and P the '
+                 "total force [force] on the sphere: q = P/(pi R^2) on the cut",
              check=_positive("the load P")),
     "body": Key("str", "", doc="the quarter_cylinder body it acts on (default: the only one)"),
 }
@@ -288,7 +294,9 @@ POINT_LOAD_KEYS = {
     "name": Key("str", "", doc="optional name"),
     "body": Key("str", "", doc="restrict the node search to this body (default: all bodies)"),
     "at": Key("vec2", REQUIRED, unit="length", doc="the load goes to the node nearest this point"),
-    "force": Key("vec2", REQUIRED, unit="force/length", doc="[Fx, Fy] per unit thickness"),
+    "force": Key("vec2", REQUIRED, unit="force/length",
+                 doc='[Fx, Fy] per unit thickness (plane = "axisymmetric": the total over the '
+                     "node's ring [force])"),
 }
 
 _CONTACT_COMMON = {
@@ -795,6 +803,7 @@ class _Validator:
             data[name] = self.table(raw.get(name, {}), keys, f"[{name}]", f"{name}.")
         data["load"] = (self.table(raw["load"], LOAD_KEYS, "[load]", "load.")
                         if "load" in raw else None)
+        self.axisymmetric_thickness(data, raw)
 
         bodies = self.array(raw, "body")
         if not bodies:
@@ -834,6 +843,15 @@ class _Validator:
         if reason:
             raise self.fail("output.snapshots", f"= {_fmt(snaps)} is not allowed: {reason}")
         return data
+
+    def axisymmetric_thickness(self, data: dict, raw: dict) -> None:
+        """``thickness`` does not apply to rings (every force is a total over the ring)."""
+        given = raw.get("analysis", {})
+        if data["analysis"]["plane"] == "axisymmetric" and "thickness" in given:
+            raise self.fail("analysis.thickness", f"= {_fmt(given['thickness'])} is not allowed "
+                                                  f'with plane = "axisymmetric": forces are '
+                                                  f"totals over the full ring (2 pi r), there is "
+                                                  f"no thickness; remove analysis.thickness")
 
     def stage_names(self, stages: list) -> None:
         """Stage names must be unique (--set and the outputs address stages by name)."""
