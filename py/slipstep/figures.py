@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .derived import (centroids, contact_growth, contact_profile, force_displacement,
-                      is_elastoplastic, is_staged, path_history, snapshot_time, stage_names,
-                      von_mises)
+from .derived import (centroids, contact_growth, contact_profile, coordinate_names,
+                      force_displacement, is_elastoplastic, is_staged, path_history,
+                      snapshot_time, stage_names, von_mises)
 from .summary import contact_text
 
 STATUS_COLOURS = {0: "0.6", 1: "tab:blue", 2: "tab:red"}
@@ -92,7 +92,7 @@ def interface_figure(path: Path, scene, result, summary: dict) -> Path:
         for ax in axes:
             ax.axvline(a, color="k", lw=0.7, ls=":")
     axes[0].legend(fontsize=8)
-    axes[-1].set_xlabel("x")
+    axes[-1].set_xlabel(coordinate_names(scene)[0])
     fig.suptitle(f"{scene.case.name}: interface at {_when(scene, result, snap)}   "
                  f"({contact_text(summary)})", fontsize=10)
     fig.savefig(path, dpi=120)
@@ -110,7 +110,9 @@ def growth_figure(path: Path, scene, result, summary: dict) -> Path:
     hertz = summary.get("hertz")
     if hertz:
         ff = np.linspace(0.0, 1.0, 200)
-        ax.plot(ff, hertz["a_hertz"] * np.sqrt(ff), "k--", lw=1, label=r"Hertz $a\sqrt{f}$")
+        k = hertz.get("load_exponent", 0.5)  # a grows as f^k: 1/2 line contact, 1/3 sphere
+        ax.plot(ff, hertz["a_hertz"] * ff ** k, "k--", lw=1,
+                label=r"Hertz $a\sqrt{f}$" if k == 0.5 else r"Hertz $a f^{1/3}$")
     ax.set_xlabel("load fraction f")
     ax.set_ylabel("contact half-length")
     ax.set_xlim(0, 1)
@@ -293,8 +295,8 @@ def von_mises_figure(path: Path, scene, result, summary: dict) -> Path:
         ax.set_xlim(*window[0])
         ax.set_ylim(*window[1])
     ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    ax.set_xlabel(coordinate_names(scene)[0])
+    ax.set_ylabel(coordinate_names(scene)[1])
     if handles:
         ax.legend(handles=handles, fontsize=8, loc="best")
     ax.set_title(f"{scene.case.name}: von Mises stress at {_when(scene, result, snap)}",

@@ -194,7 +194,7 @@ mod tests {
             }
         }
         let mesh = Mesh { nodes, triangles };
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e)).collect();
+        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e, Plane::Strain, 1.0)).collect();
         let n_dofs = 2 * mesh.nodes.len();
         let mut fixed = vec![false; n_dofs];
         (0..nx).for_each(|i| (fixed[2 * i], fixed[2 * i + 1]) = (true, true));
@@ -205,8 +205,8 @@ mod tests {
         m.yield_stress = 1.0;
         m.hardening = 50.0;
         let stress = nalgebra::Vector4::new(0.8, -0.4, 0.1, 0.5);
-        let elastic = m.tangent(&stress, false).in_plane(Plane::Strain);
-        let plastic = m.tangent(&stress, true).in_plane(Plane::Strain);
+        let elastic = m.tangent(&stress, false).element_matrix(Plane::Strain);
+        let plastic = m.tangent(&stress, true).element_matrix(Plane::Strain);
         let softened = [3, 4, 17, 30];
         let mut d_f = vec![elastic; els.len()];
         d_f[40] = plastic; // factored plastic, stiffened back below
@@ -214,13 +214,13 @@ mod tests {
         softened.iter().for_each(|&e| d[e] = plastic);
         d[40] = elastic;
         let mut solver = SpdSolver::new(trailing.len());
-        solver.factor(&pattern.assemble(&els, &d_f, 1.0, &map).unwrap(), &map.dof_of_equation).unwrap();
+        solver.factor(&pattern.assemble(&els, &d_f, &map).unwrap(), &map.dof_of_equation).unwrap();
         let n = map.n_equations;
-        let column = |e: usize, delta: nalgebra::Matrix3<f64>| {
+        let column = |e: usize, delta: nalgebra::Matrix4<f64>| {
             // delta = s c cᵀ (rank one): c from its largest diagonal entry.
-            let j = (0..3).max_by(|&a, &b| delta[(a, a)].abs().total_cmp(&delta[(b, b)].abs())).unwrap();
+            let j = (0..4).max_by(|&a, &b| delta[(a, a)].abs().total_cmp(&delta[(b, b)].abs())).unwrap();
             let c = delta.column(j) / delta[(j, j)].abs().sqrt();
-            let w = els[e].b.transpose() * c * els[e].area.sqrt();
+            let w = els[e].b.transpose() * c * els[e].volume.sqrt();
             let entries = els[e].dofs().iter().zip(w.iter()).filter_map(|(&g, &v)| map.equation(g).map(|q| (q, v))).collect();
             Column { entries, sign: delta[(j, j)].signum(), owner: e }
         };
@@ -233,7 +233,7 @@ mod tests {
         let c = lr.coefficients(&y);
         lr.subtract(&mut x, &c);
         let mut fresh = SpdSolver::new(trailing.len());
-        fresh.factor(&pattern.assemble(&els, &d, 1.0, &map).unwrap(), &map.dof_of_equation).unwrap();
+        fresh.factor(&pattern.assemble(&els, &d, &map).unwrap(), &map.dof_of_equation).unwrap();
         let mut exact = y.clone();
         fresh.solve_in_place(&mut exact, 1);
         let big = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));

@@ -17,7 +17,7 @@
 //! again where that elastic path leaves the surface (a reversal within one increment).
 
 use crate::material::{von_mises, von_mises_squared, yield_scale, Material, Plane};
-use nalgebra::{Vector3, Vector4};
+use nalgebra::Vector4;
 
 /// Largest relative difference of the Euler and Heun stress increments of an accepted
 /// sub-step (‖Δσ₂ − Δσ₁‖ / 2‖σ‖).
@@ -52,8 +52,10 @@ pub struct Integrated {
     pub substeps: usize,
 }
 
-/// Integrate the element's stress over the in-plane strain increment `e` = (Δεx, Δεy, Δγxy).
-pub fn integrate(m: &Material, plane: Plane, start: &PointState, e: &Vector3<f64>) -> Integrated {
+/// Integrate the element's stress over its strain increment `e` = (Δεx, Δεy, Δεz, Δγxy) (the
+/// rows of its strain operator: Δεz = 0 in plane strain and plane stress, the hoop strain in
+/// axisymmetry).
+pub fn integrate(m: &Material, plane: Plane, start: &PointState, e: &Vector4<f64>) -> Integrated {
     let elastic = m.tangent(&start.stress, false);
     let d_elastic = elastic.stress_increment(plane, e);
     let mut out = Integrated { end: PointState { stress: start.stress + d_elastic, ..*start }, yielded_at: None, unloaded: false, substeps: 0 };
@@ -87,7 +89,7 @@ pub fn integrate(m: &Material, plane: Plane, start: &PointState, e: &Vector3<f64
 }
 
 /// A size of the strain increment for noise floors: max |component|.
-fn strain_size(e: &Vector3<f64>) -> f64 {
+fn strain_size(e: &Vector4<f64>) -> f64 {
     e.iter().fold(0.0f64, |a, v| a.max(v.abs()))
 }
 
@@ -108,7 +110,7 @@ fn reentry(stress: &Vector4<f64>, d_elastic: &Vector4<f64>, sy: f64) -> Option<f
 
 /// Plastic flow from `stress` (on the yield surface) over the strain increment `e`: modified
 /// Euler sub-steps with error control. Returns the stress, εp and the number of sub-steps.
-fn flow(m: &Material, plane: Plane, mut stress: Vector4<f64>, mut plastic_strain: f64, e: &Vector3<f64>) -> (Vector4<f64>, f64, usize) {
+fn flow(m: &Material, plane: Plane, mut stress: Vector4<f64>, mut plastic_strain: f64, e: &Vector4<f64>) -> (Vector4<f64>, f64, usize) {
     let (mut done, mut step, mut retried, mut substeps) = (0.0, 1.0, false, 0);
     while done < 1.0 {
         let es = e * step;
@@ -138,7 +140,7 @@ fn flow(m: &Material, plane: Plane, mut stress: Vector4<f64>, mut plastic_strain
 }
 
 /// The stress scaled back onto the yield surface σe = σy: the deviator at fixed mean stress
-/// (plane strain), the in-plane stress keeping σz = 0 (plane stress).
+/// (plane strain, axisymmetry), the in-plane stress keeping σz = 0 (plane stress).
 pub fn onto_yield_surface(stress: &Vector4<f64>, sy: f64, plane: Plane) -> Vector4<f64> {
     let se = von_mises(stress);
     if !(se > 0.0) {
@@ -147,7 +149,7 @@ pub fn onto_yield_surface(stress: &Vector4<f64>, sy: f64, plane: Plane) -> Vecto
     let factor = sy / se;
     match plane {
         Plane::Stress => stress * factor,
-        Plane::Strain => {
+        Plane::Strain | Plane::Axisymmetric => {
             let p = (stress[0] + stress[1] + stress[2]) / 3.0;
             let mean = Vector4::new(p, p, p, 0.0);
             mean + (stress - mean) * factor
@@ -175,7 +177,7 @@ mod tests {
             let m = steel(h);
             let g = m.young / (2.0 * (1.0 + m.poisson));
             let gamma = 5.0 * m.yield_stress / (3f64.sqrt() * g); // 5 × the yield strain
-            let out = integrate(&m, Plane::Strain, &start(), &Vector3::new(0.0, 0.0, gamma));
+            let out = integrate(&m, Plane::Strain, &start(), &Vector4::new(0.0, 0.0, 0.0, gamma));
             let tau_y = m.yield_stress / 3f64.sqrt();
             let gamma_y = tau_y / g;
             let tau = tau_y + g * h / (h + 3.0 * g) * (gamma - gamma_y);
@@ -199,7 +201,7 @@ mod tests {
         let eps_y = m.yield_stress * (1.0 - nu) / e;
         let eps = 4.0 * eps_y;
         let sigma = m.yield_stress + (eps - eps_y) / ((1.0 - nu) / e + 0.5 / h);
-        let out = integrate(&m, Plane::Stress, &start(), &Vector3::new(eps, eps, 0.0));
+        let out = integrate(&m, Plane::Stress, &start(), &Vector4::new(eps, eps, 0.0, 0.0));
         for i in 0..2 {
             assert!((out.end.stress[i] - sigma).abs() < 1e-9 * sigma, "σ{i} = {} vs {sigma}", out.end.stress[i]);
         }
@@ -218,8 +220,8 @@ mod tests {
         let m = steel(1_000.0);
         let g = m.young / (2.0 * (1.0 + m.poisson));
         let gamma = 2.0 * m.yield_stress / (3f64.sqrt() * g);
-        let sheared = integrate(&m, Plane::Strain, &start(), &Vector3::new(0.0, 0.0, gamma)).end;
-        let e = Vector3::new(3.0 * m.yield_stress / m.young, -1.0 * m.yield_stress / m.young, 0.2 * gamma);
+        let sheared = integrate(&m, Plane::Strain, &start(), &Vector4::new(0.0, 0.0, 0.0, gamma)).end;
+        let e = Vector4::new(3.0 * m.yield_stress / m.young, -1.0 * m.yield_stress / m.young, 0.0, 0.2 * gamma);
         let out = integrate(&m, Plane::Strain, &sheared, &e);
         let n = 200_000;
         let (mut s, mut k) = (sheared.stress, sheared.plastic_strain);
@@ -244,12 +246,12 @@ mod tests {
         let m = steel(0.0);
         let g = m.young / (2.0 * (1.0 + m.poisson));
         let gamma_y = m.yield_stress / (3f64.sqrt() * g);
-        let loaded = integrate(&m, Plane::Strain, &start(), &Vector3::new(0.0, 0.0, 1.5 * gamma_y)).end;
-        let back = integrate(&m, Plane::Strain, &loaded, &Vector3::new(0.0, 0.0, -gamma_y));
+        let loaded = integrate(&m, Plane::Strain, &start(), &Vector4::new(0.0, 0.0, 0.0, 1.5 * gamma_y)).end;
+        let back = integrate(&m, Plane::Strain, &loaded, &Vector4::new(0.0, 0.0, 0.0, -gamma_y));
         assert!(back.unloaded && !back.end.plastic && back.yielded_at.is_none());
         assert!((back.end.stress[3] - (loaded.stress[3] - g * gamma_y)).abs() < 1e-9 * m.yield_stress);
         assert_eq!(back.end.plastic_strain, loaded.plastic_strain);
-        let reversed = integrate(&m, Plane::Strain, &loaded, &Vector3::new(0.0, 0.0, -3.0 * gamma_y));
+        let reversed = integrate(&m, Plane::Strain, &loaded, &Vector4::new(0.0, 0.0, 0.0, -3.0 * gamma_y));
         let r = reversed.yielded_at.unwrap();
         assert!((r - 2.0 / 3.0).abs() < 1e-9, "re-yield at {r}: 2γy of the 3γy reversal are elastic");
         assert!((reversed.end.stress[3] + m.yield_stress / 3f64.sqrt()).abs() < 1e-9 * m.yield_stress);

@@ -1,7 +1,7 @@
 //! The evolving state of the procedure (eqs. 59–62) and one trial increment (eq. 44).
 
 use crate::contact::{Pair, Status};
-use nalgebra::{Vector3, Vector4};
+use nalgebra::Vector4;
 
 /// Everything that changes along the load path: accumulated displacement, stresses and
 /// contact forces, and the statuses (open / stick / slip per pair, elastic / plastic per
@@ -90,8 +90,8 @@ impl State {
 pub(super) struct TrialIncrement {
     pub du: Vec<f64>,
     pub dstress: Vec<Vector4<f64>>,
-    /// The in-plane strain increment of every element (for `stress_integration`).
-    pub dstrain: Vec<Vector3<f64>>,
+    /// The strain increment of every element (for `stress_integration`).
+    pub dstrain: Vec<Vector4<f64>>,
     /// Equivalent plastic strain increment (negative: the element would unload).
     pub dplastic: Vec<f64>,
     pub dlambda_n: Vec<f64>,

@@ -16,7 +16,7 @@ use super::engine::{since, Engine};
 use super::state::State;
 use crate::error::Result;
 use crate::low_rank::Column;
-use nalgebra::{Matrix3, SymmetricEigen, Vector4};
+use nalgebra::{Matrix4, SymmetricEigen, Vector4};
 use std::time::Instant;
 
 /// Eigenvalues of an element's tangent change below this × its largest are round-off.
@@ -71,16 +71,16 @@ impl Engine<'_> {
     }
 
     /// K_e(held) − K_e(factored) of element e as signed rank-one terms over the equations:
-    /// t A Bᵀ ΔD B with ΔD = Σ λ v vᵀ (its eigenvalues), so each term is s w wᵀ with
-    /// w = √(t A |λ|) Bᵀ v.
+    /// w Bᵀ ΔD B with ΔD = Σ λ v vᵀ (its eigenvalues), so each term is s c cᵀ with
+    /// c = √(w |λ|) Bᵀ v (w the element's volume).
     fn tangent_columns(&self, e: usize) -> Vec<Column> {
         let plane = self.model.plane;
-        let delta: Matrix3<f64> = self.tangents[e].in_plane(plane) - self.factored[e].in_plane(plane);
+        let delta: Matrix4<f64> = self.tangents[e].element_matrix(plane) - self.factored[e].element_matrix(plane);
         let eig = SymmetricEigen::new(delta);
         let largest = eig.eigenvalues.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let el = &self.elements[e];
-        let weight = el.area * self.model.thickness;
-        (0..3)
+        let weight = el.volume;
+        (0..4)
             .filter(|&i| eig.eigenvalues[i].abs() > RANK_NOISE * largest)
             .map(|i| {
                 let lambda = eig.eigenvalues[i];
