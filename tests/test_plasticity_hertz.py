@@ -106,11 +106,19 @@ def test_drift_bounded_and_smaller_than_paper_exact(plastic_runs):
     assert exact["max_drift"] > result["max_drift"]
 
 
-def test_unloading_is_elastic():
+@pytest.mark.parametrize("turn, tolerance", [(0.0, 1e-9), (None, 0.05 * 0.05 ** 2)])
+def test_unloading_is_elastic(turn, tolerance):
     # mu = 0.35 redistributes stress near the surface: some plastic elements unload. After its
     # `unload` event an element's plastic strain must stay frozen (elastic response) until it
     # yields again, and its von Mises stress stays at or below the current yield stress.
-    scene = prepare(None, overrides=[*PLASTIC, "mesh.h_contact=0.15", "contact.mu=0.35", "output.snapshots=events"])
+    # Tolerance: with the tangent renewed at every increment (tangent_turn = 0) the stresses
+    # sit on the surface to round-off (1e-9 relative). With the default held tangent (up to
+    # θ = 0.05 rad off the flow) the equilibrium correction leaves plastic elements up to
+    # θ × its stress change off the surface, at most θ × max_stress_step² = 1.25e-4 (an
+    # unloading element is put back on the surface, but the next correction may move it that
+    # much again).
+    extra = [] if turn is None else [f"solver.tangent_turn={turn}"]
+    scene = prepare(None, overrides=[*PLASTIC, "mesh.h_contact=0.15", "contact.mu=0.35", "output.snapshots=events", *extra])
     result = solve(scene)
     ev = result["events"]
     unloads = [(int(s), int(e)) for s, k, e in zip(ev["step"], ev["kind"], ev["entity"]) if k == "unload"]
@@ -124,7 +132,7 @@ def test_unloading_is_elastic():
         for k in range(step, end + 1):
             s = np.asarray(snaps[k + 1]["stress"][e])
             se = np.sqrt(0.5 * ((s[0] - s[1]) ** 2 + (s[1] - s[2]) ** 2 + (s[2] - s[0]) ** 2) + 3 * s[3] ** 2)
-            assert se <= (SY + H * ep[0]) * (1 + 1e-9)
+            assert se <= (SY + H * ep[0]) * (1 + tolerance)
 
 
 def test_yield_drift_field_matches_the_engine_measure(tmp_path):

@@ -20,7 +20,7 @@ use crate::material::{von_mises, von_mises_squared, yield_scale, Material, Plane
 use nalgebra::Vector4;
 
 /// Largest relative difference of the Euler and Heun stress increments of an accepted
-/// sub-step (‖Δσ₂ − Δσ₁‖ / 2‖σ‖).
+/// sub-step (‖Δσ₂ − Δσ₁‖ / 2‖σ‖, tensor norms).
 pub const STRESS_TOLERANCE: f64 = 1e-6;
 /// The smallest sub-step, as a fraction of the plastic part of the increment; sub-steps are
 /// accepted at this size whatever their error (a bound on the work per element).
@@ -119,7 +119,7 @@ fn flow(m: &Material, plane: Plane, mut stress: Vector4<f64>, mut plastic_strain
         let second = m.tangent(&(stress + ds1), true);
         let (ds2, dk2) = (second.stress_increment(plane, &es), second.plastic_multiplier(plane, &es).max(0.0));
         let next = stress + (ds1 + ds2) * 0.5;
-        let error = (ds2 - ds1).norm() / (2.0 * next.norm().max(f64::MIN_POSITIVE));
+        let error = tensor_norm(&(ds2 - ds1)) / (2.0 * tensor_norm(&next).max(f64::MIN_POSITIVE));
         substeps += 1;
         if error > STRESS_TOLERANCE && step > SMALLEST_SUBSTEP {
             step = (step * (0.9 * (STRESS_TOLERANCE / error).sqrt()).max(0.1)).max(SMALLEST_SUBSTEP);
@@ -137,6 +137,12 @@ fn flow(m: &Material, plane: Plane, mut stress: Vector4<f64>, mut plastic_strain
         step = (step * grow).max(SMALLEST_SUBSTEP).min(1.0 - done);
     }
     (stress, plastic_strain, substeps)
+}
+
+/// ‖σ‖ of the stress tensor, (σx² + σy² + σz² + 2τxy²)^½: the same in every in-plane frame, so
+/// that the sub-steps do not depend on the frame.
+fn tensor_norm(s: &Vector4<f64>) -> f64 {
+    (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * s[3] * s[3]).sqrt()
 }
 
 /// The stress scaled back onto the yield surface σe = σy: the deviator at fixed mean stress

@@ -45,6 +45,8 @@ pub(super) struct Engine<'m> {
     pub low_rank: LowRank,
     pub low_rank_spent: f64,
     pub n_low_rank_updates: usize,
+    /// Renew every plastic tangent at the next update (a stage's final correction).
+    pub renew_all_tangents: bool,
     /// The work of a factorization and of a solve pair (from the factor's structure).
     pub cost: Cost,
     /// The pairs over the DOFs the loop carries (`space`).
@@ -122,6 +124,7 @@ impl<'m> Engine<'m> {
             low_rank: LowRank::default(),
             low_rank_spent: 0.0,
             n_low_rank_updates: 0,
+            renew_all_tangents: false,
             cost: Cost::default(),
             pairs,
             modes,

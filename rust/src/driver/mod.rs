@@ -113,9 +113,8 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         let phi0 = state.load_fraction;
         let (inside, integrated) = eng.advance(state, &trial, &sel); // eqs. 58–62
         inside.iter().for_each(|ev| rec.event_inside(ev, phi0 + ev.at * (sel.phi - phi0)));
-        let residual = settle(eng, state, &sel, cycles, rec, &mut correction, integrated)?;
         let jump = switch_statuses(eng, state, &sel, cycles, rec); // step 6
-        let residual = if jump > eng.noise.force { rebalance(eng, state, sel.phi, rec)? } else { residual };
+        let residual = settle(eng, state, &sel, cycles, rec, &mut correction, integrated, jump)?;
         rec.step(eng, state, sel.scale, residual)?;
         eng.timings.events += since(t_events);
         if sel.last {
@@ -139,11 +138,22 @@ fn timed_trial(eng: &mut Engine, state: &State, internal: Option<Vec<f64>>) -> R
     Ok(trial)
 }
 
-/// After the advance: the equilibrium correction of integrated stresses (with the tangents
-/// brought up to date), then the checks at the event (equilibrium, contact conditions).
-/// Returns the residual.
-fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCycling, rec: &mut Recorder, correction: &mut Correction, integrated: bool) -> Result<f64> {
-    *correction = eng.restore_equilibrium(state, sel, integrated, *correction)?;
+/// After the advance and the status switches (step 6): the equilibrium correction of
+/// integrated stresses, with the tangents brought up to date and the new statuses, or of a
+/// switch's force jump alone (a pair the last correction had moved off the Coulomb cone that
+/// now slips is put back on it), taken event by event (`correct_at_fixed_load`); then the
+/// checks at the event (equilibrium, contact conditions). Returns the residual.
+#[allow(clippy::too_many_arguments)]
+fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCycling, rec: &mut Recorder, correction: &mut Correction, integrated: bool, jump: f64) -> Result<f64> {
+    let corrected = match eng.restore_equilibrium(state, sel, integrated)? {
+        Some(c) => Some(c),
+        None if jump > eng.noise.force => Some(eng.correct_at_fixed_load(state, sel.phi)?),
+        None => None,
+    };
+    if let Some((size, events)) = corrected {
+        *correction = size;
+        events.iter().for_each(|c| rec.event(c, c.kind, sel.phi));
+    }
     let drift = eng.drift(state);
     rec.max_drift = rec.max_drift.max(drift);
     rec.drift = drift;
@@ -160,16 +170,6 @@ fn checked_equilibrium(eng: &Engine, state: &State, phi: f64, rec: &mut Recorder
     rec.max_residual = rec.max_residual.max(residual);
     eng.check_equilibrium(residual, phi, rec.steps.len())?;
     Ok(residual)
-}
-
-/// A pair that the drift correction had moved off the Coulomb cone and that now slips was put
-/// back on it: restore equilibrium at fixed load with the new statuses (one more correction
-/// solve), and check it again. Returns the residual.
-fn rebalance(eng: &mut Engine, state: &mut State, phi: f64, rec: &mut Recorder) -> Result<f64> {
-    let correction = eng.trial(state, phi, None)?;
-    state.advance(&correction, 1.0);
-    state.load_fraction = phi;
-    checked_equilibrium(eng, state, phi, rec)
 }
 
 /// Switch the statuses of the selected events (step 6) under the anti-cycling rule: when the

@@ -17,6 +17,7 @@ use super::selection::{Selection, ZERO_SCALE};
 use super::state::{State, TrialIncrement};
 use crate::error::Result;
 use crate::material::von_mises;
+use crate::events::{self, Candidate, PairState, Trial};
 use crate::model::EventKind;
 use crate::stress_integration::{integrate, onto_yield_surface, Integrated, PointState};
 use std::time::Instant;
@@ -99,23 +100,71 @@ impl Engine<'_> {
     }
 
     /// Equilibrium after an increment whose stresses were integrated: the tangents follow the
-    /// state (`update_tangents`), then one correction solve at fixed load. An increment that
-    /// kept the tangent's linear stresses is in equilibrium already; the last correction (and
-    /// the allowance it gives the contact checks for what it moved) still holds. Returns the
-    /// correction's size.
-    pub fn restore_equilibrium(&mut self, state: &mut State, sel: &Selection, integrated: bool, last: Correction) -> Result<Correction> {
-        let stresses_kept = sel.zero_length() && !sel.group.iter().any(|c| c.kind.is_element_event());
-        if stresses_kept || !integrated {
-            return Ok(last);
+    /// state (`update_tangents`; all of them renewed at a stage's end, so that it ends on the
+    /// yield surface to second order and a reload retraces it), then the correction at fixed
+    /// load (`correct_at_fixed_load`). None when the increment kept the tangent's linear
+    /// stresses (in equilibrium already; the last correction's allowance for the contact
+    /// checks still holds).
+    pub fn restore_equilibrium(&mut self, state: &mut State, sel: &Selection, integrated: bool) -> Result<Option<(Correction, Vec<Candidate>)>> {
+        if !integrated {
+            return Ok(None);
         }
         let t0 = Instant::now();
+        self.renew_all_tangents = sel.last;
         self.update_tangents(state)?;
-        let correction = self.trial(state, sel.phi, None)?;
+        self.renew_all_tangents = false;
+        let corrected = self.correct_at_fixed_load(state, sel.phi)?;
         self.timings.corrections += since(t0);
+        Ok(Some(corrected))
+    }
+
+    /// Equilibrium at fixed load φ by the procedure itself: solve the correction for the
+    /// out-of-balance force (eq. 44 with no load change), advance it to the first contact event
+    /// that would make the state inadmissible (a gap closing, a pair separating, a stuck pair
+    /// reaching its cone: eqs. 48–53), switch that, and solve the rest again, so that the
+    /// corrected state is admissible. Returns the correction's size and its events, in order.
+    pub fn correct_at_fixed_load(&mut self, state: &mut State, phi: f64) -> Result<(Correction, Vec<Candidate>)> {
+        let (mut size, mut events) = (Correction::default(), vec![]);
+        for step in 0..MAX_CORRECTION_EVENTS {
+            let c = self.trial(state, phi, None)?;
+            let frozen = vec![false; self.pairs.len()];
+            let pairs = PairState { pairs: &self.pairs, status: &state.status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, shift: &state.shift, frozen: &frozen };
+            let mut cands = events::candidates(&pairs, &Trial { du: &c.du, dlambda_n: &c.dlambda_n, dlambda_t: &c.dlambda_t, dshift: &c.dshift }, self.noise);
+            // A slip that reverses inside the correction leaves its force on the cone: the state
+            // stays admissible, and sticking it would only cycle with the next increment.
+            cands.retain(|x| x.kind != EventKind::SlipToStick);
+            let first = cands.iter().map(|x| x.scale).fold(f64::INFINITY, f64::min);
+            // The last allowed step takes the rest whatever it violates (the contact checks then
+            // allow for the correction's size).
+            let s = if step + 1 == MAX_CORRECTION_EVENTS { 1.0 } else { first.min(1.0) };
+            size.include(&c, s);
+            state.advance(&c, s);
+            state.load_fraction = phi;
+            if s >= 1.0 {
+                break;
+            }
+            let tie = first * (1.0 + CORRECTION_TIE) + CORRECTION_TIE_SLACK;
+            for x in cands.into_iter().filter(|x| x.scale <= tie) {
+                self.switch(state, &x, true);
+                events.push(x);
+            }
+        }
+        Ok((size, events))
+    }
+}
+
+/// Contact events of one correction within this (relative, plus an absolute slack) of its
+/// first switch together; at most this many sub-steps per correction (each switches at
+/// least one pair; past it the rest is taken as one step).
+const CORRECTION_TIE: f64 = 1e-9;
+const CORRECTION_TIE_SLACK: f64 = 1e-14;
+const MAX_CORRECTION_EVENTS: usize = 32;
+
+impl Correction {
+    /// Grow by `s` × a correction increment.
+    fn include(&mut self, c: &TrialIncrement, s: f64) {
         let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        let size = Correction { displacement: largest(&correction.du), force: largest(&correction.dlambda_n).max(largest(&correction.dlambda_t)) };
-        state.advance(&correction, 1.0);
-        state.load_fraction = sel.phi;
-        Ok(size)
+        self.displacement = self.displacement.max(s * largest(&c.du));
+        self.force = self.force.max(s * largest(&c.dlambda_n).max(largest(&c.dlambda_t)));
     }
 }

@@ -62,7 +62,7 @@ impl Engine<'_> {
         let change = match (held.flow, state.plastic[e]) {
             (None, false) => false,
             (Some(_), false) | (None, true) => true,
-            (Some(f), true) => turn(&f.da, &state.stress[e]) > self.model.options.tangent_turn,
+            (Some(f), true) => turn(&f.da, &state.stress[e]) > self.tangent_turn(),
         };
         if change {
             self.tangents[e] = self.material[e].tangent(&state.stress[e], state.plastic[e]);
@@ -91,6 +91,12 @@ impl Engine<'_> {
             .collect()
     }
 
+    /// The turn that renews a plastic tangent: `Options::tangent_turn`; 0 (every increment) in
+    /// the paper's setting (no drift control) and for a stage's final correction.
+    fn tangent_turn(&self) -> f64 {
+        if self.model.options.drift_control && !self.renew_all_tangents { self.model.options.tangent_turn } else { 0.0 }
+    }
+
     /// After a factorization: K_f holds every element's current tangent.
     pub fn tangents_factored(&mut self) {
         self.factored.clone_from(&self.tangents);
@@ -107,10 +113,13 @@ impl Engine<'_> {
 }
 
 /// The angle between a held flow direction D a and the current one. For von Mises D a is
-/// 3G/σe (s_x, s_y, s_z, τ_xy), s the stress deviator: compared without building a tangent.
+/// 3G/σe (s_x, s_y, s_z, τ_xy), s the stress deviator, so they are compared as deviators,
+/// with the tensor inner product s:s' = Σ s_i s'_i + 2 τ τ' (invariant under rotation), and
+/// without building a tangent.
 fn turn(held_da: &Vector4<f64>, stress: &Vector4<f64>) -> f64 {
     let p = (stress[0] + stress[1] + stress[2]) / 3.0;
     let now = Vector4::new(stress[0] - p, stress[1] - p, stress[2] - p, stress[3]);
-    let cos = held_da.dot(&now) / (held_da.norm() * now.norm());
+    let inner = |a: &Vector4<f64>, b: &Vector4<f64>| a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + 2.0 * a[3] * b[3];
+    let cos = inner(held_da, &now) / (inner(held_da, held_da) * inner(&now, &now)).sqrt();
     cos.clamp(-1.0, 1.0).acos()
 }
