@@ -357,7 +357,8 @@ def quarter_annulus(a: float, b: float, h: float, h_outer: float = 0.0) -> Mesh:
         fields = gmsh.model.mesh.field
         size = fields.add("MathEval")
         slope = (h_outer - h) / (b - a)
-        fields.setString(size, "F", f"{h!r} + {slope!r} * (sqrt(x*x + y*y) - {a!r})")
+        # (slope) in brackets: gmsh's MathEval aborts the process on "+ -0.02"
+        fields.setString(size, "F", f"{h!r} + ({slope!r}) * (sqrt(x*x + y*y) - {a!r})")
         xyz, triangles, edges, node_sets = _mesh_with_size_field(gmsh, size)
 
     nodes = xyz[:, :2].copy()
