@@ -87,31 +87,38 @@ class Result:
         return out
 
     # ------------------------------------------------------------------ one snapshot
-    def snapshot(self, t: float | None = None) -> dict:
-        """The engine's snapshot at path time ``t`` (None: the last one); of several at the
-        same t (a zero-length increment) the last, the state after all of them."""
+    def snapshot(self, t: float | None = None, stage: int | None = None) -> dict:
+        """The engine's snapshot at path time ``t`` (None: the last one).  Of several at the
+        same t the last, the state after every event there; ``stage`` (1-based) picks among
+        them by stage: at a stage end t = k, ``stage=k`` is the end of stage k, the default
+        the start of stage k + 1 after its zero-length switches (elements that unload, say)."""
         snaps = self.raw.get("snapshots", [])
         if not snaps:
             raise InputError(f"{self.case.name}: the run has no snapshots (it stopped before "
                              f"the first increment)")
-        if t is None:
-            return snaps[-1]
         times = self.times
-        hits = np.flatnonzero(np.abs(times - float(t)) <= TIME_TOL * max(1.0, times.max()))
-        if not len(hits):
-            raise InputError(f"{self.case.name}: no snapshot at t = {t:g}; snapshots are at t "
-                             f"= {_listed(times)}: ask for more with output.snapshots")
-        return snaps[hits[-1]]
+        pick = np.ones(len(snaps), bool)
+        if stage is not None:
+            pick = np.array([int(s.get("stage", 0)) + 1 == stage for s in snaps])
+        if t is not None:
+            pick &= np.abs(times - float(t)) <= TIME_TOL * max(1.0, times.max())
+        if not pick.any():
+            where = f"t = {t:g}" if t is not None else "the end"
+            where += f" in stage {stage}" if stage is not None else ""
+            raise InputError(f"{self.case.name}: no snapshot at {where}; snapshots are at t = "
+                             f"{_listed(times)}: ask for more with output.snapshots")
+        return snaps[np.flatnonzero(pick)[-1]]
 
-    def fields(self, t: float | None = None) -> dict:
-        """numpy arrays at snapshot time ``t`` (None: the last): ``u`` (N, 2), ``reaction``
+    def fields(self, t: float | None = None, stage: int | None = None) -> dict:
+        """numpy arrays at snapshot time ``t`` (None: the last; ``stage`` as for
+        :meth:`snapshot`): ``u`` (N, 2), ``reaction``
         (N, 2; supports and prescribed displacements), ``stress`` (M, 4: sigma_x, sigma_y,
         sigma_z, tau_xy), ``von_mises`` (M,), for elastoplastic cases ``plastic_strain``,
         ``plastic`` (bool) and ``yield_drift`` (M,); per candidate pair in the engine's order
         (P,): ``lambda_n``, ``lambda_t`` (nodal contact forces), ``status`` (0 open, 1 stick,
         2 slip), ``pressure``, ``tangential_stress``, ``gap``, ``rtd`` (as in
         contact_profile.csv); ``t`` and ``stage`` (1-based)."""
-        snap = self.snapshot(t)
+        snap = self.snapshot(t, stage)
         stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
         out = {"t": snapshot_time(snap), "stage": int(snap.get("stage", 0)) + 1,
                "u": np.asarray(snap["u"], dtype=float).reshape(-1, 2), "stress": stress,
@@ -131,14 +138,14 @@ class Result:
             out[key][prof["pair"]] = prof[key]
         return out
 
-    def profile(self, t: float | None = None) -> dict:
+    def profile(self, t: float | None = None, stage: int | None = None) -> dict:
         """The contact profile at snapshot time ``t`` (None: the last), as in
         contact_profile.csv: per candidate pair sorted by x, arrays x, y, s, contact, pressure,
         tangential_stress, rtd, status, gap, pair, node_a (:func:`slipstep.derived.
         contact_profile`)."""
-        return contact_profile(self.scene, self.snapshot(t))
+        return contact_profile(self.scene, self.snapshot(t, stage))
 
-    def to_meshio(self, t: float | None = None):
+    def to_meshio(self, t: float | None = None, stage: int | None = None):
         """A ``meshio.Mesh`` at snapshot time ``t`` (None: the last): 2D points, triangles,
         and the point and cell data results.xdmf holds for that time step (vectors padded to 3
         components, as ParaView wants them)."""
@@ -146,7 +153,7 @@ class Result:
 
         from .output import xdmf_step
 
-        point_data, cell_data = xdmf_step(self.scene, self.snapshot(t))
+        point_data, cell_data = xdmf_step(self.scene, self.snapshot(t, stage))
         return meshio.Mesh(self.nodes, [("triangle", self.triangles)], point_data=point_data,
                            cell_data=cell_data)
 
