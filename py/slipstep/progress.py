@@ -61,7 +61,7 @@ class Bar:
 
 class Reporter:
     """What one run reports to: ``callback`` is the engine's (False for none), ``finish``
-    gives the reporter the run's final state (with None, after a failure, it only closes).
+    closes a bar with the run's final state (with None, after a failure, it only closes).
 
     The bar appears with the first report, so a run shorter than one report interval (and an
     input error found before the first increment) prints nothing."""
@@ -89,12 +89,11 @@ class Reporter:
         return self.bar(p)
 
     def finish(self, result: dict | None) -> None:
-        if result is not None:
+        """Close the bar, showing the run's final state (a callable gets no final report: the
+        result is in the caller's hands)."""
+        if self.bar and result is not None:
             p = self.progress(len(result["events"]["step"]),
                               len(result["steps"]["load_fraction"]), final_time(result))
-            if self.user:
-                self.user(p)
-            elif self.bar:
-                self.bar.close(p, result["stop"]["kind"])
+            self.bar.close(p, result["stop"]["kind"])
         elif self.bar:
             self.bar.bar.close()

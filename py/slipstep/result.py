@@ -117,10 +117,11 @@ class Result:
         ``plastic`` (bool) and ``yield_drift`` (M,); per candidate pair in the engine's order
         (P,): ``lambda_n``, ``lambda_t`` (nodal contact forces), ``status`` (0 open, 1 stick,
         2 slip), ``pressure``, ``tangential_stress``, ``gap``, ``rtd`` (as in
-        contact_profile.csv); ``t`` and ``stage`` (1-based)."""
+        contact_profile.csv); ``t``, ``stage`` (1-based) and ``load_fraction`` (within it)."""
         snap = self.snapshot(t, stage)
         stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
         out = {"t": snapshot_time(snap), "stage": int(snap.get("stage", 0)) + 1,
+               "load_fraction": float(snap["load_fraction"]),
                "u": np.asarray(snap["u"], dtype=float).reshape(-1, 2), "stress": stress,
                "von_mises": von_mises(stress)}
         if "reaction" in snap:
