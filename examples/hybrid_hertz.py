@@ -1,10 +1,15 @@
 """Hybrid mode: slipstep's event-driven frictional contact on a plain dolfinx model.
 
 A dolfinx user's workflow: a quarter cylinder (R = 125 mm, centre (0, R)) meshed with gmsh
-and loaded into dolfinx with ``gmshio.model_to_mesh``, a P1 vector space, the UFL forms of
-plane-strain elasticity, a pressure q = P/(2R) on the cut y = R, a symmetry condition on
-x = 0.  slipstep then solves the contact of the arc with the rigid flat y = 0 (Coulomb mu)
-and hands back dolfinx Functions: displacement and contact pressure.
+and loaded into dolfinx (``model_to_mesh``), a P1 vector space, the UFL forms of plane-strain
+elasticity, a pressure q = P/(2R) on the cut y = R, a symmetry condition on x = 0.  slipstep
+then solves the contact of the arc with the rigid flat y = 0 (Coulomb mu) and hands back
+dolfinx Functions: displacement and contact pressure.
+
+The dolfinx calls whose spelling changed between releases (function spaces, gmsh import,
+scalar type, XDMF) go through ``slipstep.fenicsx.dolfinx_api`` so that the example runs on
+dolfinx 0.5 to 0.11 (docs/dolfinx.md); ``api.function_space(mesh, "Lagrange", 1, (2,))`` is
+``fem.functionspace(mesh, ("Lagrange", 1, (2,)))`` on dolfinx >= 0.7.
 
     .venv/bin/python examples/hybrid_hertz.py [--h-contact 0.05] [--mu 0.2] [--out DIR]
 
@@ -35,8 +40,8 @@ TOP, SYMMETRY, ARC = 1, 2, 3  # facet tags (gmsh physical groups)
 def cylinder_mesh(h_contact: float, h_max: float = 8.0):
     """The quarter cylinder as a dolfinx mesh with facet tags, straight from gmsh."""
     import gmsh
-    from mpi4py import MPI
-    from dolfinx.io import gmshio
+
+    from slipstep.fenicsx import dolfinx_api as api
 
     gmsh.initialize(["", "-v", "0"], readConfigFiles=False, interruptible=False)
     try:
@@ -66,7 +71,7 @@ def cylinder_mesh(h_contact: float, h_max: float = 8.0):
         for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
             gmsh.option.setNumber(f"Mesh.{opt}", 0)
         gmsh.model.mesh.generate(2)
-        mesh, _, facet_tags = gmshio.model_to_mesh(gmsh.model, MPI.COMM_WORLD, 0, gdim=2)
+        mesh, _, facet_tags = api.mesh_from_gmsh(gmsh.model, gdim=2)
     finally:
         gmsh.finalize()
     return mesh, facet_tags
@@ -79,17 +84,15 @@ def main(argv=None) -> dict:
     ap.add_argument("--out", default="results/hybrid_hertz", help="output folder")
     args = ap.parse_args(argv)
 
-    import ufl
-    from dolfinx import fem
-    from dolfinx.io import XDMFFile
-    from petsc4py import PETSc
-
+    from slipstep.fenicsx import dolfinx_api as api
     from slipstep.fenicsx.hybrid import solve_contact
+
+    ufl = api.ufl()
 
     start = time.perf_counter()
     # ---- the user's dolfinx model --------------------------------------------------------
     mesh, facet_tags = cylinder_mesh(args.h_contact)
-    V = fem.VectorFunctionSpace(mesh, ("CG", 1))
+    V = api.function_space(mesh, "Lagrange", 1, (2,))
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
     mu_l, lam = E / (2 * (1 + NU)), E * NU / ((1 + NU) * (1 - 2 * NU))
 
@@ -100,31 +103,27 @@ def main(argv=None) -> dict:
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
     q = P / (2 * R)  # the quarter carries P/2 across its cut of length R
     L = ufl.dot(-q * ufl.FacetNormal(mesh), v) * ds(TOP)
-    sym_dofs = fem.locate_dofs_topological(V.sub(0), 1, facet_tags.find(SYMMETRY))
-    bcs = [fem.dirichletbc(PETSc.ScalarType(0), sym_dofs, V.sub(0))]
+    sym_dofs = api.locate_dofs(V, api.tagged(facet_tags, SYMMETRY), component=0)
+    bcs = [api.dirichletbc(0.0, sym_dofs, V, component=0)]
 
     # ---- slipstep: event-driven contact of the arc on the flat y = 0 ----------------------
     out = solve_contact(V, a, L, facet_tags, ARC, E=E, nu=NU, plane="strain", bcs=bcs,
                         flat_point=(0.0, 0.0), flat_normal=(0.0, 1.0), mu=args.mu)
 
     # ---- back in dolfinx: Functions to keep using ------------------------------------------
-    x = mesh.geometry.x
-    p = out.pressure.x.array
-    Q = out.pressure.function_space
-    xq = Q.tabulate_dof_coordinates()[:, 0]
+    p = api.dof_values(out.pressure)
+    xq = api.dof_coordinates(api.space_of(out.pressure))[:, 0]
     contact = p > 0
     a_num = float(xq[contact].max()) if contact.any() else 0.0
-    force = fem.assemble_scalar(fem.form(out.pressure * ds(ARC)))  # = P/2 (thickness 1)
+    force = api.assemble_scalar(out.pressure * ds(ARC))  # = P/2 (thickness 1)
     E_star = E / (1 - NU ** 2)
     a_h = math.sqrt(4 * P * R / (math.pi * E_star))
     p0_h = 2 * P / (math.pi * a_h)
     Path(args.out).mkdir(parents=True, exist_ok=True)
-    with XDMFFile(mesh.comm, str(Path(args.out) / "hybrid_hertz.xdmf"), "w") as f:
-        f.write_mesh(mesh)
-        f.write_function(out.u)
-        f.write_function(out.pressure)
+    api.write_functions(Path(args.out) / "hybrid_hertz.xdmf", mesh,
+                        [(0.0, [out.u, out.pressure])])
     summary = {
-        "n_cells": int(mesh.topology.index_map(2).size_local), "n_nodes": int(len(x)),
+        "n_cells": api.num_cells(mesh), "n_nodes": len(api.node_coordinates(mesh)),
         "events": int(len(out.result["events"]["kind"])),
         "outermost_closed_x": a_num, "a_hertz": a_h,
         "peak_pressure": float(p.max()), "p0_hertz": p0_h,

@@ -7,12 +7,23 @@ Equilibrium
     the nodes), minus the applied load at the snapshot's load fraction, minus the contact forces
     λ_n n + λ_t t on node a (and the opposite on node b; t = (−n_y, n_x), docs/engine_api.md and
     the module doc of rust/src/contact.rs: gap = gap0 + w_nᵀu, force on the bodies
-    w_n λ_n + w_t λ_t), over the DOFs that are not supported.  ``model["plane"]`` does not enter:
-    in plane strain and in plane stress alike σz does no work on in-plane virtual strains, so the
-    internal force is built from (σx, σy, τxy) = stress columns 0, 1, 3 and the thickness.
+    w_n λ_n + w_t λ_t), over the DOFs that are not supported.  In plane strain and in plane
+    stress alike σz does no work on in-plane virtual strains, so the internal force is built
+    from (σx, σy, τxy) = stress columns 0, 1, 3 and the thickness.  In axisymmetry (x = r,
+    y = z; ``model["plane"] == "axisymmetric"``) it is the ring's virtual work
+    2π ∫ (σr δεr + σz δεz + σθ δεθ + τrz δγrz) r dA with the hoop strain δεθ = δu_r/r taken at
+    the centroid (the documented element, rust/src/element.rs), and the supports include u_r = 0
+    at every node on the axis r = 0 (the engine's contract).
 
 Hertz line contact (Johnson, Contact Mechanics, §4.3): a = √(4PR/(πE*)), p0 = 2P/(πa); for an
     elastic body on a rigid flat E* = E/(1−ν²) in plane strain and E* = E in plane stress.
+
+Hertz sphere on a rigid flat (Johnson §4.2, §3.4): a = (3PR/(4E*))^(1/3), p0 = 3P/(2πa²),
+    δ = a²/R; Huber's stresses along the axis (eq. 3.45) and the compression of the axis below a
+    depth, which says where the approach of "distant points" is measured (``sphere_axis_*``).
+
+Thick-walled sphere under internal pressure (Hill, The Mathematical Theory of Plasticity,
+    ch. V; von Mises = Tresca under the spherical symmetry σθ = σφ): ``thick_sphere_*``.
 
 Spence's stick zone (frictional Hertz line contact, monotonic normal loading): see
     ``goodman_stick_ratio`` (closed form, Goodman's approximation) and ``spence_stick_ratio``
@@ -35,9 +46,11 @@ EQUILIBRIUM_TOL = 1e-9
 
 # --------------------------------------------------------------------------- equilibrium
 def internal_force(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray,
-                   thickness: float) -> np.ndarray:
+                   thickness: float, plane: str = "strain") -> np.ndarray:
     """Σ_e t A_e B_eᵀ (σx, σy, τxy)_e over all DOFs (2 per node), for triangles of either
-    orientation."""
+    orientation; the ring's forces for ``plane == "axisymmetric"`` (``ring_internal_force``)."""
+    if plane == "axisymmetric":
+        return ring_internal_force(nodes, triangles, stress)
     nodes, triangles = np.asarray(nodes, dtype=float), np.asarray(triangles)
     stress = np.asarray(stress, dtype=float).reshape(-1, 4)
     x, y = nodes[triangles, 0], nodes[triangles, 1]            # (M, 3)
@@ -52,6 +65,26 @@ def internal_force(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray,
     n = 2 * len(nodes)
     return (np.bincount((2 * triangles).ravel(), weights=fx.ravel(), minlength=n)
             + np.bincount((2 * triangles + 1).ravel(), weights=fy.ravel(), minlength=n))
+
+
+def ring_internal_force(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray) -> np.ndarray:
+    """Axisymmetric internal forces, totals over the ring: per element 2π r̄ A (∂N_k/∂r σr +
+    ∂N_k/∂z τrz + σθ/(3 r̄)) on u_r of node k and 2π r̄ A (∂N_k/∂z σz + ∂N_k/∂r τrz) on u_z
+    (r̄ the centroid radius, N_k = 1/3 there; stress columns σr, σz, σθ, τrz)."""
+    nodes, triangles = np.asarray(nodes, dtype=float), np.asarray(triangles)
+    s = np.asarray(stress, dtype=float).reshape(-1, 4)
+    r, z = nodes[triangles, 0], nodes[triangles, 1]                                  # (M, 3)
+    area2 = (r[:, 1] - r[:, 0]) * (z[:, 2] - z[:, 0]) - (r[:, 2] - r[:, 0]) * (z[:, 1] - z[:, 0])
+    dn_dr = np.stack([z[:, 1] - z[:, 2], z[:, 2] - z[:, 0], z[:, 0] - z[:, 1]], 1) / area2[:, None]
+    dn_dz = np.stack([r[:, 2] - r[:, 1], r[:, 0] - r[:, 2], r[:, 1] - r[:, 0]], 1) / area2[:, None]
+    r_bar = r.mean(axis=1)
+    volume = (2.0 * math.pi * r_bar * 0.5 * np.abs(area2))[:, None]
+    sr, sz, st, trz = (s[:, k:k + 1] for k in range(4))
+    fr = volume * (dn_dr * sr + dn_dz * trz + st / (3.0 * r_bar[:, None]))
+    fz = volume * (dn_dz * sz + dn_dr * trz)
+    n = 2 * len(nodes)
+    return (np.bincount((2 * triangles).ravel(), weights=fr.ravel(), minlength=n)
+            + np.bincount((2 * triangles + 1).ravel(), weights=fz.ravel(), minlength=n))
 
 
 def contact_force(n_nodes: int, pairs: dict, lambda_n: np.ndarray,
@@ -100,10 +133,15 @@ def applied_load(model: dict, t: float) -> np.ndarray:
 
 
 def held_dofs(model: dict) -> np.ndarray:
-    """Supported DOFs: fixed ones and those with a prescribed displacement."""
+    """Supported DOFs: fixed ones, those with a prescribed displacement, and in axisymmetry u_r
+    of the nodes on the axis r = 0 (within 1e-9 of the mesh's bounding-box diagonal)."""
     held = [np.asarray(model["fixed_dofs"], dtype=np.int64)]
     held += [np.asarray(p["displacement_dofs"], dtype=np.int64)
              for p in model.get("patterns", []) if "displacement_dofs" in p]
+    if model.get("plane") == "axisymmetric":
+        nodes = np.asarray(model["nodes"], dtype=float)
+        size = float(np.linalg.norm(np.ptp(nodes, axis=0)))
+        held.append(2 * np.flatnonzero(np.abs(nodes[:, 0]) <= 1e-9 * size))
     return np.concatenate(held)
 
 
@@ -117,7 +155,8 @@ def equilibrium_residual(model: dict, snapshot: dict) -> float:
     nodes = np.asarray(model["nodes"], dtype=float)
     t = float(snapshot.get("t", snapshot["load_fraction"]))
     internal = internal_force(nodes, np.asarray(model["triangles"]),
-                              np.asarray(snapshot["stress"]), model["thickness"])
+                              np.asarray(snapshot["stress"]), model["thickness"],
+                              model.get("plane", "strain"))
     r = (internal - applied_load(model, t)
          - contact_force(len(nodes), model["pairs"], np.asarray(snapshot["lambda_n"]),
                          np.asarray(snapshot["lambda_t"])))
@@ -156,11 +195,42 @@ def hill_pressure(c: float, a: float, b: float, k: float) -> float:
 
 def hill_radius(p: float, a: float, b: float, k: float) -> float:
     """Inverse of hill_pressure on [a, b] (increasing there: dp/dc = 2k (1/c − c/b²) > 0)."""
-    lo, hi = a, b
+    return _inverse(lambda c: hill_pressure(c, a, b, k), p, a, b)
+
+
+def _inverse(increasing, value: float, lo: float, hi: float) -> float:
+    """x in [lo, hi] with increasing(x) = value, by bisection (100 halvings: to round-off)."""
     for _ in range(100):
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if hill_pressure(mid, a, b, k) < p else (lo, mid)
+        lo, hi = (mid, hi) if increasing(mid) < value else (lo, mid)
     return 0.5 * (lo + hi)
+
+
+# --------------------------------------------------------------------------- thick sphere
+def thick_sphere_lame(rho, p: float, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
+    """Lamé's elastic sphere a <= ρ <= b under internal pressure p: (σ_R, σ_t) at the spherical
+    radius ρ, σ_R = −p (b³/ρ³ − 1)/(b³/a³ − 1), σ_t = σθ = σφ = p (b³/(2ρ³) + 1)/(b³/a³ − 1)."""
+    rho = np.asarray(rho, dtype=float)
+    k = b ** 3 / a ** 3 - 1.0
+    return -p * (b ** 3 / rho ** 3 - 1.0) / k, p * (0.5 * b ** 3 / rho ** 3 + 1.0) / k
+
+
+def thick_sphere_displacement(rho, p: float, a: float, b: float, E: float, nu: float) -> np.ndarray:
+    """Lamé's radial displacement: p a³/(E (b³ − a³)) [(1 − 2ν) ρ + (1 + ν) b³/(2ρ²)]."""
+    rho = np.asarray(rho, dtype=float)
+    return p * a ** 3 / (E * (b ** 3 - a ** 3)) * ((1 - 2 * nu) * rho + (1 + nu) * b ** 3 / (2 * rho ** 2))
+
+
+def thick_sphere_pressure(c: float, a: float, b: float, Y: float) -> float:
+    """Hill (ch. V): internal pressure at which the plastic zone of a thick sphere (von Mises =
+    Tresca here: σθ = σφ) reaches radius c: 2Y ln(c/a) + (2Y/3)(1 − c³/b³).  At c = a it is the
+    elastic limit p_e = (2Y/3)(1 − a³/b³), at c = b the limit 2Y ln(b/a)."""
+    return 2.0 * Y * math.log(c / a) + 2.0 * Y / 3.0 * (1.0 - c ** 3 / b ** 3)
+
+
+def thick_sphere_radius(p: float, a: float, b: float, Y: float) -> float:
+    """Inverse of thick_sphere_pressure on [a, b] (increasing: dp/dc = 2Y (1/c − c²/b³) > 0)."""
+    return _inverse(lambda c: thick_sphere_pressure(c, a, b, Y), p, a, b)
 
 
 # --------------------------------------------------------------------------- Hertz
@@ -170,6 +240,35 @@ def hertz_line(P: float, R: float, E: float, nu: float, plane: str = "strain") -
     e_star = E / (1.0 - nu ** 2) if plane == "strain" else E
     a = math.sqrt(4.0 * P * R / (math.pi * e_star))
     return a, 2.0 * P / (math.pi * a)
+
+
+def hertz_sphere(P: float, R: float, E: float, nu: float) -> tuple[float, float, float]:
+    """Contact radius a, peak pressure p0 and approach δ of an elastic sphere (radius R, total
+    force P) on a rigid flat: a³ = 3PR/(4E*), p0 = 3P/(2πa²), δ = a²/R, E* = E/(1 − ν²)."""
+    e_star = E / (1.0 - nu ** 2)
+    a = (3.0 * P * R / (4.0 * e_star)) ** (1.0 / 3.0)
+    return a, 3.0 * P / (2.0 * math.pi * a ** 2), a ** 2 / R
+
+
+def sphere_axis_stresses(zeta, nu: float) -> tuple[np.ndarray, np.ndarray]:
+    """Huber's stresses on the axis below a Hertz sphere contact (Johnson eq. 3.45), over p0,
+    at depths ζ = z/a > 0: σr = σθ = −(1 + ν)(1 − ζ arctan(1/ζ)) + 1/(2(1 + ζ²)),
+    σz = −1/(1 + ζ²) (τrz = 0 on the axis)."""
+    zeta = np.asarray(zeta, dtype=float)
+    sigma_z = -1.0 / (1.0 + zeta ** 2)
+    return -(1.0 + nu) * (1.0 - zeta * np.arctan(1.0 / zeta)) - 0.5 * sigma_z, sigma_z
+
+
+def sphere_axis_compression(zeta, nu: float) -> np.ndarray:
+    """The shortening, over p0 a/E, of the axis of the half-space from depth ζ = z/a down to
+    infinity under the Hertz pressure: −∫_ζ^∞ (σz − 2ν σr) dζ'/p0 from
+    ``sphere_axis_stresses``, integrated in closed form,
+    (1 + ν) [arccot ζ − 2ν (π/4 − G(ζ))], G(ζ) = ζ/2 − (ζ²/2) arccot ζ + (1/2) arctan ζ.
+    At ζ = 0 it is the approach of distant points, (1 − ν²) π/2 = δ E/(p0 a)."""
+    zeta = np.asarray(zeta, dtype=float)
+    arccot = np.arctan2(1.0, zeta)
+    g = 0.5 * zeta - 0.5 * zeta ** 2 * arccot + 0.5 * np.arctan(zeta)
+    return (1.0 + nu) * (arccot - 2.0 * nu * (0.25 * math.pi - g))
 
 
 def dundurs_beta(nu: float, plane: str = "strain") -> float:

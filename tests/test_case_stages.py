@@ -125,14 +125,17 @@ SHIPPED = sorted(CASES.glob("*.toml"))
 @pytest.mark.parametrize("path", SHIPPED, ids=[p.stem for p in SHIPPED])
 def test_shipped_cases_give_the_model_they_always_did(path):
     """Every shipped case without [[stage]], displacement and motion gives exactly the old
-    model; one with them gives its stages (one row of factors per stage, `load` first)."""
+    model; one with them gives its stages (one row of factors per stage, `load` first).  The
+    axisymmetric cases (issue 15) have no old model: ring loads and axis supports
+    (test_axisymmetric_*.py)."""
     case = load_case(path)
     if any(b["mesh"].get("generator") in ("quarter_cylinder", "quarter_annulus")
            for b in case.data["body"]):
         pytest.importorskip("gmsh")
     scene = build_scene(case)
     if not case.path.new:
-        assert_old_model(scene)
+        if case.data["analysis"]["plane"] != "axisymmetric":
+            assert_old_model(scene)
         return
     stages = scene.model.get("stages", [])
     assert len(stages) == len(case.data["stage"]) and scene.n_stages == max(len(stages), 1)

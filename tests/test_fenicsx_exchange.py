@@ -61,52 +61,47 @@ def test_slipstep_and_meshio_read_the_files_with_tag_names(scene, tmp_path):
 
 @needs_gmsh
 def test_dolfinx_reads_the_mesh_and_the_maps_are_explicit(scene, tmp_path):
-    from dolfinx import fem
+    from slipstep.fenicsx import dolfinx_api as api
 
     dm = ex.scene_to_dolfinx(scene, tmp_path)
     msh = dm.mesh
-    assert msh.geometry.dim == 2  # 2D points -> gdim 2
+    assert api.mesh_kind(msh) == ("triangle", 1, 2)  # 2D points -> gdim 2
     N, M = len(scene.nodes), len(scene.triangles)
     assert dm.n_nodes == N and dm.n_cells == M
     # node map, both directions: dolfinx coordinates are the slipstep ones, exactly
-    assert np.array_equal(msh.geometry.x[:, :2], scene.nodes[dm.node_of_geom])
+    x = api.node_coordinates(msh)
+    assert np.array_equal(x, scene.nodes[dm.node_of_geom])
     assert np.array_equal(dm.geom_of_node[dm.node_of_geom], np.arange(N))
-    assert np.array_equal(msh.geometry.x[dm.geom_of_node, :2], scene.nodes)
+    assert np.array_equal(x[dm.geom_of_node], scene.nodes)
     # cell map, both directions: same node triples, same local order
     assert np.array_equal(dm.slipstep_triangles(), scene.triangles[dm.element_of_cell])
     assert np.array_equal(dm.cell_of_element[dm.element_of_cell], np.arange(M))
     assert not np.array_equal(dm.element_of_cell, np.arange(M)) or M < 50  # dolfinx reorders
     # cell tags -> materials
+    indices, values = api.tag_arrays(dm.cell_tags)
     tag = np.zeros(M, np.int64)
-    tag[dm.cell_tags.indices] = dm.cell_tags.values
+    tag[indices] = values
     assert np.array_equal(tag[dm.cell_of_element] - 1, scene.model["element_material"])
     # facet tags: every tagged segment arrives, on the right nodes
-    msh.topology.create_connectivity(1, 0)
-    f2v = msh.topology.connectivity(1, 0)
-    c2v = msh.topology.connectivity(2, 0).array.reshape(-1, 3)
-    geo = msh.geometry.dofmap.array.reshape(-1, 3)
-    geom_of_vertex = np.empty(msh.topology.index_map(0).size_local, np.int64)
-    geom_of_vertex[c2v.ravel()] = geo.ravel()
-    got = {}
-    for value, name in dm.edge_names.items():
-        facets = dm.facet_tags.indices[dm.facet_tags.values == value]
-        got[name] = {tuple(sorted(dm.node_of_geom[geom_of_vertex[f2v.links(f)]]))
-                     for f in facets}
+    got = {name: {tuple(sorted(pair)) for pair in
+                  dm.node_of_geom[api.facet_nodes(msh, api.tagged(dm.facet_tags, value))]}
+           for value, name in dm.edge_names.items()}
     assert got == _scene_edge_sets(scene)
-    # dof maps: P1 vector blocks and DG0 dofs sit at the slipstep nodes / centroids
-    V = fem.VectorFunctionSpace(msh, ("CG", 1))
+    # dof maps: P1 vector blocks and DG0 dofs sit at the slipstep nodes / centroids (the dof
+    # coordinates are computed by dolfinx from its element: 1e-12 is round-off on mm scales)
+    V = api.function_space(msh, "Lagrange", 1, (2,))
     block = dm.block_of_node(V)
-    assert np.allclose(V.tabulate_dof_coordinates()[block, :2], scene.nodes, rtol=0, atol=1e-12)
-    W = fem.FunctionSpace(msh, ("DG", 0))
+    assert np.allclose(api.dof_coordinates(V)[block, :2], scene.nodes, rtol=0, atol=1e-12)
+    W = api.function_space(msh, "DG", 0)
     centroid = scene.nodes[scene.triangles].mean(axis=1)
-    assert np.allclose(W.tabulate_dof_coordinates()[dm.dg0_dof_of_element(W), :2], centroid,
+    assert np.allclose(api.dof_coordinates(W)[dm.dg0_dof_of_element(W), :2], centroid,
                        rtol=0, atol=1e-12)
     # Function <-> slipstep arrays
-    u = fem.Function(V)
+    u = api.function(V)
     values = np.random.default_rng(0).normal(size=(N, 2))
     dm.set_vector_function(u, values)
     assert np.array_equal(dm.vector_function_values(u), values)
-    assert np.array_equal(u.x.array.reshape(-1, 2)[block], values)
+    assert np.array_equal(api.dof_values(u).reshape(-1, 2)[block], values)
 
 
 @needs_gmsh

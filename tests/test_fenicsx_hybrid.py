@@ -12,10 +12,7 @@ from slipstep import prepare
 from slipstep.fenicsx.crosscheck import engine_result
 
 pytest.importorskip("dolfinx")
-import ufl  # noqa: E402
-from dolfinx import fem  # noqa: E402
-from petsc4py import PETSc  # noqa: E402
-
+from slipstep.fenicsx import dolfinx_api as api  # noqa: E402
 from slipstep.fenicsx.exchange import scene_to_dolfinx  # noqa: E402
 from slipstep.fenicsx.hybrid import solve_contact  # noqa: E402
 
@@ -25,8 +22,8 @@ E, NU = 70000.0, 0.3
 def _user_model(dm, E_form=E, bc_value=0.0):
     """What a dolfinx user writes: P1 space, elasticity forms, pressure 4 MPa on `top`,
     symmetry on x = 0."""
-    mesh = dm.mesh
-    V = fem.VectorFunctionSpace(mesh, ("CG", 1))
+    ufl, mesh = api.ufl(), dm.mesh
+    V = api.function_space(mesh, "Lagrange", 1, (2,))
     mu, lam = E_form / (2 * (1 + NU)), E_form * NU / ((1 + NU) * (1 - 2 * NU))
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
 
@@ -36,8 +33,8 @@ def _user_model(dm, E_form=E, bc_value=0.0):
     a = ufl.inner(2 * mu * eps(u) + lam * ufl.tr(eps(u)) * ufl.Identity(2), eps(v)) * ufl.dx
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=dm.facet_tags)
     L = ufl.dot(-4.0 * ufl.FacetNormal(mesh), v) * ds(dm.edge_id("top"))
-    dofs = fem.locate_dofs_topological(V.sub(0), 1, dm.facets("symmetry"))
-    bc = fem.dirichletbc(PETSc.ScalarType(bc_value), dofs, V.sub(0))
+    dofs = api.locate_dofs(V, dm.facets("symmetry"), component=0)
+    bc = api.dirichletbc(bc_value, dofs, V, component=0)
     return V, a, L, [bc], ds
 
 
@@ -61,7 +58,7 @@ def test_hybrid_on_the_exchanged_mesh_equals_slipstep(hertz):
     assert np.abs(u - snap["u"]).max() < 1e-8 * np.abs(snap["u"]).max()  # measured 7e-14
     assert len(out.result["events"]["kind"]) == len(result["events"]["kind"])
     # the pressure Function integrates to the total normal force (= P/2 = 500 N/mm)
-    force = fem.assemble_scalar(fem.form(out.pressure * ds(dm.edge_id("arc"))))
+    force = api.assemble_scalar(out.pressure * ds(dm.edge_id("arc")))
     assert force == pytest.approx(out.result["snapshots"][-1]["lambda_n"].sum(), rel=1e-12)
     assert force == pytest.approx(500.0, rel=1e-9)
     # nodal pressure equals slipstep's per pair (pairs matched by node)

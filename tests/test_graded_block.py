@@ -23,13 +23,28 @@ def half_space():
     return M.graded_block(W, H, HC, ZONE, HMAX)
 
 
+def side_counts(mesh: M.Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """Every triangle side once (node pairs, sorted) and how many triangles share it."""
+    t = mesh.triangles
+    return np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]),
+                             axis=1), axis=0, return_counts=True)
+
+
 def sides(mesh: M.Mesh) -> tuple[np.ndarray, np.ndarray]:
     """Every triangle side once: its length and its midpoint."""
-    t = mesh.triangles
-    pairs = np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]),
-                              axis=1), axis=0)
+    pairs, _ = side_counts(mesh)
     p, q = mesh.nodes[pairs[:, 0]], mesh.nodes[pairs[:, 1]]
     return np.linalg.norm(q - p, axis=1), 0.5 * (p + q)
+
+
+def assert_edges_are_the_boundary(mesh: M.Mesh) -> None:
+    """Conforming (no side shared by three triangles), and the tagged segments are exactly
+    the boundary sides of the triangulation, each once."""
+    uniq, counts = side_counts(mesh)
+    assert counts.max() == 2
+    boundary = {tuple(s) for s in uniq[counts == 1]}
+    tagged = [tuple(s) for tag in mesh.edges for s in np.sort(mesh.edges[tag], axis=1)]
+    assert len(tagged) == len(set(tagged)) and set(tagged) == boundary
 
 
 def segment_lengths(mesh: M.Mesh, tag: str) -> np.ndarray:
@@ -117,12 +132,7 @@ def test_edge_tags_cover_the_boundary(half_space):
         assert abs(lengths[tag] - side) <= 1e-12 * side, tag
     assert abs(sum(lengths.values()) - 2 * (W + H)) <= 1e-12 * 2 * (W + H)
     # the tagged segments are exactly the boundary sides of the triangulation
-    t = m.triangles
-    all_sides = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
-    uniq, counts = np.unique(all_sides, axis=0, return_counts=True)
-    boundary = {tuple(s) for s in uniq[counts == 1]}
-    tagged = [tuple(s) for tag in m.edges for s in np.sort(m.edges[tag], axis=1)]
-    assert len(tagged) == len(set(tagged)) and set(tagged) == boundary
+    assert_edges_are_the_boundary(m)
     # the nodes of a side lie exactly on its line; outward normals (body on the left)
     expected = {"bottom": (1, 0.0, [0, -1]), "right": (0, W, [1, 0]), "top": (1, H, [0, 1]),
                 "left": (0, 0.0, [-1, 0])}
@@ -312,3 +322,162 @@ def test_uniform_edges_put_nodes_where_a_structured_body_has_them():
     assert np.abs(near - np.arange(11.0)).max() <= 1e-12 * 100.0
     # beyond the zone the side is graded as before: fewer nodes than a uniform division
     assert len(x) < 11 + 90
+
+
+# --------------------------------------------------------------------------- the refined block
+#: the paper blocks' half-space at h 1: the structured grid kept inside a box under the punch
+BOX, GROWTH = [0.0, -15.0, 15.0, 0.0], 0.15
+
+
+@pytest.fixture(scope="module")
+def refined():
+    return M.refined_block(W, H, 100, 100, BOX, HMAX, GROWTH, 0.0, -100.0)
+
+
+def triangles_by_position(mesh: M.Mesh, keep) -> set:
+    """The triangles whose centroid satisfies keep(x, y), each as its corners' coordinates
+    (rotated to start at the smallest corner, so the orientation is kept)."""
+    out = set()
+    for t in mesh.triangles:
+        corners = [tuple(p) for p in mesh.nodes[t].tolist()]
+        c = np.mean(corners, axis=0)
+        if keep(*c):
+            k = corners.index(min(corners))
+            out.add(tuple(corners[k:] + corners[:k]))
+    return out
+
+
+@needs_gmsh
+@pytest.mark.parametrize("box", [BOX, [0.0, -16.0, 16.0, 0.0], [30.0, -61.0, 47.0, -40.0]])
+def test_inside_the_box_the_mesh_is_the_structured_block(box):
+    """Same node coordinates (bit for bit) and the same triangles, diagonals included, as
+    block(): for boxes starting at odd (j = 85) and even (j = 84) rows, and inside (a hole)."""
+    m = M.refined_block(W, H, 100, 100, box, HMAX, GROWTH, 0.0, -100.0)
+    ref = M.block(W, H, 100, 100, 0.0, -100.0)
+
+    def inside(x, y):
+        return box[0] < x < box[2] and box[1] < y < box[3]
+
+    mine, theirs = triangles_by_position(m, inside), triangles_by_position(ref, inside)
+    assert len(theirs) == 2 * (box[2] - box[0]) * (box[3] - box[1])
+    assert mine == theirs
+
+
+@needs_gmsh
+def test_refined_block_is_a_valid_mesh_with_side_chains(refined):
+    m = refined
+    assert (M.signed_areas(m.nodes, m.triangles) > 0).all()
+    M.check_triangles(m.nodes, m.triangles)
+    assert abs(m.area() - W * H) <= 1e-10 * W * H  # straight sides, exact corner nodes
+    assert_edges_are_the_boundary(m)  # the box joins the gmsh part without hanging nodes
+    expected = {"bottom": (1, -100.0, [0, -1]), "right": (0, W, [1, 0]), "top": (1, 0.0, [0, 1]),
+                "left": (0, 0.0, [-1, 0])}
+    for tag, (axis, value, n) in expected.items():
+        s = m.edges[tag]
+        assert np.all(m.nodes[m.edge_nodes(tag), axis] == value), tag
+        assert np.allclose(M.outward_normals(m.nodes, s), n, atol=1e-12), tag
+        assert np.array_equal(s[1:, 0], s[:-1, 1]), tag  # one chain, in order
+    for name, xy in {"corner_bottom_left": [0.0, -100.0], "corner_bottom_right": [W, -100.0],
+                     "corner_top_right": [W, 0.0], "corner_top_left": [0.0, 0.0]}.items():
+        assert m.nodes[m.node_sets[name]].tolist() == [xy], name
+    # the top inside the box: the structured nodes x = 0, 1, ..., 15 exactly (a structured
+    # punch's nodes match them: node_to_node)
+    x = np.sort(m.nodes[m.edge_nodes("top"), 0])
+    assert np.array_equal(x[:16], np.arange(16.0))
+
+
+@needs_gmsh
+def test_refined_block_coarsens_away_from_the_box(refined):
+    """Outside the box the sides follow h + growth d (d from the box), up to h_max: the mean
+    ratio to the law within 15 % per band (as for the graded block above: gmsh spreads the
+    sides of its near-equilateral triangles about the target)."""
+    L, mid = sides(refined)
+    dx = np.maximum(mid[:, 0] - BOX[2], 0.0)
+    dy = np.maximum(BOX[1] - mid[:, 1], 0.0)
+    d = np.hypot(dx, dy)
+    law = np.minimum(1.0 + GROWTH * d, HMAX)
+    for lo, hi in ((5.0, 20.0), (20.0, 40.0), (40.0, 150.0)):
+        band = (d >= lo) & (d < hi)
+        assert band.sum() > 50
+        assert abs((L[band] / law[band]).mean() - 1.0) < 0.15, (lo, hi)
+    # the point of it: ~9 % of the structured block's 10 201 nodes
+    assert refined.n_nodes < 0.1 * 101 ** 2
+
+
+@needs_gmsh
+def test_refined_box_is_rounded_out_to_grid_lines_and_may_cover_the_block():
+    a = M.refined_block(W, H, 100, 100, [0.3, -14.2, 14.6, 0.0], HMAX, GROWTH, 0.0, -100.0)
+    b = M.refined_block(W, H, 100, 100, BOX, HMAX, GROWTH, 0.0, -100.0)
+    assert np.array_equal(a.nodes, b.nodes) and np.array_equal(a.triangles, b.triangles)
+    whole = M.refined_block(3.0, 1.7, 7, 3, [-1.5, 2.25, 1.5, 3.95], 0.5, x0=-1.5, y0=2.25)
+    assert digest(whole) == digest(M.block(3.0, 1.7, 7, 3, -1.5, 2.25))
+
+
+@needs_gmsh
+def test_a_box_across_the_block_splits_the_rest_in_two():
+    """The box spans the block's height: gmsh meshes two pieces, joined to the box's sides."""
+    m = M.refined_block(20.0, 10.0, 20, 10, [5.0, 0.0, 8.0, 10.0], 4.0, 0.3)
+    assert (M.signed_areas(m.nodes, m.triangles) > 0).all()
+    assert abs(m.area() - 200.0) <= 1e-10 * 200.0
+    assert_edges_are_the_boundary(m)
+    for tag in ("bottom", "top"):  # the box's grid nodes x = 5..8 on both, coarser beside
+        x = np.sort(m.nodes[m.edge_nodes(tag), 0])
+        assert set(range(5, 9)) <= set(x.tolist()) and len(x) < 21, tag
+
+
+def test_refined_block_refuses_bad_arguments():
+    with pytest.raises(M.MeshError, match=r"refine_box \[2, 0, 1, 1\] is empty"):
+        M.refined_block(3.0, 3.0, 3, 3, [2.0, 0.0, 1.0, 1.0], 1.0)
+    with pytest.raises(M.MeshError, match=r"reaches outside the block \[0, 3\] x \[0, 3\]"):
+        M.refined_block(3.0, 3.0, 3, 3, [1.0, 1.0, 4.0, 2.0], 1.0)
+    with pytest.raises(M.MeshError, match=r"need h_max >= the grid spacing 1"):
+        M.refined_block(3.0, 3.0, 3, 3, [1.0, 1.0, 2.0, 2.0], 0.5)
+
+
+@needs_gmsh
+def test_case_with_a_refined_block():
+    case = parse_case(CASE.format(mesh="h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 3.95]\n"
+                                       "h_max = 0.5\ngrowth = 0.3"))
+    spec = case.data["body"][0]["mesh"]
+    assert spec["refine_box"] == [-0.5, 3.0, 0.5, 3.95] and spec["growth"] == 0.3
+    m = mesh_body(case, 0)
+    assert m.n_nodes < 30 * 17 + 1  # coarser than the structured 30 x 17 cells
+    mine = triangles_by_position(m, lambda x, y: -0.5 < x < 0.5 and y > 3.0)
+    assert mine == triangles_by_position(M.block(3.0, 1.7, 30, 17, -1.5, 2.25),
+                                         lambda x, y: -0.5 < x < 0.5 and y > 3.0)
+
+
+REFINED = "h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 3.95]\nh_max = 0.5"
+
+
+@pytest.mark.parametrize("mesh, words", [
+    ("h = 0.1\nrefine_box = [0.5, 3.0, -0.5, 3.95]\nh_max = 0.5",
+     "x.toml: mesh.refine_box = [0.5, 3.0, -0.5, 3.95] is not allowed: write it [x0, y0, x1, "
+     "y1] with x0 < x1 and y0 < y1"),
+    ("h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 4.0]\nh_max = 0.5",
+     "x.toml: mesh.refine_box = [-0.5, 3.0, 0.5, 4.0] is not allowed: it reaches outside the "
+     "block [-1.5, 1.5] x [2.25, 3.95]; keep it inside"),
+    ("h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 3.95]",
+     "x.toml: mesh.h_max is missing: the refined block (refine_box) needs the largest element "
+     "size [length]; add `h_max = ...` to [body.mesh]"),
+    ("h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 3.95]\nh_max = 0.05",
+     "x.toml: mesh.h_max = 0.05 is not allowed: it must not be smaller than the grid spacing "
+     "0.1 that the refined block grows from"),
+    ("h_contact = 0.05\ncontact_zone = 0.4\nh_max = 0.5\nrefine_box = [-0.5, 3.0, 0.5, 3.95]",
+     "x.toml: mesh.refine_box = [-0.5, 3.0, 0.5, 3.95] is not allowed together with h_contact "
+     "= 0.05: refine_box keeps the structured block (nx/ny or h) inside it, h_contact grades "
+     "around focus; drop refine_box (or h_contact)"),
+    (REFINED + "\ncontact_zone = 0.4",
+     "x.toml: mesh.contact_zone = 0.4 is not allowed with refine_box: it shapes the graded "
+     "block (h_contact > 0), fine around focus; drop contact_zone"),
+    (REFINED + "\nfocus = [0.0, 3.95]", "mesh.focus = [0.0, 3.95] is not allowed with refine_box"),
+    ("h = 0.1\nh_max = 0.5",
+     "x.toml: mesh.h_max = 0.5 is not allowed without h_contact or refine_box: it shapes the "
+     "graded block (h_contact > 0) or the refined one (refine_box); add one of them or drop "
+     "h_max"),
+    ("h = 0.1\nrefine_box = [0.0, 1.0, 2.0]\nh_max = 0.5",
+     "x.toml: mesh.refine_box = [0.0, 1.0, 2.0] is not allowed: expected four numbers [x0, y0, "
+     "x1, y1]"),
+])
+def test_refined_block_validation_names_the_key_and_the_fix(mesh, words):
+    assert words in error_of(mesh)

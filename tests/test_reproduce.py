@@ -1,7 +1,8 @@
 """`slipstep reproduce --quick`: the paper's Table 1 and Figs. 5-16 on coarse meshes
 (h_contact = 0.1 mm for Table 1 and Fig. 10, 0.15 mm for the elastoplastic cylinder runs, block
-spacing 1 mm / 2 mm), checked against the closed forms with the tolerances stated per test, plus
-the paper's qualitative claims (issue 5).  One reproduction per module (~15-30 s on 2 cores)."""
+spacing 1 mm / 2 mm inside the half-space's refine_box), checked against the closed forms with
+the tolerances stated per test, plus the paper's qualitative claims (issue 5).  One
+reproduction per module (~15-30 s on 2 cores)."""
 
 from __future__ import annotations
 
@@ -100,11 +101,14 @@ def test_half_space_is_large_enough(quick):
 
 def test_block_scenes_are_substantially_plastic_below_collapse(quick):
     b = quick[1]["blocks"]
+    box = load_case(CASES / "paper_block_plastic.toml").body("halfspace")["mesh"]["refine_box"]
     for mu in (0, 0.2):
         p = b[f"plastic_mu{mu:g}"]
         assert p["first_yield_f"] < 0.8
         assert p["yielded_halfspace"] > 30 and p["plastic_zone_depth"] > 5.0
         assert p["plastic_zone_depth"] < 30.0, "the plastic zone stays far from the boundaries"
+        # and inside the half-space's refine_box, where its mesh is the structured block's
+        assert p["plastic_zone_depth"] < -box[1] and p["plastic_zone_width"] < box[2]
         assert p["max_plastic_strain"] > 5 * 25.0 / 70000.0
     # the elastic block's contact is stationary: every pair stays closed
     assert b["elastic"]["max_event_f"] < 1e-9
@@ -147,11 +151,14 @@ def test_block_case_files_validate():
     punch, half = pl.body("punch")["material"], pl.body("halfspace")["material"]
     assert punch["H"] == 0.0 and punch["Sy"] > 36.0  # elastic-perfectly plastic, Sy above q
     assert half["H"] > 0.0 and half["Sy"] < 36.0     # elastic-linear hardening, softer
-    # the lower block is 10x the punch half-width each way, and the meshes match at y = 0
+    # the lower block is 10x the punch half-width each way, and the meshes match at y = 0:
+    # the half-space's structured grid (refine_box) spans the interface under the punch
     for case in (el, pl):
         p, h = case.body("punch")["mesh"], case.body("halfspace")["mesh"]
         assert h["width"] == 10 * p["width"] and h["height"] == 10 * p["width"]
         assert p["y0"] == 0.0 and h["y0"] + h["height"] == 0.0 and p["h"] == h["h"]
+        x0, y0, x1, y1 = h["refine_box"]
+        assert x0 == h["x0"] and x1 >= p["x0"] + p["width"] and y1 == 0.0
 
 
 def test_cli_rerun_reuses_every_run(quick, capsys):

@@ -74,7 +74,8 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
     let plane = match get(d, "plane")?.extract::<String>()?.as_str() {
         "strain" => Plane::Strain,
         "stress" => Plane::Stress,
-        other => return Err(input_error(format!("engine model: plane = '{other}': use 'strain' or 'stress'"))),
+        "axisymmetric" => Plane::Axisymmetric,
+        other => return Err(input_error(format!("engine model: plane = '{other}': use 'strain', 'stress' or 'axisymmetric'"))),
     };
     let thickness: f64 = get(d, "thickness")?.extract()?;
     let fixed_dofs = i64_1d(d, "fixed_dofs")?.into_iter().map(|v| to_index(v, "fixed_dofs")).collect::<PyResult<_>>()?;

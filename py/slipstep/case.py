@@ -49,6 +49,7 @@ class Key:
     """One key of a table: its type, default, unit, meaning and an optional value check.
 
     ``type`` is one of ``"float"``, ``"int"``, ``"str"``, ``"bool"``, ``"vec2"`` (two floats),
+    ``"box"`` (four floats [x0, y0, x1, y1]),
     ``"axes"`` (a list of ``"x"``/``"y"``), ``"snapshots"`` (``"events"`` or a list of path
     times), ``"xy"`` (an inline table of floats x and/or y), ``"factors"`` (an inline table of
     floats by load name).  ``check(value)`` returns ``None`` or the reason the value is not
@@ -113,15 +114,21 @@ CASE_KEYS = {
 }
 
 ANALYSIS_KEYS = {
-    "plane": Key("str", "strain", doc="2D idealisation", choices=("strain", "stress")),
-    "thickness": Key("float", 1.0, unit="length", doc="out-of-plane thickness t",
+    "plane": Key("str", "strain", doc='2D idealisation: "strain", "stress" or "axisymmetric" '
+                                      "(rings about the axis x = 0: x = r >= 0, y = z; forces "
+                                      "are totals over the full ring)",
+                 choices=("strain", "stress", "axisymmetric")),
+    "thickness": Key("float", 1.0, unit="length", doc="out-of-plane thickness t (plane strain "
+                                                      "and plane stress only)",
                      check=_positive("the thickness")),
 }
 
 LOAD_KEYS = {
     "P": Key("float", REQUIRED, unit="force/length",
              doc="Hertz convenience: total compressive line load on the FULL cylinder per unit "
-                 "thickness; the quarter model gets pressure q = P/(2R) on its cut edge `top`",
+                 "thickness; the quarter model gets pressure q = P/(2R) on its cut edge `top`. "
+                 'With plane = "axisymmetric" the quarter section is a hemisphere and P the '
+                 "total force [force] on the sphere: q = P/(pi R^2) on the cut",
              check=_positive("the load P")),
     "body": Key("str", "", doc="the quarter_cylinder body it acts on (default: the only one)"),
 }
@@ -207,10 +214,11 @@ BLOCK_KEYS = {
     "contact_zone": Key("float", 0.0, unit="length",
                         doc="graded block: radius of the fine zone around focus",
                         check=_positive("contact_zone")),
-    "h_max": Key("float", 0.0, unit="length", doc="graded block: largest element size",
-                 check=_positive("h_max")),
-    "growth": Key("float", 0.1, doc="graded block: size growth per unit distance outside the "
-                                    "zone (h = h_contact + growth * (d - contact_zone))",
+    "h_max": Key("float", 0.0, unit="length", doc="graded or refined block: largest element "
+                                                  "size", check=_positive("h_max")),
+    "growth": Key("float", 0.1, doc="graded or refined block: size growth per unit distance "
+                                    "outside the fine zone (graded: h = h_contact + growth * (d "
+                                    "- contact_zone); refined: h + growth * d from the box)",
                   check=_positive("growth")),
     "focus": Key("vec2", None, unit="length",
                  doc="graded block: the point [x, y] it is fine around, inside or on the "
@@ -219,6 +227,11 @@ BLOCK_KEYS = {
                          doc="graded block with focus on the boundary: divide the side from "
                              "focus to a corner within contact_zone uniformly at h_contact, so "
                              "a structured body's nodes can match it (node_to_node)"),
+    # the refined block: the structured one (nx/ny or h) kept inside refine_box, gmsh outside
+    "refine_box": Key("box", None, unit="length",
+                      doc="structured block: keep its grid (nx/ny or h) only inside this box "
+                          "[x0, y0, x1, y1] (rounded out to grid lines) and coarsen the rest "
+                          "up to h_max (gmsh)"),
 }
 
 QUARTER_ANNULUS_KEYS = {
@@ -253,6 +266,12 @@ MESH_VARIANTS = {"quarter_cylinder": QUARTER_CYLINDER_KEYS,
                  "half_cylinder": QUARTER_CYLINDER_KEYS, "block": BLOCK_KEYS,
                  "quarter_annulus": QUARTER_ANNULUS_KEYS, "given": GIVEN_MESH_KEYS}
 
+def block_divisions(mesh: dict) -> tuple[int, int]:
+    """The structured block's cells (nx, ny): as given, or round(size / h)."""
+    return (mesh["nx"] or max(1, round(mesh["width"] / mesh["h"])),
+            mesh["ny"] or max(1, round(mesh["height"] / mesh["h"])))
+
+
 #: Edge tags that the generators create (file meshes bring their own).
 GENERATOR_EDGES = {
     "quarter_cylinder": ("arc", "symmetry", "top"),
@@ -281,7 +300,9 @@ POINT_LOAD_KEYS = {
     "name": Key("str", "", doc="optional name"),
     "body": Key("str", "", doc="restrict the node search to this body (default: all bodies)"),
     "at": Key("vec2", REQUIRED, unit="length", doc="the load goes to the node nearest this point"),
-    "force": Key("vec2", REQUIRED, unit="force/length", doc="[Fx, Fy] per unit thickness"),
+    "force": Key("vec2", REQUIRED, unit="force/length",
+                 doc='[Fx, Fy] per unit thickness (plane = "axisymmetric": the total over the '
+                     "node's ring [force])"),
 }
 
 _CONTACT_COMMON = {
@@ -674,6 +695,7 @@ def _fmt(value) -> str:
 _TYPE_HELP = {
     "float": "a number", "int": "an integer", "str": "a string in quotes",
     "bool": "true or false", "vec2": "two numbers, e.g. [0.0, 1.0]",
+    "box": "four numbers [x0, y0, x1, y1], e.g. [0.0, -15.0, 15.0, 0.0]",
     "axes": 'a list of "x"/"y", e.g. ["x", "y"]',
     "snapshots": '"events" or a list of load fractions',
     "xy": "an inline table of numbers x and/or y, e.g. {x = 0.0, y = -0.1}",
@@ -734,13 +756,15 @@ class _Validator:
         elif t == "bool":
             if not isinstance(v, bool):
                 raise bad
-        elif t == "vec2":
-            if (not isinstance(v, list) or len(v) != 2 or
+        elif t in ("vec2", "box"):
+            size, count = (2, "two") if t == "vec2" else (4, "four")
+            if (not isinstance(v, list) or len(v) != size or
                     any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in v)):
                 raise bad
             v = [float(c) for c in v]
             if not all(math.isfinite(c) for c in v):
-                raise self.fail(full, f"= {shown} is not allowed: expected two finite numbers")
+                raise self.fail(full, f"= {shown} is not allowed: expected {count} finite "
+                                      f"numbers")
         elif t == "axes":
             if not isinstance(v, list) or any(c not in ("x", "y") for c in v) or len(set(v)) != len(v):
                 raise bad
@@ -825,6 +849,7 @@ class _Validator:
             data[name] = self.table(raw.get(name, {}), keys, f"[{name}]", f"{name}.")
         data["load"] = (self.table(raw["load"], LOAD_KEYS, "[load]", "load.")
                         if "load" in raw else None)
+        self.axisymmetric_thickness(data, raw)
 
         bodies = self.array(raw, "body")
         if not bodies:
@@ -864,6 +889,15 @@ class _Validator:
         if reason:
             raise self.fail("output.snapshots", f"= {_fmt(snaps)} is not allowed: {reason}")
         return data
+
+    def axisymmetric_thickness(self, data: dict, raw: dict) -> None:
+        """``thickness`` does not apply to rings (every force is a total over the ring)."""
+        given = raw.get("analysis", {})
+        if data["analysis"]["plane"] == "axisymmetric" and "thickness" in given:
+            raise self.fail("analysis.thickness", f"= {_fmt(given['thickness'])} is not allowed "
+                                                  f'with plane = "axisymmetric": forces are '
+                                                  f"totals over the full ring (2 pi r), there is "
+                                                  f"no thickness; remove analysis.thickness")
 
     def stage_names(self, stages: list) -> None:
         """Stage names must be unique (--set and the outputs address stages by name)."""
@@ -935,44 +969,96 @@ class _Validator:
                                 f"{_fmt(mesh['b'] - mesh['a'])}")
 
     def block_mesh(self, mesh: dict, raw: dict, prefix: str) -> None:
-        """block: structured (nx/ny or h) or graded (h_contact around focus), not both."""
-        if mesh["h_contact"] == 0:  # structured: nx/ny or h
-            for n, size in (("nx", "width"), ("ny", "height")):
-                if mesh[n] == 0 and mesh["h"] == 0:
-                    raise self.fail(prefix + n, f"is missing: give {n} (divisions along "
-                                    f"{size}) or h (element size), or h_contact (a graded "
-                                    f"gmsh mesh)")
-            for key in ("contact_zone", "h_max", "growth", "focus", "uniform_edges"):  # would do nothing
-                if key in raw:
-                    raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed "
-                                    f"without h_contact: it shapes the graded block "
-                                    f"(h_contact > 0); add h_contact or drop {key}")
-        else:  # graded (gmsh) around focus
-            hc = _fmt(mesh["h_contact"])
-            for key in ("nx", "ny", "h"):
-                if mesh[key] > 0:
-                    raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed "
-                                    f"together with h_contact = {hc}: nx/ny/h make the "
-                                    f"structured block, h_contact the graded one; drop "
-                                    f"{key} (or h_contact)")
-            for key, what in (("contact_zone", "the radius of the fine zone around focus"),
-                              ("h_max", "the largest element size")):
-                if mesh[key] == 0:
-                    raise self.fail(prefix + key, f"is missing: the graded block "
-                                    f"(h_contact = {hc}) needs {what} [length]; add "
-                                    f"`{key} = ...` to [body.mesh]")
-            if mesh["h_contact"] > mesh["h_max"]:
-                raise self.fail(prefix + "h_contact", f"= {hc} is not allowed: it must not "
-                                f"exceed h_max = {_fmt(mesh['h_max'])}")
-            if mesh["focus"] is not None:
-                (fx, fy), x0, y0 = mesh["focus"], mesh["x0"], mesh["y0"]
-                x1, y1 = x0 + mesh["width"], y0 + mesh["height"]
-                tol = 1e-9 * max(mesh["width"], mesh["height"])  # as mesh.graded_block
-                if not (x0 - tol <= fx <= x1 + tol and y0 - tol <= fy <= y1 + tol):
-                    raise self.fail(prefix + "focus", f"= {_fmt(mesh['focus'])} is not "
-                                    f"allowed: it lies outside the block [{_fmt(x0)}, "
-                                    f"{_fmt(x1)}] x [{_fmt(y0)}, {_fmt(y1)}]; move it "
-                                    f"inside or onto the boundary")
+        """block: structured (nx/ny or h; refined with refine_box) or graded (h_contact around
+        focus), not both."""
+        if mesh["h_contact"] == 0:
+            self.structured_block_mesh(mesh, raw, prefix)
+        else:
+            self.graded_block_mesh(mesh, prefix)
+
+    def structured_block_mesh(self, mesh: dict, raw: dict, prefix: str) -> None:
+        """nx/ny or h; the keys of the graded block would do nothing (h_max and growth shape
+        the refined block too)."""
+        for n, size in (("nx", "width"), ("ny", "height")):
+            if mesh[n] == 0 and mesh["h"] == 0:
+                raise self.fail(prefix + n, f"is missing: give {n} (divisions along "
+                                f"{size}) or h (element size), or h_contact (a graded "
+                                f"gmsh mesh)")
+        refined = mesh["refine_box"] is not None
+        for key in ("contact_zone", "focus", "uniform_edges", "h_max", "growth"):
+            if key not in raw or (refined and key in ("h_max", "growth")):
+                continue
+            shown = f"= {_fmt(mesh[key])} is not allowed"
+            if refined:
+                raise self.fail(prefix + key, f"{shown} with refine_box: it shapes the graded "
+                                f"block (h_contact > 0), fine around focus; drop {key}")
+            if key in ("h_max", "growth"):
+                raise self.fail(prefix + key, f"{shown} without h_contact or refine_box: it "
+                                f"shapes the graded block (h_contact > 0) or the refined one "
+                                f"(refine_box); add one of them or drop {key}")
+            raise self.fail(prefix + key, f"{shown} without h_contact: it shapes the graded "
+                            f"block (h_contact > 0); add h_contact or drop {key}")
+        if refined:
+            self.refine_box(mesh, prefix)
+
+    def refine_box(self, mesh: dict, prefix: str) -> None:
+        """The refined block: a box [x0, y0, x1, y1] inside the block, h_max >= the grid
+        spacing."""
+        bx0, by0, bx1, by1 = mesh["refine_box"]
+        x0, y0, x1, y1 = mesh["x0"], mesh["y0"], mesh["x0"] + mesh["width"], \
+            mesh["y0"] + mesh["height"]
+        shown = f"= {_fmt(mesh['refine_box'])} is not allowed"
+        if not (bx0 < bx1 and by0 < by1):
+            raise self.fail(prefix + "refine_box", f"{shown}: write it [x0, y0, x1, y1] with "
+                            f"x0 < x1 and y0 < y1")
+        tol = 1e-9 * max(mesh["width"], mesh["height"])  # as mesh.refined_block
+        if not (x0 - tol <= bx0 and bx1 <= x1 + tol and y0 - tol <= by0 and by1 <= y1 + tol):
+            raise self.fail(prefix + "refine_box", f"{shown}: it reaches outside the block "
+                            f"[{_fmt(x0)}, {_fmt(x1)}] x [{_fmt(y0)}, {_fmt(y1)}]; keep it "
+                            f"inside")
+        if mesh["h_max"] == 0:
+            raise self.fail(prefix + "h_max", "is missing: the refined block (refine_box) "
+                            "needs the largest element size [length]; add `h_max = ...` to "
+                            "[body.mesh]")
+        nx, ny = block_divisions(mesh)
+        spacing = min(mesh["width"] / nx, mesh["height"] / ny)
+        if mesh["h_max"] < spacing:
+            raise self.fail(prefix + "h_max", f"= {_fmt(mesh['h_max'])} is not allowed: it "
+                            f"must not be smaller than the grid spacing {spacing:g} that the "
+                            f"refined block grows from")
+
+    def graded_block_mesh(self, mesh: dict, prefix: str) -> None:
+        """h_contact around focus: contact_zone and h_max given, no structured keys."""
+        hc = _fmt(mesh["h_contact"])
+        for key in ("nx", "ny", "h"):
+            if mesh[key] > 0:
+                raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed "
+                                f"together with h_contact = {hc}: nx/ny/h make the "
+                                f"structured block, h_contact the graded one; drop "
+                                f"{key} (or h_contact)")
+        if mesh["refine_box"] is not None:
+            raise self.fail(prefix + "refine_box", f"= {_fmt(mesh['refine_box'])} is not "
+                            f"allowed together with h_contact = {hc}: refine_box keeps the "
+                            f"structured block (nx/ny or h) inside it, h_contact grades around "
+                            f"focus; drop refine_box (or h_contact)")
+        for key, what in (("contact_zone", "the radius of the fine zone around focus"),
+                          ("h_max", "the largest element size")):
+            if mesh[key] == 0:
+                raise self.fail(prefix + key, f"is missing: the graded block "
+                                f"(h_contact = {hc}) needs {what} [length]; add "
+                                f"`{key} = ...` to [body.mesh]")
+        if mesh["h_contact"] > mesh["h_max"]:
+            raise self.fail(prefix + "h_contact", f"= {hc} is not allowed: it must not "
+                            f"exceed h_max = {_fmt(mesh['h_max'])}")
+        if mesh["focus"] is not None:
+            (fx, fy), x0, y0 = mesh["focus"], mesh["x0"], mesh["y0"]
+            x1, y1 = x0 + mesh["width"], y0 + mesh["height"]
+            tol = 1e-9 * max(mesh["width"], mesh["height"])  # as mesh.graded_block
+            if not (x0 - tol <= fx <= x1 + tol and y0 - tol <= fy <= y1 + tol):
+                raise self.fail(prefix + "focus", f"= {_fmt(mesh['focus'])} is not "
+                                f"allowed: it lies outside the block [{_fmt(x0)}, "
+                                f"{_fmt(x1)}] x [{_fmt(y0)}, {_fmt(y1)}]; move it "
+                                f"inside or onto the boundary")
 
     def need_body(self, name: str, key: str, edges: dict) -> None:
         if name not in edges:

@@ -20,9 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .derived import (centroids, contact_growth, contact_profile, force_displacement,
-                      is_elastoplastic, is_staged, path_history, snapshot_time, stage_names,
-                      von_mises)
+from .derived import (centroids, contact_growth, contact_profile, coordinate_names,
+                      force_displacement, is_elastoplastic, is_staged, path_history,
+                      snapshot_time, stage_names, von_mises)
 from .summary import contact_text
 
 STATUS_COLOURS = {0: "0.6", 1: "tab:blue", 2: "tab:red"}
@@ -174,7 +174,7 @@ def interface_figure(path: Path | None, scene, result, summary: dict):
         for ax in axes:
             ax.axvline(a, color="k", lw=0.7, ls=":")
     axes[0].legend(fontsize=8)
-    axes[-1].set_xlabel(label("x", scene, "length"))
+    axes[-1].set_xlabel(label(coordinate_names(scene)[0], scene, "length"))
     fig.suptitle(f"{scene.case.name}: interface at {_when(scene, result, snap)}   "
                  f"({contact_text(summary)})", fontsize=10)
     return finish(fig, path)
@@ -189,8 +189,10 @@ def growth_figure(path: Path | None, scene, result, summary: dict):
     hertz = summary.get("hertz")
     if hertz:
         ff = np.linspace(0.0, 1.0, 200)
-        ax.plot(ff, hertz["a_hertz"] * np.sqrt(ff), "k--", lw=1, label="Hertz a √f")  # no TeX:
-        # matplotlib's mathtext parser costs more than this whole figure
+        k = hertz.get("load_exponent", 0.5)  # a grows as f^k: 1/2 line contact, 1/3 sphere
+        # plain text, no TeX: matplotlib's mathtext parser costs more than this whole figure
+        ax.plot(ff, hertz["a_hertz"] * ff ** k, "k--", lw=1,
+                label="Hertz a √f" if k == 0.5 else "Hertz a f^(1/3)")
     ax.set_xlabel("load fraction f")
     ax.set_ylabel(label("contact half-length", scene, "length"))
     ax.set_xlim(0, 1)
@@ -363,8 +365,8 @@ def von_mises_figure(path: Path | None, scene, result, summary: dict):
         ax.set_xlim(*window[0])
         ax.set_ylim(*window[1])
     ax.set_aspect("equal")
-    ax.set_xlabel(label("x", scene, "length"))
-    ax.set_ylabel(label("y", scene, "length"))
+    ax.set_xlabel(label(coordinate_names(scene)[0], scene, "length"))
+    ax.set_ylabel(label(coordinate_names(scene)[1], scene, "length"))
     if handles:
         ax.legend(handles=handles, fontsize=8, loc="best")
     ax.set_title(f"{scene.case.name}: von Mises stress at {_when(scene, result, snap)}",

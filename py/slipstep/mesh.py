@@ -369,6 +369,17 @@ def quarter_annulus(a: float, b: float, h: float, h_outer: float = 0.0) -> Mesh:
                    flip_clockwise=True)
 
 
+def _grid_triangles(i: np.ndarray, j: np.ndarray, nid) -> np.ndarray:
+    """Cells (i, j) of a structured grid, each cut into two counter-clockwise triangles; the
+    diagonal alternates with the cell's parity: even i + j a-c, odd b-d (a, b, c, d the cell's
+    corners counter-clockwise from its lower left; ``nid(i, j)`` numbers the grid's nodes)."""
+    a, b, c, d = nid(i, j), nid(i + 1, j), nid(i + 1, j + 1), nid(i, j + 1)
+    even = (i + j) % 2 == 0
+    t1 = np.where(even[:, None], np.column_stack([a, b, c]), np.column_stack([a, b, d]))
+    t2 = np.where(even[:, None], np.column_stack([a, c, d]), np.column_stack([b, c, d]))
+    return np.concatenate([t1, t2])
+
+
 def block(width: float, height: float, nx: int, ny: int, x0: float = 0.0,
           y0: float = 0.0) -> Mesh:
     """A structured rectangle [x0, x0+width] x [y0, y0+height], nx by ny cells, each cut into
@@ -388,13 +399,7 @@ def block(width: float, height: float, nx: int, ny: int, x0: float = 0.0,
         return j * (nx + 1) + i
 
     i, j = np.meshgrid(np.arange(nx), np.arange(ny))
-    i, j = i.ravel(), j.ravel()
-    a, b, c, d = nid(i, j), nid(i + 1, j), nid(i + 1, j + 1), nid(i, j + 1)
-    even = (i + j) % 2 == 0
-    # even cells: diagonal a-c; odd cells: diagonal b-d (both CCW)
-    t1 = np.where(even[:, None], np.column_stack([a, b, c]), np.column_stack([a, b, d]))
-    t2 = np.where(even[:, None], np.column_stack([a, c, d]), np.column_stack([b, c, d]))
-    triangles = np.concatenate([t1, t2])
+    triangles = _grid_triangles(i.ravel(), j.ravel(), nid)
 
     bottom = np.column_stack([nid(np.arange(nx), 0), nid(np.arange(1, nx + 1), 0)])
     right = np.column_stack([nid(nx, np.arange(ny)), nid(nx, np.arange(1, ny + 1))])
@@ -507,6 +512,159 @@ def graded_block(width: float, height: float, h_contact: float, contact_zone: fl
         nodes[np.unique(edges[tag]), axis] = value
     return _finish(nodes, triangles, edges, node_sets, where="block mesh", flip_clockwise=True)
 
+
+# --------------------------------------------------------------------------- refined block
+def refined_block(width: float, height: float, nx: int, ny: int, box, h_max: float,
+                  growth: float = 0.1, x0: float = 0.0, y0: float = 0.0) -> Mesh:
+    """The structured :func:`block` (nx x ny cells) kept only inside ``box`` = [bx0, by0, bx1,
+    by1]; the rest of the rectangle meshed by gmsh, coarsening away from the box.
+
+    ``box`` is rounded outwards to the block's grid lines. Inside it the nodes and triangles
+    are the structured block's, bit for bit (same coordinates, same alternating diagonals,
+    counted from the block's corner (x0, y0)), so the box keeps the structured block's local
+    discretization; its sides keep the grid's nodes. Outside, gmsh aims at the element size
+    h + growth d, up to h_max (d: distance from the box; h: the smaller grid spacing; a Box
+    field). A box covering the whole block gives :func:`block` itself. Edge tags and corner
+    node sets as :func:`block`; each edge tag is one chain, in order.
+    """
+    rect = (x0, y0, x0 + width, y0 + height)
+    tol = 1e-9 * max(width, height)  # round-off of coordinates on the block's lines
+    cells = _box_cells(width, height, nx, ny, box, x0, y0)
+    if cells == (0, 0, nx, ny):
+        return block(width, height, nx, ny, x0, y0)
+    h = min(width / nx, height / ny)
+    if not (h_max >= h and growth > 0):
+        raise MeshError(f"block mesh: h_max = {h_max:g}, growth = {growth:g}: need h_max >= "
+                        f"the grid spacing {h:g} and growth > 0")
+    patch, patch_triangles = _structured_patch(width, height, nx, ny, cells, x0, y0)
+    counts = (cells[2] - cells[0], cells[3] - cells[1])
+    hole = (patch[0, 0], patch[0, 1], patch[-1, 0], patch[-1, 1])
+    outer, outer_triangles = _mesh_outside_box(rect, hole, counts, h, h_max, growth)
+    for axis, value in ((0, rect[0]), (1, rect[1]), (0, rect[2]), (1, rect[3])):
+        outer[np.abs(outer[:, axis] - value) <= tol, axis] = value  # the sides are exact lines
+    rows = _rows_on_patch(outer, patch, hole, counts, tol)
+    rows = np.where(rows >= 0, rows, len(patch) + np.arange(len(outer)))
+    nodes = np.vstack([patch, outer])
+    triangles = np.vstack([patch_triangles, rows[outer_triangles]])
+    edges, corners = _side_chains(nodes, np.unique(triangles), rect)
+    return _finish(nodes, triangles, edges, corners, where="block mesh")
+
+
+def _box_cells(width, height, nx, ny, box, x0, y0) -> tuple[int, int, int, int]:
+    """The box rounded outwards to the grid lines of the nx x ny block: the cells (i, j) with
+    i0 <= i < i1, j0 <= j < j1."""
+    bx0, by0, bx1, by1 = (float(v) for v in box)
+    x1, y1 = x0 + width, y0 + height
+    tol = 1e-9 * max(width, height)
+    shown = f"refine_box [{bx0:g}, {by0:g}, {bx1:g}, {by1:g}]"
+    if not (bx0 < bx1 and by0 < by1):
+        raise MeshError(f"block mesh: {shown} is empty: write it [x0, y0, x1, y1] with "
+                        f"x0 < x1 and y0 < y1")
+    if not (x0 - tol <= bx0 and bx1 <= x1 + tol and y0 - tol <= by0 and by1 <= y1 + tol):
+        raise MeshError(f"block mesh: {shown} reaches outside the block [{x0:g}, {x1:g}] x "
+                        f"[{y0:g}, {y1:g}]: keep it inside")
+    lower = [max(0, int(np.floor((b - o) * n / size + 1e-9)))
+             for b, o, n, size in ((bx0, x0, nx, width), (by0, y0, ny, height))]
+    upper = [min(n, max(lo + 1, int(np.ceil((b - o) * n / size - 1e-9))))
+             for b, o, n, size, lo in ((bx1, x0, nx, width, lower[0]),
+                                       (by1, y0, ny, height, lower[1]))]
+    return lower[0], lower[1], upper[0], upper[1]
+
+
+def _structured_patch(width, height, nx, ny, cells, x0, y0):
+    """Nodes and triangles of the cells of block(width, height, nx, ny, x0, y0) in ``cells``,
+    with the block's own coordinate formula and diagonal parity; node (i, j) is row
+    (j - j0) (i1 - i0 + 1) + i - i0."""
+    i0, j0, i1, j1 = cells
+    X, Y = np.meshgrid(x0 + width * np.arange(i0, i1 + 1) / nx,
+                       y0 + height * np.arange(j0, j1 + 1) / ny)
+
+    def nid(i, j):
+        return (j - j0) * (i1 - i0 + 1) + i - i0
+
+    i, j = np.meshgrid(np.arange(i0, i1), np.arange(j0, j1))
+    return np.column_stack([X.ravel(), Y.ravel()]), _grid_triangles(i.ravel(), j.ravel(), nid)
+
+
+def _mesh_outside_box(rect, hole, counts, h, h_max, growth):
+    """gmsh: the rectangle ``rect`` (x0, y0, x1, y1) minus ``hole``, the hole's sides divided
+    into counts = (along x, along y) equal segments; elsewhere the size h + growth d up to
+    h_max, d the distance from the hole (Box field). Nodes (2D), counter-clockwise triangles."""
+    x0, y0, x1, y1 = rect
+    X0, Y0, X1, Y1 = hole
+    with _gmsh_session() as gmsh:
+        gmsh.model.add("refined_block")
+        occ = gmsh.model.occ
+        occ.cut([(2, occ.addRectangle(x0, y0, 0.0, x1 - x0, y1 - y0))],
+                [(2, occ.addRectangle(X0, Y0, 0.0, X1 - X0, Y1 - Y0))])
+        occ.synchronize()
+        tol = 1e-9 * max(x1 - x0, y1 - y0)
+        for _, curve in gmsh.model.getEntities(1):
+            ends = [gmsh.model.getValue(0, abs(t), [])[:2]
+                    for _, t in gmsh.model.getBoundary([(1, curve)], oriented=False)]
+            n = _segments_on_hole(*ends, hole, counts, tol)
+            if n:
+                gmsh.model.mesh.setTransfiniteCurve(curve, n + 1)
+        fields = gmsh.model.mesh.field
+        size = fields.add("Box")
+        for key, value in (("VIn", h), ("VOut", h_max), ("XMin", X0), ("XMax", X1),
+                           ("YMin", Y0), ("YMax", Y1), ("Thickness", (h_max - h) / growth)):
+            fields.setNumber(size, key, value)
+        xyz, triangles, _, _ = _mesh_with_size_field(gmsh, size)
+    nodes = xyz[:, :2].copy()
+    flip = signed_areas(nodes, triangles) < 0
+    triangles[flip] = triangles[flip][:, [0, 2, 1]]
+    return nodes, triangles
+
+
+def _segments_on_hole(p, q, hole, counts, tol) -> int:
+    """The number of grid segments of the straight curve p-q if it lies on a side of the hole
+    (a part of it, when the hole touches the rectangle's boundary), else 0."""
+    X0, Y0, X1, Y1 = hole
+    (px, py), (qx, qy) = p, q
+    if abs(py - qy) <= tol and min(abs(py - Y0), abs(py - Y1)) <= tol \
+            and min(px, qx) >= X0 - tol and max(px, qx) <= X1 + tol:
+        return round(abs(qx - px) / (X1 - X0) * counts[0])
+    if abs(px - qx) <= tol and min(abs(px - X0), abs(px - X1)) <= tol \
+            and min(py, qy) >= Y0 - tol and max(py, qy) <= Y1 + tol:
+        return round(abs(qy - py) / (Y1 - Y0) * counts[1])
+    return 0
+
+
+def _rows_on_patch(outer, patch, hole, counts, tol) -> np.ndarray:
+    """Each gmsh node's row in the structured patch if it lies on the hole's boundary (where
+    it must coincide with a grid node), else -1."""
+    X0, Y0, X1, Y1 = hole
+    x, y = outer[:, 0], outer[:, 1]
+    on = np.flatnonzero((x >= X0 - tol) & (x <= X1 + tol) & (y >= Y0 - tol) & (y <= Y1 + tol))
+    i = np.rint((x[on] - X0) / (X1 - X0) * counts[0]).astype(np.int64)
+    j = np.rint((y[on] - Y0) / (Y1 - Y0) * counts[1]).astype(np.int64)
+    rows = np.full(len(outer), -1, dtype=np.int64)
+    rows[on] = j * (counts[0] + 1) + i
+    off = np.abs(patch[rows[on]] - outer[on]).max(axis=1, initial=0.0) > tol
+    if off.any():
+        k = on[np.argmax(off)]
+        raise MeshError(f"block mesh: gmsh put a node at ({x[k]:g}, {y[k]:g}) on the refine_box "
+                        f"side between the grid's nodes: report this (gmsh version)")
+    return rows
+
+
+def _side_chains(nodes, used, rect) -> tuple[dict, dict]:
+    """Edge tags bottom / right / top / left of a rectangle's mesh (the used nodes on each side,
+    counter-clockwise, joined into segments) and its corner node sets."""
+    x0, y0, x1, y1 = rect
+    sides = {"bottom": (1, y0, 0, 1.0), "right": (0, x1, 1, 1.0), "top": (1, y1, 0, -1.0),
+             "left": (0, x0, 1, -1.0)}
+    edges = {}
+    for tag, (axis, value, along, sense) in sides.items():
+        on = used[nodes[used, axis] == value]
+        on = on[np.argsort(sense * nodes[on, along], kind="stable")]
+        edges[tag] = np.column_stack([on[:-1], on[1:]])
+    corners = {}
+    for name, (cx, cy) in (("corner_bottom_left", (x0, y0)), ("corner_bottom_right", (x1, y0)),
+                           ("corner_top_right", (x1, y1)), ("corner_top_left", (x0, y1))):
+        corners[name] = used[(nodes[used, 0] == cx) & (nodes[used, 1] == cy)]
+    return edges, corners
 
 # --------------------------------------------------------------------------- files
 def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: float = 1.0) -> Mesh:

@@ -2,9 +2,13 @@
 
 Everything here is set up once, vectorised where it matters; the event loop itself is the
 engine's.  Besides the model, :class:`Scene` keeps what the output needs and the engine does
-not: which body each node belongs to, each candidate pair's node position and tributary
-length (contact pressure = lambda_n / (L t)), the Hertz reference when it applies, and the
-load path (named loads, stages, factors, supports and prescribed displacements, issue 13).
+not: which body each node belongs to, each candidate pair's node position, tributary length
+and contact area (contact pressure = lambda_n / area), the Hertz reference when it applies, and
+the load path (named loads, stages, factors, supports and prescribed displacements, issue 13).
+
+Plane strain, plane stress and axisymmetry (``[analysis] plane``) differ here only in how a
+boundary integral is weighted (:func:`boundary_shares`: t ds, or 2 pi r ds over the full ring),
+which edge loads, point loads, contact areas and the supports on the axis x = 0 follow.
 """
 
 from __future__ import annotations
@@ -16,7 +20,8 @@ import numpy as np
 
 from . import mesh as meshing
 from . import mortar
-from .case import RIGID_KINDS, Case, CaseError, Load, LoadPath, case_loads, element_key
+from .case import (RIGID_KINDS, Case, CaseError, Load, LoadPath, block_divisions,
+                   case_loads, element_key)
 from .errors import InputError
 
 
@@ -35,6 +40,8 @@ class Scene:
     pair_xy: np.ndarray               # (P, 2) position of node_a
     pair_length: np.ndarray           # (P,) tributary length of node_a on its candidate edge
     pair_contact: np.ndarray          # (P,) index of the [[contact]] entry it came from
+    # (P,) the area its contact force acts on: L t, or its ring 2 pi int N_a r ds (contact_areas)
+    pair_area: np.ndarray = field(default_factory=lambda: np.zeros(0))
     # node-to-segment rows: node a's closest target point (end nodes l1, l2 and parameter eta)
     # and its own initial gap, where the outputs measure gap and RTD; (-1, -1, 0) and nan else
     pair_foot: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
@@ -86,8 +93,11 @@ def mesh_body(case: Case, index: int) -> meshing.Mesh:
                                         spec["contact_zone"], spec["h_max"], spec["growth"],
                                         spec["focus"], spec["x0"], spec["y0"],
                                         spec["uniform_edges"])
-        nx = spec["nx"] or max(1, round(spec["width"] / spec["h"]))
-        ny = spec["ny"] or max(1, round(spec["height"] / spec["h"]))
+        nx, ny = block_divisions(spec)
+        if spec["refine_box"] is not None:  # the structured grid inside it, coarse outside
+            return meshing.refined_block(spec["width"], spec["height"], nx, ny,
+                                         spec["refine_box"], spec["h_max"], spec["growth"],
+                                         spec["x0"], spec["y0"])
         return meshing.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
     except meshing.MeshError as exc:
         raise CaseError(f"{case.source}: {where}: {exc}") from None
@@ -120,6 +130,7 @@ def build_scene(case: Case, meshes: dict[str, meshing.Mesh] | None = None) -> Sc
                   triangles=triangles, element_body=element_body, model={},
                   pair_xy=np.zeros((0, 2)), pair_length=np.zeros(0),
                   pair_contact=np.zeros(0, dtype=np.int64))
+    _check_radii(scene)
     pairs = contact_pairs(scene)
     _check_duplicate_nodes(scene, pairs)
     path = case.path
@@ -130,7 +141,7 @@ def build_scene(case: Case, meshes: dict[str, meshing.Mesh] | None = None) -> Sc
         "element_material": element_body.copy(),
         "materials": materials(case),
         "plane": data["analysis"]["plane"],
-        "thickness": float(data["analysis"]["thickness"]),
+        "thickness": float(data["analysis"]["thickness"]),  # the engine ignores it for rings
         "fixed_dofs": fixed,
         "load": load_vector(scene) if not path.staged else load_force(scene, path.head),
         "pairs": pairs,
@@ -140,6 +151,7 @@ def build_scene(case: Case, meshes: dict[str, meshing.Mesh] | None = None) -> Sc
         "element_body": element_body,
         "contact_names": contact_names(case),
     }
+    scene.pair_area = contact_areas(scene)
     set_load_path(scene, path)
     _check_pairs_not_held(scene)
     _check_stick_on_half_held(scene)
@@ -271,6 +283,25 @@ def _check_stick_on_half_held(scene: Scene) -> None:
                                f"(x_min/x_max/y_min/y_max)")
 
 
+def _check_radii(scene: Scene) -> None:
+    """Axisymmetry: x is the radius r >= 0; an element with a node at x < 0 (beyond round-off,
+    AXIS_TOLERANCE of the scene's size) is an error naming the body, element and node."""
+    if not is_axisymmetric(scene.case):
+        return
+    size = float(np.linalg.norm(np.ptp(scene.nodes, axis=0))) or 1.0
+    for name in scene.bodies:
+        mesh = scene.meshes[name]
+        left = (mesh.nodes[mesh.triangles, 0] < -AXIS_TOLERANCE * size).any(axis=1)
+        if left.any():
+            e = int(np.argmax(left))
+            node = int(mesh.triangles[e][np.argmin(mesh.nodes[mesh.triangles[e], 0])])
+            x, y = mesh.nodes[node]
+            raise CaseError(f"{scene.case.source}: body '{name}': element {e} has node {node} at "
+                            f'({x:.6g}, {y:.6g}), x < 0: with analysis.plane = "axisymmetric" '
+                            f"x is the radius r >= 0 (the axis is x = 0); move the body to "
+                            f'x >= 0, or use plane = "strain"')
+
+
 def _check_file_mesh_tags(case: Case, body_meshes: dict) -> None:
     """Edge tags of file meshes are only known now: check the BCs and contacts that use them."""
     data = case.data
@@ -321,9 +352,29 @@ def supports(scene: Scene) -> np.ndarray:
             dofs, values = _prescribed(scene, load, owner, holder)
             scene.prescribed[load.label] = {"dofs": dofs, "values": values}
             _add_support(scene, bcs[load.index]["name"] or f"bc {load.index}", [dofs])
+    if is_axisymmetric(scene.case):
+        fixed.append(_axis_supports(scene))
     if not fixed:
         return np.zeros(0, dtype=np.int64)
     return np.unique(np.concatenate(fixed)).astype(np.int64)
+
+
+def _axis_supports(scene: Scene) -> np.ndarray:
+    """Axisymmetry: u_r = 0 at every node on the axis x = 0 (within 1e-9 of the scene's size,
+    the engine's AXIS_TOLERANCE; the engine adds them too); a prescribed radial displacement
+    there is an error naming the [[bc]]."""
+    size = float(np.linalg.norm(np.ptp(scene.nodes, axis=0))) or 1.0
+    dofs = 2 * np.flatnonzero(np.abs(scene.nodes[:, 0]) <= AXIS_TOLERANCE * size)
+    for name, p in scene.prescribed.items():
+        clash = np.isin(p["dofs"], dofs)
+        if clash.any():
+            node = int(p["dofs"][np.argmax(clash)]) // 2
+            load = next(x for x in case_loads(scene.case.data) if x.label == name)
+            raise scene.case.error(f"{load.key}.displacement.x", f"node {node} (0, "
+                                   f"{scene.nodes[node, 1]:.6g}) lies on the axis x = 0, where "
+                                   f'plane = "axisymmetric" holds u_r = 0 already: drop x '
+                                   f"from displacement, or use a node set off the axis")
+    return dofs.astype(np.int64)
 
 
 def _add_support(scene: Scene, name: str, dofs: list) -> None:
@@ -384,25 +435,85 @@ def _prescribed(scene: Scene, load: Load, owner: np.ndarray, holder: np.ndarray)
     return dofs.astype(np.int64), values.astype(np.float64)
 
 
+# --------------------------------------------------------------------------- the section
+#: A node within this x the scene's size of x = 0 lies on the axis (the engine's AXIS_TOLERANCE).
+AXIS_TOLERANCE = 1e-9
+
+
+def is_axisymmetric(case: Case) -> bool:
+    """True for ``[analysis] plane = "axisymmetric"`` (x = r, y = z, rings about x = 0)."""
+    return case.data["analysis"]["plane"] == "axisymmetric"
+
+
+def boundary_shares(nodes: np.ndarray, segments: np.ndarray, plane: str,
+                    thickness: float) -> np.ndarray:
+    """(S, 2): int N_k w ds over each linear segment for its end nodes k = 0, 1, the weight of a
+    uniform traction at each end (its consistent nodal force = traction x share, exact for
+    linear N).  Plane strain and plane stress: w = t, so t L/2 each; axisymmetric: w = 2 pi r,
+    the full ring, so 2 pi L (2 r_k + r_other)/6 (r linear along the segment)."""
+    length = np.linalg.norm(nodes[segments[:, 1]] - nodes[segments[:, 0]], axis=1)
+    if plane == "axisymmetric":
+        r0, r1 = nodes[segments[:, 0], 0], nodes[segments[:, 1], 0]
+        return (2.0 * math.pi / 6.0) * length[:, None] * np.stack([2 * r0 + r1, r0 + 2 * r1], 1)
+    half = 0.5 * (length * thickness)
+    return np.stack([half, half], axis=1)
+
+
+def node_shares(nodes: np.ndarray, segments: np.ndarray, plane: str, thickness: float,
+                ids: np.ndarray) -> np.ndarray:
+    """Sum of :func:`boundary_shares` at each node of ``ids`` over the segments touching it:
+    t L (L the tributary length) in the plane, int N_i 2 pi r ds (its ring) in axisymmetry."""
+    per_node = np.zeros(len(nodes))
+    if len(segments):
+        share = boundary_shares(nodes, segments, plane, thickness)
+        np.add.at(per_node, segments[:, 0], share[:, 0])
+        np.add.at(per_node, segments[:, 1], share[:, 1])
+    return per_node[ids]
+
+
+def contact_areas(scene: Scene) -> np.ndarray:
+    """(P,) the area each candidate pair's contact force acts on (pressure = lambda_n / area):
+    node a's tributary length L x the thickness in plane strain and plane stress; in
+    axisymmetry its ring over the contactor edge, 2 pi int N_a r ds (:func:`node_shares`;
+    2 pi r L inside a uniformly divided edge, pi L^2/3 at the axis with L its segment), times
+    L / L_edge for a node-to-segment row (the part of its surface that projects).  This is the
+    consistent area: a uniform pressure p puts lambda = p x area on every node, so a smooth
+    pressure is read node by node to O(h^2), also at the axis (the lumped disc pi (L/2)^2 there
+    would read it 4/3 too high)."""
+    data = scene.case.data
+    plane, t = data["analysis"]["plane"], data["analysis"]["thickness"]
+    if plane != "axisymmetric":
+        return scene.pair_length * t
+    pairs = scene.model["pairs"]
+    area = np.zeros(len(scene.pair_length))
+    for i, c in enumerate(data["contact"]):
+        mine = np.flatnonzero(scene.pair_contact == i)
+        seg = scene.global_edge(*contactor_edge(c))
+        a = pairs["node_a"][mine]
+        area[mine] = node_shares(scene.nodes, seg, plane, t, a)
+        if c["kind"] == "node_to_segment":
+            area[mine] *= scene.pair_length[mine] / tributary_lengths(scene.nodes, seg, a)
+    return area
+
+
 # --------------------------------------------------------------------------- loads
 def edge_load(nodes: np.ndarray, segments: np.ndarray, n_nodes: int, thickness: float,
-              pressure: float = 0.0, traction=(0.0, 0.0)) -> np.ndarray:
+              pressure: float = 0.0, traction=(0.0, 0.0), plane: str = "strain") -> np.ndarray:
     """Consistent nodal loads of a uniform pressure and/or traction on linear edge segments.
 
-    Traction on a segment: t = traction - pressure * n (n outward); its resultant t L thickness
-    is shared half and half by the two end nodes (exact for linear shape functions).
-    Returns a (2 n_nodes,) vector.
+    Traction on a segment: t = traction - pressure * n (n outward); each end node gets t times
+    its :func:`boundary_shares` (half of t L thickness in the plane; in axisymmetry the ring
+    load 2 pi int N_i r t ds).  Returns a (2 n_nodes,) vector.
     """
     f = np.zeros(2 * n_nodes)
     if len(segments) == 0:
         return f
-    p, q = nodes[segments[:, 0]], nodes[segments[:, 1]]
-    length = np.linalg.norm(q - p, axis=1)
     t = np.asarray(traction, dtype=np.float64)[None, :] - pressure * meshing.outward_normals(nodes, segments)
-    half = 0.5 * t * (length * thickness)[:, None]
+    share = boundary_shares(nodes, segments, plane, thickness)
     for end in (0, 1):
+        force = t * share[:, end, None]
         for c in (0, 1):
-            np.add.at(f, 2 * segments[:, end] + c, half[:, c])
+            np.add.at(f, 2 * segments[:, end] + c, force[:, c])
     return f
 
 
@@ -418,26 +529,26 @@ def load_vector(scene: Scene) -> np.ndarray:
 
 
 def load_force(scene: Scene, load: Load | None) -> np.ndarray:
-    """The nodal force of one load at factor 1, thickness included (zeros for None or a load
-    without force)."""
+    """The nodal force of one load at factor 1, thickness included (ring totals in
+    axisymmetry; zeros for None or a load without force)."""
     data, n = scene.case.data, len(scene.nodes)
-    t = data["analysis"]["thickness"]
+    t, plane = data["analysis"]["thickness"], data["analysis"]["plane"]
     f = np.zeros(2 * n)
     if load is None or not load.force:
         return f
     if load.array == "load":
         return edge_load(scene.nodes, scene.global_edge(data["load"]["body"], "top"), n, t,
-                         pressure=hertz_cut_pressure(scene.case))
+                         pressure=hertz_cut_pressure(scene.case), plane=plane)
     if load.array == "bc":
         bc = data["bc"][load.index]
         return edge_load(scene.nodes, scene.global_edge(bc["body"], bc["edge"]), n, t,
-                         bc["pressure"], bc["traction"])
+                         bc["pressure"], bc["traction"], plane=plane)
     pl = data["point_load"][load.index]
     candidates = ([pl["body"]] if pl["body"] else scene.bodies)
     ids = np.concatenate([np.arange(scene.meshes[b].n_nodes) + scene.offsets[b]
                           for b in candidates])
     node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1))]
-    f[2 * node:2 * node + 2] += np.asarray(pl["force"]) * t
+    f[2 * node:2 * node + 2] += np.asarray(pl["force"]) * (1.0 if plane == "axisymmetric" else t)
     return f
 
 
@@ -476,9 +587,12 @@ def load_pattern(scene: Scene, load: Load, with_force: bool) -> dict:
 
 def hertz_cut_pressure(case: Case) -> float:
     """q = P / (2R): the quarter model carries half the total load P across its cut of
-    length R (the other half is carried by the mirrored quarter)."""
+    length R (the other half is carried by the mirrored quarter).  In axisymmetry the quarter
+    section is a hemisphere whose cut is the disc of radius R: q = P / (pi R^2)."""
     load = case.data["load"]
     R = case.body(load["body"])["mesh"]["R"]
+    if is_axisymmetric(case):
+        return load["P"] / (math.pi * R ** 2)
     return load["P"] / (2.0 * R)
 
 
@@ -851,9 +965,17 @@ def solver_options(case: Case) -> dict:
 
 # --------------------------------------------------------------------------- reference
 def hertz_reference(scene: Scene) -> dict:
-    """Hertz line contact of a cylinder on a rigid flat (Johnson 1985, §4.3; §5.1 of the paper):
-    a = sqrt(4 P R / (pi E*)), p0 = 2 P / (pi a), E* = E / (1 - nu^2) in plane strain (E in
-    plane stress).  Only for a case with ``[load] P`` and a rigid_line contact on that body."""
+    """Hertz contact on a rigid flat (Johnson 1985, Contact Mechanics §4.2-4.3; §5.1 of the
+    paper), for a case with ``[load] P`` and a rigid_line contact on that body:
+
+    * a cylinder (plane strain or stress; line load P): a = sqrt(4 P R / (pi E*)),
+      p0 = 2 P / (pi a), E* = E / (1 - nu^2) in plane strain (E in plane stress); a and p0
+      grow as P^(1/2) (``load_exponent``);
+    * a sphere (axisymmetric; total force P): a = (3 P R / (4 E*))^(1/3), p0 = 3 P / (2 pi a^2),
+      approach delta = a^2 / R, E* = E / (1 - nu^2); a and p0 grow as P^(1/3), delta as
+      P^(2/3).
+
+    ``contact`` says which ("line" or "sphere")."""
     data = scene.case.data
     load = data["load"]
     if load is None:
@@ -862,8 +984,15 @@ def hertz_reference(scene: Scene) -> dict:
         return {}
     body = scene.case.body(load["body"])
     E, nu = body["material"]["E"], body["material"]["nu"]
-    E_star = E / (1.0 - nu ** 2) if data["analysis"]["plane"] == "strain" else E
     P, R = load["P"], body["mesh"]["R"]
+    plane = data["analysis"]["plane"]
+    if plane == "axisymmetric":
+        E_star = E / (1.0 - nu ** 2)
+        a = (3.0 * P * R / (4.0 * E_star)) ** (1.0 / 3.0)
+        return {"contact": "sphere", "a_hertz": a, "p0_hertz": 3.0 * P / (2.0 * math.pi * a ** 2),
+                "delta_hertz": a ** 2 / R, "P": P, "R": R, "E_star": E_star,
+                "load_exponent": 1.0 / 3.0}
+    E_star = E / (1.0 - nu ** 2) if plane == "strain" else E
     a = math.sqrt(4.0 * P * R / (math.pi * E_star))
-    return {"a_hertz": a, "p0_hertz": 2.0 * P / (math.pi * a), "P": P, "R": R,
-            "E_star": E_star}
+    return {"contact": "line", "a_hertz": a, "p0_hertz": 2.0 * P / (math.pi * a), "P": P,
+            "R": R, "E_star": E_star, "load_exponent": 0.5}

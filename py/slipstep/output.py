@@ -3,9 +3,11 @@ series and summary.json (:mod:`slipstep.results` writes them all, with the figur
 and renamed into place).
 
 Contact quantities per candidate pair (engine sign conventions, docs/engine_api.md):
-pressure = lambda_n / (L t) and tangential stress = lambda_t / (L t), with L the tributary
-length of node a on its edge and t the thickness; the tangential direction is
-t = (-n_y, n_x), i.e. (-1, 0) for a flat with normal (0, 1).
+pressure = lambda_n / area and tangential stress = lambda_t / area, with area = L t (L the
+tributary length of node a on its edge, t the thickness; in axisymmetry node a's ring, see
+slipstep.derived); the tangential direction is t = (-n_y, n_x), i.e. (-1, 0) for a flat with
+normal (0, 1).  Axisymmetric runs name the coordinates r, z and the stresses sigma_r, sigma_z,
+sigma_theta (hoop), tau_rz (:func:`slipstep.derived.coordinate_names`, ``stress_names``).
 """
 
 from __future__ import annotations
@@ -19,8 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .derived import (ELEMENT_EVENTS, contact_profile, event_positions, event_times,
-                      is_elastoplastic, snapshot_time, von_mises, yield_drift)
+from .derived import (ELEMENT_EVENTS, contact_profile, coordinate_names, event_positions,
+                      event_times, is_elastoplastic, snapshot_time, stress_names, von_mises,
+                      yield_drift)
 # Kept importable from here for existing callers; they live in derived and summary.
 from .derived import (contact_growth, contact_half_width, element_depth,  # noqa: F401
                       reached_last_candidate, stick_half_width)
@@ -33,14 +36,15 @@ STATUS_NAMES = ("open", "stick", "slip")
 def write_events_csv(path: Path, scene, result) -> None:
     """One row per (event, entity): step, load_fraction (within its stage), kind, entity,
     entity_kind (``pair`` or ``element``), x, y (node a of the pair; the element centroid for
-    the element events yield, unload, frozen_element), t (path time) and stage (1-based)."""
+    the element events yield, unload, frozen_element), t (path time) and stage (1-based); x, y
+    are called r, z in axisymmetry."""
     ev = result["events"]
     times, stages = event_times(result)
     where = event_positions(scene, result)
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["step", "load_fraction", "kind", "entity", "entity_kind", "x", "y", "t",
-                    "stage"])
+        w.writerow(["step", "load_fraction", "kind", "entity", "entity_kind",
+                    *coordinate_names(scene), "t", "stage"])
         for k in range(len(ev["step"])):
             kind, entity = ev["kind"][k], int(ev["entity"][k])
             x, y = where[k]
@@ -52,12 +56,13 @@ def write_events_csv(path: Path, scene, result) -> None:
 
 def write_profile_csv(path: Path, scene, snapshot: dict) -> None:
     """contact_profile.csv: the candidate pairs at the final snapshot, sorted by x; s is the
-    position along the pair's contact (slipstep.derived) and contact its [[contact]] name."""
+    position along the pair's contact (slipstep.derived) and contact its [[contact]] name; x, y
+    are called r, z in axisymmetry."""
     prof = contact_profile(scene, snapshot)
     names = scene.model["contact_names"]
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["x", "y", "pressure", "tangential_stress", "rtd", "status", "gap", "pair",
+        w.writerow([*coordinate_names(scene), "pressure", "tangential_stress", "rtd", "status", "gap", "pair",
                     "node_a", "s", "contact"])
         for i in range(len(prof["x"])):
             w.writerow([repr(float(prof["x"][i])), repr(float(prof["y"][i])),
@@ -83,8 +88,8 @@ def _working_directory(path: Path):
 def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     """``results.xdmf`` + ``results.h5``: a time series (time = path time t, the load fraction
     of a run without stages) of point data ``u`` and, when the result has it, ``reaction``
-    (each padded to 3 components for ParaView) and cell data sigma_x, sigma_y, sigma_z, tau_xy,
-    von_mises (plus plastic_strain, the equivalent plastic strain, and plastic, the 0/1 flag, in
+    (each padded to 3 components for ParaView) and cell data sigma_x, sigma_y, sigma_z, tau_xy
+    (axisymmetric: sigma_r, sigma_z, sigma_theta, tau_rz), von_mises (plus plastic_strain, the equivalent plastic strain, and plastic, the 0/1 flag, in
     elastoplastic cases, with yield_drift = |sigma_e - sigma_y(eps_p)|/sigma_y per plastic
     element; and body, the body index, when there are several); 2D points."""
     import meshio
@@ -105,8 +110,8 @@ def xdmf_step(scene, snap: dict) -> tuple[dict, dict]:
     n = len(scene.nodes)
     point_data = {key: _padded(snap[key], n) for key in ("u", "reaction") if key in snap}
     s = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
-    cell_data = {"sigma_x": [s[:, 0]], "sigma_y": [s[:, 1]], "sigma_z": [s[:, 2]],
-                 "tau_xy": [s[:, 3]], "von_mises": [von_mises(s)]}
+    cell_data = {name: [s[:, k]] for k, name in enumerate(stress_names(scene))}
+    cell_data["von_mises"] = [von_mises(s)]
     if is_elastoplastic(scene):
         for key in ("plastic_strain", "plastic"):
             if key in snap:

@@ -15,22 +15,27 @@ import numpy as np
 from .derived import (closed_extent, contact_axis, contact_profile, event_times,
                       final_load_fraction, final_time, first_yield, is_elastoplastic,
                       johnson_first_yield, load_factor, pair_coordinate, reached_last_candidate,
-                      reactions, snapshot_time, stage_ends, stage_names, stick_extent, von_mises)
-from .model import contact_bodies
+                      reactions, snapshot_time, sphere_axis_yield, stage_ends, stage_names,
+                      stick_extent, von_mises)
+from .model import AXIS_TOLERANCE, contact_bodies, is_axisymmetric
 
 
 def half_model_side(scene, index: int) -> int:
     """+1 (or -1) when [[contact]] ``index`` is one half of a scene mirrored across s = 0:
-    every body it touches has a [[bc]] symmetry edge lying on the line s = 0 (so that line is
-    perpendicular to the contact surface and through its origin), and every candidate pair
-    lies at s >= 0 (or s <= 0); else 0."""
+    every body it touches has a mirror lying on the line s = 0 (so that line is perpendicular
+    to the contact surface and through its origin): a [[bc]] symmetry edge, or in axisymmetry
+    its nodes on the axis x = 0 (then s = r and the half width is the contact radius); and
+    every candidate pair lies at s >= 0 (or s <= 0); else 0."""
     case = scene.case
     origin, tau = contact_axis(scene, index)
     tol = 1e-9 * float(np.ptp(scene.nodes, axis=0).max())  # round-off of the node coordinates
     for body in contact_bodies(case.data["contact"][index]):
-        mirrors = [bc for bc in case.data["bc"] if bc["symmetry"] and bc["body"] == body]
-        on_line = [np.abs((scene.nodes[np.unique(scene.global_edge(body, bc["edge"]))]
-                           - origin) @ tau).max() <= tol for bc in mirrors]
+        mirrors = [np.unique(scene.global_edge(body, bc["edge"])) for bc in case.data["bc"]
+                   if bc["symmetry"] and bc["body"] == body]
+        if is_axisymmetric(case):
+            mirrors.append(_axis_nodes(scene, body))
+        on_line = [len(ids) and np.abs((scene.nodes[ids] - origin) @ tau).max() <= tol
+                   for ids in mirrors]
         if not any(on_line):
             return 0
     s = pair_coordinate(scene)[scene.pair_contact == index]
@@ -39,6 +44,13 @@ def half_model_side(scene, index: int) -> int:
     if (s <= tol).all():
         return -1
     return 0
+
+
+def _axis_nodes(scene, body: str) -> np.ndarray:
+    """Global ids of a body's nodes on the axis x = 0 (axisymmetry; the engine's tolerance)."""
+    ids = np.arange(scene.meshes[body].n_nodes) + scene.offsets[body]
+    size = float(np.linalg.norm(np.ptp(scene.nodes, axis=0))) or 1.0
+    return ids[np.abs(scene.nodes[ids, 0]) <= AXIS_TOLERANCE * size]
 
 
 def contact_summaries(scene, result, snapshot: dict, sides: list[int],
@@ -154,12 +166,17 @@ def stage_records(scene, result) -> list[dict]:
 
 
 def _hertz_numbers(scene, summary: dict, f: float) -> dict:
-    """The closed-form Hertz values at the reached factor f of the load (a ~ sqrt(f),
-    p0 ~ sqrt(f)) and the run's relative errors against them; Johnson's first yield when
-    plastic."""
+    """The closed-form Hertz values at the reached factor f of the load (a and p0 ~ f^k,
+    k = ``load_exponent``: 1/2 for a line contact, 1/3 for a sphere, whose approach delta goes
+    as f^(2/3)) and the run's relative errors against them; Johnson's first yield when plastic
+    (for a sphere also the depth of Huber's axis maximum at that load)."""
     ref = dict(scene.reference)
-    ref["a_hertz_at_final"] = ref["a_hertz"] * math.sqrt(max(f, 0.0))
-    ref["p0_hertz_at_final"] = ref["p0_hertz"] * math.sqrt(max(f, 0.0))
+    f = max(f, 0.0)
+    scale = math.sqrt(f) if ref["contact"] == "line" else f ** ref["load_exponent"]
+    ref["a_hertz_at_final"] = ref["a_hertz"] * scale
+    ref["p0_hertz_at_final"] = ref["p0_hertz"] * scale
+    if "delta_hertz" in ref:
+        ref["delta_hertz_at_final"] = ref["delta_hertz"] * scale ** 2
     if "contact_half_width" in summary and ref["a_hertz_at_final"] > 0:
         ref["a_rel_error"] = summary["contact_half_width"] / ref["a_hertz_at_final"] - 1.0
         ref["p0_rel_error"] = summary["peak_pressure"] / ref["p0_hertz_at_final"] - 1.0
@@ -168,6 +185,10 @@ def _hertz_numbers(scene, summary: dict, f: float) -> dict:
         ref["f_yield_johnson"] = f_johnson
         f_fe = summary.get("first_yield_load_fraction")
         ref["first_yield_rel_error"] = None if f_fe is None else f_fe / f_johnson - 1.0
+        if ref.get("contact") == "sphere":
+            nu = scene.case.body(scene.case.data["load"]["body"])["material"]["nu"]
+            depth = sphere_axis_yield(nu)[1] * ref["a_hertz"] * f_johnson ** (1.0 / 3.0)
+            ref["first_yield_depth_huber"] = depth
     return ref
 
 

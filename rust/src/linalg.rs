@@ -20,7 +20,7 @@ use faer::linalg::cholesky::llt::factor::LltError;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Accum, Conj, Mat, MatMut, Par, Side};
-use nalgebra::Matrix3;
+use nalgebra::Matrix4;
 
 /// Where a global DOF goes in the reduced system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -266,14 +266,14 @@ impl StiffnessPattern {
         SparseColMat::new(self.symbolic.clone(), values)
     }
 
-    /// Lower triangle of K_reg = Σ_e t A Bᵀ D_e B over the equation DOFs.
-    pub fn assemble(&self, elements: &[Cst], tangents: &[Matrix3<f64>], thickness: f64, map: &DofMap) -> Result<SparseColMat<usize, f64>> {
+    /// Lower triangle of K_reg = Σ_e w Bᵀ D_e B over the equation DOFs (D_e: `Tangent::element_matrix`).
+    pub fn assemble(&self, elements: &[Cst], tangents: &[Matrix4<f64>], map: &DofMap) -> Result<SparseColMat<usize, f64>> {
         let mut values = vec![0.0; self.symbolic.row_idx().len()];
         // (for_each_entry visits the elements in turn: one element matrix at a time)
         let mut current: Option<(usize, nalgebra::SMatrix<f64, 6, 6>)> = None;
         for_each_entry(elements, map, |r, c, e, i, j| {
             if current.as_ref().map_or(true, |(k, _)| *k != e) {
-                current = Some((e, elements[e].stiffness(&tangents[e], thickness)));
+                current = Some((e, elements[e].stiffness(&tangents[e])));
             }
             let ke = &current.as_ref().expect("set above").1;
             values[self.position(r, c)] += ke[(i, j)];
@@ -531,12 +531,12 @@ mod tests {
             }
         }
         let mesh = Mesh { nodes, triangles };
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e)).collect();
+        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e, Plane::Strain, 2.0)).collect();
         let d = Material::elastic(1000.0, 0.3).elastic_tangent(Plane::Strain);
         let n = 2 * mesh.nodes.len();
         let mut k = nalgebra::DMatrix::<f64>::zeros(n, n);
         for el in &els {
-            let ke = el.stiffness(&d, 2.0);
+            let ke = el.stiffness(&d);
             for (i, gi) in el.dofs().iter().enumerate() {
                 for (j, gj) in el.dofs().iter().enumerate() {
                     k[(*gi, *gj)] += ke[(i, j)];
@@ -545,7 +545,7 @@ mod tests {
         }
         assert!((&k - k.transpose()).norm() < 1e-12 * k.norm());
         let map = DofMap::new(n, &vec![false; n], &[]);
-        let lower = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &vec![d; els.len()], 2.0, &map).unwrap();
+        let lower = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &vec![d; els.len()], &map).unwrap();
         let dense_lower = lower.to_dense();
         for i in 0..n {
             for j in 0..n {
@@ -585,7 +585,7 @@ mod tests {
             }
         }
         let mesh = Mesh { nodes, triangles };
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e)).collect();
+        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e, Plane::Stress, 1.0)).collect();
         let d = Material::elastic(1000.0, 0.3).elastic_tangent(Plane::Stress);
         let tangents = vec![d; els.len()];
         let mut fixed = vec![false; 18];
@@ -594,7 +594,7 @@ mod tests {
             fixed[2 * (3 * j) + 1] = true;
         }
         let map = DofMap::new(18, &fixed, &[]);
-        let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &tangents, 1.0, &map).unwrap();
+        let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &tangents, &map).unwrap();
         let mut s = SpdSolver::new(0);
         s.factor(&k, &map.dof_of_equation).unwrap();
         let rhs: Vec<f64> = (0..map.n_equations).map(|i| 1.0 + i as f64).collect();
@@ -625,7 +625,7 @@ mod tests {
             }
         }
         let mesh = Mesh { nodes, triangles };
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e)).collect();
+        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e, Plane::Strain, 1.0)).collect();
         let d = Material::elastic(1000.0, 0.3).elastic_tangent(Plane::Strain);
         let n_dofs = 2 * mesh.nodes.len();
         let mut fixed = vec![false; n_dofs];
@@ -635,7 +635,7 @@ mod tests {
         }
         let chosen_dofs: Vec<usize> = [3, 0, 4, 2, 1].iter().flat_map(|&j| [2 * (nx * j + nx - 1) + 1, 2 * (nx * j + nx - 1)]).collect();
         let map = DofMap::ordered(&els, n_dofs, &fixed, &[], &chosen_dofs).unwrap();
-        let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &vec![d; els.len()], 1.0, &map).unwrap();
+        let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &vec![d; els.len()], &map).unwrap();
         let chosen: Vec<usize> = chosen_dofs.iter().map(|&g| map.equation(g).unwrap()).collect();
         // The chosen DOFs are the last equations, in the order given.
         let t = chosen.len();

@@ -2,10 +2,12 @@
 //! (paper §2.2, eqs. 4–11, 18 and Appendix A).
 //!
 //! Stresses and strains carry four components (x, y, z, xy) with engineering shear strain
-//! (eq. 10), so plane strain (εz = 0, σz tracked), plane stress (σz = 0) and, later,
-//! axisymmetry share one code path: the 4×4 tangent is built once and then restricted
-//! (plane strain) or statically condensed (plane stress) to the in-plane 3×3 matrix that the
-//! CST needs.
+//! (eq. 10), z the out-of-plane direction: plane strain (εz = 0, σz tracked), plane stress
+//! (σz = 0) and axisymmetry (x = r, y = the axis z, and the z component is the hoop direction
+//! θ: εθ = u_r/r) share one code path. The 4×4 tangent is built once; the element's strain
+//! operator has four rows for every plane (element.rs), and `Tangent::element_matrix` gives the
+//! D it pairs with: restricted (plane strain), statically condensed (plane stress) or whole
+//! (axisymmetry).
 //!
 //! Prandtl–Reuss (eqs. 5–7) with the flow vector a = ∂σe/∂σ gives the elastoplastic tangent in
 //! *stiffness* form,   D_ep = D − (D a)(D a)ᵀ / (H' + aᵀ D a)   (eq. 11),
@@ -20,6 +22,8 @@ use nalgebra::{Matrix3, Matrix4, RowVector3, Vector3, Vector4};
 pub enum Plane {
     Strain,
     Stress,
+    /// Rings about the axis x = 0 (x = r >= 0, y = z); the z component is the hoop θ.
+    Axisymmetric,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -97,35 +101,30 @@ impl Material {
         Tangent { d4: d4 - da * da.transpose() / denom, flow: Some(Flow { da, denom }) }
     }
 
-    /// Elastic stiffness D (plane strain or plane stress).
-    pub fn elastic_tangent(&self, plane: Plane) -> Matrix3<f64> {
+    /// Elastic D over (x, y, z, xy) as the element pairs it with its strain operator: the
+    /// plane strain or plane stress 3×3 matrix embedded with a zero z row and column, the
+    /// whole D in axisymmetry. (The planar forms are the classical closed forms; `element_matrix`
+    /// of an elastic tangent agrees with them to round-off.)
+    pub fn elastic_tangent(&self, plane: Plane) -> Matrix4<f64> {
         let (e, nu) = (self.young, self.poisson);
         match plane {
             Plane::Strain => {
                 let c = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
-                Matrix3::new(
+                embed_in_plane(&Matrix3::new(
                     c * (1.0 - nu), c * nu, 0.0,
                     c * nu, c * (1.0 - nu), 0.0,
                     0.0, 0.0, c * (1.0 - 2.0 * nu) / 2.0,
-                )
+                ))
             }
             Plane::Stress => {
                 let c = e / (1.0 - nu * nu);
-                Matrix3::new(
+                embed_in_plane(&Matrix3::new(
                     c, c * nu, 0.0,
                     c * nu, c, 0.0,
                     0.0, 0.0, c * (1.0 - nu) / 2.0,
-                )
+                ))
             }
-        }
-    }
-
-    /// Out-of-plane stress increment of an elastic element: σz = ν(σx + σy) in plane strain,
-    /// 0 in plane stress.
-    pub fn sigma_z(&self, plane: Plane, sx: f64, sy: f64) -> f64 {
-        match plane {
-            Plane::Strain => self.poisson * (sx + sy),
-            Plane::Stress => 0.0,
+            Plane::Axisymmetric => self.elastic_d4(),
         }
     }
 }
@@ -182,28 +181,43 @@ pub struct Tangent {
     pub flow: Option<Flow>,
 }
 
+/// The in-plane components (x, y, xy) among (x, y, z, xy).
 const IN_PLANE: [usize; 3] = [0, 1, 3];
 
+/// A 3×3 matrix over (x, y, xy) as a 4×4 one over (x, y, z, xy) with a zero z row and column.
+fn embed_in_plane(m: &Matrix3<f64>) -> Matrix4<f64> {
+    let mut d = Matrix4::zeros();
+    for i in 0..3 {
+        for j in 0..3 {
+            d[(IN_PLANE[i], IN_PLANE[j])] = m[(i, j)];
+        }
+    }
+    d
+}
+
 impl Tangent {
-    /// Out-of-plane strain per unit in-plane strain: 0 in plane strain; from σz = 0 in
-    /// plane stress (static condensation).
-    fn strain_z_row(&self, plane: Plane) -> RowVector3<f64> {
+    /// Out-of-plane strain per unit in-plane strain in plane stress, from σz = 0 (static
+    /// condensation).
+    fn condensed_strain_z(&self) -> RowVector3<f64> {
+        let dz = self.d4[(2, 2)];
+        RowVector3::from_fn(|_, j| -self.d4[(2, IN_PLANE[j])] / dz)
+    }
+
+    /// The full strain (εx, εy, εz, γxy) of an element strain (its operator's four rows, z
+    /// zero in plane strain and plane stress, εθ in axisymmetry): εz from σz = 0 in plane
+    /// stress, as it is otherwise.
+    pub fn full_strain(&self, plane: Plane, e: &Vector4<f64>) -> Vector4<f64> {
         match plane {
-            Plane::Strain => RowVector3::zeros(),
             Plane::Stress => {
-                let dz = self.d4[(2, 2)];
-                RowVector3::from_fn(|_, j| -self.d4[(2, IN_PLANE[j])] / dz)
+                let in_plane = Vector3::new(e[0], e[1], e[3]);
+                Vector4::new(e[0], e[1], (self.condensed_strain_z() * in_plane)[0], e[3])
             }
+            Plane::Strain | Plane::Axisymmetric => *e,
         }
     }
 
-    /// The full strain (εx, εy, εz, γxy) of an in-plane strain (εx, εy, γxy).
-    pub fn full_strain(&self, plane: Plane, e: &Vector3<f64>) -> Vector4<f64> {
-        Vector4::new(e[0], e[1], (self.strain_z_row(plane) * e)[0], e[2])
-    }
-
-    /// In-plane 3×3 tangent for the CST.
-    pub fn in_plane(&self, plane: Plane) -> Matrix3<f64> {
+    /// In-plane 3×3 tangent (x, y, xy): restricted (εz = 0) or condensed (σz = 0).
+    fn in_plane(&self, plane: Plane) -> Matrix3<f64> {
         let mut d = Matrix3::from_fn(|i, j| self.d4[(IN_PLANE[i], IN_PLANE[j])]);
         if plane == Plane::Stress {
             let col_z = Vector3::from_fn(|i, _| self.d4[(IN_PLANE[i], 2)]);
@@ -213,14 +227,24 @@ impl Tangent {
         d
     }
 
-    /// Δσ (4 components) for an in-plane strain increment.
-    pub fn stress_increment(&self, plane: Plane, e: &Vector3<f64>) -> Vector4<f64> {
+    /// The D the element pairs with its four-row strain operator B (K_e = w Bᵀ D B, eq. 36):
+    /// the plane strain restriction or the plane stress condensation with a zero z row and
+    /// column, the whole 4×4 tangent in axisymmetry (the hoop row of B is live there).
+    pub fn element_matrix(&self, plane: Plane) -> Matrix4<f64> {
+        match plane {
+            Plane::Strain | Plane::Stress => embed_in_plane(&self.in_plane(plane)),
+            Plane::Axisymmetric => self.d4,
+        }
+    }
+
+    /// Δσ (4 components) for an element strain increment (eq. 10 with D or D_ep).
+    pub fn stress_increment(&self, plane: Plane, e: &Vector4<f64>) -> Vector4<f64> {
         self.d4 * self.full_strain(plane, e)
     }
 
     /// Equivalent plastic strain increment Δεp = (D a)ᵀ Δε / (H' + aᵀ D a) (Prandtl–Reuss);
     /// negative means elastic unloading. 0 for an elastic tangent.
-    pub fn plastic_multiplier(&self, plane: Plane, e: &Vector3<f64>) -> f64 {
+    pub fn plastic_multiplier(&self, plane: Plane, e: &Vector4<f64>) -> f64 {
         match self.flow {
             None => 0.0,
             Some(f) => f.da.dot(&self.full_strain(plane, e)) / f.denom,
@@ -247,7 +271,7 @@ mod tests {
     fn plane_strain_tangent_inverts_hooke() {
         // Plane strain: εz = 0 ⇒ εx = ((1-ν²)σx − ν(1+ν)σy)/E. Check D against this compliance.
         let m = Material::elastic(70_000.0, 0.3);
-        let d = m.elastic_tangent(Plane::Strain);
+        let d = Matrix3::from_fn(|i, j| m.elastic_tangent(Plane::Strain)[(IN_PLANE[i], IN_PLANE[j])]);
         let (e, nu) = (m.young, m.poisson);
         let c = Matrix3::new(
             (1.0 - nu * nu) / e, -nu * (1.0 + nu) / e, 0.0,
@@ -262,10 +286,33 @@ mod tests {
     fn plane_stress_uniaxial() {
         let m = Material::elastic(200.0, 0.25);
         let d = m.elastic_tangent(Plane::Stress);
-        // σ = (1,0,0) ⇒ ε = (1/E, −ν/E, 0)
-        let eps = nalgebra::Vector3::new(1.0 / 200.0, -0.25 / 200.0, 0.0);
+        // σ = (1,0,0) ⇒ ε = (1/E, −ν/E, 0); the z row and column are zero
+        let eps = Vector4::new(1.0 / 200.0, -0.25 / 200.0, 0.0, 0.0);
         let s = d * eps;
-        assert!((s - nalgebra::Vector3::new(1.0, 0.0, 0.0)).norm() < 1e-14);
+        assert!((s - Vector4::new(1.0, 0.0, 0.0, 0.0)).norm() < 1e-14);
+        // and the condensed elastic tangent agrees with it (to round-off)
+        let t = m.tangent(&Vector4::zeros(), false);
+        assert!((t.element_matrix(Plane::Stress) - d).norm() < 1e-13 * d.norm());
+    }
+
+    #[test]
+    fn axisymmetric_tangent_is_the_whole_d_and_inverts_hooke() {
+        // Rings: D over (εr, εz, εθ, γrz) is the 3D isotropic D; it inverts the compliance
+        // ε = ((1+ν)σ − ν tr σ)/E (normal) and γ = 2(1+ν)τ/E (round-off of a 4×4 product).
+        let m = Material::elastic(70_000.0, 0.3);
+        let d = m.elastic_tangent(Plane::Axisymmetric);
+        let (e, nu) = (m.young, m.poisson);
+        let c = Matrix4::from_fn(|i, j| match (i, j) {
+            (3, 3) => 2.0 * (1.0 + nu) / e,
+            (3, _) | (_, 3) => 0.0,
+            _ if i == j => 1.0 / e,
+            _ => -nu / e,
+        });
+        assert!((d * c - Matrix4::identity()).norm() < 1e-12);
+        assert_eq!(m.tangent(&Vector4::zeros(), false).element_matrix(Plane::Axisymmetric), d);
+        // the hoop strain is live: Δσ of a pure hoop strain has σθ = (λ + 2G) εθ
+        let s = m.tangent(&Vector4::zeros(), false).stress_increment(Plane::Axisymmetric, &Vector4::new(0.0, 0.0, 1e-3, 0.0));
+        assert!((s[2] - d[(2, 2)] * 1e-3).abs() < 1e-12 && s[0] == s[1]);
     }
 
     /// The paper's compliance form (A.2): C_ep = C + a aᵀ / H' (a = ∂σe/∂σ).
@@ -302,8 +349,8 @@ mod tests {
         m.yield_stress = 200.0;
         m.hardening = 0.0; // perfect plasticity: A.2 would divide by zero
         let s = Vector4::new(100.0, -100.0, 0.0, 20.0);
-        for plane in [Plane::Strain, Plane::Stress] {
-            let diff = m.tangent(&s, true).in_plane(plane) - m.tangent(&s, false).in_plane(plane);
+        for plane in [Plane::Strain, Plane::Stress, Plane::Axisymmetric] {
+            let diff = m.tangent(&s, true).element_matrix(plane) - m.tangent(&s, false).element_matrix(plane);
             let sv = diff.singular_values();
             let mut v: Vec<f64> = sv.iter().copied().collect();
             v.sort_by(|a, b| b.partial_cmp(a).unwrap());

@@ -3,6 +3,10 @@
 use crate::bail;
 use crate::error::Result;
 
+/// In axisymmetry a node within this × the mesh diameter of x = 0 lies on the axis (round-off
+/// of the node coordinates); one further left is at r < 0.
+pub const AXIS_TOLERANCE: f64 = 1e-9;
+
 #[derive(Debug, Clone)]
 pub struct Mesh {
     /// Node coordinates (x, y).
@@ -27,6 +31,20 @@ impl Mesh {
     pub fn diameter(&self) -> f64 {
         let (xmin, xmax, ymin, ymax) = self.nodes.iter().fold((f64::MAX, f64::MIN, f64::MAX, f64::MIN), |b, p| (b.0.min(p[0]), b.1.max(p[0]), b.2.min(p[1]), b.3.max(p[1])));
         ((xmax - xmin).powi(2) + (ymax - ymin).powi(2)).sqrt()
+    }
+
+    /// The nodes used by an element that lie on the axis x = 0 (within `AXIS_TOLERANCE`).
+    pub fn axis_nodes(&self) -> Vec<usize> {
+        let tol = AXIS_TOLERANCE * self.diameter();
+        let mut on_axis = vec![false; self.nodes.len()];
+        self.triangles.iter().flatten().filter(|&&i| self.nodes[i][0].abs() <= tol).for_each(|&i| on_axis[i] = true);
+        (0..self.nodes.len()).filter(|&i| on_axis[i]).collect()
+    }
+
+    /// The first element with a node at r = x < 0 (beyond `AXIS_TOLERANCE`): (element, node).
+    pub fn element_left_of_axis(&self) -> Option<(usize, usize)> {
+        let tol = AXIS_TOLERANCE * self.diameter();
+        self.triangles.iter().enumerate().find_map(|(e, t)| t.iter().find(|&&i| self.nodes[i][0] < -tol).map(|&i| (e, i)))
     }
 
     /// Reject meshes the element routines cannot integrate: no elements, NaN/inf coordinates,
@@ -160,5 +178,15 @@ mod tests {
         assert_eq!(body[0], 0);
         assert_eq!(body[off], 1);
         assert_eq!(body[off + 3], usize::MAX); // unused node
+    }
+
+    #[test]
+    fn axis_nodes_and_nodes_left_of_the_axis() {
+        let mut m = square();
+        m.nodes[3][0] = -1e-12; // round-off: on the axis
+        assert_eq!(m.axis_nodes(), vec![0, 3]);
+        assert_eq!(m.element_left_of_axis(), None);
+        m.nodes[3][0] = -1e-3;
+        assert_eq!(m.element_left_of_axis(), Some((1, 3)));
     }
 }

@@ -154,6 +154,8 @@ pub struct Model {
     pub element_material: Vec<usize>,
     pub materials: Vec<Material>,
     pub plane: Plane,
+    /// Out-of-plane thickness t (plane strain and plane stress; ignored in axisymmetry, where
+    /// every force is a total over the full ring).
     pub thickness: f64,
     /// DOFs with u = 0 (2·node + component).
     pub fixed_dofs: Vec<usize>,
@@ -189,9 +191,33 @@ impl Model {
         Ok(())
     }
 
+    /// The DOFs held at u = 0: `fixed_dofs`, and in axisymmetry u_r of every node on the axis
+    /// r = 0 (a ring of zero radius cannot move radially), added here so every caller gets it.
+    pub fn supported_dofs(&self) -> Vec<usize> {
+        let mut dofs = self.fixed_dofs.clone();
+        if self.plane == Plane::Axisymmetric {
+            dofs.extend(self.mesh.axis_nodes().iter().map(|&i| 2 * i));
+        }
+        dofs
+    }
+
+    /// The out-of-plane extent forces scale with: the thickness t in plane strain and plane
+    /// stress, the largest circumference 2π r_max in axisymmetry (forces are ring totals).
+    pub fn depth(&self) -> f64 {
+        match self.plane {
+            Plane::Axisymmetric => 2.0 * std::f64::consts::PI * self.mesh.nodes.iter().fold(0.0f64, |m, p| m.max(p[0])),
+            Plane::Strain | Plane::Stress => self.thickness,
+        }
+    }
+
     fn validate_bulk(&self) -> Result<()> {
         let n_dofs = 2 * self.mesh.n_nodes();
-        if !(self.thickness.is_finite() && self.thickness > 0.0) {
+        if self.plane == Plane::Axisymmetric {
+            if let Some((e, i)) = self.mesh.element_left_of_axis() {
+                let body = self.names.element_body.get(e).and_then(|&b| self.names.bodies.get(b)).map(|b| format!(" of body '{b}'")).unwrap_or_default();
+                bail!(Input, "element {e}{body} has node {i} at r = x = {:.6} < 0: an axisymmetric mesh lies in x = r >= 0 (the axis is x = 0); move the body to x >= 0", self.mesh.nodes[i][0]);
+            }
+        } else if !(self.thickness.is_finite() && self.thickness > 0.0) {
             bail!(Input, "thickness = {} is not allowed: give a positive out-of-plane thickness", self.thickness);
         }
         if self.materials.is_empty() {
@@ -223,7 +249,7 @@ impl Model {
     fn validate_path(&self) -> Result<()> {
         let n_dofs = 2 * self.mesh.n_nodes();
         let mut prescribed = vec![false; n_dofs];
-        self.fixed_dofs.iter().filter(|&&d| d < n_dofs).for_each(|&d| prescribed[d] = true);
+        self.supported_dofs().iter().filter(|&&d| d < n_dofs).for_each(|&d| prescribed[d] = true);
         for pat in &self.patterns {
             let name = &pat.name;
             if !pat.force.is_empty() && pat.force.len() != n_dofs {

@@ -526,3 +526,90 @@ fn path_input_errors_name_the_load_or_stage() {
     assert!(err.message.starts_with("load 'push'") && err.message.contains("already held"), "{}", err.message);
     let _ = bottom;
 }
+
+// ------------------------------------------------------------------------- axisymmetry
+
+/// Consistent ring loads 2π ∫ N_i r t ds of a uniform traction t on the straight boundary
+/// through the nodes `ids` (sorted along it): each segment gives its end i
+/// 2π L (2 r_i + r_j)/6 · t (N and r linear along it).
+fn ring_traction(mesh: &Mesh, mut ids: Vec<usize>, traction: [f64; 2], load: &mut [f64]) {
+    let key = |i: &usize| mesh.nodes[*i][0] + mesh.nodes[*i][1];
+    ids.sort_by(|a, b| key(a).partial_cmp(&key(b)).unwrap());
+    for w in ids.windows(2) {
+        let (p, q) = (mesh.nodes[w[0]], mesh.nodes[w[1]]);
+        let len = (q[0] - p[0]).hypot(q[1] - p[1]);
+        for (i, j) in [(p, q), (q, p)] {
+            let share = 2.0 * std::f64::consts::PI * len * (2.0 * i[0] + j[0]) / 6.0;
+            let node = if i == p { w[0] } else { w[1] };
+            load[2 * node] += traction[0] * share;
+            load[2 * node + 1] += traction[1] * share;
+        }
+    }
+}
+
+/// Isotropic stress (σr, σz, σθ, τrz) of the strain (εr = εθ = A, εz = B, γ = 0), E = 1000, ν = 0.3.
+fn ring_stress(a: f64, b: f64) -> [f64; 4] {
+    let (e, nu) = (1000.0, 0.3);
+    let (lame, g) = (e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), e / (2.0 * (1.0 + nu)));
+    let sr = 2.0 * (lame + g) * a + lame * b;
+    [sr, 2.0 * lame * a + (lame + 2.0 * g) * b, sr, 0.0]
+}
+
+#[test]
+fn ring_patch_test_reproduces_uniform_radial_and_axial_strain() {
+    // u_r = A r, u_z = B z is the exact solution of a cylinder r_in <= r <= r_out, 0 <= z <= 1
+    // (held axially on z = 0) under the tractions of its uniform stress (σr = σθ: in
+    // equilibrium without body force): the ring element, whose centroid hoop strain is exact
+    // for u_r ∝ r and whose weight 2π r̄ A integrates a uniform stress's virtual work exactly,
+    // must reproduce it to round-off, on a patch touching the axis (r_in = 0, where the axis
+    // nodes are held radially by the engine) and on one away from it.
+    let (a, b) = (2e-3, -1e-3);
+    let s = ring_stress(a, b);
+    for (r_in, width) in [(0.0, 1.0), (0.5, 1.0)] {
+        let mesh = rectangle(r_in, 0.0, width, 1.0, 4, 4);
+        let n = mesh.nodes.len();
+        let fixed: Vec<usize> = nodes_where(&mesh, |p| p[1].abs() < 1e-12).iter().map(|i| 2 * i + 1).collect();
+        let mut load = vec![0.0; 2 * n];
+        ring_traction(&mesh, nodes_where(&mesh, |p| (p[0] - r_in - width).abs() < 1e-12), [s[0], 0.0], &mut load);
+        ring_traction(&mesh, nodes_where(&mesh, |p| (p[1] - 1.0).abs() < 1e-12), [0.0, s[1]], &mut load);
+        if r_in > 0.0 {
+            ring_traction(&mesh, nodes_where(&mesh, |p| (p[0] - r_in).abs() < 1e-12), [-s[0], 0.0], &mut load);
+        }
+        let m = model(mesh, fixed, load, vec![], Plane::Axisymmetric);
+        let res = slipstep_core::run(&m, |_| true).unwrap();
+        let last = res.snapshots.last().unwrap();
+        // Round-off: displacements O(1e-3) from a solve of a few dozen DOFs; stresses O(1).
+        for (i, p) in m.mesh.nodes.iter().enumerate() {
+            assert!((last.u[2 * i] - a * p[0]).abs() < 1e-13 && (last.u[2 * i + 1] - b * p[1]).abs() < 1e-13, "r_in {r_in}, node {i}");
+        }
+        for st in &last.stress {
+            assert!((0..4).all(|k| (st[k] - s[k]).abs() < 1e-10), "r_in {r_in}: {st:?} vs {s:?}");
+        }
+        assert!(res.max_equilibrium_residual < 1e-12);
+    }
+}
+
+#[test]
+fn ring_body_is_free_only_along_the_axis() {
+    // A ring (no node on the axis) needs no radial support: radial translation and rotation
+    // strain the hoop direction. Without an axial support it is free to move along the axis.
+    let mesh = rectangle(0.5, 0.0, 1.0, 1.0, 2, 2);
+    let n = mesh.nodes.len();
+    let mut load = vec![0.0; 2 * n];
+    ring_traction(&mesh, nodes_where(&mesh, |p| (p[0] - 1.5).abs() < 1e-12), [3.0, 0.0], &mut load);
+    let m = model(mesh.clone(), vec![], load.clone(), vec![], Plane::Axisymmetric);
+    let err = slipstep_core::run(&m, |_| true).unwrap_err().message;
+    assert!(err.contains("free to move") && err.contains("translation in y") && !err.contains("rotation"), "{err}");
+    let held = vec![2 * nodes_where(&mesh, |p| p[1].abs() < 1e-12)[0] + 1];
+    assert!(slipstep_core::run(&model(mesh, held, load, vec![], Plane::Axisymmetric), |_| true).is_ok());
+}
+
+#[test]
+fn ring_element_left_of_the_axis_is_named() {
+    let mesh = rectangle(-0.25, 0.0, 1.0, 1.0, 2, 2);
+    let n = mesh.nodes.len();
+    let mut m = model(mesh, vec![1], vec![0.0; 2 * n], vec![], Plane::Axisymmetric);
+    m.thickness = f64::NAN; // thickness does not apply to rings: not what is refused here
+    let err = slipstep_core::run(&m, |_| true).unwrap_err().message;
+    assert!(err.starts_with("element 0 has node 0 at r = x = -0.25") && err.contains("x >= 0"), "{err}");
+}

@@ -1,12 +1,15 @@
-"""FEniCSx (dolfinx 0.5) co-simulation: identical meshes over XDMF/HDF5, bulk cross-checks,
-contact replay and a hybrid mode (issue 4).
+"""FEniCSx (dolfinx 0.5 to 0.11) co-simulation: identical meshes over XDMF/HDF5, bulk
+cross-checks, contact replay and a hybrid mode (issue 4).
 
 Everything here is optional: the core package never imports this subpackage, and importing
-it does not import dolfinx either; only the functions that need dolfinx import it, and then
-raise :class:`DolfinxMissing` with the fix if it is absent.
+it does not import dolfinx either; only the functions that need dolfinx import it (through
+:mod:`.dolfinx_api`), and then raise :class:`DolfinxMissing` with the fix if it is absent.
 
 Modules
 -------
+``dolfinx_api`` every dolfinx, UFL, petsc4py and mpi4py call of the package, with the
+                version branches (0.5 ... 0.11) and the release notes they follow.
+``forms``       the bulk weak form: one strain, one measure (plane; axisymmetry next).
 ``exchange``    slipstep scene <-> XDMF/HDF5 <-> dolfinx mesh, with the explicit node, dof and
                 cell maps (dolfinx reorders both nodes and cells).  Writing needs only h5py.
 ``plasticity``  small-strain von Mises return mapping with linear hardening (numpy, per cell),
@@ -23,27 +26,6 @@ Serial only (one MPI process): the maps are built from process-local numbering.
 
 from __future__ import annotations
 
-from ..errors import SlipstepError
-
-
-class DolfinxMissing(SlipstepError, ImportError):
-    """dolfinx (FEniCSx 0.5) is not importable: install it (the message says how)."""
-
-
-def require_dolfinx():
-    """Import and return ``dolfinx``, or raise :class:`DolfinxMissing` naming the fix."""
-    try:
-        import dolfinx  # noqa: F401
-        import dolfinx.fem.petsc  # noqa: F401
-        import dolfinx.io  # noqa: F401
-    except ImportError as exc:
-        raise DolfinxMissing(f"dolfinx is not available ({exc}): install Debian's "
-                             f"python3-dolfinx (make setup does) and use a venv made with "
-                             f"--system-site-packages") from None
-    from mpi4py import MPI
-    if MPI.COMM_WORLD.size != 1:
-        raise RuntimeError("slipstep.fenicsx runs in serial only (one MPI process)")
-    return dolfinx
-
+from .dolfinx_api import DolfinxMissing, require_dolfinx
 
 __all__ = ["DolfinxMissing", "require_dolfinx"]

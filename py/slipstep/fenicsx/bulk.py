@@ -3,22 +3,22 @@
 :class:`BulkProblem` reads the scene's mesh through the XDMF/HDF5 exchange
 (:mod:`.exchange`) and sets up, on the dolfinx side only:
 
-- P1 vector displacement (= CST), DG0 materials from the exchanged cell tags;
+- P1 vector displacement (= CST), materials from the exchanged cell tags;
 - the supports of the case's ``[[bc]]`` (``fix``, ``symmetry``) located on the exchanged
   facet tags with ``locate_dofs_topological`` (node sets through the node map);
 - the load: edge pressures/tractions (and the Hertz ``[load] P``) assembled by UFL on the
-  facet tags, ``t * dot(traction - q n, v) ds(tag)``, point loads at their nodes.
+  facet tags, ``dot(traction - q n, v) dGamma(tag)``, point loads at their nodes.
 
 Both are checked against the slipstep model in the tests (same dofs, same vector to round-off).
-Solvers:
+One weak form serves both solvers (:mod:`.forms`: strain(v) in Voigt notation, dOmega = t dx):
+residual ``s . strain(v) dOmega`` and tangent ``(C strain(u)) . strain(v) dOmega`` with DG0
+stress s and tangent C set from numpy (:mod:`.plasticity`: the CST's one point per cell).
 
-- :meth:`BulkProblem.solve_elastic`: linear elasticity, UFL form ``t sigma(u):eps(v) dx``
-  (plane strain, or plane stress with lambda* = 2 lambda mu / (lambda + 2 mu)), PETSc LU;
-- :meth:`BulkProblem.solve_plastic`: small-strain von Mises with linear hardening
-  (:mod:`.plasticity`): stresses and the equivalent plastic strain are DG0 (the CST's one
-  point), residual ``t s:B(v) dx`` and consistent tangent ``t (C B du):B(v) dx`` with DG0
-  coefficients updated from numpy, full Newton per load step, the load in N equal steps (or at
-  given load fractions).
+- :meth:`BulkProblem.solve_elastic`: linear elasticity, C the elastic stiffness (plane strain,
+  or plane stress condensed on sigma_z = 0), one LU solve (PETSc MUMPS);
+- :meth:`BulkProblem.solve_plastic`: small-strain von Mises with linear hardening, C the
+  consistent tangent, full Newton per load step, the load in N equal steps (or at given load
+  fractions).
 
 Extra constraints (prescribed displacements, any value) and extra nodal loads can be given
 in slipstep numbering: that is how a contact state is replayed (:mod:`.replay`).  Every
@@ -35,10 +35,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from . import plasticity, require_dolfinx
+from . import dolfinx_api as api
+from . import plasticity
 from .exchange import DolfinxMesh, scene_to_dolfinx
-
-LU_OPTIONS = {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}
+from .forms import Section
 
 
 @dataclass
@@ -64,6 +64,9 @@ def _refuse_unmodelled_loads(scene) -> None:
                              f"cross-check does not model: cross-check a force-driven variant")
 
 
+STRESS_NAMES = ("sigma_x", "sigma_y", "sigma_z", "tau_xy")
+
+
 def _edge_name(scene, body: str, tag: str) -> str:
     return f"{body}.{tag}" if len(scene.bodies) > 1 else tag
 
@@ -72,10 +75,7 @@ class BulkProblem:
     """The scene's bulk problem in dolfinx (contact removed).  See the module doc."""
 
     def __init__(self, scene, dm: DolfinxMesh | None = None, workdir: str | Path | None = None):
-        require_dolfinx()
-        import ufl
-        from dolfinx import fem
-
+        api.require_dolfinx()
         t0 = time.perf_counter()
         self.scene = scene
         _refuse_unmodelled_loads(scene)
@@ -85,81 +85,52 @@ class BulkProblem:
                 workdir = self._tmp.name
             dm = scene_to_dolfinx(scene, workdir)
         self.dm = dm
-        mesh = dm.mesh
-        model = scene.model
-        self.plane = model["plane"]
-        self.thickness = float(model["thickness"])
+        self.plane = scene.model["plane"]
         self.n_nodes, self.n_elements = dm.n_nodes, dm.n_cells
-
-        self.V = fem.VectorFunctionSpace(mesh, ("CG", 1))
-        self.W0 = fem.FunctionSpace(mesh, ("DG", 0))
-        self.W3 = fem.VectorFunctionSpace(mesh, ("DG", 0), dim=3)
-        self.W4 = fem.VectorFunctionSpace(mesh, ("DG", 0), dim=4)
-        self.WT = fem.TensorFunctionSpace(mesh, ("DG", 0), shape=(3, 3))
+        self.section = Section(dm.mesh, scene.model["thickness"], dm.facet_tags)
+        self.V = api.function_space(dm.mesh, "Lagrange", 1, (2,))
         block = dm.block_of_node(self.V)
         # perm[slipstep dof] = dolfinx (unrolled) dof
         self.perm = (2 * block[:, None] + np.arange(2)[None, :]).ravel()
-
-        # materials: exchanged cell tags (body index + 1) -> the scene's material list
-        ct = dm.cell_tags
-        tag_of_cell = np.zeros(dm.n_cells, dtype=np.int64)
-        tag_of_cell[ct.indices] = ct.values
-        self.material_of_element = tag_of_cell[dm.cell_of_element] - 1
-        mats = model["materials"]
-        m = self.material_of_element
-        self.E = np.array([mats[i]["E"] for i in m], dtype=float)
-        self.nu = np.array([mats[i]["nu"] for i in m], dtype=float)
-        self.Sy = np.array([mats[i].get("Sy") or np.inf for i in m], dtype=float)
-        self.H = np.array([mats[i].get("H") or 0.0 for i in m], dtype=float)
-
-        # UFL elasticity with DG0 Lame parameters
-        K, G, lam = plasticity.lame(self.E, self.nu)
-        if self.plane == "stress":
-            lam = 2.0 * lam * G / (lam + 2.0 * G)
-        self.lam_fn, self.mu_fn = fem.Function(self.W0), fem.Function(self.W0)
-        dm.set_cell_function(self.lam_fn, lam)
-        dm.set_cell_function(self.mu_fn, G)
-        u, v = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
-        t = fem.Constant(mesh, self.thickness)
-
-        def eps(w):
-            return ufl.sym(ufl.grad(w))
-
-        def sigma(w):
-            return 2.0 * self.mu_fn * eps(w) + self.lam_fn * ufl.tr(eps(w)) * ufl.Identity(2)
-
-        def voigt(w):  # (eps_x, eps_y, gamma_xy)
-            return ufl.as_vector([w[0].dx(0), w[1].dx(1), w[0].dx(1) + w[1].dx(0)])
-
-        self._t = t
-        self.a_elastic = fem.form(t * ufl.inner(sigma(u), eps(v)) * ufl.dx)
-        self.u_fn = fem.Function(self.V, name="u")
-        s = sigma(self.u_fn)
-        sz = (self.lam_fn * ufl.tr(eps(self.u_fn)) if self.plane == "strain"
-              else 0.0 * s[0, 0])
-        self._stress_expr = fem.Expression(ufl.as_vector([s[0, 0], s[1, 1], sz, s[0, 1]]),
-                                           self.W4.element.interpolation_points())
-        self._strain_expr = fem.Expression(voigt(self.u_fn), self.W3.element.interpolation_points())
-        # plasticity forms: DG0 stress (x, y, xy) and DG0 in-plane tangent
-        self.sig3_fn = fem.Function(self.W3)
-        self.ct_fn = fem.Function(self.WT)
-        self.r_form = fem.form(t * ufl.inner(self.sig3_fn, voigt(v)) * ufl.dx)
-        self.j_form = fem.form(t * ufl.inner(ufl.dot(self.ct_fn, voigt(u)), voigt(v)) * ufl.dx)
-
+        self._materials(scene.model["materials"])
+        self._forms()
         self.fixed_dofs = self._case_fixed_dofs()       # slipstep numbering
         self.load = self._case_load()                   # slipstep numbering, fraction 1
         self.timings = {"setup": time.perf_counter() - t0}
 
+    def _materials(self, materials: list) -> None:
+        """Per element E, nu, Sy, H from the exchanged cell tags (body index + 1)."""
+        indices, values = api.tag_arrays(self.dm.cell_tags)
+        tag_of_cell = np.zeros(self.dm.n_cells, dtype=np.int64)
+        tag_of_cell[indices] = values
+        self.material_of_element = m = tag_of_cell[self.dm.cell_of_element] - 1
+        self.E = np.array([materials[i]["E"] for i in m], dtype=float)
+        self.nu = np.array([materials[i]["nu"] for i in m], dtype=float)
+        self.Sy = np.array([materials[i].get("Sy") or np.inf for i in m], dtype=float)
+        self.H = np.array([materials[i].get("H") or 0.0 for i in m], dtype=float)
+
+    def _forms(self) -> None:
+        """The weak form (:mod:`.forms`) with DG0 stress s and tangent C, and the strain of
+        the displacement ``u_fn`` interpolated per cell."""
+        ufl, mesh = api.ufl(), self.dm.mesh
+        strain, dOmega = self.section.strain, self.section.dOmega
+        n = len(self.section.STRAIN)
+        W_strain = api.function_space(mesh, "DG", 0, (n,))
+        self.stress_fn = api.function(W_strain)                                      # s
+        self.tangent_fn = api.function(api.function_space(mesh, "DG", 0, (n, n)))    # C
+        s, C = self.stress_fn, self.tangent_fn
+        u, v = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
+        self.residual = api.compile_form(ufl.inner(s, strain(v)) * dOmega)
+        self.jacobian = api.compile_form(ufl.inner(ufl.dot(C, strain(u)), strain(v)) * dOmega)
+        self.u_fn = api.function(self.V, "u")
+        self.strain_fn = api.function(W_strain)
+        self._strain_expr = api.expression(strain(self.u_fn), W_strain)
+
     # ------------------------------------------------------------------ case -> dolfinx
     def _case_fixed_dofs(self) -> np.ndarray:
         """The case's supports located on the exchanged facet tags (slipstep dof numbers)."""
-        from dolfinx import fem
-
         scene, dm = self.scene, self.dm
-        tdim = dm.mesh.topology.dim
-        dm.mesh.topology.create_connectivity(tdim - 1, 0)
-        f2v = dm.mesh.topology.connectivity(tdim - 1, 0)
-        geom_of_vertex = self.geom_of_vertex()
+        x = api.node_coordinates(dm.mesh)
         inv = np.empty(len(self.perm), dtype=np.int64)
         inv[self.perm] = np.arange(len(self.perm))
         out = []
@@ -168,14 +139,12 @@ class BulkProblem:
             if bc["edge"]:
                 facets = dm.facets(_edge_name(scene, bc["body"], bc["edge"]))
                 if bc["symmetry"]:
-                    x = dm.mesh.geometry.x[:, :2]
-                    vv = np.array([f2v.links(f) for f in facets])
-                    d = x[geom_of_vertex[vv[:, 1]]] - x[geom_of_vertex[vv[:, 0]]]
+                    ends = api.facet_nodes(dm.mesh, facets)
+                    d = x[ends[:, 1]] - x[ends[:, 0]]
                     d /= np.linalg.norm(d, axis=1, keepdims=True)
                     comps.add(1 if np.all(np.abs(d[:, 0]) > 1 - 1e-9) else 0)
                 for c in sorted(comps):
-                    dofs = fem.locate_dofs_topological(self.V.sub(c), tdim - 1, facets)
-                    out.append(inv[np.asarray(dofs, dtype=np.int64)])
+                    out.append(inv[api.locate_dofs(self.V, facets, component=c)])
             elif bc["nodes"]:
                 nodes = np.asarray(scene.meshes[bc["body"]].node_sets[bc["nodes"]]) \
                     + scene.offsets[bc["body"]]
@@ -185,89 +154,37 @@ class BulkProblem:
             return np.zeros(0, dtype=np.int64)
         return np.unique(np.concatenate(out)).astype(np.int64)
 
-    def geom_of_vertex(self) -> np.ndarray:
-        """Geometry node of each topology vertex (P1 mesh: via the cells' local order)."""
-        mesh = self.dm.mesh
-        c2v = mesh.topology.connectivity(2, 0).array.reshape(-1, 3)
-        geo = mesh.geometry.dofmap.array.reshape(-1, 3)
-        out = np.full(mesh.topology.index_map(0).size_local, -1, dtype=np.int64)
-        out[c2v.ravel()] = geo.ravel()
-        return out
-
     def _case_load(self) -> np.ndarray:
         """Edge loads assembled by UFL on the facet tags, plus point loads (slipstep dofs)."""
-        import ufl
-        from dolfinx import fem
-        from dolfinx.fem.petsc import assemble_vector
-
         from ..model import hertz_cut_pressure
 
-        scene, dm = self.scene, self.dm
+        scene, dm, ufl = self.scene, self.dm, api.ufl()
         data = scene.case.data
-        mesh = dm.mesh
-        ds = ufl.Measure("ds", domain=mesh, subdomain_data=dm.facet_tags)
-        n = ufl.FacetNormal(mesh)
-        v = ufl.TestFunction(self.V)
+        n, v, dGamma = ufl.FacetNormal(dm.mesh), ufl.TestFunction(self.V), self.section.dGamma
         terms = []
         for bc in data["bc"]:
             if bc["edge"] and (bc["pressure"] != 0.0 or bc["traction"] != [0.0, 0.0]):
                 tag = dm.edge_id(_edge_name(scene, bc["body"], bc["edge"]))
-                tr = ufl.as_vector([float(bc["traction"][0]), float(bc["traction"][1])])
-                terms.append(ufl.dot(tr - float(bc["pressure"]) * n, v) * ds(tag))
+                traction = ufl.as_vector([float(bc["traction"][0]), float(bc["traction"][1])])
+                terms.append(ufl.dot(traction - float(bc["pressure"]) * n, v) * dGamma(tag))
         if data["load"] is not None:
             tag = dm.edge_id(_edge_name(scene, data["load"]["body"], "top"))
-            terms.append(ufl.dot(-hertz_cut_pressure(scene.case) * n, v) * ds(tag))
+            terms.append(ufl.dot(-hertz_cut_pressure(scene.case) * n, v) * dGamma(tag))
         f = np.zeros(2 * self.n_nodes)
         if terms:
-            b = assemble_vector(fem.form(self._t * sum(terms[1:], terms[0])))
-            f = b.array[self.perm].copy()
-        t = self.thickness
-        for pl in data["point_load"]:
+            f = api.assemble_vector(sum(terms[1:], terms[0]))[self.perm]
+        for pl in data["point_load"]:  # a force per unit thickness (axisymmetry: per radian)
             bodies = [pl["body"]] if pl["body"] else scene.bodies
             ids = np.concatenate([np.arange(scene.meshes[b].n_nodes) + scene.offsets[b]
                                   for b in bodies])
             node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1))]
-            f[2 * node:2 * node + 2] += np.asarray(pl["force"]) * t
+            f[2 * node:2 * node + 2] += np.asarray(pl["force"]) * self.section.thickness
         return f
 
-    # ------------------------------------------------------------------ linear algebra
+    # ------------------------------------------------------------------ numbering, constraints
     def _to_dolfinx(self, x_slipstep: np.ndarray) -> np.ndarray:
         out = np.zeros(len(self.perm))
         out[self.perm] = x_slipstep
-        return out
-
-    def assemble_elastic(self):
-        """The elastic stiffness (PETSc Mat, dolfinx dof order, no constraints)."""
-        from dolfinx.fem.petsc import assemble_matrix
-
-        A = assemble_matrix(self.a_elastic)
-        A.assemble()
-        return A
-
-    def _solve_constrained(self, A, rhs: np.ndarray, dofs: np.ndarray, values: np.ndarray):
-        """Solve A x = rhs with x[dofs] = values (dolfinx numbering) by symmetric elimination
-        (PETSc MatZeroRowsColumns) and LU (MUMPS)."""
-        from petsc4py import PETSc
-
-        Ac = A.copy()
-        b = A.createVecRight()
-        b.array[:] = rhs
-        xb = A.createVecRight()
-        xb.array[dofs] = values
-        Ac.zeroRowsColumns(np.asarray(dofs, dtype=np.int32), 1.0, xb, b)
-        ksp = PETSc.KSP().create(Ac.comm)
-        ksp.setOperators(Ac)
-        ksp.setType("preonly")
-        pc = ksp.getPC()
-        pc.setType("lu")
-        pc.setFactorSolverType("mumps")
-        x = A.createVecRight()
-        ksp.solve(b, x)
-        if ksp.getConvergedReason() < 0:
-            raise RuntimeError(f"dolfinx: the linear solve failed (reason {ksp.getConvergedReason()})")
-        out = x.array.copy()
-        for obj in (ksp, Ac, b, xb, x):
-            obj.destroy()
         return out
 
     def _constraints(self, prescribed: dict | None):
@@ -281,6 +198,12 @@ class BulkProblem:
         vals = np.fromiter(dofs.values(), dtype=float, count=len(dofs))
         return self.perm[keys], vals
 
+    def _cell_strain(self, x: np.ndarray) -> np.ndarray:
+        """(M, len(STRAIN)) strain per element of the displacement x (dolfinx dof order)."""
+        api.dof_values(self.u_fn)[:] = x
+        api.interpolate(self.strain_fn, self._strain_expr)
+        return self.dm.cell_function_values(self.strain_fn)
+
     # ------------------------------------------------------------------ elastic
     def solve_elastic(self, fraction: float = 1.0, prescribed: dict | None = None,
                       extra_load: np.ndarray | None = None) -> BulkResult:
@@ -288,30 +211,20 @@ class BulkProblem:
         dofs, as given), with the supports and the ``prescribed`` displacements
         (slipstep dof -> value, as given)."""
         t0 = time.perf_counter()
-        A = self.assemble_elastic()
+        M = self.n_elements
+        self.dm.set_cell_function(self.tangent_fn,
+                                  plasticity.in_plane_d(self.E, self.nu, self.plane).reshape(M, -1))
+        A = api.assemble_matrix(self.jacobian)
         f = self.load * fraction + (extra_load if extra_load is not None else 0.0)
         dofs, vals = self._constraints(prescribed)
-        x = self._solve_constrained(A, self._to_dolfinx(f), dofs, vals)
-        self.u_fn.x.array[:] = x
-        stress_fn = self._interpolate(self._stress_expr, self.W4)
-        y = A.createVecRight()
-        xv = A.createVecRight()
-        xv.array[:] = x
-        A.mult(xv, y)
-        reaction = y.array[self.perm] - f
-        for obj in (A, y, xv):
-            obj.destroy()
+        x = api.solve_constrained(A, self._to_dolfinx(f), dofs, vals)
+        reaction = api.matvec(A, x)[self.perm] - f
+        api.destroy(A)
+        stress = plasticity.integrate(np.zeros((M, 4)), np.zeros(M), self._cell_strain(x),
+                                      self.E, self.nu, np.inf, 0.0, self.plane)[0]
         self.timings["elastic"] = time.perf_counter() - t0
-        return BulkResult(fraction, x[self.perm].reshape(-1, 2),
-                          self.dm.cell_function_values(stress_fn),
-                          np.zeros(self.n_elements), np.zeros(self.n_elements, bool), reaction)
-
-    def _interpolate(self, expr, W):
-        from dolfinx import fem
-
-        out = fem.Function(W)
-        out.interpolate(expr)
-        return out
+        return BulkResult(fraction, x[self.perm].reshape(-1, 2), stress,
+                          np.zeros(M), np.zeros(M, bool), reaction)
 
     # ------------------------------------------------------------------ elastoplastic
     def solve_plastic(self, n_steps: int = 10, fractions=None, prescribed: dict | None = None,
@@ -329,98 +242,89 @@ class BulkProblem:
         residual <= tol * the largest |f_ext| of the path so far (so that unloading to zero
         load converges too).  ``callback(result)`` after every entry.
         """
-        from dolfinx.fem.petsc import assemble_matrix, assemble_vector
-
         t0 = time.perf_counter()
         if schedule is None:
             if fractions is None:
                 fractions = np.arange(1, n_steps + 1) / n_steps
             schedule = [(float(lf), {d: v * lf for d, v in (prescribed or {}).items()},
                          None if extra_load is None else extra_load * lf) for lf in fractions]
-        M = self.n_elements
-        sig = np.zeros((M, 4))
-        alpha = np.zeros(M)
-        eps_prev = np.zeros((M, 3))
+        M, n_strain = self.n_elements, len(self.section.STRAIN)
+        state = (np.zeros((M, 4)), np.zeros(M), np.zeros((M, n_strain)))  # stress, alpha, strain
         x = np.zeros(len(self.perm))          # dolfinx order
-        newton_log = []
-        result = None
+        newton_log, result = [], None
         lf_prev, f_prev = 0.0, np.zeros(len(self.perm))
         f_scale = 0.0  # the largest load so far: residuals of an unloaded state are relative to it
         for lf, presc, extra in schedule:
             f_end = self._to_dolfinx(self.load * lf + (extra if extra is not None else 0.0))
             f_scale = max(f_scale, np.linalg.norm(f_end))
-            dofs_all, target_end = self._constraints(presc)
-            start = x[dofs_all].copy()
-            free = np.ones(len(self.perm), bool)
-            free[dofs_all] = False
+            dofs, target_end = self._constraints(presc)
+            start = x[dofs].copy()
             for k in range(1, substeps + 1):
                 s = k / substeps
                 f_d = f_prev + s * (f_end - f_prev)
-                target = start + s * (target_end - start)
                 fnorm = max(np.linalg.norm(f_d), f_scale, 1e-300)
-                it, res = 0, np.inf
-                while True:
-                    self.u_fn.x.array[:] = x
-                    strain = self.dm.cell_function_values(
-                        self._interpolate(self._strain_expr, self.W3))
-                    s_new, a_new, C3, plastic, _ = plasticity.integrate(
-                        sig, alpha, strain - eps_prev, self.E, self.nu, self.Sy, self.H,
-                        self.plane)
-                    self.dm.set_cell_function(self.sig3_fn, s_new[:, [0, 1, 3]])
-                    self.dm.set_cell_function(self.ct_fn, C3.reshape(M, 9))
-                    R = assemble_vector(self.r_form)
-                    r = R.array - f_d
-                    R.destroy()
-                    res = np.linalg.norm(r[free]) / fnorm
-                    on_target = np.array_equal(x[dofs_all], target)
-                    if (res <= tol and on_target) or it >= max_iter:
-                        break
-                    J = assemble_matrix(self.j_form)
-                    J.assemble()
-                    dx = self._solve_constrained(J, -r, dofs_all, target - x[dofs_all])
-                    J.destroy()
-                    x = x + dx
-                    x[dofs_all] = target
-                    it += 1
+                x, state, plastic, r, it, res = self._equilibrate(
+                    x, state, f_d, dofs, start + s * (target_end - start), fnorm, tol, max_iter)
                 if res > tol:
                     raise RuntimeError(f"dolfinx Newton did not converge at load fraction "
                                        f"{lf_prev + s * (lf - lf_prev):.4g}: residual {res:.3g} "
                                        f"after {it} iterations (use more steps)")
-                sig, alpha, eps_prev = s_new, a_new, strain
                 newton_log.append({"load_fraction": lf_prev + s * (lf - lf_prev),
                                    "iterations": it, "residual": res})
             lf_prev, f_prev = lf, f_end
             # reaction = internal - external forces at the solution (slipstep numbering)
-            result = BulkResult(float(lf), x[self.perm].reshape(-1, 2), sig.copy(),
-                                alpha.copy(), plastic.copy(), (r + f_d - f_end)[self.perm],
+            result = BulkResult(float(lf), x[self.perm].reshape(-1, 2), state[0].copy(),
+                                state[1].copy(), plastic.copy(), (r + f_d - f_end)[self.perm],
                                 list(newton_log))
             if callback is not None:
                 callback(result)
         self.timings["plastic"] = time.perf_counter() - t0
         return result
 
+    def _equilibrate(self, x, state, f_ext, dofs, target, fnorm, tol, max_iter):
+        """Full Newton from x to equilibrium with f_ext and x[dofs] = target, the stresses
+        integrated from ``state`` (stress, alpha, strain at the last converged step).
+        Returns (x, new state, plastic, residual vector, iterations, relative residual)."""
+        sig, alpha, eps_prev = state
+        free = np.ones(len(self.perm), bool)
+        free[dofs] = False
+        it = 0
+        while True:
+            strain = self._cell_strain(x)
+            s_new, a_new, C3, plastic, _ = plasticity.integrate(
+                sig, alpha, strain - eps_prev, self.E, self.nu, self.Sy, self.H, self.plane)
+            self.dm.set_cell_function(self.stress_fn, s_new[:, plasticity.IN_PLANE])
+            self.dm.set_cell_function(self.tangent_fn, C3.reshape(len(C3), -1))
+            r = api.assemble_vector(self.residual) - f_ext
+            res = np.linalg.norm(r[free]) / fnorm
+            if (res <= tol and np.array_equal(x[dofs], target)) or it >= max_iter:
+                return x, (s_new, a_new, strain), plastic, r, it, res
+            J = api.assemble_matrix(self.jacobian)
+            dx = api.solve_constrained(J, -r, dofs, target - x[dofs])
+            api.destroy(J)
+            x = x + dx
+            x[dofs] = target
+            it += 1
+
     # ------------------------------------------------------------------ output
     def write_xdmf(self, path: str | Path, results: list[BulkResult]) -> Path:
         """Write results with dolfinx's XDMFFile (time = load fraction): P1 ``u`` and DG0
         ``sigma_x``, ``sigma_y``, ``sigma_z``, ``tau_xy``, ``plastic_strain``."""
-        from dolfinx import fem
-        from dolfinx.io import XDMFFile
-
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        u = fem.Function(self.V, name="u")
-        cells = {n: fem.Function(self.W0, name=n)
-                 for n in ("sigma_x", "sigma_y", "sigma_z", "tau_xy", "plastic_strain")}
-        with XDMFFile(self.dm.mesh.comm, str(path), "w") as f:
-            f.write_mesh(self.dm.mesh)
+        W0 = api.function_space(self.dm.mesh, "DG", 0)
+        u = api.function(self.V, "u")
+        cells = {n: api.function(W0, n) for n in (*STRESS_NAMES, "plastic_strain")}
+
+        def frames():
             for res in results:
                 self.dm.set_vector_function(u, res.u)
-                for k, name in enumerate(("sigma_x", "sigma_y", "sigma_z", "tau_xy")):
+                for k, name in enumerate(STRESS_NAMES):
                     self.dm.set_cell_function(cells[name], res.stress[:, k])
                 self.dm.set_cell_function(cells["plastic_strain"], res.plastic_strain)
-                f.write_function(u, res.load_fraction)
-                for fn in cells.values():
-                    f.write_function(fn, res.load_fraction)
+                yield res.load_fraction, [u, *cells.values()]
+
+        api.write_functions(path, self.dm.mesh, frames())
         return path
 
     def read_h5(self, path: str | Path) -> dict:

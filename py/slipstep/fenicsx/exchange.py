@@ -39,13 +39,21 @@ from pathlib import Path
 
 import numpy as np
 
-from . import require_dolfinx
+from . import dolfinx_api as api
 
 MESH_GRID = "mesh"
 EDGE_GRID = "edges"
 
 
 # --------------------------------------------------------------------------- scene -> arrays
+def edge_id(edge_names: dict, name: str) -> int:
+    """The tag value of the edge called ``name`` in ``edge_names`` (value -> name)."""
+    for k, v in edge_names.items():
+        if v == name:
+            return int(k)
+    raise KeyError(f"no edge tag named {name!r} (known: {', '.join(edge_names.values())})")
+
+
 @dataclass
 class MeshData:
     """A tagged 2D triangle mesh as plain arrays (any numbering).
@@ -64,10 +72,7 @@ class MeshData:
     node_sets: dict = field(default_factory=dict)
 
     def edge_id(self, name: str) -> int:
-        for k, v in self.edge_names.items():
-            if v == name:
-                return int(k)
-        raise KeyError(f"no edge tag named {name!r} (known: {', '.join(self.edge_names.values())})")
+        return edge_id(self.edge_names, name)
 
 
 def scene_mesh_data(scene) -> MeshData:
@@ -251,7 +256,7 @@ def read_xdmf_h5(path: str | Path, edges_path: str | Path | None = None) -> Mesh
     """
     xdmf = Path(path)
     grids = _grids(xdmf)
-    tri_grid = grids.get(MESH_GRID) or next(iter(grids.values()))
+    tri_grid = grids[MESH_GRID] if MESH_GRID in grids else next(iter(grids.values()))
     nodes, kind, tris, ctags, cnames = _read_grid(xdmf, tri_grid)
     if kind.lower() != "triangle":
         raise ValueError(f"{xdmf}: the first grid holds {kind} cells, not triangles")
@@ -320,86 +325,70 @@ class DolfinxMesh:
         return len(self.element_of_cell)
 
     def edge_id(self, name: str) -> int:
-        for k, v in self.edge_names.items():
-            if v == name:
-                return int(k)
-        raise KeyError(f"no edge tag named {name!r} (known: {', '.join(self.edge_names.values())})")
+        return edge_id(self.edge_names, name)
 
     def facets(self, name: str) -> np.ndarray:
         """dolfinx facet indices of an edge tag."""
-        return self.facet_tags.indices[self.facet_tags.values == self.edge_id(name)]
+        return api.tagged(self.facet_tags, self.edge_id(name))
 
     def block_of_node(self, V) -> np.ndarray:
         """Dof block of each slipstep node in a P1 (scalar or vector) space V on this mesh.
 
         Built cell by cell: local vertex j of cell c has geometry node geometry.dofmap[c][j]
         and dof block V.dofmap[c][j] (P1 on an affine P1 mesh: same local layout)."""
-        geo = self.mesh.geometry.dofmap.array.reshape(-1, 3)
-        dofs = V.dofmap.list.array.reshape(-1, 3)
-        if V.dofmap.dof_layout.num_dofs != 3:
+        if api.dofs_per_cell(V) != 3:
             raise ValueError("block_of_node needs a P1 space (3 dofs per triangle)")
         block_of_geom = np.full(self.n_nodes, -1, dtype=np.int64)
-        block_of_geom[geo.ravel()] = dofs.ravel()
+        block_of_geom[api.cell_nodes(self.mesh).ravel()] = api.cell_dofs(V).ravel()
         return block_of_geom[self.geom_of_node]
 
     def dg0_dof_of_element(self, W) -> np.ndarray:
         """Dof (block) of each slipstep element in a DG0 space W on this mesh."""
-        dofs = W.dofmap.list.array.reshape(self.n_cells, -1)[:, 0]
-        return dofs[self.cell_of_element].astype(np.int64)
+        return api.cell_dofs(W)[self.cell_of_element, 0].astype(np.int64)
 
     # conversions between slipstep-ordered arrays and dolfinx Functions --------------------
     def set_vector_function(self, func, values: np.ndarray) -> None:
         """Set a P1 vector Function from a slipstep (N, 2) nodal array."""
-        block = self.block_of_node(func.function_space)
-        arr = func.x.array.reshape(-1, 2)
-        arr[block] = np.asarray(values).reshape(-1, 2)
-        func.x.scatter_forward()
+        block = self.block_of_node(api.space_of(func))
+        api.dof_values(func).reshape(-1, 2)[block] = np.asarray(values).reshape(-1, 2)
+        api.scatter(func)
 
     def vector_function_values(self, func) -> np.ndarray:
         """A P1 vector Function as a slipstep (N, 2) nodal array."""
-        return func.x.array.reshape(-1, 2)[self.block_of_node(func.function_space)].copy()
+        block = self.block_of_node(api.space_of(func))
+        return api.dof_values(func).reshape(-1, 2)[block].copy()
 
     def cell_function_values(self, func) -> np.ndarray:
         """A DG0 Function (any value size) as a slipstep (M, k) per-element array."""
-        W = func.function_space
-        bs = W.dofmap.index_map_bs
-        return func.x.array.reshape(-1, bs)[self.dg0_dof_of_element(W)].copy()
+        W = api.space_of(func)
+        values = api.dof_values(func).reshape(-1, api.block_size(W))
+        return values[self.dg0_dof_of_element(W)].copy()
 
     def set_cell_function(self, func, values: np.ndarray) -> None:
-        W = func.function_space
-        bs = W.dofmap.index_map_bs
-        func.x.array.reshape(-1, bs)[self.dg0_dof_of_element(W)] = \
-            np.asarray(values).reshape(len(self.element_of_cell), bs)
-        func.x.scatter_forward()
+        """Set a DG0 Function (any value size) from a slipstep (M, k) per-element array."""
+        W = api.space_of(func)
+        bs = api.block_size(W)
+        api.dof_values(func).reshape(-1, bs)[self.dg0_dof_of_element(W)] = \
+            np.asarray(values).reshape(self.n_cells, bs)
+        api.scatter(func)
 
     def slipstep_triangles(self) -> np.ndarray:
         """dolfinx cells (in dolfinx cell order) as slipstep node triples."""
-        geo = self.mesh.geometry.dofmap.array.reshape(-1, 3)
-        return self.node_of_geom[geo]
+        return self.node_of_geom[api.cell_nodes(self.mesh)]
 
 
 def read_dolfinx(path: str | Path, edges_path: str | Path | None = None) -> DolfinxMesh:
     """Read the exchange files (``write_scene_xdmf``) into dolfinx and build the maps."""
-    require_dolfinx()
-    from mpi4py import MPI
-    from dolfinx.io import XDMFFile
-
     xdmf, default_edges, h5 = exchange_paths(path)
     edges_xdmf = Path(edges_path) if edges_path else default_edges
-    comm = MPI.COMM_WORLD
-    with XDMFFile(comm, str(xdmf), "r") as f:
-        msh = f.read_mesh(name=MESH_GRID)
-        ct = f.read_meshtags(msh, name=MESH_GRID)
-    msh.topology.create_connectivity(1, 2)  # needed before reading facet tags
-    with XDMFFile(comm, str(edges_xdmf), "r") as f:
-        ft = f.read_meshtags(msh, name=EDGE_GRID)
+    msh, ct, ft = api.read_tagged_mesh(xdmf, MESH_GRID, edges_xdmf, EDGE_GRID)
     meta = {}
     import h5py
     with h5py.File(h5, "r") as f:
         if "slipstep" in f.attrs:
             meta = json.loads(f.attrs["slipstep"])
-    node_of_geom = np.asarray(msh.geometry.input_global_indices, dtype=np.int64)
-    element_of_cell = np.asarray(msh.topology.original_cell_index, dtype=np.int64)
+    node_of_geom = api.input_node_index(msh)
+    element_of_cell = api.input_cell_index(msh)
     return DolfinxMesh(
         mesh=msh, cell_tags=ct, facet_tags=ft,
         cell_names={int(k): v for k, v in meta.get("cell_tags", {}).items()},
@@ -427,18 +416,10 @@ def scene_to_dolfinx(scene, folder: str | Path, name: str = "mesh") -> DolfinxMe
 def write_dolfinx_xdmf(dm: DolfinxMesh, path: str | Path) -> Path:
     """Write the dolfinx mesh with its cell and facet tags the dolfinx way: one file, grids
     "mesh", "cell_tags", "facet_tags" (read back with :func:`read_xdmf_h5`)."""
-    require_dolfinx()
-    from dolfinx.io import XDMFFile
-
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    dm.mesh.name = "mesh"
-    dm.cell_tags.name = "cell_tags"
-    dm.facet_tags.name = "facet_tags"
-    with XDMFFile(dm.mesh.comm, str(path), "w") as f:
-        f.write_mesh(dm.mesh)
-        f.write_meshtags(dm.cell_tags)
-        f.write_meshtags(dm.facet_tags)
+    api.write_tagged_mesh(path, dm.mesh, {"cell_tags": dm.cell_tags,
+                                          "facet_tags": dm.facet_tags})
     return path
 
 

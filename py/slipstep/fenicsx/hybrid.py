@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import require_dolfinx
+from . import dolfinx_api as api
 
 
 @dataclass
@@ -89,17 +89,19 @@ def _csr_matvec(indptr, indices, values, x):
 
 
 def _mesh_arrays(V):
-    mesh = V.mesh
-    if mesh.topology.cell_name() != "triangle" or mesh.geometry.cmap.degree != 1:
+    """(nodes, counter-clockwise triangles, dof block of each geometry node) of V's mesh."""
+    mesh = api.mesh_of(V)
+    cell, degree, gdim = api.mesh_kind(mesh)
+    if cell != "triangle" or degree != 1:
         raise ValueError("hybrid mode: the mesh must be affine (P1) triangles")
-    if mesh.geometry.dim != 2:
+    if gdim != 2:
         raise ValueError("hybrid mode: the mesh must be 2D (gdim 2)")
-    if V.dofmap.index_map_bs != 2 or V.dofmap.dof_layout.num_dofs != 3:
+    if api.block_size(V) != 2 or api.dofs_per_cell(V) != 3:
         raise ValueError("hybrid mode: V must be a P1 vector space with 2 components")
-    nodes = np.ascontiguousarray(mesh.geometry.x[:, :2], dtype=np.float64)
-    tris = mesh.geometry.dofmap.array.reshape(-1, 3).astype(np.int64)
+    nodes = np.ascontiguousarray(api.node_coordinates(mesh), dtype=np.float64)
+    tris = api.cell_nodes(mesh).astype(np.int64)
     block_of_geom = np.empty(len(nodes), dtype=np.int64)
-    block_of_geom[tris.ravel()] = V.dofmap.list.array.reshape(-1, 3).ravel()
+    block_of_geom[tris.ravel()] = api.cell_dofs(V).ravel()
     p = nodes[tris]
     area = 0.5 * ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
                   - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
@@ -108,23 +110,74 @@ def _mesh_arrays(V):
 
 
 def _functions(out: HybridResult, snap: dict):
-    from dolfinx import fem
-
-    V = out.u.function_space
-    Q = out.pressure.function_space
-    t = out.model["thickness"]
-    u = fem.Function(V, name="u")
-    bog = out.info["block_of_geom"]
-    u.x.array.reshape(-1, 2)[bog] = np.asarray(snap["u"])
-    p = fem.Function(Q, name="contact_pressure")
-    tr = fem.Function(Q, name="contact_traction")
+    """(u, pressure, traction) Functions of an engine snapshot."""
+    V, Q = api.space_of(out.u), api.space_of(out.pressure)
+    u = api.function(V, "u")
+    api.dof_values(u).reshape(-1, 2)[out.info["block_of_geom"]] = np.asarray(snap["u"])
+    p = api.function(Q, "contact_pressure")
+    tr = api.function(Q, "contact_traction")
     q = out.info["q_of_geom"][out.contact_nodes]
-    area = out.tributary_length * t
-    p.x.array[q] = np.asarray(snap["lambda_n"]) / area
-    tr.x.array[q] = np.asarray(snap["lambda_t"]) / area
+    area = out.tributary_length * out.model["thickness"]
+    api.dof_values(p)[q] = np.asarray(snap["lambda_n"]) / area
+    api.dof_values(tr)[q] = np.asarray(snap["lambda_t"]) / area
     for f in (u, p, tr):
-        f.x.scatter_forward()
+        api.scatter(f)
     return u, p, tr
+
+
+def _fixed_dofs(V, bcs, perm: np.ndarray) -> np.ndarray:
+    """slipstep dofs held by homogeneous Dirichlet conditions ``bcs`` (refuses others)."""
+    if not bcs:
+        return np.zeros(0, dtype=np.int64)
+    dofs, values = api.dirichlet_values(V, bcs)
+    if np.abs(values).max(initial=0.0) != 0.0:
+        raise ValueError("hybrid mode: the Dirichlet conditions must be homogeneous (u = 0):"
+                         " slipstep's engine holds fixed dofs at zero")
+    inv = np.empty(len(perm), dtype=np.int64)
+    inv[perm] = np.arange(len(perm))
+    return np.unique(inv[dofs])
+
+
+def _operator_difference(a_form, perm, nodes, tris, E, nu, plane: str, thickness: float):
+    """max |A x - K x| / max |K x| over three random x: A the assembled form (CSR from
+    petsc4py), K the CST stiffness of the mesh and material."""
+    A = api.assemble_matrix(a_form)
+    indptr, indices, values = api.csr(A)
+    api.destroy(A)
+    rng = np.random.default_rng(0)
+    worst = 0.0
+    for _ in range(3):
+        xs = rng.normal(size=len(perm))
+        xd = np.zeros(len(perm))
+        xd[perm] = xs
+        ya = _csr_matvec(indptr, indices, values, xd)[perm]
+        yk = cst_matvec(nodes, tris, E, nu, plane, thickness, xs)
+        worst = max(worst, np.abs(ya - yk).max() / np.abs(yk).max())
+    return float(worst)
+
+
+def _candidates(mesh, facet_tags, contact_tag: int, nodes: np.ndarray):
+    """(candidate geometry nodes, their tributary lengths): the vertices of the tagged facets."""
+    facets = api.tagged(facet_tags, contact_tag)
+    if len(facets) == 0:
+        raise ValueError(f"hybrid mode: no facet carries the contact tag {contact_tag}")
+    segs = api.facet_nodes(mesh, facets)
+    seg_len = np.linalg.norm(nodes[segs[:, 1]] - nodes[segs[:, 0]], axis=1)
+    trib = np.zeros(len(nodes))
+    np.add.at(trib, segs[:, 0], 0.5 * seg_len)
+    np.add.at(trib, segs[:, 1], 0.5 * seg_len)
+    cand = np.unique(segs)
+    return cand, trib[cand]
+
+
+def _initial_gap(nodes, cand, flat_point, n, tolerance: float) -> np.ndarray:
+    """Gap of each candidate to the flat (refuses penetration; |gap| <= tolerance -> 0)."""
+    gap = (nodes[cand] - np.asarray(flat_point, dtype=float)) @ n
+    if (gap < -tolerance).any():
+        k = int(np.argmin(gap))
+        raise ValueError(f"hybrid mode: initial penetration at node {int(cand[k])} "
+                         f"({nodes[cand[k], 0]:.6g}, {nodes[cand[k], 1]:.6g}) by {-gap[k]:.3g}")
+    return np.where(np.abs(gap) <= tolerance, 0.0, gap)
 
 
 def solve_contact(V, a, L, facet_tags, contact_tag: int, *, E, nu, plane: str = "strain",
@@ -138,114 +191,52 @@ def solve_contact(V, a, L, facet_tags, contact_tag: int, *, E, nu, plane: str = 
     of dimension 1; ``contact_tag``: the candidate surface's value; ``fractions``: extra load
     fractions to keep snapshots at (1.0 is always kept).  See the module doc.
     """
-    require_dolfinx()
-    from dolfinx import fem
-    from dolfinx.fem.petsc import assemble_matrix, assemble_vector, set_bc
-
     from ..runner import engine
 
+    api.require_dolfinx()
     nodes, tris, block_of_geom = _mesh_arrays(V)
-    N, M = len(nodes), len(tris)
+    M = len(tris)
     perm = (2 * block_of_geom[:, None] + np.arange(2)).ravel()  # slipstep dof -> V dof
     E_c = np.broadcast_to(np.asarray(E, dtype=float), (M,))
     nu_c = np.broadcast_to(np.asarray(nu, dtype=float), (M,))
     mats, element_material = np.unique(np.stack([E_c, nu_c], 1), axis=0, return_inverse=True)
-
-    a_form = a if isinstance(a, fem.FormMetaClass) else fem.form(a)
-    L_form = L if isinstance(L, fem.FormMetaClass) else fem.form(L)
-
-    # the load vector (fraction 1), slipstep numbering
-    b = assemble_vector(L_form)
-    load = b.array[perm].copy()
-    b.destroy()
-
-    # homogeneous Dirichlet conditions -> fixed dofs
-    fixed = []
-    if bcs:
-        probe = fem.Function(V)  # keep it alive: its vector wraps the Function's memory
-        x = probe.vector
-        x.set(np.nan)
-        set_bc(x, list(bcs))
-        vals = x.array
-        dofs = np.flatnonzero(~np.isnan(vals))
-        if np.abs(vals[dofs]).max(initial=0.0) != 0.0:
-            raise ValueError("hybrid mode: the Dirichlet conditions must be homogeneous (u = 0):"
-                             " slipstep's engine holds fixed dofs at zero")
-        inv = np.empty(len(perm), dtype=np.int64)
-        inv[perm] = np.arange(len(perm))
-        fixed = inv[dofs]
-        del x, probe
-    fixed = np.unique(np.asarray(fixed, dtype=np.int64))
-
-    # the operator: CSR from petsc4py, checked against the CST stiffness of mesh + material
+    load = api.assemble_vector(L)[perm]  # fraction 1, slipstep numbering
+    fixed = _fixed_dofs(V, bcs, perm)
     op_diff = float("nan")
     if check_operator:
-        A = assemble_matrix(a_form)
-        A.assemble()
-        indptr, indices, values = A.getValuesCSR()
-        A.destroy()
-        rng = np.random.default_rng(0)
-        worst = 0.0
-        for _ in range(3):
-            xs = rng.normal(size=2 * N)
-            xd = np.zeros(2 * N)
-            xd[perm] = xs
-            ya = _csr_matvec(indptr, indices, values, xd)[perm]
-            yk = cst_matvec(nodes, tris, E_c, nu_c, plane, thickness, xs)
-            worst = max(worst, np.abs(ya - yk).max() / np.abs(yk).max())
-        op_diff = float(worst)
-        if worst > 1e-10:
+        op_diff = _operator_difference(a, perm, nodes, tris, E_c, nu_c, plane, thickness)
+        if op_diff > 1e-10:
             raise ValueError(f"hybrid mode: the bilinear form is not the plane-{plane} CST "
                              f"elasticity operator of the E, nu and thickness given "
-                             f"(relative difference {worst:.3g}): slipstep's engine takes the "
+                             f"(relative difference {op_diff:.3g}): slipstep's engine takes the "
                              f"mesh and an isotropic elastic material, not a matrix; pass the "
                              f"E, nu, plane, thickness your form uses")
-
-    # contact candidates: vertices of the tagged facets
-    mesh = V.mesh
-    mesh.topology.create_connectivity(1, 0)
-    f2v = mesh.topology.connectivity(1, 0)
-    c2v = mesh.topology.connectivity(2, 0).array.reshape(-1, 3)
-    geom_of_vertex = np.empty(mesh.topology.index_map(0).size_local, dtype=np.int64)
-    geom_of_vertex[c2v.ravel()] = mesh.geometry.dofmap.array.reshape(-1, 3).ravel()
-    facets = facet_tags.indices[facet_tags.values == contact_tag]
-    if len(facets) == 0:
-        raise ValueError(f"hybrid mode: no facet carries the contact tag {contact_tag}")
-    segs = geom_of_vertex[np.array([f2v.links(f) for f in facets])]
-    cand = np.unique(segs)
-    seg_len = np.linalg.norm(nodes[segs[:, 1]] - nodes[segs[:, 0]], axis=1)
-    trib = np.zeros(N)
-    np.add.at(trib, segs[:, 0], 0.5 * seg_len)
-    np.add.at(trib, segs[:, 1], 0.5 * seg_len)
+    mesh = api.mesh_of(V)
+    cand, trib = _candidates(mesh, facet_tags, contact_tag, nodes)
     n = np.asarray(flat_normal, dtype=float)
     n = n / np.linalg.norm(n)
-    gap = (nodes[cand] - np.asarray(flat_point, dtype=float)) @ n
-    if (gap < -tolerance).any():
-        k = int(np.argmin(gap))
-        raise ValueError(f"hybrid mode: initial penetration at node {int(cand[k])} "
-                         f"({nodes[cand[k], 0]:.6g}, {nodes[cand[k], 1]:.6g}) by {-gap[k]:.3g}")
-    gap = np.where(np.abs(gap) <= tolerance, 0.0, gap)
-
     opts = {"output": "fractions",
             "fractions": np.asarray(sorted(set(fractions or ()) | {1.0}), dtype=float)}
     opts.update(options or {})
     model = {
         "nodes": nodes, "triangles": tris, "element_material": element_material.astype(np.int64),
         "materials": [{"E": float(e), "nu": float(v)} for e, v in mats],
-        "plane": plane, "thickness": float(thickness), "fixed_dofs": fixed, "load": load,
+        "plane": plane, "thickness": float(thickness), "fixed_dofs": fixed,
+        "load": load,
         "pairs": {"node_a": cand.astype(np.int64), "node_b": np.full(len(cand), -1, np.int64),
-                  "normal": np.tile(n, (len(cand), 1)), "gap": gap,
+                  "normal": np.tile(n, (len(cand), 1)),
+                  "gap": _initial_gap(nodes, cand, flat_point, n, tolerance),
                   "mu": np.full(len(cand), float(mu))},
         "options": opts,
     }
     result = engine().solve(model, progress)
 
-    Q = fem.FunctionSpace(mesh, ("CG", 1))
-    q_of_geom = np.empty(N, dtype=np.int64)
-    q_of_geom[mesh.geometry.dofmap.array] = Q.dofmap.list.array
-    out = HybridResult(u=fem.Function(V), pressure=fem.Function(Q), traction=fem.Function(Q),
+    Q = api.function_space(mesh, "Lagrange", 1)
+    q_of_geom = np.empty(len(nodes), dtype=np.int64)
+    q_of_geom[api.cell_nodes(mesh)] = api.cell_dofs(Q)
+    out = HybridResult(u=api.function(V), pressure=api.function(Q), traction=api.function(Q),
                        result=result, model=model, contact_nodes=cand,
-                       tributary_length=trib[cand], operator_difference=op_diff,
+                       tributary_length=trib, operator_difference=op_diff,
                        info={"block_of_geom": block_of_geom, "q_of_geom": q_of_geom})
     out.u, out.pressure, out.traction = _functions(out, result["snapshots"][-1])
     return out

@@ -80,12 +80,12 @@ impl<'m> Engine<'m> {
         let n_dofs = 2 * mesh.n_nodes();
         let path = LoadPath::new(model);
         let mut fixed = vec![false; n_dofs];
-        model.fixed_dofs.iter().chain(&path.prescribed_dofs()).for_each(|&d| fixed[d] = true);
+        model.supported_dofs().iter().chain(&path.prescribed_dofs()).for_each(|&d| fixed[d] = true);
         let pairs = contact_pairs(model, &fixed)?;
         let (body_of_node, n_bodies) = mesh.bodies();
-        let (modes, pinned) = free_modes(&mesh.nodes, &body_of_node, n_bodies, &fixed);
+        let (modes, pinned) = free_modes(&mesh.nodes, &body_of_node, n_bodies, &fixed, model.plane);
         let (contact_slot, slot_dofs) = contact_slots(&pairs, &fixed, &pinned);
-        let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(mesh, e)).collect();
+        let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(mesh, e, model.plane, model.thickness)).collect();
         let map = DofMap::ordered(&elements, n_dofs, &fixed, &pinned, &slot_dofs)?;
         let pattern = StiffnessPattern::new(&elements, &map)?;
         let material: Vec<Material> = model.element_material.iter().map(|&m| model.materials[m]).collect();

@@ -7,7 +7,6 @@ use super::engine::{since, Engine};
 use super::path::StageLoad;
 use super::space::Space;
 use super::state::State;
-use nalgebra::Vector3;
 use std::time::Instant;
 
 impl Engine<'_> {
@@ -84,11 +83,10 @@ impl Engine<'_> {
         let mut du = vec![0.0; self.map.role.len()];
         increments.iter().for_each(|&(d, v)| du[d] = v);
         let mut f = vec![0.0; du.len()];
-        let (plane, thickness) = (self.model.plane, self.model.thickness);
         for &e in &self.prescribed_elements {
             let el = &self.elements[e];
-            let s = self.tangents[e].stress_increment(plane, &el.strain(&du));
-            let fe = el.internal_force(&Vector3::new(s[0], s[1], s[3]), thickness);
+            let s = self.tangents[e].stress_increment(self.model.plane, &el.strain(&du));
+            let fe = el.internal_force(&s);
             for (k, &d) in el.dofs().iter().enumerate() {
                 if !self.fixed[d] {
                     f[d] -= fe[k];
@@ -120,7 +118,7 @@ impl Engine<'_> {
 
     /// Scales of the whole path: max over stages of |ΔP − K_fp Δū| over the free DOFs, and
     /// of Σ|ΔP| (+ Σ|K_fp Δū|); an obstacle motion Δc counts as the force E t |Δc| per pair
-    /// (the order of what moving a surface node by Δc takes). (norm, sum)
+    /// (the order of what moving a surface node by Δc takes; t = `Model::depth`). (norm, sum)
     pub fn path_force_scales(&self) -> (f64, f64) {
         let young = self.material.iter().map(|m| m.young).fold(0.0f64, f64::max);
         let (mut norm, mut sum) = (0.0f64, 0.0f64);
@@ -134,7 +132,7 @@ impl Engine<'_> {
             for p in 0..self.global_pairs().len() {
                 let c = stage.shift(p, 1.0);
                 let c0 = stage.shift(p, 0.0);
-                let moved = young * self.model.thickness * (c[0] - c0[0]).hypot(c[1] - c0[1]);
+                let moved = young * self.model.depth() * (c[0] - c0[0]).hypot(c[1] - c0[1]);
                 total += moved;
                 effective.push(moved);
             }

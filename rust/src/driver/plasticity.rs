@@ -75,7 +75,8 @@ impl Engine<'_> {
     }
 
     /// Scale the stress of plastic elements back onto the yield surface: the deviator at fixed
-    /// mean stress in plane strain, the in-plane stress (keeping σz = 0) in plane stress.
+    /// mean stress in plane strain and axisymmetry (all four components), the in-plane stress
+    /// (keeping σz = 0) in plane stress.
     fn return_to_yield_surface(&self, state: &mut State) {
         for e in 0..state.plastic.len() {
             if !state.plastic[e] {
@@ -92,7 +93,7 @@ impl Engine<'_> {
             }
             state.stress[e] = match self.model.plane {
                 Plane::Stress => s * factor,
-                Plane::Strain => {
+                Plane::Strain | Plane::Axisymmetric => {
                     let p = (s[0] + s[1] + s[2]) / 3.0;
                     let mean = Vector4::new(p, p, p, 0.0);
                     mean + (s - mean) * factor

@@ -1,4 +1,4 @@
-//! K = Σ t A Bᵀ D B (eq. 36) with the current tangents, its SPD factor, and the products with
+//! K = Σ w Bᵀ D B (eq. 36; w = t A, or 2π r̄ A in axisymmetry) with the current tangents, its SPD factor, and the products with
 //! K# the loop needs: full solves (K# y) and flexibility lookups at the contact DOFs.
 
 use super::engine::{since, Engine};
@@ -31,23 +31,23 @@ impl Engine<'_> {
     }
 
     /// K with the current tangents. Plastic runs keep the elastic K and re-add
-    /// t A Bᵀ (D_ep − D) B of the elements that are plastic now.
+    /// w Bᵀ (D_ep − D) B of the elements that are plastic now.
     fn assemble(&mut self) -> Result<faer::sparse::SparseColMat<usize, f64>> {
-        let (plane, thickness) = (self.model.plane, self.model.thickness);
+        let plane = self.model.plane;
         if let Space::Full(full) = &self.space {
             if let Some(scatter) = &full.scatter {
                 let mut values = full.elastic_values.clone();
                 for (e, t) in self.tangents.iter().enumerate() {
                     if t.flow.is_some() {
-                        let softening = t.in_plane(plane) - self.material[e].elastic_tangent(plane);
-                        scatter.add(e, &self.elements[e].stiffness(&softening, thickness), &mut values);
+                        let softening = t.element_matrix(plane) - self.material[e].elastic_tangent(plane);
+                        scatter.add(e, &self.elements[e].stiffness(&softening), &mut values);
                     }
                 }
                 return Ok(self.pattern.with_values(values));
             }
         }
-        let in_plane: Vec<_> = self.tangents.iter().map(|t| t.in_plane(plane)).collect();
-        let k = self.pattern.assemble(&self.elements, &in_plane, thickness, &self.map)?;
+        let d: Vec<_> = self.tangents.iter().map(|t| t.element_matrix(plane)).collect();
+        let k = self.pattern.assemble(&self.elements, &d, &self.map)?;
         let all_elastic_now = self.tangents.iter().all(|t| t.flow.is_none());
         let plastic_run = self.material.iter().any(|m| m.is_plastic());
         if let Space::Full(full) = &mut self.space {

@@ -18,7 +18,7 @@ use super::state::{State, TrialIncrement};
 use crate::bail;
 use crate::contact::{SparseVec, Status};
 use crate::error::Result;
-use nalgebra::{DMatrix, DVector, Vector3, Vector4};
+use nalgebra::{DMatrix, DVector, Vector4};
 use std::time::Instant;
 
 /// A pivot of the small system's LU below this × the largest one means "singular".
@@ -252,11 +252,11 @@ impl Engine<'_> {
             .unzip()
     }
 
-    /// Internal nodal forces P_σ = Σ t A Bᵀ σ (eq. 42).
+    /// Internal nodal forces P_σ = Σ w Bᵀ σ (eq. 42; w = t A, or 2π r̄ A in axisymmetry).
     pub fn internal_force(&self, stress: &[Vector4<f64>]) -> Vec<f64> {
         let mut f = vec![0.0; self.map.role.len()];
         for (el, s) in self.elements.iter().zip(stress) {
-            let fe = el.internal_force(&Vector3::new(s[0], s[1], s[3]), self.model.thickness);
+            let fe = el.internal_force(s);
             for (k, d) in el.dofs().iter().enumerate() {
                 f[*d] += fe[k];
             }
