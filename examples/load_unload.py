@@ -39,7 +39,9 @@ for t, stage in ((1.0, 1), (2.0, 2)):
 
 # %% [markdown]
 # The figures as matplotlib objects (drawn without pyplot, so a notebook's own figures and
-# backend are untouched); in Jupyter, `r.figures()["contact_extent"]` displays inline.
+# backend are untouched): `fig.savefig(...)` anywhere; in Jupyter, `r.figures()["contact_extent"]`
+# as a cell's value shows inline once the inline backend is active (`%matplotlib inline`, or
+# any earlier `import matplotlib.pyplot`).
 
 # %%
 figs = r.figures()
