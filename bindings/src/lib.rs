@@ -1,17 +1,17 @@
-//! Python bindings: `slipstep._engine.solve(model: dict, progress: bool) -> dict`.
+//! Python bindings: `slipstep._engine.solve(model: dict, progress=None) -> dict`.
 //! Only translation between numpy/dict and the engine's records lives here; the event loop
-//! runs in Rust with the GIL released (it re-attaches every few events to honour Ctrl-C).
+//! runs in Rust with the GIL released (it re-attaches every REPORT_INTERVAL_S to call the
+//! progress callback and to honour Ctrl-C).
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use slipstep_core::material::{Material, Plane};
 use slipstep_core::mesh::Mesh;
 use slipstep_core::error::ErrorKind;
 use slipstep_core::model::*;
-use std::io::Write;
 use std::time::Instant;
 
 fn get<'py>(d: &Bound<'py, PyDict>, key: &str) -> PyResult<Bound<'py, PyAny>> {
@@ -325,39 +325,63 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     Ok(out)
 }
 
+/// How often (seconds) the event loop, which runs with the GIL released, re-attaches to the
+/// interpreter: to call the progress callback and to let Python see Ctrl-C.
+const REPORT_INTERVAL_S: f64 = 0.1;
+
 /// Run the adaptive incremental procedure on `model` (see docs/engine_api.md).
+///
+/// `progress`: None or False (no reports), or a callable `progress(events, steps, t)`, called
+/// at most every REPORT_INTERVAL_S between increments with the GIL held; returning False stops
+/// the run like Ctrl-C does (`stop.kind == "interrupted"`, the partial result is returned).
+/// Ctrl-C (a pending KeyboardInterrupt, also one the callback raises) stops the run the same
+/// way; any other exception the callback raises stops the run and is re-raised.
 #[pyfunction]
-#[pyo3(signature = (model, progress = true))]
-fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: bool) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (model, progress = None))]
+fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: Option<Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyDict>> {
+    let callback = progress_callback(progress)?;
     let model = read_model(model).map_err(|e| malformed(py, e))?;
+    let mut failure: Option<PyErr> = None;
     let result = py.detach(|| {
-        let start = Instant::now();
-        let mut last_print = Instant::now();
-        let mut printed = false;
-        let mut last_signal_check = Instant::now();
-        let r = slipstep_core::run(&model, |p: Progress| {
-            if progress && last_print.elapsed().as_secs_f64() > 0.5 {
-                last_print = Instant::now();
-                printed = true;
-                eprint!("\r  {} events, {} increments, t = {:.4}, {:.1} s   ", p.events, p.steps, p.load_fraction, start.elapsed().as_secs_f64());
-                let _ = std::io::stderr().flush();
+        let mut last_report = Instant::now();
+        slipstep_core::run(&model, |p: Progress| {
+            if last_report.elapsed().as_secs_f64() < REPORT_INTERVAL_S {
+                return true;
             }
-            // Ctrl-C: Python's handler raises KeyboardInterrupt when it runs; stop cleanly.
-            if last_signal_check.elapsed().as_secs_f64() > 0.1 {
-                last_signal_check = Instant::now();
-                return Python::attach(|py| py.check_signals().is_ok());
-            }
-            true
-        });
-        if printed {
-            eprintln!();
-        }
-        r
+            last_report = Instant::now();
+            Python::attach(|py| report(py, callback.as_ref(), &p)).unwrap_or_else(|e| {
+                failure = Some(e);
+                false
+            })
+        })
     });
+    if let Some(e) = failure {
+        if !e.is_instance_of::<PyKeyboardInterrupt>(py) {
+            return Err(e);
+        }
+    }
     match result {
         Ok(r) => result_to_dict(py, r),
         Err(e) => Err(python_error(py, &e)),
     }
+}
+
+/// The progress argument: None/False = no callback; a callable; anything else is an input error.
+fn progress_callback(progress: Option<Bound<'_, PyAny>>) -> PyResult<Option<Py<PyAny>>> {
+    match progress {
+        None => Ok(None),
+        Some(p) if p.is_none() || p.extract::<bool>().ok() == Some(false) => Ok(None),
+        Some(p) if p.is_callable() => Ok(Some(p.unbind())),
+        Some(p) => Err(input_error(format!("progress = {}: give None or a callable progress(events, steps, t)", p.repr().map(|r| r.to_string()).unwrap_or_default()))),
+    }
+}
+
+/// One report between increments: Ctrl-C first, then the callback. Ok(false) = stop the run.
+fn report(py: Python<'_>, callback: Option<&Py<PyAny>>, p: &Progress) -> PyResult<bool> {
+    py.check_signals()?;
+    let Some(callback) = callback else { return Ok(true) };
+    let answer = callback.call1(py, (p.events, p.steps, p.load_fraction))?;
+    Ok(answer.is_none(py) || answer.is_truthy(py)?)
 }
 
 /// Any failure while reading the model dict (a wrong type pyo3 could not extract, say) is an

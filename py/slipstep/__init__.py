@@ -1,22 +1,27 @@
 """slipstep: event-driven ("adaptive incremental") frictional contact in 2D.
 
 After Abdalla, Ali-Eldin & Ghazy: every increment is scaled to the next change of contact
-status (close, separate, stick -> slip, slip -> stick), so there are no load steps to tune and
-no penalty parameters.  The event loop is the compiled engine ``slipstep._engine``; this
-package describes scenes (``case``), meshes them (``mesh``), builds the engine model
-(``model``) and writes results (``summary``, ``output``, ``figures``, ``results``); errors
-are the classes of ``errors``.
+status (close, separate, stick -> slip, slip -> stick) or plastic state, so there are no load
+steps to tune and no penalty parameters.  The event loop is the compiled engine
+``slipstep._engine``; this package describes scenes (``case``), meshes them (``mesh``), builds
+the engine model (``model``), runs it (``runner``, ``progress``), gives the result as an object
+(``result``) and writes files (``summary``, ``output``, ``figures``, ``results``); errors are the
+classes of ``errors``; the shipped cases and studies are in ``shipped``.
 
-    >>> from slipstep import run_case
-    >>> result, summary = run_case("cases/hertz_cylinder.toml", out="results/hertz",
-    ...                            overrides=["contact.mu=0.1"])
+    >>> import slipstep
+    >>> r = slipstep.run("hertz_cylinder", overrides=["contact.mu=0.1"], out="results/hertz")
+    >>> r                                   # a one-line summary (a table in a notebook)
+    >>> r.fields(1.0)["u"], r.profile()["pressure"], r.to_meshio(0.5), r.events
 """
 
 from .case import Case, CaseError, load_case, parse_case
 from .errors import InputError, SlipstepError
-from .mesh import Mesh, MeshError
+from .mesh import Mesh, MeshError, from_arrays, from_meshio
 from .model import Scene, build_scene
-from .runner import prepare, run_case, solve
+from .progress import Progress
+from .result import Result
+from .runner import as_case, prepare, run, run_case, solve
 
-__all__ = ["Case", "CaseError", "InputError", "Mesh", "MeshError", "Scene", "SlipstepError",
-           "build_scene", "load_case", "parse_case", "prepare", "run_case", "solve"]
+__all__ = ["Case", "CaseError", "InputError", "Mesh", "MeshError", "Progress", "Result",
+           "Scene", "SlipstepError", "as_case", "build_scene", "from_arrays", "from_meshio",
+           "load_case", "parse_case", "prepare", "run", "run_case", "solve"]

@@ -261,9 +261,15 @@ FILE_MESH_KEYS = {
     "scale": Key("float", 1.0, doc="multiply the coordinates by this", check=_positive("scale")),
 }
 
+GIVEN_MESH_KEYS = {
+    "generator": Key("str", REQUIRED, doc='"given": the mesh comes from Python, '
+                                          "slipstep.run(case, meshes={body: mesh}) (a "
+                                          "slipstep.mesh.Mesh: from_arrays, from_meshio)"),
+}
+
 MESH_VARIANTS = {"quarter_cylinder": QUARTER_CYLINDER_KEYS,
                  "half_cylinder": QUARTER_CYLINDER_KEYS, "block": BLOCK_KEYS,
-                 "quarter_annulus": QUARTER_ANNULUS_KEYS}
+                 "quarter_annulus": QUARTER_ANNULUS_KEYS, "given": GIVEN_MESH_KEYS}
 
 def block_divisions(mesh: dict) -> tuple[int, int]:
     """The structured block's cells (nx, ny): as given, or round(size / h)."""
@@ -485,6 +491,34 @@ class Case:
         """The load path: named loads, stages and the factor table (see :func:`load_path`)."""
         return load_path(self.data, self.source)
 
+    @property
+    def units(self) -> dict[str, str]:
+        """``[case] units`` read as "length, force, stress" (e.g. "mm, N, MPa"): {"length":
+        "mm", "force": "N", "stress": "MPa"}; {} when the note is not three such words."""
+        words = [w.strip() for w in self.data["case"]["units"].split(",")]
+        if len(words) != 3 or not all(w and " " not in w and len(w) <= 8 for w in words):
+            return {}
+        return dict(zip(("length", "force", "stress"), words))
+
+    @classmethod
+    def from_toml(cls, text: str, source: str = "<case>", base_dir: Path | str = ".",
+                  overrides=()) -> "Case":
+        """A case from TOML text (:func:`parse_case`)."""
+        return parse_case(text, source, base_dir, overrides)
+
+    @classmethod
+    def from_dict(cls, data: dict, source: str = "<dict>", base_dir: Path | str = ".",
+                  overrides=()) -> "Case":
+        """A case from a dict shaped like the TOML document (``{"case": {...}, "body":
+        [{...}], ...}``, keys as in cases/README.md), validated like a file: tuples and numpy
+        arrays count as lists, numpy numbers as numbers, a None value as an absent key."""
+        if not isinstance(data, dict):
+            raise CaseError(f"{source}: a case is a dict of tables, not {type(data).__name__}")
+        raw = _toml_like(data)
+        for item in overrides:
+            apply_override(raw, item, source)
+        return cls(data=_Validator(source).case(raw), source=source, base_dir=Path(base_dir))
+
 
 def default_case_path() -> Path:
     """The embedded default case (the Hertz cylinder of §5.1)."""
@@ -523,6 +557,18 @@ def parse_case(text: str, source: str = "<case>", base_dir: Path | str = ".",
         apply_override(raw, item, source)
     data = _Validator(source).case(raw)
     return Case(data=data, source=source, base_dir=Path(base_dir))
+
+
+def _toml_like(value):
+    """A copy of ``value`` in the types tomllib gives: dict, list, str, bool, int, float; None
+    values of a dict are left out (TOML has no null)."""
+    if isinstance(value, dict):
+        return {str(k): _toml_like(v) for k, v in value.items() if v is not None}
+    if hasattr(value, "tolist") and not isinstance(value, (str, bytes)):  # numpy
+        value = value.tolist()
+    if isinstance(value, (list, tuple)):
+        return [_toml_like(v) for v in value]
+    return value
 
 
 # --------------------------------------------------------------------------- overrides
@@ -904,7 +950,7 @@ class _Validator:
             self.block_mesh(mesh, raw, prefix)
         elif gen in check:
             check[gen](mesh, prefix)
-        mesh["edges"] = GENERATOR_EDGES[gen]
+        mesh["edges"] = GENERATOR_EDGES.get(gen)  # None ("given"): known with the mesh
         return mesh
 
     def cylinder_mesh(self, mesh: dict, prefix: str) -> None:

@@ -1,16 +1,19 @@
 """The ``slipstep`` command.
 
-    slipstep run [CASE.toml] [--out DIR] [--set KEY=VALUE ...] [--quiet]
-    slipstep check [CASE.toml] [--set KEY=VALUE ...]
+    slipstep run [CASE] [--out DIR] [--set KEY=VALUE ...] [--quiet]
+    slipstep check [CASE] [--set KEY=VALUE ...]
+    slipstep list
     slipstep crosscheck [CASE.toml] [--out DIR] [--set KEY=VALUE ...] [--steps 5,10,20,50]
     slipstep sweep STUDY.toml [--out DIR] [--workers N] [--mpi]
     slipstep reproduce [--out DIR] [--quick]
     slipstep study stability [--out DIR] [--quick]
 
-Without CASE the built-in Hertz cylinder (paper §5.1) runs.  A :class:`~slipstep.errors.
+CASE is a case file or the name of a shipped case (``slipstep list``; STUDY likewise), so an
+installed wheel runs from any folder; without CASE the built-in Hertz cylinder (paper §5.1)
+runs.  A :class:`~slipstep.errors.
 SlipstepError` prints one line ``slipstep: error: ...`` on stderr and exits 2 (set
 SLIPSTEP_TRACEBACK=1 for its traceback); any other exception is a bug and shows its traceback.
-Ctrl-C writes what was computed and exits 130.
+Ctrl-C writes what was computed and exits 130.  ``run`` shows a progress bar on stderr (tqdm).
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ import argparse
 import os
 import sys
 
+from . import shipped
 from .case import load_case
 from .errors import InputError, SlipstepError
 from .model import build_scene
@@ -37,7 +41,8 @@ def _parser() -> argparse.ArgumentParser:
                        ("check", "validate and mesh a case, print its size, do not solve")):
         s = sub.add_parser(name, help=text, description=text)
         s.add_argument("case", nargs="?", default=None,
-                       help="case file (default: the built-in Hertz cylinder)")
+                       help="case file or shipped case name (`slipstep list`; default: the "
+                            "built-in Hertz cylinder)")
         s.add_argument("--set", dest="overrides", action="append", default=[],
                        metavar="KEY=VALUE", help="override a key, e.g. --set contact.mu=0.35 "
                        "(repeatable; see cases/README.md)")
@@ -47,7 +52,7 @@ def _parser() -> argparse.ArgumentParser:
     s = sub.add_parser("sweep", help="run a parameter study (local processes or MPI)",
                        description="run every case of a study TOML (see slipstep.sweep); "
                        "finished cases are kept, so a rerun resumes")
-    s.add_argument("study", help="study file (studies/*.toml)")
+    s.add_argument("study", help="study file (studies/*.toml) or shipped study name")
     s.add_argument("--out", default=None, help="output folder (default: results/<study>)")
     s.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
     s.add_argument("--mpi", action="store_true", help="use mpi4py.futures.MPIPoolExecutor: "
@@ -67,6 +72,9 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("name", choices=["stability"], help="which study")
     s.add_argument("--out", default="results/stability", help="output folder")
     s.add_argument("--quick", action="store_true", help="coarse meshes, fewer runs (for tests)")
+    sub.add_parser("list", help="list the shipped cases and studies",
+                   description="the cases and studies shipped with slipstep: give their names "
+                               "to run, check, crosscheck and sweep")
     # cross-check against dolfinx (optional; slipstep.fenicsx imports dolfinx lazily)
     text = "solve a case with slipstep and with dolfinx (FEniCSx) and write a comparison report"
     s = sub.add_parser("crosscheck", help=text, description=text)
@@ -103,6 +111,8 @@ def main(argv=None) -> int:
 def _command(args) -> int:
     if args.command == "check":
         return _check(args)
+    if args.command == "list":
+        return _list()
     if args.command == "crosscheck":
         return _crosscheck(args)
     if args.command == "sweep":
@@ -117,8 +127,21 @@ def _command(args) -> int:
     return _run(args)
 
 
+def _case(args):
+    """The case the command line names (a file, a shipped name, or None: the built-in one)."""
+    return load_case(shipped.resolve(args.case), args.overrides)
+
+
+def _list() -> int:
+    for name in shipped.names("cases"):
+        print(f"{name:28s} {load_case(shipped.path(name)).data['case']['description']}")
+    for name in shipped.names("studies"):
+        print(f"{name:28s} (study: slipstep sweep {name})")
+    return 0
+
+
 def _check(args) -> int:
-    scene = build_scene(load_case(args.case, args.overrides))
+    scene = build_scene(_case(args))
     m = scene.model
     print(f"{scene.case.name}: {len(m['nodes'])} nodes, {len(m['triangles'])} elements, "
           f"{2 * len(m['nodes'])} dofs, {len(m['pairs']['node_a'])} contact pairs, "
@@ -132,11 +155,12 @@ def _crosscheck(args) -> int:
     except ValueError:
         raise InputError(f"--steps {args.steps}: give load step counts like 5,10,20,50") from None
     from .fenicsx import require_dolfinx
-    out = args.out or f"results/{load_case(args.case, args.overrides).name}_crosscheck"
+    out = args.out or f"results/{_case(args).name}_crosscheck"
     try:
         require_dolfinx()
-        from .fenicsx.crosscheck import run
-        report = run(args.case, out, args.overrides, steps=steps, substeps=args.substeps)
+        from .fenicsx.crosscheck import run as crosscheck
+        report = crosscheck(shipped.resolve(args.case), out, args.overrides, steps=steps,
+                            substeps=args.substeps)
     except NotImplementedError as exc:  # a scene the cross-check does not cover
         return _error(str(exc))
     print(f"{report['case']}: {report['mode']} -> {out}/crosscheck.md")
@@ -144,7 +168,7 @@ def _crosscheck(args) -> int:
 
 
 def _run(args) -> int:
-    case = load_case(args.case, args.overrides)
+    case = _case(args)
     out = args.out or f"results/{case.name}"
     result, summary = run_case(case, out, progress=not args.quiet)
     if not args.quiet:

@@ -176,6 +176,20 @@ def event_times(result) -> tuple[np.ndarray, np.ndarray]:
     return t, stage
 
 
+def event_positions(scene, result) -> np.ndarray:
+    """(n, 2) where each events row happened: node a of its pair, or the centroid of its
+    element for the element events (:data:`ELEMENT_EVENTS`)."""
+    ev = result["events"]
+    kinds = np.asarray(ev["kind"], dtype=str)
+    entity = np.asarray(ev["entity"], dtype=np.int64)
+    out = np.zeros((len(entity), 2))
+    on_element = np.isin(kinds, ELEMENT_EVENTS)
+    if on_element.any():
+        out[on_element] = centroids(scene.nodes, scene.triangles[entity[on_element]])
+    out[~on_element] = scene.pair_xy[entity[~on_element]]
+    return out
+
+
 def final_time(result) -> float:
     """The path time the run reached (``stop.t``, else the end of its last increment)."""
     if "t" in result.get("stop", {}):

@@ -1,8 +1,18 @@
-"""PNG figures of a run (matplotlib, Agg backend): the interface at the final snapshot, the
-growth of the contact half-length with the load fraction (cf. Figs. 6-9 of the paper) and, for
-elastoplastic runs, the von Mises map with the plastic zone outlined (cf. Fig. 5).  A load path
-(several stages, prescribed displacements or motions) adds its force-displacement curves and
-the contact extent against the path time t."""
+"""PNG figures of a run: the interface at the final snapshot, the growth of the contact
+half-length with the load fraction (cf. Figs. 6-9 of the paper) and, for elastoplastic runs,
+the von Mises map with the plastic zone outlined (cf. Fig. 5).  A load path (several stages,
+prescribed displacements or motions) adds its force-displacement curves and the contact extent
+against the path time t.  Axis labels carry the case's units (``[case] units``).
+
+Notebook-safe: matplotlib's object API only (``matplotlib.figure.Figure``, saved with Agg by
+``savefig``), no ``matplotlib.use``, no pyplot, so a notebook's backend and figures are left
+alone.  Each ``*_figure(path, ...)`` writes a PNG and returns its path, or with ``path=None``
+returns the Figure (:func:`figures`: all of a run's, for :class:`slipstep.result.Result`).
+
+Cheap by design (issue 16: figures must not dominate a run): fixed margins instead of a layout
+engine, one render per file (no ``bbox_inches="tight"``), and the von Mises map draws only the
+elements inside its zoom window.
+"""
 
 from __future__ import annotations
 
@@ -17,49 +27,120 @@ from .summary import contact_text
 
 STATUS_COLOURS = {0: "0.6", 1: "tab:blue", 2: "tab:red"}
 STATUS_LABELS = {0: "open", 1: "stick", 2: "slip"}
+DPI = 110  # 7 x 6 in -> 770 x 660 px
 
 
-def _pyplot():
+def new_figure(width: float, height: float, layout: str | None = None, **margins):
+    """A matplotlib Figure outside pyplot (no backend switch, no global figure list) with fixed
+    margins (fractions of the figure, ``subplots_adjust`` keywords), or with ``layout``
+    ("constrained": matplotlib's layout engine, slower)."""
     import warnings
 
-    import matplotlib
+    with warnings.catch_warnings():
+        # Debian's mpl_toolkits (3D axes) sits beside the venv's matplotlib; only 2D plots here
+        warnings.filterwarnings("ignore", message="Unable to import Axes3D")
+        from matplotlib.figure import Figure
+    if layout is not None:
+        return Figure(figsize=(width, height), dpi=DPI, constrained_layout=layout == "constrained")
+    fig = Figure(figsize=(width, height), dpi=DPI)
+    fig.subplots_adjust(**{"left": 0.13, "right": 0.96, "bottom": 0.1, "top": 0.9, **margins})
+    return fig
 
-    # Debian's mpl_toolkits (3D axes) sits beside the venv's matplotlib; only 2D plots here.
-    warnings.filterwarnings("ignore", message="Unable to import Axes3D")
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
-    return plt
+class Plots:
+    """pyplot's figure-making calls that the studies' figures use (``figure``, ``subplots``,
+    ``close``, ``get_cmap``) on the object API: same calls, no pyplot state, no backend."""
+
+    @staticmethod
+    def figure(figsize=(6.4, 4.8), constrained_layout: bool = False):
+        return new_figure(*figsize, layout="constrained" if constrained_layout else "none")
+
+    @staticmethod
+    def subplots(nrows: int = 1, ncols: int = 1, figsize=(6.4, 4.8),
+                 constrained_layout: bool = False, **kwargs):
+        fig = Plots.figure(figsize, constrained_layout)
+        return fig, fig.subplots(nrows, ncols, **kwargs)
+
+    @staticmethod
+    def close(fig) -> None:
+        """Nothing to release: no pyplot registry holds the figure."""
+
+    @staticmethod
+    def get_cmap(name: str):
+        import matplotlib
+
+        return matplotlib.colormaps[name]
+
+
+def preload() -> None:
+    """Pay the first figure's fixed cost (importing matplotlib's figure and Agg modules, PIL,
+    loading the font: ~0.2-0.3 s) without drawing anything that is kept; slipstep.runner calls
+    it in a thread while the engine runs with the GIL released."""
+    import io
+
+    fig = new_figure(1, 1)
+    fig.text(0.5, 0.5, "0")
+    fig.savefig(io.BytesIO(), format="png")
+
+
+def finish(fig, path: Path | None):
+    """Write ``fig`` to ``path`` (PNG, Agg) and return the path; None: return the Figure.
+
+    Every title is pinned at the top of its axes (y = 1): matplotlib otherwise measures the
+    tick labels of every axes at each draw to place them (~1/5 of the drawing time here),
+    and no axes here has tick labels on top."""
+    for ax in fig.axes:
+        ax.set_title(ax.get_title(), y=1.0, fontsize=ax.title.get_fontsize())
+    if path is None:
+        return fig
+    fig.savefig(path, dpi=DPI)
+    return Path(path)
+
+
+def label(text: str, scene, kind: str) -> str:
+    """``text [unit]`` with the case's unit of ``kind`` (length, force, stress), if known."""
+    unit = scene.case.units.get(kind)
+    return f"{text} [{unit}]" if unit else text
+
+
+def chosen(scene, result) -> list[tuple[str, object]]:
+    """(file stem, builder) of the figures that apply to a run, in writing order:
+    ``contact_interface`` and, for one stage, ``contact_growth`` (when the case has contact
+    pairs); for a load path (:func:`slipstep.derived.is_staged`) ``force_displacement`` (when
+    it has prescribed displacements or motions and reactions) and ``contact_extent`` (with
+    contact pairs); ``von_mises`` (when a material has a yield stress)."""
+    out = []
+    if not result.get("snapshots"):
+        return out
+    pairs = len(scene.pair_xy) > 0
+    if pairs:
+        out.append(("contact_interface", interface_figure))
+        if len(stage_names(scene, result)) == 1:
+            out.append(("contact_growth", growth_figure))
+    if is_staged(scene, result):
+        if force_displacement(scene, result):
+            out.append(("force_displacement", force_displacement_figure))
+        if pairs:
+            out.append(("contact_extent", extent_figure))
+    if is_elastoplastic(scene):
+        out.append(("von_mises", von_mises_figure))
+    return out
 
 
 def write_figures(folder: Path, scene, result, summary: dict) -> list[Path]:
-    """``contact_interface.png`` and, for one stage, ``contact_growth.png`` (when the case has
-    contact pairs), ``von_mises.png`` (when a material has a yield stress); for a load path
-    (:func:`slipstep.derived.is_staged`) ``force_displacement.png`` (when it has prescribed
-    displacements or motions and reactions) and ``contact_extent.png`` (with contact pairs)."""
-    folder = Path(folder)
-    paths = []
-    snaps = result.get("snapshots")
-    if snaps and len(scene.pair_xy):
-        paths.append(interface_figure(folder / "contact_interface.png", scene, result, summary))
-        if len(stage_names(scene, result)) == 1:
-            paths.append(growth_figure(folder / "contact_growth.png", scene, result, summary))
-    if snaps and is_staged(scene, result):
-        curves = force_displacement(scene, result)
-        if curves:
-            paths.append(force_displacement_figure(folder / "force_displacement.png", scene,
-                                                   result, curves))
-        if len(scene.pair_xy):
-            paths.append(extent_figure(folder / "contact_extent.png", scene, result))
-    if snaps and is_elastoplastic(scene):
-        paths.append(von_mises_figure(folder / "von_mises.png", scene, result, summary))
-    return paths
+    """Write every figure of :func:`chosen` as ``folder/<stem>.png``; returns the paths."""
+    return [draw(Path(folder) / f"{stem}.png", scene, result, summary)
+            for stem, draw in chosen(scene, result)]
 
 
-def interface_figure(path: Path, scene, result, summary: dict) -> Path:
+def figures(scene, result, summary: dict) -> dict:
+    """The figures of :func:`chosen` as matplotlib Figures, by stem (nothing is written)."""
+    return {stem: draw(None, scene, result, summary) for stem, draw in chosen(scene, result)}
+
+
+def interface_figure(path: Path | None, scene, result, summary: dict):
     """Contact pressure, tangential stress and RTD along the interface (3 panels), points
     coloured by status; the Hertz pressure p0 sqrt(1 - x^2/a^2) overlaid when it applies."""
-    plt = _pyplot()
     snap = result["snapshots"][-1]
     prof = contact_profile(scene, snap)
     x, status = prof["x"], prof["status"]
@@ -69,18 +150,19 @@ def interface_figure(path: Path, scene, result, summary: dict) -> Path:
         xmax = max(2.0 * a, x[status > 0].max() * 1.5 if (status > 0).any() else x.max())
         show = x <= xmax if xmax > 0 else show
 
-    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7, 8), constrained_layout=True)
-    panels = [("pressure", "contact pressure"),
-              ("tangential_stress", "tangential stress\n(along t = (-n_y, n_x))"),
-              ("rtd", "relative tangential\ndisplacement (RTD)")]
-    for ax, (key, label) in zip(axes, panels):
+    fig = new_figure(7, 8, left=0.14, bottom=0.07, top=0.94, hspace=0.08)
+    axes = fig.subplots(3, 1, sharex=True)
+    panels = [("pressure", "contact pressure", "stress"),
+              ("tangential_stress", "tangential stress\n(along t = (-n_y, n_x))", "stress"),
+              ("rtd", "relative tangential\ndisplacement (RTD)", "length")]
+    for ax, (key, text, kind) in zip(axes, panels):
         ax.plot(x[show], prof[key][show], "-", color="0.75", lw=1, zorder=1)
         for s, colour in STATUS_COLOURS.items():
             m = show & (status == s)
             if m.any():
                 ax.plot(x[m], prof[key][m], "o", ms=3, color=colour, label=STATUS_LABELS[s],
                         zorder=2)
-        ax.set_ylabel(label)
+        ax.set_ylabel(label(text, scene, kind))
         ax.grid(alpha=0.3)
     hertz = summary.get("hertz")
     if hertz and hertz["a_hertz_at_final"] > 0:  # 0: the load unloaded to nothing
@@ -92,38 +174,33 @@ def interface_figure(path: Path, scene, result, summary: dict) -> Path:
         for ax in axes:
             ax.axvline(a, color="k", lw=0.7, ls=":")
     axes[0].legend(fontsize=8)
-    axes[-1].set_xlabel(coordinate_names(scene)[0])
+    axes[-1].set_xlabel(label(coordinate_names(scene)[0], scene, "length"))
     fig.suptitle(f"{scene.case.name}: interface at {_when(scene, result, snap)}   "
                  f"({contact_text(summary)})", fontsize=10)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return finish(fig, path)
 
-
-def growth_figure(path: Path, scene, result, summary: dict) -> Path:
+def growth_figure(path: Path | None, scene, result, summary: dict):
     """Outermost closed node x against the load fraction (a step curve from the event history),
     with a_Hertz sqrt(f) when the case is the Hertz cylinder (cf. Fig. 9)."""
-    plt = _pyplot()
     f, xs = contact_growth(scene, result)
-    fig, ax = plt.subplots(figsize=(6, 4.5), constrained_layout=True)
+    fig = new_figure(6, 4.5, left=0.14, bottom=0.12)
+    ax = fig.subplots()
     ax.step(f, xs, where="post", color="tab:blue", label="outermost closed node")
     hertz = summary.get("hertz")
     if hertz:
         ff = np.linspace(0.0, 1.0, 200)
         k = hertz.get("load_exponent", 0.5)  # a grows as f^k: 1/2 line contact, 1/3 sphere
+        # plain text, no TeX: matplotlib's mathtext parser costs more than this whole figure
         ax.plot(ff, hertz["a_hertz"] * ff ** k, "k--", lw=1,
-                label=r"Hertz $a\sqrt{f}$" if k == 0.5 else r"Hertz $a f^{1/3}$")
+                label="Hertz a √f" if k == 0.5 else "Hertz a f^(1/3)")
     ax.set_xlabel("load fraction f")
-    ax.set_ylabel("contact half-length")
+    ax.set_ylabel(label("contact half-length", scene, "length"))
     ax.set_xlim(0, 1)
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
     ax.legend()
     ax.set_title(f"{scene.case.name}: growth of the contact", fontsize=10)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
-
+    return finish(fig, path)
 
 def _when(scene, result, snap: dict) -> str:
     """``load fraction f`` for one stage, else ``t = ... (stage name)``."""
@@ -158,39 +235,36 @@ def _steps(t: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.repeat(t, 2)[1:], np.repeat(v, 2)[:-1]
 
 
-def force_displacement_figure(path: Path, scene, result, curves: dict) -> Path:
+def force_displacement_figure(path: Path | None, scene, result, summary: dict | None = None):
     """One panel per prescribed displacement or motion (:func:`slipstep.derived.
     force_displacement`): force against displacement from t = 0, one colour per stage, so the
     loading and unloading branches (and any hysteresis) show."""
-    plt = _pyplot()
+    curves = force_displacement(scene, result)
     names = stage_names(scene, result)
-    fig, axes = plt.subplots(1, len(curves), figsize=(5 * len(curves), 4.2), squeeze=False,
-                             constrained_layout=True)
+    fig = new_figure(5 * len(curves), 4.2, left=0.16 / len(curves), bottom=0.13, top=0.88,
+                     wspace=0.3)
+    axes = fig.subplots(1, len(curves), squeeze=False)
     for ax, (load, c) in zip(axes[0], curves.items()):
         for k, name, m in _stage_masks(c["t"], names):
             ax.plot(c["displacement"][m], c["force"][m], "-o", ms=2.5, lw=1.2,
                     color=f"C{k % 10}", label=name)
         kind = "motion" if c["what"] != "support reaction" else "prescribed displacement"
-        ax.set_xlabel(f"{load}: {kind}")
-        ax.set_ylabel(c["what"])
+        ax.set_xlabel(label(f"{load}: {kind}", scene, "length"))
+        ax.set_ylabel(label(c["what"], scene, "force"))
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     fig.suptitle(f"{scene.case.name}: force against displacement along the load path",
                  fontsize=10)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return finish(fig, path)
 
-
-def extent_figure(path: Path, scene, result) -> Path:
+def extent_figure(path: Path | None, scene, result, summary: dict | None = None):
     """Per contact against the path time t: the closed extent [s_min, s_max] of its closed
     pairs (top) and its total normal force (solid) and tangential force (dashed, bottom);
     dotted lines at the stage ends."""
-    plt = _pyplot()
     h = path_history(scene, result)
     names = stage_names(scene, result)
-    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7, 6),
-                                      constrained_layout=True)
+    fig = new_figure(7, 6, left=0.12, bottom=0.09, top=0.9, hspace=0.1)
+    top, bottom = fig.subplots(2, 1, sharex=True)
     for c, contact in enumerate(scene.model["contact_names"]):
         colour = f"C{c % 10}"
         (x, lo), (_, hi) = (_steps(h["t"], h["extent"][:, c, j]) for j in (0, 1))
@@ -200,18 +274,15 @@ def extent_figure(path: Path, scene, result) -> Path:
         bottom.plot(h["t"], h["normal_force"][:, c], "-", color=colour, label=f"{contact}: normal")
         bottom.plot(h["t"], h["tangential_force"][:, c], "--", color=colour,
                     label=f"{contact}: tangential")
-    top.set_ylabel("closed extent along s")
-    bottom.set_ylabel("contact force")
+    top.set_ylabel(label("closed extent along s", scene, "length"))
+    bottom.set_ylabel(label("contact force", scene, "force"))
     bottom.set_xlabel("path time t")
     for ax in (top, bottom):
         _stage_lines(ax, names, ax is top)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle(f"{scene.case.name}: contact along the load path", fontsize=10)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
-
+    fig.suptitle(f"{scene.case.name}: contact along the load path", fontsize=10, y=0.985)
+    return finish(fig, path)
 
 # --------------------------------------------------------------------------- plasticity
 def zone_boundary(triangles: np.ndarray, inside: np.ndarray) -> np.ndarray:
@@ -249,43 +320,42 @@ def zoom_window(scene, summary: dict):
     return (max(-3.0 * a, x_lo), min(3.0 * a, x_hi)), tuple(ys)
 
 
-def von_mises_figure(path: Path, scene, result, summary: dict) -> Path:
+def von_mises_figure(path: Path | None, scene, result, summary: dict):
     """Von Mises stress of the final snapshot (element values) with the plastic zone outlined:
     solid = elements plastic now (on the yield surface and loading), dashed = elements with
     plastic strain that have unloaded (drawn only when that set differs); x = first yield.
-    Zoomed to the contact region for a rigid-line contact (:func:`zoom_window`)."""
+    Zoomed to the contact region for a rigid-line contact (:func:`zoom_window`), and only the
+    elements with a node in that window are drawn (a large mesh costs no more than its
+    window)."""
     from matplotlib.collections import LineCollection
 
-    plt = _pyplot()
     snap = result["snapshots"][-1]
     vm = von_mises(np.asarray(snap["stress"], dtype=float).reshape(-1, 4))
-    x, y = scene.nodes[:, 0], scene.nodes[:, 1]
     window = zoom_window(scene, summary)
     centres = centroids(scene.nodes, scene.triangles)
-    shown = np.ones(len(vm), bool)
+    drawn = np.ones(len(vm), bool)
     if window is not None:
-        (x0, x1), (y0, y1) = window
-        shown = ((centres[:, 0] >= x0) & (centres[:, 0] <= x1) &
-                 (centres[:, 1] >= y0) & (centres[:, 1] <= y1))
-        if not shown.any():
-            shown[:] = True
-
-    fig, ax = plt.subplots(figsize=(7, 6))
-    art = ax.tripcolor(x, y, scene.triangles, facecolors=vm, cmap="viridis",
-                       vmin=float(vm[shown].min()), vmax=float(vm[shown].max()))
-    # colour bar sized to the map (no mpl_toolkits: Debian's copy can shadow the venv's)
-    fig.colorbar(art, ax=ax, fraction=0.046, pad=0.04, label="von Mises stress")
+        drawn = _in_window(scene.nodes, scene.triangles, window)
+        if not drawn.any():
+            drawn[:] = True
+            window = None
+    fig = new_figure(7, 6, left=0.1, right=0.8, bottom=0.1, top=0.93)
+    ax = fig.subplots()
+    art = ax.tripcolor(scene.nodes[:, 0], scene.nodes[:, 1], scene.triangles[drawn],
+                       facecolors=vm[drawn], cmap="viridis")
+    fig.colorbar(art, cax=fig.add_axes([0.84, 0.1, 0.025, 0.83]),
+                 label=label("von Mises stress", scene, "stress"))
     plastic = np.asarray(snap.get("plastic", np.zeros(len(vm))), dtype=bool)
     yielded = np.asarray(snap.get("plastic_strain", np.zeros(len(vm)))) > 0.0
     handles = []
-    for zone, style, label in ((plastic, "-", f"plastic ({int(plastic.sum())} elements)"),
-                               (yielded, "--", f"yielded, now elastic "
-                                               f"({int((yielded & ~plastic).sum())})")):
+    for zone, style, text in ((plastic, "-", f"plastic ({int(plastic.sum())} elements)"),
+                              (yielded, "--", f"yielded, now elastic "
+                                              f"({int((yielded & ~plastic).sum())})")):
         if style == "--" and np.array_equal(zone, plastic):
             continue
         segs = scene.nodes[zone_boundary(scene.triangles, zone)]
         lines = LineCollection(segs, colors="tab:red", linewidths=1.2, linestyles=style,
-                               label=label)
+                               label=text)
         ax.add_collection(lines)
         handles.append(lines)
     e = summary.get("first_yield_element")
@@ -295,12 +365,19 @@ def von_mises_figure(path: Path, scene, result, summary: dict) -> Path:
         ax.set_xlim(*window[0])
         ax.set_ylim(*window[1])
     ax.set_aspect("equal")
-    ax.set_xlabel(coordinate_names(scene)[0])
-    ax.set_ylabel(coordinate_names(scene)[1])
+    ax.set_xlabel(label(coordinate_names(scene)[0], scene, "length"))
+    ax.set_ylabel(label(coordinate_names(scene)[1], scene, "length"))
     if handles:
         ax.legend(handles=handles, fontsize=8, loc="best")
     ax.set_title(f"{scene.case.name}: von Mises stress at {_when(scene, result, snap)}",
                  fontsize=10)
-    fig.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(fig)
-    return path
+    return finish(fig, path)
+
+
+def _in_window(nodes: np.ndarray, triangles: np.ndarray, window) -> np.ndarray:
+    """Elements with a node inside the (x limits, y limits) window, or crossing it (an element
+    larger than the window: its bounding box overlaps it)."""
+    (x0, x1), (y0, y1) = window
+    xy = nodes[triangles]  # (M, 3, 2)
+    lo, hi = xy.min(axis=1), xy.max(axis=1)
+    return (lo[:, 0] <= x1) & (hi[:, 0] >= x0) & (lo[:, 1] <= y1) & (hi[:, 1] >= y0)

@@ -357,7 +357,8 @@ def quarter_annulus(a: float, b: float, h: float, h_outer: float = 0.0) -> Mesh:
         fields = gmsh.model.mesh.field
         size = fields.add("MathEval")
         slope = (h_outer - h) / (b - a)
-        fields.setString(size, "F", f"{h!r} + {slope!r} * (sqrt(x*x + y*y) - {a!r})")
+        # (slope) in brackets: gmsh's MathEval aborts the process on "+ -0.02"
+        fields.setString(size, "F", f"{h!r} + ({slope!r}) * (sqrt(x*x + y*y) - {a!r})")
         xyz, triangles, edges, node_sets = _mesh_with_size_field(gmsh, size)
 
     nodes = xyz[:, :2].copy()
@@ -692,21 +693,26 @@ def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: floa
             edges.update(extra)
     else:
         raise MeshError(f"{where}: unknown mesh format '{suffix}': use .msh or .xdmf")
+    xy = _planar(xyz, where)
+    if not np.isfinite(xy).all():
+        k = int(np.nonzero(~np.isfinite(xy).all(axis=1))[0][0])
+        raise MeshError(f"{where}: node {k} has a non-finite coordinate "
+                        f"({', '.join(str(c) for c in xy[k])}): fix the mesh file")
+    return _finish(xy * scale, triangles, edges, node_sets, where=where, flip_clockwise=True)
+
+
+def _planar(xyz, where: str) -> np.ndarray:
+    """(N, 2) float64 coordinates from (N, 2) or (N, 3) with z = 0."""
     xyz = np.asarray(xyz, dtype=np.float64)
     if xyz.ndim != 2 or xyz.shape[1] not in (2, 3):
         raise MeshError(f"{where}: the node coordinates have shape {xyz.shape}: expected 2 or "
                         f"3 columns")
-    if not np.isfinite(xyz).all():
-        k = int(np.nonzero(~np.isfinite(xyz).all(axis=1))[0][0])
-        raise MeshError(f"{where}: node {k} has a non-finite coordinate "
-                        f"({', '.join(str(c) for c in xyz[k])}): fix the mesh file")
     if xyz.shape[1] == 3:
         zmax = np.abs(xyz[:, 2]).max(initial=0.0)
         if zmax > 1e-12 * max(np.abs(xyz[:, :2]).max(initial=1.0), 1.0):
             raise MeshError(f"{where}: the mesh is not planar (|z| up to {zmax:.3g}): slipstep "
                             f"meshes lie in the x-y plane")
-    return _finish(xyz[:, :2] * scale, triangles, edges, node_sets, where=where,
-                   flip_clockwise=True)
+    return xyz[:, :2]
 
 
 def _read_msh(path: str, where: str):
@@ -787,6 +793,12 @@ def _read_xdmf(path: Path, need_triangles: bool = True):
             raise MeshError(f"{path}: meshio cannot read this XDMF (several grids, e.g. a time "
                             f"series?): write the mesh on its own") from None
         raise MeshError(f"{path}: meshio cannot read it: {why}") from None
+    return _meshio_cells(m, str(path), need_triangles)
+
+
+def _meshio_cells(m, where: str, need_triangles: bool = True):
+    """(points, triangles, edges) of a meshio.Mesh: triangle cells, and line cells tagged by
+    the first integer cell-data array (a tag named by its field_data name if any)."""
     names = {int(v[0]): k for k, v in getattr(m, "field_data", {}).items()
              if len(v) >= 2 and int(v[1]) == 1}
     triangles, edges = [], {}
@@ -802,15 +814,35 @@ def _read_xdmf(path: Path, need_triangles: bool = True):
                         tags = a.reshape(-1).astype(np.int64)
                         break
             if tags is None:
-                raise MeshError(f"{path}: line cells without an integer tag array: tag them")
+                raise MeshError(f"{where}: line cells without an integer tag array: tag them")
             for t in np.unique(tags):
                 name = names.get(int(t), str(int(t)))
                 segs = block_.data[tags == t]
                 edges[name] = np.concatenate([edges[name], segs]) if name in edges else segs
         elif block_.type != "vertex":
-            raise MeshError(f"{path}: cells of type '{block_.type}': only triangles and lines "
+            raise MeshError(f"{where}: cells of type '{block_.type}': only triangles and lines "
                             f"are supported")
     if need_triangles and not triangles:
-        raise MeshError(f"{path}: no triangle cells")
+        raise MeshError(f"{where}: no triangle cells")
     tri = np.concatenate(triangles) if triangles else np.zeros((0, 3), np.int64)
     return m.points, tri, edges
+
+
+# --------------------------------------------------------------------------- from Python
+def from_arrays(nodes, triangles, edges: dict | None = None, node_sets: dict | None = None,
+                where: str = "mesh from arrays") -> Mesh:
+    """A body's mesh from numpy arrays, without files: ``nodes`` (N, 2) (or (N, 3) with z = 0),
+    ``triangles`` (M, 3) node ids, ``edges`` tag -> (K, 2) boundary segments (the tags that
+    [[bc]] and [[contact]] name), ``node_sets`` name -> node ids.  Checked and cleaned like a
+    file mesh: unused nodes dropped, an all-clockwise mesh flipped, edges oriented with the
+    body on the left."""
+    return _finish(_planar(nodes, where), triangles, dict(edges or {}), node_sets, where=where,
+                   flip_clockwise=True)
+
+
+def from_meshio(mesh, where: str = "meshio mesh") -> Mesh:
+    """A body's mesh from a ``meshio.Mesh`` (e.g. ``meshio.read("body.msh")``): its triangle
+    cells, and its line cells as edges tagged by the first integer cell-data array (gmsh's
+    physical groups), each tag named by its ``field_data`` name when there is one."""
+    points, triangles, edges = _meshio_cells(mesh, where)
+    return from_arrays(points, triangles, edges, where=where)

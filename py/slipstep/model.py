@@ -73,6 +73,10 @@ def mesh_body(case: Case, index: int) -> meshing.Mesh:
     body = case.data["body"][index]
     spec = body["mesh"]
     where = f"body {body['name']!r}"
+    if spec.get("generator") == "given":
+        raise CaseError(f'{case.source}: body.{body["name"]}.mesh.generator = "given": pass '
+                        f'its mesh from Python, slipstep.run(case, meshes={{"{body["name"]}": '
+                        f'mesh}}) (slipstep.mesh.from_arrays or from_meshio)')
     try:
         if spec.get("file"):
             path = (case.base_dir / spec["file"])

@@ -21,8 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .derived import (ELEMENT_EVENTS, centroids, contact_profile, coordinate_names, event_times,
-                      is_elastoplastic, snapshot_time, stress_names, von_mises, yield_drift)
+from .derived import (ELEMENT_EVENTS, contact_profile, coordinate_names, event_positions,
+                      event_times, is_elastoplastic, snapshot_time, stress_names, von_mises,
+                      yield_drift)
 # Kept importable from here for existing callers; they live in derived and summary.
 from .derived import (contact_growth, contact_half_width, element_depth,  # noqa: F401
                       reached_last_candidate, stick_half_width)
@@ -39,19 +40,14 @@ def write_events_csv(path: Path, scene, result) -> None:
     are called r, z in axisymmetry."""
     ev = result["events"]
     times, stages = event_times(result)
-    centres = None
+    where = event_positions(scene, result)
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["step", "load_fraction", "kind", "entity", "entity_kind",
                     *coordinate_names(scene), "t", "stage"])
         for k in range(len(ev["step"])):
             kind, entity = ev["kind"][k], int(ev["entity"][k])
-            if kind in ELEMENT_EVENTS:
-                if centres is None:
-                    centres = centroids(scene.nodes, scene.triangles)
-                x, y = centres[entity]
-            else:
-                x, y = scene.pair_xy[entity]
+            x, y = where[k]
             w.writerow([int(ev["step"][k]), repr(float(ev["load_fraction"][k])), kind, entity,
                         "element" if kind in ELEMENT_EVENTS else "pair",
                         repr(float(x)), repr(float(y)), repr(float(times[k])),
@@ -99,26 +95,32 @@ def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     import meshio
 
     cells = [("triangle", scene.triangles)]
-    plastic_fields = ("plastic_strain", "plastic") if is_elastoplastic(scene) else ()
-    n = len(scene.nodes)
     with _working_directory(folder):
         with meshio.xdmf.TimeSeriesWriter(f"{name}.xdmf") as writer:
             writer.write_points_cells(scene.nodes, cells)
             for snap in result["snapshots"]:
-                point_data = {key: _padded(snap[key], n) for key in ("u", "reaction")
-                              if key in snap}
-                s = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
-                cell_data = {name: [s[:, k]] for k, name in enumerate(stress_names(scene))}
-                cell_data["von_mises"] = [von_mises(s)]
-                for key in plastic_fields:
-                    if key in snap:
-                        cell_data[key] = [np.asarray(snap[key], dtype=np.float64)]
-                if plastic_fields and "plastic" in snap:
-                    cell_data["yield_drift"] = [yield_drift(scene, snap)]
-                if len(scene.bodies) > 1:
-                    cell_data["body"] = [scene.element_body.astype(np.float64)]
+                point_data, cell_data = xdmf_step(scene, snap)
                 writer.write_data(snapshot_time(snap), point_data=point_data,
                                   cell_data=cell_data)
+
+
+def xdmf_step(scene, snap: dict) -> tuple[dict, dict]:
+    """(point_data, cell_data) of one snapshot as results.xdmf holds it (meshio's layout: cell
+    data as one-block lists); see :func:`write_xdmf`."""
+    n = len(scene.nodes)
+    point_data = {key: _padded(snap[key], n) for key in ("u", "reaction") if key in snap}
+    s = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
+    cell_data = {name: [s[:, k]] for k, name in enumerate(stress_names(scene))}
+    cell_data["von_mises"] = [von_mises(s)]
+    if is_elastoplastic(scene):
+        for key in ("plastic_strain", "plastic"):
+            if key in snap:
+                cell_data[key] = [np.asarray(snap[key], dtype=np.float64)]
+        if "plastic" in snap:
+            cell_data["yield_drift"] = [yield_drift(scene, snap)]
+    if len(scene.bodies) > 1:
+        cell_data["body"] = [scene.element_body.astype(np.float64)]
+    return point_data, cell_data
 
 
 def _padded(values, n: int) -> np.ndarray:

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import sweep
+from . import shipped, sweep
 from .derived import centroids, contact_half_width, stick_half_width, von_mises
 from .output import json_safe
 
@@ -52,7 +52,6 @@ BLOCK_B = 10.0                          # punch half-width in the block cases (m
 KIND_COLOURS = {"close": "tab:blue", "separate": "tab:cyan", "stick_to_slip": "tab:red",
                 "slip_to_stick": "tab:green", "yield": "tab:orange", "unload": "tab:purple",
                 "frozen": "0.3", "frozen_element": "0.6"}
-REPO = Path(__file__).resolve().parents[2]
 
 
 @dataclass(frozen=True)
@@ -77,11 +76,8 @@ QUICK = Settings(True, 0.1, 0.15, 0.1, 1.0, 2.0, 1.0, 2.0)
 
 
 def _path(kind: str, name: str) -> Path:
-    path = REPO / kind / name
-    if not path.exists():
-        raise FileNotFoundError(f"{path} not found: `slipstep reproduce` runs from a source "
-                                f"checkout (it needs {kind}/{name})")
-    return path
+    """A shipped case or study (:mod:`slipstep.shipped`: works from an installed wheel)."""
+    return shipped.path(name, kind)
 
 
 def _task(cid: str, base, overrides, **options) -> dict:
@@ -196,16 +192,11 @@ class Run:
 
 # --------------------------------------------------------------------------- figures
 def _plt():
-    import warnings
+    """pyplot's figure calls on matplotlib's object API (:class:`slipstep.figures.Plots`): no
+    backend switch, no global figure state, so the figures are notebook-safe."""
+    from .figures import Plots
 
-    import matplotlib
-
-    # Debian's mpl_toolkits (3D axes) sits beside the venv's matplotlib; only 2D plots here.
-    warnings.filterwarnings("ignore", message="Unable to import Axes3D")
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+    return Plots()
 
 
 def _hertz(xs, a, p0):

@@ -1,17 +1,25 @@
-"""One run: case -> scene -> engine -> summary (and files)."""
+"""One run: case -> scene -> engine -> summary (and files).
+
+:func:`run` is the entry for scripts and notebooks (a :class:`~slipstep.result.Result`);
+:func:`run_case` is the older form, returning the two dicts.
+"""
 
 from __future__ import annotations
 
+import threading
 import time
 from pathlib import Path
 
+from . import shipped
 from .case import Case, load_case
-from .errors import EngineMissing
+from .errors import EngineMissing, InputError
 from .model import Scene, build_scene
+from .progress import Reporter
+from .result import Result
 from .results import write_results
 from .summary import summarize
 
-__all__ = ["EngineMissing", "engine", "prepare", "run_case", "solve"]
+__all__ = ["EngineMissing", "as_case", "engine", "prepare", "run", "run_case", "solve"]
 
 
 def engine():
@@ -24,40 +32,113 @@ def engine():
     return _engine
 
 
-def prepare(case_or_path: Case | str | Path | None = None, overrides=(), meshes=None) -> Scene:
-    """Load (unless given a Case) and assemble a case into a Scene; ``meshes`` (body name ->
-    Mesh) replaces the meshing of those bodies (:func:`slipstep.model.build_scene`)."""
-    if isinstance(case_or_path, Case):
+def as_case(case: Case | dict | str | Path | None = None, overrides=(), meshes=None) -> Case:
+    """A :class:`Case` from a Case, a dict shaped like a case file (:meth:`Case.from_dict`;
+    a body whose mesh ``meshes`` gives may leave out its mesh table), a case file, the name of
+    a shipped case (:mod:`slipstep.shipped`), or None (the built-in Hertz cylinder)."""
+    if isinstance(case, Case):
         if overrides:
-            raise ValueError("overrides apply when loading: pass a path, not a Case")
-        case = case_or_path
+            raise InputError(f"{case.source}: overrides apply when a case is read: pass its "
+                             f"path, text (Case.from_toml) or dict (Case.from_dict)")
+        return case
+    if isinstance(case, dict):
+        return Case.from_dict(_given_meshes(case, meshes or {}), overrides=overrides)
+    return load_case(shipped.resolve(case), overrides)
+
+
+def _given_meshes(data: dict, meshes: dict) -> dict:
+    """``data`` with ``[body.mesh] generator = "given"`` for the bodies that have no mesh table
+    and whose mesh ``meshes`` gives."""
+    bodies = data.get("body")
+    if not isinstance(bodies, list) or not meshes:
+        return data
+    fill = [{**b, "mesh": {"generator": "given"}}
+            if isinstance(b, dict) and "mesh" not in b and b.get("name") in meshes else b
+            for b in bodies]
+    return {**data, "body": fill}
+
+
+def prepare(case: Case | dict | str | Path | None = None, overrides=(), meshes=None) -> Scene:
+    """The assembled Scene of a case (:func:`as_case`); ``meshes`` (body name ->
+    :class:`slipstep.mesh.Mesh`, e.g. from ``slipstep.mesh.from_meshio``) replaces the meshing
+    of those bodies (:func:`slipstep.model.build_scene`)."""
+    return build_scene(as_case(case, overrides, meshes), meshes)
+
+
+def solve(scene: Scene, progress=False) -> dict:
+    """Run the engine on a prepared scene; ``progress`` as for :func:`run`."""
+    reporter = Reporter(progress, scene.case.name, scene.n_stages)
+    result = None
+    try:
+        result = engine().solve(scene.model, reporter.callback)
+    finally:
+        reporter.finish(result)
+    return result
+
+
+def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | None = None,
+        overrides=(), progress=True, *, meshes=None, figures: bool | None = None,
+        xdmf: bool | None = None) -> Result:
+    """Solve a case and return its :class:`~slipstep.result.Result`; write its files into
+    ``out`` when given (``figures`` and ``xdmf`` default to the case's ``[output]``).
+
+    ``case``: a Case, a dict, a case file, a shipped case name, None (the built-in Hertz
+    cylinder; :func:`as_case`), or a prepared Scene.  ``progress``: True (a tqdm bar), False,
+    or a callable ``f(slipstep.progress.Progress)`` that may return False to stop the run.
+
+    Ctrl-C (a notebook's interrupt too) stops the engine at the next increment and the partial
+    result is returned, like a run that ended early otherwise (``result.stop["kind"]``:
+    interrupted, limit_load, event_bound); its files are written like a complete run's.
+    """
+    start = time.perf_counter()
+    if isinstance(case, Scene):
+        if overrides or meshes:
+            raise InputError(f"{case.case.source}: a prepared Scene takes no overrides or "
+                             f"meshes: pass the case instead")
+        scene = case
     else:
-        case = load_case(case_or_path, overrides)
-    return build_scene(case, meshes)
+        scene = prepare(case, overrides, meshes)
+    writers = _load_writers(scene, out, figures, xdmf)
+    raw = solve(scene, progress)
+    result = Result(scene, raw, summarize(scene, raw, wall_time_s=time.perf_counter() - start))
+    if out is not None:
+        writers.join()
+        try:
+            write_results(out, scene, raw, result.summary, figures, xdmf)
+            result.out = Path(out)
+        except KeyboardInterrupt:
+            raise KeyboardInterrupt(f"interrupted while writing results; nothing was replaced "
+                                    f"in {out}") from None
+    return result
 
 
-def solve(scene: Scene, progress: bool = False) -> dict:
-    """Run the engine on a prepared scene."""
-    return engine().solve(scene.model, progress)
+def _load_writers(scene: Scene, out, figures: bool | None, xdmf: bool | None):
+    """A started thread that imports what writing ``out`` will need (matplotlib and its font
+    for the figures, meshio for the XDMF: ~0.4 s together) while the engine runs, which
+    releases the GIL; a no-op thread without ``out``."""
+    options = scene.case.data["output"]
+    wanted = []
+    if out is not None and (options["figures"] if figures is None else figures):
+        from .figures import preload
+        wanted.append(preload)
+    if out is not None and (options["xdmf"] if xdmf is None else xdmf):
+        wanted.append(lambda: __import__("meshio"))
+
+    def load():
+        try:
+            for step in wanted:
+                step()
+        except Exception:  # noqa: BLE001 - only a head start: the writer meets the error itself
+            pass
+
+    thread = threading.Thread(target=load, name="slipstep-load-writers", daemon=True)
+    thread.start()
+    return thread
 
 
 def run_case(case_or_path: Case | str | Path | None = None, out: str | Path | None = None,
              overrides=(), progress: bool = False) -> tuple[dict, dict]:
-    """Run a case (a path, a Case, or None for the built-in Hertz cylinder); write results to
-    ``out`` if given.  Returns ``(result, summary)``.
-
-    A run the engine stops early (Ctrl-C, limit load, event bound: ``result["stop"]``) is
-    written like a complete one.  Ctrl-C while the files are being written raises
-    KeyboardInterrupt with the message that nothing was replaced in ``out``.
-    """
-    start = time.perf_counter()
-    scene = prepare(case_or_path, overrides)
-    result = solve(scene, progress)
-    summary = summarize(scene, result, wall_time_s=time.perf_counter() - start)
-    if out is not None:
-        try:
-            write_results(out, scene, result, summary)
-        except KeyboardInterrupt:
-            raise KeyboardInterrupt(f"interrupted while writing results; nothing was replaced "
-                                    f"in {out}") from None
-    return result, summary
+    """:func:`run` returning ``(result dict, summary)`` (docs/engine_api.md), no progress by
+    default: the form before :class:`~slipstep.result.Result`, kept for existing callers."""
+    result = run(case_or_path, out, overrides, progress)
+    return result.raw, result.summary

@@ -31,21 +31,19 @@ from pathlib import Path
 
 import numpy as np
 
-from . import runner
+from . import runner, shipped
 from .case import load_case
 from .derived import centroids
 from .mesh import _finish
 from .summary import contact_text, summarize
 
-ROOT = Path(__file__).resolve().parents[2]
-CASES = ROOT / "cases"
 COLUMNS = ["scenario", "group", "status", "error", "n_events", "n_steps", "final_load_fraction",
            "max_residual", "max_drift", "reference", "rel_error", "note", "wall_s", "p_full"]
 
 
 def _case(name: str) -> str:
-    p = CASES / f"{name}.toml"
-    return str(p)
+    """A shipped case (:mod:`slipstep.shipped`: works from an installed wheel)."""
+    return str(shipped.path(name))
 
 
 # --------------------------------------------------------------------------- meshes
@@ -457,9 +455,9 @@ def markdown_table(rows: list[dict]) -> str:
 
 
 def figure(path: Path, rows: list[dict], inc: dict) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from .figures import Plots  # pyplot's calls on the object API: notebook-safe
+
+    plt = Plots()
 
     fig, (ax0, ax1, ax2) = plt.subplots(1, 3, figsize=(18, 5.5))
     p_lim = inc.get("p_lim", float("nan"))

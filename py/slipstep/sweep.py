@@ -54,6 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import shipped
 from .errors import InputError
 from .output import json_safe, write_summary_json
 from .summary import contact_text
@@ -483,7 +484,8 @@ def _brief(s: dict) -> str:
 
 def main(args) -> int:
     """``slipstep sweep`` (called by the CLI with parsed arguments)."""
-    study = load_study(args.study, getattr(args, "overrides", []) or [])
+    study = load_study(shipped.resolve(args.study, "studies"),
+                       getattr(args, "overrides", []) or [])
     out = args.out or f"results/{study.name}"
     log = None if getattr(args, "quiet", False) else (lambda m: print(m, flush=True))
     report = run_sweep(study, out, workers=args.workers, mpi=args.mpi, log=log)

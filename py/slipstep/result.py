@@ -1,0 +1,220 @@
+"""One run's result as an object for scripts and notebooks (:func:`slipstep.run` returns it).
+
+A :class:`Result` holds the scene, the engine's result dict (``raw``, docs/engine_api.md) and
+the summary; it gives numpy views of them and writes the usual files (``write``, through
+:mod:`slipstep.results`).  Every derived quantity comes from :mod:`slipstep.derived` and the
+XDMF content from :func:`slipstep.output.xdmf_step`, the places the files take them from.
+
+    >>> r = slipstep.run("hertz_cylinder", overrides=["contact.mu=0.2"])
+    >>> r.summary["peak_pressure"], r.times, r.events[:3]
+    >>> r.fields(1.0)["u"], r.profile(1.0)["pressure"], r.to_meshio(1.0)
+"""
+
+from __future__ import annotations
+
+import html
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+from .derived import (ELEMENT_EVENTS, contact_profile, event_positions, event_times,
+                      is_elastoplastic, snapshot_time, von_mises, yield_drift)
+from .errors import InputError
+from .summary import one_line
+
+#: The columns of :attr:`Result.events`.
+EVENT_DTYPE = [("step", "i8"), ("t", "f8"), ("stage", "i8"), ("load_fraction", "f8"),
+               ("kind", "U14"), ("entity", "i8"), ("entity_kind", "U7"), ("x", "f8"),
+               ("y", "f8")]
+#: Two snapshot times closer than this (relative to the path length) are the same time.
+TIME_TOL = 1e-9
+
+
+class Result:
+    """The result of one run (see the module docstring)."""
+
+    def __init__(self, scene, raw: dict, summary: dict, out: Path | None = None):
+        self.scene, self.raw, self.summary = scene, raw, summary
+        self.out = None if out is None else Path(out)
+
+    # ------------------------------------------------------------------ what the run was
+    @property
+    def case(self):
+        return self.scene.case
+
+    @property
+    def stop(self) -> dict:
+        """How the run ended: ``kind`` (completed, interrupted, limit_load, ...), ``t``."""
+        return self.raw["stop"]
+
+    @property
+    def completed(self) -> bool:
+        return self.stop["kind"] == "completed"
+
+    @property
+    def nodes(self) -> np.ndarray:
+        """(N, 2) node coordinates (undeformed)."""
+        return self.scene.nodes
+
+    @property
+    def triangles(self) -> np.ndarray:
+        """(M, 3) node ids of the elements (counter-clockwise)."""
+        return self.scene.triangles
+
+    # ------------------------------------------------------------------ history
+    @property
+    def times(self) -> np.ndarray:
+        """Path time t of every snapshot, in order (= load fraction for one stage)."""
+        return np.array([snapshot_time(s) for s in self.raw.get("snapshots", [])])
+
+    @property
+    def events(self) -> np.ndarray:
+        """One row per event (and entity), a numpy structured array with the columns of
+        events.csv: step, t (path time), stage (1-based), load_fraction (within its stage),
+        kind, entity (pair or element index), entity_kind, x, y (node a of the pair, the
+        element's centroid).  ``r.events["t"][r.events["kind"] == "yield"]``, or
+        ``pandas.DataFrame(r.events)``."""
+        ev = self.raw["events"]
+        out = np.zeros(len(ev["step"]), dtype=EVENT_DTYPE)
+        t, stage = event_times(self.raw)
+        out["step"], out["t"], out["stage"] = ev["step"], t, stage + 1
+        for key in ("load_fraction", "kind", "entity"):
+            out[key] = ev[key]
+        out["entity_kind"] = np.where(np.isin(out["kind"], ELEMENT_EVENTS), "element", "pair")
+        xy = event_positions(self.scene, self.raw)
+        out["x"], out["y"] = xy[:, 0], xy[:, 1]
+        return out
+
+    # ------------------------------------------------------------------ one snapshot
+    def snapshot(self, t: float | None = None, stage: int | None = None) -> dict:
+        """The engine's snapshot at path time ``t`` (None: the last one).  Of several at the
+        same t the last, the state after every event there; ``stage`` (1-based) picks among
+        them by stage: at a stage end t = k, ``stage=k`` is the end of stage k, the default
+        the start of stage k + 1 after its zero-length switches (elements that unload, say)."""
+        snaps = self.raw.get("snapshots", [])
+        if not snaps:
+            raise InputError(f"{self.case.name}: the run has no snapshots (it stopped before "
+                             f"the first increment)")
+        times = self.times
+        pick = np.ones(len(snaps), bool)
+        if stage is not None:
+            pick = np.array([int(s.get("stage", 0)) + 1 == stage for s in snaps])
+        if t is not None:
+            pick &= np.abs(times - float(t)) <= TIME_TOL * max(1.0, times.max())
+        if not pick.any():
+            where = f"t = {t:g}" if t is not None else "the end"
+            where += f" in stage {stage}" if stage is not None else ""
+            raise InputError(f"{self.case.name}: no snapshot at {where}; snapshots are at t = "
+                             f"{_listed(times)}: ask for more with output.snapshots")
+        return snaps[np.flatnonzero(pick)[-1]]
+
+    def fields(self, t: float | None = None, stage: int | None = None) -> dict:
+        """numpy arrays at snapshot time ``t`` (None: the last; ``stage`` as for
+        :meth:`snapshot`): ``u`` (N, 2), ``reaction``
+        (N, 2; supports and prescribed displacements), ``stress`` (M, 4: sigma_x, sigma_y,
+        sigma_z, tau_xy), ``von_mises`` (M,), for elastoplastic cases ``plastic_strain``,
+        ``plastic`` (bool) and ``yield_drift`` (M,); per candidate pair in the engine's order
+        (P,): ``lambda_n``, ``lambda_t`` (nodal contact forces), ``status`` (0 open, 1 stick,
+        2 slip), ``pressure``, ``tangential_stress``, ``gap``, ``rtd`` (as in
+        contact_profile.csv); ``t``, ``stage`` (1-based) and ``load_fraction`` (within it)."""
+        snap = self.snapshot(t, stage)
+        stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
+        out = {"t": snapshot_time(snap), "stage": int(snap.get("stage", 0)) + 1,
+               "load_fraction": float(snap["load_fraction"]),
+               "u": np.asarray(snap["u"], dtype=float).reshape(-1, 2), "stress": stress,
+               "von_mises": von_mises(stress)}
+        if "reaction" in snap:
+            out["reaction"] = np.asarray(snap["reaction"], dtype=float).reshape(-1, 2)
+        if is_elastoplastic(self.scene):
+            out["plastic_strain"] = np.asarray(snap["plastic_strain"], dtype=float)
+            out["plastic"] = np.asarray(snap["plastic"]).astype(bool)
+            out["yield_drift"] = yield_drift(self.scene, snap)
+        out["lambda_n"] = np.asarray(snap["lambda_n"], dtype=float)
+        out["lambda_t"] = np.asarray(snap["lambda_t"], dtype=float)
+        out["status"] = np.asarray(snap["status"]).astype(np.int64)
+        prof = contact_profile(self.scene, snap)
+        for key in ("pressure", "tangential_stress", "gap", "rtd"):
+            out[key] = np.empty(len(prof["pair"]))
+            out[key][prof["pair"]] = prof[key]
+        return out
+
+    def profile(self, t: float | None = None, stage: int | None = None) -> dict:
+        """The contact profile at snapshot time ``t`` (None: the last), as in
+        contact_profile.csv: per candidate pair sorted by x, arrays x, y, s, contact, pressure,
+        tangential_stress, rtd, status, gap, pair, node_a (:func:`slipstep.derived.
+        contact_profile`)."""
+        return contact_profile(self.scene, self.snapshot(t, stage))
+
+    def to_meshio(self, t: float | None = None, stage: int | None = None):
+        """A ``meshio.Mesh`` at snapshot time ``t`` (None: the last): 2D points, triangles,
+        and the point and cell data results.xdmf holds for that time step (vectors padded to 3
+        components, as ParaView wants them)."""
+        import meshio
+
+        from .output import xdmf_step
+
+        point_data, cell_data = xdmf_step(self.scene, self.snapshot(t, stage))
+        return meshio.Mesh(self.nodes, [("triangle", self.triangles)], point_data=point_data,
+                           cell_data=cell_data)
+
+    # ------------------------------------------------------------------ files and figures
+    def figures(self) -> dict:
+        """The run's figures as matplotlib Figures by name (contact_interface, von_mises, ...);
+        built with the object API, so a notebook's pyplot state is untouched."""
+        from .figures import figures
+
+        return figures(self.scene, self.raw, self.summary)
+
+    def write(self, out: str | Path, figures: bool | None = None,
+              xdmf: bool | None = None) -> list[Path]:
+        """Write the run's files into ``out`` (all or nothing, :func:`slipstep.results.
+        write_results`); ``figures`` and ``xdmf`` default to the case's ``[output]``."""
+        from .results import write_results
+
+        written = write_results(out, self.scene, self.raw, self.summary, figures, xdmf)
+        self.out = Path(out)
+        return written
+
+    # ------------------------------------------------------------------ display
+    def __repr__(self) -> str:
+        where = f", files in {self.out}" if self.out else ""
+        return f"<slipstep.Result {one_line(self.summary)}; {self._snapshot_text()}{where}>"
+
+    def _snapshot_text(self) -> str:
+        times = self.times
+        return f"{len(times)} snapshots" + (f" at t = {_listed(times)}" if len(times) else "")
+
+    def _repr_html_(self) -> str:
+        rows = [(k, v) for k, v in self._overview() if v]
+        body = "".join(f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
+                       f"<td style='text-align:left'>{html.escape(str(v))}</td></tr>"
+                       for k, v in rows)
+        return (f"<b>slipstep.Result</b> <code>{html.escape(self.case.name)}</code>"
+                f"<table>{body}</table>")
+
+    def _overview(self) -> list[tuple[str, str]]:
+        """(label, text) rows of the HTML view."""
+        s, m = self.summary, self.scene.model
+        stop = self.stop["kind"] + (f" ({self.stop['message']})" if self.stop.get("message")
+                                    else "")
+        kinds = Counter(self.raw["events"]["kind"])
+        return [
+            ("stopped", f"{stop} at t = {float(self.stop.get('t', 0.0)):.4g} of "
+                        f"{s.get('n_stages', 1)} stage(s)"),
+            ("mesh", f"{len(m['nodes'])} nodes, {len(m['triangles'])} elements, "
+                     f"{2 * len(m['nodes'])} DOFs, {len(m['pairs']['node_a'])} contact pairs"),
+            ("events", f"{s['n_events']}: " + ", ".join(f"{n} {k}" for k, n in kinds.items())),
+            ("summary", one_line(s)),
+            ("snapshots", self._snapshot_text()),
+            ("files", str(self.out) if self.out else ""),
+            ("methods", "fields(t), profile(t), to_meshio(t), events, figures(), write(out)"),
+        ]
+
+
+def _listed(times: np.ndarray, most: int = 6) -> str:
+    """``0.1, 0.2, ..., 1`` (at most ``most`` values shown)."""
+    shown = [f"{x:.4g}" for x in times]
+    if len(shown) > most:
+        shown = shown[:most // 2] + ["..."] + shown[-(most // 2):]
+    return ", ".join(shown)
