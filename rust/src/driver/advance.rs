@@ -9,7 +9,6 @@ use super::state::{State, TrialIncrement};
 use crate::contact::Status;
 use crate::events::Candidate;
 use crate::model::EventKind;
-use crate::stress_integration::onto_yield_surface;
 
 impl Engine<'_> {
     /// u, σ, λ += S × trial (eqs. 58–61), the stresses of plastic elements (and, grouped, of
@@ -47,10 +46,9 @@ impl Engine<'_> {
     }
 
     /// Apply one event's status change and the forces it sets. `on_time`: the event falls at
-    /// this increment's scale (not taken early by grouping). Returns the force jump it made,
-    /// which the caller rebalances: the change of λ_t (a pair the equilibrium correction moved
-    /// off the cone is put back on it), or of an unloading element's nodal forces (it leaves
-    /// from its yield surface: the drift a held tangent left is taken off first).
+    /// this increment's scale (not taken early by grouping). Returns the change of λ_t it made
+    /// (a pair the equilibrium correction moved off the cone is put back on it: a force jump
+    /// that the caller rebalances).
     pub fn switch(&self, state: &mut State, c: &Candidate, on_time: bool) -> f64 {
         let p = c.entity;
         let before = if c.kind == EventKind::StickToSlip { state.lambda_t[p] } else { 0.0 };
@@ -76,26 +74,10 @@ impl Engine<'_> {
                 state.rtd_stick[p] = self.rtd(state, p);
             }
             EventKind::Yield => state.plastic[p] = true,
-            EventKind::Unload => return self.unload(state, p),
+            EventKind::Unload => state.plastic[p] = false,
             EventKind::Frozen | EventKind::FrozenElement => {}
         }
         if c.kind == EventKind::StickToSlip { (state.lambda_t[p] - before).abs() } else { 0.0 }
-    }
-}
-
-impl Engine<'_> {
-    /// Element e stops flowing: back onto its yield surface (with drift control), then elastic.
-    /// Returns the largest change of its nodal forces.
-    fn unload(&self, state: &mut State, e: usize) -> f64 {
-        state.plastic[e] = false;
-        if !self.model.options.drift_control {
-            return 0.0;
-        }
-        let sy = self.material[e].current_yield(state.plastic_strain[e]);
-        let on_surface = onto_yield_surface(&state.stress[e], sy, self.model.plane);
-        let change = self.elements[e].internal_force(&(on_surface - state.stress[e]));
-        state.stress[e] = on_surface;
-        change.amax()
     }
 }
 

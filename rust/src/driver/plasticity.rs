@@ -100,22 +100,41 @@ impl Engine<'_> {
     }
 
     /// Equilibrium after an increment whose stresses were integrated: the tangents follow the
-    /// state (`update_tangents`; all of them renewed at a stage's end, so that it ends on the
-    /// yield surface to second order and a reload retraces it), then the correction at fixed
-    /// load (`correct_at_fixed_load`). None when the increment kept the tangent's linear
-    /// stresses (in equilibrium already; the last correction's allowance for the contact
-    /// checks still holds).
+    /// state (`update_tangents`), then the correction at fixed load (`correct_at_fixed_load`);
+    /// a stage ends on the yield surface (`settle_on_surfaces`). None when the increment kept
+    /// the tangent's linear stresses (in equilibrium already; the last correction's allowance
+    /// for the contact checks still holds).
     pub fn restore_equilibrium(&mut self, state: &mut State, sel: &Selection, integrated: bool) -> Result<Option<(Correction, Vec<Candidate>)>> {
         if !integrated {
             return Ok(None);
         }
         let t0 = Instant::now();
-        self.renew_all_tangents = sel.last;
         self.update_tangents(state)?;
-        self.renew_all_tangents = false;
-        let corrected = self.correct_at_fixed_load(state, sel.phi)?;
+        let (mut size, mut events) = self.correct_at_fixed_load(state, sel.phi)?;
+        if sel.last {
+            let (more, later) = self.settle_on_surfaces(state, sel.phi)?;
+            size.displacement = size.displacement.max(more.displacement);
+            size.force = size.force.max(more.force);
+            events.extend(later);
+        }
         self.timings.corrections += since(t0);
-        Ok(Some(corrected))
+        Ok(Some((size, events)))
+    }
+
+    /// At a stage's end: plastic elements back onto their yield surfaces (the drift a held
+    /// tangent left, up to tangent_turn × the correction's stress change), then a correction with
+    /// every tangent renewed, which leaves only the square of that drift: a reload then retraces
+    /// the stage's end (elastic shakedown stays elastic), and an unload starts on the surface.
+    fn settle_on_surfaces(&mut self, state: &mut State, phi: f64) -> Result<(Correction, Vec<Candidate>)> {
+        for e in (0..state.plastic.len()).filter(|&e| state.plastic[e]) {
+            let sy = self.material[e].current_yield(state.plastic_strain[e]);
+            state.stress[e] = onto_yield_surface(&state.stress[e], sy, self.model.plane);
+        }
+        self.renew_all_tangents = true;
+        let renewed = self.update_tangents(state);
+        self.renew_all_tangents = false;
+        renewed?;
+        self.correct_at_fixed_load(state, phi)
     }
 
     /// Equilibrium at fixed load φ by the procedure itself: solve the correction for the
