@@ -145,10 +145,11 @@ OUTPUT_KEYS = {
 SOLVER_KEYS = {
     "tie_tol": Key("float", 1e-9, doc="relative tie tolerance: events with S <= S_min(1+tie_tol) "
                                       "are applied together", check=_non_negative("tie_tol")),
-    "group_tol": Key("float", 0.0, doc="event grouping, the speed-accuracy knob (0 = exact): "
-                                       "friction and plasticity events predicted at load "
-                                       "fractions <= phi_min(1+group_tol) are taken together, "
-                                       "early, at phi_min; < 1", check=_fraction_below_one("group_tol")),
+    "group_tol": Key("float", 0.01, doc="grouped plastic increments, the speed-accuracy knob "
+                                        "(0 = exact, event by event): an increment runs on past "
+                                        "the first yield by group_tol of the load; elements "
+                                        "yielding inside get the exact elastic-plastic split; < 1",
+                      check=_fraction_below_one("group_tol")),
     "max_events": Key("int", 0, doc="stop after this many events (0 = automatic bound)",
                       check=_non_negative("max_events")),
     "equilibrium_tol": Key("float", 1e-9, doc="relative equilibrium residual that is accepted",

@@ -3,7 +3,7 @@
 
 use super::engine::{since, Engine};
 use std::time::Instant;
-use super::plasticity::InsideEvent;
+use super::plasticity::{IncrementStart, InsideEvent};
 use super::selection::Selection;
 use super::state::{State, TrialIncrement};
 use crate::contact::Status;
@@ -18,38 +18,34 @@ impl Engine<'_> {
     pub fn advance(&mut self, state: &mut State, trial: &TrialIncrement, sel: &Selection) -> (Vec<InsideEvent>, bool) {
         let t0 = Instant::now();
         let integrated = self.integrate_stresses(state, trial, sel.scale, sel.plastic_inside);
+        self.increment_start = (sel.plastic_inside && !integrated.is_empty())
+            .then(|| IncrementStart { stress: state.stress.clone(), plastic_strain: state.plastic_strain.clone(), plastic: state.plastic.clone(), u: state.u.clone() });
         self.timings.integration += since(t0);
         state.advance(trial, sel.scale);
         state.load_fraction = sel.phi;
         let inside = self.place_integrated(state, &integrated);
         // Elements that reach their surface at this increment's end are plastic for the
         // correction already (their tangent then comes with the others: one update per step).
-        for c in sel.group.iter().filter(|c| c.kind == EventKind::Yield && c.scale <= sel.tie_limit) {
+        for c in sel.group.iter().filter(|c| c.kind == EventKind::Yield) {
             state.plastic[c.entity] = true;
         }
         self.project_onto_cone(state);
         (inside, !integrated.is_empty())
     }
 
-    /// λ_t = −d μ λ_n for slipping pairs (round-off removed); a pair that grouping let slip
-    /// early slips from below the cone and is only kept from crossing it.
+    /// λ_t = −d μ λ_n for slipping pairs (round-off removed).
     fn project_onto_cone(&self, state: &mut State) {
-        let grouping = self.model.options.group_tol != 0.0;
         for (p, st) in state.status.iter().enumerate() {
             if let Status::Slip { .. } = st {
-                let cone = self.pairs[p].slip_ratio(*st) * state.lambda_n[p];
-                if !grouping || state.lambda_t[p].abs() > cone.abs() {
-                    state.lambda_t[p] = cone;
-                }
+                state.lambda_t[p] = self.pairs[p].slip_ratio(*st) * state.lambda_n[p];
             }
         }
     }
 
-    /// Apply one event's status change and the forces it sets. `on_time`: the event falls at
-    /// this increment's scale (not taken early by grouping). Returns the change of λ_t it made
-    /// (a pair the equilibrium correction moved off the cone is put back on it: a force jump
-    /// that the caller rebalances).
-    pub fn switch(&self, state: &mut State, c: &Candidate, on_time: bool) -> f64 {
+    /// Apply one event's status change and the forces it sets. Returns the change of λ_t it
+    /// made (a pair the equilibrium correction moved off the cone is put back on it: a force
+    /// jump that the caller rebalances).
+    pub fn switch(&self, state: &mut State, c: &Candidate) -> f64 {
         let p = c.entity;
         let before = if c.kind == EventKind::StickToSlip { state.lambda_t[p] } else { 0.0 };
         match c.kind {
@@ -64,10 +60,7 @@ impl Engine<'_> {
             }
             EventKind::StickToSlip => {
                 state.status[p] = Status::Slip { direction: c.direction };
-                // On time the pair is on the cone; taken early it keeps its tangential force.
-                if on_time {
-                    state.lambda_t[p] = self.pairs[p].slip_ratio(state.status[p]) * state.lambda_n[p];
-                }
+                state.lambda_t[p] = self.pairs[p].slip_ratio(state.status[p]) * state.lambda_n[p];
             }
             EventKind::SlipToStick => {
                 state.status[p] = Status::Stick;

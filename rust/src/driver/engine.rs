@@ -3,6 +3,7 @@
 //! contact flexibility read from it.
 
 use super::path::{LoadPath, StageLoad};
+use super::plasticity::IncrementStart;
 use super::space::{Full, Reduced, Space};
 use crate::bail;
 use crate::contact::{Pair, HELD_BY_SUPPORTS};
@@ -47,6 +48,8 @@ pub(super) struct Engine<'m> {
     pub n_low_rank_updates: usize,
     /// Renew every plastic tangent at the next update (a stage's final correction).
     pub renew_all_tangents: bool,
+    /// A grouped increment's start, for its re-integration (`plasticity`).
+    pub increment_start: Option<IncrementStart>,
     /// The work of a factorization and of a solve pair (from the factor's structure).
     pub cost: Cost,
     /// The pairs over the DOFs the loop carries (`space`).
@@ -125,6 +128,7 @@ impl<'m> Engine<'m> {
             low_rank_spent: 0.0,
             n_low_rank_updates: 0,
             renew_all_tangents: false,
+            increment_start: None,
             cost: Cost::default(),
             pairs,
             modes,

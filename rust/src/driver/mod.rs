@@ -188,7 +188,7 @@ fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles:
                 cycles.rate_problem_solved();
                 for c in &changes {
                     cycles.count(c, true);
-                    jump = jump.max(eng.switch(state, c, true));
+                    jump = jump.max(eng.switch(state, c));
                     rec.event(c, c.kind, sel.phi);
                 }
                 return jump;
@@ -201,7 +201,7 @@ fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles:
             Admission::Skip => {}
             Admission::Freeze => rec.event(c, if c.kind.is_element_event() { EventKind::FrozenElement } else { EventKind::Frozen }, sel.phi),
             Admission::Apply => {
-                jump = jump.max(eng.switch(state, c, c.scale <= sel.tie_limit));
+                jump = jump.max(eng.switch(state, c));
                 rec.event(c, c.kind, sel.phi);
             }
         }

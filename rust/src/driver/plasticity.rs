@@ -20,6 +20,7 @@ use crate::material::von_mises;
 use crate::events::{self, Candidate, PairState, Trial};
 use crate::model::EventKind;
 use crate::stress_integration::{integrate, onto_yield_surface, Integrated, PointState};
+use nalgebra::Vector4;
 use std::time::Instant;
 
 /// The size of the last equilibrium correction (displacement, force): the correction moves
@@ -100,8 +101,11 @@ impl Engine<'_> {
     }
 
     /// Equilibrium after an increment whose stresses were integrated: the tangents follow the
-    /// state (`update_tangents`), then the correction at fixed load (`correct_at_fixed_load`);
-    /// a stage ends on the yield surface (`settle_on_surfaces`). None when the increment kept
+    /// state (`update_tangents`), then the correction at fixed load (`correct_at_fixed_load`).
+    /// A correction that leaves plastic elements more than max_stress_step² off their yield
+    /// surfaces (the second-order drift of a fresh tangent over a bounded stress step: only
+    /// waiting yields, `tangents`, do that), and every stage's end, then settle on the surfaces
+    /// (`settle_on_surfaces`). None when the increment kept
     /// the tangent's linear stresses (in equilibrium already; the last correction's allowance
     /// for the contact checks still holds).
     pub fn restore_equilibrium(&mut self, state: &mut State, sel: &Selection, integrated: bool) -> Result<Option<(Correction, Vec<Candidate>)>> {
@@ -110,8 +114,9 @@ impl Engine<'_> {
         }
         let t0 = Instant::now();
         self.update_tangents(state)?;
-        let (mut size, mut events) = self.correct_at_fixed_load(state, sel.phi)?;
-        if sel.last {
+        let (mut size, mut events) = self.converge_increment(state, sel.phi)?;
+        let bound = self.model.options.max_stress_step.powi(2);
+        if sel.last || self.drift(state) > bound {
             let (more, later) = self.settle_on_surfaces(state, sel.phi)?;
             size.displacement = size.displacement.max(more.displacement);
             size.force = size.force.max(more.force);
@@ -121,8 +126,51 @@ impl Engine<'_> {
         Ok(Some((size, events)))
     }
 
-    /// At a stage's end: plastic elements back onto their yield surfaces (the drift a held
-    /// tangent left, up to tangent_turn × the correction's stress change), then a correction with
+    /// A grouped increment's plastic path: the correction, then every element that was or
+    /// became plastic integrated again from the increment's start over its whole strain (trial
+    /// and corrections: `reintegrate`); while that state is out of balance by more than
+    /// `REINTEGRATION_TOL` of the load, correct it again. The last linear state is kept (in
+    /// equilibrium to round-off). Event by event, the one correction.
+    fn converge_increment(&mut self, state: &mut State, phi: f64) -> Result<(Correction, Vec<Candidate>)> {
+        let (mut size, mut events) = self.correct_at_fixed_load(state, phi)?;
+        let Some(start) = self.increment_start.take() else { return Ok((size, events)) };
+        for _ in 0..MAX_REINTEGRATIONS {
+            let linear = (state.stress.clone(), state.plastic_strain.clone(), state.plastic.clone());
+            self.reintegrate(state, &start);
+            if self.full_residual(state).0 <= REINTEGRATION_TOL {
+                (state.stress, state.plastic_strain, state.plastic) = linear;
+                break;
+            }
+            let (more, later) = self.correct_at_fixed_load(state, phi)?;
+            size.displacement = size.displacement.max(more.displacement);
+            size.force = size.force.max(more.force);
+            events.extend(later);
+        }
+        Ok((size, events))
+    }
+
+    /// Every element that was plastic at the increment's start or is plastic now: its start
+    /// state integrated over the increment's whole strain so far.
+    fn reintegrate(&self, state: &mut State, start: &IncrementStart) {
+        let du: Vec<f64> = state.u.iter().zip(&start.u).map(|(a, b)| a - b).collect();
+        let plane = self.model.plane;
+        for e in 0..state.stress.len() {
+            let m = &self.material[e];
+            if !m.is_plastic() || !(start.plastic[e] || state.plastic[e]) {
+                continue;
+            }
+            let sy = m.current_yield(start.plastic_strain[e]);
+            let stress = if start.plastic[e] { onto_yield_surface(&start.stress[e], sy, plane) } else { start.stress[e] };
+            let point = PointState { stress, plastic_strain: start.plastic_strain[e], plastic: start.plastic[e] };
+            let out = integrate(m, plane, &point, &self.elements[e].strain(&du));
+            state.stress[e] = out.end.stress;
+            state.plastic_strain[e] = out.end.plastic_strain;
+            state.plastic[e] = out.end.plastic;
+        }
+    }
+
+    /// Plastic elements back onto their yield surfaces (the drift a held tangent left), then a
+    /// correction with
     /// every tangent renewed, which leaves only the square of that drift: a reload then retraces
     /// the stage's end (elastic shakedown stays elastic), and an unload starts on the surface.
     fn settle_on_surfaces(&mut self, state: &mut State, phi: f64) -> Result<(Correction, Vec<Candidate>)> {
@@ -164,12 +212,28 @@ impl Engine<'_> {
             }
             let tie = first * (1.0 + CORRECTION_TIE) + CORRECTION_TIE_SLACK;
             for x in cands.into_iter().filter(|x| x.scale <= tie) {
-                self.switch(state, &x, true);
+                self.switch(state, &x);
                 events.push(x);
             }
         }
         Ok((size, events))
     }
+}
+
+/// A grouped increment is re-integrated until its state is out of balance by at most this ×
+/// the load (relative residual), at most `MAX_REINTEGRATIONS` times. Measured on the thick
+/// cylinder (H' = 0, δ = 0.01, 2.7k and 4.9k DOFs), the largest difference of plastic strain
+/// to the event-by-event run: 1.75 % with one linear correction, 1.45 % (tol 1e-3), 0.47 %
+/// (1e-4), 0.33 % (1e-5); on the elastoplastic Hertz (24.5k DOFs) 1e-4 moves p0 by 0.003 %.
+const REINTEGRATION_TOL: f64 = 1e-4;
+const MAX_REINTEGRATIONS: usize = 4;
+
+/// The state of the elements and the displacement at a grouped increment's start.
+pub(super) struct IncrementStart {
+    pub stress: Vec<Vector4<f64>>,
+    pub plastic_strain: Vec<f64>,
+    pub plastic: Vec<bool>,
+    pub u: Vec<f64>,
 }
 
 /// Contact events of one correction within this (relative, plus an absolute slack) of its

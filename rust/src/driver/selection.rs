@@ -27,8 +27,6 @@ pub(super) struct Selection {
     pub last: bool,
     /// Load fraction after the advance.
     pub phi: f64,
-    /// Events within S_min (1 + tie_tol) are on time; others in `group` were taken early.
-    pub tie_limit: f64,
     /// The events that switch at `phi` (empty when the drift bound cut the increment short).
     pub group: Vec<Candidate>,
     /// Last trial only: the load fraction at which each open pair would have closed.
@@ -55,15 +53,6 @@ fn zero_length_priority(kind: EventKind) -> u8 {
         EventKind::Close | EventKind::Yield => 1,
         EventKind::SlipToStick | EventKind::Unload | EventKind::Frozen | EventKind::FrozenElement => 2,
     }
-}
-
-/// Event grouping (`Options::group_tol`) may take these early: they change no contact force at
-/// the switch. A pair that slips early keeps its tangential force, a yield changes the tangent
-/// only. Contact changes are taken exactly: separating early would drop a compressive force,
-/// and a pair closed early would have to be held at its remaining gap, a standoff that stays
-/// (measured: +16 % to +61 % Hertz peak pressure at δ = 0.1, growing under refinement).
-fn may_be_taken_early(kind: EventKind) -> bool {
-    matches!(kind, EventKind::StickToSlip | EventKind::SlipToStick | EventKind::Yield | EventKind::Unload)
 }
 
 impl Engine<'_> {
@@ -97,10 +86,7 @@ impl Engine<'_> {
         let last = s_min >= 1.0 && bound >= 1.0;
         let predicted_closures = if last { cands.iter().filter(|c| c.kind == EventKind::Close).map(|c| (c.entity, phi0 + c.scale * remaining)).collect() } else { vec![] };
         let tie_limit = s_min * (1.0 + opts.tie_tol) + TIE_SLACK;
-        // Grouping (δ = group_tol): friction and plasticity events up to φ_min (1 + δ) come along.
-        let group_phi = (phi0 + s_min * remaining) * (1.0 + opts.group_tol);
-        let early = |c: &Candidate| opts.group_tol > 0.0 && s_min > ZERO_SCALE && may_be_taken_early(c.kind) && c.scale <= 1.0 && phi0 + c.scale * remaining <= group_phi;
-        let mut group: Vec<Candidate> = if scale < s_min || last { vec![] } else { cands.iter().copied().filter(|c| c.scale <= tie_limit || early(c)).collect() };
+        let mut group: Vec<Candidate> = if scale < s_min || last { vec![] } else { cands.iter().copied().filter(|c| c.scale <= tie_limit).collect() };
         if s_min <= ZERO_SCALE {
             // Zero-length events come from a trial that is itself inadmissible; apply first
             // the ones that release a violated constraint, and only then those that add one.
@@ -108,7 +94,7 @@ impl Engine<'_> {
             group.retain(|c| zero_length_priority(c.kind) == top);
         }
         let phi = if last { 1.0 } else { phi0 + scale * remaining };
-        Selection { scale, last, phi, tie_limit, group, predicted_closures, plastic_inside }
+        Selection { scale, last, phi, group, predicted_closures, plastic_inside }
     }
 
     /// Grouped increments (δ > 0) with integrated stresses: an element yields or unloads inside

@@ -28,7 +28,6 @@ impl Engine<'_> {
         self.tangents_factored();
         if self.timings.solve_pair == 0.0 {
             self.cost = self.solver.cost();
-            if std::env::var("SLIPSTEP_DEBUG").is_ok() { eprintln!("COST {:?}", self.cost); }
             self.measure_solve_pair();
         }
         Ok(())
