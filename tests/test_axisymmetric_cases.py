@@ -224,7 +224,8 @@ factors = {load = 0.1}
     assert np.sum(last["lambda_n"]) == pytest.approx(3.0, rel=1e-9)
     assert {"yield", "close", "separate"} <= set(result["events"]["kind"])
     assert np.count_nonzero(np.asarray(last["plastic_strain"]) > 0) > 0
-    assert result["max_drift"] <= 1e-4
+    # within max_stress_step² of the yield surfaces (see tests/test_thick_sphere.py)
+    assert result["max_drift"] <= 0.05 ** 2
 
 
 # --------------------------------------------------------------------------- case errors

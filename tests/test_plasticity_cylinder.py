@@ -143,8 +143,11 @@ def test_run_completes_in_equilibrium_with_yield_events_only(cylinder):
     # monotonic loading, Hill's zone only grows: no plastic unloading, no anti-cycling
     assert set(result["events"]["kind"]) == {"yield"}
     assert np.all(np.diff(result["steps"]["n_plastic"]) >= 0)
-    # perfectly plastic and proportional: the stresses stay on the yield surface
-    assert result["max_drift"] <= 1e-4
+    # Perfectly plastic and proportional: the stresses stay on the yield surface, up to what
+    # an equilibrium correction moves them along a tangent K has not renewed yet (grouped
+    # increments, the default): at most max_stress_step² = 0.05² (the drift that makes the
+    # engine settle on the surfaces); event by event it is ~1e-5.
+    assert result["max_drift"] <= 0.05 ** 2
 
 
 @needs_gmsh

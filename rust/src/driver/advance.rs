@@ -3,7 +3,7 @@
 
 use super::engine::{since, Engine};
 use std::time::Instant;
-use super::plasticity::{IncrementStart, InsideEvent};
+use super::plasticity::IncrementStart;
 use super::selection::Selection;
 use super::state::{State, TrialIncrement};
 use crate::contact::Status;
@@ -13,24 +13,27 @@ use crate::model::EventKind;
 impl Engine<'_> {
     /// u, σ, λ += S × trial (eqs. 58–61), the stresses of plastic elements (and, grouped, of
     /// those that yield inside) integrated (`plasticity`); slipping pairs on the Coulomb cone
-    /// (eq. 62). Returns the yields and unloads inside the increment, and whether any stress
-    /// was integrated (it then needs an equilibrium correction).
-    pub fn advance(&mut self, state: &mut State, trial: &TrialIncrement, sel: &Selection) -> (Vec<InsideEvent>, bool) {
+    /// (eq. 62). Returns whether any stress was integrated (it then needs an equilibrium
+    /// correction; `inside_events` tells what happened inside).
+    pub fn advance(&mut self, state: &mut State, trial: &TrialIncrement, sel: &Selection) -> bool {
         let t0 = Instant::now();
-        let integrated = self.integrate_stresses(state, trial, sel.scale, sel.plastic_inside);
-        self.increment_start = (sel.plastic_inside && !integrated.is_empty())
-            .then(|| IncrementStart { stress: state.stress.clone(), plastic_strain: state.plastic_strain.clone(), plastic: state.plastic.clone(), u: state.u.clone() });
+        let integrated = self.integrate_stresses(state, trial, sel);
         self.timings.integration += since(t0);
+        let mut start = (!integrated.is_empty())
+            .then(|| IncrementStart { stress: state.stress.clone(), plastic_strain: state.plastic_strain.clone(), plastic: state.plastic.clone(), u: state.u.clone(), yielded_at: Default::default() });
         state.advance(trial, sel.scale);
         state.load_fraction = sel.phi;
-        let inside = self.place_integrated(state, &integrated);
+        if let Some(start) = &mut start {
+            self.place_integrated(state, &integrated, start);
+        }
+        self.increment_start = start;
         // Elements that reach their surface at this increment's end are plastic for the
         // correction already (their tangent then comes with the others: one update per step).
         for c in sel.group.iter().filter(|c| c.kind == EventKind::Yield) {
             state.plastic[c.entity] = true;
         }
         self.project_onto_cone(state);
-        (inside, !integrated.is_empty())
+        !integrated.is_empty()
     }
 
     /// λ_t = −d μ λ_n for slipping pairs (round-off removed).

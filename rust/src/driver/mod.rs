@@ -111,10 +111,11 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         let sel = eng.select(state, &trial, cycles, cut); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
         rec.snapshots_inside(eng, state, &trial, &sel)?;
         let phi0 = state.load_fraction;
-        let (inside, integrated) = eng.advance(state, &trial, &sel); // eqs. 58–62
-        inside.iter().for_each(|ev| rec.event_inside(ev, phi0 + ev.at * (sel.phi - phi0)));
+        let integrated = eng.advance(state, &trial, &sel); // eqs. 58–62
         let jump = switch_statuses(eng, state, &sel, cycles, rec); // step 6
         let residual = settle(eng, state, &sel, cycles, rec, &mut correction, integrated, jump)?;
+        let inside = eng.inside_events(state, &sel);
+        rec.events_inside(&inside, phi0, sel.phi);
         rec.step(eng, state, sel.scale, residual)?;
         eng.timings.events += since(t_events);
         if sel.last {

@@ -13,10 +13,10 @@
 //! exactly: the tangent's linear increment, no correction.
 
 use super::engine::{since, Engine};
-use super::selection::{Selection, ZERO_SCALE};
+use super::selection::{Selection, STAGE_END, ZERO_SCALE};
 use super::state::{State, TrialIncrement};
 use crate::error::Result;
-use crate::material::von_mises;
+use crate::material::{von_mises, yield_scale};
 use crate::events::{self, Candidate, PairState, Trial};
 use crate::model::EventKind;
 use crate::stress_integration::{integrate, onto_yield_surface, Integrated, PointState};
@@ -51,28 +51,32 @@ impl Engine<'_> {
             .fold(0.0, f64::max)
     }
 
-    /// The stress of each element that is plastic at the increment's start, or (`crossing`)
-    /// that the linear increment takes beyond its yield surface, integrated over `scale` ×
-    /// the trial's strain from `state` (before the advance).
-    pub fn integrate_stresses(&self, state: &State, trial: &TrialIncrement, scale: f64, crossing: bool) -> Vec<(usize, Integrated)> {
+    /// The stress of each element that is plastic at the increment's start, or (grouped
+    /// increments) whose elastic path crosses its yield surface inside the increment, integrated
+    /// over the increment's strain from `state` (before the advance). An elastic path that meets
+    /// the surface within `STAGE_END` of the stage's end ties with the end, as a yield event does
+    /// (`selection`): it belongs to the next stage.
+    pub fn integrate_stresses(&self, state: &State, trial: &TrialIncrement, sel: &Selection) -> Vec<(usize, Integrated)> {
+        let scale = sel.scale;
         if !self.model.options.drift_control || scale <= ZERO_SCALE {
             return vec![]; // a zero-length increment changes no stress (and gets no correction)
         }
         let plane = self.model.plane;
+        let (phi0, phi1) = (state.load_fraction, sel.phi);
+        let crosses = |e: usize, sy: f64| match yield_scale(&state.stress[e], &(trial.dstress[e] * scale), sy) {
+            Some(r) => r < 1.0 && phi0 + r * (phi1 - phi0) < 1.0 - STAGE_END,
+            None => false,
+        };
         let mut out = vec![];
         for e in 0..state.stress.len() {
             let m = &self.material[e];
             if !m.is_plastic() {
                 continue;
             }
-            let plastic = state.plastic[e];
-            let beyond = || von_mises(&(state.stress[e] + trial.dstress[e] * scale)) > m.current_yield(state.plastic_strain[e]);
-            if plastic || (crossing && beyond()) {
-                let mut stress = state.stress[e];
-                if plastic {
-                    // back onto the surface first: the last correction left it a little off
-                    stress = onto_yield_surface(&stress, m.current_yield(state.plastic_strain[e]), plane);
-                }
+            let (plastic, sy) = (state.plastic[e], m.current_yield(state.plastic_strain[e]));
+            if plastic || (sel.plastic_inside && crosses(e, sy)) {
+                // back onto the surface first: the last correction may have left it a little off
+                let stress = if plastic { onto_yield_surface(&state.stress[e], sy, plane) } else { state.stress[e] };
                 let start = PointState { stress, plastic_strain: state.plastic_strain[e], plastic };
                 out.push((e, integrate(m, plane, &start, &(trial.dstrain[e] * scale))));
             }
@@ -80,22 +84,30 @@ impl Engine<'_> {
         out
     }
 
-    /// Put the integrated states in place; returns the yields and unloads that happened inside
-    /// the increment, in order.
-    pub fn place_integrated(&self, state: &mut State, integrated: &[(usize, Integrated)]) -> Vec<InsideEvent> {
-        let mut inside = vec![];
+    /// Put the integrated states in place and note where elements crossed their surfaces.
+    pub fn place_integrated(&self, state: &mut State, integrated: &[(usize, Integrated)], start: &mut IncrementStart) {
         for (e, out) in integrated {
-            let e = *e;
-            state.stress[e] = out.end.stress;
-            state.plastic_strain[e] = out.end.plastic_strain;
-            if out.unloaded && state.plastic[e] {
-                inside.push(InsideEvent { element: e, kind: EventKind::Unload, at: 0.0 });
-            }
+            state.stress[*e] = out.end.stress;
+            state.plastic_strain[*e] = out.end.plastic_strain;
+            state.plastic[*e] = out.end.plastic;
             if let Some(at) = out.yielded_at {
-                inside.push(InsideEvent { element: e, kind: EventKind::Yield, at });
+                start.yielded_at.insert(*e, at);
             }
-            state.plastic[e] = out.end.plastic;
         }
+    }
+
+    /// The yields and unloads inside the increment just settled, in order: the elements whose
+    /// status differs from the increment's start, but for the events that ended it (`group`).
+    pub fn inside_events(&mut self, state: &State, sel: &Selection) -> Vec<InsideEvent> {
+        let Some(start) = self.increment_start.take() else { return vec![] };
+        let ended: std::collections::HashSet<usize> = sel.group.iter().filter(|c| c.kind.is_element_event()).map(|c| c.entity).collect();
+        let mut inside: Vec<InsideEvent> = (0..state.plastic.len())
+            .filter(|&e| state.plastic[e] != start.plastic[e] && !ended.contains(&e))
+            .map(|e| match state.plastic[e] {
+                true => InsideEvent { element: e, kind: EventKind::Yield, at: start.yielded_at.get(&e).copied().unwrap_or(1.0) },
+                false => InsideEvent { element: e, kind: EventKind::Unload, at: 0.0 },
+            })
+            .collect();
         inside.sort_by(|a, b| a.at.total_cmp(&b.at));
         inside
     }
@@ -114,10 +126,10 @@ impl Engine<'_> {
         }
         let t0 = Instant::now();
         self.update_tangents(state)?;
-        let (mut size, mut events) = self.converge_increment(state, sel.phi)?;
+        let (mut size, mut events) = self.converge_increment(state, sel.phi, sel.plastic_inside)?;
         let bound = self.model.options.max_stress_step.powi(2);
         if sel.last || self.drift(state) > bound {
-            let (more, later) = self.settle_on_surfaces(state, sel.phi)?;
+            let (more, later) = self.settle_on_surfaces(state, sel.phi, sel.last)?;
             size.displacement = size.displacement.max(more.displacement);
             size.force = size.force.max(more.force);
             events.extend(later);
@@ -127,18 +139,19 @@ impl Engine<'_> {
     }
 
     /// A grouped increment's plastic path: the correction, then every element that was or
-    /// became plastic integrated again from the increment's start over its whole strain (trial
-    /// and corrections: `reintegrate`); while that state is out of balance by more than
-    /// `REINTEGRATION_TOL` of the load, correct it again. The last linear state is kept (in
-    /// equilibrium to round-off). Event by event, the one correction.
-    fn converge_increment(&mut self, state: &mut State, phi: f64) -> Result<(Correction, Vec<Candidate>)> {
+    /// became plastic, or is beyond its surface, integrated again from the increment's start over
+    /// its whole strain (trial and corrections: `reintegrate`); while that state is out of balance
+    /// by more than `REINTEGRATION_TOL` of the load, correct it again. The last linear stresses
+    /// are kept (in equilibrium to round-off) with the integrated plastic strains and flags.
+    /// Event by event, the one correction.
+    fn converge_increment(&mut self, state: &mut State, phi: f64, regrouped: bool) -> Result<(Correction, Vec<Candidate>)> {
         let (mut size, mut events) = self.correct_at_fixed_load(state, phi)?;
-        let Some(start) = self.increment_start.take() else { return Ok((size, events)) };
-        for _ in 0..MAX_REINTEGRATIONS {
-            let linear = (state.stress.clone(), state.plastic_strain.clone(), state.plastic.clone());
-            self.reintegrate(state, &start);
+        let Some(mut start) = self.increment_start.take() else { return Ok((size, events)) };
+        for _ in 0..if regrouped { MAX_REINTEGRATIONS } else { 0 } {
+            let linear = state.stress.clone();
+            self.reintegrate(state, &mut start);
             if self.full_residual(state).0 <= REINTEGRATION_TOL {
-                (state.stress, state.plastic_strain, state.plastic) = linear;
+                state.stress = linear; // plastic strains and flags stay the integrated ones
                 break;
             }
             let (more, later) = self.correct_at_fixed_load(state, phi)?;
@@ -146,23 +159,29 @@ impl Engine<'_> {
             size.force = size.force.max(more.force);
             events.extend(later);
         }
+        self.increment_start = Some(start);
         Ok((size, events))
     }
 
-    /// Every element that was plastic at the increment's start or is plastic now: its start
-    /// state integrated over the increment's whole strain so far.
-    fn reintegrate(&self, state: &mut State, start: &IncrementStart) {
+    /// Every element that was plastic at the increment's start, is plastic now or is beyond its
+    /// yield surface now: its start state integrated over the increment's whole strain so far.
+    fn reintegrate(&self, state: &mut State, start: &mut IncrementStart) {
         let du: Vec<f64> = state.u.iter().zip(&start.u).map(|(a, b)| a - b).collect();
         let plane = self.model.plane;
         for e in 0..state.stress.len() {
             let m = &self.material[e];
-            if !m.is_plastic() || !(start.plastic[e] || state.plastic[e]) {
+            let beyond = || von_mises(&state.stress[e]) > m.current_yield(state.plastic_strain[e]);
+            if !m.is_plastic() || !(start.plastic[e] || state.plastic[e] || beyond()) {
                 continue;
             }
             let sy = m.current_yield(start.plastic_strain[e]);
             let stress = if start.plastic[e] { onto_yield_surface(&start.stress[e], sy, plane) } else { start.stress[e] };
             let point = PointState { stress, plastic_strain: start.plastic_strain[e], plastic: start.plastic[e] };
             let out = integrate(m, plane, &point, &self.elements[e].strain(&du));
+            match out.yielded_at {
+                Some(at) => start.yielded_at.insert(e, at),
+                None => start.yielded_at.remove(&e),
+            };
             state.stress[e] = out.end.stress;
             state.plastic_strain[e] = out.end.plastic_strain;
             state.plastic[e] = out.end.plastic;
@@ -173,16 +192,27 @@ impl Engine<'_> {
     /// correction with
     /// every tangent renewed, which leaves only the square of that drift: a reload then retraces
     /// the stage's end (elastic shakedown stays elastic), and an unload starts on the surface.
-    fn settle_on_surfaces(&mut self, state: &mut State, phi: f64) -> Result<(Correction, Vec<Candidate>)> {
-        for e in (0..state.plastic.len()).filter(|&e| state.plastic[e]) {
-            let sy = self.material[e].current_yield(state.plastic_strain[e]);
-            state.stress[e] = onto_yield_surface(&state.stress[e], sy, self.model.plane);
+    /// Repeated (at most `SETTLE_ROUNDS` times) until the drift is round-off at a stage's end.
+    fn settle_on_surfaces(&mut self, state: &mut State, phi: f64, stage_end: bool) -> Result<(Correction, Vec<Candidate>)> {
+        let (mut size, mut events) = (Correction::default(), vec![]);
+        for _ in 0..SETTLE_ROUNDS {
+            for e in (0..state.plastic.len()).filter(|&e| state.plastic[e]) {
+                let sy = self.material[e].current_yield(state.plastic_strain[e]);
+                state.stress[e] = onto_yield_surface(&state.stress[e], sy, self.model.plane);
+            }
+            self.renew_all_tangents = true;
+            let renewed = self.update_tangents(state);
+            self.renew_all_tangents = false;
+            renewed?;
+            let (more, later) = self.correct_at_fixed_load(state, phi)?;
+            size.displacement = size.displacement.max(more.displacement);
+            size.force = size.force.max(more.force);
+            events.extend(later);
+            if !stage_end || self.drift(state) <= SETTLED_DRIFT {
+                break;
+            }
         }
-        self.renew_all_tangents = true;
-        let renewed = self.update_tangents(state);
-        self.renew_all_tangents = false;
-        renewed?;
-        self.correct_at_fixed_load(state, phi)
+        Ok((size, events))
     }
 
     /// Equilibrium at fixed load φ by the procedure itself: solve the correction for the
@@ -228,12 +258,22 @@ impl Engine<'_> {
 const REINTEGRATION_TOL: f64 = 1e-4;
 const MAX_REINTEGRATIONS: usize = 4;
 
-/// The state of the elements and the displacement at a grouped increment's start.
+/// A stage ends with its plastic elements this close to their yield surfaces (relative; a
+/// reload of an elastic release then meets them at the stage's end: `selection::STAGE_END`),
+/// settled in at most `SETTLE_ROUNDS` rounds (each leaves about the square of the last drift).
+const SETTLED_DRIFT: f64 = 1e-12;
+const SETTLE_ROUNDS: usize = 3;
+
+/// The state of the elements and the displacement at the start of an increment whose stresses
+/// were integrated.
 pub(super) struct IncrementStart {
     pub stress: Vec<Vector4<f64>>,
     pub plastic_strain: Vec<f64>,
     pub plastic: Vec<bool>,
     pub u: Vec<f64>,
+    /// Where in the increment each element that crossed its surface did so (the latest
+    /// integration's elastic fraction).
+    pub yielded_at: std::collections::HashMap<usize, f64>,
 }
 
 /// Contact events of one correction within this (relative, plus an absolute slack) of its

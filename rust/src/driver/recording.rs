@@ -133,10 +133,19 @@ impl Recorder {
         Ok(())
     }
 
-    /// A yield or unload inside a grouped increment, at load fraction `phi`.
-    pub fn event_inside(&mut self, ev: &InsideEvent, phi: f64) {
-        let c = Candidate { scale: 0.0, entity: ev.element, kind: ev.kind, direction: 0 };
-        self.event(&c, ev.kind, phi);
+    /// The yields and unloads inside the current increment (φ0 → φ1), placed before the events
+    /// that ended it (the history stays in load order).
+    pub fn events_inside(&mut self, inside: &[InsideEvent], phi0: f64, phi1: f64) {
+        let step = self.steps.len();
+        let at = self.events.iter().rposition(|e| e.step != step).map_or(0, |i| i + 1);
+        let records: Vec<EventRecord> = inside
+            .iter()
+            .map(|ev| {
+                let phi = phi0 + ev.at * (phi1 - phi0);
+                EventRecord { step, stage: self.stage, load_fraction: phi, time: self.stage as f64 + phi, kind: ev.kind, entity: ev.element }
+            })
+            .collect();
+        self.events.splice(at..at, records);
     }
 
     pub fn event(&mut self, c: &Candidate, kind: EventKind, phi: f64) {

@@ -17,7 +17,7 @@ const TIE_SLACK: f64 = 1e-14;
 /// element reloaded to the stress it had on the yield surface reaches it again exactly at the
 /// end: measured 1 − 5e-14 on the autofrettage reload; without the tie it would re-yield with
 /// zero plastic flow.)
-const STAGE_END: f64 = 1e-12;
+pub(super) const STAGE_END: f64 = 1e-12;
 
 /// The outcome of one selection.
 pub(super) struct Selection {
@@ -97,8 +97,8 @@ impl Engine<'_> {
         Selection { scale, last, phi, group, predicted_closures, plastic_inside }
     }
 
-    /// Grouped increments (δ > 0) with integrated stresses: an element yields or unloads inside
-    /// the increment, with its exact elastic–plastic split, instead of ending it. Not when the
+    /// Grouped increments (δ > 0) with integrated stresses: an element yields inside the
+    /// increment, with its exact elastic–plastic split, instead of ending it. Not when the
     /// run stops at the first yield (that needs the yield's exact load).
     fn plastic_events_inside(&self) -> bool {
         let opts = &self.model.options;
@@ -110,11 +110,12 @@ impl Engine<'_> {
 /// increment (the window is relative to the load fraction otherwise).
 const WINDOW_FLOOR: f64 = 0.05;
 
-/// Take the yields and unloads out of the candidates; the scale at which the grouped
-/// increment ends for them: the first one's load fraction φ_p, then δ max(φ_p, floor) more.
+/// Take the yields out of the candidates; the scale at which the grouped increment ends for
+/// them: the first one's load fraction φ_p, then δ max(φ_p, floor) more. (Unloads stay events:
+/// they come at zero scale, and K must hold the elastic tangent of an element that unloads.)
 fn plastic_window(cands: &mut Vec<Candidate>, phi0: f64, remaining: f64, delta: f64) -> f64 {
-    let first = cands.iter().filter(|c| c.kind.is_element_event()).map(|c| c.scale).fold(f64::INFINITY, f64::min);
-    cands.retain(|c| !c.kind.is_element_event());
+    let first = cands.iter().filter(|c| c.kind == EventKind::Yield).map(|c| c.scale).fold(f64::INFINITY, f64::min);
+    cands.retain(|c| c.kind != EventKind::Yield);
     if !first.is_finite() || remaining <= 0.0 {
         return f64::INFINITY;
     }
