@@ -334,36 +334,60 @@ def fig_thick(path: Path, t: dict) -> Path:
 
 
 def fig_sphere_flat(path: Path, sf: dict) -> Path:
-    """P/P_c and A/A_c against omega/omega_c (KE normalisation), every mesh, both fits."""
+    """Top: P/P_c and A/A_c against omega/omega_c (KE's critical values), every mesh, both
+    fits. Bottom: the runs' deviations from each fit, and the fits' from each other."""
     from matplotlib.figure import Figure
 
-    R, E_star, Y, nu = sf["R"], sf["E"] / (1 - sf["nu"] ** 2), sf["Y"], sf["nu"]
     ke, jg = (sf["critical"][k] for k in ("KE", "JG"))
-    w = np.geomspace(0.3, 60, 400)
-    Pk, Ak = kogut_etsion(w)
-    Pj, Aj = jackson_green(w * ke["interference"] / jg["interference"], R, E_star, Y, nu)
-    fig = Figure(figsize=(12, 4.8), layout="constrained")
-    axes = fig.subplots(1, 2)
-    for ax, fit_k, fit_j, key, label in (
-            (axes[0], Pk, Pj * jg["force"] / ke["force"], "P", "P / P_c"),
-            (axes[1], Ak, Aj * jg["area"] / ke["area"], "A", "A / A_c")):
-        ax.loglog(w, fit_k, "k-", lw=1.2, label="Kogut & Etsion (2002)")
-        ax.loglog(w, fit_j, "k--", lw=1.2, label="Jackson & Green (2005)")
+    w = np.geomspace(0.1, 55, 400)
+    fits = _fits_in_ke_units(sf, w)
+    fig = Figure(figsize=(12, 8.5), layout="constrained")
+    axes = fig.subplots(2, 2, sharex=True)
+    for col, key, label in ((0, "P", "P / P_c"), (1, "A", "A / A_c")):
+        top, bottom = axes[0, col], axes[1, col]
+        top.loglog(w, fits["KE"][key], "k-", lw=1.2, label="Kogut & Etsion (2002)")
+        top.loglog(w, fits["JG"][key], "k--", lw=1.2, label="Jackson & Green (2005)")
+        bottom.semilogx(w, 100 * (fits["JG"][key] / fits["KE"][key] - 1), "k:", lw=1,
+                        label="Jackson & Green − Kogut & Etsion")
         for row, marker in zip(sf["meshes"], "sov^"):
             x = row["omega"] / ke["interference"]
             y = row["P"] / ke["force"] if key == "P" else math.pi * row["a"] ** 2 / ke["area"]
-            ax.loglog(x, y, marker, ms=3.5, mfc="none",
-                      label=f"slipstep, {row['label']} ({row['n_nodes']} nodes)")
-        ax.axvline(1.0, color="0.6", ls=":", lw=1)
-        ax.axvline(6.0, color="0.6", ls=":", lw=1)
-        ax.set_xlabel("ω / ω_c")
-        ax.set_ylabel(f"{label} (Kogut & Etsion's critical values)")
-        ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=8)
-    fig.suptitle(f"Elastic-perfectly plastic sphere on a rigid flat (E/Y = {sf['E'] / Y:g}, "
-                 f"ν = {nu:g}): force and contact area against interference", fontsize=11)
+            keep = x >= w[0]
+            top.loglog(x[keep], y[keep], marker, ms=3.5, mfc="none",
+                       label=f"slipstep, {row['label']} ({row['n_nodes']} nodes)")
+            ref = _fits_in_ke_units(sf, x[keep])
+            for fit, colour in (("KE", "tab:blue"), ("JG", "tab:red")):
+                bottom.semilogx(x[keep], 100 * (y[keep] / ref[fit][key] - 1), marker, ms=3.5,
+                                color=colour, mfc="none", alpha=0.45 + 0.55 * (
+                                    row is sf["meshes"][-1]),
+                                label=f"{row['label']} − {fit}")
+        top.set_ylabel(f"{label} (Kogut & Etsion's critical values)")
+        bottom.set_ylabel(f"{key}: slipstep / fit − 1 (%)")
+        bottom.set_xlabel("ω / ω_c")
+        for ax in (top, bottom):
+            ax.axvline(1.0, color="0.6", ls=":", lw=1)
+            ax.axvline(6.0, color="0.6", ls=":", lw=1)
+            ax.grid(alpha=0.3, which="both")
+        top.legend(fontsize=8)
+        bottom.axhline(0.0, color="0.3", lw=0.8)
+        bottom.set_ylim(-12, 15)
+        bottom.legend(fontsize=7, ncol=2)
+    fig.suptitle(f"Elastic-perfectly plastic sphere on a rigid flat (E/Y = {sf['E'] / sf['Y']:g}, "
+                 f"ν = {sf['nu']:g}): force and contact area against interference", fontsize=11)
     fig.savefig(path, dpi=120)
     return path
+
+
+def _fits_in_ke_units(sf: dict, w) -> dict:
+    """Both fits at w = omega/omega_c(KE), as P/P_c and A/A_c with KE's critical values."""
+    R, Y, nu = sf["R"], sf["Y"], sf["nu"]
+    E_star = sf["E"] / (1 - nu ** 2)
+    ke, jg = (sf["critical"][k] for k in ("KE", "JG"))
+    Pk, Ak = kogut_etsion(w)
+    Pj, Aj = jackson_green(np.asarray(w) * ke["interference"] / jg["interference"], R, E_star,
+                           Y, nu)
+    return {"KE": {"P": Pk, "A": Ak},
+            "JG": {"P": Pj * jg["force"] / ke["force"], "A": Aj * jg["area"] / ke["area"]}}
 
 
 # --------------------------------------------------------------------------- the page
