@@ -123,6 +123,32 @@ def test_hertz_sphere_contact_replay_to_round_off():
 
 
 # --------------------------------------------------------------------------- plasticity
+@needs_gmsh
+def test_hertz_sphere_elastoplastic_replay_within_path_tolerance():
+    """The Hertz sphere past first yield (Sy = 130 MPa, P = 45 N, h_contact = 0.03 mm): its
+    contact states replayed in order, one dolfinx step per event interval.  The replay steps
+    by backward Euler while the engine takes drift-controlled tangent increments, so the two
+    paths differ by the first-order integration error of either, the tolerances of the plane
+    replay test (tests/test_fenicsx_replay.py); measured: u 6.2e-5, stress 3.6e-4, lambda_n
+    1.1e-4, plastic strain 1.3e-3.  Before first yield the replay is exact (1.7e-12).  The
+    first states, two nodes in contact under 3e-5 of the load, need Newton's round-off stop
+    (bulk.ROUND_OFF_STEP): their relative residual floors at ~1e-10."""
+    from slipstep.fenicsx.crosscheck import contact_replay
+
+    scene = build_scene(load_case(CASES / "hertz_sphere.toml",
+                                  ["material.Sy=130", "load.P=45", "mesh.h_contact=0.03"]))
+    rows = contact_replay(scene)["rows"]
+    elastic = [r for r in rows if "plastic_strain" not in r]
+    plastic = [r for r in rows if "plastic_strain" in r]
+    assert len(elastic) >= 5 and len(plastic) >= 50
+    assert max(r["u"] for r in elastic) < 1e-9
+    assert max(r["u"] for r in plastic) < 1e-4
+    assert max(r["stress"] for r in plastic) < 2e-3
+    assert max(r.get("lambda_n", 0) for r in plastic) < 2e-3
+    assert max(r["plastic_strain"] for r in plastic) < 1e-2
+    assert rows[-1]["load_fraction"] == 1.0
+
+
 @pytest.fixture(scope="module")
 def thick_plastic():
     """cases/thick_sphere.toml (p = 280 MPa, between p_e and the limit) on the coarse mesh
