@@ -662,7 +662,7 @@ def _node_to_segment_pairs(scene: Scene, c: dict, key: str):
               (xy[:, 1] >= c["y_min"]) & (xy[:, 1] <= c["y_max"]))
     length_scale = float(np.linalg.norm(scene.nodes[seg_a[:, 1]] - scene.nodes[seg_a[:, 0]], axis=1).min())
     rows = mortar.node_to_segment_pairs(scene.nodes, seg_a, seg_b, candidates[inside],
-                                        1e-9 * length_scale)
+                                        1e-9 * length_scale, radial=is_axisymmetric(scene.case))
     if not rows["node_a"]:
         raise scene.case.error(f"{key}.edge_b", f"no node of {c['body_a']}:{c['edge_a']} in the "
                                f"candidate window projects onto {c['body_b']}:{c['edge_b']}: "

@@ -28,6 +28,14 @@ A row whose contactor node is held tangentially by supports (a symmetry line) ca
 constraint, as a node-to-node pair there (the engine's `tangent_held`): with matching meshes
 its slip row would repeat its neighbour's.
 
+Axisymmetry (``radial=True``, x = r): every integral carries the ring's weight r, ds -> r ds
+(the 2 pi cancels in the normalised weights): S_j = ∫ N_j r ds, D_jk = ∫ N_j N_k r ds, and so
+on. A uniform pressure p then gives λ_j = 2π p S_j, the pressure of its ring area 2π ∫ N_j r ds,
+at every row, the one at the axis included (planar weights would put there λ = 0: the mortar
+multiplier of a linear force density 2π p r vanishes at r = 0), and the Coulomb limit μ λ_n of
+each row is its ring's. ``length`` stays the plain tributary length ∫ N_j ds (the outputs'
+areas are the ring areas of :func:`slipstep.model.contact_areas`).
+
 Coverage: only the parts of the contactor surface whose closest target point is inside the
 target polyline count. A contactor point whose projection falls beyond either end of the target
 edge projects nowhere and adds nothing; a contactor node none of whose surface projects gets
@@ -78,12 +86,13 @@ def _breakpoints(p, q, nodes, target):
     return np.unique(np.concatenate([[0.0, 1.0], xi[(xi > 0.0) & (xi < 1.0)]]))
 
 
-def mortar_integrals(nodes, contactor, target, rows):
+def mortar_integrals(nodes, contactor, target, rows, radial: bool = False):
     """D, M (dicts row -> {node: integral}), G (row -> ∫N_j g), NS (row -> ∫N_j n) over the
-    contactor segments touching a row node."""
+    contactor segments touching a row node, with the weight r in axisymmetry (``radial``);
+    L (row -> ∫N_j ds, unweighted, over the part that projects)."""
     normals = meshing.outward_normals(nodes, target)
     D, M = {j: {} for j in rows}, {j: {} for j in rows}
-    G, NS = dict.fromkeys(rows, 0.0), {j: np.zeros(2) for j in rows}
+    G, NS, L = dict.fromkeys(rows, 0.0), {j: np.zeros(2) for j in rows}, dict.fromkeys(rows, 0.0)
     rowset = set(rows)
     for s0, s1 in contactor:
         if s0 not in rowset and s1 not in rowset:
@@ -93,6 +102,9 @@ def mortar_integrals(nodes, contactor, target, rows):
         xi = (cuts[:-1, None] + np.diff(cuts)[:, None] * GAUSS_X[None]).ravel()
         w = (np.diff(cuts)[:, None] * GAUSS_W[None]).ravel() * np.linalg.norm(q - p)
         x = p + xi[:, None] * (q - p)
+        plain = w
+        if radial:
+            w = w * x[:, 0]
         seg, eta, y, on = _closest_on_target(x, nodes, target)
         n = normals[seg]
         gap = np.einsum("gk,gk->g", x - y, n)
@@ -101,6 +113,7 @@ def mortar_integrals(nodes, contactor, target, rows):
             if j not in rowset:
                 continue
             wj = np.where(on, w * shape[j], 0.0)
+            L[j] += float(np.where(on, plain * shape[j], 0.0).sum())
             for k in (s0, s1):
                 D[j][k] = D[j].get(k, 0.0) + float(wj @ shape[k])
             for end, hat in ((0, 1.0 - eta), (1, eta)):
@@ -108,21 +121,23 @@ def mortar_integrals(nodes, contactor, target, rows):
                     M[j][int(l)] = M[j].get(int(l), 0.0) + float(v)
             G[j] += float(wj @ gap)
             NS[j] += wj @ n
-    return D, M, G, NS
+    return D, M, G, NS, L
 
 
-def node_to_segment_pairs(nodes, contactor, target, candidates, min_length):
+def node_to_segment_pairs(nodes, contactor, target, candidates, min_length,
+                          radial: bool = False):
     """The rows of the contactor nodes `candidates` (see the module doc): arrays node_a,
-    node_b (the target node of largest weight, for names), normal, gap, length S_j, and the
-    weights as a list of [(node, c)] per row. Rows with S_j <= min_length are dropped (they
-    project nowhere)."""
-    D, M, G, NS = mortar_integrals(nodes, contactor, target, [int(j) for j in candidates])
+    node_b (the target node of largest weight, for names), normal, gap, length (∫ N_j ds),
+    and the weights as a list of [(node, c)] per row; ring-weighted in axisymmetry
+    (``radial``). Rows with a length <= min_length are dropped (they project nowhere)."""
+    D, M, G, NS, L = mortar_integrals(nodes, contactor, target, [int(j) for j in candidates],
+                                      radial)
     out = {"node_a": [], "node_b": [], "normal": [], "gap": [], "point_gap": [], "foot": [],
            "length": [], "weights": []}
     for j in candidates:
         j = int(j)
         S = sum(D[j].values())
-        if S <= min_length:
+        if L[j] <= min_length:
             continue
         n = NS[j] / np.linalg.norm(NS[j])
         out["node_a"].append(j)
@@ -132,7 +147,7 @@ def node_to_segment_pairs(nodes, contactor, target, candidates, min_length):
         seg, eta, y, _ = _closest_on_target(nodes[j][None], nodes, target)
         out["point_gap"].append(float((nodes[j] - y[0]) @ meshing.outward_normals(nodes, target[seg])[0]))
         out["foot"].append((int(target[seg[0], 0]), int(target[seg[0], 1]), float(eta[0])))
-        out["length"].append(S)
+        out["length"].append(L[j])
         out["weights"].append([(k, v / S) for k, v in D[j].items() if v != 0.0] +
                               [(l, -v / S) for l, v in M[j].items() if v != 0.0])
     return out

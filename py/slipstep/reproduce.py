@@ -14,6 +14,11 @@ Scenes
   * Block on a half-space (§5.2): ``cases/paper_block_elastic.toml`` (q = 1.2 MPa, mu = 0.2, plane
     strain) and ``cases/paper_block_plastic.toml`` (q = 36 MPa, plane stress, mu = 0 and 0.2).
 
+Axisymmetric page (issue 15, :mod:`slipstep.reproduce_axisymmetric`): ``DIR/axisymmetric.md``,
+the Hertz sphere, first yield against Huber, the thick sphere against Lame and Hill, and the
+elastic-plastic sphere on a rigid flat against Kogut & Etsion and Jackson & Green; linked
+from report.md.
+
 A rerun into the same DIR reuses the finished runs (the sweep runner resumes); delete DIR to
 start afresh.  ``--quick`` uses coarse meshes (for the tests).
 """
@@ -29,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import shipped, sweep
+from . import reproduce_axisymmetric, shipped, sweep
 from .derived import centroids, contact_half_width, stick_half_width, von_mises
 from .output import json_safe
 
@@ -800,6 +805,7 @@ def reproduce(out: str | Path, quick: bool = False, workers: int | None = None,
         "solver_sum": float(sum(r["wall_time_s"] for r in numbers["runs"].values()) + sum(
             sweep.load_summary(fig10_dir, t["case_id"])["wall_time_s"] for t in study.tasks()))}
     numbers["figures"] = {k: p.name for k, p in figs.items()}
+    numbers["axisymmetric"] = reproduce_axisymmetric.page(out, quick, workers, log)
     write_report(out / "report.md", numbers)
     numbers["wall_time_s"]["total"] = time.perf_counter() - start
     with open(out / ".reproduce.json.partial", "w") as fh:
@@ -1191,6 +1197,7 @@ def write_report(path: Path, n: dict) -> Path:
     for c in ch.values():
         lines.append(f"| {c['claim']} | {_fmt_value(c['value'])} | "
                      f"{'yes' if c['pass'] else '**no**'} | {'yes' if c['required'] else ''} |")
+    lines += _axisymmetric_lines(n["axisymmetric"])
     if n["warnings"]:
         lines += ["", "## Warnings", ""] + [f"- {w}" for w in n["warnings"]]
     lines += ["", "## Run times", "", "| run | nodes | events | s |", "|---|---|---|---|"]
@@ -1199,6 +1206,22 @@ def write_report(path: Path, n: dict) -> Path:
     lines.append("")
     path.write_text("\n".join(lines))
     return path
+
+
+def _axisymmetric_lines(ax: dict) -> list[str]:
+    """A pointer to axisymmetric.md with its headline numbers."""
+    h, t, sf = ax["hertz"], ax["thick"], ax["sphere_flat"]["meshes"][-1]
+    return ["", "## Axisymmetric analysis", "",
+            "Not in the paper: the axisymmetric ring element (issue 15), on its own page "
+            "[axisymmetric.md](axisymmetric.md). Hertz sphere: a " + _pc(h["a_err"])
+            + ", p0 " + _pc(h["p0_err"]) + "; first yield " + _pc(h["yield_f_err"])
+            + " from Huber's; thick sphere: first yield " + _pc(t["p_first_yield_err"])
+            + ", plastic radius within " + f"{t['c_max_err']:.3f} mm of Hill's, limit "
+            + _pc(t["limit_err"]) + f"; sphere on a rigid flat to 50 ω_c ({sf['label']}, "
+            f"{sf['n_nodes']} nodes): force {100 * sf['KE']['P_range'][0]:+.1f} … "
+            f"{100 * sf['KE']['P_range'][1]:+.1f} % from Kogut & Etsion, "
+            f"{100 * sf['JG']['P_range'][0]:+.1f} … {100 * sf['JG']['P_range'][1]:+.1f} % from "
+            "Jackson & Green."]
 
 
 def _join(values, fmt: str) -> str:

@@ -5,12 +5,14 @@
 
 - P1 vector displacement (= CST), materials from the exchanged cell tags;
 - the supports of the case's ``[[bc]]`` (``fix``, ``symmetry``) located on the exchanged
-  facet tags with ``locate_dofs_topological`` (node sets through the node map);
+  facet tags with ``locate_dofs_topological`` (node sets through the node map); in
+  axisymmetry also u_r = 0 on the axis, located by dolfinx's dof coordinates;
 - the load: edge pressures/tractions (and the Hertz ``[load] P``) assembled by UFL on the
   facet tags, ``dot(traction - q n, v) dGamma(tag)``, point loads at their nodes.
 
 Both are checked against the slipstep model in the tests (same dofs, same vector to round-off).
-One weak form serves both solvers (:mod:`.forms`: strain(v) in Voigt notation, dOmega = t dx):
+One weak form serves both solvers (:mod:`.forms`: strain(v) in Voigt notation, dOmega = t dx,
+or the ring's four strains and 2 pi r dx in axisymmetry):
 residual ``s . strain(v) dOmega`` and tangent ``(C strain(u)) . strain(v) dOmega`` with DG0
 stress s and tangent C set from numpy (:mod:`.plasticity`: the CST's one point per cell).
 
@@ -38,7 +40,7 @@ from ..errors import InputError
 from . import dolfinx_api as api
 from . import plasticity
 from .exchange import DolfinxMesh, scene_to_dolfinx
-from .forms import Section
+from .forms import CENTROID_RULE, section
 
 
 @dataclass
@@ -65,6 +67,10 @@ def _refuse_unmodelled_loads(scene) -> None:
 
 
 STRESS_NAMES = ("sigma_x", "sigma_y", "sigma_z", "tau_xy")
+#: A Newton correction below this fraction of the displacement is round-off: the residual has
+#: reached its floor (small loads on a stiff, nearly rigidly translating body, e.g. the Hertz
+#: sphere's first contact states, floor at ~1e-10 relative), and the step is converged.
+ROUND_OFF_STEP = 1e-12
 
 
 def _edge_name(scene, body: str, tag: str) -> str:
@@ -74,7 +80,10 @@ def _edge_name(scene, body: str, tag: str) -> str:
 class BulkProblem:
     """The scene's bulk problem in dolfinx (contact removed).  See the module doc."""
 
-    def __init__(self, scene, dm: DolfinxMesh | None = None, workdir: str | Path | None = None):
+    def __init__(self, scene, dm: DolfinxMesh | None = None, workdir: str | Path | None = None,
+                 quadrature_degree: int = CENTROID_RULE):
+        """``quadrature_degree``: of the ring's bulk integrals (axisymmetry only; the default
+        one-point rule is slipstep's ring element, see :mod:`.forms`)."""
         api.require_dolfinx()
         t0 = time.perf_counter()
         self.scene = scene
@@ -87,7 +96,8 @@ class BulkProblem:
         self.dm = dm
         self.plane = scene.model["plane"]
         self.n_nodes, self.n_elements = dm.n_nodes, dm.n_cells
-        self.section = Section(dm.mesh, scene.model["thickness"], dm.facet_tags)
+        self.section = section(dm.mesh, self.plane, scene.model["thickness"], dm.facet_tags,
+                               quadrature_degree)
         self.V = api.function_space(dm.mesh, "Lagrange", 1, (2,))
         block = dm.block_of_node(self.V)
         # perm[slipstep dof] = dolfinx (unrolled) dof
@@ -150,9 +160,21 @@ class BulkProblem:
                     + scene.offsets[bc["body"]]
                 for c in sorted(comps):
                     out.append(2 * nodes + c)
+        if self.plane == "axisymmetric":
+            out.append(self._axis_dofs(inv))
         if not out:
             return np.zeros(0, dtype=np.int64)
         return np.unique(np.concatenate(out)).astype(np.int64)
+
+    def _axis_dofs(self, inv: np.ndarray) -> np.ndarray:
+        """Axisymmetry: the u_r dofs (slipstep numbers) of the nodes on the axis r = 0, found
+        by dolfinx's dof coordinates within the engine's tolerance of the section's size."""
+        from ..model import AXIS_TOLERANCE
+
+        xyz = api.dof_coordinates(self.V)
+        size = float(np.linalg.norm(np.ptp(xyz[:, :2], axis=0))) or 1.0
+        blocks = np.flatnonzero(np.abs(xyz[:, 0]) <= AXIS_TOLERANCE * size)
+        return inv[2 * blocks]
 
     def _case_load(self) -> np.ndarray:
         """Edge loads assembled by UFL on the facet tags, plus point loads (slipstep dofs)."""
@@ -173,12 +195,12 @@ class BulkProblem:
         f = np.zeros(2 * self.n_nodes)
         if terms:
             f = api.assemble_vector(sum(terms[1:], terms[0]))[self.perm]
-        for pl in data["point_load"]:  # a force per unit thickness (axisymmetry: per radian)
+        for pl in data["point_load"]:  # per unit thickness (axisymmetry: the ring's total)
             bodies = [pl["body"]] if pl["body"] else scene.bodies
             ids = np.concatenate([np.arange(scene.meshes[b].n_nodes) + scene.offsets[b]
                                   for b in bodies])
             node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1))]
-            f[2 * node:2 * node + 2] += np.asarray(pl["force"]) * self.section.thickness
+            f[2 * node:2 * node + 2] += self.section.point_force(np.asarray(pl["force"]))
         return f
 
     # ------------------------------------------------------------------ numbering, constraints
@@ -213,7 +235,7 @@ class BulkProblem:
         t0 = time.perf_counter()
         M = self.n_elements
         self.dm.set_cell_function(self.tangent_fn,
-                                  plasticity.in_plane_d(self.E, self.nu, self.plane).reshape(M, -1))
+                                  plasticity.section_d(self.E, self.nu, self.plane).reshape(M, -1))
         A = api.assemble_matrix(self.jacobian)
         f = self.load * fraction + (extra_load if extra_load is not None else 0.0)
         dofs, vals = self._constraints(prescribed)
@@ -240,7 +262,9 @@ class BulkProblem:
         the previous entry left it (a newly constrained dof from its current displacement).
         Full Newton per step with the consistent tangent; converged when the free-dof
         residual <= tol * the largest |f_ext| of the path so far (so that unloading to zero
-        load converges too).  ``callback(result)`` after every entry.
+        load converges too), or when a correction falls below ROUND_OFF_STEP of the
+        displacement (the residual is then at its round-off floor).  ``callback(result)`` after
+        every entry.
         """
         t0 = time.perf_counter()
         if schedule is None:
@@ -263,9 +287,9 @@ class BulkProblem:
                 s = k / substeps
                 f_d = f_prev + s * (f_end - f_prev)
                 fnorm = max(np.linalg.norm(f_d), f_scale, 1e-300)
-                x, state, plastic, r, it, res = self._equilibrate(
+                x, state, plastic, r, it, res, done = self._equilibrate(
                     x, state, f_d, dofs, start + s * (target_end - start), fnorm, tol, max_iter)
-                if res > tol:
+                if not done:
                     raise RuntimeError(f"dolfinx Newton did not converge at load fraction "
                                        f"{lf_prev + s * (lf - lf_prev):.4g}: residual {res:.3g} "
                                        f"after {it} iterations (use more steps)")
@@ -284,24 +308,28 @@ class BulkProblem:
     def _equilibrate(self, x, state, f_ext, dofs, target, fnorm, tol, max_iter):
         """Full Newton from x to equilibrium with f_ext and x[dofs] = target, the stresses
         integrated from ``state`` (stress, alpha, strain at the last converged step).
-        Returns (x, new state, plastic, residual vector, iterations, relative residual)."""
+        Returns (x, new state, plastic, residual vector, iterations, relative residual,
+        converged)."""
         sig, alpha, eps_prev = state
         free = np.ones(len(self.perm), bool)
         free[dofs] = False
-        it = 0
+        it, step = 0, np.inf
         while True:
             strain = self._cell_strain(x)
-            s_new, a_new, C3, plastic, _ = plasticity.integrate(
+            s_new, a_new, C, plastic, _ = plasticity.integrate(
                 sig, alpha, strain - eps_prev, self.E, self.nu, self.Sy, self.H, self.plane)
-            self.dm.set_cell_function(self.stress_fn, s_new[:, plasticity.IN_PLANE])
-            self.dm.set_cell_function(self.tangent_fn, C3.reshape(len(C3), -1))
+            self.dm.set_cell_function(self.stress_fn,
+                                      s_new[:, plasticity.section_columns(self.plane)])
+            self.dm.set_cell_function(self.tangent_fn, C.reshape(len(C), -1))
             r = api.assemble_vector(self.residual) - f_ext
             res = np.linalg.norm(r[free]) / fnorm
-            if (res <= tol and np.array_equal(x[dofs], target)) or it >= max_iter:
-                return x, (s_new, a_new, strain), plastic, r, it, res
+            done = (res <= tol or step <= ROUND_OFF_STEP) and np.array_equal(x[dofs], target)
+            if done or it >= max_iter:
+                return x, (s_new, a_new, strain), plastic, r, it, res, done
             J = api.assemble_matrix(self.jacobian)
             dx = api.solve_constrained(J, -r, dofs, target - x[dofs])
             api.destroy(J)
+            step = np.linalg.norm(dx) / max(np.linalg.norm(x + dx), 1e-300)
             x = x + dx
             x[dofs] = target
             it += 1

@@ -11,6 +11,8 @@ What is compared depends on the scene:
   snapshot (elastic) or through all snapshots in order (elastoplastic).
 
 Differences are relative: max |a - b| / max |b| over all nodes (elements), b = slipstep.
+Axisymmetric scenes go the same way on the ring forms (:class:`.forms.RingSection`); contact
+pressures are forces over ``scene.pair_area`` (the ring areas there).
 """
 
 from __future__ import annotations
@@ -277,14 +279,20 @@ def markdown(report: dict) -> str:
 
 
 def _figure(path: Path, scene, report: dict, snap: dict, last) -> None:
-    import matplotlib
+    """crosscheck.png: the differences (left) and the final field or contact pressure (right).
+    Drawn on a :class:`matplotlib.figure.Figure` (no pyplot: safe beside a notebook's)."""
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.tri import Triangulation
+    fig = Figure(figsize=(11, 4.5))
+    axes = fig.subplots(1, 2)
+    _differences_panel(axes[0], report)
+    _field_panel(fig, axes[1], scene, report, snap, last)
+    fig.suptitle(f"{report['case']}: {report['mode']}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
 
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
-    ax = axes[0]
+
+def _differences_panel(ax, report: dict) -> None:
     if "replay" in report:
         rows = report["replay"]
         f = [r["load_fraction"] for r in rows]
@@ -305,17 +313,23 @@ def _figure(path: Path, scene, report: dict, snap: dict, last) -> None:
         ax.bar(["u", "stress"], [max(r["u"], 1e-17), max(r["stress"], 1e-17)])
         ax.set_yscale("log")
         ax.set_title("elastic: relative difference")
-    ax.legend(fontsize=8) if ax.get_legend_handles_labels()[0] else None
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8)
     ax.grid(True, which="both", alpha=0.3)
-    ax = axes[1]
+
+
+def _field_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
+    """The final contact pressure (replay: slipstep's nodal lambda_n / area and dolfinx's
+    reactions over the same areas, scene.pair_area: t L in the plane, the ring's consistent
+    area in axisymmetry), else the von Mises difference or slipstep's von Mises."""
+    from matplotlib.tri import Triangulation
+
     from ..derived import von_mises
     tri = Triangulation(scene.nodes[:, 0], scene.nodes[:, 1], scene.triangles)
     if "replay" in report and last is not None:
         from .replay import replay_conditions
         _, _, info = replay_conditions(scene, snap)
-        pairs = scene.model["pairs"]
-        area = scene.pair_length * scene.model["thickness"]
-        x = scene.pair_xy[:, 0]
+        area, x = scene.pair_area, scene.pair_xy[:, 0]
         order = np.argsort(x)
         ax.plot(x[order], (np.asarray(snap["lambda_n"]) / area)[order], "-", lw=3, alpha=0.4,
                 label="slipstep (engine)")
@@ -325,22 +339,17 @@ def _figure(path: Path, scene, report: dict, snap: dict, last) -> None:
                     label="dolfinx reaction (replay)")
         ax.set_xlabel("x of the contactor node")
         ax.set_ylabel("contact pressure")
-        ax.set_title(f"final contact pressure ({int(len(pairs['node_a']))} candidates)")
+        ax.set_title(f"final contact pressure ({len(x)} candidates)")
         ax.legend(fontsize=8)
         ax.grid(True, alpha=0.3)
-    elif last is not None:
+        return
+    if last is not None:
         d = von_mises(last.stress) - von_mises(np.asarray(snap["stress"]))
         pc = ax.tripcolor(tri, facecolors=d, cmap="coolwarm",
                           vmin=-np.abs(d).max(), vmax=np.abs(d).max() or 1.0)
         ax.set_title("von Mises: dolfinx - slipstep")
-        fig.colorbar(pc, ax=ax)
     else:
         pc = ax.tripcolor(tri, facecolors=von_mises(np.asarray(snap["stress"])), cmap="viridis")
         ax.set_title("slipstep von Mises (final)")
-        fig.colorbar(pc, ax=ax)
-    if "replay" not in report:
-        ax.set_aspect("equal")
-    fig.suptitle(f"{report['case']}: {report['mode']}")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    fig.colorbar(pc, ax=ax)
+    ax.set_aspect("equal")

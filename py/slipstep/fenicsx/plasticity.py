@@ -15,7 +15,10 @@ n = s_trial / |s_trial|, yield function q - (Sy + H alpha), alpha = equivalent p
 
 Plane strain: d eps_z = 0 and sigma_z follows.  Plane stress: d eps_z is found per element
 by a local Newton iteration on sigma_z = 0 (dsigma_z/deps_z = C_zz), and the in-plane
-tangent is the static condensation C_ab - C_az C_zb / C_zz.
+tangent is the static condensation C_ab - C_az C_zb / C_zz.  Axisymmetric: z is the hoop
+direction theta and its strain u_r / r is one of the section's four strains
+(:class:`.forms.RingSection`), so the full 3D return applies as it is: four components in, the
+4 x 4 tangent out.
 """
 
 from __future__ import annotations
@@ -24,6 +27,12 @@ import numpy as np
 
 VOIGT_ONE = np.array([1.0, 1.0, 1.0, 0.0])
 IN_PLANE = [0, 1, 3]  # x, y, xy rows/columns of the 4x4 (x, y, z, xy) matrices
+ALL = [0, 1, 2, 3]    # the ring's r, z, theta, rz: every row and column
+
+
+def section_columns(plane: str) -> list[int]:
+    """The (x, y, z, xy) components the section's strain carries (its stress conjugates)."""
+    return ALL if plane == "axisymmetric" else IN_PLANE
 
 
 def lame(E, nu):
@@ -50,6 +59,11 @@ def elastic_d4(E, nu) -> np.ndarray:
 def in_plane_d(E, nu, plane: str) -> np.ndarray:
     """(M, 3, 3) in-plane elastic stiffness (x, y, xy) for plane strain or plane stress."""
     return condense(elastic_d4(E, nu), plane)
+
+
+def section_d(E, nu, plane: str) -> np.ndarray:
+    """(M, n, n) elastic stiffness over the section's strain (:func:`section_columns`)."""
+    return elastic_d4(E, nu) if plane == "axisymmetric" else in_plane_d(E, nu, plane)
 
 
 def condense(C4: np.ndarray, plane: str) -> np.ndarray:
@@ -105,16 +119,21 @@ def radial_return(sig_n, alpha_n, deps4, E, nu, Sy, H):
 
 def integrate(sig_n, alpha_n, deps3, E, nu, Sy, H, plane: str, tol: float = 1e-13,
               max_iter: int = 30):
-    """Stress update for in-plane strain increments ``deps3`` (M, 3) = (dex, dey, dgxy).
+    """Stress update for the section's strain increments: in-plane ``deps3`` (M, 3) =
+    (dex, dey, dgxy), or (M, 4) = (der, dez, detheta, dgrz) in axisymmetry.
 
-    Returns (sigma (M, 4), alpha (M,), C3 (M, 3, 3) in-plane consistent tangent,
-    plastic (M,) bool, deps_z (M,)).
+    Returns (sigma (M, 4), alpha (M,), C (M, n, n) consistent tangent over the section's
+    strain (in-plane 3 x 3, the ring's 4 x 4), plastic (M,) bool, deps_z (M,)).
     """
     M = len(deps3)
     E = np.broadcast_to(np.asarray(E, float), (M,))
     nu = np.broadcast_to(np.asarray(nu, float), (M,))
     Sy = np.broadcast_to(np.asarray(Sy, float), (M,))
     H = np.broadcast_to(np.asarray(H, float), (M,))
+    if plane == "axisymmetric":
+        sig, alpha, C4, plastic = radial_return(sig_n, alpha_n, np.asarray(deps3, float), E,
+                                                nu, Sy, H)
+        return sig, alpha, C4, plastic, np.asarray(deps3, float)[:, 2]
     deps4 = np.zeros((M, 4))
     deps4[:, IN_PLANE] = deps3
     if plane == "strain":
