@@ -153,7 +153,7 @@ fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCyc
     };
     if let Some((size, events)) = corrected {
         *correction = size;
-        events.iter().for_each(|c| rec.event(c, c.kind, sel.phi));
+        events.iter().for_each(|c| rec.correction_event(c, sel.phi));
     }
     let drift = eng.drift(state);
     rec.max_drift = rec.max_drift.max(drift);

@@ -148,6 +148,21 @@ impl Recorder {
         self.events.splice(at..at, records);
     }
 
+    /// An event of the equilibrium correction at φ. A pair the correction separates that closed
+    /// in this increment was predicted to close too early (by the trial's tangent): its closure
+    /// is withdrawn instead (it is predicted again from the corrected state).
+    pub fn correction_event(&mut self, c: &Candidate, phi: f64) {
+        let step = self.steps.len();
+        if c.kind == EventKind::Separate {
+            if let Some(i) = self.events.iter().rposition(|e| e.step == step && e.kind == EventKind::Close && e.entity == c.entity) {
+                self.events.remove(i);
+                self.closure_fraction[c.entity] = f64::NAN;
+                return;
+            }
+        }
+        self.event(c, c.kind, phi);
+    }
+
     pub fn event(&mut self, c: &Candidate, kind: EventKind, phi: f64) {
         let time = self.stage as f64 + phi;
         if kind == EventKind::Close {
