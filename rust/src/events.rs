@@ -8,6 +8,7 @@ use crate::contact::{Pair, Status};
 use crate::material::{von_mises, yield_scale, Material};
 use crate::model::EventKind;
 use nalgebra::Vector4;
+use rayon::prelude::*;
 
 #[derive(Debug, Clone, Copy)]
 pub struct Candidate {
@@ -121,31 +122,38 @@ pub struct ElementState<'a> {
 /// of this). `dstress` and `dplastic` are the trial's stress and plastic-strain increments.
 pub fn element_candidates(state: &ElementState, dstress: &[Vector4<f64>], dplastic: &[f64], max_step: Option<f64>) -> (Vec<Candidate>, f64) {
     let noise = PLASTIC_NOISE * dplastic.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let mut out = Vec::new();
-    let mut bound = f64::INFINITY;
-    for e in 0..state.stress.len() {
-        let m = &state.material[e];
-        if !m.is_plastic() {
-            continue;
-        }
-        let sy = m.current_yield(state.plastic_strain[e]);
-        if state.plastic[e] {
-            if let Some(step) = max_step {
-                let change = von_mises(&dstress[e]);
-                if change > 0.0 {
-                    bound = bound.min(step * sy / change);
-                }
-            }
-            if dplastic[e] < -noise && !state.frozen[e] {
-                out.push(Candidate { scale: 0.0, entity: e, kind: EventKind::Unload, direction: 0 });
-            }
-        } else if state.frozen[e] {
-            continue;
-        } else if let Some(s) = yield_scale(&state.stress[e], &dstress[e], sy) {
-            out.push(Candidate { scale: s, entity: e, kind: EventKind::Yield, direction: 0 });
-        }
+    let per_element: Vec<(Option<Candidate>, f64)> = (0..state.stress.len())
+        .into_par_iter()
+        .with_min_len(ELEMENT_CHUNK)
+        .map(|e| element_candidate(state, e, &dstress[e], dplastic[e], noise, max_step))
+        .collect();
+    let bound = per_element.iter().fold(f64::INFINITY, |b, (_, s)| b.min(*s));
+    (per_element.into_iter().filter_map(|(c, _)| c).collect(), bound)
+}
+
+/// Element loops run in parallel chunks of at least this many elements.
+const ELEMENT_CHUNK: usize = 1024;
+
+/// One element's candidate event, and its drift bound (∞ unless it is plastic).
+fn element_candidate(state: &ElementState, e: usize, dstress: &Vector4<f64>, dplastic: f64, noise: f64, max_step: Option<f64>) -> (Option<Candidate>, f64) {
+    let m = &state.material[e];
+    if !m.is_plastic() {
+        return (None, f64::INFINITY);
     }
-    (out, bound)
+    let sy = m.current_yield(state.plastic_strain[e]);
+    if state.plastic[e] {
+        let change = von_mises(dstress);
+        let bound = match max_step {
+            Some(step) if change > 0.0 => step * sy / change,
+            _ => f64::INFINITY,
+        };
+        let unload = (dplastic < -noise && !state.frozen[e]).then_some(Candidate { scale: 0.0, entity: e, kind: EventKind::Unload, direction: 0 });
+        return (unload, bound);
+    }
+    if state.frozen[e] {
+        return (None, f64::INFINITY);
+    }
+    (yield_scale(&state.stress[e], dstress, sy).map(|s| Candidate { scale: s, entity: e, kind: EventKind::Yield, direction: 0 }), f64::INFINITY)
 }
 
 #[cfg(test)]

@@ -14,6 +14,7 @@
 
 use super::engine::{since, Engine};
 use super::selection::{Selection, STAGE_END, ZERO_SCALE};
+use super::trial::PARALLEL_CHUNK;
 use super::state::{State, TrialIncrement};
 use crate::error::Result;
 use crate::material::{von_mises, yield_scale};
@@ -21,6 +22,7 @@ use crate::events::{self, Candidate, PairState, Trial};
 use crate::model::EventKind;
 use crate::stress_integration::{integrate, onto_yield_surface, Integrated, PointState};
 use nalgebra::Vector4;
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// The size of the last equilibrium correction (displacement, force): the correction moves
@@ -67,21 +69,21 @@ impl Engine<'_> {
             Some(r) => r < 1.0 && phi0 + r * (phi1 - phi0) < 1.0 - STAGE_END,
             None => false,
         };
-        let mut out = vec![];
-        for e in 0..state.stress.len() {
-            let m = &self.material[e];
-            if !m.is_plastic() {
-                continue;
-            }
-            let (plastic, sy) = (state.plastic[e], m.current_yield(state.plastic_strain[e]));
-            if plastic || (sel.plastic_inside && crosses(e, sy)) {
+        (0..state.stress.len())
+            .into_par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .filter_map(|e| {
+                let m = &self.material[e];
+                let (plastic, sy) = (state.plastic[e], m.current_yield(state.plastic_strain[e]));
+                if !m.is_plastic() || !(plastic || (sel.plastic_inside && crosses(e, sy))) {
+                    return None;
+                }
                 // back onto the surface first: the last correction may have left it a little off
                 let stress = if plastic { onto_yield_surface(&state.stress[e], sy, plane) } else { state.stress[e] };
                 let start = PointState { stress, plastic_strain: state.plastic_strain[e], plastic };
-                out.push((e, integrate(m, plane, &start, &(trial.dstrain[e] * scale))));
-            }
-        }
-        out
+                Some((e, integrate(m, plane, &start, &(trial.dstrain[e] * scale))))
+            })
+            .collect()
     }
 
     /// Put the integrated states in place and note where elements crossed their surfaces.
@@ -142,16 +144,18 @@ impl Engine<'_> {
     /// became plastic, or is beyond its surface, integrated again from the increment's start over
     /// its whole strain (trial and corrections: `reintegrate`); while that state is out of balance
     /// by more than `REINTEGRATION_TOL` of the load, correct it again. The last linear stresses
-    /// are kept (in equilibrium to round-off) with the integrated plastic strains and flags.
+    /// are kept (in equilibrium to round-off), with their plastic strains and flags; an elastic
+    /// element they leave beyond its surface has yielded.
     /// Event by event, the one correction.
     fn converge_increment(&mut self, state: &mut State, phi: f64, regrouped: bool) -> Result<(Correction, Vec<Candidate>)> {
         let (mut size, mut events) = self.correct_at_fixed_load(state, phi)?;
         let Some(mut start) = self.increment_start.take() else { return Ok((size, events)) };
         for _ in 0..if regrouped { MAX_REINTEGRATIONS } else { 0 } {
-            let linear = state.stress.clone();
+            let linear = (state.stress.clone(), state.plastic_strain.clone(), state.plastic.clone());
             self.reintegrate(state, &mut start);
             if self.full_residual(state).0 <= REINTEGRATION_TOL {
-                state.stress = linear; // plastic strains and flags stay the integrated ones
+                (state.stress, state.plastic_strain, state.plastic) = linear;
+                self.flag_beyond_surfaces(state, &mut start);
                 break;
             }
             let (more, later) = self.correct_at_fixed_load(state, phi)?;
@@ -163,21 +167,41 @@ impl Engine<'_> {
         Ok((size, events))
     }
 
+    /// An elastic element the last correction left beyond its yield surface yielded in this
+    /// increment (where the integration put its crossing, else at the end): plastic from here
+    /// (its next increment starts on the surface).
+    fn flag_beyond_surfaces(&self, state: &mut State, start: &mut IncrementStart) {
+        for e in 0..state.plastic.len() {
+            let m = &self.material[e];
+            if m.is_plastic() && !state.plastic[e] && von_mises(&state.stress[e]) > m.current_yield(state.plastic_strain[e]) {
+                state.plastic[e] = true;
+                start.yielded_at.entry(e).or_insert(1.0);
+            }
+        }
+    }
+
     /// Every element that was plastic at the increment's start, is plastic now or is beyond its
     /// yield surface now: its start state integrated over the increment's whole strain so far.
     fn reintegrate(&self, state: &mut State, start: &mut IncrementStart) {
         let du: Vec<f64> = state.u.iter().zip(&start.u).map(|(a, b)| a - b).collect();
         let plane = self.model.plane;
-        for e in 0..state.stress.len() {
-            let m = &self.material[e];
-            let beyond = || von_mises(&state.stress[e]) > m.current_yield(state.plastic_strain[e]);
-            if !m.is_plastic() || !(start.plastic[e] || state.plastic[e] || beyond()) {
-                continue;
-            }
-            let sy = m.current_yield(start.plastic_strain[e]);
-            let stress = if start.plastic[e] { onto_yield_surface(&start.stress[e], sy, plane) } else { start.stress[e] };
-            let point = PointState { stress, plastic_strain: start.plastic_strain[e], plastic: start.plastic[e] };
-            let out = integrate(m, plane, &point, &self.elements[e].strain(&du));
+        let now: &State = state;
+        let integrated: Vec<(usize, Integrated)> = (0..now.stress.len())
+            .into_par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .filter_map(|e| {
+                let m = &self.material[e];
+                let beyond = || von_mises(&now.stress[e]) > m.current_yield(now.plastic_strain[e]);
+                if !m.is_plastic() || !(start.plastic[e] || now.plastic[e] || beyond()) {
+                    return None;
+                }
+                let sy = m.current_yield(start.plastic_strain[e]);
+                let stress = if start.plastic[e] { onto_yield_surface(&start.stress[e], sy, plane) } else { start.stress[e] };
+                let point = PointState { stress, plastic_strain: start.plastic_strain[e], plastic: start.plastic[e] };
+                Some((e, integrate(m, plane, &point, &self.elements[e].strain(&du))))
+            })
+            .collect();
+        for (e, out) in integrated {
             match out.yielded_at {
                 Some(at) => start.yielded_at.insert(e, at),
                 None => start.yielded_at.remove(&e),

@@ -19,10 +19,14 @@ use crate::bail;
 use crate::contact::{SparseVec, Status};
 use crate::error::Result;
 use nalgebra::{DMatrix, DVector, Vector4};
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// A pivot of the small system's LU below this × the largest one means "singular".
 const SINGULAR_PIVOT: f64 = 1e-13;
+/// Element loops run on the cores in chunks of at least this many elements (below it the
+/// threads' start costs more than the loop).
+pub(super) const PARALLEL_CHUNK: usize = 1024;
 /// Displacement noise floor: × max |Δu| of the trial.
 const DISPLACEMENT_NOISE: f64 = 1e-11;
 
@@ -261,12 +265,15 @@ impl Engine<'_> {
     /// the tangents K holds.
     pub fn stress_increment(&self, du: &[f64]) -> (Vec<Vector4<f64>>, Vec<f64>, Vec<Vector4<f64>>) {
         let plane = self.model.plane;
-        let n = self.elements.len();
-        let (mut dstress, mut dplastic, mut dstrain) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
-        for (el, t) in self.elements.iter().zip(&self.tangents) {
+        let per_element: Vec<(Vector4<f64>, f64, Vector4<f64>)> = self.elements.par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.tangents).map(|(el, t)| {
             let e = el.strain(du);
-            dstress.push(t.stress_increment(plane, &e));
-            dplastic.push(t.plastic_multiplier(plane, &e));
+            (t.stress_increment(plane, &e), t.plastic_multiplier(plane, &e), e)
+        }).collect();
+        let n = per_element.len();
+        let (mut dstress, mut dplastic, mut dstrain) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        for (s, p, e) in per_element {
+            dstress.push(s);
+            dplastic.push(p);
             dstrain.push(e);
         }
         (dstress, dplastic, dstrain)
