@@ -16,7 +16,8 @@
 //! | free bodies and gross sliding | [`restraint`] | |
 //! | scale factors, S_min, ties, zero-length order, grouping | [`selection`] | eqs. 48–57 |
 //! | advance and status switches | [`advance`] | eqs. 58–62 |
-//! | tangents, drift return, equilibrium correction | [`plasticity`] | eq. 11 |
+//! | which tangent each element gives K; refactorization or low-rank terms | [`tangents`] | eq. 11 |
+//! | integrated stresses, equilibrium correction (event by event), re-integration | [`plasticity`] | eqs. 5–11, 59 |
 //! | equilibrium, contact conditions, limit load | [`checks`] | eqs. 22–24, 1–2 |
 //! | termination of zero-length runs | [`anticycling`], [`rate_problem`] | |
 //! | event history, increments, snapshots | [`recording`] | |
@@ -25,13 +26,18 @@
 //! pinned DOF per free rigid-body mode removed; the contact DOFs are last in its SPD factor, so
 //! their flexibility is read from the factor's trailing block and a trial costs one solve.
 //!
-//! Simultaneous events whose scales agree within `tie_tol` switch in one increment. Event
-//! grouping δ = `group_tol` (0, the paper's procedure, by default) lets friction and plasticity
-//! events predicted at φ ≤ φ_min (1 + δ) switch with the first one; the window is relative to
-//! the load, so it does not vanish late in a run. Plastic elements carry D_ep from the stress
-//! at the increment's start; any change of tangent refactorizes K (the paper re-evaluates D_ep
-//! of every plastic element at each increment, so K changes by a term of rank ~2 × plastic
-//! elements: no low-rank update applies).
+//! Simultaneous events whose scales agree within `tie_tol` switch in one increment.
+//!
+//! Plasticity. The stresses of plastic elements are integrated along each increment
+//! (`stress_integration`) and one correction at fixed load restores equilibrium, itself taken
+//! event by event so that the corrected state is admissible. K holds, per element, D or a D_ep
+//! renewed when the element yields, unloads, or its flow direction turned by more than
+//! `tangent_turn`; those changes are low-rank terms on the last factor (`low_rank`) until they
+//! cost a refactorization. Grouped increments (δ = `group_tol`, 0.01 by default; 0 = the paper,
+//! event by event) run past the first predicted yield by δ of the load: every element that
+//! yields inside gets the exact split of its strain increment, and the increment is
+//! re-integrated from its start until it is balanced to 1e-4 of the load. Contact and friction
+//! events always end an increment.
 
 mod advance;
 mod anticycling;
