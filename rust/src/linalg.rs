@@ -638,16 +638,7 @@ mod tests {
         // restricted to the chosen equations (here the free-end nodes, in scrambled order),
         // computed by full solves with unit loads, to round-off.
         let (nx, ny) = (7, 5);
-        let nodes: Vec<[f64; 2]> = (0..ny).flat_map(|j| (0..nx).map(move |i| [i as f64 * 0.5, j as f64 * 0.4])).collect();
-        let mut triangles = vec![];
-        for j in 0..ny - 1 {
-            for i in 0..nx - 1 {
-                let a = nx * j + i;
-                triangles.push([a, a + 1, a + nx + 1]);
-                triangles.push([a, a + nx + 1, a + nx]);
-            }
-        }
-        let mesh = Mesh { nodes, triangles };
+        let mesh = crate::mesh::test_grid(nx, ny, 0.5, 0.4);
         let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e, Plane::Strain, 1.0)).collect();
         let d = Material::elastic(1000.0, 0.3).elastic_tangent(Plane::Strain);
         let n_dofs = 2 * mesh.nodes.len();

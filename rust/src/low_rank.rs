@@ -176,7 +176,6 @@ mod tests {
     use crate::element::Cst;
     use crate::linalg::{DofMap, StiffnessPattern};
     use crate::material::{Material, Plane};
-    use crate::mesh::Mesh;
 
     /// A supported 6 × 4-cell block: K_f, and K = K_f with some elements softened (plastic
     /// tangents) and one stiffened back, applied through the low-rank terms, must solve like a
@@ -184,16 +183,7 @@ mod tests {
     #[test]
     fn woodbury_solves_like_a_refactorization() {
         let (nx, ny) = (7, 5);
-        let nodes: Vec<[f64; 2]> = (0..ny).flat_map(|j| (0..nx).map(move |i| [i as f64 * 0.5, j as f64 * 0.4])).collect();
-        let mut triangles = vec![];
-        for j in 0..ny - 1 {
-            for i in 0..nx - 1 {
-                let a = nx * j + i;
-                triangles.push([a, a + 1, a + nx + 1]);
-                triangles.push([a, a + nx + 1, a + nx]);
-            }
-        }
-        let mesh = Mesh { nodes, triangles };
+        let mesh = crate::mesh::test_grid(nx, ny, 0.5, 0.4);
         let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e, Plane::Strain, 1.0)).collect();
         let n_dofs = 2 * mesh.nodes.len();
         let mut fixed = vec![false; n_dofs];

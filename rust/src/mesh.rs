@@ -190,3 +190,18 @@ mod tests {
         assert_eq!(m.element_left_of_axis(), Some((1, 3)));
     }
 }
+
+/// Tests: a structured grid of nx × ny nodes spaced dx, dy, each cell cut into two triangles.
+#[cfg(test)]
+pub fn test_grid(nx: usize, ny: usize, dx: f64, dy: f64) -> Mesh {
+    let nodes: Vec<[f64; 2]> = (0..ny).flat_map(|j| (0..nx).map(move |i| [i as f64 * dx, j as f64 * dy])).collect();
+    let mut triangles = vec![];
+    for j in 0..ny - 1 {
+        for i in 0..nx - 1 {
+            let a = nx * j + i;
+            triangles.push([a, a + 1, a + nx + 1]);
+            triangles.push([a, a + nx + 1, a + nx]);
+        }
+    }
+    Mesh { nodes, triangles }
+}
