@@ -8,6 +8,7 @@
 # Set-up is idempotent and stamp-driven, so a second run with nothing changed does no apt, no pip
 # and no maturin:
 #   build/stamps/apt   Debian packages present (ci/setup-apt.sh; apt only if something is missing)
+#   build/stamps/apt-bench  the bench's own Debian packages (ci/apt-bench.txt: GetFEM), bench only
 #   .venv/.stamp-venv  venv made by /usr/bin/python3 --system-site-packages + pip packages, verified
 #   .venv/.stamp-ext   `maturin develop --release` done; redone only when rust/, bindings/, Cargo
 #                      files or pyproject.toml change (or the built _engine*.so has disappeared)
@@ -22,6 +23,7 @@ VENV        := $(ROOT)/.venv
 PY          := $(VENV)/bin/python
 STAMPS      := $(ROOT)/build/stamps
 APT_STAMP   := $(STAMPS)/apt
+BENCH_APT_STAMP := $(STAMPS)/apt-bench
 VENV_STAMP  := $(VENV)/.stamp-venv
 EXT_STAMP   := $(VENV)/.stamp-ext
 
@@ -48,6 +50,10 @@ help:
 # ---------------------------------------------------------------- set-up
 $(APT_STAMP): ci/setup-apt.sh ci/apt-packages.txt
 	ci/setup-apt.sh
+	@mkdir -p $(@D) && touch $@
+
+$(BENCH_APT_STAMP): ci/setup-apt.sh ci/apt-bench.txt
+	ci/setup-apt.sh ci/apt-bench.txt
 	@mkdir -p $(@D) && touch $@
 
 $(VENV_STAMP): ci/setup-venv.sh ci/check-env.py ci/requirements.txt ci/constraints.txt | $(APT_STAMP)
@@ -96,9 +102,12 @@ test: $(EXT_STAMP)
 	ci/cargo-test.sh
 	MPLBACKEND=Agg $(PY) -m pytest -q tests
 
+# bench/getfem_hertz.py: GetFEM 5.4 on the elastoplastic Hertz scene, slipstep's meshes, N = 5..40
+# load steps, 3 processes each (bench/getfem_results.json; first, so the charts can use it);
 # bench/run.py: the Hertz series (~30-40 min on 2 cores); bench/dolfinx_side_by_side.py: the
-# thick cylinder against dolfinx on identical meshes (~4 min). Both write into bench/.
-bench: $(EXT_STAMP)
+# thick cylinder against dolfinx on identical meshes (~4 min). All write into bench/.
+bench: $(EXT_STAMP) $(BENCH_APT_STAMP)
+	$(PY) bench/getfem_hertz.py series
 	MPLBACKEND=Agg $(PY) bench/run.py
 	MPLBACKEND=Agg $(PY) bench/dolfinx_side_by_side.py
 

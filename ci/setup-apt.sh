@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# Install the Debian packages slipstep needs (ci/apt-packages.txt), only if some are missing.
+# Install the Debian packages slipstep needs (ci/apt-packages.txt, or the list given as the first
+# argument, e.g. ci/apt-bench.txt), only if some are missing.
 # A machine that already has all of them never touches apt (a single dpkg-query, ~30 ms).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+list=${1:-ci/apt-packages.txt}
 
-mapfile -t pkgs < <(grep -v '^\s*\(#\|$\)' ci/apt-packages.txt)
+mapfile -t pkgs < <(grep -v '^\s*\(#\|$\)' "$list")
 
 missing=()
 for p in "${pkgs[@]}"; do
@@ -13,7 +15,7 @@ for p in "${pkgs[@]}"; do
 done
 
 if ((${#missing[@]} == 0)); then
-    echo "setup-apt: all ${#pkgs[@]} Debian packages present"
+    echo "setup-apt: all ${#pkgs[@]} Debian packages of $list present"
     exit 0
 fi
 

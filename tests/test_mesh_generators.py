@@ -257,6 +257,28 @@ def test_msh_file_with_physical_names(tmp_path):
     assert np.allclose(mesh.nodes[mesh.edge_nodes("base"), 1], 0.0)
 
 
+@needs_gmsh
+def test_written_msh_reads_back_as_the_same_mesh(tmp_path):
+    """write_msh (the bench hands slipstep's meshes to GetFEM with it) -> gmsh's reader: the
+    same triangles, edge segments and node sets, compared by coordinates (gmsh renumbers the
+    nodes by entity), exactly (coordinates are written with repr, which round-trips)."""
+    mesh = M.quarter_cylinder(10.0, 0.2, 1.0, 2.0, 0.3)
+    tags = M.write_msh(mesh, tmp_path / "c.msh")
+    back = M.read_mesh(tmp_path / "c.msh")
+
+    def rows(m, ids):  # coordinates of each row of node ids, rows in a canonical order
+        xy = m.nodes[np.asarray(ids)].reshape(len(ids), -1)
+        return xy[np.lexsort(xy.T[::-1])]
+
+    assert back.n_nodes == mesh.n_nodes
+    assert np.array_equal(rows(back, back.triangles), rows(mesh, mesh.triangles))
+    assert set(back.edges) == set(mesh.edges) == {"arc", "top", "symmetry"}
+    for tag in mesh.edges:  # oriented alike: the body on the left of every segment
+        assert np.array_equal(rows(back, back.edges[tag]), rows(mesh, mesh.edges[tag]))
+    assert np.array_equal(rows(back, back.node_sets["bottom_point"][:, None]), [[0.0, 0.0]])
+    assert sorted(tags.values()) == list(range(1, len(tags) + 1)) and "body" in tags
+
+
 def test_unknown_mesh_format(tmp_path):
     (tmp_path / "m.stl").write_text("solid")
     with pytest.raises(M.MeshError, match=r"unknown mesh format '.stl'"):

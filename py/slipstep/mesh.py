@@ -846,3 +846,32 @@ def from_meshio(mesh, where: str = "meshio mesh") -> Mesh:
     physical groups), each tag named by its ``field_data`` name when there is one."""
     points, triangles, edges = _meshio_cells(mesh, where)
     return from_arrays(points, triangles, edges, where=where)
+
+
+def write_msh(mesh: Mesh, path: str | Path) -> dict[str, int]:
+    """Write ``mesh`` as a gmsh MSH 2.2 ASCII file that :func:`read_mesh` (and other codes, e.g.
+    GetFEM's gmsh import) read back: nodes with z = 0, triangles in physical surface ``body``,
+    every edge tag a named physical line group, every node set a named physical point group.
+    Returns the physical tag of each group (edges first, sorted by name; then node sets; the
+    surface last): readers that number regions by tag need it."""
+    edges, sets = sorted(mesh.edges), sorted(set(mesh.node_sets) - set(mesh.edges))
+    tags = {name: i + 1 for i, name in enumerate(edges + sets)}
+    tags["body"] = len(tags) + 1
+    rows = [f'1 {tags[n]} "{n}"' for n in edges] + [f'0 {tags[n]} "{n}"' for n in sets]
+    rows.append(f'2 {tags["body"]} "body"')
+    # elements: id type(15 point, 1 line, 2 triangle) 2 physical elementary node ids (1-based)
+    elements = [(15, tags[n], [[int(k)] for k in mesh.node_sets[n]]) for n in sets]
+    elements += [(1, tags[n], mesh.edges[n].tolist()) for n in edges]
+    elements.append((2, tags["body"], mesh.triangles.tolist()))
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(rows)),
+             *rows, "$EndPhysicalNames", "$Nodes", str(mesh.n_nodes)]
+    lines += [f"{i + 1} {x!r} {y!r} 0" for i, (x, y) in enumerate(mesh.nodes.tolist())]
+    lines += ["$EndNodes", "$Elements", str(sum(len(e[2]) for e in elements))]
+    k = 0
+    for kind, tag, conn in elements:
+        for nodes in conn:
+            k += 1
+            lines.append(f"{k} {kind} 2 {tag} {tag} " + " ".join(str(n + 1) for n in nodes))
+    lines.append("$EndElements")
+    Path(path).write_text("\n".join(lines) + "\n")
+    return tags
