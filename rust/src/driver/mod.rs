@@ -157,9 +157,9 @@ fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCyc
         None if jump > eng.noise.force => Some(eng.correct_at_fixed_load(state, sel.phi)?),
         None => None,
     };
-    if let Some((size, events)) = corrected {
-        *correction = size;
-        events.iter().for_each(|c| rec.correction_event(c, sel.phi));
+    if let Some(c) = corrected {
+        *correction = c.size;
+        c.events.iter().for_each(|e| rec.correction_event(e, sel.phi));
     }
     let drift = eng.drift(state);
     rec.max_drift = rec.max_drift.max(drift);

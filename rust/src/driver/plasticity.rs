@@ -119,25 +119,21 @@ impl Engine<'_> {
     /// A correction that leaves plastic elements more than max_stress_step² off their yield
     /// surfaces (the second-order drift of a fresh tangent over a bounded stress step: only
     /// waiting yields, `tangents`, do that), and every stage's end, then settle on the surfaces
-    /// (`settle_on_surfaces`). None when the increment kept
-    /// the tangent's linear stresses (in equilibrium already; the last correction's allowance
-    /// for the contact checks still holds).
-    pub fn restore_equilibrium(&mut self, state: &mut State, sel: &Selection, integrated: bool) -> Result<Option<(Correction, Vec<Candidate>)>> {
+    /// (`settle_on_surfaces`). None when the increment kept the tangent's linear stresses (in
+    /// equilibrium already; the last correction's allowance for the contact checks still holds).
+    pub fn restore_equilibrium(&mut self, state: &mut State, sel: &Selection, integrated: bool) -> Result<Option<Corrected>> {
         if !integrated {
             return Ok(None);
         }
         let t0 = Instant::now();
         self.update_tangents(state)?;
-        let (mut size, mut events) = self.converge_increment(state, sel.phi, sel.plastic_inside)?;
+        let mut corrected = self.converge_increment(state, sel.phi, sel.plastic_inside)?;
         let bound = self.model.options.max_stress_step.powi(2);
         if sel.last || self.drift(state) > bound {
-            let (more, later) = self.settle_on_surfaces(state, sel.phi, sel.last)?;
-            size.displacement = size.displacement.max(more.displacement);
-            size.force = size.force.max(more.force);
-            events.extend(later);
+            corrected.absorb(self.settle_on_surfaces(state, sel.phi, sel.last)?);
         }
         self.timings.corrections += since(t0);
-        Ok(Some((size, events)))
+        Ok(Some(corrected))
     }
 
     /// A grouped increment's plastic path: the correction, then every element that was or
@@ -147,24 +143,21 @@ impl Engine<'_> {
     /// are kept (in equilibrium to round-off), with their plastic strains and flags; an elastic
     /// element they leave beyond its surface has yielded.
     /// Event by event, the one correction.
-    fn converge_increment(&mut self, state: &mut State, phi: f64, regrouped: bool) -> Result<(Correction, Vec<Candidate>)> {
-        let (mut size, mut events) = self.correct_at_fixed_load(state, phi)?;
-        let Some(mut start) = self.increment_start.take() else { return Ok((size, events)) };
+    fn converge_increment(&mut self, state: &mut State, phi: f64, regrouped: bool) -> Result<Corrected> {
+        let mut corrected = self.correct_at_fixed_load(state, phi)?;
+        let Some(mut start) = self.increment_start.take() else { return Ok(corrected) };
         for _ in 0..if regrouped { MAX_REINTEGRATIONS } else { 0 } {
             let linear = (state.stress.clone(), state.plastic_strain.clone(), state.plastic.clone());
             self.reintegrate(state, &mut start);
             if self.full_residual(state).0 <= REINTEGRATION_TOL {
                 (state.stress, state.plastic_strain, state.plastic) = linear;
-                self.flag_beyond_surfaces(state, &mut start);
                 break;
             }
-            let (more, later) = self.correct_at_fixed_load(state, phi)?;
-            size.displacement = size.displacement.max(more.displacement);
-            size.force = size.force.max(more.force);
-            events.extend(later);
+            corrected.absorb(self.correct_at_fixed_load(state, phi)?);
         }
+        self.flag_beyond_surfaces(state, &mut start);
         self.increment_start = Some(start);
-        Ok((size, events))
+        Ok(corrected)
     }
 
     /// An elastic element the last correction left beyond its yield surface yielded in this
@@ -217,8 +210,8 @@ impl Engine<'_> {
     /// every tangent renewed, which leaves only the square of that drift: a reload then retraces
     /// the stage's end (elastic shakedown stays elastic), and an unload starts on the surface.
     /// Repeated (at most `SETTLE_ROUNDS` times) until the drift is round-off at a stage's end.
-    fn settle_on_surfaces(&mut self, state: &mut State, phi: f64, stage_end: bool) -> Result<(Correction, Vec<Candidate>)> {
-        let (mut size, mut events) = (Correction::default(), vec![]);
+    fn settle_on_surfaces(&mut self, state: &mut State, phi: f64, stage_end: bool) -> Result<Corrected> {
+        let mut corrected = Corrected::default();
         for _ in 0..SETTLE_ROUNDS {
             for e in (0..state.plastic.len()).filter(|&e| state.plastic[e]) {
                 let sy = self.material[e].current_yield(state.plastic_strain[e]);
@@ -228,15 +221,12 @@ impl Engine<'_> {
             let renewed = self.update_tangents(state);
             self.renew_all_tangents = false;
             renewed?;
-            let (more, later) = self.correct_at_fixed_load(state, phi)?;
-            size.displacement = size.displacement.max(more.displacement);
-            size.force = size.force.max(more.force);
-            events.extend(later);
+            corrected.absorb(self.correct_at_fixed_load(state, phi)?);
             if !stage_end || self.drift(state) <= SETTLED_DRIFT {
                 break;
             }
         }
-        Ok((size, events))
+        Ok(corrected)
     }
 
     /// Equilibrium at fixed load φ by the procedure itself: solve the correction for the
@@ -244,8 +234,8 @@ impl Engine<'_> {
     /// that would make the state inadmissible (a gap closing, a pair separating, a stuck pair
     /// reaching its cone: eqs. 48–53), switch that, and solve the rest again, so that the
     /// corrected state is admissible. Returns the correction's size and its events, in order.
-    pub fn correct_at_fixed_load(&mut self, state: &mut State, phi: f64) -> Result<(Correction, Vec<Candidate>)> {
-        let (mut size, mut events) = (Correction::default(), vec![]);
+    pub fn correct_at_fixed_load(&mut self, state: &mut State, phi: f64) -> Result<Corrected> {
+        let mut corrected = Corrected::default();
         for step in 0..MAX_CORRECTION_EVENTS {
             let c = self.trial(state, phi, None)?;
             let frozen = vec![false; self.pairs.len()];
@@ -258,7 +248,7 @@ impl Engine<'_> {
             // The last allowed step takes the rest whatever it violates (the contact checks then
             // allow for the correction's size).
             let s = if step + 1 == MAX_CORRECTION_EVENTS { 1.0 } else { first.min(1.0) };
-            size.include(&c, s);
+            corrected.size.include(&c, s);
             state.advance(&c, s);
             state.load_fraction = phi;
             if s >= 1.0 {
@@ -267,10 +257,10 @@ impl Engine<'_> {
             let tie = first * (1.0 + CORRECTION_TIE) + CORRECTION_TIE_SLACK;
             for x in cands.into_iter().filter(|x| x.scale <= tie) {
                 self.switch(state, &x);
-                events.push(x);
+                corrected.events.push(x);
             }
         }
-        Ok((size, events))
+        Ok(corrected)
     }
 }
 
@@ -306,6 +296,22 @@ pub(super) struct IncrementStart {
 const CORRECTION_TIE: f64 = 1e-9;
 const CORRECTION_TIE_SLACK: f64 = 1e-14;
 const MAX_CORRECTION_EVENTS: usize = 32;
+
+/// What an equilibrium correction did: its size and the contact events it took, in order.
+#[derive(Default)]
+pub(super) struct Corrected {
+    pub size: Correction,
+    pub events: Vec<Candidate>,
+}
+
+impl Corrected {
+    /// Grown by a further correction.
+    fn absorb(&mut self, other: Corrected) {
+        self.size.displacement = self.size.displacement.max(other.size.displacement);
+        self.size.force = self.size.force.max(other.size.force);
+        self.events.extend(other.events);
+    }
+}
 
 impl Correction {
     /// Grow by `s` × a correction increment.
