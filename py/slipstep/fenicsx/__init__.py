@@ -9,16 +9,18 @@ Modules
 -------
 ``dolfinx_api`` every dolfinx, UFL, petsc4py and mpi4py call of the package, with the
                 version branches (0.5 ... 0.11) and the release notes they follow.
-``forms``       the bulk weak form: one strain, one measure (plane; axisymmetry next).
+``forms``       the bulk weak form: one strain, one measure, per section (plane strain, plane
+                stress, or the r-weighted axisymmetric ring section).
 ``exchange``    slipstep scene <-> XDMF/HDF5 <-> dolfinx mesh, with the explicit node, dof and
                 cell maps (dolfinx reorders both nodes and cells).  Writing needs only h5py.
 ``plasticity``  small-strain von Mises return mapping with linear hardening (numpy, per cell),
-                plane strain (sigma_z tracked) and plane stress (sigma_z = 0, condensed).
+                plane strain (sigma_z tracked), plane stress (sigma_z = 0, condensed) and
+                axisymmetry (the hoop stress a fourth component).
 ``bulk``        dolfinx solvers on the exchanged mesh, driven by the same case with contact
                 removed: linear elasticity and elastoplasticity (Newton, load in steps).
 ``hill``        Hill's closed form for the thick-walled cylinder under internal pressure.
 ``replay``      a slipstep contact state replayed in dolfinx as boundary conditions.
-``hybrid``      slipstep's event loop on a user's dolfinx model (P1, isotropic elastic).
+``hybrid``      slipstep's event loop on a user's dolfinx model (P1, isotropic elastic, plane).
 ``crosscheck``  the ``slipstep crosscheck`` report.
 
 Serial only (one MPI process): the maps are built from process-local numbering.
