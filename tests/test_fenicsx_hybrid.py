@@ -78,6 +78,13 @@ def test_a_form_with_another_material_is_refused(hertz):
         solve_contact(V, a, L, dm.facet_tags, dm.edge_id("arc"), E=E, nu=NU, bcs=bcs)
 
 
+def test_an_axisymmetric_plane_is_refused_before_any_work():
+    # the operator check compares with a planar CST, so an axisymmetric form would be refused
+    # with a misleading message, or (check_operator=False) solved as the wrong element
+    with pytest.raises(ValueError, match="plane = 'axisymmetric' is not supported"):
+        solve_contact(None, None, None, None, 1, E=E, nu=NU, plane="axisymmetric")
+
+
 @needs_gmsh
 def test_inhomogeneous_dirichlet_is_refused(hertz):
     _, dm = hertz

@@ -193,6 +193,11 @@ def solve_contact(V, a, L, facet_tags, contact_tag: int, *, E, nu, plane: str = 
     """
     from ..runner import engine
 
+    if plane not in ("strain", "stress"):
+        raise ValueError(f"hybrid mode: plane = {plane!r} is not supported; the hybrid mode checks "
+                         f"and solves plane CST models only ('strain' or 'stress'); for an "
+                         f"axisymmetric scene run slipstep itself and cross-check with "
+                         f"slipstep.fenicsx.bulk")
     api.require_dolfinx()
     nodes, tris, block_of_geom = _mesh_arrays(V)
     M = len(tris)
