@@ -23,6 +23,17 @@ pub(super) enum Space {
 pub(super) struct Full {
     pub elastic_values: Vec<f64>,
     pub scatter: Option<ElementScatter>,
+    /// The forward sweep of the current stage's load change, for the factor it was swept with
+    /// (`trial`: a balanced state's trial is that sweep scaled).
+    pub load_sweep: Option<LoadSweep>,
+}
+
+/// L⁻¹ ΔP_eq of stage `stage` with the factor of factorization number `factorization`.
+pub(super) struct LoadSweep {
+    pub stage: usize,
+    pub factorization: usize,
+    pub load: Vec<f64>,
+    pub sweep: Vec<f64>,
 }
 
 pub(super) struct Reduced {

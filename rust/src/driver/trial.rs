@@ -13,7 +13,7 @@
 //! of r + E Δλ (the contact DOFs are last in the factor).
 
 use super::engine::{since, Engine};
-use super::space::Space;
+use super::space::{Full, LoadSweep, Space};
 use super::state::{State, TrialIncrement};
 use crate::bail;
 use crate::contact::{SparseVec, Status};
@@ -29,6 +29,10 @@ const SINGULAR_PIVOT: f64 = 1e-13;
 pub(super) const PARALLEL_CHUNK: usize = 1024;
 /// Displacement noise floor: × max |Δu| of the trial.
 const DISPLACEMENT_NOISE: f64 = 1e-11;
+/// An out-of-balance force within this of c ΔP (relative, 2-norms) is c ΔP (`forward_sweep`):
+/// a state balanced to round-off. Corrected states are balanced to ~1e-13 of the load
+/// (`max_equilibrium_residual` of the runs), the loop accepts 1e-9 (`equilibrium_tol`).
+const BALANCED: f64 = 1e-12;
 
 /// A row of the small system: pair p's normal or tangential constraint.
 #[derive(Clone, Copy)]
@@ -88,7 +92,7 @@ impl Engine<'_> {
             r.iter_mut().zip(&f).for_each(|(a, b)| *a += b);
         }
         let r_eq = self.map.to_equations(&r);
-        let w = self.solver.forward(&r_eq);
+        let w = self.forward_sweep(&r_eq, target - state.load_fraction, state.stage);
         let mut z0 = self.solver.trailing_solution(&w);
         let mut low_rank_coefficients = vec![];
         if !self.low_rank.is_empty() {
@@ -98,6 +102,44 @@ impl Engine<'_> {
         }
         let mode_rhs = self.mode_vectors.iter().map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>()).collect();
         OutOfBalance { z0, mode_rhs, forward_sweep: w, prescribed, dshift, low_rank_coefficients }
+    }
+
+    /// The forward sweep L⁻¹ r of an out-of-balance force r over the equations. From a balanced
+    /// state r is c ΔP (c the stage fraction left, ΔP the stage's load change) up to round-off:
+    /// then it is c × the stage load's sweep, kept per factorization (low-rank terms leave L
+    /// as it is), and the trial costs one backward sweep. A rest above `BALANCED` × c‖ΔP‖
+    /// (an integrated increment not yet corrected, prescribed displacements) is swept whole.
+    fn forward_sweep(&mut self, r_eq: &[f64], c: f64, stage: usize) -> Vec<f64> {
+        if c > 0.0 {
+            self.sweep_stage_load(stage);
+            if let Space::Full(Full { load_sweep: Some(ls), .. }) = &self.space {
+                let (mut rest, mut load) = (0.0, 0.0);
+                for (r, p) in r_eq.iter().zip(&ls.load) {
+                    rest += (r - c * p) * (r - c * p);
+                    load += c * c * p * p;
+                }
+                if rest <= BALANCED * BALANCED * load {
+                    return ls.sweep.iter().map(|w| c * w).collect();
+                }
+            }
+        }
+        self.solver.forward(r_eq)
+    }
+
+    /// The current stage load's forward sweep, unless the cache holds it for this factor.
+    fn sweep_stage_load(&mut self, stage: usize) {
+        let factorization = self.solver.n_factorizations;
+        if let Space::Full(Full { load_sweep: Some(ls), .. }) = &self.space {
+            if ls.stage == stage && ls.factorization == factorization {
+                return;
+            }
+        }
+        let change = self.stage.force_change();
+        let load: Vec<f64> = self.map.dof_of_equation.iter().map(|&d| if self.fixed[d] { 0.0 } else { change[d] }).collect();
+        let sweep = self.solver.forward(&load);
+        if let Space::Full(full) = &mut self.space {
+            full.load_sweep = Some(LoadSweep { stage, factorization, load, sweep });
+        }
     }
 
     /// Rows of the closed pairs: normal (h = −gap − Δc_n) and, for frictional stick, tangential
