@@ -4,7 +4,10 @@ With delta > 0 (0.01 by default) an increment of a plastic run goes on past the 
 predicts by delta of the load fraction reached; every element that yields inside it gets the
 exact split of its strain increment (elastic part, then Prandtl-Reuss flow integrated with
 error control), and the increment is re-integrated from its start until it is balanced.
-Contact and friction events always end an increment; delta = 0 is the paper, event by event.
+Closures always end an increment. Friction events and separations inside it are taken as
+contact sub-steps (the engine's `substeps`: the small system with K held, no full-space solve)
+when snapshots are requested at given times; with a snapshot at every event each ends an
+increment. delta = 0 is the paper, event by event.
 What must hold, whatever delta:
 * the first yield load moves by less than the window;
 * every event state is in equilibrium, recomputed from the snapshot arrays (tests/physics.py);
@@ -114,6 +117,47 @@ def test_grouping_closes_contacts_exactly():
     assert s1["contact_half_width"] == pytest.approx(s0["contact_half_width"], rel=window)
     assert s1["peak_pressure"] == pytest.approx(s0["peak_pressure"], rel=window)
     assert np.sum(r1["snapshots"][-1]["lambda_n"]) == pytest.approx(P_HALF, rel=1e-9)
+
+
+def test_friction_events_inside_grouped_increments_keep_the_contact_history(plastic):
+    """delta = 1e-2 with snapshots at given times: stick<->slip events inside a grouped
+    increment are contact sub-steps, with K held over the increment's window.  First: they
+    happen, and the full-space increments are fewer.  Then against the event-by-event run: every
+    pair closes and first slips at the same load within the window, delta x the load reached
+    (the grouping contract: K is held for at most that much load); the history is in load
+    order with its steps; and at the snapshots (the ends of integrated, balanced increments)
+    equilibrium recomputed from the arrays, closed pairs touching without tension, Coulomb."""
+    delta, h = 1e-2, 0.1
+    scene, grouped, summary = run(PLASTIC, delta, "[0.5, 1.0]")
+    exact = plastic[0.0][1]
+    substeps = summary["n_contact_substeps"]
+    assert substeps > 0
+    assert len(grouped["steps"]["load_fraction"]) - substeps < len(exact["steps"]["load_fraction"]) / 3
+
+    def first(result, kind):
+        ev, out = result["events"], {}
+        for f, k, e in zip(ev["load_fraction"], ev["kind"], ev["entity"]):
+            if k == kind:
+                out.setdefault(int(e), float(f))
+        return out
+
+    for kind in ("close", "stick_to_slip"):
+        at0, at1 = first(exact, kind), first(grouped, kind)
+        assert at0.keys() == at1.keys(), kind
+        for p, f in at0.items():
+            assert abs(at1[p] - f) <= delta * f, (kind, p, f, at1[p])
+    ev = grouped["events"]
+    assert np.all(np.diff(np.asarray(ev["load_fraction"])) >= 0)
+    assert np.all(np.diff(np.asarray(ev["step"])) >= 0)
+    mu = np.asarray(scene.model["pairs"]["mu"])
+    for k, snap in enumerate(grouped["snapshots"]):
+        closed = np.asarray(snap["status"]) != 0
+        ln, lt = np.asarray(snap["lambda_n"]), np.asarray(snap["lambda_t"])
+        assert np.all(np.abs(np.asarray(snap["gap"])[closed]) < 1e-6 * h), k
+        assert np.all(ln[closed] >= -1e-9 * P_HALF), k
+        assert np.all(np.abs(lt) <= mu * ln * (1 + 1e-9) + 1e-9 * P_HALF), k
+    worst, k, f = worst_equilibrium(scene.model, grouped["snapshots"])
+    assert worst <= EQUILIBRIUM_TOL, (k, f, worst)
 
 
 @pytest.mark.parametrize("bad", ["-0.1", "1.0", "nan"])

@@ -161,6 +161,8 @@ pub struct RunResult {
     /// Tangent changes taken as low-rank terms on the last factor instead of a refactorization.
     pub n_low_rank_updates: usize,
     pub n_solves: usize,
+    /// Steps taken as contact sub-steps of a grouped plastic increment (no full-space solve).
+    pub n_contact_substeps: usize,
     /// How many zero-length runs the rate problem (Lemke) resolved.
     pub n_rate_problems: usize,
     pub stop: StopReason,

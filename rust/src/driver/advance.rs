@@ -37,7 +37,7 @@ impl Engine<'_> {
     }
 
     /// λ_t = −d μ λ_n for slipping pairs (round-off removed).
-    fn project_onto_cone(&self, state: &mut State) {
+    pub(super) fn project_onto_cone(&self, state: &mut State) {
         for (p, st) in state.status.iter().enumerate() {
             if let Status::Slip { .. } = st {
                 state.lambda_t[p] = self.pairs[p].slip_ratio(*st) * state.lambda_n[p];

@@ -4,6 +4,7 @@
 
 use super::path::{LoadPath, StageLoad};
 use super::plasticity::IncrementStart;
+use super::trial::TrialBase;
 use super::space::{Full, Reduced, Space};
 use crate::bail;
 use crate::contact::{Pair, HELD_BY_SUPPORTS};
@@ -50,6 +51,10 @@ pub(super) struct Engine<'m> {
     pub renew_all_tangents: bool,
     /// A grouped increment's start, for its re-integration (`plasticity`).
     pub increment_start: Option<IncrementStart>,
+    /// The last full-space trial for the remaining load, and, during an increment's contact
+    /// sub-steps, the one they scale (`substeps`).
+    pub trial_base: Option<TrialBase>,
+    pub substep: Option<TrialBase>,
     /// The work of a factorization and of a solve pair (from the factor's structure).
     pub cost: Cost,
     /// The pairs over the DOFs the loop carries (`space`).
@@ -129,6 +134,8 @@ impl<'m> Engine<'m> {
             n_low_rank_updates: 0,
             renew_all_tangents: false,
             increment_start: None,
+            trial_base: None,
+            substep: None,
             cost: Cost::default(),
             pairs,
             modes,

@@ -16,6 +16,7 @@
 //! | free bodies and gross sliding | [`restraint`] | |
 //! | scale factors, S_min, ties, zero-length order, grouping | [`selection`] | eqs. 48–57 |
 //! | advance and status switches | [`advance`] | eqs. 58–62 |
+//! | contact events inside a grouped plastic increment, in the contact space | [`substeps`] | eqs. 43–44 |
 //! | which tangent each element gives K; refactorization or low-rank terms | [`tangents`] | eq. 11 |
 //! | integrated stresses, equilibrium correction (event by event), re-integration | [`plasticity`] | eqs. 5–11, 59 |
 //! | equilibrium, contact conditions, limit load | [`checks`] | eqs. 22–24, 1–2 |
@@ -36,8 +37,9 @@
 //! cost a refactorization. Grouped increments (δ = `group_tol`, 0.01 by default; 0 = the paper,
 //! event by event) run past the first predicted yield by δ of the load: every element that
 //! yields inside gets the exact split of its strain increment, and the increment is
-//! re-integrated from its start until it is balanced to 1e-4 of the load. Contact and friction
-//! events always end an increment.
+//! re-integrated from its start until it is balanced to 1e-4 of the load. Closures end an
+//! increment; friction events and separations inside it are contact sub-steps ([`substeps`]:
+//! the small system with K held, no full-space solve), unless every event is a snapshot.
 
 mod advance;
 mod anticycling;
@@ -53,6 +55,7 @@ mod selection;
 mod space;
 mod state;
 mod stiffness;
+mod substeps;
 mod tangents;
 mod trial;
 
@@ -116,12 +119,16 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         let cut = rec.snapshot_cut(eng, state);
         let sel = eng.select(state, &trial, cycles, cut); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
         rec.snapshots_inside(eng, state, &trial, &sel)?;
-        let phi0 = state.load_fraction;
+        let (phi0, first_event, first_step) = (state.load_fraction, rec.events.len(), rec.steps.len());
+        let (trial, sel, sub_jump) = match eng.takes_substeps(&sel, rec.every_event()) {
+            true => eng.contact_substeps(state, trial, sel, cycles, rec)?, // contact events in the contact space
+            false => (trial, sel, 0.0),
+        };
         let integrated = eng.advance(state, &trial, &sel); // eqs. 58–62
-        let jump = switch_statuses(eng, state, &sel, cycles, rec); // step 6
+        let jump = switch_statuses(eng, state, &sel, cycles, rec).max(sub_jump); // step 6
         let residual = settle(eng, state, &sel, cycles, rec, &mut correction, integrated, jump)?;
         let inside = eng.inside_events(state, &sel);
-        rec.events_inside(&inside, phi0, sel.phi);
+        rec.events_inside(&inside, (phi0, sel.phi), first_event, first_step);
         rec.step(eng, state, sel.scale, residual)?;
         eng.timings.events += since(t_events);
         if sel.last {

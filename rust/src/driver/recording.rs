@@ -38,6 +38,8 @@ pub(super) struct Recorder {
     /// The internal force of the state's stresses, for the next trial (None: recompute).
     pub internal: Option<Vec<f64>>,
     pub max_steps: usize,
+    /// Steps that were contact sub-steps (`substeps`).
+    pub n_substeps: usize,
 }
 
 impl Recorder {
@@ -58,6 +60,7 @@ impl Recorder {
             max_drift: 0.0,
             drift: 0.0,
             internal: None,
+            n_substeps: 0,
             max_steps: if opts.max_steps > 0 { opts.max_steps } else { 50 * (n_pairs + plastic_capable + 1) + 1000 },
         };
         match &opts.snapshots {
@@ -82,6 +85,11 @@ impl Recorder {
         let name = |k: usize| if k < n_pairs { format!("{}, {} switches", eng.model.pair_name(k), count[k]) } else { format!("element {} ({} switches)", k - n_pairs, count[k]) };
         let busiest: Vec<String> = worst.iter().take(BUSIEST_NAMED).filter(|&&k| count[k] > 0).map(|&k| name(k)).collect();
         Some(StopReason::EventBound { load_fraction: state.time(), max_steps: self.max_steps, busiest: busiest.join("; ") })
+    }
+
+    /// Every event a snapshot (the default output).
+    pub fn every_event(&self) -> bool {
+        self.every_event
     }
 
     /// The scale of the trial at which the next requested snapshot falls, in the full space:
@@ -133,19 +141,29 @@ impl Recorder {
         Ok(())
     }
 
-    /// The yields and unloads inside the current increment (φ0 → φ1), placed before the events
-    /// that ended it (the history stays in load order).
-    pub fn events_inside(&mut self, inside: &[InsideEvent], phi0: f64, phi1: f64) {
-        let step = self.steps.len();
-        let at = self.events.iter().rposition(|e| e.step != step).map_or(0, |i| i + 1);
-        let records: Vec<EventRecord> = inside
-            .iter()
-            .map(|ev| {
-                let phi = phi0 + ev.at * (phi1 - phi0);
-                EventRecord { step, stage: self.stage, load_fraction: phi, time: self.stage as f64 + phi, kind: ev.kind, entity: ev.element }
-            })
-            .collect();
-        self.events.splice(at..at, records);
+    /// The yields and unloads inside the current increment (φ0 → φ1), merged in load order
+    /// with the increment's events from `first_event` on (its contact sub-steps' and those that
+    /// ended it), before them at the same load; each in the step (from `first_step`: the
+    /// sub-steps', then this increment's) whose load it falls in.
+    pub fn events_inside(&mut self, inside: &[InsideEvent], (phi0, phi1): (f64, f64), first_event: usize, first_step: usize) {
+        let ends: Vec<f64> = self.steps[first_step..].iter().map(|s| s.load_fraction).collect();
+        let records = inside.iter().map(|ev| {
+            let phi = phi0 + ev.at * (phi1 - phi0);
+            let step = first_step + ends.iter().filter(|&&end| end < phi).count();
+            EventRecord { step, stage: self.stage, load_fraction: phi, time: self.stage as f64 + phi, kind: ev.kind, entity: ev.element }
+        });
+        let mut merged: Vec<(bool, EventRecord)> = records.map(|r| (false, r)).chain(self.events.drain(first_event..).map(|r| (true, r))).collect();
+        merged.sort_by(|a, b| a.1.load_fraction.total_cmp(&b.1.load_fraction).then(a.0.cmp(&b.0)));
+        self.events.extend(merged.into_iter().map(|(_, r)| r));
+    }
+
+    /// A contact sub-step's record (`substeps`): the contact state after its events, with the
+    /// residual and drift of the increment's start, which its linear path keeps.
+    pub fn substep(&mut self, state: &State, scale: f64) {
+        self.n_substeps += 1;
+        let residual = self.steps.last().map_or(0.0, |s| s.residual);
+        let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
+        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift: self.drift });
     }
 
     /// An event of the equilibrium correction at φ. A pair the correction separates that closed
@@ -203,6 +221,7 @@ impl Recorder {
             max_drift: self.max_drift,
             n_factorizations: eng.solver.n_factorizations,
             n_low_rank_updates: eng.n_low_rank_updates,
+            n_contact_substeps: self.n_substeps,
             n_solves: eng.solver.n_solves,
             n_rate_problems: rate_problems,
             stop,

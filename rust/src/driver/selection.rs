@@ -34,6 +34,9 @@ pub(super) struct Selection {
     /// Grouped increments: yields and unloads happen inside the increment (integrated), not
     /// at its end.
     pub plastic_inside: bool,
+    /// The load fraction the increment may not pass whatever the contact events: the plastic
+    /// window's end, the drift bound, a requested snapshot or the stage's end.
+    pub bound_phi: f64,
 }
 
 impl Selection {
@@ -72,16 +75,30 @@ impl Engine<'_> {
     /// S = min(S_c, S_p, S_f, S_r, S_A) (eq. 57) and the events that switch with it. `cut`:
     /// a scale the increment must not pass (a requested snapshot time; ∞ for none).
     pub fn select(&self, state: &State, trial: &TrialIncrement, cycles: &AntiCycling, cut: f64) -> Selection {
-        let opts = &self.model.options;
         let (mut cands, drift_scale) = self.candidates(state, trial, cycles);
+        let plastic_inside = self.plastic_events_inside();
+        let window = if plastic_inside { plastic_window(&mut cands, state.load_fraction, 1.0 - state.load_fraction, self.model.options.group_tol) } else { f64::INFINITY };
+        self.choose(state, cands, drift_scale.min(window).min(cut), plastic_inside)
+    }
+
+    /// A contact sub-step (`substeps`): the next contact events of a contact-space trial, up to
+    /// `bound` (the scale where the increment ends for plasticity, a snapshot or the stage).
+    pub fn select_contact(&self, state: &State, trial: &TrialIncrement, cycles: &AntiCycling, bound: f64) -> Selection {
+        let frozen = cycles.frozen().0;
+        let pairs = PairState { pairs: &self.pairs, status: &state.status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, shift: &state.shift, frozen };
+        let cands = events::candidates(&pairs, &Trial { du: &trial.du, dlambda_n: &trial.dlambda_n, dlambda_t: &trial.dlambda_t, dshift: &trial.dshift }, self.noise);
+        self.choose(state, cands, bound, true)
+    }
+
+    /// The smallest scale among the candidates and `bound`, the events tied with it, and the
+    /// order of zero-length ones.
+    fn choose(&self, state: &State, mut cands: Vec<Candidate>, bound: f64, plastic_inside: bool) -> Selection {
+        let opts = &self.model.options;
         let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
         for c in cands.iter_mut().filter(|c| c.scale < 1.0 && phi0 + c.scale * remaining >= 1.0 - STAGE_END) {
             c.scale = 1.0; // ties with the stage's end (see STAGE_END)
         }
-        let plastic_inside = self.plastic_events_inside();
-        let window = if plastic_inside { plastic_window(&mut cands, phi0, remaining, opts.group_tol) } else { f64::INFINITY };
         let s_min = cands.iter().map(|c| c.scale).fold(f64::INFINITY, f64::min);
-        let bound = drift_scale.min(window).min(cut);
         let scale = s_min.min(bound).min(1.0);
         let last = s_min >= 1.0 && bound >= 1.0;
         let predicted_closures = if last { cands.iter().filter(|c| c.kind == EventKind::Close).map(|c| (c.entity, phi0 + c.scale * remaining)).collect() } else { vec![] };
@@ -94,7 +111,8 @@ impl Engine<'_> {
             group.retain(|c| zero_length_priority(c.kind) == top);
         }
         let phi = if last { 1.0 } else { phi0 + scale * remaining };
-        Selection { scale, last, phi, group, predicted_closures, plastic_inside }
+        let bound_phi = if bound >= 1.0 { 1.0 } else { phi0 + bound * remaining };
+        Selection { scale, last, phi, group, predicted_closures, plastic_inside, bound_phi }
     }
 
     /// Grouped increments (δ > 0) with integrated stresses: an element yields inside the

@@ -55,6 +55,32 @@ pub(super) struct OutOfBalance {
     low_rank_coefficients: Vec<f64>,
 }
 
+/// What a full-space trial for the remaining fraction c solved, kept for the contact sub-steps
+/// of its increment (`substeps`): from a state the increment reached linearly the remaining
+/// load is (c'/c) r, so its K# r at the contact slots, rigid-body rows and low-rank
+/// coefficients are these scaled, and no solve is needed.
+#[derive(Clone)]
+pub(super) struct TrialBase {
+    pub c: f64,
+    z0: Vec<f64>,
+    mode_rhs: Vec<f64>,
+    forward_sweep: Vec<f64>,
+    low_rank_coefficients: Vec<f64>,
+}
+
+impl TrialBase {
+    fn of(oob: &OutOfBalance, c: f64) -> Self {
+        TrialBase { c, z0: oob.z0.clone(), mode_rhs: oob.mode_rhs.clone(), forward_sweep: oob.forward_sweep.clone(), low_rank_coefficients: oob.low_rank_coefficients.clone() }
+    }
+
+    /// The out-of-balance force of the remaining fraction c' (contact slots only).
+    fn scaled(&self, c: f64, dshift: Vec<[f64; 2]>) -> OutOfBalance {
+        let k = if self.c > 0.0 { c / self.c } else { 0.0 };
+        let times = |v: &[f64]| v.iter().map(|x| k * x).collect();
+        OutOfBalance { z0: times(&self.z0), mode_rhs: times(&self.mode_rhs), forward_sweep: vec![], prescribed: vec![], dshift, low_rank_coefficients: vec![] }
+    }
+}
+
 /// The closed pairs' constraint rows with their right-hand sides h, force directions E and
 /// K# E at the contact slots.
 pub(super) struct ContactSystem {
@@ -70,6 +96,9 @@ impl Engine<'_> {
     /// force P_σ of the state's stresses if the caller has it.
     pub fn trial(&mut self, state: &State, target: f64, internal: Option<Vec<f64>>) -> Result<TrialIncrement> {
         let oob = self.out_of_balance(state, target, internal);
+        if target == 1.0 && self.substep.is_none() && !self.is_reduced() {
+            self.trial_base = Some(TrialBase::of(&oob, 1.0 - state.load_fraction));
+        }
         let sys = self.contact_system(state, &oob.dshift);
         let sol = self.solve_small_system(state, &sys, &oob)?;
         Ok(self.increment(state, target, &sys, oob, &sol))
@@ -79,6 +108,9 @@ impl Engine<'_> {
     /// increments and obstacle motion), in residual form.
     pub fn out_of_balance(&mut self, state: &State, target: f64, internal: Option<Vec<f64>>) -> OutOfBalance {
         let dshift = self.shift_increment(state, target);
+        if let Some(base) = &self.substep {
+            return base.scaled(target - state.load_fraction, dshift); // a contact sub-step
+        }
         if let Space::Reduced(r) = &self.space {
             // Elastic and in equilibrium: the out-of-balance force is (target − s)(ΔP − K_fp Δū) exactly.
             let c = target - state.load_fraction;
@@ -241,7 +273,13 @@ impl Engine<'_> {
         for (mode, s) in self.mode_vectors.iter().zip(&dalpha) {
             du.iter_mut().zip(mode).for_each(|(d, v)| *d += s * v);
         }
-        let (dstress, dplastic, dstrain) = if self.is_reduced() { (vec![], vec![], vec![]) } else { self.stress_increment(&du) };
+        if self.is_reduced() || self.substep.is_some() {
+            if self.substep.is_none() {
+                self.noise.displacement = DISPLACEMENT_NOISE * self.largest_increment(&du, target - state.load_fraction);
+            }
+            return TrialIncrement { du, dstress: vec![], dplastic: vec![], dstrain: vec![], dlambda_n, dlambda_t, dalpha, dshift };
+        }
+        let (dstress, dplastic, dstrain) = self.stress_increment(&du);
         let umax = self.largest_increment(&du, target - state.load_fraction);
         self.noise.displacement = DISPLACEMENT_NOISE * umax;
         TrialIncrement { du, dstress, dplastic, dstrain, dlambda_n, dlambda_t, dalpha, dshift }
@@ -252,12 +290,12 @@ impl Engine<'_> {
     /// trailing rows of the forward sweep, then one backward sweep.
     fn displacement(&mut self, sys: &ContactSystem, oob: OutOfBalance, sol: &DVector<f64>) -> Vec<f64> {
         let m = sys.rows.len();
-        if self.is_reduced() {
+        if self.is_reduced() || self.substep.is_some() {
             let mut du = oob.z0;
             for j in 0..m {
                 du.iter_mut().zip(&sys.flex_columns[j]).for_each(|(x, g)| *x += sol[j] * g);
             }
-            return du;
+            return if self.is_reduced() { du } else { self.slots_to_dofs(&du) };
         }
         let mut w = oob.forward_sweep;
         let mut force_slots = vec![0.0; self.flexibility.nrows()];
@@ -276,6 +314,33 @@ impl Engine<'_> {
             // K⁻¹(r + EΔλ) = K_f⁻¹(r + EΔλ) − Z C⁻¹ Zᵀ (r + EΔλ)
             let mut c = oob.low_rank_coefficients;
             let from_forces = self.low_rank.trailing_coefficients(&force_slots);
+            c.iter_mut().zip(&from_forces).for_each(|(a, b)| *a += b);
+            self.low_rank.subtract(&mut x, &c);
+            self.count_low_rank_solve();
+        }
+        self.map.from_equations(&x)
+    }
+
+    /// A vector over all DOFs from its values at the contact slots (0 elsewhere).
+    fn slots_to_dofs(&self, at_slots: &[f64]) -> Vec<f64> {
+        let mut v = vec![0.0; self.map.role.len()];
+        for (d, &slot) in self.contact_slot.iter().enumerate() {
+            if slot != usize::MAX {
+                v[d] = at_slots[slot];
+            }
+        }
+        v
+    }
+
+    /// Δu = K⁻¹(f r + E Δλ) over all DOFs, from a trial's kept out-of-balance force r (its
+    /// forward sweep) and the forces `force_slots` at the contact slots: one backward sweep.
+    pub fn displacement_from(&mut self, base: &TrialBase, f: f64, force_slots: &[f64]) -> Vec<f64> {
+        let mut w: Vec<f64> = base.forward_sweep.iter().map(|v| f * v).collect();
+        self.solver.add_trailing_force(&mut w, force_slots);
+        let mut x = self.solver.backward(w);
+        if !self.low_rank.is_empty() {
+            let mut c: Vec<f64> = base.low_rank_coefficients.iter().map(|v| f * v).collect();
+            let from_forces = self.low_rank.trailing_coefficients(force_slots);
             c.iter_mut().zip(&from_forces).for_each(|(a, b)| *a += b);
             self.low_rank.subtract(&mut x, &c);
             self.count_low_rank_solve();
