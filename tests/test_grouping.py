@@ -49,6 +49,21 @@ def plastic():
     return {0.0: run(PLASTIC, 0.0), 1e-2: run(PLASTIC, 1e-2, "events")}
 
 
+def assert_contact_states(scene, snapshots, h):
+    """At every snapshot: closed pairs touch (|gap| <= 1e-6 h: round-off of the solves against
+    the mesh size), carry no tension (-1e-9 of the load: round-off), satisfy Coulomb (1e-9
+    relative: the cone is hit exactly), and the state is in equilibrium, recomputed."""
+    mu = np.asarray(scene.model["pairs"]["mu"])
+    for k, snap in enumerate(snapshots):
+        closed = np.asarray(snap["status"]) != 0
+        ln, lt = np.asarray(snap["lambda_n"]), np.asarray(snap["lambda_t"])
+        assert np.all(np.abs(np.asarray(snap["gap"])[closed]) < 1e-6 * h), k
+        assert np.all(ln[closed] >= -1e-9 * P_HALF), k
+        assert np.all(np.abs(lt) <= mu * ln * (1 + 1e-9) + 1e-9 * P_HALF), k
+    worst, k, f = worst_equilibrium(scene.model, snapshots)
+    assert worst <= EQUILIBRIUM_TOL, (k, f, worst)
+
+
 def first_yield_fraction(result):
     ev = result["events"]
     return min(f for f, k in zip(ev["load_fraction"], ev["kind"]) if k == "yield")
@@ -104,15 +119,7 @@ def test_grouping_closes_contacts_exactly():
     n0, n1 = len(r0["steps"]["load_fraction"]), len(r1["steps"]["load_fraction"])
     assert n1 < n0, (n1, n0)
     assert "yield" in r1["events"]["kind"]
-    mu = np.asarray(scene.model["pairs"]["mu"])
-    for k, snap in enumerate(r1["snapshots"]):
-        closed = np.asarray(snap["status"]) != 0
-        ln, lt = np.asarray(snap["lambda_n"]), np.asarray(snap["lambda_t"])
-        assert np.all(np.abs(np.asarray(snap["gap"])[closed]) < 1e-6 * h), k
-        assert np.all(ln[closed] >= -1e-9 * P_HALF), k
-        assert np.all(np.abs(lt) <= mu * ln * (1 + 1e-9) + 1e-9 * P_HALF), k
-    worst, k, f = worst_equilibrium(scene.model, r1["snapshots"])
-    assert worst <= EQUILIBRIUM_TOL, (k, f, worst)
+    assert_contact_states(scene, r1["snapshots"], h)
     window = math.sqrt(1 + delta) - 1
     assert s1["contact_half_width"] == pytest.approx(s0["contact_half_width"], rel=window)
     assert s1["peak_pressure"] == pytest.approx(s0["peak_pressure"], rel=window)
@@ -149,15 +156,7 @@ def test_friction_events_inside_grouped_increments_keep_the_contact_history(plas
     ev = grouped["events"]
     assert np.all(np.diff(np.asarray(ev["load_fraction"])) >= 0)
     assert np.all(np.diff(np.asarray(ev["step"])) >= 0)
-    mu = np.asarray(scene.model["pairs"]["mu"])
-    for k, snap in enumerate(grouped["snapshots"]):
-        closed = np.asarray(snap["status"]) != 0
-        ln, lt = np.asarray(snap["lambda_n"]), np.asarray(snap["lambda_t"])
-        assert np.all(np.abs(np.asarray(snap["gap"])[closed]) < 1e-6 * h), k
-        assert np.all(ln[closed] >= -1e-9 * P_HALF), k
-        assert np.all(np.abs(lt) <= mu * ln * (1 + 1e-9) + 1e-9 * P_HALF), k
-    worst, k, f = worst_equilibrium(scene.model, grouped["snapshots"])
-    assert worst <= EQUILIBRIUM_TOL, (k, f, worst)
+    assert_contact_states(scene, grouped["snapshots"], h)
 
 
 @pytest.mark.parametrize("bad", ["-0.1", "1.0", "nan"])

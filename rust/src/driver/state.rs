@@ -76,6 +76,11 @@ impl State {
                 self.plastic_strain[e] += s * inc.dplastic[e].max(0.0);
             }
         }
+        self.advance_forces(inc, s);
+    }
+
+    /// λ, α and the obstacle shifts += s × increment.
+    pub fn advance_forces(&mut self, inc: &TrialIncrement, s: f64) {
         self.lambda_n.iter_mut().zip(&inc.dlambda_n).for_each(|(u, d)| *u += s * d);
         self.lambda_t.iter_mut().zip(&inc.dlambda_t).for_each(|(u, d)| *u += s * d);
         self.alpha.iter_mut().zip(&inc.dalpha).for_each(|(u, d)| *u += s * d);
