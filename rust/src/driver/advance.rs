@@ -36,13 +36,18 @@ impl Engine<'_> {
         !integrated.is_empty()
     }
 
-    /// λ_t = −d μ λ_n for slipping pairs (round-off removed).
-    pub(super) fn project_onto_cone(&self, state: &mut State) {
+    /// λ_t = −d μ λ_n for slipping pairs (round-off removed). Returns the largest change:
+    /// more than round-off where the last correction left a slipping pair off its cone.
+    pub(super) fn project_onto_cone(&self, state: &mut State) -> f64 {
+        let mut largest: f64 = 0.0;
         for (p, st) in state.status.iter().enumerate() {
             if let Status::Slip { .. } = st {
-                state.lambda_t[p] = self.pairs[p].slip_ratio(*st) * state.lambda_n[p];
+                let on_cone = self.pairs[p].slip_ratio(*st) * state.lambda_n[p];
+                largest = largest.max((on_cone - state.lambda_t[p]).abs());
+                state.lambda_t[p] = on_cone;
             }
         }
+        largest
     }
 
     /// Apply one event's status change and the forces it sets. Returns the change of λ_t it
