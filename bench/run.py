@@ -745,7 +745,7 @@ def event_cost_note() -> list[str]:
             "each is estimated as its timer / factorizations (the first assembly also holds the "
             "set-up, so the cost is slightly overstated). Events count every yield and unload, "
             "inside grouped increments too. incr.: full-space increments, + the contact sub-steps "
-            "(friction events inside a grouped increment, solved in the contact space alone).", ""]
+            "(contact events inside a grouped increment, solved in the contact space alone).", ""]
 
 
 def hertz_sections(runs: list[dict], gf: list[dict]) -> list[str]:

@@ -4,9 +4,9 @@ With delta > 0 (0.01 by default) an increment of a plastic run goes on past the 
 predicts by delta of the load fraction reached; every element that yields inside it gets the
 exact split of its strain increment (elastic part, then Prandtl-Reuss flow integrated with
 error control), and the increment is re-integrated from its start until it is balanced.
-Closures always end an increment. Friction events and separations inside it are taken as
-contact sub-steps (the engine's `substeps`: the small system with K held, no full-space solve)
-when snapshots are requested at given times; with a snapshot at every event each ends an
+Contact events inside it are taken as contact sub-steps (the engine's `substeps`: the small
+system with K held, no full-space solve) when snapshots are requested at given times, but for
+closures next to plastic elements, which end it; with a snapshot at every event each ends an
 increment. delta = 0 is the paper, event by event.
 What must hold, whatever delta:
 * the first yield load moves by less than the window;

@@ -81,8 +81,8 @@ pub struct Options {
     /// Grouped plastic increments, the speed–accuracy knob δ (0 = the paper's procedure, event
     /// by event): an increment of a plastic run (with drift control) runs on past the first
     /// yield or unload it predicts by δ of the load fraction reached; the elements that yield
-    /// inside it get the exact split of their strain increment (`driver`). Closures end an
-    /// increment; friction events and separations inside it are contact sub-steps.
+    /// inside it get the exact split of their strain increment (`driver`). Contact events
+    /// inside it are contact sub-steps, but for closures next to plastic elements.
     pub group_tol: f64,
     /// Upper bound on the number of increments (0 = automatic: 50 per pair and element + 1000).
     pub max_steps: usize,

@@ -55,6 +55,8 @@ pub(super) struct Engine<'m> {
     /// sub-steps, the one they scale (`substeps`).
     pub trial_base: Option<TrialBase>,
     pub substep: Option<TrialBase>,
+    /// The elements around each node (whether a closure's neighbourhood is elastic, `substeps`).
+    pub node_elements: Vec<Vec<usize>>,
     /// The work of a factorization and of a solve pair (from the factor's structure).
     pub cost: Cost,
     /// The pairs over the DOFs the loop carries (`space`).
@@ -122,6 +124,7 @@ impl<'m> Engine<'m> {
         } else {
             (Space::Full(Full::default()), pairs, contact_slot, full_modes)
         };
+        let elements_of_mesh: Vec<[usize; 3]> = elements.iter().map(|el| el.nodes).collect();
         let mut eng = Engine {
             model,
             elements,
@@ -136,6 +139,7 @@ impl<'m> Engine<'m> {
             increment_start: None,
             trial_base: None,
             substep: None,
+            node_elements: node_elements(&elements_of_mesh, mesh.n_nodes()),
             cost: Cost::default(),
             pairs,
             modes,
@@ -254,4 +258,13 @@ fn first_elements(model: &Model, body_of_node: &[usize], n_bodies: usize) -> Vec
 /// Seconds since `t`.
 pub(super) fn since(t: Instant) -> f64 {
     t.elapsed().as_secs_f64()
+}
+
+/// The elements around each node.
+fn node_elements(triangles: &[[usize; 3]], n_nodes: usize) -> Vec<Vec<usize>> {
+    let mut around = vec![vec![]; n_nodes];
+    for (e, tri) in triangles.iter().enumerate() {
+        tri.iter().for_each(|&n| around[n].push(e));
+    }
+    around
 }

@@ -37,9 +37,9 @@
 //! cost a refactorization. Grouped increments (δ = `group_tol`, 0.01 by default; 0 = the paper,
 //! event by event) run past the first predicted yield by δ of the load: every element that
 //! yields inside gets the exact split of its strain increment, and the increment is
-//! re-integrated from its start until it is balanced to 1e-4 of the load. Closures end an
-//! increment; friction events and separations inside it are contact sub-steps ([`substeps`]:
-//! the small system with K held, no full-space solve), unless every event is a snapshot.
+//! re-integrated from its start until it is balanced to 1e-4 of the load. Contact events inside
+//! it are contact sub-steps ([`substeps`]: the small system with K held, no full-space solve),
+//! but for closures next to plastic elements, which end it, and unless every event is a snapshot.
 
 mod advance;
 mod anticycling;
@@ -120,7 +120,7 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         let sel = eng.select(state, &trial, cycles, cut); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
         rec.snapshots_inside(eng, state, &trial, &sel)?;
         let (phi0, first_event, first_step) = (state.load_fraction, rec.events.len(), rec.steps.len());
-        let (trial, sel, sub_jump) = match eng.takes_substeps(&sel, rec.every_event()) {
+        let (trial, sel, sub_jump) = match eng.takes_substeps(&sel, rec.every_event(), state) {
             true => eng.contact_substeps(state, trial, sel, cycles, rec)?, // contact events in the contact space
             false => (trial, sel, 0.0),
         };
