@@ -78,7 +78,7 @@ impl Engine<'_> {
         let whole = self.whole_increment(&start, state, &base);
         self.check_contact_path(&start, state, &whole)?;
         let (phi, bound_phi) = (state.load_fraction, sel.bound_phi);
-        let scale = if start.load_fraction < 1.0 { (phi - start.load_fraction) / (1.0 - start.load_fraction) } else { 0.0 };
+        let scale = scale_between(&start, state);
         let (status, rtd_stick) = (std::mem::take(&mut state.status), std::mem::take(&mut state.rtd_stick));
         *state = State { status, rtd_stick, ..start };
         let rebalance = jump > self.noise.force;
@@ -120,7 +120,7 @@ impl Engine<'_> {
     /// linear problem, solved once in full) to `PATH_CHECK` of the increment's largest
     /// displacement; anything larger is an error in this module, not round-off.
     fn check_contact_path(&self, start: &State, end: &State, whole: &TrialIncrement) -> Result<()> {
-        let scale = if start.load_fraction < 1.0 { (end.load_fraction - start.load_fraction) / (1.0 - start.load_fraction) } else { 0.0 };
+        let scale = scale_between(start, end);
         let mut worst = 0.0f64;
         for (d, _) in self.contact_slot.iter().enumerate().filter(|(_, &slot)| slot != usize::MAX) {
             worst = worst.max((scale * whole.du[d] - (end.u[d] - start.u[d])).abs());
@@ -148,8 +148,7 @@ impl Engine<'_> {
     /// increment for the remaining load of `start` (so that its scale takes `start` to `end`):
     /// Δu = K⁻¹(f r + W Δλ) + N Δα with f = 1 − c_end / c, then the stresses with K's tangents.
     fn whole_increment(&mut self, start: &State, end: &State, base: &TrialBase) -> TrialIncrement {
-        let (c0, c1) = (1.0 - start.load_fraction, 1.0 - end.load_fraction);
-        let scale = if c0 > 0.0 { (c0 - c1) / c0 } else { 0.0 };
+        let scale = scale_between(start, end);
         let per = |v: f64| if scale > 0.0 { v / scale } else { 0.0 };
         let dlambda_n: Vec<f64> = end.lambda_n.iter().zip(&start.lambda_n).map(|(a, b)| a - b).collect();
         let dlambda_t: Vec<f64> = end.lambda_t.iter().zip(&start.lambda_t).map(|(a, b)| a - b).collect();
@@ -181,4 +180,10 @@ impl Engine<'_> {
             dshift: end.shift.iter().zip(&start.shift).map(|(a, b)| [per(a[0] - b[0]), per(a[1] - b[1])]).collect(),
         }
     }
+}
+
+/// The scale of `start`'s trial for the remaining load that takes it to `end` (0 at a stage's end).
+fn scale_between(start: &State, end: &State) -> f64 {
+    let c = 1.0 - start.load_fraction;
+    if c > 0.0 { (end.load_fraction - start.load_fraction) / c } else { 0.0 }
 }

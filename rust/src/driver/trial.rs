@@ -96,7 +96,7 @@ impl Engine<'_> {
     /// force P_σ of the state's stresses if the caller has it.
     pub fn trial(&mut self, state: &State, target: f64, internal: Option<Vec<f64>>) -> Result<TrialIncrement> {
         let oob = self.out_of_balance(state, target, internal);
-        if target == 1.0 && self.substep.is_none() && !self.is_reduced() {
+        if target == 1.0 && self.substep.is_none() && self.plastic_events_inside() {
             self.trial_base = Some(TrialBase::of(&oob, 1.0 - state.load_fraction));
         }
         let sys = self.contact_system(state, &oob.dshift);
