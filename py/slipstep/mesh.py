@@ -107,29 +107,31 @@ def orient_edges(triangles: np.ndarray, edges: dict[str, np.ndarray], where: str
     Raises MeshError if a tagged segment is not a boundary side of exactly one triangle.
     """
     prefix = f"{where}: " if where else ""
-    t = triangles
+    t = np.asarray(triangles, dtype=np.int64)
     directed = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
-    key = np.sort(directed, axis=1)
+    n = int(directed.max()) + 1 if len(directed) else 1
+
+    def side_key(pairs: np.ndarray) -> np.ndarray:  # one integer per undirected side
+        return pairs.min(axis=1) * n + pairs.max(axis=1)
+
     # count sides: a boundary side belongs to one triangle only
-    uniq, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    inverse = inverse.reshape(-1)
-    lookup = {tuple(k): i for i, k in enumerate(uniq)}
-    first = np.full(len(uniq), -1, dtype=np.int64)
-    first[inverse[::-1]] = np.arange(len(directed))[::-1]
+    keys = side_key(directed)
+    uniq, first, counts = np.unique(keys, return_index=True, return_counts=True)
     out = {}
     for tag, segs in edges.items():
         segs = np.asarray(segs, dtype=np.int64).reshape(-1, 2)
-        oriented = np.empty_like(segs)
-        for i, (p, q) in enumerate(segs):
-            k = lookup.get((min(p, q), max(p, q)))
-            if k is None:
+        inside = (segs >= 0).all(axis=1) & (segs < n).all(axis=1)
+        k = np.searchsorted(uniq, np.where(inside, side_key(np.clip(segs, 0, n - 1)), -1))
+        k = np.minimum(k, len(uniq) - 1)
+        found = inside & (uniq[k] == side_key(np.clip(segs, 0, n - 1)))
+        for i in np.nonzero(~found | (counts[k] != 1))[0][:1]:
+            p, q = segs[i]
+            if not found[i]:
                 raise MeshError(f"{prefix}edge '{tag}' segment {int(p)}-{int(q)} is not a side of "
                                 f"any triangle")
-            if counts[k] != 1:
-                raise MeshError(f"{prefix}edge '{tag}' segment {int(p)}-{int(q)} is inside the "
-                                f"mesh (shared by {counts[k]} triangles): tag boundary sides only")
-            oriented[i] = directed[first[k]]
-        out[tag] = oriented
+            raise MeshError(f"{prefix}edge '{tag}' segment {int(p)}-{int(q)} is inside the "
+                            f"mesh (shared by {counts[k[i]]} triangles): tag boundary sides only")
+        out[tag] = directed[first[k]]
     return out
 
 

@@ -101,6 +101,23 @@ impl Material {
         Tangent { d4: d4 - da * da.transpose() / denom, flow: Some(Flow { da, denom }) }
     }
 
+    /// D_ep Δε (eq. 11) at a stress on the yield surface and the plastic multiplier
+    /// Δεp = (D a)ᵀ Δε / (H' + aᵀ D a), unclamped (negative: unloading), given D Δε. In plane
+    /// strain and axisymmetry Δε is the whole strain, and von Mises gives the closed forms
+    /// D a = (3G/σe) (sx, sy, sz, τxy) and aᵀ D a = 3G (s the deviator), so no tangent is built;
+    /// plane stress goes through the condensed tangent.
+    pub fn plastic_increment(&self, plane: Plane, stress: &Vector4<f64>, e: &Vector4<f64>, d_elastic: &Vector4<f64>) -> (Vector4<f64>, f64) {
+        if plane == Plane::Stress {
+            let t = self.tangent(stress, true);
+            return (t.stress_increment(plane, e), t.plastic_multiplier(plane, e));
+        }
+        let g = self.young / (2.0 * (1.0 + self.poisson));
+        let p = (stress[0] + stress[1] + stress[2]) / 3.0;
+        let da = Vector4::new(stress[0] - p, stress[1] - p, stress[2] - p, stress[3]) * (3.0 * g / von_mises(stress));
+        let multiplier = da.dot(e) / (self.hardening + 3.0 * g);
+        (d_elastic - da * multiplier, multiplier)
+    }
+
     /// Elastic D over (x, y, z, xy) as the element pairs it with its strain operator: the
     /// plane strain or plane stress 3×3 matrix embedded with a zero z row and column, the
     /// whole D in axisymmetry. (The planar forms are the classical closed forms; `element_matrix`
@@ -360,6 +377,26 @@ mod tests {
         let t = m.tangent(&s, true);
         let a = flow_vector(&s);
         assert!((a.transpose() * t.d4).norm() < 1e-9 * t.d4.norm());
+    }
+
+    /// The closed-form plastic step of plane strain and axisymmetry is the inverse of the
+    /// paper's compliance (A.2) applied to the strain, and its multiplier is Prandtl–Reuss's
+    /// dεp = a·Δσ / H' (eqs. 7–9) of that stress increment.
+    #[test]
+    fn closed_form_plastic_step_inverts_the_compliance_a2() {
+        let mut m = Material::elastic(70_000.0, 0.3);
+        m.yield_stress = 200.0;
+        m.hardening = 700.0;
+        let s = Vector4::new(-150.0, -320.0, -141.0, 60.0);
+        let e = Vector4::new(-2e-4, 3e-4, 0.5e-4, 1e-4);
+        for plane in [Plane::Strain, Plane::Axisymmetric] {
+            let d_elastic = m.elastic_d4() * e;
+            let (ds, multiplier) = m.plastic_increment(plane, &s, &e, &d_elastic);
+            let expected = compliance_a2(&m, &s).try_inverse().unwrap() * e;
+            assert!((ds - expected).norm() < 1e-9 * expected.norm(), "{plane:?}: {ds} vs {expected}");
+            let a = flow_vector(&s);
+            assert!((multiplier - a.dot(&ds) / m.hardening).abs() < 1e-9 * multiplier.abs());
+        }
     }
 
     #[test]

@@ -112,12 +112,12 @@ fn reentry(stress: &Vector4<f64>, d_elastic: &Vector4<f64>, sy: f64) -> Option<f
 /// Euler sub-steps with error control. Returns the stress, εp and the number of sub-steps.
 fn flow(m: &Material, plane: Plane, mut stress: Vector4<f64>, mut plastic_strain: f64, e: &Vector4<f64>) -> (Vector4<f64>, f64, usize) {
     let (mut done, mut step, mut retried, mut substeps) = (0.0, 1.0, false, 0);
+    let d_elastic = m.tangent(&stress, false).stress_increment(plane, e); // D Δε, linear in the step
     while done < 1.0 {
-        let es = e * step;
-        let first = m.tangent(&stress, true);
-        let (ds1, dk1) = (first.stress_increment(plane, &es), first.plastic_multiplier(plane, &es).max(0.0));
-        let second = m.tangent(&(stress + ds1), true);
-        let (ds2, dk2) = (second.stress_increment(plane, &es), second.plastic_multiplier(plane, &es).max(0.0));
+        let (es, des) = (e * step, d_elastic * step);
+        let (ds1, dk1) = m.plastic_increment(plane, &stress, &es, &des);
+        let (ds2, dk2) = m.plastic_increment(plane, &(stress + ds1), &es, &des);
+        let (dk1, dk2) = (dk1.max(0.0), dk2.max(0.0));
         let next = stress + (ds1 + ds2) * 0.5;
         let error = tensor_norm(&(ds2 - ds1)) / (2.0 * tensor_norm(&next).max(f64::MIN_POSITIVE));
         substeps += 1;
