@@ -69,13 +69,15 @@ def first_yield_fraction(result):
     return min(f for f, k in zip(ev["load_fraction"], ev["kind"]) if k == "yield")
 
 
-def test_grouping_moves_the_first_yield_load_by_less_than_the_window(plastic):
-    # The first yield is the first event of its group, taken where the grouped path puts it;
-    # that path differs from the exact one only by the closures and slips taken early before
-    # it, each at most a factor (1 + delta) early: the first yield moves by less than delta
-    # (measured -0.6 % for delta = 1e-2).
+def test_grouping_keeps_the_exact_first_yield_load(plastic):
+    # Up to the first yield the path is elastic and the contact events are the exact run's (a
+    # snapshot at every event: no contact sub-steps), so the trial's predicted first yield is
+    # the exact run's onset and the grouped run records it there, to round-off (1e-9: the
+    # solves' relative round-off is ~1e-13 over ~100 increments), not where the straight
+    # strain path of its plastically flowing window puts it (as it was recorded before: the
+    # thick cylinder's first yield 0.7 % early at delta = 0.01, 2.1 % at 0.03).
     f0, f1 = first_yield_fraction(plastic[0.0][1]), first_yield_fraction(plastic[1e-2][1])
-    assert abs(f1 / f0 - 1) < 1e-2
+    assert abs(f1 / f0 - 1) < 1e-9
 
 
 def test_grouping_takes_fewer_increments_in_equilibrium(plastic):

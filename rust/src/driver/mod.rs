@@ -128,7 +128,7 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         let jump = switch_statuses(eng, state, &sel, cycles, rec).max(sub_jump); // step 6
         let residual = settle(eng, state, &sel, cycles, rec, &mut correction, integrated, jump)?;
         let inside = eng.inside_events(state, &sel);
-        rec.events_inside(&inside, (phi0, sel.phi), first_event, first_step);
+        rec.events_inside(&inside, (phi0, sel.phi), sel.first_yield, first_event, first_step);
         rec.step(eng, state, sel.scale, residual)?;
         eng.timings.events += since(t_events);
         if sel.last {

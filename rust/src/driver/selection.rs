@@ -37,6 +37,11 @@ pub(super) struct Selection {
     /// The load fraction the increment may not pass whatever the contact events: the plastic
     /// window's end, the drift bound, a requested snapshot or the stage's end.
     pub bound_phi: f64,
+    /// Grouped increments: the first yield the trial predicts, (element, load fraction): the
+    /// exact onset on the increment's linear path, as event by event, so no element yields
+    /// before it (`Recorder::events_inside`); None after contact sub-steps that switched
+    /// before it (the path changed).
+    pub first_yield: Option<(usize, f64)>,
 }
 
 impl Selection {
@@ -77,8 +82,11 @@ impl Engine<'_> {
     pub fn select(&self, state: &State, trial: &TrialIncrement, cycles: &AntiCycling, cut: f64) -> Selection {
         let (mut cands, drift_scale) = self.candidates(state, trial, cycles);
         let plastic_inside = self.plastic_events_inside();
-        let window = if plastic_inside { plastic_window(&mut cands, state.load_fraction, 1.0 - state.load_fraction, self.model.options.group_tol) } else { f64::INFINITY };
-        self.choose(state, cands, drift_scale.min(window).min(cut), plastic_inside)
+        let (window, first_yield) = match plastic_inside {
+            true => plastic_window(&mut cands, state.load_fraction, 1.0 - state.load_fraction, self.model.options.group_tol),
+            false => (f64::INFINITY, None),
+        };
+        Selection { first_yield, ..self.choose(state, cands, drift_scale.min(window).min(cut), plastic_inside) }
     }
 
     /// A contact sub-step (`substeps`): the next contact events of a contact-space trial, up to
@@ -112,7 +120,7 @@ impl Engine<'_> {
         }
         let phi = if last { 1.0 } else { phi0 + scale * remaining };
         let bound_phi = if bound >= 1.0 { 1.0 } else { phi0 + bound * remaining };
-        Selection { scale, last, phi, group, predicted_closures, plastic_inside, bound_phi }
+        Selection { scale, last, phi, group, predicted_closures, plastic_inside, bound_phi, first_yield: None }
     }
 
     /// Grouped increments (δ > 0) with integrated stresses: an element yields inside the
@@ -129,14 +137,13 @@ impl Engine<'_> {
 const WINDOW_FLOOR: f64 = 0.05;
 
 /// Take the yields out of the candidates; the scale at which the grouped increment ends for
-/// them: the first one's load fraction φ_p, then δ max(φ_p, floor) more. (Unloads stay events:
-/// they come at zero scale, and K must hold the elastic tangent of an element that unloads.)
-fn plastic_window(cands: &mut Vec<Candidate>, phi0: f64, remaining: f64, delta: f64) -> f64 {
-    let first = cands.iter().filter(|c| c.kind == EventKind::Yield).map(|c| c.scale).fold(f64::INFINITY, f64::min);
+/// them: the first one's load fraction φ_p, then δ max(φ_p, floor) more; and that first yield
+/// (element, φ_p). (Unloads stay events: they come at zero scale, and K must hold the elastic
+/// tangent of an element that unloads.)
+fn plastic_window(cands: &mut Vec<Candidate>, phi0: f64, remaining: f64, delta: f64) -> (f64, Option<(usize, f64)>) {
+    let first = cands.iter().filter(|c| c.kind == EventKind::Yield && c.scale.is_finite()).min_by(|a, b| a.scale.total_cmp(&b.scale)).map(|c| (c.entity, c.scale));
     cands.retain(|c| c.kind != EventKind::Yield);
-    if !first.is_finite() || remaining <= 0.0 {
-        return f64::INFINITY;
-    }
-    let phi = phi0 + first * remaining;
-    (phi + delta * phi.max(WINDOW_FLOOR) - phi0) / remaining
+    let Some((element, scale)) = first.filter(|_| remaining > 0.0) else { return (f64::INFINITY, None) };
+    let phi = phi0 + scale * remaining;
+    ((phi + delta * phi.max(WINDOW_FLOOR) - phi0) / remaining, Some((element, phi)))
 }

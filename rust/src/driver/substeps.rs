@@ -69,6 +69,9 @@ impl Engine<'_> {
     /// (scaled to the remaining load) and its selection, for `advance`, and the largest force
     /// jump of a switch (a jump ends the sub-steps: the correction must rebalance it).
     pub fn contact_substeps(&mut self, state: &mut State, sub: TrialIncrement, sel: Selection, cycles: &mut AntiCycling, rec: &mut Recorder) -> Result<(TrialIncrement, Selection, f64)> {
+        // The trial's first yield is the exact onset only if no contact event switches before
+        // it (else the yields keep where the integration puts them).
+        let first_yield = sel.first_yield.filter(|&(_, phi)| phi <= sel.phi);
         let start = state.clone();
         let base = self.trial_base.take().expect("takes_substeps checked the trial");
         self.substep = Some(base.clone());
@@ -85,7 +88,7 @@ impl Engine<'_> {
         let last = sel.last && !rebalance;
         let ending = if rebalance || sel.group.iter().all(|c| self.inside_substeps(c, state)) { vec![] } else { sel.group };
         let predicted_closures = if last { sel.predicted_closures } else { vec![] };
-        Ok((whole, Selection { scale, last, phi, group: ending, predicted_closures, plastic_inside: true, bound_phi }, jump))
+        Ok((whole, Selection { scale, last, phi, group: ending, predicted_closures, plastic_inside: true, bound_phi, first_yield }, jump))
     }
 
     /// The sub-steps themselves: the contact state advanced to each selection, its events
