@@ -161,7 +161,7 @@ fn timed_trial(eng: &mut Engine, state: &State, internal: Option<Vec<f64>>) -> R
 fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCycling, rec: &mut Recorder, correction: &mut Correction, integrated: bool, jump: f64) -> Result<f64> {
     let corrected = match eng.restore_equilibrium(state, sel, integrated)? {
         Some(c) => Some(c),
-        None if jump > eng.noise.force => Some(eng.correct_at_fixed_load(state, sel.phi)?),
+        None if jump > eng.noise.force => Some(eng.correct_at_fixed_load(state, sel.phi, None)?),
         None => None,
     };
     if let Some(c) = corrected {

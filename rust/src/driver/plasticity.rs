@@ -144,16 +144,17 @@ impl Engine<'_> {
     /// element they leave beyond its surface has yielded.
     /// Event by event, the one correction.
     fn converge_increment(&mut self, state: &mut State, phi: f64, regrouped: bool) -> Result<Corrected> {
-        let mut corrected = self.correct_at_fixed_load(state, phi)?;
+        let mut corrected = self.correct_at_fixed_load(state, phi, None)?;
         let Some(mut start) = self.increment_start.take() else { return Ok(corrected) };
         for _ in 0..if regrouped { MAX_REINTEGRATIONS } else { 0 } {
             let linear = (state.stress.clone(), state.plastic_strain.clone(), state.plastic.clone());
             self.reintegrate(state, &mut start);
-            if self.full_residual(state).0 <= REINTEGRATION_TOL {
+            let (residual, internal) = self.full_residual(state);
+            if residual <= REINTEGRATION_TOL {
                 (state.stress, state.plastic_strain, state.plastic) = linear;
                 break;
             }
-            corrected.absorb(self.correct_at_fixed_load(state, phi)?);
+            corrected.absorb(self.correct_at_fixed_load(state, phi, Some(internal))?);
         }
         self.flag_beyond_surfaces(state, &mut start);
         self.increment_start = Some(start);
@@ -221,7 +222,7 @@ impl Engine<'_> {
             let renewed = self.update_tangents(state);
             self.renew_all_tangents = false;
             renewed?;
-            corrected.absorb(self.correct_at_fixed_load(state, phi)?);
+            corrected.absorb(self.correct_at_fixed_load(state, phi, None)?);
             if !stage_end || self.drift(state) <= SETTLED_DRIFT {
                 break;
             }
@@ -234,10 +235,11 @@ impl Engine<'_> {
     /// that would make the state inadmissible (a gap closing, a pair separating, a stuck pair
     /// reaching its cone: eqs. 48–53), switch that, and solve the rest again, so that the
     /// corrected state is admissible. Returns the correction's size and its events, in order.
-    pub fn correct_at_fixed_load(&mut self, state: &mut State, phi: f64) -> Result<Corrected> {
+    /// `internal`: the internal force of the state's stresses if the caller has it.
+    pub fn correct_at_fixed_load(&mut self, state: &mut State, phi: f64, mut internal: Option<Vec<f64>>) -> Result<Corrected> {
         let mut corrected = Corrected::default();
         for step in 0..MAX_CORRECTION_EVENTS {
-            let c = self.trial(state, phi, None)?;
+            let c = self.trial(state, phi, internal.take())?;
             let frozen = vec![false; self.pairs.len()];
             let pairs = PairState { pairs: &self.pairs, status: &state.status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, shift: &state.shift, frozen: &frozen };
             let mut cands = events::candidates(&pairs, &Trial { du: &c.du, dlambda_n: &c.dlambda_n, dlambda_t: &c.dlambda_t, dshift: &c.dshift }, self.noise);
