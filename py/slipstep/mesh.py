@@ -121,10 +121,12 @@ def orient_edges(triangles: np.ndarray, edges: dict[str, np.ndarray], where: str
     for tag, segs in edges.items():
         segs = np.asarray(segs, dtype=np.int64).reshape(-1, 2)
         inside = (segs >= 0).all(axis=1) & (segs < n).all(axis=1)
-        k = np.searchsorted(uniq, np.where(inside, side_key(np.clip(segs, 0, n - 1)), -1))
-        k = np.minimum(k, len(uniq) - 1)
-        found = inside & (uniq[k] == side_key(np.clip(segs, 0, n - 1)))
-        for i in np.nonzero(~found | (counts[k] != 1))[0][:1]:
+        wanted = np.where(inside, side_key(np.clip(segs, 0, n - 1)), -1)  # -1: no side's key
+        k = np.minimum(np.searchsorted(uniq, wanted), len(uniq) - 1)
+        found = uniq[k] == wanted
+        bad = np.nonzero(~found | (counts[k] != 1))[0]
+        if len(bad):
+            i = bad[0]
             p, q = segs[i]
             if not found[i]:
                 raise MeshError(f"{prefix}edge '{tag}' segment {int(p)}-{int(q)} is not a side of "

@@ -332,6 +332,11 @@ mod tests {
         assert!((s[2] - d[(2, 2)] * 1e-3).abs() < 1e-12 && s[0] == s[1]);
     }
 
+    /// Al with linear hardening (E = 70 GPa, ν = 0.3, Sy = 200 MPa, H' = 700 MPa).
+    fn hardening_aluminium() -> Material {
+        Material { yield_stress: 200.0, hardening: 700.0, ..Material::elastic(70_000.0, 0.3) }
+    }
+
     /// The paper's compliance form (A.2): C_ep = C + a aᵀ / H' (a = ∂σe/∂σ).
     fn compliance_a2(m: &Material, s: &Vector4<f64>) -> Matrix4<f64> {
         let a = flow_vector(s);
@@ -340,9 +345,7 @@ mod tests {
 
     #[test]
     fn stiffness_form_agrees_with_compliance_form_a2_a3_a6() {
-        let mut m = Material::elastic(70_000.0, 0.3);
-        m.yield_stress = 200.0;
-        m.hardening = 700.0;
+        let m = hardening_aluminium();
         // Plane strain (A.6): the 4×4 forms are inverse to each other, hence also their
         // εz = 0 restrictions (A.5–A.6 condense the compliance, we restrict the stiffness).
         let s = Vector4::new(-150.0, -320.0, -141.0, 60.0);
@@ -384,9 +387,7 @@ mod tests {
     /// dεp = a·Δσ / H' (eqs. 7–9) of that stress increment.
     #[test]
     fn closed_form_plastic_step_inverts_the_compliance_a2() {
-        let mut m = Material::elastic(70_000.0, 0.3);
-        m.yield_stress = 200.0;
-        m.hardening = 700.0;
+        let m = hardening_aluminium();
         let s = Vector4::new(-150.0, -320.0, -141.0, 60.0);
         let e = Vector4::new(-2e-4, 3e-4, 0.5e-4, 1e-4);
         for plane in [Plane::Strain, Plane::Axisymmetric] {
