@@ -43,7 +43,9 @@ def test_thick_sphere_on_the_quick_mesh(page):
     """h = 0.5 mm at the bore: the first yielding element's centroid samples Lame's 1/rho^3
     von Mises stress up to h/2 inside the wall, so first yield comes late by up to
     (1 + h/(2a))^3 - 1 = 7.6 %; c within a quarter of the local element size (~0.9 mm) of
-    Hill's; the limit-load stop within 2 % of 2Y ln(b/a) (tests/test_thick_sphere.py)."""
+    Hill's; the limit-load stop within 2 % of 2Y ln(b/a) (tests/test_thick_sphere.py: the page
+    runs the limit on the case's mesh, since the quick mesh's CST overshoot is 2.1 % even event
+    by event)."""
     t = page[1]["thick"]
     assert 0 <= t["p_first_yield_err"] <= (1 + 0.5 / 20) ** 3 - 1
     assert t["only_yield_events"] and t["c_max_err"] <= 0.9 / 4

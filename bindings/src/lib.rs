@@ -297,6 +297,7 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     out.set_item("n_solves", r.n_solves)?;
     out.set_item("n_low_rank_updates", r.n_low_rank_updates)?;
     out.set_item("n_contact_substeps", r.n_contact_substeps)?;
+    out.set_item("n_retaken_windows", r.n_retaken_windows)?;
     let stop = PyDict::new(py);
     stop.set_item("kind", r.stop.name())?;
     stop.set_item("message", r.stop.message())?;

@@ -104,9 +104,10 @@ def tasks(m: Meshes) -> list[dict]:
     out = [_task(f"axi_sphere_flat_{i}", SPHERE_FLAT, _flat_mesh(scale), fields=True)
            for i, (_, scale) in reversed(list(enumerate(m.sphere_flat)))]
     limit = LIMIT_FACTOR * thick_sphere().p_limit
+    # The limit on the case's mesh, quick or not: the CST's overshoot of the limit pressure in
+    # isochoric flow is 0.19 % there and 2.1 % at twice its h (event by event, measured).
     out += [_task("axi_thick_plastic", THICK, m.thick, fields=True),
-            _task("axi_thick_limit", THICK, [*m.thick, "output.snapshots=[1.0]",
-                                             f"bc.bore.pressure={limit!r}"]),
+            _task("axi_thick_limit", THICK, ["output.snapshots=[1.0]", f"bc.bore.pressure={limit!r}"]),
             _task("axi_thick_elastic", THICK, [*m.thick, "material.Sy=1e9",
                                                f"bc.bore.pressure={P_LAME:g}",
                                                "output.snapshots=[1.0]"], fields=True),
@@ -438,7 +439,7 @@ def _thick_lines(t: dict) -> list[str]:
         f"Hill | largest difference {t['c_max_err']:.3f} mm | |",
         f"| c at the case's pressure (mm) | {t['c_hill_final']:.3f} | {t['c_final']:.3f} | "
         f"{_pc(t['c_final'] / t['c_hill_final'] - 1)} |",
-        f"| limit pressure (MPa), asked for {LIMIT_FACTOR:g}× | 2Y ln(b/a) = {t['p_limit']:.2f} | "
+        f"| limit pressure (MPa), asked for {LIMIT_FACTOR:g}× (the case's mesh) | 2Y ln(b/a) = {t['p_limit']:.2f} | "
         f"{t['p_stop']:.2f} (stop: {t['limit_stop']}) | {_pc(t['limit_err'])} |",
         "",
         f"The case's {t['n_events']} events are all yield events "

@@ -218,6 +218,7 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         "n_factorizations": int(result.get("n_factorizations", 0)),
         "n_solves": int(result.get("n_solves", 0)),
         "n_contact_substeps": int(result.get("n_contact_substeps", 0)),
+        "n_retaken_windows": int(result.get("n_retaken_windows", 0)),
         "max_equilibrium_residual": float(result.get("max_equilibrium_residual", float("nan"))),
         "max_drift": float(result.get("max_drift", 0.0)),
         "wall_time_s": float(wall_time_s),

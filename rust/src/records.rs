@@ -163,6 +163,8 @@ pub struct RunResult {
     pub n_solves: usize,
     /// Steps taken as contact sub-steps of a grouped plastic increment (no full-space solve).
     pub n_contact_substeps: usize,
+    /// Grouped plastic increments that could not be balanced, retaken event by event.
+    pub n_retaken_windows: usize,
     /// How many zero-length runs the rate problem (Lemke) resolved.
     pub n_rate_problems: usize,
     pub stop: StopReason,

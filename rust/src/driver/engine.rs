@@ -51,6 +51,10 @@ pub(super) struct Engine<'m> {
     pub renew_all_tangents: bool,
     /// A grouped increment's start, for its re-integration (`plasticity`).
     pub increment_start: Option<IncrementStart>,
+    /// Set when a window's re-integration could not balance it (`retake`); until this path
+    /// time the increments are not grouped.
+    pub unbalanced_window: bool,
+    pub retake_until: Option<f64>,
     /// The last full-space trial for the remaining load, and, during an increment's contact
     /// sub-steps, the one they scale (`substeps`).
     pub trial_base: Option<TrialBase>,
@@ -137,6 +141,8 @@ impl<'m> Engine<'m> {
             n_low_rank_updates: 0,
             renew_all_tangents: false,
             increment_start: None,
+            unbalanced_window: false,
+            retake_until: None,
             trial_base: None,
             substep: None,
             node_elements: node_elements(&elements_of_mesh, mesh.n_nodes()),

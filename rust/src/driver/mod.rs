@@ -19,6 +19,7 @@
 //! | contact events inside a grouped plastic increment, in the contact space | [`substeps`] | eqs. 43–44 |
 //! | which tangent each element gives K; refactorization or low-rank terms | [`tangents`] | eq. 11 |
 //! | integrated stresses, equilibrium correction (event by event), re-integration | [`plasticity`] | eqs. 5–11, 59 |
+//! | a window the re-integration cannot balance, taken back and retaken event by event | [`retake`] | §4 |
 //! | equilibrium, contact conditions, limit load | [`checks`] | eqs. 22–24, 1–2 |
 //! | termination of zero-length runs | [`anticycling`], [`rate_problem`] | |
 //! | event history, increments, snapshots | [`recording`] | |
@@ -37,7 +38,8 @@
 //! cost a refactorization. Grouped increments (δ = `group_tol`, 0.01 by default; 0 = the paper,
 //! event by event) run past the first predicted yield by δ of the load: every element that
 //! yields inside gets the exact split of its strain increment, and the increment is
-//! re-integrated from its start until it is balanced to 1e-4 of the load. Contact events inside
+//! re-integrated from its start until it is balanced to 1e-4 of the load (one that stays out of
+//! balance by more than 1e-3, as near a limit load, is retaken event by event). Contact events inside
 //! it are contact sub-steps ([`substeps`]: the small system with K held, no full-space solve),
 //! but for closures next to plastic elements, which end it, and unless every event is a snapshot.
 
@@ -51,6 +53,7 @@ mod plasticity;
 mod rate_problem;
 mod recording;
 mod restraint;
+mod retake;
 mod selection;
 mod space;
 mod state;
@@ -66,6 +69,7 @@ use checks::LimitLoad;
 use engine::{since, Engine};
 use plasticity::Correction;
 use recording::Recorder;
+use retake::WindowStart;
 use selection::Selection;
 use state::State;
 use std::time::Instant;
@@ -110,6 +114,9 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         if let Some(stop) = rec.event_bound(eng, state, cycles) {
             return Ok(stop);
         }
+        if eng.retake_until.is_some_and(|t| state.time() >= t) {
+            eng.retake_until = None; // the retaken window is behind: grouped again
+        }
         eng.update_tangents(state)?; // D or D_ep at the increment's start (eq. 11)
         let trial = timed_trial(eng, state, rec.internal.take())?; // the remaining load (eq. 44)
         if let Some(stop) = limit.check(eng, state, &trial) {
@@ -120,13 +127,18 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         let sel = eng.select(state, &trial, cycles, cut); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
         rec.snapshots_inside(eng, state, &trial, &sel)?;
         let (phi0, first_event, first_step) = (state.load_fraction, rec.events.len(), rec.steps.len());
+        let window = sel.plastic_inside.then(|| WindowStart::new(state, rec, correction));
         let (trial, sel, sub_jump) = match eng.takes_substeps(&sel, rec.every_event(), state) {
             true => eng.contact_substeps(state, trial, sel, cycles, rec)?, // contact events in the contact space
             false => (trial, sel, 0.0),
         };
         let integrated = eng.advance(state, &trial, &sel); // eqs. 58–62
         let jump = switch_statuses(eng, state, &sel, cycles, rec).max(sub_jump); // step 6
-        let residual = settle(eng, state, &sel, cycles, rec, &mut correction, integrated, jump)?;
+        let Some(residual) = settle(eng, state, &sel, cycles, rec, &mut correction, integrated, jump)? else {
+            window.expect("only a grouped window is unbalanced").retake(eng, state, rec, &mut correction);
+            eng.timings.events += since(t_events);
+            continue;
+        };
         let inside = eng.inside_events(state, &sel);
         rec.events_inside(&inside, (phi0, sel.phi), sel.first_yield, first_event, first_step);
         rec.step(eng, state, sel.scale, residual)?;
@@ -156,10 +168,12 @@ fn timed_trial(eng: &mut Engine, state: &State, internal: Option<Vec<f64>>) -> R
 /// integrated stresses, with the tangents brought up to date and the new statuses, or of a
 /// switch's force jump alone (a pair the last correction had moved off the Coulomb cone that
 /// now slips is put back on it), taken event by event (`correct_at_fixed_load`); then the
-/// checks at the event (equilibrium, contact conditions). Returns the residual.
+/// checks at the event (equilibrium, contact conditions). Returns the residual, or None for a
+/// grouped window its re-integration could not balance (the caller retakes it: `retake`).
 #[allow(clippy::too_many_arguments)]
-fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCycling, rec: &mut Recorder, correction: &mut Correction, integrated: bool, jump: f64) -> Result<f64> {
+fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCycling, rec: &mut Recorder, correction: &mut Correction, integrated: bool, jump: f64) -> Result<Option<f64>> {
     let corrected = match eng.restore_equilibrium(state, sel, integrated)? {
+        _ if std::mem::take(&mut eng.unbalanced_window) => return Ok(None),
         Some(c) => Some(c),
         None if jump > eng.noise.force => Some(eng.correct_at_fixed_load(state, sel.phi, None)?),
         None => None,
@@ -173,7 +187,7 @@ fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCyc
     rec.drift = drift;
     let residual = checked_equilibrium(eng, state, sel.phi, rec)?;
     eng.check_contact(state, cycles.frozen().0, *correction)?;
-    Ok(residual)
+    Ok(Some(residual))
 }
 
 /// The state's equilibrium residual, recorded (with the internal force the next trial reuses)

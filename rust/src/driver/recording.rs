@@ -40,6 +40,8 @@ pub(super) struct Recorder {
     pub max_steps: usize,
     /// Steps that were contact sub-steps (`substeps`).
     pub n_substeps: usize,
+    /// Windows taken back and retaken event by event (`retake`).
+    pub n_retaken: usize,
 }
 
 impl Recorder {
@@ -61,6 +63,7 @@ impl Recorder {
             drift: 0.0,
             internal: None,
             n_substeps: 0,
+            n_retaken: 0,
             max_steps: if opts.max_steps > 0 { opts.max_steps } else { 50 * (n_pairs + plastic_capable + 1) + 1000 },
         };
         match &opts.snapshots {
@@ -231,6 +234,7 @@ impl Recorder {
             n_factorizations: eng.solver.n_factorizations,
             n_low_rank_updates: eng.n_low_rank_updates,
             n_contact_substeps: self.n_substeps,
+            n_retaken_windows: self.n_retaken,
             n_solves: eng.solver.n_solves,
             n_rate_problems: rate_problems,
             stop,

@@ -125,10 +125,11 @@ impl Engine<'_> {
 
     /// Grouped increments (δ > 0) with integrated stresses: an element yields inside the
     /// increment, with its exact elastic–plastic split, instead of ending it. Not when the
-    /// run stops at the first yield (that needs the yield's exact load).
+    /// run stops at the first yield (that needs the yield's exact load), nor while a window
+    /// is retaken (`retake`).
     pub(super) fn plastic_events_inside(&self) -> bool {
         let opts = &self.model.options;
-        opts.group_tol > 0.0 && opts.drift_control && !opts.stop_at_first_yield && !self.is_reduced()
+        opts.group_tol > 0.0 && opts.drift_control && !opts.stop_at_first_yield && !self.is_reduced() && self.retake_until.is_none()
     }
 }
 

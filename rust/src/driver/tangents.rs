@@ -70,7 +70,7 @@ impl Engine<'_> {
     /// not there.)
     fn yields_can_wait(&self, state: &State) -> bool {
         let opts = &self.model.options;
-        if !(opts.drift_control && opts.group_tol > 0.0) || opts.tangent_turn == 0.0 || self.renew_all_tangents || self.tangents_changed {
+        if !self.plastic_events_inside() || opts.tangent_turn == 0.0 || self.renew_all_tangents || self.tangents_changed {
             return false;
         }
         let (mut plastic, mut waiting) = (0usize, 0usize);
