@@ -277,8 +277,8 @@ impl Engine<'_> {
 /// cylinder (H' = 0, δ = 0.01, 2.7k and 4.9k DOFs), the largest difference of plastic strain
 /// to the event-by-event run: 1.75 % with one linear correction, 1.45 % (tol 1e-3), 0.47 %
 /// (1e-4), 0.33 % (1e-5); on the elastoplastic Hertz (24.5k DOFs) 1e-4 moves p0 by 0.003 %.
-pub(super) const REINTEGRATION_TOL: f64 = 1e-4;
-pub(super) const MAX_REINTEGRATIONS: usize = 4;
+const REINTEGRATION_TOL: f64 = 1e-4;
+const MAX_REINTEGRATIONS: usize = 4;
 
 /// A stage ends with its plastic elements this close to their yield surfaces (relative; a
 /// reload of an elastic release then meets them at the stage's end: `selection::STAGE_END`),
