@@ -38,8 +38,8 @@
 //! cost a refactorization. Grouped increments (δ = `group_tol`, 0.01 by default; 0 = the paper,
 //! event by event) run past the first predicted yield by δ of the load: every element that
 //! yields inside gets the exact split of its strain increment, and the increment is
-//! re-integrated from its start until it is balanced to 1e-4 of the load (one that stays out of
-//! balance by more than 1e-3, as near a limit load, is retaken event by event). Contact events inside
+//! re-integrated from its start until it is balanced to 1e-4 of the load (one whose rounds stall
+//! beyond 1e-3, as past a limit load, is retaken event by event). Contact events inside
 //! it are contact sub-steps ([`substeps`]: the small system with K held, no full-space solve),
 //! but for closures next to plastic elements, which end it, and unless every event is a snapshot.
 
