@@ -145,7 +145,7 @@ OUTPUT_KEYS = {
 SOLVER_KEYS = {
     "tie_tol": Key("float", 1e-9, doc="relative tie tolerance: events with S <= S_min(1+tie_tol) "
                                       "are applied together", check=_non_negative("tie_tol")),
-    "group_tol": Key("float", 0.01, doc="grouped plastic increments, the speed-accuracy knob "
+    "group_tol": Key("float", 0.03, doc="grouped plastic increments, the speed-accuracy knob "
                                         "(0 = exact, event by event): an increment runs on past "
                                         "the first yield by group_tol of the load; elements "
                                         "yielding inside get the exact elastic-plastic split; < 1",
