@@ -6,7 +6,7 @@ through the XDMF exchange of slipstep.fenicsx, checked node for node here):
 
 - slipstep: the event procedure in its exact mode (solver.group_tol = 0: one increment from
   one yield event to the next), the reference of the path; and grouped (δ = group_tol in
-  GROUPING, the default 0.01 among them), compared with it;
+  GROUPING, the default 0.03 among them), compared with it;
 - dolfinx 0.5: slipstep.fenicsx.bulk (Newton, consistent tangent, radial return) with the load
   in N equal steps, N in STEPS.
 

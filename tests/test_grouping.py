@@ -1,6 +1,6 @@
 """Grouped plastic increments, the speed-accuracy knob delta = solver.group_tol (issues 6, 16).
 
-With delta > 0 (0.01 by default) an increment of a plastic run goes on past the first yield it
+With delta > 0 (0.03 by default) an increment of a plastic run goes on past the first yield it
 predicts by delta of the load fraction reached; every element that yields inside it gets the
 exact split of its strain increment (elastic part, then Prandtl-Reuss flow integrated with
 error control), and the increment is re-integrated from its start until it is balanced.

@@ -35,7 +35,7 @@
 //! event by event so that the corrected state is admissible. K holds, per element, D or a D_ep
 //! renewed when the element yields, unloads, or its flow direction turned by more than
 //! `tangent_turn`; those changes are low-rank terms on the last factor (`low_rank`) until they
-//! cost a refactorization. Grouped increments (δ = `group_tol`, 0.01 by default; 0 = the paper,
+//! cost a refactorization. Grouped increments (δ = `group_tol`, 0.03 by default; 0 = the paper,
 //! event by event) run past the first predicted yield by δ of the load: every element that
 //! yields inside gets the exact split of its strain increment, and the increment is
 //! re-integrated from its start until it is balanced to 1e-4 of the load (one whose rounds stall
