@@ -51,9 +51,8 @@ pub(super) struct Engine<'m> {
     pub renew_all_tangents: bool,
     /// A grouped increment's start, for its re-integration (`plasticity`).
     pub increment_start: Option<IncrementStart>,
-    /// Set when a window's re-integration could not balance it (`retake`); until this path
-    /// time the increments are not grouped.
-    pub unbalanced_window: bool,
+    /// While a window is retaken (`retake`): the path time where it ended; until then the
+    /// increments are not grouped.
     pub retake_until: Option<f64>,
     /// The last full-space trial for the remaining load, and, during an increment's contact
     /// sub-steps, the one they scale (`substeps`).
@@ -141,7 +140,6 @@ impl<'m> Engine<'m> {
             n_low_rank_updates: 0,
             renew_all_tangents: false,
             increment_start: None,
-            unbalanced_window: false,
             retake_until: None,
             trial_base: None,
             substep: None,

@@ -67,7 +67,7 @@ use crate::model::{EventKind, Model, Progress, RunResult, StopReason};
 use anticycling::{Admission, AntiCycling};
 use checks::LimitLoad;
 use engine::{since, Engine};
-use plasticity::Correction;
+use plasticity::{Correction, Restored};
 use recording::Recorder;
 use retake::WindowStart;
 use selection::Selection;
@@ -173,10 +173,10 @@ fn timed_trial(eng: &mut Engine, state: &State, internal: Option<Vec<f64>>) -> R
 #[allow(clippy::too_many_arguments)]
 fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCycling, rec: &mut Recorder, correction: &mut Correction, integrated: bool, jump: f64) -> Result<Option<f64>> {
     let corrected = match eng.restore_equilibrium(state, sel, integrated)? {
-        _ if std::mem::take(&mut eng.unbalanced_window) => return Ok(None),
-        Some(c) => Some(c),
-        None if jump > eng.noise.force => Some(eng.correct_at_fixed_load(state, sel.phi, None)?),
-        None => None,
+        Restored::Unbalanced => return Ok(None),
+        Restored::Corrected(c) => Some(c),
+        Restored::Linear if jump > eng.noise.force => Some(eng.correct_at_fixed_load(state, sel.phi, None)?),
+        Restored::Linear => None,
     };
     if let Some(c) = corrected {
         *correction = c.size;

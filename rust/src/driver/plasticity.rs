@@ -35,6 +35,16 @@ pub(super) struct Correction {
     pub force: f64,
 }
 
+/// What restoring equilibrium after an increment did.
+pub(super) enum Restored {
+    /// The increment kept the tangent's linear stresses: in equilibrium already, and the last
+    /// correction's allowance for the contact checks still holds.
+    Linear,
+    Corrected(Corrected),
+    /// A grouped window its re-integration could not balance: the caller retakes it (`retake`).
+    Unbalanced,
+}
+
 /// A yield or unload inside an increment: the element and the fraction of the increment.
 pub(super) struct InsideEvent {
     pub element: usize,
@@ -120,21 +130,25 @@ impl Engine<'_> {
     /// A correction that leaves plastic elements more than max_stress_step² off their yield
     /// surfaces (the second-order drift of a fresh tangent over a bounded stress step: only
     /// waiting yields, `tangents`, do that), and every stage's end, then settle on the surfaces
-    /// (`settle_on_surfaces`). None when the increment kept the tangent's linear stresses (in
-    /// equilibrium already; the last correction's allowance for the contact checks still holds).
-    pub fn restore_equilibrium(&mut self, state: &mut State, sel: &Selection, integrated: bool) -> Result<Option<Corrected>> {
+    /// (`settle_on_surfaces`).
+    pub fn restore_equilibrium(&mut self, state: &mut State, sel: &Selection, integrated: bool) -> Result<Restored> {
         if !integrated {
-            return Ok(None);
+            return Ok(Restored::Linear);
         }
         let t0 = Instant::now();
         self.update_tangents(state)?;
-        let mut corrected = self.converge_increment(state, sel.phi, sel.plastic_inside)?;
-        let bound = self.model.options.max_stress_step.powi(2);
-        if !self.unbalanced_window && (sel.last || self.drift(state) > bound) {
-            corrected.absorb(self.settle_on_surfaces(state, sel.phi, sel.last)?);
-        }
+        let restored = match self.converge_increment(state, sel.phi, sel.plastic_inside)? {
+            Some(mut corrected) => {
+                let bound = self.model.options.max_stress_step.powi(2);
+                if sel.last || self.drift(state) > bound {
+                    corrected.absorb(self.settle_on_surfaces(state, sel.phi, sel.last)?);
+                }
+                Restored::Corrected(corrected)
+            }
+            None => Restored::Unbalanced,
+        };
         self.timings.corrections += since(t0);
-        Ok(Some(corrected))
+        Ok(restored)
     }
 
     /// A grouped increment's plastic path: the correction, then every element that was or
@@ -143,10 +157,10 @@ impl Engine<'_> {
     /// by more than `REINTEGRATION_TOL` of the load, correct it again. The last linear stresses
     /// are kept (in equilibrium to round-off), with their plastic strains and flags; an elastic
     /// element they leave beyond its surface has yielded.
-    /// Event by event, the one correction.
-    fn converge_increment(&mut self, state: &mut State, phi: f64, regrouped: bool) -> Result<Corrected> {
+    /// Event by event, the one correction. None for a window whose rounds stall (`retake`).
+    fn converge_increment(&mut self, state: &mut State, phi: f64, regrouped: bool) -> Result<Option<Corrected>> {
         let mut corrected = self.correct_at_fixed_load(state, phi, None)?;
-        let Some(mut start) = self.increment_start.take() else { return Ok(corrected) };
+        let Some(mut start) = self.increment_start.take() else { return Ok(Some(corrected)) };
         let mut previous = None;
         for round in 1..=if regrouped { MAX_ROUNDS } else { 0 } {
             let linear = (state.stress.clone(), state.plastic_strain.clone(), state.plastic.clone());
@@ -157,9 +171,8 @@ impl Engine<'_> {
                 break;
             }
             if residual > RETAKE_TOL && stalls(residual, previous, MAX_ROUNDS - round) {
-                self.unbalanced_window = true; // taken back by the caller (`retake`)
-                self.increment_start = Some(start);
-                return Ok(corrected);
+                self.increment_start = Some(start); // the caller takes the window back from it
+                return Ok(None);
             }
             corrected.absorb(self.correct_at_fixed_load(state, phi, Some(internal))?);
             if round >= MAX_REINTEGRATIONS && residual <= RETAKE_TOL {
@@ -169,7 +182,7 @@ impl Engine<'_> {
         }
         self.flag_beyond_surfaces(state, &mut start);
         self.increment_start = Some(start);
-        Ok(corrected)
+        Ok(Some(corrected))
     }
 
     /// An elastic element the last correction left beyond its yield surface yielded in this
