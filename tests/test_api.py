@@ -13,11 +13,9 @@ from __future__ import annotations
 import csv
 import json
 import os
-import signal
 import subprocess
 import sys
 import textwrap
-import time
 import tomllib
 
 import numpy as np
@@ -231,10 +229,16 @@ def test_a_shipped_case_by_name():
 
 
 # --------------------------------------------------------------------------- progress, interrupt
-# ~1 s of yield events event by event (group_tol = 0: the default groups them into a run too
-# short to report), so the engine reports (every 0.1 s) several times
+# The elastoplastic Hertz cylinder event by event (group_tol = 0): 100+ increments to report on.
+# The tests ask for a report after every increment (REPORT_INTERVAL_S = 0), so which increment a
+# report or an interrupt lands on does not depend on the machine's speed.
 ELASTOPLASTIC = ["mesh.h_contact=0.1", "output.snapshots=events", "material.Sy=200",
                  "material.H=700", "solver.group_tol=0"]
+
+
+@pytest.fixture
+def every_increment(monkeypatch):
+    monkeypatch.setattr(slipstep.progress, "REPORT_INTERVAL_S", 0.0)
 
 
 def _interrupted_is_consistent(r: Result) -> None:
@@ -248,29 +252,30 @@ def _interrupted_is_consistent(r: Result) -> None:
     assert last["lambda_n"].sum() == pytest.approx(last["t"] * HALF_P, abs=EQUILIBRIUM_TOL * HALF_P)
 
 
-def test_a_progress_callable_sees_the_run_and_can_stop_it():
+def test_a_progress_callable_sees_the_run_and_can_stop_it(every_increment):
     seen = []
 
     def progress(p: slipstep.Progress):
         seen.append(p)
-        return len(seen) < 2  # stop at the second report
+        return len(seen) < 5  # stop at the fifth report
 
     r = slipstep.run(None, overrides=ELASTOPLASTIC, progress=progress)
     _interrupted_is_consistent(r)
-    # two reports while running: the second stopped the run where it was
-    assert len(seen) == 2 and seen[-1].t == pytest.approx(r.stop["t"], rel=1e-12)
-    assert seen[0].t <= seen[1].t and seen[0].events <= seen[1].events
+    # one report per increment: the fifth stopped the run where it was, after five increments
+    assert len(seen) == 5 and seen[-1].t == pytest.approx(r.stop["t"], rel=1e-12)
+    assert [p.steps for p in seen] == [1, 2, 3, 4, 5] and len(r.raw["steps"]["load_fraction"]) == 5
+    assert all(a.t <= b.t and a.events <= b.events for a, b in zip(seen, seen[1:]))
     assert seen[-1].events == len(r.events) and seen[-1].n_stages == 1
 
 
-def test_a_keyboard_interrupt_from_the_callback_keeps_the_partial_result():
+def test_a_keyboard_interrupt_from_the_callback_keeps_the_partial_result(every_increment):
     def progress(p):
         raise KeyboardInterrupt
 
     _interrupted_is_consistent(slipstep.run(None, progress=progress, overrides=ELASTOPLASTIC))
 
 
-def test_another_exception_from_the_callback_propagates():
+def test_another_exception_from_the_callback_propagates(every_increment):
     def progress(p):
         raise ZeroDivisionError("a bug in my callback")
 
@@ -278,29 +283,41 @@ def test_another_exception_from_the_callback_propagates():
         slipstep.run(None, progress=progress, overrides=ELASTOPLASTIC)
 
 
-def test_a_sigint_stops_the_engine_like_a_notebook_interrupt(tmp_path):
-    """SIGINT (what Jupyter's interrupt sends) while the engine runs: run() returns the
-    partial result instead of raising.  A fresh interpreter with the bar on; the signal is
-    sent once the bar shows events (the event loop is running: exact elastoplastic Hertz at
-    8.6k DOFs, some 20 s of yield events, so it is still running then)."""
+def _run_in_a_fresh_interpreter(tmp_path, trigger: str) -> dict:
+    """slipstep.run with the bar on in a fresh interpreter, whose engine raises a real SIGINT
+    (what Jupyter's interrupt sends) at a known point of the run: SLIPSTEP_TEST_INTERRUPT."""
     code = textwrap.dedent("""
         import json, slipstep
         r = slipstep.run(None, overrides=["mesh.h_contact=0.05", "material.Sy=200",
                                           "material.H=700", "output.snapshots=[1.0]"])
-        print(json.dumps({"kind": r.stop["kind"], "t": r.stop["t"]}))
+        steps = r.events["step"]
+        print(json.dumps({"stop": r.stop, "events": len(r.events), "t": r.fields()["t"],
+                          "events_before_last_increment": int((steps < steps.max()).sum())}))
     """)
-    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT / "py"))
-    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, cwd=tmp_path, env=env)
-    seen, deadline = b"", time.time() + 120
-    while b"events" not in seen and time.time() < deadline:
-        seen += os.read(proc.stderr.fileno(), 256)
-    proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=120)
-    assert proc.returncode == 0, (seen + err)[-2000:]
-    got = json.loads(out.decode().strip().splitlines()[-1])
-    assert got["kind"] == "interrupted" and 0 < got["t"] < 1, got
-    assert b"interrupted" in seen + err  # the bar says how it ended
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT / "py"),
+               SLIPSTEP_TEST_INTERRUPT=trigger)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          cwd=tmp_path, env=env, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def test_a_sigint_stops_the_engine_like_a_notebook_interrupt(tmp_path):
+    """SIGINT while the engine runs (raised by the engine at its 30th event): run() returns the
+    partial result instead of raising, stopped right after the increment that recorded that
+    event (a grouped increment records several)."""
+    got = _run_in_a_fresh_interpreter(tmp_path, "event=30")
+    assert got["stop"]["kind"] == "interrupted" and 0 < got["stop"]["t"] < 1, got
+    assert got["events_before_last_increment"] < 30 <= got["events"], got
+    assert got["t"] == pytest.approx(got["stop"]["t"], rel=1e-12)  # the last snapshot is there
+
+
+def test_a_sigint_as_the_engine_completes_returns_the_complete_result(tmp_path):
+    """SIGINT after the engine's last increment (nothing left to stop): run() returns the
+    complete result and says the interrupt came late, and no KeyboardInterrupt follows."""
+    got = _run_in_a_fresh_interpreter(tmp_path, "end")
+    assert got["stop"]["kind"] == "completed" and got["stop"]["late_interrupt"] is True, got
+    assert got["t"] == 1.0
 
 
 def test_progress_rejects_what_it_cannot_call():

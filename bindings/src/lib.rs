@@ -1,7 +1,7 @@
 //! Python bindings: `slipstep._engine.solve(model: dict, progress=None) -> dict`.
 //! Only translation between numpy/dict and the engine's records lives here; the event loop
-//! runs in Rust with the GIL released (it re-attaches every REPORT_INTERVAL_S to call the
-//! progress callback and to honour Ctrl-C).
+//! runs in Rust with the GIL released (it re-attaches every `report_interval` seconds to call
+//! the progress callback, and at the next increment after a Ctrl-C).
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
@@ -13,6 +13,8 @@ use slipstep_core::mesh::Mesh;
 use slipstep_core::error::ErrorKind;
 use slipstep_core::model::*;
 use std::time::Instant;
+
+mod interrupt;
 
 fn get<'py>(d: &Bound<'py, PyDict>, key: &str) -> PyResult<Bound<'py, PyAny>> {
     d.get_item(key)?.ok_or_else(|| input_error(format!("engine model: missing key '{key}'")))
@@ -327,27 +329,29 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     Ok(out)
 }
 
-/// How often (seconds) the event loop, which runs with the GIL released, re-attaches to the
-/// interpreter: to call the progress callback and to let Python see Ctrl-C.
-const REPORT_INTERVAL_S: f64 = 0.1;
-
 /// Run the adaptive incremental procedure on `model` (see docs/engine_api.md).
 ///
 /// `progress`: None or False (no reports), or a callable `progress(events, steps, t)`, called
-/// at most every REPORT_INTERVAL_S between increments with the GIL held; returning False stops
+/// between increments at most every `report_interval` seconds (0: after every increment but
+/// the last), with the GIL held; the event loop runs with it released. Returning False stops
 /// the run like Ctrl-C does (`stop.kind == "interrupted"`, the partial result is returned).
-/// Ctrl-C (a pending KeyboardInterrupt, also one the callback raises) stops the run the same
-/// way; any other exception the callback raises stops the run and is re-raised.
+/// Ctrl-C (SIGINT, also a KeyboardInterrupt the callback raises) stops the run the same way at
+/// the next increment; one that arrives during the last increment, when nothing is left to
+/// stop, is reported as `stop.late_interrupt` with the complete result. Any other exception the
+/// callback raises stops the run and is re-raised.
 #[pyfunction]
-#[pyo3(signature = (model, progress = None))]
-fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: Option<Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (model, progress = None, report_interval = 0.1))]
+fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: Option<Bound<'py, PyAny>>, report_interval: f64) -> PyResult<Bound<'py, PyDict>> {
     let callback = progress_callback(progress)?;
     let model = read_model(model).map_err(|e| malformed(py, e))?;
     let mut failure: Option<PyErr> = None;
+    let watch = interrupt::Watch::start(py);
+    let mut trigger = interrupt::TestTrigger::from_env();
     let result = py.detach(|| {
         let mut last_report = Instant::now();
         slipstep_core::run(&model, |p: Progress| {
-            if last_report.elapsed().as_secs_f64() < REPORT_INTERVAL_S {
+            trigger.after_increment(p.events);
+            if !watch.take() && last_report.elapsed().as_secs_f64() < report_interval {
                 return true;
             }
             last_report = Instant::now();
@@ -357,14 +361,32 @@ fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: Option<Boun
             })
         })
     });
+    trigger.at_end();
+    drop(watch);
     if let Some(e) = failure {
         if !e.is_instance_of::<PyKeyboardInterrupt>(py) {
             return Err(e);
         }
     }
-    match result {
-        Ok(r) => result_to_dict(py, r),
-        Err(e) => Err(python_error(py, &e)),
+    let late = matches!(result, Ok(ref r) if r.stop == StopReason::Completed) && pending_interrupt(py)?;
+    let out = match result {
+        Ok(r) => result_to_dict(py, r)?,
+        Err(e) => return Err(python_error(py, &e)),
+    };
+    if late {
+        out.get_item("stop")?.expect("result_to_dict writes stop").set_item("late_interrupt", true)?;
+    }
+    Ok(out)
+}
+
+/// A Ctrl-C that arrived during the last increment, when nothing was left to stop: taken here
+/// (so Python does not raise it over the complete result) and reported as
+/// `stop.late_interrupt`. Another exception a signal handler raises is raised.
+fn pending_interrupt(py: Python<'_>) -> PyResult<bool> {
+    match py.check_signals() {
+        Ok(()) => Ok(false),
+        Err(e) if e.is_instance_of::<PyKeyboardInterrupt>(py) => Ok(true),
+        Err(e) => Err(e),
     }
 }
 

@@ -186,6 +186,10 @@ def _run(args) -> int:
                  f"load fraction {summary['final_load_fraction']:.4g}")
         print(f"slipstep: interrupted at {where}; partial results in {out}", file=sys.stderr)
         return EXIT_INTERRUPTED
+    if stop.get("late_interrupt"):
+        print(f"slipstep: interrupted as the run completed; complete results in {out}",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
     return 0
 
 

@@ -1,8 +1,8 @@
 """Progress of a run as the engine reports it, and the ways to show it.
 
-The event loop runs in Rust with the GIL released.  Every ``REPORT_INTERVAL_S`` (0.1 s, in
-bindings/src/lib.rs) between two increments it attaches to the interpreter, lets Python see
-Ctrl-C, and calls the progress callback with ``(events, steps, t)``.  :class:`Reporter`
+The event loop runs in Rust with the GIL released.  Every ``REPORT_INTERVAL_S`` (0.1 s)
+between two increments it attaches to the interpreter and calls the progress callback with
+``(events, steps, t)``; after a Ctrl-C it attaches at the next increment and stops.  :class:`Reporter`
 turns what :func:`slipstep.run` is given as ``progress`` into that callback:
 
 - ``False`` / ``None``: no reports (Ctrl-C still stops the run);
@@ -18,6 +18,9 @@ import time
 from dataclasses import dataclass
 
 from .derived import final_time
+
+# Seconds between two reports of a running engine (0: after every increment).
+REPORT_INTERVAL_S = 0.1
 
 
 @dataclass(frozen=True)

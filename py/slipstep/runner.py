@@ -14,6 +14,7 @@ from . import shipped
 from .case import Case, load_case
 from .errors import EngineMissing, InputError
 from .model import Scene, build_scene
+from . import progress as reporting
 from .progress import Reporter
 from .result import Result
 from .results import write_results
@@ -70,7 +71,7 @@ def solve(scene: Scene, progress=False) -> dict:
     reporter = Reporter(progress, scene.case.name, scene.n_stages)
     result = None
     try:
-        result = engine().solve(scene.model, reporter.callback)
+        result = engine().solve(scene.model, reporter.callback, reporting.REPORT_INTERVAL_S)
     finally:
         reporter.finish(result)
     return result

@@ -382,6 +382,16 @@ def _ignore_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+def _test_interrupt(finished: int) -> None:
+    """``SLIPSTEP_TEST_INTERRUPT=case=N``: a real SIGINT in this process once N cases are
+    written, so that tests interrupt a sweep at a known case instead of racing a clock (the
+    engine reads ``event=N`` the same way)."""
+    if os.environ.get("SLIPSTEP_TEST_INTERRUPT", "").strip() == f"case={finished}":
+        import signal
+
+        signal.raise_signal(signal.SIGINT)
+
+
 def _stop(executor) -> None:
     """Cancel what has not started and end the local worker processes now."""
     procs = list((getattr(executor, "_processes", None) or {}).values())  # gone after shutdown
@@ -457,6 +467,7 @@ def run_tasks(tasks: list[dict], out: str | Path, workers: int | None = None, mp
                 report.done.append(task["case_id"])
                 if log:
                     log(f"[{n}/{len(tasks)}] {task['case_id']}: {_brief(payload['summary'])}")
+                _test_interrupt(len(report.done))
         except KeyboardInterrupt:
             report.interrupted = True
             _stop(executor)
