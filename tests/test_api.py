@@ -320,6 +320,24 @@ def test_a_sigint_as_the_engine_completes_returns_the_complete_result(tmp_path):
     assert got["t"] == 1.0
 
 
+def test_a_sigint_while_the_results_are_written_keeps_them(tmp_path, monkeypatch):
+    """A Ctrl-C once the engine has returned (raised here as the files start to be written)
+    waits for the files: they are complete, and the stop says the interrupt came late."""
+    import signal
+
+    write = slipstep.runner.write_results
+
+    def interrupted_write(*args, **kwargs):
+        signal.raise_signal(signal.SIGINT)
+        return write(*args, **kwargs)
+
+    monkeypatch.setattr(slipstep.runner, "write_results", interrupted_write)
+    r = slipstep.run(None, out=tmp_path / "o", progress=False, overrides=COARSE)
+    assert r.completed and r.stop["late_interrupt"] is True
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert summary["final_load_fraction"] == 1.0 and (tmp_path / "o" / "results.xdmf").exists()
+
+
 def test_progress_rejects_what_it_cannot_call():
     with pytest.raises(TypeError, match="progress = 3"):
         slipstep.run(None, overrides=COARSE, progress=3)

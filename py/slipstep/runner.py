@@ -6,6 +6,8 @@
 
 from __future__ import annotations
 
+import signal
+import sys
 import threading
 import time
 from pathlib import Path
@@ -101,16 +103,44 @@ def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | 
         scene = prepare(case, overrides, meshes)
     writers = _load_writers(scene, out, figures, xdmf)
     raw = solve(scene, progress)
-    result = Result(scene, raw, summarize(scene, raw, wall_time_s=time.perf_counter() - start))
-    if out is not None:
-        writers.join()
-        try:
-            write_results(out, scene, raw, result.summary, figures, xdmf)
-            result.out = Path(out)
-        except KeyboardInterrupt:
-            raise KeyboardInterrupt(f"interrupted while writing results; nothing was replaced "
-                                    f"in {out}") from None
+    with _WritingFirst() as ctrl_c:
+        result = Result(scene, raw, summarize(scene, raw, wall_time_s=time.perf_counter() - start))
+        if out is not None:
+            writers.join()
+            try:
+                write_results(out, scene, raw, result.summary, figures, xdmf)
+                result.out = Path(out)
+            except KeyboardInterrupt:
+                raise KeyboardInterrupt(f"interrupted while writing results; nothing was "
+                                        f"replaced in {out}") from None
+    if ctrl_c.received:
+        raw["stop"]["late_interrupt"] = True
     return result
+
+
+class _WritingFirst:
+    """Once the engine has returned, a first Ctrl-C is held until the summary and the files are
+    written (``received``; the run's stop then says ``late_interrupt``, as for a Ctrl-C during
+    the engine's last increment), so a finished computation is not lost to a keystroke; a
+    second Ctrl-C aborts. Only where Python's default handler is in place, on the main thread."""
+
+    def __enter__(self):
+        self.received, self.previous = False, None
+        if (threading.current_thread() is threading.main_thread()
+                and signal.getsignal(signal.SIGINT) is signal.default_int_handler):
+            self.previous = signal.signal(signal.SIGINT, self._hold)
+        return self
+
+    def _hold(self, signum, frame):
+        if self.received:
+            raise KeyboardInterrupt
+        self.received = True
+        print("slipstep: writing the results first (Ctrl-C again to abort)", file=sys.stderr)
+
+    def __exit__(self, *exc):
+        if self.previous is not None:
+            signal.signal(signal.SIGINT, self.previous)
+        return False
 
 
 def _load_writers(scene: Scene, out, figures: bool | None, xdmf: bool | None):
