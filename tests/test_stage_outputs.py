@@ -194,6 +194,21 @@ def test_xdmf_time_is_t_with_the_reactions(scene, tmp_path):
         assert np.array_equal(point_data["u"][:, :2], snap["u"])
 
 
+def test_xdmf_has_one_step_per_time_the_last_state_there(scene, tmp_path):
+    """A stage end with a zero-length switch after it holds two snapshots at t = 1 (the end of
+    stage 1, then the start of stage 2): the XDMF keeps one step there (ParaView reads a
+    repeated time as an empty frame), the later state; events.csv keeps both stages' rows."""
+    result = staged_result(scene)
+    after = copy.deepcopy(result["snapshots"][1])
+    after.update(stage=1, load_fraction=0.0, u=after["u"] + 1.0)
+    result["snapshots"].insert(2, after)
+    assert derived.distinct_time_snapshots(result) == [0, 2, 3, 4]
+    output.write_xdmf(tmp_path, scene, result)
+    steps = read_xdmf(tmp_path)
+    assert [t for t, _, _ in steps] == T
+    assert np.array_equal(steps[1][1]["u"][:, :2], after["u"])
+
+
 def test_xdmf_of_a_result_without_stages(bare, tmp_path):
     result = old_result(bare)
     output.write_xdmf(tmp_path, bare, result)

@@ -162,10 +162,33 @@ def final_load_fraction(result) -> float:
 
 
 # --------------------------------------------------------------------------- load path
-# Results without stages (engines before issue 13) have no ``t``/``stage``: one stage, t = f.
+#: Two snapshot times closer than this (relative to the path length, at least 1) are one time.
+TIME_TOL = 1e-9
+
+
+# Results without stages (older engines) have no ``t``/``stage``: one stage, t = f.
 def snapshot_time(snap: dict) -> float:
     """Path time t of a snapshot (its load fraction in a result without stages)."""
     return float(snap.get("t", snap["load_fraction"]))
+
+
+def same_time(times, t: float) -> np.ndarray:
+    """(n,) True where ``times`` equal ``t`` within :data:`TIME_TOL`."""
+    times = np.asarray(times, dtype=float)
+    return np.abs(times - float(t)) <= TIME_TOL * max(1.0, float(times.max(initial=0.0)))
+
+
+def distinct_time_snapshots(result) -> list[int]:
+    """The index of the last snapshot at each distinct path time, in order.  Several snapshots
+    share a t when events happen together (a stage end and the zero-length switches after it,
+    several events at one load): the last is the state after all of them.  A time series
+    keeps one state per time (ParaView shows a repeated time as an empty frame); events.csv
+    keeps every event."""
+    times = np.array([snapshot_time(s) for s in result.get("snapshots", [])])
+    if len(times) == 0:
+        return []
+    last = np.append(np.diff(times) > TIME_TOL * max(1.0, float(times.max())), True)
+    return np.flatnonzero(last).tolist()
 
 
 def event_times(result) -> tuple[np.ndarray, np.ndarray]:

@@ -21,9 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .derived import (ELEMENT_EVENTS, contact_profile, coordinate_names, event_positions,
-                      event_times, is_elastoplastic, snapshot_time, stress_names, von_mises,
-                      yield_drift)
+from .derived import (ELEMENT_EVENTS, contact_profile, coordinate_names,
+                      distinct_time_snapshots, event_positions, event_times, is_elastoplastic,
+                      snapshot_time, stress_names, von_mises, yield_drift)
 # Kept importable from here for existing callers; they live in derived and summary.
 from .derived import (contact_growth, contact_half_width, element_depth,  # noqa: F401
                       reached_last_candidate, stick_half_width)
@@ -87,7 +87,8 @@ def _working_directory(path: Path):
 
 def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     """``results.xdmf`` + ``results.h5``: a time series (time = path time t, the load fraction
-    of a run without stages) of point data ``u`` and, when the result has it, ``reaction``
+    of a run without stages; one grid per distinct t, the state after every event there:
+    :func:`slipstep.derived.distinct_time_snapshots`) of point data ``u`` and, when the result has it, ``reaction``
     (each padded to 3 components for ParaView) and cell data sigma_x, sigma_y, sigma_z, tau_xy
     (axisymmetric: sigma_r, sigma_z, sigma_theta, tau_rz), von_mises (plus plastic_strain, the equivalent plastic strain, and plastic, the 0/1 flag, in
     elastoplastic cases, with yield_drift = |sigma_e - sigma_y(eps_p)|/sigma_y per plastic
@@ -98,7 +99,8 @@ def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     with _working_directory(folder):
         with meshio.xdmf.TimeSeriesWriter(f"{name}.xdmf") as writer:
             writer.write_points_cells(scene.nodes, cells)
-            for snap in result["snapshots"]:
+            for k in distinct_time_snapshots(result):
+                snap = result["snapshots"][k]
                 point_data, cell_data = xdmf_step(scene, snap)
                 writer.write_data(snapshot_time(snap), point_data=point_data,
                                   cell_data=cell_data)

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from .derived import (ELEMENT_EVENTS, contact_profile, event_positions, event_times,
-                      is_elastoplastic, snapshot_time, von_mises, yield_drift)
+                      is_elastoplastic, same_time, snapshot_time, von_mises, yield_drift)
 from .errors import InputError
 from .summary import one_line
 
@@ -27,8 +27,6 @@ from .summary import one_line
 EVENT_DTYPE = [("step", "i8"), ("t", "f8"), ("stage", "i8"), ("load_fraction", "f8"),
                ("kind", "U14"), ("entity", "i8"), ("entity_kind", "U7"), ("x", "f8"),
                ("y", "f8")]
-#: Two snapshot times closer than this (relative to the path length) are the same time.
-TIME_TOL = 1e-9
 
 
 class Result:
@@ -101,7 +99,7 @@ class Result:
         if stage is not None:
             pick = np.array([int(s.get("stage", 0)) + 1 == stage for s in snaps])
         if t is not None:
-            pick &= np.abs(times - float(t)) <= TIME_TOL * max(1.0, times.max())
+            pick &= same_time(times, t)
         if not pick.any():
             where = f"t = {t:g}" if t is not None else "the end"
             where += f" in stage {stage}" if stage is not None else ""
