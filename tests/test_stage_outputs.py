@@ -271,7 +271,7 @@ def test_summary_of_a_result_without_stages(bare):
     assert only["total_normal_force"] == s["total_normal_force"] == pytest.approx(20.0)
     assert s["total_tangential_force"] == pytest.approx(2.0)
     assert s["snapshot_t"] == s["snapshot_load_fraction"] == 1.0
-    assert output.one_line(s).startswith("press_release: 1 events, f = 1, ")
+    assert output.one_line(s).startswith("press_release: 1 events, f = 1 load fraction, ")
 
 
 def test_an_unfinished_stage_has_no_record(bare):
@@ -299,7 +299,13 @@ def test_path_history(scene):
     assert np.allclose(h["total_normal_force"], PRESS, rtol=1e-14)
     assert np.allclose(h["total_tangential_force"], 0.1 * np.array(PRESS), rtol=1e-14)
     assert list(h["n_closed"][:, 0]) == [5, 5, 3, 0]
-    assert h["extent"][2, 0].tolist() == [1.0, 3.0] and np.isnan(h["extent"][3, 0]).all()
+    # t = 1.5: the pairs at x = 0 and 4 separated at t = 1.2, those at 1 and 3 separate at 2;
+    # each edge moves linearly between: 4 - (1.5 - 1.2)/(2 - 1.2) = 3.625, and 0.375
+    assert h["extent"][2, 0] == pytest.approx([0.375, 3.625], abs=1e-15)
+    assert np.isnan(h["extent"][3, 0]).all()
+    # as the summary's stage record at t = 1 computes it
+    s = summarize(scene, staged_result(scene), 0.0)
+    assert h["extent"][1, 0].tolist() == s["stages"][0]["contacts"]["flat"]["closed_extent"]
 
 
 def test_force_displacement_of_a_prescribed_displacement_and_a_motion(scene):
