@@ -73,6 +73,35 @@ def test_summary_of_the_synthetic_hertz_result(hertz):
     assert abs(s["hertz"]["a_rel_error"]) < 0.02
 
 
+def test_the_summary_line_names_and_units_its_quantities(hertz):
+    """The line the CLI prints names each number and gives it the case's unit ([case] units =
+    "mm, N, MPa" in the shipped Hertz case); a case without units prints none.  The numbers
+    are the summary's, formatted to four digits."""
+    scene, result = hertz
+    s = output.summarize(scene, result, wall_time_s=1.5)
+    assert s["units"] == {"length": "mm", "force": "N", "stress": "MPa"}
+    line = output.one_line(s)
+    a, c, p0 = s["contact_half_width"], s["stick_half_width"], s["peak_pressure"]
+    h = s["hertz"]
+    for part in ("f = 1 load fraction", f"a = {a:.4g} mm contact half-width",
+                 f"c = {c:.4g} mm stick half-width", f"p0 = {p0:.4g} MPa peak pressure",
+                 f"(Hertz a = {h['a_hertz_at_final']:.4g} mm, p0 = "
+                 f"{h['p0_hertz_at_final']:.4g} MPa)"):
+        assert part in line, (part, line)
+    bare = output.one_line(dict(s, units={}))
+    assert f"a = {a:.4g} contact half-width" in bare and "mm" not in bare and "MPa" not in bare
+
+
+def test_a_case_without_units_has_none_in_its_summary(hertz):
+    scene, result = hertz
+    for note, units in (("", {}), ("m, kN, kPa", {"length": "m", "force": "kN",
+                                                   "stress": "kPa"})):
+        case = load_case(None, [f'case.units="{note}"'])
+        s = output.summarize(dataclasses.replace(scene, case=case), result)
+        assert s["units"] == units
+        assert ("kPa peak pressure" in output.one_line(s)) == bool(units)
+
+
 def test_growth_curve_replays_the_events(hertz):
     scene, result = hertz
     f, a = output.contact_growth(scene, result)
