@@ -61,8 +61,8 @@ def test_the_shipped_cases_with_stages_are_found():
                                              "install python3-paraview)")
 @pytest.mark.parametrize("name", STAGED)
 def test_paraview_reads_every_time_step(name, tmp_path):
-    """One XDMF step per distinct t, none empty in ParaView, and ParaView's largest |u| and von
-    Mises stress at each equal the API's at that t (the state after the
+    """One XDMF step per distinct t, none empty in ParaView, and ParaView's largest |u|, von
+    Mises stress and contact pressure at each equal the API's at that t (the state after the
     last event there; the same float64 data through another reader: equal to round-off,
     1e-12)."""
     r = slipstep.run(name, out=tmp_path, overrides=coarse(name), progress=False)
@@ -75,6 +75,9 @@ def test_paraview_reads_every_time_step(name, tmp_path):
         f = r.fields(step["t"])
         assert step["max_u"] == pytest.approx(np.linalg.norm(f["u"], axis=1).max(), rel=1e-12)
         assert step["max_von_mises"] == pytest.approx(f["von_mises"].max(), rel=1e-12)
+        if len(f["pressure"]):  # the contact fields are point data of the time series
+            assert step["max_contact_pressure"] == pytest.approx(np.abs(f["pressure"]).max(),
+                                                                 rel=1e-12)
 
 
 def test_a_load_unload_has_several_events_at_one_time():

@@ -187,7 +187,7 @@ def test_xdmf_time_is_t_with_the_reactions(scene, tmp_path):
     steps = read_xdmf(tmp_path)
     assert [t for t, _, _ in steps] == T
     for (_, point_data, _), snap in zip(steps, result["snapshots"]):
-        assert set(point_data) == {"u", "reaction"}
+        assert {"u", "reaction", "contact_pressure", "nodal_stress"} <= set(point_data)
         r = point_data["reaction"]
         assert r.shape == (len(scene.nodes), 3) and np.all(r[:, 2] == 0.0)
         assert np.array_equal(r[:, :2], snap["reaction"])
@@ -209,12 +209,40 @@ def test_xdmf_has_one_step_per_time_the_last_state_there(scene, tmp_path):
     assert np.array_equal(steps[1][1]["u"][:, :2], after["u"])
 
 
+def test_contact_point_data_sits_on_the_contactor_nodes():
+    """Each pair's numbers on its node a, 0 on the other nodes; a node in two contacts (the
+    bottom edge against two flats) shows the pair with the larger pressure."""
+    scene = build_scene(parse_case(BLOCK + BLOCK[BLOCK.index("[[contact]]"):].replace(
+        '"flat"', '"far"').replace("mu = 0.5", "mu = 0.5\npoint = [0.0, -1.0]")))
+    bottom = np.unique(scene.global_edge("block", "bottom"))
+    p = len(scene.pair_xy)
+    assert p == 2 * len(bottom)  # every bottom node is node a of one pair per flat
+    near = scene.pair_contact == 0
+    lam = np.where(near, 1.0, 0.0) * (1.0 + np.arange(p))
+    snap = {"lambda_n": lam, "lambda_t": 0.1 * lam, "status": (lam > 0).astype(np.int8),
+            "gap": np.where(near, 0.0, 1.0), "rtd": np.zeros(p),
+            "u": np.zeros((len(scene.nodes), 2))}
+    fields = output.contact_point_data(scene, snap)
+    prof = derived.contact_profile(scene, snap)
+    mine = prof["contact"] == 0
+    for name, column in output.CONTACT_POINT_DATA.items():
+        values = fields[name]
+        assert np.array_equal(values[prof["node_a"][mine]], prof[column][mine]), name
+        assert not np.delete(values, bottom).any(), name
+    snap["lambda_n"] = lam[::-1].copy() * np.where(near, 0.0, 1.0)  # now the far flat presses
+    fields = output.contact_point_data(scene, snap)
+    far = prof["contact"] == 1
+    assert np.array_equal(fields["contact_pressure"][prof["node_a"][far]],
+                          derived.contact_profile(scene, snap)["pressure"][far])
+
+
 def test_xdmf_of_a_result_without_stages(bare, tmp_path):
     result = old_result(bare)
     output.write_xdmf(tmp_path, bare, result)
     steps = read_xdmf(tmp_path)
     assert [t for t, _, _ in steps] == [0.5, 1.0]
-    assert all(set(point_data) == {"u"} for _, point_data, _ in steps)
+    assert all("u" in point_data and "reaction" not in point_data
+               for _, point_data, _ in steps)
 
 
 # --------------------------------------------------------------------------- reactions

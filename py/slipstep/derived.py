@@ -57,6 +57,38 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
     return np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2) + 3.0 * txy ** 2)
 
 
+def stress_tensor(stress: np.ndarray) -> np.ndarray:
+    """(K, 9) the full symmetric stress tensor of (K, 4) rows sigma_x, sigma_y, sigma_z,
+    tau_xy, row by row (xx, xy, xz, yx, yy, yz, zx, zy, zz: ParaView's 9-component order; the
+    same read by columns).  z is the out-of-plane direction: zz is sigma_z of plane strain (0 in
+    plane stress), the hoop stress sigma_theta in axisymmetry (x = r, y = z); xz = yz = 0."""
+    sx, sy, sz, txy = np.asarray(stress, dtype=float).reshape(-1, 4).T
+    zero = np.zeros_like(sx)
+    return np.stack([sx, txy, zero, txy, sy, zero, zero, zero, sz], axis=1)
+
+
+def nodal_stress(scene, stress: np.ndarray) -> np.ndarray:
+    """(N, 4) stresses at the nodes (columns as ``stress``) recovered from the constant element
+    stresses by area-weighted averaging over the elements around each node: the lumped L2
+    projection of the piecewise-constant field onto continuous linear functions,
+    sum_e A_e sigma_e / sum_e A_e (in axisymmetry the section's areas).  Chosen over patch
+    recovery (SPR) because it is what codes that print nodal stresses do for linear triangles
+    (average the elements' values at the node), is exact for a uniform stress, and is defined
+    alike at boundary and corner nodes, where SPR patches degenerate; it is first order in h
+    (tests/test_nodal_stress.py).  Bodies share no nodes, so nothing is averaged across an
+    interface."""
+    stress = np.asarray(stress, dtype=float).reshape(-1, 4)
+    nodes, triangles = scene.nodes, scene.triangles
+    p = nodes[triangles]
+    area = 0.5 * np.abs(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]))
+    weight = np.zeros(len(nodes))
+    total = np.zeros((len(nodes), 4))
+    for corner in range(3):
+        np.add.at(weight, triangles[:, corner], area)
+        np.add.at(total, triangles[:, corner], area[:, None] * stress)
+    return total / np.where(weight > 0, weight, 1.0)[:, None]
+
+
 def centroids(nodes: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     """(M, 2) centroids of the triangles (rows of node ids into ``nodes``)."""
     return np.asarray(nodes)[np.asarray(triangles)].mean(axis=1)
