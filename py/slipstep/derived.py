@@ -78,14 +78,12 @@ def nodal_stress(scene, stress: np.ndarray) -> np.ndarray:
     (tests/test_nodal_stress.py).  Bodies share no nodes, so nothing is averaged across an
     interface."""
     stress = np.asarray(stress, dtype=float).reshape(-1, 4)
-    nodes, triangles = scene.nodes, scene.triangles
-    p = nodes[triangles]
-    area = 0.5 * np.abs(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]))
-    weight = np.zeros(len(nodes))
-    total = np.zeros((len(nodes), 4))
-    for corner in range(3):
-        np.add.at(weight, triangles[:, corner], area)
-        np.add.at(total, triangles[:, corner], area[:, None] * stress)
+    n, p = len(scene.nodes), scene.nodes[scene.triangles]
+    area = np.repeat(0.5 * np.abs(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])), 3)
+    corner = scene.triangles.ravel()  # element e's nodes at rows 3e, 3e + 1, 3e + 2
+    weight = np.bincount(corner, area, minlength=n)
+    total = np.stack([np.bincount(corner, area * np.repeat(column, 3), minlength=n)
+                      for column in stress.T], axis=1)
     return total / np.where(weight > 0, weight, 1.0)[:, None]
 
 
