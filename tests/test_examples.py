@@ -4,25 +4,19 @@ arrays read another way.  examples/hybrid_hertz.py has its own test (test_fenics
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import re
-import shutil
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
 from conftest import ROOT
 
-import slipstep
-
 EXAMPLES = ROOT / "examples"
 A_HERTZ = math.sqrt(4 * 1000.0 * 125.0 / (math.pi * 70000.0 / (1 - 0.3 ** 2)))
 P0_HERTZ = 2 * 1000.0 / (math.pi * A_HERTZ)
-PVPYTHON = shutil.which("pvpython")
 
 
 def run_example(name: str, cwd, *args, python=sys.executable) -> str:
@@ -41,7 +35,8 @@ def number(pattern: str, text: str) -> float:
 
 def test_every_example_is_percent_format_and_tested():
     """Each example opens as a notebook (jupytext's percent format: `# %%` cells) and has a
-    test here (hybrid_hertz.py: tests/test_fenicsx_hybrid.py)."""
+    test here (hybrid_hertz.py: tests/test_fenicsx_hybrid.py; paraview_time.py, which runs
+    under pvpython: tests/test_paraview_time.py)."""
     tested = {"hertz_in_ten_lines.py", "own_gmsh_mesh.py", "load_unload.py",
               "dolfinx_crosscheck.py", "paraview_time.py"}
     for path in EXAMPLES.glob("*.py"):
@@ -103,23 +98,3 @@ def test_dolfinx_crosscheck(tmp_path):
     # Hill's c within one element (h = 1 mm at the bore, the mesh of the example)
     assert abs(float(radius.group(1)) - float(radius.group(3))) <= 1.0
     assert (tmp_path / "results" / "thick_cylinder_crosscheck" / "crosscheck.md").exists()
-
-
-def test_paraview_time_slider(tmp_path):
-    """pvpython opens a load-unload result: its time steps are the path times t of the
-    snapshots (over two stages, t in [0, 2]) and the displacements it reads at each equal the
-    API's (the same float64 data through another reader: equal to round-off, 1e-12)."""
-    assert PVPYTHON is not None, "pvpython missing: apt-get install python3-paraview"
-    r = slipstep.run("hertz_load_unload", out=tmp_path / "lu", progress=False,
-                     overrides=["mesh.h_contact=0.2", "output.snapshots=[0.5, 1.0, 1.5, 2.0]"])
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    proc = subprocess.run([PVPYTHON, "--force-offscreen-rendering",
-                           str(EXAMPLES / "paraview_time.py"), str(tmp_path / "lu" / "results.xdmf")],
-                          capture_output=True, text=True, timeout=300, env=env)
-    assert proc.returncode == 0, proc.stderr[-2000:]
-    seen = json.loads(proc.stdout.strip().splitlines()[-1])
-    assert seen["times"] == list(r.times) == [0.5, 1.0, 1.5, 2.0]
-    for step in seen["steps"]:
-        f = r.fields(step["t"])
-        assert step["max_u"] == pytest.approx(np.linalg.norm(f["u"], axis=1).max(), rel=1e-12)
-        assert step["max_von_mises"] == pytest.approx(f["von_mises"].max(), rel=1e-12)

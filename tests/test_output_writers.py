@@ -18,8 +18,13 @@ from conftest import CASES, synthetic_hertz_result
 
 from slipstep import cli, output
 from slipstep.case import load_case
+from slipstep.derived import contact_profile
 from slipstep.model import build_scene
 from slipstep.results import write_results
+
+
+CONTACT_FIELDS = ("contact_pressure", "contact_tangential_stress", "contact_gap",
+                  "contact_status", "contact_slip")
 
 
 @pytest.fixture(scope="module")
@@ -73,6 +78,35 @@ def test_summary_of_the_synthetic_hertz_result(hertz):
     assert abs(s["hertz"]["a_rel_error"]) < 0.02
 
 
+def test_the_summary_line_names_and_units_its_quantities(hertz):
+    """The line the CLI prints names each number and gives it the case's unit ([case] units =
+    "mm, N, MPa" in the shipped Hertz case); a case without units prints none.  The numbers
+    are the summary's, formatted to four digits."""
+    scene, result = hertz
+    s = output.summarize(scene, result, wall_time_s=1.5)
+    assert s["units"] == {"length": "mm", "force": "N", "stress": "MPa"}
+    line = output.one_line(s)
+    a, c, p0 = s["contact_half_width"], s["stick_half_width"], s["peak_pressure"]
+    h = s["hertz"]
+    for part in ("f = 1 load fraction", f"a = {a:.4g} mm contact half-width",
+                 f"c = {c:.4g} mm stick half-width", f"p0 = {p0:.4g} MPa peak pressure",
+                 f"(Hertz a = {h['a_hertz_at_final']:.4g} mm, p0 = "
+                 f"{h['p0_hertz_at_final']:.4g} MPa)"):
+        assert part in line, (part, line)
+    bare = output.one_line(dict(s, units={}))
+    assert f"a = {a:.4g} contact half-width" in bare and "mm" not in bare and "MPa" not in bare
+
+
+def test_a_case_without_units_has_none_in_its_summary(hertz):
+    scene, result = hertz
+    for note, units in (("", {}), ("m, kN, kPa", {"length": "m", "force": "kN",
+                                                   "stress": "kPa"})):
+        case = load_case(None, [f'case.units="{note}"'])
+        s = output.summarize(dataclasses.replace(scene, case=case), result)
+        assert s["units"] == units
+        assert ("kPa peak pressure" in output.one_line(s)) == bool(units)
+
+
 def test_growth_curve_replays_the_events(hertz):
     scene, result = hertz
     f, a = output.contact_growth(scene, result)
@@ -123,7 +157,8 @@ def test_write_results(hertz, tmp_path):
         t, point_data, cell_data = reader.read_data(reader.num_steps - 1)
     assert t == 1.0
     assert point_data["u"].shape == (len(scene.nodes), 3)
-    assert set(cell_data) == {"sigma_x", "sigma_y", "sigma_z", "tau_xy", "von_mises"}
+    assert set(cell_data) == {"sigma_x", "sigma_y", "sigma_z", "tau_xy", "stress", "von_mises"}
+    assert set(point_data) == {"u", "nodal_stress", "nodal_von_mises", *CONTACT_FIELDS}
 
 
 def test_xdmf_reads_back_every_step_of_an_elastoplastic_run(tmp_path):
@@ -157,11 +192,25 @@ def test_xdmf_reads_back_every_step_of_an_elastoplastic_run(tmp_path):
             u = point_data["u"]
             assert u.shape == (len(scene.nodes), 3)
             assert np.array_equal(u[:, :2], snap["u"]) and np.all(u[:, 2] == 0.0), k
-            assert set(cell_data) == {"sigma_x", "sigma_y", "sigma_z", "tau_xy", "von_mises",
-                                      "plastic_strain", "plastic", "yield_drift"}, k
+            assert set(cell_data) == {"sigma_x", "sigma_y", "sigma_z", "tau_xy", "stress",
+                                      "von_mises", "plastic_strain", "plastic", "yield_drift"}, k
             stress = np.asarray(snap["stress"])
             for col, key in enumerate(("sigma_x", "sigma_y", "sigma_z", "tau_xy")):
                 assert np.array_equal(cell_data[key][0], stress[:, col]), (k, key)
+            # the tensor, row by row xx xy xz / yx yy yz / zx zy zz, z out of the plane
+            tensor = cell_data["stress"][0].reshape(-1, 3, 3)
+            assert np.array_equal(tensor[:, [0, 1, 2, 0], [0, 1, 2, 1]], stress), k
+            assert np.array_equal(tensor, tensor.transpose(0, 2, 1)), k
+            assert not tensor[:, [0, 1], 2].any(), k
+            # contact fields on node a of each pair (contact_profile.csv's numbers), 0 elsewhere
+            prof = contact_profile(scene, snap)
+            for name, column in (("contact_pressure", "pressure"), ("contact_gap", "gap"),
+                                 ("contact_tangential_stress", "tangential_stress"),
+                                 ("contact_status", "status"), ("contact_slip", "rtd")):
+                values = point_data[name]
+                assert np.array_equal(values[prof["node_a"]], prof[column]), (k, name)
+                others = np.setdiff1d(np.arange(len(scene.nodes)), prof["node_a"])
+                assert not values[others].any(), (k, name)
             assert np.array_equal(cell_data["plastic_strain"][0], snap["plastic_strain"]), k
             assert np.array_equal(cell_data["plastic"][0], np.asarray(snap["plastic"], float)), k
             vm = von_mises(stress)
@@ -170,6 +219,47 @@ def test_xdmf_reads_back_every_step_of_an_elastoplastic_run(tmp_path):
             plastic = np.asarray(snap["plastic"]) > 0
             drift = np.where(plastic, np.abs(vm - current) / current, 0.0)
             assert np.abs(cell_data["yield_drift"][0] - drift).max() <= 1e-12 * stress_scale / sy, k
+
+
+def test_the_xdmf_records_the_case_units(hertz, tmp_path):
+    """An Information element of the Domain (XDMF 3) holds [case] units; meshio's reader
+    still finds every time step; a case without units gets no element."""
+    import xml.etree.ElementTree as ET
+
+    import meshio
+
+    scene, result = hertz
+    output.write_xdmf(tmp_path, scene, result)
+    domain = ET.parse(tmp_path / "results.xdmf").getroot().find("Domain")
+    (info,) = domain.findall("Information")
+    assert info.attrib == {"Name": "units", "Value": "length: mm, force: N, stress: MPa"}
+    with meshio.xdmf.TimeSeriesReader(str(tmp_path / "results.xdmf")) as reader:
+        reader.read_points_cells()
+        assert reader.num_steps == len(result["snapshots"])
+    bare = dataclasses.replace(scene, case=load_case(None, ['case.units=""']))
+    output.write_xdmf(tmp_path, bare, result)
+    assert ET.parse(tmp_path / "results.xdmf").getroot().find("Domain/Information") is None
+
+
+def test_a_result_writes_a_vtu_with_3d_points(hertz, tmp_path, capsys):
+    """Result.to_meshio gives points with z = 0, so meshio's VTU writer takes them as they
+    are (with 2D points it printed "VTU requires 3D points"); read back, the file holds the
+    fields of Result.fields."""
+    import meshio
+
+    from slipstep import Result
+
+    scene, raw = hertz
+    r = Result(scene, raw, output.summarize(scene, raw))
+    r.to_meshio().write(tmp_path / "m.vtu")
+    assert "3D points" not in capsys.readouterr().err
+    m = meshio.read(tmp_path / "m.vtu")
+    assert np.array_equal(m.points[:, :2], scene.nodes) and not m.points[:, 2].any()
+    f = r.fields()
+    assert np.array_equal(m.point_data["nodal_stress"].reshape(-1, 3, 3)[:, [0, 1, 2, 0],
+                                                                         [0, 1, 2, 1]],
+                          f["nodal_stress"])
+    assert np.array_equal(m.cell_data["von_mises"][0], f["von_mises"])
 
 
 def test_failed_write_leaves_the_previous_results(hertz, tmp_path, monkeypatch):

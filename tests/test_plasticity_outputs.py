@@ -77,6 +77,28 @@ def test_cylinder_summary_first_yield_fields(cylinder):
 
 
 @needs_gmsh
+def test_a_load_unload_counts_the_plastic_zone_and_the_yielding_elements_apart(tmp_path):
+    """After unloading nothing yields (unloading is elastic) but the plastic zone stays:
+    plastic strain never decreases, so the elements with plastic strain > 0 at the end are
+    those of the peak.  The summary and its line count both, recomputed here from the
+    snapshots; the record of the loading stage is its own end, where elements still yield."""
+    scene, result, summary = run_and_write(CASES / "hertz_load_unload.toml",
+                                           ["mesh.h_contact=0.4", "output.figures=false",
+                                            "output.xdmf=false"], tmp_path)
+    peak = next(s for s in result["snapshots"] if s["stage"] == 0 and s["load_fraction"] == 1)
+    last = result["snapshots"][-1]
+    yielded = int(np.count_nonzero(np.asarray(last["plastic_strain"]) > 0))
+    assert yielded == int(np.count_nonzero(np.asarray(peak["plastic_strain"]) > 0)) > 0
+    assert summary["n_yielded_elements"] == yielded and summary["n_plastic_elements"] == 0
+    loading, unloading = summary["stages"]
+    assert loading["n_plastic_elements"] == int(np.count_nonzero(peak["plastic"])) > 0
+    assert loading["n_yielded_elements"] == unloading["n_yielded_elements"] == yielded
+    assert unloading["n_plastic_elements"] == 0
+    assert (f"{yielded} elements yielded (plastic strain > 0), 0 yielding now"
+            in output.one_line(summary))
+
+
+@needs_gmsh
 def test_cylinder_files(cylinder):
     out, *_ = cylinder
     names = sorted(p.name for p in out.iterdir())
@@ -225,7 +247,7 @@ def test_quarter_annulus_keys_are_checked(override, key):
 def test_readme_lists_the_plastic_summary_fields():
     readme = (CASES / "README.md").read_text()
     for key in ("first_yield_load_fraction", "first_yield_element", "first_yield_x",
-                "first_yield_depth", "n_plastic_elements", "max_drift", "stop_reason",
-                "f_yield_johnson", "first_yield_rel_error", "entity_kind", "von_mises.png",
+                "first_yield_depth", "n_plastic_elements", "n_yielded_elements", "max_drift",
+                "stop_reason", "f_yield_johnson", "first_yield_rel_error", "entity_kind", "von_mises.png",
                 "thick_cylinder.toml", "stop_at_first_yield"):
         assert key in readme, key

@@ -187,11 +187,53 @@ def test_xdmf_time_is_t_with_the_reactions(scene, tmp_path):
     steps = read_xdmf(tmp_path)
     assert [t for t, _, _ in steps] == T
     for (_, point_data, _), snap in zip(steps, result["snapshots"]):
-        assert set(point_data) == {"u", "reaction"}
+        assert {"u", "reaction", "contact_pressure", "nodal_stress"} <= set(point_data)
         r = point_data["reaction"]
         assert r.shape == (len(scene.nodes), 3) and np.all(r[:, 2] == 0.0)
         assert np.array_equal(r[:, :2], snap["reaction"])
         assert np.array_equal(point_data["u"][:, :2], snap["u"])
+
+
+def test_xdmf_has_one_step_per_time_the_last_state_there(scene, tmp_path):
+    """A stage end with a zero-length switch after it holds two snapshots at t = 1 (the end of
+    stage 1, then the start of stage 2): the XDMF keeps one step there (ParaView reads a
+    repeated time as an empty frame), the later state; events.csv keeps both stages' rows."""
+    result = staged_result(scene)
+    after = copy.deepcopy(result["snapshots"][1])
+    after.update(stage=1, load_fraction=0.0, u=after["u"] + 1.0)
+    result["snapshots"].insert(2, after)
+    assert derived.distinct_time_snapshots(result) == [0, 2, 3, 4]
+    output.write_xdmf(tmp_path, scene, result)
+    steps = read_xdmf(tmp_path)
+    assert [t for t, _, _ in steps] == T
+    assert np.array_equal(steps[1][1]["u"][:, :2], after["u"])
+
+
+def test_contact_point_data_sits_on_the_contactor_nodes():
+    """Each pair's numbers on its node a, 0 on the other nodes; a node in two contacts (the
+    bottom edge against two flats) shows the pair with the larger pressure."""
+    scene = build_scene(parse_case(BLOCK + BLOCK[BLOCK.index("[[contact]]"):].replace(
+        '"flat"', '"far"').replace("mu = 0.5", "mu = 0.5\npoint = [0.0, -1.0]")))
+    bottom = np.unique(scene.global_edge("block", "bottom"))
+    p = len(scene.pair_xy)
+    assert p == 2 * len(bottom)  # every bottom node is node a of one pair per flat
+    near = scene.pair_contact == 0
+    lam = np.where(near, 1.0, 0.0) * (1.0 + np.arange(p))
+    snap = {"lambda_n": lam, "lambda_t": 0.1 * lam, "status": (lam > 0).astype(np.int8),
+            "gap": np.where(near, 0.0, 1.0), "rtd": np.zeros(p),
+            "u": np.zeros((len(scene.nodes), 2))}
+    fields = output.contact_point_data(scene, snap)
+    prof = derived.contact_profile(scene, snap)
+    mine = prof["contact"] == 0
+    for name, column in output.CONTACT_POINT_DATA.items():
+        values = fields[name]
+        assert np.array_equal(values[prof["node_a"][mine]], prof[column][mine]), name
+        assert not np.delete(values, bottom).any(), name
+    snap["lambda_n"] = lam[::-1].copy() * np.where(near, 0.0, 1.0)  # now the far flat presses
+    fields = output.contact_point_data(scene, snap)
+    far = prof["contact"] == 1
+    assert np.array_equal(fields["contact_pressure"][prof["node_a"][far]],
+                          derived.contact_profile(scene, snap)["pressure"][far])
 
 
 def test_xdmf_of_a_result_without_stages(bare, tmp_path):
@@ -199,7 +241,8 @@ def test_xdmf_of_a_result_without_stages(bare, tmp_path):
     output.write_xdmf(tmp_path, bare, result)
     steps = read_xdmf(tmp_path)
     assert [t for t, _, _ in steps] == [0.5, 1.0]
-    assert all(set(point_data) == {"u"} for _, point_data, _ in steps)
+    assert all("u" in point_data and "reaction" not in point_data
+               for _, point_data, _ in steps)
 
 
 # --------------------------------------------------------------------------- reactions
@@ -256,7 +299,7 @@ def test_summary_of_a_result_without_stages(bare):
     assert only["total_normal_force"] == s["total_normal_force"] == pytest.approx(20.0)
     assert s["total_tangential_force"] == pytest.approx(2.0)
     assert s["snapshot_t"] == s["snapshot_load_fraction"] == 1.0
-    assert output.one_line(s).startswith("press_release: 1 events, f = 1, ")
+    assert output.one_line(s).startswith("press_release: 1 events, f = 1 load fraction, ")
 
 
 def test_an_unfinished_stage_has_no_record(bare):
@@ -284,7 +327,13 @@ def test_path_history(scene):
     assert np.allclose(h["total_normal_force"], PRESS, rtol=1e-14)
     assert np.allclose(h["total_tangential_force"], 0.1 * np.array(PRESS), rtol=1e-14)
     assert list(h["n_closed"][:, 0]) == [5, 5, 3, 0]
-    assert h["extent"][2, 0].tolist() == [1.0, 3.0] and np.isnan(h["extent"][3, 0]).all()
+    # t = 1.5: the pairs at x = 0 and 4 separated at t = 1.2, those at 1 and 3 separate at 2;
+    # each edge moves linearly between: 4 - (1.5 - 1.2)/(2 - 1.2) = 3.625, and 0.375
+    assert h["extent"][2, 0] == pytest.approx([0.375, 3.625], abs=1e-15)
+    assert np.isnan(h["extent"][3, 0]).all()
+    # as the summary's stage record at t = 1 computes it
+    s = summarize(scene, staged_result(scene), 0.0)
+    assert h["extent"][1, 0].tolist() == s["stages"][0]["contacts"]["flat"]["closed_extent"]
 
 
 def test_force_displacement_of_a_prescribed_displacement_and_a_motion(scene):

@@ -75,8 +75,8 @@ def read_profile(path) -> list[dict]:
 
 # --------------------------------------------------------------------------- extents by hand
 def test_closed_extent_interpolates_both_ends_in_load_fraction():
-    # pairs at s = -2 .. 2; the three middle ones closed (at f = 0.5, 0, 0.2), the outer two
-    # open, predicted to close at f = 2.5 (left) and 1.2 (right)
+    # pairs at s = -2 .. 2; the three middle ones closed (at f = 0.5, 0, 0.2: their last
+    # crossings), the outer two open, to close at f = 2.5 (left) and 1.2 (right)
     s = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
     status = np.array([0, 2, 1, 2, 0])
     closure = np.array([np.nan, 0.5, 0.0, 0.2, np.nan])
@@ -89,6 +89,18 @@ def test_closed_extent_interpolates_both_ends_in_load_fraction():
     assert stick_extent(s, status, [lo, hi]) == [-0.5, 0.5]
     assert closed_extent(s, np.zeros(5, int), closure, predicted, 1.0) is None
     assert stick_extent(s, np.array([0, 2, 2, 2, 0]), [lo, hi]) is None
+
+
+def test_a_receding_edge_interpolates_between_two_separations():
+    # unloading: s = 2 separated at t = 1.2, s = 1 (still closed) separates at t = 2; the edge
+    # left s = 2 at 1.2 and reaches s = 1 at 2: at t = 1.5, 2 - (1.5 - 1.2)/(2 - 1.2) = 1.625
+    s = np.array([0.0, 1.0, 2.0])
+    status = np.array([1, 1, 0])
+    last = np.array([0.0, 0.0, 1.2])
+    upcoming = np.array([np.inf, 2.0, np.inf])
+    assert closed_extent(s, status, last, upcoming, 1.5)[1] == pytest.approx(1.625, abs=1e-15)
+    # no crossing in the snapshot's stage (-inf / inf): the outermost closed pair
+    assert closed_extent(s, status, np.full(3, -np.inf), upcoming, 1.5)[1] == 1.0
 
 
 def test_stick_reaching_the_closed_edge_ends_there():
@@ -228,3 +240,47 @@ def test_a_mirrored_half_block_measures_a_and_c_towards_negative_s(tmp_path):
     assert contact["closed_extent"] == [-10.0, 0.0]
     assert s["contact_half_width"] == 10.0
     assert s["stick_half_width"] == -contact["stick_extent"][0] >= 0.0
+
+
+# --------------------------------------------------------------------------- same way everywhere
+def test_the_extent_midway_equals_the_final_extent_of_a_run_to_there():
+    """Between events an event-driven run is linear, so in a frictionless elastic Hertz run
+    (closures only) the engine's predicted closure of the next pair, used at the run's end, is
+    the time it then closes: the extent at t = 0.5 of a run to P (interpolated between the
+    closures of the run's events) equals the final extent of the same scene loaded to P/2 (its
+    closure times twice as late), to round-off (1e-12).  At a snapshot other than the last the
+    extent used to stop at the outermost closed node."""
+    from slipstep import derived, run
+
+    common = ["mesh.h_contact=0.2", "contact.mu=0.0", "output.figures=false"]
+    full = run(None, overrides=common + ["output.snapshots=[0.5, 1.0]"], progress=False)
+    half = run(None, overrides=common + ["load.P=500.0", "output.snapshots=[1.0]"],
+               progress=False)
+    history = derived.path_history(full.scene, full.raw)
+    assert list(history["t"]) == [0.5, 1.0]
+    assert history["extent"][0, 0, 1] == pytest.approx(half.summary["contact_half_width"],
+                                                       rel=1e-12)
+    assert history["extent"][1, 0, 1] == full.summary["contact_half_width"]
+    # the edge lies between nodes here, not on the outermost closed one
+    closed = full.profile(0.5)["status"] > 0
+    assert history["extent"][0, 0, 1] > full.profile(0.5)["s"][closed].max()
+
+
+def test_one_contact_state_has_one_extent_at_a_stage_end_and_the_run_end():
+    """Cattaneo-Mindlin with the same material on both sides (Dundurs beta = 0): the shear
+    stage leaves the normal contact as the approach left it, so the closed zone at the
+    approach's end and at the run's end is the same, and centred (the roller's contactor nodes
+    are mirrored across x = 0, so to round-off).  The run's end used to be interpolated
+    towards the engine's prediction for the next shear increment: [-1.982, 1.786] against
+    [-1.784, 1.784] at the stage end on this mesh."""
+    from slipstep import run
+
+    coarse = ["body.roller.mesh.h_contact=0.2", "body.block.mesh.h_contact=0.2",
+              "output.figures=false"]
+    r = run("cattaneo_mindlin", overrides=coarse, progress=False)
+    approach, shear = (st["contacts"]["interface"] for st in r.summary["stages"])
+    final = r.summary["contacts"]["interface"]
+    assert approach["n_closed"] == shear["n_closed"] == final["n_closed"] > 0
+    assert approach["closed_extent"] == shear["closed_extent"] == final["closed_extent"]
+    lo, hi = final["closed_extent"]
+    assert lo == pytest.approx(-hi, rel=1e-12)

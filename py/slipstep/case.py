@@ -185,7 +185,7 @@ MATERIAL_KEYS = {
 }
 
 QUARTER_CYLINDER_KEYS = {
-    "generator": Key("str", REQUIRED, doc='"quarter_cylinder" (x >= 0) or "half_cylinder" (the quarter mirrored: tags arc, top)'),
+    "generator": Key("str", REQUIRED, doc='"quarter_cylinder" (x >= 0), "half_cylinder" (the quarter mirrored: tags arc, top) or "disc" (the whole circle: tags lower_arc, upper_arc, circle)'),
     "R": Key("float", REQUIRED, unit="length", doc="cylinder radius; centre at (0, R), bottom "
                                                     "point at (0, 0)", check=_positive("R")),
     "h_contact": Key("float", REQUIRED, unit="length",
@@ -269,7 +269,8 @@ GIVEN_MESH_KEYS = {
 }
 
 MESH_VARIANTS = {"quarter_cylinder": QUARTER_CYLINDER_KEYS,
-                 "half_cylinder": QUARTER_CYLINDER_KEYS, "block": BLOCK_KEYS,
+                 "half_cylinder": QUARTER_CYLINDER_KEYS, "disc": QUARTER_CYLINDER_KEYS,
+                 "block": BLOCK_KEYS,
                  "quarter_annulus": QUARTER_ANNULUS_KEYS, "given": GIVEN_MESH_KEYS}
 
 def block_divisions(mesh: dict) -> tuple[int, int]:
@@ -282,6 +283,7 @@ def block_divisions(mesh: dict) -> tuple[int, int]:
 GENERATOR_EDGES = {
     "quarter_cylinder": ("arc", "symmetry", "top"),
     "half_cylinder": ("arc", "top"),
+    "disc": ("lower_arc", "upper_arc", "circle"),
     "block": ("bottom", "right", "top", "left"),
     "quarter_annulus": ("inner", "outer", "x_axis", "y_axis"),
 }
@@ -924,7 +926,8 @@ class _Validator:
                                       f"{sub}material.")
         if "mesh" not in raw:
             raise self.fail(f"{sub}mesh", 'is missing: add a [body.mesh] table with generator = '
-                                          '"quarter_cylinder", "half_cylinder", "block" or "quarter_annulus", '
+                                          '"quarter_cylinder", "half_cylinder", "disc", "block" or '
+                                          '"quarter_annulus", '
                                           'or file = "..."')
         body["mesh"] = self.mesh(raw["mesh"], f"{sub}mesh.")
         return body
@@ -946,7 +949,7 @@ class _Validator:
                                                   f'file = "mesh.msh"')
         mesh = self.table(raw, MESH_VARIANTS[gen], "[body.mesh]", prefix)
         check = {"quarter_cylinder": self.cylinder_mesh, "half_cylinder": self.cylinder_mesh,
-                 "quarter_annulus": self.annulus_mesh}
+                 "disc": self.cylinder_mesh, "quarter_annulus": self.annulus_mesh}
         if gen == "block":
             self.block_mesh(mesh, raw, prefix)
         elif gen in check:
@@ -955,7 +958,7 @@ class _Validator:
         return mesh
 
     def cylinder_mesh(self, mesh: dict, prefix: str) -> None:
-        """quarter_cylinder / half_cylinder: h_contact <= h_max, contact_zone < R."""
+        """quarter_cylinder / half_cylinder / disc: h_contact <= h_max, contact_zone < R."""
         if mesh["h_contact"] > mesh["h_max"]:
             raise self.fail(prefix + "h_contact", f"= {_fmt(mesh['h_contact'])} is not "
                             f"allowed: it must not exceed h_max = {_fmt(mesh['h_max'])}")

@@ -57,6 +57,36 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
     return np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2) + 3.0 * txy ** 2)
 
 
+def stress_tensor(stress: np.ndarray) -> np.ndarray:
+    """(K, 9) the full symmetric stress tensor of (K, 4) rows sigma_x, sigma_y, sigma_z,
+    tau_xy, row by row (xx, xy, xz, yx, yy, yz, zx, zy, zz: ParaView's 9-component order; the
+    same read by columns).  z is the out-of-plane direction: zz is sigma_z of plane strain (0 in
+    plane stress), the hoop stress sigma_theta in axisymmetry (x = r, y = z); xz = yz = 0."""
+    sx, sy, sz, txy = np.asarray(stress, dtype=float).reshape(-1, 4).T
+    zero = np.zeros_like(sx)
+    return np.stack([sx, txy, zero, txy, sy, zero, zero, zero, sz], axis=1)
+
+
+def nodal_stress(scene, stress: np.ndarray) -> np.ndarray:
+    """(N, 4) stresses at the nodes (columns as ``stress``) recovered from the constant element
+    stresses by area-weighted averaging over the elements around each node: the lumped L2
+    projection of the piecewise-constant field onto continuous linear functions,
+    sum_e A_e sigma_e / sum_e A_e (in axisymmetry the section's areas).  Chosen over patch
+    recovery (SPR) because it is what codes that print nodal stresses do for linear triangles
+    (average the elements' values at the node), is exact for a uniform stress, and is defined
+    alike at boundary and corner nodes, where SPR patches degenerate; it is first order in h
+    (tests/test_nodal_stress.py).  Bodies share no nodes, so nothing is averaged across an
+    interface."""
+    stress = np.asarray(stress, dtype=float).reshape(-1, 4)
+    n, p = len(scene.nodes), scene.nodes[scene.triangles]
+    area = np.repeat(0.5 * np.abs(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])), 3)
+    corner = scene.triangles.ravel()  # element e's nodes at rows 3e, 3e + 1, 3e + 2
+    weight = np.bincount(corner, area, minlength=n)
+    total = np.stack([np.bincount(corner, area * np.repeat(column, 3), minlength=n)
+                      for column in stress.T], axis=1)
+    return total / np.where(weight > 0, weight, 1.0)[:, None]
+
+
 def centroids(nodes: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     """(M, 2) centroids of the triangles (rows of node ids into ``nodes``)."""
     return np.asarray(nodes)[np.asarray(triangles)].mean(axis=1)
@@ -162,10 +192,33 @@ def final_load_fraction(result) -> float:
 
 
 # --------------------------------------------------------------------------- load path
-# Results without stages (engines before issue 13) have no ``t``/``stage``: one stage, t = f.
+#: Two snapshot times closer than this (relative to the path length, at least 1) are one time.
+TIME_TOL = 1e-9
+
+
+# Results without stages (older engines) have no ``t``/``stage``: one stage, t = f.
 def snapshot_time(snap: dict) -> float:
     """Path time t of a snapshot (its load fraction in a result without stages)."""
     return float(snap.get("t", snap["load_fraction"]))
+
+
+def same_time(times, t: float) -> np.ndarray:
+    """(n,) True where ``times`` equal ``t`` within :data:`TIME_TOL`."""
+    times = np.asarray(times, dtype=float)
+    return np.abs(times - float(t)) <= TIME_TOL * max(1.0, float(times.max(initial=0.0)))
+
+
+def distinct_time_snapshots(result) -> list[int]:
+    """The index of the last snapshot at each distinct path time, in order.  Several snapshots
+    share a t when events happen together (a stage end and the zero-length switches after it,
+    several events at one load): the last is the state after all of them.  A time series
+    keeps one state per time (ParaView shows a repeated time as an empty frame); events.csv
+    keeps every event."""
+    times = np.array([snapshot_time(s) for s in result.get("snapshots", [])])
+    if len(times) == 0:
+        return []
+    last = np.append(np.diff(times) > TIME_TOL * max(1.0, float(times.max())), True)
+    return np.flatnonzero(last).tolist()
 
 
 def event_times(result) -> tuple[np.ndarray, np.ndarray]:
@@ -209,15 +262,17 @@ def stage_names(scene, result) -> list[str]:
 
 def stage_ends(result, n_stages: int) -> list[tuple[int, int]]:
     """(stage k 0-based, snapshot index) for every completed stage: the last snapshot of stage
-    k at load fraction 1, or at t = k + 1 (each within 1e-12)."""
+    k at load fraction 1, else (a snapshot at t = k + 1 labelled as the next stage's start) the
+    last one at t = k + 1 (each within 1e-12).  So the record of a stage is its own end state,
+    before the zero-length switches that start the next (elements that unload, say)."""
     out = []
     snaps = result.get("snapshots", [])
     for k in range(n_stages):
-        at_end = [i for i, s in enumerate(snaps)
-                  if (int(s.get("stage", 0)) == k and abs(float(s["load_fraction"]) - 1.0) <= 1e-12)
-                  or abs(snapshot_time(s) - (k + 1)) <= 1e-12]
-        if at_end:
-            out.append((k, at_end[-1]))
+        own = [i for i, s in enumerate(snaps) if int(s.get("stage", 0)) == k
+               and abs(float(s["load_fraction"]) - 1.0) <= 1e-12]
+        at_t = [i for i, s in enumerate(snaps) if abs(snapshot_time(s) - (k + 1)) <= 1e-12]
+        if own or at_t:
+            out.append((k, (own or at_t)[-1]))
     return out
 
 
@@ -254,13 +309,13 @@ def reactions(scene, snapshot: dict) -> dict[str, tuple[float, float]]:
 def path_history(scene, result) -> dict:
     """Per snapshot along the load path: ``t``, ``stage``, and per contact (columns in
     ``contact_names`` order) ``normal_force`` = sum lambda_n, ``tangential_force`` =
-    sum lambda_t, ``n_closed`` and ``extent`` = [s_min, s_max] of its closed pairs (NaN when
-    open; the pairs' own positions, no interpolation); ``total_normal_force`` and
-    ``total_tangential_force`` over every contact."""
+    sum lambda_t, ``n_closed`` and ``extent`` = its :func:`closed_extent` (NaN when open), as
+    the summary's; ``total_normal_force`` and ``total_tangential_force`` over every contact."""
     snaps = result.get("snapshots", [])
     n_c = len(scene.model["contact_names"])
     which = np.asarray(scene.pair_contact, dtype=np.int64)
     s = pair_coordinate(scene)
+    crossings = edge_crossings(scene, result)
     out = {"t": np.array([snapshot_time(x) for x in snaps]),
            "stage": np.array([int(x.get("stage", 0)) for x in snaps], dtype=np.int64),
            "normal_force": np.zeros((len(snaps), n_c)),
@@ -272,9 +327,12 @@ def path_history(scene, result) -> dict:
         out["normal_force"][k] = np.bincount(which, np.asarray(snap["lambda_n"]), n_c)
         out["tangential_force"][k] = np.bincount(which, np.asarray(snap["lambda_t"]), n_c)
         out["n_closed"][k] = np.bincount(which[closed], minlength=n_c)
+        last, upcoming = crossing_times(scene, result, snap, crossings)
+        status = np.asarray(snap["status"])
         for c in np.unique(which[closed]):
-            mine = s[closed & (which == c)]
-            out["extent"][k, c] = mine.min(), mine.max()
+            mine = which == c
+            out["extent"][k, c] = closed_extent(s[mine], status[mine], last[mine],
+                                                upcoming[mine], out["t"][k])
     out["total_normal_force"] = out["normal_force"].sum(axis=1)
     out["total_tangential_force"] = out["tangential_force"].sum(axis=1)
     return out
@@ -484,26 +542,72 @@ def pointwise(scene, snapshot: dict, key: str) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------- contact extents
-def contact_half_width(s, status, closure, predicted, f) -> float:
-    """The far end (largest s) of the closed zone at load fraction f: between the outermost
-    closed pair (s_c, closed at f_c = closure) and the next open pair (s_o, predicted to close
-    at f_o), linear in the load fraction, s_c + (s_o - s_c) (f - f_c) / (f_o - f_c), clipped to
-    [s_c, s_o]; 0 if nothing is closed.  With s measured from the symmetry line of a half
+def edge_crossings(scene, result) -> dict:
+    """Where the edges of the closed zones moved, for :func:`crossing_times`: every ``close``
+    and ``separate`` event as arrays ``pair``, ``t``, ``stage`` (0-based) and ``closes``, the
+    pairs closed from the start (initial gap 0) counted as closing at t = 0 in stage 0."""
+    ev = result["events"]
+    kinds = np.asarray(ev["kind"], dtype=str)
+    t, stage = event_times(result)
+    mine = np.isin(kinds, ("close", "separate"))
+    start = np.flatnonzero(np.asarray(scene.model["pairs"]["gap"]) == 0.0)
+    return {"pair": np.concatenate([start, np.asarray(ev["entity"], dtype=np.int64)[mine]]),
+            "t": np.concatenate([np.zeros(len(start)), t[mine]]),
+            "stage": np.concatenate([np.zeros(len(start), dtype=np.int64), stage[mine]]),
+            "closes": np.concatenate([np.ones(len(start), dtype=bool),
+                                      kinds[mine] == "close"])}
+
+
+def crossing_times(scene, result, snapshot: dict, crossings: dict | None = None):
+    """(last, upcoming) per candidate pair at ``snapshot``, within the snapshot's stage (one
+    linear change of the loads; -inf / inf where the stage has no such time): ``last`` the path
+    time at which the pair took its present state (a closed pair its closure, an open one its
+    separation), ``upcoming`` the time at which it next leaves it (from the run's later events;
+    for a pair open at the run's last snapshot also the engine's ``predicted_closure``).
+    ``crossings``: :func:`edge_crossings`, computed once for many snapshots."""
+    c = edge_crossings(scene, result) if crossings is None else crossings
+    n = len(scene.pair_xy)
+    t, stage = snapshot_time(snapshot), int(snapshot.get("stage", 0))
+    closed = np.asarray(snapshot["status"]) > 0
+    here = c["stage"] == stage
+    keeps = c["closes"] == closed[c["pair"]]  # the event put the pair in its present state
+    took, leaves = here & keeps & (c["t"] <= t), here & ~keeps & (c["t"] >= t)
+    last, upcoming = np.full(n, -np.inf), np.full(n, np.inf)
+    np.maximum.at(last, c["pair"][took], c["t"][took])
+    np.minimum.at(upcoming, c["pair"][leaves], c["t"][leaves])
+    snaps = result.get("snapshots", [])
+    if snaps and snapshot is snaps[-1] and "predicted_closure" in result:
+        predicted = np.asarray(result["predicted_closure"], dtype=float)
+        upcoming = np.where(closed, upcoming, np.fmin(upcoming, predicted))
+    return last, upcoming
+
+
+def contact_half_width(s, status, last, upcoming, t) -> float:
+    """The far end (largest s) of the closed zone at path time t: it lies between the outermost
+    closed pair c and the next open pair o beyond it, and moves linearly in t from where it
+    crossed last (c closing or o separating, whichever is later in ``last``) to where it
+    crosses next (c separating or o closing, whichever is sooner in ``upcoming``; NaN, inf, a
+    ``last`` after t or an ``upcoming`` before it: none), clipped there; at s_c without both
+    crossings; 0 if nothing is closed.  Growing:
+    s_c + (s_o - s_c)(t - t_c)/(t_o - t_c).  With s measured from the symmetry line of a half
     model this is the contact half-width a."""
     closed = status > 0
     if not closed.any():
         return 0.0
     ic = np.flatnonzero(closed)[np.argmax(s[closed])]
-    sc, fc = s[ic], closure[ic]
-    beyond = np.flatnonzero(~closed & (s > sc))
+    beyond = np.flatnonzero(~closed & (s > s[ic]))
     if len(beyond) == 0:
-        return float(sc)
+        return float(s[ic])
     io = beyond[np.argmin(s[beyond])]
-    so, fo = s[io], predicted[io]
-    if not (np.isfinite(fo) and np.isfinite(fc)) or fo <= fc:
-        return float(sc)
-    w = min(max((f - fc) / (fo - fc), 0.0), 1.0)
-    return float(sc + (so - sc) * w)
+    last = np.where(np.asarray(last, dtype=float) <= t, last, -np.inf)  # NaN too
+    upcoming = np.where(np.asarray(upcoming, dtype=float) >= t, upcoming, np.inf)
+    i0 = ic if last[ic] >= last[io] else io
+    i1 = ic if upcoming[ic] <= upcoming[io] else io
+    t0, t1 = last[i0], upcoming[i1]
+    if not (np.isfinite(t0) and np.isfinite(t1)) or t1 <= t0:
+        return float(s[ic])
+    w = min(max((t - t0) / (t1 - t0), 0.0), 1.0)
+    return float(s[i0] + (s[i1] - s[i0]) * w)
 
 
 def stick_half_width(s, status, edge) -> float:
@@ -521,13 +625,13 @@ def stick_half_width(s, status, edge) -> float:
     return float(0.5 * (ss + s[beyond].min()))
 
 
-def closed_extent(s, status, closure, predicted, f) -> list[float] | None:
-    """[s_min, s_max] of the closed zone, each end placed as :func:`contact_half_width` places
-    the far one; None if nothing is closed."""
+def closed_extent(s, status, last, upcoming, t) -> list[float] | None:
+    """[s_min, s_max] of the closed zone at path time t, each end placed as
+    :func:`contact_half_width` places the far one; None if nothing is closed."""
     if not (status > 0).any():
         return None
-    return [-contact_half_width(-s, status, closure, predicted, f),
-            contact_half_width(s, status, closure, predicted, f)]
+    return [-contact_half_width(-s, status, last, upcoming, t),
+            contact_half_width(s, status, last, upcoming, t)]
 
 
 def stick_extent(s, status, closed: list[float]) -> list[float] | None:

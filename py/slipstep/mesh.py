@@ -215,13 +215,14 @@ def _mesh_with_size_field(gmsh, size: int):
     return _gmsh_triangles_and_edges(gmsh)
 
 
-def _mesh_graded_around(gmsh, point: int, h_contact: float, contact_zone: float, h_max: float,
-                        growth: float):
-    """Mesh the model with h = h_contact within contact_zone of geometry point `point`, growing
-    linearly, h = h_contact + growth (d - contact_zone), up to h_max (Distance + Threshold)."""
+def _mesh_graded_around(gmsh, points: list[int], h_contact: float, contact_zone: float,
+                        h_max: float, growth: float):
+    """Mesh the model with h = h_contact within contact_zone of the geometry points ``points``
+    (d = the distance from the nearest), growing linearly, h = h_contact + growth
+    (d - contact_zone), up to h_max (Distance + Threshold)."""
     fields = gmsh.model.mesh.field
     dist = fields.add("Distance")
-    fields.setNumbers(dist, "PointsList", [point])
+    fields.setNumbers(dist, "PointsList", points)
     size = fields.add("Threshold")
     fields.setNumber(size, "InField", dist)
     fields.setNumber(size, "SizeMin", h_contact)
@@ -300,7 +301,7 @@ def quarter_cylinder(R: float, h_contact: float, contact_zone: float, h_max: flo
         gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [bottom]), "bottom_point")
         gmsh.model.addPhysicalGroup(2, [surface])
 
-        xyz, triangles, edges, node_sets = _mesh_graded_around(gmsh, bottom, h_contact,
+        xyz, triangles, edges, node_sets = _mesh_graded_around(gmsh, [bottom], h_contact,
                                                                contact_zone, h_max, growth)
 
     nodes = xyz[:, :2].copy()
@@ -317,16 +318,63 @@ def half_cylinder(R: float, h_contact: float, contact_zone: float, h_max: float,
     Edge tags: ``arc`` (from (-R, R) through (0, 0) to (R, R)) and ``top`` (the cut y = R).
     """
     quarter = quarter_cylinder(R, h_contact, contact_zone, h_max, growth)
-    x = quarter.nodes[:, 0]
-    on_axis = np.abs(x) <= 1e-12 * R
-    mirror = np.arange(len(x))
-    mirror[~on_axis] = len(x) + np.arange(int((~on_axis).sum()))
-    nodes = np.vstack([quarter.nodes, quarter.nodes[~on_axis] * [-1.0, 1.0]])
-    triangles = np.vstack([quarter.triangles, mirror[quarter.triangles][:, ::-1]])
-    edges = {tag: np.vstack([quarter.edges[tag], mirror[quarter.edges[tag]][:, ::-1]])
-             for tag in ("arc", "top")}
+    nodes, triangles, edges = _mirrored(quarter, ("arc", "top"), R)
     return _finish(nodes, triangles, edges, {"bottom_point": quarter.node_sets["bottom_point"]},
                    where="half_cylinder mesh")
+
+
+def _mirrored(half: Mesh, tags, size: float):
+    """(nodes, triangles, edges) of ``half`` (x >= 0) and its mirror image across x = 0, the
+    nodes on x = 0 (within 1e-12 size) shared: each edge tag joined with its mirror."""
+    x = half.nodes[:, 0]
+    on_axis = np.abs(x) <= 1e-12 * size
+    mirror = np.arange(len(x))
+    mirror[~on_axis] = len(x) + np.arange(int((~on_axis).sum()))
+    nodes = np.vstack([half.nodes, half.nodes[~on_axis] * [-1.0, 1.0]])
+    triangles = np.vstack([half.triangles, mirror[half.triangles][:, ::-1]])
+    edges = {tag: np.vstack([half.edges[tag], mirror[half.edges[tag]][:, ::-1]])
+             for tag in tags}
+    return nodes, triangles, edges
+
+
+def disc(R: float, h_contact: float, contact_zone: float, h_max: float,
+         growth: float = 0.1) -> Mesh:
+    """The whole disc of radius R, centre (0, R), bottom point (0, 0), top point (0, 2R): a
+    roller on a flat loaded at its top (a diametrically compressed disc).  Meshed as its right
+    half x >= 0 and mirrored across x = 0 (symmetric, nodes on x = 0 shared).
+
+    Edge tags: ``lower_arc`` (y <= R, from (-R, R) through (0, 0) to (R, R)), ``upper_arc``
+    (y >= R, from (R, R) through (0, 2R) to (-R, R)) and ``circle`` (both).  Node sets
+    ``bottom_point``, ``top_point`` and ``centre_point``, each a node exactly there (geometry
+    points; arc nodes lie on the circle).  Element size h_contact within ``contact_zone`` of
+    the bottom and of the top point, growing linearly, h = h_contact + growth (d -
+    contact_zone), up to h_max (as :func:`quarter_cylinder`).
+    """
+    with _gmsh_session() as gmsh:
+        gmsh.model.add("disc")
+        geo = gmsh.model.geo
+        bottom, centre = geo.addPoint(0.0, 0.0, 0.0), geo.addPoint(0.0, R, 0.0)
+        right, top = geo.addPoint(R, R, 0.0), geo.addPoint(0.0, 2.0 * R, 0.0)
+        lower = geo.addCircleArc(bottom, centre, right)
+        upper = geo.addCircleArc(right, centre, top)
+        axis = [geo.addLine(top, centre), geo.addLine(centre, bottom)]
+        surface = geo.addPlaneSurface([geo.addCurveLoop([lower, upper, *axis])])
+        geo.synchronize()
+        for name, curve in (("lower_arc", lower), ("upper_arc", upper)):
+            gmsh.model.setPhysicalName(1, gmsh.model.addPhysicalGroup(1, [curve]), name)
+        for name, point in (("bottom_point", bottom), ("top_point", top),
+                            ("centre_point", centre)):
+            gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [point]), name)
+        gmsh.model.addPhysicalGroup(2, [surface])
+        xyz, triangles, edges, node_sets = _mesh_graded_around(gmsh, [bottom, top], h_contact,
+                                                               contact_zone, h_max, growth)
+    half = _finish(xyz[:, :2].copy(), triangles, edges, node_sets, where="disc mesh",
+                   flip_clockwise=True)
+    nodes, triangles, edges = _mirrored(half, ("lower_arc", "upper_arc"), R)
+    edges["circle"] = np.vstack([edges["lower_arc"], edges["upper_arc"]])
+    points = {name: half.node_sets[name] for name in ("bottom_point", "top_point",
+                                                       "centre_point")}
+    return _finish(nodes, triangles, edges, points, where="disc mesh")
 
 
 def quarter_annulus(a: float, b: float, h: float, h_outer: float = 0.0) -> Mesh:
@@ -506,7 +554,7 @@ def graded_block(width: float, height: float, h_contact: float, contact_zone: fl
             gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [p]), name)
         gmsh.model.addPhysicalGroup(2, [surface])
 
-        xyz, triangles, edges, node_sets = _mesh_graded_around(gmsh, focus_point, h_contact,
+        xyz, triangles, edges, node_sets = _mesh_graded_around(gmsh, [focus_point], h_contact,
                                                                contact_zone, h_max, growth)
 
     nodes = xyz[:, :2].copy()

@@ -82,7 +82,7 @@ def mesh_body(case: Case, index: int) -> meshing.Mesh:
             path = (case.base_dir / spec["file"])
             edge_file = case.base_dir / spec["edge_file"] if spec["edge_file"] else None
             return meshing.read_mesh(path, edge_file, spec["scale"])
-        if spec["generator"] in ("quarter_cylinder", "half_cylinder"):
+        if spec["generator"] in ("quarter_cylinder", "half_cylinder", "disc"):
             make = getattr(meshing, spec["generator"])
             return make(spec["R"], spec["h_contact"], spec["contact_zone"], spec["h_max"],
                         spec["growth"])

@@ -21,8 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .derived import (ELEMENT_EVENTS, contact_profile, coordinate_names, event_positions,
-                      event_times, is_elastoplastic, snapshot_time, stress_names, von_mises,
+from .derived import (ELEMENT_EVENTS, contact_profile, coordinate_names,
+                      distinct_time_snapshots, event_positions, event_times, is_elastoplastic,
+                      nodal_stress, snapshot_time, stress_names, stress_tensor, von_mises,
                       yield_drift)
 # Kept importable from here for existing callers; they live in derived and summary.
 from .derived import (contact_growth, contact_half_width, element_depth,  # noqa: F401
@@ -87,30 +88,55 @@ def _working_directory(path: Path):
 
 def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     """``results.xdmf`` + ``results.h5``: a time series (time = path time t, the load fraction
-    of a run without stages) of point data ``u`` and, when the result has it, ``reaction``
-    (each padded to 3 components for ParaView) and cell data sigma_x, sigma_y, sigma_z, tau_xy
-    (axisymmetric: sigma_r, sigma_z, sigma_theta, tau_rz), von_mises (plus plastic_strain, the equivalent plastic strain, and plastic, the 0/1 flag, in
-    elastoplastic cases, with yield_drift = |sigma_e - sigma_y(eps_p)|/sigma_y per plastic
-    element; and body, the body index, when there are several); 2D points."""
+    of a run without stages; one grid per distinct t, the state after every event there:
+    :func:`slipstep.derived.distinct_time_snapshots`) of the fields of :func:`xdmf_step` on
+    2D points, with the case's units in an ``Information`` element ``units`` of the Domain
+    (``length: mm, force: N, stress: MPa``; absent when ``[case] units`` does not give them)."""
     import meshio
 
     cells = [("triangle", scene.triangles)]
     with _working_directory(folder):
         with meshio.xdmf.TimeSeriesWriter(f"{name}.xdmf") as writer:
             writer.write_points_cells(scene.nodes, cells)
-            for snap in result["snapshots"]:
+            for k in distinct_time_snapshots(result):
+                snap = result["snapshots"][k]
                 point_data, cell_data = xdmf_step(scene, snap)
                 writer.write_data(snapshot_time(snap), point_data=point_data,
                                   cell_data=cell_data)
+    if scene.case.units:
+        _record_units(Path(folder) / f"{name}.xdmf", scene.case.units)
+
+
+def _record_units(path: Path, units: dict) -> None:
+    """Add ``<Information Name="units" Value="length: mm, ...">`` to the file's Domain."""
+    import xml.etree.ElementTree as ET
+
+    tree = ET.parse(path)
+    info = ET.Element("Information", Name="units",
+                      Value=", ".join(f"{kind}: {unit}" for kind, unit in units.items()))
+    tree.getroot().find("Domain").insert(0, info)
+    tree.write(path)
 
 
 def xdmf_step(scene, snap: dict) -> tuple[dict, dict]:
     """(point_data, cell_data) of one snapshot as results.xdmf holds it (meshio's layout: cell
-    data as one-block lists); see :func:`write_xdmf`."""
+    data as one-block lists).  Point data: ``u`` and, when the result has it, ``reaction``
+    (padded to 3 components, z = 0), ``nodal_stress`` (the recovered nodal stresses,
+    :func:`slipstep.derived.nodal_stress`, as a 9-component tensor) and ``nodal_von_mises``,
+    and the contact fields of :func:`contact_point_data`.  Cell data: sigma_x, sigma_y,
+    sigma_z, tau_xy (axisymmetric: sigma_r, sigma_z, sigma_theta, tau_rz), ``stress`` (the
+    same as a 9-component tensor, :func:`slipstep.derived.stress_tensor`), von_mises (plus
+    plastic_strain, the equivalent plastic strain, and plastic, the 0/1 flag, in elastoplastic
+    cases, with yield_drift = |sigma_e - sigma_y(eps_p)|/sigma_y per plastic element; and body,
+    the body index, when there are several)."""
     n = len(scene.nodes)
-    point_data = {key: _padded(snap[key], n) for key in ("u", "reaction") if key in snap}
     s = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
+    nodal = nodal_stress(scene, s)
+    point_data = {key: _padded(snap[key], n) for key in ("u", "reaction") if key in snap}
+    point_data.update(nodal_stress=stress_tensor(nodal), nodal_von_mises=von_mises(nodal))
+    point_data.update(contact_point_data(scene, snap))
     cell_data = {name: [s[:, k]] for k, name in enumerate(stress_names(scene))}
+    cell_data["stress"] = [stress_tensor(s)]
     cell_data["von_mises"] = [von_mises(s)]
     if is_elastoplastic(scene):
         for key in ("plastic_strain", "plastic"):
@@ -121,6 +147,32 @@ def xdmf_step(scene, snap: dict) -> tuple[dict, dict]:
     if len(scene.bodies) > 1:
         cell_data["body"] = [scene.element_body.astype(np.float64)]
     return point_data, cell_data
+
+
+#: Point data of the contact (name in results.xdmf -> column of contact_profile.csv).
+CONTACT_POINT_DATA = {"contact_pressure": "pressure",
+                      "contact_tangential_stress": "tangential_stress", "contact_gap": "gap",
+                      "contact_status": "status", "contact_slip": "rtd"}
+
+
+def contact_point_data(scene, snap: dict) -> dict:
+    """The contact fields as point data (N,), each on node a of its candidate pair (the
+    contactor node) as contact_profile.csv has them: pressure, tangential stress, gap, status
+    (0 open, 1 stick, 2 slip) and slip (the RTD, relative tangential displacement); 0 at every
+    other node (no NaN: status 0 there reads as open).  A node that is node a of several pairs
+    shows the one with the largest pressure.  Empty without candidate pairs."""
+    if not len(scene.pair_xy):
+        return {}
+    prof = contact_profile(scene, snap)
+    node = np.asarray(prof["node_a"], dtype=np.int64)
+    order = np.lexsort((prof["pressure"], node))  # by node, the largest pressure last
+    shown = order[np.append(node[order][1:] != node[order][:-1], True)]
+    out = {}
+    for name, column in CONTACT_POINT_DATA.items():
+        values = np.zeros(len(scene.nodes))
+        values[node[shown]] = np.asarray(prof[column], dtype=float)[shown]
+        out[name] = values
+    return out
 
 
 def _padded(values, n: int) -> np.ndarray:

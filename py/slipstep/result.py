@@ -19,7 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from .derived import (ELEMENT_EVENTS, contact_profile, event_positions, event_times,
-                      is_elastoplastic, snapshot_time, von_mises, yield_drift)
+                      is_elastoplastic, nodal_stress, same_time, snapshot_time, von_mises,
+                      yield_drift)
 from .errors import InputError
 from .summary import one_line
 
@@ -27,8 +28,6 @@ from .summary import one_line
 EVENT_DTYPE = [("step", "i8"), ("t", "f8"), ("stage", "i8"), ("load_fraction", "f8"),
                ("kind", "U14"), ("entity", "i8"), ("entity_kind", "U7"), ("x", "f8"),
                ("y", "f8")]
-#: Two snapshot times closer than this (relative to the path length) are the same time.
-TIME_TOL = 1e-9
 
 
 class Result:
@@ -101,7 +100,7 @@ class Result:
         if stage is not None:
             pick = np.array([int(s.get("stage", 0)) + 1 == stage for s in snaps])
         if t is not None:
-            pick &= np.abs(times - float(t)) <= TIME_TOL * max(1.0, times.max())
+            pick &= same_time(times, t)
         if not pick.any():
             where = f"t = {t:g}" if t is not None else "the end"
             where += f" in stage {stage}" if stage is not None else ""
@@ -113,7 +112,9 @@ class Result:
         """numpy arrays at snapshot time ``t`` (None: the last; ``stage`` as for
         :meth:`snapshot`): ``u`` (N, 2), ``reaction``
         (N, 2; supports and prescribed displacements), ``stress`` (M, 4: sigma_x, sigma_y,
-        sigma_z, tau_xy), ``von_mises`` (M,), for elastoplastic cases ``plastic_strain``,
+        sigma_z, tau_xy), ``von_mises`` (M,), ``nodal_stress`` (N, 4: the same columns at the
+        nodes, recovered by :func:`slipstep.derived.nodal_stress`) and ``nodal_von_mises``
+        (N,), for elastoplastic cases ``plastic_strain``,
         ``plastic`` (bool) and ``yield_drift`` (M,); per candidate pair in the engine's order
         (P,): ``lambda_n``, ``lambda_t`` (nodal contact forces), ``status`` (0 open, 1 stick,
         2 slip), ``pressure``, ``tangential_stress``, ``gap``, ``rtd`` (as in
@@ -124,6 +125,8 @@ class Result:
                "load_fraction": float(snap["load_fraction"]),
                "u": np.asarray(snap["u"], dtype=float).reshape(-1, 2), "stress": stress,
                "von_mises": von_mises(stress)}
+        out["nodal_stress"] = nodal_stress(self.scene, stress)
+        out["nodal_von_mises"] = von_mises(out["nodal_stress"])
         if "reaction" in snap:
             out["reaction"] = np.asarray(snap["reaction"], dtype=float).reshape(-1, 2)
         if is_elastoplastic(self.scene):
@@ -147,15 +150,17 @@ class Result:
         return contact_profile(self.scene, self.snapshot(t, stage))
 
     def to_meshio(self, t: float | None = None, stage: int | None = None):
-        """A ``meshio.Mesh`` at snapshot time ``t`` (None: the last): 2D points, triangles,
-        and the point and cell data results.xdmf holds for that time step (vectors padded to 3
-        components, as ParaView wants them)."""
+        """A ``meshio.Mesh`` at snapshot time ``t`` (None: the last): points with z = 0 (3D, so
+        every meshio format takes them, ``.vtu`` too), triangles, and the point and cell data
+        results.xdmf holds for that time step (vectors padded to 3 components, stresses also
+        as 9-component tensors, as ParaView wants them)."""
         import meshio
 
         from .output import xdmf_step
 
         point_data, cell_data = xdmf_step(self.scene, self.snapshot(t, stage))
-        return meshio.Mesh(self.nodes, [("triangle", self.triangles)], point_data=point_data,
+        points = np.column_stack([self.nodes, np.zeros(len(self.nodes))])
+        return meshio.Mesh(points, [("triangle", self.triangles)], point_data=point_data,
                            cell_data=cell_data)
 
     # ------------------------------------------------------------------ files and figures

@@ -12,8 +12,8 @@ import math
 
 import numpy as np
 
-from .derived import (closed_extent, contact_axis, contact_profile, event_times,
-                      final_load_fraction, final_time, first_yield, is_elastoplastic,
+from .derived import (closed_extent, contact_axis, contact_profile, crossing_times,
+                      event_times, final_load_fraction, final_time, first_yield, is_elastoplastic,
                       johnson_first_yield, load_factor, pair_coordinate, reached_last_candidate,
                       reactions, snapshot_time, sphere_axis_yield, stage_ends, stage_names,
                       stick_extent, von_mises)
@@ -53,18 +53,14 @@ def _axis_nodes(scene, body: str) -> np.ndarray:
     return ids[np.abs(scene.nodes[ids, 0]) <= AXIS_TOLERANCE * size]
 
 
-def contact_summaries(scene, result, snapshot: dict, sides: list[int],
-                      interpolate: bool = True) -> dict[str, dict]:
+def contact_summaries(scene, result, snapshot: dict, sides: list[int]) -> dict[str, dict]:
     """Per [[contact]] (by name) at ``snapshot``: its axis (origin, tangent), whether it is a
     half model, pair counts, closed and stick extents [s_min, s_max] (None when empty), total
     normal and tangential force and peak pressure.  The closed extent is interpolated in path
-    time at the snapshot's t (the closure times are those of the run's end: ``interpolate``
-    False for an earlier snapshot puts its ends at the outermost closed pairs)."""
+    time at the snapshot's t between the edge's crossings of its stage
+    (:func:`slipstep.derived.crossing_times`), the same way at every snapshot."""
     prof = contact_profile(scene, snapshot)
-    closure = np.asarray(result["closure_fraction"], dtype=float)[prof["pair"]]
-    predicted = np.asarray(result["predicted_closure"], dtype=float)[prof["pair"]]
-    if not interpolate:
-        predicted = np.full(len(predicted), np.nan)
+    last, upcoming = (x[prof["pair"]] for x in crossing_times(scene, result, snapshot))
     f = snapshot_time(snapshot)
     lambda_n = np.asarray(snapshot["lambda_n"], dtype=float)[prof["pair"]]
     lambda_t = np.asarray(snapshot["lambda_t"], dtype=float)[prof["pair"]]
@@ -72,7 +68,7 @@ def contact_summaries(scene, result, snapshot: dict, sides: list[int],
     for i, name in enumerate(scene.model["contact_names"]):
         mine = prof["contact"] == i
         s, status = prof["s"][mine], prof["status"][mine]
-        closed = closed_extent(s, status, closure[mine], predicted[mine], f)
+        closed = closed_extent(s, status, last[mine], upcoming[mine], f)
         origin, tau = contact_axis(scene, i)
         out[name] = {
             "kind": scene.case.data["contact"][i]["kind"],
@@ -125,24 +121,35 @@ def _contact_numbers(scene, result) -> dict:
     }
 
 
+def plastic_counts(snap: dict) -> dict:
+    """``n_plastic_elements``: elements yielding at the snapshot (on the yield surface and
+    loading, the engine's ``plastic`` flag); ``n_yielded_elements``: elements with plastic
+    strain > 0 (the plastic zone, which stays after unloading).  Empty for an elastic run."""
+    out = {}
+    if "plastic" in snap:
+        out["n_plastic_elements"] = int(np.count_nonzero(snap["plastic"]))
+    if "plastic_strain" in snap:
+        out["n_yielded_elements"] = int(np.count_nonzero(np.asarray(snap["plastic_strain"]) > 0))
+    return out
+
+
 STAGE_CONTACT_KEYS = ("closed_extent", "stick_extent", "n_closed", "n_stick", "n_slip",
                       "total_normal_force", "total_tangential_force", "peak_pressure")
 
 
-def _snapshot_numbers(scene, result, snap: dict, sides: list[int], interpolate: bool) -> dict:
+def _snapshot_numbers(scene, result, snap: dict, sides: list[int]) -> dict:
     """Contact forces, per-contact extents, plastic elements and support reactions at one
     snapshot (the parts that apply)."""
     out = {}
     if len(scene.pair_xy):
-        contacts = contact_summaries(scene, result, snap, sides, interpolate)
+        contacts = contact_summaries(scene, result, snap, sides)
         out.update({
             "total_normal_force": float(np.sum(snap["lambda_n"])),
             "total_tangential_force": float(np.sum(snap["lambda_t"])),
             "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
             "contacts": {name: {k: c[k] for k in STAGE_CONTACT_KEYS}
                          for name, c in contacts.items()}})
-    if "plastic" in snap:
-        out["n_plastic_elements"] = int(np.count_nonzero(snap["plastic"]))
+    out.update(plastic_counts(snap))
     out["reactions"] = {name: list(r) for name, r in reactions(scene, snap).items()}
     return out
 
@@ -158,10 +165,9 @@ def stage_records(scene, result) -> list[dict]:
              if len(scene.pair_xy) else [])
     records = []
     for k, i in stage_ends(result, len(names)):
-        last = i == len(snaps) - 1
         records.append({"stage": k + 1, "name": names[k], "t_end": snapshot_time(snaps[i]),
                         "n_events": int(np.count_nonzero(ev_stage == k)),
-                        **_snapshot_numbers(scene, result, snaps[i], sides, last)})
+                        **_snapshot_numbers(scene, result, snaps[i], sides)})
     return records
 
 
@@ -201,6 +207,7 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
     names = stage_names(scene, result)
     summary = {
         "case": scene.case.name,
+        "units": scene.case.units,
         "n_events": int(len(result["events"]["step"])),
         "n_steps": int(len(result["steps"]["load_fraction"])),
         "final_load_fraction": f,
@@ -229,8 +236,8 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         summary["max_von_mises"] = float(von_mises(stress).max()) if len(stress) else 0.0
     if is_elastoplastic(scene):
         summary.update(first_yield(scene, result))
-        if snaps and "plastic" in snaps[-1]:
-            summary["n_plastic_elements"] = int(np.count_nonzero(snaps[-1]["plastic"]))
+        if snaps:
+            summary.update(plastic_counts(snaps[-1]))
     summary.update(_contact_numbers(scene, result))
     if snaps and "reaction" in snaps[-1]:
         summary["reactions"] = {k: list(r) for k, r in reactions(scene, snaps[-1]).items()}
@@ -242,36 +249,55 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
     return summary
 
 
-def contact_text(summary: dict) -> str:
+def quantity(summary: dict, value: float, kind: str) -> str:
+    """``value`` to four digits with the case's unit of ``kind`` (length, force or stress, from
+    ``[case] units`` given as "length, force, stress"); no unit when the case gives none."""
+    unit = summary.get("units", {}).get(kind)
+    return f"{value:.4g} {unit}" if unit else f"{value:.4g}"
+
+
+def contact_text(summary: dict, named: bool = False) -> str:
     """The contact state in a few words: a and c of a half model, else each contact's closed
-    and stick extents along s; empty without contact."""
+    and stick extents along s, in the case's length unit (``named``: a and c named); empty
+    without contact."""
     if "contact_half_width" in summary:
-        return f"a = {summary['contact_half_width']:.4g}, c = {summary['stick_half_width']:.4g}"
+        a = quantity(summary, summary["contact_half_width"], "length")
+        c = quantity(summary, summary["stick_half_width"], "length")
+        if named:
+            return f"a = {a} contact half-width, c = {c} stick half-width"
+        return f"a = {a}, c = {c}"
+    unit = summary.get("units", {}).get("length")
+    unit = f" {unit}" if unit else ""
     parts = []
     for name, c in summary.get("contacts", {}).items():
         closed, stick = c["closed_extent"], c["stick_extent"]
-        text = f"{name}: " + (f"closed s in [{closed[0]:.4g}, {closed[1]:.4g}]" if closed
+        text = f"{name}: " + (f"closed s in [{closed[0]:.4g}, {closed[1]:.4g}]{unit}" if closed
                               else "open")
         if stick:
-            text += f", stick [{stick[0]:.4g}, {stick[1]:.4g}]"
+            text += f", stick [{stick[0]:.4g}, {stick[1]:.4g}]{unit}"
         parts.append(text)
     return "; ".join(parts)
 
 
 def one_line(summary: dict) -> str:
-    """The summary the CLI prints."""
-    parts = [f"{summary['case']}: {summary['n_events']} events",
-             f"f = {summary['final_load_fraction']:.4g}"]
+    """The summary the CLI prints: each quantity named, in the case's units (:func:`quantity`)."""
+    parts = [f"{summary['case']}: {summary['n_events']} events"]
     if summary.get("n_stages", 1) > 1:
-        parts[1] = f"t = {summary['final_t']:.4g} of {summary['n_stages']} stages"
+        parts.append(f"t = {summary['final_t']:.4g} of {summary['n_stages']} stages")
+    else:
+        parts.append(f"f = {summary['final_load_fraction']:.4g} load fraction")
     if contact_text(summary):
-        parts += [contact_text(summary), f"p0 = {summary['peak_pressure']:.4g}"]
+        p0 = quantity(summary, summary["peak_pressure"], "stress")
+        parts += [contact_text(summary, named=True), f"p0 = {p0} peak pressure"]
     if "hertz" in summary and "a_rel_error" in summary["hertz"]:
         h = summary["hertz"]
-        parts.append(f"(Hertz a = {h['a_hertz_at_final']:.4g}, p0 = {h['p0_hertz_at_final']:.4g})")
+        parts.append(f"(Hertz a = {quantity(summary, h['a_hertz_at_final'], 'length')}, "
+                     f"p0 = {quantity(summary, h['p0_hertz_at_final'], 'stress')})")
     if summary.get("first_yield_load_fraction") is not None:
-        parts.append(f"first yield at f = {summary['first_yield_load_fraction']:.4g}, "
-                     f"{summary.get('n_plastic_elements', 0)} plastic elements")
+        now = summary.get("n_plastic_elements", 0)
+        parts += [f"first yield at f = {summary['first_yield_load_fraction']:.4g}",
+                  f"{summary.get('n_yielded_elements', now)} elements yielded (plastic strain "
+                  f"> 0), {now} yielding now"]
     parts += [f"{summary['n_dofs']} dofs", f"{summary['wall_time_s']:.2f} s"]
     if summary["stop"]["kind"] == "interrupted":
         parts.append("INTERRUPTED")

@@ -14,10 +14,13 @@ import sys
 
 
 def describe(path):
+    import os
+
     from paraview import servermanager as sm
     from paraview.simple import Xdmf3ReaderS
 
-    reader = Xdmf3ReaderS(FileName=[path])
+    # absolute: for a bare file name the reader looks for its .h5 as "NAME.xdmfNAME.h5"
+    reader = Xdmf3ReaderS(FileName=[os.path.abspath(path)])
     reader.UpdatePipelineInformation()
     tv = reader.TimestepValues
     times = [float(tv)] if isinstance(tv, (int, float)) else [float(t) for t in (tv or [])]
