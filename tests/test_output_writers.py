@@ -322,7 +322,7 @@ def test_cli_run_with_a_stand_in_engine(hertz, tmp_path, monkeypatch, capsys):
                         lambda case, meshes=None: dataclasses.replace(scene, case=case))
     answer = {"result": result}
     monkeypatch.setattr(runner, "engine", lambda: types.SimpleNamespace(
-        solve=lambda model, progress: answer["result"]))
+        solve=lambda model, progress, report_interval: answer["result"]))
     assert cli.main(["run", "--out", str(tmp_path / "a"), "--set", "output.xdmf=false"]) == 0
     line = capsys.readouterr().out
     assert line.startswith("hertz_cylinder: ") and line.count("\n") == 1
@@ -345,7 +345,7 @@ def test_run_case_api_with_a_stand_in_engine(hertz, tmp_path, monkeypatch):
     scene, result = hertz
     seen = {}
 
-    def solve(model, progress):
+    def solve(model, progress, report_interval):
         seen["model"], seen["progress"] = model, progress
         return result
 
