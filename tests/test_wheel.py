@@ -211,19 +211,25 @@ def test_the_api_from_anywhere(plain_venv, outside):
     assert "body" in got["cell_data"] and got["events"] > 0
 
 
-@pytest.fixture(scope="module")
-def debian_venv(pypi, wheel, tmp_path_factory) -> Path:
-    """README's route beside Debian's dolfinx: a --system-site-packages venv, Debian's h5py
-    registered for pip (ci/debian-h5py.sh), then the wheel with the extra debian-dolfinx."""
+def _system_venv(wheel, where: Path, register_h5py: bool) -> Path:
+    """A --system-site-packages venv (it sees Debian's dolfinx) with the wheel installed with
+    the extra debian-dolfinx, Debian's h5py registered for pip first or not."""
     probe = subprocess.run([SYSTEM_PYTHON, "-c", "import dolfinx"], capture_output=True)
     if probe.returncode:
         pytest.skip("Debian's python3-dolfinx is not installed")
-    venv = tmp_path_factory.mktemp("venv") / "system"
-    _run([SYSTEM_PYTHON, "-m", "venv", "--system-site-packages", venv], cwd=venv.parent)
-    _run([ROOT / "ci" / "debian-h5py.sh", venv], cwd=venv.parent)
-    _run([venv / "bin" / "pip", "install", "-q", f"{wheel}[debian-dolfinx]"], cwd=venv.parent,
+    venv = where / "system"
+    _run([SYSTEM_PYTHON, "-m", "venv", "--system-site-packages", venv], cwd=where)
+    if register_h5py:
+        _run([ROOT / "ci" / "debian-h5py.sh", venv], cwd=where)
+    _run([venv / "bin" / "pip", "install", "-q", f"{wheel}[debian-dolfinx]"], cwd=where,
          timeout=1200)
     return venv
+
+
+@pytest.fixture(scope="module")
+def debian_venv(pypi, wheel, tmp_path_factory) -> Path:
+    """README's route beside Debian's dolfinx: Debian's h5py registered (ci/debian-h5py.sh)."""
+    return _system_venv(wheel, tmp_path_factory.mktemp("venv"), register_h5py=True)
 
 
 @pytest.mark.parametrize("order", ["numpy, h5py, dolfinx", "numpy, dolfinx, h5py"])
@@ -262,3 +268,17 @@ def test_crosscheck_beside_debian_dolfinx(debian_venv, outside):
     c = _hill_plastic_radius(175.0, 10.0, 20.0, 250.0)  # cases/thick_cylinder.toml
     for solver in ("slipstep", "dolfinx"):
         assert abs(report["hill"][solver]["plastic_radius"] - c) <= 2.0, (solver, c)
+
+
+def test_crosscheck_names_the_fix_beside_pypis_h5py(pypi, wheel, tmp_path):
+    """Without ci/debian-h5py.sh pip installs PyPI's h5py (its own HDF5) into the venv;
+    `slipstep crosscheck` then says so in one line with the fix, instead of dying in
+    `import h5py` after dolfinx with a traceback."""
+    venv = _system_venv(wheel, tmp_path, register_h5py=False)
+    h5py = _run([venv / "bin" / "python", "-c", "import h5py; print(h5py.__file__)"],
+                cwd=tmp_path).stdout.strip()
+    assert h5py.startswith(str(venv)), h5py  # the route this guards
+    proc = subprocess.run([venv / "bin" / "slipstep", "crosscheck", "thick_cylinder"],
+                          cwd=tmp_path, env=_env(), capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+    assert "brings its own HDF5" in proc.stderr and "pip uninstall h5py" in proc.stderr
