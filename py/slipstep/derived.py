@@ -162,7 +162,7 @@ def final_load_fraction(result) -> float:
 
 
 # --------------------------------------------------------------------------- load path
-# Results without stages (engines before issue 13) have no ``t``/``stage``: one stage, t = f.
+# Results without stages (engines before load paths) have no ``t``/``stage``: one stage, t = f.
 def snapshot_time(snap: dict) -> float:
     """Path time t of a snapshot (its load fraction in a result without stages)."""
     return float(snap.get("t", snap["load_fraction"]))
