@@ -66,6 +66,7 @@ def test_a_misspelt_study_name_gets_the_close_shipped_names():
     (["run", "two_blocks", "--set", "contact.mu", "0.2", "--quiet"], "--set contact.mu 0.2",
      "--set contact.mu=0.2"),
     (["check", "--set", "contact.mu"], "--set contact.mu", "--set contact.mu=VALUE"),
+    (["run", "--set=contact.mu", "0.2"], "--set contact.mu 0.2", "--set contact.mu=0.2"),
 ])
 def test_set_with_a_space_says_to_write_key_equals_value(argv, shown, fix):
     line = one_error_line(slipstep(*argv))

@@ -139,10 +139,12 @@ def main(argv=None) -> int:
 
 def _spaced_set(argv: list[str]) -> str | None:
     """``--set contact.mu 0.2`` (a space for the =): the message that says how to write it."""
-    for i, item in enumerate(argv[:-1]):
-        if item == "--set" and "=" not in argv[i + 1]:
-            key, after = argv[i + 1], argv[i + 2] if i + 2 < len(argv) else "-"
-            value = after if not after.startswith("-") else None
+    words = [w for item in argv
+             for w in (["--set", item[len("--set="):]] if item.startswith("--set=") else [item])]
+    for i, item in enumerate(words[:-1]):
+        if item == "--set" and "=" not in words[i + 1]:
+            key, after = words[i + 1], (words[i + 2:] or ["-"])[0]
+            value = None if after.startswith("-") else after
             written = f"--set {key} {value}" if value else f"--set {key}"
             return (f"{written}: write KEY=VALUE as one word, --set {key}={value or 'VALUE'} "
                     f"(the keys: `slipstep keys`)")
