@@ -72,6 +72,13 @@ def sections() -> list[Section]:
 ALIASES = {"mesh": "body.mesh", "material": "body.material"}
 
 
+#: How each schema type is written in a case file.
+TYPE_TEXT = {"float": "number", "int": "integer", "str": "string", "bool": "true|false",
+             "vec2": "[x, y]", "box": "[x0, y0, x1, y1]", "axes": '["x", "y"]',
+             "snapshots": '"events"|[t, ...]', "xy": "{x = .., y = ..}",
+             "factors": "{LOAD = .., ...}", "points": "[[x, y], ...]"}
+
+
 def default_text(key: schema.Key) -> str:
     """A key's default as a case file would spell it ("required", "absent" when unset)."""
     if key.default is schema.REQUIRED:
@@ -80,11 +87,13 @@ def default_text(key: schema.Key) -> str:
         return "absent"
     if isinstance(key.default, float) and math.isinf(key.default):
         return "inf" if key.default > 0 else "-inf"
+    if key.default == {}:
+        return "{}"
     return schema._fmt(key.default)
 
 
 def type_text(key: schema.Key) -> str:
-    text = " | ".join(f'"{c}"' for c in key.choices) if key.choices else key.type
+    text = "|".join(f'"{c}"' for c in key.choices) if key.choices else TYPE_TEXT[key.type]
     return f"{text} [{key.unit}]" if key.unit else text
 
 
