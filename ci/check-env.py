@@ -8,6 +8,7 @@ import re
 import sys
 
 import numpy, dolfinx, meshio, h5py, gmsh, matplotlib, tqdm  # noqa: E401,F401  (the imports are the test)
+import jupytext, nbclient, ipykernel, ipywidgets  # noqa: E401,F401  (the examples as notebooks)
 
 root = pathlib.Path(__file__).resolve().parent.parent
 want = re.search(r"^numpy==(\S+)", (root / "ci/constraints.txt").read_text(), re.M).group(1)
@@ -28,5 +29,5 @@ if errors:
 print(f"check-env: ok: numpy {numpy.__version__}, dolfinx {dolfinx.__version__}, "
       f"meshio {meshio.__version__}, h5py {h5py.__version__} (HDF5 {h5py.version.hdf5_version}), "
       f"gmsh {getattr(gmsh, '__version__', '?')}, matplotlib {matplotlib.__version__}, "
-      f"tqdm {tqdm.__version__}"
+      f"tqdm {tqdm.__version__}, jupytext {jupytext.__version__}, nbclient {nbclient.__version__}"
       + (", slipstep._engine" if "--built" in sys.argv else ""))

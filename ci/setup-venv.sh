@@ -19,29 +19,9 @@ if [[ ! -x $VENV/bin/python ]] || [[ ! -f $cfg ]] \
     "$SYS_PY" -m venv --system-site-packages "$VENV"
 fi
 
-# Debian registers its h5py as the distribution "h5py._debian_h5py_serial", which pip does not
-# recognise as "h5py". Without help, the pip run inside `maturin develop` (slipstep depends on h5py)
-# pulls PyPI's h5py, with its own bundled HDF5, into the venv over Debian's (the HDF5 that dolfinx
-# uses). Register Debian's h5py under its real name in the venv, metadata only, so pip sees the
-# requirement as satisfied.
-site=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
-deb_info=$(compgen -G '/usr/lib/python3/dist-packages/h5py._debian_h5py_*.dist-info' | head -n1 || true)
-if [[ -n $deb_info ]]; then
-    if [[ -d $site/h5py ]]; then
-        echo "setup-venv: removing PyPI h5py from $VENV (Debian's is used)"
-        "$VENV/bin/python" -m pip uninstall -y -q h5py
-    fi
-    h5ver=${deb_info%.dist-info}; h5ver=${h5ver##*-}
-    shim=$site/h5py-$h5ver.dist-info
-    if [[ ! -f $shim/METADATA ]]; then
-        mkdir -p "$shim"
-        printf 'Metadata-Version: 2.1\nName: h5py\nVersion: %s\nSummary: Debian python3-h5py (%s), registered for pip by ci/setup-venv.sh\n' \
-            "$h5ver" "$deb_info" > "$shim/METADATA"
-        echo "slipstep-ci" > "$shim/INSTALLER"
-        printf 'h5py-%s.dist-info/METADATA,,\nh5py-%s.dist-info/INSTALLER,,\nh5py-%s.dist-info/RECORD,,\n' \
-            "$h5ver" "$h5ver" "$h5ver" > "$shim/RECORD"
-    fi
-fi
+# Debian's h5py (same HDF5 as dolfinx) registered for pip, so no pip run here or inside
+# `maturin develop` pulls PyPI's h5py over it (the reasons are in the script).
+ci/debian-h5py.sh "$VENV"
 
 "$VENV/bin/python" -m pip install --progress-bar off -c "$CONSTRAINTS" -r ci/requirements.txt
 

@@ -1,42 +1,41 @@
-"""Hybrid mode: slipstep's event-driven frictional contact on a plain dolfinx model.
+# %% [markdown]
+# # Hybrid mode: slipstep's event-driven frictional contact on a plain dolfinx model
+#
+# A dolfinx user's workflow: a quarter cylinder (R = 125 mm, centre (0, R)) meshed with gmsh
+# and loaded into dolfinx (`model_to_mesh`), a P1 vector space, the UFL forms of plane-strain
+# elasticity, a pressure q = P/(2R) on the cut y = R, a symmetry condition on x = 0.  slipstep
+# then solves the contact of the arc with the rigid flat y = 0 (Coulomb mu) and hands back
+# dolfinx Functions: displacement and contact pressure.
+#
+# The dolfinx calls whose spelling changed between releases (function spaces, gmsh import,
+# scalar type, XDMF) go through `slipstep.fenicsx.dolfinx_api`, so that the example runs on
+# dolfinx 0.5 to 0.11 (docs/dolfinx.md); `api.function_space(mesh, "Lagrange", 1, (2,))` is
+# `fem.functionspace(mesh, ("Lagrange", 1, (2,)))` on dolfinx >= 0.7.
+#
+# It prints the contact half-width and peak pressure against Hertz (a = 1.4384 mm,
+# p0 = 442.6 MPa at P = 1000 N/mm) and writes OUT/hybrid_hertz.xdmf (u, contact pressure)
+# with dolfinx's XDMFFile.  Restriction (see `slipstep.fenicsx.hybrid`): P1 triangles,
+# isotropic linear elasticity with the E, nu given, homogeneous Dirichlet conditions, a rigid
+# line.  A notebook takes the parameters below; a script also reads them from its command line:
+#
+#     .venv/bin/python examples/hybrid_hertz.py [--h-contact 0.05] [--mu 0.2] [--out DIR]
 
-A dolfinx user's workflow: a quarter cylinder (R = 125 mm, centre (0, R)) meshed with gmsh
-and loaded into dolfinx (``model_to_mesh``), a P1 vector space, the UFL forms of plane-strain
-elasticity, a pressure q = P/(2R) on the cut y = R, a symmetry condition on x = 0.  slipstep
-then solves the contact of the arc with the rigid flat y = 0 (Coulomb mu) and hands back
-dolfinx Functions: displacement and contact pressure.
-
-The dolfinx calls whose spelling changed between releases (function spaces, gmsh import,
-scalar type, XDMF) go through ``slipstep.fenicsx.dolfinx_api`` so that the example runs on
-dolfinx 0.5 to 0.11 (docs/dolfinx.md); ``api.function_space(mesh, "Lagrange", 1, (2,))`` is
-``fem.functionspace(mesh, ("Lagrange", 1, (2,)))`` on dolfinx >= 0.7.
-
-    .venv/bin/python examples/hybrid_hertz.py [--h-contact 0.05] [--mu 0.2] [--out DIR]
-
-Prints the contact half-width and peak pressure against Hertz (a = 1.4384 mm,
-p0 = 442.6 MPa at P = 1000 N/mm) and writes DIR/hybrid_hertz.xdmf (u, contact pressure)
-with dolfinx's XDMFFile.  Restriction (see slipstep.fenicsx.hybrid): P1 triangles, isotropic
-linear elasticity with the E, nu given, homogeneous Dirichlet conditions, a rigid line.
-"""
-
-from __future__ import annotations
-
+# %%
 import argparse
 import math
 import sys
 import time
 from pathlib import Path
 
-
-try:
-    import slipstep  # noqa: F401
-except ImportError:  # run from a checkout
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "py"))
+H_CONTACT = 0.05  # element size at the contact, mm
+MU = 0.2  # Coulomb friction coefficient
+OUT = "results/hybrid_hertz"  # output folder
 
 R, P, E, NU = 125.0, 1000.0, 70000.0, 0.3
 TOP, SYMMETRY, ARC = 1, 2, 3  # facet tags (gmsh physical groups)
 
 
+# %%
 def cylinder_mesh(h_contact: float, h_max: float = 8.0):
     """The quarter cylinder as a dolfinx mesh with facet tags, straight from gmsh."""
     import gmsh
@@ -78,12 +77,19 @@ def cylinder_mesh(h_contact: float, h_max: float = 8.0):
 
 
 def main(argv=None) -> dict:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--h-contact", type=float, default=0.05, help="element size at the contact")
-    ap.add_argument("--mu", type=float, default=0.2, help="Coulomb friction coefficient")
-    ap.add_argument("--out", default="results/hybrid_hertz", help="output folder")
+    """The example with the command line's options (``argv``; None: ``sys.argv``), the
+    parameters above by default."""
+    ap = argparse.ArgumentParser(description="slipstep's contact on a plain dolfinx model")
+    ap.add_argument("--h-contact", type=float, default=H_CONTACT,
+                    help="element size at the contact")
+    ap.add_argument("--mu", type=float, default=MU, help="Coulomb friction coefficient")
+    ap.add_argument("--out", default=OUT, help="output folder")
     args = ap.parse_args(argv)
+    return solve(args.h_contact, args.mu, args.out)
 
+
+def solve(h_contact: float = H_CONTACT, mu: float = MU, out_dir: str = OUT) -> dict:
+    """The dolfinx model, its contact solved by slipstep, checked against Hertz; the summary."""
     from slipstep.fenicsx import dolfinx_api as api
     from slipstep.fenicsx.hybrid import solve_contact
 
@@ -91,7 +97,7 @@ def main(argv=None) -> dict:
 
     start = time.perf_counter()
     # ---- the user's dolfinx model --------------------------------------------------------
-    mesh, facet_tags = cylinder_mesh(args.h_contact)
+    mesh, facet_tags = cylinder_mesh(h_contact)
     V = api.function_space(mesh, "Lagrange", 1, (2,))
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
     mu_l, lam = E / (2 * (1 + NU)), E * NU / ((1 + NU) * (1 - 2 * NU))
@@ -108,7 +114,7 @@ def main(argv=None) -> dict:
 
     # ---- slipstep: event-driven contact of the arc on the flat y = 0 ----------------------
     out = solve_contact(V, a, L, facet_tags, ARC, E=E, nu=NU, plane="strain", bcs=bcs,
-                        flat_point=(0.0, 0.0), flat_normal=(0.0, 1.0), mu=args.mu)
+                        flat_point=(0.0, 0.0), flat_normal=(0.0, 1.0), mu=mu)
 
     # ---- back in dolfinx: Functions to keep using ------------------------------------------
     p = api.dof_values(out.pressure)
@@ -119,8 +125,8 @@ def main(argv=None) -> dict:
     E_star = E / (1 - NU ** 2)
     a_h = math.sqrt(4 * P * R / (math.pi * E_star))
     p0_h = 2 * P / (math.pi * a_h)
-    Path(args.out).mkdir(parents=True, exist_ok=True)
-    api.write_functions(Path(args.out) / "hybrid_hertz.xdmf", mesh,
+    Path(out_dir).mkdir(parents=True, exist_ok=True)
+    api.write_functions(Path(out_dir) / "hybrid_hertz.xdmf", mesh,
                         [(0.0, [out.u, out.pressure])])
     summary = {
         "n_cells": api.num_cells(mesh), "n_nodes": len(api.node_coordinates(mesh)),
@@ -134,9 +140,14 @@ def main(argv=None) -> dict:
     print(f"{summary['n_cells']} cells, {summary['events']} events, "
           f"{summary['wall_time_s']:.2f} s: outermost closed node x = {a_num:.4f} mm "
           f"(Hertz a = {a_h:.4f}), peak pressure {p.max():.1f} MPa (Hertz p0 = {p0_h:.1f}), "
-          f"integral of the pressure {force:.6g} N/mm (P/2 = {P / 2:g}) -> {args.out}")
+          f"integral of the pressure {force:.6g} N/mm (P/2 = {P / 2:g}) -> {out_dir}")
     return summary
 
 
+# %% [markdown]
+# Run: a script takes its command line; a notebook kernel's command line is the kernel's own,
+# so there the parameters above are used as they are.
+
+# %%
 if __name__ == "__main__":
-    main()
+    summary = main([] if "ipykernel" in sys.modules else None)

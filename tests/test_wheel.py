@@ -1,27 +1,32 @@
-"""A wheel that runs anywhere (issue 17, point 5): the wheel is built from this checkout
-(`maturin build --release`, reusing target/, so it only packs and re-links), installed into
-fresh venvs, and `slipstep run`, `reproduce --quick`, `study stability --quick`, `sweep` and
-the Python API run from a folder outside the repository, with nothing of the checkout on the
-path.
+"""A wheel that runs anywhere: the wheel is built from this checkout (`maturin build
+--release`, reusing target/, so it only packs and re-links), installed into fresh venvs, and
+`slipstep run`, `reproduce --quick`, `study stability --quick`, `sweep`, `keys`, `new` and the
+Python API run from a folder outside the repository, with nothing of the checkout on the path.
 
 Two venvs, the two ways README "pip" describes:
 - plain (`python3 -m venv`): pip pulls every dependency from PyPI, numpy unpinned (today a
-  numpy 2): the four commands and the API run there;
-- beside Debian's dolfinx (`--system-site-packages`, extra `debian-dolfinx`): pip must keep
-  Debian's numpy 1.24.2, so dolfinx still imports.
+  numpy 2): the commands and the API run there;
+- beside Debian's dolfinx (`--system-site-packages`, Debian's h5py registered for pip by
+  ci/debian-h5py.sh, extra `debian-dolfinx`): pip keeps Debian's numpy 1.24.2 and h5py (the
+  HDF5 dolfinx uses), dolfinx imports in either order with h5py, and `slipstep crosscheck`
+  runs.
 
-Needs PyPI (as `make` does for .venv); pip's cache makes a second run quick.
+Needs PyPI (as `make` does for .venv): without it the venv tests are skipped, saying so; pip's
+cache makes a second run quick.
 """
 
 from __future__ import annotations
 
 import csv
 import json
+import math
 import os
+import re
 import shutil
 import subprocess
 import sys
 import textwrap
+import tomllib
 import zipfile
 from pathlib import Path
 
@@ -62,6 +67,19 @@ def _env(**extra) -> dict:
     return env
 
 
+@pytest.fixture(scope="module")
+def pypi(tmp_path_factory) -> None:
+    """Skip (with pip's reason) when pip cannot reach its package index: the venvs need it."""
+    probe = subprocess.run([sys.executable, "-m", "pip", "download", "--no-deps", "--no-cache-dir",
+                            "--timeout", "15", "--retries", "1", "-d",
+                            tmp_path_factory.mktemp("probe"), "tqdm"],
+                           env=_env(), capture_output=True, text=True, timeout=120)
+    if probe.returncode:
+        why = (probe.stderr.strip().splitlines() or ["no answer"])[-1]
+        pytest.skip(f"pip's package index (PyPI) is unreachable, the wheel's venvs cannot be "
+                    f"made: {why}")
+
+
 def _run(args, cwd, timeout=600, **env) -> subprocess.CompletedProcess:
     proc = subprocess.run([str(a) for a in args], cwd=cwd, env=_env(**env), capture_output=True,
                           text=True, timeout=timeout)
@@ -79,7 +97,7 @@ def wheel(tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="module")
-def plain_venv(wheel, tmp_path_factory) -> Path:
+def plain_venv(pypi, wheel, tmp_path_factory) -> Path:
     venv = tmp_path_factory.mktemp("venv") / "plain"
     _run([SYSTEM_PYTHON, "-m", "venv", venv], cwd=venv.parent)
     _run([venv / "bin" / "pip", "install", "-q", wheel], cwd=venv.parent, timeout=1200)
@@ -102,6 +120,28 @@ def test_the_wheel_holds_the_cases_and_studies_as_files(wheel):
         metadata = z.read(next(n for n in z.namelist() if n.endswith("METADATA"))).decode()
     for dep in ("numpy", "meshio", "h5py", "matplotlib", "gmsh", "tqdm"):
         assert f"Requires-Dist: {dep}\n" in metadata, dep
+    # the extras README names: numpy kept at Debian's beside dolfinx; ipywidgets for a
+    # progress widget in notebooks
+    for dep, extra in (("numpy==1.24.2", "debian-dolfinx"), ("ipywidgets", "notebook")):
+        assert re.search(rf"^Requires-Dist: {re.escape(dep)} ?; extra == '{extra}'$", metadata,
+                         re.M), (dep, extra)
+
+
+def test_the_wheel_and_the_command_say_the_cargo_version(wheel, plain_venv, outside):
+    want = tomllib.loads((ROOT / "Cargo.toml").read_text())["workspace"]["package"]["version"]
+    assert wheel.name.startswith(f"slipstep-{want}-")
+    got = _run([plain_venv / "bin" / "slipstep", "--version"], cwd=outside).stdout
+    assert got == f"slipstep {want}\n"
+
+
+def test_keys_and_new_from_anywhere(plain_venv, outside):
+    """The key reference --help points to is in the wheel, and a shipped case copies out."""
+    bin_ = plain_venv / "bin"
+    keys = _run([bin_ / "slipstep", "keys", "contact"], cwd=outside).stdout
+    assert '[contact] kind = "rigid_circle"' in keys and "radius" in keys
+    _run([bin_ / "slipstep", "new", "ball", "--from", "hertz_sphere"], cwd=outside)
+    checked = _run([bin_ / "slipstep", "check", "ball.toml"], cwd=outside).stdout
+    assert checked.startswith("ball: ")
 
 
 def test_run_from_anywhere(plain_venv, outside):
@@ -171,17 +211,74 @@ def test_the_api_from_anywhere(plain_venv, outside):
     assert "body" in got["cell_data"] and got["events"] > 0
 
 
-def test_beside_debian_dolfinx_numpy_stays(wheel, tmp_path_factory):
-    """A venv that sees Debian's dolfinx: the extra debian-dolfinx keeps numpy 1.24.2 (a
-    newer one in the venv would shadow it and break petsc4py), and dolfinx still imports."""
+def _system_venv(wheel, where: Path, register_h5py: bool) -> Path:
+    """A --system-site-packages venv (it sees Debian's dolfinx) with the wheel installed with
+    the extra debian-dolfinx, Debian's h5py registered for pip first or not."""
     probe = subprocess.run([SYSTEM_PYTHON, "-c", "import dolfinx"], capture_output=True)
     if probe.returncode:
         pytest.skip("Debian's python3-dolfinx is not installed")
-    venv = tmp_path_factory.mktemp("venv") / "system"
-    _run([SYSTEM_PYTHON, "-m", "venv", "--system-site-packages", venv], cwd=venv.parent)
-    _run([venv / "bin" / "pip", "install", "-q", f"{wheel}[debian-dolfinx]"], cwd=venv.parent,
+    venv = where / "system"
+    _run([SYSTEM_PYTHON, "-m", "venv", "--system-site-packages", venv], cwd=where)
+    if register_h5py:
+        _run([ROOT / "ci" / "debian-h5py.sh", venv], cwd=where)
+    _run([venv / "bin" / "pip", "install", "-q", f"{wheel}[debian-dolfinx]"], cwd=where,
          timeout=1200)
-    code = ("import numpy, dolfinx, slipstep; "
-            "print(numpy.__version__, slipstep.__file__)")
-    out = _run([venv / "bin" / "python", "-c", code], cwd=venv.parent).stdout.split()
-    assert out[0] == "1.24.2" and out[1].startswith(str(venv))
+    return venv
+
+
+@pytest.fixture(scope="module")
+def debian_venv(pypi, wheel, tmp_path_factory) -> Path:
+    """README's route beside Debian's dolfinx: Debian's h5py registered (ci/debian-h5py.sh)."""
+    return _system_venv(wheel, tmp_path_factory.mktemp("venv"), register_h5py=True)
+
+
+@pytest.mark.parametrize("order", ["numpy, h5py, dolfinx", "numpy, dolfinx, h5py"])
+def test_beside_debian_dolfinx_numpy_and_h5py_stay_debian(debian_venv, order):
+    """numpy stays 1.24.2 (a newer one would shadow it and break petsc4py) and h5py is Debian's
+    (its HDF5 is dolfinx's), so dolfinx and h5py import in either order: with PyPI's h5py,
+    dolfinx first made `import h5py` fail ("Not a datatype")."""
+    code = (f"import {order}, slipstep; "
+            "print(numpy.__version__, h5py.__file__, slipstep.__file__)")
+    out = _run([debian_venv / "bin" / "python", "-c", code], cwd=debian_venv.parent).stdout
+    numpy_version, h5py_file, slipstep_file = out.split()
+    assert numpy_version == "1.24.2"
+    assert h5py_file.startswith("/usr/lib/python3/dist-packages/"), h5py_file
+    assert slipstep_file.startswith(str(debian_venv))
+
+
+def _hill_plastic_radius(p: float, a: float, b: float, sy: float) -> float:
+    """Hill's plastic radius c of a thick cylinder (von Mises, plane strain, perfectly
+    plastic): p = k [2 ln(c/a) + 1 - c^2/b^2], k = Sy/sqrt(3), by bisection on [a, b] (the
+    right side grows with c there)."""
+    k = sy / 3 ** 0.5
+    lo, hi = a, b
+    for _ in range(100):
+        c = 0.5 * (lo + hi)
+        lo, hi = (c, hi) if k * (2 * math.log(c / a) + 1 - c * c / (b * b)) < p else (lo, c)
+    return 0.5 * (lo + hi)
+
+
+def test_crosscheck_beside_debian_dolfinx(debian_venv, outside):
+    """`slipstep crosscheck thick_cylinder` (README's example) from the wheel: it runs, and
+    slipstep's and dolfinx's plastic radii are Hill's within one element at the bore (h = 2 mm
+    on this coarse mesh; the radius is read off element centroids)."""
+    _run([debian_venv / "bin" / "slipstep", "crosscheck", "thick_cylinder", "--set", "mesh.h=2.0",
+          "--steps", "5", "--out", "tc"], cwd=outside)
+    report = json.loads((outside / "tc" / "crosscheck.json").read_text())
+    c = _hill_plastic_radius(175.0, 10.0, 20.0, 250.0)  # cases/thick_cylinder.toml
+    for solver in ("slipstep", "dolfinx"):
+        assert abs(report["hill"][solver]["plastic_radius"] - c) <= 2.0, (solver, c)
+
+
+def test_crosscheck_names_the_fix_beside_pypis_h5py(pypi, wheel, tmp_path):
+    """Without ci/debian-h5py.sh pip installs PyPI's h5py (its own HDF5) into the venv;
+    `slipstep crosscheck` then says so in one line with the fix, instead of dying in
+    `import h5py` after dolfinx with a traceback."""
+    venv = _system_venv(wheel, tmp_path, register_h5py=False)
+    h5py = _run([venv / "bin" / "python", "-c", "import h5py; print(h5py.__file__)"],
+                cwd=tmp_path).stdout.strip()
+    assert h5py.startswith(str(venv)), h5py  # the route this guards
+    proc = subprocess.run([venv / "bin" / "slipstep", "crosscheck", "thick_cylinder"],
+                          cwd=tmp_path, env=_env(), capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+    assert "brings its own HDF5" in proc.stderr and "pip uninstall h5py" in proc.stderr

@@ -14,6 +14,7 @@ classes of ``errors``; the shipped cases and studies are in ``shipped``.
     >>> r.fields(1.0)["u"], r.profile()["pressure"], r.to_meshio(0.5), r.events
 """
 
+from .version import __version__
 from .case import Case, CaseError, load_case, parse_case
 from .errors import InputError, SlipstepError
 from .mesh import Mesh, MeshError, from_arrays, from_meshio
@@ -22,6 +23,6 @@ from .progress import Progress
 from .result import Result
 from .runner import as_case, prepare, run, run_case, solve
 
-__all__ = ["Case", "CaseError", "InputError", "Mesh", "MeshError", "Progress", "Result",
+__all__ = ["__version__", "Case", "CaseError", "InputError", "Mesh", "MeshError", "Progress", "Result",
            "Scene", "SlipstepError", "as_case", "build_scene", "from_arrays", "from_meshio",
            "load_case", "parse_case", "prepare", "run", "run_case", "solve"]

@@ -17,7 +17,7 @@ when the array has exactly one element, so ``contact.mu``), and for a case with 
 Entries of inline tables are one level further: ``stage.unload.factors.load``,
 ``bc.push.displacement.y``.
 
-Load path (issue 13): every load (``[load]``, a ``[[bc]]`` with pressure, traction or
+Load path: every load (``[load]``, a ``[[bc]]`` with pressure, traction or
 displacement, a ``[[point_load]]``, a ``[[contact]]`` with motion) is a pattern at factor 1;
 ``[[stage]]`` tables give the factor each named load reaches at the end of each stage
 (:class:`LoadPath`, ``Case.path``).
@@ -1191,7 +1191,7 @@ class LoadPath:
 
     @property
     def new(self) -> bool:
-        """The model needs the engine's `patterns`/`stages` (else it is the pre-issue-13 one)."""
+        """The model needs the engine's `patterns`/`stages` (else it is the one without stages)."""
         return self.staged or bool(self.patterns)
 
 

@@ -3,6 +3,8 @@
     slipstep run [CASE] [--out DIR] [--set KEY=VALUE ...] [--quiet]
     slipstep check [CASE] [--set KEY=VALUE ...]
     slipstep list
+    slipstep keys [SECTION]
+    slipstep new NAME [--from CASE]
     slipstep crosscheck [CASE.toml] [--out DIR] [--set KEY=VALUE ...] [--steps 5,10,20,50]
     slipstep sweep STUDY.toml [--out DIR] [--workers N] [--mpi]
     slipstep reproduce [--out DIR] [--quick]
@@ -10,10 +12,13 @@
 
 CASE is a case file or the name of a shipped case (``slipstep list``; STUDY likewise), so an
 installed wheel runs from any folder; without CASE the built-in Hertz cylinder (paper §5.1)
-runs.  A :class:`~slipstep.errors.
-SlipstepError` prints one line ``slipstep: error: ...`` on stderr and exits 2 (set
-SLIPSTEP_TRACEBACK=1 for its traceback); any other exception is a bug and shows its traceback.
-Ctrl-C writes what was computed and exits 130.  ``run`` shows a progress bar on stderr (tqdm).
+runs.  ``keys`` prints the case keys (from the schema the validator checks), ``new`` copies a
+shipped case to edit.  A :class:`~slipstep.errors.SlipstepError` prints one line
+``slipstep: error: ...`` on stderr and exits 2 (set SLIPSTEP_TRACEBACK=1 for its traceback); any
+other exception is a bug and shows its traceback.  A run that stops early writes what it
+computed: Ctrl-C exits 130, any other early stop (its ``stop["message"]`` says why) exits 2.
+``run`` shows a progress bar on stderr when it is a terminal (tqdm), else a start and an end
+line.
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from pathlib import Path
 
 from . import shipped
 from .case import load_case
@@ -28,14 +34,22 @@ from .errors import InputError, SlipstepError
 from .model import build_scene
 from .runner import run_case
 from .summary import one_line
+from .version import __version__
 
 EXIT_ERROR = 2
 EXIT_INTERRUPTED = 130
 
 
+KEYS_HELP = "repeatable; the keys: `slipstep keys`"
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="slipstep", description="Event-driven frictional contact "
-                                "(adaptive incremental, no load steps, no penalties).")
+    p = argparse.ArgumentParser(
+        prog="slipstep", description="Event-driven frictional contact (adaptive incremental, "
+        "no load steps, no penalties).", epilog="A case is a TOML file or the name of a shipped "
+        "case (`slipstep list`). Every key of a case, its default and meaning: `slipstep keys "
+        "[SECTION]`. A shipped case copied to edit: `slipstep new NAME --from hertz_sphere`.")
+    p.add_argument("--version", action="version", version=f"slipstep {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
     for name, text in (("run", "solve a case and write its results"),
                        ("check", "validate and mesh a case, print its size, do not solve")):
@@ -44,8 +58,8 @@ def _parser() -> argparse.ArgumentParser:
                        help="case file or shipped case name (`slipstep list`; default: the "
                             "built-in Hertz cylinder)")
         s.add_argument("--set", dest="overrides", action="append", default=[],
-                       metavar="KEY=VALUE", help="override a key, e.g. --set contact.mu=0.35 "
-                       "(repeatable; see cases/README.md)")
+                       metavar="KEY=VALUE", help=f"override a key, e.g. --set contact.mu=0.35 "
+                       f"({KEYS_HELP})")
         if name == "run":
             s.add_argument("--out", default=None, help="output folder (default: results/<case>)")
             s.add_argument("--quiet", action="store_true", help="no progress, no summary line")
@@ -58,7 +72,7 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--mpi", action="store_true", help="use mpi4py.futures.MPIPoolExecutor: "
                    "mpirun -n N python -m mpi4py.futures -m slipstep sweep STUDY --mpi")
     s.add_argument("--set", dest="overrides", action="append", default=[],
-                   metavar="KEY=VALUE", help="override a key in every case (repeatable)")
+                   metavar="KEY=VALUE", help=f"override a key in every case ({KEYS_HELP})")
     s.add_argument("--quiet", action="store_true", help="no progress lines")
     s = sub.add_parser("reproduce", help="regenerate the paper's table and figures + report.md",
                        description="regenerate Table 1 and Figs. 5-16 of the paper with "
@@ -66,7 +80,7 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--out", default="results/reproduce", help="output folder")
     s.add_argument("--quick", action="store_true", help="coarse meshes (for tests)")
     s.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
-    s = sub.add_parser("study", help="built-in studies: `study stability` (issue 7)",
+    s = sub.add_parser("study", help="built-in studies: `study stability`",
                        description="run a built-in study and write report.md, a chart and a "
                        "CSV table")
     s.add_argument("name", choices=["stability"], help="which study")
@@ -74,15 +88,26 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--quick", action="store_true", help="coarse meshes, fewer runs (for tests)")
     sub.add_parser("list", help="list the shipped cases and studies",
                    description="the cases and studies shipped with slipstep: give their names "
-                               "to run, check, crosscheck and sweep")
+                               "to run, check, crosscheck, sweep and new")
+    s = sub.add_parser("keys", help="the keys of a case file: type, default, meaning",
+                       description="every key a case file may hold, table by table, with its "
+                       "type, unit, default and meaning")
+    s.add_argument("section", nargs="?", default=None,
+                   help="one section (solver, contact, mesh, ...) or key (contact.mu)")
+    s = sub.add_parser("new", help="copy a shipped case to NAME.toml, to edit",
+                       description="write NAME.toml, a copy of a shipped case named NAME, to "
+                       "edit; then `slipstep check NAME.toml` and `slipstep run NAME.toml`")
+    s.add_argument("name", help="the new case's name (and file NAME.toml)")
+    s.add_argument("--from", dest="source", default="hertz_cylinder",
+                   help="the shipped case to copy (`slipstep list`; default hertz_cylinder)")
     # cross-check against dolfinx (optional; slipstep.fenicsx imports dolfinx lazily)
     text = "solve a case with slipstep and with dolfinx (FEniCSx) and write a comparison report"
     s = sub.add_parser("crosscheck", help=text, description=text)
     s.add_argument("case", nargs="?", default=None,
-                   help="case file (default: the built-in Hertz cylinder)")
+                   help="case file or shipped case name (default: the built-in Hertz cylinder)")
     s.add_argument("--out", default=None, help="report folder (default: results/<case>_crosscheck)")
     s.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
-                   help="override a key (repeatable; see cases/README.md)")
+                   help=f"override a key ({KEYS_HELP})")
     s.add_argument("--steps", default="5,10,20,50",
                    help="dolfinx load steps to compare, elastoplastic bulk scenes (default 5,10,20,50)")
     s.add_argument("--substeps", type=int, default=1,
@@ -96,6 +121,10 @@ def _error(message: str) -> int:
 
 
 def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    spaced = _spaced_set(argv)
+    if spaced:
+        return _error(spaced)
     args = _parser().parse_args(argv)
     try:
         return _command(args)
@@ -108,11 +137,31 @@ def main(argv=None) -> int:
         return EXIT_INTERRUPTED
 
 
+def _spaced_set(argv: list[str]) -> str | None:
+    """``--set contact.mu 0.2`` (a space for the =): the message that says how to write it."""
+    words = [w for item in argv
+             for w in (["--set", item[len("--set="):]] if item.startswith("--set=") else [item])]
+    for i, item in enumerate(words[:-1]):
+        if item == "--set" and "=" not in words[i + 1]:
+            key, after = words[i + 1], (words[i + 2:] or ["-"])[0]
+            value = None if after.startswith("-") else after
+            written = f"--set {key} {value}" if value else f"--set {key}"
+            return (f"{written}: write KEY=VALUE as one word, --set {key}={value or 'VALUE'} "
+                    f"(the keys: `slipstep keys`)")
+    return None
+
+
 def _command(args) -> int:
     if args.command == "check":
         return _check(args)
     if args.command == "list":
         return _list()
+    if args.command == "keys":
+        from .keys import reference
+        print(reference(args.section))
+        return 0
+    if args.command == "new":
+        return _new(args)
     if args.command == "crosscheck":
         return _crosscheck(args)
     if args.command == "sweep":
@@ -140,6 +189,15 @@ def _list() -> int:
     return 0
 
 
+def _new(args) -> int:
+    """NAME.toml: a copy of the shipped case ``--from`` named NAME."""
+    target = shipped.copy(args.source, args.name)
+    load_case(target)  # the copy is a valid case
+    print(f"{target}: a copy of the shipped case {args.source}, named {target.stem}; edit it, "
+          f"then `slipstep check {target}` and `slipstep run {target}` (keys: `slipstep keys`)")
+    return 0
+
+
 def _check(args) -> int:
     scene = build_scene(_case(args))
     m = scene.model
@@ -156,6 +214,9 @@ def _crosscheck(args) -> int:
         raise InputError(f"--steps {args.steps}: give load step counts like 5,10,20,50") from None
     from .fenicsx import require_dolfinx
     out = args.out or f"results/{_case(args).name}_crosscheck"
+    clash = hdf5_clash()
+    if clash:
+        raise InputError(clash)
     try:
         require_dolfinx()
         from .fenicsx.crosscheck import run as crosscheck
@@ -165,6 +226,25 @@ def _crosscheck(args) -> int:
         return _error(str(exc))
     print(f"{report['case']}: {report['mode']} -> {out}/crosscheck.md")
     return 0
+
+
+def hdf5_clash() -> str | None:
+    """Debian's dolfinx beside an h5py that brings its own HDF5 (PyPI's wheel: a sibling
+    ``h5py.libs``) cannot share a process: dolfinx leaves the dlopen flags at RTLD_GLOBAL, and
+    an h5py loaded after it binds to Debian's HDF5 ("ValueError: Not a datatype").  The message
+    naming the fix, or None."""
+    from importlib.util import find_spec
+
+    dolfinx, h5py = find_spec("dolfinx"), find_spec("h5py")
+    if not (dolfinx and h5py and dolfinx.origin and h5py.origin):
+        return None
+    bundled = Path(h5py.origin).parent.with_name("h5py.libs")
+    if not (dolfinx.origin.startswith("/usr/lib/") and bundled.is_dir()):
+        return None
+    return (f"h5py in {Path(h5py.origin).parent.parent} brings its own HDF5 (from PyPI), which "
+            f"clashes with the one Debian's dolfinx uses: use Debian's python3-h5py in this "
+            f"venv (`pip uninstall h5py`, or ci/debian-h5py.sh VENV from a slipstep checkout, "
+            f"which also keeps pip from installing it again)")
 
 
 def _run(args) -> int:
@@ -178,14 +258,14 @@ def _run(args) -> int:
               "contact may extend beyond the candidates: widen the candidate window "
               "(contact.x_min/x_max/y_min/y_max)", file=sys.stderr)
     stop = result["stop"]
-    if stop["kind"] in ("limit_load", "event_bound"):
-        return _error(f"{stop['message']} (partial results in {out})")
     if stop["kind"] == "interrupted":
         where = (f"t = {summary['final_t']:.4g} of {summary['n_stages']} stages"
                  if summary.get("n_stages", 1) > 1 else
                  f"load fraction {summary['final_load_fraction']:.4g}")
         print(f"slipstep: interrupted at {where}; partial results in {out}", file=sys.stderr)
         return EXIT_INTERRUPTED
+    if stop.get("message"):  # any early stop but one the case asked for (first_yield)
+        return _error(f"{stop['message']} (partial results in {out})")
     if stop.get("late_interrupt"):
         print(f"slipstep: interrupted as the run completed; complete results in {out}",
               file=sys.stderr)

@@ -196,7 +196,7 @@ def final_load_fraction(result) -> float:
 TIME_TOL = 1e-9
 
 
-# Results without stages (older engines) have no ``t``/``stage``: one stage, t = f.
+# Results without stages (engines before load paths) have no ``t``/``stage``: one stage, t = f.
 def snapshot_time(snap: dict) -> float:
     """Path time t of a snapshot (its load fraction in a result without stages)."""
     return float(snap.get("t", snap["load_fraction"]))

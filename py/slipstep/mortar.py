@@ -1,4 +1,4 @@
-"""Node-to-segment contact between independently meshed bodies, mortar-style (issue 14).
+"""Node-to-segment contact between independently meshed bodies, mortar-style.
 
 One constraint row per contactor node j: its gap is the mean of the normal gap over the
 interface weighted by its shape function N_j (integrals over the contactor surface, the

@@ -6,14 +6,17 @@ between two increments it attaches to the interpreter and calls the progress cal
 turns what :func:`slipstep.run` is given as ``progress`` into that callback:
 
 - ``False`` / ``None``: no reports (Ctrl-C still stops the run);
-- ``True``: a tqdm bar over the path time t (``tqdm.auto``: a widget in Jupyter, a text bar on
-  stderr in a terminal);
+- ``True``: progress over the path time t, shown where the run's output goes
+  (:func:`display`): a tqdm widget in a Jupyter kernel with ipywidgets (the ``notebook``
+  extra), a tqdm bar when stderr is a terminal, and otherwise (a log, a pipe, a kernel without
+  ipywidgets) one line when the first report comes and one at the end, no bar frames;
 - a callable ``f(progress: Progress)``: called with a :class:`Progress`; returning ``False``
   stops the run like Ctrl-C (the partial result is returned, ``stop.kind == "interrupted"``).
 """
 
 from __future__ import annotations
 
+import sys
 import time
 from dataclasses import dataclass
 
@@ -40,12 +43,16 @@ class Progress:
 
 
 class Bar:
-    """A tqdm bar over the path time t, with the event and increment counts beside it."""
+    """A tqdm bar over the path time t, with the event and increment counts beside it: a
+    widget in a notebook, else text on stderr."""
 
-    def __init__(self, name: str, n_stages: int):
-        from tqdm.auto import tqdm
+    def __init__(self, name: str, n_stages: int, notebook: bool = False):
+        if notebook:
+            from tqdm.notebook import tqdm
+        else:
+            from tqdm.std import tqdm
 
-        self.bar = tqdm(total=float(n_stages), desc=name, unit="t", leave=True,
+        self.bar = tqdm(total=float(n_stages), desc=name, unit="t", leave=True, file=sys.stderr,
                         bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.3g}/{total:g} "
                                    "[{elapsed}{postfix}]")
 
@@ -61,13 +68,64 @@ class Bar:
         self(p)
         self.bar.close()
 
+    def abandon(self) -> None:
+        """Close after a failure (the error is reported by the caller)."""
+        self.bar.close()
+
+
+class Notes:
+    """Progress for a log: one line on stderr at the first report, one at the end; no bar
+    frames (``\\r``) in a file or a pipe.  ``hint`` ends the first line."""
+
+    def __init__(self, name: str, hint: str = ""):
+        self.name, self.hint, self.started = name, hint, False
+
+    def __call__(self, p: Progress) -> None:
+        if not self.started:
+            self.note(f"running, t = {p.t:.3g} of {p.n_stages} after {p.events} events"
+                      f"{self.hint}")
+            self.started = True
+
+    def close(self, p: Progress, stop: str) -> None:
+        self.note(f"{stop} at t = {p.t:.4g} of {p.n_stages}: {p.events} events, {p.steps} "
+                  f"increments, {p.elapsed:.1f} s")
+
+    def note(self, text: str) -> None:
+        if sys.stderr is not None:  # None: pythonw, a daemon
+            print(f"{self.name}: {text}", file=sys.stderr, flush=True)
+
+    def abandon(self) -> None:
+        """After a failure: the caller's error line is the end note."""
+
+
+def in_kernel() -> bool:
+    """Whether this is a Jupyter kernel (IPython's kernel app), where stderr is no terminal
+    but a notebook can show a widget."""
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython else None
+    return shell is not None and "IPKernelApp" in shell.config
+
+
+def display(name: str, n_stages: int):
+    """How ``progress=True`` shows itself here (see the module's documentation)."""
+    if in_kernel():
+        from tqdm.notebook import IProgress  # None without ipywidgets
+
+        if IProgress is not None:
+            return Bar(name, n_stages, notebook=True)
+        return Notes(name, " (a progress bar needs ipywidgets: pip install ipywidgets)")
+    if getattr(sys.stderr, "isatty", lambda: False)():
+        return Bar(name, n_stages)
+    return Notes(name)
+
 
 class Reporter:
     """What one run reports to: ``callback`` is the engine's (False for none), ``finish``
-    closes a bar with the run's final state (with None, after a failure, it only closes).
+    closes the display with the run's final state (with None, after a failure, it only
+    closes).
 
-    The bar appears with the first report, so a run shorter than one report interval (and an
-    input error found before the first increment) prints nothing."""
+    The display appears with the first report, so a run shorter than one report interval (and
+    an input error found before the first increment) prints nothing."""
 
     def __init__(self, progress, name: str, n_stages: int):
         self.start, self.name, self.n_stages = time.perf_counter(), name, n_stages
@@ -88,15 +146,15 @@ class Reporter:
         if self.user:
             return self.user(p)
         if self.bar is None:
-            self.bar = Bar(self.name, self.n_stages)
+            self.bar = display(self.name, self.n_stages)
         return self.bar(p)
 
     def finish(self, result: dict | None) -> None:
-        """Close the bar, showing the run's final state (a callable gets no final report: the
-        result is in the caller's hands)."""
+        """Close the display, showing the run's final state (a callable gets no final report:
+        the result is in the caller's hands)."""
         if self.bar and result is not None:
             p = self.progress(len(result["events"]["step"]),
                               len(result["steps"]["load_fraction"]), final_time(result))
             self.bar.close(p, result["stop"]["kind"])
         elif self.bar:
-            self.bar.bar.close()
+            self.bar.abandon()

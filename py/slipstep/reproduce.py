@@ -14,7 +14,7 @@ Scenes
   * Block on a half-space (§5.2): ``cases/paper_block_elastic.toml`` (q = 1.2 MPa, mu = 0.2, plane
     strain) and ``cases/paper_block_plastic.toml`` (q = 36 MPa, plane stress, mu = 0 and 0.2).
 
-Axisymmetric page (issue 15, :mod:`slipstep.reproduce_axisymmetric`): ``DIR/axisymmetric.md``,
+Axisymmetric page (:mod:`slipstep.reproduce_axisymmetric`): ``DIR/axisymmetric.md``,
 the Hertz sphere, first yield against Huber, the thick sphere against Lame and Hill, and the
 elastic-plastic sphere on a rigid flat against Kogut & Etsion and Jackson & Green; linked
 from report.md.
@@ -576,7 +576,7 @@ def surface_transition(rows: list[dict]) -> float | None:
 
 
 def checks(cyl_el: dict, cyl_pl: dict, fig10_rows: list[dict], blocks: dict) -> dict:
-    """The paper's claims, measured.  ``required`` marks the ones the tests assert (issue 5);
+    """The paper's claims, measured.  ``required`` marks the ones the tests assert;
     the others are reported (some are mesh-sensitive or do not hold)."""
     out = {}
 
@@ -1191,7 +1191,7 @@ def write_report(path: Path, n: dict) -> Path:
         "",
         "## Checks",
         "",
-        "`required`: asserted by `tests/test_reproduce.py` (the issue's list); the others are "
+        "`required`: asserted by `tests/test_reproduce.py`; the others are "
         "reported only.",
         "",
         "| claim | measured | holds | required |",
@@ -1215,7 +1215,7 @@ def _axisymmetric_lines(ax: dict) -> list[str]:
     """A pointer to axisymmetric.md with its headline numbers."""
     h, t, sf = ax["hertz"], ax["thick"], ax["sphere_flat"]["meshes"][-1]
     return ["", "## Axisymmetric analysis", "",
-            "Not in the paper: the axisymmetric ring element (issue 15), on its own page "
+            "Not in the paper: the axisymmetric ring element, on its own page "
             "[axisymmetric.md](axisymmetric.md). Hertz sphere: a " + _pc(h["a_err"])
             + ", p0 " + _pc(h["p0_err"]) + "; first yield " + _pc(h["yield_f_err"])
             + " from Huber's; thick sphere: first yield " + _pc(t["p_first_yield_err"])

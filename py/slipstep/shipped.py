@@ -1,5 +1,6 @@
 """The cases and studies shipped inside the package, so that an installed wheel runs
-``slipstep run NAME``, ``sweep NAME``, ``reproduce`` and ``study stability`` from any folder.
+``slipstep run NAME``, ``sweep NAME``, ``reproduce`` and ``study stability`` from any folder,
+and ``slipstep new NAME --from CASE`` copies one out to edit (:func:`copy`).
 
 They live in ``slipstep/data/cases/*.toml`` and ``slipstep/data/studies/*.toml``.  In a source
 checkout those are symbolic links to the top-level ``cases/`` and ``studies/`` (the files the
@@ -10,8 +11,13 @@ every one is linked).
 
 from __future__ import annotations
 
+import difflib
+import json
+import re
 from importlib import resources
 from pathlib import Path
+
+from .errors import InputError
 
 KINDS = ("cases", "studies")
 
@@ -40,11 +46,51 @@ def path(name: str, kind: str = "cases") -> Path:
 
 def resolve(arg: str | Path | None, kind: str = "cases") -> str | Path | None:
     """A file the user named: ``arg`` itself when it exists (or is None or a path with a
-    folder in it), else the shipped file of that name when there is one, else ``arg`` unchanged
-    (so the reader reports the missing file)."""
+    folder in it, so the reader reports a missing file), else the shipped file of that name;
+    a bare name that is neither is an :class:`InputError` suggesting the close shipped names."""
     if arg is None or Path(arg).exists() or len(Path(arg).parts) != 1:
         return arg
     try:
         return path(str(arg), kind)
     except FileNotFoundError:
-        return arg
+        raise InputError(unknown(str(arg), kind)) from None
+
+
+def unknown(name: str, kind: str = "cases") -> str:
+    """The one-line message for a name that is no file and no shipped case (or study): the
+    close shipped names and where the list is."""
+    what = "case" if kind == "cases" else "study"
+    stem = name[:-5] if name.endswith(".toml") else name
+    close = difflib.get_close_matches(stem, names(kind), n=3, cutoff=0.75)
+    hint = f"; did you mean {', '.join(close)}?" if close else ""
+    return (f"{name}: no such {what} file, and no shipped {what} of that name{hint} "
+            f"(`slipstep list` shows the shipped ones)")
+
+
+def copy(source: str, name: str) -> Path:
+    """Write ``NAME.toml`` (``name`` itself if it ends in .toml), the shipped case ``source``
+    with its ``[case] name`` set to the file's stem; an existing file is not replaced."""
+    try:
+        text = path(source).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(unknown(source)) from None
+    target = Path(name if name.endswith(".toml") else f"{name}.toml")
+    if target.exists():
+        raise InputError(f"{target} exists: give another NAME, or remove the file first")
+    target.write_text(renamed(text, target.stem), encoding="utf-8")
+    return target
+
+
+def renamed(text: str, name: str) -> str:
+    """Case text with its ``[case] name`` set to ``name`` (added when it has none); comments
+    and layout are kept."""
+    value = json.dumps(name)  # a TOML basic string
+    table = re.search(r"(?m)^\[case\][^\n]*\n", text)
+    if table is None:
+        return f"[case]\nname = {value}\n\n{text}"
+    next_table = re.compile(r"(?m)^\[").search(text, table.end())
+    end = next_table.start() if next_table else len(text)
+    found = re.compile(r'(?m)^name\s*=\s*"[^"\n]*"').search(text, table.end(), end)
+    if found is None:
+        return f"{text[:table.end()]}name = {value}\n{text[table.end():]}"
+    return f"{text[:found.start()]}name = {value}{text[found.end():]}"

@@ -1,4 +1,4 @@
-"""``slipstep study stability``: where the usual methods fail, what slipstep does (issue 7.4).
+"""``slipstep study stability``: where the usual methods fail, what slipstep does.
 
 Each scenario runs one scene (or a small family) and reports: completed or failed (with the
 error line), events, max equilibrium residual, max drift, an error against a reference where
@@ -542,7 +542,7 @@ def run(out: str | Path, quick: bool = False, progress=print) -> dict:
     write_csv(out / "stability.csv", rows)
     figure(out / "stability.png", rows, inc)
     md = [f"# Stability study{' (--quick)' if quick else ''}", "",
-          "Scenarios where the usual methods fail (issue 7, part 4). `max residual` is the "
+          "Scenarios where the usual methods fail. `max residual` is the "
           "engine's max over events of |K u - f - contact forces| / |f|; `max drift` the max "
           "of |sigma_e - sigma_y| / sigma_y before the return; `error vs ref` is "
           "described per row (Hill plastic radius, Hertz a, Johnson first yield, exact "

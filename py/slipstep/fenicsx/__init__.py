@@ -1,5 +1,5 @@
 """FEniCSx (dolfinx 0.5 to 0.11) co-simulation: identical meshes over XDMF/HDF5, bulk
-cross-checks, contact replay and a hybrid mode (issue 4).
+cross-checks, contact replay and a hybrid mode.
 
 Everything here is optional: the core package never imports this subpackage, and importing
 it does not import dolfinx either; only the functions that need dolfinx import it (through
