@@ -56,7 +56,7 @@ $(BENCH_APT_STAMP): ci/setup-apt.sh ci/apt-bench.txt
 	ci/setup-apt.sh ci/apt-bench.txt
 	@mkdir -p $(@D) && touch $@
 
-$(VENV_STAMP): ci/setup-venv.sh ci/check-env.py ci/requirements.txt ci/constraints.txt | $(APT_STAMP)
+$(VENV_STAMP): ci/setup-venv.sh ci/debian-h5py.sh ci/check-env.py ci/requirements.txt ci/constraints.txt | $(APT_STAMP)
 	ci/setup-venv.sh
 	touch $@
 

@@ -345,6 +345,29 @@ def test_progress_rejects_what_it_cannot_call():
 
 
 # --------------------------------------------------------------------------- figures
+def test_figures_draw_on_the_callers_axes(staged):
+    """Result.figure(name, ax=...) draws into the caller's own figure: the von Mises panel's
+    colours are the last snapshot's von Mises stresses (element values, read from the arrays),
+    the interface's pressure panel reaches the largest contact pressure; a wrong number of
+    panels is one clear ValueError."""
+    from matplotlib.figure import Figure
+
+    r, _ = staged
+    fig = Figure()
+    ax = fig.subplots()
+    assert r.figure("von_mises", ax=ax) is fig and len(fig.axes) == 2  # the panel + its bar
+    drawn = ax.collections[0].get_array()
+    vm = r.fields()["von_mises"]
+    assert drawn.max() <= vm.max() and drawn.max() == pytest.approx(vm.max(), rel=1e-12)
+    fig = Figure()
+    panels = fig.subplots(3)
+    assert r.figure("contact_interface", ax=panels) is fig and len(fig.axes) == 3
+    peak = max(line.get_ydata().max() for line in panels[0].lines if len(line.get_ydata()))
+    assert peak == pytest.approx(r.fields()["pressure"].max(), rel=1e-12)
+    with pytest.raises(ValueError, match="draws 2 panel"):
+        r.figure("contact_extent", ax=Figure().subplots())
+
+
 def test_figures_leave_pyplot_and_the_backend_alone(tmp_path):
     """A notebook has its backend and its pyplot figures: a run that writes figures, and
     Result.figures(), neither import pyplot nor switch the backend."""

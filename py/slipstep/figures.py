@@ -9,7 +9,7 @@ Notebook-safe: matplotlib's object API only (``matplotlib.figure.Figure``, saved
 alone.  Each ``*_figure(path, ...)`` writes a PNG and returns its path, or with ``path=None``
 returns the Figure (:func:`figures`: all of a run's, for :class:`slipstep.result.Result`).
 
-Cheap by design (issue 16: figures must not dominate a run): fixed margins instead of a layout
+Cheap by design (figures must not dominate a run): fixed margins instead of a layout
 engine, one render per file (no ``bbox_inches="tight"``), and the von Mises map draws only the
 elements inside its zoom window.
 """
@@ -97,6 +97,25 @@ def finish(fig, path: Path | None):
     return Path(path)
 
 
+def given_axes(ax, n: int, what: str) -> list:
+    """The caller's axes for a figure of ``n`` panels: one Axes, or a sequence of ``n`` (from
+    their own figure: ``fig.subplots(n)``), as a list."""
+    axes = list(ax) if isinstance(ax, (list, tuple, np.ndarray)) else [ax]
+    axes = list(np.ravel(np.asarray(axes, dtype=object)))
+    if len(axes) != n or not all(hasattr(a, "figure") for a in axes):
+        raise ValueError(f"ax = {ax!r}: the {what} figure draws {n} panel(s): give "
+                         f"{'an Axes' if n == 1 else f'{n} Axes, e.g. fig.subplots({n})'}")
+    return axes
+
+
+def title(fig, axes: list, text: str, own: bool, **kwargs) -> None:
+    """The figure's title: over its own figure, over the first of the caller's axes."""
+    if own:
+        fig.suptitle(text, fontsize=10, **kwargs)
+    else:
+        axes[0].set_title(text, fontsize=10)
+
+
 def label(text: str, scene, kind: str) -> str:
     """``text [unit]`` with the case's unit of ``kind`` (length, force, stress), if known."""
     unit = scene.case.units.get(kind)
@@ -138,9 +157,10 @@ def figures(scene, result, summary: dict) -> dict:
     return {stem: draw(None, scene, result, summary) for stem, draw in chosen(scene, result)}
 
 
-def interface_figure(path: Path | None, scene, result, summary: dict):
-    """Contact pressure, tangential stress and RTD along the interface (3 panels), points
-    coloured by status; the Hertz pressure p0 sqrt(1 - x^2/a^2) overlaid when it applies."""
+def interface_figure(path: Path | None, scene, result, summary: dict, *, ax=None):
+    """Contact pressure, tangential stress and RTD along the interface (3 panels, or the three
+    Axes ``ax``), points coloured by status; the Hertz pressure p0 sqrt(1 - x^2/a^2) overlaid
+    when it applies."""
     snap = result["snapshots"][-1]
     prof = contact_profile(scene, snap)
     x, status = prof["x"], prof["status"]
@@ -150,8 +170,12 @@ def interface_figure(path: Path | None, scene, result, summary: dict):
         xmax = max(2.0 * a, x[status > 0].max() * 1.5 if (status > 0).any() else x.max())
         show = x <= xmax if xmax > 0 else show
 
-    fig = new_figure(7, 8, left=0.14, bottom=0.07, top=0.94, hspace=0.08)
-    axes = fig.subplots(3, 1, sharex=True)
+    if ax is None:
+        fig = new_figure(7, 8, left=0.14, bottom=0.07, top=0.94, hspace=0.08)
+        axes = fig.subplots(3, 1, sharex=True)
+    else:
+        axes = given_axes(ax, 3, "interface")
+        fig = axes[0].figure
     panels = [("pressure", "contact pressure", "stress"),
               ("tangential_stress", "tangential stress\n(along t = (-n_y, n_x))", "stress"),
               ("rtd", "relative tangential\ndisplacement (RTD)", "length")]
@@ -175,16 +199,20 @@ def interface_figure(path: Path | None, scene, result, summary: dict):
             ax.axvline(a, color="k", lw=0.7, ls=":")
     axes[0].legend(fontsize=8)
     axes[-1].set_xlabel(label(coordinate_names(scene)[0], scene, "length"))
-    fig.suptitle(f"{scene.case.name}: interface at {_when(scene, result, snap)}   "
-                 f"({contact_text(summary)})", fontsize=10)
+    title(fig, axes, f"{scene.case.name}: interface at {_when(scene, result, snap)}   "
+                     f"({contact_text(summary)})", own=ax is None)
     return finish(fig, path)
 
-def growth_figure(path: Path | None, scene, result, summary: dict):
+def growth_figure(path: Path | None, scene, result, summary: dict, *, ax=None):
     """Outermost closed node x against the load fraction (a step curve from the event history),
-    with a_Hertz sqrt(f) when the case is the Hertz cylinder (cf. Fig. 9)."""
+    with a_Hertz sqrt(f) when the case is the Hertz cylinder (cf. Fig. 9); on ``ax`` if given."""
     f, xs = contact_growth(scene, result)
-    fig = new_figure(6, 4.5, left=0.14, bottom=0.12)
-    ax = fig.subplots()
+    if ax is None:
+        fig = new_figure(6, 4.5, left=0.14, bottom=0.12)
+        ax = fig.subplots()
+    else:
+        (ax,) = given_axes(ax, 1, "growth")
+        fig = ax.figure
     ax.step(f, xs, where="post", color="tab:blue", label="outermost closed node")
     hertz = summary.get("hertz")
     if hertz:
@@ -235,16 +263,22 @@ def _steps(t: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.repeat(t, 2)[1:], np.repeat(v, 2)[:-1]
 
 
-def force_displacement_figure(path: Path | None, scene, result, summary: dict | None = None):
+def force_displacement_figure(path: Path | None, scene, result, summary: dict | None = None,
+                              *, ax=None):
     """One panel per prescribed displacement or motion (:func:`slipstep.derived.
-    force_displacement`): force against displacement from t = 0, one colour per stage, so the
-    loading and unloading branches (and any hysteresis) show."""
+    force_displacement`; or one Axes of ``ax`` each): force against displacement from t = 0,
+    one colour per stage, so the loading and unloading branches (and any hysteresis) show."""
     curves = force_displacement(scene, result)
     names = stage_names(scene, result)
-    fig = new_figure(5 * len(curves), 4.2, left=0.16 / len(curves), bottom=0.13, top=0.88,
-                     wspace=0.3)
-    axes = fig.subplots(1, len(curves), squeeze=False)
-    for ax, (load, c) in zip(axes[0], curves.items()):
+    own = ax is None
+    if own:
+        fig = new_figure(5 * len(curves), 4.2, left=0.16 / len(curves), bottom=0.13, top=0.88,
+                         wspace=0.3)
+        panels = list(fig.subplots(1, len(curves), squeeze=False)[0])
+    else:
+        panels = given_axes(ax, len(curves), "force-displacement")
+        fig = panels[0].figure
+    for ax, (load, c) in zip(panels, curves.items()):
         for k, name, m in _stage_masks(c["t"], names):
             ax.plot(c["displacement"][m], c["force"][m], "-o", ms=2.5, lw=1.2,
                     color=f"C{k % 10}", label=name)
@@ -253,18 +287,21 @@ def force_displacement_figure(path: Path | None, scene, result, summary: dict | 
         ax.set_ylabel(label(c["what"], scene, "force"))
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle(f"{scene.case.name}: force against displacement along the load path",
-                 fontsize=10)
+    title(fig, panels, f"{scene.case.name}: force against displacement along the load path", own)
     return finish(fig, path)
 
-def extent_figure(path: Path | None, scene, result, summary: dict | None = None):
+def extent_figure(path: Path | None, scene, result, summary: dict | None = None, *, ax=None):
     """Per contact against the path time t: the closed extent [s_min, s_max] of its closed
-    pairs (top) and its total normal force (solid) and tangential force (dashed, bottom);
-    dotted lines at the stage ends."""
+    pairs (top) and its total normal force (solid) and tangential force (dashed, bottom; or
+    the two Axes ``ax``); dotted lines at the stage ends."""
     h = path_history(scene, result)
     names = stage_names(scene, result)
-    fig = new_figure(7, 6, left=0.12, bottom=0.09, top=0.9, hspace=0.1)
-    top, bottom = fig.subplots(2, 1, sharex=True)
+    if ax is None:
+        fig = new_figure(7, 6, left=0.12, bottom=0.09, top=0.9, hspace=0.1)
+        top, bottom = fig.subplots(2, 1, sharex=True)
+    else:
+        top, bottom = given_axes(ax, 2, "extent")
+        fig = top.figure
     for c, contact in enumerate(scene.model["contact_names"]):
         colour = f"C{c % 10}"
         (x, lo), (_, hi) = (_steps(h["t"], h["extent"][:, c, j]) for j in (0, 1))
@@ -281,7 +318,7 @@ def extent_figure(path: Path | None, scene, result, summary: dict | None = None)
         _stage_lines(ax, names, ax is top)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle(f"{scene.case.name}: contact along the load path", fontsize=10, y=0.985)
+    title(fig, [top], f"{scene.case.name}: contact along the load path", ax is None, y=0.985)
     return finish(fig, path)
 
 # --------------------------------------------------------------------------- plasticity
@@ -320,13 +357,13 @@ def zoom_window(scene, summary: dict):
     return (max(-3.0 * a, x_lo), min(3.0 * a, x_hi)), tuple(ys)
 
 
-def von_mises_figure(path: Path | None, scene, result, summary: dict):
+def von_mises_figure(path: Path | None, scene, result, summary: dict, *, ax=None, cax=None):
     """Von Mises stress of the final snapshot (element values) with the plastic zone outlined:
     solid = elements plastic now (on the yield surface and loading), dashed = elements with
     plastic strain that have unloaded (drawn only when that set differs); x = first yield.
     Zoomed to the contact region for a rigid-line contact (:func:`zoom_window`), and only the
     elements with a node in that window are drawn (a large mesh costs no more than its
-    window)."""
+    window). On ``ax`` if given, its colour bar beside it (or in ``cax``)."""
     from matplotlib.collections import LineCollection
 
     snap = result["snapshots"][-1]
@@ -339,11 +376,16 @@ def von_mises_figure(path: Path | None, scene, result, summary: dict):
         if not drawn.any():
             drawn[:] = True
             window = None
-    fig = new_figure(7, 6, left=0.1, right=0.8, bottom=0.1, top=0.93)
-    ax = fig.subplots()
+    if ax is None:
+        fig = new_figure(7, 6, left=0.1, right=0.8, bottom=0.1, top=0.93)
+        ax = fig.subplots()
+        cax = fig.add_axes([0.84, 0.1, 0.025, 0.83])
+    else:
+        (ax,) = given_axes(ax, 1, "von Mises")
+        fig = ax.figure
     art = ax.tripcolor(scene.nodes[:, 0], scene.nodes[:, 1], scene.triangles[drawn],
                        facecolors=vm[drawn], cmap="viridis")
-    fig.colorbar(art, cax=fig.add_axes([0.84, 0.1, 0.025, 0.83]),
+    fig.colorbar(art, ax=None if cax is not None else ax, cax=cax,
                  label=label("von Mises stress", scene, "stress"))
     plastic = np.asarray(snap.get("plastic", np.zeros(len(vm))), dtype=bool)
     yielded = np.asarray(snap.get("plastic_strain", np.zeros(len(vm)))) > 0.0

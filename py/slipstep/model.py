@@ -4,7 +4,7 @@ Everything here is set up once, vectorised where it matters; the event loop itse
 engine's.  Besides the model, :class:`Scene` keeps what the output needs and the engine does
 not: which body each node belongs to, each candidate pair's node position, tributary length
 and contact area (contact pressure = lambda_n / area), the Hertz reference when it applies, and
-the load path (named loads, stages, factors, supports and prescribed displacements, issue 13).
+the load path (named loads, stages, factors, supports and prescribed displacements).
 
 Plane strain, plane stress and axisymmetry (``[analysis] plane``) differ here only in how a
 boundary integral is weighted (:func:`boundary_shares`: t ds, or 2 pi r ds over the full ring),

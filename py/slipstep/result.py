@@ -171,6 +171,17 @@ class Result:
 
         return figures(self.scene, self.raw, self.summary)
 
+    def figure(self, name: str, ax=None):
+        """One of :meth:`figures` by name, drawn on the caller's ``ax`` when given (an Axes, or
+        a sequence of Axes for the figures of several panels: contact_interface 3,
+        contact_extent 2, force_displacement one per prescribed load); returns its Figure."""
+        from .figures import chosen
+
+        builders = dict(chosen(self.scene, self.raw))
+        if name not in builders:
+            raise ValueError(f"figure {name!r}: this run has {', '.join(builders) or 'none'}")
+        return builders[name](None, self.scene, self.raw, self.summary, ax=ax)
+
     def write(self, out: str | Path, figures: bool | None = None,
               xdmf: bool | None = None) -> list[Path]:
         """Write the run's files into ``out`` (all or nothing, :func:`slipstep.results.
