@@ -26,7 +26,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from pathlib import Path
 
 from . import shipped
 from .case import load_case
@@ -214,9 +213,6 @@ def _crosscheck(args) -> int:
         raise InputError(f"--steps {args.steps}: give load step counts like 5,10,20,50") from None
     from .fenicsx import require_dolfinx
     out = args.out or f"results/{_case(args).name}_crosscheck"
-    clash = hdf5_clash()
-    if clash:
-        raise InputError(clash)
     try:
         require_dolfinx()
         from .fenicsx.crosscheck import run as crosscheck
@@ -226,25 +222,6 @@ def _crosscheck(args) -> int:
         return _error(str(exc))
     print(f"{report['case']}: {report['mode']} -> {out}/crosscheck.md")
     return 0
-
-
-def hdf5_clash() -> str | None:
-    """Debian's dolfinx beside an h5py that brings its own HDF5 (PyPI's wheel: a sibling
-    ``h5py.libs``) cannot share a process: dolfinx leaves the dlopen flags at RTLD_GLOBAL, and
-    an h5py loaded after it binds to Debian's HDF5 ("ValueError: Not a datatype").  The message
-    naming the fix, or None."""
-    from importlib.util import find_spec
-
-    dolfinx, h5py = find_spec("dolfinx"), find_spec("h5py")
-    if not (dolfinx and h5py and dolfinx.origin and h5py.origin):
-        return None
-    bundled = Path(h5py.origin).parent.with_name("h5py.libs")
-    if not (dolfinx.origin.startswith("/usr/lib/") and bundled.is_dir()):
-        return None
-    return (f"h5py in {Path(h5py.origin).parent.parent} brings its own HDF5 (from PyPI), which "
-            f"clashes with the one Debian's dolfinx uses: use Debian's python3-h5py in this "
-            f"venv (`pip uninstall h5py`, or ci/debian-h5py.sh VENV from a slipstep checkout, "
-            f"which also keeps pip from installing it again)")
 
 
 def _run(args) -> int:

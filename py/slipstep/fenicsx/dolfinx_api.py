@@ -20,6 +20,7 @@ from __future__ import annotations
 import re
 import warnings
 from dataclasses import dataclass
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -113,6 +114,28 @@ def branch(point: str, version: str | tuple[int, int]) -> str:
 
 
 # --------------------------------------------------------------------------- loading
+def hdf5_clash() -> str | None:
+    """Debian's dolfinx beside an h5py that brings its own HDF5 (PyPI's wheel: a sibling
+    ``h5py.libs``) cannot share a process: dolfinx leaves the dlopen flags at RTLD_GLOBAL, and
+    an h5py loaded after it binds to Debian's HDF5 ("ValueError: Not a datatype").  The message
+    naming the fix, or None."""
+    from importlib.util import find_spec
+
+    try:
+        dolfinx, h5py = find_spec("dolfinx"), find_spec("h5py")
+    except (ImportError, ValueError):  # not importable: the import below says how
+        return None
+    if not (dolfinx and h5py and dolfinx.origin and h5py.origin):
+        return None
+    bundled = Path(h5py.origin).parent.with_name("h5py.libs")
+    if not (dolfinx.origin.startswith("/usr/lib/") and bundled.is_dir()):
+        return None
+    return (f"h5py in {Path(h5py.origin).parent.parent} brings its own HDF5 (from PyPI), which "
+            f"clashes with the one Debian's dolfinx uses: use Debian's python3-h5py in this "
+            f"venv (`pip uninstall h5py`, or ci/debian-h5py.sh VENV from a slipstep checkout, "
+            f"which also keeps pip from installing it again)")
+
+
 _LOADED: SimpleNamespace | None = None
 
 
@@ -127,6 +150,9 @@ def require_dolfinx() -> SimpleNamespace:
 
 
 def _import() -> SimpleNamespace:
+    clash = hdf5_clash()
+    if clash:
+        raise DolfinxMissing(clash)
     try:
         from mpi4py import MPI  # first, as dolfinx's demos do: MPI before the bindings load
 
