@@ -137,17 +137,63 @@ def test_polyline_segment_and_vertex_by_hand():
     assert gap == pytest.approx(1.5 / math.sqrt(4.25), abs=ROUND_OFF)
 
 
-def test_polyline_vertex_normal_is_the_average_of_unequal_segments():
-    """A vertex between a sloped and a flat segment: n = (n0 + n1)/|n0 + n1| and the gap is
-    (x - vertex).n, the vertex's half-plane (not the distance 0.5)."""
-    got = pairs_by_x(scene_of('kind = "rigid_polyline"\npoints = [[0.0, 2.0], [2.0, 1.5], '
-                              '[4.0, 1.5]]\nside = "right"\n'))
-    n0, n1 = np.array([-0.5, -2.0]) / math.sqrt(4.25), np.array([0.0, -1.0])
-    m = (n0 + n1) / np.linalg.norm(n0 + n1)
-    n, gap = got[2.0]
-    assert np.allclose(n, m, atol=ROUND_OFF)
-    assert gap == pytest.approx(np.array([0.0, -0.5]) @ m, abs=ROUND_OFF)
+def test_convex_vertex_resists_along_the_direction_to_the_node():
+    """A convex vertex (the obstacle's corner points into the body) between a sloped and a
+    flat segment: a node whose closest point is the vertex is resisted along the direction
+    from the vertex to it, the gap its distance (the closest-point normal; the average of the
+    two segments' normals would tilt node (2, 1) by 7 degrees and cut the gap)."""
+    points = [[0.0, 2.0], [2.0, 1.5], [4.0, 1.5]]
+    got = pairs_by_x(scene_of(f'kind = "rigid_polyline"\npoints = {points}\nside = "right"\n'))
+    n, gap = got[2.0]  # straight below the vertex
+    assert np.allclose(n, [0.0, -1.0], atol=ROUND_OFF)
+    assert gap == pytest.approx(0.5, abs=ROUND_OFF)
     assert got[3.0][1] == pytest.approx(0.5, abs=ROUND_OFF)  # on the flat: the distance
+    # (1.9, 1): beyond the sloped segment's end (its projection parameter 4.3/4.25 > 1) and
+    # before the flat one's start: in the vertex's cone
+    near = polyline_closest(np.array(points), "right", np.array([[1.9, 1.0]]))
+    r = np.array([-0.1, -0.5])
+    assert near["vertex"][0] == 1
+    assert np.allclose(near["normal"][0], r / np.linalg.norm(r), atol=ROUND_OFF)
+    assert near["gap"][0] == pytest.approx(np.linalg.norm(r), abs=ROUND_OFF)
+
+
+# a punch face y = 0 for 0 <= x <= 1 with its side x = 1 rising from the corner (1, 0)
+PUNCH = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
+
+
+def test_node_on_a_convex_vertex_takes_the_face_its_surface_lies_along():
+    """A node sitting on the punch's corner has no direction to it: it is resisted by the
+    face most opposed to the body's own outward normal there (the face it lies along), the
+    face before the corner on a tie (no normal given); sitting means within ``touch``.  A
+    node off the corner, in its cone, gets the direction from the corner."""
+    at = np.array([[1.0, 0.0]])
+    for outward, face in (([0.0, 1.0], [0.0, -1.0]),    # a block's top under the punch
+                          ([-1.0, 0.0], [1.0, 0.0]),    # a body against the punch's side
+                          ([0.0, 0.0], [0.0, -1.0])):   # a tie: the face before
+        near = polyline_closest(PUNCH, "right", at, np.array([outward]))
+        assert np.allclose(near["normal"][0], face, atol=ROUND_OFF), outward
+        assert near["gap"][0] == 0.0
+    assert np.allclose(polyline_closest(PUNCH, "right", at)["normal"][0], [0.0, -1.0])
+    off = np.array([[1.0 + 5e-10, 0.0], [1.1, 0.0], [1.1, -0.1]])
+    near = polyline_closest(PUNCH, "right", off, np.tile([0.0, 1.0], (3, 1)), touch=1e-9)
+    assert np.allclose(near["normal"], [[0.0, -1.0], [1.0, 0.0], [math.sqrt(0.5), -math.sqrt(0.5)]],
+                       atol=ROUND_OFF)
+    # the sitting node's gap along its face normal: 0 (it lies on the face's line)
+    assert near["gap"] == pytest.approx([0.0, 0.1, 0.1 * math.sqrt(2.0)], abs=ROUND_OFF)
+
+
+def test_concave_vertex_keeps_the_average_of_its_faces():
+    """A concave vertex (the body in the obstacle's corner, pressed by both faces): the
+    normalised average of the two segments' normals; a closed polygon with the body outside
+    has convex corners (the direction from the corner), with the body inside concave ones."""
+    groove = np.array([[-1.0, 1.0], [0.0, 0.0], [1.0, 1.0]])   # a V, the body inside it
+    near = polyline_closest(groove, "left", np.array([[0.0, 0.0]]), np.array([[0.0, -1.0]]))
+    assert np.allclose(near["normal"][0], [0.0, 1.0], atol=ROUND_OFF)
+    square = np.array([[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0], [1.0, 1.0]])
+    outside = polyline_closest(square, "right", np.array([[2.0, 3.0]]))  # walked ccw
+    assert np.allclose(outside["normal"][0], np.array([1.0, 2.0]) / math.sqrt(5.0),
+                       atol=ROUND_OFF)
+    assert outside["gap"][0] == pytest.approx(math.sqrt(5.0), abs=ROUND_OFF)
 
 
 def test_polyline_nodes_that_project_nowhere_are_not_candidates():
