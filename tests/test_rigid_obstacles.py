@@ -161,23 +161,31 @@ def test_convex_vertex_resists_along_the_direction_to_the_node():
 PUNCH = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
 
 
-def test_node_on_a_convex_vertex_takes_the_face_its_surface_lies_along():
-    """A node sitting on the punch's corner has no direction to it: it is resisted by the
-    face most opposed to the body's own outward normal there (the face it lies along), the
-    face before the corner on a tie (no normal given); sitting means within ``touch``.  A
-    node off the corner, in its cone, gets the direction from the corner."""
+def test_node_on_a_convex_corner_is_pressed_along_its_own_normal_clamped_to_the_corner():
+    """A node sitting on a convex corner has no direction to it: the obstacle pushes along the
+    direction of the corner's cone of normals nearest to minus the body's own outward normal
+    there: a punch's edge node along the punch face's normal (its normal lies on the cone's
+    edge), a body against the punch's side along the side's, a block's top under a wedge's
+    tip along the block's normal (inside the cone), the cone's middle without a normal.
+    Sitting means within ``touch``; a node off the corner in its cone gets the direction
+    from the corner."""
     at = np.array([[1.0, 0.0]])
-    for outward, face in (([0.0, 1.0], [0.0, -1.0]),    # a block's top under the punch
-                          ([-1.0, 0.0], [1.0, 0.0]),    # a body against the punch's side
-                          ([0.0, 0.0], [0.0, -1.0])):   # a tie: the face before
+    for outward, force in (([0.0, 1.0], [0.0, -1.0]),    # a block's top under the punch
+                           ([-1.0, 0.0], [1.0, 0.0]),    # a body against the punch's side
+                           ([1.0, 4.0], [0.0, -1.0]),    # tilted past the face: the face
+                           ([-1.0, 3.0], [1.0, -3.0]),   # tilted into the cone: itself
+                           ([0.0, 0.0], [1.0, -1.0])):   # none: the middle
         near = polyline_closest(PUNCH, "right", at, np.array([outward]))
-        assert np.allclose(near["normal"][0], face, atol=ROUND_OFF), outward
+        expected = np.array(force) / np.linalg.norm(force)
+        assert np.allclose(near["normal"][0], expected, atol=ROUND_OFF), outward
         assert near["gap"][0] == 0.0
-    assert np.allclose(polyline_closest(PUNCH, "right", at)["normal"][0], [0.0, -1.0])
+    wedge = np.array([[0.0, 0.0], [1.0, 1.0], [0.0, 2.0], [-1.0, 1.0], [0.0, 0.0]])  # closed
+    near = polyline_closest(wedge, "right", np.array([[0.0, 0.0]]), np.array([[0.0, 1.0]]))
+    assert np.allclose(near["normal"][0], [0.0, -1.0], atol=ROUND_OFF)
     off = np.array([[1.0 + 5e-10, 0.0], [1.1, 0.0], [1.1, -0.1]])
     near = polyline_closest(PUNCH, "right", off, np.tile([0.0, 1.0], (3, 1)), touch=1e-9)
-    assert np.allclose(near["normal"], [[0.0, -1.0], [1.0, 0.0], [math.sqrt(0.5), -math.sqrt(0.5)]],
-                       atol=ROUND_OFF)
+    assert np.allclose(near["normal"], [[0.0, -1.0], [1.0, 0.0],
+                                        [math.sqrt(0.5), -math.sqrt(0.5)]], atol=ROUND_OFF)
     # the sitting node's gap along its face normal: 0 (it lies on the face's line)
     assert near["gap"] == pytest.approx([0.0, 0.1, 0.1 * math.sqrt(2.0)], abs=ROUND_OFF)
 

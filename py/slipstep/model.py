@@ -831,16 +831,10 @@ def _vertex_normals(points, seg_n, closed: bool, xy, vertex, normal, outward, to
       n_before . d_after >= 0; or goes straight on): the normalised average of the two
       segments' normals.  Only a point on the vertex itself has it as closest point there (a
       body in a corner of a die), pressed by both faces.
-    * A convex vertex (the obstacle's corner points into the body): the direction from the
-      vertex to the point, the true closest-point normal (gap = the distance), for a point off
-      it.  A point that sits on the vertex (within ``touch``, or 1e-9 of the shorter segment:
-      round-off) has no such direction; it gets the normal of the adjacent face most opposed
-      to the body's own outward normal there (``outward``; the face before on a tie): the face
-      the body's surface lies along, which the node is pressed into as the obstacle advances.
-      The other face rises away from the surface (a punch's side, at 90 degrees) and could only
-      touch it if the surface turned through the corner's angle, far beyond small sliding; the
-      average of the two would push the node sideways with a force no face in contact exerts
-      (a punch's edge node pushed outwards at 45 degrees)."""
+    * A convex vertex (the obstacle's corner points into the body): for a point off it, the
+      direction from the vertex to the point, the true closest-point normal (gap = the
+      distance).  A point that sits on it (within ``touch``, or 1e-9 of the shorter segment:
+      round-off) has no such direction: :func:`_corner_contact_normal`."""
     normal = normal.copy()
     length = np.linalg.norm(np.diff(points, axis=0), axis=1)
     last = len(length) - 1
@@ -852,18 +846,43 @@ def _vertex_normals(points, seg_n, closed: bool, xy, vertex, normal, outward, to
         else:
             continue  # an end point: its one segment's normal
         here = vertex == k
+        mean = seg_n[before] + seg_n[after]  # never 0: the schema refuses folding segments
+        mean /= np.linalg.norm(mean)
         if seg_n[before] @ (points[after + 1] - points[after]) >= 0.0:  # concave or straight
-            mean = seg_n[before] + seg_n[after]  # never 0: the schema refuses folding segments
-            normal[here] = mean / np.linalg.norm(mean)
+            normal[here] = mean
             continue
         r = xy[here] - points[k]
         dist = np.linalg.norm(r, axis=1)
         sits = dist <= max(touch, 1e-9 * min(length[before], length[after]))
-        face = np.where(outward[here] @ seg_n[after] < outward[here] @ seg_n[before],
-                        after, before)
-        normal[here] = np.where(sits[:, None], seg_n[face],
-                                r / np.where(sits, 1.0, dist)[:, None])
+        on = _corner_contact_normal(seg_n[before], seg_n[after], mean, outward[here])
+        normal[here] = np.where(sits[:, None], on, r / np.where(sits, 1.0, dist)[:, None])
     return normal
+
+
+def _corner_contact_normal(n0, n1, mean, outward):
+    """The contact normal of body points sitting on a convex corner whose faces have the
+    normals n0, n1 (towards the body; ``mean`` their normalised average), given the body's
+    outward surface normals there (K, 2).
+
+    At the corner a frictionless obstacle can push along any direction of its cone of normals
+    (between n0 and n1); which one acts is set by the body's own surface, whose normal m
+    points at the obstacle: the contact normal is the direction of the cone nearest to -m.
+    Inside the cone it is -m itself (a wedge's tip on a flat: the flat's normal); outside, the
+    nearer face's normal, the face the body's surface lies along (a punch's edge node is
+    pressed by the punch face, not pushed sideways by its side: the average of the faces would
+    push it outwards at 45 degrees with a force no face in contact exerts).  Without a body
+    normal (zero) the cone's middle, ``mean``."""
+    size = np.linalg.norm(outward, axis=1)
+    v = -outward / np.where(size > 0.0, size, 1.0)[:, None]
+    turn = _cross(n0, n1)
+    inside = (_cross(n0, v) * turn >= 0.0) & (_cross(v, n1) * turn >= 0.0) & (v @ mean > 0.0)
+    nearer = np.where((v @ n0 >= v @ n1)[:, None], n0, n1)
+    return np.where((size == 0.0)[:, None], mean, np.where(inside[:, None], v, nearer))
+
+
+def _cross(a, b):
+    """The z component of a x b for 2D vectors (any leading shape)."""
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
 #: The pair builder of each rigid obstacle kind.
