@@ -15,6 +15,12 @@ Equilibrium
     the centroid (the documented element, rust/src/element.rs), and the supports include u_r = 0
     at every node on the axis r = 0 (the engine's contract).
 
+Balance
+    ``balance_terms(model, snapshot)``: each body's resultant contact force, applied load and
+    support reaction (the snapshot's ``reaction``), which must sum to zero;
+    ``obstacle_force`` a contact's total force on the bodies; ``recomputed_reaction`` the
+    supports' forces from the stresses (internal − load − contact at the held DOFs).
+
 Hertz line contact (Johnson, Contact Mechanics, §4.3): a = √(4PR/(πE*)), p0 = 2P/(πa); for an
     elastic body on a rigid flat E* = E/(1−ν²) in plane strain and E* = E in plane stress.
 
@@ -175,6 +181,64 @@ def worst_equilibrium(model: dict, snapshots) -> tuple[float, int, float]:
     residuals = [equilibrium_residual(model, s) for s in snapshots]
     k = int(np.argmax(residuals))
     return residuals[k], k, float(snapshots[k]["load_fraction"])
+
+
+# --------------------------------------------------------------------------- balance
+def node_body(model: dict) -> np.ndarray:
+    """The body index (``element_body``) of every node, from the elements it belongs to."""
+    body = np.full(len(model["nodes"]), -1, dtype=np.int64)
+    body[np.asarray(model["triangles"]).ravel()] = np.repeat(np.asarray(model["element_body"]), 3)
+    return body
+
+
+def body_sums(model: dict, force: np.ndarray) -> np.ndarray:
+    """(B, 2): a nodal force vector (2N,) summed over each body's nodes, per component."""
+    body, f = node_body(model), np.asarray(force, dtype=float).reshape(-1, 2)
+    n_bodies = int(np.max(model["element_body"])) + 1
+    return np.stack([np.bincount(body, f[:, c], n_bodies) for c in (0, 1)], axis=1)
+
+
+def recomputed_reaction(model: dict, snapshot: dict) -> np.ndarray:
+    """(2N,) the force the supports exert on the body, from the stresses: internal force −
+    applied load − contact forces at the held DOFs (``held_dofs``), 0 elsewhere."""
+    nodes = np.asarray(model["nodes"], dtype=float)
+    t = float(snapshot.get("t", snapshot["load_fraction"]))
+    r = (internal_force(nodes, np.asarray(model["triangles"]), np.asarray(snapshot["stress"]),
+                        model["thickness"], model.get("plane", "strain"))
+         - applied_load(model, t)
+         - contact_force(len(nodes), model["pairs"], np.asarray(snapshot["lambda_n"]),
+                         np.asarray(snapshot["lambda_t"])))
+    out = np.zeros_like(r)
+    held = held_dofs(model)
+    out[held] = r[held]
+    return out
+
+
+def balance_terms(model: dict, snapshot: dict) -> dict:
+    """Each body's external forces at a snapshot, (B, 2) each: ``contact`` (λ_n n + λ_t t of
+    every pair, node-to-segment rows spread by their weights: ``contact_force``), ``load`` (the
+    applied load at the snapshot's path time), ``reaction`` (the snapshot's ``reaction``), and
+    ``scale``, the sum of the absolute nodal terms (the size of the numbers summed)."""
+    n = len(model["nodes"])
+    t = float(snapshot.get("t", snapshot["load_fraction"]))
+    forces = {"contact": contact_force(n, model["pairs"], np.asarray(snapshot["lambda_n"]),
+                                       np.asarray(snapshot["lambda_t"])),
+              "load": applied_load(model, t),
+              "reaction": np.asarray(snapshot["reaction"], dtype=float).reshape(-1)}
+    out = {k: body_sums(model, f) for k, f in forces.items()}
+    out["scale"] = sum(body_sums(model, np.abs(f)) for f in forces.values())
+    return out
+
+
+def obstacle_force(model: dict, snapshot: dict, contact: int) -> np.ndarray:
+    """(2,) the total force of [[contact]] ``contact`` on the bodies: Σ (λ_n n + λ_t t) over its
+    pairs (t = (−n_y, n_x)); for a rigid obstacle, minus the force the bodies exert on it."""
+    pairs = model["pairs"]
+    mine = np.asarray(pairs.get("contact", np.zeros(len(pairs["node_a"]), np.int64))) == contact
+    n = np.asarray(pairs["normal"], dtype=float).reshape(-1, 2)[mine]
+    t = np.stack([-n[:, 1], n[:, 0]], axis=1)
+    return (np.asarray(snapshot["lambda_n"])[mine] @ n
+            + np.asarray(snapshot["lambda_t"])[mine] @ t)
 
 
 # --------------------------------------------------------------------------- stresses
