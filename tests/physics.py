@@ -21,6 +21,9 @@ Balance
     ``obstacle_force`` a contact's total force on the bodies; ``recomputed_reaction`` the
     supports' forces from the stresses (internal − load − contact at the held DOFs).
 
+Refinement
+    ``observed_order`` of an error between two meshes, ``richardson`` extrapolation to h -> 0.
+
 Hertz line contact (Johnson, Contact Mechanics, §4.3): a = √(4PR/(πE*)), p0 = 2P/(πa); for an
     elastic body on a rigid flat E* = E/(1−ν²) in plane strain and E* = E in plane stress.
 
@@ -239,6 +242,19 @@ def obstacle_force(model: dict, snapshot: dict, contact: int) -> np.ndarray:
     t = np.stack([-n[:, 1], n[:, 0]], axis=1)
     return (np.asarray(snapshot["lambda_n"])[mine] @ n
             + np.asarray(snapshot["lambda_t"])[mine] @ t)
+
+
+# --------------------------------------------------------------------------- refinement
+def observed_order(error_coarse: float, error_fine: float, ratio: float = 2.0) -> float:
+    """The convergence order of an error that falls from ``error_coarse`` to ``error_fine``
+    when the element size is divided by ``ratio``: log(e_coarse/e_fine)/log(ratio)."""
+    return math.log(abs(error_coarse) / abs(error_fine)) / math.log(ratio)
+
+
+def richardson(coarse: float, fine: float, order: float, ratio: float = 2.0) -> float:
+    """Richardson's extrapolation to h -> 0 of a value converging at ``order`` from the meshes
+    h (``coarse``) and h/ratio (``fine``): fine + (fine - coarse)/(ratio^order - 1)."""
+    return fine + (fine - coarse) / (ratio ** order - 1.0)
 
 
 # --------------------------------------------------------------------------- stresses
