@@ -34,6 +34,10 @@ Hertz sphere on a rigid flat (Johnson §4.2, §3.4): a = (3PR/(4E*))^(1/3), p0 =
 Thick-walled sphere under internal pressure (Hill, The Mathematical Theory of Plasticity,
     ch. V; von Mises = Tresca under the spherical symmetry σθ = σφ): ``thick_sphere_*``.
 
+Cattaneo–Mindlin (Johnson §7.1–7.3): ``cattaneo_traction`` the shear of a line contact under
+    Q < μP, ``line_contact_dissipation`` the energy dissipated per cycle ±Q* (the planar analogue
+    of Mindlin–Deresiewicz, derived in the comment above it), ``strain_energy`` of CST elements.
+
 Spence's stick zone (frictional Hertz line contact, monotonic normal loading): see
     ``goodman_stick_ratio`` (closed form, Goodman's approximation) and ``spence_stick_ratio``
     (the exact coupled problem, solved numerically).
@@ -357,6 +361,55 @@ def dundurs_beta(nu: float, plane: str = "strain") -> float:
     if plane == "stress":
         nu = nu / (1.0 + nu)
     return (1.0 - 2.0 * nu) / (2.0 * (1.0 - nu))
+
+
+# --------------------------------------------------------------------------- Cattaneo-Mindlin
+def strain_energy(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray, E: float,
+                  nu: float, thickness: float) -> float:
+    """Elastic energy of constant-stress triangles of one isotropic material (plane strain or
+    stress): Σ_e t A_e w_e, w = (σx² + σy² + σz² − 2ν(σxσy + σyσz + σzσx))/(2E) + τ²(1+ν)/E
+    (σz = 0 in plane stress; in plane strain εz = 0, so σz does no work and w = σ:ε/2 still)."""
+    nodes, triangles = np.asarray(nodes, dtype=float), np.asarray(triangles)
+    sx, sy, sz, txy = np.asarray(stress, dtype=float).reshape(-1, 4).T
+    x, y = nodes[triangles, 0], nodes[triangles, 1]
+    area = 0.5 * np.abs((x[:, 1] - x[:, 0]) * (y[:, 2] - y[:, 0])
+                        - (x[:, 2] - x[:, 0]) * (y[:, 1] - y[:, 0]))
+    w = ((sx ** 2 + sy ** 2 + sz ** 2 - 2.0 * nu * (sx * sy + sy * sz + sz * sx)) / (2.0 * E)
+         + txy ** 2 * (1.0 + nu) / E)
+    return float(thickness * np.sum(area * w))
+
+
+def cattaneo_traction(x, a: float, c: float, p0: float, mu: float) -> np.ndarray:
+    """Cattaneo–Mindlin shear of a Hertz line contact (Johnson §7.1, the cylinder; half-width
+    a, peak pressure p0, stick zone |x| < c, c/a = √(1 − Q/(μP))):
+    q = μ p0 [√(1 − x²/a²) − (c/a) √(1 − x²/c²)] in the stick zone, μ p(x) in the slip zones,
+    0 outside the contact."""
+    x = np.asarray(x, dtype=float)
+    full = mu * p0 * np.sqrt(np.clip(1.0 - (x / a) ** 2, 0.0, None))
+    stick = mu * p0 * (c / a) * np.sqrt(np.clip(1.0 - (x / c) ** 2, 0.0, None))
+    return full - np.where(np.abs(x) < c, stick, 0.0)
+
+
+# The energy a Hertz line contact of two equal bodies (β = 0: shear and pressure uncoupled)
+# dissipates per cycle of tangential load ±Q*, the planar analogue of Mindlin–Deresiewicz
+# (Johnson §7.3 for the sphere), derived here.  One half-plane under a surface shear q has
+# ∂u_x/∂x = −(K/π) PV∫ q(s)/(x − s) ds, K = 2(1 − ν²)/E (Johnson eq. 2.25; plane strain); an
+# elliptical shear of total F over half-width b moves its centre by (K F/π)(ln(d/b) + C)
+# against a point at distance d ≫ b.  Cattaneo's q is such a shear μP over a minus one of
+# μP (c/a)² over c, and the stick zone moves rigidly, so the relative displacement of the two
+# bodies there (2K, two equal bodies) is linear in Q (the d and C terms: elastic) plus
+#     δ(Q) = (2K μP/(2π)) (1 − r) ln(1 − r),   r = Q/(μP),   ((c/a)² = 1 − r),
+# convex in Q.  Unloading follows Masing (Mindlin & Deresiewicz's superposition:
+# δ_unload(Q) = δ(Q*) − 2 δ((Q* − Q)/2)), so the loop's area is
+#     W = 4 ∫_0^{Q*} [δ(Q*) − δ(u) − δ(Q* − u)] du
+#       = (4 K (μP)²/π) [(1 − r*) ln(1 − r*) + r* − r*²/2],   r* = Q*/(μP),
+# linear terms cancelling; for small r* W ≈ 2 K Q*³/(3π μP), cubic as for the sphere.
+def line_contact_dissipation(P: float, Q_star: float, mu: float, E: float, nu: float) -> float:
+    """W per cycle ±Q* (per unit thickness) of a line contact of two equal elastic bodies
+    pressed by P (plane strain), from the derivation above."""
+    K, F = 2.0 * (1.0 - nu ** 2) / E, mu * P
+    r = Q_star / F
+    return 4.0 * K * F ** 2 / math.pi * ((1.0 - r) * math.log1p(-r) + r - 0.5 * r * r)
 
 
 # --------------------------------------------------------------------------- Spence
