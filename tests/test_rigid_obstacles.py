@@ -15,7 +15,6 @@ Tolerances:
 - Hertz: the peak pressure p0 on two meshes, its error falling at first order and its
   Richardson value within 1 % of Hertz's for the measured force; the half-width within one
   element (the reasons are in test_rigid_cylinder_indenting_a_block_follows_hertz);
-- the punch with and without its sides: EQUILIBRIUM_TOL (the same contact problem);
 - equilibrium: tests/physics.py EQUILIBRIUM_TOL (the engine's contract).
 """
 
@@ -545,76 +544,3 @@ def test_rigid_cylinder_indenting_a_block_follows_hertz():
     assert not summary["contact_reached_last_candidate"]
     assert "hertz" not in summary  # the Hertz block is the quarter-cylinder case's only
 
-
-PUNCH_ON_BLOCK = """
-[case]
-name = "punch"
-[analysis]
-plane = "{plane}"
-[output]
-snapshots = [1.0]
-figures = false
-xdmf = false
-[[body]]
-name = "block"
-[body.mesh]
-generator = "block"
-x0 = {x0}
-y0 = -4.0
-width = {width}
-height = 4.0
-h = 0.25
-[body.material]
-E = 1000.0
-nu = 0.3
-[[bc]]
-name = "base"
-body = "block"
-edge = "bottom"
-fix = ["x", "y"]
-[[contact]]
-name = "punch"
-kind = "rigid_polyline"
-body = "block"
-edge = "top"
-side = "right"
-mu = {mu}
-points = {points}
-motion = [0.0, -0.05]
-"""
-
-
-@pytest.mark.parametrize("plane, mu", [("axisymmetric", 0.0), ("strain", 0.3)])
-def test_a_punch_posed_with_its_sides_presses_like_the_open_punch(plane, mu):
-    """A flat punch of half-width 1 pressed 0.05 into a block whose top it touches, posed as
-    its face alone (the nodes beyond the face project nowhere) and with its sides rising from
-    the corners (those nodes then see the corner): the sides touch nothing, so the contact
-    forces are the same, and the total normal force is the base reaction.  Tolerance 1e-9
-    relative (EQUILIBRIUM_TOL): the two runs differ only by the open pairs next to the
-    corners.  The averaged 45-degree normal at the corner node gave, in axisymmetry,
-    total_normal_force 297.4 against a base reaction of 253.5 (open punch 260.5)."""
-    face = [[0.0, 0.0], [1.0, 0.0]] if plane == "axisymmetric" else [[-1.0, 0.0], [1.0, 0.0]]
-    sides = ([*face, [1.0, 1.0]] if plane == "axisymmetric"
-             else [[-1.0, 1.0], *face, [1.0, 1.0]])
-    x0, width = (0.0, 4.0) if plane == "axisymmetric" else (-4.0, 8.0)
-    runs = {}
-    for name, points in (("open", face), ("sides", sides)):
-        scene = build_scene(parse_case(PUNCH_ON_BLOCK.format(plane=plane, x0=x0, width=width,
-                                                             mu=mu, points=points),
-                                       source=name))
-        result = solve(scene)
-        assert result["stop"]["kind"] == "completed"
-        last = result["snapshots"][-1]
-        base = np.asarray(last["reaction"]).reshape(-1)[scene.support_dofs["base"]]
-        runs[name] = ({tuple(xy): (ln, lt) for xy, ln, lt in
-                       zip(scene.pair_xy.round(9), last["lambda_n"], last["lambda_t"])},
-                      summarize(scene, result)["total_normal_force"],
-                      base[scene.support_dofs["base"] % 2 == 1].sum())
-    (open_pairs, open_force, _), (side_pairs, side_force, side_base) = runs["open"], runs["sides"]
-    scale = open_force
-    assert abs(side_force - side_base) <= EQUILIBRIUM_TOL * scale, (side_force, side_base)
-    assert abs(side_force - open_force) <= EQUILIBRIUM_TOL * scale, (side_force, open_force)
-    for xy, (ln, lt) in open_pairs.items():
-        assert side_pairs[xy] == pytest.approx((ln, lt), abs=EQUILIBRIUM_TOL * scale), xy
-    beyond = [side_pairs[xy] for xy in side_pairs if xy not in open_pairs]
-    assert beyond and all(ln == 0.0 for ln, _ in beyond), "the sides touch nothing"
