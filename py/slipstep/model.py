@@ -754,8 +754,8 @@ def _rigid_circle_pairs(scene: Scene, c: dict, key: str):
 def _rigid_polyline_pairs(scene: Scene, c: dict, key: str):
     """Body nodes on ``edge`` within the x/y window, against the polyline ``points``
     (:func:`polyline_closest`, told the body's outward normal at each node and the contact's
-    tolerance, which decide the face of a node that sits on a convex corner).  A node that
-    projects nowhere (its closest point is an end point of an open polyline and it lies
+    tolerance, which set the contact direction of a node sitting on a convex corner).  A node
+    that projects nowhere (its closest point is an end point of an open polyline and it lies
     beyond it) is not a candidate."""
     a = _window_candidates(scene, c, key)
     outward = _node_normals(scene.nodes, scene.global_edge(c["body"], c["edge"]), a)
