@@ -15,6 +15,15 @@ Equilibrium
     the centroid (the documented element, rust/src/element.rs), and the supports include u_r = 0
     at every node on the axis r = 0 (the engine's contract).
 
+Balance
+    ``balance_terms(model, snapshot)``: each body's resultant contact force, applied load and
+    support reaction (the snapshot's ``reaction``), which must sum to zero;
+    ``obstacle_force`` a contact's total force on the bodies; ``recomputed_reaction`` the
+    supports' forces from the stresses (internal − load − contact at the held DOFs).
+
+Refinement
+    ``observed_order`` of an error between two meshes, ``richardson`` extrapolation to h -> 0.
+
 Hertz line contact (Johnson, Contact Mechanics, §4.3): a = √(4PR/(πE*)), p0 = 2P/(πa); for an
     elastic body on a rigid flat E* = E/(1−ν²) in plane strain and E* = E in plane stress.
 
@@ -24,6 +33,10 @@ Hertz sphere on a rigid flat (Johnson §4.2, §3.4): a = (3PR/(4E*))^(1/3), p0 =
 
 Thick-walled sphere under internal pressure (Hill, The Mathematical Theory of Plasticity,
     ch. V; von Mises = Tresca under the spherical symmetry σθ = σφ): ``thick_sphere_*``.
+
+Cattaneo–Mindlin (Johnson §7.1–7.3): ``cattaneo_traction`` the shear of a line contact under
+    Q < μP, ``line_contact_dissipation`` the energy dissipated per cycle ±Q* (the planar analogue
+    of Mindlin–Deresiewicz, derived in the comment above it), ``strain_energy`` of CST elements.
 
 Spence's stick zone (frictional Hertz line contact, monotonic normal loading): see
     ``goodman_stick_ratio`` (closed form, Goodman's approximation) and ``spence_stick_ratio``
@@ -177,6 +190,77 @@ def worst_equilibrium(model: dict, snapshots) -> tuple[float, int, float]:
     return residuals[k], k, float(snapshots[k]["load_fraction"])
 
 
+# --------------------------------------------------------------------------- balance
+def node_body(model: dict) -> np.ndarray:
+    """The body index (``element_body``) of every node, from the elements it belongs to."""
+    body = np.full(len(model["nodes"]), -1, dtype=np.int64)
+    body[np.asarray(model["triangles"]).ravel()] = np.repeat(np.asarray(model["element_body"]), 3)
+    return body
+
+
+def body_sums(model: dict, force: np.ndarray) -> np.ndarray:
+    """(B, 2): a nodal force vector (2N,) summed over each body's nodes, per component."""
+    body, f = node_body(model), np.asarray(force, dtype=float).reshape(-1, 2)
+    n_bodies = int(np.max(model["element_body"])) + 1
+    return np.stack([np.bincount(body, f[:, c], n_bodies) for c in (0, 1)], axis=1)
+
+
+def recomputed_reaction(model: dict, snapshot: dict) -> np.ndarray:
+    """(2N,) the force the supports exert on the body, from the stresses: internal force −
+    applied load − contact forces at the held DOFs (``held_dofs``), 0 elsewhere."""
+    nodes = np.asarray(model["nodes"], dtype=float)
+    t = float(snapshot.get("t", snapshot["load_fraction"]))
+    r = (internal_force(nodes, np.asarray(model["triangles"]), np.asarray(snapshot["stress"]),
+                        model["thickness"], model.get("plane", "strain"))
+         - applied_load(model, t)
+         - contact_force(len(nodes), model["pairs"], np.asarray(snapshot["lambda_n"]),
+                         np.asarray(snapshot["lambda_t"])))
+    out = np.zeros_like(r)
+    held = held_dofs(model)
+    out[held] = r[held]
+    return out
+
+
+def balance_terms(model: dict, snapshot: dict) -> dict:
+    """Each body's external forces at a snapshot, (B, 2) each: ``contact`` (λ_n n + λ_t t of
+    every pair, node-to-segment rows spread by their weights: ``contact_force``), ``load`` (the
+    applied load at the snapshot's path time), ``reaction`` (the snapshot's ``reaction``), and
+    ``scale``, the sum of the absolute nodal terms (the size of the numbers summed)."""
+    n = len(model["nodes"])
+    t = float(snapshot.get("t", snapshot["load_fraction"]))
+    forces = {"contact": contact_force(n, model["pairs"], np.asarray(snapshot["lambda_n"]),
+                                       np.asarray(snapshot["lambda_t"])),
+              "load": applied_load(model, t),
+              "reaction": np.asarray(snapshot["reaction"], dtype=float).reshape(-1)}
+    out = {k: body_sums(model, f) for k, f in forces.items()}
+    out["scale"] = sum(body_sums(model, np.abs(f)) for f in forces.values())
+    return out
+
+
+def obstacle_force(model: dict, snapshot: dict, contact: int) -> np.ndarray:
+    """(2,) the total force of [[contact]] ``contact`` on the bodies: Σ (λ_n n + λ_t t) over its
+    pairs (t = (−n_y, n_x)); for a rigid obstacle, minus the force the bodies exert on it."""
+    pairs = model["pairs"]
+    mine = np.asarray(pairs.get("contact", np.zeros(len(pairs["node_a"]), np.int64))) == contact
+    n = np.asarray(pairs["normal"], dtype=float).reshape(-1, 2)[mine]
+    t = np.stack([-n[:, 1], n[:, 0]], axis=1)
+    return (np.asarray(snapshot["lambda_n"])[mine] @ n
+            + np.asarray(snapshot["lambda_t"])[mine] @ t)
+
+
+# --------------------------------------------------------------------------- refinement
+def observed_order(error_coarse: float, error_fine: float, ratio: float = 2.0) -> float:
+    """The convergence order of an error that falls from ``error_coarse`` to ``error_fine``
+    when the element size is divided by ``ratio``: log(e_coarse/e_fine)/log(ratio)."""
+    return math.log(abs(error_coarse) / abs(error_fine)) / math.log(ratio)
+
+
+def richardson(coarse: float, fine: float, order: float, ratio: float = 2.0) -> float:
+    """Richardson's extrapolation to h -> 0 of a value converging at ``order`` from the meshes
+    h (``coarse``) and h/ratio (``fine``): fine + (fine - coarse)/(ratio^order - 1)."""
+    return fine + (fine - coarse) / (ratio ** order - 1.0)
+
+
 # --------------------------------------------------------------------------- stresses
 def von_mises(stress: np.ndarray) -> np.ndarray:
     """Von Mises stress of (M, 4) rows σx, σy, σz, τxy, from the deviator: √(3/2 s:s)."""
@@ -277,6 +361,55 @@ def dundurs_beta(nu: float, plane: str = "strain") -> float:
     if plane == "stress":
         nu = nu / (1.0 + nu)
     return (1.0 - 2.0 * nu) / (2.0 * (1.0 - nu))
+
+
+# --------------------------------------------------------------------------- Cattaneo-Mindlin
+def strain_energy(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray, E: float,
+                  nu: float, thickness: float) -> float:
+    """Elastic energy of constant-stress triangles of one isotropic material (plane strain or
+    stress): Σ_e t A_e w_e, w = (σx² + σy² + σz² − 2ν(σxσy + σyσz + σzσx))/(2E) + τ²(1+ν)/E
+    (σz = 0 in plane stress; in plane strain εz = 0, so σz does no work and w = σ:ε/2 still)."""
+    nodes, triangles = np.asarray(nodes, dtype=float), np.asarray(triangles)
+    sx, sy, sz, txy = np.asarray(stress, dtype=float).reshape(-1, 4).T
+    x, y = nodes[triangles, 0], nodes[triangles, 1]
+    area = 0.5 * np.abs((x[:, 1] - x[:, 0]) * (y[:, 2] - y[:, 0])
+                        - (x[:, 2] - x[:, 0]) * (y[:, 1] - y[:, 0]))
+    w = ((sx ** 2 + sy ** 2 + sz ** 2 - 2.0 * nu * (sx * sy + sy * sz + sz * sx)) / (2.0 * E)
+         + txy ** 2 * (1.0 + nu) / E)
+    return float(thickness * np.sum(area * w))
+
+
+def cattaneo_traction(x, a: float, c: float, p0: float, mu: float) -> np.ndarray:
+    """Cattaneo–Mindlin shear of a Hertz line contact (Johnson §7.1, the cylinder; half-width
+    a, peak pressure p0, stick zone |x| < c, c/a = √(1 − Q/(μP))):
+    q = μ p0 [√(1 − x²/a²) − (c/a) √(1 − x²/c²)] in the stick zone, μ p(x) in the slip zones,
+    0 outside the contact."""
+    x = np.asarray(x, dtype=float)
+    full = mu * p0 * np.sqrt(np.clip(1.0 - (x / a) ** 2, 0.0, None))
+    stick = mu * p0 * (c / a) * np.sqrt(np.clip(1.0 - (x / c) ** 2, 0.0, None))
+    return full - np.where(np.abs(x) < c, stick, 0.0)
+
+
+# The energy a Hertz line contact of two equal bodies (β = 0: shear and pressure uncoupled)
+# dissipates per cycle of tangential load ±Q*, the planar analogue of Mindlin–Deresiewicz
+# (Johnson §7.3 for the sphere), derived here.  One half-plane under a surface shear q has
+# ∂u_x/∂x = −(K/π) PV∫ q(s)/(x − s) ds, K = 2(1 − ν²)/E (Johnson eq. 2.25; plane strain); an
+# elliptical shear of total F over half-width b moves its centre by (K F/π)(ln(d/b) + C)
+# against a point at distance d ≫ b.  Cattaneo's q is such a shear μP over a minus one of
+# μP (c/a)² over c, and the stick zone moves rigidly, so the relative displacement of the two
+# bodies there (2K, two equal bodies) is linear in Q (the d and C terms: elastic) plus
+#     δ(Q) = (2K μP/(2π)) (1 − r) ln(1 − r),   r = Q/(μP),   ((c/a)² = 1 − r),
+# convex in Q.  Unloading follows Masing (Mindlin & Deresiewicz's superposition:
+# δ_unload(Q) = δ(Q*) − 2 δ((Q* − Q)/2)), so the loop's area is
+#     W = 4 ∫_0^{Q*} [δ(Q*) − δ(u) − δ(Q* − u)] du
+#       = (4 K (μP)²/π) [(1 − r*) ln(1 − r*) + r* − r*²/2],   r* = Q*/(μP),
+# linear terms cancelling; for small r* W ≈ 2 K Q*³/(3π μP), cubic as for the sphere.
+def line_contact_dissipation(P: float, Q_star: float, mu: float, E: float, nu: float) -> float:
+    """W per cycle ±Q* (per unit thickness) of a line contact of two equal elastic bodies
+    pressed by P (plane strain), from the derivation above."""
+    K, F = 2.0 * (1.0 - nu ** 2) / E, mu * P
+    r = Q_star / F
+    return 4.0 * K * F ** 2 / math.pi * ((1.0 - r) * math.log1p(-r) + r - 0.5 * r * r)
 
 
 # --------------------------------------------------------------------------- Spence

@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
 import pytest
 
 from conftest import CASES, needs_gmsh
@@ -61,34 +62,99 @@ def test_table1_threshold_of_plasticity_against_johnson(quick):
 
 
 # --------------------------------------------------------------------------- the paper's claims
-def check(numbers, name):
-    c = numbers["checks"][name]
-    assert c["required"], name
-    assert c["pass"], f"{c['claim']}: {c['value']}"
+# Recomputed here from each run's arrays (result.npz: the contact profile per snapshot, the
+# closure fractions, the steps' normal force, the events), not read from the package's own
+# verdicts.  The cylinder runs are half models: x from the symmetry line, thickness 1.
+def arrays(folder, cid: str) -> dict:
+    with np.load(folder / cid / "result.npz") as data:
+        return {k: data[k] for k in data.files}
+
+
+def cylinder(quick, kind: str, mu: float) -> dict:
+    return arrays(quick[0] / "runs", f"cyl_{kind}_mu{mu:g}")
+
+
+def half_width(d: dict) -> float:
+    """The contact half-width at the run's end: between the outermost closed node x_c (closed
+    at load fraction f_c) and the next node x_o (which the last trial solution would close at
+    f_o), linear in the load fraction; x_c when nothing closes next."""
+    x, status, f = d["profile_x"], d["profile_status"][-1], d["snap_load_fraction"][-1]
+    closed = np.flatnonzero(status > 0)
+    c = closed[np.argmax(x[closed])]
+    beyond = np.flatnonzero((status == 0) & (x > x[c]))
+    if len(beyond) == 0:
+        return float(x[c])
+    o = beyond[np.argmin(x[beyond])]
+    pair = d["profile_pair"]
+    fc, fo = d["closure_fraction"][pair[c]], d["predicted_closure"][pair[o]]
+    if not np.isfinite(fo) or fo <= fc:
+        return float(x[c])
+    return float(x[c] + (x[o] - x[c]) * min(max((f - fc) / (fo - fc), 0.0), 1.0))
+
+
+def peak_over_mean(d: dict) -> float:
+    """Peak nodal pressure over the mean, (the modelled half's normal force) / a."""
+    return float(d["profile_pressure"][-1].max() / (d["steps_normal_force"][-1] / half_width(d)))
+
+
+def slip_length(d: dict) -> float:
+    """a - c, c the outermost sticking node (a when every closed node out there sticks)."""
+    x, status = d["profile_x"], d["profile_status"][-1]
+    if not (status == 1).any():
+        return half_width(d)
+    c = x[status == 1].max()
+    return 0.0 if not ((status == 2) & (x > c)).any() else half_width(d) - c
 
 
 def test_plastic_contact_is_longer(quick):
-    check(quick[1], "plastic_contact_longer")
+    """Paper: the elastoplastic contact is longer than the elastic one at full load, each mu
+    (measured 1.516 / 1.467, 1.511 / 1.454, 1.512 / 1.429 at mu = 0, 0.1, 0.35)."""
+    for mu in rp.MUS:
+        elastic = half_width(cylinder(quick, "elastic", mu))
+        assert half_width(cylinder(quick, "plastic", mu)) > elastic, mu
 
 
 def test_plastic_pressure_is_flatter(quick):
-    check(quick[1], "plastic_pressure_flatter")
-    for mu in rp.MUS:  # elastic close to Hertz's 4/pi = 1.273 (the nodal peak is a bit higher)
-        assert quick[1]["cylinder"][f"elastic_mu{mu:g}"]["peak_over_mean"] < 1.4
+    """Paper: peak over mean pressure smaller when plastic, each mu; elastic close to Hertz's
+    4/pi = 1.273 (the nodal peak a bit higher: below 1.4; measured 1.30 .. 1.36)."""
+    for mu in rp.MUS:
+        elastic = peak_over_mean(cylinder(quick, "elastic", mu))
+        assert peak_over_mean(cylinder(quick, "plastic", mu)) < elastic < 1.4
 
 
 def test_slip_zone_shrinks_as_mu_grows(quick):
-    check(quick[1], "slip_zone_shrinks_elastic")
-    check(quick[1], "slip_zone_shrinks_plastic")
+    """Paper: the slip zone a - c shrinks as mu grows, elastic and elastoplastic (measured
+    1.47, 1.38, 0.31 and 1.52, 1.29, 0 by the summaries)."""
+    for kind in ("elastic", "plastic"):
+        slip = [slip_length(cylinder(quick, kind, mu)) for mu in rp.MUS]
+        assert all(b < a for a, b in zip(slip, slip[1:])), (kind, slip)
+
+
+def first_yield(d: dict) -> tuple[float, float, float]:
+    """(load fraction, depth below the flat y = 0, contact half-width by the outermost closed
+    node) at the first yield event of a run that stops there."""
+    k = list(d["events_kind"]).index("yield")
+    x, status = d["profile_x"], d["profile_status"][-1]
+    return (float(d["events_load_fraction"][k]), float(d["events_xy"][k, 1]),
+            float(x[status > 0].max()))
 
 
 def test_onset_of_yield_falls_as_mu_grows(quick):
-    check(quick[1], "onset_falls")
-    rows = quick[1]["fig10"]
-    assert len(rows) >= 11 and rows[0]["mu"] == 0.0 and rows[-1]["mu"] == 0.5
-    assert rows[-1]["f"] < 0.92 * rows[0]["f"]
-    # mu = 0 against Johnson, same tolerance as Table 1
-    assert rows[0]["f"] == pytest.approx(rp.F_JOHNSON, rel=0.05)
+    """Paper, Fig. 10: the onset-of-yield load is lower at mu = 0.5 than at mu = 0, and does
+    not rise from the mu where first yield moves to the surface (depth < a/4) on (1e-9
+    relative: round-off of equal loads); mu = 0 against Johnson, the tolerance of Table 1."""
+    folder = quick[0] / "fig10"
+    cids = sorted(p.name for p in folder.iterdir() if (p / "result.npz").exists())
+    mus = [float(c.split("=")[-1]) for c in cids]
+    rows = [first_yield(arrays(folder, c)) for c in cids]
+    assert len(rows) >= 11 and mus[0] == 0.0 and mus[-1] == 0.5 and mus == sorted(mus)
+    f = [r[0] for r in rows]
+    assert f[-1] < 0.92 * f[0]
+    surface = next(i for i, (_, depth, a) in enumerate(rows) if depth < 0.25 * a)
+    tail = f[surface:]
+    assert all(b <= a * (1 + 1e-9) for a, b in zip(tail, tail[1:])), (mus[surface], tail)
+    assert f[0] == pytest.approx(rp.F_JOHNSON, rel=0.05)
+    assert [r["f"] for r in quick[1]["fig10"]] == pytest.approx(f, rel=1e-12)  # the report's
 
 
 def test_half_space_is_large_enough(quick):

@@ -72,8 +72,9 @@ W_RANGE = (1.0, OMEGA_MAX / KE.interference)
 
 
 def closures(scene, result):
-    """(omega, a, P) at every closure, in order: the flat's displacement when the node closed,
-    the node's radius, and the total contact force at the end of that increment."""
+    """(omega, a, P, h) at every closure, in order: the flat's displacement when the node
+    closed, the node's radius, the total contact force at the end of that increment, and the
+    element size at the contact edge there (the longer arc segment at the node)."""
     steps = result["steps"]
     f = np.asarray(result["closure_fraction"], dtype=float)
     r = scene.pair_xy[:, 0]
@@ -81,15 +82,22 @@ def closures(scene, result):
     order = np.argsort(f[closed])
     fc, rc = f[closed][order], r[closed][order]
     P = np.interp(fc, np.asarray(steps["load_fraction"]), np.asarray(steps["normal_force"]))
-    return fc * OMEGA_MAX, rc, P
+    arc = scene.global_edge("sphere", "arc")
+    length = np.linalg.norm(scene.nodes[arc[:, 1]] - scene.nodes[arc[:, 0]], axis=1)
+    h = np.zeros(len(scene.nodes))
+    np.maximum.at(h, arc[:, 0], length)
+    np.maximum.at(h, arc[:, 1], length)
+    hc = h[scene.model["pairs"]["node_a"]][closed][order]
+    return fc * OMEGA_MAX, rc, P, hc
 
 
 def compared(curve, crit, w_lo=W_RANGE[0]):
-    """Closures with w_lo <= omega/omega_c: (w, P/P_c, A/A_c)."""
-    omega, a, P = curve
+    """Closures with w_lo <= omega/omega_c: (w, P/P_c, A/A_c, h/a)."""
+    omega, a, P, h = curve
     w = omega / crit.interference
     keep = w >= w_lo
-    return w[keep], P[keep] / crit.force, math.pi * a[keep] ** 2 / crit.area
+    return (w[keep], P[keep] / crit.force, math.pi * a[keep] ** 2 / crit.area,
+            h[keep] / a[keep])
 
 
 @pytest.fixture(scope="module")
@@ -142,12 +150,21 @@ def fit_spread(w):
 #: below from the formulas: KE's area starts 7 % below Hertz at omega_c, JG's follows Hertz to
 #: 1.9 omega_c): neither can be taken as exact to better than that.
 SPREAD_P, SPREAD_A = 0.05, 0.075
-#: Our own discretization (see test_refinement).  The force at the closures moves by 3.0 % at
-#: most from the coarse mesh to this one; with first-order convergence the difference of the
-#: two is this mesh's own error, so MESH_P bounds it.  The contact radius, read at the closing
-#: node, converges at first order in h/a (h ~ a/15 here): ~ +2 % in a, +4 % in A on this mesh,
-#: as in the elastic range, where Hertz is exact (part A: a +0.83 % at a/h = 20).
-MESH_P, MESH_A = 0.035, 0.04
+#: Our own discretization of the force (see test_refinement).  The force at the closures moves
+#: by 3.0 % at most from the coarse mesh to this one; with first-order convergence the
+#: difference of the two is this mesh's own error, so MESH_P bounds it.
+MESH_P = 0.035
+
+
+def area_bounds(h_over_a):
+    """The band A/A_fit must reach at a closure, from the mesh and the fits' accuracy.  The
+    contact radius read at the closing node is the discrete contact edge, which lies within one
+    element h of the continuum's (h the element size at the contact edge there; the mesh is
+    graded so that h ~ a/15): the true area lies in [pi (a - h)^2, pi (a + h)^2], the fit's
+    within SPREAD_A of the true one (the fits' spread: neither is exact to better; the papers'
+    own stated accuracy is not in the stored record).  The two intervals must overlap:
+    (1 - SPREAD_A)/(1 + h/a)^2 <= A/A_fit <= (1 + SPREAD_A)/(1 - h/a)^2."""
+    return (1 - SPREAD_A) / (1 + h_over_a) ** 2, (1 + SPREAD_A) / (1 - h_over_a) ** 2
 
 
 def test_the_fits_differ_by_their_spread():
@@ -176,7 +193,7 @@ def test_elastic_range_is_hertz(runs):
     within 1 %: the base of the hemisphere adds a compliance O(a/R) < 0.5 %, and the P1
     field at a/h >= 5 (closures from r = 5 h on) is within 0.5 % (part A).  Measured:
     -0.5 % to +0.2 %."""
-    scene, result, (omega, a, P) = runs["case"]
+    scene, result, (omega, a, P, _) = runs["case"]
     h = load_case(CASE).data["body"][0]["mesh"]["h_contact"]
     keep = (omega < 0.95 * KE.interference) & (a >= 5 * h)
     assert keep.sum() >= 6
@@ -200,17 +217,21 @@ def test_first_yield_at_the_critical_interference(runs):
 @pytest.mark.parametrize("fit", ["KE", "JG"])
 def test_force_and_area_against_the_fits(runs, fit):
     """From first yield to 50 omega_c, at every closure: P within SPREAD_P + MESH_P of the
-    fit, A within SPREAD_A + MESH_A.  Measured on this mesh: P -4.0 % .. +1.2 % (KE),
+    fit, A within ``area_bounds`` of it (one element at the contact edge, and SPREAD_A; on this
+    mesh h/a = 0.064 .. 0.084 at these closures: a band from -18 % .. +23 % to -21 % .. +28 %;
+    an area read one element too far out would be +13 % .. +17 % off).  Measured on this mesh: P -4.0 % .. +1.2 % (KE),
     -4.8 % .. +0.3 % (JG); A +2.3 % .. +10.9 % (KE: its fit starts 7 % below Hertz at
     omega_c), +3.6 % .. +7.7 % (JG)."""
     scene, result, curve = runs["case"]
     crit, formula = ((KE, lambda w: kogut_etsion(w)) if fit == "KE" else
                      (JG, lambda w: jackson_green(w, R, E_STAR, Y, NU)))
-    w, P, A = compared(curve, crit)
+    w, P, A, h_over_a = compared(curve, crit)
     assert len(w) >= 25 and w[-1] >= 40
     P_fit, A_fit = formula(w)
     assert np.abs(P / P_fit - 1).max() <= SPREAD_P + MESH_P, np.c_[w, P / P_fit]
-    assert np.abs(A / A_fit - 1).max() <= SPREAD_A + MESH_A, np.c_[w, A / A_fit]
+    lo, hi = area_bounds(h_over_a)
+    ratio = A / A_fit
+    assert ((ratio >= lo) & (ratio <= hi)).all(), np.c_[w, ratio, lo, hi]
 
 
 @needs_gmsh
@@ -222,7 +243,7 @@ def test_refinement(runs):
     (first-order convergence of the radius read at the closing node)."""
     fine, coarse = runs["case"][2], runs["coarse"][2]
     result = runs["case"][1]
-    omega, _, P_coarse = coarse
+    omega, _, P_coarse, _ = coarse
     keep = omega >= KE.interference
     P = np.interp(omega[keep] / OMEGA_MAX, result["steps"]["load_fraction"],
                   result["steps"]["normal_force"])
@@ -231,6 +252,6 @@ def test_refinement(runs):
                           (JG, lambda w: jackson_green(w, R, E_STAR, Y, NU))):
         err = []
         for curve in (coarse, fine):
-            w, _, A = compared(curve, crit, w_lo=2.0)
+            w, _, A, _ = compared(curve, crit, w_lo=2.0)
             err.append(float(np.mean(np.abs(A / formula(w)[1] - 1))))
         assert err[1] < err[0], err

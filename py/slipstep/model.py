@@ -753,13 +753,14 @@ def _rigid_circle_pairs(scene: Scene, c: dict, key: str):
 
 def _rigid_polyline_pairs(scene: Scene, c: dict, key: str):
     """Body nodes on ``edge`` within the x/y window, against the polyline ``points``
-    (:func:`polyline_closest`): gap = (x - closest point).n, the signed distance on a
-    segment, positive on the body's ``side``; n = that segment's normal towards the body side,
-    at an interior vertex the normalised average of its two segments' normals.  A node that
-    projects nowhere (its closest point is an end point of an open polyline and it lies
+    (:func:`polyline_closest`, told the body's outward normal at each node and the contact's
+    tolerance, which set the contact direction of a node sitting on a convex corner).  A node
+    that projects nowhere (its closest point is an end point of an open polyline and it lies
     beyond it) is not a candidate."""
     a = _window_candidates(scene, c, key)
-    near = polyline_closest(np.asarray(c["points"], dtype=float), c["side"], scene.nodes[a])
+    outward = _node_normals(scene.nodes, scene.global_edge(c["body"], c["edge"]), a)
+    near = polyline_closest(np.asarray(c["points"], dtype=float), c["side"], scene.nodes[a],
+                            outward, c["tolerance"])
     if not near["onto"].any():
         raise scene.case.error(f"{key}.points", f"no candidate node of edge '{c['edge']}' of "
                                f"body '{c['body']}' projects onto the rigid polyline (a "
@@ -774,19 +775,21 @@ def _rigid_polyline_pairs(scene: Scene, c: dict, key: str):
                         'from its first point to its last)')
 
 
-def polyline_closest(points: np.ndarray, side: str, xy: np.ndarray) -> dict:
+def polyline_closest(points: np.ndarray, side: str, xy: np.ndarray,
+                     outward: np.ndarray | None = None, touch: float = 0.0) -> dict:
     """The closest points of the polyline ``points`` (M, 2) to the points ``xy`` (N, 2).
 
     Per point: ``segment`` (the closest segment, the first one of a tie), ``vertex`` (the index
     of the vertex that is the closest point, else -1), ``foot`` (the closest point), ``normal``
-    (the unit normal of that segment towards ``side``, "left" or "right" walking from the first
-    point to the last; at an interior vertex the normalised sum of the normals of its two
-    segments, and at the joint of a closed polyline, first point = last, of the last and first
-    segments), ``gap`` = (x - foot).normal, ``onto`` (False for a point that projects nowhere:
-    its closest point is an end point of an open polyline and its projection on that end
-    segment lies beyond it, by more than 1e-9 of the segment's length) and ``s`` (the arc
-    length of the foot from the first point; beyond an end, the projection on the extended end
-    segment, so s < 0 before the first point and s > the length after the last)."""
+    (the direction in which the obstacle resists the point: the unit normal of its segment
+    towards ``side``, "left" or "right" walking from the first point to the last; at a vertex
+    :func:`_vertex_normals`), ``gap`` = (x - foot).normal, ``onto`` (False for a point that
+    projects nowhere: its closest point is an end point of an open polyline and its
+    projection on that end segment lies beyond it, by more than 1e-9 of the segment's length)
+    and ``s`` (the arc length of the foot from the first point; beyond an end, the projection
+    on the extended end segment, so s < 0 before the first point and s > the length after the
+    last).  ``outward`` (N, 2), the body's outward surface normals at the points, and
+    ``touch``, the distance within which a point sits on a vertex, serve convex corners."""
     points, xy = np.asarray(points, dtype=float), np.asarray(xy, dtype=float).reshape(-1, 2)
     start, d = points[:-1], np.diff(points, axis=0)
     length = np.linalg.norm(d, axis=1)
@@ -804,19 +807,11 @@ def polyline_closest(points: np.ndarray, side: str, xy: np.ndarray) -> dict:
     foot = start[seg] + t_seg[:, None] * d[seg]
     at = vertex >= 0
     foot[at] = points[vertex[at]]
-    normal = seg_n[seg].copy()
     closed = bool(np.array_equal(points[0], points[-1]))
-    last = len(d) - 1
-    for k in np.unique(vertex[at]):
-        if 0 < k < len(points) - 1:
-            before, after = k - 1, k
-        elif closed:
-            before, after = last, 0
-        else:
-            continue  # an end point: its one segment's normal
-        m = seg_n[before] + seg_n[after]  # never 0: the schema refuses folding segments
-        normal[vertex == k] = m / np.linalg.norm(m)
+    m = np.zeros_like(xy) if outward is None else np.asarray(outward, dtype=float).reshape(-1, 2)
+    normal = _vertex_normals(points, seg_n, closed, xy, vertex, seg_n[seg], m, touch)
     gap = np.einsum("pk,pk->p", xy - foot, normal)
+    last = len(d) - 1
     beyond = np.zeros(len(xy), dtype=bool)
     if not closed:
         beyond = (((seg == 0) & (raw_seg < -1e-9)) | ((seg == last) & (raw_seg > 1.0 + 1e-9)))
@@ -825,6 +820,69 @@ def polyline_closest(points: np.ndarray, side: str, xy: np.ndarray) -> dict:
     s = np.where(beyond & (seg == last) & (raw_seg > 1.0), cum[last] + raw_seg * length[last], s)
     return {"segment": seg, "vertex": vertex, "foot": foot, "normal": normal, "gap": gap,
             "onto": ~beyond, "s": s}
+
+
+def _vertex_normals(points, seg_n, closed: bool, xy, vertex, normal, outward, touch: float):
+    """``normal`` with the rule for the points whose closest point is an interior vertex (or
+    the joint of a closed polyline, between its last and first segments; an end point of an
+    open polyline keeps its one segment's normal).
+
+    * A concave vertex (the segment after it turns towards the body side of the one before,
+      n_before . d_after >= 0; or goes straight on): the normalised average of the two
+      segments' normals.  Only a point on the vertex itself has it as closest point there (a
+      body in a corner of a die), pressed by both faces.
+    * A convex vertex (the obstacle's corner points into the body): for a point off it, the
+      direction from the vertex to the point, the true closest-point normal (gap = the
+      distance).  A point that sits on it (within ``touch``, or 1e-9 of the shorter segment:
+      round-off) has no such direction: :func:`_corner_contact_normal`."""
+    normal = normal.copy()
+    length = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    last = len(length) - 1
+    for k in np.unique(vertex[vertex >= 0]):
+        if 0 < k < len(points) - 1:
+            before, after = k - 1, k
+        elif closed:
+            before, after = last, 0
+        else:
+            continue  # an end point: its one segment's normal
+        here = vertex == k
+        mean = seg_n[before] + seg_n[after]  # never 0: the schema refuses folding segments
+        mean /= np.linalg.norm(mean)
+        if seg_n[before] @ (points[after + 1] - points[after]) >= 0.0:  # concave or straight
+            normal[here] = mean
+            continue
+        r = xy[here] - points[k]
+        dist = np.linalg.norm(r, axis=1)
+        sits = dist <= max(touch, 1e-9 * min(length[before], length[after]))
+        on = _corner_contact_normal(seg_n[before], seg_n[after], mean, outward[here])
+        normal[here] = np.where(sits[:, None], on, r / np.where(sits, 1.0, dist)[:, None])
+    return normal
+
+
+def _corner_contact_normal(n0, n1, mean, outward):
+    """The contact normal of body points sitting on a convex corner whose faces have the
+    normals n0, n1 (towards the body; ``mean`` their normalised average), given the body's
+    outward surface normals there (K, 2).
+
+    At the corner a frictionless obstacle can push along any direction of its cone of normals
+    (between n0 and n1); which one acts is set by the body's own surface, whose normal m
+    points at the obstacle: the contact normal is the direction of the cone nearest to -m.
+    Inside the cone it is -m itself (a wedge's tip on a flat: the flat's normal); outside, the
+    nearer face's normal, the face the body's surface lies along (a punch's edge node is
+    pressed by the punch face, not pushed sideways by its side: the average of the faces would
+    push it outwards at 45 degrees with a force no face in contact exerts).  Without a body
+    normal (zero) the cone's middle, ``mean``."""
+    size = np.linalg.norm(outward, axis=1)
+    v = -outward / np.where(size > 0.0, size, 1.0)[:, None]
+    turn = _cross(n0, n1)
+    inside = (_cross(n0, v) * turn >= 0.0) & (_cross(v, n1) * turn >= 0.0) & (v @ mean > 0.0)
+    nearer = np.where((v @ n0 >= v @ n1)[:, None], n0, n1)
+    return np.where((size == 0.0)[:, None], mean, np.where(inside[:, None], v, nearer))
+
+
+def _cross(a, b):
+    """The z component of a x b for 2D vectors (any leading shape)."""
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
 #: The pair builder of each rigid obstacle kind.

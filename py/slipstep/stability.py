@@ -104,7 +104,9 @@ def _run(path, overrides=(), mesh=None):
 
 
 def _row(name, group, summary, error, wall, reference="", rel_error=float("nan"), note="",
-         status=None):
+         status=None, run=(None, None)):
+    """One row of the table; ``run``: the (scene, result) it came from, kept under ``_run`` for
+    checks on the arrays (not written)."""
     s = summary or {}
     if status is None:
         status = "failed" if summary is None else STATUS_OF_STOP[s["stop"]["kind"]]
@@ -113,7 +115,7 @@ def _row(name, group, summary, error, wall, reference="", rel_error=float("nan")
             "final_load_fraction": s.get("final_load_fraction", float("nan")),
             "max_residual": s.get("max_equilibrium_residual", float("nan")),
             "max_drift": s.get("max_drift", float("nan")), "reference": reference,
-            "rel_error": rel_error, "note": note, "wall_s": wall}
+            "rel_error": rel_error, "note": note, "wall_s": wall, "_run": run}
 
 
 #: A row's status for each way the engine ends a run (``result["stop"]["kind"]``); a limit
@@ -152,13 +154,13 @@ def scenario_h0(quick: bool) -> list[dict]:
         snap = res["snapshots"][-1]
         plastic = np.asarray(snap["plastic_strain"]) > 0
         c = float(_centroid_radius(scene)[plastic].max()) if plastic.any() else a
-    rows.append(_row("H'=0 thick cylinder p=175", "H0", s, err, wall,
+    rows.append(_row("H'=0 thick cylinder p=175", "H0", s, err, wall, run=(scene, res),
                      reference=f"Hill plastic radius c = {c_ref:.3f}", rel_error=c / c_ref - 1,
                      note=f"plastic radius {c:.3f} (outermost plastic centroid)"))
     ov = ["material.Sy=200", "material.H=0", "mesh.h_contact=0.15"]
     scene, res, s, err, wall = _run(None, ov)
     hz = (s or {}).get("hertz", {})
-    rows.append(_row("H'=0 Hertz Sy=200 h_c=0.15", "H0", s, err, wall,
+    rows.append(_row("H'=0 Hertz Sy=200 h_c=0.15", "H0", s, err, wall, run=(scene, res),
                      reference="Johnson first yield 0.60 p0/Sy",
                      rel_error=hz.get("first_yield_rel_error", float("nan")) or float("nan"),
                      note=f"{(s or {}).get('n_plastic_elements', 0)} plastic elements, "
@@ -220,6 +222,7 @@ def scenario_incompressible(quick: bool) -> tuple[list[dict], dict]:
                 u_hill = (1 + nu) * k * (2 - 2 * nu) * b / E  # Hill's u(b) at p_lim (c = b)
                 note += f"; u(b)/u_Hill(b, p_lim) = {ur[-1] / u_hill:.2f}"
             rows.append(_row(f"nu={nu} {mname} p=1.1 p_lim", "incompressible", s, err, wall,
+                             run=(scene, res),
                              reference="p(all elements plastic) / p_lim - 1",
                              rel_error=rel, note=note))
             rows[-1]["p_full"] = p_full_v
@@ -244,7 +247,7 @@ def scenario_friction(quick: bool) -> list[dict]:
             note = (f"final: {s['n_stick']} stick / {s['n_slip']} slip pairs, "
                     f"{contact_text(s)}; max(|lt| - mu ln)/max ln = {excess:.1e}")
             s["coulomb_excess"] = excess
-        rows.append(_row(f"Hertz elastic mu={mu}", "friction", s, err, wall,
+        rows.append(_row(f"Hertz elastic mu={mu}", "friction", s, err, wall, run=(scene, res),
                          reference="Hertz a", rel_error=rel, note=note))
         rows[-1]["_summary"] = s
     return rows
@@ -306,7 +309,8 @@ def scenario_ties(quick: bool) -> list[dict]:
         per = np.bincount(steps) if len(steps) else np.zeros(1, int)
         note = (f"{len(per.nonzero()[0])} increments, up to {per.max()} simultaneous events; "
                 f"final {s['n_stick']} stick / {s['n_slip']} slip / {s['n_open']} open")
-    rows.append(_row("two_blocks (symmetric matching mesh)", "ties", s, err, wall, note=note))
+    rows.append(_row("two_blocks (symmetric matching mesh)", "ties", s, err, wall,
+                     run=(scene, res), note=note))
     # uniaxial strain: u_y(bottom) = -q H / (lambda + 2G), the same at every bottom node
     E, nu, q, H = 200000.0, 0.3, 100.0, 4.0
     m = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
@@ -328,6 +332,7 @@ def scenario_ties(quick: bool) -> list[dict]:
         rel = float(lf_close.max() / 0.5 - 1) if close.any() else float("nan")
         s["closed_in_one_increment"] = bool(close.sum() == n_pairs and len(steps_close) == 1)
     rows.append(_row("flat block on rigid flat, equal gaps", "ties", s, err, wall,
+                     run=(scene, res),
                      reference="closure at f = 0.5", rel_error=rel, note=note))
     rows[-1]["_summary"] = s
     return rows
@@ -345,6 +350,7 @@ def scenario_receding(quick: bool) -> list[dict]:
             note = (f"{contact_text(s)}; final {s['n_stick']} stick / {s['n_slip']} slip / "
                     f"{s['n_open']} open of {s['n_pairs']}")
         rows.append(_row(f"{name} (zero gaps, start in stick)", "receding", s, err, wall,
+                         run=(scene, res),
                          note=note))
     return rows
 
@@ -361,7 +367,7 @@ def scenario_grading(quick: bool) -> list[dict]:
         rel = s["hertz"]["a_rel_error"]
         note = (f"{s['n_elements']} elements, longest/shortest edge = {ratio:.2e}")
         s["size_ratio"] = float(ratio)
-    rows = [_row("Hertz, h_contact=0.001, h_max=10", "grading", s, err, wall,
+    rows = [_row("Hertz, h_contact=0.001, h_max=10", "grading", s, err, wall, run=(scene, res),
                  reference="Hertz a", rel_error=rel, note=note)]
     rows[-1]["_summary"] = s
     return rows
@@ -390,6 +396,7 @@ def scenario_newton(quick: bool) -> tuple[list[dict], str]:
             c = float(_centroid_radius(scene)[plastic].max())
             ub = _outer_ur(scene, u_ss, b)
             rows.append(_row(f"slipstep thick cylinder p={p:g}", "newton", s, err, wall,
+                             run=(scene, res),
                              reference=f"Hill c = {c_ref:.3f}", rel_error=c / c_ref - 1,
                              note=f"plastic radius {c:.3f}; u(b) = {ub:.4e}"))
         try:
