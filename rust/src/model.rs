@@ -296,7 +296,7 @@ impl Model {
         let n_factors = 1 + self.patterns.len();
         let mut previous = vec![0.0; n_factors];
         for (k, stage) in self.stages.iter().enumerate() {
-            let name = if stage.name.is_empty() { format!("stage {}", k + 1) } else { format!("stage '{}'", stage.name) };
+            let name = self.stage_label(k);
             if stage.factors.len() != n_factors {
                 bail!(Input, "{name} has {} factors for {n_factors} load patterns (load first)", stage.factors.len());
             }
@@ -358,6 +358,14 @@ impl Model {
             bail!(Input, "initial penetration at {name} (node {}): gap {:.3e} < 0; move the bodies apart so that they at most touch", p.node_a, p.gap);
         }
         Ok(())
+    }
+
+    /// "stage 'NAME'" of stage k (0-based), or "stage k+1" when it has no name.
+    pub fn stage_label(&self, k: usize) -> String {
+        match self.stages.get(k).filter(|s| !s.name.is_empty()) {
+            Some(s) => format!("stage '{}'", s.name),
+            None => format!("stage {}", k + 1),
+        }
     }
 
     /// "contact 'NAME' pair k (node n at (x, y))", or "contact pair k (node n)" without names.

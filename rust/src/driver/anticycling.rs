@@ -61,7 +61,12 @@ impl AntiCycling {
     /// The one-at-a-time rule is cycling (a pair would exceed its switches) and the rate
     /// problem may still be tried in this run.
     pub fn wants_rate_problem(&self, group: &[Candidate]) -> bool {
-        self.rate_problems_in_run < MAX_RATE_PROBLEMS && group.iter().any(|c| !c.kind.is_element_event() && self.zero_switches[c.entity] >= self.max_switches)
+        self.may_solve_rate_problem() && group.iter().any(|c| !c.kind.is_element_event() && self.zero_switches[c.entity] >= self.max_switches)
+    }
+
+    /// The rate problem may still be tried in this zero-length run.
+    pub fn may_solve_rate_problem(&self) -> bool {
+        self.rate_problems_in_run < MAX_RATE_PROBLEMS
     }
 
     pub fn rate_problem_solved(&mut self) {
