@@ -228,7 +228,7 @@ fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCyc
     rec.max_drift = rec.max_drift.max(drift);
     rec.drift = drift;
     let residual = checked_equilibrium(eng, state, sel.phi, rec)?;
-    eng.check_contact(state, cycles.frozen().0, *correction)?;
+    eng.check_contact(state, &cycles.frozen_pairs_of_increment(), *correction)?;
     Ok(Some(residual))
 }
 
@@ -250,6 +250,7 @@ fn checked_equilibrium(eng: &Engine, state: &State, phi: f64, rec: &mut Recorder
 fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &mut AntiCycling, rec: &mut Recorder) -> f64 {
     let mut jump: f64 = 0.0;
     let zero_length = sel.zero_length();
+    cycles.increment_selected();
     if !zero_length {
         cycles.load_advanced();
     }
