@@ -386,13 +386,13 @@ fn solve(prob: &Problem) -> Option<Vec<f64>> {
 }
 
 /// The length unknowns' columns and rows × the flexibility's size s (the largest diagonal entry
-/// of a force unknown): the rows of force unknowns are lengths, their coefficients compliances
+/// of a force unknown, rounded to a power of two: exact): the rows of force unknowns are lengths, their coefficients compliances
 /// or ratios; of length unknowns forces, coefficients ratios. Scaled, every entry is a
 /// compliance and every constant a length, so Lemke's pivots do not depend on the unit system
 /// (a congruence D M D: positive semidefiniteness kept). Returns D's diagonal: z = D z̃.
 fn unit_free(prob: &Problem, split: &[bool], col: &[usize], m: &mut DMatrix<f64>, q: &mut DVector<f64>) -> DVector<f64> {
     let n = q.len();
-    let s = (0..prob.free.len()).filter(|&i| !prob.length[i]).fold(0.0f64, |x, i| x.max(m[(col[i], col[i])].abs()));
+    let s = (0..prob.free.len()).filter(|&i| !prob.length[i]).fold(0.0f64, |x, i| x.max(m[(col[i], col[i])].abs())).log2().round().exp2();
     let mut d = DVector::<f64>::from_element(n, 1.0);
     if !(s > 0.0 && s.is_finite()) {
         return d;

@@ -419,13 +419,14 @@ impl Engine<'_> {
 
 /// Give the rigid-body columns and rows of the small system (the last ones, after the `m`
 /// contact rows) the units of its flexibility block: Cᵀ N and Nᵀ E are ratios and −Nᵀ r a
-/// force, where Cᵀ K# E is a compliance, so × the flexibility's size s they are compliances and
-/// lengths like the rest, and the pivot test of `solve_dense` is the same in any unit system
+/// force, where Cᵀ K# E is a compliance, so × the flexibility's size s (its largest diagonal
+/// entry, rounded to a power of two: the scaling is exact) they are compliances and lengths
+/// like the rest, and the pivot test of `solve_dense` is the same in any unit system
 /// (unscaled, stresses in units 1e9 times smaller made the Hertz cylinder's system "singular").
 /// Returns s: the rigid amplitudes solved are α / s.
 fn unit_free(a: &mut DMatrix<f64>, rhs: &mut DVector<f64>, m: usize) -> f64 {
     let n = rhs.len();
-    let s = (0..m).fold(0.0f64, |x, i| x.max(a[(i, i)].abs()));
+    let s = (0..m).fold(0.0f64, |x, i| x.max(a[(i, i)].abs())).log2().round().exp2();
     if m == n || !(s > 0.0 && s.is_finite()) {
         return 1.0;
     }
