@@ -309,7 +309,7 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     out.set_item("stage_names", r.stage_names.clone())?;
     out.set_item("interrupted", matches!(r.stop, StopReason::Interrupted { .. }))?;
     out.set_item("stop_reason", match r.stop {
-        StopReason::LimitLoad { .. } | StopReason::EventBound { .. } => r.stop.message(),
+        StopReason::LimitLoad { .. } | StopReason::EventBound { .. } | StopReason::SupportLost { .. } => r.stop.message(),
         _ => None,
     })?;
     out.set_item("stop", stop)?;

@@ -887,6 +887,10 @@ class _Validator:
                            for i, c in enumerate(contacts)]
         self.load(data, edges)
         stages = self.array(raw, "stage")
+        if "stage" in raw and not stages:
+            raise self.fail("stage", "= [] is not allowed: an empty load path; give one or more "
+                                     "[[stage]] tables with factors = {...}, or remove the key "
+                                     "(one stage with every load at factor 1)")
         data["stage"] = [self.table(s, STAGE_KEYS, "[[stage]]",
                                     self.element_prefix("stage", stages, i))
                          for i, s in enumerate(stages)]

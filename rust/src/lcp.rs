@@ -22,8 +22,9 @@
 //! with another d.
 //!
 //! Each pivot is a Gauss–Jordan step on the dense n × (2n + 2) tableau, O(n²). Numerics:
-//! - the tableau is built for the symmetrically equilibrated problem (D M D, D q / s, D d, by
-//!   powers of two: exact), which follows the same path in exact arithmetic;
+//! - the tableau is built for the symmetrically equilibrated problem (D M D, D q / s, by powers
+//!   of two: exact), and the covering vector d is that problem's: d = 1 covers its rows alike,
+//!   whatever the units of M's rows (the original problem's covering vector is D⁻¹ d / s);
 //! - before each ratio test the basic values and the entering column get one step of
 //!   iterative refinement against the original columns (O(n²)), so that ties which exact
 //!   arithmetic would see (frequent in friction problems) are seen to round-off;
@@ -74,7 +75,8 @@ pub fn lemke(
     lemke_with_covering(m, q, &DVector::from_element(q.len(), 1.0), max_pivots)
 }
 
-/// Lemke's method with covering vector d (every d_i > 0 and finite, else `BadInput`).
+/// Lemke's method with covering vector d of the equilibrated problem (see the module text;
+/// every d_i > 0 and finite, else `BadInput`).
 pub fn lemke_with_covering(
     m: &DMatrix<f64>,
     q: &DVector<f64>,
@@ -169,7 +171,7 @@ impl Tableau {
             for j in 0..n {
                 t[(i, n + j)] = -(sc.diag[i] * m[(i, j)] * sc.diag[j]);
             }
-            t[(i, 2 * n)] = -(sc.diag[i] * d[i]);
+            t[(i, 2 * n)] = -d[i];
             t[(i, 2 * n + 1)] = sc.diag[i] * q[i] / sc.s;
         }
         Tableau {
@@ -746,7 +748,7 @@ mod tests {
     }
 
     #[test]
-    fn edge_cases_do_not_panic() {
+    fn edge_cases_are_refused_or_solved() {
         let empty = lemke(&DMatrix::zeros(0, 0), &DVector::zeros(0), 10).unwrap();
         assert_eq!((empty.z.len(), empty.pivots), (0, 0));
         let q = DVector::from_vec(vec![-1.0, 2.0]);
@@ -760,9 +762,35 @@ mod tests {
             lemke(&DMatrix::zeros(2, 2), &q, 10),
             Err(LcpFailure::Ray { .. })
         ));
-        // Extreme but finite magnitudes.
+    }
+
+    #[test]
+    fn extreme_magnitudes_give_the_scaled_solution() {
+        // LCP(D M₀ D, D q₀) is solved by z = D⁻¹ z₀ (w = D w₀): with D a power of two the
+        // scaled problem is exact, so its solution must be the textbook one, z₀ = (7/5, 1/5),
+        // scaled, to round-off, however far D is from 1 (here 2^±330 ≈ 1e±99: z near 1e±100).
+        let (m0, q0) = (DMatrix::from_row_slice(2, 2, &[2.0, 1.0, -1.0, 2.0]), DVector::from_vec(vec![-3.0, 1.0]));
+        for (a, b) in [(330, -330), (-330, 330), (300, 300), (-300, -300)] {
+            let d = DVector::from_vec(vec![2f64.powi(a), 2f64.powi(b)]);
+            let m = DMatrix::from_diagonal(&d) * &m0 * DMatrix::from_diagonal(&d);
+            let q = q0.component_mul(&d);
+            let s = lemke(&m, &q, 100).unwrap_or_else(|e| panic!("D = {d}: {e:?}"));
+
+            assert_solves(&m, &q, &s, 1e-14);
+            let z0 = s.z.component_mul(&d);
+            assert!((z0[0] - 1.4).abs() < 1e-14 && (z0[1] - 0.2).abs() < 1e-14, "D = {d}: z = {}", s.z);
+        }
+        // A uniform scale of M alone (a compliance in other units) scales z inversely.
+        for c in [1e-80, 1e80] {
+            let s = lemke(&(&m0 * c), &q0, 100).unwrap_or_else(|e| panic!("c = {c}: {e:?}"));
+            assert!((s.z[0] * c - 1.4).abs() < 1e-14 && (s.z[1] * c - 0.2).abs() < 1e-14, "c = {c}: z = {}", s.z);
+        }
+        // Beyond f64: M = diag(1e300, 1e-300), q = (−1e-300, −1e300) is solved only by
+        // z = (1e-600, 1e600), which f64 cannot hold. No non-finite z may come back.
         let m = DMatrix::from_row_slice(2, 2, &[1e300, 0.0, 0.0, 1e-300]);
         let q = DVector::from_vec(vec![-1e-300, -1e300]);
-        let _ = lemke(&m, &q, 10);
+        if let Ok(s) = lemke(&m, &q, 10) {
+            assert!(s.z.iter().chain(s.w.iter()).all(|v| v.is_finite()), "z = {}, w = {}", s.z, s.w);
+        }
     }
 }

@@ -25,6 +25,14 @@ pub struct PairInput {
 
 /// Weights of a pair must cancel to this × their size (a rigid translation keeps the gap).
 const WEIGHT_BALANCE: f64 = 1e-9;
+/// The loads' nominal strain (`Model::nominal_strains`) at a stage's end must not exceed this:
+/// beyond, the displacements exceed the scene's size, where small-strain contact (normals and
+/// gaps fixed at the start) means nothing, and the gaps drown in the displacements' round-off
+/// (at 1e20 the events could no longer be ordered; at 1e150 squares overflow f64).
+const MAX_NOMINAL_STRAIN: f64 = 1.0;
+/// A load reaching a nominal strain below this is no load to f64: its norms and products
+/// (squares ~1e-200 of the scene's units and below) run into underflow.
+const MIN_NOMINAL_STRAIN: f64 = 1e-100;
 
 /// The case's names, so that messages say "body 'punch'" and "contact 'bottom'" instead of
 /// indices. Empty vectors: bodies and contacts are named by number.
@@ -197,6 +205,7 @@ impl Model {
         self.validate_bulk()?;
         self.validate_names()?;
         self.validate_path()?;
+        self.validate_magnitudes()?;
         let length_scale = self.mesh.diameter();
         let (body_of_node, _) = self.mesh.bodies();
         let mut seen = std::collections::HashSet::new();
@@ -296,7 +305,7 @@ impl Model {
         let n_factors = 1 + self.patterns.len();
         let mut previous = vec![0.0; n_factors];
         for (k, stage) in self.stages.iter().enumerate() {
-            let name = if stage.name.is_empty() { format!("stage {}", k + 1) } else { format!("stage '{}'", stage.name) };
+            let name = self.stage_label(k);
             if stage.factors.len() != n_factors {
                 bail!(Input, "{name} has {} factors for {n_factors} load patterns (load first)", stage.factors.len());
             }
@@ -309,6 +318,51 @@ impl Model {
             previous = stage.factors.clone();
         }
         self.options.validate_times(self.stages.len().max(1))
+    }
+
+    /// Every stage's end within small strain and f64's range: the loads' nominal strains,
+    /// times the factors they reach there, add up to at most `MAX_NOMINAL_STRAIN`, and each
+    /// nonzero one is at least `MIN_NOMINAL_STRAIN` (factors are linear within a stage, so its
+    /// ends bound it). Names the stage, the load, its factor, and the factor allowed.
+    fn validate_magnitudes(&self) -> Result<()> {
+        let strains = self.nominal_strains();
+        let one_stage = [Stage { name: String::new(), factors: vec![1.0; strains.len()] }];
+        let stages = if self.stages.is_empty() { &one_stage[..] } else { &self.stages[..] };
+        for (k, stage) in stages.iter().enumerate() {
+            let reached: Vec<f64> = stage.factors.iter().zip(&strains).map(|(f, (_, e))| f.abs() * e).collect();
+            let total: f64 = reached.iter().sum();
+            let p = (0..reached.len()).fold(0, |best, p| if reached[p] > reached[best] { p } else { best });
+            let tiny = reached.iter().position(|&e| e > 0.0 && e < MIN_NOMINAL_STRAIN);
+            let (p, bound, hint) = match (total > MAX_NOMINAL_STRAIN, tiny) {
+                (true, _) => (p, "at most 1 is meaningful (small strain: displacements up to the scene's size)", MAX_NOMINAL_STRAIN / total),
+                (false, Some(p)) => (p, "at least 1e-100 is needed (smaller loads underflow f64's products)", MIN_NOMINAL_STRAIN / reached[p]),
+                (false, None) => continue,
+            };
+            let (name, factor, lower) = (&strains[p].0, stage.factors[p], hint < 1.0);
+            let (at, fix) = match self.stages.is_empty() {
+                true if lower => (format!("load '{name}'"), format!("lower its values at least {:.1e}-fold", 1.0 / hint)),
+                true => (format!("load '{name}'"), format!("raise its values at least {hint:.1e}-fold, or remove it")),
+                false if lower => (format!("{}: load '{name}' at factor {factor:e}", self.stage_label(k)), format!("keep |factor| <= {:.3e} at these values", factor.abs() * hint)),
+                false => (format!("{}: load '{name}' at factor {factor:e}", self.stage_label(k)), format!("keep |factor| >= {:.3e} at these values, or 0", factor.abs() * hint)),
+            };
+            bail!(Input, "{at} reaches a nominal strain of {:.1e} (displacement or motion over the scene's size, force over E × its section); {bound}: {fix}", reached[p]);
+        }
+        Ok(())
+    }
+
+    /// Each load's nominal strain at factor 1 (`load` first, then the patterns): its force
+    /// Σ|F| over the smallest E × the section depth × L, its largest prescribed displacement or
+    /// obstacle motion over L; L the mesh's diameter plus its largest initial gap.
+    fn nominal_strains(&self) -> Vec<(String, f64)> {
+        let length = self.mesh.diameter() + self.pairs.iter().fold(0.0f64, |g, p| g.max(p.gap));
+        let stiffness = self.materials.iter().fold(f64::INFINITY, |e, m| e.min(m.young)) * self.depth() * length;
+        let force = |f: &[f64]| f.iter().map(|v| v.abs() / stiffness).sum::<f64>();
+        let mut strains = vec![(String::from("load"), force(&self.load))];
+        for pat in &self.patterns {
+            let moved = pat.displacement.iter().map(|d| d.1).chain(pat.motion.iter().flat_map(|m| m.1)).fold(0.0f64, |a, v| a.max(v.abs() / length));
+            strains.push((pat.name.clone(), force(&pat.force).max(moved)));
+        }
+        strains
     }
 
     fn validate_names(&self) -> Result<()> {
@@ -358,6 +412,14 @@ impl Model {
             bail!(Input, "initial penetration at {name} (node {}): gap {:.3e} < 0; move the bodies apart so that they at most touch", p.node_a, p.gap);
         }
         Ok(())
+    }
+
+    /// "stage 'NAME'" of stage k (0-based), or "stage k+1" when it has no name.
+    pub fn stage_label(&self, k: usize) -> String {
+        match self.stages.get(k).filter(|s| !s.name.is_empty()) {
+            Some(s) => format!("stage '{}'", s.name),
+            None => format!("stage {}", k + 1),
+        }
     }
 
     /// "contact 'NAME' pair k (node n at (x, y))", or "contact pair k (node n)" without names.

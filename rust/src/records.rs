@@ -121,6 +121,11 @@ pub enum StopReason {
     /// `Options::max_steps` increments were taken; `busiest` names the entities that switched
     /// most often.
     EventBound { load_fraction: f64, max_steps: usize, busiest: String },
+    /// A body held by contact lost its hold along the path: its remaining closed pairs would
+    /// not hold it even sticking (it lifts off or tips), or they all slip under a tangential
+    /// load beyond friction's capacity (it slides as a whole), so no equilibrium exists beyond.
+    /// `stage`: "stage 'NAME'"; `what`: the body, its motion, the point it turns about; `fix`.
+    SupportLost { load_fraction: f64, stage: String, what: String, fix: String },
     /// The progress callback asked to stop (Ctrl-C).
     Interrupted { load_fraction: f64 },
 }
@@ -132,6 +137,7 @@ impl StopReason {
             StopReason::FirstYield => "first_yield",
             StopReason::LimitLoad { .. } => "limit_load",
             StopReason::EventBound { .. } => "event_bound",
+            StopReason::SupportLost { .. } => "support_lost",
             StopReason::Interrupted { .. } => "interrupted",
         }
     }
@@ -141,6 +147,7 @@ impl StopReason {
         match self {
             StopReason::LimitLoad { load_fraction, stiffness_ratio } => Some(format!("limit load reached at load fraction {load_fraction:.6}: the current stiffness fell to {stiffness_ratio:.1e} of the initial one (a plastic mechanism); the results up to there are kept: lower the load, or add hardening (H > 0)")),
             StopReason::EventBound { load_fraction, max_steps, busiest } => Some(format!("the event loop reached max_events = {max_steps} increments at load fraction {load_fraction:.6} (most switching: {busiest}); the results up to there are kept: raise solver.max_events or coarsen the mesh")),
+            StopReason::SupportLost { load_fraction, stage, what, fix } => Some(format!("support lost at t = {load_fraction:.6} ({stage}): {what}; no equilibrium exists beyond this load; the results up to there are kept: {fix}")),
             StopReason::Interrupted { load_fraction } => Some(format!("interrupted at load fraction {load_fraction:.6}; the results up to there are kept")),
             StopReason::Completed | StopReason::FirstYield => None,
         }

@@ -625,3 +625,129 @@ fn ring_element_left_of_the_axis_is_named() {
     let err = slipstep_core::run(&m, |_| true).unwrap_err().message;
     assert!(err.starts_with("element 0 has node 0 at r = x = -0.25") && err.contains("x >= 0"), "{err}");
 }
+
+/// A block of height h resting on the rigid flat y = 0 (a pair of coefficient μ at gap 0
+/// on every bottom node), held by nothing else: the load q presses its top, pattern 1 is the
+/// traction `shear` on its top.
+fn block_on_flat(mesh: Mesh, h: f64, q: f64, shear: [f64; 2], mu: f64) -> Model {
+    let n = mesh.nodes.len();
+    let (mut load, mut sheared) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
+    top_traction(&mesh, h, [0.0, -q], &mut load);
+    top_traction(&mesh, h, shear, &mut sheared);
+    let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12).into_iter().map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
+    let mut m = model(mesh, vec![], load, pairs, Plane::Stress);
+    m.patterns = vec![LoadPattern { name: "shear".into(), force: sheared, ..Default::default() }];
+    m.names = Names { bodies: vec!["block".into()], element_body: vec![0; m.mesh.triangles.len()], contacts: vec!["base".into()] };
+    m
+}
+
+/// Σ λ_n and Σ λ_t t_x (t = (−1, 0) on the flat) of a snapshot: the contact force on the body.
+fn contact_resultant(s: &Snapshot) -> (f64, f64) {
+    (s.lambda_n.iter().sum(), -s.lambda_t.iter().sum::<f64>())
+}
+
+#[test]
+fn a_block_sheared_until_it_tips_stops_there_with_its_results() {
+    // Pressed by q, then sheared by −τ on its top until it tips about its corner (0, 0).
+    // While two pairs or more are closed the contact resultant lies between them; the last but
+    // one separates when it reaches the corner: when the moment about (0, 0) of the loads
+    // vanishes, τ s w h = q w w/2 (rigid statics: friction acts at y = 0), t* = 1 + q w/(2 h τ).
+    // Beyond there is no equilibrium: the run stops at t*, keeping what it computed. μ = 2.686
+    // is far above the τ/q = 0.59 at t*: no slip of the block as a whole.
+    let (w, h, q, tau) = (5.14, 4.38, 45.67, 59.37);
+    let mut m = block_on_flat(rectangle(0.0, 0.0, w, h, 8, 6), h, q, [-tau, 0.0], 2.686);
+    m.stages = vec![stage(&[1.0, 0.0]), Stage { name: "shear".into(), factors: vec![1.0, 1.0] }];
+    let res = slipstep_core::run(&m, |_| true).unwrap();
+    let t_tip = 1.0 + q * w / (2.0 * h * tau);
+    let StopReason::SupportLost { load_fraction: t, .. } = res.stop else { panic!("{:?}", res.stop) };
+    // 1e-9: the event's scale comes from a linear solve (round-off ~1e-12 of the load).
+    assert!((t - t_tip).abs() < 1e-9, "stopped at t = {t}, tips at {t_tip}");
+    let message = res.stop.message().unwrap();
+    assert!(message.starts_with(&format!("support lost at t = {t_tip:.6} (stage 'shear'): body 'block' tips about contact 'base' pair 0 (node 0 at (0.000000, 0.000000))")), "{message}");
+    // The results up to there: the last snapshot is the state at t*, balanced by the corner alone.
+    let last = res.snapshots.last().unwrap();
+    assert_eq!(last.time, t);
+    assert_eq!(last.status.iter().filter(|&&c| c != 0).count(), 1, "only the pivot is closed");
+    let (fy, fx) = contact_resultant(last);
+    // 1e-9 of the load: equilibrium of the whole block (equilibrium_tol).
+    assert!((fy - q * w).abs() < 1e-9 * q * w && (fx - tau * w * (t - 1.0)).abs() < 1e-9 * q * w, "Σ = ({fx}, {fy})");
+}
+
+#[test]
+fn a_block_sheared_beyond_friction_slides_at_the_friction_limit() {
+    // The tipping block with μ = 0.3: friction holds it until the shear reaches μ times the
+    // pressure, τ s w = μ q w, t = 1 + μ q/τ (0.23 of the shear stage, before the tipping at 0.45);
+    // beyond, every pair slips and nothing holds it: the run stops there with its results.
+    let (w, h, q, tau, mu) = (5.14, 4.38, 45.67, 59.37, 0.3);
+    let mut m = block_on_flat(rectangle(0.0, 0.0, w, h, 8, 6), h, q, [-tau, 0.0], mu);
+    m.stages = vec![stage(&[1.0, 0.0]), Stage { name: "shear".into(), factors: vec![1.0, 1.0] }];
+    let res = slipstep_core::run(&m, |_| true).unwrap();
+    let StopReason::SupportLost { load_fraction: t, .. } = res.stop else { panic!("{:?}", res.stop) };
+    assert!((t - (1.0 + mu * q / tau)).abs() < 1e-9, "t = {t}"); // round-off of the event's scale
+    let message = res.stop.message().unwrap();
+    assert!(message.starts_with(&format!("support lost at t = {t:.6} (stage 'shear'): body 'block' slides as a whole (−translation in x)")), "{message}");
+    let (fy, fx) = contact_resultant(res.snapshots.last().unwrap());
+    assert!((fy - q * w).abs() < 1e-9 * q * w && (fx - mu * q * w).abs() < 1e-9 * q * w, "Σ = ({fx}, {fy})");
+}
+
+#[test]
+fn a_block_pulled_off_the_flat_lifts_off_where_the_pressure_changes_sign() {
+    // Pressed by q, then by −q (suction): every λ is (1 − 2s) × its value at t = 1, so all pairs
+    // separate together at t = 1.5, and the block is held by nothing beyond.
+    let (w, h) = (2.0, 1.0);
+    let mut m = block_on_flat(rectangle(0.0, 0.0, w, h, 4, 2), h, 1.0, [0.0, 0.0], 0.3);
+    m.stages = vec![stage(&[1.0, 0.0]), stage(&[-1.0, 0.0])];
+    let res = slipstep_core::run(&m, |_| true).unwrap();
+    let StopReason::SupportLost { load_fraction: t, .. } = res.stop else { panic!("{:?}", res.stop) };
+    assert!((t - 1.5).abs() < 1e-9, "t = {t}"); // round-off of the separation scale
+    let message = res.stop.message().unwrap();
+    assert!(message.starts_with("support lost at t = 1.500000 (stage 2): body 'block' lifts off") && message.contains("its last closed pair (contact 'base' pair"), "{message}");
+    assert!(res.snapshots.last().unwrap().status.iter().all(|&c| c == 0));
+}
+
+/// [0, w] × [0, h], nx × ny cells each cut into four triangles at its centre node: mirror-
+/// symmetric about x = w/2, and with nx odd no node lies on that axis.
+fn crossed_rectangle(w: f64, h: f64, nx: usize, ny: usize) -> Mesh {
+    let mut nodes: Vec<[f64; 2]> = (0..=ny).flat_map(|j| (0..=nx).map(move |i| [w * i as f64 / nx as f64, h * j as f64 / ny as f64])).collect();
+    let mut triangles = vec![];
+    for j in 0..ny {
+        for i in 0..nx {
+            let a = j * (nx + 1) + i;
+            let (b, c, d, e) = (a + 1, a + nx + 2, a + nx + 1, nodes.len());
+            nodes.push([w * (i as f64 + 0.5) / nx as f64, h * (j as f64 + 0.5) / ny as f64]);
+            triangles.extend([[a, b, e], [b, c, e], [c, d, e], [d, a, e]]);
+        }
+    }
+    Mesh { nodes, triangles }
+}
+
+#[test]
+fn a_pressed_block_whose_pairs_all_slip_is_held_by_friction_not_refused() {
+    // A block pressed onto a frictional flat expands (Poisson) and its pairs slip outwards; the
+    // mesh is mirror-symmetric with no node on its axis, so with small μ every pair slips and
+    // the translation along the flat is undetermined while the forces are not. Checked from the
+    // arrays: Σλ_n = q w, no net friction, mirror-symmetric forces, friction pointing inwards
+    // (against the expansion), Coulomb's cone. Frictionless, nothing holds the block in x.
+    let (w, h, q) = (5.0, 2.0, 1.0);
+    let mesh = crossed_rectangle(w, h, 5, 2);
+    let bottom = nodes_where(&mesh, |p| p[1].abs() < 1e-12);
+    for mu in [0.01, 0.05, 0.1] {
+        let res = slipstep_core::run(&block_on_flat(mesh.clone(), h, q, [0.0, 0.0], mu), |_| true).unwrap();
+        assert_eq!(res.stop, StopReason::Completed);
+        let last = res.snapshots.last().unwrap();
+        let (fy, fx) = contact_resultant(last);
+        // 1e-12 of the load: a single linear solve's round-off (one stage, proportional path).
+        assert!((fy - q * w).abs() < 1e-12 * q * w && fx.abs() < 1e-12 * q * w, "Σ = ({fx}, {fy})");
+        for (k, &i) in bottom.iter().enumerate() {
+            let mirror = bottom.len() - 1 - k;
+            assert!((mesh.nodes[i][0] + mesh.nodes[bottom[mirror]][0] - w).abs() < 1e-12);
+            let (ln, lt) = (last.lambda_n[k], last.lambda_t[k]);
+            assert!((ln - last.lambda_n[mirror]).abs() < 1e-12 * q * w && (lt + last.lambda_t[mirror]).abs() < 1e-12 * q * w, "pair {k} is not the mirror of pair {mirror}");
+            assert!(-lt * (w / 2.0 - mesh.nodes[i][0]) >= 0.0, "pair {k}: friction {} points outwards", -lt);
+            assert!(lt.abs() <= mu * ln * (1.0 + 1e-12), "pair {k} outside the cone");
+        }
+    }
+    let err = slipstep_core::run(&block_on_flat(mesh, h, q, [0.0, 0.0], 0.0), |_| true).unwrap_err();
+    assert_eq!(err.kind, slipstep_core::error::ErrorKind::FreeBody);
+    assert!(err.message.starts_with("body 'block' is free to move (translation in x)"), "{}", err.message);
+}

@@ -22,6 +22,9 @@ pub(super) struct AntiCycling {
     /// Switches of each entity (pairs, then elements) in the current zero-length run.
     zero_switches: Vec<usize>,
     frozen: Vec<bool>,
+    /// The frozen flags the current increment was selected with (`load_advanced` clears
+    /// `frozen` as the increment switches; its end is checked against these too).
+    selected_frozen: Vec<bool>,
     /// Switches over the whole run (to name the busiest entities at the event bound).
     pub switch_count: Vec<usize>,
     rate_problems_in_run: usize,
@@ -39,7 +42,7 @@ pub(super) enum Admission {
 impl AntiCycling {
     pub fn new(n_pairs: usize, n_elements: usize, max_switches: usize) -> Self {
         let n = n_pairs + n_elements;
-        AntiCycling { n_pairs, max_switches, zero_switches: vec![0; n], frozen: vec![false; n], switch_count: vec![0; n], rate_problems_in_run: 0, rate_problems: 0 }
+        AntiCycling { n_pairs, max_switches, zero_switches: vec![0; n], frozen: vec![false; n], selected_frozen: vec![false; n], switch_count: vec![0; n], rate_problems_in_run: 0, rate_problems: 0 }
     }
 
     /// Frozen pairs and elements.
@@ -49,6 +52,17 @@ impl AntiCycling {
 
     fn key(&self, c: &Candidate) -> usize {
         if c.kind.is_element_event() { self.n_pairs + c.entity } else { c.entity }
+    }
+
+    /// Pairs frozen while the current increment was selected or since: a contact condition
+    /// they violate at its end is the freeze's doing.
+    pub fn frozen_pairs_of_increment(&self) -> Vec<bool> {
+        (0..self.n_pairs).map(|p| self.frozen[p] || self.selected_frozen[p]).collect()
+    }
+
+    /// The increment selected with the current frozen flags starts switching.
+    pub fn increment_selected(&mut self) {
+        self.selected_frozen.clone_from(&self.frozen);
     }
 
     /// A positive-length increment ends the zero-length run.
@@ -61,7 +75,12 @@ impl AntiCycling {
     /// The one-at-a-time rule is cycling (a pair would exceed its switches) and the rate
     /// problem may still be tried in this run.
     pub fn wants_rate_problem(&self, group: &[Candidate]) -> bool {
-        self.rate_problems_in_run < MAX_RATE_PROBLEMS && group.iter().any(|c| !c.kind.is_element_event() && self.zero_switches[c.entity] >= self.max_switches)
+        self.may_solve_rate_problem() && group.iter().any(|c| !c.kind.is_element_event() && self.zero_switches[c.entity] >= self.max_switches)
+    }
+
+    /// The rate problem may still be tried in this zero-length run.
+    pub fn may_solve_rate_problem(&self) -> bool {
+        self.rate_problems_in_run < MAX_RATE_PROBLEMS
     }
 
     pub fn rate_problem_solved(&mut self) {

@@ -13,7 +13,7 @@
 //! | state and trial increment records | [`state`] | eqs. 59–62 |
 //! | the load path: patterns, stages, prescribed displacements, obstacle motion | [`path`], [`loads`] | |
 //! | trial for the remaining load (small contact system) | [`trial`] | eqs. 43–44 |
-//! | free bodies and gross sliding | [`restraint`] | |
+//! | free bodies, gross sliding, loss of support along the path | [`restraint`] | |
 //! | scale factors, S_min, ties, zero-length order, grouping | [`selection`] | eqs. 48–57 |
 //! | advance and status switches | [`advance`] | eqs. 58–62 |
 //! | contact events inside a grouped plastic increment, in the contact space | [`substeps`] | eqs. 43–44 |
@@ -62,13 +62,16 @@ mod substeps;
 mod tangents;
 mod trial;
 
+use crate::contact::Status;
 use crate::error::Result;
+use crate::events;
 use crate::model::{EventKind, Model, Progress, RunResult, StopReason};
 use anticycling::{Admission, AntiCycling};
 use checks::LimitLoad;
 use engine::{since, Engine};
 use plasticity::{Correction, Restored};
 use recording::Recorder;
+use restraint::Hold;
 use retake::WindowStart;
 use selection::Selection;
 use state::State;
@@ -110,6 +113,9 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
 fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &mut AntiCycling, progress: &mut impl FnMut(Progress) -> bool) -> Result<StopReason> {
     let mut limit = LimitLoad::default();
     let mut correction = Correction::default();
+    if let Some(stop) = support_lost(eng, state, rec, 0) {
+        return Ok(stop); // the last stage's end let a body go
+    }
     loop {
         if let Some(stop) = rec.event_bound(eng, state, cycles) {
             return Ok(stop);
@@ -134,6 +140,10 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         };
         let integrated = eng.advance(state, &trial, &sel); // eqs. 58–62
         let jump = switch_statuses(eng, state, &sel, cycles, rec).max(sub_jump); // step 6
+        let lost = support_lost(eng, state, rec, first_event);
+        if lost.is_some() && (integrated || jump > eng.noise.force) {
+            restore_hold(eng, state, rec, first_event); // the correction needs what held it
+        }
         let Some(residual) = settle(eng, state, &sel, cycles, rec, &mut correction, integrated, jump)? else {
             window.expect("only a grouped window is unbalanced").retake(eng, state, rec, &mut correction);
             eng.timings.events += since(t_events);
@@ -146,12 +156,44 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         if sel.last {
             return Ok(StopReason::Completed); // S = 1 (step 8)
         }
+        if let Some(stop) = lost.or_else(|| support_lost(eng, state, rec, first_event)) {
+            return Ok(stop); // (or a separation of the correction's)
+        }
         if eng.model.options.stop_at_first_yield && sel.group.iter().any(|c| c.kind == EventKind::Yield) {
             return Ok(StopReason::FirstYield);
         }
         if !progress(Progress { steps: rec.steps.len(), events: rec.events.len(), load_fraction: state.time() }) {
             return Ok(StopReason::Interrupted { load_fraction: state.time() });
         }
+    }
+}
+
+/// A body that lost its hold along the path, where pairs separated or began to slip since the
+/// event `first_event` (it lifts off, tips or slides as a whole: `restraint`), stops the run
+/// there with its results; one unheld before any load is applied (t = 0) is the trial's error
+/// (a missing support, a load beyond friction from the start).
+fn support_lost(eng: &Engine, state: &State, rec: &Recorder, first_event: usize) -> Option<StopReason> {
+    if state.time() == 0.0 {
+        return None;
+    }
+    let loosened = rec.events[first_event..].iter().any(|e| matches!(e.kind, EventKind::Separate | EventKind::StickToSlip));
+    match loosened.then(|| eng.hold(state, &rec.events)) {
+        Some(Hold::Lost(stop)) => Some(stop),
+        _ => None,
+    }
+}
+
+/// Close again the pairs that separated since `first_event` (at zero force) and stick those
+/// that began to slip (on the cone): where a body loses its hold the state is balanced (an
+/// equilibrium correction) with the contacts that held it there, since beyond none do.
+fn restore_hold(eng: &Engine, state: &mut State, rec: &Recorder, first_event: usize) {
+    for e in &rec.events[first_event..] {
+        let back = match (e.kind, state.status[e.entity]) {
+            (EventKind::Separate, Status::Open) => EventKind::Close,
+            (EventKind::StickToSlip, Status::Slip { .. }) => EventKind::SlipToStick,
+            _ => continue,
+        };
+        eng.switch(state, &events::Candidate { scale: 0.0, entity: e.entity, kind: back, direction: 0 });
     }
 }
 
@@ -186,7 +228,7 @@ fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCyc
     rec.max_drift = rec.max_drift.max(drift);
     rec.drift = drift;
     let residual = checked_equilibrium(eng, state, sel.phi, rec)?;
-    eng.check_contact(state, cycles.frozen().0, *correction)?;
+    eng.check_contact(state, &cycles.frozen_pairs_of_increment(), *correction)?;
     Ok(Some(residual))
 }
 
@@ -201,26 +243,20 @@ fn checked_equilibrium(eng: &Engine, state: &State, phi: f64, rec: &mut Recorder
 }
 
 /// Switch the statuses of the selected events (step 6) under the anti-cycling rule: when the
-/// one-at-a-time rule cycles, the rate problem sets the critical pairs' statuses together.
-/// Returns the largest force jump a switch made (see `rebalance`).
+/// one-at-a-time rule cycles, the rate problem sets the critical pairs' statuses together. It
+/// does too when the switches leave a body on friction alone, every closed pair slipping
+/// (`restraint`: where its slip changes sense, a pair sticks). Returns the largest force jump
+/// a switch made (see `rebalance`).
 fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &mut AntiCycling, rec: &mut Recorder) -> f64 {
     let mut jump: f64 = 0.0;
     let zero_length = sel.zero_length();
+    cycles.increment_selected();
     if !zero_length {
         cycles.load_advanced();
     }
     if zero_length && cycles.wants_rate_problem(&sel.group) {
-        if let Some(status) = eng.solve_rate_problem(state) {
-            let changes: Vec<_> = (0..status.len()).flat_map(|p| advance::transitions(p, state.status[p], status[p])).collect();
-            if !changes.is_empty() {
-                cycles.rate_problem_solved();
-                for c in &changes {
-                    cycles.count(c, true);
-                    jump = jump.max(eng.switch(state, c));
-                    rec.event(c, c.kind, sel.phi);
-                }
-                return jump;
-            }
+        if let Some(jump) = switch_by_rate_problem(eng, state, cycles, rec, sel.phi) {
+            return jump;
         }
     }
     let mut seen = vec![false; cycles.n_entities()];
@@ -234,5 +270,27 @@ fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles:
             }
         }
     }
+    let slip_or_separation = sel.group.iter().any(|c| matches!(c.kind, EventKind::StickToSlip | EventKind::Separate));
+    if slip_or_separation && cycles.may_solve_rate_problem() && matches!(eng.hold(state, &rec.events), Hold::OnFriction) {
+        jump = jump.max(switch_by_rate_problem(eng, state, cycles, rec, sel.phi).unwrap_or(0.0));
+    }
     jump
+}
+
+/// The statuses of the rate problem's solution, switched and recorded at φ; None when it has
+/// none or changes nothing.
+fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut AntiCycling, rec: &mut Recorder, phi: f64) -> Option<f64> {
+    let status = eng.solve_rate_problem(state)?;
+    let changes: Vec<_> = (0..status.len()).flat_map(|p| advance::transitions(p, state.status[p], status[p])).collect();
+    if changes.is_empty() {
+        return None;
+    }
+    cycles.rate_problem_solved();
+    let mut jump: f64 = 0.0;
+    for c in &changes {
+        cycles.count(c, true);
+        jump = jump.max(eng.switch(state, c));
+        rec.event(c, c.kind, phi);
+    }
+    Some(jump)
 }

@@ -100,13 +100,23 @@ struct Problem {
     free: Vec<bool>,
     /// Per unknown: its complementary row (an equation R = 0 for a free unknown).
     rows: Vec<Option<Affine>>,
+    /// Per unknown: a length (slip rate, rigid amplitude; its row a force), else a force (its
+    /// row a length).
+    length: Vec<bool>,
 }
 
 impl Problem {
     fn unknown(&mut self, free: bool) -> usize {
         self.free.push(free);
         self.rows.push(None);
+        self.length.push(false);
         self.free.len() - 1
+    }
+
+    fn length_unknown(&mut self, free: bool) -> usize {
+        let i = self.unknown(free);
+        self.length[i] = true;
+        i
     }
 }
 
@@ -126,7 +136,7 @@ impl Engine<'_> {
             .zip(&roles)
             .map(|(_, &role)| self.force_unknowns(&mut prob, role))
             .collect();
-        let alpha: Vec<usize> = (0..self.modes.len()).map(|_| prob.unknown(true)).collect();
+        let alpha: Vec<usize> = (0..self.modes.len()).map(|_| prob.length_unknown(true)).collect();
         let (kin_n, kin_t) = self.kinematics(state, &q, &forces, &alpha, &oob.z0);
         for (i, (&p, &role)) in q.iter().zip(&roles).enumerate() {
             let g = kin_n[i]
@@ -211,7 +221,7 @@ impl Engine<'_> {
             ),
             Role::Friction { closed } => {
                 let (n, t) = (prob.unknown(closed), prob.unknown(true));
-                let (_slip_plus, _slip_minus) = (prob.unknown(false), prob.unknown(false));
+                let (_slip_plus, _slip_minus) = (prob.length_unknown(false), prob.length_unknown(false));
                 (Affine::var(n), Affine::var(t))
             }
         }
@@ -336,7 +346,8 @@ impl Engine<'_> {
 /// sign that keeps M positive semidefinite without friction); the other free unknowns are
 /// eliminated with their equations (Schur complement M_cc − M_cf M_ff⁻¹ M_fc).
 fn solve(prob: &Problem) -> Option<Vec<f64>> {
-    let (m, q, split, col) = split_saddles(prob)?;
+    let (mut m, mut q, split, col) = split_saddles(prob)?;
+    let d = unit_free(prob, &split, &col, &mut m, &mut q);
     let free: Vec<usize> = (0..prob.free.len())
         .filter(|&i| prob.free[i] && !split[i])
         .map(|i| col[i])
@@ -360,6 +371,7 @@ fn solve(prob: &Problem) -> Option<Vec<f64>> {
     let mut z = DVector::<f64>::zeros(q.len());
     bounded.iter().zip(z_c.iter()).for_each(|(&r, &v)| z[r] = v);
     free.iter().zip(x_f.iter()).for_each(|(&r, &v)| z[r] = v);
+    z.component_mul_assign(&d);
     Some(
         (0..prob.free.len())
             .map(|i| {
@@ -371,6 +383,33 @@ fn solve(prob: &Problem) -> Option<Vec<f64>> {
             })
             .collect(),
     )
+}
+
+/// The length unknowns' columns and rows × the flexibility's size s (the largest diagonal entry
+/// of a force unknown, rounded to a power of two: exact): the rows of force unknowns are lengths, their coefficients compliances
+/// or ratios; of length unknowns forces, coefficients ratios. Scaled, every entry is a
+/// compliance and every constant a length, so Lemke's pivots do not depend on the unit system
+/// (a congruence D M D: positive semidefiniteness kept). Returns D's diagonal: z = D z̃.
+fn unit_free(prob: &Problem, split: &[bool], col: &[usize], m: &mut DMatrix<f64>, q: &mut DVector<f64>) -> DVector<f64> {
+    let n = q.len();
+    let s = (0..prob.free.len()).filter(|&i| !prob.length[i]).fold(0.0f64, |x, i| x.max(m[(col[i], col[i])].abs())).log2().round().exp2();
+    let mut d = DVector::<f64>::from_element(n, 1.0);
+    if !(s > 0.0 && s.is_finite()) {
+        return d;
+    }
+    for i in (0..prob.free.len()).filter(|&i| prob.length[i]) {
+        d[col[i]] = s;
+        if split[i] {
+            d[col[i] + 1] = s;
+        }
+    }
+    for r in 0..n {
+        q[r] *= d[r];
+        for c in 0..n {
+            m[(r, c)] *= d[r] * d[c];
+        }
+    }
+    d
 }
 
 /// Lemke's method with d = 1, then with up to `COVERING_RESTARTS` seeded positive covering

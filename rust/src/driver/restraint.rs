@@ -2,13 +2,24 @@
 //! system singular: say which body, which motion, and why — a missing support (free body), or
 //! friction that cannot hold the tangential load (gross sliding: the body's closed pairs all
 //! slip, and sticking would hold it).
+//!
+//! Between increments (`hold`) the same rows tell two states the small system cannot solve
+//! apart from a missing support. A body whose remaining closed pairs would not hold it even if
+//! they all stuck has lost its support along the path (its last pairs separated: it lifts off
+//! or tips about its last closed pair): there is no equilibrium beyond, and the run stops there
+//! like at a limit load, keeping its results. A body whose closed pairs all slip along a motion
+//! that sticking would hold rests on friction alone: its rigid motion along that direction,
+//! which decides where the slip changes sense and which pair sticks there, is not in the small
+//! system; the rate problem, which has it, decides the statuses (`switch_statuses`).
 
 use super::engine::Engine;
 use super::state::State;
 use super::trial::{OutOfBalance, Row};
 use crate::bail;
 use crate::contact::Status;
+use crate::contact::SparseVec;
 use crate::error::Result;
+use crate::model::{EventKind, EventRecord, StopReason};
 use crate::rigid_modes::describe;
 use nalgebra::DMatrix;
 
@@ -19,16 +30,84 @@ const CAPACITY_TIE: f64 = 1e-9;
 /// A tangential load below this × Σ|load| is round-off (of a moment of the other loads, say).
 const LOAD_ROUND_OFF: f64 = 1e-9;
 
+/// How the closed pairs hold the bodies that have free rigid modes (see the module text).
+pub(super) enum Hold {
+    /// By supports, closed normals and sticking pairs.
+    Held,
+    /// A body's closed pairs all slip along a motion that sticking would hold, under a load
+    /// friction can hold.
+    OnFriction,
+    /// A body lifts off, tips, or slides as a whole: the run's stop.
+    Lost(StopReason),
+}
+
 impl Engine<'_> {
+    /// How the closed pairs hold the bodies at a state; `events`: the history so far (to name
+    /// the last pair that separated from a body that lifts off).
+    pub fn hold(&self, state: &State, events: &[EventRecord]) -> Hold {
+        let mut hold = Hold::Held;
+        for (body, idx) in self.bodies_with_modes() {
+            let slides = free_motions(&self.closed_rows(state, &idx, false), idx.len());
+            if slides.is_empty() {
+                continue;
+            }
+            let name = self.model.body_name(self.body_first_element[body]);
+            let free = free_motions(&self.closed_rows(state, &idx, true), idx.len());
+            let (what, fix) = if !free.is_empty() {
+                (self.lifted_or_tipped(&name, state, body, &idx, &free, events), "lower the load, or add a support (fix/symmetry) that holds the body")
+            } else if let Some(capacity) = self.beyond_capacity(body, state, &idx, &slides[0]) {
+                let push: f64 = idx.iter().zip(&slides[0]).map(|(&k, c)| c * self.mode_force[k][1]).sum();
+                (format!("{name} slides as a whole {}", self.sliding(push, &self.describe_motion(&idx, &slides[0]), capacity)), "lower the tangential load, raise mu, or add a support (fix/symmetry)")
+            } else {
+                hold = Hold::OnFriction;
+                continue;
+            };
+            return Hold::Lost(StopReason::SupportLost { load_fraction: state.time(), stage: self.model.stage_label(state.stage), what, fix: fix.into() });
+        }
+        hold
+    }
+
+    /// The bodies with free rigid modes, and the indices of their modes.
+    fn bodies_with_modes(&self) -> Vec<(usize, Vec<usize>)> {
+        let mut bodies: Vec<usize> = self.modes.iter().map(|md| md.body).collect();
+        bodies.dedup();
+        bodies.into_iter().map(|b| (b, (0..self.modes.len()).filter(|&k| self.modes[k].body == b).collect())).collect()
+    }
+
+    /// The rows w·N_k (k in `idx`) of the closed pairs' constraints: their normals and the
+    /// tangents of the sticking frictional pairs (`if_stuck`: of every frictional one).
+    fn closed_rows(&self, state: &State, idx: &[usize], if_stuck: bool) -> Vec<Vec<f64>> {
+        let row = |w: &SparseVec| idx.iter().map(|&k| w.dot(&self.mode_vectors[k])).collect::<Vec<f64>>();
+        let mut rows = vec![];
+        for (p, pair) in self.pairs.iter().enumerate().filter(|(p, _)| state.status[*p].is_closed()) {
+            rows.push(row(&pair.w_n));
+            if pair.frictional() && (if_stuck || state.status[p] == Status::Stick) {
+                rows.push(row(&pair.w_t));
+            }
+        }
+        rows
+    }
+
+    /// How a body no closed pair would hold even sticking left its support: lifted off (the
+    /// last pair it left named), tipped about its one closed pair, or free along `free`.
+    fn lifted_or_tipped(&self, name: &str, state: &State, body: usize, idx: &[usize], free: &[Vec<f64>], events: &[EventRecord]) -> String {
+        let closed: Vec<usize> = (0..self.pairs.len()).filter(|&p| state.status[p].is_closed() && self.body_of_pair(p) == body).collect();
+        let last_left = events.iter().rev().find(|e| e.kind == EventKind::Separate && self.body_of_pair(e.entity) == body);
+        match closed.as_slice() {
+            [] => format!("{name} lifts off: its last closed pair{} separated, and the load moves it away from the contact", last_left.map_or(String::new(), |e| format!(" ({})", self.model.pair_name(e.entity)))),
+            [p] => format!("{name} tips about {}, its last closed pair: the other pairs separated, and the load turns the body about that point", self.model.pair_name(*p)),
+            _ => {
+                let words: Vec<String> = free.iter().map(|v| self.describe_motion(idx, v)).collect();
+                format!("{name} is free to move ({}): its {} closed pairs do not hold it in that direction, even sticking", words.join("; "), closed.len())
+            }
+        }
+    }
+
     /// Check, per body with free rigid modes, that the closed pairs' rows Cᵀ N (columns m.. of
     /// the small system `a`) have full column rank.
     pub fn check_restrained(&self, state: &State, a: &DMatrix<f64>, rows: &[Row], oob: &OutOfBalance) -> Result<()> {
-        let nm = self.modes.len();
         let m = rows.len();
-        let mut bodies: Vec<usize> = self.modes.iter().map(|md| md.body).collect();
-        bodies.dedup();
-        for body in bodies {
-            let idx: Vec<usize> = (0..nm).filter(|&k| self.modes[k].body == body).collect();
+        for (body, idx) in self.bodies_with_modes() {
             let rows_n: Vec<Vec<f64>> = (0..m).map(|i| idx.iter().map(|&k| a[(i, m + k)]).collect()).collect();
             let free = free_motions(&rows_n, idx.len());
             if free.is_empty() {
@@ -39,9 +118,10 @@ impl Engine<'_> {
             let held_if_stuck = !slip_rows.is_empty() && free_motions(&[rows_n.as_slice(), slip_rows.as_slice()].concat(), idx.len()).is_empty();
             let name = self.model.body_name(self.body_first_element[body]);
             if held_if_stuck {
-                let (t, n, mu) = self.tangential_and_normal_load(body, state, &idx, &free[0]);
-                if t > mu * n * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.scales.force {
-                    return Err(self.gross_sliding(&name, state, (t, n, mu), &words[0], &idx, &free[0], oob));
+                if let Some(capacity) = self.beyond_capacity(body, state, &idx, &free[0]) {
+                    // −Nᵀ r along the motion is the out-of-balance force nothing holds.
+                    let push: f64 = idx.iter().zip(&free[0]).map(|(&k, c)| -c * oob.mode_rhs[k]).sum();
+                    bail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} {}: lower the tangential load, raise mu, or add a support", state.load_fraction, self.path.stage_names[state.stage], self.sliding(push, &words[0], capacity));
                 }
                 bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
             }
@@ -91,13 +171,16 @@ impl Engine<'_> {
         (load_along(self.translation_of(idx, v)).abs(), load_along(normal).abs(), mu)
     }
 
-    /// The gross-sliding error: T against μN under the full load (see above).
-    #[allow(clippy::too_many_arguments)]
-    fn gross_sliding(&self, name: &str, state: &State, (t, n, mu): (f64, f64, f64), words: &str, idx: &[usize], v: &[f64], oob: &OutOfBalance) -> crate::error::Error {
-        // −Nᵀ r along the motion is the out-of-balance force nothing holds: the sense of sliding.
-        let push: f64 = idx.iter().zip(v).map(|(&k, c)| -c * oob.mode_rhs[k]).sum();
+    /// (T, N, μ) of `tangential_and_normal_load` when T exceeds the capacity μN: gross sliding.
+    fn beyond_capacity(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> Option<(f64, f64, f64)> {
+        let (t, n, mu) = self.tangential_and_normal_load(body, state, idx, v);
+        (t > mu * n * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.scales.force).then_some((t, n, mu))
+    }
+
+    /// "(±motion): …" of gross sliding, the sense that of `push`, the load along the motion.
+    fn sliding(&self, push: f64, words: &str, (t, n, mu): (f64, f64, f64)) -> String {
         let sense = if push >= 0.0 { "+" } else { "−" };
-        crate::fail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} ({sense}{words}): its closed pairs all slip; under the stage's full load the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal): lower the tangential load, raise mu, or add a support", state.load_fraction, self.path.stage_names[state.stage], mu * n)
+        format!("({sense}{words}): its closed pairs all slip; under the stage's full load the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal)", mu * n)
     }
 
     /// The translation part (x, y) of a combination `v` of the body's modes `idx`.

@@ -20,6 +20,7 @@
 use super::anticycling::AntiCycling;
 use super::engine::Engine;
 use super::recording::Recorder;
+use super::restraint::Hold;
 use super::selection::Selection;
 use super::state::{State, TrialIncrement};
 use super::switch_statuses;
@@ -108,8 +109,8 @@ impl Engine<'_> {
                 return Ok((sel, jump));
             }
             rec.substep(state, sel.scale);
-            if rec.steps.len() >= rec.max_steps {
-                break; // the loop's event bound stops the run at its next increment
+            if rec.steps.len() >= rec.max_steps || matches!(self.hold(state, &rec.events), Hold::Lost(_)) {
+                break; // the loop's event bound (or `support_lost`) stops the run at its next increment
             }
             sub = self.trial(state, 1.0, None)?;
             let remaining = 1.0 - state.load_fraction;

@@ -241,10 +241,14 @@ impl Engine<'_> {
         }
         self.check_restrained(state, &a, &sys.rows, oob)?;
         let t = Instant::now();
+        let s = unit_free(&mut a, &mut rhs, m);
         let sol = solve_dense(&a, &rhs);
         self.timings.dense += since(t);
         match sol {
-            Some(x) => Ok(x),
+            Some(mut x) => {
+                x.rows_mut(m, nm).iter_mut().for_each(|v| *v *= s);
+                Ok(x)
+            }
             None => {
                 let closed: Vec<String> = sys.rows.iter().filter_map(|r| if let Row::Normal(p) = r { Some(p.to_string()) } else { None }).collect();
                 bail!(Singular, "the contact system is singular at load fraction {:.6}: the closed pairs [{}] are redundant (two pairs on one node along the same direction?) — remove duplicate pairs", state.load_fraction, closed.join(", "))
@@ -411,6 +415,27 @@ impl Engine<'_> {
         }
         r
     }
+}
+
+/// Give the rigid-body columns and rows of the small system (the last ones, after the `m`
+/// contact rows) the units of its flexibility block: Cᵀ N and Nᵀ E are ratios and −Nᵀ r a
+/// force, where Cᵀ K# E is a compliance, so × the flexibility's size s (its largest diagonal
+/// entry, rounded to a power of two: the scaling is exact) they are compliances and lengths
+/// like the rest, and the pivot test of `solve_dense` is the same in any unit system
+/// (unscaled, stresses in units 1e9 times smaller made the Hertz cylinder's system "singular").
+/// Returns s: the rigid amplitudes solved are α / s.
+fn unit_free(a: &mut DMatrix<f64>, rhs: &mut DVector<f64>, m: usize) -> f64 {
+    let n = rhs.len();
+    let s = (0..m).fold(0.0f64, |x, i| x.max(a[(i, i)].abs())).log2().round().exp2();
+    if m == n || !(s > 0.0 && s.is_finite()) {
+        return 1.0;
+    }
+    for k in m..n {
+        a.column_mut(k).scale_mut(s);
+        a.row_mut(k).scale_mut(s);
+        rhs[k] *= s;
+    }
+    s
 }
 
 /// Solve the small dense system by LU with partial pivoting (faer's blocked kernel); None when
