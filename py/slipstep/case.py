@@ -345,7 +345,7 @@ def _check_polyline(points) -> str | None:
         return f"a polyline needs at least 2 points, got {len(points)}"
     for k in range(len(points) - 1):
         if points[k] == points[k + 1]:
-            return (f"points {k} and {k + 1} are both {_fmt(points[k])}: a zero-length segment; "
+            return (f"points {k} and {k + 1} are both {toml_text(points[k])}: a zero-length segment; "
                     f"remove one of them")
         dx, dy = points[k + 1][0] - points[k][0], points[k + 1][1] - points[k][1]
         if not 0.0 < dx * dx + dy * dy < math.inf:  # its squared length under- or overflows
@@ -687,14 +687,14 @@ def _set_in_table(table: dict, keys: dict, rest: list[str], value, where: str, l
 
 
 # --------------------------------------------------------------------------- validation
-def _fmt(value) -> str:
+def toml_text(value) -> str:
     """A value as TOML would spell it, for messages."""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, str):
         return f'"{value}"'
     if isinstance(value, list):
-        return "[" + ", ".join(_fmt(v) for v in value) + "]"
+        return "[" + ", ".join(toml_text(v) for v in value) + "]"
     if isinstance(value, dict):
         return "{...}"
     return repr(value)
@@ -744,7 +744,7 @@ class _Validator:
         return out
 
     def value(self, v, spec: Key, full: str):
-        shown = _fmt(v)  # as written, before int -> float
+        shown = toml_text(v)  # as written, before int -> float
         bad = self.fail(full, f"= {shown} is not allowed: expected {_TYPE_HELP[spec.type]}")
         t = spec.type
         if t == "float":
@@ -797,7 +797,7 @@ class _Validator:
                 raise bad
             v = self.inline_numbers(v, t, full)
         if spec.choices and v not in spec.choices:
-            choices = " or ".join(_fmt(c) for c in spec.choices)
+            choices = " or ".join(toml_text(c) for c in spec.choices)
             raise self.fail(full, f"= {shown} is not allowed: use {choices}")
         if spec.check is not None and v is not None:
             reason = spec.check(v)
@@ -819,10 +819,10 @@ class _Validator:
         out = {}
         for k, c in v.items():
             if isinstance(c, bool) or not isinstance(c, (int, float)):
-                raise self.fail(f"{full}.{k}", f"= {_fmt(c)} is not allowed: expected a number "
+                raise self.fail(f"{full}.{k}", f"= {toml_text(c)} is not allowed: expected a number "
                                                f"({what})")
             if not math.isfinite(c):
-                raise self.fail(f"{full}.{k}", f"= {_fmt(c)} is not allowed: expected a finite "
+                raise self.fail(f"{full}.{k}", f"= {toml_text(c)} is not allowed: expected a finite "
                                                f"number")
             out[k] = float(c)
         return out
@@ -868,7 +868,7 @@ class _Validator:
         names = [b["name"] for b in data["body"]]
         for n in names:
             if names.count(n) > 1:
-                raise CaseError(f"{self.source}: body.name = {_fmt(n)} is used twice: body "
+                raise CaseError(f"{self.source}: body.name = {toml_text(n)} is used twice: body "
                                 f"names must be unique")
         edges = {b["name"]: b["mesh"]["edges"] for b in data["body"]}
 
@@ -899,14 +899,14 @@ class _Validator:
         snaps = data["output"]["snapshots"]
         reason = _check_snapshot_times(snaps, n_stages) if isinstance(snaps, list) else None
         if reason:
-            raise self.fail("output.snapshots", f"= {_fmt(snaps)} is not allowed: {reason}")
+            raise self.fail("output.snapshots", f"= {toml_text(snaps)} is not allowed: {reason}")
         return data
 
     def axisymmetric_thickness(self, data: dict, raw: dict) -> None:
         """``thickness`` does not apply to rings (every force is a total over the ring)."""
         given = raw.get("analysis", {})
         if data["analysis"]["plane"] == "axisymmetric" and "thickness" in given:
-            raise self.fail("analysis.thickness", f"= {_fmt(given['thickness'])} is not allowed "
+            raise self.fail("analysis.thickness", f"= {toml_text(given['thickness'])} is not allowed "
                                                   f'with plane = "axisymmetric": forces are '
                                                   f"totals over the full ring (2 pi r), there is "
                                                   f"no thickness; remove analysis.thickness")
@@ -916,7 +916,7 @@ class _Validator:
         names = [s["name"] for s in stages]
         for k, n in enumerate(names):
             if n and n in names[:k]:  # by index: --set finds the first of a shared name
-                raise self.fail(f"stage.{k}.name", f"= {_fmt(n)} is used twice (also by stage."
+                raise self.fail(f"stage.{k}.name", f"= {toml_text(n)} is used twice (also by stage."
                                                    f"{names.index(n)}): stage names must be "
                                                    f"unique; rename one")
 
@@ -947,8 +947,8 @@ class _Validator:
             return mesh
         gen = raw.get("generator")
         if not isinstance(gen, str) or gen not in MESH_VARIANTS:
-            choices = " or ".join(_fmt(g) for g in MESH_VARIANTS)
-            what = "is missing" if gen is None else f"= {_fmt(gen)} is not allowed"
+            choices = " or ".join(toml_text(g) for g in MESH_VARIANTS)
+            what = "is missing" if gen is None else f"= {toml_text(gen)} is not allowed"
             raise self.fail(prefix + "generator", f"{what}: use {choices}, or give "
                                                   f'file = "mesh.msh"')
         mesh = self.table(raw, MESH_VARIANTS[gen], "[body.mesh]", prefix)
@@ -964,22 +964,22 @@ class _Validator:
     def cylinder_mesh(self, mesh: dict, prefix: str) -> None:
         """quarter_cylinder / half_cylinder / disc: h_contact <= h_max, contact_zone < R."""
         if mesh["h_contact"] > mesh["h_max"]:
-            raise self.fail(prefix + "h_contact", f"= {_fmt(mesh['h_contact'])} is not "
-                            f"allowed: it must not exceed h_max = {_fmt(mesh['h_max'])}")
+            raise self.fail(prefix + "h_contact", f"= {toml_text(mesh['h_contact'])} is not "
+                            f"allowed: it must not exceed h_max = {toml_text(mesh['h_max'])}")
         if mesh["contact_zone"] >= mesh["R"]:
-            raise self.fail(prefix + "contact_zone", f"= {_fmt(mesh['contact_zone'])} is not"
-                            f" allowed: it must be smaller than R = {_fmt(mesh['R'])}")
+            raise self.fail(prefix + "contact_zone", f"= {toml_text(mesh['contact_zone'])} is not"
+                            f" allowed: it must be smaller than R = {toml_text(mesh['R'])}")
 
     def annulus_mesh(self, mesh: dict, prefix: str) -> None:
         """quarter_annulus: b > a, element sizes within the wall."""
         if mesh["b"] <= mesh["a"]:
-            raise self.fail(prefix + "b", f"= {_fmt(mesh['b'])} is not allowed: the outer "
-                            f"radius must exceed the inner radius a = {_fmt(mesh['a'])}")
+            raise self.fail(prefix + "b", f"= {toml_text(mesh['b'])} is not allowed: the outer "
+                            f"radius must exceed the inner radius a = {toml_text(mesh['a'])}")
         for key in ("h", "h_outer"):
             if mesh[key] > mesh["b"] - mesh["a"]:
-                raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed: it must "
+                raise self.fail(prefix + key, f"= {toml_text(mesh[key])} is not allowed: it must "
                                 f"not exceed the wall thickness b - a = "
-                                f"{_fmt(mesh['b'] - mesh['a'])}")
+                                f"{toml_text(mesh['b'] - mesh['a'])}")
 
     def block_mesh(self, mesh: dict, raw: dict, prefix: str) -> None:
         """block: structured (nx/ny or h; refined with refine_box) or graded (h_contact around
@@ -1001,7 +1001,7 @@ class _Validator:
         for key in ("contact_zone", "focus", "uniform_edges", "h_max", "growth"):
             if key not in raw or (refined and key in ("h_max", "growth")):
                 continue
-            shown = f"= {_fmt(mesh[key])} is not allowed"
+            shown = f"= {toml_text(mesh[key])} is not allowed"
             if refined:
                 raise self.fail(prefix + key, f"{shown} with refine_box: it shapes the graded "
                                 f"block (h_contact > 0), fine around focus; drop {key}")
@@ -1020,14 +1020,14 @@ class _Validator:
         bx0, by0, bx1, by1 = mesh["refine_box"]
         x0, y0, x1, y1 = mesh["x0"], mesh["y0"], mesh["x0"] + mesh["width"], \
             mesh["y0"] + mesh["height"]
-        shown = f"= {_fmt(mesh['refine_box'])} is not allowed"
+        shown = f"= {toml_text(mesh['refine_box'])} is not allowed"
         if not (bx0 < bx1 and by0 < by1):
             raise self.fail(prefix + "refine_box", f"{shown}: write it [x0, y0, x1, y1] with "
                             f"x0 < x1 and y0 < y1")
         tol = 1e-9 * max(mesh["width"], mesh["height"])  # as mesh.refined_block
         if not (x0 - tol <= bx0 and bx1 <= x1 + tol and y0 - tol <= by0 and by1 <= y1 + tol):
             raise self.fail(prefix + "refine_box", f"{shown}: it reaches outside the block "
-                            f"[{_fmt(x0)}, {_fmt(x1)}] x [{_fmt(y0)}, {_fmt(y1)}]; keep it "
+                            f"[{toml_text(x0)}, {toml_text(x1)}] x [{toml_text(y0)}, {toml_text(y1)}]; keep it "
                             f"inside")
         if mesh["h_max"] == 0:
             raise self.fail(prefix + "h_max", "is missing: the refined block (refine_box) "
@@ -1036,21 +1036,21 @@ class _Validator:
         nx, ny = block_divisions(mesh)
         spacing = min(mesh["width"] / nx, mesh["height"] / ny)
         if mesh["h_max"] < spacing:
-            raise self.fail(prefix + "h_max", f"= {_fmt(mesh['h_max'])} is not allowed: it "
+            raise self.fail(prefix + "h_max", f"= {toml_text(mesh['h_max'])} is not allowed: it "
                             f"must not be smaller than the grid spacing {spacing:g} that the "
                             f"refined block grows from")
 
     def graded_block_mesh(self, mesh: dict, prefix: str) -> None:
         """h_contact around focus: contact_zone and h_max given, no structured keys."""
-        hc = _fmt(mesh["h_contact"])
+        hc = toml_text(mesh["h_contact"])
         for key in ("nx", "ny", "h"):
             if mesh[key] > 0:
-                raise self.fail(prefix + key, f"= {_fmt(mesh[key])} is not allowed "
+                raise self.fail(prefix + key, f"= {toml_text(mesh[key])} is not allowed "
                                 f"together with h_contact = {hc}: nx/ny/h make the "
                                 f"structured block, h_contact the graded one; drop "
                                 f"{key} (or h_contact)")
         if mesh["refine_box"] is not None:
-            raise self.fail(prefix + "refine_box", f"= {_fmt(mesh['refine_box'])} is not "
+            raise self.fail(prefix + "refine_box", f"= {toml_text(mesh['refine_box'])} is not "
                             f"allowed together with h_contact = {hc}: refine_box keeps the "
                             f"structured block (nx/ny or h) inside it, h_contact grades around "
                             f"focus; drop refine_box (or h_contact)")
@@ -1062,26 +1062,26 @@ class _Validator:
                                 f"`{key} = ...` to [body.mesh]")
         if mesh["h_contact"] > mesh["h_max"]:
             raise self.fail(prefix + "h_contact", f"= {hc} is not allowed: it must not "
-                            f"exceed h_max = {_fmt(mesh['h_max'])}")
+                            f"exceed h_max = {toml_text(mesh['h_max'])}")
         if mesh["focus"] is not None:
             (fx, fy), x0, y0 = mesh["focus"], mesh["x0"], mesh["y0"]
             x1, y1 = x0 + mesh["width"], y0 + mesh["height"]
             tol = 1e-9 * max(mesh["width"], mesh["height"])  # as mesh.graded_block
             if not (x0 - tol <= fx <= x1 + tol and y0 - tol <= fy <= y1 + tol):
-                raise self.fail(prefix + "focus", f"= {_fmt(mesh['focus'])} is not "
-                                f"allowed: it lies outside the block [{_fmt(x0)}, "
-                                f"{_fmt(x1)}] x [{_fmt(y0)}, {_fmt(y1)}]; move it "
+                raise self.fail(prefix + "focus", f"= {toml_text(mesh['focus'])} is not "
+                                f"allowed: it lies outside the block [{toml_text(x0)}, "
+                                f"{toml_text(x1)}] x [{toml_text(y0)}, {toml_text(y1)}]; move it "
                                 f"inside or onto the boundary")
 
     def need_body(self, name: str, key: str, edges: dict) -> None:
         if name not in edges:
-            raise self.fail(key, f"= {_fmt(name)} is not allowed: no body has that name "
+            raise self.fail(key, f"= {toml_text(name)} is not allowed: no body has that name "
                                  f"(bodies: {', '.join(edges)})")
 
     def need_edge(self, body: str, tag: str, key: str, edges: dict) -> None:
         known = edges[body]
         if known is not None and tag not in known:
-            raise self.fail(key, f"= {_fmt(tag)} is not allowed: body {_fmt(body)} has no edge "
+            raise self.fail(key, f"= {toml_text(tag)} is not allowed: body {toml_text(body)} has no edge "
                                  f"with that tag (its edges: {', '.join(known)})")
 
     def bc(self, raw: dict, prefix: str, edges: dict) -> dict:
@@ -1109,8 +1109,8 @@ class _Validator:
     def contact(self, raw: dict, prefix: str, edges: dict) -> dict:
         kind = raw.get("kind")
         if not isinstance(kind, str) or kind not in CONTACT_VARIANTS:
-            choices = " or ".join(_fmt(k) for k in CONTACT_VARIANTS)
-            what = "is missing" if kind is None else f"= {_fmt(kind)} is not allowed"
+            choices = " or ".join(toml_text(k) for k in CONTACT_VARIANTS)
+            what = "is missing" if kind is None else f"= {toml_text(kind)} is not allowed"
             raise self.fail(prefix + "kind", f"{what}: use {choices}")
         if kind in ("node_to_node", "node_to_segment") and "motion" in raw:
             raise self.fail(prefix + "motion", "is not allowed: motion on a deformable-pair "
@@ -1137,7 +1137,7 @@ class _Validator:
         if load["body"]:
             self.need_body(load["body"], "load.body", edges)
             if load["body"] not in cylinders:
-                raise self.fail("load.body", f"= {_fmt(load['body'])} is not allowed: [load] P "
+                raise self.fail("load.body", f"= {toml_text(load['body'])} is not allowed: [load] P "
                                              f"acts on a quarter_cylinder body")
         elif len(cylinders) == 1:
             load["body"] = cylinders[0]
@@ -1257,7 +1257,7 @@ def _check_load_names(loads, source: str) -> None:
                             f"force pattern ([load], or a force [[bc]]/[[point_load]] named so); "
                             f'a displacement or motion load needs another name, e.g. "push"')
         if x.label in seen:  # by index: --set finds the first of a shared name
-            raise CaseError(f"{source}: {x.array}.{x.index}.name = {_fmt(x.label)} is used twice "
+            raise CaseError(f"{source}: {x.array}.{x.index}.name = {toml_text(x.label)} is used twice "
                             f"(also by {seen[x.label]}): load names must be unique; rename one")
         seen[x.label] = x.place
 
@@ -1271,8 +1271,8 @@ def _factor_rows(stages: list, names: tuple, has_load: bool, source: str) -> tup
         key = element_key("stage", stages, k) + ".factors"
         for name, value in stage["factors"].items():
             if name not in valid:
-                raise CaseError(f"{source}: {key}.{name} = {_fmt(value)} is not allowed: no load "
-                                f"is named {_fmt(name)} (loads: {', '.join(valid) or 'none'}); "
+                raise CaseError(f"{source}: {key}.{name} = {toml_text(value)} is not allowed: no load "
+                                f"is named {toml_text(name)} (loads: {', '.join(valid) or 'none'}); "
                                 f'a load is named by its name key ([load] is "load")')
             current[names.index(name)] = value
         if tuple(current) == rows[-1]:

@@ -89,7 +89,7 @@ def default_text(key: schema.Key) -> str:
         return "inf" if key.default > 0 else "-inf"
     if key.default == {}:
         return "{}"
-    return schema._fmt(key.default)
+    return schema.toml_text(key.default)
 
 
 def type_text(key: schema.Key) -> str:

@@ -91,7 +91,8 @@ def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | 
 
     Ctrl-C (a notebook's interrupt too) stops the engine at the next increment and the partial
     result is returned, like a run that ended early otherwise (``result.stop["kind"]``:
-    interrupted, limit_load, event_bound); its files are written like a complete run's.
+    interrupted, limit_load, event_bound, support_lost); its files are written like a complete
+    run's.
     """
     start = time.perf_counter()
     if isinstance(case, Scene):
