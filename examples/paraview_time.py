@@ -44,9 +44,12 @@ def largest(array) -> float:
 
 
 # %%
-# An absolute path: ParaView's reader joins a bare file name's folder ("") and the .h5's name
-# without a separator.
-path = os.path.abspath(sys.argv[1])
+# The result to open: the command line's argument as a script; in a notebook (a kernel with
+# ParaView's Python, whose argv is the kernel's own) the path set here. An absolute path:
+# ParaView's reader joins a bare file name's folder ("") and the .h5's name without a separator.
+RESULT = "results/hertz_load_unload/results.xdmf"
+as_script = len(sys.argv) == 2 and sys.argv[1].endswith(".xdmf")
+path = os.path.abspath(sys.argv[1] if as_script else RESULT)
 reader = Xdmf3ReaderS(FileName=[path])
 reader.UpdatePipelineInformation()
 scene = GetAnimationScene()

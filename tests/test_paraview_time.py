@@ -43,11 +43,14 @@ def coarse(name: str) -> list[str]:
     return out
 
 
-def paraview_reads(xdmf) -> dict:
+def paraview_reads(xdmf, cwd=None) -> dict:
+    """The example's JSON line for ``xdmf`` (None: no argument, as in a notebook's kernel, so
+    the example's own RESULT path, relative to ``cwd``)."""
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # ParaView's own Python
+    args = [] if xdmf is None else [str(xdmf)]
     proc = subprocess.run([PVPYTHON, "--force-offscreen-rendering",
-                           str(ROOT / "examples" / "paraview_time.py"), str(xdmf)],
-                          capture_output=True, text=True, timeout=600, env=env)
+                           str(ROOT / "examples" / "paraview_time.py"), *args],
+                          capture_output=True, text=True, timeout=600, env=env, cwd=cwd)
     assert proc.returncode == 0, proc.stderr[-2000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
@@ -88,3 +91,16 @@ def test_a_load_unload_has_several_events_at_one_time():
                      progress=False)
     assert len(np.unique(r.times)) < len(r.times)
     assert list(r.times).count(1.0) >= 2
+
+
+@pytest.mark.skipif(PVPYTHON is None, reason="pvpython is not installed (Debian: apt-get "
+                                             "install python3-paraview)")
+def test_without_a_command_line_it_opens_its_own_result_path(tmp_path):
+    """As a notebook cell runs it (no .xdmf argument): the example opens the path it names,
+    results/hertz_load_unload/results.xdmf, and reads a step at every snapshot time."""
+    out = tmp_path / "results" / "hertz_load_unload"
+    r = slipstep.run("hertz_load_unload", out=out, progress=False,
+                     overrides=["mesh.h_contact=0.4", "output.snapshots=[0.5, 1.0, 2.0]",
+                                "output.figures=false"])
+    seen = paraview_reads(None, cwd=tmp_path)
+    assert seen["times"] == list(r.times) and not seen["empty"]
