@@ -124,10 +124,10 @@ distclean: clean
 
 FORCE:
 
-# Fuzzing (tests/test_fuzz.py): `make test` runs a bounded, derandomized set of examples per
+# Fuzzing (tests/case/test_fuzz.py): `make test` runs a bounded, derandomized set of examples per
 # target (a few seconds each); `make fuzz` runs SLIPSTEP_FUZZ_EXAMPLES random ones per target
 # (default 2000: about 4 minutes on 2 cores, most of it gmsh on damaged binary files).
 .PHONY: fuzz
 fuzz: $(EXT_STAMP)
 	SLIPSTEP_FUZZ_EXAMPLES=$${SLIPSTEP_FUZZ_EXAMPLES:-2000} MPLBACKEND=Agg \
-		$(PY) -m pytest -q -p no:cacheprovider tests/test_fuzz.py
+		$(PY) -m pytest -q -p no:cacheprovider tests/case/test_fuzz.py

@@ -442,7 +442,7 @@ def line_contact_dissipation(P: float, Q_star: float, mu: float, E: float, nu: f
 # form; ``spence_stick_ratio`` solves it by collocation (piecewise-constant tractions, the
 # kernels above integrated exactly over each panel, the stick zone found by bisection on its
 # number of panels), and with ``coupled=False`` reproduces the closed form (a check of the
-# solver, tests/test_spence.py).
+# solver, tests/physics/test_spence.py).
 
 
 def _elliptic_ratio(k: float) -> float:

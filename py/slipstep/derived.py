@@ -75,7 +75,7 @@ def nodal_stress(scene, stress: np.ndarray) -> np.ndarray:
     recovery (SPR) because it is what codes that print nodal stresses do for linear triangles
     (average the elements' values at the node), is exact for a uniform stress, and is defined
     alike at boundary and corner nodes, where SPR patches degenerate; it is first order in h
-    (tests/test_nodal_stress.py).  Bodies share no nodes, so nothing is averaged across an
+    (tests/output/test_nodal_stress.py).  Bodies share no nodes, so nothing is averaged across an
     interface."""
     stress = np.asarray(stress, dtype=float).reshape(-1, 4)
     n, p = len(scene.nodes), scene.nodes[scene.triangles]

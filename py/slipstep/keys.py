@@ -2,7 +2,7 @@
 
 Printed from the schema in :mod:`slipstep.case`, the declarations the validator checks, so the
 reference an installed wheel shows is the one the code enforces.  cases/README.md documents the
-same keys in its tables (with longer explanations); tests/test_keys.py keeps the two in step:
+same keys in its tables (with longer explanations); tests/case/test_keys.py keeps the two in step:
 the same keys in every table, the same defaults where the README states one.
 
 A section is a top-level table (``solver``), an array of tables (``bc``, ``contact``) or a body

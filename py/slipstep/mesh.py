@@ -801,7 +801,7 @@ def _msh_child(path: str, where: str, conn) -> None:
 def _read_msh_isolated(path: Path, where: str):
     """:func:`_read_msh` in a forked child process: gmsh corrupts its memory on some damaged
     .msh files and crashes the whole process (segmentation fault, abort; found by
-    tests/test_fuzz.py), so a crash there becomes a MeshError here."""
+    tests/case/test_fuzz.py), so a crash there becomes a MeshError here."""
     import multiprocessing
 
     try:

@@ -936,7 +936,7 @@ def write_report(path: Path, n: dict) -> Path:
         "mesh is the structured block's own, and at the case files' spacing the interface "
         "pressure, tangential stress and RTD are those of the structured 10 b × 10 b "
         "half-space within 1 % of their peaks, node by node, with more than 10× fewer nodes "
-        "(`tests/test_paper_blocks_graded.py`).",
+        "(`tests/physics/test_paper_blocks_graded.py`).",
         "",
         "## Table 1",
         "",
@@ -1191,7 +1191,7 @@ def write_report(path: Path, n: dict) -> Path:
         "",
         "## Checks",
         "",
-        "`required`: asserted by `tests/test_reproduce.py`; the others are "
+        "`required`: asserted by `tests/studies/test_reproduce.py`; the others are "
         "reported only.",
         "",
         "| claim | measured | holds | required |",

@@ -489,7 +489,7 @@ def _sphere_flat_lines(sf: dict) -> list[str]:
     lines += ["", "The force converges fast with the mesh; the contact radius, read at the "
               "closing node, converges at first order in h/a (h ≈ a/15 on the case mesh at every "
               "ω), from above: the area's excess over the fits shrinks as the mesh is refined "
-              "(the test `tests/test_sphere_on_flat_plastic.py` asserts it).", ""]
+              "(the test `tests/physics/test_sphere_on_flat_plastic.py` asserts it).", ""]
     return lines
 
 

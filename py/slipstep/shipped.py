@@ -5,7 +5,7 @@ and ``slipstep new NAME --from CASE`` copies one out to edit (:func:`copy`).
 They live in ``slipstep/data/cases/*.toml`` and ``slipstep/data/studies/*.toml``.  In a source
 checkout those are symbolic links to the top-level ``cases/`` and ``studies/`` (the files the
 README and the tests use; one copy in git), and maturin puts the linked files themselves into
-the wheel.  A new case or study is shipped by adding its link (tests/test_wheel.py checks that
+the wheel.  A new case or study is shipped by adding its link (tests/package/test_wheel.py checks that
 every one is linked).
 """
 

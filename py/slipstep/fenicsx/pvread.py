@@ -6,7 +6,7 @@ Run with ParaView's Python (Debian: ``apt-get install python3-paraview``)::
 
 (or ``pvpython .../pvread.py FILE.xdmf``).  Per file: the dataset type, number of points and
 cells (summed over blocks), the point- and cell-data array names and the time steps.  Used by
-tests/test_fenicsx_paraview.py; not imported by slipstep itself.
+tests/fenicsx/test_fenicsx_paraview.py; not imported by slipstep itself.
 """
 
 import json

@@ -2,7 +2,7 @@
 jupytext reads each into a notebook and nbclient executes it in an IPython kernel, from a scratch
 folder; what its cells show is checked against closed forms and against slipstep's own arrays
 read another way.  examples/paraview_time.py runs in ParaView's pvpython instead (its test:
-tests/test_paraview_time.py); examples/hybrid_hertz.py also runs as a script (its command line).
+tests/output/test_paraview_time.py); examples/hybrid_hertz.py also runs as a script (its command line).
 
 In a kernel stderr is no terminal and sys.argv is the kernel's: the progress display is a
 widget (ipywidgets, the `notebook` extra) or a start and an end line, never tqdm's text frames,
@@ -84,7 +84,7 @@ def test_every_example_is_percent_format_and_tested():
 
 
 def _hertz_checks(out: str, h: float) -> None:
-    """a within one node spacing h of Hertz and p0 within 1 % (tests/test_hertz.py: the edge
+    """a within one node spacing h of Hertz and p0 within 1 % (tests/physics/test_hertz.py: the edge
     is located by the nodes, first order in h; p0 is held to the 1 % acceptance)."""
     assert abs(number(r"a  = ([\d.]+) mm", out) - A_HERTZ) <= h
     assert number(r"p0 = ([\d.]+) MPa", out) == pytest.approx(P0_HERTZ, rel=0.01)
@@ -144,7 +144,7 @@ HYBRID = re.compile(r"outermost closed node x = ([\d.]+) mm \(Hertz a = ([\d.]+)
 def _hybrid_checks(out: str, h: float) -> None:
     """The contact force is P/2 on the quarter (equilibrium; printed to 6 digits) and the
     outermost closed node within 2 h of Hertz's a: one spacing for locating the edge by the
-    nodes, one for the P1 discretisation (tests/test_hertz.py: within h on the case meshes)."""
+    nodes, one for the P1 discretisation (tests/physics/test_hertz.py: within h on the case meshes)."""
     found = HYBRID.search(out)
     assert found, out
     x, a, force = map(float, found.groups())

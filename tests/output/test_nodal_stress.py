@@ -4,7 +4,7 @@ nodal stresses recovered by area-weighted averaging (slipstep.derived.nodal_stre
 
 Patch tests: a uniform stress state, which linear triangles reproduce exactly, applied as the
 tractions sigma . n on every edge of a block (plane strain, plane stress) or of a ring section
-(axisymmetry, the state of tests/test_axisymmetric_patch.py); the engine returns it to round-off
+(axisymmetry, the state of tests/physics/test_axisymmetric_patch.py); the engine returns it to round-off
 (stresses of order 1 from a solve of ~100 DOFs: 1e-11), so the element tensor and the
 recovered nodal stresses must equal it at every element and node, boundary and corners too.
 Convergence: the elastic thick cylinder against Lame's closed form.
@@ -94,7 +94,7 @@ def test_a_uniform_plane_stress_state_as_tensor_and_at_the_nodes(plane, sigma_z)
 
 
 def test_the_hoop_stress_is_the_out_of_plane_component_in_axisymmetry():
-    """The ring patch u_r = A r, u_z = B z (tests/test_axisymmetric_patch.py): sigma_r =
+    """The ring patch u_r = A r, u_z = B z (tests/physics/test_axisymmetric_patch.py): sigma_r =
     sigma_theta = 2 (lambda + G) A + lambda B, sigma_z = 2 lambda A + (lambda + 2 G) B, tau = 0;
     x = r, y = z and the out-of-plane zz is the hoop stress."""
     from test_axisymmetric_patch import SIGMA_R, SIGMA_Z, patch_case

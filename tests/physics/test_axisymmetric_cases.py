@@ -266,7 +266,7 @@ factors = {load = 0.1}
     assert np.sum(last["lambda_n"]) == pytest.approx(3.0, rel=1e-9)
     assert {"yield", "close", "separate"} <= set(result["events"]["kind"])
     assert np.count_nonzero(np.asarray(last["plastic_strain"]) > 0) > 0
-    # within max_stress_step² of the yield surfaces (see tests/test_thick_sphere.py)
+    # within max_stress_step² of the yield surfaces (see tests/physics/test_thick_sphere.py)
     assert result["max_drift"] <= 0.05 ** 2
 
 

@@ -21,7 +21,7 @@ from slipstep.mortar import node_to_segment_pairs
 
 
 def rings(n_lower: int, n_upper: int, mu: float) -> str:
-    """tests/test_node_to_segment.py's two blocks as two cylinders about x = 0 (the axis holds
+    """tests/scene/test_node_to_segment.py's two blocks as two cylinders about x = 0 (the axis holds
     u_r = 0 by itself: the blocks' left-edge supports go)."""
     text = two_blocks(n_lower, n_upper, mu)
     for body in ("lower", "upper"):

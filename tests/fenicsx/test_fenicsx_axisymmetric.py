@@ -129,7 +129,7 @@ def test_hertz_sphere_elastoplastic_replay_within_path_tolerance():
     contact states replayed in order, one dolfinx step per event interval.  The replay steps
     by backward Euler while the engine takes drift-controlled tangent increments, so the two
     paths differ by the first-order integration error of either, the tolerances of the plane
-    replay test (tests/test_fenicsx_replay.py); measured: u 6.2e-5, stress 3.6e-4, lambda_n
+    replay test (tests/fenicsx/test_fenicsx_replay.py); measured: u 6.2e-5, stress 3.6e-4, lambda_n
     1.1e-4, plastic strain 1.3e-3.  Before first yield the replay is exact (1.7e-12).  The
     first states, two nodes in contact under 3e-5 of the load, need Newton's round-off stop
     (bulk.ROUND_OFF_STEP): their relative residual floors at ~1e-10."""
@@ -183,7 +183,7 @@ def test_thick_sphere_difference_vanishes_with_the_load_step(thick_plastic):
 def test_thick_sphere_both_codes_against_hill(thick_plastic):
     """Both codes' plastic zone against Hill's elastic-plastic radius c (p = 2Y ln(c/a) +
     (2Y/3)(1 - c^3/b^3)), measured by the plastic elements' ring volume 2 pi/3 (c^3 - a^3):
-    within a quarter of the local element size (as tests/test_thick_sphere.py on the case
+    within a quarter of the local element size (as tests/physics/test_thick_sphere.py on the case
     mesh; here ~1 mm at c)."""
     scene, out = thick_plastic
     data = scene.case.data

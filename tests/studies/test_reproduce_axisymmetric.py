@@ -43,7 +43,7 @@ def test_thick_sphere_on_the_quick_mesh(page):
     """h = 0.5 mm at the bore: the first yielding element's centroid samples Lame's 1/rho^3
     von Mises stress up to h/2 inside the wall, so first yield comes late by up to
     (1 + h/(2a))^3 - 1 = 7.6 %; c within a quarter of the local element size (~0.9 mm) of
-    Hill's; the limit-load stop within 2 % of 2Y ln(b/a) (tests/test_thick_sphere.py: the page
+    Hill's; the limit-load stop within 2 % of 2Y ln(b/a) (tests/physics/test_thick_sphere.py: the page
     runs the limit on the case's mesh, since the quick mesh's CST overshoot is 2.1 % even event
     by event)."""
     t = page[1]["thick"]
@@ -55,7 +55,7 @@ def test_thick_sphere_on_the_quick_mesh(page):
 
 def test_sphere_on_flat_chart_on_the_quick_meshes(page):
     """The quick meshes are 4 and 2 times the case's: the force within the tolerance of
-    tests/test_sphere_on_flat_plastic.py (fits' spread 5 % + 3.5 %) on the finer one, and the
+    tests/physics/test_sphere_on_flat_plastic.py (fits' spread 5 % + 3.5 %) on the finer one, and the
     contact area's excess over both fits shrinks from the coarser to the finer."""
     coarse, fine = page[1]["sphere_flat"]["meshes"]
     for fit in ("KE", "JG"):

@@ -11,7 +11,7 @@ Both codes read the same mesh (slipstep's generator, written by slipstep.mesh.wr
   round-off; 1e-6 leaves a factor 100 for the conditioning and is far below any modelling
   difference (the load-stepping differences of the frictional runs are 1e-3).
 * with friction (μ = 0.3), the central stick zone depends on the loading path; slipstep's is
-  checked against Spence's self-similar solution (tests/test_spence.py).  GetFEM's stick edge,
+  checked against Spence's self-similar solution (tests/physics/test_spence.py).  GetFEM's stick edge,
   with N load steps and the slip measured from the previous step, must match it to one node
   spacing h (the edge lies between two nodes in both codes) plus the distance the contact edge
   moves in one load step (a/(2N) at the end, a ∝ √f).  This pins the sign of the incremental

@@ -68,7 +68,7 @@ def assert_bit_identical(a: dict, b: dict, what: str) -> None:
 CHILD = """
 import sys
 import numpy as np
-sys.path.insert(0, {tests!r})
+sys.path[:0] = [{here!r}, {tests!r}]  # this file, and conftest.py beside the folders
 from test_determinism import run
 np.savez({out!r}, **run({name!r}))
 """
@@ -78,7 +78,8 @@ def run_in_subprocess(name: str, out: Path, threads: str | None = None) -> dict:
     env = dict(os.environ)
     if threads is not None:
         env["RAYON_NUM_THREADS"] = threads
-    code = CHILD.format(tests=str(Path(__file__).parent), out=str(out), name=name)
+    here = Path(__file__).resolve().parent
+    code = CHILD.format(here=str(here), tests=str(here.parent), out=str(out), name=name)
     proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
                           timeout=600)
     assert proc.returncode == 0, proc.stderr

@@ -150,7 +150,7 @@ def test_run_from_anywhere(plain_venv, outside):
     _run([bin_ / "slipstep", "run", "--quiet", "--set", "mesh.h_contact=0.1", "--out", "hertz"],
          cwd=outside)
     s = json.loads((outside / "hertz" / "summary.json").read_text())
-    # Hertz a: within one node spacing h of the closed form (tests/test_hertz.py)
+    # Hertz a: within one node spacing h of the closed form (tests/physics/test_hertz.py)
     assert abs(s["contact_half_width"] - s["hertz"]["a_hertz"]) <= 0.1
     assert {"contact_interface.png", "results.xdmf", "events.csv"} <= {
         p.name for p in (outside / "hertz").iterdir()}
@@ -162,7 +162,7 @@ def test_run_from_anywhere(plain_venv, outside):
 
 def test_reproduce_quick_from_anywhere(plain_venv, outside):
     """The paper reproduction from the shipped cases and study; its required checks (the
-    paper's qualitative claims, tests/test_reproduce.py) hold there too."""
+    paper's qualitative claims, tests/studies/test_reproduce.py) hold there too."""
     _run([plain_venv / "bin" / "slipstep", "reproduce", "--quick", "--out", "rq"], cwd=outside,
          timeout=1200)
     numbers = json.loads((outside / "rq" / "reproduce.json").read_text())

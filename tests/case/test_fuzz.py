@@ -47,8 +47,8 @@ from slipstep.mesh import MeshError, read_mesh  # noqa: E402
 # meshio parses damaged inline XML data with numpy.fromstring, which warns about it
 pytestmark = pytest.mark.filterwarnings("ignore:string or file could not be read:DeprecationWarning")
 
-ROOT = Path(__file__).resolve().parents[1]
-CATALOGUE = ROOT / "tests" / "bad_inputs"
+ROOT = Path(__file__).resolve().parents[2]
+CATALOGUE = ROOT / "tests" / "case" / "bad_inputs"
 
 #: examples per target: a fixed, derandomized budget in `make test`; SLIPSTEP_FUZZ_EXAMPLES
 #: (make fuzz) switches to that many random examples.
@@ -166,7 +166,7 @@ def test_fuzz_case_parser_random_documents(doc, overrides):
 @budget(300)
 @given(data=st.data())
 def test_fuzz_case_parser_mutated_shipped_cases(data):
-    """Text mutations of every case in cases/ and tests/bad_inputs/: a line dropped, doubled,
+    """Text mutations of every case in cases/ and tests/case/bad_inputs/: a line dropped, doubled,
     truncated, or a value replaced by a random TOML literal."""
     name, text = data.draw(st.sampled_from(SHIPPED), label="case")
     lines = text.splitlines()

@@ -14,7 +14,7 @@ import meshio
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 HERTZ = ROOT / "cases" / "hertz_cylinder.toml"
 
 

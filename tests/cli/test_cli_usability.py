@@ -1,6 +1,6 @@
 """What a user of the command line expects: ``--version``, a close name suggested for a
 misspelt case, ``--set KEY VALUE`` answered with how to write it, ``--help`` pointing to a key
-reference the wheel has (``slipstep keys``, tests/test_keys.py), ``slipstep new`` copying a
+reference the wheel has (``slipstep keys``, tests/case/test_keys.py), ``slipstep new`` copying a
 shipped case to edit, and every early stop reported through its own message."""
 
 from __future__ import annotations

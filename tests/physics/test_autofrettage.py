@@ -23,7 +23,7 @@ Residual bore displacement = u(a) - u_Lame(a).
 
 Von Mises with nu = 0.3 is not exactly Hill's condition: sigma_z = nu (sigma_r + sigma_theta)
 is not the mean of the other two until the zone is fully plastic, so sigma_theta - sigma_r
-stays below 2k by up to 1 % (tests/test_plasticity_cylinder.py) and the zone reaches slightly
+stays below 2k by up to 1 % (tests/physics/test_plasticity_cylinder.py) and the zone reaches slightly
 further: that is the model error allowed against the closed form below.
 """
 

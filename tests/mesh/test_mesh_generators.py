@@ -207,7 +207,7 @@ def test_a_disc_compressed_between_its_top_and_a_flat():
     within one contact element (a/R = 0.013); at the centre, the diametrically compressed disc
     (Timoshenko & Goodier §41: sigma_x = 2P/(pi D), sigma_y = -6P/(pi D), D = 2R; the contact
     width changes them by O((a/R)^2) ~ 2e-4) in the recovered nodal stress within 2.5 % at
-    element size R/10 there, the error of a first-order recovery (tests/test_nodal_stress.py)
+    element size R/10 there, the error of a first-order recovery (tests/output/test_nodal_stress.py)
     at least 1.7 times smaller at R/20 (2 for exactly first order; gmsh's sizes are targets)."""
     from slipstep import Case, run
 

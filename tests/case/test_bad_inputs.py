@@ -1,6 +1,6 @@
-"""The bad-input catalogue (issue 7, part 1): every case in tests/bad_inputs/ through the CLI.
+"""The bad-input catalogue (issue 7, part 1): every case in tests/case/bad_inputs/ through the CLI.
 
-Each ``tests/bad_inputs/NN_name.toml`` starts with comment lines
+Each ``tests/case/bad_inputs/NN_name.toml`` starts with comment lines
 
     # bad: what is wrong with it
     # expect: word | word | ...        (all must appear in the error line)

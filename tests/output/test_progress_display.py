@@ -1,7 +1,7 @@
 """How ``progress=True`` shows itself (slipstep.progress.display): a tqdm bar when stderr is a
 terminal; in a log or a pipe one line at the first report and one at the end, with no bar
 frames (a ``\\r`` in a log file).  The engine's reports are driven by hand, so nothing here
-depends on how long a run takes.  In a Jupyter kernel: tests/test_examples.py."""
+depends on how long a run takes.  In a Jupyter kernel: tests/package/test_examples.py."""
 
 from __future__ import annotations
 

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-PACKAGE = Path(__file__).resolve().parents[1] / "py" / "slipstep"
+PACKAGE = Path(__file__).resolve().parents[2] / "py" / "slipstep"
 
 
 def module_name(path: Path) -> str:
