@@ -10,7 +10,7 @@ through the XDMF exchange of slipstep.fenicsx, checked node for node here):
 - dolfinx 0.5: slipstep.fenicsx.bulk (Newton, consistent tangent, radial return) with the load
   in N equal steps, N in STEPS.
 
-Errors at the final pressure against Hill's closed form (slipstep.fenicsx.hill):
+Errors at the final pressure against Hill's closed form (slipstep.references):
   e_u   = mean radial displacement on r = b / Hill's u(b) - 1   (crosscheck.hill_differences)
   e_sig = ||sigma - sigma_Hill|| / ||sigma_Hill||, sigma = (sigma_r, sigma_theta),
           ||s||^2 = sum_e A_e |s(x_e)|^2 (L2, one-point rule at the centroids x_e: CST)
@@ -66,7 +66,9 @@ from pathlib import Path
 import numpy as np
 
 import slipstep
-from slipstep.fenicsx import hill, require_dolfinx
+from slipstep.derived import polar
+from slipstep.fenicsx import require_dolfinx
+from slipstep.references import thick_cylinder_stresses
 from slipstep.fenicsx.bulk import BulkProblem
 from slipstep.fenicsx.crosscheck import (bulk_differences, engine_result, hill_differences,
                                          hill_setup)
@@ -120,7 +122,7 @@ class HillNorms:
         d1, d2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
         self.area = 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
         xc = p.mean(axis=1)
-        hr, ht = hill.stresses(np.linalg.norm(xc, axis=1), h["p"], h["a"], h["b"], h["Sy"])
+        hr, ht = thick_cylinder_stresses(np.linalg.norm(xc, axis=1), h["p"], h["a"], h["b"], h["Sy"])
         self.hill = np.column_stack([hr, ht])
         self.scale = self.norm(self.hill)
 
@@ -128,7 +130,7 @@ class HillNorms:
         return float(np.sqrt(np.sum(self.area * np.sum(s ** 2, axis=1))))
 
     def polar_stress(self, u, stress) -> np.ndarray:
-        _, _, sr, st = hill.polar(self.scene.nodes, np.asarray(u), np.asarray(stress),
+        _, _, sr, st = polar(self.scene.nodes, np.asarray(u), np.asarray(stress),
                                   self.scene.triangles)
         return np.column_stack([sr, st])
 

@@ -1,5 +1,5 @@
-"""Independent physics checks on result arrays (not the engine's own residuals), and closed-form
-or independently computed references.  Nothing here calls the engine or slipstep.
+"""Independent physics checks on result arrays (not the engine's own residuals).  Nothing here
+calls the engine or slipstep.
 
 Equilibrium
     ``equilibrium_residual(model, snapshot)`` recomputes equilibrium of a snapshot from its
@@ -24,23 +24,12 @@ Balance
 Refinement
     ``observed_order`` of an error between two meshes, ``richardson`` extrapolation to h -> 0.
 
-Hertz line contact (Johnson, Contact Mechanics, §4.3): a = √(4PR/(πE*)), p0 = 2P/(πa); for an
-    elastic body on a rigid flat E* = E/(1−ν²) in plane strain and E* = E in plane stress.
+Energy
+    ``strain_energy`` of constant-stress triangles.
 
-Hertz sphere on a rigid flat (Johnson §4.2, §3.4): a = (3PR/(4E*))^(1/3), p0 = 3P/(2πa²),
-    δ = a²/R; Huber's stresses along the axis (eq. 3.45) and the compression of the axis below a
-    depth, which says where the approach of "distant points" is measured (``sphere_axis_*``).
-
-Thick-walled sphere under internal pressure (Hill, The Mathematical Theory of Plasticity,
-    ch. V; von Mises = Tresca under the spherical symmetry σθ = σφ): ``thick_sphere_*``.
-
-Cattaneo–Mindlin (Johnson §7.1–7.3): ``cattaneo_traction`` the shear of a line contact under
-    Q < μP, ``line_contact_dissipation`` the energy dissipated per cycle ±Q* (the planar analogue
-    of Mindlin–Deresiewicz, derived in the comment above it), ``strain_energy`` of CST elements.
-
-Spence's stick zone (frictional Hertz line contact, monotonic normal loading): see
-    ``goodman_stick_ratio`` (closed form, Goodman's approximation) and ``spence_stick_ratio``
-    (the exact coupled problem, solved numerically).
+The closed-form references the checks compare with (Hertz, Johnson, Huber, Lamé, Hill,
+Cattaneo–Mindlin, Mindlin–Deresiewicz, Spence, Kogut–Etsion, Jackson–Green) are the package's
+own, in one module with their sources: :mod:`slipstep.references`.
 """
 
 from __future__ import annotations
@@ -270,100 +259,7 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
     return np.sqrt(1.5 * (np.sum(dev ** 2, axis=1) + 2.0 * s[:, 3] ** 2))
 
 
-# --------------------------------------------------------------------------- thick cylinder
-def hill_pressure(c: float, a: float, b: float, k: float) -> float:
-    """Hill (ch. V): internal pressure at which the plastic zone of a thick cylinder (bore a,
-    outer radius b, shear yield stress k) reaches radius c: k [2 ln(c/a) + 1 − c²/b²]."""
-    return k * (2.0 * math.log(c / a) + 1.0 - c ** 2 / b ** 2)
-
-
-def hill_radius(p: float, a: float, b: float, k: float) -> float:
-    """Inverse of hill_pressure on [a, b] (increasing there: dp/dc = 2k (1/c − c/b²) > 0)."""
-    return _inverse(lambda c: hill_pressure(c, a, b, k), p, a, b)
-
-
-def _inverse(increasing, value: float, lo: float, hi: float) -> float:
-    """x in [lo, hi] with increasing(x) = value, by bisection (100 halvings: to round-off)."""
-    for _ in range(100):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if increasing(mid) < value else (lo, mid)
-    return 0.5 * (lo + hi)
-
-
-# --------------------------------------------------------------------------- thick sphere
-def thick_sphere_lame(rho, p: float, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
-    """Lamé's elastic sphere a <= ρ <= b under internal pressure p: (σ_R, σ_t) at the spherical
-    radius ρ, σ_R = −p (b³/ρ³ − 1)/(b³/a³ − 1), σ_t = σθ = σφ = p (b³/(2ρ³) + 1)/(b³/a³ − 1)."""
-    rho = np.asarray(rho, dtype=float)
-    k = b ** 3 / a ** 3 - 1.0
-    return -p * (b ** 3 / rho ** 3 - 1.0) / k, p * (0.5 * b ** 3 / rho ** 3 + 1.0) / k
-
-
-def thick_sphere_displacement(rho, p: float, a: float, b: float, E: float, nu: float) -> np.ndarray:
-    """Lamé's radial displacement: p a³/(E (b³ − a³)) [(1 − 2ν) ρ + (1 + ν) b³/(2ρ²)]."""
-    rho = np.asarray(rho, dtype=float)
-    return p * a ** 3 / (E * (b ** 3 - a ** 3)) * ((1 - 2 * nu) * rho + (1 + nu) * b ** 3 / (2 * rho ** 2))
-
-
-def thick_sphere_pressure(c: float, a: float, b: float, Y: float) -> float:
-    """Hill (ch. V): internal pressure at which the plastic zone of a thick sphere (von Mises =
-    Tresca here: σθ = σφ) reaches radius c: 2Y ln(c/a) + (2Y/3)(1 − c³/b³).  At c = a it is the
-    elastic limit p_e = (2Y/3)(1 − a³/b³), at c = b the limit 2Y ln(b/a)."""
-    return 2.0 * Y * math.log(c / a) + 2.0 * Y / 3.0 * (1.0 - c ** 3 / b ** 3)
-
-
-def thick_sphere_radius(p: float, a: float, b: float, Y: float) -> float:
-    """Inverse of thick_sphere_pressure on [a, b] (increasing: dp/dc = 2Y (1/c − c²/b³) > 0)."""
-    return _inverse(lambda c: thick_sphere_pressure(c, a, b, Y), p, a, b)
-
-
-# --------------------------------------------------------------------------- Hertz
-def hertz_line(P: float, R: float, E: float, nu: float, plane: str = "strain") -> tuple[float, float]:
-    """Contact half-width a and peak pressure p0 of an elastic cylinder (radius R, line load P
-    per unit thickness on the full cylinder) on a rigid flat."""
-    e_star = E / (1.0 - nu ** 2) if plane == "strain" else E
-    a = math.sqrt(4.0 * P * R / (math.pi * e_star))
-    return a, 2.0 * P / (math.pi * a)
-
-
-def hertz_sphere(P: float, R: float, E: float, nu: float) -> tuple[float, float, float]:
-    """Contact radius a, peak pressure p0 and approach δ of an elastic sphere (radius R, total
-    force P) on a rigid flat: a³ = 3PR/(4E*), p0 = 3P/(2πa²), δ = a²/R, E* = E/(1 − ν²)."""
-    e_star = E / (1.0 - nu ** 2)
-    a = (3.0 * P * R / (4.0 * e_star)) ** (1.0 / 3.0)
-    return a, 3.0 * P / (2.0 * math.pi * a ** 2), a ** 2 / R
-
-
-def sphere_axis_stresses(zeta, nu: float) -> tuple[np.ndarray, np.ndarray]:
-    """Huber's stresses on the axis below a Hertz sphere contact (Johnson eq. 3.45), over p0,
-    at depths ζ = z/a > 0: σr = σθ = −(1 + ν)(1 − ζ arctan(1/ζ)) + 1/(2(1 + ζ²)),
-    σz = −1/(1 + ζ²) (τrz = 0 on the axis)."""
-    zeta = np.asarray(zeta, dtype=float)
-    sigma_z = -1.0 / (1.0 + zeta ** 2)
-    return -(1.0 + nu) * (1.0 - zeta * np.arctan(1.0 / zeta)) - 0.5 * sigma_z, sigma_z
-
-
-def sphere_axis_compression(zeta, nu: float) -> np.ndarray:
-    """The shortening, over p0 a/E, of the axis of the half-space from depth ζ = z/a down to
-    infinity under the Hertz pressure: −∫_ζ^∞ (σz − 2ν σr) dζ'/p0 from
-    ``sphere_axis_stresses``, integrated in closed form,
-    (1 + ν) [arccot ζ − 2ν (π/4 − G(ζ))], G(ζ) = ζ/2 − (ζ²/2) arccot ζ + (1/2) arctan ζ.
-    At ζ = 0 it is the approach of distant points, (1 − ν²) π/2 = δ E/(p0 a)."""
-    zeta = np.asarray(zeta, dtype=float)
-    arccot = np.arctan2(1.0, zeta)
-    g = 0.5 * zeta - 0.5 * zeta ** 2 * arccot + 0.5 * np.arctan(zeta)
-    return (1.0 + nu) * (arccot - 2.0 * nu * (0.25 * math.pi - g))
-
-
-def dundurs_beta(nu: float, plane: str = "strain") -> float:
-    """Dundurs' β of an elastic body (ν) against a rigid one: (1 − 2ν)/(2(1 − ν)) in plane
-    strain; plane stress is plane strain with ν/(1 + ν), giving (1 − ν)/2."""
-    if plane == "stress":
-        nu = nu / (1.0 + nu)
-    return (1.0 - 2.0 * nu) / (2.0 * (1.0 - nu))
-
-
-# --------------------------------------------------------------------------- Cattaneo-Mindlin
+# --------------------------------------------------------------------------- energy
 def strain_energy(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray, E: float,
                   nu: float, thickness: float) -> float:
     """Elastic energy of constant-stress triangles of one isotropic material (plane strain or
@@ -377,161 +273,3 @@ def strain_energy(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray, 
     w = ((sx ** 2 + sy ** 2 + sz ** 2 - 2.0 * nu * (sx * sy + sy * sz + sz * sx)) / (2.0 * E)
          + txy ** 2 * (1.0 + nu) / E)
     return float(thickness * np.sum(area * w))
-
-
-def cattaneo_traction(x, a: float, c: float, p0: float, mu: float) -> np.ndarray:
-    """Cattaneo–Mindlin shear of a Hertz line contact (Johnson §7.1, the cylinder; half-width
-    a, peak pressure p0, stick zone |x| < c, c/a = √(1 − Q/(μP))):
-    q = μ p0 [√(1 − x²/a²) − (c/a) √(1 − x²/c²)] in the stick zone, μ p(x) in the slip zones,
-    0 outside the contact."""
-    x = np.asarray(x, dtype=float)
-    full = mu * p0 * np.sqrt(np.clip(1.0 - (x / a) ** 2, 0.0, None))
-    stick = mu * p0 * (c / a) * np.sqrt(np.clip(1.0 - (x / c) ** 2, 0.0, None))
-    return full - np.where(np.abs(x) < c, stick, 0.0)
-
-
-# The energy a Hertz line contact of two equal bodies (β = 0: shear and pressure uncoupled)
-# dissipates per cycle of tangential load ±Q*, the planar analogue of Mindlin–Deresiewicz
-# (Johnson §7.3 for the sphere), derived here.  One half-plane under a surface shear q has
-# ∂u_x/∂x = −(K/π) PV∫ q(s)/(x − s) ds, K = 2(1 − ν²)/E (Johnson eq. 2.25; plane strain); an
-# elliptical shear of total F over half-width b moves its centre by (K F/π)(ln(d/b) + C)
-# against a point at distance d ≫ b.  Cattaneo's q is such a shear μP over a minus one of
-# μP (c/a)² over c, and the stick zone moves rigidly, so the relative displacement of the two
-# bodies there (2K, two equal bodies) is linear in Q (the d and C terms: elastic) plus
-#     δ(Q) = (2K μP/(2π)) (1 − r) ln(1 − r),   r = Q/(μP),   ((c/a)² = 1 − r),
-# convex in Q.  Unloading follows Masing (Mindlin & Deresiewicz's superposition:
-# δ_unload(Q) = δ(Q*) − 2 δ((Q* − Q)/2)), so the loop's area is
-#     W = 4 ∫_0^{Q*} [δ(Q*) − δ(u) − δ(Q* − u)] du
-#       = (4 K (μP)²/π) [(1 − r*) ln(1 − r*) + r* − r*²/2],   r* = Q*/(μP),
-# linear terms cancelling; for small r* W ≈ 2 K Q*³/(3π μP), cubic as for the sphere.
-def line_contact_dissipation(P: float, Q_star: float, mu: float, E: float, nu: float) -> float:
-    """W per cycle ±Q* (per unit thickness) of a line contact of two equal elastic bodies
-    pressed by P (plane strain), from the derivation above."""
-    K, F = 2.0 * (1.0 - nu ** 2) / E, mu * P
-    r = Q_star / F
-    return 4.0 * K * F ** 2 / math.pi * ((1.0 - r) * math.log1p(-r) + r - 0.5 * r * r)
-
-
-# --------------------------------------------------------------------------- Spence
-#
-# The problem (2D, half-plane theory, Johnson's Contact Mechanics ch. 2 and 5): an elastic
-# half-plane (compliance A = 2(1−ν²)/E per unit load, Dundurs' β) indented by a rigid profile,
-# contact |x| < a, pressure p, shear q.  Surface displacements (z into the body):
-#     u_z(x) = −(A/π) ∫ p(s) ln|x − s| ds + (βA/2) ∫ q(s) sgn(x − s) ds
-#     u_x(x) = −(A/π) ∫ q(s) ln|x − s| ds − (βA/2) ∫ p(s) sgn(x − s) ds
-# (the sgn terms: a normal line load pulls surface points towards it, Johnson ch. 2, line
-# loading of a half-space; the sign of the other is fixed by reciprocity).  Under monotonic loading of a Hertz
-# profile the solution is self-similar (Spence 1968, Proc. R. Soc. A 305, 55-80; 1975,
-# J. Elasticity 5, 297-319): the stick zone |x| < c grows with a at a fixed ratio c/a, and the
-# rates ṗ = ∂p/∂a, q̇ = ∂q/∂a at fixed x solve a flat-punch problem (∂/∂a of the profile term
-# x/R vanishes): u̇_z = const on |x| < a, u̇_x = 0 in the stick zone, q̇ = μ ṗ sgn(x) in the slip
-# zones c < |x| < a (friction on the body points outwards: the body's surface moves inwards).
-# c/a is the one for which q̇ stays bounded at ±c; it depends on μ and β only.
-#
-# Goodman's approximation drops β q from u_z (ṗ is then the flat-punch 1/√(a²−x²)); with
-# q̇ = μ sgn(x) ṗ + q*, q* supported on the stick zone, the stick condition is a finite Hilbert
-# transform equation for q* on (−c, c) whose solution is bounded at both ends only if its
-# right-hand side g has ∫ g/√(c²−x²) dx = 0 (a = 1, k = √(1−x²)):
-#     g = −β/k + (μ/(πk)) ln((1−k)/(1+k)),   ∫_0^c dx/(k√(c²−x²)) = K(c),
-#     ∫_0^c ln((1+k)/(1−k)) dx/(k√(c²−x²)) = π K'(c)   (checked numerically to 1e-10),
-# so that
-#     β/μ = K'(c/a) / K(c/a)          (K complete elliptic integral of the 1st kind, modulus c/a).
-# Its limits: c/a → 0 as μ/β → 0, c/a ≈ 4 exp(−πβ/(2μ)); c/a → 1 only as μ/β → ∞,
-# √(1 − (c/a)²) ≈ 4 exp(−πμ/(2β)); self-dual: c(β/μ)² + c(μ/β)² = 1, c = 1/√2 at μ = β.
-# The exact (coupled) problem is a vector Riemann-Hilbert problem without an elementary closed
-# form; ``spence_stick_ratio`` solves it by collocation (piecewise-constant tractions, the
-# kernels above integrated exactly over each panel, the stick zone found by bisection on its
-# number of panels), and with ``coupled=False`` reproduces the closed form (a check of the
-# solver, tests/physics/test_spence.py).
-
-
-def _elliptic_ratio(k: float) -> float:
-    """K'(k)/K(k) for the modulus k in (0, 1), accurate near both ends."""
-    from scipy.special import ellipkm1
-
-    kp2 = (1.0 - k) * (1.0 + k)                  # k'² without cancellation
-    return float(ellipkm1(k * k) / ellipkm1(kp2))  # K(m = 1 − k²) / K(m = k²)
-
-
-def goodman_stick_ratio(beta_over_mu: float) -> float:
-    """c/a from β/μ = K'(c/a)/K(c/a) (Goodman's approximation), by bisection (brentq)."""
-    from scipy.optimize import brentq
-
-    if beta_over_mu <= 0:
-        return 1.0
-    return float(brentq(lambda k: _elliptic_ratio(k) - beta_over_mu, 1e-300, 1.0 - 1e-16,
-                        xtol=1e-15, rtol=1e-14))
-
-
-def _panel_log(x, s1, s2):
-    """−(1/π) ∫_{s1}^{s2} ln|x − s| ds."""
-    def F(t):
-        at = np.abs(t)
-        return np.where(at > 0, t * np.log(np.where(at > 0, at, 1.0)) - t, 0.0)
-    return -(F(x - s1) - F(x - s2)) / math.pi
-
-
-def _panel_sign(x, s1, s2):
-    """(1/2) ∫_{s1}^{s2} sgn(x − s) ds."""
-    return 0.5 * (np.abs(x - s1) - np.abs(x - s2))
-
-
-def spence_stick_ratio(mu: float, beta: float, panels: int = 1000, coupled: bool = True) -> float:
-    """c/a of the self-similar frictional Hertz line contact (the flat-punch rate problem
-    above), by collocation with ``panels`` equal panels on 0 < x < a = 1 (p even, q odd).
-    The stick zone is located to one panel: the result is the panel edge between the last stick
-    and the first slip panel (resolution 1/panels of a)."""
-    e = np.linspace(0.0, 1.0, panels + 1)
-    x = 0.5 * (e[1:] + e[:-1])[:, None]
-    s1, s2 = e[None, :-1], e[None, 1:]
-    length = np.diff(e)
-    log_p = _panel_log(x, s1, s2) + _panel_log(x, -s2, -s1)   # even density on both halves
-    log_q = _panel_log(x, s1, s2) - _panel_log(x, -s2, -s1)   # odd density
-    sgn_p = _panel_sign(x, s1, s2) + _panel_sign(x, -s2, -s1)
-    sgn_q = _panel_sign(x, s1, s2) - _panel_sign(x, -s2, -s1)
-    uz_p, uz_q = log_p, (beta * sgn_q if coupled else 0.0 * sgn_q)
-    ux_p, ux_q = -beta * sgn_p, log_q
-    n = panels
-
-    def solve(k):
-        """Tractions with the first k panels sticking, the others slipping (q = μ p: friction
-        on the body outwards); returns (a stick panel beyond the cone outwards, a slip panel
-        slipping against its friction, every stick panel inside the cone)."""
-        stick = np.arange(n) < k
-        M = np.zeros((2 * n + 1, 2 * n + 1))
-        rhs = np.zeros(2 * n + 1)
-        M[:n, :n], M[:n, n:2 * n], M[:n, 2 * n] = uz_p, uz_q, -1.0   # u_z = rigid approach
-        M[n:2 * n, :n] = np.where(stick[:, None], ux_p, 0.0)         # stick: u_x = 0
-        M[n:2 * n, n:2 * n] = np.where(stick[:, None], ux_q, 0.0)
-        slip = np.flatnonzero(~stick)                                # slip: q = μ p
-        M[n + slip, n + slip] = 1.0
-        M[n + slip, slip] = -mu
-        M[2 * n, :n] = 2.0 * length                                  # total load 1
-        rhs[2 * n] = 1.0
-        sol = np.linalg.solve(M, rhs)
-        p, q = sol[:n], sol[n:2 * n]
-        ux = ux_p @ p + ux_q @ q
-        over = bool(np.any(q[stick] > mu * p[stick]))
-        inside = bool(np.all(np.abs(q[stick]) <= mu * p[stick]))
-        return over, bool(np.any(ux[~stick] > 0)), inside
-
-    # Bisection on the number k of stick panels: too many and q̇ exceeds the cone outwards at
-    # the stick edge (the square-root singularity of an oversized stick zone), too few and q̇
-    # turns inwards there while the slip next to it runs against its friction.
-    lo, hi = 0, n          # invariant: k <= lo is too small (or 0), k >= hi too large (or n)
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        over, against, _ = solve(mid)
-        if over and against:
-            raise RuntimeError(f"spence_stick_ratio: no consistent stick zone near {mid}/{n}")
-        if over:
-            hi = mid
-        elif against:
-            lo = mid
-        else:
-            lo = hi = mid
-    k = lo
-    over, against, inside = solve(k)
-    if over or against:
-        raise RuntimeError("spence_stick_ratio: the stick/slip set is not consistent")
-    return float(e[k])

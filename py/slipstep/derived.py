@@ -29,6 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from .model import contactor_edge, polyline_closest
+from .references import JOHNSON_LINE_YIELD, sphere_axis_yield
 
 #: Event kinds whose entity is an element (the others are contact pairs).
 ELEMENT_EVENTS = ("yield", "unload", "frozen_element")
@@ -92,6 +93,20 @@ def centroids(nodes: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     return np.asarray(nodes)[np.asarray(triangles)].mean(axis=1)
 
 
+def polar(nodes: np.ndarray, u: np.ndarray, stress: np.ndarray, triangles: np.ndarray):
+    """Radial displacement at the nodes, and (r, sigma_r, sigma_theta) at element centroids,
+    from Cartesian results centred at the origin."""
+    r_n = np.linalg.norm(nodes, axis=1)
+    ur = np.einsum("ij,ij->i", u, nodes) / np.where(r_n > 0, r_n, 1.0)
+    xc = centroids(nodes, triangles)
+    rc = np.linalg.norm(xc, axis=1)
+    c, s = xc[:, 0] / rc, xc[:, 1] / rc
+    sx, sy, txy = stress[:, 0], stress[:, 1], stress[:, 3]
+    sr = c * c * sx + s * s * sy + 2 * c * s * txy
+    st = s * s * sx + c * c * sy - 2 * c * s * txy
+    return ur, rc, sr, st
+
+
 def is_elastoplastic(scene) -> bool:
     """True when some material has a yield stress (the run can have plasticity events)."""
     return any(m.get("Sy") is not None for m in scene.model["materials"])
@@ -152,8 +167,9 @@ def first_yield(scene, result) -> dict:
 def johnson_first_yield(scene) -> float | None:
     """The load fraction of first yield (von Mises) of a frictionless Hertz contact: a line
     contact yields below the surface when p0 = 1.79 Sy (Johnson, Contact Mechanics §4.3/§6.2,
-    nu = 0.3), p0 growing as sqrt(f); a sphere when p0 = Sy / m (:func:`sphere_axis_yield`,
-    m = 0.62 at nu = 0.3), p0 growing as f^(1/3).  So f = (p0 at yield / p0_hertz)^(1/exponent)
+    nu = 0.3), p0 growing as sqrt(f); a sphere when p0 = Sy / m
+    (:func:`slipstep.references.sphere_axis_yield`, m = 0.62 at nu = 0.3), p0 growing as
+    f^(1/3).  So f = (p0 at yield / p0_hertz)^(1/exponent)
     with p0_hertz at full load.  None if the body is elastic."""
     ref = scene.reference
     if not ref:
@@ -164,22 +180,7 @@ def johnson_first_yield(scene) -> float | None:
         return None
     if ref.get("contact") == "sphere":
         return (sy / sphere_axis_yield(material["nu"])[0] / ref["p0_hertz"]) ** 3
-    return (1.79 * sy / ref["p0_hertz"]) ** 2
-
-
-def sphere_axis_yield(nu: float) -> tuple[float, float]:
-    """(m, z/a): the largest (sigma_r - sigma_z)/p0 along the axis below a Hertz sphere contact
-    and its depth.  On the axis sigma_r = sigma_theta and tau_rz = 0, so the von Mises stress is
-    |sigma_z - sigma_r| (Huber; Johnson eq. 3.45): with zeta = z/a,
-    sigma_r/p0 = -(1 + nu)(1 - zeta arctan(1/zeta)) + 1/(2(1 + zeta^2)),
-    sigma_z/p0 = -1/(1 + zeta^2).  First yield at p0 = Sy/m.  Maximised on a grid of step
-    1e-4 a over (0, 2a] (the maximum, 0.62 at 0.48a for nu = 0.3, is smooth: the grid costs
-    ~1e-8 relative)."""
-    zeta = np.linspace(0.0, 2.0, 20001)[1:]
-    sigma_r = -(1.0 + nu) * (1.0 - zeta * np.arctan(1.0 / zeta)) + 0.5 / (1.0 + zeta ** 2)
-    difference = sigma_r + 1.0 / (1.0 + zeta ** 2)
-    k = int(np.argmax(difference))
-    return float(difference[k]), float(zeta[k])
+    return (JOHNSON_LINE_YIELD * sy / ref["p0_hertz"]) ** 2
 
 
 def final_load_fraction(result) -> float:

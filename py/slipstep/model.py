@@ -23,6 +23,7 @@ from . import mortar
 from .case import (RIGID_KINDS, Case, CaseError, Load, LoadPath, block_divisions,
                    case_loads, element_key)
 from .errors import InputError
+from .references import effective_modulus, hertz_line, hertz_sphere
 
 
 @dataclass
@@ -1024,17 +1025,11 @@ def solver_options(case: Case) -> dict:
 
 # --------------------------------------------------------------------------- reference
 def hertz_reference(scene: Scene) -> dict:
-    """Hertz contact on a rigid flat (Johnson 1985, Contact Mechanics §4.2-4.3; §5.1 of the
-    paper), for a case with ``[load] P`` and a rigid_line contact on that body:
-
-    * a cylinder (plane strain or stress; line load P): a = sqrt(4 P R / (pi E*)),
-      p0 = 2 P / (pi a), E* = E / (1 - nu^2) in plane strain (E in plane stress); a and p0
-      grow as P^(1/2) (``load_exponent``);
-    * a sphere (axisymmetric; total force P): a = (3 P R / (4 E*))^(1/3), p0 = 3 P / (2 pi a^2),
-      approach delta = a^2 / R, E* = E / (1 - nu^2); a and p0 grow as P^(1/3), delta as
-      P^(2/3).
-
-    ``contact`` says which ("line" or "sphere")."""
+    """Hertz contact on a rigid flat (§5.1 of the paper) for a case with ``[load] P`` and a
+    rigid_line contact on that body: a cylinder in plane strain or stress
+    (:func:`slipstep.references.hertz_line`; a and p0 grow as P^(1/2), ``load_exponent``), a
+    sphere in axisymmetry (:func:`slipstep.references.hertz_sphere`; a and p0 as P^(1/3), the
+    approach delta as P^(2/3)).  ``contact`` says which ("line" or "sphere")."""
     data = scene.case.data
     load = data["load"]
     if load is None:
@@ -1045,13 +1040,11 @@ def hertz_reference(scene: Scene) -> dict:
     E, nu = body["material"]["E"], body["material"]["nu"]
     P, R = load["P"], body["mesh"]["R"]
     plane = data["analysis"]["plane"]
+    E_star = effective_modulus(E, nu, plane)
     if plane == "axisymmetric":
-        E_star = E / (1.0 - nu ** 2)
-        a = (3.0 * P * R / (4.0 * E_star)) ** (1.0 / 3.0)
-        return {"contact": "sphere", "a_hertz": a, "p0_hertz": 3.0 * P / (2.0 * math.pi * a ** 2),
-                "delta_hertz": a ** 2 / R, "P": P, "R": R, "E_star": E_star,
-                "load_exponent": 1.0 / 3.0}
-    E_star = E / (1.0 - nu ** 2) if plane == "strain" else E
-    a = math.sqrt(4.0 * P * R / (math.pi * E_star))
-    return {"contact": "line", "a_hertz": a, "p0_hertz": 2.0 * P / (math.pi * a), "P": P,
-            "R": R, "E_star": E_star, "load_exponent": 0.5}
+        a, p0, delta = hertz_sphere(P, R, E, nu)
+        return {"contact": "sphere", "a_hertz": a, "p0_hertz": p0, "delta_hertz": delta, "P": P,
+                "R": R, "E_star": E_star, "load_exponent": 1.0 / 3.0}
+    a, p0 = hertz_line(P, R, E, nu, plane)
+    return {"contact": "line", "a_hertz": a, "p0_hertz": p0, "P": P, "R": R, "E_star": E_star,
+            "load_exponent": 0.5}

@@ -26,7 +26,6 @@ start afresh.  ``--quick`` uses coarse meshes (for the tests).
 from __future__ import annotations
 
 import json
-import math
 import sys
 import time
 from dataclasses import dataclass
@@ -37,19 +36,20 @@ import numpy as np
 from . import reproduce_axisymmetric, shipped, sweep
 from .derived import centroids, contact_half_width, stick_half_width, von_mises
 from .output import json_safe
+from .references import (JOHNSON_LINE_YIELD, JOHNSON_LINE_YIELD_DEPTH, effective_modulus,
+                         flat_punch_pressure, hertz_line, hertz_pressure)
 
 # --------------------------------------------------------------------------- constants
 SY, H_PLASTIC = 200.0, 700.0           # Al-5%Mg yield stress (paper) and our hardening modulus
 PLASTIC = [f"material.Sy={SY:g}", f"material.H={H_PLASTIC:g}"]
 MUS = (0.0, 0.1, 0.35)
 R, E, NU, P = 125.0, 70000.0, 0.3, 1000.0
-E_STAR = E / (1.0 - NU ** 2)
-A_HERTZ = math.sqrt(4.0 * P * R / (math.pi * E_STAR))          # 1.4384 mm
-P0_HERTZ = 2.0 * P / (math.pi * A_HERTZ)                        # 442.6 MPa
-P0_JOHNSON = 1.79 * SY                                          # 358 MPa (von Mises, nu = 0.3)
+E_STAR = effective_modulus(E, NU)
+A_HERTZ, P0_HERTZ = hertz_line(P, R, E, NU)                     # 1.4384 mm, 442.6 MPa
+P0_JOHNSON = JOHNSON_LINE_YIELD * SY                            # 358 MPa (von Mises, nu = 0.3)
 A_JOHNSON = 2.0 * R * P0_JOHNSON / E_STAR                       # Hertz a at p0 = 358: 1.164 mm
 F_JOHNSON = (P0_JOHNSON / P0_HERTZ) ** 2                        # 0.654
-DEPTH_JOHNSON = 0.70                                            # z / a of first yield
+DEPTH_JOHNSON = JOHNSON_LINE_YIELD_DEPTH                        # z / a of first yield
 PAPER_TABLE1 = {  # analytical (paper), FEM (paper), error % (paper)
     "elastic_a": (1.438, 1.43, 0.58), "elastic_p0": (442.6, 451.0, 1.86),
     "yield_a": (1.036, 1.08, 4.04), "yield_p0": (358.0, 323.9, 9.5)}
@@ -206,10 +206,6 @@ def _plt():
     return Plots()
 
 
-def _hertz(xs, a, p0):
-    return p0 * np.sqrt(np.clip(1.0 - (xs / a) ** 2, 0.0, None))
-
-
 def fig_table1(path: Path, el: Run, yl: Run, t1: dict) -> Path:
     """Table 1 as a figure: the two pressure profiles against Hertz, and the table."""
     plt = _plt()
@@ -224,7 +220,7 @@ def fig_table1(path: Path, el: Run, yl: Run, t1: dict) -> Path:
         m = x <= 2.0 * a_ref
         ax.plot(x[m], p[m], "o-", ms=3, lw=1, label="slipstep (nodal λn / L)")
         xs = np.linspace(0, a_ref, 300)
-        ax.plot(xs, _hertz(xs, a_ref, p_ref), "k--", lw=1,
+        ax.plot(xs, hertz_pressure(xs, a_ref, p_ref), "k--", lw=1,
                 label=f"Hertz: a = {a_ref:.4g} mm, p0 = {p_ref:.4g} MPa")
         if col == 1:
             ax.axvline(PAPER_TABLE1["yield_a"][0], color="tab:red", ls=":", lw=1,
@@ -324,7 +320,7 @@ def fig_interface(path: Path, elastic: dict, plastic: dict, key: str, ylabel: st
                         label=f"{'' if sign > 0 else '−'}μ p, {label} (Coulomb limit)")
         xs = np.linspace(0, A_HERTZ, 300)
         if key == "pressure":
-            ax.plot(xs, _hertz(xs, A_HERTZ, P0_HERTZ), "k:", lw=1, label="Hertz (elastic, μ = 0)")
+            ax.plot(xs, hertz_pressure(xs, A_HERTZ, P0_HERTZ), "k:", lw=1, label="Hertz (elastic, μ = 0)")
         ax.axhline(0, color="0.5", lw=0.5)
         ax.set_title(f"μ = {mu:g}", fontsize=10)
         ax.set_xlabel("x (mm)")
@@ -389,7 +385,7 @@ def fig12_13(paths: tuple[Path, Path], run: Run, q: float) -> tuple[Path, Path]:
     x = run.x
     b = BLOCK_B
     xs = np.linspace(0, b * 0.999, 400)
-    rigid = 2.0 * b * q / (np.pi * np.sqrt(b ** 2 - xs ** 2))
+    rigid = flat_punch_pressure(xs, b, 2.0 * b * q)
     fig, ax = plt.subplots(figsize=(7.5, 5), constrained_layout=True)
     st = run.status()
     ax.plot(x, run.profile("pressure"), "o-", ms=3, label="contact pressure")

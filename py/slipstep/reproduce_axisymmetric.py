@@ -13,7 +13,7 @@ Scenes (run by the sweep runner into ``DIR/axisymmetric/axi_*``, resumed like th
   load stop against 2Y ln(b/a);
 * the elastic-perfectly plastic sphere on a rigid flat, ``cases/sphere_on_flat_plastic.toml``,
   to 50 omega_c on two or three meshes: force and contact area against interference with the
-  fits of Kogut & Etsion (2002) and Jackson & Green (2005) (:mod:`slipstep.sphere_flat`).
+  fits of Kogut & Etsion (2002) and Jackson & Green (2005) (:mod:`slipstep.references`).
 
 Figures are drawn on :class:`matplotlib.figure.Figure` objects (no pyplot).
 """
@@ -28,8 +28,9 @@ import numpy as np
 
 from . import shipped, sweep
 from .derived import centroids
-from .sphere_flat import (jackson_green, jackson_green_critical, kogut_etsion,
-                          kogut_etsion_critical)
+from .references import (jackson_green, jackson_green_critical, kogut_etsion,
+                          kogut_etsion_critical, thick_sphere_lame, thick_sphere_pressure,
+                          thick_sphere_radius)
 
 HERTZ, THICK, SPHERE_FLAT = "hertz_sphere.toml", "thick_sphere.toml", "sphere_on_flat_plastic.toml"
 SY_FIRST_YIELD = 130.0          # MPa: the Hertz sphere yields at f = 0.67 of P = 30 N
@@ -118,26 +119,6 @@ def tasks(m: Meshes) -> list[dict]:
     return out
 
 
-# --------------------------------------------------------------------------- closed forms
-def lame_sphere(rho, p: float, a: float, b: float):
-    """(sigma_R, sigma_t) of a thick sphere under internal pressure p (Lame)."""
-    k = p / (b ** 3 / a ** 3 - 1.0)
-    ratio = b ** 3 / np.asarray(rho, dtype=float) ** 3
-    return -k * (ratio - 1.0), k * (0.5 * ratio + 1.0)
-
-
-def hill_sphere_pressure(c, a: float, b: float, Y: float):
-    """Pressure at which the plastic zone of a thick sphere reaches radius c (Hill)."""
-    c = np.asarray(c, dtype=float)
-    return 2.0 * Y * np.log(c / a) + 2.0 * Y / 3.0 * (1.0 - c ** 3 / b ** 3)
-
-
-def hill_sphere_radius(p, a: float, b: float, Y: float):
-    """c(p), the inverse of :func:`hill_sphere_pressure` (increasing in c), on a fine grid."""
-    grid = np.linspace(a, b, 20001)
-    return np.interp(p, hill_sphere_pressure(grid, a, b, Y), grid)
-
-
 # --------------------------------------------------------------------------- the numbers
 def _run(folder: Path, cid: str) -> tuple[dict, dict]:
     return sweep.load_summary(folder, cid), sweep.load_arrays(folder, cid)
@@ -183,7 +164,7 @@ def thick_numbers(folder: Path) -> dict:
     c, sn = (centre / rho[:, None]).T
     sr, sz, st, trz = d["stress"].T
     radial = sr * c ** 2 + sz * sn ** 2 + 2 * trz * c * sn
-    lame_r, lame_t = lame_sphere(rho, P_LAME, a, b)
+    lame_r, lame_t = thick_sphere_lame(rho, P_LAME, a, b)
     out = {"a": a, "b": b, "Y": ts.Y, "n_nodes": s["n_nodes"], "lame_rho": rho,
            "lame_radial": radial, "lame_hoop": st,
            "lame_radial_rms": float(np.sqrt(np.mean(((radial - lame_r) / P_LAME) ** 2))),
@@ -208,11 +189,11 @@ def _plastic_front(folder: Path, ts: ThickSphere) -> dict:
     p = f[order] * ts.p
     c = (ts.a ** 3 + 1.5 * np.cumsum(volume[element[order]]) / math.pi) ** (1.0 / 3.0)
     beyond = p >= 1.05 * ts.p_e
-    c_hill = hill_sphere_radius(p, ts.a, ts.b, ts.Y)
+    c_hill = thick_sphere_radius(p, ts.a, ts.b, ts.Y)
     return {"p_first_yield": float(p[0]), "p_e": ts.p_e, "p_first_yield_err": p[0] / ts.p_e - 1,
             "front_p": p, "front_c": c, "c_max_err": float(np.abs(c - c_hill)[beyond].max()),
             "c_final": float(c[-1]),
-            "c_hill_final": float(hill_sphere_radius(ts.p, ts.a, ts.b, ts.Y)),
+            "c_hill_final": float(thick_sphere_radius(ts.p, ts.a, ts.b, ts.Y)),
             "only_yield_events": bool(set(np.unique(d["events_kind"])) <= {"yield"}),
             "n_events": s["n_events"]}
 
@@ -299,7 +280,7 @@ def fig_thick(path: Path, t: dict) -> Path:
     fig = Figure(figsize=(12, 4.6), layout="constrained")
     ax1, ax2 = fig.subplots(1, 2)
     rho = np.linspace(a, b, 200)
-    sr, st = lame_sphere(rho, P_LAME, a, b)
+    sr, st = thick_sphere_lame(rho, P_LAME, a, b)
     ax1.plot(t["lame_rho"], t["lame_radial"], ".", ms=2, color="tab:blue", label="σ_R, elements")
     ax1.plot(t["lame_rho"], t["lame_hoop"], ".", ms=2, color="tab:orange",
              label="σ_θ (hoop), elements")
@@ -311,7 +292,7 @@ def fig_thick(path: Path, t: dict) -> Path:
     ax1.legend(fontsize=8)
     ax1.grid(alpha=0.3)
     cs = np.linspace(a, b, 400)
-    ax2.plot(hill_sphere_pressure(cs, a, b, Y), cs, "k-", lw=1,
+    ax2.plot(thick_sphere_pressure(cs, a, b, Y), cs, "k-", lw=1,
              label="Hill: p = 2Y ln(c/a) + (2Y/3)(1 − c³/b³)")
     ax2.step(t["front_p"], t["front_c"], where="post", color="tab:red",
              label="slipstep: plastic shell's ring volume, per yield event")

@@ -34,6 +34,7 @@ import numpy as np
 from . import runner, shipped
 from .case import load_case
 from .derived import centroids
+from .references import thick_cylinder_radius
 from .mesh import _finish
 from .summary import contact_text, summarize
 
@@ -136,8 +137,7 @@ def _outer_ur(scene, u, b):
 
 
 def _hill(p, a, b, Sy):
-    from .fenicsx import hill  # numpy only
-    return hill.plastic_radius(p, a, b, Sy)
+    return thick_cylinder_radius(p, a, b, Sy / math.sqrt(3.0))
 
 
 # --------------------------------------------------------------------------- scenarios

@@ -15,8 +15,9 @@ import numpy as np
 from .derived import (closed_extent, contact_axis, contact_profile, crossing_times,
                       event_times, final_load_fraction, final_time, first_yield, is_elastoplastic,
                       johnson_first_yield, load_factor, pair_coordinate, reached_last_candidate,
-                      reactions, snapshot_time, sphere_axis_yield, stage_ends, stage_names,
+                      reactions, snapshot_time, stage_ends, stage_names,
                       stick_extent, von_mises)
+from .references import sphere_axis_yield
 from .model import AXIS_TOLERANCE, contact_bodies, is_axisymmetric
 
 

@@ -13,12 +13,12 @@ Scenes (plane strain, E = 70 GPa, nu = 0.3 unless stated):
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
-from physics import EQUILIBRIUM_TOL, hertz_line, internal_force, worst_equilibrium
+from physics import EQUILIBRIUM_TOL, internal_force, worst_equilibrium
+from slipstep.references import hertz_line
 
 from slipstep import build_scene, parse_case, prepare, solve
 from slipstep.mesh import Mesh

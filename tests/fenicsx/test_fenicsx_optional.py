@@ -22,7 +22,7 @@ SCRIPT = BLOCK_DOLFINX + """
 import numpy as np
 import slipstep
 from slipstep import build_scene, parse_case
-from slipstep.fenicsx import exchange, plasticity, hill, DolfinxMissing
+from slipstep.fenicsx import exchange, plasticity, radial, DolfinxMissing
 assert "dolfinx" not in sys.modules
 scene = build_scene(parse_case('''
 [[body]]

@@ -35,7 +35,8 @@ import re
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
-from physics import EQUILIBRIUM_TOL, hill_radius, worst_equilibrium
+from physics import EQUILIBRIUM_TOL, worst_equilibrium
+from slipstep.references import thick_cylinder_radius
 
 from slipstep import build_scene, parse_case, prepare, solve
 
@@ -47,7 +48,7 @@ K = SY / math.sqrt(3.0)
 H_BORE = 0.25  # the case's element size at the bore
 
 
-C = hill_radius(P, A_IN, B_OUT, K)
+C = thick_cylinder_radius(P, A_IN, B_OUT, K)
 LAME_A = P * A_IN ** 2 / (B_OUT ** 2 - A_IN ** 2)
 LAME_B = P * A_IN ** 2 * B_OUT ** 2 / (B_OUT ** 2 - A_IN ** 2)
 

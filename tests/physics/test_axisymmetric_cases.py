@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh, write_case
 import physics
+from slipstep import references
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 from slipstep import cli, prepare, solve
@@ -42,7 +43,7 @@ def test_hertz_sphere_case_reports_the_hertz_sphere(tmp_path):
     s = json.loads((tmp_path / "summary.json").read_text())
     data = load_case(CASES / "hertz_sphere.toml").data
     body = data["body"][0]
-    a, p0, delta = physics.hertz_sphere(data["load"]["P"], body["mesh"]["R"],
+    a, p0, delta = references.hertz_sphere(data["load"]["P"], body["mesh"]["R"],
                                         body["material"]["E"], body["material"]["nu"])
     h = s["hertz"]
     assert h["contact"] == "sphere"
@@ -67,7 +68,7 @@ def test_thick_sphere_case_reports_first_yield_and_the_plastic_zone(tmp_path):
                      "--quiet", "--set", "output.xdmf=false"]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())
     a, b, Y, p = 10.0, 20.0, 250.0, 280.0
-    p_e = physics.thick_sphere_pressure(a, a, b, Y)
+    p_e = references.thick_sphere_pressure(a, a, b, Y)
     # first yield within the centroid-sampling tolerance of test_thick_sphere.py (< 3 %)
     assert s["first_yield_load_fraction"] * p / p_e == pytest.approx(1.0, abs=0.03)
     assert s["stop"]["kind"] == "completed" and s["n_plastic_elements"] > 0
@@ -211,7 +212,7 @@ def test_rigid_sphere_indenting_a_cylinder_follows_hertz(tmp_path):
     p0, ref = {}, {}
     for h in (0.1, 0.05):
         scene, result, s, P, p0[h] = rigid_sphere_run(tmp_path, h, 0.0)
-        a_hertz, ref[h], _ = physics.hertz_sphere(P, 50.0, 70000.0, 0.3)
+        a_hertz, ref[h], _ = references.hertz_sphere(P, 50.0, 70000.0, 0.3)
     errors = [p0[h] / ref[h] - 1.0 for h in (0.1, 0.05)]
     assert abs(errors[1]) < abs(errors[0]) and physics.observed_order(*errors) >= 0.7, errors
     extrapolated = physics.richardson(p0[0.1] / ref[0.1], p0[0.05] / ref[0.05], order=1.0)
@@ -229,7 +230,7 @@ def test_rigid_sphere_with_friction_stays_near_hertz(tmp_path):
     contact radius within one element h = 0.05 of Hertz's (measured -0.011; E off by 20 %
     moves Hertz's a at the measured force by 6 %, 0.08), and a stick zone around the axis."""
     scene, result, s, P, _ = rigid_sphere_run(tmp_path, 0.05, 0.3)
-    a_hertz, _, _ = physics.hertz_sphere(P, 50.0, 70000.0, 0.3)
+    a_hertz, _, _ = references.hertz_sphere(P, 50.0, 70000.0, 0.3)
     last = result["snapshots"][-1]
     lam_n, lam_t = np.asarray(last["lambda_n"]), np.asarray(last["lambda_t"])
     assert np.all(np.abs(lam_t) <= 0.3 * lam_n * (1 + 1e-9) + 1e-12)

@@ -15,7 +15,7 @@ contact compared with a, in a half-space.  The sphere's loaded cut is not such a
 displacement adds the compression of the whole sphere), so the approach is measured on the
 axis, where the half-space field is known in closed form: the shortening of the axis from the
 contact point down to a depth z (from the run's axis nodes) plus the half-space's shortening
-below z (``physics.sphere_axis_compression``, Huber's axial strain integrated from z to
+below z (``references.sphere_axis_compression``, Huber's axial strain integrated from z to
 infinity) must be delta, for any a << z << R.  It is checked at z = 2a, 5a and 10a.
 
 Mesh: the case's (h = 0.012 mm in the contact zone, a/h = 20).  Tolerances follow from h/a:
@@ -27,13 +27,13 @@ whole mesh scaled by 4, 2, 1, 1/2: h, growth and h_max together) gives the order
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
 from scipy.optimize import minimize_scalar
 import physics
+from slipstep import references
 
 from slipstep import prepare, solve
 from slipstep.case import load_case
@@ -45,7 +45,7 @@ _body = _data["body"][0]
 R, H = _body["mesh"]["R"], _body["mesh"]["h_contact"]
 E, NU = _body["material"]["E"], _body["material"]["nu"]
 P = _data["load"]["P"]
-A, P0, DELTA = physics.hertz_sphere(P, R, E, NU)
+A, P0, DELTA = references.hertz_sphere(P, R, E, NU)
 DEPTHS = (2.0, 5.0, 10.0)  # z/a where the approach is measured
 
 
@@ -58,7 +58,7 @@ def measured_approach(scene, snap, depth: float) -> float:
     z, uz = scene.nodes[axis, 1], u[axis, 1]
     assert z[0] == 0.0 and z[-1] > depth * A
     shortening = uz[0] - np.interp(depth * A, z, uz)
-    return shortening + physics.sphere_axis_compression(depth, NU) * P0 * A / E
+    return shortening + references.sphere_axis_compression(depth, NU) * P0 * A / E
 
 
 def errors(scene, result) -> dict:
@@ -91,14 +91,14 @@ def test_closed_forms():
     assert (A, P0, DELTA) == pytest.approx((0.24455, 239.51, 1.1961e-3), rel=1e-4)
     # Huber's axial shortening from the surface to infinity is the approach (Hertz's delta is
     # pi a p0/(2 E*)); and it is the integral of his axial strain (quadrature, 1e-9).
-    assert physics.sphere_axis_compression(0.0, NU) * P0 * A / E == pytest.approx(DELTA, rel=1e-12)
+    assert references.sphere_axis_compression(0.0, NU) * P0 * A / E == pytest.approx(DELTA, rel=1e-12)
     from scipy.integrate import quad
 
     def strain(zeta):
-        sr, sz = physics.sphere_axis_stresses(zeta, NU)
+        sr, sz = references.sphere_axis_stresses(zeta, NU)
         return -(sz - 2 * NU * sr)
     for zeta in (0.5, 3.0):
-        assert physics.sphere_axis_compression(zeta, NU) == pytest.approx(
+        assert references.sphere_axis_compression(zeta, NU) == pytest.approx(
             quad(strain, zeta, np.inf, epsabs=1e-13)[0], rel=1e-9)
 
 
@@ -151,7 +151,7 @@ SY = 130.0  # MPa: first yield at about two thirds of the load
 def huber_first_yield(nu: float) -> tuple[float, float]:
     """(m, zeta): the largest von Mises stress on the axis over p0 and its depth z/a.  On the
     axis sigma_r = sigma_theta and tau_rz = 0, so sigma_e = |sigma_z - sigma_r| (Huber)."""
-    best = minimize_scalar(lambda z: -np.subtract(*physics.sphere_axis_stresses(z, nu)),
+    best = minimize_scalar(lambda z: -np.subtract(*references.sphere_axis_stresses(z, nu)),
                            bounds=(0.05, 2.0), method="bounded", options={"xatol": 1e-10})
     return float(-best.fun), float(best.x)
 

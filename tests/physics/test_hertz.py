@@ -11,7 +11,8 @@ import math
 
 import numpy as np
 import pytest
-from physics import EQUILIBRIUM_TOL, hertz_line, worst_equilibrium
+from physics import EQUILIBRIUM_TOL, worst_equilibrium
+from slipstep.references import hertz_line
 
 from slipstep import prepare, solve
 from slipstep.summary import summarize

@@ -31,7 +31,7 @@ import math
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
-import physics
+from slipstep import references
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 from slipstep import prepare, solve
@@ -62,11 +62,11 @@ P_LIMIT = 2.0 * K * math.log(B_OUT / A_IN)       # fully plastic
 
 def hill_pressure(c):
     """Hill: internal pressure at which the plastic zone reaches radius c."""
-    return physics.hill_pressure(c, A_IN, B_OUT, K)
+    return references.thick_cylinder_pressure(c, A_IN, B_OUT, K)
 
 
 def hill_radius(p):
-    return physics.hill_radius(p, A_IN, B_OUT, K)
+    return references.thick_cylinder_radius(p, A_IN, B_OUT, K)
 
 
 def element_size(r):

@@ -34,8 +34,8 @@ import math
 
 import numpy as np
 import pytest
-from physics import (dundurs_beta, goodman_stick_ratio, spence_stick_ratio,
-                     worst_equilibrium, EQUILIBRIUM_TOL)
+from physics import worst_equilibrium, EQUILIBRIUM_TOL
+from slipstep.references import dundurs_beta, goodman_stick_ratio, spence_stick_ratio
 
 from slipstep import prepare, solve
 from slipstep.summary import summarize

@@ -27,8 +27,8 @@ import re
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh, write_case
-from physics import (EQUILIBRIUM_TOL, hertz_line, observed_order, richardson,
-                     worst_equilibrium)
+from physics import EQUILIBRIUM_TOL, observed_order, richardson, worst_equilibrium
+from slipstep.references import hertz_line
 
 from slipstep import build_scene, parse_case, solve
 from slipstep import case as case_mod

@@ -19,7 +19,8 @@ import pytest
 
 pytest.importorskip("slipstep._engine")
 
-from physics import EQUILIBRIUM_TOL, hill_radius, worst_equilibrium  # noqa: E402
+from physics import EQUILIBRIUM_TOL, worst_equilibrium  # noqa: E402
+from slipstep.references import thick_cylinder_radius  # noqa: E402
 
 from slipstep import stability  # noqa: E402
 from slipstep.cli import main  # noqa: E402
@@ -97,7 +98,7 @@ def test_perfect_plasticity(study):
     centroid = scene.nodes[scene.triangles].mean(axis=1)
     plastic = np.asarray(last["plastic_strain"]) > 0
     c = float(np.linalg.norm(centroid[plastic], axis=1).max())
-    assert c / hill_radius(175.0, A, B, SY / math.sqrt(3.0)) == pytest.approx(1.0, abs=0.02)
+    assert c / thick_cylinder_radius(175.0, A, B, SY / math.sqrt(3.0)) == pytest.approx(1.0, abs=0.02)
     scene, result = run_of(rows["H'=0 Hertz Sy=200 h_c=0.15"])
     assert len(result["events"]["kind"]) > 100
     assert (np.asarray(result["snapshots"][-1]["plastic_strain"]) > 0).any()

@@ -18,9 +18,9 @@ Modules
                 axisymmetry (the hoop stress a fourth component).
 ``bulk``        dolfinx solvers on the exchanged mesh, driven by the same case with contact
                 removed: linear elasticity and elastoplasticity (Newton, load in steps).
-``hill``        Hill's closed form for the thick-walled cylinder under internal pressure.
-``radial``      the same cylinder's exact von Mises answer at any nu (a converged 1D radial
-                model, numpy only): Hill's closed form is exact at nu = 1/2 only.
+``radial``      the thick-walled cylinder's exact von Mises answer at any nu (a converged 1D
+                radial model, numpy only): Hill's closed form (:mod:`slipstep.references`) is
+                exact at nu = 1/2 only.
 ``replay``      a slipstep contact state replayed in dolfinx as boundary conditions.
 ``hybrid``      slipstep's event loop on a user's dolfinx model (P1, isotropic elastic, plane).
 ``crosscheck``  the ``slipstep crosscheck`` report.

@@ -87,17 +87,19 @@ def hill_differences(scene, u, stress, plastic_strain) -> dict | None:
     """Differences to Hill's closed form: outer radial displacement (relative), sigma_r and
     sigma_theta at the element centroids (max and RMS, / Sy), plastic radius (largest
     centroid radius of a plastic element) against c."""
-    from . import hill
+    from ..derived import polar
+    from ..references import thick_cylinder_displacement, thick_cylinder_radius, \
+        thick_cylinder_stresses
 
     h = hill_setup(scene)
     if h is None:
         return None
     a, b, p, E, nu, Sy = (h[k] for k in ("a", "b", "p", "E", "nu", "Sy"))
-    ur, rc, sr, st = hill.polar(scene.nodes, u, stress, scene.triangles)
+    ur, rc, sr, st = polar(scene.nodes, u, stress, scene.triangles)
     outer = np.abs(np.linalg.norm(scene.nodes, axis=1) - b) <= 1e-9 * b
-    ub = hill.radial_displacement(b, p, a, b, E, nu, Sy)
-    hr, ht = hill.stresses(rc, p, a, b, Sy)
-    c = hill.plastic_radius(p, a, b, Sy)
+    ub = thick_cylinder_displacement(b, p, a, b, E, nu, Sy)
+    hr, ht = thick_cylinder_stresses(rc, p, a, b, Sy)
+    c = thick_cylinder_radius(p, a, b, Sy / math.sqrt(3.0))
     plastic = plastic_strain > 0
     return {"u_outer": float(ur[outer].mean() / ub - 1.0),
             "sigma_r_max": float(np.abs(sr - hr).max() / Sy),
