@@ -198,7 +198,7 @@ def relative(a, b) -> float:
 
 
 def default_delta() -> float:
-    from slipstep.case import SOLVER_KEYS
+    from slipstep.schema import SOLVER_KEYS
     return float(SOLVER_KEYS["group_tol"].default)
 
 

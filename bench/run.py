@@ -205,7 +205,7 @@ def plan(sizes: dict, selected: list[str], max_dofs: float) -> list[list[dict]]:
 
 
 def default_delta() -> float:
-    from slipstep.case import SOLVER_KEYS
+    from slipstep.schema import SOLVER_KEYS
     return float(SOLVER_KEYS["group_tol"].default)
 
 

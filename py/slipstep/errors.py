@@ -25,6 +25,10 @@ class InputError(SlipstepError, ValueError):
     NaN, inverted element).  Fix the value the message names."""
 
 
+class CaseError(InputError):
+    """A problem in a case file or an override; the message is one line and names the fix."""
+
+
 class FreeBodyError(SlipstepError):
     """A body is free to move (a rigid-body mode, or a mechanism) under the current contact
     state.  Add a support ([[bc]] fix/symmetry) or a contact that holds the named body."""
@@ -60,6 +64,6 @@ class InternalError(RuntimeError):
     line shows its traceback; please report it with the case."""
 
 
-__all__ = ["EngineMissing", "EquilibriumError", "FreeBodyError", "GrossSlidingError",
+__all__ = ["CaseError", "EngineMissing", "EquilibriumError", "FreeBodyError", "GrossSlidingError",
            "IllPosedError", "InputError", "InternalError", "SingularSystemError",
            "SlipstepError"]

@@ -1,6 +1,6 @@
 """The case keys as a reference: ``slipstep keys [SECTION]``.
 
-Printed from the schema in :mod:`slipstep.case`, the declarations the validator checks, so the
+Printed from the schema in :mod:`slipstep.schema`, the declarations the validator checks, so the
 reference an installed wheel shows is the one the code enforces.  cases/README.md documents the
 same keys in its tables (with longer explanations); tests/case/test_keys.py keeps the two in step:
 the same keys in every table, the same defaults where the README states one.
@@ -17,7 +17,8 @@ import math
 import textwrap
 from dataclasses import dataclass
 
-from . import case as schema
+from . import schema
+from .toml_writing import toml_text
 from .errors import InputError
 
 
@@ -89,7 +90,7 @@ def default_text(key: schema.Key) -> str:
         return "inf" if key.default > 0 else "-inf"
     if key.default == {}:
         return "{}"
-    return schema.toml_text(key.default)
+    return toml_text(key.default)
 
 
 def type_text(key: schema.Key) -> str:

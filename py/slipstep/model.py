@@ -20,9 +20,11 @@ import numpy as np
 
 from . import mesh as meshing
 from . import mortar
-from .case import (RIGID_KINDS, Case, CaseError, Load, LoadPath, block_divisions,
-                   case_loads, element_key)
-from .errors import InputError
+from .case import Case
+from .errors import CaseError, InputError
+from .loadpath import Load, LoadPath, case_loads
+from .overrides import element_key
+from .schema import RIGID_KINDS, block_divisions
 from .references import effective_modulus, hertz_line, hertz_sphere
 
 

@@ -12,7 +12,7 @@ import pytest
 from conftest import CASES, needs_gmsh
 from test_case_validation import MINIMAL
 
-from slipstep import case as case_mod
+from slipstep import schema
 from slipstep import mesh as M
 from slipstep.case import CaseError, load_case, parse_case
 from slipstep.model import build_scene, edge_load, hertz_cut_pressure
@@ -471,7 +471,7 @@ def test_set_errors_on_stages():
 # --------------------------------------------------------------------------- documentation
 def test_readme_documents_the_load_path():
     readme = (CASES / "README.md").read_text()
-    for key in [*case_mod.STAGE_KEYS, "displacement", "motion", "[[stage]]", "path time",
+    for key in [*schema.STAGE_KEYS, "displacement", "motion", "[[stage]]", "path time",
                 "stage.<name or index>.factors.<LOAD>"]:
         assert f"`{key}`" in readme or key in readme, key
     # every error above has its line in the README's table

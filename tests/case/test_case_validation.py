@@ -8,7 +8,7 @@ import re
 import pytest
 from conftest import CASES, ROOT, write_case
 
-from slipstep import case as case_mod
+from slipstep import schema
 from slipstep.case import CaseError, load_case, parse_case
 
 MINIMAL = """
@@ -241,10 +241,10 @@ def test_file_source_is_the_given_path(tmp_path):
 
 def test_readme_documents_every_key():
     readme = (CASES / "README.md").read_text()
-    tables = [case_mod.CASE_KEYS, case_mod.ANALYSIS_KEYS, case_mod.LOAD_KEYS,
-              case_mod.OUTPUT_KEYS, case_mod.SOLVER_KEYS, case_mod.BODY_KEYS,
-              case_mod.MATERIAL_KEYS, case_mod.QUARTER_CYLINDER_KEYS, case_mod.BLOCK_KEYS,
-              case_mod.QUARTER_ANNULUS_KEYS, case_mod.FILE_MESH_KEYS, case_mod.BC_KEYS, case_mod.POINT_LOAD_KEYS,
-              case_mod.RIGID_LINE_KEYS, case_mod.NODE_TO_NODE_KEYS]
+    tables = [schema.CASE_KEYS, schema.ANALYSIS_KEYS, schema.LOAD_KEYS,
+              schema.OUTPUT_KEYS, schema.SOLVER_KEYS, schema.BODY_KEYS,
+              schema.MATERIAL_KEYS, schema.QUARTER_CYLINDER_KEYS, schema.BLOCK_KEYS,
+              schema.QUARTER_ANNULUS_KEYS, schema.FILE_MESH_KEYS, schema.BC_KEYS, schema.POINT_LOAD_KEYS,
+              schema.RIGID_LINE_KEYS, schema.NODE_TO_NODE_KEYS]
     missing = sorted({k for t in tables for k in t if f"`{k}`" not in readme})
     assert not missing, f"cases/README.md does not document {missing}"

@@ -19,7 +19,7 @@ import pytest
 
 from conftest import CASES, ROOT
 
-from slipstep import case as schema
+from slipstep import schema
 from slipstep import keys
 
 HEADING = re.compile(r"^#{2,4} .*?`\[\[?([a-z_.]+)\]\]?`")

@@ -31,7 +31,7 @@ from physics import EQUILIBRIUM_TOL, observed_order, richardson, worst_equilibri
 from slipstep.references import hertz_line
 
 from slipstep import build_scene, parse_case, solve
-from slipstep import case as case_mod
+from slipstep import schema
 from slipstep.case import CaseError
 from slipstep.derived import contact_axis, force_displacement, pair_coordinate
 from slipstep.model import polyline_closest
@@ -357,7 +357,7 @@ def test_set_reaches_the_new_keys():
 
 def test_readme_documents_the_new_keys():
     readme = (CASES / "README.md").read_text()
-    keys = {*case_mod.RIGID_CIRCLE_KEYS, *case_mod.RIGID_POLYLINE_KEYS}
+    keys = {*schema.RIGID_CIRCLE_KEYS, *schema.RIGID_POLYLINE_KEYS}
     missing = sorted(k for k in keys if f"`{k}`" not in readme)
     assert not missing, f"cases/README.md does not document {missing}"
     assert "a contactor node that projects nowhere is not a candidate" in readme.lower()

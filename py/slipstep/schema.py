@@ -1,0 +1,435 @@
+"""The case schema: every table and key a case file may hold, with its type, default, unit,
+meaning and value check (:class:`Key`).  ``cases/README.md`` documents the same keys, and
+``slipstep keys`` prints them from here; :mod:`slipstep.validation` checks a document against
+them and :mod:`slipstep.overrides` addresses them with ``--set``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from .toml_writing import toml_text
+
+
+REQUIRED = object()  # marker: the key has no default
+
+
+@dataclass(frozen=True)
+class Key:
+    """One key of a table: its type, default, unit, meaning and an optional value check.
+
+    ``type`` is one of ``"float"``, ``"int"``, ``"str"``, ``"bool"``, ``"vec2"`` (two floats),
+    ``"box"`` (four floats [x0, y0, x1, y1]),
+    ``"axes"`` (a list of ``"x"``/``"y"``), ``"snapshots"`` (``"events"`` or a list of path
+    times), ``"xy"`` (an inline table of floats x and/or y), ``"factors"`` (an inline table of
+    floats by load name).  ``check(value)`` returns ``None`` or the reason the value is not
+    allowed.
+    """
+
+    type: str
+    default: Any = REQUIRED
+    unit: str = ""
+    doc: str = ""
+    check: Callable[[Any], str | None] | None = None
+    choices: tuple = ()
+
+
+def _positive(what: str) -> Callable[[Any], str | None]:
+    return lambda v: None if v > 0 else f"{what} must be > 0"
+
+
+def _non_negative(what: str) -> Callable[[Any], str | None]:
+    return lambda v: None if v >= 0 else f"{what} must be >= 0"
+
+
+def _fraction_below_one(what: str) -> Callable[[Any], str | None]:
+    return lambda v: None if 0 <= v < 1 else f"{what} must lie in [0, 1) (0 = the exact event procedure)"
+
+
+def _check_nu(nu: float) -> str | None:
+    if -1.0 < nu < 0.5:
+        return None
+    return "Poisson's ratio must satisfy -1 < nu < 0.5 (use 0.499 for near-incompressible)"
+
+
+def _check_unit_free_vector(v) -> str | None:
+    return None if math.hypot(*v) > 0 else "the normal must be a non-zero vector"
+
+
+def _check_snapshots_form(v) -> str | None:
+    """The form only; the range (0, n_stages] is checked once the stages are known."""
+    if isinstance(v, str):
+        return None if v == "events" else 'use "events" or a list of load fractions in (0, 1]'
+    if not v:
+        return 'the list is empty: use "events" or e.g. [0.25, 0.5, 1.0]'
+    return None
+
+
+def check_snapshot_times(v: list, n_stages: int) -> str | None:
+    """Times in (0, n_stages], strictly increasing (worded as load fractions for one stage)."""
+    what = "load fraction" if n_stages == 1 else "snapshot time"
+    where = "" if n_stages == 1 else " (stage k runs over path time t in [k-1, k])"
+    if any(not (0.0 < f <= n_stages) for f in v):
+        return f"every {what} must lie in (0, {n_stages}]{where}"
+    if any(b <= a for a, b in zip(v, v[1:])):
+        return f"the {what}s must be strictly increasing"
+    return None
+
+
+CASE_KEYS = {
+    "name": Key("str", "unnamed", doc="short name, used in file names and figure titles"),
+    "description": Key("str", "", doc="free text"),
+    "units": Key("str", "consistent units (e.g. mm, N, MPa)",
+                 doc="a note only: slipstep uses whatever consistent units the numbers are in"),
+}
+
+ANALYSIS_KEYS = {
+    "plane": Key("str", "strain", doc='2D idealisation: "strain", "stress" or "axisymmetric" '
+                                      "(rings about the axis x = 0: x = r >= 0, y = z; forces "
+                                      "are totals over the full ring)",
+                 choices=("strain", "stress", "axisymmetric")),
+    "thickness": Key("float", 1.0, unit="length", doc="out-of-plane thickness t (plane strain "
+                                                      "and plane stress only)",
+                     check=_positive("the thickness")),
+}
+
+LOAD_KEYS = {
+    "P": Key("float", REQUIRED, unit="force/length",
+             doc="Hertz convenience: total compressive line load on the FULL cylinder per unit "
+                 "thickness; the quarter model gets pressure q = P/(2R) on its cut edge `top`. "
+                 'With plane = "axisymmetric" the quarter section is a hemisphere and P the '
+                 "total force [force] on the sphere: q = P/(pi R^2) on the cut",
+             check=_positive("the load P")),
+    "body": Key("str", "", doc="the quarter_cylinder body it acts on (default: the only one)"),
+}
+
+OUTPUT_KEYS = {
+    "snapshots": Key("snapshots", "events",
+                     doc='"events" (a snapshot after every event) or a list of path times in '
+                         "(0, n_stages] (= load fractions in (0, 1] without [[stage]]; every "
+                         "stage end is always added)", check=_check_snapshots_form),
+    "figures": Key("bool", True, doc="write PNG figures"),
+    "xdmf": Key("bool", True, doc="write the XDMF/HDF5 time series of u and stresses"),
+}
+
+SOLVER_KEYS = {
+    "tie_tol": Key("float", 1e-9, doc="relative tie tolerance: events with S <= S_min(1+tie_tol) "
+                                      "are applied together", check=_non_negative("tie_tol")),
+    "group_tol": Key("float", 0.03, doc="grouped plastic increments, the speed-accuracy knob "
+                                        "(0 = exact, event by event): an increment runs on past "
+                                        "the first yield by group_tol of the load; elements "
+                                        "yielding inside get the exact elastic-plastic split; < 1",
+                      check=_fraction_below_one("group_tol")),
+    "max_events": Key("int", 0, doc="stop after this many events (0 = automatic bound)",
+                      check=_non_negative("max_events")),
+    "equilibrium_tol": Key("float", 1e-9, doc="relative equilibrium residual that is accepted",
+                           check=_positive("equilibrium_tol")),
+    "drift_control": Key("bool", True, doc="plasticity: bound the stress increment of plastic "
+                                           "elements and return to the yield surface after each "
+                                           "increment (false = the paper exactly)"),
+    "max_stress_step": Key("float", 0.05, doc="plasticity, with drift_control: largest von Mises "
+                                              "stress increment of a plastic element, x Sy",
+                           check=_positive("max_stress_step")),
+    "tangent_turn": Key("float", 0.05, doc="plasticity: a plastic element's tangent in the "
+                                           "stiffness is renewed when its flow direction has "
+                                           "turned by more than this angle (radians; 0 = at "
+                                           "every increment, as the paper)",
+                        check=_non_negative("tangent_turn")),
+    "stop_at_first_yield": Key("bool", False, doc="plasticity: end the run right after the "
+                                                  "first yield event"),
+}
+
+BODY_KEYS = {
+    "name": Key("str", REQUIRED, doc="unique body name, used by [[bc]] and [[contact]]"),
+    # "mesh" and "material" are sub-tables, declared below
+}
+
+MATERIAL_KEYS = {
+    "E": Key("float", REQUIRED, unit="stress", doc="Young's modulus",
+             check=_positive("Young's modulus E")),
+    "nu": Key("float", REQUIRED, doc="Poisson's ratio", check=_check_nu),
+    "Sy": Key("float", None, unit="stress", doc="yield stress (optional; plasticity)",
+              check=_positive("the yield stress Sy")),
+    "H": Key("float", None, unit="stress", doc="plastic (hardening) modulus H' (optional; 0 = perfectly plastic)",
+             check=_non_negative("the hardening modulus H")),
+}
+
+QUARTER_CYLINDER_KEYS = {
+    "generator": Key("str", REQUIRED, doc='"quarter_cylinder" (x >= 0), "half_cylinder" (the quarter mirrored: tags arc, top) or "disc" (the whole circle: tags lower_arc, upper_arc, circle)'),
+    "R": Key("float", REQUIRED, unit="length", doc="cylinder radius; centre at (0, R), bottom "
+                                                    "point at (0, 0)", check=_positive("R")),
+    "h_contact": Key("float", REQUIRED, unit="length",
+                     doc="element size within contact_zone of the bottom point (0, 0)",
+                     check=_positive("h_contact")),
+    "contact_zone": Key("float", REQUIRED, unit="length",
+                        doc="radius of the fine zone around (0, 0)",
+                        check=_positive("contact_zone")),
+    "h_max": Key("float", REQUIRED, unit="length", doc="largest element size",
+                 check=_positive("h_max")),
+    "growth": Key("float", 0.1, doc="size growth per unit distance outside the zone "
+                                    "(h = h_contact + growth * (d - contact_zone))",
+                  check=_positive("growth")),
+}
+
+BLOCK_KEYS = {
+    "generator": Key("str", REQUIRED, doc='"block"'),
+    "x0": Key("float", 0.0, unit="length", doc="lower-left corner x"),
+    "y0": Key("float", 0.0, unit="length", doc="lower-left corner y"),
+    "width": Key("float", REQUIRED, unit="length", doc="size in x", check=_positive("width")),
+    "height": Key("float", REQUIRED, unit="length", doc="size in y", check=_positive("height")),
+    "nx": Key("int", 0, doc="divisions in x (0: from h)", check=_non_negative("nx")),
+    "ny": Key("int", 0, doc="divisions in y (0: from h)", check=_non_negative("ny")),
+    "h": Key("float", 0.0, unit="length",
+             doc="target element size when nx/ny are 0 (n = round(size/h))",
+             check=_non_negative("h")),
+    # the graded block (gmsh), when h_contact > 0; nx, ny and h are then not used
+    "h_contact": Key("float", 0.0, unit="length",
+                     doc="graded block (gmsh): element size within contact_zone of focus "
+                         "(0 = the structured block of nx/ny or h)",
+                     check=_non_negative("h_contact")),
+    "contact_zone": Key("float", 0.0, unit="length",
+                        doc="graded block: radius of the fine zone around focus",
+                        check=_positive("contact_zone")),
+    "h_max": Key("float", 0.0, unit="length", doc="graded or refined block: largest element "
+                                                  "size", check=_positive("h_max")),
+    "growth": Key("float", 0.1, doc="graded or refined block: size growth per unit distance "
+                                    "outside the fine zone (graded: h = h_contact + growth * (d "
+                                    "- contact_zone); refined: h + growth * d from the box)",
+                  check=_positive("growth")),
+    "focus": Key("vec2", None, unit="length",
+                 doc="graded block: the point [x, y] it is fine around, inside or on the "
+                     "boundary (default: the middle of the top edge)"),
+    "uniform_edges": Key("bool", False,
+                         doc="graded block with focus on the boundary: divide the side from "
+                             "focus to a corner within contact_zone uniformly at h_contact, so "
+                             "a structured body's nodes can match it (node_to_node)"),
+    # the refined block: the structured one (nx/ny or h) kept inside refine_box, gmsh outside
+    "refine_box": Key("box", None, unit="length",
+                      doc="structured block: keep its grid (nx/ny or h) only inside this box "
+                          "[x0, y0, x1, y1] (rounded out to grid lines) and coarsen the rest "
+                          "up to h_max (gmsh)"),
+}
+
+QUARTER_ANNULUS_KEYS = {
+    "generator": Key("str", REQUIRED, doc='"quarter_annulus"'),
+    "a": Key("float", REQUIRED, unit="length", doc="inner radius (the bore); centre (0, 0)",
+             check=_positive("the inner radius a")),
+    "b": Key("float", REQUIRED, unit="length", doc="outer radius, > a",
+             check=_positive("the outer radius b")),
+    "h": Key("float", REQUIRED, unit="length", doc="element size at the bore r = a",
+             check=_positive("h")),
+    "h_outer": Key("float", 0.0, unit="length",
+                   doc="element size at r = b, linear in r in between (0: uniform h)",
+                   check=_non_negative("h_outer")),
+}
+
+FILE_MESH_KEYS = {
+    "file": Key("str", REQUIRED, doc="triangle mesh .msh (gmsh physical names = edge tags) or "
+                                     ".xdmf (meshio; line cells tagged by an integer cell "
+                                     "array); relative to the case file"),
+    "edge_file": Key("str", "", doc=".xdmf holding the tagged line cells when they are kept "
+                                    "apart from the triangles (dolfinx style)"),
+    "scale": Key("float", 1.0, doc="multiply the coordinates by this", check=_positive("scale")),
+}
+
+GIVEN_MESH_KEYS = {
+    "generator": Key("str", REQUIRED, doc='"given": the mesh comes from Python, '
+                                          "slipstep.run(case, meshes={body: mesh}) (a "
+                                          "slipstep.mesh.Mesh: from_arrays, from_meshio)"),
+}
+
+MESH_VARIANTS = {"quarter_cylinder": QUARTER_CYLINDER_KEYS,
+                 "half_cylinder": QUARTER_CYLINDER_KEYS, "disc": QUARTER_CYLINDER_KEYS,
+                 "block": BLOCK_KEYS,
+                 "quarter_annulus": QUARTER_ANNULUS_KEYS, "given": GIVEN_MESH_KEYS}
+
+def block_divisions(mesh: dict) -> tuple[int, int]:
+    """The structured block's cells (nx, ny): as given, or round(size / h)."""
+    return (mesh["nx"] or max(1, round(mesh["width"] / mesh["h"])),
+            mesh["ny"] or max(1, round(mesh["height"] / mesh["h"])))
+
+
+#: Edge tags that the generators create (file meshes bring their own).
+GENERATOR_EDGES = {
+    "quarter_cylinder": ("arc", "symmetry", "top"),
+    "half_cylinder": ("arc", "top"),
+    "disc": ("lower_arc", "upper_arc", "circle"),
+    "block": ("bottom", "right", "top", "left"),
+    "quarter_annulus": ("inner", "outer", "x_axis", "y_axis"),
+}
+
+BC_KEYS = {
+    "name": Key("str", "", doc="optional name, to address it as bc.<name>.* in --set"),
+    "body": Key("str", REQUIRED, doc="body name"),
+    "edge": Key("str", "", doc="edge tag of that body (or give `nodes`)"),
+    "nodes": Key("str", "", doc="node-set name of that body (supports `fix` and "
+                                "`displacement` only)"),
+    "fix": Key("axes", [], doc='components held at zero: ["x"], ["y"] or ["x", "y"]'),
+    "symmetry": Key("bool", False, doc="hold the normal component (edge must be parallel to an axis)"),
+    "pressure": Key("float", 0.0, unit="stress",
+                    doc="uniform pressure q, acting against the outward normal"),
+    "traction": Key("vec2", [0.0, 0.0], unit="stress", doc="uniform traction [tx, ty]"),
+    "displacement": Key("xy", {}, unit="length",
+                        doc="prescribed displacement components at factor 1, e.g. {y = -0.1} "
+                            "(a load, eliminated exactly like a support)"),
+}
+
+POINT_LOAD_KEYS = {
+    "name": Key("str", "", doc="optional name"),
+    "body": Key("str", "", doc="restrict the node search to this body (default: all bodies)"),
+    "at": Key("vec2", REQUIRED, unit="length", doc="the load goes to the node nearest this point"),
+    "force": Key("vec2", REQUIRED, unit="force/length",
+                 doc='[Fx, Fy] per unit thickness (plane = "axisymmetric": the total over the '
+                     "node's ring [force])"),
+}
+
+_CONTACT_COMMON = {
+    "kind": Key("str", REQUIRED, doc='the contact kind: "rigid_line", "rigid_circle", '
+                                     '"rigid_polyline" (a deformable body against a rigid '
+                                     'obstacle) or a deformable pair ("node_to_node", ...)'),
+    "name": Key("str", "", doc="optional name"),
+    "mu": Key("float", 0.0, doc="Coulomb friction coefficient", check=_non_negative("mu")),
+}
+
+RIGID_LINE_KEYS = {
+    **_CONTACT_COMMON,
+    "body": Key("str", REQUIRED, doc="the deformable body"),
+    "edge": Key("str", REQUIRED, doc="its candidate edge tag"),
+    "point": Key("vec2", [0.0, 0.0], unit="length", doc="a point of the rigid line"),
+    "normal": Key("vec2", [0.0, 1.0], doc="normal of the line pointing to the body side",
+                  check=_check_unit_free_vector),
+    "x_min": Key("float", -math.inf, unit="length", doc="candidates: nodes with x >= x_min"),
+    "x_max": Key("float", math.inf, unit="length", doc="candidates: nodes with x <= x_max"),
+    "y_min": Key("float", -math.inf, unit="length", doc="candidates: nodes with y >= y_min"),
+    "y_max": Key("float", math.inf, unit="length", doc="candidates: nodes with y <= y_max"),
+    "tolerance": Key("float", 1e-9, unit="length",
+                     doc="gaps in [-tolerance, 0) count as 0; below -tolerance is an error",
+                     check=_non_negative("tolerance")),
+    "motion": Key("vec2", None, unit="length",
+                  doc="translation [dx, dy] of the rigid line at factor 1 (a load)"),
+}
+
+def _check_polyline(points) -> str | None:
+    """At least two points, no zero-length segment, no segment folding back onto the last."""
+    if len(points) < 2:
+        return f"a polyline needs at least 2 points, got {len(points)}"
+    for k in range(len(points) - 1):
+        if points[k] == points[k + 1]:
+            return (f"points {k} and {k + 1} are both {toml_text(points[k])}: a zero-length segment; "
+                    f"remove one of them")
+        dx, dy = points[k + 1][0] - points[k][0], points[k + 1][1] - points[k][1]
+        if not 0.0 < dx * dx + dy * dy < math.inf:  # its squared length under- or overflows
+            return (f"the segment from point {k} to point {k + 1} is too short or too long to "
+                    f"compute with: rescale the coordinates")
+    for k in range(len(points) - 2):
+        (x0, y0), (x1, y1), (x2, y2) = points[k:k + 3]
+        d, e = (x1 - x0, y1 - y0), (x2 - x1, y2 - y1)
+        if d[0] * e[1] - d[1] * e[0] == 0.0 and d[0] * e[0] + d[1] * e[1] < 0.0:
+            return (f"the segments before and after point {k + 1} fold back onto each other "
+                    f"(the normal at that vertex is undefined): remove point {k + 1}")
+    return None
+
+
+def _rigid_obstacle_keys(shape: dict, what: str) -> dict:
+    """The keys of a rigid obstacle of any shape: body, edge, the ``shape`` keys, the candidate
+    window, tolerance and motion (as for the rigid line)."""
+    return {
+        **_CONTACT_COMMON,
+        "body": RIGID_LINE_KEYS["body"],
+        "edge": RIGID_LINE_KEYS["edge"],
+        **shape,
+        **{k: RIGID_LINE_KEYS[k] for k in ("x_min", "x_max", "y_min", "y_max", "tolerance")},
+        "motion": Key("vec2", None, unit="length",
+                      doc=f"translation [dx, dy] of the {what} at factor 1 (a load)"),
+    }
+
+
+RIGID_CIRCLE_KEYS = _rigid_obstacle_keys({
+    "centre": Key("vec2", REQUIRED, unit="length", doc="centre [x, y] of the rigid circle"),
+    "radius": Key("float", REQUIRED, unit="length", doc="radius of the rigid circle",
+                  check=_positive("the radius")),
+    "side": Key("str", "outside", doc='where the body is: "outside" the circle (a rigid '
+                                      'cylinder pressed into it) or "inside" (in a circular '
+                                      'hole or cup)', choices=("outside", "inside")),
+}, "circle")
+
+RIGID_POLYLINE_KEYS = _rigid_obstacle_keys({
+    "points": Key("points", REQUIRED, unit="length",
+                  doc="vertices [[x, y], ...] of the rigid polyline, at least 2, no two "
+                      "consecutive ones equal", check=_check_polyline),
+    "side": Key("str", REQUIRED, doc='the side the body lies on, walking the polyline from its '
+                                     'first point to its last: "left" or "right"',
+                choices=("left", "right")),
+}, "polyline")
+
+#: The contact kinds whose target is a rigid obstacle (node_b = -1; they take `motion`).
+RIGID_KINDS = ("rigid_line", "rigid_circle", "rigid_polyline")
+
+NODE_TO_NODE_KEYS = {
+    **_CONTACT_COMMON,
+    "body_a": Key("str", REQUIRED, doc="contactor body"),
+    "edge_a": Key("str", REQUIRED, doc="contactor edge tag"),
+    "body_b": Key("str", REQUIRED, doc="target body"),
+    "edge_b": Key("str", REQUIRED, doc="target edge tag"),
+    "tolerance": Key("float", 1e-6, unit="length",
+                     doc="pair node a with the nearest node b within this distance",
+                     check=_positive("tolerance")),
+    "normal": Key("vec2", None, doc="fixed normal for every pair (default: outward normal of "
+                                    "edge_b averaged at node b)", check=_check_unit_free_vector),
+}
+
+NODE_TO_SEGMENT_KEYS = {
+    **_CONTACT_COMMON,
+    "body_a": Key("str", REQUIRED, doc="contactor body (its nodes get the constraint rows)"),
+    "edge_a": Key("str", REQUIRED, doc="contactor edge tag"),
+    "body_b": Key("str", REQUIRED, doc="target body"),
+    "edge_b": Key("str", REQUIRED, doc="target edge tag (a polyline: its segments' outward "
+                                       "normals are the contact normals)"),
+    "x_min": Key("float", -math.inf, unit="length", doc="candidates: contactor nodes with x >= x_min"),
+    "x_max": Key("float", math.inf, unit="length", doc="candidates: contactor nodes with x <= x_max"),
+    "y_min": Key("float", -math.inf, unit="length", doc="candidates: contactor nodes with y >= y_min"),
+    "y_max": Key("float", math.inf, unit="length", doc="candidates: contactor nodes with y <= y_max"),
+    "tolerance": Key("float", 1e-9, unit="length",
+                     doc="initial gaps in [-tolerance, 0) count as 0 (touching); below "
+                         "-tolerance is an initial penetration (an error)",
+                     check=_non_negative("tolerance")),
+}
+
+CONTACT_VARIANTS = {"rigid_line": RIGID_LINE_KEYS, "rigid_circle": RIGID_CIRCLE_KEYS,
+                    "rigid_polyline": RIGID_POLYLINE_KEYS, "node_to_node": NODE_TO_NODE_KEYS,
+                    "node_to_segment": NODE_TO_SEGMENT_KEYS}
+
+STAGE_KEYS = {
+    "name": Key("str", "", doc='optional name (default "stage <k>", 1-based)'),
+    "factors": Key("factors", REQUIRED,
+                   doc="the factor each named load reaches at the end of the stage, e.g. "
+                       "{load = 1.0}; loads not named keep their factor"),
+}
+
+#: Top-level tables and arrays of tables.
+TABLES = {"case": CASE_KEYS, "analysis": ANALYSIS_KEYS, "load": LOAD_KEYS,
+          "output": OUTPUT_KEYS, "solver": SOLVER_KEYS}
+ARRAYS = ("body", "bc", "point_load", "contact", "stage")
+
+
+def _union(*tables: dict) -> dict:
+    out: dict = {}
+    for t in tables:
+        out.update(t)
+    return out
+
+
+#: Every key an element of an array (or a body sub-table) may hold, for --set and unknown keys.
+ARRAY_KEYS = {
+    "body": BODY_KEYS,
+    "bc": BC_KEYS,
+    "point_load": POINT_LOAD_KEYS,
+    "contact": _union(RIGID_LINE_KEYS, RIGID_CIRCLE_KEYS, RIGID_POLYLINE_KEYS,
+                      NODE_TO_NODE_KEYS, NODE_TO_SEGMENT_KEYS),
+    "stage": STAGE_KEYS,
+}
+BODY_SUBTABLES = {"mesh": _union(QUARTER_CYLINDER_KEYS, BLOCK_KEYS, QUARTER_ANNULUS_KEYS,
+                                  FILE_MESH_KEYS),
+                  "material": MATERIAL_KEYS}
