@@ -29,7 +29,7 @@ solve the same mesh.  The GetFEM model, one process per run (`one`):
   tangent is undefined (`start_off_zero`).
 
 Outputs at f = 1, defined as slipstep defines them: the contact pressure of a candidate is its
-nodal contact force over its tributary length (slipstep.model.tributary_lengths), p0 its
+nodal contact force over its tributary length (slipstep.contact_geometry.tributary_lengths), p0 its
 maximum; the contact half-width a is slipstep.derived.contact_half_width, the far end of the
 closed zone interpolated linearly in the load fraction between the outermost closed node
 (closing at f_c) and the next open one (closing at f_o).  slipstep knows f_c from its events
@@ -101,7 +101,8 @@ def scene_spec(h: float, steps: int, overrides=SCENE, msh: Path | None = None) -
     read from slipstep's case (so both codes solve the same scene by construction)."""
     from slipstep.case import load_case
     from slipstep.mesh import write_msh
-    from slipstep.model import hertz_cut_pressure, mesh_body
+    from slipstep.build import mesh_body
+    from slipstep.loads import hertz_cut_pressure
 
     case = load_case(CASE, [*overrides, f"mesh.h_contact={h}"])
     body, (contact,) = case.data["body"][0], case.data["contact"]
@@ -152,8 +153,8 @@ def rows_of_identity(gf, n: int, dofs: np.ndarray, sign: float = 1.0):
 
 def candidates(spec: dict, points: np.ndarray, segments: np.ndarray):
     """slipstep's candidates of the contact edge (inside the x/y window), sorted by x, with
-    their tributary lengths (slipstep.model.tributary_lengths, over the whole edge)."""
-    from slipstep.model import tributary_lengths
+    their tributary lengths (slipstep.contact_geometry.tributary_lengths, over the whole edge)."""
+    from slipstep.contact_geometry import tributary_lengths
 
     x0, x1, y0, y1 = spec["window"]
     ids = np.unique(segments)

@@ -23,6 +23,38 @@ if str(ROOT / "py") not in sys.path:  # run from a checkout without installing
 
 CASES = ROOT / "cases"
 
+#: A small case every concept's tests vary: a 2 x 1 block (4 x 2 cells), bottom fixed, a rigid
+#: line above its top (mu = 0.3).
+MINIMAL = """
+[case]
+name = "mini"
+
+[[body]]
+name = "b"
+[body.mesh]
+generator = "block"
+width = 2.0
+height = 1.0
+nx = 4
+ny = 2
+[body.material]
+E = 1000.0
+nu = 0.25
+
+[[bc]]
+body = "b"
+edge = "bottom"
+fix = ["x", "y"]
+
+[[contact]]
+kind = "rigid_line"
+body = "b"
+edge = "top"
+point = [0.0, 2.0]
+normal = [0.0, -1.0]
+mu = 0.3
+"""
+
 
 def _has_gmsh() -> bool:
     try:

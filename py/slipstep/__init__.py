@@ -18,7 +18,8 @@ from .version import __version__
 from .case import Case, CaseError, load_case, parse_case
 from .errors import InputError, SlipstepError
 from .mesh import Mesh, MeshError, from_arrays, from_meshio
-from .model import Scene, build_scene
+from .build import build_scene
+from .scene import Scene
 from .progress import Progress
 from .result import Result
 from .runner import as_case, prepare, run, run_case, solve

@@ -30,7 +30,7 @@ import sys
 from . import shipped
 from .case import load_case
 from .errors import InputError, SlipstepError
-from .model import build_scene
+from .build import build_scene
 from .runner import run_case
 from .summary import one_line
 from .version import __version__

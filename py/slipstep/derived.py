@@ -4,7 +4,7 @@ writers, the figures and the studies (numpy only, nothing is written here).
 Contact quantities per candidate pair follow the engine's conventions (docs/engine_api.md):
 pressure = lambda_n / area, tangential stress = lambda_t / area, with area = L t (L the
 tributary length of node a on its edge, t the thickness), or in axisymmetry node a's ring
-2 pi int N_a r ds (``scene.pair_area``, :func:`slipstep.model.contact_areas`).
+2 pi int N_a r ds (``scene.pair_area``, :func:`slipstep.contact_geometry.contact_areas`).
 
 Axisymmetric scenes (x = r, y = z): the stress columns are sigma_r, sigma_z, sigma_theta (hoop),
 tau_rz (:data:`STRESS_NAMES`); :func:`coordinate_names` gives the axis names for labels.
@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .model import contactor_edge, polyline_closest
+from .contact_geometry import contactor_edge, polyline_closest
 from .references import JOHNSON_LINE_YIELD, sphere_axis_yield
 
 #: Event kinds whose entity is an element (the others are contact pairs).

@@ -144,6 +144,16 @@ def outward_normals(nodes: np.ndarray, segments: np.ndarray) -> np.ndarray:
     return n / np.linalg.norm(n, axis=1, keepdims=True)
 
 
+def node_normals(nodes: np.ndarray, segments: np.ndarray, ids: np.ndarray) -> np.ndarray:
+    """Outward normal of an edge at each node of ``ids``: the segment normals meeting there,
+    summed (not normalised; zero where they cancel)."""
+    acc = np.zeros((len(nodes), 2))
+    seg_n = outward_normals(nodes, segments)
+    np.add.at(acc, segments[:, 0], seg_n)
+    np.add.at(acc, segments[:, 1], seg_n)
+    return acc[ids]
+
+
 def _finish(nodes, triangles, edges, node_sets=None, where="", flip_clockwise=False) -> Mesh:
     """Drop unused nodes, fix a consistently clockwise mesh if asked, check, orient edges."""
     nodes = np.asarray(nodes, dtype=np.float64)

@@ -34,7 +34,7 @@ on. A uniform pressure p then gives λ_j = 2π p S_j, the pressure of its ring a
 at every row, the one at the axis included (planar weights would put there λ = 0: the mortar
 multiplier of a linear force density 2π p r vanishes at r = 0), and the Coulomb limit μ λ_n of
 each row is its ring's. ``length`` stays the plain tributary length ∫ N_j ds (the outputs'
-areas are the ring areas of :func:`slipstep.model.contact_areas`).
+areas are the ring areas of :func:`slipstep.contact_geometry.contact_areas`).
 
 Coverage: only the parts of the contactor surface whose closest target point is inside the
 target polyline count. A contactor point whose projection falls beyond either end of the target

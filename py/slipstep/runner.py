@@ -15,7 +15,8 @@ from pathlib import Path
 from . import shipped
 from .case import Case, load_case
 from .errors import EngineMissing, InputError
-from .model import Scene, build_scene
+from .build import build_scene
+from .scene import Scene
 from . import progress as reporting
 from .progress import Reporter
 from .result import Result
@@ -64,7 +65,7 @@ def _given_meshes(data: dict, meshes: dict) -> dict:
 def prepare(case: Case | dict | str | Path | None = None, overrides=(), meshes=None) -> Scene:
     """The assembled Scene of a case (:func:`as_case`); ``meshes`` (body name ->
     :class:`slipstep.mesh.Mesh`, e.g. from ``slipstep.mesh.from_meshio``) replaces the meshing
-    of those bodies (:func:`slipstep.model.build_scene`)."""
+    of those bodies (:func:`slipstep.build.build_scene`)."""
     return build_scene(as_case(case, overrides, meshes), meshes)
 
 

@@ -18,7 +18,8 @@ from .derived import (closed_extent, contact_axis, contact_profile, crossing_tim
                       reactions, snapshot_time, stage_ends, stage_names,
                       stick_extent, von_mises)
 from .references import sphere_axis_yield
-from .model import AXIS_TOLERANCE, contact_bodies, is_axisymmetric
+from .contact_geometry import contact_bodies
+from .section import AXIS_TOLERANCE, is_axisymmetric
 
 
 def half_model_side(scene, index: int) -> int:

@@ -9,13 +9,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import CASES, needs_gmsh
-from test_case_validation import MINIMAL
+from conftest import CASES, MINIMAL, needs_gmsh
 
 from slipstep import schema
 from slipstep import mesh as M
 from slipstep.case import CaseError, load_case, parse_case
-from slipstep.model import build_scene, edge_load, hertz_cut_pressure
+from slipstep.build import build_scene
+from slipstep.loads import edge_load, hertz_cut_pressure
 
 SOURCE = "cases/x.toml"
 

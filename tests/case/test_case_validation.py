@@ -6,40 +6,10 @@ import math
 import re
 
 import pytest
-from conftest import CASES, ROOT, write_case
+from conftest import CASES, MINIMAL, ROOT, write_case
 
 from slipstep import schema
 from slipstep.case import CaseError, load_case, parse_case
-
-MINIMAL = """
-[case]
-name = "mini"
-
-[[body]]
-name = "b"
-[body.mesh]
-generator = "block"
-width = 2.0
-height = 1.0
-nx = 4
-ny = 2
-[body.material]
-E = 1000.0
-nu = 0.25
-
-[[bc]]
-body = "b"
-edge = "bottom"
-fix = ["x", "y"]
-
-[[contact]]
-kind = "rigid_line"
-body = "b"
-edge = "top"
-point = [0.0, 2.0]
-normal = [0.0, -1.0]
-mu = 0.3
-"""
 
 
 def error_of(text: str, overrides=(), source="cases/x.toml") -> str:

@@ -30,7 +30,7 @@ from physics import equilibrium_residual
 from slipstep import _engine
 from slipstep.case import parse_case
 from slipstep.errors import GrossSlidingError
-from slipstep.model import build_scene
+from slipstep.build import build_scene
 
 MAX_ZERO_LENGTH_SWITCHES = 4  # Options::default() in rust/src/model.rs
 MAX_RATE_PROBLEMS = 3         # rust/src/driver/anticycling.rs

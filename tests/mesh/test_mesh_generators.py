@@ -10,7 +10,7 @@ from conftest import CASES, needs_gmsh
 
 from slipstep import mesh as M
 from slipstep.case import load_case
-from slipstep.model import build_scene
+from slipstep.build import build_scene
 
 
 @pytest.fixture(scope="module")

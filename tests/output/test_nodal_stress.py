@@ -93,20 +93,6 @@ def test_a_uniform_plane_stress_state_as_tensor_and_at_the_nodes(plane, sigma_z)
     assert np.abs(f["nodal_von_mises"] - vm).max() <= ROUND_OFF
 
 
-def test_the_hoop_stress_is_the_out_of_plane_component_in_axisymmetry():
-    """The ring patch u_r = A r, u_z = B z (tests/physics/test_axisymmetric_patch.py): sigma_r =
-    sigma_theta = 2 (lambda + G) A + lambda B, sigma_z = 2 lambda A + (lambda + 2 G) B, tau = 0;
-    x = r, y = z and the out-of-plane zz is the hoop stress."""
-    from test_axisymmetric_patch import SIGMA_R, SIGMA_Z, patch_case
-
-    r = run(Case.from_toml(patch_case(0.5)), progress=False)
-    exact = np.diag([SIGMA_R, SIGMA_Z, SIGMA_R])
-    tensor = r.to_meshio().cell_data["stress"][0].reshape(-1, 3, 3)
-    assert np.abs(tensor - exact).max() <= ROUND_OFF
-    assert np.abs(r.fields()["nodal_stress"] - [SIGMA_R, SIGMA_Z, SIGMA_R, 0.0]).max() \
-        <= ROUND_OFF
-
-
 def test_the_tensor_layout():
     """Row by row xx xy xz / yx yy yz / zx zy zz from the columns x, y, z, xy."""
     assert stress_tensor(np.array([1.0, 2.0, 3.0, 4.0])).tolist() == [

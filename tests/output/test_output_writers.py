@@ -19,7 +19,7 @@ from conftest import CASES, synthetic_hertz_result
 from slipstep import cli, output
 from slipstep.case import load_case
 from slipstep.derived import contact_profile
-from slipstep.model import build_scene
+from slipstep.build import build_scene
 from slipstep.results import write_results
 
 

@@ -19,7 +19,7 @@ from slipstep import cli, output, prepare, solve
 from slipstep import mesh as M
 from slipstep.case import CaseError, load_case
 from slipstep.figures import zone_boundary, zoom_window
-from slipstep.model import build_scene
+from slipstep.build import build_scene
 from slipstep.results import write_results
 
 SY, H = 200.0, 700.0

@@ -21,7 +21,7 @@ import pytest
 
 from slipstep import derived, output
 from slipstep.case import parse_case
-from slipstep.model import build_scene
+from slipstep.build import build_scene
 from slipstep.results import write_results
 from slipstep.summary import summarize
 

@@ -19,7 +19,7 @@ from conftest import needs_gmsh
 from slipstep import run_case
 from slipstep.case import load_case, parse_case
 from slipstep.derived import closed_extent, stick_extent
-from slipstep.model import build_scene
+from slipstep.build import build_scene
 from slipstep.summary import half_model_side, one_line
 
 # A block x0 <= x <= x0 + width, 0 <= y <= 4, pressed and pushed sideways by a traction on its

@@ -21,7 +21,7 @@ relative).
 Also: a rigid translation along the axis (the only zero-energy mode of a ring) prescribed on the
 bottom edge produces no strain, stress or force; and a uniform pressure on a block resting on a
 rigid flat gives the same pressure at every contact node, the axis node included (the
-consistent ring area of slipstep.model.contact_areas).
+consistent ring area of slipstep.contact_geometry.contact_areas).
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ import pytest
 from conftest import write_case
 import physics
 
-from slipstep import prepare, solve
+from slipstep import Case, prepare, run, solve
 from slipstep.derived import contact_profile
 
 E, NU = 1000.0, 0.3
@@ -144,3 +144,15 @@ edge = "bottom"
     assert np.abs(prof["pressure"] / q - 1.0).max() < 1e-12
     assert np.sum(snap["lambda_n"]) == pytest.approx(q * np.pi, rel=1e-12)  # q times the disc
     assert np.abs(np.asarray(snap["stress"]) - [0.0, -q, 0.0, 0.0]).max() < 1e-12
+
+
+def test_the_hoop_stress_is_the_out_of_plane_component_in_axisymmetry():
+    """The ring patch u_r = A r, u_z = B z through slipstep.run: sigma_r =
+    sigma_theta = 2 (lambda + G) A + lambda B, sigma_z = 2 lambda A + (lambda + 2 G) B, tau = 0;
+    x = r, y = z and the out-of-plane zz is the hoop stress."""
+    r = run(Case.from_toml(patch_case(0.5)), progress=False)
+    exact = np.diag([SIGMA_R, SIGMA_Z, SIGMA_R])
+    tensor = r.to_meshio().cell_data["stress"][0].reshape(-1, 3, 3)
+    assert np.abs(tensor - exact).max() <= 1e-11
+    assert np.abs(r.fields()["nodal_stress"] - [SIGMA_R, SIGMA_Z, SIGMA_R, 0.0]).max() \
+        <= 1e-11

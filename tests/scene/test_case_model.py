@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import CASES, needs_gmsh, write_case
-from test_case_validation import MINIMAL
+from conftest import CASES, MINIMAL, needs_gmsh, write_case
 
 from slipstep import mesh as M
 from slipstep.case import CaseError, load_case, parse_case
-from slipstep.model import build_scene, edge_load, tributary_lengths
+from slipstep.build import build_scene
+from slipstep.contact_geometry import tributary_lengths
+from slipstep.loads import edge_load
 
 
 @pytest.fixture(scope="module")

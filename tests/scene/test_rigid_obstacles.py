@@ -34,7 +34,7 @@ from slipstep import build_scene, parse_case, solve
 from slipstep import schema
 from slipstep.case import CaseError
 from slipstep.derived import contact_axis, force_displacement, pair_coordinate
-from slipstep.model import polyline_closest
+from slipstep.contact_geometry import polyline_closest
 from slipstep.runner import run_case
 from slipstep.summary import summarize
 

@@ -169,7 +169,7 @@ class BulkProblem:
     def _axis_dofs(self, inv: np.ndarray) -> np.ndarray:
         """Axisymmetry: the u_r dofs (slipstep numbers) of the nodes on the axis r = 0, found
         by dolfinx's dof coordinates within the engine's tolerance of the section's size."""
-        from ..model import AXIS_TOLERANCE
+        from ..section import AXIS_TOLERANCE
 
         xyz = api.dof_coordinates(self.V)
         size = float(np.linalg.norm(np.ptp(xyz[:, :2], axis=0))) or 1.0
@@ -178,7 +178,7 @@ class BulkProblem:
 
     def _case_load(self) -> np.ndarray:
         """Edge loads assembled by UFL on the facet tags, plus point loads (slipstep dofs)."""
-        from ..model import hertz_cut_pressure
+        from ..loads import hertz_cut_pressure
 
         scene, dm, ufl = self.scene, self.dm, api.ufl()
         data = scene.case.data

@@ -173,7 +173,7 @@ def run(case_path, out: str | Path, overrides=(), steps=DEFAULT_STEPS, substeps:
     ``crosscheck.png``, the exchanged mesh (``mesh.xdmf``, ``mesh_edges.xdmf``) and the
     dolfinx results (``dolfinx.xdmf``, written by dolfinx)."""
     from ..case import load_case
-    from ..model import build_scene
+    from ..build import build_scene
     from .exchange import read_dolfinx, write_scene_xdmf
 
     t0 = time.perf_counter()

@@ -76,7 +76,7 @@ class MeshData:
 
 
 def scene_mesh_data(scene) -> MeshData:
-    """The global mesh of a :class:`slipstep.model.Scene` with body cell tags and edge tags."""
+    """The global mesh of a :class:`slipstep.scene.Scene` with body cell tags and edge tags."""
     several = len(scene.bodies) > 1
     segs, tags, edge_names, node_sets = [], [], {}, {}
     for name in scene.bodies:

@@ -19,7 +19,7 @@ ring element (rust/src/element.rs), so the two stiffness matrices agree to round
 ``quadrature_degree`` integrates the non-polynomial u_r u_r / r term of the stiffness more
 accurately: a different ring element, consistent too (the two converge to each other with the
 mesh).  Boundary integrals keep UFL's estimated degree (2: linear traction, test function and
-r), which is exact, like slipstep's ring loads (:func:`slipstep.model.boundary_shares`).
+r), which is exact, like slipstep's ring loads (:func:`slipstep.section.boundary_shares`).
 """
 
 from __future__ import annotations

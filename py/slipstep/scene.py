@@ -1,0 +1,58 @@
+"""The scene: a case built into the engine's ``model`` dict (docs/engine_api.md) and what the
+outputs need besides it: which body each node belongs to, each candidate pair's node position,
+tributary length and contact area (contact pressure = lambda_n / area), the Hertz reference
+when it applies, and the load path (named loads, stages, factors, supports and prescribed
+displacements).  :func:`slipstep.build.build_scene` makes one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .case import Case
+from .mesh import Mesh
+
+
+@dataclass
+class Scene:
+    """The assembled problem: global mesh, the engine model, and per-pair bookkeeping."""
+
+    case: Case
+    bodies: list[str]
+    meshes: dict[str, Mesh]
+    offsets: dict[str, int]           # first global node id of each body
+    nodes: np.ndarray                 # (N, 2)
+    triangles: np.ndarray             # (M, 3)
+    element_body: np.ndarray          # (M,) index into bodies
+    model: dict                       # the engine model
+    pair_xy: np.ndarray               # (P, 2) position of node_a
+    pair_length: np.ndarray           # (P,) tributary length of node_a on its candidate edge
+    pair_contact: np.ndarray          # (P,) index of the [[contact]] entry it came from
+    # (P,) the area its contact force acts on: L t, or its ring 2 pi int N_a r ds (contact_areas)
+    pair_area: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    # node-to-segment rows: node a's closest target point (end nodes l1, l2 and parameter eta)
+    # and its own initial gap, where the outputs measure gap and RTD; (-1, -1, 0) and nan else
+    pair_foot: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    pair_point_gap: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    # per [[contact]]: True when some nodes of its candidate edge are not candidates (window,
+    # no partner), so contact reaching the outermost candidate may be cut short
+    contact_truncated: list = field(default_factory=list)
+    reference: dict = field(default_factory=dict)  # Hertz a, p0 when the case is Hertz-like
+    # the load path (docs: cases/README.md, [[stage]]); see build_scene
+    load_names: list = field(default_factory=lambda: ["load"])  # factor order, "load" first
+    stage_names: list = field(default_factory=lambda: ["stage 1"])
+    n_stages: int = 1
+    support_dofs: dict = field(default_factory=dict)  # bc name -> (k,) DOFs it holds
+    prescribed: dict = field(default_factory=dict)    # load name -> {"dofs", "values"}
+    motions: dict = field(default_factory=dict)       # load name -> {"contact", "motion"}
+    factors: np.ndarray = field(default_factory=lambda: np.array([[0.0], [1.0]]))
+
+    @property
+    def n_dofs(self) -> int:
+        return 2 * len(self.nodes)
+
+    def global_edge(self, body: str, tag: str) -> np.ndarray:
+        """Segments of a body's edge tag in global node numbers (body on the left)."""
+        return self.meshes[body].edges[tag] + self.offsets[body]
