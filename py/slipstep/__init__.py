@@ -17,7 +17,8 @@ classes of ``errors``; the shipped cases and studies are in ``shipped``.
 from .version import __version__
 from .case import Case, CaseError, load_case, parse_case
 from .errors import InputError, SlipstepError
-from .mesh import Mesh, MeshError, from_arrays, from_meshio
+from .mesh import Mesh, MeshError, from_arrays
+from .mesh_files import from_meshio
 from .build import build_scene
 from .scene import Scene
 from .progress import Progress

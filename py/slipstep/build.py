@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import mesh as meshing
+from . import generators
 from .case import Case
 from .contact_geometry import contact_areas, contact_pairs
 from .errors import CaseError, InputError
+from .mesh import Mesh, MeshError
+from .mesh_files import read_mesh
 from .loads import load_force, load_vector, set_load_path
 from .options import solver_options
 from .references import effective_modulus, hertz_line, hertz_sphere
@@ -25,7 +27,7 @@ from .validation.scene import (check_duplicate_nodes, check_file_mesh_tags, chec
                                check_radii, check_stick_on_half_held)
 
 
-def mesh_body(case: Case, index: int) -> meshing.Mesh:
+def mesh_body(case: Case, index: int) -> Mesh:
     """Mesh one body from its [body.mesh] table."""
     body = case.data["body"][index]
     spec = body["mesh"]
@@ -38,29 +40,29 @@ def mesh_body(case: Case, index: int) -> meshing.Mesh:
         if spec.get("file"):
             path = (case.base_dir / spec["file"])
             edge_file = case.base_dir / spec["edge_file"] if spec["edge_file"] else None
-            return meshing.read_mesh(path, edge_file, spec["scale"])
+            return read_mesh(path, edge_file, spec["scale"])
         if spec["generator"] in ("quarter_cylinder", "half_cylinder", "disc"):
-            make = getattr(meshing, spec["generator"])
+            make = getattr(generators, spec["generator"])
             return make(spec["R"], spec["h_contact"], spec["contact_zone"], spec["h_max"],
                         spec["growth"])
         if spec["generator"] == "quarter_annulus":
-            return meshing.quarter_annulus(spec["a"], spec["b"], spec["h"], spec["h_outer"])
+            return generators.quarter_annulus(spec["a"], spec["b"], spec["h"], spec["h_outer"])
         if spec["h_contact"] > 0:  # the graded block (gmsh); else the structured one
-            return meshing.graded_block(spec["width"], spec["height"], spec["h_contact"],
+            return generators.graded_block(spec["width"], spec["height"], spec["h_contact"],
                                         spec["contact_zone"], spec["h_max"], spec["growth"],
                                         spec["focus"], spec["x0"], spec["y0"],
                                         spec["uniform_edges"])
         nx, ny = block_divisions(spec)
         if spec["refine_box"] is not None:  # the structured grid inside it, coarse outside
-            return meshing.refined_block(spec["width"], spec["height"], nx, ny,
+            return generators.refined_block(spec["width"], spec["height"], nx, ny,
                                          spec["refine_box"], spec["h_max"], spec["growth"],
                                          spec["x0"], spec["y0"])
-        return meshing.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
-    except meshing.MeshError as exc:
+        return generators.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
+    except MeshError as exc:
         raise CaseError(f"{case.source}: {where}: {exc}") from None
 
 
-def build_scene(case: Case, meshes: dict[str, meshing.Mesh] | None = None) -> Scene:
+def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
     """Mesh every body (except those whose mesh ``meshes`` gives, by body name), merge them,
     and build the engine model."""
     data = case.data

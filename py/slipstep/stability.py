@@ -35,7 +35,7 @@ from . import runner, shipped
 from .case import load_case
 from .derived import centroids
 from .references import thick_cylinder_radius
-from .mesh import _finish
+from .mesh import checked_mesh
 from .summary import contact_text, summarize
 
 COLUMNS = ["scenario", "group", "status", "error", "n_events", "n_steps", "final_load_fraction",
@@ -81,7 +81,7 @@ def structured_annulus(a: float, b: float, nr: int, nt: int, crossed: bool = Tru
     edges = {"inner": seg(grid[0, :]), "outer": seg(grid[-1, :]),
              "x_axis": seg(grid[:, 0]), "y_axis": seg(grid[:, -1])}
     node_sets = {k: np.unique(v) for k, v in edges.items()}
-    return _finish(nodes, tris, edges, node_sets, where="structured quarter annulus",
+    return checked_mesh(nodes, tris, edges, node_sets, where="structured quarter annulus",
                    flip_clockwise=True)
 
 

@@ -13,6 +13,7 @@ from conftest import CASES, MINIMAL, needs_gmsh
 
 from slipstep import schema
 from slipstep import mesh as M
+from slipstep import generators
 from slipstep.case import CaseError, load_case, parse_case
 from slipstep.build import build_scene
 from slipstep.loads import edge_load, hertz_cut_pressure
@@ -400,7 +401,7 @@ def test_a_component_held_by_two_bcs_at_a_shared_node():
     assert 'fix = ["x"]' in msg and "node set" in msg
     text = STAGED + ('\n[[bc]]\nname = "pull"\nbody = "b"\nnodes = "corner_top_left"\n'
                      "displacement = {x = 0.5}\n\n[[stage]]\nfactors = {pull = 1.0}\n")
-    corner = M.block(2.0, 1.0, 4, 2).node_sets["corner_top_left"][0]
+    corner = generators.block(2.0, 1.0, 4, 2).node_sets["corner_top_left"][0]
     assert (f"bc.pull.displacement.x: node {corner} (0, 1) is also held in x by bc.push "
             f"(displacement)") in error_of(text, build=True)
 

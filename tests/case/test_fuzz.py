@@ -4,7 +4,7 @@ The only acceptable outcomes are a result or the module's own error with a one-l
 
 - ``slipstep.case.parse_case`` (random TOML documents, mutations of every shipped and
   catalogue case, random ``--set`` overrides): a Case or a ``CaseError``;
-- ``slipstep.mesh.read_mesh`` (random, truncated and mutated ``.msh`` / ``.xdmf`` / ``.h5``
+- ``slipstep.mesh_files.read_mesh`` (random, truncated and mutated ``.msh`` / ``.xdmf`` / ``.h5``
   bytes): a Mesh or a ``MeshError``;
 - ``slipstep._engine.solve`` (random small meshes, supports, loads and contact pairs, many of
   them degenerate): a result with no NaN in it, or a ``SlipstepError`` (the contract's classes,
@@ -42,7 +42,8 @@ from hypothesis import strategies as st  # noqa: E402
 
 from slipstep.case import CaseError, parse_case  # noqa: E402
 from slipstep.errors import SlipstepError  # noqa: E402
-from slipstep.mesh import MeshError, read_mesh  # noqa: E402
+from slipstep.mesh import MeshError  # noqa: E402
+from slipstep.mesh_files import read_mesh  # noqa: E402
 
 # meshio parses damaged inline XML data with numpy.fromstring, which warns about it
 pytestmark = pytest.mark.filterwarnings("ignore:string or file could not be read:DeprecationWarning")
@@ -238,11 +239,11 @@ def _good_mesh_files(folder: Path) -> dict[str, bytes]:
     (written by gmsh itself), XDMF with inline XML data and XDMF + HDF5."""
     import meshio
 
-    from slipstep.mesh import _gmsh_session
+    from slipstep.gmsh_api import gmsh_session
 
     files = {"v22.msh": (CATALOGUE / "mesh_unknown_node_set.msh").read_bytes()}
     (folder / "v22.msh").write_bytes(files["v22.msh"])
-    with _gmsh_session() as gmsh:
+    with gmsh_session() as gmsh:
         gmsh.model.add("square")
         geo = gmsh.model.geo
         p = [geo.addPoint(x, y, 0.0) for x, y in [(0, 0), (1, 0), (1, 1), (0, 1)]]

@@ -34,7 +34,7 @@ import pytest
 from physics import EQUILIBRIUM_TOL, von_mises, worst_equilibrium
 
 from slipstep import _engine, prepare, solve
-from slipstep import mesh as M
+from slipstep import generators
 
 ROUND_OFF = 1e-8
 
@@ -55,7 +55,7 @@ def write_beam_case(folder, theta):
     flat rotated by theta; elastoplastic (Sy = 100 MPa, H' = 2000 MPa), μ = 0.3."""
     import meshio
 
-    b = M.block(W, HEIGHT, NX, NY)
+    b = generators.block(W, HEIGHT, NX, NY)
     c, s = math.cos(theta), math.sin(theta)
     Q = np.array([[c, -s], [s, c]])
     bottom = b.edges["bottom"]

@@ -11,6 +11,7 @@ import pytest
 from conftest import needs_gmsh
 
 from slipstep import mesh as M
+from slipstep import generators
 from slipstep.case import CaseError, parse_case
 from slipstep.build import mesh_body
 
@@ -20,7 +21,7 @@ W, H, HC, ZONE, HMAX = 100.0, 100.0, 0.25, 10.0, 10.0
 
 @pytest.fixture(scope="module")
 def half_space():
-    return M.graded_block(W, H, HC, ZONE, HMAX)
+    return generators.graded_block(W, H, HC, ZONE, HMAX)
 
 
 def side_counts(mesh: M.Mesh) -> tuple[np.ndarray, np.ndarray]:
@@ -110,7 +111,7 @@ def test_element_size_near_focus_and_far_away(half_space):
                                        ((30.0, 40.0), ())])
 def test_a_node_sits_exactly_at_focus(focus, on):
     """On an edge (it is split there), at a corner, and inside (an embedded point)."""
-    m = M.graded_block(W, H, 1.0, 5.0, 20.0, focus=focus)
+    m = generators.graded_block(W, H, 1.0, 5.0, 20.0, focus=focus)
     at = np.flatnonzero((m.nodes[:, 0] == focus[0]) & (m.nodes[:, 1] == focus[1]))
     assert len(at) == 1
     assert m.node_sets["focus"].tolist() == at.tolist()
@@ -158,8 +159,8 @@ def test_triangles_are_counter_clockwise_and_fill_the_rectangle(half_space):
 
 @needs_gmsh
 def test_offset_block_and_determinism():
-    a = M.graded_block(3.0, 2.0, 0.1, 0.5, 0.4, growth=0.3, x0=-1.0, y0=5.0)
-    b = M.graded_block(3.0, 2.0, 0.1, 0.5, 0.4, growth=0.3, x0=-1.0, y0=5.0)
+    a = generators.graded_block(3.0, 2.0, 0.1, 0.5, 0.4, growth=0.3, x0=-1.0, y0=5.0)
+    b = generators.graded_block(3.0, 2.0, 0.1, 0.5, 0.4, growth=0.3, x0=-1.0, y0=5.0)
     assert np.array_equal(a.nodes, b.nodes) and np.array_equal(a.triangles, b.triangles)
     # the default focus is the middle of the top edge
     assert a.nodes[a.node_sets["focus"]].tolist() == [[0.5, 7.0]]
@@ -169,11 +170,11 @@ def test_offset_block_and_determinism():
 
 def test_graded_block_refuses_bad_arguments():
     with pytest.raises(M.MeshError, match=r"need 0 < h_contact <= h_max"):
-        M.graded_block(1.0, 1.0, 0.5, 0.2, 0.1)
+        generators.graded_block(1.0, 1.0, 0.5, 0.2, 0.1)
     with pytest.raises(M.MeshError, match=r"contact_zone = 0, growth = 0.1: both must be > 0"):
-        M.graded_block(1.0, 1.0, 0.05, 0.0, 0.1)
+        generators.graded_block(1.0, 1.0, 0.05, 0.0, 0.1)
     with pytest.raises(M.MeshError, match=r"focus \(2, 0.5\) lies outside the block"):
-        M.graded_block(1.0, 1.0, 0.05, 0.2, 0.1, focus=(2.0, 0.5))
+        generators.graded_block(1.0, 1.0, 0.05, 0.2, 0.1, focus=(2.0, 0.5))
 
 
 # --------------------------------------------------------------------------- the case file
@@ -223,7 +224,7 @@ def test_structured_block_is_unchanged_without_h_contact(size, nx, ny, expected)
     case = parse_case(CASE.format(mesh=size))
     assert case.data["body"][0]["mesh"]["h_contact"] == 0.0
     m = mesh_body(case, 0)
-    ref = M.block(3.0, 1.7, nx, ny, -1.5, 2.25)
+    ref = generators.block(3.0, 1.7, nx, ny, -1.5, 2.25)
     assert np.array_equal(m.nodes, ref.nodes) and np.array_equal(m.triangles, ref.triangles)
     assert digest(m) == expected
 
@@ -314,7 +315,7 @@ def test_uniform_edges_put_nodes_where_a_structured_body_has_them():
     """A 100 x 100 half-space graded around the punch corner (10, 0) with uniform_edges: its top
     nodes on [0, 10] are exactly the structured punch's (x = 0, 1, ..., 10, to round-off of the
     coordinates, 1e-12 of the block size), so node_to_node contact can pair them."""
-    mesh = M.graded_block(100.0, 100.0, 1.0, 10.0, 10.0, 0.12, focus=(10.0, 0.0), x0=0.0,
+    mesh = generators.graded_block(100.0, 100.0, 1.0, 10.0, 10.0, 0.12, focus=(10.0, 0.0), x0=0.0,
                           y0=-100.0, uniform_edges=True)
     top = np.unique(mesh.edges["top"])
     x = np.sort(mesh.nodes[top, 0])
@@ -331,7 +332,7 @@ BOX, GROWTH = [0.0, -15.0, 15.0, 0.0], 0.15
 
 @pytest.fixture(scope="module")
 def refined():
-    return M.refined_block(W, H, 100, 100, BOX, HMAX, GROWTH, 0.0, -100.0)
+    return generators.refined_block(W, H, 100, 100, BOX, HMAX, GROWTH, 0.0, -100.0)
 
 
 def triangles_by_position(mesh: M.Mesh, keep) -> set:
@@ -352,8 +353,8 @@ def triangles_by_position(mesh: M.Mesh, keep) -> set:
 def test_inside_the_box_the_mesh_is_the_structured_block(box):
     """Same node coordinates (bit for bit) and the same triangles, diagonals included, as
     block(): for boxes starting at odd (j = 85) and even (j = 84) rows, and inside (a hole)."""
-    m = M.refined_block(W, H, 100, 100, box, HMAX, GROWTH, 0.0, -100.0)
-    ref = M.block(W, H, 100, 100, 0.0, -100.0)
+    m = generators.refined_block(W, H, 100, 100, box, HMAX, GROWTH, 0.0, -100.0)
+    ref = generators.block(W, H, 100, 100, 0.0, -100.0)
 
     def inside(x, y):
         return box[0] < x < box[2] and box[1] < y < box[3]
@@ -406,17 +407,17 @@ def test_refined_block_coarsens_away_from_the_box(refined):
 
 @needs_gmsh
 def test_refined_box_is_rounded_out_to_grid_lines_and_may_cover_the_block():
-    a = M.refined_block(W, H, 100, 100, [0.3, -14.2, 14.6, 0.0], HMAX, GROWTH, 0.0, -100.0)
-    b = M.refined_block(W, H, 100, 100, BOX, HMAX, GROWTH, 0.0, -100.0)
+    a = generators.refined_block(W, H, 100, 100, [0.3, -14.2, 14.6, 0.0], HMAX, GROWTH, 0.0, -100.0)
+    b = generators.refined_block(W, H, 100, 100, BOX, HMAX, GROWTH, 0.0, -100.0)
     assert np.array_equal(a.nodes, b.nodes) and np.array_equal(a.triangles, b.triangles)
-    whole = M.refined_block(3.0, 1.7, 7, 3, [-1.5, 2.25, 1.5, 3.95], 0.5, x0=-1.5, y0=2.25)
-    assert digest(whole) == digest(M.block(3.0, 1.7, 7, 3, -1.5, 2.25))
+    whole = generators.refined_block(3.0, 1.7, 7, 3, [-1.5, 2.25, 1.5, 3.95], 0.5, x0=-1.5, y0=2.25)
+    assert digest(whole) == digest(generators.block(3.0, 1.7, 7, 3, -1.5, 2.25))
 
 
 @needs_gmsh
 def test_a_box_across_the_block_splits_the_rest_in_two():
     """The box spans the block's height: gmsh meshes two pieces, joined to the box's sides."""
-    m = M.refined_block(20.0, 10.0, 20, 10, [5.0, 0.0, 8.0, 10.0], 4.0, 0.3)
+    m = generators.refined_block(20.0, 10.0, 20, 10, [5.0, 0.0, 8.0, 10.0], 4.0, 0.3)
     assert (M.signed_areas(m.nodes, m.triangles) > 0).all()
     assert abs(m.area() - 200.0) <= 1e-10 * 200.0
     assert_edges_are_the_boundary(m)
@@ -427,11 +428,11 @@ def test_a_box_across_the_block_splits_the_rest_in_two():
 
 def test_refined_block_refuses_bad_arguments():
     with pytest.raises(M.MeshError, match=r"refine_box \[2, 0, 1, 1\] is empty"):
-        M.refined_block(3.0, 3.0, 3, 3, [2.0, 0.0, 1.0, 1.0], 1.0)
+        generators.refined_block(3.0, 3.0, 3, 3, [2.0, 0.0, 1.0, 1.0], 1.0)
     with pytest.raises(M.MeshError, match=r"reaches outside the block \[0, 3\] x \[0, 3\]"):
-        M.refined_block(3.0, 3.0, 3, 3, [1.0, 1.0, 4.0, 2.0], 1.0)
+        generators.refined_block(3.0, 3.0, 3, 3, [1.0, 1.0, 4.0, 2.0], 1.0)
     with pytest.raises(M.MeshError, match=r"need h_max >= the grid spacing 1"):
-        M.refined_block(3.0, 3.0, 3, 3, [1.0, 1.0, 2.0, 2.0], 0.5)
+        generators.refined_block(3.0, 3.0, 3, 3, [1.0, 1.0, 2.0, 2.0], 0.5)
 
 
 @needs_gmsh
@@ -443,7 +444,7 @@ def test_case_with_a_refined_block():
     m = mesh_body(case, 0)
     assert m.n_nodes < 30 * 17 + 1  # coarser than the structured 30 x 17 cells
     mine = triangles_by_position(m, lambda x, y: -0.5 < x < 0.5 and y > 3.0)
-    assert mine == triangles_by_position(M.block(3.0, 1.7, 30, 17, -1.5, 2.25),
+    assert mine == triangles_by_position(generators.block(3.0, 1.7, 30, 17, -1.5, 2.25),
                                          lambda x, y: -0.5 < x < 0.5 and y > 3.0)
 
 

@@ -9,6 +9,8 @@ import pytest
 from conftest import CASES, needs_gmsh
 
 from slipstep import mesh as M
+from slipstep import generators
+from slipstep import mesh_files
 from slipstep.case import load_case
 from slipstep.build import build_scene
 
@@ -17,7 +19,7 @@ from slipstep.build import build_scene
 def default_cylinder():
     """The mesh of the default Hertz case (R = 125, h_contact = 0.03 over 2.5 mm)."""
     spec = load_case(None).data["body"][0]["mesh"]
-    return spec, M.quarter_cylinder(spec["R"], spec["h_contact"], spec["contact_zone"],
+    return spec, generators.quarter_cylinder(spec["R"], spec["h_contact"], spec["contact_zone"],
                                      spec["h_max"], spec["growth"])
 
 
@@ -94,8 +96,8 @@ def test_element_size_is_graded_from_the_contact_point(default_cylinder):
 
 @needs_gmsh
 def test_small_cylinder_generator_is_deterministic():
-    a = M.quarter_cylinder(10.0, 0.2, 1.0, 2.0, 0.3)
-    b = M.quarter_cylinder(10.0, 0.2, 1.0, 2.0, 0.3)
+    a = generators.quarter_cylinder(10.0, 0.2, 1.0, 2.0, 0.3)
+    b = generators.quarter_cylinder(10.0, 0.2, 1.0, 2.0, 0.3)
     assert np.array_equal(a.nodes, b.nodes) and np.array_equal(a.triangles, b.triangles)
 
 
@@ -105,7 +107,7 @@ DISC = dict(R=10.0, h_contact=0.1, contact_zone=1.0, h_max=2.0, growth=0.3)
 
 @pytest.fixture(scope="module")
 def disc():
-    return M.disc(**DISC)
+    return generators.disc(**DISC)
 
 
 @needs_gmsh
@@ -233,7 +235,7 @@ def test_a_disc_compressed_between_its_top_and_a_flat():
 @needs_gmsh
 def test_quarter_annulus_geometry_tags_and_grading():
     a, b, h, h_outer = 10.0, 20.0, 0.5, 1.0
-    m = M.quarter_annulus(a, b, h, h_outer)
+    m = generators.quarter_annulus(a, b, h, h_outer)
     assert (M.signed_areas(m.nodes, m.triangles) > 0).all()
     r = np.linalg.norm(m.nodes, axis=1)
     assert np.max(np.abs(r[m.edge_nodes("inner")] - a)) <= 1e-12 * a
@@ -259,12 +261,12 @@ def test_quarter_annulus_geometry_tags_and_grading():
     assert lengths["inner"] == pytest.approx(h, rel=0.1)
     assert lengths["outer"] == pytest.approx(h_outer, rel=0.1)
     with pytest.raises(M.MeshError, match="need 0 < a < b"):
-        M.quarter_annulus(2.0, 1.0, 0.1)
+        generators.quarter_annulus(2.0, 1.0, 0.1)
 
 
 # --------------------------------------------------------------------------- blocks
 def test_block_geometry_and_tags():
-    b = M.block(4.0, 2.0, 8, 5, x0=1.0, y0=-2.0)
+    b = generators.block(4.0, 2.0, 8, 5, x0=1.0, y0=-2.0)
     assert b.n_nodes == 9 * 6 and b.n_elements == 2 * 8 * 5
     assert (M.signed_areas(b.nodes, b.triangles) > 0).all()
     assert abs(b.area() - 8.0) <= 1e-12 * 8.0
@@ -286,7 +288,7 @@ def test_stacked_blocks_have_matching_interface_nodes():
 
 # --------------------------------------------------------------------------- checks
 def test_inverted_triangle_is_named_by_its_element_id():
-    b = M.block(2.0, 1.0, 4, 2)
+    b = generators.block(2.0, 1.0, 4, 2)
     tris = b.triangles.copy()
     tris[5] = tris[5, [0, 2, 1]]
     with pytest.raises(M.MeshError) as info:
@@ -304,7 +306,7 @@ def test_degenerate_triangle_is_named():
 
 
 def test_tagging_an_interior_side_is_an_error():
-    b = M.block(2.0, 1.0, 2, 1)
+    b = generators.block(2.0, 1.0, 2, 1)
     interior = b.triangles[0, [0, 2]]  # the diagonal of cell 0
     with pytest.raises(M.MeshError, match=r"is inside the mesh"):
         M.orient_edges(b.triangles, {"bad": interior[None, :]})
@@ -325,7 +327,7 @@ def test_xdmf_mesh_with_line_tags(tmp_path):
                     cell_data={"tags": [np.zeros(4, np.int32), np.array([1, 3], np.int32)]})
     path = tmp_path / "sq.xdmf"
     meshio.write(path, m)
-    mesh = M.read_mesh(path)
+    mesh = mesh_files.read_mesh(path)
     assert set(mesh.edges) == {"1", "3"}
     assert np.allclose(M.outward_normals(mesh.nodes, mesh.edges["1"]), [[0, -1]])
     assert np.allclose(M.outward_normals(mesh.nodes, mesh.edges["3"]), [[0, 1]])
@@ -337,12 +339,12 @@ def test_clockwise_file_mesh_is_flipped_and_mixed_one_rejected(tmp_path):
     cw = tris[:, [0, 2, 1]]
     meshio.write(tmp_path / "cw.xdmf", meshio.Mesh(nodes, [("triangle", cw)]))
     assert (M.signed_areas(*(lambda m: (m.nodes, m.triangles))(
-        M.read_mesh(tmp_path / "cw.xdmf"))) > 0).all()
+        mesh_files.read_mesh(tmp_path / "cw.xdmf"))) > 0).all()
     mixed = tris.copy()
     mixed[2] = mixed[2, [0, 2, 1]]
     meshio.write(tmp_path / "mixed.xdmf", meshio.Mesh(nodes, [("triangle", mixed)]))
     with pytest.raises(M.MeshError, match=r"mixed.xdmf: element 2 is inverted"):
-        M.read_mesh(tmp_path / "mixed.xdmf")
+        mesh_files.read_mesh(tmp_path / "mixed.xdmf")
 
 
 def test_multi_grid_xdmf_is_an_error_not_an_exit(tmp_path):
@@ -360,7 +362,7 @@ def test_multi_grid_xdmf_is_an_error_not_an_exit(tmp_path):
     finally:
         os.chdir(cwd)
     with pytest.raises(M.MeshError, match=r"series.xdmf: meshio cannot read"):
-        M.read_mesh(path)
+        mesh_files.read_mesh(path)
 
 
 @needs_gmsh
@@ -380,7 +382,7 @@ def test_msh_file_with_physical_names(tmp_path):
         gmsh.write(str(tmp_path / "sq.msh"))
     finally:
         gmsh.finalize()
-    mesh = M.read_mesh(tmp_path / "sq.msh", scale=10.0)
+    mesh = mesh_files.read_mesh(tmp_path / "sq.msh", scale=10.0)
     assert set(mesh.edges) == {"base"}
     assert abs(mesh.area() - 200.0) <= 1e-9 * 200.0
     assert np.allclose(M.outward_normals(mesh.nodes, mesh.edges["base"]), [0, -1])
@@ -392,9 +394,9 @@ def test_written_msh_reads_back_as_the_same_mesh(tmp_path):
     """write_msh (the bench hands slipstep's meshes to GetFEM with it) -> gmsh's reader: the
     same triangles, edge segments and node sets, compared by coordinates (gmsh renumbers the
     nodes by entity), exactly (coordinates are written with repr, which round-trips)."""
-    mesh = M.quarter_cylinder(10.0, 0.2, 1.0, 2.0, 0.3)
-    tags = M.write_msh(mesh, tmp_path / "c.msh")
-    back = M.read_mesh(tmp_path / "c.msh")
+    mesh = generators.quarter_cylinder(10.0, 0.2, 1.0, 2.0, 0.3)
+    tags = mesh_files.write_msh(mesh, tmp_path / "c.msh")
+    back = mesh_files.read_mesh(tmp_path / "c.msh")
 
     def rows(m, ids):  # coordinates of each row of node ids, rows in a canonical order
         xy = m.nodes[np.asarray(ids)].reshape(len(ids), -1)
@@ -412,4 +414,4 @@ def test_written_msh_reads_back_as_the_same_mesh(tmp_path):
 def test_unknown_mesh_format(tmp_path):
     (tmp_path / "m.stl").write_text("solid")
     with pytest.raises(M.MeshError, match=r"unknown mesh format '.stl'"):
-        M.read_mesh(tmp_path / "m.stl")
+        mesh_files.read_mesh(tmp_path / "m.stl")

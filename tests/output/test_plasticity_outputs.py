@@ -16,7 +16,7 @@ import pytest
 from conftest import CASES, needs_gmsh, synthetic_hertz_result
 
 from slipstep import cli, output, prepare, solve
-from slipstep import mesh as M
+from slipstep import generators
 from slipstep.case import CaseError, load_case
 from slipstep.figures import zone_boundary, zoom_window
 from slipstep.build import build_scene
@@ -206,7 +206,7 @@ def test_zoom_window_for_a_flat_above_the_body_and_without_a():
 
 
 def test_zone_boundary_is_the_interface_between_the_sets():
-    b = M.block(4.0, 2.0, 4, 2)
+    b = generators.block(4.0, 2.0, 4, 2)
     inside = b.nodes[b.triangles].mean(axis=1)[:, 0] < 2.0
     segs = zone_boundary(b.triangles, inside)
     assert len(segs) == 2 and np.all(b.nodes[segs][..., 0] == 2.0)

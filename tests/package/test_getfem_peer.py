@@ -1,7 +1,7 @@
 """The GetFEM peer of `make bench` (bench/getfem_hertz.py) solves slipstep's Hertz scene.
 
 GetFEM (Debian python3-getfem) is installed for the bench only: without it these tests skip.
-Both codes read the same mesh (slipstep's generator, written by slipstep.mesh.write_msh), so:
+Both codes read the same mesh (slipstep's generator, written by slipstep.mesh_files.write_msh), so:
 
 * frictionless and elastic, the two solve the *same* discrete problem (CST stiffness, nodal
   contact of the same candidates with the flat, the same nodal load vector), which has one

@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
 
-from slipstep import mesh as M
+from slipstep import generators
 from slipstep import prepare, solve
 from slipstep.derived import contact_profile
 
@@ -48,7 +48,7 @@ def compare(case: str, h: float, common=()) -> tuple[float, dict]:
     s0, a = run(case, [*common, *STRUCTURED])
     s1, b = run(case, list(common))
     n = round(100.0 / h)
-    ref = M.block(100.0, 100.0, n, n, 0.0, -100.0)
+    ref = generators.block(100.0, 100.0, n, n, 0.0, -100.0)
     assert np.array_equal(s0.meshes["halfspace"].nodes, ref.nodes)
     assert np.array_equal(s0.meshes["halfspace"].triangles, ref.triangles)
     assert np.array_equal(a["x"], b["x"]), "the punch's interface nodes must be the same"

@@ -7,6 +7,7 @@ import pytest
 from conftest import CASES, MINIMAL, needs_gmsh, write_case
 
 from slipstep import mesh as M
+from slipstep import generators
 from slipstep.case import CaseError, load_case, parse_case
 from slipstep.build import build_scene
 from slipstep.contact_geometry import tributary_lengths
@@ -26,7 +27,7 @@ def blocks():
 # --------------------------------------------------------------------------- loads
 @pytest.mark.parametrize("q, t", [(10.0, 1.0), (3.7, 2.5), (-1.25, 0.3)])
 def test_pressure_on_a_straight_edge_sums_to_q_L_t(q, t):
-    b = M.block(7.3, 2.0, 13, 4)
+    b = generators.block(7.3, 2.0, 13, 4)
     f = edge_load(b.nodes, b.edges["top"], b.n_nodes, t, pressure=q)
     expected = -q * 7.3 * t  # acts against the outward normal (0, 1)
     assert abs(f[1::2].sum() - expected) <= 1e-12 * abs(expected)
@@ -240,7 +241,7 @@ def test_contact_names_come_from_the_case():
 def test_build_scene_takes_a_ready_mesh_for_a_body():
     """A body whose mesh is given is not meshed: the scene holds exactly that mesh (here 3 x 5
     divisions where the case says 4 x 2)."""
-    given = M.block(2.0, 1.0, 3, 5)
+    given = generators.block(2.0, 1.0, 3, 5)
     scene = build_scene(parse_case(MINIMAL), meshes={"b": given})
     assert scene.meshes["b"] is given
     assert np.array_equal(scene.model["nodes"], given.nodes)
@@ -252,4 +253,4 @@ def test_build_scene_refuses_a_mesh_for_an_unknown_body():
     from slipstep.errors import InputError
 
     with pytest.raises(InputError, match=r"meshes given for 'nope'.*its bodies: b"):
-        build_scene(parse_case(MINIMAL), meshes={"nope": M.block(1.0, 1.0, 1, 1)})
+        build_scene(parse_case(MINIMAL), meshes={"nope": generators.block(1.0, 1.0, 1, 1)})
