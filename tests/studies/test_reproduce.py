@@ -15,6 +15,7 @@ import pytest
 from conftest import CASES, needs_gmsh
 from slipstep import load_case
 from slipstep import reproduce as rp
+from slipstep.reproduce import scenes
 
 pytestmark = needs_gmsh
 
@@ -29,14 +30,14 @@ def quick(tmp_path_factory):
 # --------------------------------------------------------------------------- closed forms
 def test_reference_values():
     # Hertz line contact, plane strain, E* = E/(1 - nu^2) (paper §5.1, Table 1)
-    assert rp.A_HERTZ == pytest.approx(1.4384, abs=1e-4)
-    assert rp.P0_HERTZ == pytest.approx(442.59, abs=0.01)
+    assert scenes.A_HERTZ == pytest.approx(1.4384, abs=1e-4)
+    assert scenes.P0_HERTZ == pytest.approx(442.59, abs=0.01)
     # Johnson: first yield at p0 = 1.79 Sy = 358 MPa, f = (358/442.6)^2
-    assert rp.F_JOHNSON == pytest.approx(0.6543, abs=1e-4)
+    assert scenes.F_JOHNSON == pytest.approx(0.6543, abs=1e-4)
     # the paper's "analytical" a = 1.036 mm at the threshold is not Hertz's: 2R p0/E* = 1.1635
-    assert rp.A_JOHNSON == pytest.approx(1.1635, abs=1e-4)
-    assert rp.A_JOHNSON == pytest.approx(rp.A_HERTZ * math.sqrt(rp.F_JOHNSON), rel=1e-12)
-    assert rp.A_JOHNSON / rp.PAPER_TABLE1["yield_a"][0] - 1 > 0.10
+    assert scenes.A_JOHNSON == pytest.approx(1.1635, abs=1e-4)
+    assert scenes.A_JOHNSON == pytest.approx(scenes.A_HERTZ * math.sqrt(scenes.F_JOHNSON), rel=1e-12)
+    assert scenes.A_JOHNSON / scenes.PAPER_TABLE1["yield_a"][0] - 1 > 0.10
 
 
 def test_table1_elastic_against_hertz(quick):
@@ -109,7 +110,7 @@ def slip_length(d: dict) -> float:
 def test_plastic_contact_is_longer(quick):
     """Paper: the elastoplastic contact is longer than the elastic one at full load, each mu
     (measured 1.516 / 1.467, 1.511 / 1.454, 1.512 / 1.429 at mu = 0, 0.1, 0.35)."""
-    for mu in rp.MUS:
+    for mu in scenes.MUS:
         elastic = half_width(cylinder(quick, "elastic", mu))
         assert half_width(cylinder(quick, "plastic", mu)) > elastic, mu
 
@@ -117,7 +118,7 @@ def test_plastic_contact_is_longer(quick):
 def test_plastic_pressure_is_flatter(quick):
     """Paper: peak over mean pressure smaller when plastic, each mu; elastic close to Hertz's
     4/pi = 1.273 (the nodal peak a bit higher: below 1.4; measured 1.30 .. 1.36)."""
-    for mu in rp.MUS:
+    for mu in scenes.MUS:
         elastic = peak_over_mean(cylinder(quick, "elastic", mu))
         assert peak_over_mean(cylinder(quick, "plastic", mu)) < elastic < 1.4
 
@@ -126,7 +127,7 @@ def test_slip_zone_shrinks_as_mu_grows(quick):
     """Paper: the slip zone a - c shrinks as mu grows, elastic and elastoplastic (measured
     1.47, 1.38, 0.31 and 1.52, 1.29, 0 by the summaries)."""
     for kind in ("elastic", "plastic"):
-        slip = [slip_length(cylinder(quick, kind, mu)) for mu in rp.MUS]
+        slip = [slip_length(cylinder(quick, kind, mu)) for mu in scenes.MUS]
         assert all(b < a for a, b in zip(slip, slip[1:])), (kind, slip)
 
 
@@ -153,7 +154,7 @@ def test_onset_of_yield_falls_as_mu_grows(quick):
     surface = next(i for i, (_, depth, a) in enumerate(rows) if depth < 0.25 * a)
     tail = f[surface:]
     assert all(b <= a * (1 + 1e-9) for a, b in zip(tail, tail[1:])), (mus[surface], tail)
-    assert f[0] == pytest.approx(rp.F_JOHNSON, rel=0.05)
+    assert f[0] == pytest.approx(scenes.F_JOHNSON, rel=0.05)
     assert [r["f"] for r in quick[1]["fig10"]] == pytest.approx(f, rel=1e-12)  # the report's
 
 

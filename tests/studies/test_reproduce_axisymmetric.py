@@ -8,7 +8,7 @@ from __future__ import annotations
 import pytest
 
 from conftest import needs_gmsh
-from slipstep import reproduce_axisymmetric as ra
+from slipstep.reproduce import axisymmetric as ra
 
 pytestmark = needs_gmsh
 

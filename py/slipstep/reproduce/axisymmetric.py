@@ -26,11 +26,12 @@ from pathlib import Path
 
 import numpy as np
 
-from . import shipped, sweep
-from .derived import centroids
-from .references import (jackson_green, jackson_green_critical, kogut_etsion,
+from .. import shipped, sweep
+from ..derived import centroids
+from ..references import (jackson_green, jackson_green_critical, kogut_etsion,
                           kogut_etsion_critical, thick_sphere_lame, thick_sphere_pressure,
                           thick_sphere_radius)
+from .scenes import task
 
 HERTZ, THICK, SPHERE_FLAT = "hertz_sphere.toml", "thick_sphere.toml", "sphere_on_flat_plastic.toml"
 SY_FIRST_YIELD = 130.0          # MPa: the Hertz sphere yields at f = 0.67 of P = 30 N
@@ -59,14 +60,11 @@ def _case(name: str) -> Path:
 
 
 def _task(cid: str, case: str, overrides, **options) -> dict:
-    opts = dict(sweep.OUTPUT_KEYS)
-    opts.update(options)
-    return {"case_id": cid, "params": {"scene": cid}, "base": str(_case(case)),
-            "overrides": list(overrides), "options": opts}
+    return task(cid, _case(case), overrides, **options)
 
 
 def _flat_mesh(scale: float) -> list[str]:
-    from .case import load_case
+    from ..case import load_case
 
     mesh = load_case(_case(SPHERE_FLAT)).data["body"][0]["mesh"]
     return [f"mesh.h_contact={mesh['h_contact'] * scale:g}",
@@ -92,7 +90,7 @@ class ThickSphere:
 
 
 def thick_sphere() -> ThickSphere:
-    from .case import load_case
+    from ..case import load_case
 
     data = load_case(_case(THICK)).data
     mesh, mat = data["body"][0]["mesh"], data["body"][0]["material"]
@@ -201,7 +199,7 @@ def _plastic_front(folder: Path, ts: ThickSphere) -> dict:
 def sphere_flat_numbers(folder: Path, m: Meshes) -> dict:
     """Per mesh: (w, P/P_c, A/A_c) at every closure for both normalisations, and the
     deviations from the fits over 1 <= w <= 50."""
-    from .case import load_case
+    from ..case import load_case
 
     data = load_case(_case(SPHERE_FLAT)).data
     mat, R = data["body"][0]["material"], data["body"][0]["mesh"]["R"]
