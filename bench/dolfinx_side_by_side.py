@@ -66,13 +66,13 @@ from pathlib import Path
 import numpy as np
 
 import slipstep
-from slipstep.derived import polar
+from slipstep.fields import polar
 from slipstep.fenicsx import require_dolfinx
 from slipstep.references import thick_cylinder_stresses
 from slipstep.fenicsx.bulk import BulkProblem
 from slipstep.fenicsx.crosscheck import (bulk_differences, engine_result, hill_differences,
                                          hill_setup)
-from slipstep.output import summarize
+from slipstep.summary import summarize
 
 HERE = Path(__file__).resolve().parent
 CASE = HERE.parent / "cases" / "thick_cylinder.toml"

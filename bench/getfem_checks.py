@@ -54,8 +54,8 @@ STORE = HERE / "getfem_checks.json"
 def slipstep_run(h: float, overrides: list[str]) -> dict:
     """slipstep on the scene at h_contact = h: p0, a, forces, the contact profile, times."""
     from slipstep import prepare, solve
-    from slipstep.derived import contact_profile
-    from slipstep.output import summarize
+    from slipstep.contact_measures import contact_profile
+    from slipstep.summary import summarize
 
     t0 = time.perf_counter()
     scene = prepare(peer.CASE, overrides=[*overrides, f"mesh.h_contact={h}",

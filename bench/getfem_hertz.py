@@ -30,7 +30,7 @@ solve the same mesh.  The GetFEM model, one process per run (`one`):
 
 Outputs at f = 1, defined as slipstep defines them: the contact pressure of a candidate is its
 nodal contact force over its tributary length (slipstep.contact_geometry.tributary_lengths), p0 its
-maximum; the contact half-width a is slipstep.derived.contact_half_width, the far end of the
+maximum; the contact half-width a is slipstep.contact_measures.contact_half_width, the far end of the
 closed zone interpolated linearly in the load fraction between the outermost closed node
 (closing at f_c) and the next open one (closing at f_o).  slipstep knows f_c from its events
 and f_o from the rate of its last increment; here f_c is where the line through the node's gap
@@ -311,7 +311,7 @@ def _secant_zero(f: np.ndarray, g: np.ndarray) -> float:
 
 def contact_numbers(spec: dict, book: dict, hist: dict) -> dict:
     """p0, a, total normal force at f = 1, as slipstep defines them (module docstring)."""
-    from slipstep.derived import contact_half_width
+    from slipstep.contact_measures import contact_half_width
 
     forces = hist["forces"]
     closed = forces > 1e-12 * max(forces[-1].sum(), 1e-300)

@@ -106,7 +106,7 @@ def one(spec: dict) -> dict:
             print(f"engine import failed ({exc}); retrying in 10 s", file=sys.stderr, flush=True)
             time.sleep(10)
     from slipstep import CaseError, prepare, solve
-    from slipstep.output import summarize
+    from slipstep.summary import summarize
 
     overrides = [f"mesh.h_contact={spec['h']}", f"contact.mu={spec['mu']}", "output.snapshots=[1.0]"]
     overrides += PLASTIC if spec["plastic"] else []

@@ -20,9 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .derived import (centroids, contact_growth, contact_profile, coordinate_names,
-                      force_displacement, is_elastoplastic, is_staged, path_history,
-                      snapshot_time, stage_names, von_mises)
+from .contact_measures import contact_growth, contact_profile, force_displacement, path_history
+from .fields import centroids, coordinate_names, is_elastoplastic, von_mises
+from .history import is_staged, snapshot_time, stage_names
 from .summary import contact_text
 
 STATUS_COLOURS = {0: "0.6", 1: "tab:blue", 2: "tab:red"}
@@ -125,7 +125,7 @@ def label(text: str, scene, kind: str) -> str:
 def chosen(scene, result) -> list[tuple[str, object]]:
     """(file stem, builder) of the figures that apply to a run, in writing order:
     ``contact_interface`` and, for one stage, ``contact_growth`` (when the case has contact
-    pairs); for a load path (:func:`slipstep.derived.is_staged`) ``force_displacement`` (when
+    pairs); for a load path (:func:`slipstep.history.is_staged`) ``force_displacement`` (when
     it has prescribed displacements or motions and reactions) and ``contact_extent`` (with
     contact pairs); ``von_mises`` (when a material has a yield stress)."""
     out = []
@@ -265,8 +265,8 @@ def _steps(t: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def force_displacement_figure(path: Path | None, scene, result, summary: dict | None = None,
                               *, ax=None):
-    """One panel per prescribed displacement or motion (:func:`slipstep.derived.
-    force_displacement`; or one Axes of ``ax`` each): force against displacement from t = 0,
+    """One panel per prescribed displacement or motion (:func:`slipstep.
+    contact_measures.force_displacement`; or one Axes of ``ax`` each): force against displacement from t = 0,
     one colour per stage, so the loading and unloading branches (and any hysteresis) show."""
     curves = force_displacement(scene, result)
     names = stage_names(scene, result)

@@ -5,9 +5,9 @@ and renamed into place).
 Contact quantities per candidate pair (engine sign conventions, docs/engine_api.md):
 pressure = lambda_n / area and tangential stress = lambda_t / area, with area = L t (L the
 tributary length of node a on its edge, t the thickness; in axisymmetry node a's ring, see
-slipstep.derived); the tangential direction is t = (-n_y, n_x), i.e. (-1, 0) for a flat with
+slipstep.contact_measures); the tangential direction is t = (-n_y, n_x), i.e. (-1, 0) for a flat with
 normal (0, 1).  Axisymmetric runs name the coordinates r, z and the stresses sigma_r, sigma_z,
-sigma_theta (hoop), tau_rz (:func:`slipstep.derived.coordinate_names`, ``stress_names``).
+sigma_theta (hoop), tau_rz (:func:`slipstep.fields.coordinate_names`, ``stress_names``).
 """
 
 from __future__ import annotations
@@ -21,14 +21,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .derived import (ELEMENT_EVENTS, contact_profile, coordinate_names,
-                      distinct_time_snapshots, event_positions, event_times, is_elastoplastic,
-                      nodal_stress, snapshot_time, stress_names, stress_tensor, von_mises,
-                      yield_drift)
-# Kept importable from here for existing callers; they live in derived and summary.
-from .derived import (contact_growth, contact_half_width, element_depth,  # noqa: F401
-                      reached_last_candidate, stick_half_width)
-from .summary import one_line, summarize  # noqa: F401
+from .contact_measures import contact_profile
+from .fields import (coordinate_names, is_elastoplastic, nodal_stress, stress_names, stress_tensor,
+                     von_mises, yield_drift)
+from .history import (ELEMENT_EVENTS, distinct_time_snapshots, event_positions, event_times,
+                      snapshot_time)
 
 STATUS_NAMES = ("open", "stick", "slip")
 
@@ -57,7 +54,7 @@ def write_events_csv(path: Path, scene, result) -> None:
 
 def write_profile_csv(path: Path, scene, snapshot: dict) -> None:
     """contact_profile.csv: the candidate pairs at the final snapshot, sorted by x; s is the
-    position along the pair's contact (slipstep.derived) and contact its [[contact]] name; x, y
+    position along the pair's contact (slipstep.contact_measures) and contact its [[contact]] name; x, y
     are called r, z in axisymmetry."""
     prof = contact_profile(scene, snapshot)
     names = scene.model["contact_names"]
@@ -89,7 +86,7 @@ def _working_directory(path: Path):
 def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     """``results.xdmf`` + ``results.h5``: a time series (time = path time t, the load fraction
     of a run without stages; one grid per distinct t, the state after every event there:
-    :func:`slipstep.derived.distinct_time_snapshots`) of the fields of :func:`xdmf_step` on
+    :func:`slipstep.history.distinct_time_snapshots`) of the fields of :func:`xdmf_step` on
     2D points, with the case's units in an ``Information`` element ``units`` of the Domain
     (``length: mm, force: N, stress: MPa``; absent when ``[case] units`` does not give them)."""
     import meshio
@@ -122,10 +119,10 @@ def xdmf_step(scene, snap: dict) -> tuple[dict, dict]:
     """(point_data, cell_data) of one snapshot as results.xdmf holds it (meshio's layout: cell
     data as one-block lists).  Point data: ``u`` and, when the result has it, ``reaction``
     (padded to 3 components, z = 0), ``nodal_stress`` (the recovered nodal stresses,
-    :func:`slipstep.derived.nodal_stress`, as a 9-component tensor) and ``nodal_von_mises``,
+    :func:`slipstep.fields.nodal_stress`, as a 9-component tensor) and ``nodal_von_mises``,
     and the contact fields of :func:`contact_point_data`.  Cell data: sigma_x, sigma_y,
     sigma_z, tau_xy (axisymmetric: sigma_r, sigma_z, sigma_theta, tau_rz), ``stress`` (the
-    same as a 9-component tensor, :func:`slipstep.derived.stress_tensor`), von_mises (plus
+    same as a 9-component tensor, :func:`slipstep.fields.stress_tensor`), von_mises (plus
     plastic_strain, the equivalent plastic strain, and plastic, the 0/1 flag, in elastoplastic
     cases, with yield_drift = |sigma_e - sigma_y(eps_p)|/sigma_y per plastic element; and body,
     the body index, when there are several)."""

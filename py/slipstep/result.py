@@ -2,8 +2,8 @@
 
 A :class:`Result` holds the scene, the engine's result dict (``raw``, docs/engine_api.md) and
 the summary; it gives numpy views of them and writes the usual files (``write``, through
-:mod:`slipstep.results`).  Every derived quantity comes from :mod:`slipstep.derived` and the
-XDMF content from :func:`slipstep.output.xdmf_step`, the places the files take them from.
+:mod:`slipstep.results`).  Every derived quantity comes from :mod:`slipstep.fields`,
+:mod:`slipstep.history` and :mod:`slipstep.contact_measures`, and the XDMF content from :func:`slipstep.output.xdmf_step`, the places the files take them from.
 
     >>> r = slipstep.run("hertz_cylinder", overrides=["contact.mu=0.2"])
     >>> r.summary["peak_pressure"], r.times, r.events[:3]
@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .derived import (ELEMENT_EVENTS, contact_profile, event_positions, event_times,
-                      is_elastoplastic, nodal_stress, same_time, snapshot_time, von_mises,
-                      yield_drift)
+from .contact_measures import contact_profile
+from .fields import is_elastoplastic, nodal_stress, von_mises, yield_drift
+from .history import ELEMENT_EVENTS, event_positions, event_times, same_time, snapshot_time
 from .errors import InputError
 from .summary import one_line
 
@@ -113,7 +113,7 @@ class Result:
         :meth:`snapshot`): ``u`` (N, 2), ``reaction``
         (N, 2; supports and prescribed displacements), ``stress`` (M, 4: sigma_x, sigma_y,
         sigma_z, tau_xy), ``von_mises`` (M,), ``nodal_stress`` (N, 4: the same columns at the
-        nodes, recovered by :func:`slipstep.derived.nodal_stress`) and ``nodal_von_mises``
+        nodes, recovered by :func:`slipstep.fields.nodal_stress`) and ``nodal_von_mises``
         (N,), for elastoplastic cases ``plastic_strain``,
         ``plastic`` (bool) and ``yield_drift`` (M,); per candidate pair in the engine's order
         (P,): ``lambda_n``, ``lambda_t`` (nodal contact forces), ``status`` (0 open, 1 stick,
@@ -145,8 +145,8 @@ class Result:
     def profile(self, t: float | None = None, stage: int | None = None) -> dict:
         """The contact profile at snapshot time ``t`` (None: the last), as in
         contact_profile.csv: per candidate pair sorted by x, arrays x, y, s, contact, pressure,
-        tangential_stress, rtd, status, gap, pair, node_a (:func:`slipstep.derived.
-        contact_profile`)."""
+        tangential_stress, rtd, status, gap, pair, node_a (:func:`slipstep.
+        contact_measures.contact_profile`)."""
         return contact_profile(self.scene, self.snapshot(t, stage))
 
     def to_meshio(self, t: float | None = None, stage: int | None = None):

@@ -33,7 +33,7 @@ import numpy as np
 
 from . import runner, shipped
 from .case import load_case
-from .derived import centroids
+from .fields import centroids
 from .references import thick_cylinder_radius
 from .mesh import checked_mesh
 from .summary import contact_text, summarize

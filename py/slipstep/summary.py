@@ -1,7 +1,7 @@
 """The numbers of a run: the content of ``summary.json`` and the line the CLI prints.
 
 Contacts are summarised one by one, keyed by their case name, along the coordinate s of
-:mod:`slipstep.derived` (for a flat below the body, s = x - point_x).  The top-level
+:mod:`slipstep.contact_measures` (for a flat below the body, s = x - point_x).  The top-level
 ``contact_half_width`` a and ``stick_half_width`` c exist only for a symmetric half model
 (:func:`half_model_side`); every key is documented in cases/README.md (Outputs).
 """
@@ -12,13 +12,14 @@ import math
 
 import numpy as np
 
-from .derived import (closed_extent, contact_axis, contact_profile, crossing_times,
-                      event_times, final_load_fraction, final_time, first_yield, is_elastoplastic,
-                      johnson_first_yield, load_factor, pair_coordinate, reached_last_candidate,
-                      reactions, snapshot_time, stage_ends, stage_names,
-                      stick_extent, von_mises)
-from .references import sphere_axis_yield
 from .contact_geometry import contact_bodies
+from .contact_measures import (closed_extent, contact_axis, contact_profile, crossing_times,
+                               pair_coordinate, reached_last_candidate, stick_extent,
+                               target_points)
+from .fields import centroids, is_elastoplastic, von_mises
+from .history import (event_times, final_load_fraction, final_time, load_factor, reactions,
+                      snapshot_time, stage_ends, stage_names)
+from .references import JOHNSON_LINE_YIELD, sphere_axis_yield
 from .section import AXIS_TOLERANCE, is_axisymmetric
 
 
@@ -60,7 +61,7 @@ def contact_summaries(scene, result, snapshot: dict, sides: list[int]) -> dict[s
     half model, pair counts, closed and stick extents [s_min, s_max] (None when empty), total
     normal and tangential force and peak pressure.  The closed extent is interpolated in path
     time at the snapshot's t between the edge's crossings of its stage
-    (:func:`slipstep.derived.crossing_times`), the same way at every snapshot."""
+    (:func:`slipstep.contact_measures.crossing_times`), the same way at every snapshot."""
     prof = contact_profile(scene, snapshot)
     last, upcoming = (x[prof["pair"]] for x in crossing_times(scene, result, snapshot))
     f = snapshot_time(snapshot)
@@ -171,6 +172,63 @@ def stage_records(scene, result) -> list[dict]:
                         "n_events": int(np.count_nonzero(ev_stage == k)),
                         **_snapshot_numbers(scene, result, snaps[i], sides)})
     return records
+
+
+# --------------------------------------------------------------------------- first yield
+def element_depth(scene, element: int) -> float:
+    """Depth of an element's centroid below the initial contact surface of its body.
+
+    The surface near the element is taken as the tangent line at the nearest candidate pair of a
+    contact on the element's body: through the pair's target point (:func:`slipstep.contact_measures.target_points`) with
+    the pair's normal n, so for a ``rigid_line`` contact this is the distance from the line.
+    Without contact on the body: the centroid's y.
+    """
+    c = centroids(scene.nodes, scene.triangles[[element]])[0]
+    pairs = scene.model["pairs"]
+    node_a, node_b = np.asarray(pairs["node_a"]), np.asarray(pairs["node_b"])
+    body = scene.bodies[scene.element_body[element]]
+    lo = scene.offsets[body]
+    hi = lo + scene.meshes[body].n_nodes
+    mine = ((node_a >= lo) & (node_a < hi)) | ((node_b >= lo) & (node_b < hi))
+    if not mine.any():
+        return float(c[1])
+    idx = np.flatnonzero(mine)
+    k = idx[np.argmin(np.linalg.norm(scene.pair_xy[idx] - c, axis=1))]
+    return float(abs((c - target_points(scene)[k]) @ np.asarray(pairs["normal"])[k]))
+
+
+def first_yield(scene, result) -> dict:
+    """The first ``yield`` event: load fraction, element, its centroid x and depth
+    (:func:`element_depth`); every value None when nothing yielded."""
+    kinds = list(result["events"]["kind"])
+    if "yield" not in kinds:
+        return {"first_yield_load_fraction": None, "first_yield_element": None,
+                "first_yield_x": None, "first_yield_depth": None}
+    k = kinds.index("yield")
+    e = int(result["events"]["entity"][k])
+    return {"first_yield_load_fraction": float(result["events"]["load_fraction"][k]),
+            "first_yield_element": e,
+            "first_yield_x": float(centroids(scene.nodes, scene.triangles[[e]])[0, 0]),
+            "first_yield_depth": element_depth(scene, e)}
+
+
+def johnson_first_yield(scene) -> float | None:
+    """The load fraction of first yield (von Mises) of a frictionless Hertz contact: a line
+    contact yields below the surface when p0 = 1.79 Sy (Johnson, Contact Mechanics §4.3/§6.2,
+    nu = 0.3), p0 growing as sqrt(f); a sphere when p0 = Sy / m
+    (:func:`slipstep.references.sphere_axis_yield`, m = 0.62 at nu = 0.3), p0 growing as
+    f^(1/3).  So f = (p0 at yield / p0_hertz)^(1/exponent)
+    with p0_hertz at full load.  None if the body is elastic."""
+    ref = scene.reference
+    if not ref:
+        return None
+    material = scene.case.body(scene.case.data["load"]["body"])["material"]
+    sy = material["Sy"]
+    if sy is None:
+        return None
+    if ref.get("contact") == "sphere":
+        return (sy / sphere_axis_yield(material["nu"])[0] / ref["p0_hertz"]) ** 3
+    return (JOHNSON_LINE_YIELD * sy / ref["p0_hertz"]) ** 2
 
 
 def _hertz_numbers(scene, summary: dict, f: float) -> dict:

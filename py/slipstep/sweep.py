@@ -188,7 +188,9 @@ def check_study(study: Study) -> None:
 # --------------------------------------------------------------------------- one case
 def result_arrays(scene, result, fields: bool = False) -> dict[str, np.ndarray]:
     """The compact record of a run for result.npz (see the module docstring)."""
-    from .derived import ELEMENT_EVENTS, centroids, contact_growth, contact_profile
+    from .contact_measures import contact_growth, contact_profile
+    from .fields import centroids
+    from .history import ELEMENT_EVENTS
 
     ev = result["events"]
     kinds = np.asarray(list(ev["kind"]), dtype="U16")

@@ -16,9 +16,10 @@ import numpy as np
 import pytest
 from conftest import CASES, synthetic_hertz_result
 
-from slipstep import cli, output
+from slipstep import cli, contact_measures, output
+from slipstep.summary import one_line, summarize
 from slipstep.case import load_case
-from slipstep.derived import contact_profile
+from slipstep.contact_measures import contact_profile
 from slipstep.build import build_scene
 from slipstep.results import write_results
 
@@ -40,19 +41,19 @@ def test_contact_half_width_interpolates_in_load_fraction():
     closure = np.array([0.0, 0.4, np.nan, np.nan])
     predicted = np.array([np.nan, np.nan, 1.6, 3.0])
     # a = x_c + (x_o - x_c)(f - f_c)/(f_o - f_c) = 1 + (1 - 0.4)/(1.6 - 0.4)
-    assert output.contact_half_width(x, status, closure, predicted, 1.0) == pytest.approx(1.5,
+    assert contact_measures.contact_half_width(x, status, closure, predicted, 1.0) == pytest.approx(1.5,
                                                                                           abs=1e-15)
-    assert output.contact_half_width(x, status, closure, predicted, 0.4) == 1.0
+    assert contact_measures.contact_half_width(x, status, closure, predicted, 0.4) == 1.0
     predicted[2] = np.inf  # not closing: the edge stays at the last closed node
-    assert output.contact_half_width(x, status, closure, predicted, 1.0) == 1.0
-    assert output.contact_half_width(x, np.zeros(4, int), closure, predicted, 1.0) == 0.0
+    assert contact_measures.contact_half_width(x, status, closure, predicted, 1.0) == 1.0
+    assert contact_measures.contact_half_width(x, np.zeros(4, int), closure, predicted, 1.0) == 0.0
 
 
 def test_stick_half_width():
     x = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
-    assert output.stick_half_width(x, np.array([1, 1, 2, 2, 0]), 3.5) == 1.5
-    assert output.stick_half_width(x, np.array([1, 1, 1, 0, 0]), 2.5) == 2.5  # all closed stick
-    assert output.stick_half_width(x, np.array([2, 2, 2, 0, 0]), 2.5) == 0.0  # nothing sticks
+    assert contact_measures.stick_half_width(x, np.array([1, 1, 2, 2, 0]), 3.5) == 1.5
+    assert contact_measures.stick_half_width(x, np.array([1, 1, 1, 0, 0]), 2.5) == 2.5  # all closed stick
+    assert contact_measures.stick_half_width(x, np.array([2, 2, 2, 0, 0]), 2.5) == 0.0  # nothing sticks
 
 
 def test_von_mises():
@@ -62,7 +63,7 @@ def test_von_mises():
 
 def test_summary_of_the_synthetic_hertz_result(hertz):
     scene, result = hertz
-    s = output.summarize(scene, result, wall_time_s=1.5)
+    s = summarize(scene, result, wall_time_s=1.5)
     h = 0.03  # h_contact of the default case
     assert abs(s["contact_half_width"] - 1.4384) <= h / 2
     assert abs(s["peak_pressure"] - 442.6) <= 0.05
@@ -83,9 +84,9 @@ def test_the_summary_line_names_and_units_its_quantities(hertz):
     "mm, N, MPa" in the shipped Hertz case); a case without units prints none.  The numbers
     are the summary's, formatted to four digits."""
     scene, result = hertz
-    s = output.summarize(scene, result, wall_time_s=1.5)
+    s = summarize(scene, result, wall_time_s=1.5)
     assert s["units"] == {"length": "mm", "force": "N", "stress": "MPa"}
-    line = output.one_line(s)
+    line = one_line(s)
     a, c, p0 = s["contact_half_width"], s["stick_half_width"], s["peak_pressure"]
     h = s["hertz"]
     for part in ("f = 1 load fraction", f"a = {a:.4g} mm contact half-width",
@@ -93,7 +94,7 @@ def test_the_summary_line_names_and_units_its_quantities(hertz):
                  f"(Hertz a = {h['a_hertz_at_final']:.4g} mm, p0 = "
                  f"{h['p0_hertz_at_final']:.4g} MPa)"):
         assert part in line, (part, line)
-    bare = output.one_line(dict(s, units={}))
+    bare = one_line(dict(s, units={}))
     assert f"a = {a:.4g} contact half-width" in bare and "mm" not in bare and "MPa" not in bare
 
 
@@ -102,14 +103,14 @@ def test_a_case_without_units_has_none_in_its_summary(hertz):
     for note, units in (("", {}), ("m, kN, kPa", {"length": "m", "force": "kN",
                                                    "stress": "kPa"})):
         case = load_case(None, [f'case.units="{note}"'])
-        s = output.summarize(dataclasses.replace(scene, case=case), result)
+        s = summarize(dataclasses.replace(scene, case=case), result)
         assert s["units"] == units
-        assert ("kPa peak pressure" in output.one_line(s)) == bool(units)
+        assert ("kPa peak pressure" in one_line(s)) == bool(units)
 
 
 def test_growth_curve_replays_the_events(hertz):
     scene, result = hertz
-    f, a = output.contact_growth(scene, result)
+    f, a = contact_measures.contact_growth(scene, result)
     assert f[0] == 0.0 and a[0] == 0.0 and f[-1] == 1.0
     assert np.all(np.diff(f) >= 0) and np.all(np.diff(a) >= 0)
     # each closure step is at f = (x / a_H)^2, so x = a_H sqrt(f) on the steps
@@ -120,7 +121,7 @@ def test_growth_curve_replays_the_events(hertz):
 def test_write_results(hertz, tmp_path):
     import meshio
     scene, result = hertz
-    summary = output.summarize(scene, result, 1.0)
+    summary = summarize(scene, result, 1.0)
     written = write_results(tmp_path, scene, result, summary)
     names = sorted(p.name for p in written)
     assert names == ["contact_growth.png", "contact_interface.png", "contact_profile.csv",
@@ -250,7 +251,7 @@ def test_a_result_writes_a_vtu_with_3d_points(hertz, tmp_path, capsys):
     from slipstep import Result
 
     scene, raw = hertz
-    r = Result(scene, raw, output.summarize(scene, raw))
+    r = Result(scene, raw, summarize(scene, raw))
     r.to_meshio().write(tmp_path / "m.vtu")
     assert "3D points" not in capsys.readouterr().err
     m = meshio.read(tmp_path / "m.vtu")
@@ -264,7 +265,7 @@ def test_a_result_writes_a_vtu_with_3d_points(hertz, tmp_path, capsys):
 
 def test_failed_write_leaves_the_previous_results(hertz, tmp_path, monkeypatch):
     scene, result = hertz
-    summary = output.summarize(scene, result, 1.0)
+    summary = summarize(scene, result, 1.0)
     (tmp_path / "summary.json").write_text('{"old": true}\n')
 
     def broken(*args, **kwargs):
@@ -280,7 +281,7 @@ def test_failed_write_leaves_the_previous_results(hertz, tmp_path, monkeypatch):
 def test_interrupted_run_writes_what_it_has(hertz, tmp_path):
     scene, _ = hertz
     partial = synthetic_hertz_result(scene, final_fraction=0.5, interrupted=True)
-    summary = output.summarize(scene, partial, 1.0)
+    summary = summarize(scene, partial, 1.0)
     assert summary["interrupted"] is True and summary["final_load_fraction"] == 0.5
     # Hertz at f = 0.5: a sqrt(0.5)
     assert abs(summary["contact_half_width"] - 1.4384 * math.sqrt(0.5)) <= 0.015
@@ -363,10 +364,10 @@ def test_reached_last_candidate_only_for_a_cut_candidate_window(hertz):
     scene, result = hertz
     final = dict(result["snapshots"][-1])
     assert scene.contact_truncated == [True]  # x_max = 3 cuts the arc
-    assert output.reached_last_candidate(scene, final) is False
+    assert contact_measures.reached_last_candidate(scene, final) is False
     final["status"] = np.full(len(scene.pair_xy), 2)
-    assert output.reached_last_candidate(scene, final) is True
+    assert contact_measures.reached_last_candidate(scene, final) is True
     blocks = build_scene(load_case(CASES / "two_blocks.toml"))
     assert blocks.contact_truncated == [False]  # the whole punch bottom is a candidate
     closed = {"status": np.full(len(blocks.pair_xy), 1)}
-    assert output.reached_last_candidate(blocks, closed) is False
+    assert contact_measures.reached_last_candidate(blocks, closed) is False

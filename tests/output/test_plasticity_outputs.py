@@ -16,6 +16,7 @@ import pytest
 from conftest import CASES, needs_gmsh, synthetic_hertz_result
 
 from slipstep import cli, output, prepare, solve
+from slipstep.summary import element_depth, one_line, summarize
 from slipstep import generators
 from slipstep.case import CaseError, load_case
 from slipstep.figures import zone_boundary, zoom_window
@@ -28,7 +29,7 @@ SY, H = 200.0, 700.0
 def run_and_write(case, overrides, out):
     scene = prepare(case, overrides)
     result = solve(scene)
-    summary = output.summarize(scene, result, wall_time_s=0.0)
+    summary = summarize(scene, result, wall_time_s=0.0)
     write_results(out, scene, result, summary)
     return scene, result, summary
 
@@ -95,7 +96,7 @@ def test_a_load_unload_counts_the_plastic_zone_and_the_yielding_elements_apart(t
     assert loading["n_yielded_elements"] == unloading["n_yielded_elements"] == yielded
     assert unloading["n_plastic_elements"] == 0
     assert (f"{yielded} elements yielded (plastic strain > 0), 0 yielding now"
-            in output.one_line(summary))
+            in one_line(summary))
 
 
 @needs_gmsh
@@ -219,7 +220,7 @@ def test_element_depth_below_a_node_to_node_interface():
     for body, sign in (("foundation", -1.0), ("punch", 1.0)):
         mine = np.flatnonzero(scene.element_body == scene.bodies.index(body))
         e = mine[np.argmin(np.linalg.norm(centroids[mine] - [3.0, 20.0], axis=1))]
-        assert output.element_depth(scene, e) == pytest.approx(sign * (centroids[e, 1] - 20.0))
+        assert element_depth(scene, e) == pytest.approx(sign * (centroids[e, 1] - 20.0))
 
 
 def test_elastic_cases_have_no_plastic_outputs(tmp_path, monkeypatch):
@@ -227,7 +228,7 @@ def test_elastic_cases_have_no_plastic_outputs(tmp_path, monkeypatch):
 
     scene = build_scene(load_case(None))
     result = synthetic_hertz_result(scene)
-    summary = output.summarize(scene, result)
+    summary = summarize(scene, result)
     assert not [k for k in summary if k.startswith("first_yield") or k == "n_plastic_elements"]
     assert "f_yield_johnson" not in summary["hertz"] and summary["stop_reason"] is None
     for name in ("interface_figure", "growth_figure"):  # not drawn: only the choice matters

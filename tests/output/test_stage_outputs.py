@@ -19,7 +19,8 @@ import types
 import numpy as np
 import pytest
 
-from slipstep import derived, output
+from slipstep import contact_measures, history, output
+from slipstep.summary import one_line
 from slipstep.case import parse_case
 from slipstep.build import build_scene
 from slipstep.results import write_results
@@ -202,7 +203,7 @@ def test_xdmf_has_one_step_per_time_the_last_state_there(scene, tmp_path):
     after = copy.deepcopy(result["snapshots"][1])
     after.update(stage=1, load_fraction=0.0, u=after["u"] + 1.0)
     result["snapshots"].insert(2, after)
-    assert derived.distinct_time_snapshots(result) == [0, 2, 3, 4]
+    assert history.distinct_time_snapshots(result) == [0, 2, 3, 4]
     output.write_xdmf(tmp_path, scene, result)
     steps = read_xdmf(tmp_path)
     assert [t for t, _, _ in steps] == T
@@ -223,7 +224,7 @@ def test_contact_point_data_sits_on_the_contactor_nodes():
             "gap": np.where(near, 0.0, 1.0), "rtd": np.zeros(p),
             "u": np.zeros((len(scene.nodes), 2))}
     fields = output.contact_point_data(scene, snap)
-    prof = derived.contact_profile(scene, snap)
+    prof = contact_measures.contact_profile(scene, snap)
     mine = prof["contact"] == 0
     for name, column in output.CONTACT_POINT_DATA.items():
         values = fields[name]
@@ -233,7 +234,7 @@ def test_contact_point_data_sits_on_the_contactor_nodes():
     fields = output.contact_point_data(scene, snap)
     far = prof["contact"] == 1
     assert np.array_equal(fields["contact_pressure"][prof["node_a"][far]],
-                          derived.contact_profile(scene, snap)["pressure"][far])
+                          contact_measures.contact_profile(scene, snap)["pressure"][far])
 
 
 def test_xdmf_of_a_result_without_stages(bare, tmp_path):
@@ -249,17 +250,17 @@ def test_xdmf_of_a_result_without_stages(bare, tmp_path):
 def test_reactions_sum_the_dofs_of_each_bc(scene):
     snap = staged_result(scene)["snapshots"][1]
     left = nodes_of(scene, "left")
-    r = derived.reactions(scene, snap)
+    r = history.reactions(scene, snap)
     assert set(r) == {"top", "left"}
     assert r["top"] == (0.0, pytest.approx(-20.0, rel=1e-14))
     assert r["left"] == (pytest.approx(snap["reaction"][left, 0].sum(), rel=1e-14), 0.0)
     assert r["left"][0] != 0.0
-    assert derived.reactions(scene, old_result(scene)["snapshots"][0]) == {}
+    assert history.reactions(scene, old_result(scene)["snapshots"][0]) == {}
 
 
 def test_reactions_without_support_dofs_are_empty(scene):
     before = types.SimpleNamespace()  # a Scene from before the load paths: no support_dofs
-    assert derived.reactions(before, staged_result(scene)["snapshots"][0]) == {}
+    assert history.reactions(before, staged_result(scene)["snapshots"][0]) == {}
 
 
 # --------------------------------------------------------------------------- summary.json
@@ -282,7 +283,7 @@ def test_summary_has_one_record_per_stage(scene, tmp_path):
     assert release["contacts"]["flat"]["closed_extent"] is None
     assert s["total_normal_force"] == s["total_tangential_force"] == 0.0
     assert s["reactions"] == release["reactions"]
-    assert "t = 2 of 2 stages" in output.one_line(s)
+    assert "t = 2 of 2 stages" in one_line(s)
     output.write_summary_json(tmp_path / "summary.json", s)
     data = json.loads((tmp_path / "summary.json").read_text())
     assert data["stages"][0]["reactions"]["top"] == press["reactions"]["top"]
@@ -299,7 +300,7 @@ def test_summary_of_a_result_without_stages(bare):
     assert only["total_normal_force"] == s["total_normal_force"] == pytest.approx(20.0)
     assert s["total_tangential_force"] == pytest.approx(2.0)
     assert s["snapshot_t"] == s["snapshot_load_fraction"] == 1.0
-    assert output.one_line(s).startswith("press_release: 1 events, f = 1 load fraction, ")
+    assert one_line(s).startswith("press_release: 1 events, f = 1 load fraction, ")
 
 
 def test_an_unfinished_stage_has_no_record(bare):
@@ -311,18 +312,18 @@ def test_the_end_of_a_stage_is_found_by_t_too(scene):
     # times mode: the snapshot at t = 1 may come labelled as the start of the next stage
     result = staged_result(scene)
     result["snapshots"][1].update(stage=1, load_fraction=0.0)
-    assert derived.stage_ends(result, 2) == [(0, 1), (1, 3)]
+    assert history.stage_ends(result, 2) == [(0, 1), (1, 3)]
 
 
 # --------------------------------------------------------------------------- history, curves
 def test_load_factor_interpolates_the_stage_factors(scene, bare):
-    assert np.allclose(derived.load_factor(scene, "press", [0.0, 0.5, 1.0, 1.25, 2.0]),
+    assert np.allclose(history.load_factor(scene, "press", [0.0, 0.5, 1.0, 1.25, 2.0]),
                        [0.0, 0.5, 1.0, 0.75, 0.0], rtol=0, atol=1e-15)
-    assert derived.load_factor(bare, "load", 0.3) == 0.3
+    assert history.load_factor(bare, "load", 0.3) == 0.3
 
 
 def test_path_history(scene):
-    h = derived.path_history(scene, staged_result(scene))
+    h = contact_measures.path_history(scene, staged_result(scene))
     assert list(h["t"]) == T and list(h["stage"]) == [0, 0, 1, 1]
     assert np.allclose(h["total_normal_force"], PRESS, rtol=1e-14)
     assert np.allclose(h["total_tangential_force"], 0.1 * np.array(PRESS), rtol=1e-14)
@@ -338,7 +339,7 @@ def test_path_history(scene):
 
 def test_force_displacement_of_a_prescribed_displacement_and_a_motion(scene):
     result = staged_result(scene)
-    curves = derived.force_displacement(scene, result)
+    curves = contact_measures.force_displacement(scene, result)
     press = curves["press"]
     assert list(press["t"]) == [0.0] + T
     assert np.allclose(press["displacement"], [0.0, 0.005, 0.01, 0.005, 0.0], atol=1e-15)
@@ -346,7 +347,7 @@ def test_force_displacement_of_a_prescribed_displacement_and_a_motion(scene):
     moving = copy.copy(scene)
     moving.prescribed = {}
     moving.motions = {"press": {"contact": 0, "motion": [0.0, 0.02]}}
-    (indent,) = derived.force_displacement(moving, result).values()
+    (indent,) = contact_measures.force_displacement(moving, result).values()
     assert indent["what"] == "normal force"
     assert np.allclose(indent["displacement"], [0.0, 0.01, 0.02, 0.01, 0.0], atol=1e-15)
     assert np.allclose(indent["force"], [0.0] + PRESS, rtol=1e-14)

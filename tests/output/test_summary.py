@@ -18,7 +18,7 @@ from conftest import needs_gmsh
 
 from slipstep import run_case
 from slipstep.case import load_case, parse_case
-from slipstep.derived import closed_extent, stick_extent
+from slipstep.contact_measures import closed_extent, stick_extent
 from slipstep.build import build_scene
 from slipstep.summary import half_model_side, one_line
 
@@ -250,13 +250,13 @@ def test_the_extent_midway_equals_the_final_extent_of_a_run_to_there():
     closures of the run's events) equals the final extent of the same scene loaded to P/2 (its
     closure times twice as late), to round-off (1e-12).  At a snapshot other than the last the
     extent used to stop at the outermost closed node."""
-    from slipstep import derived, run
+    from slipstep import contact_measures, run
 
     common = ["mesh.h_contact=0.2", "contact.mu=0.0", "output.figures=false"]
     full = run(None, overrides=common + ["output.snapshots=[0.5, 1.0]"], progress=False)
     half = run(None, overrides=common + ["load.P=500.0", "output.snapshots=[1.0]"],
                progress=False)
-    history = derived.path_history(full.scene, full.raw)
+    history = contact_measures.path_history(full.scene, full.raw)
     assert list(history["t"]) == [0.5, 1.0]
     assert history["extent"][0, 0, 1] == pytest.approx(half.summary["contact_half_width"],
                                                        rel=1e-12)

@@ -28,7 +28,7 @@ import pytest
 from conftest import ROOT, needs_gmsh
 
 from slipstep import prepare, solve
-from slipstep.derived import contact_profile
+from slipstep.contact_measures import contact_profile
 from slipstep.summary import summarize
 
 pytest.importorskip("getfem")

@@ -1,5 +1,6 @@
 """The package's structure (issue 12): no import cycle between slipstep's modules (in particular
-output and figures share slipstep.derived and import neither each other), no unittest.mock in
+output and figures share the derived quantities (slipstep.fields, history, contact_measures) and
+import neither each other), no unittest.mock in
 library code, and the error classes of the engine contract.
 
 Imports are read from the source with ast, function-level (lazy) imports included, so a cycle
@@ -62,8 +63,8 @@ def reachable(graph: dict, start: str) -> set[str]:
 
 def test_the_import_graph_is_read(graph):
     # the reader finds what is known to be there (guards against a vacuous pass)
-    assert "slipstep.derived" in graph["slipstep.output"]
-    assert "slipstep.derived" in graph["slipstep.figures"]
+    assert "slipstep.contact_measures" in graph["slipstep.output"]
+    assert "slipstep.contact_measures" in graph["slipstep.figures"]
     assert "slipstep.runner" in graph["slipstep.fenicsx.crosscheck"]  # a lazy, relative one
 
 
@@ -85,13 +86,13 @@ def test_no_unittest_mock_in_library_code():
 
 
 def test_one_first_yield_and_one_centroid_function():
-    """The derived quantities are defined once (slipstep.derived), not again per module."""
+    """The derived quantities are defined once, not again per module."""
     defs = {"first_yield": [], "centroids": []}
     for path in PACKAGE.rglob("*.py"):
         for node in ast.walk(ast.parse(path.read_text(), str(path))):
             if isinstance(node, ast.FunctionDef) and node.name in defs:
                 defs[node.name].append(module_name(path))
-    assert defs == {"first_yield": ["slipstep.derived"], "centroids": ["slipstep.derived"]}
+    assert defs == {"first_yield": ["slipstep.summary"], "centroids": ["slipstep.fields"]}
 
 
 def _all_imports(path: Path) -> set[str]:

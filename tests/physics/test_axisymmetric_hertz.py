@@ -37,7 +37,7 @@ from slipstep import references
 
 from slipstep import prepare, solve
 from slipstep.case import load_case
-from slipstep.derived import contact_profile
+from slipstep.contact_measures import contact_profile
 
 CASE = CASES / "hertz_sphere.toml"
 _data = load_case(CASE).data

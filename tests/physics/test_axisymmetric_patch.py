@@ -32,7 +32,7 @@ from conftest import write_case
 import physics
 
 from slipstep import Case, prepare, run, solve
-from slipstep.derived import contact_profile
+from slipstep.contact_measures import contact_profile
 
 E, NU = 1000.0, 0.3
 LAME, G = E * NU / ((1 + NU) * (1 - 2 * NU)), E / (2 * (1 + NU))

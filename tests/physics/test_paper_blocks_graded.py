@@ -28,7 +28,7 @@ from conftest import CASES, needs_gmsh
 
 from slipstep import generators
 from slipstep import prepare, solve
-from slipstep.derived import contact_profile
+from slipstep.contact_measures import contact_profile
 
 pytestmark = needs_gmsh
 

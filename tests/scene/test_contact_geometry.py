@@ -18,7 +18,7 @@ from conftest import CASES, needs_gmsh
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 from slipstep import parse_case, prepare, build_scene, solve
-from slipstep.derived import contact_profile
+from slipstep.contact_measures import contact_profile
 from slipstep.summary import summarize
 
 pytestmark = needs_gmsh

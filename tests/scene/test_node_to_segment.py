@@ -186,7 +186,7 @@ def test_outputs_measure_node_by_node_like_node_to_node():
     The rows' own weighted RTD is off by several % near the slip zones (4.6 % rms on the plastic
     paper block), so a profile that reported it would fail here."""
     from conftest import CASES
-    from slipstep.derived import contact_profile
+    from slipstep.contact_measures import contact_profile
 
     text = (CASES / "two_blocks.toml").read_text()
     nts = text.replace('kind = "node_to_node"', 'kind = "node_to_segment"').replace(

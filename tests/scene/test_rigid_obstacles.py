@@ -33,7 +33,7 @@ from slipstep.references import hertz_line
 from slipstep import build_scene, parse_case, solve
 from slipstep import schema
 from slipstep.case import CaseError
-from slipstep.derived import contact_axis, force_displacement, pair_coordinate
+from slipstep.contact_measures import contact_axis, force_displacement, pair_coordinate
 from slipstep.contact_geometry import polyline_closest
 from slipstep.runner import run_case
 from slipstep.summary import summarize

@@ -87,7 +87,7 @@ def hill_differences(scene, u, stress, plastic_strain) -> dict | None:
     """Differences to Hill's closed form: outer radial displacement (relative), sigma_r and
     sigma_theta at the element centroids (max and RMS, / Sy), plastic radius (largest
     centroid radius of a plastic element) against c."""
-    from ..derived import polar
+    from ..fields import polar
     from ..references import thick_cylinder_displacement, thick_cylinder_radius, \
         thick_cylinder_stresses
 
@@ -326,7 +326,7 @@ def _field_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
     area in axisymmetry), else the von Mises difference or slipstep's von Mises."""
     from matplotlib.tri import Triangulation
 
-    from ..derived import von_mises
+    from ..fields import von_mises
     tri = Triangulation(scene.nodes[:, 0], scene.nodes[:, 1], scene.triangles)
     if "replay" in report and last is not None:
         from .replay import replay_conditions

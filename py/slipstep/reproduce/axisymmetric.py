@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import shipped, sweep
-from ..derived import centroids
+from ..fields import centroids
 from ..references import (jackson_green, jackson_green_critical, kogut_etsion,
                           kogut_etsion_critical, thick_sphere_lame, thick_sphere_pressure,
                           thick_sphere_radius)

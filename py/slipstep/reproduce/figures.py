@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..derived import von_mises
+from ..fields import von_mises
 from ..references import flat_punch_pressure, hertz_pressure
 from .numbers import scene_groups, snapshot_levels
 from .scenes import (A_HERTZ, A_JOHNSON, BLOCK_B, DEPTH_JOHNSON, F_JOHNSON, H_PLASTIC, MUS,

@@ -8,7 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..derived import centroids, contact_half_width
+from ..contact_measures import contact_half_width
+from ..fields import centroids
 from .. import sweep
 from .scenes import (A_HERTZ, A_JOHNSON, BLOCK_B, F_JOHNSON, MUS, P0_HERTZ, P0_JOHNSON,
                      PAPER_TABLE1, R, Run, Settings, mu_id)

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import shipped, sweep
-from ..derived import stick_half_width
+from ..contact_measures import stick_half_width
 from ..references import (JOHNSON_LINE_YIELD, JOHNSON_LINE_YIELD_DEPTH, effective_modulus,
                           hertz_line)
 
