@@ -88,7 +88,8 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
     scene = Scene(case=case, bodies=bodies, meshes=body_meshes, offsets=offsets, nodes=nodes,
                   triangles=triangles, element_body=element_body, model={},
                   pair_xy=np.zeros((0, 2)), pair_length=np.zeros(0),
-                  pair_contact=np.zeros(0, dtype=np.int64))
+                  pair_contact=np.zeros(0, dtype=np.int64),
+                  given_meshes=tuple(name for name in bodies if name in given))
     check_radii(scene)
     pairs = contact_pairs(scene)
     check_duplicate_nodes(scene, pairs)

@@ -43,12 +43,14 @@ __all__ = ["Case", "CaseError", "default_case_path", "load_case", "parse_case"]
 class Case:
     """A validated case: ``data`` holds every table with defaults filled in.
 
-    ``source`` is how messages name the file; ``base_dir`` resolves relative mesh paths.
+    ``source`` is how messages name the file; ``base_dir`` resolves relative mesh paths;
+    ``overrides`` are the ``--set`` items applied before validation.
     """
 
     data: dict
     source: str
     base_dir: Path
+    overrides: tuple = ()
 
     @property
     def name(self) -> str:
@@ -92,10 +94,11 @@ class Case:
         arrays count as lists, numpy numbers as numbers, a None value as an absent key."""
         if not isinstance(data, dict):
             raise CaseError(f"{source}: a case is a dict of tables, not {type(data).__name__}")
-        raw = _toml_like(data)
+        raw, overrides = _toml_like(data), tuple(overrides)
         for item in overrides:
             apply_override(raw, item, source)
-        return cls(data=Validator(source).case(raw), source=source, base_dir=Path(base_dir))
+        return cls(data=Validator(source).case(raw), source=source, base_dir=Path(base_dir),
+                   overrides=overrides)
 
 
 def default_case_path() -> Path:
@@ -131,10 +134,11 @@ def parse_case(text: str, source: str = "<case>", base_dir: Path | str = ".",
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise CaseError(f"{source}: invalid TOML: {exc}") from None
+    overrides = tuple(overrides)
     for item in overrides:
         apply_override(raw, item, source)
     data = Validator(source).case(raw)
-    return Case(data=data, source=source, base_dir=Path(base_dir))
+    return Case(data=data, source=source, base_dir=Path(base_dir), overrides=overrides)
 
 
 def _toml_like(value):

@@ -1,7 +1,7 @@
-"""Every file of a run in one folder, all or nothing: the writers of :mod:`slipstep.output`
-and the figures of :mod:`slipstep.figures` write into a staging folder inside the output
-folder, which is then renamed into place, so a run that fails half-way leaves the previous
-results intact."""
+"""Every file of a run in one folder, all or nothing: the writers of :mod:`slipstep.output`,
+the figures of :mod:`slipstep.figures` and the resolved case (``case.toml``) write into a
+staging folder inside the output folder, which is then renamed into place, so a run that
+fails half-way leaves the previous results intact."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from pathlib import Path
 from . import figures as figs
 from . import output
 from .errors import InputError
+from .resolved_case import resolved_case_text
 
 
 def write_results(out: str | Path, scene, result, summary: dict, figures: bool | None = None,
@@ -45,6 +46,7 @@ def write_results(out: str | Path, scene, result, summary: dict, figures: bool |
         if figures:
             figs.write_figures(stage, scene, result, summary)
         output.write_summary_json(stage / "summary.json", summary)
+        (stage / "case.toml").write_text(case_toml(scene, summary), encoding="utf-8")
         written = []
         for item in sorted(stage.iterdir()):
             os.replace(item, out / item.name)
@@ -52,3 +54,15 @@ def write_results(out: str | Path, scene, result, summary: dict, figures: bool |
         return written
     finally:
         shutil.rmtree(stage, ignore_errors=True)
+
+
+def case_toml(scene, summary: dict) -> str:
+    """The run's ``case.toml``: its resolved case (:mod:`slipstep.resolved_case`), headed by
+    where it came from and the versions it ran with (``summary["versions"]``)."""
+    case = scene.case
+    sets = "".join(f" --set {item}" for item in case.overrides)
+    made = ", ".join(f"{k} {v}" for k, v in summary.get("versions", {}).items())
+    header = ["The case of this run, resolved (every default filled in, the overrides applied):",
+              f"  {case.source}{sets}", "Rerun it: slipstep run case.toml",
+              *([f"Made with {made}."] if made else [])]
+    return resolved_case_text(case, scene.given_meshes, header)

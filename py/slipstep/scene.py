@@ -48,6 +48,7 @@ class Scene:
     prescribed: dict = field(default_factory=dict)    # load name -> {"dofs", "values"}
     motions: dict = field(default_factory=dict)       # load name -> {"contact", "motion"}
     factors: np.ndarray = field(default_factory=lambda: np.array([[0.0], [1.0]]))
+    given_meshes: tuple = ()  # the bodies whose mesh came from Python (build_scene's meshes)
 
     @property
     def n_dofs(self) -> int:

@@ -21,6 +21,7 @@ from .history import (event_times, final_load_fraction, final_time, load_factor,
                       snapshot_time, stage_ends, stage_names)
 from .references import JOHNSON_LINE_YIELD, sphere_axis_yield
 from .section import AXIS_TOLERANCE, is_axisymmetric
+from .version import versions
 
 
 def half_model_side(scene, index: int) -> int:
@@ -290,6 +291,7 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         "max_drift": float(result.get("max_drift", 0.0)),
         "wall_time_s": float(wall_time_s),
         "engine_timings_s": {k: float(v) for k, v in result.get("timings", {}).items()},
+        "versions": versions(),
     }
     if snaps:
         stress = np.asarray(snaps[-1]["stress"], dtype=float).reshape(-1, 4)

@@ -25,8 +25,9 @@ executor (``--mpi``; launch with ``mpirun -n N python -m mpi4py.futures -m slips
 --mpi``: rank 0 runs the sweep, the other N-1 ranks are workers).
 
 Results: ``OUT/<case-id>/summary.json`` (the run's summary plus a ``sweep`` block: case id,
-parameters, overrides) and ``OUT/<case-id>/result.npz`` (event history, steps, contact profiles
-at every snapshot, contact growth; mesh fields with ``fields = true``).  Workers send their
+parameters, overrides), ``OUT/<case-id>/case.toml`` (the case as it ran, every default filled
+in: ``slipstep run`` reruns it) and ``OUT/<case-id>/result.npz`` (event history, steps, contact
+profiles at every snapshot, contact growth; mesh fields with ``fields = true``).  Workers send their
 results back to rank 0 / the parent process, which writes each case as soon as it finishes:
 staged in ``OUT/.partial-<case-id>`` and renamed into place, so a case folder exists only when
 it is complete.  A sweep that is interrupted resumes (same command) without redoing the cases
@@ -236,16 +237,16 @@ def result_arrays(scene, result, fields: bool = False) -> dict[str, np.ndarray]:
 def run_task(task: dict) -> dict:
     """Worker: solve one case and return its summary and arrays (the parent writes them).
     Never raises for a bad case: the error comes back as ``{"error": message}``."""
-    from .results import write_results
+    from .results import case_toml, write_results
     from .runner import prepare, solve
     from .summary import summarize
 
     start = time.perf_counter()
     out = {"case_id": task["case_id"], "host": os.uname().nodename, "pid": os.getpid()}
     try:
-        scene = prepare(task["base"], task["overrides"])
-        if task["options"].get("stop_at_first_yield"):
-            scene.model["options"]["stop_at_first_yield"] = True
+        first_yield = ["solver.stop_at_first_yield=true"] if task["options"].get(
+            "stop_at_first_yield") else []
+        scene = prepare(task["base"], [*task["overrides"], *first_yield])
         result = solve(scene)
         summary = summarize(scene, result, wall_time_s=time.perf_counter() - start)
         arrays = result_arrays(scene, result, task["options"].get("fields", False))
@@ -262,7 +263,8 @@ def run_task(task: dict) -> dict:
     except Exception as exc:  # noqa: BLE001 - reported per case, the sweep goes on
         out["error"] = f"{type(exc).__name__}: {exc}"
         return out
-    out.update(summary=summary, arrays=arrays, interrupted=interrupted)
+    out.update(summary=summary, arrays=arrays, interrupted=interrupted,
+               case_toml=case_toml(scene, summary))
     return out
 
 
@@ -294,6 +296,7 @@ def write_case(out: Path, task: dict, payload: dict) -> Path:
                         "host": payload.get("host"), **_identity(task)}
     np.savez_compressed(stage / "result.npz", **payload["arrays"])
     write_summary_json(stage / "summary.json", summary)
+    (stage / "case.toml").write_text(payload["case_toml"], encoding="utf-8")
     final = out / task["case_id"]
     if final.exists():
         shutil.rmtree(final)

@@ -8,6 +8,7 @@ reports its distribution's version.
 
 from __future__ import annotations
 
+import platform
 import tomllib
 from importlib import metadata
 from pathlib import Path
@@ -25,3 +26,21 @@ def version() -> str:
 
 
 __version__ = version()
+
+
+def versions() -> dict[str, str | None]:
+    """What a run was made with: slipstep, its compiled engine (the bindings crate's version),
+    numpy, gmsh and Python (None for one that is not there)."""
+    import numpy
+
+    try:
+        from . import _engine
+        engine = getattr(_engine, "__version__", None)
+    except ImportError:
+        engine = None
+    try:
+        gmsh = metadata.version("gmsh")
+    except metadata.PackageNotFoundError:
+        gmsh = None
+    return {"slipstep": __version__, "engine": engine, "numpy": numpy.__version__, "gmsh": gmsh,
+            "python": platform.python_version()}

@@ -124,8 +124,9 @@ def test_write_results(hertz, tmp_path):
     summary = summarize(scene, result, 1.0)
     written = write_results(tmp_path, scene, result, summary)
     names = sorted(p.name for p in written)
-    assert names == ["contact_growth.png", "contact_interface.png", "contact_profile.csv",
-                     "events.csv", "results.h5", "results.xdmf", "summary.json"]
+    assert names == ["case.toml", "contact_growth.png", "contact_interface.png",
+                     "contact_profile.csv", "events.csv", "results.h5", "results.xdmf",
+                     "summary.json"]
     assert not list(tmp_path.glob(".partial-*"))
 
     with open(tmp_path / "events.csv") as fh:
@@ -356,8 +357,8 @@ def test_run_case_api_with_a_stand_in_engine(hertz, tmp_path, monkeypatch):
     assert got is result and seen["progress"] is False
     assert seen["model"]["load"].shape == (2 * len(scene.nodes),)
     assert summary["case"] == "hertz_cylinder" and summary["wall_time_s"] > 0
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["contact_profile.csv", "events.csv",
-                                                          "summary.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["case.toml", "contact_profile.csv",
+                                                          "events.csv", "summary.json"]
 
 
 def test_reached_last_candidate_only_for_a_cut_candidate_window(hertz):

@@ -358,15 +358,16 @@ def test_write_results_of_a_load_path(scene, tmp_path):
     result = staged_result(scene)
     written = write_results(tmp_path, scene, result, summarize(scene, result, 0.0),
                             figures=True, xdmf=False)
-    assert sorted(p.name for p in written) == ["contact_extent.png", "contact_interface.png",
-                                               "contact_profile.csv", "events.csv",
-                                               "force_displacement.png", "summary.json"]
+    assert sorted(p.name for p in written) == ["case.toml", "contact_extent.png",
+                                               "contact_interface.png", "contact_profile.csv",
+                                               "events.csv", "force_displacement.png",
+                                               "summary.json"]
 
 
 def test_write_results_without_stages_keeps_the_figures(bare, tmp_path):
     result = old_result(bare)
     written = write_results(tmp_path, bare, result, summarize(bare, result, 0.0),
                             figures=True, xdmf=False)
-    assert sorted(p.name for p in written) == ["contact_growth.png", "contact_interface.png",
-                                               "contact_profile.csv", "events.csv",
-                                               "summary.json"]
+    assert sorted(p.name for p in written) == ["case.toml", "contact_growth.png",
+                                               "contact_interface.png", "contact_profile.csv",
+                                               "events.csv", "summary.json"]

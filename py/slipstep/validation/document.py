@@ -30,6 +30,30 @@ _TYPE_HELP = {
 }
 
 
+#: The keys of a block mesh that shape only the graded block (h_contact > 0), and those that
+#: shape the refined block (refine_box) too: a structured block refuses them when given.
+GRADED_ONLY = ("contact_zone", "focus", "uniform_edges")
+GRADED_OR_REFINED = ("h_max", "growth")
+
+
+def inert_keys(data: dict) -> dict[str, tuple]:
+    """The keys of a validated document that the validator refuses when they are given with
+    the value they hold (their defaults, filled in all the same): the keys its other keys make
+    inert, and a displacement's empty default {}.  Per table path ("analysis", "bc.<i>",
+    "body.<i>.mesh"), the keys; a document written back without them validates to the same
+    data."""
+    out = {"analysis": ("thickness",)} if data["analysis"]["plane"] == "axisymmetric" else {}
+    for i, bc in enumerate(data["bc"]):
+        if not bc["displacement"]:
+            out[f"bc.{i}"] = ("displacement",)
+    for i, body in enumerate(data["body"]):
+        mesh = body["mesh"]
+        if mesh.get("generator") == "block" and mesh["h_contact"] == 0:
+            refined = mesh["refine_box"] is not None
+            out[f"body.{i}.mesh"] = GRADED_ONLY + (() if refined else GRADED_OR_REFINED)
+    return out
+
+
 class Validator:
     """Walks the raw document, checks types and values, fills defaults."""
 
@@ -308,14 +332,14 @@ class Validator:
                                 f"{size}) or h (element size), or h_contact (a graded "
                                 f"gmsh mesh)")
         refined = mesh["refine_box"] is not None
-        for key in ("contact_zone", "focus", "uniform_edges", "h_max", "growth"):
-            if key not in raw or (refined and key in ("h_max", "growth")):
+        for key in GRADED_ONLY + GRADED_OR_REFINED:
+            if key not in raw or (refined and key in GRADED_OR_REFINED):
                 continue
             shown = f"= {toml_text(mesh[key])} is not allowed"
             if refined:
                 raise self.fail(prefix + key, f"{shown} with refine_box: it shapes the graded "
                                 f"block (h_contact > 0), fine around focus; drop {key}")
-            if key in ("h_max", "growth"):
+            if key in GRADED_OR_REFINED:
                 raise self.fail(prefix + key, f"{shown} without h_contact or refine_box: it "
                                 f"shapes the graded block (h_contact > 0) or the refined one "
                                 f"(refine_box); add one of them or drop {key}")
