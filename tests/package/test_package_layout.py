@@ -1,7 +1,8 @@
-"""The package's structure (issue 12): no import cycle between slipstep's modules (in particular
-output and figures share the derived quantities (slipstep.fields, history, contact_measures) and
-import neither each other), no unittest.mock in
-library code, and the error classes of the engine contract.
+"""The package's structure: no import cycle between slipstep's modules (in particular
+output and figures share the derived quantities, slipstep.fields, history and
+contact_measures, and import neither each other), no module over one concept's length, no
+private name used across modules, no unittest.mock in library code, and the error classes of
+the engine contract.
 
 Imports are read from the source with ast, function-level (lazy) imports included, so a cycle
 hidden inside a function counts too.
@@ -76,6 +77,55 @@ def test_output_and_figures_do_not_import_each_other(graph):
 def test_no_import_cycle_in_the_package(graph):
     cycles = [m for m in graph if m in reachable(graph, m)]
     assert not cycles, f"modules on an import cycle: {sorted(cycles)}"
+
+
+#: The longest a module may grow: past it, it holds more than one concept (the README's module
+#: map names one per file).
+MAX_LINES = 600
+
+
+def test_no_module_outgrows_one_concept():
+    long = {str(p.relative_to(PACKAGE)): n for p in PACKAGE.rglob("*.py")
+            if (n := len(p.read_text().splitlines())) > MAX_LINES}
+    assert not long, f"modules over {MAX_LINES} lines: {long}"
+
+
+def private_uses(path: Path) -> list[str]:
+    """The private names of other slipstep modules a file uses: ``from .x import _name`` and
+    ``x._name`` on an imported slipstep module (dunders are public; the compiled engine
+    ``slipstep._engine`` is a module, not a helper)."""
+    def private(name: str) -> bool:
+        return name.startswith("_") and not name.startswith("__") and name != "_engine"
+
+    tree = ast.parse(path.read_text(), str(path))
+    found, modules = [], set()  # modules: local names bound to slipstep modules
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith(
+                "slipstep")):
+            found += [f"{path.name}:{node.lineno} imports {a.name}" for a in node.names
+                      if private(a.name)]
+            modules |= {a.asname or a.name for a in node.names}
+        elif isinstance(node, ast.Import):
+            modules |= {(a.asname or a.name).split(".")[0] for a in node.names
+                        if a.name.startswith("slipstep")}
+    return found + [f"{path.name}:{node.lineno} uses {node.value.id}.{node.attr}"
+                    for node in ast.walk(tree)
+                    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+                    and node.value.id in modules and private(node.attr)]
+
+
+def test_no_private_name_is_used_across_modules():
+    found = [use for path in PACKAGE.rglob("*.py") for use in private_uses(path)]
+    assert not found, found
+
+
+def test_the_private_name_check_sees_a_violation(tmp_path):
+    """The check reads what it should (guards against a vacuous pass)."""
+    path = tmp_path / "stability.py"
+    path.write_text("from .mesh import _finish, Mesh\nfrom . import mesh as meshing\n"
+                    "from . import _engine\nmeshing._planar(1)\nmeshing.__doc__\n")
+    assert private_uses(path) == ["stability.py:1 imports _finish",
+                                  "stability.py:4 uses meshing._planar"]
 
 
 def test_no_unittest_mock_in_library_code():
