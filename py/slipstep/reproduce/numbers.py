@@ -70,6 +70,16 @@ def checks(cyl_el: dict, cyl_pl: dict, fig10_rows: list[dict], blocks: dict) -> 
     def add(name, claim, value, ok, required=False):
         out[name] = {"claim": claim, "value": value, "pass": bool(ok), "required": required}
 
+    _cylinder_checks(add, cyl_el, cyl_pl)
+    _onset_checks(add, fig10_rows)
+    _interface_checks(add, cyl_el, cyl_pl)
+    _block_checks(add, blocks)
+    return out
+
+
+def _cylinder_checks(add, cyl_el: dict, cyl_pl: dict) -> None:
+    """Figs. 6-9, the claims the tests assert: a longer, flatter plastic contact; the slip zone
+    shrinking with mu."""
     a_el = {mu: cyl_el[mu].a for mu in MUS}
     a_pl = {mu: cyl_pl[mu].a for mu in MUS}
     add("plastic_contact_longer", "cylinder: elastoplastic contact half-length > elastic at "
@@ -86,6 +96,10 @@ def checks(cyl_el: dict, cyl_pl: dict, fig10_rows: list[dict], blocks: dict) -> 
         add(f"slip_zone_shrinks_{kind}", f"cylinder, {kind}: slip zone a - c shrinks as mu "
             f"grows (mu = {', '.join(f'{m:g}' for m in MUS)})", slip,
             all(b < a for a, b in zip(slip, slip[1:])), True)
+
+
+def _onset_checks(add, fig10_rows: list[dict]) -> None:
+    """Fig. 10: the onset of yield against mu."""
     f = [r["f"] for r in fig10_rows]
     mu_s = surface_transition(fig10_rows)
     tail = [r["f"] for r in fig10_rows if mu_s is not None and r["mu"] >= mu_s]
@@ -98,6 +112,13 @@ def checks(cyl_el: dict, cyl_pl: dict, fig10_rows: list[dict], blocks: dict) -> 
     add("onset_falls_everywhere", "Fig. 10 as drawn by the paper: onset non-increasing for every "
         "mu (here: also while yield starts below the surface)", head,
         all(b <= a * (1 + 1e-9) for a, b in zip(head, head[1:])))
+
+
+def _interface_checks(add, cyl_el: dict, cyl_pl: dict) -> None:
+    """Figs. 5-8, reported: the finer patterns of pressure, length, RTD, tangential stress and
+    plastic zone with mu."""
+    a_pl = {mu: cyl_pl[mu].a for mu in MUS}
+    a_el = {mu: cyl_el[mu].a for mu in MUS}
     p_centre = [float(cyl_el[mu].profile("pressure")[0]) for mu in MUS]
     add("elastic_centre_pressure_rises", "Fig. 6: elastic central pressure increases slightly "
         "with mu", p_centre, all(b > a for a, b in zip(p_centre, p_centre[1:])))
@@ -126,6 +147,10 @@ def checks(cyl_el: dict, cyl_pl: dict, fig10_rows: list[dict], blocks: dict) -> 
         zones.append(_area(d["nodes"], d["triangles"], d["plastic_strain"] > 0))
     add("plastic_zone_grows", "Fig. 5: plastic zone area (mm^2) grows with mu", zones,
         all(b > a for a, b in zip(zones, zones[1:])))
+
+
+def _block_checks(add, blocks: dict) -> None:
+    """Figs. 14-16: the elastoplastic block's pressure, slip and tangential stress."""
     bp = blocks["plastic"]
     pc = [float(bp[mu].profile("pressure")[0]) for mu in (0.0, 0.2)]
     add("block_centre_pressure_mu", "Fig. 14: block, central pressure for mu = 0.2 slightly "
@@ -146,7 +171,6 @@ def checks(cyl_el: dict, cyl_pl: dict, fig10_rows: list[dict], blocks: dict) -> 
     add("block_tangential_opposes_rtd", "Figs. 15/16: tangential stress opposes the RTD in the "
         "slip zone (number of slipping pairs)", int(slipping.sum()),
         bool(np.all(rtd_b[slipping] * tau_b[slipping] <= 0)))
-    return out
 
 
 def zone_at_surface(run: Run) -> bool | None:
