@@ -78,7 +78,7 @@ use state::State;
 use std::time::Instant;
 
 /// Zero-gap pairs start closed: a gap within this × the length scale counts as zero.
-const INITIAL_CONTACT: f64 = 1e-12;
+pub(super) const INITIAL_CONTACT: f64 = 1e-12;
 
 /// Run the procedure on a model, stage by stage along its load path (`path`); `progress` is
 /// called after every increment and stops the run (keeping the results so far) when it returns

@@ -13,6 +13,7 @@
 //! system; the rate problem, which has it, decides the statuses (`switch_statuses`).
 
 use super::engine::Engine;
+use super::INITIAL_CONTACT;
 use super::state::State;
 use super::trial::{OutOfBalance, Row};
 use crate::bail;
@@ -125,10 +126,32 @@ impl Engine<'_> {
                 }
                 bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
             }
+            if let Some(left) = self.left_at_once(state, body) {
+                bail!(FreeBody, "{name} is pulled off its support at the first instant (t = 0): {left}, and nothing else holds it; add a support (fix/symmetry) that does, or load the body onto the contact");
+            }
             let closed = rows.iter().filter(|r| matches!(r, Row::Normal(p) if self.body_of_pair(*p) == body)).count();
             bail!(FreeBody, "{name} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", words.join("; "));
         }
         Ok(())
+    }
+
+    /// Before any load (t = 0), a body whose pairs started closed and separated at once: which
+    /// contacts, and where the load pulls it ("contact 'base' starts closed (gap 0), but the
+    /// load pulls the body away from it along (0.000, 1.000)"); None otherwise.
+    fn left_at_once(&self, state: &State, body: usize) -> Option<String> {
+        if state.time() != 0.0 {
+            return None;
+        }
+        let touching = INITIAL_CONTACT * self.scales.length;
+        let mut left: Vec<usize> = (0..self.pairs.len()).filter(|&p| self.body_of_pair(p) == body && self.pairs[p].gap0 <= touching && !state.status[p].is_closed()).map(|p| self.model.pairs[p].contact).collect();
+        left.sort_unstable();
+        left.dedup();
+        let names: Vec<String> = left.iter().map(|&c| self.model.names.contacts.get(c).map_or_else(|| "a contact".to_string(), |n| format!("contact '{n}'"))).collect();
+        let [fx, fy] = self.body_load(body);
+        let size = fx.hypot(fy);
+        let pull = if size > LOAD_ROUND_OFF * self.scales.force { format!("along ({:.3}, {:.3})", fx / size, fy / size) } else { "turning it (the load's moment)".to_string() };
+        let (verb, it) = if names.len() == 1 { ("starts", "it") } else { ("start", "them") };
+        (!names.is_empty()).then(|| format!("{} {verb} closed (gap 0), but the load pulls the body away from {it} {pull}", names.join(" and ")))
     }
 
     fn body_of_pair(&self, p: usize) -> usize {
@@ -163,12 +186,16 @@ impl Engine<'_> {
         let closed: Vec<usize> = (0..self.pairs.len()).filter(|&p| state.status[p].is_closed() && self.body_of_pair(p) == body).collect();
         let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
         let (normal, mu) = ([mean(&|p| p.normal[0]), mean(&|p| p.normal[1])], mean(&|p| p.mu));
-        let load = self.stage.force_end();
-        let load_along = |dir: [f64; 2]| -> f64 {
-            let len = dir[0].hypot(dir[1]).max(f64::MIN_POSITIVE);
-            (0..self.body_of_node.len()).filter(|&i| self.body_of_node[i] == body).map(|i| (load[2 * i] * dir[0] + load[2 * i + 1] * dir[1]) / len).sum()
-        };
+        let [fx, fy] = self.body_load(body);
+        let load_along = |dir: [f64; 2]| -> f64 { (fx * dir[0] + fy * dir[1]) / dir[0].hypot(dir[1]).max(f64::MIN_POSITIVE) };
         (load_along(self.translation_of(idx, v)).abs(), load_along(normal).abs(), mu)
+    }
+
+    /// The resultant (x, y) of the stage's end load on a body.
+    fn body_load(&self, body: usize) -> [f64; 2] {
+        let load = self.stage.force_end();
+        let nodes = (0..self.body_of_node.len()).filter(|&i| self.body_of_node[i] == body);
+        nodes.fold([0.0, 0.0], |[x, y], i| [x + load[2 * i], y + load[2 * i + 1]])
     }
 
     /// (T, N, μ) of `tangential_and_normal_load` when T exceeds the capacity μN: gross sliding.
