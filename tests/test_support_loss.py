@@ -162,7 +162,7 @@ def test_a_body_pulled_off_its_contact_at_the_first_instant_is_told_so(tmp_path)
         slipstep.run(write_case(tmp_path, BLOCK), None, ["stage.press.factors={press = -1.0}"],
                      progress=False)
     assert str(err.value).startswith(
-        "body 'block' is pulled off its support at the first instant (t = 0): contact 'base' "
-        "starts closed (gap 0), but the load pulls the body away from it along (0.000, 1.000)"), \
+        "body 'block' lifts off at the first instant (t = 0): contact 'base' starts closed "
+        "(gap 0), but the load pulls the body away from it along (0.000, 1.000)"), \
         str(err.value)
     assert "start a contact closed" not in str(err.value)

@@ -126,8 +126,8 @@ impl Engine<'_> {
                 }
                 bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
             }
-            if let Some(left) = self.left_at_once(state, body) {
-                bail!(FreeBody, "{name} is pulled off its support at the first instant (t = 0): {left}, and nothing else holds it; add a support (fix/symmetry) that does, or load the body onto the contact");
+            if let Some(what) = self.left_at_once(state, body, &words) {
+                bail!(FreeBody, "{name} {what}, and nothing else holds it; add a support (fix/symmetry) that does, or change the load");
             }
             let closed = rows.iter().filter(|r| matches!(r, Row::Normal(p) if self.body_of_pair(*p) == body)).count();
             bail!(FreeBody, "{name} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", words.join("; "));
@@ -135,23 +135,33 @@ impl Engine<'_> {
         Ok(())
     }
 
-    /// Before any load (t = 0), a body whose pairs started closed and separated at once: which
-    /// contacts, and where the load pulls it ("contact 'base' starts closed (gap 0), but the
-    /// load pulls the body away from it along (0.000, 1.000)"); None otherwise.
-    fn left_at_once(&self, state: &State, body: usize) -> Option<String> {
+    /// Before any load (t = 0), a body some of whose pairs started closed (gap 0) and separated
+    /// at once: how it leaves its support (lifts off, along the load's direction; tips about its
+    /// one closed pair; or moves along `words`), naming the contacts. None otherwise.
+    fn left_at_once(&self, state: &State, body: usize, words: &[String]) -> Option<String> {
         if state.time() != 0.0 {
             return None;
         }
         let touching = INITIAL_CONTACT * self.scales.length;
-        let mut left: Vec<usize> = (0..self.pairs.len()).filter(|&p| self.body_of_pair(p) == body && self.pairs[p].gap0 <= touching && !state.status[p].is_closed()).map(|p| self.model.pairs[p].contact).collect();
+        let of_body: Vec<usize> = (0..self.pairs.len()).filter(|&p| self.body_of_pair(p) == body).collect();
+        let mut left: Vec<usize> = of_body.iter().filter(|&&p| self.pairs[p].gap0 <= touching && !state.status[p].is_closed()).map(|&p| self.model.pairs[p].contact).collect();
         left.sort_unstable();
         left.dedup();
-        let names: Vec<String> = left.iter().map(|&c| self.model.names.contacts.get(c).map_or_else(|| "a contact".to_string(), |n| format!("contact '{n}'"))).collect();
-        let [fx, fy] = self.body_load(body);
-        let size = fx.hypot(fy);
-        let pull = if size > LOAD_ROUND_OFF * self.scales.force { format!("along ({:.3}, {:.3})", fx / size, fy / size) } else { "turning it (the load's moment)".to_string() };
-        let (verb, it) = if names.len() == 1 { ("starts", "it") } else { ("start", "them") };
-        (!names.is_empty()).then(|| format!("{} {verb} closed (gap 0), but the load pulls the body away from {it} {pull}", names.join(" and ")))
+        let names: Vec<String> = left.iter().map(|&c| self.model.names.contacts.get(c).map_or_else(|| "the contact".to_string(), |n| format!("contact '{n}'"))).collect();
+        let contacts = names.join(" and ");
+        let closed: Vec<usize> = of_body.into_iter().filter(|&p| state.status[p].is_closed()).collect();
+        let at = "at the first instant (t = 0)";
+        match closed.as_slice() {
+            _ if names.is_empty() => None,
+            [] => {
+                let [fx, fy] = self.body_load(body);
+                let size = fx.hypot(fy);
+                let pull = if size > LOAD_ROUND_OFF * self.scales.force { format!("pulls the body away from it along ({:.3}, {:.3})", fx / size, fy / size) } else { "turns the body off it".to_string() };
+                Some(format!("lifts off {at}: {contacts} {} closed (gap 0), but the load {pull}", if names.len() == 1 { "starts" } else { "start" }))
+            }
+            [p] => Some(format!("tips about {} {at}: the other pairs of {contacts} start closed (gap 0) but separate at once, and the load turns the body about that point", self.model.pair_name(*p))),
+            _ => Some(format!("is free to move ({}) {at}: pairs of {contacts} start closed (gap 0) but separate at once, and its {} closed pairs do not hold it in that direction", words.join("; "), closed.len())),
+        }
     }
 
     fn body_of_pair(&self, p: usize) -> usize {
