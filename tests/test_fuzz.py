@@ -654,6 +654,48 @@ def test_a_hardening_block_on_a_block_without_drift_control_completes():
             assert (ln >= -round_off).all() and (np.abs(lt) <= ln + round_off).all()
 
 
+def test_a_hardening_block_held_in_x_by_friction_alone_completes_without_drift_control():
+    """A 4 x 1 block with slightly distorted nodes (nu = 0.499 plane strain, Sy = 0.5,
+    H = 10, mu = 1) resting on a rigid flat at gap 0, held by nothing else, pressed by 1 per top
+    node, drift control off: every pair slips at t = 0, where the rate problem sets which
+    sticks.  Its corner then closes and separates at zero length, a cycle the rate problem used
+    to find no set for (it held the pairs slipping along one side of their cones to the other
+    side over the whole remaining load), so the corner was frozen and penetrated
+    (IllPosedError at t = 0.29; with snapshots at 0.25 at that fraction).  The scene is well
+    posed (a hardening body on friction, a load friction holds); it must complete, nothing
+    frozen, in equilibrium (recomputed from the arrays), within Coulomb's cone, no penetration
+    (round-off as in the fuzz above)."""
+    from slipstep import _engine
+
+    nodes = np.array([[0.014190750494522187, 0.0], [0.2585063312322589, 0.0],
+                      [0.506402736691352, 0.0], [0.7664579398207183, 0.0],
+                      [1.004041309993055, 0.0], [0.007219257651766952, 0.9937439460877943],
+                      [0.24395134957696288, 0.9987008063836676],
+                      [0.496070567142536, 0.9819696511888898],
+                      [0.7567461263360208, 0.990424623738192],
+                      [1.002678452093274, 1.00895647093158]])
+    model = {"nodes": nodes, "triangles": _grid(4, 1, np.zeros((10, 2)))[1],
+             "element_material": np.zeros(8, int), "plane": "strain", "thickness": 1.0,
+             "materials": [{"E": 1000.0, "nu": 0.499, "Sy": 0.5, "H": 10.0}],
+             "fixed_dofs": np.zeros(0, int), "load": np.r_[np.zeros(10), [0.0, -1.0] * 5],
+             "pairs": {"node_a": np.arange(5), "node_b": np.full(5, -1),
+                       "normal": np.tile([0.0, 1.0], (5, 1)), "gap": np.zeros(5),
+                       "mu": np.ones(5)},
+             "options": {"drift_control": False, "tie_tol": 1e-3}}
+    for output in ("events", "fractions"):
+        model["options"].update(output=output, fractions=np.array([0.25, 0.5, 1.0]))
+        result = _engine.solve(model, False)
+        assert result["stop"]["kind"] == "completed", (output, result["stop"]["message"])
+        assert "frozen" not in list(result["events"]["kind"]), output
+        worst, k, f = worst_equilibrium(model, result["snapshots"])
+        assert worst <= EQUILIBRIUM_TOL, (output, k, f, worst)
+        for snap in result["snapshots"]:
+            ln, lt = snap["lambda_n"], snap["lambda_t"]
+            round_off = 1e-9 * ln.max()
+            assert (ln >= -round_off).all() and (np.abs(lt) <= ln + round_off).all()
+            assert (snap["gap"] >= -1e-9).all()
+
+
 def test_a_hardening_block_reaches_no_limit_load():
     """Found by the solvable fuzz: a 2 x 2 block with H = E (plane strain, nu = 0.45,
     Sy = 2, mu = 2) pressed by 10 per top node on a rigid flat, its left side held in x, the
