@@ -696,6 +696,36 @@ def test_a_hardening_block_held_in_x_by_friction_alone_completes_without_drift_c
             assert (snap["gap"] >= -1e-9).all()
 
 
+def test_a_separation_taken_with_a_tie_is_rebalanced():
+    """A 4 x 1 hardening block (plane stress, Sy = 2, H = 100, mu = 2) on a fixed block, node
+    to node, one pair closed and four off, pressed by 10 per top node, drift control off, ties
+    within 1e-3: at f = 0.8585 the corner pair's separation comes with its slips (scales 1e-3
+    apart) and was applied while the pair still carried lambda_n > 0; that force vanished
+    without a correction (an equilibrium residual of 1.6e-4: EquilibriumError).  The force a
+    switch drops is rebalanced now: the run completes, every snapshot in equilibrium
+    (recomputed from the arrays)."""
+    from slipstep import _engine
+
+    x, y = np.tile(np.arange(5) / 4.0, 4), np.repeat([-1.0, 0.0, 0.0, 1.0], 5)
+    y[11:15] = [0.00307501, 0.02755342, 0.00562164, 0.03777938]
+    tris = _grid(4, 1, np.zeros((10, 2)))[1]
+    load = np.zeros(40)
+    load[31::2] = -10.0
+    model = {"nodes": np.column_stack([x, y]), "triangles": np.vstack([tris, tris + 10]),
+             "element_material": np.zeros(16, int), "plane": "stress", "thickness": 1.0,
+             "materials": [{"E": 1000.0, "nu": 0.3, "Sy": 2.0, "H": 100.0}],
+             "fixed_dofs": np.array([0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 20, 30]), "load": load,
+             "pairs": {"node_a": np.arange(10, 15), "node_b": np.arange(5, 10),
+                       "normal": np.tile([0.0, 1.0], (5, 1)), "gap": y[10:15] - y[5:10],
+                       "mu": np.full(5, 2.0)},
+             "options": {"output": "fractions", "fractions": np.array([0.25, 0.5, 1.0]),
+                         "tie_tol": 1e-3, "drift_control": False}}
+    result = _engine.solve(model, False)
+    assert result["stop"]["kind"] == "completed", result["stop"]["message"]
+    worst, k, f = worst_equilibrium(model, result["snapshots"])
+    assert worst <= EQUILIBRIUM_TOL, (k, f, worst)
+
+
 def test_a_hardening_block_reaches_no_limit_load():
     """Found by the solvable fuzz: a 2 x 2 block with H = E (plane strain, nu = 0.45,
     Sy = 2, mu = 2) pressed by 10 per top node on a rigid flat, its left side held in x, the
