@@ -123,7 +123,7 @@ def _row(name, group, summary, error, wall, reference="", rel_error=float("nan")
 #: load is the expected end of a run loaded beyond collapse.
 STATUS_OF_STOP = {"completed": "completed", "first_yield": "completed",
                   "limit_load": "limit load", "event_bound": "stopped",
-                  "interrupted": "stopped"}
+                  "support_lost": "support lost", "interrupted": "stopped"}
 
 
 def _centroid_radius(scene):

@@ -84,6 +84,9 @@ pub struct Pair {
     pub w_t: SparseVec,
     /// The tangential direction is held entirely by supports: no stick constraint.
     pub tangent_held: bool,
+    /// The columns' entries at held DOFs (normal, tangential): the force the pair puts
+    /// straight onto the supports, which a reaction excludes (no constraint: they do not move).
+    pub on_supports: [SparseVec; 2],
 }
 
 impl Pair {
@@ -108,11 +111,12 @@ impl Pair {
         let free = |d: usize| !fixed[d];
         let w_n = vec_of(normal).restricted(free);
         let w_t = vec_of(t).restricted(free);
+        let on_supports = [vec_of(normal).restricted(|d| fixed[d]), vec_of(t).restricted(|d| fixed[d])];
         // Node to node: held when every tangential DOF is; a weighted row (its force on node a
         // alone) when node a's are: its remaining entries would constrain the target only.
         let own = |w: &SparseVec| w.entries.iter().filter(|&&(d, _)| d / 2 == node_a).map(|&(_, c)| c * c).sum::<f64>().sqrt();
         let tangent_held = if weighted { own(&w_t) < HELD_BY_SUPPORTS } else { w_t.norm() < HELD_BY_SUPPORTS };
-        Pair { node_a, node_b, normal, gap0, mu, w_n, w_t, tangent_held }
+        Pair { node_a, node_b, normal, gap0, mu, w_n, w_t, tangent_held, on_supports }
     }
 
     pub fn frictional(&self) -> bool {
@@ -135,6 +139,12 @@ impl Pair {
 
     pub fn rtd(&self, u: &[f64]) -> f64 {
         self.w_t.dot(u)
+    }
+
+    /// y += the force λ_n, λ_t put on the held DOFs (global).
+    pub fn add_support_force(&self, lambda_n: f64, lambda_t: f64, y: &mut [f64]) {
+        self.on_supports[0].add_to(lambda_n, y);
+        self.on_supports[1].add_to(lambda_t, y);
     }
 
     /// λ_t = τ λ_n for a slipping pair (eq. 41): τ = −d μ.
@@ -183,5 +193,9 @@ mod tests {
         let p = Pair::new(0, None, [0.0, 1.0], 0.0, 0.3, &fixed);
         assert!(p.tangent_held && !p.frictional());
         assert_eq!(p.closed_status(), Status::Stick);
+        // its tangential force goes straight to the support: x = 2 λ_t (t = (−1, 0)) at DOF 0
+        let mut y = [0.0; 2];
+        p.add_support_force(1.0, -2.0, &mut y);
+        assert_eq!(y, [2.0, 0.0]);
     }
 }

@@ -26,6 +26,12 @@ pub enum Plane {
     Axisymmetric,
 }
 
+/// The magnitudes E, Sy and H (unless 0) may have, in the case's stress unit. Stresses reach
+/// E × the nominal strain of the loads (between 1e-100 and 1: `Model::validate`), and the
+/// yield scale (eqs. 12–16) multiplies two squared stresses: within 1e±50 those products stay
+/// below 1e200 and the smallest stress a load may make still squares to a normal f64 (1e-300).
+pub const MAGNITUDES: (f64, f64) = (1e-50, 1e50);
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Material {
     /// Young's modulus E
@@ -43,25 +49,38 @@ impl Material {
         Material { young, poisson, yield_stress: f64::INFINITY, hardening: 0.0 }
     }
 
-    /// Reject values no solid can have, naming the material and the fix.
-    pub fn validate(&self, index: usize) -> Result<()> {
-        let (e, nu) = (self.young, self.poisson);
-        if !e.is_normal() || e <= 0.0 {
-            bail!(Input, "material {index}: E = {e} is not allowed: Young's modulus must be a finite positive number");
+    /// Reject values no solid can have, and magnitudes whose squares leave f64's range
+    /// (`MAGNITUDES`), naming the material (`name`, e.g. "body 'block' material") and the fix.
+    pub fn validate(&self, name: &str) -> Result<()> {
+        let (e, nu, sy, h) = (self.young, self.poisson, self.yield_stress, self.hardening);
+        let (low, high) = MAGNITUDES;
+        let beyond = |v: f64| v != 0.0 && v.is_finite() && !(low..=high).contains(&v);
+        let unit = format!("must lie within [{low:e}, {high:e}] in the case's stress unit (beyond, squared stresses leave the range of f64): give stresses in another unit (steel: E = 2e5 in MPa, 2e11 in Pa)");
+        if !e.is_finite() || e <= 0.0 {
+            bail!(Input, "{name}: E = {e:?} is not allowed: Young's modulus must be a finite positive number");
+        }
+        if beyond(e) {
+            bail!(Input, "{name}: E = {e:?} is not allowed: Young's modulus {unit}");
         }
         if !nu.is_finite() || nu <= -1.0 || nu >= 0.5 {
-            bail!(Input, "material {index}: nu = {nu} is not allowed: Poisson's ratio must satisfy -1 < nu < 0.5 (use 0.499 for a near-incompressible solid)");
+            bail!(Input, "{name}: nu = {nu:?} is not allowed: Poisson's ratio must satisfy -1 < nu < 0.5 (use 0.499 for a near-incompressible solid)");
         }
-        if self.yield_stress.is_nan() || self.yield_stress <= 0.0 {
-            bail!(Input, "material {index}: Sy = {} is not allowed: the yield stress must be positive (omit it for an elastic body)", self.yield_stress);
+        if sy.is_nan() || sy <= 0.0 {
+            bail!(Input, "{name}: Sy = {sy:?} is not allowed: the yield stress must be positive (omit it for an elastic body)");
+        }
+        if beyond(sy) {
+            bail!(Input, "{name}: Sy = {sy:?} is not allowed: the yield stress {unit}");
         }
         // A yield strain below 1e-12 means wrong units; it would also overflow the relative
         // drift |σe − σy|/σy (found by tests/test_fuzz.py with Sy = 5e-324).
-        if self.yield_stress.is_finite() && self.yield_stress < 1e-12 * e {
-            bail!(Input, "material {index}: Sy = {} is not allowed: the yield strain Sy/E = {:.3e} is below 1e-12; check the units of Sy and E", self.yield_stress, self.yield_stress / e);
+        if sy.is_finite() && sy < 1e-12 * e {
+            bail!(Input, "{name}: Sy = {sy:?} is not allowed: the yield strain Sy/E = {:.3e} is below 1e-12; check the units of Sy and E", sy / e);
         }
-        if !self.hardening.is_finite() || self.hardening < 0.0 {
-            bail!(Input, "material {index}: H = {} is not allowed: the plastic modulus H' must be >= 0 (0 = perfectly plastic)", self.hardening);
+        if !h.is_finite() || h < 0.0 {
+            bail!(Input, "{name}: H = {h:?} is not allowed: the plastic modulus H' must be >= 0 (0 = perfectly plastic)");
+        }
+        if beyond(h) {
+            bail!(Input, "{name}: H = {h:?} is not allowed: the plastic modulus H' (unless 0) {unit}");
         }
         Ok(())
     }
@@ -276,12 +295,12 @@ mod tests {
     #[test]
     fn subnormal_moduli_and_vanishing_yield_strains_are_refused() {
         let mut m = Material::elastic(5e-324, 0.3);
-        assert!(m.validate(0).unwrap_err().message.contains("E = "));
+        assert!(m.validate("material 0").unwrap_err().message.contains("E = 5e-324"));
         m = Material::elastic(70_000.0, 0.3);
-        m.yield_stress = 5e-324;
-        assert!(m.validate(0).unwrap_err().message.contains("yield strain"));
+        m.yield_stress = 1e-9;
+        assert!(m.validate("material 0").unwrap_err().message.contains("yield strain"));
         m.yield_stress = 200.0;
-        assert!(m.validate(0).is_ok());
+        assert!(m.validate("material 0").is_ok());
     }
 
     #[test]
@@ -413,7 +432,23 @@ mod tests {
 
     #[test]
     fn bad_values_are_named() {
-        assert!(Material::elastic(-1.0, 0.3).validate(0).unwrap_err().message.contains("E = -1"));
-        assert!(Material::elastic(1.0, 0.5).validate(2).unwrap_err().message.contains("material 2: nu = 0.5"));
+        assert!(Material::elastic(-1.0, 0.3).validate("material 0").unwrap_err().message.contains("E = -1"));
+        assert!(Material::elastic(1.0, 0.5).validate("material 2").unwrap_err().message.contains("material 2: nu = 0.5"));
+    }
+
+    /// Moduli whose squared stresses leave f64's range are refused by key, at the bounds and
+    /// beyond them, in both directions; H = 0 and an infinite Sy (elastic) are not magnitudes.
+    #[test]
+    fn magnitudes_beyond_f64s_squares_are_refused() {
+        let (low, high) = MAGNITUDES;
+        let steel = Material { young: 2e5, poisson: 0.3, yield_stress: 250.0, hardening: 0.0 };
+        assert!(steel.validate("m").is_ok());
+        assert!(Material { young: high, yield_stress: 1e-3 * high, hardening: high, ..steel }.validate("m").is_ok());
+        assert!(Material { young: low, yield_stress: 1e3 * low, hardening: low, ..steel }.validate("m").is_ok());
+        for (bad, key) in [(Material { young: 1e200, ..steel }, "E = 1e200"), (Material { young: 1e-60, yield_stress: f64::INFINITY, ..steel }, "E = 1e-60"),
+            (Material { yield_stress: 1e51, ..steel }, "Sy = 1e51"), (Material { hardening: 1e300, ..steel }, "H = 1e300"), (Material { hardening: 1e-51, ..steel }, "H = 1e-51")] {
+            let msg = bad.validate("body 'b' material").unwrap_err().message;
+            assert!(msg.starts_with(&format!("body 'b' material: {key} is not allowed")) && msg.contains("another unit"), "{msg}");
+        }
     }
 }

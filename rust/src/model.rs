@@ -251,7 +251,7 @@ impl Model {
             bail!(Input, "no material given: every body needs a material with E and nu");
         }
         for (i, m) in self.materials.iter().enumerate() {
-            m.validate(i)?;
+            m.validate(&self.material_name(i))?;
         }
         if self.element_material.len() != self.mesh.triangles.len() {
             bail!(Input, "element_material has {} entries for {} elements", self.element_material.len(), self.mesh.triangles.len());
@@ -430,6 +430,12 @@ impl Model {
             Some(c) => format!("contact '{c}' pair {k} (node {}{at})", p.node_a),
             None => format!("contact pair {k} (node {}{at})", p.node_a),
         }
+    }
+
+    /// "body 'NAME' material" of the first element that uses material i, or "material i".
+    pub fn material_name(&self, i: usize) -> String {
+        let body = self.element_material.iter().position(|&m| m == i).and_then(|e| self.names.element_body.get(e)).and_then(|&b| self.names.bodies.get(b));
+        body.map_or_else(|| format!("material {i}"), |b| format!("body '{b}' material"))
     }
 
     /// "body 'NAME'" of a connected component of the mesh (named by its first element).

@@ -14,7 +14,8 @@
 //!    stress returns to the yield surface (`onto_yield_surface`).
 //!
 //! An element on its surface whose increment points inside unloads elastically, and yields
-//! again where that elastic path leaves the surface (a reversal within one increment).
+//! again where that elastic path leaves the surface (a reversal within one increment). A
+//! plastic element an equilibrium correction left inside its surface is elastic up to it.
 
 use crate::material::{von_mises, von_mises_squared, yield_scale, Material, Plane};
 use nalgebra::Vector4;
@@ -65,11 +66,18 @@ pub fn integrate(m: &Material, plane: Plane, start: &PointState, e: &Vector4<f64
     let sy = m.current_yield(start.plastic_strain);
     let entry = if start.plastic {
         let flowing = m.tangent(&start.stress, true).plastic_multiplier(plane, e);
-        if flowing > LOADING_NOISE * strain_size(e) {
-            Some(0.0)
-        } else {
+        if flowing <= LOADING_NOISE * strain_size(e) {
             out.unloaded = true;
             reentry(&start.stress, &d_elastic, sy)
+        } else if von_mises(&start.stress) < sy {
+            // Left inside its surface by the last correction and loading: elastic up to the
+            // surface; still plastic (loading) if it does not reach it in this increment.
+            match yield_scale(&start.stress, &d_elastic, sy).filter(|&r| r < 1.0) {
+                None => return out,
+                r => r,
+            }
+        } else {
+            Some(0.0)
         }
     } else {
         yield_scale(&start.stress, &d_elastic, sy).filter(|&r| r < 1.0)
@@ -143,6 +151,20 @@ fn flow(m: &Material, plane: Plane, mut stress: Vector4<f64>, mut plastic_strain
 /// that the sub-steps do not depend on the frame.
 fn tensor_norm(s: &Vector4<f64>) -> f64 {
     (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * s[3] * s[3]).sqrt()
+}
+
+/// A plastic element's stress at an increment's start: beyond its yield surface (the drift of
+/// the last correction) scaled back onto it; inside it (a correction that unloaded it along
+/// D_ep) kept, since `integrate` takes it elastically up to the surface. (Scaling it out onto
+/// the surface instead is a stress change without a strain, an out-of-balance force that the
+/// next correction undoes along D_ep, leaving the same drift inside again: in plane stress,
+/// where the scaling is radial, the drift then never decays and the increments stall.)
+pub fn not_beyond_surface(stress: &Vector4<f64>, sy: f64, plane: Plane) -> Vector4<f64> {
+    if von_mises(stress) > sy {
+        onto_yield_surface(stress, sy, plane)
+    } else {
+        *stress
+    }
 }
 
 /// The stress scaled back onto the yield surface σe = σy: the deviator at fixed mean stress
@@ -242,6 +264,33 @@ mod tests {
         assert!((out.end.plastic_strain - k).abs() < 5e-5 * k);
         assert!((von_mises(&out.end.stress) - m.current_yield(out.end.plastic_strain)).abs() < 1e-9 * scale);
         assert!(out.substeps > 1, "the turn needs more than one sub-step");
+    }
+
+    /// A plastic element a correction left inside its surface (σe = 0.99 σy) and strained on in
+    /// pure shear is elastic up to the surface, then flows: the closed form of the shear test
+    /// from τ = 0.99 τy, with no yield event (it did not unload). A step too short to reach
+    /// the surface is elastic and leaves it plastic (loading). Only a stress beyond the
+    /// surface is scaled back at an increment's start.
+    #[test]
+    fn a_plastic_element_inside_its_surface_is_elastic_up_to_it() {
+        let m = steel(2_000.0);
+        let g = m.young / (2.0 * (1.0 + m.poisson));
+        let tau_y = m.yield_stress / 3f64.sqrt();
+        let inside = PointState { stress: Vector4::new(0.0, 0.0, 0.0, 0.99 * tau_y), plastic_strain: 0.0, plastic: true };
+        let gamma = 2.0 * tau_y / g;
+        let out = integrate(&m, Plane::Strain, &inside, &Vector4::new(0.0, 0.0, 0.0, gamma));
+        let elastic = 0.01 * tau_y / g;
+        let tau = tau_y + g * m.hardening / (m.hardening + 3.0 * g) * (gamma - elastic);
+        assert!((out.end.stress[3] - tau).abs() < 1e-9 * tau, "τ = {} vs {tau}", out.end.stress[3]);
+        assert!(out.end.plastic && !out.unloaded && out.yielded_at.is_none());
+        let short = integrate(&m, Plane::Strain, &inside, &Vector4::new(0.0, 0.0, 0.0, 0.5 * elastic));
+        assert!(short.end.plastic && short.end.plastic_strain == 0.0);
+        assert!((short.end.stress[3] - (0.99 * tau_y + 0.5 * elastic * g)).abs() < 1e-12 * tau_y);
+        for plane in [Plane::Strain, Plane::Stress] {
+            assert_eq!(not_beyond_surface(&inside.stress, m.yield_stress, plane), inside.stress);
+            let beyond = not_beyond_surface(&(inside.stress * 1.1), m.yield_stress, plane);
+            assert!((von_mises(&beyond) - m.yield_stress).abs() < 1e-12 * m.yield_stress);
+        }
     }
 
     /// An element on its surface that is strained back unloads elastically (σ += D Δε, εp kept);

@@ -152,3 +152,17 @@ def test_a_body_held_by_nothing_before_any_load_is_still_an_error(tmp_path):
     with pytest.raises(FreeBodyError, match="body 'block' is free to move"):
         slipstep.run(write_case(tmp_path, BLOCK), None, ["contact.point=[0.0, -0.1]"],
                      progress=False)
+
+
+def test_a_body_pulled_off_its_contact_at_the_first_instant_is_told_so(tmp_path):
+    # The base starts closed (gap 0) and the first stage pulls the block up: it leaves the base
+    # before any load is applied, an input error that names the contact and the pull (the
+    # load's resultant, (0, q w), along +y), not a suggestion to start a contact closed.
+    with pytest.raises(FreeBodyError) as err:
+        slipstep.run(write_case(tmp_path, BLOCK), None, ["stage.press.factors={press = -1.0}"],
+                     progress=False)
+    assert str(err.value).startswith(
+        "body 'block' lifts off at the first instant (t = 0): contact 'base' starts closed "
+        "(gap 0), but the load pulls the body away from it along (0.000, 1.000)"), \
+        str(err.value)
+    assert "start a contact closed" not in str(err.value)

@@ -274,17 +274,6 @@ def test_closed_polyline_around_the_body_is_in_balance():
     assert_balanced(scene, result)
 
 
-# The engine's reaction at a held DOF is P_σ − P there (rust/src/driver/recording.rs,
-# Engine::snapshot), without the contact forces that reach that DOF, where docs/engine_api.md
-# defines it as P_σ − P − contact forces there: the support's force.  Contact forces reach a
-# held DOF when a node-to-segment row spreads λ_t onto a symmetry node, or a frictionless
-# oblique normal pushes one.  Strict: these pass once the engine subtracts them.
-ENGINE_REACTION = pytest.mark.xfail(strict=True, raises=AssertionError,
-                                    reason="the engine's reaction includes the contact forces "
-                                           "at held DOFs")
-
-
-@ENGINE_REACTION
 def test_contact_force_on_a_held_dof_is_not_a_reaction():
     """A frictionless polyline sloping across the symmetry line x = 0 of a half block: node
     (0, 0) is held in x and pushed along the oblique normal (0.0995, -0.995)."""
@@ -297,12 +286,11 @@ def test_contact_force_on_a_held_dof_is_not_a_reaction():
     assert_balanced(scene, result)
 
 
-
 TWO_BLOCKS = (CASES / "two_blocks.toml").read_text()
 
 
 @pytest.mark.parametrize("kind, h_punch", [
-    ("node_to_node", "0.5"), pytest.param("node_to_segment", "0.4", marks=ENGINE_REACTION)])
+    ("node_to_node", "0.5"), ("node_to_segment", "0.4")])
 def test_deformable_pairs_are_in_balance(kind, h_punch):
     """two_blocks with matching meshes (node_to_node) and a punch meshed on its own
     (node_to_segment, 0.4 on the foundation's 0.5), friction 0.5 so that pairs stick."""

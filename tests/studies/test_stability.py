@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import csv
 import math
+import re
 
 import numpy as np
 import pytest
@@ -42,6 +43,19 @@ def study(tmp_path_factory):
         assert main(["study", "stability", "--quick", "--out", str(out)]) == 0
     rows = {r["scenario"]: r for r in reports[0]["rows"]}
     return out, rows
+
+
+def test_every_documented_stop_has_a_row_status():
+    """Each ``stop.kind`` docs/engine_api.md lists (the engine's contract) maps to a status,
+    so that no run the study makes ends in a KeyError."""
+    from conftest import ROOT
+
+    doc = (ROOT / "docs" / "engine_api.md").read_text()
+    row = next(line for line in doc.splitlines() if line.startswith("| `stop` |"))
+    listed = row.split("`kind` in", 1)[1].split("; `message`", 1)[0].strip()
+    kinds = re.findall(r"(?:^|, )`(\w+)`", listed)
+    assert {"completed", "limit_load", "support_lost", "interrupted"} <= set(kinds), kinds
+    assert set(kinds) <= set(stability.STATUS_OF_STOP), set(kinds) - set(stability.STATUS_OF_STOP)
 
 
 def run_of(row):

@@ -50,12 +50,14 @@ impl Engine<'_> {
         largest
     }
 
-    /// Apply one event's status change and the forces it sets. Returns the change of λ_t it
-    /// made (a pair the equilibrium correction moved off the cone is put back on it: a force
-    /// jump that the caller rebalances).
+    /// Apply one event's status change and the forces it sets. Returns the force it moved: the
+    /// change of λ_t of a slip (a pair the equilibrium correction moved off the cone is put back
+    /// on it), the forces a separation drops (one applied with a tie, before its own scale,
+    /// still carries λ_n up to tie_tol × its rate): a force jump that the caller rebalances.
     pub fn switch(&self, state: &mut State, c: &Candidate) -> f64 {
         let p = c.entity;
         let before = if c.kind == EventKind::StickToSlip { state.lambda_t[p] } else { 0.0 };
+        let dropped = if c.kind == EventKind::Separate { state.lambda_n[p].abs().max(state.lambda_t[p].abs()) } else { 0.0 };
         match c.kind {
             EventKind::Close => {
                 state.status[p] = self.pairs[p].closed_status();
@@ -78,7 +80,7 @@ impl Engine<'_> {
             EventKind::Unload => state.plastic[p] = false,
             EventKind::Frozen | EventKind::FrozenElement => {}
         }
-        if c.kind == EventKind::StickToSlip { (state.lambda_t[p] - before).abs() } else { 0.0 }
+        if c.kind == EventKind::StickToSlip { (state.lambda_t[p] - before).abs() } else { dropped }
     }
 }
 

@@ -3,6 +3,7 @@
 
 use super::engine::Engine;
 use super::plasticity::Correction;
+use super::selection::Selection;
 use super::space::Space;
 use super::state::{State, TrialIncrement};
 use crate::bail;
@@ -96,15 +97,18 @@ impl Engine<'_> {
 /// The limit-load stop: with a plastic mechanism the tangent turns (nearly) singular and the
 /// trial displacement explodes while the factorization still succeeds. The current stiffness
 /// |R|²/(R·Δu) of the stage's remaining force R is compared with the stage's first increment's
-/// (a new stage, e.g. unloading, starts a new reference).
+/// (a new stage, e.g. unloading, starts a new reference). Only trials the load advances along
+/// are measured: one whose statuses switch at once (a zero-length increment, as after a pair
+/// closes and slips at one instant, with every element still on its plastic tangent) is no
+/// response of the body.
 #[derive(Default)]
 pub(super) struct LimitLoad {
     initial_stiffness: Option<f64>,
 }
 
 impl LimitLoad {
-    pub fn check(&mut self, eng: &Engine, state: &State, trial: &TrialIncrement) -> Option<StopReason> {
-        if eng.is_reduced() {
+    pub fn check(&mut self, eng: &Engine, state: &State, trial: &TrialIncrement, sel: &Selection) -> Option<StopReason> {
+        if eng.is_reduced() || sel.zero_length() {
             return None;
         }
         let remaining: Vec<f64> = eng.stage.force_change().iter().enumerate().map(|(d, v)| if eng.fixed[d] { 0.0 } else { v * (1.0 - state.load_fraction) }).collect();

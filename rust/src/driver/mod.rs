@@ -78,7 +78,7 @@ use state::State;
 use std::time::Instant;
 
 /// Zero-gap pairs start closed: a gap within this × the length scale counts as zero.
-const INITIAL_CONTACT: f64 = 1e-12;
+pub(super) const INITIAL_CONTACT: f64 = 1e-12;
 
 /// Run the procedure on a model, stage by stage along its load path (`path`); `progress` is
 /// called after every increment and stops the run (keeping the results so far) when it returns
@@ -125,12 +125,12 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         }
         eng.update_tangents(state)?; // D or D_ep at the increment's start (eq. 11)
         let trial = timed_trial(eng, state, rec.internal.take())?; // the remaining load (eq. 44)
-        if let Some(stop) = limit.check(eng, state, &trial) {
-            return Ok(stop);
-        }
         let t_events = Instant::now();
         let cut = rec.snapshot_cut(eng, state);
         let sel = eng.select(state, &trial, cycles, cut); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
+        if let Some(stop) = limit.check(eng, state, &trial, &sel) {
+            return Ok(stop);
+        }
         rec.snapshots_inside(eng, state, &trial, &sel)?;
         let (phi0, first_event, first_step) = (state.load_fraction, rec.events.len(), rec.steps.len());
         let window = sel.plastic_inside.then(|| WindowStart::new(state, rec, correction));

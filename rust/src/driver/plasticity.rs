@@ -21,7 +21,7 @@ use crate::error::Result;
 use crate::material::{von_mises, yield_scale};
 use crate::events::{self, Candidate, PairState, Trial};
 use crate::model::EventKind;
-use crate::stress_integration::{integrate, onto_yield_surface, Integrated, PointState};
+use crate::stress_integration::{integrate, not_beyond_surface, onto_yield_surface, Integrated, PointState};
 use nalgebra::Vector4;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -89,8 +89,8 @@ impl Engine<'_> {
                 if !m.is_plastic() || !(plastic || (sel.plastic_inside && crosses(e, sy))) {
                     return None;
                 }
-                // back onto the surface first: the last correction may have left it a little off
-                let stress = if plastic { onto_yield_surface(&state.stress[e], sy, plane) } else { state.stress[e] };
+                // back onto the surface first if the last correction left it beyond
+                let stress = if plastic { not_beyond_surface(&state.stress[e], sy, plane) } else { state.stress[e] };
                 let start = PointState { stress, plastic_strain: state.plastic_strain[e], plastic };
                 Some((e, integrate(m, plane, &start, &(trial.dstrain[e] * scale))))
             })
@@ -214,7 +214,7 @@ impl Engine<'_> {
                     return None;
                 }
                 let sy = m.current_yield(start.plastic_strain[e]);
-                let stress = if start.plastic[e] { onto_yield_surface(&start.stress[e], sy, plane) } else { start.stress[e] };
+                let stress = if start.plastic[e] { not_beyond_surface(&start.stress[e], sy, plane) } else { start.stress[e] };
                 let point = PointState { stress, plastic_strain: start.plastic_strain[e], plastic: start.plastic[e] };
                 Some((e, integrate(m, plane, &point, &self.elements[e].strain(&du))))
             })

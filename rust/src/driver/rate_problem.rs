@@ -12,7 +12,12 @@
 //!   frictional, on the cone or at zero force:
 //!                             v − v⁺ + v⁻ = 0 (Λt free),
 //!                             0 ≤ v⁺ ⊥ μΛn + Λt ≥ 0,   0 ≤ v⁻ ⊥ μΛn − Λt ≥ 0
-//!                             (slip along +t only with Λt = −μΛn, eq. 41, and vice versa)
+//!                             (slip along +t only with Λt = −μΛn, eq. 41, and vice versa);
+//!                             a pair on one side of the cone cannot reach the other at the
+//!                             increment's start: that side's row is its present slack
+//!                             μλn ∓ λt > 0, so its slip rate is 0 (held to the end of the
+//!                             trial instead, it asks the statuses to last the whole remaining
+//!                             load: often no set does, while one holds at the start)
 //!   each free rigid mode:     Σ (Nᵀw) ΔΛ = −Nᵀ r   (α free)
 //! This is a mixed LCP (free unknowns with equations, the rest complementary). The free
 //! unknowns are eliminated (or split, for the rigid amplitudes), and Lemke's method (module
@@ -45,8 +50,9 @@ enum Role {
     /// Closed, stick strictly inside the cone: g' = 0, v = 0.
     Stick,
     /// Frictional, on the cone or at zero force: its slip is decided; `closed`: with positive
-    /// force (g' = 0), else 0 ≤ Λn ⊥ g' ≥ 0.
-    Friction { closed: bool },
+    /// force (g' = 0), else 0 ≤ Λn ⊥ g' ≥ 0. `off_cone`: per side (+t, −t) the slack μλn ± λt
+    /// of a side of the cone the pair is not on (None: on it).
+    Friction { closed: bool, off_cone: [Option<f64>; 2] },
     /// Frictionless at zero gap and zero force: open or closed is decided.
     Critical,
 }
@@ -206,7 +212,10 @@ impl Engine<'_> {
             (false, true) => Role::Normal,
             (false, false) => Role::Critical,
             (true, true) if pair.mu * ln - lt.abs() > tol => Role::Stick,
-            (true, closed) => Role::Friction { closed },
+            (true, closed) => {
+                let off = |slack: f64| (slack > tol).then_some(slack);
+                Role::Friction { closed, off_cone: [off(pair.mu * ln + lt), off(pair.mu * ln - lt)] }
+            }
         }
     }
 
@@ -219,7 +228,7 @@ impl Engine<'_> {
                 Affine::var(prob.unknown(true)),
                 Affine::var(prob.unknown(true)),
             ),
-            Role::Friction { closed } => {
+            Role::Friction { closed, .. } => {
                 let (n, t) = (prob.unknown(closed), prob.unknown(true));
                 let (_slip_plus, _slip_minus) = (prob.length_unknown(false), prob.length_unknown(false));
                 (Affine::var(n), Affine::var(t))
@@ -291,20 +300,21 @@ impl Engine<'_> {
         match role {
             Role::Normal | Role::Critical => {}
             Role::Stick => prob.rows[n + 1] = Some(v),
-            Role::Friction { .. } => {
+            Role::Friction { off_cone, .. } => {
                 let (t, vp, vm, mu) = (n + 1, n + 2, n + 3, self.pairs[p].mu);
                 prob.rows[t] = Some(
                     v.scaled_add(-1.0, &Affine::var(vp))
                         .scaled_add(1.0, &Affine::var(vm)),
                 );
-                prob.rows[vp] = Some(Affine {
-                    coef: vec![(n, mu), (t, 1.0)],
-                    constant: 0.0,
-                });
-                prob.rows[vm] = Some(Affine {
-                    coef: vec![(n, mu), (t, -1.0)],
-                    constant: 0.0,
-                });
+                // A side of the cone the pair is not on cannot be reached at the increment's
+                // start: its slip rate is 0 (its row the present slack), whatever the forces
+                // would be after the whole remaining load with the statuses held.
+                let side = |slack: Option<f64>, sign: f64| match slack {
+                    Some(s) => Affine::constant(s),
+                    None => Affine { coef: vec![(n, mu), (t, sign)], constant: 0.0 },
+                };
+                prob.rows[vp] = Some(side(off_cone[0], 1.0));
+                prob.rows[vm] = Some(side(off_cone[1], -1.0));
             }
         }
     }
@@ -323,7 +333,7 @@ impl Engine<'_> {
                 Role::Normal | Role::Stick => state.status[p],
                 Role::Critical if opens => Status::Open,
                 Role::Critical => self.pairs[p].closed_status(),
-                Role::Friction { closed: false } if opens => Status::Open,
+                Role::Friction { closed: false, .. } if opens => Status::Open,
                 Role::Friction { .. } => {
                     let (vp, vm) = (y[n + 2], y[n + 3]);
                     if vp.max(vm) <= SLIP_RATE * scale {

@@ -256,8 +256,13 @@ impl Engine<'_> {
         } else {
             (state, internal.map_or_else(|| self.internal_force(&state.stress), <[f64]>::to_vec))
         };
-        let reaction = (0..internal.len()).map(|d| if self.fixed[d] { internal[d] - self.stage.force(d, state.load_fraction) } else { 0.0 }).collect();
         let pairs = self.global_pairs();
+        // P_σ − P − the contact forces at the held DOFs: the supports' force
+        let mut contact = vec![0.0; internal.len()];
+        for (p, pair) in pairs.iter().enumerate() {
+            pair.add_support_force(state.lambda_n[p], state.lambda_t[p], &mut contact);
+        }
+        let reaction = (0..internal.len()).map(|d| if self.fixed[d] { internal[d] - self.stage.force(d, state.load_fraction) - contact[d] } else { 0.0 }).collect();
         Ok(Snapshot {
             stage: state.stage,
             load_fraction: state.load_fraction,

@@ -13,6 +13,7 @@
 //! system; the rate problem, which has it, decides the statuses (`switch_statuses`).
 
 use super::engine::Engine;
+use super::INITIAL_CONTACT;
 use super::state::State;
 use super::trial::{OutOfBalance, Row};
 use crate::bail;
@@ -125,10 +126,42 @@ impl Engine<'_> {
                 }
                 bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
             }
+            if let Some(what) = self.left_at_once(state, body, &words) {
+                bail!(FreeBody, "{name} {what}, and nothing else holds it; add a support (fix/symmetry) that does, or change the load");
+            }
             let closed = rows.iter().filter(|r| matches!(r, Row::Normal(p) if self.body_of_pair(*p) == body)).count();
             bail!(FreeBody, "{name} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", words.join("; "));
         }
         Ok(())
+    }
+
+    /// Before any load (t = 0), a body some of whose pairs started closed (gap 0) and separated
+    /// at once: how it leaves its support (lifts off, along the load's direction; tips about its
+    /// one closed pair; or moves along `words`), naming the contacts. None otherwise.
+    fn left_at_once(&self, state: &State, body: usize, words: &[String]) -> Option<String> {
+        if state.time() != 0.0 {
+            return None;
+        }
+        let touching = INITIAL_CONTACT * self.scales.length;
+        let of_body: Vec<usize> = (0..self.pairs.len()).filter(|&p| self.body_of_pair(p) == body).collect();
+        let mut left: Vec<usize> = of_body.iter().filter(|&&p| self.pairs[p].gap0 <= touching && !state.status[p].is_closed()).map(|&p| self.model.pairs[p].contact).collect();
+        left.sort_unstable();
+        left.dedup();
+        let names: Vec<String> = left.iter().map(|&c| self.model.names.contacts.get(c).map_or_else(|| "the contact".to_string(), |n| format!("contact '{n}'"))).collect();
+        let contacts = names.join(" and ");
+        let closed: Vec<usize> = of_body.into_iter().filter(|&p| state.status[p].is_closed()).collect();
+        let at = "at the first instant (t = 0)";
+        match closed.as_slice() {
+            _ if names.is_empty() => None,
+            [] => {
+                let [fx, fy] = self.body_load(body);
+                let size = fx.hypot(fy);
+                let pull = if size > LOAD_ROUND_OFF * self.scales.force { format!("pulls the body away from it along ({:.3}, {:.3})", fx / size, fy / size) } else { "turns the body off it".to_string() };
+                Some(format!("lifts off {at}: {contacts} {} closed (gap 0), but the load {pull}", if names.len() == 1 { "starts" } else { "start" }))
+            }
+            [p] => Some(format!("tips about {} {at}: the other pairs of {contacts} start closed (gap 0) but separate at once, and the load turns the body about that point", self.model.pair_name(*p))),
+            _ => Some(format!("is free to move ({}) {at}: pairs of {contacts} start closed (gap 0) but separate at once, and its {} closed pairs do not hold it in that direction", words.join("; "), closed.len())),
+        }
     }
 
     fn body_of_pair(&self, p: usize) -> usize {
@@ -163,12 +196,16 @@ impl Engine<'_> {
         let closed: Vec<usize> = (0..self.pairs.len()).filter(|&p| state.status[p].is_closed() && self.body_of_pair(p) == body).collect();
         let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
         let (normal, mu) = ([mean(&|p| p.normal[0]), mean(&|p| p.normal[1])], mean(&|p| p.mu));
-        let load = self.stage.force_end();
-        let load_along = |dir: [f64; 2]| -> f64 {
-            let len = dir[0].hypot(dir[1]).max(f64::MIN_POSITIVE);
-            (0..self.body_of_node.len()).filter(|&i| self.body_of_node[i] == body).map(|i| (load[2 * i] * dir[0] + load[2 * i + 1] * dir[1]) / len).sum()
-        };
+        let [fx, fy] = self.body_load(body);
+        let load_along = |dir: [f64; 2]| -> f64 { (fx * dir[0] + fy * dir[1]) / dir[0].hypot(dir[1]).max(f64::MIN_POSITIVE) };
         (load_along(self.translation_of(idx, v)).abs(), load_along(normal).abs(), mu)
+    }
+
+    /// The resultant (x, y) of the stage's end load on a body.
+    fn body_load(&self, body: usize) -> [f64; 2] {
+        let load = self.stage.force_end();
+        let nodes = (0..self.body_of_node.len()).filter(|&i| self.body_of_node[i] == body);
+        nodes.fold([0.0, 0.0], |[x, y], i| [x + load[2 * i], y + load[2 * i + 1]])
     }
 
     /// (T, N, μ) of `tangential_and_normal_load` when T exceeds the capacity μN: gross sliding.
