@@ -12,6 +12,7 @@ use slipstep_core::material::{Material, Plane};
 use slipstep_core::mesh::Mesh;
 use slipstep_core::error::ErrorKind;
 use slipstep_core::model::*;
+use slipstep_core::options;
 use std::time::Instant;
 
 mod interrupt;
@@ -182,44 +183,23 @@ fn read_path(d: &Bound<'_, PyDict>) -> PyResult<(Vec<LoadPattern>, Vec<Stage>)> 
     Ok((patterns, stages))
 }
 
-/// The solver options (key "options"; absent keys keep their defaults).
+/// The solver options (key "options"): each key of `slipstep_core::options::SPECS`, read as its
+/// kind and checked by `Options::set` (absent keys keep their defaults, an unknown key is an
+/// input error), and the snapshot request (`output`, with `times` or `fractions`).
 fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
     let mut options = Options::default();
     let Some(o) = d.get_item("options")? else { return Ok(options) };
     let o = o.cast::<PyDict>()?;
-    if let Some(v) = o.get_item("tie_tol")? {
-        options.tie_tol = v.extract()?;
-    }
-    if let Some(v) = o.get_item("group_tol")? {
-        options.group_tol = v.extract()?;
-    }
-    if let Some(v) = o.get_item("max_events")? {
-        let n: i64 = v.extract()?;
-        options.max_steps = usize::try_from(n).map_err(|_| input_error(format!("engine model: options.max_events = {n} is not allowed: give 0 (automatic bound) or a positive count")))?;
-    }
-    if let Some(v) = o.get_item("equilibrium_tol")? {
-        options.equilibrium_tol = v.extract()?;
-    }
-    if let Some(v) = o.get_item("drift_control")? {
-        options.drift_control = v.extract()?;
-    }
-    if let Some(v) = o.get_item("tangent_turn")? {
-        options.tangent_turn = v.extract()?;
-    }
-    if let Some(v) = o.get_item("max_stress_step")? {
-        options.max_stress_step = v.extract()?;
-    }
-    if let Some(v) = o.get_item("limit_stiffness")? {
-        options.limit_stiffness = v.extract()?;
-    }
-    if let Some(v) = o.get_item("reduced_elastic")? {
-        options.reduced_elastic = v.extract()?;
-    }
-    if let Some(v) = o.get_item("max_zero_length_switches")? {
-        options.max_zero_length_switches = v.extract()?;
-    }
-    if let Some(v) = o.get_item("stop_at_first_yield")? {
-        options.stop_at_first_yield = v.extract()?;
+    for (key, v) in o.iter() {
+        let key: String = key.extract()?;
+        let value = match options::spec(&key).map(|s| s.kind) {
+            _ if matches!(key.as_str(), "output" | "times" | "fractions") => continue,
+            Some(options::Kind::Real) => options::Value::Real(v.extract()?),
+            Some(options::Kind::Count) => options::Value::Count(v.extract()?),
+            Some(options::Kind::Flag) => options::Value::Flag(v.extract()?),
+            None => options::Value::Real(f64::NAN), // `set` names the unknown key
+        };
+        options.set(&key, value).map_err(|e| python_error(d.py(), &e))?;
     }
     if let Some(v) = o.get_item("output")? {
         options.snapshots = match v.extract::<String>()?.as_str() {
@@ -230,6 +210,34 @@ fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
         };
     }
     Ok(options)
+}
+
+/// The declaration of every solver option (`slipstep_core::options::SPECS`), for the case
+/// schema's `[solver]` table: a list of dicts with key, kind ("real", "count", "flag"),
+/// default, min and max (None or (value, inclusive)) and doc.
+#[pyfunction]
+fn option_specs(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
+    let list = PyList::empty(py);
+    for s in options::SPECS {
+        let d = PyDict::new(py);
+        d.set_item("key", s.key)?;
+        let kind = match s.kind {
+            options::Kind::Real => "real",
+            options::Kind::Count => "count",
+            options::Kind::Flag => "flag",
+        };
+        d.set_item("kind", kind)?;
+        match s.kind {
+            options::Kind::Real => d.set_item("default", s.default)?,
+            options::Kind::Count => d.set_item("default", s.default as i64)?,
+            options::Kind::Flag => d.set_item("default", s.default != 0.0)?,
+        }
+        d.set_item("min", s.min.map(|e| (e.value, e.inclusive)))?;
+        d.set_item("max", s.max.map(|e| (e.value, e.inclusive)))?;
+        d.set_item("doc", s.doc)?;
+        list.append(d)?;
+    }
+    Ok(list)
 }
 
 /// The case's names for messages (optional keys body_names, element_body, contact_names).
@@ -404,7 +412,7 @@ fn progress_callback(progress: Option<Bound<'_, PyAny>>) -> PyResult<Option<Py<P
 fn report(py: Python<'_>, callback: Option<&Py<PyAny>>, p: &Progress) -> PyResult<bool> {
     py.check_signals()?;
     let Some(callback) = callback else { return Ok(true) };
-    let answer = callback.call1(py, (p.events, p.steps, p.load_fraction))?;
+    let answer = callback.call1(py, (p.events, p.steps, p.t))?;
     Ok(answer.is_none(py) || answer.is_truthy(py)?)
 }
 
@@ -448,6 +456,7 @@ fn python_error(py: Python<'_>, e: &slipstep_core::Error) -> PyErr {
 #[pymodule]
 fn _engine(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solve, m)?)?;
+    m.add_function(wrap_pyfunction!(option_specs, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

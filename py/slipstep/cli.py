@@ -93,6 +93,8 @@ def _parser() -> argparse.ArgumentParser:
                        "type, unit, default and meaning")
     s.add_argument("section", nargs="?", default=None,
                    help="one section (solver, contact, mesh, ...) or key (contact.mu)")
+    s.add_argument("--json-schema", action="store_true",
+                   help="print the case schema as a JSON Schema, for editors")
     s = sub.add_parser("new", help="copy a shipped case to NAME.toml, to edit",
                        description="write NAME.toml, a copy of a shipped case named NAME, to "
                        "edit; then `slipstep check NAME.toml` and `slipstep run NAME.toml`")
@@ -155,6 +157,10 @@ def _command(args) -> int:
         return _check(args)
     if args.command == "list":
         return _list()
+    if args.command == "keys" and args.json_schema:
+        from .json_schema import text
+        sys.stdout.write(text())
+        return 0
     if args.command == "keys":
         from .keys import reference
         print(reference(args.section))

@@ -5,21 +5,17 @@ from __future__ import annotations
 import numpy as np
 
 from .case import Case
+from .schema import SOLVER_KEYS
 
 
 def solver_options(case: Case) -> dict:
-    """The engine's ``options``: snapshots at every event or at given path times, every stage
-    end added (``"fractions"`` as always for a case without [[stage]], displacement and
+    """The engine's ``options``: the [solver] table as it is (its keys are the engine's,
+    :data:`slipstep.schema.SOLVER_KEYS`), and snapshots at every event or at given path times,
+    every stage end added (``"fractions"`` as always for a case without [[stage]], displacement and
     motion, ``"times"`` otherwise)."""
     snaps = case.data["output"]["snapshots"]
     solver = case.data["solver"]
-    options = {"tie_tol": float(solver["tie_tol"]), "group_tol": float(solver["group_tol"]),
-               "max_events": int(solver["max_events"]),
-               "equilibrium_tol": float(solver["equilibrium_tol"]),
-               "drift_control": bool(solver["drift_control"]),
-               "max_stress_step": float(solver["max_stress_step"]),
-               "tangent_turn": float(solver["tangent_turn"]),
-               "stop_at_first_yield": bool(solver["stop_at_first_yield"])}
+    options = {key: solver[key] for key in SOLVER_KEYS}  # the engine's own keys, as given
     if snaps == "events":
         options["output"] = "events"
     else:

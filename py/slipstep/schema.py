@@ -44,10 +44,6 @@ def _non_negative(what: str) -> Callable[[Any], str | None]:
     return lambda v: None if v >= 0 else f"{what} must be >= 0"
 
 
-def _fraction_below_one(what: str) -> Callable[[Any], str | None]:
-    return lambda v: None if 0 <= v < 1 else f"{what} must lie in [0, 1) (0 = the exact event procedure)"
-
-
 def _check_nu(nu: float) -> str | None:
     if -1.0 < nu < 0.5:
         return None
@@ -114,32 +110,32 @@ OUTPUT_KEYS = {
     "xdmf": Key("bool", True, doc="write the XDMF/HDF5 time series of u and stresses"),
 }
 
-SOLVER_KEYS = {
-    "tie_tol": Key("float", 1e-9, doc="relative tie tolerance: events with S <= S_min(1+tie_tol) "
-                                      "are applied together", check=_non_negative("tie_tol")),
-    "group_tol": Key("float", 0.03, doc="grouped plastic increments, the speed-accuracy knob "
-                                        "(0 = exact, event by event): an increment runs on past "
-                                        "the first yield by group_tol of the load; elements "
-                                        "yielding inside get the exact elastic-plastic split; < 1",
-                      check=_fraction_below_one("group_tol")),
-    "max_events": Key("int", 0, doc="stop after this many events (0 = automatic bound)",
-                      check=_non_negative("max_events")),
-    "equilibrium_tol": Key("float", 1e-9, doc="relative equilibrium residual that is accepted",
-                           check=_positive("equilibrium_tol")),
-    "drift_control": Key("bool", True, doc="plasticity: bound the stress increment of plastic "
-                                           "elements and return to the yield surface after each "
-                                           "increment (false = the paper exactly)"),
-    "max_stress_step": Key("float", 0.05, doc="plasticity, with drift_control: largest von Mises "
-                                              "stress increment of a plastic element, x Sy",
-                           check=_positive("max_stress_step")),
-    "tangent_turn": Key("float", 0.05, doc="plasticity: a plastic element's tangent in the "
-                                           "stiffness is renewed when its flow direction has "
-                                           "turned by more than this angle (radians; 0 = at "
-                                           "every increment, as the paper)",
-                        check=_non_negative("tangent_turn")),
-    "stop_at_first_yield": Key("bool", False, doc="plasticity: end the run right after the "
-                                                  "first yield event"),
-}
+def _within(spec: dict) -> Callable[[Any], str | None]:
+    """The check of an engine option's range (``min``/``max``: None or (value, inclusive))."""
+    lo, hi = spec["min"], spec["max"]
+
+    def check(v) -> str | None:
+        if lo is not None and not (v > lo[0] or (lo[1] and v == lo[0])):
+            return f"must be {'>=' if lo[1] else '>'} {lo[0]:g}"
+        if hi is not None and not (v < hi[0] or (hi[1] and v == hi[0])):
+            return f"must be {'<=' if hi[1] else '<'} {hi[0]:g}"
+        return None
+    return check
+
+
+def _solver_keys() -> dict:
+    """[solver]: the engine's options as the engine declares them (rust/src/options.rs, through
+    ``slipstep._engine.option_specs()``): key, kind, default, allowed range and meaning live
+    there once; a case's [solver] table reaches the engine key by key, unchanged."""
+    from ._engine import option_specs
+
+    kinds = {"real": "float", "count": "int", "flag": "bool"}
+    return {s["key"]: Key(kinds[s["kind"]], s["default"], doc=s["doc"],
+                          check=None if s["kind"] == "flag" else _within(s))
+            for s in option_specs()}
+
+
+SOLVER_KEYS = _solver_keys()
 
 BODY_KEYS = {
     "name": Key("str", REQUIRED, doc="unique body name, used by [[bc]] and [[contact]]"),

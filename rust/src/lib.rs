@@ -35,6 +35,7 @@ pub mod low_rank;
 pub mod material;
 pub mod mesh;
 pub mod model;
+pub mod options;
 pub mod rigid_modes;
 pub mod stress_integration;
 

@@ -118,7 +118,7 @@ pub enum StopReason {
     /// the initial one: a plastic mechanism (collapse). The `load_fraction` of the stops is the
     /// path time t (= the load fraction for a single stage).
     LimitLoad { load_fraction: f64, stiffness_ratio: f64 },
-    /// `Options::max_steps` increments were taken; `busiest` names the entities that switched
+    /// `Options::max_events` increments were taken; `busiest` names the entities that switched
     /// most often.
     EventBound { load_fraction: f64, max_steps: usize, busiest: String },
     /// A body held by contact lost its hold along the path: its remaining closed pairs would
@@ -184,6 +184,6 @@ pub struct Progress {
     pub steps: usize,
     pub events: usize,
     /// Path time t (the load fraction for a single stage).
-    pub load_fraction: f64,
+    pub t: f64,
 }
 

@@ -162,7 +162,7 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         if eng.model.options.stop_at_first_yield && sel.group.iter().any(|c| c.kind == EventKind::Yield) {
             return Ok(StopReason::FirstYield);
         }
-        if !progress(Progress { steps: rec.steps.len(), events: rec.events.len(), load_fraction: state.time() }) {
+        if !progress(Progress { steps: rec.steps.len(), events: rec.events.len(), t: state.time() }) {
             return Ok(StopReason::Interrupted { load_fraction: state.time() });
         }
     }

@@ -64,7 +64,7 @@ impl Recorder {
             internal: None,
             n_substeps: 0,
             n_retaken: 0,
-            max_steps: if opts.max_steps > 0 { opts.max_steps } else { 50 * (n_pairs + plastic_capable + 1) + 1000 },
+            max_steps: if opts.max_events > 0 { opts.max_events } else { 50 * (n_pairs + plastic_capable + 1) + 1000 },
         };
         match &opts.snapshots {
             SnapshotRequest::EveryEvent => rec.snapshots.push(eng.snapshot(state, None)?),
@@ -76,7 +76,7 @@ impl Recorder {
         Ok(rec)
     }
 
-    /// The event bound (`Options::max_steps`), naming the entities that switched most.
+    /// The event bound (`Options::max_events`), naming the entities that switched most.
     pub fn event_bound(&self, eng: &Engine, state: &State, cycles: &AntiCycling) -> Option<StopReason> {
         if self.steps.len() < self.max_steps {
             return None;
