@@ -10,7 +10,6 @@
 use crate::bail;
 use crate::element::Cst;
 use crate::error::Result;
-use crate::low_rank::{Cost, FACTOR_FLOP_WEIGHT};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
@@ -305,6 +304,16 @@ impl ElementScatter {
     }
 }
 
+/// The work of a factor's operations in floating-point operations, from its structure
+/// (`SpdSolver::work`): a numeric factorization, a solve pair (one forward + backward
+/// substitution), and the number of equations.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FactorWork {
+    pub factorization_flops: f64,
+    pub solve_pair_flops: f64,
+    pub equations: f64,
+}
+
 /// One thread for the factor, the solves and the dense block. Measured on this 2-core
 /// machine, faer's parallel (rayon) supernodal factorization is slower: 6.8 s → 10.0 s at
 /// 955k DOFs, and 0.36 s → 0.75 s for 88 factorizations at 8.6k DOFs.
@@ -326,58 +335,52 @@ const PAR: Par = Par::Seq;
 /// sweep, and the forward sweep of f only touches the trailing rows (w_t += T⁻¹ f_t). The
 /// event loop uses it to find the contact forces between the sweeps: one solve per trial.
 pub struct SpdSolver {
-    symbolic: Option<SymbolicCholesky<usize>>,
+    symbolic: SymbolicCholesky<usize>,
     values: Vec<f64>,
     /// The last `n_trailing` equations form the trailing block.
     n_trailing: usize,
     /// T⁻¹ for the trailing block T of the current factor (lower triangular, t × t).
     trailing_block_inverse: Mat<f64>,
     /// Work space of the numeric factorization and of one-column solves, kept between calls.
-    factor_scratch: Option<MemBuffer>,
+    factor_scratch: MemBuffer,
     solve_scratch: Option<MemBuffer>,
     pub n_factorizations: usize,
     pub n_solves: usize,
 }
 
 impl SpdSolver {
-    /// A solver for matrices whose last `n_trailing` equations form the trailing block.
-    pub fn new(n_trailing: usize) -> Self {
-        SpdSolver {
-            symbolic: None,
-            values: vec![],
+    /// The factor of `lower` (lower triangle of an SPD matrix) whose last `n_trailing`
+    /// equations form the trailing block: the symbolic analysis of its pattern, kept for every
+    /// refactorization, and the first numeric factorization (`factor`), so that a solver always
+    /// holds a factor.
+    pub fn new(lower: &SparseColMat<usize, f64>, dof_of_equation: &[usize], n_trailing: usize) -> Result<Self> {
+        // The equations are numbered in the factor's order already (`DofMap::ordered`).
+        // Supernodal always: the trailing block is read from the supernodes.
+        let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() };
+        // (Without a permutation faer's analysis reads the upper triangle: hand it Lᵀ's.)
+        let upper = lower.as_ref().transpose().to_col_major().map_err(|e| crate::fail!(Internal, "could not transpose the stiffness pattern: {e:?}"))?;
+        let symbolic = factorize_symbolic_cholesky(upper.symbolic(), Side::Upper, SymmetricOrdering::Identity, params)
+            .map_err(|e| crate::fail!(Internal, "symbolic factorization failed: {e:?}"))?;
+        let factor_scratch = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(PAR, Default::default()))
+            .map_err(|_| crate::fail!(Internal, "out of memory for the Cholesky factorization"))?;
+        let mut solver = SpdSolver {
+            values: vec![0.0; symbolic.len_val()],
+            symbolic,
             n_trailing,
             trailing_block_inverse: Mat::zeros(0, 0),
-            factor_scratch: None,
+            factor_scratch,
             solve_scratch: None,
             n_factorizations: 0,
             n_solves: 0,
-        }
+        };
+        solver.factor(lower, dof_of_equation)?;
+        Ok(solver)
     }
 
-    /// Factor `lower` (lower triangle of an SPD matrix). A non-positive pivot means a
+    /// Factor `lower` again (same pattern, new values). A non-positive pivot means a
     /// mechanism: the message names the global DOF through `dof_of_equation`.
     pub fn factor(&mut self, lower: &SparseColMat<usize, f64>, dof_of_equation: &[usize]) -> Result<()> {
-        if self.symbolic.is_none() {
-            // The equations are numbered in the factor's order already (`DofMap::ordered`).
-            // Supernodal always: the trailing block is read from the supernodes.
-            let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() };
-            // (Without a permutation faer's analysis reads the upper triangle: hand it Lᵀ's.)
-            let upper = lower.as_ref().transpose().to_col_major().map_err(|e| crate::fail!(Internal, "could not transpose the stiffness pattern: {e:?}"))?;
-            let sym = factorize_symbolic_cholesky(upper.symbolic(), Side::Upper, SymmetricOrdering::Identity, params)
-                .map_err(|e| crate::fail!(Internal, "symbolic factorization failed: {e:?}"))?;
-            self.values = vec![0.0; sym.len_val()];
-            self.symbolic = Some(sym);
-        }
-        let sym = self.symbolic.as_ref().unwrap();
-        let par = PAR;
-        if self.factor_scratch.is_none() {
-            self.factor_scratch = Some(
-                MemBuffer::try_new(sym.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
-                    .map_err(|_| crate::fail!(Internal, "out of memory for the Cholesky factorization"))?,
-            );
-        }
-        let mem = self.factor_scratch.as_mut().unwrap();
-        let result = sym.factorize_numeric_llt(&mut self.values, lower.as_ref(), Side::Lower, Default::default(), par, MemStack::new(mem), Default::default());
+        let result = self.symbolic.factorize_numeric_llt(&mut self.values, lower.as_ref(), Side::Lower, Default::default(), PAR, MemStack::new(&mut self.factor_scratch), Default::default());
         match result {
             Ok(_) => {
                 self.n_factorizations += 1;
@@ -391,7 +394,6 @@ impl SpdSolver {
                     .unwrap_or_default();
                 bail!(FreeBody, "the stiffness matrix is singular{hint}: the model has a mechanism (a part held by nothing, or elements joined at a single node); add supports or check the mesh connectivity")
             }
-
         }
     }
 
@@ -399,10 +401,9 @@ impl SpdSolver {
     /// supernode of c columns with r rows below them costs c³/3 + c² r + c r² to factor (its
     /// own block, the panel below it, the update of its ancestors) and holds c(c+1)/2 + c r
     /// entries, each used twice by a solve pair (2 flops each way).
-    pub fn cost(&self) -> Cost {
-        let sym = self.symbolic.as_ref().expect("factor() before cost()");
+    pub fn work(&self) -> FactorWork {
         let (mut factorization, mut entries) = (0.0, 0.0);
-        if let SymbolicCholeskyRaw::Supernodal(sup) = sym.raw() {
+        if let SymbolicCholeskyRaw::Supernodal(sup) = self.symbolic.raw() {
             let ptr = sup.col_ptr_for_row_idx();
             for s in 0..sup.n_supernodes() {
                 let c = (sup.supernode_end()[s] - sup.supernode_begin()[s]) as f64;
@@ -411,7 +412,7 @@ impl SpdSolver {
                 entries += c * (c + 1.0) / 2.0 + c * r;
             }
         }
-        Cost { factorization: FACTOR_FLOP_WEIGHT * factorization, solve_pair: 4.0 * entries, equations: sym.nrows() as f64 }
+        FactorWork { factorization_flops: factorization, solve_pair_flops: 4.0 * entries, equations: self.symbolic.nrows() as f64 }
     }
 
     /// Solve K_reg X = B in place for `columns` right-hand sides stored column after column
@@ -419,9 +420,8 @@ impl SpdSolver {
     pub fn solve_in_place(&mut self, b: &mut [f64], columns: usize) {
         let n = b.len() / columns.max(1);
         let par = PAR;
-        let mut mem = if columns == 1 { self.one_column_scratch() } else { MemBuffer::new(self.symbolic.as_ref().expect("factor() before solve").solve_in_place_scratch::<f64>(columns, par)) };
-        let sym = self.symbolic.as_ref().expect("factor() before solve");
-        LltRef::new(sym, &self.values).solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(b, n, columns), par, MemStack::new(&mut mem));
+        let mut mem = if columns == 1 { self.one_column_scratch() } else { MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(columns, par)) };
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(b, n, columns), par, MemStack::new(&mut mem));
         if columns == 1 {
             self.solve_scratch = Some(mem);
         }
@@ -432,7 +432,7 @@ impl SpdSolver {
     /// from the trailing block T of the factor: G = T⁻ᵀ T⁻¹ (see the type's documentation).
     pub fn trailing_inverse(&mut self) -> Mat<f64> {
         let t = self.n_trailing;
-        let sym = self.symbolic.as_ref().expect("factor() before trailing_inverse");
+        let sym = &self.symbolic;
         let n = sym.nrows();
         let first = n - t;
         let mut tb = Mat::<f64>::zeros(t, t);
@@ -469,15 +469,14 @@ impl SpdSolver {
     }
 
     fn supernodal(&self) -> SupernodalLltRef<'_, usize, f64> {
-        let sym = self.symbolic.as_ref().expect("factor() before a solve");
-        match sym.raw() {
+        match self.symbolic.raw() {
             SymbolicCholeskyRaw::Supernodal(sup) => SupernodalLltRef::new(sup, &self.values),
             SymbolicCholeskyRaw::Simplicial(_) => unreachable!("the factor is always supernodal"),
         }
     }
 
     fn one_column_scratch(&mut self) -> MemBuffer {
-        let sym = self.symbolic.as_ref().expect("factor() before a solve");
+        let sym = &self.symbolic;
         self.solve_scratch.take().unwrap_or_else(|| MemBuffer::new(sym.solve_in_place_scratch::<f64>(1, PAR)))
     }
 
@@ -618,8 +617,7 @@ mod tests {
         }
         let map = DofMap::new(18, &fixed, &[]);
         let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &tangents, &map).unwrap();
-        let mut s = SpdSolver::new(0);
-        s.factor(&k, &map.dof_of_equation).unwrap();
+        let mut s = SpdSolver::new(&k, &map.dof_of_equation, 0).unwrap();
         let rhs: Vec<f64> = (0..map.n_equations).map(|i| 1.0 + i as f64).collect();
         let mut x = rhs.clone();
         s.solve_in_place(&mut x, 1);
@@ -654,8 +652,7 @@ mod tests {
         // The chosen DOFs are the last equations, in the order given.
         let t = chosen.len();
         assert_eq!(chosen, (map.n_equations - t..map.n_equations).collect::<Vec<_>>());
-        let mut s = SpdSolver::new(t);
-        s.factor(&k, &map.dof_of_equation).unwrap();
+        let mut s = SpdSolver::new(&k, &map.dof_of_equation, t).unwrap();
         let g = s.trailing_inverse();
         let n = map.n_equations;
         let mut b = vec![0.0; n * chosen.len()];

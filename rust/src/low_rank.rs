@@ -12,7 +12,7 @@
 //! The columns live on the equations of K_f (`DofMap`); Z is kept whole (n × k), so that a
 //! trial's split solve (forward sweep, contact block, backward sweep) stays one solve.
 
-use crate::linalg::SpdSolver;
+use crate::linalg::{FactorWork, SpdSolver};
 use nalgebra::DMatrix;
 
 /// One signed rank-one term s w wᵀ of an element.
@@ -153,6 +153,11 @@ pub struct Cost {
 pub const FACTOR_FLOP_WEIGHT: f64 = 0.25;
 
 impl Cost {
+    /// The costs of a factor of this structure.
+    pub fn of(work: FactorWork) -> Self {
+        Cost { factorization: FACTOR_FLOP_WEIGHT * work.factorization_flops, solve_pair: work.solve_pair_flops, equations: work.equations }
+    }
+
     /// The extra work of `rank` terms for one solve (Zᵀy and Z c: 4 n k) .
     pub fn per_solve(&self, rank: usize) -> f64 {
         4.0 * self.equations * rank as f64
@@ -203,8 +208,7 @@ mod tests {
         let mut d = d_f.clone();
         softened.iter().for_each(|&e| d[e] = plastic);
         d[40] = elastic;
-        let mut solver = SpdSolver::new(trailing.len());
-        solver.factor(&pattern.assemble(&els, &d_f, &map).unwrap(), &map.dof_of_equation).unwrap();
+        let mut solver = SpdSolver::new(&pattern.assemble(&els, &d_f, &map).unwrap(), &map.dof_of_equation, trailing.len()).unwrap();
         let n = map.n_equations;
         let column = |e: usize, delta: nalgebra::Matrix4<f64>| {
             // delta = s c cᵀ (rank one): c from its largest diagonal entry.
@@ -222,8 +226,7 @@ mod tests {
         solver.solve_in_place(&mut x, 1);
         let c = lr.coefficients(&y);
         lr.subtract(&mut x, &c);
-        let mut fresh = SpdSolver::new(trailing.len());
-        fresh.factor(&pattern.assemble(&els, &d, &map).unwrap(), &map.dof_of_equation).unwrap();
+        let mut fresh = SpdSolver::new(&pattern.assemble(&els, &d, &map).unwrap(), &map.dof_of_equation, trailing.len()).unwrap();
         let mut exact = y.clone();
         fresh.solve_in_place(&mut exact, 1);
         let big = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));

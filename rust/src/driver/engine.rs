@@ -128,13 +128,25 @@ impl<'m> Engine<'m> {
             (Space::Full(Full::default()), pairs, contact_slot, full_modes)
         };
         let elements_of_mesh: Vec<[usize; 3]> = elements.iter().map(|el| el.nodes).collect();
+        // The first K: every element elastic; a plastic run keeps its values and where each
+        // element's entries sit (`stiffness`).
+        let d: Vec<_> = tangents.iter().map(|t| t.element_matrix(model.plane)).collect();
+        let k = pattern.assemble(&elements, &d, &map)?;
+        let mut space = space;
+        if let Space::Full(full) = &mut space {
+            if material.iter().any(|m| m.is_plastic()) {
+                full.elastic_values = k.val().to_vec();
+                full.scatter = Some(pattern.element_scatter(&elements, &map));
+            }
+        }
+        let solver = SpdSolver::new(&k, &map.dof_of_equation, slot_dofs.len())?;
         let mut eng = Engine {
             model,
             elements,
             material,
             factored: tangents.clone(),
             tangents,
-            tangents_changed: true,
+            tangents_changed: false,
             low_rank: LowRank::default(),
             low_rank_spent: 0.0,
             n_low_rank_updates: 0,
@@ -157,7 +169,7 @@ impl<'m> Engine<'m> {
             map,
             pattern,
             fixed,
-            solver: SpdSolver::new(slot_dofs.len()),
+            solver,
             flexibility: faer::Mat::zeros(0, 0),
             flexibility_factored: faer::Mat::zeros(0, 0),
             contact_slot,

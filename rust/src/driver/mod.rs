@@ -88,7 +88,7 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     let started = Instant::now();
     let mut eng = Engine::new(model)?;
     eng.timings.assembly = since(started);
-    eng.factor()?;
+    eng.factored();
     let mut state = State::initial(&eng.pairs, eng.loop_dofs(), eng.loop_elements(), eng.modes.len(), INITIAL_CONTACT * eng.scales.length);
     eng.begin_stage(0, &mut state);
     let mut rec = Recorder::new(&mut eng, &state)?;

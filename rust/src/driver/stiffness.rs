@@ -5,6 +5,7 @@ use super::engine::{since, Engine};
 use super::space::Space;
 use crate::contact::SparseVec;
 use crate::error::Result;
+use crate::low_rank::Cost;
 use std::time::Instant;
 
 /// Measurements of one solve pair taken for the timing unit (the best is kept).
@@ -21,16 +22,22 @@ impl Engine<'_> {
         self.timings.assembly += (t1 - t0).as_secs_f64();
         self.solver.factor(&k, &self.map.dof_of_equation)?;
         self.timings.factorization += since(t1);
+        self.factored();
+        Ok(())
+    }
+
+    /// After a factorization: the contact flexibility read from the factor; the first also
+    /// measures the costs.
+    pub fn factored(&mut self) {
         let t2 = Instant::now();
         self.flexibility_factored = self.solver.trailing_inverse();
         self.flexibility.clone_from(&self.flexibility_factored);
         self.timings.flexibility += since(t2);
         self.tangents_factored();
         if self.timings.solve_pair == 0.0 {
-            self.cost = self.solver.cost();
+            self.cost = Cost::of(self.solver.work());
             self.measure_solve_pair();
         }
-        Ok(())
     }
 
     /// K with the current tangents. Plastic runs keep the elastic K and re-add
