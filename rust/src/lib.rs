@@ -8,10 +8,13 @@
 //! its event history.
 //!
 //! One module per concept, in the order of the paper:
-//! - [`material`]: elasticity D (eqs. 9, 18); the place where plasticity (eq. 11) plugs in;
+//! - [`material`]: the 3D law: elasticity D (eqs. 9, 18), von Mises plasticity (eq. 11);
+//! - [`section`]: the stress state (plane strain, plane stress, axisymmetry) and a material
+//!   bound to it;
 //! - [`stress_integration`]: an element's stress along a strain increment (the elastic–plastic
 //!   split of eq. 16, Prandtl–Reuss integrated with error control);
-//! - [`element`]: the constant-strain triangle (eq. 10, K of eq. 36, P_σ of eq. 42);
+//! - [`element`]: element kinematics (the `Element` seam) and the constant-strain triangle
+//!   (eq. 10, K of eq. 36, P_σ of eq. 42);
 //! - [`mesh`]: meshes, validation, bodies;
 //! - [`contact`]: candidate pairs, their constraint vectors and statuses (eqs. 21–28, 41, 45–46);
 //! - [`rigid_modes`]: rigid-body modes left free by the supports;
@@ -36,6 +39,7 @@ pub mod material;
 pub mod mesh;
 pub mod model;
 pub mod rigid_modes;
+pub mod section;
 pub mod stress_integration;
 
 pub use driver::run;

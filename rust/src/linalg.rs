@@ -8,7 +8,7 @@
 //! (see `driver`), so the big factor stays SPD and is never refactorized for a contact event.
 
 use crate::bail;
-use crate::element::Cst;
+use crate::element::Element;
 use crate::error::Result;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;
@@ -20,7 +20,7 @@ use faer::linalg::cholesky::llt::factor::LltError;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Accum, Conj, Mat, MatMut, Par, Side};
-use nalgebra::Matrix4;
+use nalgebra::SMatrix;
 
 /// Where a global DOF goes in the reduced system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -102,7 +102,7 @@ impl DofMap {
     /// +22 % (24k) flops against plain AMD: the price of reading the contact flexibility from
     /// the factor. (The clique has O(t²) entries, as the flexibility matrix itself.)
     /// Every trailing DOF must be an equation (neither fixed nor pinned).
-    pub fn ordered(elements: &[Cst], n_dofs: usize, fixed: &[bool], pinned: &[usize], trailing: &[usize]) -> Result<Self> {
+    pub fn ordered<const S: usize, const N: usize>(elements: &[impl Element<S, N>], n_dofs: usize, fixed: &[bool], pinned: &[usize], trailing: &[usize]) -> Result<Self> {
         let mut is_pinned = vec![false; n_dofs];
         pinned.iter().for_each(|&d| is_pinned[d] = true);
         let is_equation = |d: usize| !fixed[d] && !is_pinned[d];
@@ -123,10 +123,12 @@ impl DofMap {
         let m = graph_nodes.len();
         let mut edges: Vec<Pair<usize, usize>> = (0..m).map(|i| Pair::new(i, i)).collect();
         for el in elements {
-            let ids = el.nodes.map(|n| index[n]);
-            for (a, b) in [(0, 1), (1, 2), (2, 0)] {
-                if ids[a] != usize::MAX && ids[b] != usize::MAX {
-                    edges.push(Pair::new(ids[a].max(ids[b]), ids[a].min(ids[b])));
+            let ids: Vec<usize> = el.nodes().iter().map(|&n| index[n]).collect();
+            for (k, &a) in ids.iter().enumerate() {
+                for &b in &ids[k + 1..] {
+                    if a != usize::MAX && b != usize::MAX {
+                        edges.push(Pair::new(a.max(b), a.min(b)));
+                    }
                 }
             }
         }
@@ -168,12 +170,12 @@ pub struct StiffnessPattern {
 }
 
 /// Visit every lower-triangle entry (row, col, element, i, j) of the assembly, in a fixed order.
-fn for_each_entry(elements: &[Cst], map: &DofMap, mut f: impl FnMut(usize, usize, usize, usize, usize)) {
+fn for_each_entry<const S: usize, const N: usize>(elements: &[impl Element<S, N>], map: &DofMap, mut f: impl FnMut(usize, usize, usize, usize, usize)) {
     for (e, el) in elements.iter().enumerate() {
         let eqs = el.dofs().map(|g| map.equation(g));
-        for i in 0..6 {
+        for i in 0..N {
             let Some(ri) = eqs[i] else { continue };
-            for j in 0..6 {
+            for j in 0..N {
                 let Some(cj) = eqs[j] else { continue };
                 if ri >= cj {
                     f(ri, cj, e, i, j);
@@ -187,13 +189,13 @@ impl StiffnessPattern {
     /// Column by column from the node adjacency (two nodes couple when an element joins
     /// them; both DOFs of a node together): no sort of the 21 entries per element, which at
     /// 1M DOFs is ~40M index pairs and their argsort.
-    pub fn new(elements: &[Cst], map: &DofMap) -> Result<Self> {
+    pub fn new<const S: usize, const N: usize>(elements: &[impl Element<S, N>], map: &DofMap) -> Result<Self> {
         let n = map.n_equations;
         let n_nodes = map.role.len() / 2;
         // Neighbours of each node (itself included), compressed rows.
         let mut degree = vec![1usize; n_nodes + 1];
         for el in elements {
-            el.nodes.iter().for_each(|&a| degree[a] += 2);
+            el.nodes().iter().for_each(|&a| degree[a] += el.nodes().len() - 1);
         }
         let mut start = vec![0usize; n_nodes + 1];
         for a in 0..n_nodes {
@@ -206,8 +208,8 @@ impl StiffnessPattern {
             fill[a] += 1;
         }
         for el in elements {
-            for (k, &a) in el.nodes.iter().enumerate() {
-                for (l, &b) in el.nodes.iter().enumerate() {
+            for (k, &a) in el.nodes().iter().enumerate() {
+                for (l, &b) in el.nodes().iter().enumerate() {
                     if k != l {
                         neighbours[fill[a]] = b;
                         fill[a] += 1;
@@ -243,7 +245,7 @@ impl StiffnessPattern {
     /// Where each element's lower-triangle entries sit among the values of the assembled matrix
     /// (in the `assemble` order): the plastic loop re-adds only the elements whose tangent
     /// changed instead of reassembling all of them.
-    pub fn element_scatter(&self, elements: &[Cst], map: &DofMap) -> ElementScatter {
+    pub fn element_scatter<const S: usize, const N: usize>(&self, elements: &[impl Element<S, N>], map: &DofMap) -> ElementScatter {
         let mut offsets = Vec::with_capacity(elements.len() + 1);
         let mut entries = Vec::with_capacity(elements.len() * 21);
         offsets.push(0);
@@ -266,11 +268,11 @@ impl StiffnessPattern {
         SparseColMat::new(self.symbolic.clone(), values)
     }
 
-    /// Lower triangle of K_reg = Σ_e w Bᵀ D_e B over the equation DOFs (D_e: `Tangent::element_matrix`).
-    pub fn assemble(&self, elements: &[Cst], tangents: &[Matrix4<f64>], map: &DofMap) -> Result<SparseColMat<usize, f64>> {
+    /// Lower triangle of K_reg = Σ_e w Bᵀ D_e B over the equation DOFs (D_e: `Section::element_matrix`).
+    pub fn assemble<const S: usize, const N: usize>(&self, elements: &[impl Element<S, N>], tangents: &[SMatrix<f64, S, S>], map: &DofMap) -> Result<SparseColMat<usize, f64>> {
         let mut values = vec![0.0; self.symbolic.row_idx().len()];
         // (for_each_entry visits the elements in turn: one element matrix at a time)
-        let mut current: Option<(usize, nalgebra::SMatrix<f64, 6, 6>)> = None;
+        let mut current: Option<(usize, SMatrix<f64, N, N>)> = None;
         for_each_entry(elements, map, |r, c, e, i, j| {
             if current.as_ref().map_or(true, |(k, _)| *k != e) {
                 current = Some((e, elements[e].stiffness(&tangents[e])));
@@ -297,7 +299,7 @@ pub struct ElementScatter {
 
 impl ElementScatter {
     /// values += the lower-triangle entries of element `e`'s 6 × 6 matrix `ke`.
-    pub fn add(&self, e: usize, ke: &nalgebra::SMatrix<f64, 6, 6>, values: &mut [f64]) {
+    pub fn add<const N: usize>(&self, e: usize, ke: &SMatrix<f64, N, N>, values: &mut [f64]) {
         for entry in &self.entries[self.offsets[e]..self.offsets[e + 1]] {
             values[entry.position] += ke[(entry.local.0 as usize, entry.local.1 as usize)];
         }
@@ -531,8 +533,15 @@ impl SpdSolver {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::element::Cst;
     use crate::material::{Material, Plane};
     use crate::mesh::Mesh;
+    use crate::section::Section;
+
+    /// Elastic D of E = 1000, ν = 0.3 as the plane's element pairs it with B.
+    fn elastic_d(plane: Plane) -> nalgebra::Matrix4<f64> {
+        Section::new(Material::elastic(1000.0, 0.3), plane.stress_state()).elastic_matrix()
+    }
 
     #[test]
     fn global_stiffness_is_symmetric_and_annihilates_rigid_modes() {
@@ -553,8 +562,8 @@ mod tests {
             }
         }
         let mesh = Mesh { nodes, triangles };
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e, Plane::Strain, 2.0)).collect();
-        let d = Material::elastic(1000.0, 0.3).elastic_tangent(Plane::Strain);
+        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 2.0)).collect();
+        let d = elastic_d(Plane::Strain);
         let n = 2 * mesh.nodes.len();
         let mut k = nalgebra::DMatrix::<f64>::zeros(n, n);
         for el in &els {
@@ -607,8 +616,8 @@ mod tests {
             }
         }
         let mesh = Mesh { nodes, triangles };
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e, Plane::Stress, 1.0)).collect();
-        let d = Material::elastic(1000.0, 0.3).elastic_tangent(Plane::Stress);
+        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
+        let d = elastic_d(Plane::Stress);
         let tangents = vec![d; els.len()];
         let mut fixed = vec![false; 18];
         for j in 0..3 {
@@ -637,8 +646,8 @@ mod tests {
         // computed by full solves with unit loads, to round-off.
         let (nx, ny) = (7, 5);
         let mesh = crate::mesh::test_grid(nx, ny, 0.5, 0.4);
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e, Plane::Strain, 1.0)).collect();
-        let d = Material::elastic(1000.0, 0.3).elastic_tangent(Plane::Strain);
+        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
+        let d = elastic_d(Plane::Strain);
         let n_dofs = 2 * mesh.nodes.len();
         let mut fixed = vec![false; n_dofs];
         for j in 0..ny {

@@ -8,12 +8,13 @@ use super::trial::TrialBase;
 use super::space::{Full, Reduced, Space};
 use crate::bail;
 use crate::contact::{Pair, HELD_BY_SUPPORTS};
-use crate::element::Cst;
+use crate::element::{Cst, Element};
 use crate::error::Result;
 use crate::events::Noise;
 use crate::linalg::{DofMap, SpdSolver, StiffnessPattern};
 use crate::low_rank::{Cost, LowRank};
-use crate::material::{Material, Tangent};
+use crate::material::Tangent;
+use crate::section::Section;
 use crate::model::{Model, Timings};
 use crate::rigid_modes::{free_modes, RigidMode};
 use nalgebra::Vector4;
@@ -35,8 +36,8 @@ pub(super) struct Scales {
 pub(super) struct Engine<'m> {
     pub model: &'m Model,
     pub elements: Vec<Cst>,
-    /// Material of every element.
-    pub material: Vec<Material>,
+    /// Material of every element under the model's stress state.
+    pub sections: Vec<Section>,
     /// D or D_ep of every element (eq. 11) as K holds it (`tangents`), and whether K must be
     /// refactorized for them.
     pub tangents: Vec<Tangent>,
@@ -112,11 +113,12 @@ impl<'m> Engine<'m> {
         let (body_of_node, n_bodies) = mesh.bodies();
         let (modes, pinned) = free_modes(&mesh.nodes, &body_of_node, n_bodies, &fixed, model.plane);
         let (contact_slot, slot_dofs) = contact_slots(&pairs, &fixed, &pinned);
-        let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(mesh, e, model.plane, model.thickness)).collect();
+        let stress_state = model.plane.stress_state();
+        let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| stress_state.element(mesh, e, model.thickness)).collect();
         let map = DofMap::ordered(&elements, n_dofs, &fixed, &pinned, &slot_dofs)?;
         let pattern = StiffnessPattern::new(&elements, &map)?;
-        let material: Vec<Material> = model.element_material.iter().map(|&m| model.materials[m]).collect();
-        let tangents: Vec<Tangent> = material.iter().map(|m| m.tangent(&Vector4::zeros(), false)).collect();
+        let sections: Vec<Section> = model.element_material.iter().map(|&m| Section::new(model.materials[m], stress_state)).collect();
+        let tangents: Vec<Tangent> = sections.iter().map(|s| s.tangent(&Vector4::zeros(), false)).collect();
         let prescribed_elements = elements_touching(&elements, &path.prescribed_dofs());
         let n_pairs = pairs.len();
         let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();
@@ -127,14 +129,14 @@ impl<'m> Engine<'m> {
         } else {
             (Space::Full(Full::default()), pairs, contact_slot, full_modes)
         };
-        let elements_of_mesh: Vec<[usize; 3]> = elements.iter().map(|el| el.nodes).collect();
+        let elements_of_mesh: Vec<Vec<usize>> = elements.iter().map(|el| el.nodes().to_vec()).collect();
         // The first K: every element elastic; a plastic run keeps its values and where each
         // element's entries sit (`stiffness`).
-        let d: Vec<_> = tangents.iter().map(|t| t.element_matrix(model.plane)).collect();
+        let d: Vec<_> = tangents.iter().zip(&sections).map(|(t, s)| s.element_matrix(t)).collect();
         let k = pattern.assemble(&elements, &d, &map)?;
         let mut space = space;
         if let Space::Full(full) = &mut space {
-            if material.iter().any(|m| m.is_plastic()) {
+            if sections.iter().any(|s| s.material.is_plastic()) {
                 full.elastic_values = k.val().to_vec();
                 full.scatter = Some(pattern.element_scatter(&elements, &map));
             }
@@ -143,7 +145,7 @@ impl<'m> Engine<'m> {
         let mut eng = Engine {
             model,
             elements,
-            material,
+            sections,
             factored: tangents.clone(),
             tangents,
             tangents_changed: false,
@@ -277,7 +279,7 @@ pub(super) fn since(t: Instant) -> f64 {
 }
 
 /// The elements around each node.
-fn node_elements(triangles: &[[usize; 3]], n_nodes: usize) -> Vec<Vec<usize>> {
+fn node_elements(triangles: &[Vec<usize>], n_nodes: usize) -> Vec<Vec<usize>> {
     let mut around = vec![vec![]; n_nodes];
     for (e, tri) in triangles.iter().enumerate() {
         tri.iter().for_each(|&n| around[n].push(e));

@@ -7,6 +7,7 @@ use super::engine::{since, Engine};
 use super::path::StageLoad;
 use super::space::Space;
 use super::state::State;
+use crate::element::Element;
 use std::time::Instant;
 
 impl Engine<'_> {
@@ -85,7 +86,7 @@ impl Engine<'_> {
         let mut f = vec![0.0; du.len()];
         for &e in &self.prescribed_elements {
             let el = &self.elements[e];
-            let s = self.tangents[e].stress_increment(self.model.plane, &el.strain(&du));
+            let s = self.sections[e].stress_increment(&self.tangents[e], &el.strain(&du));
             let fe = el.internal_force(&s);
             for (k, &d) in el.dofs().iter().enumerate() {
                 if !self.fixed[d] {
@@ -120,7 +121,7 @@ impl Engine<'_> {
     /// of Σ|ΔP| (+ Σ|K_fp Δū|); an obstacle motion Δc counts as the force E t |Δc| per pair
     /// (the order of what moving a surface node by Δc takes; t = `Model::depth`). (norm, sum)
     pub fn path_force_scales(&self) -> (f64, f64) {
-        let young = self.material.iter().map(|m| m.young).fold(0.0f64, f64::max);
+        let young = self.sections.iter().map(|s| s.material.young).fold(0.0f64, f64::max);
         let (mut norm, mut sum) = (0.0f64, 0.0f64);
         for k in 0..self.path.n_stages() {
             let stage = self.path.stage(k, self.map.role.len(), self.global_pairs().len());

@@ -21,7 +21,8 @@ use crate::error::Result;
 use crate::material::{von_mises, yield_scale};
 use crate::events::{self, Candidate, PairState, Trial};
 use crate::model::EventKind;
-use crate::stress_integration::{integrate, not_beyond_surface, onto_yield_surface, Integrated, PointState};
+use crate::element::Element;
+use crate::stress_integration::{integrate, Integrated, PointState};
 use nalgebra::Vector4;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -58,7 +59,7 @@ impl Engine<'_> {
         (0..state.plastic.len())
             .filter(|&e| state.plastic[e])
             .map(|e| {
-                let sy = self.material[e].current_yield(state.plastic_strain[e]);
+                let sy = self.sections[e].material.current_yield(state.plastic_strain[e]);
                 (von_mises(&state.stress[e]) - sy).abs() / sy
             })
             .fold(0.0, f64::max)
@@ -74,7 +75,6 @@ impl Engine<'_> {
         if !self.model.options.drift_control || scale <= ZERO_SCALE {
             return vec![]; // a zero-length increment changes no stress (and gets no correction)
         }
-        let plane = self.model.plane;
         let (phi0, phi1) = (state.load_fraction, sel.phi);
         let crosses = |e: usize, sy: f64| match yield_scale(&state.stress[e], &(trial.dstress[e] * scale), sy) {
             Some(r) => r < 1.0 && phi0 + r * (phi1 - phi0) < 1.0 - STAGE_END,
@@ -84,15 +84,16 @@ impl Engine<'_> {
             .into_par_iter()
             .with_min_len(PARALLEL_CHUNK)
             .filter_map(|e| {
-                let m = &self.material[e];
-                let (plastic, sy) = (state.plastic[e], m.current_yield(state.plastic_strain[e]));
+                let (section, plastic) = (&self.sections[e], state.plastic[e]);
+                let m = &section.material;
+                let sy = m.current_yield(state.plastic_strain[e]);
                 if !m.is_plastic() || !(plastic || (sel.plastic_inside && crosses(e, sy))) {
                     return None;
                 }
                 // back onto the surface first if the last correction left it beyond
-                let stress = if plastic { not_beyond_surface(&state.stress[e], sy, plane) } else { state.stress[e] };
+                let stress = if plastic { section.not_beyond_surface(&state.stress[e], sy) } else { state.stress[e] };
                 let start = PointState { stress, plastic_strain: state.plastic_strain[e], plastic };
-                Some((e, integrate(m, plane, &start, &(trial.dstrain[e] * scale))))
+                Some((e, integrate(section, &start, &(trial.dstrain[e] * scale))))
             })
             .collect()
     }
@@ -190,7 +191,7 @@ impl Engine<'_> {
     /// (its next increment starts on the surface).
     fn flag_beyond_surfaces(&self, state: &mut State, start: &mut IncrementStart) {
         for e in 0..state.plastic.len() {
-            let m = &self.material[e];
+            let m = &self.sections[e].material;
             if m.is_plastic() && !state.plastic[e] && von_mises(&state.stress[e]) > m.current_yield(state.plastic_strain[e]) {
                 state.plastic[e] = true;
                 start.yielded_at.entry(e).or_insert(1.0);
@@ -202,21 +203,21 @@ impl Engine<'_> {
     /// yield surface now: its start state integrated over the increment's whole strain so far.
     fn reintegrate(&self, state: &mut State, start: &mut IncrementStart) {
         let du: Vec<f64> = state.u.iter().zip(&start.u).map(|(a, b)| a - b).collect();
-        let plane = self.model.plane;
         let now: &State = state;
         let integrated: Vec<(usize, Integrated)> = (0..now.stress.len())
             .into_par_iter()
             .with_min_len(PARALLEL_CHUNK)
             .filter_map(|e| {
-                let m = &self.material[e];
+                let section = &self.sections[e];
+                let m = &section.material;
                 let beyond = || von_mises(&now.stress[e]) > m.current_yield(now.plastic_strain[e]);
                 if !m.is_plastic() || !(start.plastic[e] || now.plastic[e] || beyond()) {
                     return None;
                 }
                 let sy = m.current_yield(start.plastic_strain[e]);
-                let stress = if start.plastic[e] { not_beyond_surface(&start.stress[e], sy, plane) } else { start.stress[e] };
+                let stress = if start.plastic[e] { section.not_beyond_surface(&start.stress[e], sy) } else { start.stress[e] };
                 let point = PointState { stress, plastic_strain: start.plastic_strain[e], plastic: start.plastic[e] };
-                Some((e, integrate(m, plane, &point, &self.elements[e].strain(&du))))
+                Some((e, integrate(section, &point, &self.elements[e].strain(&du))))
             })
             .collect();
         for (e, out) in integrated {
@@ -239,8 +240,9 @@ impl Engine<'_> {
         let mut corrected = Corrected::default();
         for _ in 0..SETTLE_ROUNDS {
             for e in (0..state.plastic.len()).filter(|&e| state.plastic[e]) {
-                let sy = self.material[e].current_yield(state.plastic_strain[e]);
-                state.stress[e] = onto_yield_surface(&state.stress[e], sy, self.model.plane);
+                let section = &self.sections[e];
+                let sy = section.material.current_yield(state.plastic_strain[e]);
+                state.stress[e] = section.onto_yield_surface(&state.stress[e], sy);
             }
             self.renew_all_tangents = true;
             let renewed = self.update_tangents(state);

@@ -48,7 +48,7 @@ impl Recorder {
     pub fn new(eng: &mut Engine, state: &State) -> Result<Self> {
         let opts = &eng.model.options;
         let n_pairs = eng.pairs.len();
-        let plastic_capable = eng.material.iter().filter(|m| m.is_plastic()).count();
+        let plastic_capable = eng.sections.iter().filter(|s| s.material.is_plastic()).count();
         let mut rec = Recorder {
             events: vec![],
             steps: vec![],

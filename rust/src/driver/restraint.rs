@@ -195,7 +195,7 @@ impl Engine<'_> {
     fn tangential_and_normal_load(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> (f64, f64, f64) {
         let closed: Vec<usize> = (0..self.pairs.len()).filter(|&p| state.status[p].is_closed() && self.body_of_pair(p) == body).collect();
         let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
-        let (normal, mu) = ([mean(&|p| p.normal[0]), mean(&|p| p.normal[1])], mean(&|p| p.mu));
+        let (normal, mu) = ([mean(&|p| p.frame.normal[0]), mean(&|p| p.frame.normal[1])], mean(&|p| p.mu));
         let [fx, fy] = self.body_load(body);
         let load_along = |dir: [f64; 2]| -> f64 { (fx * dir[0] + fy * dir[1]) / dir[0].hypot(dir[1]).max(f64::MIN_POSITIVE) };
         (load_along(self.translation_of(idx, v)).abs(), load_along(normal).abs(), mu)

@@ -69,7 +69,7 @@ impl Engine<'_> {
         let (frozen_pairs, frozen_elements) = cycles.frozen();
         let pairs = PairState { pairs: &self.pairs, status: &state.status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, shift: &state.shift, frozen: frozen_pairs };
         let mut cands = events::candidates(&pairs, &Trial { du: &trial.du, dlambda_n: &trial.dlambda_n, dlambda_t: &trial.dlambda_t, dshift: &trial.dshift }, self.noise);
-        let elements = ElementState { material: &self.material, stress: &state.stress, plastic_strain: &state.plastic_strain, plastic: &state.plastic, frozen: frozen_elements };
+        let elements = ElementState { sections: &self.sections, stress: &state.stress, plastic_strain: &state.plastic_strain, plastic: &state.plastic, frozen: frozen_elements };
         let opts = &self.model.options;
         let max_step = opts.drift_control.then_some(opts.max_stress_step);
         let (element_cands, drift_scale) = events::element_candidates(&elements, &trial.dstress, &trial.dplastic, max_step);

@@ -4,6 +4,7 @@
 use super::engine::{since, Engine};
 use super::space::Space;
 use crate::contact::SparseVec;
+use crate::element::Element;
 use crate::error::Result;
 use crate::low_rank::Cost;
 use std::time::Instant;
@@ -43,23 +44,23 @@ impl Engine<'_> {
     /// K with the current tangents. Plastic runs keep the elastic K and re-add
     /// w Bᵀ (D_ep − D) B of the elements that are plastic now.
     fn assemble(&mut self) -> Result<faer::sparse::SparseColMat<usize, f64>> {
-        let plane = self.model.plane;
         if let Space::Full(full) = &self.space {
             if let Some(scatter) = &full.scatter {
                 let mut values = full.elastic_values.clone();
                 for (e, t) in self.tangents.iter().enumerate() {
                     if t.flow.is_some() {
-                        let softening = t.element_matrix(plane) - self.material[e].elastic_tangent(plane);
+                        let section = &self.sections[e];
+                        let softening = section.element_matrix(t) - section.elastic_matrix();
                         scatter.add(e, &self.elements[e].stiffness(&softening), &mut values);
                     }
                 }
                 return Ok(self.pattern.with_values(values));
             }
         }
-        let d: Vec<_> = self.tangents.iter().map(|t| t.element_matrix(plane)).collect();
+        let d: Vec<_> = self.tangents.iter().zip(&self.sections).map(|(t, s)| s.element_matrix(t)).collect();
         let k = self.pattern.assemble(&self.elements, &d, &self.map)?;
         let all_elastic_now = self.tangents.iter().all(|t| t.flow.is_none());
-        let plastic_run = self.material.iter().any(|m| m.is_plastic());
+        let plastic_run = self.sections.iter().any(|s| s.material.is_plastic());
         if let Space::Full(full) = &mut self.space {
             if all_elastic_now && plastic_run {
                 full.elastic_values = k.val().to_vec();

@@ -15,6 +15,7 @@
 use super::engine::{since, Engine};
 use super::state::State;
 use crate::error::Result;
+use crate::element::Element;
 use crate::low_rank::Column;
 use nalgebra::{Matrix4, SymmetricEigen, Vector4};
 use std::time::Instant;
@@ -92,7 +93,7 @@ impl Engine<'_> {
             (Some(f), true) => turn(&f.da, &state.stress[e]) > self.tangent_turn(),
         };
         if change {
-            self.tangents[e] = self.material[e].tangent(&state.stress[e], state.plastic[e]);
+            self.tangents[e] = self.sections[e].tangent(&state.stress[e], state.plastic[e]);
         }
         change
     }
@@ -101,17 +102,17 @@ impl Engine<'_> {
     /// w Bᵀ ΔD B with ΔD = Σ λ v vᵀ (its eigenvalues), so each term is s c cᵀ with
     /// c = √(w |λ|) Bᵀ v (w the element's volume).
     fn tangent_columns(&self, e: usize) -> Vec<Column> {
-        let plane = self.model.plane;
-        let delta: Matrix4<f64> = self.tangents[e].element_matrix(plane) - self.factored[e].element_matrix(plane);
+        let section = &self.sections[e];
+        let delta: Matrix4<f64> = section.element_matrix(&self.tangents[e]) - section.element_matrix(&self.factored[e]);
         let eig = SymmetricEigen::new(delta);
         let largest = eig.eigenvalues.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let el = &self.elements[e];
-        let weight = el.volume;
+        let weight = el.measure();
         (0..4)
             .filter(|&i| eig.eigenvalues[i].abs() > RANK_NOISE * largest)
             .map(|i| {
                 let lambda = eig.eigenvalues[i];
-                let w = el.b.transpose() * eig.eigenvectors.column(i) * (weight * lambda.abs()).sqrt();
+                let w = el.b().transpose() * eig.eigenvectors.column(i) * (weight * lambda.abs()).sqrt();
                 let entries = el.dofs().iter().zip(w.iter()).filter_map(|(&g, &v)| self.map.equation(g).map(|q| (q, v))).collect();
                 Column { entries, sign: lambda.signum(), owner: e }
             })

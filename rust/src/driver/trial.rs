@@ -17,6 +17,7 @@ use super::space::{Full, LoadSweep, Space};
 use super::state::{State, TrialIncrement};
 use crate::bail;
 use crate::contact::{SparseVec, Status};
+use crate::element::Element;
 use crate::error::Result;
 use nalgebra::{DMatrix, DVector, Vector4};
 use rayon::prelude::*;
@@ -375,10 +376,9 @@ impl Engine<'_> {
     /// Δσ, Δεp and Δε of every element for a displacement increment (eqs. 10, 11, 18), with
     /// the tangents K holds.
     pub fn stress_increment(&self, du: &[f64]) -> (Vec<Vector4<f64>>, Vec<f64>, Vec<Vector4<f64>>) {
-        let plane = self.model.plane;
-        let per_element: Vec<(Vector4<f64>, f64, Vector4<f64>)> = self.elements.par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.tangents).map(|(el, t)| {
+        let per_element: Vec<(Vector4<f64>, f64, Vector4<f64>)> = self.elements.par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.tangents).zip(&self.sections).map(|((el, t), section)| {
             let e = el.strain(du);
-            (t.stress_increment(plane, &e), t.plastic_multiplier(plane, &e), e)
+            (section.stress_increment(t, &e), section.plastic_multiplier(t, &e), e)
         }).collect();
         let n = per_element.len();
         let (mut dstress, mut dplastic, mut dstrain) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
