@@ -46,3 +46,65 @@ pub(super) fn project_onto_cone(problem: &Problem, state: &mut State) -> f64 {
     }
     largest
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::anticycling::AntiCycling;
+    use super::super::clock::Clock;
+    use super::super::scenes::*;
+    use super::super::selection::select;
+    use super::super::stepping::Stepping;
+    use super::super::switching::switch;
+    use super::super::trial::remaining_load;
+    use super::*;
+
+    /// Round-off of a few operations on O(1) numbers (~1e-15 each).
+    const ROUND_OFF: f64 = 1e-12;
+
+    /// Advanced to the closure of the wall's gap (S_c = g E / (ν q)): the gap is g − S Δu_x = 0
+    /// (eq. 58), u = S Δu (eq. 59), the open pair carries nothing (eq. 60), and with nothing
+    /// integrated (elastic) no correction is needed.
+    #[test]
+    fn advancing_to_a_closure_closes_the_gap() {
+        let (q, g) = (2.0, 1e-4);
+        let m = poisson_wall(q, g);
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let cycles = AntiCycling::new(1, 0, 4);
+        let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+        let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+        assert!(to_event(&eng, &mut state, &trial, &sel).is_none());
+        let s = g * E / (NU * q);
+        assert!(eng.problem.gap(&state, 0).abs() < ROUND_OFF * g, "gap {}", eng.problem.gap(&state, 0));
+        // reduced space: u over the pair's DOFs (node 2: x, y)
+        assert!((state.u[0] - s * NU * q / E).abs() < ROUND_OFF * g && (state.u[1] + s * q / E).abs() < ROUND_OFF * g);
+        assert!((state.load_fraction - s).abs() < ROUND_OFF && state.lambda_n[0] == 0.0);
+        switch(&eng.problem, &mut state, &sel.group[0]);
+        assert!(state.status[0].is_closed());
+    }
+
+    /// A stuck pair advanced to its slip: λ_n = N held, λ_t = S_f T = μ N on the cone (eqs.
+    /// 60–61); switched, it slips along +x with λ_t = −d μ λ_n (eq. 62, d = −1), and a λ_t the
+    /// last correction moved off the cone is put back on it, the jump reported.
+    #[test]
+    fn advancing_a_stuck_pair_to_its_slip_puts_it_on_the_cone() {
+        let (n, t, mu) = (3.0, 1.0, 0.2);
+        let m = pressed_then_sheared(n, t, mu);
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let cycles = AntiCycling::new(1, 0, 4);
+        let (press, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+        state.advance(&press, 1.0);
+        eng.begin_stage(1, &mut state);
+        let (shear, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+        let sel = select(&eng.problem, &state, &shear, &cycles, f64::INFINITY, Stepping::EventByEvent);
+        to_event(&eng, &mut state, &shear, &sel);
+        assert!((state.lambda_n[0] - n).abs() < ROUND_OFF * n && (state.lambda_t[0] - mu * n).abs() < ROUND_OFF * n);
+        switch(&eng.problem, &mut state, &sel.group[0]);
+        assert_eq!(state.status[0], Status::Slip { direction: -1 });
+        assert!((state.lambda_t[0] - mu * n).abs() < ROUND_OFF * n);
+        state.lambda_t[0] = 0.9 * mu * n;
+        let jump = project_onto_cone(&eng.problem, &mut state);
+        assert!((jump - 0.1 * mu * n).abs() < ROUND_OFF * n && (state.lambda_t[0] - mu * n).abs() < ROUND_OFF * n);
+    }
+}

@@ -64,6 +64,8 @@ mod plasticity;
 mod problem;
 mod rate_problem;
 mod recording;
+#[cfg(test)]
+mod scenes;
 mod restraint;
 mod selection;
 mod space;

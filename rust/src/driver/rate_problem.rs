@@ -500,3 +500,75 @@ fn split_saddles(prob: &Unknowns) -> Option<(DMatrix<f64>, DVector<f64>, Vec<boo
     }
     Some((m, q, split, col))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::anticycling::{Admission, AntiCycling};
+    use super::super::clock::Clock;
+    use super::super::scenes::*;
+    use super::super::selection::select;
+    use super::super::stepping::Stepping;
+    use super::super::switching::switch;
+    use super::super::trial::remaining_load;
+    use super::*;
+
+    /// The pushed strip's two pairs, switched one event at a time at zero load (the paper's
+    /// rule, one switch per pair and increment, never frozen), come back to where they started
+    /// after two switches: a cycle.
+    #[test]
+    fn one_at_a_time_the_pushed_strips_two_pairs_cycle() {
+        let m = pushed_strip(0.5);
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let mut cycles = AntiCycling::new(2, 0, usize::MAX);
+        let initial = state.status.clone();
+        let mut seen = vec![initial.clone()];
+        for _ in 0..4 {
+            let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+            let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+            assert!(sel.zero_length() && !sel.group.is_empty(), "a zero-length switch, S = {}", sel.scale);
+            let mut switched = vec![false; 2];
+            for c in &sel.group {
+                if let Admission::Apply = cycles.admit(c, true, &mut switched) {
+                    switch(&eng.problem, &mut state, c);
+                }
+            }
+            seen.push(state.status.clone());
+        }
+        assert_ne!(seen[1], initial);
+        assert_eq!((&seen[2], &seen[4]), (&initial, &initial), "{seen:?}");
+    }
+
+    /// The rate problem sets both pairs' statuses together, and the trial with them is
+    /// admissible from its start (checked on the trial's own rates, not by the selection): a
+    /// closed pair's normal force grows (λ_n = 0 now), a slipping pair slips the way its
+    /// friction opposes, an open pair's gap does not close; so the load advances at once.
+    #[test]
+    fn the_rate_problem_settles_the_cycle_with_admissible_statuses() {
+        let m = pushed_strip(0.5);
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        state.status = solve_rate_problem(&mut eng, &state, Solve::RemainingLoad).expect("the rate problem has a solution");
+        let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+        // Round-off: forces against the load (0.5), rates against the largest displacement rate;
+        // ~1e-15 per operation on a six-node scene.
+        let force = 1e-12 * 0.5;
+        let rate = 1e-12 * trial.du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        for (p, pair) in eng.problem.pairs.iter().enumerate() {
+            let (gap_rate, slip_rate) = (pair.w_n.dot(&trial.du), pair.w_t.dot(&trial.du));
+            match state.status[p] {
+                Status::Open => assert!(gap_rate >= -rate, "pair {p} open but closing at {gap_rate}"),
+                status => {
+                    assert!(trial.dlambda_n[p] >= -force, "pair {p} {status:?} pulled: {}", trial.dlambda_n[p]);
+                    if let Status::Slip { direction } = status {
+                        assert!(direction as f64 * slip_rate >= -rate, "pair {p} slips against its friction: {slip_rate}");
+                    }
+                }
+            }
+        }
+        assert!(state.status.iter().any(|s| s.is_closed()), "the strip rests on the flat");
+        let cycles = AntiCycling::new(2, 0, 4);
+        let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+        assert!(!sel.zero_length(), "the load advances: S = {}", sel.scale);
+    }
+}

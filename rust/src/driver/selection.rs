@@ -145,3 +145,92 @@ fn plastic_window(cands: &mut Vec<Candidate>, phi0: f64, remaining: f64, delta: 
     let phi = phi0 + scale * remaining;
     ((phi + delta * phi.max(WINDOW_FLOOR) - phi0) / remaining, Some((element, phi)))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::clock::Clock;
+    use super::super::engine::Engine;
+    use super::super::scenes::*;
+    use super::super::trial::remaining_load;
+    use super::*;
+
+    /// Scales on these scenes come from a few dozen operations on O(1) numbers (~1e-15 each);
+    /// an error in the rule would be of order one.
+    const ROUND_OFF: f64 = 1e-12;
+
+    /// The trial for the remaining load and its selection from `state`.
+    fn next(eng: &mut Engine, state: &State, stepping: Stepping) -> Selection {
+        let cycles = AntiCycling::new(eng.problem.pairs.len(), eng.problem.loop_elements(), 4);
+        let (trial, _) = remaining_load(eng, state, None, stepping).unwrap();
+        select(&eng.problem, state, &trial, &cycles, f64::INFINITY, stepping)
+    }
+
+    /// The square pressed by q spreads towards the wall at gap g by ν q/E at the full load, so
+    /// the gap closes at S_c = g E / (ν q) (eq. 49), the increment's one event.
+    #[test]
+    fn a_gap_closes_at_the_closed_form_scale() {
+        let (q, g) = (2.0, 1e-4);
+        let m = poisson_wall(q, g);
+        let clock = Clock::new();
+        let (mut eng, state) = start(&m, &clock);
+        let sel = next(&mut eng, &state, Stepping::EventByEvent);
+        let s_c = g * E / (NU * q);
+        assert!((sel.scale - s_c).abs() < ROUND_OFF * s_c && !sel.last, "S = {} vs {s_c}", sel.scale);
+        assert_eq!(sel.group.iter().map(|c| (c.kind, c.entity)).collect::<Vec<_>>(), [(EventKind::Close, 0)]);
+        assert!((sel.phi - s_c).abs() < ROUND_OFF);
+    }
+
+    /// The pair pressed by N and stuck carries the growing shear T s by itself (λ_t = T s), so it
+    /// reaches μ λ_n at S_f = μ N / T (eq. 53), sliding along −t, with +x (d = −1).
+    #[test]
+    fn a_stuck_pair_slips_at_the_closed_form_scale() {
+        let (n, t, mu) = (3.0, 1.0, 0.2);
+        let m = pressed_then_sheared(n, t, mu);
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let (press, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+        state.advance(&press, 1.0);
+        eng.begin_stage(1, &mut state);
+        let sel = next(&mut eng, &state, Stepping::EventByEvent);
+        let s_f = mu * n / t;
+        assert!((sel.scale - s_f).abs() < ROUND_OFF * s_f, "S = {} vs {s_f}", sel.scale);
+        assert_eq!(sel.group.iter().map(|c| (c.kind, c.entity, c.direction)).collect::<Vec<_>>(), [(EventKind::StickToSlip, 0, -1)]);
+    }
+
+    /// Pulled to σx = a, then pressed by σy = −b s: plane stress σe² = a² + a b s + b² s², so
+    /// both elements (the stress is uniform) reach Sy at the positive root of
+    /// b² s² + a b s + a² − Sy² = 0 (eqs. 12–16), and yield together.
+    #[test]
+    fn an_element_yields_at_the_root_of_the_quadratic() {
+        let (a, b, sy) = (100.0, 300.0, 250.0);
+        let m = pulled_then_pressed(a, b, plastic(sy, 500.0));
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let (pull, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+        state.advance(&pull, 1.0);
+        eng.begin_stage(1, &mut state);
+        let sel = next(&mut eng, &state, Stepping::EventByEvent);
+        let root = (-a * b + (a * a * b * b - 4.0 * b * b * (a * a - sy * sy)).sqrt()) / (2.0 * b * b);
+        assert!((sel.scale - root).abs() < ROUND_OFF * root, "S = {} vs {root}", sel.scale);
+        let mut yielded: Vec<(EventKind, usize)> = sel.group.iter().map(|c| (c.kind, c.entity)).collect();
+        yielded.sort_by_key(|&(_, e)| e);
+        assert_eq!(yielded, [(EventKind::Yield, 0), (EventKind::Yield, 1)]);
+    }
+
+    /// Grouped, the increment runs past the first yield (pressed by σy = −b s: at s_p = Sy/b)
+    /// to s_p (1 + δ): the yields are no events of its end, the first one is kept as the
+    /// window's exact onset.
+    #[test]
+    fn a_window_runs_past_the_first_yield_by_delta() {
+        let (b, sy, delta) = (300.0, 250.0, 0.1);
+        let m = square_on_rollers(0.0, -b, plastic(sy, 500.0));
+        let clock = Clock::new();
+        let (mut eng, state) = start(&m, &clock);
+        let sel = next(&mut eng, &state, Stepping::Grouped { delta });
+        let s_p = sy / b;
+        let (_, onset) = sel.first_yield.expect("the window's first yield");
+        assert!((onset - s_p).abs() < ROUND_OFF, "onset {onset} vs {s_p}");
+        assert!((sel.phi - s_p * (1.0 + delta)).abs() < ROUND_OFF && sel.plastic_inside);
+        assert!(sel.group.is_empty(), "the window ends at its bound: {:?}", sel.group.iter().map(|c| c.kind).collect::<Vec<_>>());
+    }
+}

@@ -375,3 +375,88 @@ fn solve_dense(a: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>> {
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
+
+#[cfg(test)]
+mod tests {
+    use super::super::clock::Clock;
+    use super::super::scenes::*;
+    use super::super::space::Space;
+    use super::*;
+    use crate::model::Model;
+
+    /// Round-off of the solves on these scenes of four nodes: each result is a few dozen
+    /// operations on O(1) numbers, ~1e-15 each; 1e-12 leaves room and catches any error in the
+    /// algebra, which would be of order one.
+    const ROUND_OFF: f64 = 1e-12;
+
+    /// The entry of DOF `dof` of a vector over the DOFs the loop carries.
+    fn at(eng: &Engine, v: &[f64], dof: usize) -> f64 {
+        match &eng.problem.space {
+            Space::Reduced(r) => v[r.dofs.iter().position(|&d| d == dof).expect("a contact DOF")],
+            Space::Full => v[dof],
+        }
+    }
+
+    /// The square on rollers pressed by q: uniform σy = −q, so its free corner (node 2) moves by
+    /// (ν q/E, −q/E) (plane stress), in the reduced elastic space (contact DOFs only) as in the
+    /// full one; the open pair carries nothing.
+    #[test]
+    fn the_remaining_load_moves_the_corner_by_the_closed_form() {
+        let q = 2.0;
+        for reduced in [true, false] {
+            let mut m = poisson_wall(q, 1.0); // the wall far away: the pair stays open
+            m.options.reduced_elastic = reduced;
+            let clock = Clock::new();
+            let (mut eng, state) = start(&m, &clock);
+            assert_eq!(eng.problem.is_reduced(), reduced);
+            let (trial, base) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+            assert!(base.is_none(), "no window, no base kept");
+            let (ux, uy) = (at(&eng, &trial.du, 4), at(&eng, &trial.du, 5));
+            assert!((ux - NU * q / E).abs() < ROUND_OFF * q / E, "u_x = {ux}");
+            assert!((uy + q / E).abs() < ROUND_OFF * q / E, "u_y = {uy}");
+            assert_eq!((trial.dlambda_n[0], trial.dlambda_t[0]), (0.0, 0.0));
+        }
+    }
+
+    /// A stuck pair holds its node in place, so it carries the load on it by the node's
+    /// equilibrium: stage 1 presses by N (Δλ_n = N), stage 2 adds the tangential T
+    /// (Δλ_t = T, t = (−1, 0)); the node does not move.
+    #[test]
+    fn a_stuck_pair_carries_the_load_on_its_node() {
+        let (n, t) = (3.0, 1.0);
+        let m = pressed_then_sheared(n, t, 0.5);
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let press = solve(&mut eng, &state, Solve::RemainingLoad, None).unwrap();
+        assert!((press.dlambda_n[0] - n).abs() < ROUND_OFF * n && press.dlambda_t[0].abs() < ROUND_OFF * n);
+        assert!(press.du.iter().all(|v| v.abs() < ROUND_OFF * n / E));
+        state.advance(&press, 1.0);
+        eng.begin_stage(1, &mut state);
+        let shear = solve(&mut eng, &state, Solve::RemainingLoad, None).unwrap();
+        assert!(shear.dlambda_n[0].abs() < ROUND_OFF * n && (shear.dlambda_t[0] - t).abs() < ROUND_OFF * t);
+        assert!(shear.du.iter().all(|v| v.abs() < ROUND_OFF * n / E));
+    }
+
+    /// In a plastic window the trial keeps its base, and a contact sub-step from a state the
+    /// increment reached linearly (at s) solves the remaining load (1 − s) of it: the corner's
+    /// displacement is (1 − s) (ν q/E, −q/E), with no full-space solve.
+    #[test]
+    fn a_sub_step_solves_the_remaining_load_from_its_base() {
+        let q = 2.0;
+        let m = poisson_wall(q, 1.0);
+        let mut m = Model { materials: vec![plastic(1e6, 0.0)], ..m }; // plastic: the full space, never yielding
+        m.options.group_tol = 0.1;
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let (trial, base) = remaining_load(&mut eng, &state, None, Stepping::Grouped { delta: 0.1 }).unwrap();
+        let base = base.expect("a window keeps its trial's base");
+        let s = 0.3;
+        state.u.iter_mut().zip(&trial.du).for_each(|(u, d)| *u += s * d);
+        state.load_fraction = s;
+        let solves = eng.stiffness.solver.n_solves;
+        let sub = solve(&mut eng, &state, Solve::SubStep(&base), None).unwrap();
+        assert_eq!(eng.stiffness.solver.n_solves, solves, "a sub-step solves in the contact space");
+        assert!((sub.du[4] - (1.0 - s) * NU * q / E).abs() < ROUND_OFF * q / E);
+        assert!((sub.du[5] + (1.0 - s) * q / E).abs() < ROUND_OFF * q / E);
+    }
+}

@@ -298,3 +298,80 @@ fn scale_between(start: &State, end: &State) -> f64 {
     let c = 1.0 - start.load_fraction;
     if c > 0.0 { (end.load_fraction - start.load_fraction) / c } else { 0.0 }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::advance;
+    use super::super::checks::LimitLoad;
+    use super::super::clock::Clock;
+    use super::super::scenes::*;
+    use super::super::selection::select;
+    use super::super::trial::remaining_load;
+    use super::super::{increment, Outcome, StageLoop};
+    use super::*;
+
+    /// Round-off of a few operations on O(1) numbers (~1e-15 each).
+    const ROUND_OFF: f64 = 1e-12;
+
+    /// A window taken back returns to its start exactly (every array of the state, the
+    /// record), and the loop goes event by event up to where it ended, grouped again from there.
+    #[test]
+    fn a_retaken_window_returns_to_its_start() {
+        let (b, sy, delta) = (300.0, 250.0, 0.1);
+        let m = square_on_rollers(0.0, -b, plastic(sy, 500.0));
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let mut rec = Recorder::new(&mut eng, &state).unwrap();
+        let grouped = Stepping::Grouped { delta };
+        let cycles = AntiCycling::new(0, 2, 4);
+        let (trial, _) = remaining_load(&mut eng, &state, None, grouped).unwrap();
+        let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, grouped);
+        let before = state.clone();
+        let window = Window::open(&sel, &state, &rec, Correction::default()).expect("a plastic window");
+        let start = advance::to_event(&eng, &mut state, &trial, &sel).expect("its yields are integrated");
+        assert!(state.plastic.iter().all(|&p| p) && state.plastic_strain.iter().all(|&e| e > 0.0));
+        rec.substep(&state, sel.scale);
+        let mut correction = Correction { displacement: 1.0, force: 1.0 };
+        let retaking = window.retake(&mut state, start, &mut rec, &mut correction, grouped);
+        assert_eq!(retaking, Stepping::Retaking { until: sel.phi, delta });
+        assert_eq!((retaking.at(sel.phi * (1.0 - 1e-9)).window(), retaking.at(sel.phi)), (None, grouped));
+        assert_eq!((&state.u, &state.stress, &state.plastic_strain, &state.plastic), (&before.u, &before.stress, &before.plastic_strain, &before.plastic));
+        assert_eq!((state.load_fraction, &state.lambda_n, &state.status), (before.load_fraction, &before.lambda_n, &before.status));
+        assert_eq!((rec.steps.len(), rec.n_substeps, rec.n_retaken), (0, 0, 1));
+        assert_eq!((correction.displacement, correction.force), (0.0, 0.0));
+    }
+
+    /// Two elements of the pressed square yielding at different loads (Sy 200 and 240 under
+    /// σy = −b s, b = 300, so at s = 2/3 and 0.8 while the stress is uniform): one window
+    /// (δ = 0.3) holds both; the first yields exactly where the trial predicts (eq. 16), the
+    /// second after it and inside the window, recorded in load order in the window's one step.
+    /// Its load is where the window's straight strain path crosses its surface: within 1 % of
+    /// 0.8, since after the first yield that element's tangent, E H/(E + H), is only 2 % below
+    /// E (H = 50E), so little stress moves over (measured 0.798; a stronger hardening drop
+    /// moves it down to the onset, where it would be clamped).
+    #[test]
+    fn a_window_records_its_yields_in_load_order() {
+        let (b, delta) = (300.0, 0.3);
+        let mut m = square_on_rollers(0.0, -b, plastic(200.0, 50.0 * E));
+        m.materials.push(plastic(240.0, 50.0 * E));
+        m.element_material = vec![0, 1];
+        m.options.group_tol = delta;
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let mut rec = Recorder::new(&mut eng, &state).unwrap();
+        let mut cycles = AntiCycling::new(0, 2, 4);
+        let stepping = Stepping::new(&m.options, eng.problem.is_reduced());
+        let mut stage = StageLoop { stepping, limit: LimitLoad::default(), correction: Correction::default() };
+        let outcome = increment(&mut eng, &mut state, &mut rec, &mut cycles, &mut stage, &mut None).unwrap();
+        assert!(matches!(outcome, Outcome::Advanced));
+        let onset = 200.0 / b;
+        let end = onset * (1.0 + delta);
+        assert!((state.load_fraction - end).abs() < ROUND_OFF && rec.steps.len() == 1);
+        let yields: Vec<(usize, f64, usize)> = rec.events.iter().filter(|e| e.kind == EventKind::Yield).map(|e| (e.entity, e.load_fraction, e.step)).collect();
+        assert_eq!(yields.len(), 2, "{yields:?}");
+        assert_eq!((yields[0].0, yields[1].0), (0, 1));
+        assert!((yields[0].1 - onset).abs() < ROUND_OFF, "first yield at {} vs {onset}", yields[0].1);
+        assert!(yields[1].1 > yields[0].1 && yields[1].1 <= end && (yields[1].1 - 0.8).abs() < 0.01, "{yields:?}");
+        assert!(yields.iter().all(|y| y.2 == 0));
+    }
+}
