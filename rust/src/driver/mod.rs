@@ -269,10 +269,10 @@ fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCyc
         c.events.iter().for_each(|e| rec.correction_event(e, sel.phi));
     }
     let drift = drift(&eng.problem, state);
-    rec.max_drift = rec.max_drift.max(drift);
-    rec.drift = drift;
+    rec.balance.max_drift = rec.balance.max_drift.max(drift);
+    rec.balance.drift = drift;
     let (residual, internal) = equilibrium_residual(eng, state);
-    rec.max_residual = rec.max_residual.max(residual);
+    rec.balance.max_residual = rec.balance.max_residual.max(residual);
     check_equilibrium(eng, residual, sel.phi, rec.steps.len())?;
     check_contact(eng, state, &cycles.frozen_pairs_of_increment(), stage.correction)?;
     Ok(Settled::Balanced { residual, internal, start })

@@ -28,6 +28,18 @@ pub(super) struct InsideEvent {
     pub at: f64,
 }
 
+/// How well the recorded states hold.
+#[derive(Clone, Copy, Default)]
+pub(super) struct Balance {
+    /// The largest equilibrium residual of the loop's states and of reconstructed snapshots
+    /// (reduced space).
+    pub max_residual: f64,
+    pub max_snapshot_residual: f64,
+    /// The largest yield-surface drift, and the current increment's (before its return).
+    pub max_drift: f64,
+    pub drift: f64,
+}
+
 pub(super) struct Recorder {
     pub events: Vec<EventRecord>,
     pub steps: Vec<StepRecord>,
@@ -39,12 +51,7 @@ pub(super) struct Recorder {
     every_event: bool,
     pub closure_fraction: Vec<f64>,
     pub predicted_closure: Vec<f64>,
-    pub max_residual: f64,
-    pub max_drift: f64,
-    /// Yield-surface drift of the current increment, before its return.
-    pub drift: f64,
-    /// The largest equilibrium residual of a reconstructed snapshot (reduced space).
-    max_snapshot_residual: f64,
+    pub balance: Balance,
     max_steps: usize,
     /// Steps that were contact sub-steps (`substeps`).
     pub n_substeps: usize,
@@ -66,10 +73,7 @@ impl Recorder {
             every_event: matches!(opts.snapshots, SnapshotRequest::EveryEvent),
             closure_fraction: state.status.iter().map(|s| if s.is_closed() { 0.0 } else { f64::NAN }).collect(),
             predicted_closure: vec![f64::INFINITY; n_pairs],
-            max_residual: 0.0,
-            max_drift: 0.0,
-            drift: 0.0,
-            max_snapshot_residual: 0.0,
+            balance: Balance::default(),
             n_substeps: 0,
             n_retaken: 0,
             max_steps: if opts.max_steps > 0 { opts.max_steps } else { 50 * (n_pairs + plastic_capable + 1) + 1000 },
@@ -193,7 +197,7 @@ impl Recorder {
         self.n_substeps += 1;
         let residual = self.steps.last().map_or(0.0, |s| s.residual);
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
-        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift: self.drift });
+        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift: self.balance.drift });
     }
 
     /// An event of the equilibrium correction at φ. A pair the correction separates that closed
@@ -222,7 +226,7 @@ impl Recorder {
     /// One record per increment, and its snapshot when every event is requested; `internal`:
     /// the internal force of the state's stresses (from the equilibrium check).
     pub fn step(&mut self, eng: &mut Engine, state: &State, scale: f64, residual: f64, internal: Option<&[f64]>) -> Result<()> {
-        let drift = self.drift;
+        let drift = self.balance.drift;
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
         self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift });
         if self.every_event {
@@ -249,8 +253,8 @@ impl Recorder {
             snapshots: self.snapshots,
             closure_fraction: self.closure_fraction,
             predicted_closure: self.predicted_closure,
-            max_equilibrium_residual: self.max_residual.max(self.max_snapshot_residual),
-            max_drift: self.max_drift,
+            max_equilibrium_residual: self.balance.max_residual.max(self.balance.max_snapshot_residual),
+            max_drift: self.balance.max_drift,
             n_factorizations: eng.stiffness.solver.n_factorizations,
             n_low_rank_updates: eng.stiffness.n_low_rank_updates,
             n_contact_substeps: self.n_substeps,
@@ -269,7 +273,7 @@ impl Recorder {
         let full;
         let (state, internal) = if eng.problem.is_reduced() {
             let (s, internal, residual) = reconstruct(eng, state)?;
-            self.max_snapshot_residual = self.max_snapshot_residual.max(residual);
+            self.balance.max_snapshot_residual = self.balance.max_snapshot_residual.max(residual);
             full = s;
             (&full, internal)
         } else {

@@ -33,7 +33,7 @@ use super::anticycling::AntiCycling;
 use super::checks::Correction;
 use super::engine::Engine;
 use super::problem::Problem;
-use super::recording::{InsideEvent, Recorder};
+use super::recording::{Balance, InsideEvent, Recorder};
 use super::restraint::{hold, Hold};
 use super::selection::{select_contact, Selection};
 use super::state::{IncrementStart, State, TrialIncrement};
@@ -80,15 +80,14 @@ struct Recorded {
     steps: usize,
     substeps: usize,
     closure_fraction: Vec<f64>,
-    max_residual: f64,
-    max_drift: f64,
+    balance: Balance,
 }
 
 impl Window {
     /// The window of a selection that groups plastic events inside (`Selection::plastic_inside`);
     /// None for an increment taken event by event.
     pub fn open(sel: &Selection, state: &State, rec: &Recorder, correction: Correction) -> Option<Self> {
-        let recorded = || Recorded { events: rec.events.len(), steps: rec.steps.len(), substeps: rec.n_substeps, closure_fraction: rec.closure_fraction.clone(), max_residual: rec.max_residual, max_drift: rec.max_drift };
+        let recorded = || Recorded { events: rec.events.len(), steps: rec.steps.len(), substeps: rec.n_substeps, closure_fraction: rec.closure_fraction.clone(), balance: rec.balance };
         sel.plastic_inside.then(|| Window {
             stage: state.stage,
             load_fraction: state.load_fraction,
@@ -117,7 +116,7 @@ impl Window {
         rec.events.truncate(recorded.events);
         rec.steps.truncate(recorded.steps);
         (rec.n_substeps, rec.closure_fraction) = (recorded.substeps, recorded.closure_fraction);
-        (rec.max_residual, rec.max_drift) = (recorded.max_residual, recorded.max_drift);
+        rec.balance = recorded.balance;
         rec.n_retaken += 1;
         *correction = self.correction;
         stepping.retake_until(ended)
