@@ -147,23 +147,15 @@ struct RateProblem<'a> {
 
 impl RateProblem<'_> {
     fn solve(&self, state: &State, oob: &trial::OutOfBalance) -> Option<Vec<Status>> {
-        let q: Vec<usize> = (0..self.p.pairs.len())
-            .filter(|&p| self.in_rate_problem(state, p))
-            .collect();
+        let q: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| self.in_rate_problem(state, p)).collect();
         let roles: Vec<Role> = q.iter().map(|&p| self.role(state, p)).collect();
         let mut prob = Unknowns::default();
         // Λn, Λt of every pair in q, and α, as affine forms of the unknowns.
-        let forces: Vec<(Affine, Affine)> = q
-            .iter()
-            .zip(&roles)
-            .map(|(_, &role)| self.force_unknowns(&mut prob, role))
-            .collect();
+        let forces: Vec<(Affine, Affine)> = roles.iter().map(|&role| self.force_unknowns(&mut prob, role)).collect();
         let alpha: Vec<usize> = (0..self.p.bodies.modes.len()).map(|_| prob.length_unknown(true)).collect();
         let (kin_n, kin_t) = self.kinematics(state, &q, &forces, &alpha, &oob.z0);
         for (i, (&p, &role)) in q.iter().zip(&roles).enumerate() {
-            let g = kin_n[i]
-                .clone()
-                .scaled_add(1.0, &Affine::constant(self.p.gap(state, p) + oob.dshift[p][0]));
+            let g = kin_n[i].clone().scaled_add(1.0, &Affine::constant(self.p.gap(state, p) + oob.dshift[p][0]));
             let h_t = if state.status[p] == Status::Stick {
                 state.rtd_stick[p] - self.p.rtd(state, p) - oob.dshift[p][1]
             } else {
@@ -172,44 +164,26 @@ impl RateProblem<'_> {
             let v = kin_t[i].clone().scaled_add(-1.0, &Affine::constant(h_t));
             self.pair_rows(&mut prob, p, role, &forces[i], g, v);
         }
+        self.equilibrium_rows(&mut prob, state, &q, &forces, &alpha, oob);
+        let y = solve(&prob)?;
+        let scale = kin_n.iter().chain(&kin_t).map(|a| a.eval(&y).abs()).fold(self.loads.largest_displacement(self.p, &state.u, state.load_fraction), f64::max);
+        let touching = q.iter().zip(&kin_n).map(|(&p, g)| self.p.gap(state, p) + oob.dshift[p][0] + g.eval(&y) <= CRITICAL_GAP * scale).collect();
+        Some(self.statuses(state, &Solved { q, roles, forces, touching, y, scale }))
+    }
+
+    /// The row of each free rigid mode k: its body's equilibrium −e_k = 0 with
+    /// e_k = Σ (Nᵀw) ΔΛ + Nᵀ r over the pairs `q` (−Nᵀ r = mode_rhs), paired with α_k.
+    fn equilibrium_rows(&self, prob: &mut Unknowns, state: &State, q: &[usize], forces: &[(Affine, Affine)], alpha: &[usize], oob: &trial::OutOfBalance) {
         for (k, &a) in alpha.iter().enumerate() {
-            // −e_k = −(Σ (Nᵀw) ΔΛ + Nᵀ r), with −Nᵀ r = mode_rhs.
+            let mode = &self.p.bodies.mode_vectors[k];
             let mut e = Affine::constant(-oob.mode_rhs[k]);
             for (i, &p) in q.iter().enumerate() {
-                let (wn, wt) = (
-                    self.p.pairs[p].w_n.dot(&self.p.bodies.mode_vectors[k]),
-                    self.p.pairs[p].w_t.dot(&self.p.bodies.mode_vectors[k]),
-                );
-                e = e
-                    .scaled_add(wn, &forces[i].0)
-                    .scaled_add(-wn, &Affine::constant(state.lambda_n[p]));
-                e = e
-                    .scaled_add(wt, &forces[i].1)
-                    .scaled_add(-wt, &Affine::constant(state.lambda_t[p]));
+                let (wn, wt) = (self.p.pairs[p].w_n.dot(mode), self.p.pairs[p].w_t.dot(mode));
+                e = e.scaled_add(wn, &forces[i].0).scaled_add(-wn, &Affine::constant(state.lambda_n[p]));
+                e = e.scaled_add(wt, &forces[i].1).scaled_add(-wt, &Affine::constant(state.lambda_t[p]));
             }
             prob.rows[a] = Some(Affine::constant(0.0).scaled_add(-1.0, &e));
         }
-        let y = solve(&prob)?;
-        let scale = kin_n.iter().chain(&kin_t).map(|a| a.eval(&y).abs()).fold(
-            self.loads.largest_displacement(self.p, &state.u, state.load_fraction),
-            f64::max,
-        );
-        let touching = q
-            .iter()
-            .zip(&kin_n)
-            .map(|(&p, g)| self.p.gap(state, p) + oob.dshift[p][0] + g.eval(&y) <= CRITICAL_GAP * scale)
-            .collect();
-        Some(self.statuses(
-            state,
-            &Solved {
-                q,
-                roles,
-                forces,
-                touching,
-                y,
-                scale,
-            },
-        ))
     }
 
     /// Closed pairs, and open ones at zero gap.
@@ -254,34 +228,11 @@ impl RateProblem<'_> {
 
     /// w_nᵀΔu and w_tᵀΔu of every pair in q as affine forms: the flexibility (Cᵀ K# E) applied
     /// to ΔΛ = Λ − λ, plus K# r and the rigid modes.
-    fn kinematics(
-        &self,
-        state: &State,
-        q: &[usize],
-        forces: &[(Affine, Affine)],
-        alpha: &[usize],
-        z0: &[f64],
-    ) -> (Vec<Affine>, Vec<Affine>) {
-        let vecs: Vec<_> = q
-            .iter()
-            .flat_map(|&p| [&self.p.pairs[p].w_n, &self.p.pairs[p].w_t])
-            .collect();
-        let deltas: Vec<Affine> = q
-            .iter()
-            .zip(forces)
-            .flat_map(|(&p, (n, t))| {
-                [
-                    n.clone()
-                        .scaled_add(-1.0, &Affine::constant(state.lambda_n[p])),
-                    t.clone()
-                        .scaled_add(-1.0, &Affine::constant(state.lambda_t[p])),
-                ]
-            })
-            .collect();
-        let flex: Vec<Vec<f64>> = vecs
-            .iter()
-            .map(|w| self.stiffness.flexibility_times(&self.p.dofs.contact_slot, &w.entries))
-            .collect();
+    fn kinematics(&self, state: &State, q: &[usize], forces: &[(Affine, Affine)], alpha: &[usize], z0: &[f64]) -> (Vec<Affine>, Vec<Affine>) {
+        let vecs: Vec<_> = q.iter().flat_map(|&p| [&self.p.pairs[p].w_n, &self.p.pairs[p].w_t]).collect();
+        let change = |f: &Affine, now: f64| f.clone().scaled_add(-1.0, &Affine::constant(now));
+        let deltas: Vec<Affine> = q.iter().zip(forces).flat_map(|(&p, (n, t))| [change(n, state.lambda_n[p]), change(t, state.lambda_t[p])]).collect();
+        let flex: Vec<Vec<f64>> = vecs.iter().map(|w| self.stiffness.flexibility_times(&self.p.dofs.contact_slot, &w.entries)).collect();
         let forms: Vec<Affine> = vecs
             .iter()
             .map(|a| {
@@ -295,10 +246,7 @@ impl RateProblem<'_> {
                 f
             })
             .collect();
-        forms
-            .chunks(2)
-            .map(|c| (c[0].clone(), c[1].clone()))
-            .unzip()
+        forms.chunks(2).map(|c| (c[0].clone(), c[1].clone())).unzip()
     }
 
     /// The complementary rows of one pair's unknowns (see the module documentation).
