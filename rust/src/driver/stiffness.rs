@@ -242,13 +242,15 @@ impl Stiffness {
     /// factor.
     fn stage_sweep(&mut self, stage: usize, stage_load: impl FnOnce() -> Vec<f64>) -> &LoadSweep {
         let factorization = self.solver.n_factorizations;
-        let fresh = self.load_sweep.as_ref().is_some_and(|ls| ls.stage == stage && ls.factorization == factorization);
-        if !fresh {
-            let load = stage_load();
-            let sweep = self.solver.forward(&load);
-            self.load_sweep = Some(LoadSweep { stage, factorization, load, sweep });
+        if !self.load_sweep.as_ref().is_some_and(|ls| ls.stage == stage && ls.factorization == factorization) {
+            self.load_sweep = None;
         }
-        self.load_sweep.as_ref().unwrap_or_else(|| unreachable!("set above"))
+        let solver = &mut self.solver;
+        self.load_sweep.get_or_insert_with(|| {
+            let load = stage_load();
+            let sweep = solver.forward(&load);
+            LoadSweep { stage, factorization, load, sweep }
+        })
     }
 
     /// K⁻¹(r + f) over the equations from the forward sweep `w` of r and a force f at the
