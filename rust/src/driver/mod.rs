@@ -80,7 +80,7 @@ mod window;
 use crate::contact::Status;
 use crate::error::Result;
 use crate::events::Candidate;
-use crate::model::{EventKind, Model, Progress, RunResult, StopReason};
+use crate::model::{EventKind, Model, Options, Progress, RunResult, StopReason};
 use anticycling::AntiCycling;
 use checks::{check_contact, check_equilibrium, equilibrium_residual, Correction, LimitLoad};
 use clock::{Clock, Phase};
@@ -131,6 +131,14 @@ struct StageLoop {
     correction: Correction,
 }
 
+impl StageLoop {
+    /// The tangents an update renews in this increment (`tangents`): fresh yields may wait
+    /// inside a plastic window.
+    fn renewal(&self, options: &Options) -> Renewal {
+        Renewal::of_increment(options, self.stepping.window().is_some())
+    }
+}
+
 /// How an increment ended.
 enum Outcome {
     Advanced,
@@ -164,7 +172,7 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
 /// One increment of §4: trial → select → window → advance → switch → settle → record.
 fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &mut AntiCycling, stage: &mut StageLoop, internal: &mut Option<Vec<f64>>) -> Result<Outcome> {
     stage.stepping = stage.stepping.at(state.time()); // a retaken window behind: grouped again
-    let renewal = Renewal::of_increment(&eng.problem.model.options, stage.stepping.window().is_some());
+    let renewal = stage.renewal(&eng.problem.model.options);
     eng.stiffness.update(&eng.problem, state, renewal, eng.clock)?; // D or D_ep at the increment's start (eq. 11)
     let (trial, base) = {
         let _t = eng.clock.time(Phase::Solves);
@@ -257,7 +265,7 @@ enum Settled {
 /// (`correct_at_fixed_load`); then the checks at the event (equilibrium, contact conditions).
 #[allow(clippy::too_many_arguments)]
 fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCycling, rec: &mut Recorder, stage: &mut StageLoop, start: Option<IncrementStart>, window: Option<Window>, jump: f64) -> Result<Settled> {
-    let renewal = Renewal::of_increment(&eng.problem.model.options, stage.stepping.window().is_some());
+    let renewal = stage.renewal(&eng.problem.model.options);
     let (corrected, start) = match restore_equilibrium(eng, state, sel, start, window, renewal)? {
         Restored::Unbalanced(window, start) => return Ok(Settled::Unbalanced(window, start)),
         Restored::Corrected(c, start) => (Some(c), Some(start)),
