@@ -14,6 +14,33 @@
 //! one row of the paper's C_n / C_t. Coulomb (eqs. 1–3): |λ_t| ≤ μ λ_n; a slipping pair carries
 //! λ_t = −d μ λ_n where d = ±1 is the direction of its slip (eq. 41).
 
+/// A pair's contact frame: the unit normal n of its target (towards the contactor) and a basis
+/// of the tangent plane, `T` = `D` − 1 tangents in `D` dimensions: one in 2D, two in 3D. The
+/// pair's constraint vectors are the frame's directions at its nodes (eqs. 45–46).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Frame<const D: usize, const T: usize> {
+    pub normal: [f64; D],
+    pub tangents: [[f64; D]; T],
+}
+
+impl Frame<2, 1> {
+    /// The 2D frame of a normal: t = (−n_y, n_x), so that n × t = +1 (the sign of the RTD).
+    pub fn planar(normal: [f64; 2]) -> Self {
+        Frame { normal, tangents: [[-normal[1], normal[0]]] }
+    }
+
+    pub fn tangent(&self) -> [f64; 2] {
+        self.tangents[0]
+    }
+}
+
+/// The constraint vector of a frame direction `dir` over the nodes of `weights` (c_i): Σ_i c_i
+/// dir at node i, D DOFs per node.
+fn along<const D: usize>(weights: &[(usize, f64)], dir: [f64; D]) -> SparseVec {
+    let entries = weights.iter().flat_map(|&(i, c)| (0..D).map(move |k| (D * i + k, c * dir[k])));
+    SparseVec { entries: entries.filter(|&(_, c)| c != 0.0).collect() }
+}
+
 /// A constraint vector shorter than this has all its DOFs held by supports (unit normals and
 /// tangents: entries are 0 or of order 1).
 pub const HELD_BY_SUPPORTS: f64 = 1e-12;
@@ -75,7 +102,7 @@ impl Status {
 pub struct Pair {
     pub node_a: usize,
     pub node_b: Option<usize>,
-    pub normal: [f64; 2],
+    pub frame: Frame<2, 1>,
     pub gap0: f64,
     pub mu: f64,
     /// Normal constraint vector over free DOFs (supports removed).
@@ -103,11 +130,9 @@ impl Pair {
 
     #[allow(clippy::too_many_arguments)]
     fn build(node_a: usize, node_b: Option<usize>, weights: &[(usize, f64)], weighted: bool, normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
-        let t = [-normal[1], normal[0]];
-        let vec_of = |dir: [f64; 2]| {
-            let entries = weights.iter().flat_map(|&(i, c)| [(2 * i, c * dir[0]), (2 * i + 1, c * dir[1])]);
-            SparseVec { entries: entries.filter(|&(_, c)| c != 0.0).collect() }
-        };
+        let frame = Frame::planar(normal);
+        let t = frame.tangent();
+        let vec_of = |dir: [f64; 2]| along(weights, dir);
         let free = |d: usize| !fixed[d];
         let w_n = vec_of(normal).restricted(free);
         let w_t = vec_of(t).restricted(free);
@@ -116,7 +141,7 @@ impl Pair {
         // alone) when node a's are: its remaining entries would constrain the target only.
         let own = |w: &SparseVec| w.entries.iter().filter(|&&(d, _)| d / 2 == node_a).map(|&(_, c)| c * c).sum::<f64>().sqrt();
         let tangent_held = if weighted { own(&w_t) < HELD_BY_SUPPORTS } else { w_t.norm() < HELD_BY_SUPPORTS };
-        Pair { node_a, node_b, normal, gap0, mu, w_n, w_t, tangent_held, on_supports }
+        Pair { node_a, node_b, frame, gap0, mu, w_n, w_t, tangent_held, on_supports }
     }
 
     pub fn frictional(&self) -> bool {

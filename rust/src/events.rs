@@ -5,7 +5,8 @@
 //! the trial increment at which it happens. The smallest S (capped at 1) is taken.
 
 use crate::contact::{Pair, Status};
-use crate::material::{von_mises, yield_scale, Material};
+use crate::material::{von_mises, yield_scale};
+use crate::section::Section;
 use crate::model::EventKind;
 use nalgebra::Vector4;
 use rayon::prelude::*;
@@ -107,7 +108,7 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
 const PLASTIC_NOISE: f64 = 1e-10;
 
 pub struct ElementState<'a> {
-    pub material: &'a [Material],
+    pub sections: &'a [Section],
     pub stress: &'a [Vector4<f64>],
     pub plastic_strain: &'a [f64],
     pub plastic: &'a [bool],
@@ -136,7 +137,7 @@ const ELEMENT_CHUNK: usize = 1024;
 
 /// One element's candidate event, and its drift bound (∞ unless it is plastic).
 fn element_candidate(state: &ElementState, e: usize, dstress: &Vector4<f64>, dplastic: f64, noise: f64, max_step: Option<f64>) -> (Option<Candidate>, f64) {
-    let m = &state.material[e];
+    let m = &state.sections[e].material;
     if !m.is_plastic() {
         return (None, f64::INFINITY);
     }

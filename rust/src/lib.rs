@@ -8,10 +8,13 @@
 //! its event history.
 //!
 //! One module per concept, in the order of the paper:
-//! - [`material`]: elasticity D (eqs. 9, 18); the place where plasticity (eq. 11) plugs in;
+//! - [`material`]: the 3D law: elasticity D (eqs. 9, 18), von Mises plasticity (eq. 11);
+//! - [`section`]: the stress state (plane strain, plane stress, axisymmetry) and a material
+//!   bound to it;
 //! - [`stress_integration`]: an element's stress along a strain increment (the elastic–plastic
 //!   split of eq. 16, Prandtl–Reuss integrated with error control);
-//! - [`element`]: the constant-strain triangle (eq. 10, K of eq. 36, P_σ of eq. 42);
+//! - [`element`]: element kinematics (the `Element` seam) and the constant-strain triangle
+//!   (eq. 10, K of eq. 36, P_σ of eq. 42);
 //! - [`mesh`]: meshes, validation, bodies;
 //! - [`contact`]: candidate pairs, their constraint vectors and statuses (eqs. 21–28, 41, 45–46);
 //! - [`rigid_modes`]: rigid-body modes left free by the supports;
@@ -20,7 +23,8 @@
 //! - [`events`]: scale factors of the next event (eqs. 48–57);
 //! - [`driver`]: the incremental loop (§4), one module per phase (see its table);
 //! - [`lcp`]: Lemke's method for the zero-length rate problem;
-//! - [`model`]: input records and their validation; [`records`]: output records;
+//! - [`model`]: input records and their validation; [`options`]: the solver options, declared
+//!   once (key, default, range, meaning); [`records`]: output records;
 //! - [`error`]: typed errors, one kind per failure.
 
 pub mod contact;
@@ -37,6 +41,7 @@ pub mod mesh;
 pub mod model;
 pub mod options;
 pub mod rigid_modes;
+pub mod section;
 pub mod stress_integration;
 
 pub use driver::run;

@@ -12,7 +12,7 @@
 //! The columns live on the equations of K_f (`DofMap`); Z is kept whole (n × k), so that a
 //! trial's split solve (forward sweep, contact block, backward sweep) stays one solve.
 
-use crate::linalg::SpdSolver;
+use crate::linalg::{FactorWork, SpdSolver};
 use nalgebra::DMatrix;
 
 /// One signed rank-one term s w wᵀ of an element.
@@ -153,6 +153,11 @@ pub struct Cost {
 pub const FACTOR_FLOP_WEIGHT: f64 = 0.25;
 
 impl Cost {
+    /// The costs of a factor of this structure.
+    pub fn of(work: FactorWork) -> Self {
+        Cost { factorization: FACTOR_FLOP_WEIGHT * work.factorization_flops, solve_pair: work.solve_pair_flops, equations: work.equations }
+    }
+
     /// The extra work of `rank` terms for one solve (Zᵀy and Z c: 4 n k) .
     pub fn per_solve(&self, rank: usize) -> f64 {
         4.0 * self.equations * rank as f64
@@ -173,9 +178,10 @@ const BLOCKED_SOLVE: f64 = 0.5;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::element::Cst;
+    use crate::element::{Cst, Element};
     use crate::linalg::{DofMap, StiffnessPattern};
     use crate::material::{Material, Plane};
+    use crate::section::Section;
 
     /// A supported 6 × 4-cell block: K_f, and K = K_f with some elements softened (plastic
     /// tangents) and one stiffened back, applied through the low-rank terms, must solve like a
@@ -184,7 +190,7 @@ mod tests {
     fn woodbury_solves_like_a_refactorization() {
         let (nx, ny) = (7, 5);
         let mesh = crate::mesh::test_grid(nx, ny, 0.5, 0.4);
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::new(&mesh, e, Plane::Strain, 1.0)).collect();
+        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
         let n_dofs = 2 * mesh.nodes.len();
         let mut fixed = vec![false; n_dofs];
         (0..nx).for_each(|i| (fixed[2 * i], fixed[2 * i + 1]) = (true, true));
@@ -195,22 +201,22 @@ mod tests {
         m.yield_stress = 1.0;
         m.hardening = 50.0;
         let stress = nalgebra::Vector4::new(0.8, -0.4, 0.1, 0.5);
-        let elastic = m.tangent(&stress, false).element_matrix(Plane::Strain);
-        let plastic = m.tangent(&stress, true).element_matrix(Plane::Strain);
+        let section = Section::new(m, Plane::Strain.stress_state());
+        let elastic = section.element_matrix(&section.tangent(&stress, false));
+        let plastic = section.element_matrix(&section.tangent(&stress, true));
         let softened = [3, 4, 17, 30];
         let mut d_f = vec![elastic; els.len()];
         d_f[40] = plastic; // factored plastic, stiffened back below
         let mut d = d_f.clone();
         softened.iter().for_each(|&e| d[e] = plastic);
         d[40] = elastic;
-        let mut solver = SpdSolver::new(trailing.len());
-        solver.factor(&pattern.assemble(&els, &d_f, &map).unwrap(), &map.dof_of_equation).unwrap();
+        let mut solver = SpdSolver::new(&pattern.assemble(&els, &d_f, &map).unwrap(), &map.dof_of_equation, trailing.len()).unwrap();
         let n = map.n_equations;
         let column = |e: usize, delta: nalgebra::Matrix4<f64>| {
             // delta = s c cᵀ (rank one): c from its largest diagonal entry.
             let j = (0..4).max_by(|&a, &b| delta[(a, a)].abs().total_cmp(&delta[(b, b)].abs())).unwrap();
             let c = delta.column(j) / delta[(j, j)].abs().sqrt();
-            let w = els[e].b.transpose() * c * els[e].volume.sqrt();
+            let w = els[e].b().transpose() * c * els[e].measure().sqrt();
             let entries = els[e].dofs().iter().zip(w.iter()).filter_map(|(&g, &v)| map.equation(g).map(|q| (q, v))).collect();
             Column { entries, sign: delta[(j, j)].signum(), owner: e }
         };
@@ -222,8 +228,7 @@ mod tests {
         solver.solve_in_place(&mut x, 1);
         let c = lr.coefficients(&y);
         lr.subtract(&mut x, &c);
-        let mut fresh = SpdSolver::new(trailing.len());
-        fresh.factor(&pattern.assemble(&els, &d, &map).unwrap(), &map.dof_of_equation).unwrap();
+        let mut fresh = SpdSolver::new(&pattern.assemble(&els, &d, &map).unwrap(), &map.dof_of_equation, trailing.len()).unwrap();
         let mut exact = y.clone();
         fresh.solve_in_place(&mut exact, 1);
         let big = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));

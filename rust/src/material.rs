@@ -2,12 +2,10 @@
 //! (paper §2.2, eqs. 4–11, 18 and Appendix A).
 //!
 //! Stresses and strains carry four components (x, y, z, xy) with engineering shear strain
-//! (eq. 10), z the out-of-plane direction: plane strain (εz = 0, σz tracked), plane stress
-//! (σz = 0) and axisymmetry (x = r, y = the axis z, and the z component is the hoop direction
-//! θ: εθ = u_r/r) share one code path. The 4×4 tangent is built once; the element's strain
-//! operator has four rows for every plane (element.rs), and `Tangent::element_matrix` gives the
-//! D it pairs with: restricted (plane strain), statically condensed (plane stress) or whole
-//! (axisymmetry).
+//! (eq. 10), z the out-of-plane direction. The law here is three-dimensional over them; what z
+//! is (plane strain, plane stress, the hoop direction of axisymmetry) and how an element's
+//! strain meets this law is the stress state's (`section`), bound to a material by a
+//! `Section`.
 //!
 //! Prandtl–Reuss (eqs. 5–7) with the flow vector a = ∂σe/∂σ gives the elastoplastic tangent in
 //! *stiffness* form,   D_ep = D − (D a)(D a)ᵀ / (H' + aᵀ D a)   (eq. 11),
@@ -16,8 +14,9 @@
 
 use crate::bail;
 use crate::error::Result;
-use nalgebra::{Matrix3, Matrix4, RowVector3, Vector3, Vector4};
+use nalgebra::{Matrix4, Vector4};
 
+/// The stress state a model names (its implementation: `Plane::stress_state` in `section`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Plane {
     Strain,
@@ -119,50 +118,6 @@ impl Material {
         let denom = self.hardening + a.dot(&da);
         Tangent { d4: d4 - da * da.transpose() / denom, flow: Some(Flow { da, denom }) }
     }
-
-    /// D_ep Δε (eq. 11) at a stress on the yield surface and the plastic multiplier
-    /// Δεp = (D a)ᵀ Δε / (H' + aᵀ D a), unclamped (negative: unloading), given D Δε. In plane
-    /// strain and axisymmetry Δε is the whole strain, and von Mises gives the closed forms
-    /// D a = (3G/σe) (sx, sy, sz, τxy) and aᵀ D a = 3G (s the deviator), so no tangent is built;
-    /// plane stress goes through the condensed tangent.
-    pub fn plastic_increment(&self, plane: Plane, stress: &Vector4<f64>, e: &Vector4<f64>, d_elastic: &Vector4<f64>) -> (Vector4<f64>, f64) {
-        if plane == Plane::Stress {
-            let t = self.tangent(stress, true);
-            return (t.stress_increment(plane, e), t.plastic_multiplier(plane, e));
-        }
-        let g = self.young / (2.0 * (1.0 + self.poisson));
-        let p = (stress[0] + stress[1] + stress[2]) / 3.0;
-        let da = Vector4::new(stress[0] - p, stress[1] - p, stress[2] - p, stress[3]) * (3.0 * g / von_mises(stress));
-        let multiplier = da.dot(e) / (self.hardening + 3.0 * g);
-        (d_elastic - da * multiplier, multiplier)
-    }
-
-    /// Elastic D over (x, y, z, xy) as the element pairs it with its strain operator: the
-    /// plane strain or plane stress 3×3 matrix embedded with a zero z row and column, the
-    /// whole D in axisymmetry. (The planar forms are the classical closed forms; `element_matrix`
-    /// of an elastic tangent agrees with them to round-off.)
-    pub fn elastic_tangent(&self, plane: Plane) -> Matrix4<f64> {
-        let (e, nu) = (self.young, self.poisson);
-        match plane {
-            Plane::Strain => {
-                let c = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
-                embed_in_plane(&Matrix3::new(
-                    c * (1.0 - nu), c * nu, 0.0,
-                    c * nu, c * (1.0 - nu), 0.0,
-                    0.0, 0.0, c * (1.0 - 2.0 * nu) / 2.0,
-                ))
-            }
-            Plane::Stress => {
-                let c = e / (1.0 - nu * nu);
-                embed_in_plane(&Matrix3::new(
-                    c, c * nu, 0.0,
-                    c * nu, c, 0.0,
-                    0.0, 0.0, c * (1.0 - nu) / 2.0,
-                ))
-            }
-            Plane::Axisymmetric => self.elastic_d4(),
-        }
-    }
 }
 
 /// σe = sqrt(3/2 s:s) (eq. 6) of (σx, σy, σz, τxy).
@@ -210,82 +165,12 @@ pub struct Flow {
     pub denom: f64,
 }
 
-/// A material tangent over (x, y, z, xy), and how it reduces to the plane.
+/// A material tangent over (x, y, z, xy): D or D_ep (eq. 11), and its plastic part. How it
+/// acts on an element's strain is the section's (`section::Section`).
 #[derive(Debug, Clone, Copy)]
 pub struct Tangent {
     pub d4: Matrix4<f64>,
     pub flow: Option<Flow>,
-}
-
-/// The in-plane components (x, y, xy) among (x, y, z, xy).
-const IN_PLANE: [usize; 3] = [0, 1, 3];
-
-/// A 3×3 matrix over (x, y, xy) as a 4×4 one over (x, y, z, xy) with a zero z row and column.
-fn embed_in_plane(m: &Matrix3<f64>) -> Matrix4<f64> {
-    let mut d = Matrix4::zeros();
-    for i in 0..3 {
-        for j in 0..3 {
-            d[(IN_PLANE[i], IN_PLANE[j])] = m[(i, j)];
-        }
-    }
-    d
-}
-
-impl Tangent {
-    /// Out-of-plane strain per unit in-plane strain in plane stress, from σz = 0 (static
-    /// condensation).
-    fn condensed_strain_z(&self) -> RowVector3<f64> {
-        let dz = self.d4[(2, 2)];
-        RowVector3::from_fn(|_, j| -self.d4[(2, IN_PLANE[j])] / dz)
-    }
-
-    /// The full strain (εx, εy, εz, γxy) of an element strain (its operator's four rows, z
-    /// zero in plane strain and plane stress, εθ in axisymmetry): εz from σz = 0 in plane
-    /// stress, as it is otherwise.
-    pub fn full_strain(&self, plane: Plane, e: &Vector4<f64>) -> Vector4<f64> {
-        match plane {
-            Plane::Stress => {
-                let in_plane = Vector3::new(e[0], e[1], e[3]);
-                Vector4::new(e[0], e[1], (self.condensed_strain_z() * in_plane)[0], e[3])
-            }
-            Plane::Strain | Plane::Axisymmetric => *e,
-        }
-    }
-
-    /// In-plane 3×3 tangent (x, y, xy): restricted (εz = 0) or condensed (σz = 0).
-    fn in_plane(&self, plane: Plane) -> Matrix3<f64> {
-        let mut d = Matrix3::from_fn(|i, j| self.d4[(IN_PLANE[i], IN_PLANE[j])]);
-        if plane == Plane::Stress {
-            let col_z = Vector3::from_fn(|i, _| self.d4[(IN_PLANE[i], 2)]);
-            let row_z = RowVector3::from_fn(|_, j| self.d4[(2, IN_PLANE[j])]);
-            d -= col_z * row_z / self.d4[(2, 2)];
-        }
-        d
-    }
-
-    /// The D the element pairs with its four-row strain operator B (K_e = w Bᵀ D B, eq. 36):
-    /// the plane strain restriction or the plane stress condensation with a zero z row and
-    /// column, the whole 4×4 tangent in axisymmetry (the hoop row of B is live there).
-    pub fn element_matrix(&self, plane: Plane) -> Matrix4<f64> {
-        match plane {
-            Plane::Strain | Plane::Stress => embed_in_plane(&self.in_plane(plane)),
-            Plane::Axisymmetric => self.d4,
-        }
-    }
-
-    /// Δσ (4 components) for an element strain increment (eq. 10 with D or D_ep).
-    pub fn stress_increment(&self, plane: Plane, e: &Vector4<f64>) -> Vector4<f64> {
-        self.d4 * self.full_strain(plane, e)
-    }
-
-    /// Equivalent plastic strain increment Δεp = (D a)ᵀ Δε / (H' + aᵀ D a) (Prandtl–Reuss);
-    /// negative means elastic unloading. 0 for an elastic tangent.
-    pub fn plastic_multiplier(&self, plane: Plane, e: &Vector4<f64>) -> f64 {
-        match self.flow {
-            None => 0.0,
-            Some(f) => f.da.dot(&self.full_strain(plane, e)) / f.denom,
-        }
-    }
 }
 
 #[cfg(test)]
@@ -301,122 +186,6 @@ mod tests {
         assert!(m.validate("material 0").unwrap_err().message.contains("yield strain"));
         m.yield_stress = 200.0;
         assert!(m.validate("material 0").is_ok());
-    }
-
-    #[test]
-    fn plane_strain_tangent_inverts_hooke() {
-        // Plane strain: εz = 0 ⇒ εx = ((1-ν²)σx − ν(1+ν)σy)/E. Check D against this compliance.
-        let m = Material::elastic(70_000.0, 0.3);
-        let d = Matrix3::from_fn(|i, j| m.elastic_tangent(Plane::Strain)[(IN_PLANE[i], IN_PLANE[j])]);
-        let (e, nu) = (m.young, m.poisson);
-        let c = Matrix3::new(
-            (1.0 - nu * nu) / e, -nu * (1.0 + nu) / e, 0.0,
-            -nu * (1.0 + nu) / e, (1.0 - nu * nu) / e, 0.0,
-            0.0, 0.0, 2.0 * (1.0 + nu) / e,
-        );
-        let id = d * c;
-        assert!((id - Matrix3::identity()).norm() < 1e-12);
-    }
-
-    #[test]
-    fn plane_stress_uniaxial() {
-        let m = Material::elastic(200.0, 0.25);
-        let d = m.elastic_tangent(Plane::Stress);
-        // σ = (1,0,0) ⇒ ε = (1/E, −ν/E, 0); the z row and column are zero
-        let eps = Vector4::new(1.0 / 200.0, -0.25 / 200.0, 0.0, 0.0);
-        let s = d * eps;
-        assert!((s - Vector4::new(1.0, 0.0, 0.0, 0.0)).norm() < 1e-14);
-        // and the condensed elastic tangent agrees with it (to round-off)
-        let t = m.tangent(&Vector4::zeros(), false);
-        assert!((t.element_matrix(Plane::Stress) - d).norm() < 1e-13 * d.norm());
-    }
-
-    #[test]
-    fn axisymmetric_tangent_is_the_whole_d_and_inverts_hooke() {
-        // Rings: D over (εr, εz, εθ, γrz) is the 3D isotropic D; it inverts the compliance
-        // ε = ((1+ν)σ − ν tr σ)/E (normal) and γ = 2(1+ν)τ/E (round-off of a 4×4 product).
-        let m = Material::elastic(70_000.0, 0.3);
-        let d = m.elastic_tangent(Plane::Axisymmetric);
-        let (e, nu) = (m.young, m.poisson);
-        let c = Matrix4::from_fn(|i, j| match (i, j) {
-            (3, 3) => 2.0 * (1.0 + nu) / e,
-            (3, _) | (_, 3) => 0.0,
-            _ if i == j => 1.0 / e,
-            _ => -nu / e,
-        });
-        assert!((d * c - Matrix4::identity()).norm() < 1e-12);
-        assert_eq!(m.tangent(&Vector4::zeros(), false).element_matrix(Plane::Axisymmetric), d);
-        // the hoop strain is live: Δσ of a pure hoop strain has σθ = (λ + 2G) εθ
-        let s = m.tangent(&Vector4::zeros(), false).stress_increment(Plane::Axisymmetric, &Vector4::new(0.0, 0.0, 1e-3, 0.0));
-        assert!((s[2] - d[(2, 2)] * 1e-3).abs() < 1e-12 && s[0] == s[1]);
-    }
-
-    /// Al with linear hardening (E = 70 GPa, ν = 0.3, Sy = 200 MPa, H' = 700 MPa).
-    fn hardening_aluminium() -> Material {
-        Material { yield_stress: 200.0, hardening: 700.0, ..Material::elastic(70_000.0, 0.3) }
-    }
-
-    /// The paper's compliance form (A.2): C_ep = C + a aᵀ / H' (a = ∂σe/∂σ).
-    fn compliance_a2(m: &Material, s: &Vector4<f64>) -> Matrix4<f64> {
-        let a = flow_vector(s);
-        m.elastic_d4().try_inverse().unwrap() + a * a.transpose() / m.hardening
-    }
-
-    #[test]
-    fn stiffness_form_agrees_with_compliance_form_a2_a3_a6() {
-        let m = hardening_aluminium();
-        // Plane strain (A.6): the 4×4 forms are inverse to each other, hence also their
-        // εz = 0 restrictions (A.5–A.6 condense the compliance, we restrict the stiffness).
-        let s = Vector4::new(-150.0, -320.0, -141.0, 60.0);
-        let t = m.tangent(&s, true);
-        let c = compliance_a2(&m, &s);
-        assert!((t.d4 * c - Matrix4::identity()).norm() < 1e-10);
-        let ci = c.try_inverse().unwrap();
-        let d_strain = Matrix3::from_fn(|i, j| ci[(IN_PLANE[i], IN_PLANE[j])]);
-        assert!((t.in_plane(Plane::Strain) - d_strain).norm() < 1e-9 * d_strain.norm());
-        // Plane stress (A.3): σz = 0, the in-plane compliance is the 3×3 block of A.2.
-        let s = Vector4::new(120.0, -90.0, 0.0, 40.0);
-        let t = m.tangent(&s, true);
-        let c = compliance_a2(&m, &s);
-        let c3 = Matrix3::from_fn(|i, j| c[(IN_PLANE[i], IN_PLANE[j])]);
-        assert!((t.in_plane(Plane::Stress) * c3 - Matrix3::identity()).norm() < 1e-10);
-    }
-
-    #[test]
-    fn plastic_tangent_is_a_rank_one_update_that_survives_h_zero() {
-        let mut m = Material::elastic(70_000.0, 0.3);
-        m.yield_stress = 200.0;
-        m.hardening = 0.0; // perfect plasticity: A.2 would divide by zero
-        let s = Vector4::new(100.0, -100.0, 0.0, 20.0);
-        for plane in [Plane::Strain, Plane::Stress, Plane::Axisymmetric] {
-            let diff = m.tangent(&s, true).element_matrix(plane) - m.tangent(&s, false).element_matrix(plane);
-            let sv = diff.singular_values();
-            let mut v: Vec<f64> = sv.iter().copied().collect();
-            v.sort_by(|a, b| b.partial_cmp(a).unwrap());
-            assert!(v[0] > 0.0 && v[1] < 1e-9 * v[0], "{plane:?}: {v:?}");
-        }
-        // H' = 0: a plastic increment along the flow leaves σe unchanged (aᵀ D_ep = 0).
-        let t = m.tangent(&s, true);
-        let a = flow_vector(&s);
-        assert!((a.transpose() * t.d4).norm() < 1e-9 * t.d4.norm());
-    }
-
-    /// The closed-form plastic step of plane strain and axisymmetry is the inverse of the
-    /// paper's compliance (A.2) applied to the strain, and its multiplier is Prandtl–Reuss's
-    /// dεp = a·Δσ / H' (eqs. 7–9) of that stress increment.
-    #[test]
-    fn closed_form_plastic_step_inverts_the_compliance_a2() {
-        let m = hardening_aluminium();
-        let s = Vector4::new(-150.0, -320.0, -141.0, 60.0);
-        let e = Vector4::new(-2e-4, 3e-4, 0.5e-4, 1e-4);
-        for plane in [Plane::Strain, Plane::Axisymmetric] {
-            let d_elastic = m.elastic_d4() * e;
-            let (ds, multiplier) = m.plastic_increment(plane, &s, &e, &d_elastic);
-            let expected = compliance_a2(&m, &s).try_inverse().unwrap() * e;
-            assert!((ds - expected).norm() < 1e-9 * expected.norm(), "{plane:?}: {ds} vs {expected}");
-            let a = flow_vector(&s);
-            assert!((multiplier - a.dot(&ds) / m.hardening).abs() < 1e-9 * multiplier.abs());
-        }
     }
 
     #[test]

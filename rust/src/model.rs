@@ -6,7 +6,7 @@ use crate::bail;
 use crate::error::Result;
 use crate::material::{Material, Plane};
 use crate::mesh::Mesh;
-pub use crate::options::{Options, DEFAULT_GROUP_TOL, DEFAULT_TANGENT_TURN};
+pub use crate::options::{Options, SnapshotRequest, DEFAULT_GROUP_TOL, DEFAULT_TANGENT_TURN};
 pub use crate::records::*;
 
 /// A candidate contact pair as given by the front end (see `contact::Pair`).
@@ -64,15 +64,6 @@ pub struct LoadPattern {
 pub struct Stage {
     pub name: String,
     pub factors: Vec<f64>,
-}
-
-#[derive(Debug, Clone)]
-pub enum SnapshotRequest {
-    /// A snapshot at the start and after every event.
-    EveryEvent,
-    /// Snapshots at exactly these path times t (stage k runs over [k − 1, k]; interpolated on
-    /// the piecewise-linear path); the final state is always added.
-    Times(Vec<f64>),
 }
 
 #[derive(Debug, Clone)]

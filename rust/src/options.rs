@@ -8,7 +8,6 @@
 
 use crate::bail;
 use crate::error::Result;
-use crate::model::SnapshotRequest;
 
 /// What a value of an option is.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -88,6 +87,15 @@ pub enum Value {
     Real(f64),
     Count(i64),
     Flag(bool),
+}
+
+#[derive(Debug, Clone)]
+pub enum SnapshotRequest {
+    /// A snapshot at the start and after every event.
+    EveryEvent,
+    /// Snapshots at exactly these path times t (stage k runs over [k − 1, k]; interpolated on
+    /// the piecewise-linear path); the final state is always added.
+    Times(Vec<f64>),
 }
 
 /// The solver options of a run (see [`SPECS`] for each one's meaning and default).

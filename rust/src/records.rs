@@ -84,6 +84,9 @@ pub struct Snapshot {
     pub reaction: Vec<f64>,
 }
 
+/// Seconds per phase of the run. Each second counts once, in the innermost phase running (a
+/// refactorization inside an equilibrium correction counts as factorization), but for the
+/// phases `events` includes as noted.
 #[derive(Debug, Clone, Default)]
 pub struct Timings {
     pub assembly: f64,
@@ -94,7 +97,8 @@ pub struct Timings {
     pub solves: f64,
     /// The small dense contact systems (also counted in `events`).
     pub dense: f64,
-    /// Event bookkeeping: scale factors, advancing, checks, the small dense systems.
+    /// Event bookkeeping: scale factors, advancing, checks, snapshots, and the small dense
+    /// systems, stress integration and corrections.
     pub events: f64,
     /// Low-rank updates of the factor: solving their columns, their capacitance (`low_rank`).
     pub low_rank: f64,

@@ -30,64 +30,20 @@ pub struct RigidMode {
 }
 
 /// Free rigid modes of every body, plus the pinned DOFs (one per mode).
-pub fn free_modes(
-    nodes: &[[f64; 2]],
-    body_of_node: &[usize],
-    n_bodies: usize,
-    fixed: &[bool],
-    plane: Plane,
-) -> (Vec<RigidMode>, Vec<usize>) {
+pub fn free_modes(nodes: &[[f64; 2]], body_of_node: &[usize], n_bodies: usize, fixed: &[bool], plane: Plane) -> (Vec<RigidMode>, Vec<usize>) {
     let mut modes = Vec::new();
     let mut pinned = Vec::new();
     for body in 0..n_bodies {
         let members: Vec<usize> = (0..nodes.len()).filter(|&i| body_of_node[i] == body).collect();
-        // Centroid and size, so that the rotation mode has O(1) entries.
-        let m = members.len() as f64;
-        let (cx, cy) = members.iter().fold((0.0, 0.0), |s, &i| (s.0 + nodes[i][0] / m, s.1 + nodes[i][1] / m));
-        let size = members
-            .iter()
-            .map(|&i| ((nodes[i][0] - cx).powi(2) + (nodes[i][1] - cy).powi(2)).sqrt())
-            .fold(0.0, f64::max)
-            .max(f64::MIN_POSITIVE);
-        let mode_value = |dof: usize, k: usize| -> f64 {
-            let (i, c) = (dof / 2, dof % 2);
-            match k {
-                0 => (c == 0) as i32 as f64,
-                1 => (c == 1) as i32 as f64,
-                _ => {
-                    if c == 0 {
-                        -(nodes[i][1] - cy) / size
-                    } else {
-                        (nodes[i][0] - cx) / size
-                    }
-                }
-            }
-        };
-        // AᵀA over the fixed DOFs of this body; its null space = surviving combinations.
-        let mut ata = Matrix3::<f64>::zeros();
-        let mut n_rows = 0usize;
-        for &i in &members {
-            for c in 0..2 {
-                let dof = 2 * i + c;
-                if fixed[dof] {
-                    n_rows += 1;
-                    for k in 0..3 {
-                        for l in 0..3 {
-                            ata[(k, l)] += mode_value(dof, k) * mode_value(dof, l);
-                        }
-                    }
-                }
-            }
-        }
-        let threshold = MODE_EIGENVALUE * (n_rows.max(1) as f64);
+        let frame = BodyFrame::of(nodes, &members);
         let mut body_vectors: Vec<Vec<f64>> = Vec::new();
-        for coef in surviving_combinations(&ata, threshold, plane) {
+        for coef in surviving_combinations(&frame.supports_gram(&members, fixed), frame.threshold(&members, fixed), plane) {
             let mut v = vec![0.0; fixed.len()];
             for &i in &members {
                 for c in 0..2 {
                     let dof = 2 * i + c;
                     if !fixed[dof] {
-                        v[dof] = (0..3).map(|l| coef[l] * mode_value(dof, l)).sum();
+                        v[dof] = (0..3).map(|l| coef[l] * frame.mode_value(dof, l)).sum();
                     }
                 }
             }
@@ -101,6 +57,59 @@ pub fn free_modes(
         });
     }
     (modes, pinned)
+}
+
+/// A body's centroid and size, so that its rotation mode has O(1) entries.
+struct BodyFrame<'n> {
+    nodes: &'n [[f64; 2]],
+    centre: (f64, f64),
+    size: f64,
+}
+
+impl<'n> BodyFrame<'n> {
+    fn of(nodes: &'n [[f64; 2]], members: &[usize]) -> Self {
+        let m = members.len() as f64;
+        let (cx, cy) = members.iter().fold((0.0, 0.0), |s, &i| (s.0 + nodes[i][0] / m, s.1 + nodes[i][1] / m));
+        let size = members.iter().map(|&i| ((nodes[i][0] - cx).powi(2) + (nodes[i][1] - cy).powi(2)).sqrt()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+        BodyFrame { nodes, centre: (cx, cy), size }
+    }
+
+    /// Entry `dof` of rigid mode k: translation x, translation y, rotation about the centre.
+    fn mode_value(&self, dof: usize, k: usize) -> f64 {
+        let (i, c) = (dof / 2, dof % 2);
+        let (cx, cy) = self.centre;
+        match k {
+            0 => (c == 0) as i32 as f64,
+            1 => (c == 1) as i32 as f64,
+            _ => {
+                if c == 0 {
+                    -(self.nodes[i][1] - cy) / self.size
+                } else {
+                    (self.nodes[i][0] - cx) / self.size
+                }
+            }
+        }
+    }
+
+    /// AᵀA of the rigid modes' rows at the body's fixed DOFs: its null space is the
+    /// combinations the supports leave free.
+    fn supports_gram(&self, members: &[usize], fixed: &[bool]) -> Matrix3<f64> {
+        let mut ata = Matrix3::<f64>::zeros();
+        for dof in members.iter().flat_map(|&i| [2 * i, 2 * i + 1]).filter(|&d| fixed[d]) {
+            for k in 0..3 {
+                for l in 0..3 {
+                    ata[(k, l)] += self.mode_value(dof, k) * self.mode_value(dof, l);
+                }
+            }
+        }
+        ata
+    }
+
+    /// The eigenvalue of AᵀA below which a combination survives: `MODE_EIGENVALUE` × its rows.
+    fn threshold(&self, members: &[usize], fixed: &[bool]) -> f64 {
+        let n_rows = members.iter().flat_map(|&i| [2 * i, 2 * i + 1]).filter(|&d| fixed[d]).count();
+        MODE_EIGENVALUE * (n_rows.max(1) as f64)
+    }
 }
 
 /// The axial translation of a ring body, pinned at the axial DOF of its node of largest radius.

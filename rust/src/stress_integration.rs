@@ -17,7 +17,8 @@
 //! again where that elastic path leaves the surface (a reversal within one increment). A
 //! plastic element an equilibrium correction left inside its surface is elastic up to it.
 
-use crate::material::{von_mises, von_mises_squared, yield_scale, Material, Plane};
+use crate::material::{von_mises, von_mises_squared, yield_scale};
+use crate::section::Section;
 use nalgebra::Vector4;
 
 /// Largest relative difference of the Euler and Heun stress increments of an accepted
@@ -55,17 +56,18 @@ pub struct Integrated {
 
 /// Integrate the element's stress over its strain increment `e` = (Δεx, Δεy, Δεz, Δγxy) (the
 /// rows of its strain operator: Δεz = 0 in plane strain and plane stress, the hoop strain in
-/// axisymmetry).
-pub fn integrate(m: &Material, plane: Plane, start: &PointState, e: &Vector4<f64>) -> Integrated {
-    let elastic = m.tangent(&start.stress, false);
-    let d_elastic = elastic.stress_increment(plane, e);
+/// axisymmetry), with the section's material under its stress state.
+pub fn integrate(section: &Section, start: &PointState, e: &Vector4<f64>) -> Integrated {
+    let m = &section.material;
+    let elastic = section.tangent(&start.stress, false);
+    let d_elastic = section.stress_increment(&elastic, e);
     let mut out = Integrated { end: PointState { stress: start.stress + d_elastic, ..*start }, yielded_at: None, unloaded: false, substeps: 0 };
     if !m.is_plastic() || strain_size(e) == 0.0 {
         return out;
     }
     let sy = m.current_yield(start.plastic_strain);
     let entry = if start.plastic {
-        let flowing = m.tangent(&start.stress, true).plastic_multiplier(plane, e);
+        let flowing = section.plastic_multiplier(&section.tangent(&start.stress, true), e);
         if flowing <= LOADING_NOISE * strain_size(e) {
             out.unloaded = true;
             reentry(&start.stress, &d_elastic, sy)
@@ -90,7 +92,7 @@ pub fn integrate(m: &Material, plane: Plane, start: &PointState, e: &Vector4<f64
         out.yielded_at = Some(r);
     }
     let on_surface = start.stress + d_elastic * r;
-    let (stress, plastic_strain, substeps) = flow(m, plane, on_surface, start.plastic_strain, &(e * (1.0 - r)));
+    let (stress, plastic_strain, substeps) = flow(section, on_surface, start.plastic_strain, &(e * (1.0 - r)));
     out.end = PointState { stress, plastic_strain, plastic: true };
     out.substeps = substeps;
     out
@@ -118,13 +120,13 @@ fn reentry(stress: &Vector4<f64>, d_elastic: &Vector4<f64>, sy: f64) -> Option<f
 
 /// Plastic flow from `stress` (on the yield surface) over the strain increment `e`: modified
 /// Euler sub-steps with error control. Returns the stress, εp and the number of sub-steps.
-fn flow(m: &Material, plane: Plane, mut stress: Vector4<f64>, mut plastic_strain: f64, e: &Vector4<f64>) -> (Vector4<f64>, f64, usize) {
+fn flow(section: &Section, mut stress: Vector4<f64>, mut plastic_strain: f64, e: &Vector4<f64>) -> (Vector4<f64>, f64, usize) {
     let (mut done, mut step, mut retried, mut substeps) = (0.0, 1.0, false, 0);
-    let d_elastic = m.tangent(&stress, false).stress_increment(plane, e); // D Δε, linear in the step
+    let d_elastic = section.stress_increment(&section.tangent(&stress, false), e); // D Δε, linear in the step
     while done < 1.0 {
         let (es, des) = (e * step, d_elastic * step);
-        let (ds1, dk1) = m.plastic_increment(plane, &stress, &es, &des);
-        let (ds2, dk2) = m.plastic_increment(plane, &(stress + ds1), &es, &des);
+        let (ds1, dk1) = section.plastic_increment(&stress, &es, &des);
+        let (ds2, dk2) = section.plastic_increment(&(stress + ds1), &es, &des);
         let (dk1, dk2) = (dk1.max(0.0), dk2.max(0.0));
         let next = stress + (ds1 + ds2) * 0.5;
         let error = tensor_norm(&(ds2 - ds1)) / (2.0 * tensor_norm(&next).max(f64::MIN_POSITIVE));
@@ -135,7 +137,7 @@ fn flow(m: &Material, plane: Plane, mut stress: Vector4<f64>, mut plastic_strain
             continue;
         }
         plastic_strain += 0.5 * (dk1 + dk2);
-        stress = onto_yield_surface(&next, m.current_yield(plastic_strain), plane);
+        stress = section.onto_yield_surface(&next, section.material.current_yield(plastic_strain));
         done += step;
         let mut grow = if error > 0.0 { (0.9 * (STRESS_TOLERANCE / error).sqrt()).min(1.1) } else { 1.1 };
         if retried {
@@ -153,44 +155,18 @@ fn tensor_norm(s: &Vector4<f64>) -> f64 {
     (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * s[3] * s[3]).sqrt()
 }
 
-/// A plastic element's stress at an increment's start: beyond its yield surface (the drift of
-/// the last correction) scaled back onto it; inside it (a correction that unloaded it along
-/// D_ep) kept, since `integrate` takes it elastically up to the surface. (Scaling it out onto
-/// the surface instead is a stress change without a strain, an out-of-balance force that the
-/// next correction undoes along D_ep, leaving the same drift inside again: in plane stress,
-/// where the scaling is radial, the drift then never decays and the increments stall.)
-pub fn not_beyond_surface(stress: &Vector4<f64>, sy: f64, plane: Plane) -> Vector4<f64> {
-    if von_mises(stress) > sy {
-        onto_yield_surface(stress, sy, plane)
-    } else {
-        *stress
-    }
-}
-
-/// The stress scaled back onto the yield surface σe = σy: the deviator at fixed mean stress
-/// (plane strain, axisymmetry), the in-plane stress keeping σz = 0 (plane stress).
-pub fn onto_yield_surface(stress: &Vector4<f64>, sy: f64, plane: Plane) -> Vector4<f64> {
-    let se = von_mises(stress);
-    if !(se > 0.0) {
-        return *stress;
-    }
-    let factor = sy / se;
-    match plane {
-        Plane::Stress => stress * factor,
-        Plane::Strain | Plane::Axisymmetric => {
-            let p = (stress[0] + stress[1] + stress[2]) / 3.0;
-            let mean = Vector4::new(p, p, p, 0.0);
-            mean + (stress - mean) * factor
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::{Material, Plane};
 
     fn steel(h: f64) -> Material {
         Material { young: 210_000.0, poisson: 0.3, yield_stress: 250.0, hardening: h }
+    }
+
+    /// The material under a plane's stress state.
+    fn at(m: &Material, plane: Plane) -> Section {
+        Section::new(*m, plane.stress_state())
     }
 
     fn start() -> PointState {
@@ -205,7 +181,7 @@ mod tests {
             let m = steel(h);
             let g = m.young / (2.0 * (1.0 + m.poisson));
             let gamma = 5.0 * m.yield_stress / (3f64.sqrt() * g); // 5 × the yield strain
-            let out = integrate(&m, Plane::Strain, &start(), &Vector4::new(0.0, 0.0, 0.0, gamma));
+            let out = integrate(&at(&m, Plane::Strain), &start(), &Vector4::new(0.0, 0.0, 0.0, gamma));
             let tau_y = m.yield_stress / 3f64.sqrt();
             let gamma_y = tau_y / g;
             let tau = tau_y + g * h / (h + 3.0 * g) * (gamma - gamma_y);
@@ -229,7 +205,7 @@ mod tests {
         let eps_y = m.yield_stress * (1.0 - nu) / e;
         let eps = 4.0 * eps_y;
         let sigma = m.yield_stress + (eps - eps_y) / ((1.0 - nu) / e + 0.5 / h);
-        let out = integrate(&m, Plane::Stress, &start(), &Vector4::new(eps, eps, 0.0, 0.0));
+        let out = integrate(&at(&m, Plane::Stress), &start(), &Vector4::new(eps, eps, 0.0, 0.0));
         for i in 0..2 {
             assert!((out.end.stress[i] - sigma).abs() < 1e-9 * sigma, "σ{i} = {} vs {sigma}", out.end.stress[i]);
         }
@@ -248,16 +224,16 @@ mod tests {
         let m = steel(1_000.0);
         let g = m.young / (2.0 * (1.0 + m.poisson));
         let gamma = 2.0 * m.yield_stress / (3f64.sqrt() * g);
-        let sheared = integrate(&m, Plane::Strain, &start(), &Vector4::new(0.0, 0.0, 0.0, gamma)).end;
+        let sheared = integrate(&at(&m, Plane::Strain), &start(), &Vector4::new(0.0, 0.0, 0.0, gamma)).end;
         let e = Vector4::new(3.0 * m.yield_stress / m.young, -1.0 * m.yield_stress / m.young, 0.0, 0.2 * gamma);
-        let out = integrate(&m, Plane::Strain, &sheared, &e);
+        let out = integrate(&at(&m, Plane::Strain), &sheared, &e);
         let n = 200_000;
         let (mut s, mut k) = (sheared.stress, sheared.plastic_strain);
         for _ in 0..n {
-            let t = m.tangent(&s, true);
-            let es = e / n as f64;
-            k += t.plastic_multiplier(Plane::Strain, &es).max(0.0);
-            s += t.stress_increment(Plane::Strain, &es);
+            let (sec, es) = (at(&m, Plane::Strain), e / n as f64);
+            let t = sec.tangent(&s, true);
+            k += sec.plastic_multiplier(&t, &es).max(0.0);
+            s += sec.stress_increment(&t, &es);
         }
         let scale = m.yield_stress;
         assert!((out.end.stress - s).norm() < 5e-5 * scale, "Δσ = {:e}", (out.end.stress - s).norm());
@@ -278,17 +254,17 @@ mod tests {
         let tau_y = m.yield_stress / 3f64.sqrt();
         let inside = PointState { stress: Vector4::new(0.0, 0.0, 0.0, 0.99 * tau_y), plastic_strain: 0.0, plastic: true };
         let gamma = 2.0 * tau_y / g;
-        let out = integrate(&m, Plane::Strain, &inside, &Vector4::new(0.0, 0.0, 0.0, gamma));
+        let out = integrate(&at(&m, Plane::Strain), &inside, &Vector4::new(0.0, 0.0, 0.0, gamma));
         let elastic = 0.01 * tau_y / g;
         let tau = tau_y + g * m.hardening / (m.hardening + 3.0 * g) * (gamma - elastic);
         assert!((out.end.stress[3] - tau).abs() < 1e-9 * tau, "τ = {} vs {tau}", out.end.stress[3]);
         assert!(out.end.plastic && !out.unloaded && out.yielded_at.is_none());
-        let short = integrate(&m, Plane::Strain, &inside, &Vector4::new(0.0, 0.0, 0.0, 0.5 * elastic));
+        let short = integrate(&at(&m, Plane::Strain), &inside, &Vector4::new(0.0, 0.0, 0.0, 0.5 * elastic));
         assert!(short.end.plastic && short.end.plastic_strain == 0.0);
         assert!((short.end.stress[3] - (0.99 * tau_y + 0.5 * elastic * g)).abs() < 1e-12 * tau_y);
         for plane in [Plane::Strain, Plane::Stress] {
-            assert_eq!(not_beyond_surface(&inside.stress, m.yield_stress, plane), inside.stress);
-            let beyond = not_beyond_surface(&(inside.stress * 1.1), m.yield_stress, plane);
+            assert_eq!(at(&m, plane).not_beyond_surface(&inside.stress, m.yield_stress), inside.stress);
+            let beyond = at(&m, plane).not_beyond_surface(&(inside.stress * 1.1), m.yield_stress);
             assert!((von_mises(&beyond) - m.yield_stress).abs() < 1e-12 * m.yield_stress);
         }
     }
@@ -301,12 +277,12 @@ mod tests {
         let m = steel(0.0);
         let g = m.young / (2.0 * (1.0 + m.poisson));
         let gamma_y = m.yield_stress / (3f64.sqrt() * g);
-        let loaded = integrate(&m, Plane::Strain, &start(), &Vector4::new(0.0, 0.0, 0.0, 1.5 * gamma_y)).end;
-        let back = integrate(&m, Plane::Strain, &loaded, &Vector4::new(0.0, 0.0, 0.0, -gamma_y));
+        let loaded = integrate(&at(&m, Plane::Strain), &start(), &Vector4::new(0.0, 0.0, 0.0, 1.5 * gamma_y)).end;
+        let back = integrate(&at(&m, Plane::Strain), &loaded, &Vector4::new(0.0, 0.0, 0.0, -gamma_y));
         assert!(back.unloaded && !back.end.plastic && back.yielded_at.is_none());
         assert!((back.end.stress[3] - (loaded.stress[3] - g * gamma_y)).abs() < 1e-9 * m.yield_stress);
         assert_eq!(back.end.plastic_strain, loaded.plastic_strain);
-        let reversed = integrate(&m, Plane::Strain, &loaded, &Vector4::new(0.0, 0.0, 0.0, -3.0 * gamma_y));
+        let reversed = integrate(&at(&m, Plane::Strain), &loaded, &Vector4::new(0.0, 0.0, 0.0, -3.0 * gamma_y));
         let r = reversed.yielded_at.unwrap();
         assert!((r - 2.0 / 3.0).abs() < 1e-9, "re-yield at {r}: 2γy of the 3γy reversal are elastic");
         assert!((reversed.end.stress[3] + m.yield_stress / 3f64.sqrt()).abs() < 1e-9 * m.yield_stress);

@@ -1,100 +1,110 @@
-//! Advancing the state to the event (paper §4 step 5, eqs. 58–62) and switching the statuses
-//! of the events that happen there (step 6).
+//! Advancing the state to the event (paper §4 step 5, eqs. 58–62).
 
-use super::engine::{since, Engine};
-use std::time::Instant;
-use super::plasticity::IncrementStart;
+use super::clock::Phase;
+use super::engine::Engine;
+use super::plasticity::{integrate_stresses, place_integrated};
+use super::problem::Problem;
 use super::selection::Selection;
-use super::state::{State, TrialIncrement};
+use super::state::{IncrementStart, State, TrialIncrement};
 use crate::contact::Status;
-use crate::events::Candidate;
 use crate::model::EventKind;
 
-impl Engine<'_> {
-    /// u, σ, λ += S × trial (eqs. 58–61), the stresses of plastic elements (and, grouped, of
-    /// those that yield inside) integrated (`plasticity`); slipping pairs on the Coulomb cone
-    /// (eq. 62). Returns whether any stress was integrated (it then needs an equilibrium
-    /// correction; `inside_events` tells what happened inside).
-    pub fn advance(&mut self, state: &mut State, trial: &TrialIncrement, sel: &Selection) -> bool {
-        let t0 = Instant::now();
-        let integrated = self.integrate_stresses(state, trial, sel);
-        self.timings.integration += since(t0);
-        let mut start = (!integrated.is_empty())
-            .then(|| IncrementStart { stress: state.stress.clone(), plastic_strain: state.plastic_strain.clone(), plastic: state.plastic.clone(), u: state.u.clone(), yielded_at: Default::default() });
-        state.advance(trial, sel.scale);
-        state.load_fraction = sel.phi;
-        if let Some(start) = &mut start {
-            self.place_integrated(state, &integrated, start);
-        }
-        self.increment_start = start;
-        // Elements that reach their surface at this increment's end are plastic for the
-        // correction already (their tangent then comes with the others: one update per step).
-        for c in sel.group.iter().filter(|c| c.kind == EventKind::Yield) {
-            state.plastic[c.entity] = true;
-        }
-        self.project_onto_cone(state);
-        !integrated.is_empty()
+/// u, σ, λ += S × trial (eqs. 58–61), the stresses of plastic elements (and, in a plastic
+/// window, of those that yield inside) integrated (`plasticity`); slipping pairs on the
+/// Coulomb cone (eq. 62). Returns the increment's start when stresses were integrated: it then
+/// needs an equilibrium correction, and tells what yielded inside.
+pub(super) fn to_event(eng: &Engine, state: &mut State, trial: &TrialIncrement, sel: &Selection) -> Option<IncrementStart> {
+    let integrated = {
+        let _t = eng.clock.time(Phase::Integration);
+        integrate_stresses(&eng.problem, state, trial, sel)
+    };
+    let mut start = (!integrated.is_empty()).then(|| IncrementStart::of(state));
+    state.advance(trial, sel.scale);
+    state.load_fraction = sel.phi;
+    if let Some(start) = &mut start {
+        place_integrated(state, &integrated, start);
     }
-
-    /// λ_t = −d μ λ_n for slipping pairs (round-off removed). Returns the largest change:
-    /// more than round-off where the last correction left a slipping pair off its cone.
-    pub(super) fn project_onto_cone(&self, state: &mut State) -> f64 {
-        let mut largest: f64 = 0.0;
-        for (p, st) in state.status.iter().enumerate() {
-            if let Status::Slip { .. } = st {
-                let on_cone = self.pairs[p].slip_ratio(*st) * state.lambda_n[p];
-                largest = largest.max((on_cone - state.lambda_t[p]).abs());
-                state.lambda_t[p] = on_cone;
-            }
-        }
-        largest
+    // Elements that reach their surface at this increment's end are plastic for the
+    // correction already (their tangent then comes with the others: one update per step).
+    for c in sel.group.iter().filter(|c| c.kind == EventKind::Yield) {
+        state.plastic[c.entity] = true;
     }
-
-    /// Apply one event's status change and the forces it sets. Returns the force it moved: the
-    /// change of λ_t of a slip (a pair the equilibrium correction moved off the cone is put back
-    /// on it), the forces a separation drops (one applied with a tie, before its own scale,
-    /// still carries λ_n up to tie_tol × its rate): a force jump that the caller rebalances.
-    pub fn switch(&self, state: &mut State, c: &Candidate) -> f64 {
-        let p = c.entity;
-        let before = if c.kind == EventKind::StickToSlip { state.lambda_t[p] } else { 0.0 };
-        let dropped = if c.kind == EventKind::Separate { state.lambda_n[p].abs().max(state.lambda_t[p].abs()) } else { 0.0 };
-        match c.kind {
-            EventKind::Close => {
-                state.status[p] = self.pairs[p].closed_status();
-                state.rtd_stick[p] = self.rtd(state, p);
-            }
-            EventKind::Separate => {
-                state.status[p] = Status::Open;
-                state.lambda_n[p] = 0.0;
-                state.lambda_t[p] = 0.0;
-            }
-            EventKind::StickToSlip => {
-                state.status[p] = Status::Slip { direction: c.direction };
-                state.lambda_t[p] = self.pairs[p].slip_ratio(state.status[p]) * state.lambda_n[p];
-            }
-            EventKind::SlipToStick => {
-                state.status[p] = Status::Stick;
-                state.rtd_stick[p] = self.rtd(state, p);
-            }
-            EventKind::Yield => state.plastic[p] = true,
-            EventKind::Unload => state.plastic[p] = false,
-            EventKind::Frozen | EventKind::FrozenElement => {}
-        }
-        if c.kind == EventKind::StickToSlip { (state.lambda_t[p] - before).abs() } else { dropped }
-    }
+    project_onto_cone(&eng.problem, state);
+    start
 }
 
-/// The events that take pair p from status `from` to `to` (for the rate problem's statuses).
-pub(super) fn transitions(p: usize, from: Status, to: Status) -> Vec<Candidate> {
-    let event = |kind, direction| Candidate { scale: 0.0, entity: p, kind, direction };
-    match (from, to) {
-        (a, b) if a == b => vec![],
-        (_, Status::Open) => vec![event(EventKind::Separate, 0)],
-        (Status::Open, Status::Slip { direction }) if direction != 0 => vec![event(EventKind::Close, 0), event(EventKind::StickToSlip, direction)],
-        (Status::Open, _) => vec![event(EventKind::Close, 0)],
-        (Status::Slip { .. }, Status::Stick) => vec![event(EventKind::SlipToStick, 0)],
-        (Status::Stick, Status::Slip { direction }) => vec![event(EventKind::StickToSlip, direction)],
-        (Status::Slip { .. }, Status::Slip { direction }) => vec![event(EventKind::SlipToStick, 0), event(EventKind::StickToSlip, direction)],
-        (Status::Stick, Status::Stick) => vec![],
+/// λ_t = −d μ λ_n for slipping pairs (eq. 62; round-off removed). Returns the largest change:
+/// more than round-off where the last correction left a slipping pair off its cone.
+pub(super) fn project_onto_cone(problem: &Problem, state: &mut State) -> f64 {
+    let mut largest: f64 = 0.0;
+    for (p, st) in state.status.iter().enumerate() {
+        if let Status::Slip { .. } = st {
+            let on_cone = problem.pairs[p].slip_ratio(*st) * state.lambda_n[p];
+            largest = largest.max((on_cone - state.lambda_t[p]).abs());
+            state.lambda_t[p] = on_cone;
+        }
+    }
+    largest
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::anticycling::AntiCycling;
+    use super::super::clock::Clock;
+    use super::super::scenes::*;
+    use super::super::selection::select;
+    use super::super::stepping::Stepping;
+    use super::super::switching::switch;
+    use super::super::trial::remaining_load;
+    use super::*;
+
+    /// Round-off of a few operations on O(1) numbers (~1e-15 each).
+    const ROUND_OFF: f64 = 1e-12;
+
+    /// Advanced to the closure of the wall's gap (S_c = g E / (ν q)): the gap is g − S Δu_x = 0
+    /// (eq. 58), u = S Δu (eq. 59), the open pair carries nothing (eq. 60), and with nothing
+    /// integrated (elastic) no correction is needed.
+    #[test]
+    fn advancing_to_a_closure_closes_the_gap() {
+        let (q, g) = (2.0, 1e-4);
+        let m = poisson_wall(q, g);
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let cycles = AntiCycling::new(1, 0, 4);
+        let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+        let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+        assert!(to_event(&eng, &mut state, &trial, &sel).is_none());
+        let s = g * E / (NU * q);
+        assert!(eng.problem.gap(&state, 0).abs() < ROUND_OFF * g, "gap {}", eng.problem.gap(&state, 0));
+        // reduced space: u over the pair's DOFs (node 2: x, y)
+        assert!((state.u[0] - s * NU * q / E).abs() < ROUND_OFF * g && (state.u[1] + s * q / E).abs() < ROUND_OFF * g);
+        assert!((state.load_fraction - s).abs() < ROUND_OFF && state.lambda_n[0] == 0.0);
+        switch(&eng.problem, &mut state, &sel.group[0]);
+        assert!(state.status[0].is_closed());
+    }
+
+    /// A stuck pair advanced to its slip: λ_n = N held, λ_t = S_f T = μ N on the cone (eqs.
+    /// 60–61); switched, it slips along +x with λ_t = −d μ λ_n (eq. 62, d = −1), and a λ_t the
+    /// last correction moved off the cone is put back on it, the jump reported.
+    #[test]
+    fn advancing_a_stuck_pair_to_its_slip_puts_it_on_the_cone() {
+        let (n, t, mu) = (3.0, 1.0, 0.2);
+        let m = pressed_then_sheared(n, t, mu);
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let cycles = AntiCycling::new(1, 0, 4);
+        let (press, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+        state.advance(&press, 1.0);
+        eng.begin_stage(1, &mut state);
+        let (shear, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+        let sel = select(&eng.problem, &state, &shear, &cycles, f64::INFINITY, Stepping::EventByEvent);
+        to_event(&eng, &mut state, &shear, &sel);
+        assert!((state.lambda_n[0] - n).abs() < ROUND_OFF * n && (state.lambda_t[0] - mu * n).abs() < ROUND_OFF * n);
+        switch(&eng.problem, &mut state, &sel.group[0]);
+        assert_eq!(state.status[0], Status::Slip { direction: -1 });
+        assert!((state.lambda_t[0] - mu * n).abs() < ROUND_OFF * n);
+        state.lambda_t[0] = 0.9 * mu * n;
+        let jump = project_onto_cone(&eng.problem, &mut state);
+        assert!((jump - 0.1 * mu * n).abs() < ROUND_OFF * n && (state.lambda_t[0] - mu * n).abs() < ROUND_OFF * n);
     }
 }

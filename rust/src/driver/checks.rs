@@ -2,7 +2,6 @@
 //! 1–2), and the limit-load stop (a plastic mechanism).
 
 use super::engine::Engine;
-use super::plasticity::Correction;
 use super::selection::Selection;
 use super::space::Space;
 use super::state::{State, TrialIncrement};
@@ -20,78 +19,99 @@ const FORCE_ROUND_OFF: f64 = 1e-9;
 const CORRECTION_GAP_ALLOWANCE: f64 = 2.0;
 const CORRECTION_FORCE_ALLOWANCE: f64 = 4.0;
 
-impl Engine<'_> {
-    /// |P(s) − P_σ + Wλ| / |P| over all DOFs, from the stresses of a full state, and the internal
-    /// force P_σ it used (reused by the next trial from the same stresses).
-    pub fn full_residual(&self, state: &State) -> (f64, Vec<f64>) {
-        let internal = self.internal_force(&state.stress);
-        let r = self.residual_from(&internal, state, state.load_fraction);
-        (r.iter().map(|v| v * v).sum::<f64>().sqrt() / self.scales.load_norm, internal)
-    }
+/// The size of the last equilibrium correction (displacement, force): the correction moves
+/// nodes and contact forces by that much with no event of its own, so the contact checks
+/// allow for it (`check_contact`).
+#[derive(Clone, Copy, Default)]
+pub(super) struct Correction {
+    pub displacement: f64,
+    pub force: f64,
+}
 
-    /// The relative equilibrium residual of the loop's state. In the reduced space u =
-    /// K#(φP + Wλ) + Nα is in equilibrium exactly when φP + Wλ is orthogonal to the free rigid
-    /// modes (K K# y = y for y ⊥ N): only that part is measured here; snapshots check in full.
-    /// (With stages, P(s) is the stage's load and K#P the sum of the stages' K# loads.)
-    pub fn equilibrium_residual(&self, state: &State) -> (f64, Option<Vec<f64>>) {
-        if let Space::Full(_) = self.space {
-            let (r, internal) = self.full_residual(state);
-            return (r, Some(internal));
-        }
-        let r2: f64 = self
-            .mode_vectors
-            .iter()
-            .enumerate()
-            .map(|(k, mode)| {
-                let contact: f64 = self.pairs.iter().enumerate().map(|(p, pair)| state.lambda_n[p] * pair.w_n.dot(mode) + state.lambda_t[p] * pair.w_t.dot(mode)).sum();
-                (self.mode_force_at(k, state.load_fraction) + contact).powi(2)
-            })
-            .sum();
-        (r2.sqrt() / self.scales.load_norm, None)
+impl Correction {
+    /// Grow by `s` × a correction increment.
+    pub fn include(&mut self, c: &TrialIncrement, s: f64) {
+        let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        self.displacement = self.displacement.max(s * largest(&c.du));
+        self.force = self.force.max(s * largest(&c.dlambda_n).max(largest(&c.dlambda_t)));
     }
+}
 
-    /// An error unless the residual is within `equilibrium_tol`.
-    pub fn check_equilibrium(&self, residual: f64, phi: f64, step: usize) -> Result<()> {
-        let tol = self.model.options.equilibrium_tol;
-        if residual > tol {
-            bail!(Equilibrium, "equilibrium residual {residual:.3e} exceeds {tol:.1e} at load fraction {phi:.6} (step {step}): the linear system is ill-conditioned; check for nearly unsupported bodies or extreme element size ratios");
-        }
-        Ok(())
-    }
+/// |P(s) − P_σ + Wλ| / |P| over all DOFs, from the stresses of a full state, and the internal
+/// force P_σ it used (reused by the next trial from the same stresses).
+pub(super) fn full_residual(eng: &Engine, state: &State) -> (f64, Vec<f64>) {
+    let problem = &eng.problem;
+    let internal = problem.internal_force(&state.stress);
+    let r = eng.loads.residual_from(problem, &internal, state, state.load_fraction);
+    (r.iter().map(|v| v * v).sum::<f64>().sqrt() / problem.scales.load_norm, internal)
+}
 
-    /// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb's cone. A violation
-    /// by a pair the last-resort anti-cycling rule froze is reported as an ill-posed scene.
-    pub fn check_contact(&self, state: &State, frozen: &[bool], correction: Correction) -> Result<()> {
-        let umax = self.largest_displacement(&state.u, state.load_fraction);
-        let gap_tol = GAP_ROUND_OFF * umax + GAP_COORDINATE * self.scales.length + CORRECTION_GAP_ALLOWANCE * correction.displacement;
-        let force_tol = FORCE_ROUND_OFF * self.scales.force + CORRECTION_FORCE_ALLOWANCE * correction.force;
-        let phi = state.load_fraction;
-        for (p, pair) in self.pairs.iter().enumerate() {
-            let g = self.gap(state, p);
-            let (ln, lt) = (state.lambda_n[p], state.lambda_t[p]);
-            let closed = state.status[p].is_closed();
-            let violation = if g < -gap_tol {
-                format!("penetrates by {:.3e}", -g)
-            } else if closed && ln < -force_tol {
-                format!("carries a tensile force {ln:.3e}")
-            } else if closed && lt.abs() > pair.mu * ln + force_tol {
-                format!("violates Coulomb's law (|λ_t| = {:.3e} > μλ_n = {:.3e})", lt.abs(), pair.mu * ln)
-            } else {
-                continue;
-            };
-            let name = self.model.pair_name(p);
-            if frozen[p] {
-                bail!(IllPosed, "{name} {violation} at load fraction {phi:.6}: its statuses cycled at zero load increment, the complementarity (rate) problem found no admissible set, and the last-resort anti-cycling rule froze it; the scene may be ill-posed for mu = {}: lower mu, or load it differently", pair.mu);
-            }
-            if correction.displacement > 0.0 || correction.force > 0.0 {
-                // The equilibrium correction after a plastic return moves contact forces with no
-                // event of its own; beyond its allowance that is the drift control's limit.
-                bail!(Equilibrium, "{name} {violation} at load fraction {phi:.6} after the equilibrium correction of the plastic drift: lower solver.max_stress_step (default 0.05) or refine the mesh");
-            }
-            bail!(Internal, "{name} {violation} at load fraction {phi:.6}: an event was missed (a bug; please report it with the case)");
-        }
-        Ok(())
+/// The relative equilibrium residual of the loop's state, and the internal force it used (full
+/// space). In the reduced space u = K#(φP + Wλ) + Nα is in equilibrium exactly when φP + Wλ
+/// is orthogonal to the free rigid modes (K K# y = y for y ⊥ N): only that part is measured
+/// here; snapshots check in full. (With stages, P(s) is the stage's load and K#P the sum of the
+/// stages' K# loads.)
+pub(super) fn equilibrium_residual(eng: &Engine, state: &State) -> (f64, Option<Vec<f64>>) {
+    let problem = &eng.problem;
+    if let Space::Full = problem.space {
+        let (r, internal) = full_residual(eng, state);
+        return (r, Some(internal));
     }
+    let r2: f64 = problem
+        .bodies
+        .mode_vectors
+        .iter()
+        .enumerate()
+        .map(|(k, mode)| {
+            let contact: f64 = problem.pairs.iter().enumerate().map(|(p, pair)| state.lambda_n[p] * pair.w_n.dot(mode) + state.lambda_t[p] * pair.w_t.dot(mode)).sum();
+            (eng.loads.mode_force_at(k, state.load_fraction) + contact).powi(2)
+        })
+        .sum();
+    (r2.sqrt() / problem.scales.load_norm, None)
+}
+
+/// An error unless the residual is within `equilibrium_tol`.
+pub(super) fn check_equilibrium(eng: &Engine, residual: f64, phi: f64, step: usize) -> Result<()> {
+    let tol = eng.problem.model.options.equilibrium_tol;
+    if residual > tol {
+        bail!(Equilibrium, "equilibrium residual {residual:.3e} exceeds {tol:.1e} at load fraction {phi:.6} (step {step}): the linear system is ill-conditioned; check for nearly unsupported bodies or extreme element size ratios");
+    }
+    Ok(())
+}
+
+/// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb's cone. A violation by a
+/// pair the last-resort anti-cycling rule froze is reported as an ill-posed scene.
+pub(super) fn check_contact(eng: &Engine, state: &State, frozen: &[bool], correction: Correction) -> Result<()> {
+    let problem = &eng.problem;
+    let umax = eng.loads.largest_displacement(problem, &state.u, state.load_fraction);
+    let gap_tol = GAP_ROUND_OFF * umax + GAP_COORDINATE * problem.scales.length + CORRECTION_GAP_ALLOWANCE * correction.displacement;
+    let force_tol = FORCE_ROUND_OFF * problem.scales.force + CORRECTION_FORCE_ALLOWANCE * correction.force;
+    let phi = state.load_fraction;
+    for (p, pair) in problem.pairs.iter().enumerate() {
+        let g = problem.gap(state, p);
+        let (ln, lt) = (state.lambda_n[p], state.lambda_t[p]);
+        let closed = state.status[p].is_closed();
+        let violation = if g < -gap_tol {
+            format!("penetrates by {:.3e}", -g)
+        } else if closed && ln < -force_tol {
+            format!("carries a tensile force {ln:.3e}")
+        } else if closed && lt.abs() > pair.mu * ln + force_tol {
+            format!("violates Coulomb's law (|λ_t| = {:.3e} > μλ_n = {:.3e})", lt.abs(), pair.mu * ln)
+        } else {
+            continue;
+        };
+        let name = problem.model.pair_name(p);
+        if frozen[p] {
+            bail!(IllPosed, "{name} {violation} at load fraction {phi:.6}: its statuses cycled at zero load increment, the complementarity (rate) problem found no admissible set, and the last-resort anti-cycling rule froze it; the scene may be ill-posed for mu = {}: lower mu, or load it differently", pair.mu);
+        }
+        if correction.displacement > 0.0 || correction.force > 0.0 {
+            // The equilibrium correction after a plastic return moves contact forces with no
+            // event of its own; beyond its allowance that is the drift control's limit.
+            bail!(Equilibrium, "{name} {violation} at load fraction {phi:.6} after the equilibrium correction of the plastic drift: lower solver.max_stress_step (default 0.05) or refine the mesh");
+        }
+        bail!(Internal, "{name} {violation} at load fraction {phi:.6}: an event was missed (a bug; please report it with the case)");
+    }
+    Ok(())
 }
 
 /// The limit-load stop: with a plastic mechanism the tangent turns (nearly) singular and the
@@ -108,10 +128,12 @@ pub(super) struct LimitLoad {
 
 impl LimitLoad {
     pub fn check(&mut self, eng: &Engine, state: &State, trial: &TrialIncrement, sel: &Selection) -> Option<StopReason> {
-        if eng.is_reduced() || sel.zero_length() {
+        let problem = &eng.problem;
+        if problem.is_reduced() || sel.zero_length() {
             return None;
         }
-        let remaining: Vec<f64> = eng.stage.force_change().iter().enumerate().map(|(d, v)| if eng.fixed[d] { 0.0 } else { v * (1.0 - state.load_fraction) }).collect();
+        let fixed = &problem.dofs.fixed;
+        let remaining: Vec<f64> = eng.loads.load.force_change().iter().enumerate().map(|(d, v)| if fixed[d] { 0.0 } else { v * (1.0 - state.load_fraction) }).collect();
         let r2: f64 = remaining.iter().map(|v| v * v).sum();
         let work: f64 = remaining.iter().zip(&trial.du).map(|(a, b)| a * b).sum();
         if r2 <= 0.0 {
@@ -122,6 +144,6 @@ impl LimitLoad {
         let stiffness = if work > 0.0 { r2 / work } else { 0.0 };
         let first = *self.initial_stiffness.get_or_insert(stiffness);
         let ratio = stiffness / first;
-        (stiffness < eng.model.options.limit_stiffness * first).then_some(StopReason::LimitLoad { load_fraction: state.time(), stiffness_ratio: ratio })
+        (stiffness < problem.model.options.limit_stiffness * first).then_some(StopReason::LimitLoad { load_fraction: state.time(), stiffness_ratio: ratio })
     }
 }

@@ -1,24 +1,48 @@
 //! The current stage's loads inside the engine (module `path` holds the path itself): starting
-//! a stage, the trial's prescribed displacement increments and their force −K_fp Δū, the
-//! obstacle shifts Δc, gaps and RTDs with the obstacle's motion, and the force scales of the
-//! whole path that the tolerances use.
+//! a stage, the rigid modes' share of its load, in the reduced space K# of its effective load,
+//! the trial's prescribed displacement increments and obstacle shifts, the out-of-balance
+//! force, and the size of displacements for round-off tolerances.
 
-use super::engine::{since, Engine};
+use super::clock::{Clock, Phase};
 use super::path::StageLoad;
+use super::problem::Problem;
 use super::space::Space;
 use super::state::State;
-use std::time::Instant;
+use super::stiffness::Stiffness;
 
-impl Engine<'_> {
-    /// Start stage k (0-based) at s = 0: its loads, the free rigid modes' share of them, and in
-    /// the reduced space K# of its effective load (one solve per stage).
-    pub fn begin_stage(&mut self, k: usize, state: &mut State) {
-        self.stage = self.path.stage(k, self.map.role.len(), self.global_pairs().len());
-        state.stage = k;
-        state.load_fraction = 0.0;
-        let free = |f: &[f64], d: usize| if self.fixed[d] { 0.0 } else { f[d] };
-        let (start, change) = (self.stage.force_start(), self.stage.force_change());
-        let mode_force = self
+/// The loads of the stage the loop is in.
+pub(super) struct StageLoads {
+    pub load: StageLoad,
+    /// Nᵀ P_start and Nᵀ ΔP of the stage per free rigid mode (the rigid-body rows without a
+    /// full vector per event).
+    pub mode_force: Vec<[f64; 2]>,
+    pub reduced: ReducedLoad,
+}
+
+/// Reduced space: u = Σ u_stage (completed) + s u_stage + K#(W λ) + N α.
+#[derive(Default)]
+pub(super) struct ReducedLoad {
+    /// u_stage = K#(ΔP − K_fp Δū) of the current stage over all DOFs and over the reduced
+    /// DOFs; max |u_stage| for tolerances.
+    pub u_load: Vec<f64>,
+    pub u_load_reduced: Vec<f64>,
+    pub u_load_max: f64,
+    /// Σ u_stage of the completed stages (empty in the first) and its max |·|.
+    pub u_done: Vec<f64>,
+    pub u_done_max: f64,
+}
+
+impl StageLoads {
+    /// The loads of stage k (0-based): its forces, the free rigid modes' share of them, and in
+    /// the reduced space K# of its effective load (one solve per stage), with the completed
+    /// stages' (`done`) accumulated.
+    pub fn begin(problem: &Problem, stiffness: &mut Stiffness, k: usize, done: ReducedLoad, clock: &Clock) -> Self {
+        let load = problem.stage_load(k);
+        let fixed = &problem.dofs.fixed;
+        let free = |f: &[f64], d: usize| if fixed[d] { 0.0 } else { f[d] };
+        let (start, change) = (load.force_start(), load.force_change());
+        let mode_force = problem
+            .bodies
             .modes
             .iter()
             .map(|m| {
@@ -26,10 +50,21 @@ impl Engine<'_> {
                 [dot(start), dot(change)]
             })
             .collect();
-        self.mode_force = mode_force;
-        if self.is_reduced() {
-            self.solve_stage_load();
+        let mut reduced = done;
+        if let Space::Reduced(r) = &problem.space {
+            let (effective, _) = problem.effective_load(&load, &stiffness.tangents.held);
+            let _t = clock.time(Phase::Solves);
+            let u_stage = stiffness.apply_ginv(&problem.dofs.map, std::slice::from_ref(&effective)).pop().unwrap_or_default();
+            if !reduced.u_load.is_empty() {
+                reduced.u_done.resize(reduced.u_load.len(), 0.0);
+                reduced.u_done.iter_mut().zip(&reduced.u_load).for_each(|(a, b)| *a += b);
+                reduced.u_done_max = reduced.u_done.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            }
+            reduced.u_load_reduced = r.dofs.iter().map(|&d| u_stage[d]).collect();
+            reduced.u_load_max = u_stage.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            reduced.u_load = u_stage;
         }
+        StageLoads { load, mode_force, reduced }
     }
 
     /// Nᵀ P(s) of free rigid mode k.
@@ -37,108 +72,62 @@ impl Engine<'_> {
         self.mode_force[k][0] + s * self.mode_force[k][1]
     }
 
-    /// A stage's effective load over the free DOFs, ΔP − K_fp Δū, and its part −K_fp Δū.
-    fn effective_load(&self, stage: &StageLoad) -> (Vec<f64>, Option<Vec<f64>>) {
-        let mut load: Vec<f64> = stage.force_change().iter().enumerate().map(|(d, v)| if self.fixed[d] { 0.0 } else { *v }).collect();
-        let held = self.prescribed_force(&stage.prescribed_changes());
-        if let Some(f) = &held {
-            load.iter_mut().zip(f).for_each(|(l, x)| *l += x);
-        }
-        (load, held)
-    }
-
-    /// Reduced space: u_stage = K#(ΔP − K_fp Δū) over all DOFs and at the reduced DOFs; the
-    /// completed stages' share is accumulated (u = Σ u_stage + s u_stage + K#Wλ + Nα).
-    fn solve_stage_load(&mut self) {
-        let (load, _) = self.effective_load(&self.stage);
-        let t0 = Instant::now();
-        let u_stage = self.apply_ginv(std::slice::from_ref(&load)).pop().unwrap();
-        if let Space::Reduced(r) = &mut self.space {
-            if !r.u_load.is_empty() {
-                r.u_done.resize(r.u_load.len(), 0.0);
-                r.u_done.iter_mut().zip(&r.u_load).for_each(|(a, b)| *a += b);
-                r.u_done_max = r.u_done.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            }
-            r.u_load_reduced = r.dofs.iter().map(|&d| u_stage[d]).collect();
-            r.u_load_max = u_stage.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            r.u_load = u_stage;
-        }
-        self.timings.solves += since(t0);
-    }
-
     /// ū(target) − u at every prescribed DOF (full space; residual form, so no drift).
-    pub fn prescribed_increment(&self, state: &State, target: f64) -> Vec<(usize, f64)> {
-        if self.is_reduced() {
+    pub fn prescribed_increment(&self, problem: &Problem, state: &State, target: f64) -> Vec<(usize, f64)> {
+        if problem.is_reduced() {
             return vec![];
         }
-        self.stage.prescribed_at(target).map(|(d, v)| (d, v - state.u[d])).collect()
-    }
-
-    /// −K_fp Δū over all DOFs (zero at held ones): the force on the free DOFs of the elements
-    /// that touch prescribed increments Δū, with their current tangents. None when Δū = 0.
-    pub fn prescribed_force(&self, increments: &[(usize, f64)]) -> Option<Vec<f64>> {
-        if increments.iter().all(|&(_, v)| v == 0.0) {
-            return None;
-        }
-        let mut du = vec![0.0; self.map.role.len()];
-        increments.iter().for_each(|&(d, v)| du[d] = v);
-        let mut f = vec![0.0; du.len()];
-        for &e in &self.prescribed_elements {
-            let el = &self.elements[e];
-            let s = self.tangents[e].stress_increment(self.model.plane, &el.strain(&du));
-            let fe = el.internal_force(&s);
-            for (k, &d) in el.dofs().iter().enumerate() {
-                if !self.fixed[d] {
-                    f[d] -= fe[k];
-                }
-            }
-        }
-        Some(f)
+        self.load.prescribed_at(target).map(|(d, v)| (d, v - state.u[d])).collect()
     }
 
     /// (c_n, c_t)(target) − (c_n, c_t) of every pair (residual form).
     pub fn shift_increment(&self, state: &State, target: f64) -> Vec<[f64; 2]> {
         (0..state.shift.len())
             .map(|p| {
-                let c = self.stage.shift(p, target);
+                let c = self.load.shift(p, target);
                 [c[0] - state.shift[p][0], c[1] - state.shift[p][1]]
             })
             .collect()
     }
 
-    /// The gap of pair p with its obstacle's motion: gap₀ + w_nᵀu + c_n.
-    pub fn gap(&self, state: &State, p: usize) -> f64 {
-        self.pairs[p].gap(&state.u) + state.shift[p][0]
+    /// The stage's load change over the equations, zero at held DOFs (the cached sweep's load,
+    /// `Stiffness::forward_sweep`).
+    pub fn change_on_equations(&self, problem: &Problem) -> Vec<f64> {
+        let change = self.load.force_change();
+        problem.dofs.map.dof_of_equation.iter().map(|&d| if problem.dofs.fixed[d] { 0.0 } else { change[d] }).collect()
     }
 
-    /// The RTD of pair p with its obstacle's motion: w_tᵀu + c_t.
-    pub fn rtd(&self, state: &State, p: usize) -> f64 {
-        self.pairs[p].rtd(&state.u) + state.shift[p][1]
-    }
-
-    /// Scales of the whole path: max over stages of |ΔP − K_fp Δū| over the free DOFs, and
-    /// of Σ|ΔP| (+ Σ|K_fp Δū|); an obstacle motion Δc counts as the force E t |Δc| per pair
-    /// (the order of what moving a surface node by Δc takes; t = `Model::depth`). (norm, sum)
-    pub fn path_force_scales(&self) -> (f64, f64) {
-        let young = self.material.iter().map(|m| m.young).fold(0.0f64, f64::max);
-        let (mut norm, mut sum) = (0.0f64, 0.0f64);
-        for k in 0..self.path.n_stages() {
-            let stage = self.path.stage(k, self.map.role.len(), self.global_pairs().len());
-            let mut total: f64 = stage.force_change().iter().map(|v| v.abs()).sum();
-            let (mut effective, held) = self.effective_load(&stage);
-            if let Some(f) = held {
-                total += f.iter().map(|v| v.abs()).sum::<f64>();
-            }
-            for p in 0..self.global_pairs().len() {
-                let c = stage.shift(p, 1.0);
-                let c0 = stage.shift(p, 0.0);
-                let moved = young * self.model.depth() * (c[0] - c0[0]).hypot(c[1] - c0[1]);
-                total += moved;
-                effective.push(moved);
-            }
-            norm = norm.max(effective.iter().map(|v| v * v).sum::<f64>().sqrt());
-            sum = sum.max(total);
+    /// Out-of-balance force at stage fraction `phi`: P(φ) − P_σ + contact forces over the free
+    /// DOFs (the right-hand side of eq. 43), from the internal force P_σ of the stresses.
+    pub fn residual_from(&self, problem: &Problem, internal: &[f64], state: &State, phi: f64) -> Vec<f64> {
+        let mut r = internal.to_vec();
+        for (d, v) in r.iter_mut().enumerate() {
+            *v = if problem.dofs.fixed[d] { 0.0 } else { self.load.force(d, phi) - *v };
         }
-        (norm, sum)
+        for (p, pair) in problem.global_pairs().iter().enumerate() {
+            pair.w_n.add_to(state.lambda_n[p], &mut r);
+            pair.w_t.add_to(state.lambda_t[p], &mut r);
+        }
+        r
+    }
+
+    /// max |u| of a state at stage fraction s (for round-off tolerances). The reduced space
+    /// carries u at the contact DOFs only: the loads' share elsewhere is bounded by
+    /// max |Σ u_stage of completed stages| + s × max |u_stage|.
+    pub fn largest_displacement(&self, problem: &Problem, u: &[f64], s: f64) -> f64 {
+        let carried = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        match problem.space {
+            Space::Reduced(_) => carried.max(self.reduced.u_done_max + s.abs() * self.reduced.u_load_max),
+            Space::Full => carried,
+        }
+    }
+
+    /// max |Δu| of an increment over a stage fraction c (as `largest_displacement`).
+    pub fn largest_increment(&self, problem: &Problem, du: &[f64], c: f64) -> f64 {
+        let carried = du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        match problem.space {
+            Space::Reduced(_) => carried.max(c.abs() * self.reduced.u_load_max),
+            Space::Full => carried,
+        }
     }
 }

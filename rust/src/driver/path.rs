@@ -11,6 +11,7 @@
 //! unloading, reloading and displacement control are the same loop. With no stages the path is
 //! one stage with every factor 1: P(s) = 0 + s·P, today's proportional load, to the bit.
 
+use crate::contact::Frame;
 use crate::model::{Model, PairInput};
 
 /// The loads of one stage, linear in its fraction s ∈ [0, 1].
@@ -147,7 +148,8 @@ fn obstacle_shifts(pairs: &[PairInput], motion: &[(usize, [f64; 2])]) -> Vec<[f6
         .iter()
         .map(|p| match motion.iter().find(|(c, _)| *c == p.contact) {
             Some((_, m)) => {
-                let (n, t) = (p.normal, [-p.normal[1], p.normal[0]]);
+                let frame = Frame::planar(p.normal);
+                let (n, t) = (frame.normal, frame.tangent());
                 [-(n[0] * m[0] + n[1] * m[1]), -(t[0] * m[0] + t[1] * m[1])]
             }
             None => [0.0, 0.0],

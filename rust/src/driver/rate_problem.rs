@@ -27,7 +27,11 @@
 //! help (`lemke_restarted`). It terminates in every case. The statuses follow from the solution.
 
 use super::engine::Engine;
+use super::loads::StageLoads;
+use super::problem::Problem;
 use super::state::State;
+use super::stiffness::Stiffness;
+use super::trial::{self, Solve};
 use crate::contact::Status;
 use crate::lcp::{lemke_with_covering, LcpSolution};
 use nalgebra::{DMatrix, DVector};
@@ -101,7 +105,7 @@ struct Solved {
 
 /// The unknowns and their complementary rows, built up pair by pair.
 #[derive(Default)]
-struct Problem {
+struct Unknowns {
     /// Per unknown: may it be negative?
     free: Vec<bool>,
     /// Per unknown: its complementary row (an equation R = 0 for a free unknown).
@@ -111,7 +115,7 @@ struct Problem {
     length: Vec<bool>,
 }
 
-impl Problem {
+impl Unknowns {
     fn unknown(&mut self, free: bool) -> usize {
         self.free.push(free);
         self.rows.push(None);
@@ -127,86 +131,72 @@ impl Problem {
 }
 
 /// The statuses that satisfy every contact condition at the current load, or None when Lemke
-/// finds no solution (the caller falls back to freezing).
-impl Engine<'_> {
-    pub fn solve_rate_problem(&mut self, state: &State) -> Option<Vec<Status>> {
-        let q: Vec<usize> = (0..self.pairs.len())
-            .filter(|&p| self.in_rate_problem(state, p))
-            .collect();
+/// finds no solution (the caller falls back to freezing). `what`: the remaining load, or a
+/// contact sub-step's (`trial::Solve`).
+pub(super) fn solve_rate_problem(eng: &mut Engine, state: &State, what: Solve) -> Option<Vec<Status>> {
+    let oob = trial::out_of_balance(eng, state, what, None);
+    RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads }.solve(state, &oob)
+}
+
+/// The problem's pairs, flexibility and stage loads the rate problem is built from.
+struct RateProblem<'a> {
+    p: &'a Problem<'a>,
+    stiffness: &'a Stiffness,
+    loads: &'a StageLoads,
+}
+
+impl RateProblem<'_> {
+    fn solve(&self, state: &State, oob: &trial::OutOfBalance) -> Option<Vec<Status>> {
+        let q: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| self.in_rate_problem(state, p)).collect();
         let roles: Vec<Role> = q.iter().map(|&p| self.role(state, p)).collect();
-        let oob = self.out_of_balance(state, 1.0, None);
-        let mut prob = Problem::default();
+        let mut prob = Unknowns::default();
         // Λn, Λt of every pair in q, and α, as affine forms of the unknowns.
-        let forces: Vec<(Affine, Affine)> = q
-            .iter()
-            .zip(&roles)
-            .map(|(_, &role)| self.force_unknowns(&mut prob, role))
-            .collect();
-        let alpha: Vec<usize> = (0..self.modes.len()).map(|_| prob.length_unknown(true)).collect();
+        let forces: Vec<(Affine, Affine)> = roles.iter().map(|&role| self.force_unknowns(&mut prob, role)).collect();
+        let alpha: Vec<usize> = (0..self.p.bodies.modes.len()).map(|_| prob.length_unknown(true)).collect();
         let (kin_n, kin_t) = self.kinematics(state, &q, &forces, &alpha, &oob.z0);
         for (i, (&p, &role)) in q.iter().zip(&roles).enumerate() {
-            let g = kin_n[i]
-                .clone()
-                .scaled_add(1.0, &Affine::constant(self.gap(state, p) + oob.dshift[p][0]));
+            let g = kin_n[i].clone().scaled_add(1.0, &Affine::constant(self.p.gap(state, p) + oob.dshift[p][0]));
             let h_t = if state.status[p] == Status::Stick {
-                state.rtd_stick[p] - self.rtd(state, p) - oob.dshift[p][1]
+                state.rtd_stick[p] - self.p.rtd(state, p) - oob.dshift[p][1]
             } else {
                 -oob.dshift[p][1]
             };
             let v = kin_t[i].clone().scaled_add(-1.0, &Affine::constant(h_t));
             self.pair_rows(&mut prob, p, role, &forces[i], g, v);
         }
+        self.equilibrium_rows(&mut prob, state, &q, &forces, &alpha, oob);
+        let y = solve(&prob)?;
+        let scale = kin_n.iter().chain(&kin_t).map(|a| a.eval(&y).abs()).fold(self.loads.largest_displacement(self.p, &state.u, state.load_fraction), f64::max);
+        let touching = q.iter().zip(&kin_n).map(|(&p, g)| self.p.gap(state, p) + oob.dshift[p][0] + g.eval(&y) <= CRITICAL_GAP * scale).collect();
+        Some(self.statuses(state, &Solved { q, roles, forces, touching, y, scale }))
+    }
+
+    /// The row of each free rigid mode k: its body's equilibrium −e_k = 0 with
+    /// e_k = Σ (Nᵀw) ΔΛ + Nᵀ r over the pairs `q` (−Nᵀ r = mode_rhs), paired with α_k.
+    fn equilibrium_rows(&self, prob: &mut Unknowns, state: &State, q: &[usize], forces: &[(Affine, Affine)], alpha: &[usize], oob: &trial::OutOfBalance) {
         for (k, &a) in alpha.iter().enumerate() {
-            // −e_k = −(Σ (Nᵀw) ΔΛ + Nᵀ r), with −Nᵀ r = mode_rhs.
+            let mode = &self.p.bodies.mode_vectors[k];
             let mut e = Affine::constant(-oob.mode_rhs[k]);
             for (i, &p) in q.iter().enumerate() {
-                let (wn, wt) = (
-                    self.pairs[p].w_n.dot(&self.mode_vectors[k]),
-                    self.pairs[p].w_t.dot(&self.mode_vectors[k]),
-                );
-                e = e
-                    .scaled_add(wn, &forces[i].0)
-                    .scaled_add(-wn, &Affine::constant(state.lambda_n[p]));
-                e = e
-                    .scaled_add(wt, &forces[i].1)
-                    .scaled_add(-wt, &Affine::constant(state.lambda_t[p]));
+                let (wn, wt) = (self.p.pairs[p].w_n.dot(mode), self.p.pairs[p].w_t.dot(mode));
+                e = e.scaled_add(wn, &forces[i].0).scaled_add(-wn, &Affine::constant(state.lambda_n[p]));
+                e = e.scaled_add(wt, &forces[i].1).scaled_add(-wt, &Affine::constant(state.lambda_t[p]));
             }
             prob.rows[a] = Some(Affine::constant(0.0).scaled_add(-1.0, &e));
         }
-        let y = solve(&prob)?;
-        let scale = kin_n.iter().chain(&kin_t).map(|a| a.eval(&y).abs()).fold(
-            self.largest_displacement(&state.u, state.load_fraction),
-            f64::max,
-        );
-        let touching = q
-            .iter()
-            .zip(&kin_n)
-            .map(|(&p, g)| self.gap(state, p) + oob.dshift[p][0] + g.eval(&y) <= CRITICAL_GAP * scale)
-            .collect();
-        Some(self.statuses(
-            state,
-            &Solved {
-                q,
-                roles,
-                forces,
-                touching,
-                y,
-                scale,
-            },
-        ))
     }
 
     /// Closed pairs, and open ones at zero gap.
     fn in_rate_problem(&self, state: &State, p: usize) -> bool {
-        let umax = self.largest_displacement(&state.u, state.load_fraction);
+        let umax = self.loads.largest_displacement(self.p, &state.u, state.load_fraction);
         state.status[p].is_closed()
-            || self.gap(state, p)
-                <= CRITICAL_GAP * umax + GAP_ROUND_OFF * self.scales.length
+            || self.p.gap(state, p)
+                <= CRITICAL_GAP * umax + GAP_ROUND_OFF * self.p.scales.length
     }
 
     fn role(&self, state: &State, p: usize) -> Role {
-        let tol = CRITICAL_FORCE * self.scales.force;
-        let (pair, ln, lt) = (&self.pairs[p], state.lambda_n[p], state.lambda_t[p]);
+        let tol = CRITICAL_FORCE * self.p.scales.force;
+        let (pair, ln, lt) = (&self.p.pairs[p], state.lambda_n[p], state.lambda_t[p]);
         let closed = state.status[p].is_closed() && ln > tol;
         match (pair.frictional(), closed) {
             (false, true) => Role::Normal,
@@ -220,7 +210,7 @@ impl Engine<'_> {
     }
 
     /// The unknowns of one pair and its forces (Λn, Λt) in terms of them.
-    fn force_unknowns(&self, prob: &mut Problem, role: Role) -> (Affine, Affine) {
+    fn force_unknowns(&self, prob: &mut Unknowns, role: Role) -> (Affine, Affine) {
         match role {
             Role::Normal => (Affine::var(prob.unknown(true)), Affine::constant(0.0)),
             Role::Critical => (Affine::var(prob.unknown(false)), Affine::constant(0.0)),
@@ -238,57 +228,31 @@ impl Engine<'_> {
 
     /// w_nᵀΔu and w_tᵀΔu of every pair in q as affine forms: the flexibility (Cᵀ K# E) applied
     /// to ΔΛ = Λ − λ, plus K# r and the rigid modes.
-    fn kinematics(
-        &self,
-        state: &State,
-        q: &[usize],
-        forces: &[(Affine, Affine)],
-        alpha: &[usize],
-        z0: &[f64],
-    ) -> (Vec<Affine>, Vec<Affine>) {
-        let vecs: Vec<_> = q
-            .iter()
-            .flat_map(|&p| [&self.pairs[p].w_n, &self.pairs[p].w_t])
-            .collect();
-        let deltas: Vec<Affine> = q
-            .iter()
-            .zip(forces)
-            .flat_map(|(&p, (n, t))| {
-                [
-                    n.clone()
-                        .scaled_add(-1.0, &Affine::constant(state.lambda_n[p])),
-                    t.clone()
-                        .scaled_add(-1.0, &Affine::constant(state.lambda_t[p])),
-                ]
-            })
-            .collect();
-        let flex: Vec<Vec<f64>> = vecs
-            .iter()
-            .map(|w| self.flexibility_times(&w.entries))
-            .collect();
+    fn kinematics(&self, state: &State, q: &[usize], forces: &[(Affine, Affine)], alpha: &[usize], z0: &[f64]) -> (Vec<Affine>, Vec<Affine>) {
+        let vecs: Vec<_> = q.iter().flat_map(|&p| [&self.p.pairs[p].w_n, &self.p.pairs[p].w_t]).collect();
+        let change = |f: &Affine, now: f64| f.clone().scaled_add(-1.0, &Affine::constant(now));
+        let deltas: Vec<Affine> = q.iter().zip(forces).flat_map(|(&p, (n, t))| [change(n, state.lambda_n[p]), change(t, state.lambda_t[p])]).collect();
+        let flex: Vec<Vec<f64>> = vecs.iter().map(|w| self.stiffness.flexibility_times(&self.p.dofs.contact_slot, &w.entries)).collect();
         let forms: Vec<Affine> = vecs
             .iter()
             .map(|a| {
-                let mut f = Affine::constant(self.dot_slots(a, z0));
+                let mut f = Affine::constant(self.p.dot_slots(a, z0));
                 for (b, delta) in deltas.iter().enumerate() {
-                    f = f.scaled_add(self.dot_slots(a, &flex[b]), delta);
+                    f = f.scaled_add(self.p.dot_slots(a, &flex[b]), delta);
                 }
                 for (k, &ak) in alpha.iter().enumerate() {
-                    f = f.scaled_add(a.dot(&self.mode_vectors[k]), &Affine::var(ak));
+                    f = f.scaled_add(a.dot(&self.p.bodies.mode_vectors[k]), &Affine::var(ak));
                 }
                 f
             })
             .collect();
-        forms
-            .chunks(2)
-            .map(|c| (c[0].clone(), c[1].clone()))
-            .unzip()
+        forms.chunks(2).map(|c| (c[0].clone(), c[1].clone())).unzip()
     }
 
     /// The complementary rows of one pair's unknowns (see the module documentation).
     fn pair_rows(
         &self,
-        prob: &mut Problem,
+        prob: &mut Unknowns,
         p: usize,
         role: Role,
         forces: &(Affine, Affine),
@@ -301,7 +265,7 @@ impl Engine<'_> {
             Role::Normal | Role::Critical => {}
             Role::Stick => prob.rows[n + 1] = Some(v),
             Role::Friction { off_cone, .. } => {
-                let (t, vp, vm, mu) = (n + 1, n + 2, n + 3, self.pairs[p].mu);
+                let (t, vp, vm, mu) = (n + 1, n + 2, n + 3, self.p.pairs[p].mu);
                 prob.rows[t] = Some(
                     v.scaled_add(-1.0, &Affine::var(vp))
                         .scaled_add(1.0, &Affine::var(vm)),
@@ -323,7 +287,7 @@ impl Engine<'_> {
     /// with zero force that ends the trial touching (g' = 0) stays closed: it may be what
     /// holds a rigid mode.
     fn statuses(&self, state: &State, sol: &Solved) -> Vec<Status> {
-        let tol = CRITICAL_FORCE * self.scales.force;
+        let tol = CRITICAL_FORCE * self.p.scales.force;
         let (y, scale) = (&sol.y, sol.scale);
         let mut status = state.status.clone();
         for (i, (&p, &role)) in sol.q.iter().zip(&sol.roles).enumerate() {
@@ -332,7 +296,7 @@ impl Engine<'_> {
             status[p] = match role {
                 Role::Normal | Role::Stick => state.status[p],
                 Role::Critical if opens => Status::Open,
-                Role::Critical => self.pairs[p].closed_status(),
+                Role::Critical => self.p.pairs[p].closed_status(),
                 Role::Friction { closed: false, .. } if opens => Status::Open,
                 Role::Friction { .. } => {
                     let (vp, vm) = (y[n + 2], y[n + 3]);
@@ -355,7 +319,7 @@ impl Engine<'_> {
 /// 0 ≤ x⁺ ⊥ R ≥ 0 and 0 ≤ x⁻ ⊥ −R ≥ 0 (R = −e pairs α with its equilibrium equation with the
 /// sign that keeps M positive semidefinite without friction); the other free unknowns are
 /// eliminated with their equations (Schur complement M_cc − M_cf M_ff⁻¹ M_fc).
-fn solve(prob: &Problem) -> Option<Vec<f64>> {
+fn solve(prob: &Unknowns) -> Option<Vec<f64>> {
     let (mut m, mut q, split, col) = split_saddles(prob)?;
     let d = unit_free(prob, &split, &col, &mut m, &mut q);
     let free: Vec<usize> = (0..prob.free.len())
@@ -400,7 +364,7 @@ fn solve(prob: &Problem) -> Option<Vec<f64>> {
 /// or ratios; of length unknowns forces, coefficients ratios. Scaled, every entry is a
 /// compliance and every constant a length, so Lemke's pivots do not depend on the unit system
 /// (a congruence D M D: positive semidefiniteness kept). Returns D's diagonal: z = D z̃.
-fn unit_free(prob: &Problem, split: &[bool], col: &[usize], m: &mut DMatrix<f64>, q: &mut DVector<f64>) -> DVector<f64> {
+fn unit_free(prob: &Unknowns, split: &[bool], col: &[usize], m: &mut DMatrix<f64>, q: &mut DVector<f64>) -> DVector<f64> {
     let n = q.len();
     let s = (0..prob.free.len()).filter(|&i| !prob.length[i]).fold(0.0f64, |x, i| x.max(m[(col[i], col[i])].abs())).log2().round().exp2();
     let mut d = DVector::<f64>::from_element(n, 1.0);
@@ -452,7 +416,7 @@ fn covering_entry(seed: &mut u64) -> f64 {
 /// M y + q over the unknowns with every saddle unknown split in two; which were split, and the
 /// column of each unknown.
 #[allow(clippy::type_complexity)]
-fn split_saddles(prob: &Problem) -> Option<(DMatrix<f64>, DVector<f64>, Vec<bool>, Vec<usize>)> {
+fn split_saddles(prob: &Unknowns) -> Option<(DMatrix<f64>, DVector<f64>, Vec<bool>, Vec<usize>)> {
     let split: Vec<bool> = (0..prob.free.len())
         .map(|i| {
             prob.free[i]
@@ -483,4 +447,76 @@ fn split_saddles(prob: &Problem) -> Option<(DMatrix<f64>, DVector<f64>, Vec<bool
         }
     }
     Some((m, q, split, col))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::anticycling::{Admission, AntiCycling};
+    use super::super::clock::Clock;
+    use super::super::scenes::*;
+    use super::super::selection::select;
+    use super::super::stepping::Stepping;
+    use super::super::switching::switch;
+    use super::super::trial::remaining_load;
+    use super::*;
+
+    /// The pushed strip's two pairs, switched one event at a time at zero load (the paper's
+    /// rule, one switch per pair and increment, never frozen), come back to where they started
+    /// after two switches: a cycle.
+    #[test]
+    fn one_at_a_time_the_pushed_strips_two_pairs_cycle() {
+        let m = pushed_strip(0.5);
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let mut cycles = AntiCycling::new(2, 0, usize::MAX);
+        let initial = state.status.clone();
+        let mut seen = vec![initial.clone()];
+        for _ in 0..4 {
+            let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+            let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+            assert!(sel.zero_length() && !sel.group.is_empty(), "a zero-length switch, S = {}", sel.scale);
+            let mut switched = vec![false; 2];
+            for c in &sel.group {
+                if let Admission::Apply = cycles.admit(c, true, &mut switched) {
+                    switch(&eng.problem, &mut state, c);
+                }
+            }
+            seen.push(state.status.clone());
+        }
+        assert_ne!(seen[1], initial);
+        assert_eq!((&seen[2], &seen[4]), (&initial, &initial), "{seen:?}");
+    }
+
+    /// The rate problem sets both pairs' statuses together, and the trial with them is
+    /// admissible from its start (checked on the trial's own rates, not by the selection): a
+    /// closed pair's normal force grows (λ_n = 0 now), a slipping pair slips the way its
+    /// friction opposes, an open pair's gap does not close; so the load advances at once.
+    #[test]
+    fn the_rate_problem_settles_the_cycle_with_admissible_statuses() {
+        let m = pushed_strip(0.5);
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        state.status = solve_rate_problem(&mut eng, &state, Solve::RemainingLoad).expect("the rate problem has a solution");
+        let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+        // Round-off: forces against the load (0.5), rates against the largest displacement rate;
+        // ~1e-15 per operation on a six-node scene.
+        let force = 1e-12 * 0.5;
+        let rate = 1e-12 * trial.du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        for (p, pair) in eng.problem.pairs.iter().enumerate() {
+            let (gap_rate, slip_rate) = (pair.w_n.dot(&trial.du), pair.w_t.dot(&trial.du));
+            match state.status[p] {
+                Status::Open => assert!(gap_rate >= -rate, "pair {p} open but closing at {gap_rate}"),
+                status => {
+                    assert!(trial.dlambda_n[p] >= -force, "pair {p} {status:?} pulled: {}", trial.dlambda_n[p]);
+                    if let Status::Slip { direction } = status {
+                        assert!(direction as f64 * slip_rate >= -rate, "pair {p} slips against its friction: {slip_rate}");
+                    }
+                }
+            }
+        }
+        assert!(state.status.iter().any(|s| s.is_closed()), "the strip rests on the flat");
+        let cycles = AntiCycling::new(2, 0, 4);
+        let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+        assert!(!sel.zero_length(), "the load advances: S = {}", sel.scale);
+    }
 }

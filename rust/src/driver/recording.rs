@@ -3,8 +3,8 @@
 //! path time at which it closed. Path time t = stage + the fraction s of it (`path`).
 
 use super::anticycling::AntiCycling;
+use super::checks::full_residual;
 use super::engine::Engine;
-use super::plasticity::InsideEvent;
 use super::selection::Selection;
 use super::space::Space;
 use super::state::{State, TrialIncrement};
@@ -20,6 +20,26 @@ const SAME_FRACTION: f64 = 1e-14;
 /// How many of the most switching entities the event-bound message names.
 const BUSIEST_NAMED: usize = 5;
 
+/// A yield or unload inside an increment (a plastic window): the element and the fraction of
+/// the increment.
+pub(super) struct InsideEvent {
+    pub element: usize,
+    pub kind: EventKind,
+    pub at: f64,
+}
+
+/// How well the recorded states hold.
+#[derive(Clone, Copy, Default)]
+pub(super) struct Balance {
+    /// The largest equilibrium residual of the loop's states and of reconstructed snapshots
+    /// (reduced space).
+    pub max_residual: f64,
+    pub max_snapshot_residual: f64,
+    /// The largest yield-surface drift, and the current increment's (before its return).
+    pub max_drift: f64,
+    pub drift: f64,
+}
+
 pub(super) struct Recorder {
     pub events: Vec<EventRecord>,
     pub steps: Vec<StepRecord>,
@@ -31,13 +51,8 @@ pub(super) struct Recorder {
     every_event: bool,
     pub closure_fraction: Vec<f64>,
     pub predicted_closure: Vec<f64>,
-    pub max_residual: f64,
-    pub max_drift: f64,
-    /// Yield-surface drift of the current increment, before its return.
-    pub drift: f64,
-    /// The internal force of the state's stresses, for the next trial (None: recompute).
-    pub internal: Option<Vec<f64>>,
-    pub max_steps: usize,
+    pub balance: Balance,
+    max_steps: usize,
     /// Steps that were contact sub-steps (`substeps`).
     pub n_substeps: usize,
     /// Windows taken back and retaken event by event (`retake`).
@@ -46,9 +61,9 @@ pub(super) struct Recorder {
 
 impl Recorder {
     pub fn new(eng: &mut Engine, state: &State) -> Result<Self> {
-        let opts = &eng.model.options;
-        let n_pairs = eng.pairs.len();
-        let plastic_capable = eng.material.iter().filter(|m| m.is_plastic()).count();
+        let opts = &eng.problem.model.options;
+        let n_pairs = eng.problem.pairs.len();
+        let plastic_capable = eng.problem.sections.iter().filter(|s| s.material.is_plastic()).count();
         let mut rec = Recorder {
             events: vec![],
             steps: vec![],
@@ -58,16 +73,16 @@ impl Recorder {
             every_event: matches!(opts.snapshots, SnapshotRequest::EveryEvent),
             closure_fraction: state.status.iter().map(|s| if s.is_closed() { 0.0 } else { f64::NAN }).collect(),
             predicted_closure: vec![f64::INFINITY; n_pairs],
-            max_residual: 0.0,
-            max_drift: 0.0,
-            drift: 0.0,
-            internal: None,
+            balance: Balance::default(),
             n_substeps: 0,
             n_retaken: 0,
             max_steps: if opts.max_events > 0 { opts.max_events } else { 50 * (n_pairs + plastic_capable + 1) + 1000 },
         };
         match &opts.snapshots {
-            SnapshotRequest::EveryEvent => rec.snapshots.push(eng.snapshot(state, None)?),
+            SnapshotRequest::EveryEvent => {
+                let first = rec.snapshot(eng, state, None)?;
+                rec.snapshots.push(first);
+            }
             SnapshotRequest::Times(f) => {
                 rec.pending = f.clone();
                 rec.pending.sort_by(|a, b| a.total_cmp(b));
@@ -76,16 +91,21 @@ impl Recorder {
         Ok(rec)
     }
 
-    /// The event bound (`Options::max_events`), naming the entities that switched most.
+    /// The run has taken as many increments as it may (`Options::max_events`).
+    pub fn at_event_bound(&self) -> bool {
+        self.steps.len() >= self.max_steps
+    }
+
+    /// The event bound's stop, naming the entities that switched most.
     pub fn event_bound(&self, eng: &Engine, state: &State, cycles: &AntiCycling) -> Option<StopReason> {
-        if self.steps.len() < self.max_steps {
+        if !self.at_event_bound() {
             return None;
         }
-        let n_pairs = eng.pairs.len();
+        let n_pairs = eng.problem.pairs.len();
         let count = &cycles.switch_count;
         let mut worst: Vec<usize> = (0..cycles.n_entities()).collect();
         worst.sort_by_key(|&k| std::cmp::Reverse(count[k]));
-        let name = |k: usize| if k < n_pairs { format!("{}, {} switches", eng.model.pair_name(k), count[k]) } else { format!("element {} ({} switches)", k - n_pairs, count[k]) };
+        let name = |k: usize| if k < n_pairs { format!("{}, {} switches", eng.problem.model.pair_name(k), count[k]) } else { format!("element {} ({} switches)", k - n_pairs, count[k]) };
         let busiest: Vec<String> = worst.iter().take(BUSIEST_NAMED).filter(|&&k| count[k] > 0).map(|&k| name(k)).collect();
         Some(StopReason::EventBound { load_fraction: state.time(), max_steps: self.max_steps, busiest: busiest.join("; ") })
     }
@@ -101,19 +121,20 @@ impl Recorder {
     pub fn snapshot_cut(&self, eng: &Engine, state: &State) -> f64 {
         let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
         match self.pending.first() {
-            Some(&t) if !eng.is_reduced() && remaining > 0.0 && t - (state.stage as f64) <= 1.0 => ((t - state.stage as f64 - phi0) / remaining).max(0.0),
+            Some(&t) if !eng.problem.is_reduced() && remaining > 0.0 && t - (state.stage as f64) <= 1.0 => ((t - state.stage as f64 - phi0) / remaining).max(0.0),
             _ => f64::INFINITY,
         }
     }
 
-    /// Full space: the requested snapshots at the state's path time (where an increment was cut).
-    pub fn snapshots_at_end(&mut self, eng: &mut Engine, state: &State) -> Result<()> {
+    /// Full space: the requested snapshots at the state's path time (where an increment was
+    /// cut); `internal`: the internal force of its stresses if the caller has it.
+    fn snapshots_at_end(&mut self, eng: &mut Engine, state: &State, internal: Option<&[f64]>) -> Result<()> {
         while let Some(&t) = self.pending.first() {
-            if eng.is_reduced() || t > state.time() + FRACTION_SLACK {
+            if eng.problem.is_reduced() || t > state.time() + FRACTION_SLACK {
                 break;
             }
-            let internal = self.internal.clone();
-            self.snapshots.push(eng.snapshot(state, internal.as_deref())?);
+            let snapshot = self.snapshot(eng, state, internal)?;
+            self.snapshots.push(snapshot);
             self.pending.remove(0);
         }
         Ok(())
@@ -124,7 +145,7 @@ impl Recorder {
         let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
         let stage = state.stage as f64;
         while let Some(&t) = self.pending.first() {
-            if !eng.is_reduced() {
+            if !eng.problem.is_reduced() {
                 break;
             }
             let f = t - stage;
@@ -135,7 +156,8 @@ impl Recorder {
             let mut st = state.clone();
             st.advance(trial, s);
             st.load_fraction = f;
-            self.snapshots.push(eng.snapshot(&st, None)?);
+            let snapshot = self.snapshot(eng, &st, None)?;
+            self.snapshots.push(snapshot);
             self.pending.remove(0);
         }
         for &(p, phi) in &sel.predicted_closures {
@@ -175,7 +197,7 @@ impl Recorder {
         self.n_substeps += 1;
         let residual = self.steps.last().map_or(0.0, |s| s.residual);
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
-        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift: self.drift });
+        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift: self.balance.drift });
     }
 
     /// An event of the equilibrium correction at φ. A pair the correction separates that closed
@@ -201,16 +223,17 @@ impl Recorder {
         self.events.push(EventRecord { step: self.steps.len(), stage: self.stage, load_fraction: phi, time, kind, entity: c.entity });
     }
 
-    /// One record per increment, and its snapshot when every event is requested.
-    pub fn step(&mut self, eng: &mut Engine, state: &State, scale: f64, residual: f64) -> Result<()> {
-        let drift = self.drift;
+    /// One record per increment, and its snapshot when every event is requested; `internal`:
+    /// the internal force of the state's stresses (from the equilibrium check).
+    pub fn step(&mut self, eng: &mut Engine, state: &State, scale: f64, residual: f64, internal: Option<&[f64]>) -> Result<()> {
+        let drift = self.balance.drift;
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
         self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift });
         if self.every_event {
-            // the equilibrium check left the internal force of these stresses in `internal`
-            self.snapshots.push(eng.snapshot(state, self.internal.as_deref())?);
+            let snapshot = self.snapshot(eng, state, internal)?;
+            self.snapshots.push(snapshot);
         }
-        self.snapshots_at_end(eng, state)
+        self.snapshots_at_end(eng, state, internal)
     }
 
     /// The final snapshot (for requested fractions, and for runs that stopped early) and the
@@ -219,50 +242,51 @@ impl Recorder {
         let early = !matches!(stop, StopReason::Completed | StopReason::FirstYield);
         if early || !self.every_event {
             if self.snapshots.last().map_or(true, |s| (s.time - state.time()).abs() > SAME_FRACTION) {
-                self.snapshots.push(eng.snapshot(state, None)?);
+                let last = self.snapshot(&mut eng, state, None)?;
+                self.snapshots.push(last);
             }
         }
         Ok(RunResult {
-            stage_names: eng.path.stage_names.clone(),
+            stage_names: eng.problem.path.stage_names.clone(),
             events: self.events,
             steps: self.steps,
             snapshots: self.snapshots,
             closure_fraction: self.closure_fraction,
             predicted_closure: self.predicted_closure,
-            max_equilibrium_residual: self.max_residual.max(eng.max_snapshot_residual),
-            max_drift: self.max_drift,
-            n_factorizations: eng.solver.n_factorizations,
-            n_low_rank_updates: eng.n_low_rank_updates,
+            max_equilibrium_residual: self.balance.max_residual.max(self.balance.max_snapshot_residual),
+            max_drift: self.balance.max_drift,
+            n_factorizations: eng.stiffness.solver.n_factorizations,
+            n_low_rank_updates: eng.stiffness.n_low_rank_updates,
             n_contact_substeps: self.n_substeps,
             n_retaken_windows: self.n_retaken,
-            n_solves: eng.solver.n_solves,
+            n_solves: eng.stiffness.solver.n_solves,
             n_rate_problems: rate_problems,
             stop,
-            timings: std::mem::take(&mut eng.timings),
+            timings: eng.clock.timings(eng.stiffness.solve_pair),
         })
     }
-}
 
-impl Engine<'_> {
     /// The full fields of a state and its support reactions; in the reduced space they are
     /// rebuilt (one solve) and their equilibrium is checked in full. `internal`: the internal
     /// force of the state's stresses when the caller has it (full space).
-    pub fn snapshot(&mut self, state: &State, internal: Option<&[f64]>) -> Result<Snapshot> {
+    fn snapshot(&mut self, eng: &mut Engine, state: &State, internal: Option<&[f64]>) -> Result<Snapshot> {
         let full;
-        let (state, internal) = if self.is_reduced() {
-            let (s, internal) = self.reconstruct(state)?;
+        let (state, internal) = if eng.problem.is_reduced() {
+            let (s, internal, residual) = reconstruct(eng, state)?;
+            self.balance.max_snapshot_residual = self.balance.max_snapshot_residual.max(residual);
             full = s;
             (&full, internal)
         } else {
-            (state, internal.map_or_else(|| self.internal_force(&state.stress), <[f64]>::to_vec))
+            (state, internal.map_or_else(|| eng.problem.internal_force(&state.stress), <[f64]>::to_vec))
         };
-        let pairs = self.global_pairs();
+        let (problem, loads) = (&eng.problem, &eng.loads);
+        let pairs = problem.global_pairs();
         // P_σ − P − the contact forces at the held DOFs: the supports' force
         let mut contact = vec![0.0; internal.len()];
         for (p, pair) in pairs.iter().enumerate() {
             pair.add_support_force(state.lambda_n[p], state.lambda_t[p], &mut contact);
         }
-        let reaction = (0..internal.len()).map(|d| if self.fixed[d] { internal[d] - self.stage.force(d, state.load_fraction) - contact[d] } else { 0.0 }).collect();
+        let reaction = (0..internal.len()).map(|d| if problem.dofs.fixed[d] { internal[d] - loads.load.force(d, state.load_fraction) - contact[d] } else { 0.0 }).collect();
         Ok(Snapshot {
             stage: state.stage,
             load_fraction: state.load_fraction,
@@ -270,7 +294,7 @@ impl Engine<'_> {
             u: state.u.clone(),
             stress: state.stress.iter().map(|s| [s[0], s[1], s[2], s[3]]).collect(),
             plastic_strain: state.plastic_strain.clone(),
-            plastic: if state.plastic.is_empty() { vec![0; self.elements.len()] } else { state.plastic.iter().map(|&p| p as i8).collect() },
+            plastic: if state.plastic.is_empty() { vec![0; problem.elements.len()] } else { state.plastic.iter().map(|&p| p as i8).collect() },
             lambda_n: state.lambda_n.clone(),
             lambda_t: state.lambda_t.clone(),
             status: state.status.iter().map(|s| s.code()).collect(),
@@ -280,33 +304,36 @@ impl Engine<'_> {
         })
     }
 
-    /// u = Σ u_stage (completed) + s u_stage + K#(W λ) + N α, ū at the prescribed DOFs, and
-    /// its stresses, for the reduced space; also the internal force P_σ.
-    fn reconstruct(&mut self, state: &State) -> Result<(State, Vec<f64>)> {
-        let mut y = vec![0.0; self.map.role.len()];
-        for (p, pair) in self.global_pairs().iter().enumerate() {
-            pair.w_n.add_to(state.lambda_n[p], &mut y);
-            pair.w_t.add_to(state.lambda_t[p], &mut y);
-        }
-        let mut u = self.apply_ginv(std::slice::from_ref(&y)).pop().unwrap();
-        if let Space::Reduced(r) = &self.space {
-            u.iter_mut().zip(&r.u_load).for_each(|(a, b)| *a += state.load_fraction * b);
-            u.iter_mut().zip(&r.u_done).for_each(|(a, b)| *a += b);
-        }
-        self.stage.prescribed_at(state.load_fraction).for_each(|(d, v)| u[d] = v);
-        for (mode, a) in self.modes.iter().zip(&state.alpha) {
-            u.iter_mut().zip(&mode.vector).for_each(|(x, v)| *x += a * v);
-        }
-        let (stress, _, _) = self.stress_increment(&u);
-        let mut full = state.clone();
-        full.u = u;
-        full.stress = stress;
-        full.plastic_strain = vec![0.0; self.elements.len()];
-        let (residual, internal) = self.full_residual(&full);
-        self.max_snapshot_residual = self.max_snapshot_residual.max(residual);
-        if residual > self.model.options.equilibrium_tol {
-            bail!(Equilibrium, "equilibrium residual {residual:.3e} of the reconstructed fields exceeds {:.1e} at load fraction {:.6}: the linear system is ill-conditioned", self.model.options.equilibrium_tol, state.load_fraction);
-        }
-        Ok((full, internal))
+}
+
+/// u = Σ u_stage (completed) + s u_stage + K#(W λ) + N α, ū at the prescribed DOFs, and its
+/// stresses, for the reduced space; also the internal force P_σ and the fields' equilibrium
+/// residual, which must be within `equilibrium_tol`.
+fn reconstruct(eng: &mut Engine, state: &State) -> Result<(State, Vec<f64>, f64)> {
+    let Engine { problem, stiffness, loads, .. } = eng;
+    let mut y = vec![0.0; problem.dofs.map.role.len()];
+    for (p, pair) in problem.global_pairs().iter().enumerate() {
+        pair.w_n.add_to(state.lambda_n[p], &mut y);
+        pair.w_t.add_to(state.lambda_t[p], &mut y);
     }
+    let mut u = stiffness.apply_ginv(&problem.dofs.map, std::slice::from_ref(&y)).pop().unwrap_or_default();
+    if let Space::Reduced(_) = &problem.space {
+        u.iter_mut().zip(&loads.reduced.u_load).for_each(|(a, b)| *a += state.load_fraction * b);
+        u.iter_mut().zip(&loads.reduced.u_done).for_each(|(a, b)| *a += b);
+    }
+    loads.load.prescribed_at(state.load_fraction).for_each(|(d, v)| u[d] = v);
+    for (mode, a) in problem.bodies.modes.iter().zip(&state.alpha) {
+        u.iter_mut().zip(&mode.vector).for_each(|(x, v)| *x += a * v);
+    }
+    let (stress, _, _) = stiffness.tangents.stress_increment(problem, &u);
+    let mut full = state.clone();
+    full.u = u;
+    full.stress = stress;
+    full.plastic_strain = vec![0.0; problem.elements.len()];
+    let (residual, internal) = full_residual(eng, &full);
+    let tol = eng.problem.model.options.equilibrium_tol;
+    if residual > tol {
+        bail!(Equilibrium, "equilibrium residual {residual:.3e} of the reconstructed fields exceeds {tol:.1e} at load fraction {:.6}: the linear system is ill-conditioned", state.load_fraction);
+    }
+    Ok((full, internal, residual))
 }

@@ -12,10 +12,9 @@
 //! which decides where the slip changes sense and which pair sticks there, is not in the small
 //! system; the rate problem, which has it, decides the statuses (`switch_statuses`).
 
-use super::engine::Engine;
-use super::INITIAL_CONTACT;
+use super::loads::StageLoads;
+use super::problem::Problem;
 use super::state::State;
-use super::trial::{OutOfBalance, Row};
 use crate::bail;
 use crate::contact::Status;
 use crate::contact::SparseVec;
@@ -42,45 +41,64 @@ pub(super) enum Hold {
     Lost(StopReason),
 }
 
-impl Engine<'_> {
-    /// How the closed pairs hold the bodies at a state; `events`: the history so far (to name
-    /// the last pair that separated from a body that lifts off).
-    pub fn hold(&self, state: &State, events: &[EventRecord]) -> Hold {
+/// How the closed pairs hold the bodies at a state; `events`: the history so far (to name the
+/// last pair that separated from a body that lifts off).
+pub(super) fn hold(problem: &Problem, loads: &StageLoads, state: &State, events: &[EventRecord]) -> Hold {
+    Restraint { p: problem, loads }.hold(state, events)
+}
+
+/// Check, per body with free rigid modes, that the closed pairs' rows Cᵀ N (columns m.. of the
+/// small system `a`, whose first m rows are the closed pairs' constraints) have full column
+/// rank; else name the body, its free motion and why (a missing support, gross sliding).
+/// `mode_rhs`: the small system's rigid-body rows −Nᵀ r; `closed_normals`: the pairs of its
+/// normal rows.
+pub(super) fn check_restrained(problem: &Problem, loads: &StageLoads, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<()> {
+    Restraint { p: problem, loads }.check_restrained(state, a, m, mode_rhs, closed_normals)
+}
+
+/// The bodies of a problem under the current stage's loads.
+struct Restraint<'a> {
+    p: &'a Problem<'a>,
+    loads: &'a StageLoads,
+}
+
+impl Restraint<'_> {
+    fn hold(&self, state: &State, events: &[EventRecord]) -> Hold {
         let mut hold = Hold::Held;
         for (body, idx) in self.bodies_with_modes() {
             let slides = free_motions(&self.closed_rows(state, &idx, false), idx.len());
             if slides.is_empty() {
                 continue;
             }
-            let name = self.model.body_name(self.body_first_element[body]);
+            let name = self.p.model.body_name(self.p.bodies.first_element[body]);
             let free = free_motions(&self.closed_rows(state, &idx, true), idx.len());
             let (what, fix) = if !free.is_empty() {
                 (self.lifted_or_tipped(&name, state, body, &idx, &free, events), "lower the load, or add a support (fix/symmetry) that holds the body")
             } else if let Some(capacity) = self.beyond_capacity(body, state, &idx, &slides[0]) {
-                let push: f64 = idx.iter().zip(&slides[0]).map(|(&k, c)| c * self.mode_force[k][1]).sum();
+                let push: f64 = idx.iter().zip(&slides[0]).map(|(&k, c)| c * self.loads.mode_force[k][1]).sum();
                 (format!("{name} slides as a whole {}", self.sliding(push, &self.describe_motion(&idx, &slides[0]), capacity)), "lower the tangential load, raise mu, or add a support (fix/symmetry)")
             } else {
                 hold = Hold::OnFriction;
                 continue;
             };
-            return Hold::Lost(StopReason::SupportLost { load_fraction: state.time(), stage: self.model.stage_label(state.stage), what, fix: fix.into() });
+            return Hold::Lost(StopReason::SupportLost { load_fraction: state.time(), stage: self.p.model.stage_label(state.stage), what, fix: fix.into() });
         }
         hold
     }
 
     /// The bodies with free rigid modes, and the indices of their modes.
     fn bodies_with_modes(&self) -> Vec<(usize, Vec<usize>)> {
-        let mut bodies: Vec<usize> = self.modes.iter().map(|md| md.body).collect();
+        let mut bodies: Vec<usize> = self.p.bodies.modes.iter().map(|md| md.body).collect();
         bodies.dedup();
-        bodies.into_iter().map(|b| (b, (0..self.modes.len()).filter(|&k| self.modes[k].body == b).collect())).collect()
+        bodies.into_iter().map(|b| (b, (0..self.p.bodies.modes.len()).filter(|&k| self.p.bodies.modes[k].body == b).collect())).collect()
     }
 
     /// The rows w·N_k (k in `idx`) of the closed pairs' constraints: their normals and the
     /// tangents of the sticking frictional pairs (`if_stuck`: of every frictional one).
     fn closed_rows(&self, state: &State, idx: &[usize], if_stuck: bool) -> Vec<Vec<f64>> {
-        let row = |w: &SparseVec| idx.iter().map(|&k| w.dot(&self.mode_vectors[k])).collect::<Vec<f64>>();
+        let row = |w: &SparseVec| idx.iter().map(|&k| w.dot(&self.p.bodies.mode_vectors[k])).collect::<Vec<f64>>();
         let mut rows = vec![];
-        for (p, pair) in self.pairs.iter().enumerate().filter(|(p, _)| state.status[*p].is_closed()) {
+        for (p, pair) in self.p.pairs.iter().enumerate().filter(|(p, _)| state.status[*p].is_closed()) {
             rows.push(row(&pair.w_n));
             if pair.frictional() && (if_stuck || state.status[p] == Status::Stick) {
                 rows.push(row(&pair.w_t));
@@ -92,11 +110,11 @@ impl Engine<'_> {
     /// How a body no closed pair would hold even sticking left its support: lifted off (the
     /// last pair it left named), tipped about its one closed pair, or free along `free`.
     fn lifted_or_tipped(&self, name: &str, state: &State, body: usize, idx: &[usize], free: &[Vec<f64>], events: &[EventRecord]) -> String {
-        let closed: Vec<usize> = (0..self.pairs.len()).filter(|&p| state.status[p].is_closed() && self.body_of_pair(p) == body).collect();
-        let last_left = events.iter().rev().find(|e| e.kind == EventKind::Separate && self.body_of_pair(e.entity) == body);
+        let closed: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body).collect();
+        let last_left = events.iter().rev().find(|e| e.kind == EventKind::Separate && self.p.body_of_pair(e.entity) == body);
         match closed.as_slice() {
-            [] => format!("{name} lifts off: its last closed pair{} separated, and the load moves it away from the contact", last_left.map_or(String::new(), |e| format!(" ({})", self.model.pair_name(e.entity)))),
-            [p] => format!("{name} tips about {}, its last closed pair: the other pairs separated, and the load turns the body about that point", self.model.pair_name(*p)),
+            [] => format!("{name} lifts off: its last closed pair{} separated, and the load moves it away from the contact", last_left.map_or(String::new(), |e| format!(" ({})", self.p.model.pair_name(e.entity)))),
+            [p] => format!("{name} tips about {}, its last closed pair: the other pairs separated, and the load turns the body about that point", self.p.model.pair_name(*p)),
             _ => {
                 let words: Vec<String> = free.iter().map(|v| self.describe_motion(idx, v)).collect();
                 format!("{name} is free to move ({}): its {} closed pairs do not hold it in that direction, even sticking", words.join("; "), closed.len())
@@ -104,10 +122,7 @@ impl Engine<'_> {
         }
     }
 
-    /// Check, per body with free rigid modes, that the closed pairs' rows Cᵀ N (columns m.. of
-    /// the small system `a`) have full column rank.
-    pub fn check_restrained(&self, state: &State, a: &DMatrix<f64>, rows: &[Row], oob: &OutOfBalance) -> Result<()> {
-        let m = rows.len();
+    fn check_restrained(&self, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<()> {
         for (body, idx) in self.bodies_with_modes() {
             let rows_n: Vec<Vec<f64>> = (0..m).map(|i| idx.iter().map(|&k| a[(i, m + k)]).collect()).collect();
             let free = free_motions(&rows_n, idx.len());
@@ -115,21 +130,21 @@ impl Engine<'_> {
                 continue;
             }
             let words: Vec<String> = free.iter().map(|v| self.describe_motion(&idx, v)).collect();
-            let slip_rows: Vec<Vec<f64>> = self.slipping_pairs_of(body, state).map(|p| idx.iter().map(|&k| self.pairs[p].w_t.dot(&self.mode_vectors[k])).collect()).collect();
+            let slip_rows: Vec<Vec<f64>> = self.slipping_pairs_of(body, state).map(|p| idx.iter().map(|&k| self.p.pairs[p].w_t.dot(&self.p.bodies.mode_vectors[k])).collect()).collect();
             let held_if_stuck = !slip_rows.is_empty() && free_motions(&[rows_n.as_slice(), slip_rows.as_slice()].concat(), idx.len()).is_empty();
-            let name = self.model.body_name(self.body_first_element[body]);
+            let name = self.p.model.body_name(self.p.bodies.first_element[body]);
             if held_if_stuck {
                 if let Some(capacity) = self.beyond_capacity(body, state, &idx, &free[0]) {
                     // −Nᵀ r along the motion is the out-of-balance force nothing holds.
-                    let push: f64 = idx.iter().zip(&free[0]).map(|(&k, c)| -c * oob.mode_rhs[k]).sum();
-                    bail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} {}: lower the tangential load, raise mu, or add a support", state.load_fraction, self.path.stage_names[state.stage], self.sliding(push, &words[0], capacity));
+                    let push: f64 = idx.iter().zip(&free[0]).map(|(&k, c)| -c * mode_rhs[k]).sum();
+                    bail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} {}: lower the tangential load, raise mu, or add a support", state.load_fraction, self.p.path.stage_names[state.stage], self.sliding(push, &words[0], capacity));
                 }
                 bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
             }
             if let Some(what) = self.left_at_once(state, body, &words) {
                 bail!(FreeBody, "{name} {what}, and nothing else holds it; add a support (fix/symmetry) that does, or change the load");
             }
-            let closed = rows.iter().filter(|r| matches!(r, Row::Normal(p) if self.body_of_pair(*p) == body)).count();
+            let closed = closed_normals().into_iter().filter(|&p| self.p.body_of_pair(p) == body).count();
             bail!(FreeBody, "{name} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", words.join("; "));
         }
         Ok(())
@@ -142,12 +157,12 @@ impl Engine<'_> {
         if state.time() != 0.0 {
             return None;
         }
-        let touching = INITIAL_CONTACT * self.scales.length;
-        let of_body: Vec<usize> = (0..self.pairs.len()).filter(|&p| self.body_of_pair(p) == body).collect();
-        let mut left: Vec<usize> = of_body.iter().filter(|&&p| self.pairs[p].gap0 <= touching && !state.status[p].is_closed()).map(|&p| self.model.pairs[p].contact).collect();
+        let touching = self.p.scales.touching();
+        let of_body: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| self.p.body_of_pair(p) == body).collect();
+        let mut left: Vec<usize> = of_body.iter().filter(|&&p| self.p.pairs[p].gap0 <= touching && !state.status[p].is_closed()).map(|&p| self.p.model.pairs[p].contact).collect();
         left.sort_unstable();
         left.dedup();
-        let names: Vec<String> = left.iter().map(|&c| self.model.names.contacts.get(c).map_or_else(|| "the contact".to_string(), |n| format!("contact '{n}'"))).collect();
+        let names: Vec<String> = left.iter().map(|&c| self.p.model.names.contacts.get(c).map_or_else(|| "the contact".to_string(), |n| format!("contact '{n}'"))).collect();
         let contacts = names.join(" and ");
         let closed: Vec<usize> = of_body.into_iter().filter(|&p| state.status[p].is_closed()).collect();
         let at = "at the first instant (t = 0)";
@@ -156,21 +171,17 @@ impl Engine<'_> {
             [] => {
                 let [fx, fy] = self.body_load(body);
                 let size = fx.hypot(fy);
-                let pull = if size > LOAD_ROUND_OFF * self.scales.force { format!("pulls the body away from it along ({:.3}, {:.3})", fx / size, fy / size) } else { "turns the body off it".to_string() };
+                let pull = if size > LOAD_ROUND_OFF * self.p.scales.force { format!("pulls the body away from it along ({:.3}, {:.3})", fx / size, fy / size) } else { "turns the body off it".to_string() };
                 Some(format!("lifts off {at}: {contacts} {} closed (gap 0), but the load {pull}", if names.len() == 1 { "starts" } else { "start" }))
             }
-            [p] => Some(format!("tips about {} {at}: the other pairs of {contacts} start closed (gap 0) but separate at once, and the load turns the body about that point", self.model.pair_name(*p))),
+            [p] => Some(format!("tips about {} {at}: the other pairs of {contacts} start closed (gap 0) but separate at once, and the load turns the body about that point", self.p.model.pair_name(*p))),
             _ => Some(format!("is free to move ({}) {at}: pairs of {contacts} start closed (gap 0) but separate at once, and its {} closed pairs do not hold it in that direction", words.join("; "), closed.len())),
         }
     }
 
-    fn body_of_pair(&self, p: usize) -> usize {
-        self.body_of_node[self.global_pairs()[p].node_a]
-    }
-
     fn slipping_pairs_of<'a>(&'a self, body: usize, state: &'a State) -> impl Iterator<Item = usize> + 'a {
         // Frictionless closed pairs (Slip with μ = 0) slip too: they hold no tangential load.
-        (0..self.pairs.len()).filter(move |&p| matches!(state.status[p], Status::Slip { .. }) && !self.pairs[p].tangent_held && self.body_of_pair(p) == body)
+        (0..self.p.pairs.len()).filter(move |&p| matches!(state.status[p], Status::Slip { .. }) && !self.p.pairs[p].tangent_held && self.p.body_of_pair(p) == body)
     }
 
     /// Words for a combination `v` of the body's modes `idx`.
@@ -183,7 +194,7 @@ impl Engine<'_> {
     fn motion_weights(&self, idx: &[usize], v: &[f64]) -> [f64; 3] {
         let mut w = [0.0; 3];
         for (c, &k) in idx.iter().enumerate() {
-            for (wl, ml) in w.iter_mut().zip(self.modes[k].weights) {
+            for (wl, ml) in w.iter_mut().zip(self.p.bodies.modes[k].weights) {
                 *wl += v[c] * ml;
             }
         }
@@ -193,9 +204,9 @@ impl Engine<'_> {
     /// Under the stage's end load: the body's load T along the sliding translation, N along the mean
     /// normal of its closed pairs, and their mean μ.
     fn tangential_and_normal_load(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> (f64, f64, f64) {
-        let closed: Vec<usize> = (0..self.pairs.len()).filter(|&p| state.status[p].is_closed() && self.body_of_pair(p) == body).collect();
-        let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
-        let (normal, mu) = ([mean(&|p| p.normal[0]), mean(&|p| p.normal[1])], mean(&|p| p.mu));
+        let closed: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body).collect();
+        let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.p.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
+        let (normal, mu) = ([mean(&|p| p.frame.normal[0]), mean(&|p| p.frame.normal[1])], mean(&|p| p.mu));
         let [fx, fy] = self.body_load(body);
         let load_along = |dir: [f64; 2]| -> f64 { (fx * dir[0] + fy * dir[1]) / dir[0].hypot(dir[1]).max(f64::MIN_POSITIVE) };
         (load_along(self.translation_of(idx, v)).abs(), load_along(normal).abs(), mu)
@@ -203,15 +214,15 @@ impl Engine<'_> {
 
     /// The resultant (x, y) of the stage's end load on a body.
     fn body_load(&self, body: usize) -> [f64; 2] {
-        let load = self.stage.force_end();
-        let nodes = (0..self.body_of_node.len()).filter(|&i| self.body_of_node[i] == body);
+        let load = self.loads.load.force_end();
+        let nodes = (0..self.p.bodies.of_node.len()).filter(|&i| self.p.bodies.of_node[i] == body);
         nodes.fold([0.0, 0.0], |[x, y], i| [x + load[2 * i], y + load[2 * i + 1]])
     }
 
     /// (T, N, μ) of `tangential_and_normal_load` when T exceeds the capacity μN: gross sliding.
     fn beyond_capacity(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> Option<(f64, f64, f64)> {
         let (t, n, mu) = self.tangential_and_normal_load(body, state, idx, v);
-        (t > mu * n * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.scales.force).then_some((t, n, mu))
+        (t > mu * n * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.p.scales.force).then_some((t, n, mu))
     }
 
     /// "(±motion): …" of gross sliding, the sense that of `push`, the load along the motion.

@@ -1,7 +1,10 @@
-//! The evolving state of the procedure (eqs. 59–62) and one trial increment (eq. 44).
+//! The evolving state of the procedure (eqs. 59–62), one trial increment (eq. 44), and the
+//! element state at the start of an increment whose stresses were integrated.
 
 use crate::contact::{Pair, Status};
+use crate::events::Noise;
 use nalgebra::Vector4;
+use std::collections::HashMap;
 
 /// Everything that changes along the load path: accumulated displacement, stresses and
 /// contact forces, and the statuses (open / stick / slip per pair, elastic / plastic per
@@ -55,6 +58,12 @@ impl State {
         self.stage as f64 + self.load_fraction
     }
 
+    /// At the start of stage k (s = 0).
+    pub fn begin_stage(&mut self, k: usize) {
+        self.stage = k;
+        self.load_fraction = 0.0;
+    }
+
     pub fn n_closed(&self) -> usize {
         self.status.iter().filter(|s| s.is_closed()).count()
     }
@@ -104,4 +113,26 @@ pub(super) struct TrialIncrement {
     pub dalpha: Vec<f64>,
     /// Change of every pair's obstacle shift (c_n, c_t) (`path`).
     pub dshift: Vec<[f64; 2]>,
+    /// The rates below which this increment's changes are round-off (its Δu's and the forces').
+    pub noise: Noise,
+}
+
+/// The state of the elements and the displacement at the start of an increment whose stresses
+/// were integrated (`advance`): the re-integration starts from it (`plasticity`), a retaken
+/// window returns to it (`window`), and it tells which elements yielded inside.
+pub(super) struct IncrementStart {
+    pub stress: Vec<Vector4<f64>>,
+    pub plastic_strain: Vec<f64>,
+    pub plastic: Vec<bool>,
+    pub u: Vec<f64>,
+    /// Where in the increment each element that crossed its surface did so (the latest
+    /// integration's elastic fraction).
+    pub yielded_at: HashMap<usize, f64>,
+}
+
+impl IncrementStart {
+    /// The element arrays and displacement of `state`, before its increment.
+    pub fn of(state: &State) -> Self {
+        IncrementStart { stress: state.stress.clone(), plastic_strain: state.plastic_strain.clone(), plastic: state.plastic.clone(), u: state.u.clone(), yielded_at: Default::default() }
+    }
 }

@@ -1,62 +1,75 @@
-//! The stiffness the loop solves with: K = Σ t A Bᵀ D B (eq. 36) with D or D_ep (eq. 11) per
-//! element, and how K follows when an element's tangent changes.
+//! Which tangent each element gives K: D or D_ep (eq. 11), and when it is renewed.
 //!
 //! The paper takes D_ep of every plastic element at each increment's start, so K changes at
 //! every increment. Here an element's tangent changes when it yields or unloads, and a plastic
 //! element's when its flow direction D a has turned by more than `Options::tangent_turn` since
 //! the tangent K holds (0: at every increment, as the paper). The stresses themselves are
 //! integrated (`stress_integration`), so a tangent that lags changes no stress; it changes the
-//! trial's displacement, which the equilibrium correction completes.
-//!
-//! A change is a term of rank one or two per element on the last factor (`low_rank`), until
-//! those terms have cost as much as a refactorization (counted in floating-point operations
-//! from the factor's structure, so the choice is the same on every machine).
+//! trial's displacement, which the equilibrium correction completes. (How K follows a change,
+//! by low-rank terms or a refactorization: `stiffness`.)
 
-use super::engine::{since, Engine};
+
 use super::state::State;
-use crate::error::Result;
+use super::problem::{Problem, PARALLEL_CHUNK};
+use crate::element::Element;
+use crate::linalg::DofMap;
 use crate::low_rank::Column;
+use crate::material::Tangent;
+use crate::model::Options;
 use nalgebra::{Matrix4, SymmetricEigen, Vector4};
-use std::time::Instant;
+use rayon::prelude::*;
 
-/// Eigenvalues of an element's tangent change below this × its largest are round-off.
 /// Share of the plastic elements that may have yielded without their tangent in K yet.
 const WAITING_YIELDS: f64 = 0.05;
+/// Eigenvalues of an element's tangent change below this × its largest are round-off.
 const RANK_NOISE: f64 = 1e-10;
 
-impl Engine<'_> {
-    /// Bring every element's tangent in K up to date with the state (full space): yields,
-    /// unloads, turned flow directions; then K follows (refactorization or low-rank terms).
-    pub fn update_tangents(&mut self, state: &State) -> Result<()> {
-        if self.is_reduced() {
-            return if self.tangents_changed { self.factor() } else { Ok(()) };
-        }
-        if self.yields_can_wait(state) {
-            return Ok(());
-        }
-        let changed: Vec<usize> = (0..self.elements.len()).filter(|&e| self.refresh_tangent(e, state)).collect();
-        if self.tangents_changed {
-            return self.factor();
-        }
-        if changed.is_empty() {
-            return Ok(());
-        }
-        let columns: Vec<Column> = changed.iter().flat_map(|&e| self.tangent_columns(e)).collect();
-        let extra = self.cost.update(self.low_rank.rank(), columns.len());
-        if self.low_rank_spent + extra > self.cost.factorization {
-            return self.factor();
-        }
-        self.low_rank_spent += extra;
-        let (n, t0) = (self.map.n_equations, Instant::now());
-        self.low_rank.update(&mut self.solver, n, &changed, columns);
-        self.flexibility = self.flexibility_factored.clone();
-        if !self.low_rank.is_empty() {
-            let t = self.flexibility.nrows();
-            self.flexibility += self.low_rank.trailing_correction(t);
-        }
-        self.n_low_rank_updates += 1;
-        self.timings.low_rank += since(t0);
-        Ok(())
+/// Which tangents an update renews.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Renewal {
+    /// Yields, unloads, and plastic tangents whose flow direction turned by more than `turn`;
+    /// `yields_may_wait`: fresh yields may wait while they are few (`Tangents::changes`).
+    Changed { turn: f64, yields_may_wait: bool },
+    /// Every plastic tangent (a stage's final correction: `plasticity::settle_on_surfaces`).
+    All,
+}
+
+impl Renewal {
+    /// The renewal of an increment: `tangent_turn` with drift control (0, every increment,
+    /// in the paper's setting); fresh yields wait in a plastic window with held tangents.
+    pub fn of_increment(options: &Options, window: bool) -> Self {
+        let turn = if options.drift_control { options.tangent_turn } else { 0.0 };
+        Renewal::Changed { turn, yields_may_wait: window && options.tangent_turn != 0.0 }
+    }
+}
+
+/// The tangent of every element as K holds it, and as the last factor K_f holds it.
+pub(super) struct Tangents {
+    pub held: Vec<Tangent>,
+    pub factored: Vec<Tangent>,
+}
+
+impl Tangents {
+    /// Every element elastic.
+    pub fn elastic(problem: &Problem) -> Self {
+        let held: Vec<Tangent> = problem.sections.iter().map(|s| s.tangent(&Vector4::zeros(), false)).collect();
+        Tangents { factored: held.clone(), held }
+    }
+
+    /// After a factorization: K_f holds every element's current tangent.
+    pub fn factored(&mut self) {
+        self.factored.clone_from(&self.held);
+    }
+
+    /// The elements whose tangent changed with the state (now renewed in `held`), or None when
+    /// the update waits (`yields_can_wait`).
+    pub fn renew(&mut self, problem: &Problem, state: &State, renewal: Renewal) -> Option<Vec<usize>> {
+        let turn = match renewal {
+            Renewal::Changed { yields_may_wait: true, .. } if self.yields_can_wait(state) => return None,
+            Renewal::Changed { turn, .. } => turn,
+            Renewal::All => 0.0,
+        };
+        Some((0..problem.elements.len()).filter(|&e| self.refresh(problem, e, state, turn)).collect())
     }
 
     /// Grouped increments with drift control and held tangents (tangent_turn > 0): K is left as
@@ -64,35 +77,31 @@ impl Engine<'_> {
     /// than `WAITING_YIELDS` of the plastic elements and none unloaded. Their stresses are
     /// integrated regardless, each increment is re-integrated until balanced, and a correction
     /// that leaves the state too far off the yield surfaces renews every tangent
-    /// (`restore_equilibrium`). Measured on the elastoplastic Hertz at 24.5k DOFs, δ = 0.05:
-    /// 76 → 23 factorizations, p0 and a unchanged to 1e-5. (Event by event, without the
-    /// re-integration, it would move plastic strains by up to 2.7 % on the dolfinx replays:
-    /// not there.)
+    /// (`plasticity::restore_equilibrium`). Measured on the elastoplastic Hertz at 24.5k DOFs,
+    /// δ = 0.05: 76 → 23 factorizations, p0 and a unchanged to 1e-5. (Event by event, without
+    /// the re-integration, it would move plastic strains by up to 2.7 % on the dolfinx
+    /// replays: not there.)
     fn yields_can_wait(&self, state: &State) -> bool {
-        let opts = &self.model.options;
-        if !self.plastic_events_inside() || opts.tangent_turn == 0.0 || self.renew_all_tangents || self.tangents_changed {
-            return false;
-        }
         let (mut plastic, mut waiting) = (0usize, 0usize);
-        for (t, &p) in self.tangents.iter().zip(&state.plastic) {
+        for (t, &p) in self.held.iter().zip(&state.plastic) {
             plastic += p as usize;
             waiting += (p && t.flow.is_none()) as usize;
         }
-        let unloads = self.tangents.iter().zip(&state.plastic).any(|(t, &p)| t.flow.is_some() && !p);
+        let unloads = self.held.iter().zip(&state.plastic).any(|(t, &p)| t.flow.is_some() && !p);
         !unloads && (waiting as f64) < WAITING_YIELDS * plastic as f64
     }
 
     /// Set element e's tangent from the state if it must change (yield, unload, or a flow
-    /// direction turned by more than `tangent_turn`); true if it changed.
-    fn refresh_tangent(&mut self, e: usize, state: &State) -> bool {
-        let held = &self.tangents[e];
+    /// direction turned by more than `turn`); true if it changed.
+    fn refresh(&mut self, problem: &Problem, e: usize, state: &State, turn: f64) -> bool {
+        let held = &self.held[e];
         let change = match (held.flow, state.plastic[e]) {
             (None, false) => false,
             (Some(_), false) | (None, true) => true,
-            (Some(f), true) => turn(&f.da, &state.stress[e]) > self.tangent_turn(),
+            (Some(f), true) => turned(&f.da, &state.stress[e]) > turn,
         };
         if change {
-            self.tangents[e] = self.material[e].tangent(&state.stress[e], state.plastic[e]);
+            self.held[e] = problem.sections[e].tangent(&state.stress[e], state.plastic[e]);
         }
         change
     }
@@ -100,42 +109,39 @@ impl Engine<'_> {
     /// K_e(held) − K_e(factored) of element e as signed rank-one terms over the equations:
     /// w Bᵀ ΔD B with ΔD = Σ λ v vᵀ (its eigenvalues), so each term is s c cᵀ with
     /// c = √(w |λ|) Bᵀ v (w the element's volume).
-    fn tangent_columns(&self, e: usize) -> Vec<Column> {
-        let plane = self.model.plane;
-        let delta: Matrix4<f64> = self.tangents[e].element_matrix(plane) - self.factored[e].element_matrix(plane);
+    pub fn columns(&self, problem: &Problem, e: usize, map: &DofMap) -> Vec<Column> {
+        let section = &problem.sections[e];
+        let delta: Matrix4<f64> = section.element_matrix(&self.held[e]) - section.element_matrix(&self.factored[e]);
         let eig = SymmetricEigen::new(delta);
         let largest = eig.eigenvalues.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let el = &self.elements[e];
-        let weight = el.volume;
+        let el = &problem.elements[e];
+        let weight = el.measure();
         (0..4)
             .filter(|&i| eig.eigenvalues[i].abs() > RANK_NOISE * largest)
             .map(|i| {
                 let lambda = eig.eigenvalues[i];
-                let w = el.b.transpose() * eig.eigenvectors.column(i) * (weight * lambda.abs()).sqrt();
-                let entries = el.dofs().iter().zip(w.iter()).filter_map(|(&g, &v)| self.map.equation(g).map(|q| (q, v))).collect();
+                let w = el.b().transpose() * eig.eigenvectors.column(i) * (weight * lambda.abs()).sqrt();
+                let entries = el.dofs().iter().zip(w.iter()).filter_map(|(&g, &v)| map.equation(g).map(|q| (q, v))).collect();
                 Column { entries, sign: lambda.signum(), owner: e }
             })
             .collect()
     }
 
-    /// The turn that renews a plastic tangent: `Options::tangent_turn`; 0 (every increment) in
-    /// the paper's setting (no drift control) and for a stage's final correction.
-    fn tangent_turn(&self) -> f64 {
-        if self.model.options.drift_control && !self.renew_all_tangents { self.model.options.tangent_turn } else { 0.0 }
-    }
-
-    /// After a factorization: K_f holds every element's current tangent.
-    pub fn tangents_factored(&mut self) {
-        self.factored.clone_from(&self.tangents);
-        self.low_rank.clear();
-        self.low_rank_spent = 0.0;
-    }
-
-    /// A solve with low-rank terms costs 4 n k more: counted towards the next refactorization.
-    pub fn count_low_rank_solve(&mut self) {
-        if !self.low_rank.is_empty() {
-            self.low_rank_spent += self.cost.per_solve(self.low_rank.rank());
+    /// Δσ, Δεp and Δε of every element for a displacement increment (eqs. 10, 11, 18), with
+    /// the tangents K holds.
+    pub fn stress_increment(&self, problem: &Problem, du: &[f64]) -> (Vec<Vector4<f64>>, Vec<f64>, Vec<Vector4<f64>>) {
+        let per_element: Vec<(Vector4<f64>, f64, Vector4<f64>)> = problem.elements.par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.held).zip(&problem.sections).map(|((el, t), section)| {
+            let e = el.strain(du);
+            (section.stress_increment(t, &e), section.plastic_multiplier(t, &e), e)
+        }).collect();
+        let n = per_element.len();
+        let (mut dstress, mut dplastic, mut dstrain) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        for (s, p, e) in per_element {
+            dstress.push(s);
+            dplastic.push(p);
+            dstrain.push(e);
         }
+        (dstress, dplastic, dstrain)
     }
 }
 
@@ -143,7 +149,7 @@ impl Engine<'_> {
 /// 3G/σe (s_x, s_y, s_z, τ_xy), s the stress deviator, so they are compared as deviators,
 /// with the tensor inner product s:s' = Σ s_i s'_i + 2 τ τ' (invariant under rotation), and
 /// without building a tangent.
-fn turn(held_da: &Vector4<f64>, stress: &Vector4<f64>) -> f64 {
+fn turned(held_da: &Vector4<f64>, stress: &Vector4<f64>) -> f64 {
     let p = (stress[0] + stress[1] + stress[2]) / 3.0;
     let now = Vector4::new(stress[0] - p, stress[1] - p, stress[2] - p, stress[3]);
     let inner = |a: &Vector4<f64>, b: &Vector4<f64>| a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + 2.0 * a[3] * b[3];

@@ -1,4 +1,4 @@
-//! The trial increment for the remaining load (eqs. 43–44 in residual form).
+//! The trial increment (eqs. 43–44 in residual form).
 //!
 //! With K# the generalized inverse of the reduced stiffness and N the free rigid-body modes,
 //!   Δu = K#(r + E Δλ) + N α,
@@ -11,28 +11,49 @@
 //! whose second row is the equilibrium of each free body. Every Cᵀ K# E entry is a lookup in
 //! the flexibility; a trial is one forward sweep of r, this small solve, and one backward sweep
 //! of r + E Δλ (the contact DOFs are last in the factor).
+//!
+//! What a trial solves for is a value (`Solve`): the stage's remaining load, equilibrium at the
+//! current load (a correction), or a contact sub-step's remaining load, which is the base
+//! trial's scaled (`TrialBase`, `substeps`).
 
-use super::engine::{since, Engine};
-use super::space::{Full, LoadSweep, Space};
+use super::clock::Phase;
+use super::engine::Engine;
+use super::problem::Problem;
+use super::restraint;
 use super::state::{State, TrialIncrement};
+use super::stepping::Stepping;
 use crate::bail;
 use crate::contact::{SparseVec, Status};
 use crate::error::Result;
-use nalgebra::{DMatrix, DVector, Vector4};
-use rayon::prelude::*;
-use std::time::Instant;
+use crate::events::Noise;
+use nalgebra::{DMatrix, DVector};
 
 /// A pivot of the small system's LU below this × the largest one means "singular".
 const SINGULAR_PIVOT: f64 = 1e-13;
-/// Element loops run on the cores in chunks of at least this many elements (below it the
-/// threads' start costs more than the loop).
-pub(super) const PARALLEL_CHUNK: usize = 1024;
 /// Displacement noise floor: × max |Δu| of the trial.
 const DISPLACEMENT_NOISE: f64 = 1e-11;
-/// An out-of-balance force within this of c ΔP (relative, 2-norms) is c ΔP (`forward_sweep`):
-/// a state balanced to round-off. Corrected states are balanced to ~1e-13 of the load
-/// (`max_equilibrium_residual` of the runs), the loop accepts 1e-9 (`equilibrium_tol`).
-const BALANCED: f64 = 1e-12;
+
+/// What a trial solves for.
+#[derive(Clone, Copy)]
+pub(super) enum Solve<'b> {
+    /// The stage's remaining load: from the state to s = 1 (eq. 44).
+    RemainingLoad,
+    /// Equilibrium at stage fraction φ, the state's own (an equilibrium correction).
+    Balance(f64),
+    /// The remaining load from a state a grouped increment reached linearly: the base trial's,
+    /// scaled (a contact sub-step; contact DOFs only).
+    SubStep(&'b TrialBase),
+}
+
+impl Solve<'_> {
+    /// The stage fraction the trial goes to.
+    fn target(self) -> f64 {
+        match self {
+            Solve::RemainingLoad | Solve::SubStep(_) => 1.0,
+            Solve::Balance(phi) => phi,
+        }
+    }
+}
 
 /// A row of the small system: pair p's normal or tangential constraint.
 #[derive(Clone, Copy)]
@@ -66,11 +87,14 @@ pub(super) struct TrialBase {
     mode_rhs: Vec<f64>,
     forward_sweep: Vec<f64>,
     low_rank_coefficients: Vec<f64>,
+    /// The trial's noise floors (a sub-step's are its base's).
+    pub noise: Noise,
 }
 
 impl TrialBase {
     fn of(oob: &OutOfBalance, c: f64) -> Self {
-        TrialBase { c, z0: oob.z0.clone(), mode_rhs: oob.mode_rhs.clone(), forward_sweep: oob.forward_sweep.clone(), low_rank_coefficients: oob.low_rank_coefficients.clone() }
+        let noise = Noise { displacement: 0.0, force: 0.0 };
+        TrialBase { c, z0: oob.z0.clone(), mode_rhs: oob.mode_rhs.clone(), forward_sweep: oob.forward_sweep.clone(), low_rank_coefficients: oob.low_rank_coefficients.clone(), noise }
     }
 
     /// The out-of-balance force of the remaining fraction c' (contact slots only).
@@ -90,331 +114,222 @@ pub(super) struct ContactSystem {
     pub flex_columns: Vec<Vec<f64>>,
 }
 
-impl Engine<'_> {
-    /// The trial increment that takes the state to load fraction `target`: 1 for the remaining
-    /// load, the current fraction for an equilibrium correction. `internal`: the internal
-    /// force P_σ of the state's stresses if the caller has it.
-    pub fn trial(&mut self, state: &State, target: f64, internal: Option<Vec<f64>>) -> Result<TrialIncrement> {
-        let oob = self.out_of_balance(state, target, internal);
-        if target == 1.0 && self.substep.is_none() && self.plastic_events_inside() {
-            self.trial_base = Some(TrialBase::of(&oob, 1.0 - state.load_fraction));
-        }
-        let sys = self.contact_system(state, &oob.dshift);
-        let sol = self.solve_small_system(state, &sys, &oob)?;
-        Ok(self.increment(state, target, &sys, oob, &sol))
-    }
+/// The trial increment for `what`. `internal`: the internal force P_σ of the state's stresses
+/// if the caller has it.
+pub(super) fn solve(eng: &mut Engine, state: &State, what: Solve, internal: Option<Vec<f64>>) -> Result<TrialIncrement> {
+    Ok(solve_keeping(eng, state, what, internal, false)?.0)
+}
 
-    /// The stage's remaining load from the state to `target` (forces, prescribed displacement
-    /// increments and obstacle motion), in residual form.
-    pub fn out_of_balance(&mut self, state: &State, target: f64, internal: Option<Vec<f64>>) -> OutOfBalance {
-        let dshift = self.shift_increment(state, target);
-        if let Some(base) = &self.substep {
-            return base.scaled(target - state.load_fraction, dshift); // a contact sub-step
-        }
-        if let Space::Reduced(r) = &self.space {
-            // Elastic and in equilibrium: the out-of-balance force is (target − s)(ΔP − K_fp Δū) exactly.
-            let c = target - state.load_fraction;
-            let mode_rhs = self.mode_force.iter().map(|v| -c * v[1]).collect();
-            return OutOfBalance { z0: r.u_load_reduced.iter().map(|v| c * v).collect(), mode_rhs, forward_sweep: vec![], prescribed: vec![], dshift, low_rank_coefficients: vec![] };
-        }
-        let internal = internal.unwrap_or_else(|| self.internal_force(&state.stress));
-        let mut r = self.residual_from(&internal, state, target);
-        let prescribed = self.prescribed_increment(state, target);
-        if let Some(f) = self.prescribed_force(&prescribed) {
-            r.iter_mut().zip(&f).for_each(|(a, b)| *a += b);
-        }
-        let r_eq = self.map.to_equations(&r);
-        let w = self.forward_sweep(&r_eq, target - state.load_fraction, state.stage);
-        let mut z0 = self.solver.trailing_solution(&w);
-        let mut low_rank_coefficients = vec![];
-        if !self.low_rank.is_empty() {
-            // K⁻¹ r = K_f⁻¹ r − Z C⁻¹ Zᵀ r (`low_rank`), at the contact slots here.
-            low_rank_coefficients = self.low_rank.coefficients(&r_eq);
-            self.low_rank.subtract_trailing(&mut z0, &low_rank_coefficients);
-        }
-        let mode_rhs = self.mode_vectors.iter().map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>()).collect();
-        OutOfBalance { z0, mode_rhs, forward_sweep: w, prescribed, dshift, low_rank_coefficients }
-    }
+/// The trial for the stage's remaining load (eq. 44), and in a plastic window (`stepping`) what
+/// its contact sub-steps reuse (`TrialBase`).
+pub(super) fn remaining_load(eng: &mut Engine, state: &State, internal: Option<Vec<f64>>, stepping: Stepping) -> Result<(TrialIncrement, Option<TrialBase>)> {
+    solve_keeping(eng, state, Solve::RemainingLoad, internal, stepping.window().is_some())
+}
 
-    /// The forward sweep L⁻¹ r of an out-of-balance force r over the equations. From a balanced
-    /// state r is c ΔP (c the stage fraction left, ΔP the stage's load change) up to round-off:
-    /// then it is c × the stage load's sweep, kept per factorization (low-rank terms leave L
-    /// as it is), and the trial costs one backward sweep. A rest above `BALANCED` × c‖ΔP‖
-    /// (an integrated increment not yet corrected, prescribed displacements) is swept whole.
-    fn forward_sweep(&mut self, r_eq: &[f64], c: f64, stage: usize) -> Vec<f64> {
-        if c > 0.0 {
-            self.sweep_stage_load(stage);
-            if let Space::Full(Full { load_sweep: Some(ls), .. }) = &self.space {
-                let (mut rest, mut load) = (0.0, 0.0);
-                for (r, p) in r_eq.iter().zip(&ls.load) {
-                    rest += (r - c * p) * (r - c * p);
-                    load += c * c * p * p;
-                }
-                if rest <= BALANCED * BALANCED * load {
-                    return ls.sweep.iter().map(|w| c * w).collect();
-                }
-            }
-        }
-        self.solver.forward(r_eq)
+fn solve_keeping(eng: &mut Engine, state: &State, what: Solve, internal: Option<Vec<f64>>, keep_base: bool) -> Result<(TrialIncrement, Option<TrialBase>)> {
+    let oob = out_of_balance(eng, state, what, internal);
+    let mut base = keep_base.then(|| TrialBase::of(&oob, 1.0 - state.load_fraction));
+    let sys = contact_system(eng, state, &oob.dshift);
+    let sol = solve_small_system(eng, state, &sys, &oob)?;
+    let inc = increment(eng, state, what, &sys, oob, &sol);
+    if let Some(b) = &mut base {
+        b.noise = inc.noise;
     }
+    Ok((inc, base))
+}
 
-    /// The current stage load's forward sweep, unless the cache holds it for this factor.
-    fn sweep_stage_load(&mut self, stage: usize) {
-        let factorization = self.solver.n_factorizations;
-        if let Space::Full(Full { load_sweep: Some(ls), .. }) = &self.space {
-            if ls.stage == stage && ls.factorization == factorization {
-                return;
-            }
+/// The stage's remaining load from the state to `what`'s target (forces, prescribed
+/// displacement increments and obstacle motion), in residual form.
+pub(super) fn out_of_balance(eng: &mut Engine, state: &State, what: Solve, internal: Option<Vec<f64>>) -> OutOfBalance {
+    let target = what.target();
+    let Engine { problem, stiffness, loads, .. } = eng;
+    let dshift = loads.shift_increment(state, target);
+    if let Solve::SubStep(base) = what {
+        return base.scaled(target - state.load_fraction, dshift);
+    }
+    if problem.is_reduced() {
+        // Elastic and in equilibrium: the out-of-balance force is (target − s)(ΔP − K_fp Δū) exactly.
+        let c = target - state.load_fraction;
+        let mode_rhs = loads.mode_force.iter().map(|v| -c * v[1]).collect();
+        return OutOfBalance { z0: loads.reduced.u_load_reduced.iter().map(|v| c * v).collect(), mode_rhs, forward_sweep: vec![], prescribed: vec![], dshift, low_rank_coefficients: vec![] };
+    }
+    let internal = internal.unwrap_or_else(|| problem.internal_force(&state.stress));
+    let mut r = loads.residual_from(problem, &internal, state, target);
+    let prescribed = loads.prescribed_increment(problem, state, target);
+    if let Some(f) = problem.prescribed_force(&stiffness.tangents.held, &prescribed) {
+        r.iter_mut().zip(&f).for_each(|(a, b)| *a += b);
+    }
+    let r_eq = problem.dofs.map.to_equations(&r);
+    let w = stiffness.forward_sweep(&r_eq, target - state.load_fraction, state.stage, || loads.change_on_equations(problem));
+    let mut z0 = stiffness.solver.trailing_solution(&w);
+    let mut low_rank_coefficients = vec![];
+    if !stiffness.low_rank.is_empty() {
+        // K⁻¹ r = K_f⁻¹ r − Z C⁻¹ Zᵀ r (`low_rank`), at the contact slots here.
+        low_rank_coefficients = stiffness.low_rank.coefficients(&r_eq);
+        stiffness.low_rank.subtract_trailing(&mut z0, &low_rank_coefficients);
+    }
+    let mode_rhs = problem.bodies.mode_vectors.iter().map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>()).collect();
+    OutOfBalance { z0, mode_rhs, forward_sweep: w, prescribed, dshift, low_rank_coefficients }
+}
+
+/// Rows of the closed pairs: normal (h = −gap − Δc_n) and, for frictional stick, tangential
+/// (h = RTD at sticking − RTD − Δc_t), with Δc the obstacle's motion over the trial.
+fn contact_system(eng: &Engine, state: &State, dshift: &[[f64; 2]]) -> ContactSystem {
+    let problem = &eng.problem;
+    let (mut rows, mut h) = (Vec::new(), Vec::new());
+    for (p, st) in state.status.iter().enumerate() {
+        if !st.is_closed() {
+            continue;
         }
-        let change = self.stage.force_change();
-        let load: Vec<f64> = self.map.dof_of_equation.iter().map(|&d| if self.fixed[d] { 0.0 } else { change[d] }).collect();
-        let sweep = self.solver.forward(&load);
-        if let Space::Full(full) = &mut self.space {
-            full.load_sweep = Some(LoadSweep { stage, factorization, load, sweep });
+        rows.push(Row::Normal(p));
+        h.push(-problem.gap(state, p) - dshift[p][0]);
+        if *st == Status::Stick && problem.pairs[p].frictional() {
+            rows.push(Row::Tangent(p));
+            h.push(state.rtd_stick[p] - problem.rtd(state, p) - dshift[p][1]);
         }
     }
+    let columns: Vec<Vec<(usize, f64)>> = rows.iter().map(|row| force_direction(problem, *row, &state.status)).collect();
+    let flex_columns = columns.iter().map(|e| eng.stiffness.flexibility_times(&problem.dofs.contact_slot, e)).collect();
+    ContactSystem { rows, h, columns, flex_columns }
+}
 
-    /// Rows of the closed pairs: normal (h = −gap − Δc_n) and, for frictional stick, tangential
-    /// (h = RTD at sticking − RTD − Δc_t), with Δc the obstacle's motion over the trial.
-    pub fn contact_system(&self, state: &State, dshift: &[[f64; 2]]) -> ContactSystem {
-        let (mut rows, mut h) = (Vec::new(), Vec::new());
-        for (p, st) in state.status.iter().enumerate() {
-            if !st.is_closed() {
-                continue;
+/// Column e_j: w_n (+ τ w_t for a slipping pair, τ = −dμ, eq. 41) or w_t.
+fn force_direction(problem: &Problem, row: Row, status: &[Status]) -> Vec<(usize, f64)> {
+    match row {
+        Row::Normal(p) => {
+            let pair = &problem.pairs[p];
+            let tau = pair.slip_ratio(status[p]);
+            let mut e = pair.w_n.entries.clone();
+            if tau != 0.0 {
+                e.extend(pair.w_t.entries.iter().map(|&(d, v)| (d, tau * v)));
             }
-            rows.push(Row::Normal(p));
-            h.push(-self.gap(state, p) - dshift[p][0]);
-            if *st == Status::Stick && self.pairs[p].frictional() {
-                rows.push(Row::Tangent(p));
-                h.push(state.rtd_stick[p] - self.rtd(state, p) - dshift[p][1]);
-            }
+            e
         }
-        let columns: Vec<Vec<(usize, f64)>> = rows.iter().map(|row| self.force_direction(*row, &state.status)).collect();
-        let flex_columns = columns.iter().map(|e| self.flexibility_times(e)).collect();
-        ContactSystem { rows, h, columns, flex_columns }
+        Row::Tangent(p) => problem.pairs[p].w_t.entries.clone(),
     }
+}
 
-    /// Column e_j: w_n (+ τ w_t for a slipping pair, τ = −dμ, eq. 41) or w_t.
-    fn force_direction(&self, row: Row, status: &[Status]) -> Vec<(usize, f64)> {
-        match row {
-            Row::Normal(p) => {
-                let pair = &self.pairs[p];
-                let tau = pair.slip_ratio(status[p]);
-                let mut e = pair.w_n.entries.clone();
-                if tau != 0.0 {
-                    e.extend(pair.w_t.entries.iter().map(|&(d, v)| (d, tau * v)));
-                }
-                e
-            }
-            Row::Tangent(p) => self.pairs[p].w_t.entries.clone(),
-        }
+fn constraint<'a>(problem: &'a Problem, row: Row) -> &'a SparseVec {
+    match row {
+        Row::Normal(p) => &problem.pairs[p].w_n,
+        Row::Tangent(p) => &problem.pairs[p].w_t,
     }
+}
 
-    pub fn constraint(&self, row: Row) -> &SparseVec {
-        match row {
-            Row::Normal(p) => &self.pairs[p].w_n,
-            Row::Tangent(p) => &self.pairs[p].w_t,
-        }
-    }
-
-    /// Assemble and solve the small system for (Δλ, α).
-    fn solve_small_system(&mut self, state: &State, sys: &ContactSystem, oob: &OutOfBalance) -> Result<DVector<f64>> {
-        let (m, nm) = (sys.rows.len(), self.modes.len());
-        let mut a = DMatrix::<f64>::zeros(m + nm, m + nm);
-        let mut rhs = DVector::<f64>::zeros(m + nm);
-        for j in 0..m {
-            for i in 0..m {
-                a[(i, j)] = self.dot_slots(self.constraint(sys.rows[i]), &sys.flex_columns[j]);
-            }
-            for (k, mode) in self.mode_vectors.iter().enumerate() {
-                a[(m + k, j)] = sys.columns[j].iter().map(|&(d, v)| v * mode[d]).sum();
-            }
-        }
-        for (k, mode) in self.mode_vectors.iter().enumerate() {
-            for i in 0..m {
-                a[(i, m + k)] = self.constraint(sys.rows[i]).dot(mode);
-            }
-            rhs[m + k] = oob.mode_rhs[k];
-        }
+/// Assemble and solve the small system for (Δλ, α).
+fn solve_small_system(eng: &Engine, state: &State, sys: &ContactSystem, oob: &OutOfBalance) -> Result<DVector<f64>> {
+    let problem = &eng.problem;
+    let modes = &problem.bodies.mode_vectors;
+    let (m, nm) = (sys.rows.len(), problem.bodies.modes.len());
+    let mut a = DMatrix::<f64>::zeros(m + nm, m + nm);
+    let mut rhs = DVector::<f64>::zeros(m + nm);
+    for j in 0..m {
         for i in 0..m {
-            rhs[i] = sys.h[i] - self.dot_slots(self.constraint(sys.rows[i]), &oob.z0);
+            a[(i, j)] = problem.dot_slots(constraint(problem, sys.rows[i]), &sys.flex_columns[j]);
         }
-        self.check_restrained(state, &a, &sys.rows, oob)?;
-        let t = Instant::now();
+        for (k, mode) in modes.iter().enumerate() {
+            a[(m + k, j)] = sys.columns[j].iter().map(|&(d, v)| v * mode[d]).sum();
+        }
+    }
+    for (k, mode) in modes.iter().enumerate() {
+        for i in 0..m {
+            a[(i, m + k)] = constraint(problem, sys.rows[i]).dot(mode);
+        }
+        rhs[m + k] = oob.mode_rhs[k];
+    }
+    for i in 0..m {
+        rhs[i] = sys.h[i] - problem.dot_slots(constraint(problem, sys.rows[i]), &oob.z0);
+    }
+    let closed_normals = || sys.rows.iter().filter_map(|r| if let Row::Normal(p) = r { Some(*p) } else { None }).collect::<Vec<usize>>();
+    restraint::check_restrained(problem, &eng.loads, state, &a, m, &oob.mode_rhs, closed_normals)?;
+    let (s, sol) = {
+        let _t = eng.clock.time(Phase::Dense);
         let s = unit_free(&mut a, &mut rhs, m);
-        let sol = solve_dense(&a, &rhs);
-        self.timings.dense += since(t);
-        match sol {
-            Some(mut x) => {
-                x.rows_mut(m, nm).iter_mut().for_each(|v| *v *= s);
-                Ok(x)
-            }
-            None => {
-                let closed: Vec<String> = sys.rows.iter().filter_map(|r| if let Row::Normal(p) = r { Some(p.to_string()) } else { None }).collect();
-                bail!(Singular, "the contact system is singular at load fraction {:.6}: the closed pairs [{}] are redundant (two pairs on one node along the same direction?) — remove duplicate pairs", state.load_fraction, closed.join(", "))
-            }
+        (s, solve_dense(&a, &rhs))
+    };
+    match sol {
+        Some(mut x) => {
+            x.rows_mut(m, nm).iter_mut().for_each(|v| *v *= s);
+            Ok(x)
+        }
+        None => {
+            let closed: Vec<String> = closed_normals().iter().map(|p| p.to_string()).collect();
+            bail!(Singular, "the contact system is singular at load fraction {:.6}: the closed pairs [{}] are redundant (two pairs on one node along the same direction?) — remove duplicate pairs", state.load_fraction, closed.join(", "))
         }
     }
+}
 
-    /// Δλ, Δu = K#(r + E Δλ) + N α, and the element stress increments.
-    fn increment(&mut self, state: &State, target: f64, sys: &ContactSystem, mut oob: OutOfBalance, sol: &DVector<f64>) -> TrialIncrement {
-        let (m, n_pairs) = (sys.rows.len(), self.pairs.len());
-        let (mut dlambda_n, mut dlambda_t) = (vec![0.0; n_pairs], vec![0.0; n_pairs]);
+/// Δλ, Δu = K#(r + E Δλ) + N α, and the element stress increments (not for a sub-step, nor in
+/// the reduced space).
+fn increment(eng: &mut Engine, state: &State, what: Solve, sys: &ContactSystem, mut oob: OutOfBalance, sol: &DVector<f64>) -> TrialIncrement {
+    let problem = &eng.problem;
+    let (m, n_pairs) = (sys.rows.len(), problem.pairs.len());
+    let (mut dlambda_n, mut dlambda_t) = (vec![0.0; n_pairs], vec![0.0; n_pairs]);
+    for j in 0..m {
+        match sys.rows[j] {
+            Row::Normal(p) => {
+                dlambda_n[p] = sol[j];
+                dlambda_t[p] = problem.pairs[p].slip_ratio(state.status[p]) * sol[j];
+            }
+            Row::Tangent(p) => dlambda_t[p] = sol[j],
+        }
+    }
+    let dshift = std::mem::take(&mut oob.dshift);
+    let prescribed = std::mem::take(&mut oob.prescribed);
+    let sub_step = matches!(what, Solve::SubStep(_));
+    let mut du = displacement(eng, sys, oob, sol, sub_step);
+    let problem = &eng.problem;
+    prescribed.iter().for_each(|&(d, v)| du[d] = v);
+    let dalpha: Vec<f64> = (0..problem.bodies.modes.len()).map(|k| sol[m + k]).collect();
+    for (mode, s) in problem.bodies.mode_vectors.iter().zip(&dalpha) {
+        du.iter_mut().zip(mode).for_each(|(d, v)| *d += s * v);
+    }
+    let noise = match what {
+        Solve::SubStep(base) => base.noise,
+        Solve::RemainingLoad | Solve::Balance(_) => {
+            let largest = eng.loads.largest_increment(problem, &du, what.target() - state.load_fraction);
+            Noise { displacement: DISPLACEMENT_NOISE * largest, force: problem.scales.force_noise }
+        }
+    };
+    if problem.is_reduced() || sub_step {
+        return TrialIncrement { du, dstress: vec![], dplastic: vec![], dstrain: vec![], dlambda_n, dlambda_t, dalpha, dshift, noise };
+    }
+    let (dstress, dplastic, dstrain) = eng.stiffness.tangents.stress_increment(problem, &du);
+    TrialIncrement { du, dstress, dplastic, dstrain, dlambda_n, dlambda_t, dalpha, dshift, noise }
+}
+
+/// K#(r + E Δλ): in the reduced space and for a sub-step only at the contact DOFs,
+/// Σ_j Δλ_j K# e_j (reduced index = slot); in the full space the forces E Δλ on contact DOFs
+/// touch only the trailing rows of the forward sweep, then one backward sweep.
+fn displacement(eng: &mut Engine, sys: &ContactSystem, oob: OutOfBalance, sol: &DVector<f64>, sub_step: bool) -> Vec<f64> {
+    let m = sys.rows.len();
+    let Engine { problem, stiffness, .. } = eng;
+    if problem.is_reduced() || sub_step {
+        let mut du = oob.z0;
         for j in 0..m {
-            match sys.rows[j] {
-                Row::Normal(p) => {
-                    dlambda_n[p] = sol[j];
-                    dlambda_t[p] = self.pairs[p].slip_ratio(state.status[p]) * sol[j];
-                }
-                Row::Tangent(p) => dlambda_t[p] = sol[j],
+            du.iter_mut().zip(&sys.flex_columns[j]).for_each(|(x, g)| *x += sol[j] * g);
+        }
+        return if problem.is_reduced() { du } else { problem.slots_to_dofs(&du) };
+    }
+    let contact_slot = &problem.dofs.contact_slot;
+    let mut force_slots = vec![0.0; stiffness.flexibility.nrows()];
+    for j in 0..m {
+        for &(d, v) in &sys.columns[j] {
+            if contact_slot[d] != usize::MAX {
+                force_slots[contact_slot[d]] += sol[j] * v;
             }
         }
-        let dshift = std::mem::take(&mut oob.dshift);
-        let prescribed = std::mem::take(&mut oob.prescribed);
-        let mut du = self.displacement(sys, oob, sol);
-        prescribed.iter().for_each(|&(d, v)| du[d] = v);
-        let dalpha: Vec<f64> = (0..self.modes.len()).map(|k| sol[m + k]).collect();
-        for (mode, s) in self.mode_vectors.iter().zip(&dalpha) {
-            du.iter_mut().zip(mode).for_each(|(d, v)| *d += s * v);
-        }
-        if self.is_reduced() || self.substep.is_some() {
-            if self.substep.is_none() {
-                self.noise.displacement = DISPLACEMENT_NOISE * self.largest_increment(&du, target - state.load_fraction);
-            }
-            return TrialIncrement { du, dstress: vec![], dplastic: vec![], dstrain: vec![], dlambda_n, dlambda_t, dalpha, dshift };
-        }
-        let (dstress, dplastic, dstrain) = self.stress_increment(&du);
-        let umax = self.largest_increment(&du, target - state.load_fraction);
-        self.noise.displacement = DISPLACEMENT_NOISE * umax;
-        TrialIncrement { du, dstress, dplastic, dstrain, dlambda_n, dlambda_t, dalpha, dshift }
     }
+    let x = stiffness.backward_with_forces(oob.forward_sweep, &force_slots, || oob.low_rank_coefficients);
+    problem.dofs.map.from_equations(&x)
+}
 
-    /// K#(r + E Δλ): in the reduced space only at the contact DOFs, Σ_j Δλ_j K# e_j (reduced
-    /// index = slot); in the full space the forces E Δλ on contact DOFs touch only the
-    /// trailing rows of the forward sweep, then one backward sweep.
-    fn displacement(&mut self, sys: &ContactSystem, oob: OutOfBalance, sol: &DVector<f64>) -> Vec<f64> {
-        let m = sys.rows.len();
-        if self.is_reduced() || self.substep.is_some() {
-            let mut du = oob.z0;
-            for j in 0..m {
-                du.iter_mut().zip(&sys.flex_columns[j]).for_each(|(x, g)| *x += sol[j] * g);
-            }
-            return if self.is_reduced() { du } else { self.slots_to_dofs(&du) };
-        }
-        let mut w = oob.forward_sweep;
-        let mut force_slots = vec![0.0; self.flexibility.nrows()];
-        for j in 0..m {
-            for &(d, v) in &sys.columns[j] {
-                if self.contact_slot[d] != usize::MAX {
-                    force_slots[self.contact_slot[d]] += sol[j] * v;
-                }
-            }
-        }
-        if m > 0 {
-            self.solver.add_trailing_force(&mut w, &force_slots);
-        }
-        let mut x = self.solver.backward(w);
-        if !self.low_rank.is_empty() {
-            // K⁻¹(r + EΔλ) = K_f⁻¹(r + EΔλ) − Z C⁻¹ Zᵀ (r + EΔλ)
-            let mut c = oob.low_rank_coefficients;
-            let from_forces = self.low_rank.trailing_coefficients(&force_slots);
-            c.iter_mut().zip(&from_forces).for_each(|(a, b)| *a += b);
-            self.low_rank.subtract(&mut x, &c);
-            self.count_low_rank_solve();
-        }
-        self.map.from_equations(&x)
-    }
-
-    /// A vector over all DOFs from its values at the contact slots (0 elsewhere).
-    fn slots_to_dofs(&self, at_slots: &[f64]) -> Vec<f64> {
-        let mut v = vec![0.0; self.map.role.len()];
-        for (d, &slot) in self.contact_slot.iter().enumerate() {
-            if slot != usize::MAX {
-                v[d] = at_slots[slot];
-            }
-        }
-        v
-    }
-
-    /// Δu = K⁻¹(f r + E Δλ) over all DOFs, from a trial's kept out-of-balance force r (its
-    /// forward sweep) and the forces `force_slots` at the contact slots: one backward sweep.
-    pub fn displacement_from(&mut self, base: &TrialBase, f: f64, force_slots: &[f64]) -> Vec<f64> {
-        let mut w: Vec<f64> = base.forward_sweep.iter().map(|v| f * v).collect();
-        self.solver.add_trailing_force(&mut w, force_slots);
-        let mut x = self.solver.backward(w);
-        if !self.low_rank.is_empty() {
-            let mut c: Vec<f64> = base.low_rank_coefficients.iter().map(|v| f * v).collect();
-            let from_forces = self.low_rank.trailing_coefficients(force_slots);
-            c.iter_mut().zip(&from_forces).for_each(|(a, b)| *a += b);
-            self.low_rank.subtract(&mut x, &c);
-            self.count_low_rank_solve();
-        }
-        self.map.from_equations(&x)
-    }
-
-    /// max |u| of a state at stage fraction s (for round-off tolerances). The reduced space
-    /// carries u at the contact DOFs only: the loads' share elsewhere is bounded by
-    /// max |Σ u_stage of completed stages| + s × max |u_stage|.
-    pub fn largest_displacement(&self, u: &[f64], s: f64) -> f64 {
-        let carried = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        match &self.space {
-            Space::Reduced(r) => carried.max(r.u_done_max + s.abs() * r.u_load_max),
-            Space::Full(_) => carried,
-        }
-    }
-
-    /// max |Δu| of an increment over a stage fraction c (as `largest_displacement`).
-    fn largest_increment(&self, du: &[f64], c: f64) -> f64 {
-        let carried = du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        match &self.space {
-            Space::Reduced(r) => carried.max(c.abs() * r.u_load_max),
-            Space::Full(_) => carried,
-        }
-    }
-
-    /// Δσ, Δεp and Δε of every element for a displacement increment (eqs. 10, 11, 18), with
-    /// the tangents K holds.
-    pub fn stress_increment(&self, du: &[f64]) -> (Vec<Vector4<f64>>, Vec<f64>, Vec<Vector4<f64>>) {
-        let plane = self.model.plane;
-        let per_element: Vec<(Vector4<f64>, f64, Vector4<f64>)> = self.elements.par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.tangents).map(|(el, t)| {
-            let e = el.strain(du);
-            (t.stress_increment(plane, &e), t.plastic_multiplier(plane, &e), e)
-        }).collect();
-        let n = per_element.len();
-        let (mut dstress, mut dplastic, mut dstrain) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
-        for (s, p, e) in per_element {
-            dstress.push(s);
-            dplastic.push(p);
-            dstrain.push(e);
-        }
-        (dstress, dplastic, dstrain)
-    }
-
-    /// Internal nodal forces P_σ = Σ w Bᵀ σ (eq. 42; w = t A, or 2π r̄ A in axisymmetry).
-    pub fn internal_force(&self, stress: &[Vector4<f64>]) -> Vec<f64> {
-        let mut f = vec![0.0; self.map.role.len()];
-        for (el, s) in self.elements.iter().zip(stress) {
-            let fe = el.internal_force(s);
-            for (k, d) in el.dofs().iter().enumerate() {
-                f[*d] += fe[k];
-            }
-        }
-        f
-    }
-
-    /// Out-of-balance force at stage fraction `phi`: P(φ) − P_σ + contact forces over the free
-    /// DOFs (the right-hand side of eq. 43), from the internal force P_σ of the stresses.
-    pub fn residual_from(&self, internal: &[f64], state: &State, phi: f64) -> Vec<f64> {
-        let mut r = internal.to_vec();
-        for (d, v) in r.iter_mut().enumerate() {
-            *v = if self.fixed[d] { 0.0 } else { self.stage.force(d, phi) - *v };
-        }
-        for (p, pair) in self.global_pairs().iter().enumerate() {
-            pair.w_n.add_to(state.lambda_n[p], &mut r);
-            pair.w_t.add_to(state.lambda_t[p], &mut r);
-        }
-        r
-    }
+/// Δu = K⁻¹(f r + E Δλ) over all DOFs, from a trial's kept out-of-balance force r (its
+/// forward sweep) and the forces `force_slots` at the contact slots: one backward sweep.
+pub(super) fn displacement_from(eng: &mut Engine, base: &TrialBase, f: f64, force_slots: &[f64]) -> Vec<f64> {
+    let w: Vec<f64> = base.forward_sweep.iter().map(|v| f * v).collect();
+    let x = eng.stiffness.backward_with_forces(w, force_slots, || base.low_rank_coefficients.iter().map(|v| f * v).collect());
+    eng.problem.dofs.map.from_equations(&x)
 }
 
 /// Give the rigid-body columns and rows of the small system (the last ones, after the `m`
@@ -440,7 +355,7 @@ fn unit_free(a: &mut DMatrix<f64>, rhs: &mut DVector<f64>, m: usize) -> f64 {
 
 /// Solve the small dense system by LU with partial pivoting (faer's blocked kernel); None when
 /// it is singular to working precision.
-pub(super) fn solve_dense(a: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>> {
+fn solve_dense(a: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>> {
     let n = rhs.len();
     if n == 0 {
         return Some(DVector::zeros(0));
@@ -458,4 +373,90 @@ pub(super) fn solve_dense(a: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVecto
     lu.solve_in_place_with_conj(faer::Conj::No, x.as_mut());
     let x = DVector::from_fn(n, |i, _| x[(i, 0)]);
     x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+
+#[cfg(test)]
+mod tests {
+    use super::super::clock::Clock;
+    use super::super::scenes::*;
+    use super::super::space::Space;
+    use super::*;
+    use crate::model::Model;
+
+    /// Round-off of the solves on these scenes of four nodes: each result is a few dozen
+    /// operations on O(1) numbers, ~1e-15 each; 1e-12 leaves room and catches any error in the
+    /// algebra, which would be of order one.
+    const ROUND_OFF: f64 = 1e-12;
+
+    /// The entry of DOF `dof` of a vector over the DOFs the loop carries.
+    fn at(eng: &Engine, v: &[f64], dof: usize) -> f64 {
+        match &eng.problem.space {
+            Space::Reduced(r) => v[r.dofs.iter().position(|&d| d == dof).expect("a contact DOF")],
+            Space::Full => v[dof],
+        }
+    }
+
+    /// The square on rollers pressed by q: uniform σy = −q, so its free corner (node 2) moves by
+    /// (ν q/E, −q/E) (plane stress), in the reduced elastic space (contact DOFs only) as in the
+    /// full one; the open pair carries nothing.
+    #[test]
+    fn the_remaining_load_moves_the_corner_by_the_closed_form() {
+        let q = 2.0;
+        for reduced in [true, false] {
+            let mut m = poisson_wall(q, 1.0); // the wall far away: the pair stays open
+            m.options.reduced_elastic = reduced;
+            let clock = Clock::new();
+            let (mut eng, state) = start(&m, &clock);
+            assert_eq!(eng.problem.is_reduced(), reduced);
+            let (trial, base) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+            assert!(base.is_none(), "no window, no base kept");
+            let (ux, uy) = (at(&eng, &trial.du, 4), at(&eng, &trial.du, 5));
+            assert!((ux - NU * q / E).abs() < ROUND_OFF * q / E, "u_x = {ux}");
+            assert!((uy + q / E).abs() < ROUND_OFF * q / E, "u_y = {uy}");
+            assert_eq!((trial.dlambda_n[0], trial.dlambda_t[0]), (0.0, 0.0));
+        }
+    }
+
+    /// A stuck pair holds its node in place, so it carries the load on it by the node's
+    /// equilibrium: stage 1 presses by N (Δλ_n = N), stage 2 adds the tangential T
+    /// (Δλ_t = T, t = (−1, 0)); the node does not move.
+    #[test]
+    fn a_stuck_pair_carries_the_load_on_its_node() {
+        let (n, t) = (3.0, 1.0);
+        let m = pressed_then_sheared(n, t, 0.5);
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let press = solve(&mut eng, &state, Solve::RemainingLoad, None).unwrap();
+        assert!((press.dlambda_n[0] - n).abs() < ROUND_OFF * n && press.dlambda_t[0].abs() < ROUND_OFF * n);
+        assert!(press.du.iter().all(|v| v.abs() < ROUND_OFF * n / E));
+        state.advance(&press, 1.0);
+        eng.begin_stage(1, &mut state);
+        let shear = solve(&mut eng, &state, Solve::RemainingLoad, None).unwrap();
+        assert!(shear.dlambda_n[0].abs() < ROUND_OFF * n && (shear.dlambda_t[0] - t).abs() < ROUND_OFF * t);
+        assert!(shear.du.iter().all(|v| v.abs() < ROUND_OFF * n / E));
+    }
+
+    /// In a plastic window the trial keeps its base, and a contact sub-step from a state the
+    /// increment reached linearly (at s) solves the remaining load (1 − s) of it: the corner's
+    /// displacement is (1 − s) (ν q/E, −q/E), with no full-space solve.
+    #[test]
+    fn a_sub_step_solves_the_remaining_load_from_its_base() {
+        let q = 2.0;
+        let m = poisson_wall(q, 1.0);
+        let mut m = Model { materials: vec![plastic(1e6, 0.0)], ..m }; // plastic: the full space, never yielding
+        m.options.group_tol = 0.1;
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let (trial, base) = remaining_load(&mut eng, &state, None, Stepping::Grouped { delta: 0.1 }).unwrap();
+        let base = base.expect("a window keeps its trial's base");
+        let s = 0.3;
+        state.u.iter_mut().zip(&trial.du).for_each(|(u, d)| *u += s * d);
+        state.load_fraction = s;
+        let solves = eng.stiffness.solver.n_solves;
+        let sub = solve(&mut eng, &state, Solve::SubStep(&base), None).unwrap();
+        assert_eq!(eng.stiffness.solver.n_solves, solves, "a sub-step solves in the contact space");
+        assert!((sub.du[4] - (1.0 - s) * NU * q / E).abs() < ROUND_OFF * q / E);
+        assert!((sub.du[5] + (1.0 - s) * q / E).abs() < ROUND_OFF * q / E);
+    }
 }

@@ -1,0 +1,339 @@
+//! The problem the procedure works on, fixed for the whole run: the elements with their
+//! kinematics and sections, the contact pairs (eqs. 45–46), the bodies and their free
+//! rigid-body modes, the load path, the DOF maps (supports, pinned DOFs, the contact DOFs last
+//! in the factor) and the DOF space the loop carries (`space`); and the scales its tolerances
+//! are relative to.
+
+use super::path::{LoadPath, StageLoad};
+use super::space::{Reduced, Space};
+use super::state::State;
+use crate::bail;
+use crate::contact::{Pair, SparseVec, HELD_BY_SUPPORTS};
+use crate::element::{Cst, Element};
+use crate::error::Result;
+use crate::linalg::DofMap;
+use crate::material::Tangent;
+use crate::model::Model;
+use crate::rigid_modes::{free_modes, RigidMode};
+use crate::section::Section;
+use nalgebra::Vector4;
+
+/// Zero-gap pairs start closed: a gap within this × the length scale counts as zero.
+const INITIAL_CONTACT: f64 = 1e-12;
+/// Round-off scale of forces: noise floor of a force rate, × Σ|load|.
+const FORCE_NOISE: f64 = 1e-12;
+/// Element loops run on the cores in chunks of at least this many elements (below it the
+/// threads' start costs more than the loop).
+pub(super) const PARALLEL_CHUNK: usize = 1024;
+
+/// The scales tolerances are relative to.
+pub(super) struct Scales {
+    /// |P| over the free DOFs (1 for a tractionless scene: residuals are then absolute).
+    pub load_norm: f64,
+    /// Σ|P|: the scale of forces.
+    pub force: f64,
+    /// The mesh's bounding-box diagonal.
+    pub length: f64,
+    /// A force rate below this is round-off (`FORCE_NOISE` × `force`).
+    pub force_noise: f64,
+}
+
+impl Scales {
+    /// A gap within this is zero: the pair starts closed, or touches (`INITIAL_CONTACT`).
+    pub fn touching(&self) -> f64 {
+        INITIAL_CONTACT * self.length
+    }
+}
+
+/// Where every DOF goes: supports and prescribed DOFs (fixed), the equations of the factor,
+/// and the slot of each contact DOF in the flexibility.
+pub(super) struct Dofs {
+    pub map: DofMap,
+    pub fixed: Vec<bool>,
+    /// Slot in the flexibility of each DOF of the loop's DOF space (usize::MAX: not a contact
+    /// DOF, or fixed/pinned, where K# is zero).
+    pub contact_slot: Vec<usize>,
+    /// The global DOF of each slot: the trailing equations of the factor.
+    pub slot_dofs: Vec<usize>,
+}
+
+/// The connected components of the mesh and their free rigid-body modes.
+pub(super) struct Bodies {
+    /// Body of every node, and the first element of every body (its name in messages,
+    /// `Model::body_name`).
+    pub of_node: Vec<usize>,
+    pub first_element: Vec<usize>,
+    pub modes: Vec<RigidMode>,
+    /// The rigid modes over the DOFs the loop carries.
+    pub mode_vectors: Vec<Vec<f64>>,
+}
+
+pub(super) struct Problem<'m> {
+    pub model: &'m Model,
+    pub elements: Vec<Cst>,
+    /// The material of every element under the model's stress state.
+    pub sections: Vec<Section>,
+    /// The elements around each node (whether a closure's neighbourhood is elastic).
+    pub node_elements: Vec<Vec<usize>>,
+    /// Elements with a prescribed DOF (their K_fp Δū loads the free DOFs).
+    pub prescribed_elements: Vec<usize>,
+    /// The pairs over the DOFs the loop carries (`space`).
+    pub pairs: Vec<Pair>,
+    pub space: Space,
+    pub bodies: Bodies,
+    pub dofs: Dofs,
+    pub path: LoadPath,
+    pub scales: Scales,
+}
+
+impl<'m> Problem<'m> {
+    /// Everything the loop needs from `model`, which must have passed `Model::validate`.
+    pub fn new(model: &'m Model) -> Result<Self> {
+        let mesh = &model.mesh;
+        let n_dofs = 2 * mesh.n_nodes();
+        let path = LoadPath::new(model);
+        let mut fixed = vec![false; n_dofs];
+        model.supported_dofs().iter().chain(&path.prescribed_dofs()).for_each(|&d| fixed[d] = true);
+        let pairs = contact_pairs(model, &fixed)?;
+        let (body_of_node, n_bodies) = mesh.bodies();
+        let (modes, pinned) = free_modes(&mesh.nodes, &body_of_node, n_bodies, &fixed, model.plane);
+        let (contact_slot, slot_dofs) = contact_slots(&pairs, &fixed, &pinned);
+        let stress_state = model.plane.stress_state();
+        let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| stress_state.element(mesh, e, model.thickness)).collect();
+        let map = DofMap::ordered(&elements, n_dofs, &fixed, &pinned, &slot_dofs)?;
+        let sections: Vec<Section> = model.element_material.iter().map(|&m| Section::new(model.materials[m], stress_state)).collect();
+        let prescribed_elements = elements_touching(&elements, &path.prescribed_dofs());
+        let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();
+        let elastic = !model.materials.iter().any(|m| m.is_plastic());
+        let (space, pairs, contact_slot, mode_vectors) = if model.options.reduced_elastic && elastic {
+            let (reduced, view) = Reduced::new(pairs, &slot_dofs, &contact_slot, &full_modes);
+            (Space::Reduced(reduced), view.pairs, view.contact_slot, view.mode_vectors)
+        } else {
+            (Space::Full, pairs, contact_slot, full_modes)
+        };
+        let mut problem = Problem {
+            model,
+            node_elements: node_elements(&elements, mesh.n_nodes()),
+            elements,
+            sections,
+            prescribed_elements,
+            pairs,
+            space,
+            bodies: Bodies { first_element: first_elements(model, &body_of_node, n_bodies), of_node: body_of_node, modes, mode_vectors },
+            dofs: Dofs { map, fixed, contact_slot, slot_dofs },
+            path,
+            scales: Scales { load_norm: 1.0, force: 1.0, length: mesh.diameter(), force_noise: 0.0 },
+        };
+        let (load_norm, force) = problem.path_force_scales();
+        let force = force.max(f64::MIN_POSITIVE);
+        problem.scales.load_norm = if load_norm > 0.0 { load_norm } else { 1.0 };
+        problem.scales.force = force;
+        problem.scales.force_noise = FORCE_NOISE * force;
+        Ok(problem)
+    }
+
+    pub fn is_reduced(&self) -> bool {
+        matches!(self.space, Space::Reduced(_))
+    }
+
+    /// The pairs over the global DOFs (full fields, snapshots).
+    pub fn global_pairs(&self) -> &[Pair] {
+        match &self.space {
+            Space::Reduced(r) => &r.global_pairs,
+            Space::Full => &self.pairs,
+        }
+    }
+
+    /// Length of the displacement vectors the loop carries.
+    pub fn loop_dofs(&self) -> usize {
+        match &self.space {
+            Space::Reduced(r) => r.dofs.len(),
+            Space::Full => self.dofs.map.role.len(),
+        }
+    }
+
+    /// Number of element arrays the loop carries (none in the reduced space).
+    pub fn loop_elements(&self) -> usize {
+        if self.is_reduced() { 0 } else { self.elements.len() }
+    }
+
+    /// The gap of pair p with its obstacle's motion: gap₀ + w_nᵀu + c_n.
+    pub fn gap(&self, state: &State, p: usize) -> f64 {
+        self.pairs[p].gap(&state.u) + state.shift[p][0]
+    }
+
+    /// The RTD of pair p with its obstacle's motion: w_tᵀu + c_t.
+    pub fn rtd(&self, state: &State, p: usize) -> f64 {
+        self.pairs[p].rtd(&state.u) + state.shift[p][1]
+    }
+
+    pub fn body_of_pair(&self, p: usize) -> usize {
+        self.bodies.of_node[self.global_pairs()[p].node_a]
+    }
+
+    /// Internal nodal forces P_σ = Σ w Bᵀ σ (eq. 42; w = t A, or 2π r̄ A in axisymmetry).
+    pub fn internal_force(&self, stress: &[Vector4<f64>]) -> Vec<f64> {
+        let mut f = vec![0.0; self.dofs.map.role.len()];
+        for (el, s) in self.elements.iter().zip(stress) {
+            let fe = el.internal_force(s);
+            for (k, d) in el.dofs().iter().enumerate() {
+                f[*d] += fe[k];
+            }
+        }
+        f
+    }
+
+    /// cᵀ x for a constraint vector c and x given at the contact slots.
+    pub fn dot_slots(&self, c: &SparseVec, x: &[f64]) -> f64 {
+        c.entries
+            .iter()
+            .map(|&(d, v)| match self.dofs.contact_slot[d] {
+                usize::MAX => 0.0,
+                slot => v * x[slot],
+            })
+            .sum()
+    }
+
+    /// A vector over all DOFs from its values at the contact slots (0 elsewhere).
+    pub fn slots_to_dofs(&self, at_slots: &[f64]) -> Vec<f64> {
+        let mut v = vec![0.0; self.dofs.map.role.len()];
+        for (d, &slot) in self.dofs.contact_slot.iter().enumerate() {
+            if slot != usize::MAX {
+                v[d] = at_slots[slot];
+            }
+        }
+        v
+    }
+
+    /// −K_fp Δū over all DOFs (zero at held ones): the force on the free DOFs of the elements
+    /// that touch prescribed increments Δū, with the `tangents` K holds. None when Δū = 0.
+    pub fn prescribed_force(&self, tangents: &[Tangent], increments: &[(usize, f64)]) -> Option<Vec<f64>> {
+        if increments.iter().all(|&(_, v)| v == 0.0) {
+            return None;
+        }
+        let mut du = vec![0.0; self.dofs.map.role.len()];
+        increments.iter().for_each(|&(d, v)| du[d] = v);
+        let mut f = vec![0.0; du.len()];
+        for &e in &self.prescribed_elements {
+            let el = &self.elements[e];
+            let s = self.sections[e].stress_increment(&tangents[e], &el.strain(&du));
+            let fe = el.internal_force(&s);
+            for (k, &d) in el.dofs().iter().enumerate() {
+                if !self.dofs.fixed[d] {
+                    f[d] -= fe[k];
+                }
+            }
+        }
+        Some(f)
+    }
+
+    /// A stage's effective load over the free DOFs, ΔP − K_fp Δū, and its part −K_fp Δū.
+    pub fn effective_load(&self, stage: &StageLoad, tangents: &[Tangent]) -> (Vec<f64>, Option<Vec<f64>>) {
+        let mut load: Vec<f64> = stage.force_change().iter().enumerate().map(|(d, v)| if self.dofs.fixed[d] { 0.0 } else { *v }).collect();
+        let held = self.prescribed_force(tangents, &stage.prescribed_changes());
+        if let Some(f) = &held {
+            load.iter_mut().zip(f).for_each(|(l, x)| *l += x);
+        }
+        (load, held)
+    }
+
+    /// The loads of stage k over the global DOFs and pairs.
+    pub fn stage_load(&self, k: usize) -> StageLoad {
+        self.path.stage(k, self.dofs.map.role.len(), self.global_pairs().len())
+    }
+
+    /// Scales of the whole path: max over stages of |ΔP − K_fp Δū| over the free DOFs, and
+    /// of Σ|ΔP| (+ Σ|K_fp Δū|), with every element elastic; an obstacle motion Δc counts as the
+    /// force E t |Δc| per pair (the order of what moving a surface node by Δc takes;
+    /// t = `Model::depth`). (norm, sum)
+    fn path_force_scales(&self) -> (f64, f64) {
+        let elastic: Vec<Tangent> = self.sections.iter().map(|s| s.tangent(&Vector4::zeros(), false)).collect();
+        let young = self.sections.iter().map(|s| s.material.young).fold(0.0f64, f64::max);
+        let (mut norm, mut sum) = (0.0f64, 0.0f64);
+        for k in 0..self.path.n_stages() {
+            let stage = self.stage_load(k);
+            let mut total: f64 = stage.force_change().iter().map(|v| v.abs()).sum();
+            let (mut effective, held) = self.effective_load(&stage, &elastic);
+            if let Some(f) = held {
+                total += f.iter().map(|v| v.abs()).sum::<f64>();
+            }
+            for p in 0..self.global_pairs().len() {
+                let c = stage.shift(p, 1.0);
+                let c0 = stage.shift(p, 0.0);
+                let moved = young * self.model.depth() * (c[0] - c0[0]).hypot(c[1] - c0[1]);
+                total += moved;
+                effective.push(moved);
+            }
+            norm = norm.max(effective.iter().map(|v| v * v).sum::<f64>().sqrt());
+            sum = sum.max(total);
+        }
+        (norm, sum)
+    }
+}
+
+/// The contact pairs over the global DOFs (eqs. 45–46), supports removed from their vectors.
+fn contact_pairs(model: &Model, fixed: &[bool]) -> Result<Vec<Pair>> {
+    let mut pairs = Vec::with_capacity(model.pairs.len());
+    for (k, p) in model.pairs.iter().enumerate() {
+        let nn = (p.normal[0].powi(2) + p.normal[1].powi(2)).sqrt();
+        let normal = [p.normal[0] / nn, p.normal[1] / nn];
+        let pair = match p.weights.is_empty() {
+            true => Pair::new(p.node_a, p.node_b, normal, p.gap.max(0.0), p.mu, fixed),
+            false => Pair::weighted(p.node_a, p.node_b, &p.weights, normal, p.gap.max(0.0), p.mu, fixed),
+        };
+        if pair.w_n.norm() < HELD_BY_SUPPORTS {
+            bail!(Input, "{}: its normal direction is held by supports, so it can carry no contact force; remove the pair or the support", model.pair_name(k));
+        }
+        pairs.push(pair);
+    }
+    Ok(pairs)
+}
+
+/// The contact DOFs that are equations (neither fixed nor pinned) go last in the factor, in
+/// slot order: their flexibility block (`SpdSolver`). Returns the slot of every DOF and the
+/// DOF of every slot.
+fn contact_slots(pairs: &[Pair], fixed: &[bool], pinned: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let mut is_pinned = vec![false; fixed.len()];
+    pinned.iter().for_each(|&d| is_pinned[d] = true);
+    let mut slot = vec![usize::MAX; fixed.len()];
+    let mut slot_dofs = Vec::new();
+    for pair in pairs {
+        for &(d, _) in pair.w_n.entries.iter().chain(&pair.w_t.entries) {
+            if slot[d] == usize::MAX && !fixed[d] && !is_pinned[d] {
+                slot[d] = slot_dofs.len();
+                slot_dofs.push(d);
+            }
+        }
+    }
+    (slot, slot_dofs)
+}
+
+/// The elements with a DOF in `dofs`.
+fn elements_touching(elements: &[Cst], dofs: &[usize]) -> Vec<usize> {
+    if dofs.is_empty() {
+        return vec![];
+    }
+    let set: std::collections::HashSet<usize> = dofs.iter().copied().collect();
+    (0..elements.len()).filter(|&e| elements[e].dofs().iter().any(|d| set.contains(d))).collect()
+}
+
+/// The first element of every body (connected component).
+fn first_elements(model: &Model, body_of_node: &[usize], n_bodies: usize) -> Vec<usize> {
+    let mut first = vec![usize::MAX; n_bodies];
+    for (e, t) in model.mesh.triangles.iter().enumerate() {
+        let b = body_of_node[t[0]];
+        if first[b] == usize::MAX {
+            first[b] = e;
+        }
+    }
+    first
+}
+
+/// The elements around each node.
+fn node_elements(elements: &[Cst], n_nodes: usize) -> Vec<Vec<usize>> {
+    let mut around = vec![vec![]; n_nodes];
+    for (e, el) in elements.iter().enumerate() {
+        el.nodes().iter().for_each(|&n| around[n].push(e));
+    }
+    around
+}

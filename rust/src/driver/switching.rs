@@ -1,0 +1,117 @@
+//! Switching the statuses of the events that happen (paper §4 step 6), under the anti-cycling
+//! rule, with the rate problem where the one-at-a-time rule cycles or a body rests on friction
+//! alone; and the status change one event makes.
+
+use super::anticycling::{Admission, AntiCycling};
+use super::engine::Engine;
+use super::problem::Problem;
+use super::rate_problem::solve_rate_problem;
+use super::recording::Recorder;
+use super::restraint::{hold, Hold};
+use super::selection::Selection;
+use super::state::State;
+use super::trial::Solve;
+use crate::contact::Status;
+use crate::events::Candidate;
+use crate::model::EventKind;
+
+/// Switch the statuses of the selected events under the anti-cycling rule: when the
+/// one-at-a-time rule cycles, the rate problem (for the load `what` solves for) sets the
+/// critical pairs' statuses together. It does too when the switches leave a body on friction
+/// alone, every closed pair slipping (`restraint`: where its slip changes sense, a pair
+/// sticks). Returns the largest force jump a switch made (see `switch`).
+pub(super) fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &mut AntiCycling, rec: &mut Recorder, what: Solve) -> f64 {
+    let mut jump: f64 = 0.0;
+    let zero_length = sel.zero_length();
+    cycles.increment_selected();
+    if !zero_length {
+        cycles.load_advanced();
+    }
+    if zero_length && cycles.wants_rate_problem(&sel.group) {
+        if let Some(jump) = switch_by_rate_problem(eng, state, cycles, rec, sel.phi, what) {
+            return jump;
+        }
+    }
+    let mut seen = vec![false; cycles.n_entities()];
+    for c in &sel.group {
+        match cycles.admit(c, zero_length, &mut seen) {
+            Admission::Skip => {}
+            Admission::Freeze => rec.event(c, if c.kind.is_element_event() { EventKind::FrozenElement } else { EventKind::Frozen }, sel.phi),
+            Admission::Apply => {
+                jump = jump.max(switch(&eng.problem, state, c));
+                rec.event(c, c.kind, sel.phi);
+            }
+        }
+    }
+    let slip_or_separation = sel.group.iter().any(|c| matches!(c.kind, EventKind::StickToSlip | EventKind::Separate));
+    if slip_or_separation && cycles.may_solve_rate_problem() && matches!(hold(&eng.problem, &eng.loads, state, &rec.events), Hold::OnFriction) {
+        jump = jump.max(switch_by_rate_problem(eng, state, cycles, rec, sel.phi, what).unwrap_or(0.0));
+    }
+    jump
+}
+
+/// The statuses of the rate problem's solution, switched and recorded at φ; None when it has
+/// none or changes nothing.
+fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut AntiCycling, rec: &mut Recorder, phi: f64, what: Solve) -> Option<f64> {
+    let status = solve_rate_problem(eng, state, what)?;
+    let changes: Vec<_> = (0..status.len()).flat_map(|p| transitions(p, state.status[p], status[p])).collect();
+    if changes.is_empty() {
+        return None;
+    }
+    cycles.rate_problem_solved();
+    let mut jump: f64 = 0.0;
+    for c in &changes {
+        cycles.count(c, true);
+        jump = jump.max(switch(&eng.problem, state, c));
+        rec.event(c, c.kind, phi);
+    }
+    Some(jump)
+}
+
+/// Apply one event's status change and the forces it sets. Returns the force it moved: the
+/// change of λ_t of a slip (a pair the equilibrium correction moved off the cone is put back
+/// on it), the forces a separation drops (one applied with a tie, before its own scale, still
+/// carries λ_n up to tie_tol × its rate): a force jump that the caller rebalances.
+pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64 {
+    let p = c.entity;
+    let before = if c.kind == EventKind::StickToSlip { state.lambda_t[p] } else { 0.0 };
+    let dropped = if c.kind == EventKind::Separate { state.lambda_n[p].abs().max(state.lambda_t[p].abs()) } else { 0.0 };
+    match c.kind {
+        EventKind::Close => {
+            state.status[p] = problem.pairs[p].closed_status();
+            state.rtd_stick[p] = problem.rtd(state, p);
+        }
+        EventKind::Separate => {
+            state.status[p] = Status::Open;
+            state.lambda_n[p] = 0.0;
+            state.lambda_t[p] = 0.0;
+        }
+        EventKind::StickToSlip => {
+            state.status[p] = Status::Slip { direction: c.direction };
+            state.lambda_t[p] = problem.pairs[p].slip_ratio(state.status[p]) * state.lambda_n[p];
+        }
+        EventKind::SlipToStick => {
+            state.status[p] = Status::Stick;
+            state.rtd_stick[p] = problem.rtd(state, p);
+        }
+        EventKind::Yield => state.plastic[p] = true,
+        EventKind::Unload => state.plastic[p] = false,
+        EventKind::Frozen | EventKind::FrozenElement => {}
+    }
+    if c.kind == EventKind::StickToSlip { (state.lambda_t[p] - before).abs() } else { dropped }
+}
+
+/// The events that take pair p from status `from` to `to` (for the rate problem's statuses).
+pub(super) fn transitions(p: usize, from: Status, to: Status) -> Vec<Candidate> {
+    let event = |kind, direction| Candidate { scale: 0.0, entity: p, kind, direction };
+    match (from, to) {
+        (a, b) if a == b => vec![],
+        (_, Status::Open) => vec![event(EventKind::Separate, 0)],
+        (Status::Open, Status::Slip { direction }) if direction != 0 => vec![event(EventKind::Close, 0), event(EventKind::StickToSlip, direction)],
+        (Status::Open, _) => vec![event(EventKind::Close, 0)],
+        (Status::Slip { .. }, Status::Stick) => vec![event(EventKind::SlipToStick, 0)],
+        (Status::Stick, Status::Slip { direction }) => vec![event(EventKind::StickToSlip, direction)],
+        (Status::Slip { .. }, Status::Slip { direction }) => vec![event(EventKind::SlipToStick, 0), event(EventKind::StickToSlip, direction)],
+        (Status::Stick, Status::Stick) => vec![],
+    }
+}
