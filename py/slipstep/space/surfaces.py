@@ -138,23 +138,58 @@ def enclosed_volume(points: np.ndarray, triangles: np.ndarray) -> float:
 
 
 def containing_tetrahedra(x: np.ndarray, nodes: np.ndarray, tets: np.ndarray,
-                          margin: float = 1e-6) -> np.ndarray:
-    """For each point of x (P, 3): a tetrahedron that holds it with every barycentric
-    coordinate above ``margin`` (strictly inside, not on a face), else -1."""
+                          tol: float = 1e-9) -> np.ndarray:
+    """For each point of x (P, 3): a tetrahedron that holds it (every barycentric coordinate
+    >= -tol: on its faces too), else -1."""
     out = np.full(len(x), -1, dtype=np.int64)
     if len(x) == 0:
         return out
     p = nodes[tets]
     low, high = p.min(axis=1), p.max(axis=1)
-    near = np.flatnonzero((high >= x.min(axis=0)).all(axis=1) & (low <= x.max(axis=0)).all(axis=1))
+    pad = tol * float(np.ptp(nodes, axis=0).max())
+    near = np.flatnonzero((high + pad >= x.min(axis=0)).all(axis=1)
+                          & (low - pad <= x.max(axis=0)).all(axis=1))
     if len(near) == 0:
         return out
     inverse = np.linalg.inv(np.transpose(p[near, 1:] - p[near, :1], (0, 2, 1)))
     for start in range(0, len(x), BLOCK):
         xs = x[start:start + BLOCK]
-        inside_box = ((xs[:, None] >= low[near][None]) & (xs[:, None] <= high[near][None])).all(-1)
-        for i, t in zip(*np.nonzero(inside_box)):
+        in_box = ((xs[:, None] >= low[near][None] - pad) &
+                  (xs[:, None] <= high[near][None] + pad)).all(-1)
+        for i, t in zip(*np.nonzero(in_box)):
             lam = inverse[t] @ (xs[i] - p[near[t], 0])
-            if min(lam.min(), 1.0 - lam.sum()) > margin and out[start + i] < 0:
+            if min(lam.min(), 1.0 - lam.sum()) >= -tol and out[start + i] < 0:
                 out[start + i] = near[t]
+    return out
+
+
+def pseudo_normals(points: np.ndarray, triangles: np.ndarray, triangle: np.ndarray,
+                   bary: np.ndarray, tol: float = 1e-9) -> np.ndarray:
+    """The pseudo-normal of the surface at closest points given by their triangle and
+    barycentric coordinates (Baerentzen and Aanaes, 2005): the triangle's normal inside it, the
+    sum of the normals of the two triangles sharing an edge, the angle-weighted sum of the
+    normals around a vertex.  The sign of (x - foot) . pseudo-normal tells the side of x for any
+    closed or consistently oriented surface (a plain sum at a vertex does not)."""
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    face = np.cross(b - a, c - a)
+    face /= np.linalg.norm(face, axis=1, keepdims=True)
+    corners = np.stack([a, b, c], axis=1)
+    angle = np.zeros((len(triangles), 3))
+    for k in range(3):
+        u = corners[:, (k + 1) % 3] - corners[:, k]
+        v = corners[:, (k + 2) % 3] - corners[:, k]
+        cosine = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) *
+                                                np.linalg.norm(v, axis=1))
+        angle[:, k] = np.arccos(np.clip(cosine, -1.0, 1.0))
+    at_vertex = np.zeros((len(points), 3))
+    for k in range(3):
+        np.add.at(at_vertex, triangles[:, k], angle[:, k, None] * face)
+    out = face[triangle].copy()
+    zero = bary <= tol
+    for p in np.flatnonzero(zero.sum(axis=1) == 2):  # a vertex: the one non-zero coordinate
+        out[p] = at_vertex[triangles[triangle[p], np.argmax(bary[p])]]
+    for p in np.flatnonzero(zero.sum(axis=1) == 1):  # an edge: the triangles sharing it
+        i, j = triangles[triangle[p]][~zero[p]]
+        sharing = np.flatnonzero(np.isin(triangles, [i, j]).sum(axis=1) == 2)
+        out[p] = face[sharing].sum(axis=0)
     return out
