@@ -107,3 +107,45 @@ def assert_contract(model: dict) -> None:
             if ptr[k + 1] > ptr[k]:  # they cancel: contactor +1, target -1
                 assert abs(value[row].sum()) <= 1e-9 and abs(value[row][value[row] > 0].sum()
                                                              - 1.0) <= 1e-9
+
+
+#: A quarter sphere (y >= 0: the plane y = 0 its mirror) on a rigid flat, for the Mindlin
+#: stand-in below: a shear along x is symmetric about y = 0.
+QUARTER = SPHERE.replace('generator = "sphere"', 'generator = "sphere"\nportion = "quarter"').replace(
+    '[[bc]]\nbody = "sphere"\nface = "symmetry_x"\nsymmetry = true\n',
+    '[[bc]]\nbody = "sphere"\nface = "top"\nfix = ["x"]\n')
+
+
+def mindlin_stand_in(scene, a: float, c: float, p0: float, mu: float, stress=None) -> dict:
+    """NOT a solver: a 3D result in the engine's layout (docs/engine_api.md) whose contact is
+    Hertz's pressure p0 sqrt(1 - r^2/a^2) inside r < a with Mindlin's tangential traction along
+    +x (mu p, less mu p0 (c/a) sqrt(1 - r^2/c^2) in the stick disc r < c), r measured from the
+    origin; its nodal forces are traction x each pair's area, split into the pair's (t1, t2).
+    ``stress``: one (6,) Voigt row for every element (default zeros)."""
+    x = scene.pair_xy
+    r = np.hypot(x[:, 0], x[:, 1])
+    p = p0 * np.sqrt(np.clip(1 - (r / a) ** 2, 0, None))
+    q = mu * p - mu * p0 * (c / a) * np.sqrt(np.clip(1 - (r / c) ** 2, 0, None))
+    traction = q[:, None] * np.array([1.0, 0.0, 0.0])
+    area = scene.pair_area
+    lam_t = np.einsum("pd,ptd->pt", traction, scene.pair_tangent) * area[:, None]
+    status = np.where(r < c, 1, np.where(r < a, 2, 0)).astype(np.int8)
+    n, m, P = len(scene.nodes), len(scene.tetrahedra), len(x)
+    row = np.zeros(6) if stress is None else np.asarray(stress, dtype=float)
+    snap = {"t": 1.0, "stage": 0, "load_fraction": 1.0, "u": np.zeros((n, 3)),
+            "reaction": np.zeros((n, 3)), "stress": np.tile(row, (m, 1)),
+            "plastic_strain": np.zeros(m), "plastic": np.zeros(m, np.int8),
+            "lambda_n": p * area, "lambda_t": lam_t, "status": status,
+            "gap": np.where(status > 0, 0.0, scene.model["pairs"]["gap"]),
+            "rtd": np.zeros((P, 2))}
+    return {"events": {"step": np.zeros(0, np.int64), "load_fraction": np.zeros(0),
+                       "t": np.zeros(0), "stage": np.zeros(0, np.int64), "kind": [],
+                       "entity": np.zeros(0, np.int64)},
+            "steps": {"load_fraction": np.array([1.0]), "t": np.array([1.0]),
+                      "stage": np.zeros(1, np.int64)},
+            "snapshots": [snap], "closure_fraction": np.zeros(P),
+            "predicted_closure": np.full(P, np.inf), "n_stages": 1, "stage_names": ["stage 1"],
+            "max_drift": 0.0, "max_equilibrium_residual": 1e-14, "n_factorizations": 1,
+            "n_solves": 1, "n_rate_problems": 0, "interrupted": False, "stop_reason": None,
+            "stop": {"kind": "completed", "message": None, "load_fraction": 1.0, "t": 1.0},
+            "timings": {}}
