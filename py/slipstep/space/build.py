@@ -39,6 +39,8 @@ def _meshed(case, spec: dict) -> TetMesh:
         face_file = case.base_dir / spec["face_file"] if spec["face_file"] else None
         return read_tet_mesh(case.base_dir / spec["file"], face_file, spec["scale"])
     gen = spec["generator"]
+    if gen == "shell":
+        return generators.shell(spec["a"], spec["b"], spec["h"], spec["h_outer"])
     graded = {k: spec[k] for k in ("h_contact", "contact_zone", "h_max", "growth")}
     if gen == "sphere":
         return generators.sphere(spec["R"], **graded, portion=spec["portion"])
@@ -47,8 +49,6 @@ def _meshed(case, spec: dict) -> TetMesh:
     if gen == "punch":
         return generators.punch(spec["a"], spec["height"], **graded, shape=spec["shape"],
                                 portion=spec["portion"])
-    if gen == "shell":
-        return generators.shell(spec["a"], spec["b"], spec["h"], spec["h_outer"])
     corner = (spec["x0"], spec["y0"], spec["z0"])
     if spec["h_contact"] > 0:
         return generators.graded_box(spec["width"], spec["depth"], spec["height"], **graded,
