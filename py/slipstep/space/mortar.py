@@ -18,8 +18,9 @@ surfaces, a linear displacement u = a + B x gives Σ_k D_jk u_k − Σ_l M_jl u_
 dA = 0 in every row, for any pair of meshes: the kinematic half of the contact patch test.  A
 uniform pressure p, λ_j = p S_j, loads both faces with their consistent nodal forces.
 
-Where the target is curved, a contactor point is kept for the target triangle closest to it
-only (the projections of two triangles overlap at a convex edge); contactor area whose
+Only the target triangles within the contactor window's diameter of it are searched (small
+sliding: nothing farther can be reached).  Where the target is curved, a contactor point is
+kept for the target triangle closest to it only (the projections of two triangles overlap at a convex edge); contactor area whose
 projection falls in no target triangle (beyond the target face, or a sliver at a convex edge)
 adds nothing, and a contactor node none of whose area projects gets no row.  A contactor
 triangle facing away from the target triangle (n_c · n ≥ −1e−3) is not projected onto it.
@@ -92,6 +93,12 @@ class _Rows:
             self.NS[j] += wj.sum() * normal
 
 
+def _cross(u, v):
+    """u x v of two 3-vectors (numpy's cross costs 50 us a call)."""
+    return np.array([u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                     u[0] * v[1] - u[1] * v[0]])
+
+
 def _pieces(nodes, tc, tt, n_c, n_t):
     """Quadrature points of contactor triangle ``tc`` over its part projecting into target
     triangle ``tt`` (node ids): (x (K, 3) on the contactor, y (K, 3) on the target, weights
@@ -100,13 +107,12 @@ def _pieces(nodes, tc, tt, n_c, n_t):
         return None
     p0, p1 = nodes[tt[0]], nodes[tt[1]]
     e1 = (p1 - p0) / np.linalg.norm(p1 - p0)
-    e2 = np.cross(n_t, e1)
-    frame = np.stack([e1, e2])
-
-    def flat(x):
-        return (x - p0) @ frame.T
-
-    polygon = clip(flat(nodes[tc]), flat(nodes[tt]))
+    frame = np.stack([e1, _cross(n_t, e1)])
+    subject, target = (nodes[tc] - p0) @ frame.T, (nodes[tt] - p0) @ frame.T
+    if (subject.max(axis=0) < target.min(axis=0)).any() or \
+            (subject.min(axis=0) > target.max(axis=0)).any():
+        return None  # their boxes do not overlap
+    polygon = clip(subject, target)
     if len(polygon) < 3:
         return None
     c0 = nodes[tc[0]]
@@ -116,8 +122,8 @@ def _pieces(nodes, tc, tt, n_c, n_t):
     xs, ys, ws = [], [], []
     for k in range(1, len(polygon) - 1):  # a fan of triangles
         fan = [0, k, k + 1]
-        area = 0.5 * np.linalg.norm(np.cross(on_contactor[k] - on_contactor[0],
-                                             on_contactor[k + 1] - on_contactor[0]))
+        area = 0.5 * np.linalg.norm(_cross(on_contactor[k] - on_contactor[0],
+                                           on_contactor[k + 1] - on_contactor[0]))
         if area <= 0.0:
             continue
         xs.append(RULE @ on_contactor[fan])
@@ -128,6 +134,28 @@ def _pieces(nodes, tc, tt, n_c, n_t):
     return np.concatenate(xs), np.concatenate(ys), np.concatenate(ws)
 
 
+def _overlapping(nodes, tc, targets, normal) -> np.ndarray:
+    """(K,) True for the target triangles (K, 3) whose boxes overlap the contactor triangle's,
+    all seen along ``normal``."""
+    e1 = _cross(normal, np.eye(3)[int(np.argmin(np.abs(normal)))])
+    frame = np.stack([e1, _cross(normal, e1)]) / np.linalg.norm(e1)
+    mine, theirs = nodes[tc] @ frame.T, nodes[targets] @ frame.T
+    return ((theirs.max(axis=1) >= mine.min(axis=0)) &
+            (theirs.min(axis=1) <= mine.max(axis=0))).all(axis=1)
+
+
+def _within_reach(nodes, contactor, target) -> np.ndarray:
+    """The target triangles whose boxes come within the contactor triangles' box grown by its
+    own diameter: small sliding, the target a contactor point can reach lies no farther."""
+    points = nodes[contactor].reshape(-1, 3)
+    low, high = points.min(axis=0), points.max(axis=0)
+    reach = float(np.linalg.norm(high - low))
+    corners = nodes[target]
+    near = (corners.max(axis=1) >= low - reach).all(axis=1) & \
+        (corners.min(axis=1) <= high + reach).all(axis=1)
+    return target[near]
+
+
 def node_to_surface_rows(nodes, contactor, target, candidates, min_area) -> dict:
     """The rows of the contactor nodes ``candidates`` against the target triangles (module
     doc): arrays node_a, node_b (the target node of largest weight, a name), normal, gap,
@@ -136,38 +164,56 @@ def node_to_surface_rows(nodes, contactor, target, candidates, min_area) -> dict
     S_j <= min_area are dropped (they project nowhere)."""
     rows = _Rows(candidates)
     contactor = contactor[np.isin(contactor, list(rows.rows)).any(axis=1)]
+    target = _within_reach(nodes, contactor, target)
+    if len(target) == 0:  # nothing to project onto: no row
+        return _assembled(rows, nodes, target, np.zeros((0, 3)), [], min_area)
     n_c, _ = triangle_normals(nodes, contactor)
     n_t, _ = triangle_normals(nodes, target)
-    low_t, high_t = nodes[target].min(axis=1), nodes[target].max(axis=1)
     reach = closest_points(nodes[contactor].mean(axis=1), nodes, target)["distance"]
-    size = float(np.ptp(nodes[target].reshape(-1, 3), axis=0).max())
     for i, tc in enumerate(contactor):
-        margin = reach[i] + np.ptp(nodes[tc], axis=0).max() + 1e-9 * size
-        low, high = nodes[tc].min(axis=0) - margin, nodes[tc].max(axis=0) + margin
-        near = np.flatnonzero((high_t >= low).all(axis=1) & (low_t <= high).all(axis=1))
-        for t in near:
-            piece = _pieces(nodes, tc, target[t], n_c[i], n_t[t])
-            if piece is None:
-                continue
-            x, y, w = piece
-            if len(near) > 1:  # keep the points whose closest target triangle is this one
-                d = closest_points(x, nodes, target[near])["near"]
-                w = np.where(d[:, list(near).index(t)] <= d.min(axis=1) + 1e-12 * size, w, 0.0)
-            rows.add(tc, target[t], w, _barycentric(x, nodes[tc]),
-                     _barycentric(y, nodes[target[t]]), (x - y) @ n_t[t], n_t[t])
+        _project(rows, nodes, tc, n_c[i], target, n_t, reach[i])
     return _assembled(rows, nodes, target, n_t, candidates, min_area)
+
+
+def _project(rows: _Rows, nodes, tc, n_c, target, n_t, reach: float) -> None:
+    """Add to ``rows`` the pieces of contactor triangle ``tc`` over the target triangles near
+    it (their boxes within ``reach``, its distance from the target, and its own size)."""
+    low_t, high_t = nodes[target].min(axis=1), nodes[target].max(axis=1)
+    size = float(np.ptp(nodes[target].reshape(-1, 3), axis=0).max())
+    margin = reach + np.ptp(nodes[tc], axis=0).max() + 1e-9 * size
+    low, high = nodes[tc].min(axis=0) - margin, nodes[tc].max(axis=0) + margin
+    near = np.flatnonzero((high_t >= low).all(axis=1) & (low_t <= high).all(axis=1))
+    if len(near) == 0:
+        return
+    # target triangles in one plane: their projections tile it, no point is claimed twice
+    offset = np.einsum("tk,tk->t", n_t[near], nodes[target[near, 0]])
+    flat = np.abs(n_t[near] - n_t[near[0]]).max() <= 1e-12 and \
+        np.abs(offset - offset[0]).max() <= 1e-12 * size
+    if flat:  # seen along that plane's normal, keep the triangles whose boxes overlap
+        near = near[_overlapping(nodes, tc, target[near], n_t[near[0]])]
+    for t in near:
+        piece = _pieces(nodes, tc, target[t], n_c, n_t[t])
+        if piece is None:
+            continue
+        x, y, w = piece
+        if len(near) > 1 and not flat:  # keep the points closest to this triangle
+            d = closest_points(x, nodes, target[near])["near"]
+            w = np.where(d[:, list(near).index(t)] <= d.min(axis=1) + 1e-12 * size, w, 0.0)
+        rows.add(tc, target[t], w, _barycentric(x, nodes[tc]), _barycentric(y, nodes[target[t]]),
+                 (x - y) @ n_t[t], n_t[t])
 
 
 def _assembled(rows: _Rows, nodes, target, n_t, candidates, min_area) -> dict:
     """The row arrays of the integrals (:func:`node_to_surface_rows`)."""
     out = {k: [] for k in ("node_a", "node_b", "normal", "gap", "area", "weights", "foot",
                            "point_gap")}
-    for j in (int(c) for c in candidates):
+    if len(candidates):
+        own = closest_points(nodes[np.asarray(candidates, dtype=np.int64)], nodes, target)
+    for i, j in enumerate(int(c) for c in candidates):
         S = sum(rows.D[j].values())
         if S <= min_area:
             continue
-        own = closest_points(nodes[j], nodes, target)
-        t = int(own["triangle"][0])
+        t = int(own["triangle"][i])
         out["node_a"].append(j)
         out["node_b"].append(max(rows.M[j], key=rows.M[j].get))
         out["normal"].append(rows.NS[j] / np.linalg.norm(rows.NS[j]))
@@ -175,8 +221,8 @@ def _assembled(rows: _Rows, nodes, target, n_t, candidates, min_area) -> dict:
         out["area"].append(S)
         out["weights"].append([(k, v / S) for k, v in rows.D[j].items() if v != 0.0] +
                               [(l, -v / S) for l, v in rows.M[j].items() if v != 0.0])
-        out["foot"].append([*target[t].astype(float), *own["bary"][0]])
-        out["point_gap"].append(float((nodes[j] - own["foot"][0]) @ n_t[t]))
+        out["foot"].append([*target[t].astype(float), *own["bary"][i]])
+        out["point_gap"].append(float((nodes[j] - own["foot"][i]) @ n_t[t]))
     return {"node_a": np.asarray(out["node_a"], dtype=np.int64),
             "node_b": np.asarray(out["node_b"], dtype=np.int64),
             "normal": np.asarray(out["normal"], dtype=float).reshape(-1, 3),
