@@ -20,7 +20,7 @@ from .mesh_files import read_mesh
 from .loads import load_force, load_vector, set_load_path
 from .options import solver_options
 from .references import effective_modulus, hertz_line, hertz_sphere
-from .scene import Scene, contact_names, materials
+from .scene import Scene, contact_names, materials, merged_bodies
 from .schema import block_divisions
 from .supports import supports
 from .validation.scene import (check_duplicate_nodes, check_file_mesh_tags, check_pairs_not_held,
@@ -98,14 +98,7 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
         return build_space_scene(case, body_meshes, tuple(name for name in bodies
                                                           if name in given))
 
-    offsets, start = {}, 0
-    for name in bodies:
-        offsets[name] = start
-        start += body_meshes[name].n_nodes
-    nodes = np.concatenate([body_meshes[b].nodes for b in bodies])
-    triangles = np.concatenate([body_meshes[b].triangles + offsets[b] for b in bodies])
-    element_body = np.concatenate([np.full(body_meshes[b].n_elements, i, dtype=np.int64)
-                                   for i, b in enumerate(bodies)])
+    offsets, nodes, triangles, element_body = merged_bodies(bodies, body_meshes)
 
     scene = Scene(case=case, bodies=bodies, meshes=body_meshes, offsets=offsets, nodes=nodes,
                   triangles=triangles, element_body=element_body, model={},

@@ -29,6 +29,35 @@ def gmsh_session():
         gmsh.finalize()
 
 
+def size_field_only(gmsh, field: int) -> None:
+    """Make ``field`` the element size everywhere: no size from points, boundaries or
+    curvature."""
+    gmsh.model.mesh.field.setAsBackgroundMesh(field)
+    for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
+        gmsh.option.setNumber(f"Mesh.{opt}", 0)
+
+
+def threshold_field(gmsh, h_contact: float, contact_zone: float, h_max: float, growth: float,
+                    points=(), curves=()) -> int:
+    """The size field h = h_contact within contact_zone of the geometry ``points`` and
+    ``curves`` (d = the distance from the nearest), growing linearly, h = h_contact + growth
+    (d - contact_zone), up to h_max (Distance + Threshold)."""
+    fields = gmsh.model.mesh.field
+    dist = fields.add("Distance")
+    if points:
+        fields.setNumbers(dist, "PointsList", list(points))
+    if curves:
+        fields.setNumbers(dist, "CurvesList", list(curves))
+        fields.setNumber(dist, "Sampling", 200)
+    size = fields.add("Threshold")
+    fields.setNumber(size, "InField", dist)
+    fields.setNumber(size, "SizeMin", h_contact)
+    fields.setNumber(size, "SizeMax", h_max)
+    fields.setNumber(size, "DistMin", contact_zone)
+    fields.setNumber(size, "DistMax", contact_zone + (h_max - h_contact) / growth)
+    return size
+
+
 def _node_rows(gmsh):
     """(xyz (N, 3), index): the model's nodes, and the map from gmsh node tags to their rows
     (-1 for a tag that is not a node; tags may be huge)."""

@@ -53,6 +53,11 @@ class Mesh:
         return self.edges
 
     @property
+    def elements(self) -> np.ndarray:
+        """The element connectivity: the triangles."""
+        return self.triangles
+
+    @property
     def n_elements(self) -> int:
         return len(self.triangles)
 

@@ -174,14 +174,7 @@ def xdmf_step(scene, snap: dict) -> tuple[dict, dict]:
     cell_data = {name: [s[:, k]] for k, name in enumerate(stress_names(scene))}
     cell_data["stress"] = [stress_tensor(s)]
     cell_data["von_mises"] = [von_mises(s)]
-    if is_elastoplastic(scene):
-        for key in ("plastic_strain", "plastic"):
-            if key in snap:
-                cell_data[key] = [np.asarray(snap[key], dtype=np.float64)]
-        if "plastic" in snap:
-            cell_data["yield_drift"] = [yield_drift(scene, snap)]
-    if len(scene.bodies) > 1:
-        cell_data["body"] = [scene.element_body.astype(np.float64)]
+    cell_data.update(state_cell_data(scene, snap))
     return point_data, cell_data
 
 
@@ -213,15 +206,23 @@ def xdmf_step_3d(scene, snap: dict) -> tuple[dict, dict]:
             point_data[name] = field
     cell_data = {name: [s[:, k]] for k, name in enumerate(STRESS_NAMES_3D)}
     cell_data.update(stress=[stress_tensor_3d(s)], von_mises=[von_mises_3d(s)])
+    cell_data.update(state_cell_data(scene, snap))
+    return point_data, cell_data
+
+
+def state_cell_data(scene, snap: dict) -> dict:
+    """The cell data beside the stresses: in elastoplastic cases plastic_strain, plastic and
+    yield_drift; body (the body index) when there are several."""
+    out = {}
     if is_elastoplastic(scene):
         for key in ("plastic_strain", "plastic"):
             if key in snap:
-                cell_data[key] = [np.asarray(snap[key], dtype=np.float64)]
+                out[key] = [np.asarray(snap[key], dtype=np.float64)]
         if "plastic" in snap:
-            cell_data["yield_drift"] = [yield_drift(scene, snap)]
+            out["yield_drift"] = [yield_drift(scene, snap)]
     if len(scene.bodies) > 1:
-        cell_data["body"] = [scene.element_body.astype(np.float64)]
-    return point_data, cell_data
+        out["body"] = [scene.element_body.astype(np.float64)]
+    return out
 
 
 #: Point data of the contact (name in results.xdmf -> column of contact_profile.csv).

@@ -77,6 +77,22 @@ class Scene:
         return self.meshes[body].tags[tag] + self.offsets[body]
 
 
+def merged_bodies(bodies: list[str], meshes: dict) -> tuple[dict, np.ndarray, np.ndarray,
+                                                             np.ndarray]:
+    """The bodies' meshes in one global numbering, body after body: (first node of each body,
+    nodes, elements (triangles, or tetrahedra in 3D) in global node ids, the body index of
+    each element)."""
+    offsets, start = {}, 0
+    for name in bodies:
+        offsets[name] = start
+        start += meshes[name].n_nodes
+    nodes = np.concatenate([meshes[b].nodes for b in bodies])
+    elements = np.concatenate([meshes[b].elements + offsets[b] for b in bodies])
+    element_body = np.concatenate([np.full(meshes[b].n_elements, i, dtype=np.int64)
+                                   for i, b in enumerate(bodies)])
+    return offsets, nodes, elements, element_body
+
+
 def materials(case: Case) -> list[dict]:
     """The engine's material of each body, in body order (``Sy``, ``H`` only when plastic)."""
     out = []

@@ -13,7 +13,7 @@ from ..loads import load_force, load_vector, set_load_path
 from ..mesh import MeshError
 from ..options import solver_options
 from ..references import effective_modulus, hertz_sphere
-from ..scene import Scene, contact_names, materials
+from ..scene import Scene, contact_names, materials, merged_bodies
 from ..supports import supports
 from ..validation.scene import check_duplicate_nodes, check_pairs_not_held
 from . import generators
@@ -61,14 +61,7 @@ def build_space_scene(case, body_meshes: dict[str, TetMesh], given=()) -> Scene:
     """The 3D scene of a case whose bodies are meshed (``given``: the bodies whose mesh came
     from Python)."""
     bodies = [b["name"] for b in case.data["body"]]
-    offsets, start = {}, 0
-    for name in bodies:
-        offsets[name] = start
-        start += body_meshes[name].n_nodes
-    nodes = np.concatenate([body_meshes[b].nodes for b in bodies])
-    tets = np.concatenate([body_meshes[b].tetrahedra + offsets[b] for b in bodies])
-    element_body = np.concatenate([np.full(body_meshes[b].n_elements, i, dtype=np.int64)
-                                   for i, b in enumerate(bodies)])
+    offsets, nodes, tets, element_body = merged_bodies(bodies, body_meshes)
     scene = Scene(case=case, bodies=bodies, meshes=body_meshes, offsets=offsets, nodes=nodes,
                   triangles=np.zeros((0, 3), dtype=np.int64), element_body=element_body,
                   model={}, pair_xy=np.zeros((0, 3)), pair_length=np.zeros(0),

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..contact_geometry import node_to_node_pairs
 from ..mortar import compressed_weights
-from ..validation.pairs import FLIP, check_facing, check_gaps, check_matching, check_outside
+from ..validation.pairs import check_facing, check_gaps, check_outside
 from . import mortar
 from .indenters import pyramid
 from .mesh import node_normals, triangle_normals
@@ -237,38 +238,10 @@ SHAPES = {"rigid_plane": _plane, "rigid_sphere": _sphere, "rigid_cylinder": _cyl
 
 
 def _node_to_node_pairs(scene, c: dict, key: str) -> dict:
-    """Each node of face_a with the nearest node of face_b within ``tolerance``; the normal is
-    body b's outward normal at node b, the area-weighted mean of its face_b triangles there (or
-    the given one)."""
+    """Matching face nodes (:func:`slipstep.contact_geometry.node_to_node_pairs`), with the
+    contactor nodes' areas."""
+    a, b, n, gap = node_to_node_pairs(scene, c, key)
     face_a = scene.global_boundary(c["body_a"], c["face_a"])
-    face_b = scene.global_boundary(c["body_b"], c["face_b"])
-    nodes_a, nodes_b = np.unique(face_a), np.unique(face_b)
-    xb = scene.nodes[nodes_b]
-    nearest = np.array([np.argmin(np.linalg.norm(xb - x, axis=1)) for x in scene.nodes[nodes_a]],
-                       dtype=np.int64)
-    ok = np.linalg.norm(scene.nodes[nodes_a] - xb[nearest], axis=1) <= c["tolerance"]
-    label_a, label_b = f"{c['body_a']}:{c['face_a']}", f"{c['body_b']}:{c['face_b']}"
-    if not ok.any():
-        raise scene.case.error(f"{key}.tolerance", f"no node of {label_a} is within "
-                               f"{c['tolerance']:g} of a node of {label_b}: the meshes must "
-                               f"match on the interface, or increase tolerance")
-    a, b = nodes_a[ok], nodes_b[nearest[ok]]
-    check_matching(scene, nodes_a[~ok], face_b, c["tolerance"], label_a, label_b, key)
-    check_matching(scene, np.setdiff1d(nodes_b, b), face_a, c["tolerance"], label_b, label_a,
-                   key)
-    if len(np.unique(b)) != len(b):
-        raise scene.case.error(f"{key}.tolerance", f"= {c['tolerance']:g} pairs one target node "
-                               f"with several contactor nodes: decrease it")
-    if c["normal"] is not None:
-        n = np.tile(np.asarray(c["normal"]) / np.linalg.norm(c["normal"]), (len(a), 1))
-    else:
-        n = node_normals(scene.nodes, face_b, b)
-        n /= np.linalg.norm(n, axis=1, keepdims=True)
-    gap = np.einsum("ij,ij->i", scene.nodes[a] - scene.nodes[b], n)
-    check_facing(scene, a, n, gap, c["tolerance"], face_a, b, face_b, key, FLIP)
-    check_gaps(scene, a, gap, c["tolerance"], key,
-               f"move body '{c['body_a']}' away from body '{c['body_b']}'")
-    gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
     return {"node_a": a, "node_b": b, "normal": n, "gap": gap,
             "area": tributary_areas(scene.nodes, face_a, a),
             "foot": np.tile([-1.0, -1.0, -1.0, 0.0, 0.0, 0.0], (len(a), 1)),

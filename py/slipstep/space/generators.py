@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..gmsh_api import gmsh_session, tetrahedra_and_faces
+from ..gmsh_api import gmsh_session, size_field_only, tetrahedra_and_faces, threshold_field
 from ..mesh import MeshError
 from .mesh import TetMesh, boundary_faces, checked_tet_mesh, signed_volumes
 
@@ -27,34 +27,13 @@ SNAP = 1e-9
 def _mesh_volume(gmsh, size_field: int, where: str, snap=()) -> TetMesh:
     """Mesh the current model in 3D with the element size of ``size_field`` alone; the nodes
     within SNAP of each plane (axis, value) in ``snap`` put on it."""
-    gmsh.model.mesh.field.setAsBackgroundMesh(size_field)
-    for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
-        gmsh.option.setNumber(f"Mesh.{opt}", 0)
+    size_field_only(gmsh, size_field)
     gmsh.model.mesh.generate(3)
     xyz, tets, faces, node_sets = tetrahedra_and_faces(gmsh)
     scale = float(np.ptp(xyz, axis=0).max()) or 1.0
     for axis, value in snap:
         xyz[np.abs(xyz[:, axis] - value) <= SNAP * scale, axis] = value
     return checked_tet_mesh(xyz, tets, faces, node_sets, where=where, flip_inverted=True)
-
-
-def _graded(gmsh, h_contact: float, contact_zone: float, h_max: float, growth: float,
-            points=(), curves=()) -> int:
-    """A Threshold size field on the distance from geometry ``points`` and ``curves``."""
-    fields = gmsh.model.mesh.field
-    dist = fields.add("Distance")
-    if points:
-        fields.setNumbers(dist, "PointsList", list(points))
-    if curves:
-        fields.setNumbers(dist, "CurvesList", list(curves))
-        fields.setNumber(dist, "Sampling", 200)
-    size = fields.add("Threshold")
-    fields.setNumber(size, "InField", dist)
-    fields.setNumber(size, "SizeMin", h_contact)
-    fields.setNumber(size, "SizeMax", h_max)
-    fields.setNumber(size, "DistMin", contact_zone)
-    fields.setNumber(size, "DistMax", contact_zone + (h_max - h_contact) / growth)
-    return size
 
 
 def _tag_planes(gmsh, volume: int, planes: dict, curved: str) -> None:
@@ -133,7 +112,7 @@ def sphere(R: float, h_contact: float, contact_zone: float, h_max: float, growth
         gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [bottom]), "bottom_point")
         _tag_planes(gmsh, volume[1], {"top": (2, R), "symmetry_x": (0, 0.0),
                                       "symmetry_y": (1, 0.0)}, "surface")
-        size = _graded(gmsh, h_contact, contact_zone, h_max, growth, points=[bottom])
+        size = threshold_field(gmsh, h_contact, contact_zone, h_max, growth, points=[bottom])
         eighth = _mesh_volume(gmsh, size, "sphere mesh", snap=((0, 0.0), (1, 0.0), (2, R)))
     return _mirrored_into(eighth, ("eighth", "quarter", "half").index(portion))
 
@@ -156,7 +135,7 @@ def roller(R: float, length: float, h_contact: float, contact_zone: float, h_max
         line = _curves_near(gmsh, (-eps, -eps, -eps), (eps, half + eps, eps))
         _tag_planes(gmsh, volume[1], {"top": (2, R), "end": (1, half), "symmetry_x": (0, 0.0),
                                       "symmetry_y": (1, 0.0)}, "surface")
-        size = _graded(gmsh, h_contact, contact_zone, h_max, growth, curves=line)
+        size = threshold_field(gmsh, h_contact, contact_zone, h_max, growth, curves=line)
         eighth = _mesh_volume(gmsh, size, "roller mesh",
                               snap=((0, 0.0), (1, 0.0), (1, half), (2, R)))
     return _mirrored_into(eighth, ("eighth", "quarter", "half").index(portion))
@@ -184,7 +163,7 @@ def punch(a: float, height: float, h_contact: float, contact_zone: float, h_max:
         planes = {"bottom": (2, 0.0), "top": (2, height), "symmetry_x": (0, 0.0),
                   "symmetry_y": (1, 0.0)}
         _tag_planes(gmsh, volume[1], planes, "side")  # a square's planes x, y = a: side
-        size = _graded(gmsh, h_contact, contact_zone, h_max, growth, curves=rim)
+        size = threshold_field(gmsh, h_contact, contact_zone, h_max, growth, curves=rim)
         snap = ((0, 0.0), (1, 0.0), (2, 0.0), (2, height)) + \
             (((0, a), (1, a)) if shape == "square" else ())
         quarter = _mesh_volume(gmsh, size, "punch mesh", snap=snap)
@@ -263,7 +242,7 @@ def graded_box(width: float, depth: float, height: float, h_contact: float,
         _tag_planes(gmsh, volume, {"bottom": (2, z0), "top": (2, high[2]), "left": (0, x0),
                                    "right": (0, high[0]), "front": (1, y0),
                                    "back": (1, high[1])}, "side")
-        size = _graded(gmsh, h_contact, contact_zone, h_max, growth, points=[vertex])
+        size = threshold_field(gmsh, h_contact, contact_zone, h_max, growth, points=[vertex])
         snap = [(c, v) for c in range(3) for v in (low[c], high[c])]
         return _mesh_volume(gmsh, size, "box mesh", snap=snap)
 

@@ -53,6 +53,11 @@ class TetMesh:
         return len(self.nodes)
 
     @property
+    def elements(self) -> np.ndarray:
+        """The element connectivity: the tetrahedra."""
+        return self.tetrahedra
+
+    @property
     def n_elements(self) -> int:
         return len(self.tetrahedra)
 

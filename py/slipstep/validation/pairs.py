@@ -24,10 +24,10 @@ def check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str,
     is geometrically impossible (it would hold the bodies together, or report a penetration
     that is not there)."""
     touching = gap <= tol
-    away_a = touching & (np.einsum("ij,ij->i", _surface_normals(scene, seg_a, a), n) > 1e-6)
+    away_a = touching & (np.einsum("ij,ij->i", surface_normals(scene, seg_a, a), n) > 1e-6)
     away_b = np.zeros_like(away_a)
     if b is not None:
-        away_b = touching & (np.einsum("ij,ij->i", _surface_normals(scene, seg_b, b), n)
+        away_b = touching & (np.einsum("ij,ij->i", surface_normals(scene, seg_b, b), n)
                              < -1e-6)
     if (away_a | away_b).any():
         k = int(np.argmax(away_a | away_b))
@@ -39,9 +39,10 @@ def check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str,
                                f"contactor body; {fix}")
 
 
-def _surface_normals(scene: Scene, cells, ids) -> np.ndarray:
+def surface_normals(scene: Scene, cells, ids) -> np.ndarray:
     """A surface's outward normal at each node of ``ids``: the sum of its segments' unit normals
-    (2D), or the unit area-weighted normal of its triangles (3D)."""
+    (2D, not normalised: zero where they cancel), or the unit area-weighted normal of its
+    triangles (3D)."""
     if scene.dimension == 2:
         return node_normals(scene.nodes, cells, ids)
     m = space_mesh.node_normals(scene.nodes, cells, ids)
