@@ -186,3 +186,18 @@ def test_non_matching_boxes_are_refused_node_to_node():
     with pytest.raises(CaseError, match=r"contact.tolerance: non-matching interface: node \d+ "
                                         r"\(.*\) of lid:bottom lies on b:top"):
         scene_of(TWO_BOXES.format(nx=3, kind="node_to_node"))
+
+
+def test_a_moving_obstacle_is_a_pattern_with_a_3d_motion():
+    """A rigid sphere's motion [dx, dy, dz] is a load pattern (docs/engine_api.md: motion (m, 3)
+    of the obstacle of contact motion_contacts) scaled by the stages' factors."""
+    text = BOX + contact("rigid_sphere", centre="[1.0, 0.5, 3.5]", radius=2.5,
+                         name='"press"', motion="[0.1, 0.0, -0.2]") + \
+        '[[stage]]\nname = "in"\nfactors = {press = 1.0}\n' \
+        '[[stage]]\nname = "out"\nfactors = {press = 0.5}\n'
+    scene = scene_of(text)
+    assert_contract(scene.model)
+    (pattern,) = scene.model["patterns"]
+    assert pattern["name"] == "press" and pattern["motion_contacts"].tolist() == [0]
+    assert pattern["motion"].tolist() == [[0.1, 0.0, -0.2]]
+    assert [s["factors"].tolist() for s in scene.model["stages"]] == [[0.0, 1.0], [0.0, 0.5]]
