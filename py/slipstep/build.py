@@ -63,7 +63,7 @@ def mesh_body(case: Case, index: int) -> Mesh:
 def given_mesh_missing(case: Case, body: str) -> CaseError:
     """The error of a body whose ``generator = "given"`` mesh was not passed from Python."""
     how = "slipstep.mesh.from_arrays or from_meshio" if case.dimension == 2 else \
-        "slipstep.space.mesh.from_tetrahedra"
+        "slipstep.from_tetrahedra"
     return CaseError(f'{case.source}: body.{body}.mesh.generator = "given": pass its mesh from '
                      f'Python, slipstep.run(case, meshes={{"{body}": mesh}}) ({how})')
 

@@ -144,3 +144,23 @@ def test_the_case_keys_of_the_other_dimension_are_one_line_each():
                            "is a 3D generator; set analysis.dimension = 3, or use \"block\"")
     assert "give three components [x, y, z]" in error('[[point_load]]\nat = [0.0, 0.0]\n'
                                                       'force = [1.0, 0.0]\n')
+
+
+def test_a_given_tetrahedron_mesh_from_python():
+    """generator = "given" in 3D: the mesh comes from slipstep.from_tetrahedra (a 2D mesh is
+    refused for a 3D case, and a missing one names the function)."""
+    import slipstep
+    from slipstep.space.generators import box
+
+    text = BOX.replace('generator = "box"\nwidth = 2.0\ndepth = 1.0\nheight = 1.0\nnx = 4\n'
+                       'ny = 2\nnz = 2', 'generator = "given"')
+    grid = box(2.0, 1.0, 1.0, 2, 1, 1)
+    mesh = slipstep.from_tetrahedra(grid.nodes, grid.tetrahedra, grid.faces)
+    scene = build_scene(parse_case(text, "g.toml"), {"b": mesh})
+    assert_contract(scene.model)
+    assert scene.given_meshes == ("b",) and len(scene.tetrahedra) == 12
+    with pytest.raises(CaseError, match=r"pass its mesh from Python.*slipstep.from_tetrahedra"):
+        build_scene(parse_case(text, "g.toml"))
+    flat = slipstep.from_arrays([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]])
+    with pytest.raises(slipstep.InputError, match="the mesh given for 'b' is 2D, the case 3D"):
+        build_scene(parse_case(text, "g.toml"), {"b": flat})

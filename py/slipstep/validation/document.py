@@ -328,7 +328,7 @@ class Validator:
             self.block_mesh(mesh, raw, prefix)
         elif gen in check:
             check[gen](mesh, prefix)
-        elif self.dimension == 3:
+        elif generator_dimension(gen) == 3:
             space.check_mesh(self, mesh, raw, prefix)
         mesh["edges"] = generator_tags(mesh)  # None ("given"): known with the mesh
         return mesh
