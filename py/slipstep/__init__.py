@@ -1,4 +1,5 @@
-"""slipstep: event-driven ("adaptive incremental") frictional contact in 2D.
+"""slipstep: event-driven ("adaptive incremental") frictional contact in 2D (3D scenes:
+``slipstep.space``, built to the engine's 3D model).
 
 After Abdalla, Ali-Eldin & Ghazy: every increment is scaled to the next change of contact
 status (close, separate, stick -> slip, slip -> stick) or plastic state, so there are no load
@@ -19,6 +20,7 @@ from .case import Case, CaseError, load_case, parse_case
 from .errors import InputError, SlipstepError
 from .mesh import Mesh, MeshError, from_arrays
 from .mesh_files import from_meshio
+from .space.mesh import TetMesh, from_tetrahedra
 from .build import build_scene
 from .scene import Scene
 from .progress import Progress
@@ -26,5 +28,6 @@ from .result import Result
 from .runner import as_case, prepare, run, run_case, solve
 
 __all__ = ["__version__", "Case", "CaseError", "InputError", "Mesh", "MeshError", "Progress", "Result",
-           "Scene", "SlipstepError", "as_case", "build_scene", "from_arrays", "from_meshio",
-           "load_case", "parse_case", "prepare", "run", "run_case", "solve"]
+           "Scene", "SlipstepError", "TetMesh", "as_case", "build_scene", "from_arrays",
+           "from_meshio", "from_tetrahedra", "load_case", "parse_case", "prepare", "run",
+           "run_case", "solve"]

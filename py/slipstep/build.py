@@ -20,7 +20,7 @@ from .mesh_files import read_mesh
 from .loads import load_force, load_vector, set_load_path
 from .options import solver_options
 from .references import effective_modulus, hertz_line, hertz_sphere
-from .scene import Scene
+from .scene import Scene, contact_names, materials, merged_bodies
 from .schema import block_divisions
 from .supports import supports
 from .validation.scene import (check_duplicate_nodes, check_file_mesh_tags, check_pairs_not_held,
@@ -33,9 +33,7 @@ def mesh_body(case: Case, index: int) -> Mesh:
     spec = body["mesh"]
     where = f"body {body['name']!r}"
     if spec.get("generator") == "given":
-        raise CaseError(f'{case.source}: body.{body["name"]}.mesh.generator = "given": pass '
-                        f'its mesh from Python, slipstep.run(case, meshes={{"{body["name"]}": '
-                        f'mesh}}) (slipstep.mesh.from_arrays or from_meshio)')
+        raise given_mesh_missing(case, body["name"])
     try:
         if spec.get("file"):
             path = (case.base_dir / spec["file"])
@@ -62,9 +60,17 @@ def mesh_body(case: Case, index: int) -> Mesh:
         raise CaseError(f"{case.source}: {where}: {exc}") from None
 
 
+def given_mesh_missing(case: Case, body: str) -> CaseError:
+    """The error of a body whose ``generator = "given"`` mesh was not passed from Python."""
+    how = "slipstep.mesh.from_arrays or from_meshio" if case.dimension == 2 else \
+        "slipstep.from_tetrahedra"
+    return CaseError(f'{case.source}: body.{body}.mesh.generator = "given": pass its mesh from '
+                     f'Python, slipstep.run(case, meshes={{"{body}": mesh}}) ({how})')
+
+
 def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
     """Mesh every body (except those whose mesh ``meshes`` gives, by body name), merge them,
-    and build the engine model."""
+    and build the engine model (a 3D case: :func:`slipstep.space.build.build_space_scene`)."""
     data = case.data
     bodies = [b["name"] for b in data["body"]]
     given = dict(meshes or {})
@@ -72,18 +78,27 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
     if unknown:
         raise InputError(f"build_scene: meshes given for {', '.join(map(repr, unknown))}, "
                          f"which the case has no body of (its bodies: {', '.join(bodies)})")
-    body_meshes = {name: given[name] if name in given else mesh_body(case, i)
+    mesher = mesh_body
+    if case.dimension == 3:
+        from .space.build import build_space_scene, mesh_body_3d
+        mesher = mesh_body_3d
+    wrong = [name for name in given if given[name].dimension != case.dimension]
+    if wrong:
+        raise InputError(f"build_scene: the mesh given for {wrong[0]!r} is "
+                         f"{given[wrong[0]].dimension}D, the case {case.dimension}D "
+                         f"(analysis.dimension): give a {case.dimension}D mesh")
+    missing = [b["name"] for b in data["body"]
+               if b["mesh"].get("generator") == "given" and b["name"] not in given]
+    if missing:
+        raise given_mesh_missing(case, missing[0])
+    body_meshes = {name: given[name] if name in given else mesher(case, i)
                    for i, name in enumerate(bodies)}
     check_file_mesh_tags(case, body_meshes)
+    if case.dimension == 3:
+        return build_space_scene(case, body_meshes, tuple(name for name in bodies
+                                                          if name in given))
 
-    offsets, start = {}, 0
-    for name in bodies:
-        offsets[name] = start
-        start += body_meshes[name].n_nodes
-    nodes = np.concatenate([body_meshes[b].nodes for b in bodies])
-    triangles = np.concatenate([body_meshes[b].triangles + offsets[b] for b in bodies])
-    element_body = np.concatenate([np.full(body_meshes[b].n_elements, i, dtype=np.int64)
-                                   for i, b in enumerate(bodies)])
+    offsets, nodes, triangles, element_body = merged_bodies(bodies, body_meshes)
 
     scene = Scene(case=case, bodies=bodies, meshes=body_meshes, offsets=offsets, nodes=nodes,
                   triangles=triangles, element_body=element_body, model={},
@@ -117,23 +132,6 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
     check_stick_on_half_held(scene)
     scene.reference = hertz_reference(scene)
     return scene
-
-
-def materials(case: Case) -> list[dict]:
-    """The engine's material of each body, in body order (``Sy``, ``H`` only when plastic)."""
-    out = []
-    for b in case.data["body"]:
-        m = {"E": b["material"]["E"], "nu": b["material"]["nu"]}
-        if b["material"]["Sy"] is not None:
-            m["Sy"] = b["material"]["Sy"]
-            m["H"] = b["material"]["H"] if b["material"]["H"] is not None else 0.0
-        out.append(m)
-    return out
-
-
-def contact_names(case: Case) -> list[str]:
-    """The name of each [[contact]]: its ``name``, else ``contact <i>`` (0-based)."""
-    return [c["name"] or f"contact {i}" for i, c in enumerate(case.data["contact"])]
 
 
 def hertz_reference(scene: Scene) -> dict:

@@ -56,6 +56,11 @@ class Case:
     def name(self) -> str:
         return self.data["case"]["name"]
 
+    @property
+    def dimension(self) -> int:
+        """2 (a plane section or rings: triangles) or 3 (space: tetrahedra)."""
+        return self.data["analysis"]["dimension"]
+
     def body(self, name: str) -> dict:
         for b in self.data["body"]:
             if b["name"] == name:

@@ -206,8 +206,8 @@ def _new(args) -> int:
 def _check(args) -> int:
     scene = build_scene(_case(args))
     m = scene.model
-    print(f"{scene.case.name}: {len(m['nodes'])} nodes, {len(m['triangles'])} elements, "
-          f"{2 * len(m['nodes'])} dofs, {len(m['pairs']['node_a'])} contact pairs, "
+    print(f"{scene.case.name}: {len(m['nodes'])} nodes, {len(scene.elements)} elements, "
+          f"{scene.n_dofs} dofs, {len(m['pairs']['node_a'])} contact pairs, "
           f"{len(m['fixed_dofs'])} fixed dofs")
     return 0
 

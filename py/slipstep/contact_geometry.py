@@ -12,9 +12,9 @@ import numpy as np
 from . import mesh as meshing
 from . import mortar
 from .scene import Scene
-from .schema import RIGID_KINDS
+from .schema import RIGID_KINDS, contact_tags
 from .section import is_axisymmetric, node_shares
-from .validation.pairs import FLIP, check_facing, check_gaps, check_matching
+from .validation.pairs import FLIP, check_facing, check_gaps, check_matching, surface_normals
 
 
 def contactor_edge(contact: dict) -> tuple[str, str]:
@@ -48,7 +48,7 @@ def contact_pairs(scene: Scene) -> dict:
         elif c["kind"] in RIGID_KINDS:
             a, b, normal, gap = RIGID_PAIRS[c["kind"]](scene, c, key)
         else:
-            a, b, normal, gap = _node_to_node_pairs(scene, c, key)
+            a, b, normal, gap = node_to_node_pairs(scene, c, key)
         if c["kind"] != "node_to_segment":
             length = tributary_lengths(scene.nodes, scene.global_edge(body_a, edge_a), a)
             weights = [[]] * len(a)
@@ -351,23 +351,34 @@ RIGID_PAIRS = {"rigid_line": _rigid_line_pairs, "rigid_circle": _rigid_circle_pa
                "rigid_polyline": _rigid_polyline_pairs}
 
 
-def _node_to_node_pairs(scene: Scene, c: dict, key: str):
-    """Each node of edge_a with the nearest node of edge_b within ``tolerance``; the normal is
-    body b's outward normal averaged over the edge_b segments at node b (or the given one)."""
-    seg_a = scene.global_edge(c["body_a"], c["edge_a"])
-    seg_b = scene.global_edge(c["body_b"], c["edge_b"])
+def nearest_nodes(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For each point of x: the index of the nearest point of y (the first of a tie) and the
+    distance to it, computed in blocks (the full distance matrix of two large faces would not
+    fit)."""
+    index, distance = np.zeros(len(x), dtype=np.int64), np.zeros(len(x))
+    for start in range(0, len(x), 256):
+        d = np.linalg.norm(x[start:start + 256, None, :] - y[None, :, :], axis=2)
+        index[start:start + 256] = np.argmin(d, axis=1)
+        distance[start:start + 256] = d[np.arange(len(d)), index[start:start + 256]]
+    return index, distance
+
+
+def node_to_node_pairs(scene: Scene, c: dict, key: str):
+    """Each node of edge_a (3D: face_a) with the nearest node of edge_b (face_b) within
+    ``tolerance``; the normal is body b's outward normal at node b, the mean of its edge_b
+    segments' (face_b triangles', by area) there, or the given one."""
+    (_, body_a, tag_a), (_, body_b, tag_b) = contact_tags(c)
+    seg_a = scene.global_boundary(body_a, tag_a)
+    seg_b = scene.global_boundary(body_b, tag_b)
     nodes_a, nodes_b = np.unique(seg_a), np.unique(seg_b)
-    xa, xb = scene.nodes[nodes_a], scene.nodes[nodes_b]
-    d = np.linalg.norm(xa[:, None, :] - xb[None, :, :], axis=2)  # small: edge nodes only
-    nearest = np.argmin(d, axis=1)
-    ok = d[np.arange(len(nodes_a)), nearest] <= c["tolerance"]
+    nearest, distance = nearest_nodes(scene.nodes[nodes_a], scene.nodes[nodes_b])
+    ok = distance <= c["tolerance"]
+    label_a, label_b = f"{body_a}:{tag_a}", f"{body_b}:{tag_b}"
     if not ok.any():
-        raise scene.case.error(f"{key}.tolerance", f"no node of {c['body_a']}:{c['edge_a']} is "
-                               f"within {c['tolerance']:g} of a node of {c['body_b']}:"
-                               f"{c['edge_b']}: the meshes must match on the interface, or "
-                               f"increase tolerance")
+        raise scene.case.error(f"{key}.tolerance", f"no node of {label_a} is within "
+                               f"{c['tolerance']:g} of a node of {label_b}: the meshes must "
+                               f"match on the interface, or increase tolerance")
     a, b = nodes_a[ok], nodes_b[nearest[ok]]
-    label_a, label_b = f"{c['body_a']}:{c['edge_a']}", f"{c['body_b']}:{c['edge_b']}"
     check_matching(scene, nodes_a[~ok], seg_b, c["tolerance"], label_a, label_b, key)
     check_matching(scene, np.setdiff1d(nodes_b, b), seg_a, c["tolerance"], label_b, label_a,
                     key)
@@ -377,14 +388,11 @@ def _node_to_node_pairs(scene: Scene, c: dict, key: str):
     if c["normal"] is not None:
         n = np.tile(np.asarray(c["normal"]) / np.linalg.norm(c["normal"]), (len(a), 1))
     else:
-        seg_n = meshing.outward_normals(scene.nodes, seg_b)
-        acc = np.zeros((len(scene.nodes), 2))
-        np.add.at(acc, seg_b[:, 0], seg_n)
-        np.add.at(acc, seg_b[:, 1], seg_n)
-        n = acc[b] / np.linalg.norm(acc[b], axis=1, keepdims=True)
+        n = surface_normals(scene, seg_b, b)
+        n = n / np.linalg.norm(n, axis=1, keepdims=True)
     gap = np.einsum("ij,ij->i", scene.nodes[a] - scene.nodes[b], n)
     check_facing(scene, a, n, gap, c["tolerance"], seg_a, b, seg_b, key)
     check_gaps(scene, a, gap, c["tolerance"], key,
-                f"move body '{c['body_a']}' away from body '{c['body_b']}'")
+                f"move body '{body_a}' away from body '{body_b}'")
     gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
     return a, b, n, gap

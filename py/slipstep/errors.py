@@ -56,7 +56,8 @@ class IllPosedError(SlipstepError):
 
 
 class EngineMissing(SlipstepError, RuntimeError):
-    """The compiled engine ``slipstep._engine`` is not built: run ``make build``."""
+    """The compiled engine ``slipstep._engine`` is not built (run ``make build``), or cannot
+    solve the scene's dimension (a 3D scene before the engine's 3D)."""
 
 
 class InternalError(RuntimeError):

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .space.fields import von_mises_3d
+
 
 #: Names of the four stress columns, per plane (the engine's x, y, z, xy; z out of plane, the
 #: hoop direction theta of a ring).
@@ -14,8 +16,10 @@ STRESS_NAMES = {"strain": ("sigma_x", "sigma_y", "sigma_z", "tau_xy"),
                 "axisymmetric": ("sigma_r", "sigma_z", "sigma_theta", "tau_rz")}
 
 
-def coordinate_names(scene) -> tuple[str, str]:
-    """("r", "z") for an axisymmetric scene, else ("x", "y")."""
+def coordinate_names(scene) -> tuple[str, ...]:
+    """("r", "z") for an axisymmetric scene, ("x", "y", "z") in 3D, else ("x", "y")."""
+    if scene.model.get("dimension", 2) == 3:
+        return ("x", "y", "z")
     return ("r", "z") if scene.model["plane"] == "axisymmetric" else ("x", "y")
 
 
@@ -92,7 +96,9 @@ def yield_drift(scene, snap) -> np.ndarray:
     sy = np.array([m.get("Sy") or np.inf for m in mats], dtype=float)[index]
     hp = np.array([m.get("H") or 0.0 for m in mats], dtype=float)[index]
     current = sy + hp * np.asarray(snap["plastic_strain"], dtype=float)
-    se = von_mises(np.asarray(snap["stress"], dtype=float).reshape(-1, 4))
+    stress = np.asarray(snap["stress"], dtype=float)
+    se = (von_mises_3d(stress) if scene.model.get("dimension", 2) == 3 else
+          von_mises(stress.reshape(-1, 4)))
     plastic = (np.asarray(snap["plastic"]) > 0) & np.isfinite(current)  # elastic bodies: Sy = inf
     drift = np.zeros(len(se))
     drift[plastic] = np.abs(se[plastic] - current[plastic]) / current[plastic]

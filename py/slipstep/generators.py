@@ -9,16 +9,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .gmsh_api import gmsh_session, triangles_and_edges
+from .gmsh_api import gmsh_session, size_field_only, threshold_field, triangles_and_edges
 from .mesh import Mesh, MeshError, checked_mesh, signed_areas
 
 
 def _mesh_with_size_field(gmsh, size: int):
     """Mesh the current gmsh model in 2D with the element size given by field ``size`` alone
     (no size from points, boundaries or curvature); return its triangles and tagged edges."""
-    gmsh.model.mesh.field.setAsBackgroundMesh(size)
-    for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
-        gmsh.option.setNumber(f"Mesh.{opt}", 0)
+    size_field_only(gmsh, size)
     gmsh.model.mesh.generate(2)
     return triangles_and_edges(gmsh)
 
@@ -28,15 +26,7 @@ def _mesh_graded_around(gmsh, points: list[int], h_contact: float, contact_zone:
     """Mesh the model with h = h_contact within contact_zone of the geometry points ``points``
     (d = the distance from the nearest), growing linearly, h = h_contact + growth
     (d - contact_zone), up to h_max (Distance + Threshold)."""
-    fields = gmsh.model.mesh.field
-    dist = fields.add("Distance")
-    fields.setNumbers(dist, "PointsList", points)
-    size = fields.add("Threshold")
-    fields.setNumber(size, "InField", dist)
-    fields.setNumber(size, "SizeMin", h_contact)
-    fields.setNumber(size, "SizeMax", h_max)
-    fields.setNumber(size, "DistMin", contact_zone)
-    fields.setNumber(size, "DistMax", contact_zone + (h_max - h_contact) / growth)
+    size = threshold_field(gmsh, h_contact, contact_zone, h_max, growth, points=points)
     return _mesh_with_size_field(gmsh, size)
 
 

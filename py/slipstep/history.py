@@ -60,15 +60,15 @@ def event_times(result) -> tuple[np.ndarray, np.ndarray]:
 
 
 def event_positions(scene, result) -> np.ndarray:
-    """(n, 2) where each events row happened: node a of its pair, or the centroid of its
-    element for the element events (:data:`ELEMENT_EVENTS`)."""
+    """(n, 2) where each events row happened (3D: (n, 3)): node a of its pair, or the centroid
+    of its element for the element events (:data:`ELEMENT_EVENTS`)."""
     ev = result["events"]
     kinds = np.asarray(ev["kind"], dtype=str)
     entity = np.asarray(ev["entity"], dtype=np.int64)
-    out = np.zeros((len(entity), 2))
+    out = np.zeros((len(entity), scene.nodes.shape[1]))
     on_element = np.isin(kinds, ELEMENT_EVENTS)
     if on_element.any():
-        out[on_element] = centroids(scene.nodes, scene.triangles[entity[on_element]])
+        out[on_element] = centroids(scene.nodes, scene.elements[entity[on_element]])
     out[~on_element] = scene.pair_xy[entity[~on_element]]
     return out
 
@@ -123,14 +123,16 @@ def load_factor(scene, name: str, t):
     return np.interp(t, np.arange(len(column)), column)
 
 
-def reactions(scene, snapshot: dict) -> dict[str, tuple[float, float]]:
-    """Per [[bc]] name (``scene.support_dofs``): the summed support reaction (Rx, Ry) its DOFs
-    exert on the body at ``snapshot``; empty without ``reaction`` in the snapshot."""
+def reactions(scene, snapshot: dict) -> dict[str, tuple[float, ...]]:
+    """Per [[bc]] name (``scene.support_dofs``): the summed support reaction (Rx, Ry) (3D:
+    (Rx, Ry, Rz)) its DOFs exert on the body at ``snapshot``; empty without ``reaction`` in the
+    snapshot."""
     if "reaction" not in snapshot:
         return {}
     r = np.asarray(snapshot["reaction"], dtype=float).reshape(-1)
     out = {}
     for name, dofs in getattr(scene, "support_dofs", {}).items():
+        d = scene.nodes.shape[1]
         dofs = np.unique(np.asarray(dofs, dtype=np.int64))
-        out[name] = (float(r[dofs[dofs % 2 == 0]].sum()), float(r[dofs[dofs % 2 == 1]].sum()))
+        out[name] = tuple(float(r[dofs[dofs % d == c]].sum()) for c in range(d))
     return out

@@ -19,8 +19,9 @@ from . import schema
 _NUMBER = {"type": "number"}
 
 
-def _pair(n: int) -> dict:
-    return {"type": "array", "items": _NUMBER, "minItems": n, "maxItems": n}
+def _pair(n: int, most: int | None = None) -> dict:
+    """An array of n numbers (n to ``most``)."""
+    return {"type": "array", "items": _NUMBER, "minItems": n, "maxItems": most or n}
 
 
 #: The JSON Schema of each schema type (see :class:`slipstep.schema.Key`).
@@ -30,10 +31,12 @@ TYPES = {
     "str": {"type": "string"},
     "bool": {"type": "boolean"},
     "vec2": _pair(2),
+    "vec3": _pair(3),
+    "vec": _pair(2, 3),  # one per dimension of the case: the validator checks which
     "box": _pair(4),
-    "axes": {"type": "array", "items": {"enum": ["x", "y"]}, "uniqueItems": True},
+    "axes": {"type": "array", "items": {"enum": ["x", "y", "z"]}, "uniqueItems": True},
     "snapshots": {"anyOf": [{"const": "events"}, {"type": "array", "items": _NUMBER}]},
-    "xy": {"type": "object", "properties": {"x": _NUMBER, "y": _NUMBER},
+    "xy": {"type": "object", "properties": {"x": _NUMBER, "y": _NUMBER, "z": _NUMBER},
            "additionalProperties": False},
     "factors": {"type": "object", "additionalProperties": _NUMBER},
     "points": {"type": "array", "items": _pair(2)},

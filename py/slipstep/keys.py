@@ -75,8 +75,9 @@ ALIASES = {"mesh": "body.mesh", "material": "body.material"}
 
 #: How each schema type is written in a case file.
 TYPE_TEXT = {"float": "number", "int": "integer", "str": "string", "bool": "true|false",
-             "vec2": "[x, y]", "box": "[x0, y0, x1, y1]", "axes": '["x", "y"]',
-             "snapshots": '"events"|[t, ...]', "xy": "{x = .., y = ..}",
+             "vec2": "[x, y]", "vec3": "[x, y, z]", "vec": "[x, y] (3D: [x, y, z])",
+             "box": "[x0, y0, x1, y1]", "axes": '["x", "y"] (3D: "z")',
+             "snapshots": '"events"|[t, ...]', "xy": "{x = .., y = ..} (3D: z)",
              "factors": "{LOAD = .., ...}", "points": "[[x, y], ...]"}
 
 

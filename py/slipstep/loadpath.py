@@ -66,7 +66,7 @@ def case_loads(data: dict) -> tuple:
     """Every load of a validated document, in order: [load], bc, point_load, contact."""
     out = [Load("load", "load", "load", 0, True, False)] if data["load"] is not None else []
     for i, bc in enumerate(data["bc"]):
-        force = bc["pressure"] != 0.0 or bc["traction"] != [0.0, 0.0]
+        force = bc["pressure"] != 0.0 or any(c != 0.0 for c in bc["traction"])
         if force or bc["displacement"]:
             out.append(Load(bc["name"], element_key("bc", data["bc"], i), "bc", i, force,
                             bool(bc["displacement"])))

@@ -1,6 +1,7 @@
 """Loads: the consistent nodal forces of pressures, tractions, the Hertz load and point loads
-(weighted by the section, :mod:`slipstep.section`), and the engine's load patterns and
-stages along the load path (:mod:`slipstep.loadpath`)."""
+(weighted by the section, :mod:`slipstep.section`; on the faces of a 3D body,
+:func:`slipstep.space.loads.face_load`), and the engine's load patterns and stages along the
+load path (:mod:`slipstep.loadpath`)."""
 
 from __future__ import annotations
 
@@ -13,6 +14,8 @@ from .case import Case
 from .loadpath import Load, LoadPath, case_loads
 from .scene import Scene
 from .section import boundary_shares, is_axisymmetric
+from .space.loads import face_load, sphere_cut_pressure
+from .supports import bc_surface
 
 
 def edge_load(nodes: np.ndarray, segments: np.ndarray, n_nodes: int, thickness: float,
@@ -39,7 +42,7 @@ def load_vector(scene: Scene) -> np.ndarray:
     """The summed nodal force at load fraction 1 of a case without [[stage]] (``[[bc]]``
     pressure/traction, ``[load] P``, ``[[point_load]]``, in this order), thickness included."""
     rank = {"bc": 0, "load": 1, "point_load": 2}
-    f = np.zeros(2 * len(scene.nodes))
+    f = np.zeros(scene.n_dofs)
     for load in sorted((x for x in case_loads(scene.case.data) if x.force),
                        key=lambda x: rank[x.array]):
         f += load_force(scene, load)
@@ -48,26 +51,44 @@ def load_vector(scene: Scene) -> np.ndarray:
 
 def load_force(scene: Scene, load: Load | None) -> np.ndarray:
     """The nodal force of one load at factor 1, thickness included (ring totals in
-    axisymmetry; zeros for None or a load without force)."""
-    data, n = scene.case.data, len(scene.nodes)
+    axisymmetry; forces in 3D; zeros for None or a load without force)."""
+    data, d = scene.case.data, scene.dimension
     t, plane = data["analysis"]["thickness"], data["analysis"]["plane"]
-    f = np.zeros(2 * n)
+    f = np.zeros(scene.n_dofs)
     if load is None or not load.force:
         return f
+    if load.array == "load" and d == 3:
+        body = data["load"]["body"]
+        mesh = scene.case.body(body)["mesh"]
+        q = sphere_cut_pressure(data["load"]["P"], mesh["R"], mesh["portion"], scene.nodes,
+                                scene.global_boundary(body, "top"))
+        return boundary_load(scene, body, "top", q)
     if load.array == "load":
-        return edge_load(scene.nodes, scene.global_edge(data["load"]["body"], "top"), n, t,
-                         pressure=hertz_cut_pressure(scene.case), plane=plane)
+        return boundary_load(scene, data["load"]["body"], "top", hertz_cut_pressure(scene.case))
     if load.array == "bc":
         bc = data["bc"][load.index]
-        return edge_load(scene.nodes, scene.global_edge(bc["body"], bc["edge"]), n, t,
-                         bc["pressure"], bc["traction"], plane=plane)
+        return boundary_load(scene, bc["body"], bc_surface(bc), bc["pressure"], bc["traction"])
     pl = data["point_load"][load.index]
     candidates = ([pl["body"]] if pl["body"] else scene.bodies)
     ids = np.concatenate([np.arange(scene.meshes[b].n_nodes) + scene.offsets[b]
                           for b in candidates])
     node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1))]
-    f[2 * node:2 * node + 2] += np.asarray(pl["force"]) * (1.0 if plane == "axisymmetric" else t)
+    weight = 1.0 if plane == "axisymmetric" or d == 3 else t
+    f[d * node:d * node + d] += np.asarray(pl["force"]) * weight
     return f
+
+
+def boundary_load(scene: Scene, body: str, tag: str, pressure: float = 0.0,
+                  traction=None) -> np.ndarray:
+    """The consistent nodal forces of a uniform pressure and traction on a body's edge tag
+    (:func:`edge_load`), or in 3D on its face tag (:func:`slipstep.space.loads.face_load`)."""
+    data, n = scene.case.data, len(scene.nodes)
+    cells = scene.global_boundary(body, tag)
+    traction = np.zeros(scene.dimension) if traction is None else traction
+    if scene.dimension == 3:
+        return face_load(scene.nodes, cells, n, pressure, traction)
+    return edge_load(scene.nodes, cells, n, data["analysis"]["thickness"], pressure, traction,
+                     plane=data["analysis"]["plane"])
 
 
 def set_load_path(scene: Scene, path: LoadPath) -> None:
@@ -106,7 +127,8 @@ def load_pattern(scene: Scene, load: Load, with_force: bool) -> dict:
 def hertz_cut_pressure(case: Case) -> float:
     """q = P / (2R): the quarter model carries half the total load P across its cut of
     length R (the other half is carried by the mirrored quarter).  In axisymmetry the quarter
-    section is a hemisphere whose cut is the disc of radius R: q = P / (pi R^2)."""
+    section is a hemisphere whose cut is the disc of radius R: q = P / (pi R^2) (a 3D sphere's
+    cut: :func:`slipstep.space.loads.sphere_cut_pressure`)."""
     load = case.data["load"]
     R = case.body(load["body"])["mesh"]["R"]
     if is_axisymmetric(case):

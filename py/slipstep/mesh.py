@@ -41,9 +41,21 @@ class Mesh:
             self.node_sets.setdefault(tag, np.unique(segs))
         self.node_sets = {k: np.asarray(v, dtype=np.int64) for k, v in self.node_sets.items()}
 
+    dimension = 2
+
     @property
     def n_nodes(self) -> int:
         return len(self.nodes)
+
+    @property
+    def tags(self) -> dict[str, np.ndarray]:
+        """The boundary tags [[bc]] and [[contact]] name: the edge tags."""
+        return self.edges
+
+    @property
+    def elements(self) -> np.ndarray:
+        """The element connectivity: the triangles."""
+        return self.triangles
 
     @property
     def n_elements(self) -> int:

@@ -27,7 +27,7 @@ def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: floa
         raise MeshError(f"{where}: no such mesh file")
     suffix = path.suffix.lower()
     if suffix == ".msh":
-        xyz, triangles, edges, node_sets = _read_msh_isolated(path, where)
+        xyz, triangles, edges, node_sets = read_msh_isolated(path, where, triangles_and_edges)
     elif suffix == ".xdmf":
         xyz, triangles, edges = _read_xdmf(path)
         node_sets = {}
@@ -46,8 +46,8 @@ def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: floa
     return checked_mesh(xy * scale, triangles, edges, node_sets, where=where, flip_clockwise=True)
 
 
-def _read_msh(path: str, where: str):
-    """Nodes, triangles, edges and node sets of a .msh file, through gmsh."""
+def _read_msh(path: str, where: str, extract):
+    """``extract(gmsh)`` of a .msh file (nodes, elements, tags and node sets), through gmsh."""
     with gmsh_session() as gmsh:
         try:
             gmsh.open(path)
@@ -55,12 +55,12 @@ def _read_msh(path: str, where: str):
             raise MeshError(f"{where}: gmsh cannot read it: {' '.join(str(exc).split())}") \
                 from None
         try:
-            return triangles_and_edges(gmsh)
+            return extract(gmsh)
         except MeshError as exc:
             raise MeshError(f"{where}: {exc}") from None
 
 
-def _msh_child(path: str, where: str, conn) -> None:
+def _msh_child(path: str, where: str, extract, conn) -> None:
     import faulthandler
 
     faulthandler.disable()  # a crashing gmsh must not print a Python stack (pytest enables it)
@@ -68,7 +68,7 @@ def _msh_child(path: str, where: str, conn) -> None:
     os.dup2(devnull, 1)
     os.dup2(devnull, 2)
     try:
-        conn.send(("ok", _read_msh(path, where)))
+        conn.send(("ok", _read_msh(path, where, extract)))
     except MeshError as exc:
         conn.send(("error", str(exc)))
     except BaseException as exc:  # noqa: BLE001 - anything else gmsh raises
@@ -77,18 +77,19 @@ def _msh_child(path: str, where: str, conn) -> None:
         conn.close()
 
 
-def _read_msh_isolated(path: Path, where: str):
-    """:func:`_read_msh` in a forked child process: gmsh corrupts its memory on some damaged
-    .msh files and crashes the whole process (segmentation fault, abort; found by
+def read_msh_isolated(path: Path, where: str, extract):
+    """``extract(gmsh)`` of a .msh file (:func:`slipstep.gmsh_api.triangles_and_edges`, or
+    ``tetrahedra_and_faces`` in 3D) read in a forked child process: gmsh corrupts its memory on
+    some damaged .msh files and crashes the whole process (segmentation fault, abort; found by
     tests/case/test_fuzz.py), so a crash there becomes a MeshError here."""
     import multiprocessing
 
     try:
         ctx = multiprocessing.get_context("fork")
     except ValueError:  # no fork on this platform: read in-process
-        return _read_msh(str(path), where)
+        return _read_msh(str(path), where, extract)
     receive, send = ctx.Pipe(duplex=False)
-    child = ctx.Process(target=_msh_child, args=(str(path), where, send), daemon=True)
+    child = ctx.Process(target=_msh_child, args=(str(path), where, extract, send), daemon=True)
     child.start()
     send.close()
     try:
@@ -107,6 +108,12 @@ def _read_msh_isolated(path: Path, where: str):
 
 
 def _read_xdmf(path: Path, need_triangles: bool = True):
+    return _meshio_cells(xdmf_mesh(path), str(path), need_triangles)
+
+
+def xdmf_mesh(path: Path):
+    """The ``meshio.Mesh`` of an .xdmf file; MeshError (one line) for anything meshio cannot
+    read (a missing file, broken XML or HDF5, several grids)."""
     try:
         import meshio
     except ImportError:
@@ -124,39 +131,49 @@ def _read_xdmf(path: Path, need_triangles: bool = True):
             raise MeshError(f"{path}: meshio cannot read this XDMF (several grids, e.g. a time "
                             f"series?): write the mesh on its own") from None
         raise MeshError(f"{path}: meshio cannot read it: {why}") from None
-    return _meshio_cells(m, str(path), need_triangles)
+    return m
 
 
 def _meshio_cells(m, where: str, need_triangles: bool = True):
     """(points, triangles, edges) of a meshio.Mesh: triangle cells, and line cells tagged by
     the first integer cell-data array (a tag named by its field_data name if any)."""
-    names = {int(v[0]): k for k, v in getattr(m, "field_data", {}).items()
-             if len(v) >= 2 and int(v[1]) == 1}
-    triangles, edges = [], {}
-    for i, block_ in enumerate(m.cells):
-        if block_.type == "triangle":
-            triangles.append(block_.data)
-        elif block_.type == "line":
-            tags = None
-            for arrays in m.cell_data.values():
-                a = np.asarray(arrays[i])
-                if a.ndim == 1 or (a.ndim == 2 and a.shape[1] == 1):
-                    if np.issubdtype(a.dtype, np.integer) or np.all(a == np.round(a)):
-                        tags = a.reshape(-1).astype(np.int64)
-                        break
-            if tags is None:
-                raise MeshError(f"{where}: line cells without an integer tag array: tag them")
-            for t in np.unique(tags):
-                name = names.get(int(t), str(int(t)))
-                segs = block_.data[tags == t]
-                edges[name] = np.concatenate([edges[name], segs]) if name in edges else segs
-        elif block_.type != "vertex":
-            raise MeshError(f"{where}: cells of type '{block_.type}': only triangles and lines "
-                            f"are supported")
+    triangles = [b.data for b in m.cells if b.type == "triangle"]
+    for b in m.cells:
+        if b.type not in ("triangle", "line", "vertex"):
+            hint = " (a volume mesh: set analysis.dimension = 3)" if b.type == "tetra" else ""
+            raise MeshError(f"{where}: cells of type '{b.type}': only triangles and lines "
+                            f"are supported{hint}")
     if need_triangles and not triangles:
         raise MeshError(f"{where}: no triangle cells")
     tri = np.concatenate(triangles) if triangles else np.zeros((0, 3), np.int64)
-    return m.points, tri, edges
+    return m.points, tri, tagged_cells(m, "line", where)
+
+
+def tagged_cells(m, kind: str, where: str) -> dict[str, np.ndarray]:
+    """The cells of type ``kind`` ("line" in 2D, "triangle" for the faces of a 3D mesh) of a
+    meshio.Mesh grouped by the first integer cell-data array of their block: tag name (its
+    field_data name if any, else its number) -> cells."""
+    dim = {"line": 1, "triangle": 2}[kind]
+    names = {int(v[0]): k for k, v in getattr(m, "field_data", {}).items()
+             if len(v) >= 2 and int(v[1]) == dim}
+    out: dict[str, np.ndarray] = {}
+    for i, block_ in enumerate(m.cells):
+        if block_.type != kind:
+            continue
+        tags = None
+        for arrays in m.cell_data.values():
+            a = np.asarray(arrays[i])
+            if a.ndim == 1 or (a.ndim == 2 and a.shape[1] == 1):
+                if np.issubdtype(a.dtype, np.integer) or np.all(a == np.round(a)):
+                    tags = a.reshape(-1).astype(np.int64)
+                    break
+        if tags is None:
+            raise MeshError(f"{where}: {kind} cells without an integer tag array: tag them")
+        for t in np.unique(tags):
+            name = names.get(int(t), str(int(t)))
+            cells = block_.data[tags == t]
+            out[name] = np.concatenate([out[name], cells]) if name in out else cells
+    return out
 
 
 def from_meshio(mesh, where: str = "meshio mesh") -> Mesh:

@@ -8,6 +8,8 @@ tributary length of node a on its edge, t the thickness; in axisymmetry node a's
 slipstep.contact_measures); the tangential direction is t = (-n_y, n_x), i.e. (-1, 0) for a flat with
 normal (0, 1).  Axisymmetric runs name the coordinates r, z and the stresses sigma_r, sigma_z,
 sigma_theta (hoop), tau_rz (:func:`slipstep.fields.coordinate_names`, ``stress_names``).
+3D scenes (docs/engine_api.md, "3D models") write tetrahedra and their own contact columns:
+:func:`xdmf_step_3d`, :func:`write_profile_csv_3d`.
 """
 
 from __future__ import annotations
@@ -26,6 +28,8 @@ from .fields import (coordinate_names, is_elastoplastic, nodal_stress, stress_na
                      von_mises, yield_drift)
 from .history import (ELEMENT_EVENTS, distinct_time_snapshots, event_positions, event_times,
                       snapshot_time)
+from .space.contact_measures import contact_profile_3d
+from .space.fields import STRESS_NAMES_3D, nodal_stress_3d, stress_tensor_3d, von_mises_3d
 
 STATUS_NAMES = ("open", "stick", "slip")
 
@@ -34,8 +38,8 @@ STATUS_NAMES = ("open", "stick", "slip")
 def write_events_csv(path: Path, scene, result) -> None:
     """One row per (event, entity): step, load_fraction (within its stage), kind, entity,
     entity_kind (``pair`` or ``element``), x, y (node a of the pair; the element centroid for
-    the element events yield, unload, frozen_element), t (path time) and stage (1-based); x, y
-    are called r, z in axisymmetry."""
+    the element events yield, unload, frozen_element; 3D: x, y, z), t (path time) and stage
+    (1-based); x, y are called r, z in axisymmetry."""
     ev = result["events"]
     times, stages = event_times(result)
     where = event_positions(scene, result)
@@ -45,17 +49,19 @@ def write_events_csv(path: Path, scene, result) -> None:
                     *coordinate_names(scene), "t", "stage"])
         for k in range(len(ev["step"])):
             kind, entity = ev["kind"][k], int(ev["entity"][k])
-            x, y = where[k]
             w.writerow([int(ev["step"][k]), repr(float(ev["load_fraction"][k])), kind, entity,
                         "element" if kind in ELEMENT_EVENTS else "pair",
-                        repr(float(x)), repr(float(y)), repr(float(times[k])),
+                        *(repr(float(c)) for c in where[k]), repr(float(times[k])),
                         int(stages[k]) + 1])
 
 
 def write_profile_csv(path: Path, scene, snapshot: dict) -> None:
     """contact_profile.csv: the candidate pairs at the final snapshot, sorted by x; s is the
     position along the pair's contact (slipstep.contact_measures) and contact its [[contact]] name; x, y
-    are called r, z in axisymmetry."""
+    are called r, z in axisymmetry.  3D: :func:`write_profile_csv_3d`."""
+    if scene.dimension == 3:
+        write_profile_csv_3d(path, scene, snapshot)
+        return
     prof = contact_profile(scene, snapshot)
     names = scene.model["contact_names"]
     with open(path, "w", newline="") as fh:
@@ -83,6 +89,37 @@ def _working_directory(path: Path):
         os.chdir(old)
 
 
+#: The columns of a 3D contact_profile.csv after x, y, z: (name, profile key, component).
+PROFILE_3D = (("pressure", "pressure", None), ("tangential_stress_1", "tau", 0),
+              ("tangential_stress_2", "tau", 1), ("tangential_stress_x", "tangential_stress", 0),
+              ("tangential_stress_y", "tangential_stress", 1),
+              ("tangential_stress_z", "tangential_stress", 2), ("slip_1", "slip", 0),
+              ("slip_2", "slip", 1), ("slip_x", "slip_xyz", 0), ("slip_y", "slip_xyz", 1),
+              ("slip_z", "slip_xyz", 2), ("slip_direction_x", "slip_direction", 0),
+              ("slip_direction_y", "slip_direction", 1),
+              ("slip_direction_z", "slip_direction", 2), ("gap", "gap", None))
+
+
+def write_profile_csv_3d(path: Path, scene, snapshot: dict) -> None:
+    """contact_profile.csv of a 3D scene: the candidate pairs at the final snapshot, sorted by
+    x, then y, then z: pressure, the tangential stress in the pair's (t1, t2) (``_1``, ``_2``)
+    and in x, y, z, the slip (relative tangential displacement) likewise, the slip direction of
+    a slipping pair (opposite to its friction force: the direction of its slip rate; 0
+    otherwise), status, gap, pair, node_a and its [[contact]] name
+    (:func:`slipstep.space.contact_measures.contact_profile_3d`)."""
+    prof = contact_profile_3d(scene, snapshot)
+    names = scene.model["contact_names"]
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["x", "y", "z", *(c[0] for c in PROFILE_3D), "status", "pair", "node_a",
+                    "contact"])
+        for i in range(len(prof["pair"])):
+            values = [prof[key][i] if c is None else prof[key][i, c] for _, key, c in PROFILE_3D]
+            w.writerow([*(repr(float(v)) for v in (*prof["x"][i], *values)),
+                        STATUS_NAMES[prof["status"][i]], int(prof["pair"][i]),
+                        int(prof["node_a"][i]), names[prof["contact"][i]]])
+
+
 def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     """``results.xdmf`` + ``results.h5``: a time series (time = path time t, the load fraction
     of a run without stages; one grid per distinct t, the state after every event there:
@@ -91,13 +128,15 @@ def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     (``length: mm, force: N, stress: MPa``; absent when ``[case] units`` does not give them)."""
     import meshio
 
-    cells = [("triangle", scene.triangles)]
+    space = scene.dimension == 3
+    cells = [("tetra", scene.tetrahedra)] if space else [("triangle", scene.triangles)]
+    step = xdmf_step_3d if space else xdmf_step
     with _working_directory(folder):
         with meshio.xdmf.TimeSeriesWriter(f"{name}.xdmf") as writer:
             writer.write_points_cells(scene.nodes, cells)
             for k in distinct_time_snapshots(result):
                 snap = result["snapshots"][k]
-                point_data, cell_data = xdmf_step(scene, snap)
+                point_data, cell_data = step(scene, snap)
                 writer.write_data(snapshot_time(snap), point_data=point_data,
                                   cell_data=cell_data)
     if scene.case.units:
@@ -135,15 +174,55 @@ def xdmf_step(scene, snap: dict) -> tuple[dict, dict]:
     cell_data = {name: [s[:, k]] for k, name in enumerate(stress_names(scene))}
     cell_data["stress"] = [stress_tensor(s)]
     cell_data["von_mises"] = [von_mises(s)]
+    cell_data.update(state_cell_data(scene, snap))
+    return point_data, cell_data
+
+
+def xdmf_step_3d(scene, snap: dict) -> tuple[dict, dict]:
+    """(point_data, cell_data) of one snapshot of a 3D scene as results.xdmf holds it.  Point
+    data: ``u``, ``reaction`` (when the result has it), ``nodal_stress`` (the volume-weighted
+    nodal average, a 9-component tensor) and ``nodal_von_mises``, and the contact fields on
+    node a of each candidate pair (0 elsewhere): contact_pressure, contact_status (0 open, 1
+    stick, 2 slip), contact_gap, and the vectors contact_tangential_stress, contact_slip and
+    contact_slip_direction in x, y, z.  Cell data: the six stress columns (sigma_xx, sigma_yy,
+    sigma_zz, tau_yz, tau_xz, tau_xy), ``stress`` as a symmetric 9-component tensor, von_mises,
+    and in elastoplastic cases plastic_strain, plastic and yield_drift; body with several."""
+    s = np.asarray(snap["stress"], dtype=float).reshape(-1, 6)
+    nodal = nodal_stress_3d(scene.nodes, scene.tetrahedra, s)
+    point_data = {key: np.asarray(snap[key], dtype=float).reshape(-1, 3)
+                  for key in ("u", "reaction") if key in snap}
+    point_data.update(nodal_stress=stress_tensor_3d(nodal), nodal_von_mises=von_mises_3d(nodal))
+    if len(scene.pair_xy):
+        prof = contact_profile_3d(scene, snap)
+        order = np.lexsort((prof["pressure"], prof["node_a"]))  # the largest pressure last
+        for name, key in (("contact_pressure", "pressure"), ("contact_status", "status"),
+                          ("contact_gap", "gap"), ("contact_tangential_stress",
+                                                   "tangential_stress"),
+                          ("contact_slip", "slip_xyz"), ("contact_slip_direction",
+                                                         "slip_direction")):
+            values = np.asarray(prof[key], dtype=float)
+            field = np.zeros((len(scene.nodes), *values.shape[1:]))
+            field[prof["node_a"][order]] = values[order]
+            point_data[name] = field
+    cell_data = {name: [s[:, k]] for k, name in enumerate(STRESS_NAMES_3D)}
+    cell_data.update(stress=[stress_tensor_3d(s)], von_mises=[von_mises_3d(s)])
+    cell_data.update(state_cell_data(scene, snap))
+    return point_data, cell_data
+
+
+def state_cell_data(scene, snap: dict) -> dict:
+    """The cell data beside the stresses: in elastoplastic cases plastic_strain, plastic and
+    yield_drift; body (the body index) when there are several."""
+    out = {}
     if is_elastoplastic(scene):
         for key in ("plastic_strain", "plastic"):
             if key in snap:
-                cell_data[key] = [np.asarray(snap[key], dtype=np.float64)]
+                out[key] = [np.asarray(snap[key], dtype=np.float64)]
         if "plastic" in snap:
-            cell_data["yield_drift"] = [yield_drift(scene, snap)]
+            out["yield_drift"] = [yield_drift(scene, snap)]
     if len(scene.bodies) > 1:
-        cell_data["body"] = [scene.element_body.astype(np.float64)]
-    return point_data, cell_data
+        out["body"] = [scene.element_body.astype(np.float64)]
+    return out
 
 
 #: Point data of the contact (name in results.xdmf -> column of contact_profile.csv).

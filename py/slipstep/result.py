@@ -20,6 +20,8 @@ import numpy as np
 
 from .contact_measures import contact_profile
 from .fields import is_elastoplastic, nodal_stress, von_mises, yield_drift
+from .space.contact_measures import contact_profile_3d
+from .space.fields import nodal_stress_3d, von_mises_3d
 from .history import ELEMENT_EVENTS, event_positions, event_times, same_time, snapshot_time
 from .errors import InputError
 from .summary import one_line
@@ -53,7 +55,7 @@ class Result:
 
     @property
     def nodes(self) -> np.ndarray:
-        """(N, 2) node coordinates (undeformed)."""
+        """(N, 2) node coordinates (undeformed; 3D: (N, 3))."""
         return self.scene.nodes
 
     @property
@@ -118,8 +120,14 @@ class Result:
         ``plastic`` (bool) and ``yield_drift`` (M,); per candidate pair in the engine's order
         (P,): ``lambda_n``, ``lambda_t`` (nodal contact forces), ``status`` (0 open, 1 stick,
         2 slip), ``pressure``, ``tangential_stress``, ``gap``, ``rtd`` (as in
-        contact_profile.csv); ``t``, ``stage`` (1-based) and ``load_fraction`` (within it)."""
+        contact_profile.csv); ``t``, ``stage`` (1-based) and ``load_fraction`` (within it).
+        A 3D scene (docs/engine_api.md): ``u``, ``reaction`` (N, 3), ``stress`` (M, 6: Voigt
+        sigma_xx, sigma_yy, sigma_zz, tau_yz, tau_xz, tau_xy), ``nodal_stress`` (N, 6),
+        ``lambda_t`` and ``rtd`` (P, 2) in each pair's (t1, t2), ``tangential_stress`` (P, 3)
+        in x, y, z."""
         snap = self.snapshot(t, stage)
+        if self.scene.dimension == 3:
+            return self._fields_3d(snap)
         stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
         out = {"t": snapshot_time(snap), "stage": int(snap.get("stage", 0)) + 1,
                "load_fraction": float(snap["load_fraction"]),
@@ -142,11 +150,40 @@ class Result:
             out[key][prof["pair"]] = prof[key]
         return out
 
+    def _fields_3d(self, snap: dict) -> dict:
+        """:meth:`fields` of a 3D scene."""
+        scene = self.scene
+        stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 6)
+        nodal = nodal_stress_3d(scene.nodes, scene.tetrahedra, stress)
+        out = {"t": snapshot_time(snap), "stage": int(snap.get("stage", 0)) + 1,
+               "load_fraction": float(snap["load_fraction"]),
+               "u": np.asarray(snap["u"], dtype=float).reshape(-1, 3), "stress": stress,
+               "von_mises": von_mises_3d(stress), "nodal_stress": nodal,
+               "nodal_von_mises": von_mises_3d(nodal)}
+        if "reaction" in snap:
+            out["reaction"] = np.asarray(snap["reaction"], dtype=float).reshape(-1, 3)
+        if is_elastoplastic(scene):
+            out["plastic_strain"] = np.asarray(snap["plastic_strain"], dtype=float)
+            out["plastic"] = np.asarray(snap["plastic"]).astype(bool)
+            out["yield_drift"] = yield_drift(scene, snap)
+        out["lambda_n"] = np.asarray(snap["lambda_n"], dtype=float)
+        out["lambda_t"] = np.asarray(snap["lambda_t"], dtype=float).reshape(-1, 2)
+        out["status"] = np.asarray(snap["status"]).astype(np.int64)
+        prof = contact_profile_3d(scene, snap)
+        for key, target in (("pressure", "pressure"), ("tangential_stress", "tangential_stress"),
+                            ("gap", "gap"), ("slip", "rtd")):
+            out[target] = np.empty_like(prof[key])
+            out[target][prof["pair"]] = prof[key]
+        return out
+
     def profile(self, t: float | None = None, stage: int | None = None) -> dict:
         """The contact profile at snapshot time ``t`` (None: the last), as in
         contact_profile.csv: per candidate pair sorted by x, arrays x, y, s, contact, pressure,
         tangential_stress, rtd, status, gap, pair, node_a (:func:`slipstep.
-        contact_measures.contact_profile`)."""
+        contact_measures.contact_profile`; 3D: :func:`slipstep.space.contact_measures.
+        contact_profile_3d`, sorted by x, y, z)."""
+        if self.scene.dimension == 3:
+            return contact_profile_3d(self.scene, self.snapshot(t, stage))
         return contact_profile(self.scene, self.snapshot(t, stage))
 
     def to_meshio(self, t: float | None = None, stage: int | None = None):
@@ -156,8 +193,12 @@ class Result:
         as 9-component tensors, as ParaView wants them)."""
         import meshio
 
-        from .output import xdmf_step
+        from .output import xdmf_step, xdmf_step_3d
 
+        if self.scene.dimension == 3:  # tetrahedra, the fields of results.xdmf
+            point_data, cell_data = xdmf_step_3d(self.scene, self.snapshot(t, stage))
+            return meshio.Mesh(self.nodes, [("tetra", self.scene.tetrahedra)],
+                               point_data=point_data, cell_data=cell_data)
         point_data, cell_data = xdmf_step(self.scene, self.snapshot(t, stage))
         points = np.column_stack([self.nodes, np.zeros(len(self.nodes))])
         return meshio.Mesh(points, [("triangle", self.triangles)], point_data=point_data,
@@ -168,18 +209,24 @@ class Result:
         """The run's figures as matplotlib Figures by name (contact_interface, von_mises, ...);
         built with the object API, so a notebook's pyplot state is untouched."""
         from .figures import figures
+        from .space.figures import figures_3d
 
-        return figures(self.scene, self.raw, self.summary)
+        draw = figures_3d if self.scene.dimension == 3 else figures
+        return draw(self.scene, self.raw, self.summary)
 
     def figure(self, name: str, ax=None):
         """One of :meth:`figures` by name, drawn on the caller's ``ax`` when given (an Axes, or
         a sequence of Axes for the figures of several panels: contact_interface 3,
         contact_extent 2, force_displacement one per prescribed load); returns its Figure."""
         from .figures import chosen
+        from .space import figures as space_figures
 
-        builders = dict(chosen(self.scene, self.raw))
+        space = self.scene.dimension == 3
+        builders = dict((space_figures.chosen if space else chosen)(self.scene, self.raw))
         if name not in builders:
             raise ValueError(f"figure {name!r}: this run has {', '.join(builders) or 'none'}")
+        if space:  # one panel per contact, on a figure of its own
+            return builders[name](None, self.scene, self.raw, self.summary)
         return builders[name](None, self.scene, self.raw, self.summary, ax=ax)
 
     def write(self, out: str | Path, figures: bool | None = None,

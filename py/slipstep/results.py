@@ -13,6 +13,7 @@ from . import figures as figs
 from . import output
 from .errors import InputError
 from .resolved_case import resolved_case_text
+from .space.figures import write_figures_3d
 
 
 def write_results(out: str | Path, scene, result, summary: dict, figures: bool | None = None,
@@ -44,7 +45,8 @@ def write_results(out: str | Path, scene, result, summary: dict, figures: bool |
         if xdmf and snaps:
             output.write_xdmf(stage, scene, result)
         if figures:
-            figs.write_figures(stage, scene, result, summary)
+            draw = write_figures_3d if scene.dimension == 3 else figs.write_figures
+            draw(stage, scene, result, summary)
         output.write_summary_json(stage / "summary.json", summary)
         (stage / "case.toml").write_text(case_toml(scene, summary), encoding="utf-8")
         written = []

@@ -23,11 +23,11 @@ class Scene:
     bodies: list[str]
     meshes: dict[str, Mesh]
     offsets: dict[str, int]           # first global node id of each body
-    nodes: np.ndarray                 # (N, 2)
-    triangles: np.ndarray             # (M, 3)
+    nodes: np.ndarray                 # (N, 2); 3D: (N, 3)
+    triangles: np.ndarray             # (M, 3); 3D: (0, 3), the elements are ``tetrahedra``
     element_body: np.ndarray          # (M,) index into bodies
     model: dict                       # the engine model
-    pair_xy: np.ndarray               # (P, 2) position of node_a
+    pair_xy: np.ndarray               # (P, 2) position of node_a; 3D: (P, 3)
     pair_length: np.ndarray           # (P,) tributary length of node_a on its candidate edge
     pair_contact: np.ndarray          # (P,) index of the [[contact]] entry it came from
     # (P,) the area its contact force acts on: L t, or its ring 2 pi int N_a r ds (contact_areas)
@@ -49,11 +49,62 @@ class Scene:
     motions: dict = field(default_factory=dict)       # load name -> {"contact", "motion"}
     factors: np.ndarray = field(default_factory=lambda: np.array([[0.0], [1.0]]))
     given_meshes: tuple = ()  # the bodies whose mesh came from Python (build_scene's meshes)
+    # 3D scenes (slipstep.space.build): the elements, and each pair's tangent basis (t1, t2)
+    tetrahedra: np.ndarray = field(default_factory=lambda: np.zeros((0, 4), dtype=np.int64))
+    pair_tangent: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 3)))
+
+    @property
+    def dimension(self) -> int:
+        """2 (triangles, two DOFs per node) or 3 (tetrahedra, three)."""
+        return self.case.dimension
 
     @property
     def n_dofs(self) -> int:
-        return 2 * len(self.nodes)
+        return self.dimension * len(self.nodes)
+
+    @property
+    def elements(self) -> np.ndarray:
+        """The element connectivity: (M, 3) triangles, or (M, 4) tetrahedra in 3D."""
+        return self.tetrahedra if self.dimension == 3 else self.triangles
 
     def global_edge(self, body: str, tag: str) -> np.ndarray:
         """Segments of a body's edge tag in global node numbers (body on the left)."""
         return self.meshes[body].edges[tag] + self.offsets[body]
+
+    def global_boundary(self, body: str, tag: str) -> np.ndarray:
+        """A body's boundary tag in global node numbers: edge segments (body on the left), or
+        in 3D face triangles (outward)."""
+        return self.meshes[body].tags[tag] + self.offsets[body]
+
+
+def merged_bodies(bodies: list[str], meshes: dict) -> tuple[dict, np.ndarray, np.ndarray,
+                                                             np.ndarray]:
+    """The bodies' meshes in one global numbering, body after body: (first node of each body,
+    nodes, elements (triangles, or tetrahedra in 3D) in global node ids, the body index of
+    each element)."""
+    offsets, start = {}, 0
+    for name in bodies:
+        offsets[name] = start
+        start += meshes[name].n_nodes
+    nodes = np.concatenate([meshes[b].nodes for b in bodies])
+    elements = np.concatenate([meshes[b].elements + offsets[b] for b in bodies])
+    element_body = np.concatenate([np.full(meshes[b].n_elements, i, dtype=np.int64)
+                                   for i, b in enumerate(bodies)])
+    return offsets, nodes, elements, element_body
+
+
+def materials(case: Case) -> list[dict]:
+    """The engine's material of each body, in body order (``Sy``, ``H`` only when plastic)."""
+    out = []
+    for b in case.data["body"]:
+        m = {"E": b["material"]["E"], "nu": b["material"]["nu"]}
+        if b["material"]["Sy"] is not None:
+            m["Sy"] = b["material"]["Sy"]
+            m["H"] = b["material"]["H"] if b["material"]["H"] is not None else 0.0
+        out.append(m)
+    return out
+
+
+def contact_names(case: Case) -> list[str]:
+    """The name of each [[contact]]: its ``name``, else ``contact <i>`` (0-based)."""
+    return [c["name"] or f"contact {i}" for i, c in enumerate(case.data["contact"])]

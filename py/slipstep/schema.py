@@ -7,51 +7,20 @@ them and :mod:`slipstep.overrides` addresses them with ``--set``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any, Callable
 
+from .key import REQUIRED, Key, check_unit_free_vector, non_negative, positive
+from .space.schema import (MESH_VARIANTS_3D, RIGID_KINDS_3D, contact_variants_3d,
+                           generator_faces)
 from .toml_writing import toml_text
 
-
-REQUIRED = object()  # marker: the key has no default
-
-
-@dataclass(frozen=True)
-class Key:
-    """One key of a table: its type, default, unit, meaning and an optional value check.
-
-    ``type`` is one of ``"float"``, ``"int"``, ``"str"``, ``"bool"``, ``"vec2"`` (two floats),
-    ``"box"`` (four floats [x0, y0, x1, y1]),
-    ``"axes"`` (a list of ``"x"``/``"y"``), ``"snapshots"`` (``"events"`` or a list of path
-    times), ``"xy"`` (an inline table of floats x and/or y), ``"factors"`` (an inline table of
-    floats by load name).  ``check(value)`` returns ``None`` or the reason the value is not
-    allowed.
-    """
-
-    type: str
-    default: Any = REQUIRED
-    unit: str = ""
-    doc: str = ""
-    check: Callable[[Any], str | None] | None = None
-    choices: tuple = ()
-
-
-def _positive(what: str) -> Callable[[Any], str | None]:
-    return lambda v: None if v > 0 else f"{what} must be > 0"
-
-
-def _non_negative(what: str) -> Callable[[Any], str | None]:
-    return lambda v: None if v >= 0 else f"{what} must be >= 0"
+# Key and REQUIRED are read through here by the rest of the package (declared in .key)
 
 
 def _check_nu(nu: float) -> str | None:
     if -1.0 < nu < 0.5:
         return None
     return "Poisson's ratio must satisfy -1 < nu < 0.5 (use 0.499 for near-incompressible)"
-
-
-def _check_unit_free_vector(v) -> str | None:
-    return None if math.hypot(*v) > 0 else "the normal must be a non-zero vector"
 
 
 def _check_snapshots_form(v) -> str | None:
@@ -82,13 +51,17 @@ CASE_KEYS = {
 }
 
 ANALYSIS_KEYS = {
+    "dimension": Key("int", 2, doc="2: a plane section or rings about an axis (linear "
+                                   "triangles, see plane); 3: bodies in space (linear "
+                                   "tetrahedra, x, y, z; no plane, no thickness)",
+                     choices=(2, 3)),
     "plane": Key("str", "strain", doc='2D idealisation: "strain", "stress" or "axisymmetric" '
                                       "(rings about the axis x = 0: x = r >= 0, y = z; forces "
                                       "are totals over the full ring)",
-                 choices=("strain", "stress", "axisymmetric")),
+                 choices=("strain", "stress", "axisymmetric"), dims=(2,)),
     "thickness": Key("float", 1.0, unit="length", doc="out-of-plane thickness t (plane strain "
                                                       "and plane stress only)",
-                     check=_positive("the thickness")),
+                     check=positive("the thickness"), dims=(2,)),
 }
 
 LOAD_KEYS = {
@@ -96,9 +69,12 @@ LOAD_KEYS = {
              doc="Hertz convenience: total compressive line load on the FULL cylinder per unit "
                  "thickness; the quarter model gets pressure q = P/(2R) on its cut edge `top`. "
                  'With plane = "axisymmetric" the quarter section is a hemisphere and P the '
-                 "total force [force] on the sphere: q = P/(pi R^2) on the cut",
-             check=_positive("the load P")),
-    "body": Key("str", "", doc="the quarter_cylinder body it acts on (default: the only one)"),
+                 "total force [force] on the sphere: q = P/(pi R^2) on the cut. In 3D "
+                 "(dimension = 3) P is the total force on a `sphere` body, whose part (eighth, "
+                 "quarter or half) carries its share: q = P/(pi R^2) on its cut face `top`",
+             check=positive("the load P")),
+    "body": Key("str", "", doc="the quarter_cylinder (3D: sphere) body it acts on (default: "
+                               "the only one)"),
 }
 
 OUTPUT_KEYS = {
@@ -144,56 +120,56 @@ BODY_KEYS = {
 
 MATERIAL_KEYS = {
     "E": Key("float", REQUIRED, unit="stress", doc="Young's modulus",
-             check=_positive("Young's modulus E")),
+             check=positive("Young's modulus E")),
     "nu": Key("float", REQUIRED, doc="Poisson's ratio", check=_check_nu),
     "Sy": Key("float", None, unit="stress", doc="yield stress (optional; plasticity)",
-              check=_positive("the yield stress Sy")),
+              check=positive("the yield stress Sy")),
     "H": Key("float", None, unit="stress", doc="plastic (hardening) modulus H' (optional; 0 = perfectly plastic)",
-             check=_non_negative("the hardening modulus H")),
+             check=non_negative("the hardening modulus H")),
 }
 
 QUARTER_CYLINDER_KEYS = {
     "generator": Key("str", REQUIRED, doc='"quarter_cylinder" (x >= 0), "half_cylinder" (the quarter mirrored: tags arc, top) or "disc" (the whole circle: tags lower_arc, upper_arc, circle)'),
     "R": Key("float", REQUIRED, unit="length", doc="cylinder radius; centre at (0, R), bottom "
-                                                    "point at (0, 0)", check=_positive("R")),
+                                                    "point at (0, 0)", check=positive("R")),
     "h_contact": Key("float", REQUIRED, unit="length",
                      doc="element size within contact_zone of the bottom point (0, 0)",
-                     check=_positive("h_contact")),
+                     check=positive("h_contact")),
     "contact_zone": Key("float", REQUIRED, unit="length",
                         doc="radius of the fine zone around (0, 0)",
-                        check=_positive("contact_zone")),
+                        check=positive("contact_zone")),
     "h_max": Key("float", REQUIRED, unit="length", doc="largest element size",
-                 check=_positive("h_max")),
+                 check=positive("h_max")),
     "growth": Key("float", 0.1, doc="size growth per unit distance outside the zone "
                                     "(h = h_contact + growth * (d - contact_zone))",
-                  check=_positive("growth")),
+                  check=positive("growth")),
 }
 
 BLOCK_KEYS = {
     "generator": Key("str", REQUIRED, doc='"block"'),
     "x0": Key("float", 0.0, unit="length", doc="lower-left corner x"),
     "y0": Key("float", 0.0, unit="length", doc="lower-left corner y"),
-    "width": Key("float", REQUIRED, unit="length", doc="size in x", check=_positive("width")),
-    "height": Key("float", REQUIRED, unit="length", doc="size in y", check=_positive("height")),
-    "nx": Key("int", 0, doc="divisions in x (0: from h)", check=_non_negative("nx")),
-    "ny": Key("int", 0, doc="divisions in y (0: from h)", check=_non_negative("ny")),
+    "width": Key("float", REQUIRED, unit="length", doc="size in x", check=positive("width")),
+    "height": Key("float", REQUIRED, unit="length", doc="size in y", check=positive("height")),
+    "nx": Key("int", 0, doc="divisions in x (0: from h)", check=non_negative("nx")),
+    "ny": Key("int", 0, doc="divisions in y (0: from h)", check=non_negative("ny")),
     "h": Key("float", 0.0, unit="length",
              doc="target element size when nx/ny are 0 (n = round(size/h))",
-             check=_non_negative("h")),
+             check=non_negative("h")),
     # the graded block (gmsh), when h_contact > 0; nx, ny and h are then not used
     "h_contact": Key("float", 0.0, unit="length",
                      doc="graded block (gmsh): element size within contact_zone of focus "
                          "(0 = the structured block of nx/ny or h)",
-                     check=_non_negative("h_contact")),
+                     check=non_negative("h_contact")),
     "contact_zone": Key("float", 0.0, unit="length",
                         doc="graded block: radius of the fine zone around focus",
-                        check=_positive("contact_zone")),
+                        check=positive("contact_zone")),
     "h_max": Key("float", 0.0, unit="length", doc="graded or refined block: largest element "
-                                                  "size", check=_positive("h_max")),
+                                                  "size", check=positive("h_max")),
     "growth": Key("float", 0.1, doc="graded or refined block: size growth per unit distance "
                                     "outside the fine zone (graded: h = h_contact + growth * (d "
                                     "- contact_zone); refined: h + growth * d from the box)",
-                  check=_positive("growth")),
+                  check=positive("growth")),
     "focus": Key("vec2", None, unit="length",
                  doc="graded block: the point [x, y] it is fine around, inside or on the "
                      "boundary (default: the middle of the top edge)"),
@@ -211,23 +187,28 @@ BLOCK_KEYS = {
 QUARTER_ANNULUS_KEYS = {
     "generator": Key("str", REQUIRED, doc='"quarter_annulus"'),
     "a": Key("float", REQUIRED, unit="length", doc="inner radius (the bore); centre (0, 0)",
-             check=_positive("the inner radius a")),
+             check=positive("the inner radius a")),
     "b": Key("float", REQUIRED, unit="length", doc="outer radius, > a",
-             check=_positive("the outer radius b")),
+             check=positive("the outer radius b")),
     "h": Key("float", REQUIRED, unit="length", doc="element size at the bore r = a",
-             check=_positive("h")),
+             check=positive("h")),
     "h_outer": Key("float", 0.0, unit="length",
                    doc="element size at r = b, linear in r in between (0: uniform h)",
-                   check=_non_negative("h_outer")),
+                   check=non_negative("h_outer")),
 }
 
 FILE_MESH_KEYS = {
     "file": Key("str", REQUIRED, doc="triangle mesh .msh (gmsh physical names = edge tags) or "
                                      ".xdmf (meshio; line cells tagged by an integer cell "
-                                     "array); relative to the case file"),
+                                     "array); in 3D a tetrahedron mesh, its physical surfaces "
+                                     "(.msh) or tagged triangle cells (.xdmf) the face tags; "
+                                     "relative to the case file"),
     "edge_file": Key("str", "", doc=".xdmf holding the tagged line cells when they are kept "
-                                    "apart from the triangles (dolfinx style)"),
-    "scale": Key("float", 1.0, doc="multiply the coordinates by this", check=_positive("scale")),
+                                    "apart from the triangles (dolfinx style)", dims=(2,)),
+    "face_file": Key("str", "", doc=".xdmf holding the tagged triangle cells (faces) when they "
+                                    "are kept apart from the tetrahedra (dolfinx style)",
+                     dims=(3,)),
+    "scale": Key("float", 1.0, doc="multiply the coordinates by this", check=positive("scale")),
 }
 
 GIVEN_MESH_KEYS = {
@@ -239,7 +220,16 @@ GIVEN_MESH_KEYS = {
 MESH_VARIANTS = {"quarter_cylinder": QUARTER_CYLINDER_KEYS,
                  "half_cylinder": QUARTER_CYLINDER_KEYS, "disc": QUARTER_CYLINDER_KEYS,
                  "block": BLOCK_KEYS,
-                 "quarter_annulus": QUARTER_ANNULUS_KEYS, "given": GIVEN_MESH_KEYS}
+                 "quarter_annulus": QUARTER_ANNULUS_KEYS, "given": GIVEN_MESH_KEYS,
+                 **MESH_VARIANTS_3D}
+
+
+def generator_dimension(generator: str) -> int | None:
+    """The case dimension a generator meshes for (None: "given", either)."""
+    if generator == "given":
+        return None
+    return 3 if generator in MESH_VARIANTS_3D else 2
+
 
 def block_divisions(mesh: dict) -> tuple[int, int]:
     """The structured block's cells (nx, ny): as given, or round(size / h)."""
@@ -247,7 +237,16 @@ def block_divisions(mesh: dict) -> tuple[int, int]:
             mesh["ny"] or max(1, round(mesh["height"] / mesh["h"])))
 
 
-#: Edge tags that the generators create (file meshes bring their own).
+def generator_tags(mesh: dict) -> tuple[str, ...] | None:
+    """The edge tags (3D: face tags) a validated [body.mesh] table's generator creates; None
+    for a file or "given" mesh (known once it is read)."""
+    gen = mesh.get("generator")
+    if gen in MESH_VARIANTS_3D:
+        return generator_faces(mesh)
+    return GENERATOR_EDGES.get(gen)
+
+
+#: Edge tags that the 2D generators create (file meshes bring their own).
 GENERATOR_EDGES = {
     "quarter_cylinder": ("arc", "symmetry", "top"),
     "half_cylinder": ("arc", "top"),
@@ -259,34 +258,42 @@ GENERATOR_EDGES = {
 BC_KEYS = {
     "name": Key("str", "", doc="optional name, to address it as bc.<name>.* in --set"),
     "body": Key("str", REQUIRED, doc="body name"),
-    "edge": Key("str", "", doc="edge tag of that body (or give `nodes`)"),
+    "edge": Key("str", "", doc="edge tag of that body (or give `nodes`)", dims=(2,)),
+    "face": Key("str", "", doc="face tag of that body (3D; or give `nodes`)", dims=(3,)),
     "nodes": Key("str", "", doc="node-set name of that body (supports `fix` and "
                                 "`displacement` only)"),
-    "fix": Key("axes", [], doc='components held at zero: ["x"], ["y"] or ["x", "y"]'),
-    "symmetry": Key("bool", False, doc="hold the normal component (edge must be parallel to an axis)"),
+    "fix": Key("axes", [], doc='components held at zero: ["x"], ["y"] or ["x", "y"] (3D: '
+                               'also "z")'),
+    "symmetry": Key("bool", False, doc="hold the normal component (the edge must be parallel "
+                                       "to an axis; in 3D the face a plane parallel to a "
+                                       "coordinate plane)"),
     "pressure": Key("float", 0.0, unit="stress",
                     doc="uniform pressure q, acting against the outward normal"),
-    "traction": Key("vec2", [0.0, 0.0], unit="stress", doc="uniform traction [tx, ty]"),
+    "traction": Key("vec", [0.0, 0.0], unit="stress",
+                    doc="uniform traction [tx, ty] (3D: [tx, ty, tz])"),
     "displacement": Key("xy", {}, unit="length",
                         doc="prescribed displacement components at factor 1, e.g. {y = -0.1} "
-                            "(a load, eliminated exactly like a support)"),
+                            "(a load, eliminated exactly like a support; 3D: z too)"),
 }
 
 POINT_LOAD_KEYS = {
     "name": Key("str", "", doc="optional name"),
     "body": Key("str", "", doc="restrict the node search to this body (default: all bodies)"),
-    "at": Key("vec2", REQUIRED, unit="length", doc="the load goes to the node nearest this point"),
-    "force": Key("vec2", REQUIRED, unit="force/length",
+    "at": Key("vec", REQUIRED, unit="length", doc="the load goes to the node nearest this "
+                                                   "point ([x, y]; 3D: [x, y, z])"),
+    "force": Key("vec", REQUIRED, unit="force/length",
                  doc='[Fx, Fy] per unit thickness (plane = "axisymmetric": the total over the '
-                     "node's ring [force])"),
+                     "node's ring [force]; 3D: [Fx, Fy, Fz], a force [force])"),
 }
 
 _CONTACT_COMMON = {
     "kind": Key("str", REQUIRED, doc='the contact kind: "rigid_line", "rigid_circle", '
                                      '"rigid_polyline" (a deformable body against a rigid '
-                                     'obstacle) or a deformable pair ("node_to_node", ...)'),
+                                     'obstacle) or a deformable pair ("node_to_node", ...); in '
+                                     '3D "rigid_plane", "rigid_sphere", "rigid_cylinder", '
+                                     '"rigid_surface", "node_to_node" or "node_to_surface"'),
     "name": Key("str", "", doc="optional name"),
-    "mu": Key("float", 0.0, doc="Coulomb friction coefficient", check=_non_negative("mu")),
+    "mu": Key("float", 0.0, doc="Coulomb friction coefficient", check=non_negative("mu")),
 }
 
 RIGID_LINE_KEYS = {
@@ -295,14 +302,14 @@ RIGID_LINE_KEYS = {
     "edge": Key("str", REQUIRED, doc="its candidate edge tag"),
     "point": Key("vec2", [0.0, 0.0], unit="length", doc="a point of the rigid line"),
     "normal": Key("vec2", [0.0, 1.0], doc="normal of the line pointing to the body side",
-                  check=_check_unit_free_vector),
+                  check=check_unit_free_vector),
     "x_min": Key("float", -math.inf, unit="length", doc="candidates: nodes with x >= x_min"),
     "x_max": Key("float", math.inf, unit="length", doc="candidates: nodes with x <= x_max"),
     "y_min": Key("float", -math.inf, unit="length", doc="candidates: nodes with y >= y_min"),
     "y_max": Key("float", math.inf, unit="length", doc="candidates: nodes with y <= y_max"),
     "tolerance": Key("float", 1e-9, unit="length",
                      doc="gaps in [-tolerance, 0) count as 0; below -tolerance is an error",
-                     check=_non_negative("tolerance")),
+                     check=non_negative("tolerance")),
     "motion": Key("vec2", None, unit="length",
                   doc="translation [dx, dy] of the rigid line at factor 1 (a load)"),
 }
@@ -345,7 +352,7 @@ def _rigid_obstacle_keys(shape: dict, what: str) -> dict:
 RIGID_CIRCLE_KEYS = _rigid_obstacle_keys({
     "centre": Key("vec2", REQUIRED, unit="length", doc="centre [x, y] of the rigid circle"),
     "radius": Key("float", REQUIRED, unit="length", doc="radius of the rigid circle",
-                  check=_positive("the radius")),
+                  check=positive("the radius")),
     "side": Key("str", "outside", doc='where the body is: "outside" the circle (a rigid '
                                       'cylinder pressed into it) or "inside" (in a circular '
                                       'hole or cup)', choices=("outside", "inside")),
@@ -366,14 +373,17 @@ RIGID_KINDS = ("rigid_line", "rigid_circle", "rigid_polyline")
 NODE_TO_NODE_KEYS = {
     **_CONTACT_COMMON,
     "body_a": Key("str", REQUIRED, doc="contactor body"),
-    "edge_a": Key("str", REQUIRED, doc="contactor edge tag"),
+    "edge_a": Key("str", "", doc="contactor edge tag", dims=(2,), required_in=(2,)),
+    "face_a": Key("str", "", doc="contactor face tag (3D)", dims=(3,), required_in=(3,)),
     "body_b": Key("str", REQUIRED, doc="target body"),
-    "edge_b": Key("str", REQUIRED, doc="target edge tag"),
+    "edge_b": Key("str", "", doc="target edge tag", dims=(2,), required_in=(2,)),
+    "face_b": Key("str", "", doc="target face tag (3D)", dims=(3,), required_in=(3,)),
     "tolerance": Key("float", 1e-6, unit="length",
                      doc="pair node a with the nearest node b within this distance",
-                     check=_positive("tolerance")),
-    "normal": Key("vec2", None, doc="fixed normal for every pair (default: outward normal of "
-                                    "edge_b averaged at node b)", check=_check_unit_free_vector),
+                     check=positive("tolerance")),
+    "normal": Key("vec", None, doc="fixed normal for every pair (default: outward normal of "
+                                   "edge_b (face_b) averaged at node b)",
+                  check=check_unit_free_vector),
 }
 
 NODE_TO_SEGMENT_KEYS = {
@@ -390,12 +400,37 @@ NODE_TO_SEGMENT_KEYS = {
     "tolerance": Key("float", 1e-9, unit="length",
                      doc="initial gaps in [-tolerance, 0) count as 0 (touching); below "
                          "-tolerance is an initial penetration (an error)",
-                     check=_non_negative("tolerance")),
+                     check=non_negative("tolerance")),
 }
 
 CONTACT_VARIANTS = {"rigid_line": RIGID_LINE_KEYS, "rigid_circle": RIGID_CIRCLE_KEYS,
                     "rigid_polyline": RIGID_POLYLINE_KEYS, "node_to_node": NODE_TO_NODE_KEYS,
-                    "node_to_segment": NODE_TO_SEGMENT_KEYS}
+                    "node_to_segment": NODE_TO_SEGMENT_KEYS,
+                    **contact_variants_3d(_CONTACT_COMMON)}
+
+#: Every contact kind whose target is a rigid obstacle, of either dimension.
+RIGID_OBSTACLES = RIGID_KINDS + RIGID_KINDS_3D
+
+
+def kind_dimension(kind: str) -> int | None:
+    """The case dimension a contact kind belongs to (None: node_to_node, either)."""
+    if kind == "node_to_node":
+        return None
+    return 3 if kind in RIGID_KINDS_3D or kind == "node_to_surface" else 2
+
+
+def contact_tags(contact: dict) -> list[tuple[str, str, str]]:
+    """(key, body, tag) of every surface a validated [[contact]] names, contactor first:
+    ``edge``/``face`` of a rigid obstacle, ``edge_a``/``face_a`` and ``edge_b``/``face_b`` of a
+    pair (the 3D key when it is given)."""
+    if contact["kind"] in RIGID_OBSTACLES:
+        key = "face" if contact.get("face") else "edge"
+        return [(key, contact["body"], contact[key])]
+    out = []
+    for side in "ab":
+        key = f"face_{side}" if contact.get(f"face_{side}") else f"edge_{side}"
+        out.append((key, contact[f"body_{side}"], contact[key]))
+    return out
 
 STAGE_KEYS = {
     "name": Key("str", "", doc='optional name (default "stage <k>", 1-based)'),
@@ -422,10 +457,9 @@ ARRAY_KEYS = {
     "body": BODY_KEYS,
     "bc": BC_KEYS,
     "point_load": POINT_LOAD_KEYS,
-    "contact": _union(RIGID_LINE_KEYS, RIGID_CIRCLE_KEYS, RIGID_POLYLINE_KEYS,
-                      NODE_TO_NODE_KEYS, NODE_TO_SEGMENT_KEYS),
+    "contact": _union(*CONTACT_VARIANTS.values()),
     "stage": STAGE_KEYS,
 }
 BODY_SUBTABLES = {"mesh": _union(QUARTER_CYLINDER_KEYS, BLOCK_KEYS, QUARTER_ANNULUS_KEYS,
-                                  FILE_MESH_KEYS),
+                                  *MESH_VARIANTS_3D.values(), FILE_MESH_KEYS),
                   "material": MATERIAL_KEYS}

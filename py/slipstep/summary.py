@@ -3,7 +3,9 @@
 Contacts are summarised one by one, keyed by their case name, along the coordinate s of
 :mod:`slipstep.contact_measures` (for a flat below the body, s = x - point_x).  The top-level
 ``contact_half_width`` a and ``stick_half_width`` c exist only for a symmetric half model
-(:func:`half_model_side`); every key is documented in cases/README.md (Outputs).
+(:func:`half_model_side`); every key is documented in cases/README.md (Outputs).  A 3D scene's
+contacts are areas, not extents: :func:`slipstep.space.contact_measures.contact_numbers_3d`
+(contact and stick areas, their equivalent radii, resultants of the full contact).
 """
 
 from __future__ import annotations
@@ -21,6 +23,8 @@ from .history import (event_times, final_load_fraction, final_time, load_factor,
                       snapshot_time, stage_ends, stage_names)
 from .references import JOHNSON_LINE_YIELD, sphere_axis_yield
 from .section import AXIS_TOLERANCE, is_axisymmetric
+from .space.contact_measures import contact_numbers_3d, reached_window_edge
+from .space.fields import von_mises_3d
 from .version import versions
 
 
@@ -101,11 +105,38 @@ def half_widths(contacts: dict[str, dict], sides: list[int]) -> dict:
             "stick_half_width": side * stick[far] if stick else 0.0}
 
 
+def _space_contact_numbers(scene, result) -> dict:
+    """The contact part of a 3D summary at the final snapshot: per contact its numbers, and for
+    one contact its area, radii and resultants at the top level; totals over every contact."""
+    last = result["snapshots"][-1]
+    status = np.asarray(last["status"])
+    contacts = {name: contact_numbers_3d(scene, last, i)
+                for i, name in enumerate(scene.model["contact_names"])}
+    top = next(iter(contacts.values())) if len(contacts) == 1 else {}
+    tangential = np.sum([c["tangential_force"] for c in contacts.values()], axis=0)
+    return {
+        "snapshot_load_fraction": float(last["load_fraction"]),
+        "snapshot_t": snapshot_time(last),
+        **{k: top[k] for k in ("contact_area", "contact_radius", "stick_area", "stick_radius")
+           if k in top},
+        "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
+        "total_normal_force": float(sum(c["total_normal_force"] for c in contacts.values())),
+        "tangential_force": tangential.tolist(),
+        "total_tangential_force": float(np.linalg.norm(tangential)),
+        "n_open": int((status == 0).sum()), "n_stick": int((status == 1).sum()),
+        "n_slip": int((status == 2).sum()),
+        "contact_reached_last_candidate": reached_window_edge(scene, last),
+        "contacts": contacts,
+    }
+
+
 def _contact_numbers(scene, result) -> dict:
     """The contact part of the summary at the final snapshot (empty without pairs)."""
     snaps = result.get("snapshots", [])
     if not (snaps and len(scene.pair_xy)):
         return {}
+    if scene.dimension == 3:
+        return _space_contact_numbers(scene, result)
     last = snaps[-1]
     status = np.asarray(last["status"])
     sides = [half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
@@ -145,7 +176,15 @@ def _snapshot_numbers(scene, result, snap: dict, sides: list[int]) -> dict:
     """Contact forces, per-contact extents, plastic elements and support reactions at one
     snapshot (the parts that apply)."""
     out = {}
-    if len(scene.pair_xy):
+    if len(scene.pair_xy) and scene.dimension == 3:
+        contacts = {name: contact_numbers_3d(scene, snap, i)
+                    for i, name in enumerate(scene.model["contact_names"])}
+        out.update({"total_normal_force": sum(c["total_normal_force"] for c in contacts.values()),
+                    "total_tangential_force": float(np.linalg.norm(np.sum(
+                        [c["tangential_force"] for c in contacts.values()], axis=0))),
+                    "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
+                    "contacts": contacts})
+    elif len(scene.pair_xy):
         contacts = contact_summaries(scene, result, snap, sides)
         out.update({
             "total_normal_force": float(np.sum(snap["lambda_n"])),
@@ -166,7 +205,7 @@ def stage_records(scene, result) -> list[dict]:
     names = stage_names(scene, result)
     _, ev_stage = event_times(result)
     sides = ([half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
-             if len(scene.pair_xy) else [])
+             if len(scene.pair_xy) and scene.dimension == 2 else [])
     records = []
     for k, i in stage_ends(result, len(names)):
         records.append({"stage": k + 1, "name": names[k], "t_end": snapshot_time(snaps[i]),
@@ -182,9 +221,9 @@ def element_depth(scene, element: int) -> float:
     The surface near the element is taken as the tangent line at the nearest candidate pair of a
     contact on the element's body: through the pair's target point (:func:`slipstep.contact_measures.target_points`) with
     the pair's normal n, so for a ``rigid_line`` contact this is the distance from the line.
-    Without contact on the body: the centroid's y.
+    Without contact on the body: the centroid's y (3D: z).
     """
-    c = centroids(scene.nodes, scene.triangles[[element]])[0]
+    c = centroids(scene.nodes, scene.elements[[element]])[0]
     pairs = scene.model["pairs"]
     node_a, node_b = np.asarray(pairs["node_a"]), np.asarray(pairs["node_b"])
     body = scene.bodies[scene.element_body[element]]
@@ -192,7 +231,7 @@ def element_depth(scene, element: int) -> float:
     hi = lo + scene.meshes[body].n_nodes
     mine = ((node_a >= lo) & (node_a < hi)) | ((node_b >= lo) & (node_b < hi))
     if not mine.any():
-        return float(c[1])
+        return float(c[-1])
     idx = np.flatnonzero(mine)
     k = idx[np.argmin(np.linalg.norm(scene.pair_xy[idx] - c, axis=1))]
     return float(abs((c - target_points(scene)[k]) @ np.asarray(pairs["normal"])[k]))
@@ -209,7 +248,7 @@ def first_yield(scene, result) -> dict:
     e = int(result["events"]["entity"][k])
     return {"first_yield_load_fraction": float(result["events"]["load_fraction"][k]),
             "first_yield_element": e,
-            "first_yield_x": float(centroids(scene.nodes, scene.triangles[[e]])[0, 0]),
+            "first_yield_x": float(centroids(scene.nodes, scene.elements[[e]])[0, 0]),
             "first_yield_depth": element_depth(scene, e)}
 
 
@@ -244,8 +283,9 @@ def _hertz_numbers(scene, summary: dict, f: float) -> dict:
     ref["p0_hertz_at_final"] = ref["p0_hertz"] * scale
     if "delta_hertz" in ref:
         ref["delta_hertz_at_final"] = ref["delta_hertz"] * scale ** 2
-    if "contact_half_width" in summary and ref["a_hertz_at_final"] > 0:
-        ref["a_rel_error"] = summary["contact_half_width"] / ref["a_hertz_at_final"] - 1.0
+    width = summary.get("contact_half_width", summary.get("contact_radius"))  # 3D: the radius
+    if width is not None and ref["a_hertz_at_final"] > 0:
+        ref["a_rel_error"] = width / ref["a_hertz_at_final"] - 1.0
         ref["p0_rel_error"] = summary["peak_pressure"] / ref["p0_hertz_at_final"] - 1.0
     f_johnson = johnson_first_yield(scene)
     if f_johnson is not None:
@@ -280,8 +320,8 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         "interrupted": stop["kind"] == "interrupted",
         "stop_reason": result.get("stop_reason"),
         "n_nodes": int(len(model["nodes"])),
-        "n_elements": int(len(model["triangles"])),
-        "n_dofs": int(2 * len(model["nodes"])),
+        "n_elements": int(len(scene.elements)),
+        "n_dofs": int(scene.n_dofs),
         "n_pairs": int(len(model["pairs"]["node_a"])),
         "n_factorizations": int(result.get("n_factorizations", 0)),
         "n_solves": int(result.get("n_solves", 0)),
@@ -294,8 +334,9 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         "versions": versions(),
     }
     if snaps:
-        stress = np.asarray(snaps[-1]["stress"], dtype=float).reshape(-1, 4)
-        summary["max_von_mises"] = float(von_mises(stress).max()) if len(stress) else 0.0
+        stress = np.asarray(snaps[-1]["stress"], dtype=float)
+        mises = von_mises_3d(stress) if scene.dimension == 3 else von_mises(stress.reshape(-1, 4))
+        summary["max_von_mises"] = float(mises.max()) if len(mises) else 0.0
     if is_elastoplastic(scene):
         summary.update(first_yield(scene, result))
         if snaps:
@@ -322,16 +363,22 @@ def contact_text(summary: dict, named: bool = False) -> str:
     """The contact state in a few words: a and c of a half model, else each contact's closed
     and stick extents along s, in the case's length unit (``named``: a and c named); empty
     without contact."""
-    if "contact_half_width" in summary:
-        a = quantity(summary, summary["contact_half_width"], "length")
-        c = quantity(summary, summary["stick_half_width"], "length")
-        if named:
-            return f"a = {a} contact half-width, c = {c} stick half-width"
-        return f"a = {a}, c = {c}"
+    for a_key, c_key, what in (("contact_half_width", "stick_half_width", "half-width"),
+                               ("contact_radius", "stick_radius", "radius")):
+        if a_key in summary:
+            a = quantity(summary, summary[a_key], "length")
+            c = quantity(summary, summary[c_key], "length")
+            if named:
+                return f"a = {a} contact {what}, c = {c} stick {what}"
+            return f"a = {a}, c = {c}"
     unit = summary.get("units", {}).get("length")
     unit = f" {unit}" if unit else ""
     parts = []
     for name, c in summary.get("contacts", {}).items():
+        if "contact_radius" in c:  # 3D
+            parts.append(f"{name}: contact radius {c['contact_radius']:.4g}{unit}, stick radius "
+                         f"{c['stick_radius']:.4g}{unit}")
+            continue
         closed, stick = c["closed_extent"], c["stick_extent"]
         text = f"{name}: " + (f"closed s in [{closed[0]:.4g}, {closed[1]:.4g}]{unit}" if closed
                               else "open")

@@ -1,6 +1,7 @@
 """Supports and prescribed displacements: the engine's ``fixed_dofs`` from ``[[bc]]`` fix and
 symmetry (and the axis in axisymmetry), each displacement load's DOFs and values, and which
-DOFs each [[bc]] holds."""
+DOFs each [[bc]] holds.  The same in 3D, with three components per node (dof = 3 node + c)
+and symmetry on plane faces."""
 
 from __future__ import annotations
 
@@ -8,25 +9,28 @@ import numpy as np
 
 from . import mesh as meshing
 from .loadpath import Load, case_loads
+from .space.mesh import triangle_normals
 from .overrides import element_key
 from .scene import Scene
 from .section import AXIS_TOLERANCE, is_axisymmetric
+from .toml_writing import point_text
 
 
 def supports(scene: Scene) -> np.ndarray:
     """The engine's ``fixed_dofs``: ``fix`` components, and ``symmetry`` = the normal component
-    of an edge parallel to an axis (dof = 2*node + component).  Fills ``scene.support_dofs``
+    of an edge parallel to an axis (dof = 2*node + component; in 3D of a plane face parallel to
+    a coordinate plane, dof = 3*node + component).  Fills ``scene.support_dofs``
     (per bc name: its fix, symmetry and displacement DOFs) and ``scene.prescribed`` (per load
     name: the displacement DOFs and their values at factor 1, never among the fixed ones)."""
-    bcs = scene.case.data["bc"]
-    holder = np.full(2 * len(scene.nodes), -1, dtype=np.int64)  # the bc fixing each DOF
+    bcs, dim = scene.case.data["bc"], scene.dimension
+    holder = np.full(dim * len(scene.nodes), -1, dtype=np.int64)  # the bc fixing each DOF
     fixed, scene.support_dofs, scene.prescribed = [], {}, {}
     for i, bc in enumerate(bcs):
         nodes = _bc_nodes(scene, bc)
-        components = {"xy".index(c) for c in bc["fix"]}
+        components = {"xyz".index(c) for c in bc["fix"]}
         if bc["symmetry"]:
             components.add(_symmetry_component(scene, bc, element_key("bc", bcs, i)))
-        dofs = [2 * nodes + c for c in sorted(components)]
+        dofs = [dim * nodes + c for c in sorted(components)]
         fixed.extend(dofs)
         for d in dofs:
             holder[d[holder[d] < 0]] = i
@@ -71,48 +75,67 @@ def _add_support(scene: Scene, name: str, dofs: list) -> None:
     scene.support_dofs[name] = np.unique(np.concatenate([old, *dofs])).astype(np.int64)
 
 
+def bc_surface(bc: dict) -> str:
+    """The boundary tag a [[bc]] names: its ``edge``, or in 3D its ``face`` ("" for a node
+    set)."""
+    return bc.get("face") or bc["edge"]
+
+
 def _bc_nodes(scene: Scene, bc: dict) -> np.ndarray:
-    """Global ids (sorted, unique) of the nodes of a [[bc]]'s edge or node set."""
+    """Global ids (sorted, unique) of the nodes of a [[bc]]'s edge (face) or node set."""
     mesh = scene.meshes[bc["body"]]
-    nodes = mesh.edge_nodes(bc["edge"]) if bc["edge"] else mesh.node_sets[bc["nodes"]]
+    tag = bc_surface(bc)
+    nodes = np.unique(mesh.tags[tag]) if tag else mesh.node_sets[bc["nodes"]]
     return np.unique(np.asarray(nodes, dtype=np.int64)) + scene.offsets[bc["body"]]
 
 
 def _symmetry_component(scene: Scene, bc: dict, key: str) -> int:
     """The component a ``symmetry`` edge holds: x for a vertical edge, y for a horizontal one
-    (each segment normal within 1e-9 of the axis: straight up to round-off)."""
-    n = meshing.outward_normals(scene.nodes, scene.global_edge(bc["body"], bc["edge"]))
-    for c in (0, 1):
+    (each segment normal within 1e-9 of the axis: straight up to round-off); in 3D the
+    component normal to a plane face parallel to a coordinate plane."""
+    d, tag = scene.dimension, bc_surface(bc)
+    cells = scene.global_boundary(bc["body"], tag)
+    n = (meshing.outward_normals(scene.nodes, cells) if d == 2 else
+         triangle_normals(scene.nodes, cells)[0])
+    for c in range(d):
         if np.all(np.abs(n[:, c]) > 1 - 1e-9):
-            if "xy"[c] in bc["displacement"]:
-                raise scene.case.error(f"{key}.displacement.{'xy'[c]}", f"symmetry = true "
-                                       f"holds {'xy'[c]} on edge '{bc['edge']}' (its normal "
+            if "xyz"[c] in bc["displacement"]:
+                raise scene.case.error(f"{key}.displacement.{'xyz'[c]}", f"symmetry = true "
+                                       f"holds {'xyz'[c]} on {_what(d)} '{tag}' (its normal "
                                        f"component): a component is held or prescribed, not "
-                                       f"both; remove symmetry or {'xy'[c]} from displacement")
+                                       f"both; remove symmetry or {'xyz'[c]} from displacement")
             return c
-    raise scene.case.error(f"{key}.symmetry", f"edge '{bc['edge']}' is not a straight line "
+    if d == 3:
+        raise scene.case.error(f"{key}.symmetry", f"face '{tag}' is not a plane parallel to a "
+                               f"coordinate plane (x = const, y = const or z = const): use "
+                               f"fix = [...] instead")
+    raise scene.case.error(f"{key}.symmetry", f"edge '{tag}' is not a straight line "
                            f"parallel to the x or y axis: use fix = [...] instead")
+
+
+def _what(dimension: int) -> str:
+    return "edge" if dimension == 2 else "face"
 
 
 def _prescribed(scene: Scene, load: Load, owner: np.ndarray, holder: np.ndarray):
     """(dofs, values) of a displacement [[bc]], sorted by DOF; a DOF already fixed or
     prescribed by another [[bc]] is an error (the engine eliminates each DOF once)."""
-    bcs = scene.case.data["bc"]
+    bcs, d = scene.case.data["bc"], scene.dimension
     bc = bcs[load.index]
     nodes = _bc_nodes(scene, bc)
-    comps = sorted("xy".index(c) for c in bc["displacement"])
-    dofs = np.concatenate([2 * nodes + c for c in comps])
-    values = np.concatenate([np.full(len(nodes), bc["displacement"]["xy"[c]]) for c in comps])
+    comps = sorted("xyz".index(c) for c in bc["displacement"])
+    dofs = np.concatenate([d * nodes + c for c in comps])
+    values = np.concatenate([np.full(len(nodes), bc["displacement"]["xyz"[c]]) for c in comps])
     order = np.argsort(dofs, kind="stable")
     dofs, values = dofs[order], values[order]
     clash = owner[dofs] >= 0
     if clash.any():
-        d = int(dofs[np.argmax(clash)])
-        c, (x, y) = "xy"[d % 2], scene.nodes[d // 2]
-        how = "fix/symmetry" if holder[d] >= 0 else "displacement"
-        raise scene.case.error(f"{load.key}.displacement.{c}", f"node {d // 2} ({x:.6g}, "
-                               f"{y:.6g}) is also held in {c} by "
-                               f"{element_key('bc', bcs, int(owner[d]))} ({how}): each "
+        k = int(dofs[np.argmax(clash)])
+        c, node = "xyz"[k % d], k // d
+        how = "fix/symmetry" if holder[k] >= 0 else "displacement"
+        raise scene.case.error(f"{load.key}.displacement.{c}", f"node {node} "
+                               f"{point_text(scene.nodes[node])} is also held in {c} by "
+                               f"{element_key('bc', bcs, int(owner[k]))} ({how}): each "
                                f"component is fixed or prescribed once; drop {c} from one of "
                                f'them (a zero component is a support: fix = ["{c}"] may '
                                f"overlap others), or use a node set without that node")

@@ -48,3 +48,8 @@ _ESCAPES = {'"': '\\"', "\\": "\\\\", "\n": "\\n", "\t": "\\t", "\r": "\\r"}
 
 def _is_control(c: str) -> bool:
     return ord(c) < 0x20 or ord(c) == 0x7F
+
+
+def point_text(point) -> str:
+    """A point as messages write it: ``(x, y)`` or ``(x, y, z)``, each to 6 digits."""
+    return "(" + ", ".join(f"{float(c):.6g}" for c in point) + ")"

@@ -361,7 +361,9 @@ def test_factors_must_be_an_inline_table():
 
 
 @pytest.mark.parametrize("value, expected", [
-    ("{z = 1.0}", "bc.push.displacement.z is not allowed: a displacement has components x and y "
+    ("{z = 1.0}", "bc.push.displacement.z is not allowed in a 2D case: z is the third component "
+                  "(set analysis.dimension = 3"),
+    ("{w = 1.0}", "bc.push.displacement.w is not allowed: a displacement has components x and y "
                   "only"),
     ("{}", "bc.push.displacement = {} is not allowed: give x and/or y"),
     ('{x = "a"}', 'bc.push.displacement.x = "a" is not allowed: expected a number'),

@@ -24,7 +24,7 @@ def error_of(text: str, overrides=(), source="cases/x.toml") -> str:
 def test_minimal_case_fills_defaults():
     c = parse_case(MINIMAL)
     assert c.name == "mini"
-    assert c.data["analysis"] == {"plane": "strain", "thickness": 1.0}
+    assert c.data["analysis"] == {"dimension": 2, "plane": "strain", "thickness": 1.0}
     assert c.data["output"]["snapshots"] == "events"
     assert c.data["solver"]["tie_tol"] == 1e-9
     material = c.data["body"][0]["material"]

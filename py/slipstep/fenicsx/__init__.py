@@ -25,6 +25,11 @@ Modules
 ``hybrid``      slipstep's event loop on a user's dolfinx model (P1, isotropic elastic, plane).
 ``crosscheck``  the ``slipstep crosscheck`` report.
 
+A 3D scene (tetrahedra) is exchanged and solved by the same modules: XYZ points and face tags
+in the exchange, the six strains of ``forms.SpaceSection``, the six-component return of
+``plasticity``, ``bulk`` on P1 vectors of three components (the contact replay, the hybrid mode
+and the ``slipstep crosscheck`` report stay 2D).
+
 Serial only (one MPI process): the maps are built from process-local numbering.
 """
 

@@ -25,6 +25,11 @@ stress s and tangent C set from numpy (:mod:`.plasticity`: the CST's one point p
 Extra constraints (prescribed displacements, any value) and extra nodal loads can be given
 in slipstep numbering: that is how a contact state is replayed (:mod:`.replay`).  Every
 array in and out is in slipstep numbering (nodes, elements, dof = 2 node + component).
+
+A 3D scene (tetrahedra, ``plane = "space"`` here) runs through the same solvers: P1 vectors of
+three components (dof = 3 node + component), the six strains of :class:`.forms.SpaceSection`,
+the six-component return of :mod:`.plasticity`, supports and loads on the exchanged face tags
+(a symmetry face holds the component of its plane's normal, found from its triangles here).
 """
 
 from __future__ import annotations
@@ -48,11 +53,11 @@ class BulkResult:
     """A dolfinx solution in slipstep numbering."""
 
     load_fraction: float
-    u: np.ndarray                 # (N, 2)
-    stress: np.ndarray            # (M, 4) sigma_x, sigma_y, sigma_z, tau_xy
+    u: np.ndarray                 # (N, 2); 3D: (N, 3)
+    stress: np.ndarray            # (M, 4) sigma_x, sigma_y, sigma_z, tau_xy; 3D: (M, 6) Voigt
     plastic_strain: np.ndarray    # (M,) equivalent plastic strain
     plastic: np.ndarray           # (M,) bool, yielded in the last step
-    reaction: np.ndarray          # (2N,) K u - f_ext: support and contact reactions
+    reaction: np.ndarray          # (2N,) (3D: (3N,)) K u - f_ext: support and contact reactions
     newton: list = field(default_factory=list)  # per load step: iterations, final residual
 
 
@@ -67,6 +72,7 @@ def _refuse_unmodelled_loads(scene) -> None:
 
 
 STRESS_NAMES = ("sigma_x", "sigma_y", "sigma_z", "tau_xy")
+STRESS_NAMES_SPACE = ("sigma_xx", "sigma_yy", "sigma_zz", "tau_yz", "tau_xz", "tau_xy")
 #: A Newton correction below this fraction of the displacement is round-off: the residual has
 #: reached its floor (small loads on a stiff, nearly rigidly translating body, e.g. the Hertz
 #: sphere's first contact states, floor at ~1e-10 relative), and the step is converged.
@@ -94,14 +100,16 @@ class BulkProblem:
                 workdir = self._tmp.name
             dm = scene_to_dolfinx(scene, workdir)
         self.dm = dm
-        self.plane = scene.model["plane"]
+        self.dim = scene.dimension
+        self.plane = scene.model.get("plane", "space")  # a 3D model has no plane
         self.n_nodes, self.n_elements = dm.n_nodes, dm.n_cells
-        self.section = section(dm.mesh, self.plane, scene.model["thickness"], dm.facet_tags,
-                               quadrature_degree)
-        self.V = api.function_space(dm.mesh, "Lagrange", 1, (2,))
+        self.section = section(dm.mesh, self.plane, scene.model.get("thickness", 1.0),
+                               dm.facet_tags, quadrature_degree)
+        self.V = api.function_space(dm.mesh, "Lagrange", 1, (self.dim,))
         block = dm.block_of_node(self.V)
         # perm[slipstep dof] = dolfinx (unrolled) dof
-        self.perm = (2 * block[:, None] + np.arange(2)[None, :]).ravel()
+        self.perm = (self.dim * block[:, None] + np.arange(self.dim)[None, :]).ravel()
+        self.n_stress = plasticity.stress_size(self.plane)
         self._materials(scene.model["materials"])
         self._forms()
         self.fixed_dofs = self._case_fixed_dofs()       # slipstep numbering
@@ -145,21 +153,19 @@ class BulkProblem:
         inv[self.perm] = np.arange(len(self.perm))
         out = []
         for bc in scene.case.data["bc"]:
-            comps = {"xy".index(c) for c in bc["fix"]}
-            if bc["edge"]:
-                facets = dm.facets(_edge_name(scene, bc["body"], bc["edge"]))
+            comps = {"xyz".index(c) for c in bc["fix"]}
+            surface = bc.get("face") or bc["edge"]
+            if surface:
+                facets = dm.facets(_edge_name(scene, bc["body"], surface))
                 if bc["symmetry"]:
-                    ends = api.facet_nodes(dm.mesh, facets)
-                    d = x[ends[:, 1]] - x[ends[:, 0]]
-                    d /= np.linalg.norm(d, axis=1, keepdims=True)
-                    comps.add(1 if np.all(np.abs(d[:, 0]) > 1 - 1e-9) else 0)
+                    comps.add(_facet_normal_axis(x, api.facet_nodes(dm.mesh, facets)))
                 for c in sorted(comps):
                     out.append(inv[api.locate_dofs(self.V, facets, component=c)])
             elif bc["nodes"]:
                 nodes = np.asarray(scene.meshes[bc["body"]].node_sets[bc["nodes"]]) \
                     + scene.offsets[bc["body"]]
                 for c in sorted(comps):
-                    out.append(2 * nodes + c)
+                    out.append(self.dim * nodes + c)
         if self.plane == "axisymmetric":
             out.append(self._axis_dofs(inv))
         if not out:
@@ -177,22 +183,22 @@ class BulkProblem:
         return inv[2 * blocks]
 
     def _case_load(self) -> np.ndarray:
-        """Edge loads assembled by UFL on the facet tags, plus point loads (slipstep dofs)."""
-        from ..loads import hertz_cut_pressure
-
+        """Edge (3D: face) loads assembled by UFL on the facet tags, plus point loads (slipstep
+        dofs)."""
         scene, dm, ufl = self.scene, self.dm, api.ufl()
         data = scene.case.data
         n, v, dGamma = ufl.FacetNormal(dm.mesh), ufl.TestFunction(self.V), self.section.dGamma
         terms = []
         for bc in data["bc"]:
-            if bc["edge"] and (bc["pressure"] != 0.0 or bc["traction"] != [0.0, 0.0]):
-                tag = dm.edge_id(_edge_name(scene, bc["body"], bc["edge"]))
-                traction = ufl.as_vector([float(bc["traction"][0]), float(bc["traction"][1])])
+            surface = bc.get("face") or bc["edge"]
+            if surface and (bc["pressure"] != 0.0 or any(c != 0.0 for c in bc["traction"])):
+                tag = dm.edge_id(_edge_name(scene, bc["body"], surface))
+                traction = ufl.as_vector([float(c) for c in bc["traction"]])
                 terms.append(ufl.dot(traction - float(bc["pressure"]) * n, v) * dGamma(tag))
         if data["load"] is not None:
             tag = dm.edge_id(_edge_name(scene, data["load"]["body"], "top"))
-            terms.append(ufl.dot(-hertz_cut_pressure(scene.case) * n, v) * dGamma(tag))
-        f = np.zeros(2 * self.n_nodes)
+            terms.append(ufl.dot(-_cut_pressure(scene) * n, v) * dGamma(tag))
+        f = np.zeros(self.dim * self.n_nodes)
         if terms:
             f = api.assemble_vector(sum(terms[1:], terms[0]))[self.perm]
         for pl in data["point_load"]:  # per unit thickness (axisymmetry: the ring's total)
@@ -200,7 +206,8 @@ class BulkProblem:
             ids = np.concatenate([np.arange(scene.meshes[b].n_nodes) + scene.offsets[b]
                                   for b in bodies])
             node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1))]
-            f[2 * node:2 * node + 2] += self.section.point_force(np.asarray(pl["force"]))
+            f[self.dim * node:self.dim * (node + 1)] += \
+                self.section.point_force(np.asarray(pl["force"]))
         return f
 
     # ------------------------------------------------------------------ numbering, constraints
@@ -242,10 +249,11 @@ class BulkProblem:
         x = api.solve_constrained(A, self._to_dolfinx(f), dofs, vals)
         reaction = api.matvec(A, x)[self.perm] - f
         api.destroy(A)
-        stress = plasticity.integrate(np.zeros((M, 4)), np.zeros(M), self._cell_strain(x),
-                                      self.E, self.nu, np.inf, 0.0, self.plane)[0]
+        stress = plasticity.integrate(np.zeros((M, self.n_stress)), np.zeros(M),
+                                      self._cell_strain(x), self.E, self.nu, np.inf, 0.0,
+                                      self.plane)[0]
         self.timings["elastic"] = time.perf_counter() - t0
-        return BulkResult(fraction, x[self.perm].reshape(-1, 2), stress,
+        return BulkResult(fraction, x[self.perm].reshape(-1, self.dim), stress,
                           np.zeros(M), np.zeros(M, bool), reaction)
 
     # ------------------------------------------------------------------ elastoplastic
@@ -273,7 +281,7 @@ class BulkProblem:
             schedule = [(float(lf), {d: v * lf for d, v in (prescribed or {}).items()},
                          None if extra_load is None else extra_load * lf) for lf in fractions]
         M, n_strain = self.n_elements, len(self.section.STRAIN)
-        state = (np.zeros((M, 4)), np.zeros(M), np.zeros((M, n_strain)))  # stress, alpha, strain
+        state = (np.zeros((M, self.n_stress)), np.zeros(M), np.zeros((M, n_strain)))
         x = np.zeros(len(self.perm))          # dolfinx order
         newton_log, result = [], None
         lf_prev, f_prev = 0.0, np.zeros(len(self.perm))
@@ -297,7 +305,7 @@ class BulkProblem:
                                    "iterations": it, "residual": res})
             lf_prev, f_prev = lf, f_end
             # reaction = internal - external forces at the solution (slipstep numbering)
-            result = BulkResult(float(lf), x[self.perm].reshape(-1, 2), state[0].copy(),
+            result = BulkResult(float(lf), x[self.perm].reshape(-1, self.dim), state[0].copy(),
                                 state[1].copy(), plastic.copy(), (r + f_d - f_end)[self.perm],
                                 list(newton_log))
             if callback is not None:
@@ -342,12 +350,13 @@ class BulkProblem:
         path.parent.mkdir(parents=True, exist_ok=True)
         W0 = api.function_space(self.dm.mesh, "DG", 0)
         u = api.function(self.V, "u")
-        cells = {n: api.function(W0, n) for n in (*STRESS_NAMES, "plastic_strain")}
+        names = STRESS_NAMES_SPACE if self.dim == 3 else STRESS_NAMES
+        cells = {n: api.function(W0, n) for n in (*names, "plastic_strain")}
 
         def frames():
             for res in results:
                 self.dm.set_vector_function(u, res.u)
-                for k, name in enumerate(STRESS_NAMES):
+                for k, name in enumerate(names):
                     self.dm.set_cell_function(cells[name], res.stress[:, k])
                 self.dm.set_cell_function(cells["plastic_strain"], res.plastic_strain)
                 yield res.load_fraction, [u, *cells.values()]
@@ -367,11 +376,38 @@ class BulkProblem:
                     arr = ds[()]
                     t = float(key.replace("_", "."))
                     if name == "u":  # geometry order, padded to 3 components
-                        val = arr[self.dm.geom_of_node, :2]
+                        val = arr[self.dm.geom_of_node, :self.dim]
                     else:            # DG0: topology (cell) order
                         val = arr.reshape(-1)[self.dm.cell_of_element]
                     out.setdefault(t, {})[name] = val
         return out
+
+
+def _facet_normal_axis(x: np.ndarray, facets: np.ndarray) -> int:
+    """The coordinate axis every facet's normal lies along (a symmetry edge or plane face):
+    facets (F, 2) segments or (F, 3) triangles of geometry nodes at coordinates x."""
+    p = x[facets]
+    if facets.shape[1] == 2:
+        d = p[:, 1] - p[:, 0]
+        n = np.stack([d[:, 1], -d[:, 0]], axis=1)
+    else:
+        n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    n = np.abs(n) / np.linalg.norm(n, axis=1, keepdims=True)
+    return int(np.argmax(n.min(axis=0)))
+
+
+def _cut_pressure(scene) -> float:
+    """The pressure of ``[load] P`` on the cut ``top`` (slipstep.loads: 2D, and the 3D
+    sphere's share over its meshed cut)."""
+    from ..loads import hertz_cut_pressure
+    from ..space.loads import sphere_cut_pressure
+
+    if scene.dimension == 2:
+        return hertz_cut_pressure(scene.case)
+    load = scene.case.data["load"]
+    mesh = scene.case.body(load["body"])["mesh"]
+    return sphere_cut_pressure(load["P"], mesh["R"], mesh["portion"], scene.nodes,
+                               scene.global_boundary(load["body"], "top"))
 
 
 def relative_difference(a: np.ndarray, b: np.ndarray) -> float:

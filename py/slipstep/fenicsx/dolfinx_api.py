@@ -404,15 +404,16 @@ def mesh_kind(mesh) -> tuple[str, int, int]:
 
 
 def facet_nodes(mesh, facets: np.ndarray) -> np.ndarray:
-    """(F, 2) geometry nodes at the two vertices of each facet of a P1 triangle mesh."""
+    """(F, 2) geometry nodes at the two vertices of each facet of a P1 triangle mesh; (F, 3) at
+    the three of a P1 tetrahedron mesh's."""
     topology = mesh.topology
     tdim = topology.dim
     topology.create_connectivity(tdim - 1, 0)
     f2v = topology.connectivity(tdim - 1, 0)
-    c2v = topology.connectivity(tdim, 0).array.reshape(-1, 3)
+    c2v = topology.connectivity(tdim, 0).array.reshape(-1, tdim + 1)
     geom_of_vertex = np.full(topology.index_map(0).size_local, -1, dtype=np.int64)
     geom_of_vertex[c2v.ravel()] = cell_nodes(mesh).ravel()
-    vertices = np.array([f2v.links(f) for f in facets], dtype=np.int64).reshape(-1, 2)
+    vertices = np.array([f2v.links(f) for f in facets], dtype=np.int64).reshape(-1, tdim)
     return geom_of_vertex[vertices]
 
 

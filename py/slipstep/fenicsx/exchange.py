@@ -28,6 +28,9 @@ maps, built from ``mesh.geometry.input_global_indices`` and
 
 Only :func:`read_dolfinx` and :func:`write_dolfinx_xdmf` need dolfinx; writing and
 :func:`read_xdmf_h5` need h5py only.
+
+A 3D scene is exchanged alike: XYZ points, "Tetrahedron" cells and, in NAME_edges.xdmf, its
+face tags as "Triangle" facets (the file keeps its name: it holds the facets).
 """
 
 from __future__ import annotations
@@ -56,7 +59,8 @@ def edge_id(edge_names: dict, name: str) -> int:
 
 @dataclass
 class MeshData:
-    """A tagged 2D triangle mesh as plain arrays (any numbering).
+    """A tagged 2D triangle mesh as plain arrays (any numbering); in 3D ``triangles`` holds the
+    tetrahedra and ``segments`` the tagged face triangles (the facets of either dimension).
 
     cell_tags (M,) int, segments (K, 2) node pairs, edge_tags (K,) int; ``cell_names`` and
     ``edge_names`` map tag value -> name; node_sets name -> node ids.
@@ -79,21 +83,22 @@ def scene_mesh_data(scene) -> MeshData:
     """The global mesh of a :class:`slipstep.scene.Scene` with body cell tags and edge tags."""
     several = len(scene.bodies) > 1
     segs, tags, edge_names, node_sets = [], [], {}, {}
+    per = scene.nodes.shape[1]  # nodes of a facet: 2 (segments), 3 (triangles)
     for name in scene.bodies:
         mesh, off = scene.meshes[name], scene.offsets[name]
-        for tag, s in mesh.edges.items():
+        for tag, s in mesh.tags.items():
             value = len(edge_names) + 1
             edge_names[value] = f"{name}.{tag}" if several else tag
-            segs.append(np.asarray(s, dtype=np.int64).reshape(-1, 2) + off)
+            segs.append(np.asarray(s, dtype=np.int64).reshape(-1, per) + off)
             tags.append(np.full(len(s), value, dtype=np.int32))
         for tag, ids in mesh.node_sets.items():
-            if tag not in mesh.edges:  # every edge tag is also a node set: not repeated
+            if tag not in mesh.tags:  # every edge (face) tag is also a node set: not repeated
                 node_sets[f"{name}.{tag}" if several else tag] = np.asarray(ids) + off
     return MeshData(
         nodes=np.asarray(scene.nodes, dtype=np.float64),
-        triangles=np.asarray(scene.triangles, dtype=np.int64),
+        triangles=np.asarray(scene.elements, dtype=np.int64),
         cell_tags=(np.asarray(scene.element_body) + 1).astype(np.int32),
-        segments=np.concatenate(segs) if segs else np.zeros((0, 2), np.int64),
+        segments=np.concatenate(segs) if segs else np.zeros((0, per), np.int64),
         edge_tags=np.concatenate(tags) if tags else np.zeros(0, np.int32),
         cell_names={i + 1: b for i, b in enumerate(scene.bodies)},
         edge_names=edge_names,
@@ -149,7 +154,7 @@ def _grid_xml(h5name: str, name: str, topology: str, n_per: int, cells_ds: str, 
     domain = ET.SubElement(root, "Domain")
     grid = ET.SubElement(domain, "Grid", Name=name, GridType="Uniform")
     _information(grid, names, dim)
-    geo = ET.SubElement(grid, "Geometry", GeometryType="XY")
+    geo = ET.SubElement(grid, "Geometry", GeometryType="XYZ" if points.shape[1] == 3 else "XY")
     _data_item(geo, h5name, "mesh/geometry", points)
     topo = ET.SubElement(grid, "Topology", TopologyType=topology,
                          NumberOfElements=str(len(cells)), NodesPerElement=str(n_per))
@@ -161,17 +166,19 @@ def _grid_xml(h5name: str, name: str, topology: str, n_per: int, cells_ds: str, 
 
 def write_mesh_xdmf(path: str | Path, data: MeshData) -> tuple[Path, Path, Path]:
     """Write ``data`` as NAME.xdmf + NAME.h5 (triangles + cell tags) and NAME_edges.xdmf +
-    NAME_edges.h5 (segments + edge tags).  Returns (NAME.xdmf, NAME_edges.xdmf, NAME.h5)."""
+    NAME_edges.h5 (segments + edge tags); in 3D tetrahedra and face triangles.  Returns
+    (NAME.xdmf, NAME_edges.xdmf, NAME.h5)."""
     import h5py
 
     xdmf, edges_xdmf, h5 = exchange_paths(path)
     xdmf.parent.mkdir(parents=True, exist_ok=True)
     _check_unique_edges(data)
     nodes = np.ascontiguousarray(data.nodes, dtype=np.float64)
-    if nodes.ndim != 2 or nodes.shape[1] != 2:
-        raise ValueError(f"nodes must be (N, 2), not {nodes.shape}: dolfinx gives 3D points gdim 3")
+    if nodes.ndim != 2 or nodes.shape[1] not in (2, 3):
+        raise ValueError(f"nodes must be (N, 2) or, in 3D, (N, 3), not {nodes.shape}")
+    gdim = nodes.shape[1]
     tris = np.ascontiguousarray(data.triangles, dtype=np.int64)
-    segs = np.ascontiguousarray(data.segments, dtype=np.int64).reshape(-1, 2)
+    segs = np.ascontiguousarray(data.segments, dtype=np.int64).reshape(-1, gdim)
     ctags = np.ascontiguousarray(data.cell_tags, dtype=np.int32)
     etags = np.ascontiguousarray(data.edge_tags, dtype=np.int32)
     meta = {"cell_tags": {str(k): v for k, v in data.cell_names.items()},
@@ -188,10 +195,11 @@ def write_mesh_xdmf(path: str | Path, data: MeshData) -> tuple[Path, Path, Path]
         f["mesh/geometry"] = nodes
         f["edges/topology"] = segs
         f["edges/edge"] = etags
-    mesh_xml = _grid_xml(h5.name, MESH_GRID, "Triangle", 3, "mesh/topology", tris, "body",
-                         "mesh/body", ctags, data.cell_names, 2, nodes)
-    edge_xml = _grid_xml(edges_h5.name, EDGE_GRID, "Polyline", 2, "edges/topology", segs,
-                         "edge", "edges/edge", etags, data.edge_names, 1, nodes)
+    cell, facet = ("Triangle", "Polyline") if gdim == 2 else ("Tetrahedron", "Triangle")
+    mesh_xml = _grid_xml(h5.name, MESH_GRID, cell, gdim + 1, "mesh/topology", tris, "body",
+                         "mesh/body", ctags, data.cell_names, gdim, nodes)
+    edge_xml = _grid_xml(edges_h5.name, EDGE_GRID, facet, gdim, "edges/topology", segs,
+                         "edge", "edges/edge", etags, data.edge_names, gdim - 1, nodes)
     for root, p in ((mesh_xml, xdmf), (edge_xml, edges_xdmf)):
         ET.indent(root)
         p.write_text('<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
@@ -331,13 +339,19 @@ class DolfinxMesh:
         """dolfinx facet indices of an edge tag."""
         return api.tagged(self.facet_tags, self.edge_id(name))
 
+    @property
+    def gdim(self) -> int:
+        """2 for triangles, 3 for tetrahedra."""
+        return api.mesh_kind(self.mesh)[2]
+
     def block_of_node(self, V) -> np.ndarray:
         """Dof block of each slipstep node in a P1 (scalar or vector) space V on this mesh.
 
         Built cell by cell: local vertex j of cell c has geometry node geometry.dofmap[c][j]
         and dof block V.dofmap[c][j] (P1 on an affine P1 mesh: same local layout)."""
-        if api.dofs_per_cell(V) != 3:
-            raise ValueError("block_of_node needs a P1 space (3 dofs per triangle)")
+        if api.dofs_per_cell(V) != self.gdim + 1:
+            raise ValueError("block_of_node needs a P1 space (a dof per vertex of a triangle "
+                             "or tetrahedron)")
         block_of_geom = np.full(self.n_nodes, -1, dtype=np.int64)
         block_of_geom[api.cell_nodes(self.mesh).ravel()] = api.cell_dofs(V).ravel()
         return block_of_geom[self.geom_of_node]
@@ -348,15 +362,15 @@ class DolfinxMesh:
 
     # conversions between slipstep-ordered arrays and dolfinx Functions --------------------
     def set_vector_function(self, func, values: np.ndarray) -> None:
-        """Set a P1 vector Function from a slipstep (N, 2) nodal array."""
-        block = self.block_of_node(api.space_of(func))
-        api.dof_values(func).reshape(-1, 2)[block] = np.asarray(values).reshape(-1, 2)
+        """Set a P1 vector Function from a slipstep (N, 2) nodal array (3D: (N, 3))."""
+        block, d = self.block_of_node(api.space_of(func)), self.gdim
+        api.dof_values(func).reshape(-1, d)[block] = np.asarray(values).reshape(-1, d)
         api.scatter(func)
 
     def vector_function_values(self, func) -> np.ndarray:
-        """A P1 vector Function as a slipstep (N, 2) nodal array."""
+        """A P1 vector Function as a slipstep (N, 2) nodal array (3D: (N, 3))."""
         block = self.block_of_node(api.space_of(func))
-        return api.dof_values(func).reshape(-1, 2)[block].copy()
+        return api.dof_values(func).reshape(-1, self.gdim)[block].copy()
 
     def cell_function_values(self, func) -> np.ndarray:
         """A DG0 Function (any value size) as a slipstep (M, k) per-element array."""

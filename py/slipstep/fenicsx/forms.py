@@ -20,6 +20,10 @@ ring element (rust/src/element.rs), so the two stiffness matrices agree to round
 accurately: a different ring element, consistent too (the two converge to each other with the
 mesh).  Boundary integrals keep UFL's estimated degree (2: linear traction, test function and
 r), which is exact, like slipstep's ring loads (:func:`slipstep.section.boundary_shares`).
+
+In space (:class:`SpaceSection`, ``plane = "space"``: a 3D scene's tetrahedra) there is no
+section: the strain has the six Voigt components of docs/engine_api.md (x, y, z, yz, xz, xy,
+engineering shears), dOmega = dx and dGamma(tag) = ds(tag), forces are forces.
 """
 
 from __future__ import annotations
@@ -94,10 +98,35 @@ class RingSection:
         return force
 
 
+class SpaceSection:
+    """Bodies in space: no section, the six strains of a tetrahedron."""
+
+    STRAIN = ("x", "y", "z", "yz", "xz", "xy")  # docs/engine_api.md's Voigt order
+
+    def __init__(self, mesh, facet_tags=None):
+        ufl = api.ufl()
+        weight = api.constant(mesh, 1.0)
+        self.dOmega = WeightedMeasure(weight, ufl.dx)
+        self.dGamma = WeightedMeasure(weight, ufl.Measure("ds", domain=mesh,
+                                                         subdomain_data=facet_tags))
+
+    def strain(self, w):
+        """(eps_x, eps_y, eps_z, gamma_yz, gamma_xz, gamma_xy) of a displacement w."""
+        return api.ufl().as_vector([w[0].dx(0), w[1].dx(1), w[2].dx(2), w[1].dx(2) + w[2].dx(1),
+                                    w[0].dx(2) + w[2].dx(0), w[0].dx(1) + w[1].dx(0)])
+
+    @staticmethod
+    def point_force(force):
+        """The nodal force of a ``[[point_load]]``: a force already."""
+        return force
+
+
 def section(mesh, plane: str, thickness: float, facet_tags=None,
             quadrature_degree: int = CENTROID_RULE):
-    """The section of the engine's ``plane`` ('strain', 'stress' or 'axisymmetric');
-    ``quadrature_degree`` applies to the ring's bulk integrals only."""
+    """The section of the engine's ``plane`` ('strain', 'stress' or 'axisymmetric'; 'space'
+    for a 3D scene); ``quadrature_degree`` applies to the ring's bulk integrals only."""
+    if plane == "space":
+        return SpaceSection(mesh, facet_tags)
     if plane == "axisymmetric":
         return RingSection(mesh, facet_tags, quadrature_degree)
     return Section(mesh, thickness, facet_tags)

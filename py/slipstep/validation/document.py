@@ -11,16 +11,18 @@ import math
 from ..errors import CaseError
 from ..loadpath import load_path
 from ..overrides import element_prefix
-from ..schema import (ARRAYS, BC_KEYS, BODY_KEYS, CONTACT_VARIANTS, FILE_MESH_KEYS,
-                      GENERATOR_EDGES, LOAD_KEYS, MATERIAL_KEYS, MESH_VARIANTS, POINT_LOAD_KEYS,
-                      REQUIRED, RIGID_KINDS, STAGE_KEYS, TABLES, Key, block_divisions,
-                      check_snapshot_times)
+from ..schema import (ANALYSIS_KEYS, ARRAYS, BC_KEYS, BODY_KEYS, CONTACT_VARIANTS,
+                      FILE_MESH_KEYS, LOAD_KEYS, MATERIAL_KEYS, MESH_VARIANTS, POINT_LOAD_KEYS,
+                      REQUIRED, STAGE_KEYS, TABLES, Key, block_divisions, check_snapshot_times,
+                      contact_tags, generator_dimension, generator_tags, kind_dimension)
 from ..toml_writing import toml_text
+from . import space
 
 
 _TYPE_HELP = {
     "float": "a number", "int": "an integer", "str": "a string in quotes",
     "bool": "true or false", "vec2": "two numbers, e.g. [0.0, 1.0]",
+    "vec3": "three numbers, e.g. [0.0, 0.0, 1.0]",
     "box": "four numbers [x0, y0, x1, y1], e.g. [0.0, -15.0, 15.0, 0.0]",
     "axes": 'a list of "x"/"y", e.g. ["x", "y"]',
     "snapshots": '"events" or a list of load fractions',
@@ -42,10 +44,13 @@ def inert_keys(data: dict) -> dict[str, tuple]:
     inert, and a displacement's empty default {}.  Per table path ("analysis", "bc.<i>",
     "body.<i>.mesh"), the keys; a document written back without them validates to the same
     data."""
-    out = {"analysis": ("thickness",)} if data["analysis"]["plane"] == "axisymmetric" else {}
+    dimension = data["analysis"]["dimension"]
+    out = space.other_dimension_keys(data)
+    if dimension == 2 and data["analysis"]["plane"] == "axisymmetric":
+        out["analysis"] = ("thickness",)
     for i, bc in enumerate(data["bc"]):
         if not bc["displacement"]:
-            out[f"bc.{i}"] = ("displacement",)
+            out[f"bc.{i}"] = out.get(f"bc.{i}", ()) + ("displacement",)
     for i, body in enumerate(data["body"]):
         mesh = body["mesh"]
         if mesh.get("generator") == "block" and mesh["h_contact"] == 0:
@@ -59,6 +64,7 @@ class Validator:
 
     def __init__(self, source: str):
         self.source = source
+        self.dimension = 2  # [analysis] dimension, read first by :meth:`case`
 
     def fail(self, key: str, message: str) -> CaseError:
         return CaseError(f"{self.source}: {key} {message}")
@@ -72,23 +78,32 @@ class Validator:
             valid = ", ".join([*keys, *skip])
             raise CaseError(f"{self.source}: unknown key {prefix}{unknown[0]} in {label}; "
                             f"valid keys: {valid}")
+        for name in raw:
+            if name in keys and self.dimension not in keys[name].dims:
+                raise self.fail(prefix + name, space.wrong_dimension(prefix + name, raw[name],
+                                                                     self.dimension))
         out = {}
         for name, spec in keys.items():
             full = prefix + name
             if name not in raw:
-                if spec.default is REQUIRED:
+                if spec.default is REQUIRED or self.dimension in spec.required_in:
                     raise self.fail(full, f"is missing: {spec.doc}" +
                                     (f" [{spec.unit}]" if spec.unit else "") +
                                     f"; add `{name} = ...` to {label}")
                 out[name] = copy.deepcopy(spec.default)
+                if spec.type == "vec" and isinstance(spec.default, list):  # zeros, one a component
+                    out[name] = [0.0] * self.dimension
                 continue
             out[name] = self.value(raw[name], spec, full)
         return out
 
     def value(self, v, spec: Key, full: str):
         shown = toml_text(v)  # as written, before int -> float
-        bad = self.fail(full, f"= {shown} is not allowed: expected {_TYPE_HELP[spec.type]}")
         t = spec.type
+        if t == "vec":  # one component per dimension of the case
+            space.check_vector_length(self, v, full)
+            t = "vec2" if self.dimension == 2 else "vec3"
+        bad = self.fail(full, f"= {shown} is not allowed: expected {_TYPE_HELP[t]}")
         if t == "float":
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad
@@ -106,8 +121,8 @@ class Validator:
         elif t == "bool":
             if not isinstance(v, bool):
                 raise bad
-        elif t in ("vec2", "box"):
-            size, count = (2, "two") if t == "vec2" else (4, "four")
+        elif t in ("vec2", "vec3", "box"):
+            size, count = {"vec2": (2, "two"), "vec3": (3, "three"), "box": (4, "four")}[t]
             if (not isinstance(v, list) or len(v) != size or
                     any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in v)):
                 raise bad
@@ -116,7 +131,11 @@ class Validator:
                 raise self.fail(full, f"= {shown} is not allowed: expected {count} finite "
                                       f"numbers")
         elif t == "axes":
-            if not isinstance(v, list) or any(c not in ("x", "y") for c in v) or len(set(v)) != len(v):
+            if isinstance(v, list) and "z" in v and self.dimension == 2:
+                raise self.fail(full, f"= {shown} is not allowed in a 2D case: z is the third "
+                                      f"component (set analysis.dimension = 3, or hold x and y)")
+            if (not isinstance(v, list) or any(c not in ("x", "y", "z")[:self.dimension]
+                                               for c in v) or len(set(v)) != len(v)):
                 raise bad
         elif t == "snapshots":
             if isinstance(v, list):
@@ -150,10 +169,15 @@ class Validator:
     def inline_numbers(self, v: dict, t: str, full: str) -> dict:
         """An inline table of finite numbers: x/y of a displacement, or load factors."""
         if t == "xy":
-            other = [k for k in v if k not in ("x", "y")]
+            other = [k for k in v if k not in ("x", "y", "z")[:self.dimension]]
+            if other and other[0] == "z":
+                raise self.fail(f"{full}.z", "is not allowed in a 2D case: z is the third "
+                                "component (set analysis.dimension = 3, or prescribe x and y)")
             if other:
-                raise self.fail(f"{full}.{other[0]}", "is not allowed: a displacement has "
-                                "components x and y only, e.g. displacement = {x = 0.0, y = -0.1}")
+                names = "x and y" if self.dimension == 2 else "x, y and z"
+                raise self.fail(f"{full}.{other[0]}", f"is not allowed: a displacement has "
+                                f"components {names} only, e.g. displacement = "
+                                "{x = 0.0, y = -0.1}")
             if not v:
                 raise self.fail(full, "= {} is not allowed: give x and/or y, e.g. "
                                       "displacement = {y = -0.1}")
@@ -184,6 +208,7 @@ class Validator:
             if k not in known:
                 raise CaseError(f"{self.source}: unknown key {k}; valid top-level tables: "
                                 f"{', '.join(known)}")
+        self.dimension = self.case_dimension(raw.get("analysis", {}))
         data = {}
         for name, keys in TABLES.items():
             if name == "load":
@@ -204,7 +229,7 @@ class Validator:
             if names.count(n) > 1:
                 raise CaseError(f"{self.source}: body.name = {toml_text(n)} is used twice: body "
                                 f"names must be unique")
-        edges = {b["name"]: b["mesh"]["edges"] for b in data["body"]}
+        edges = {b["name"]: b["mesh"]["edges"] for b in data["body"]}  # 3D: the face tags
 
         data["bc"] = [self.bc(e, element_prefix("bc", raw.get("bc", []), i), edges)
                       for i, e in enumerate(self.array(raw, "bc"))]
@@ -236,6 +261,13 @@ class Validator:
             raise self.fail("output.snapshots", f"= {toml_text(snaps)} is not allowed: {reason}")
         return data
 
+    def case_dimension(self, analysis) -> int:
+        """``[analysis] dimension`` alone, checked (2 when absent or not a table: the table's
+        own check says why)."""
+        if not isinstance(analysis, dict) or "dimension" not in analysis:
+            return 2
+        return self.value(analysis["dimension"], ANALYSIS_KEYS["dimension"], "analysis.dimension")
+
     def axisymmetric_thickness(self, data: dict, raw: dict) -> None:
         """``thickness`` does not apply to rings (every force is a total over the ring)."""
         given = raw.get("analysis", {})
@@ -263,10 +295,10 @@ class Validator:
         body["material"] = self.table(raw["material"], MATERIAL_KEYS, "[body.material]",
                                       f"{sub}material.")
         if "mesh" not in raw:
-            raise self.fail(f"{sub}mesh", 'is missing: add a [body.mesh] table with generator = '
-                                          '"quarter_cylinder", "half_cylinder", "disc", "block" or '
-                                          '"quarter_annulus", '
-                                          'or file = "..."')
+            choices = " or ".join(toml_text(g) for g in MESH_VARIANTS
+                                  if generator_dimension(g) == self.dimension)
+            raise self.fail(f"{sub}mesh", f"is missing: add a [body.mesh] table with generator = "
+                                          f'{choices}, or file = "..."')
         body["mesh"] = self.mesh(raw["mesh"], f"{sub}mesh.")
         return body
 
@@ -281,10 +313,14 @@ class Validator:
             return mesh
         gen = raw.get("generator")
         if not isinstance(gen, str) or gen not in MESH_VARIANTS:
-            choices = " or ".join(toml_text(g) for g in MESH_VARIANTS)
+            choices = " or ".join(toml_text(g) for g in MESH_VARIANTS
+                                  if generator_dimension(g) in (None, self.dimension))
             what = "is missing" if gen is None else f"= {toml_text(gen)} is not allowed"
             raise self.fail(prefix + "generator", f"{what}: use {choices}, or give "
                                                   f'file = "mesh.msh"')
+        if generator_dimension(gen) not in (None, self.dimension):
+            raise self.fail(prefix + "generator", space.wrong_variant("generator", gen,
+                                                                      self.dimension))
         mesh = self.table(raw, MESH_VARIANTS[gen], "[body.mesh]", prefix)
         check = {"quarter_cylinder": self.cylinder_mesh, "half_cylinder": self.cylinder_mesh,
                  "disc": self.cylinder_mesh, "quarter_annulus": self.annulus_mesh}
@@ -292,7 +328,9 @@ class Validator:
             self.block_mesh(mesh, raw, prefix)
         elif gen in check:
             check[gen](mesh, prefix)
-        mesh["edges"] = GENERATOR_EDGES.get(gen)  # None ("given"): known with the mesh
+        elif generator_dimension(gen) == 3:
+            space.check_mesh(self, mesh, raw, prefix)
+        mesh["edges"] = generator_tags(mesh)  # None ("given"): known with the mesh
         return mesh
 
     def cylinder_mesh(self, mesh: dict, prefix: str) -> None:
@@ -413,26 +451,29 @@ class Validator:
                                  f"(bodies: {', '.join(edges)})")
 
     def need_edge(self, body: str, tag: str, key: str, edges: dict) -> None:
+        """A body's edge tag (3D: face tag) must exist (when its generator tells them)."""
         known = edges[body]
+        what = "edge" if self.dimension == 2 else "face"
         if known is not None and tag not in known:
-            raise self.fail(key, f"= {toml_text(tag)} is not allowed: body {toml_text(body)} has no edge "
-                                 f"with that tag (its edges: {', '.join(known)})")
+            raise self.fail(key, f"= {toml_text(tag)} is not allowed: body {toml_text(body)} has no "
+                                 f"{what} with that tag (its {what}s: {', '.join(known)})")
 
     def bc(self, raw: dict, prefix: str, edges: dict) -> dict:
         bc = self.table(raw, BC_KEYS, "[[bc]]", prefix)
         self.need_body(bc["body"], prefix + "body", edges)
-        if bool(bc["edge"]) == bool(bc["nodes"]):
-            raise self.fail(prefix + "edge", "is missing: give exactly one of edge (an edge tag)"
-                                             " or nodes (a node set)")
-        if bc["edge"]:
-            self.need_edge(bc["body"], bc["edge"], prefix + "edge", edges)
-        loads = bc["pressure"] != 0.0 or bc["traction"] != [0.0, 0.0]
+        surface = "edge" if self.dimension == 2 else "face"
+        if bool(bc[surface]) == bool(bc["nodes"]):
+            raise self.fail(prefix + surface, f"is missing: give exactly one of {surface} (an "
+                                              f"{surface} tag) or nodes (a node set)")
+        if bc[surface]:
+            self.need_edge(bc["body"], bc[surface], prefix + surface, edges)
+        loads = bc["pressure"] != 0.0 or any(c != 0.0 for c in bc["traction"])
         if not (bc["fix"] or bc["symmetry"] or loads or bc["displacement"]):
             raise CaseError(f"{self.source}: {prefix[:-1]} does nothing: give fix, symmetry, "
                             f"pressure, traction or displacement")
         if bc["nodes"] and (loads or bc["symmetry"]):
-            raise self.fail(prefix + "nodes", "supports fix and displacement only: put "
-                                              "pressure, traction and symmetry on an edge")
+            raise self.fail(prefix + "nodes", f"supports fix and displacement only: put "
+                                              f"pressure, traction and symmetry on an {surface}")
         for c in bc["displacement"]:
             if c in bc["fix"]:
                 raise self.fail(f"{prefix}displacement.{c}", f"is not allowed: fix also holds "
@@ -446,36 +487,36 @@ class Validator:
             choices = " or ".join(toml_text(k) for k in CONTACT_VARIANTS)
             what = "is missing" if kind is None else f"= {toml_text(kind)} is not allowed"
             raise self.fail(prefix + "kind", f"{what}: use {choices}")
-        if kind in ("node_to_node", "node_to_segment") and "motion" in raw:
+        if kind_dimension(kind) not in (None, self.dimension):
+            raise self.fail(prefix + "kind", space.wrong_variant("kind", kind, self.dimension))
+        if kind in ("node_to_node", "node_to_segment", "node_to_surface") and "motion" in raw:
             raise self.fail(prefix + "motion", "is not allowed: motion on a deformable-pair "
                             f'contact (kind "{kind}"): motion moves a rigid obstacle; '
                             "prescribe a displacement [[bc]] on one of the bodies instead")
         c = self.table(raw, CONTACT_VARIANTS[kind], f'[[contact]] of kind "{kind}"', prefix)
-        if kind in RIGID_KINDS:
-            self.need_body(c["body"], prefix + "body", edges)
-            self.need_edge(c["body"], c["edge"], prefix + "edge", edges)
-        else:
-            for side in "ab":
-                self.need_body(c[f"body_{side}"], f"{prefix}body_{side}", edges)
-                self.need_edge(c[f"body_{side}"], c[f"edge_{side}"], f"{prefix}edge_{side}",
-                               edges)
+        for key, body, tag in contact_tags(c):
+            body_key = "body" if key in ("edge", "face") else f"body_{key[-1]}"
+            self.need_body(body, prefix + body_key, edges)
+            self.need_edge(body, tag, prefix + key, edges)
+        if kind == "rigid_surface":
+            space.check_rigid_surface(self, c, prefix)
         return c
 
     def load(self, data: dict, edges: dict) -> None:
-        """`[load] P` needs a quarter_cylinder body to act on."""
+        """`[load] P` needs a quarter_cylinder body (3D: a sphere) to act on."""
         load = data["load"]
         if load is None:
             return
-        cylinders = [b["name"] for b in data["body"]
-                     if b["mesh"].get("generator") == "quarter_cylinder"]
+        generator = "quarter_cylinder" if self.dimension == 2 else "sphere"
+        cylinders = [b["name"] for b in data["body"] if b["mesh"].get("generator") == generator]
         if load["body"]:
             self.need_body(load["body"], "load.body", edges)
             if load["body"] not in cylinders:
                 raise self.fail("load.body", f"= {toml_text(load['body'])} is not allowed: [load] P "
-                                             f"acts on a quarter_cylinder body")
+                                             f"acts on a {generator} body")
         elif len(cylinders) == 1:
             load["body"] = cylinders[0]
         else:
-            raise self.fail("load.P", "is not allowed here: [load] P is the Hertz convenience "
-                                      "for one quarter_cylinder body (give load.body, or use "
-                                      "[[bc]] pressure)")
+            raise self.fail("load.P", f"is not allowed here: [load] P is the Hertz convenience "
+                                      f"for one {generator} body (give load.body, or use "
+                                      f"[[bc]] pressure)")

@@ -1,5 +1,6 @@
 """The contact pairs' geometry: pairs that start closed must face each other, node-to-node
-contact needs matching meshes, and no pair may start penetrating."""
+contact needs matching meshes, no pair may start penetrating, and (3D) no rigid obstacle may
+start inside a body.  Edges in 2D, faces (triangles) in 3D."""
 
 from __future__ import annotations
 
@@ -7,6 +8,9 @@ import numpy as np
 
 from ..mesh import node_normals
 from ..scene import Scene
+from ..space import mesh as space_mesh
+from ..space.surfaces import closest_points, containing_tetrahedra
+from ..toml_writing import point_text
 
 
 FLIP = "flip contact.normal (or swap the contactor and target edges)"
@@ -20,20 +24,29 @@ def check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str,
     is geometrically impossible (it would hold the bodies together, or report a penetration
     that is not there)."""
     touching = gap <= tol
-    away_a = touching & (np.einsum("ij,ij->i", node_normals(scene.nodes, seg_a, a), n) > 1e-6)
+    away_a = touching & (np.einsum("ij,ij->i", surface_normals(scene, seg_a, a), n) > 1e-6)
     away_b = np.zeros_like(away_a)
     if b is not None:
-        away_b = touching & (np.einsum("ij,ij->i", node_normals(scene.nodes, seg_b, b), n)
+        away_b = touching & (np.einsum("ij,ij->i", surface_normals(scene, seg_b, b), n)
                              < -1e-6)
     if (away_a | away_b).any():
         k = int(np.argmax(away_a | away_b))
-        x, y = scene.nodes[a[k]]
         side = "the contactor surface faces away from the target" if away_a[k] else \
             "the target surface faces away from the contactor"
-        raise scene.case.error(key, f"the contact normal ({n[k, 0]:.6g}, {n[k, 1]:.6g}) at node "
-                               f"{int(a[k])} ({x:.6g}, {y:.6g}) points the wrong way ({side}): "
-                               f"the normal must point from the target into the contactor body; "
-                               f"{fix}")
+        raise scene.case.error(key, f"the contact normal {point_text(n[k])} at node "
+                               f"{int(a[k])} {point_text(scene.nodes[a[k]])} points the wrong way "
+                               f"({side}): the normal must point from the target into the "
+                               f"contactor body; {fix}")
+
+
+def surface_normals(scene: Scene, cells, ids) -> np.ndarray:
+    """A surface's outward normal at each node of ``ids``: the sum of its segments' unit normals
+    (2D, not normalised: zero where they cancel), or the unit area-weighted normal of its
+    triangles (3D)."""
+    if scene.dimension == 2:
+        return node_normals(scene.nodes, cells, ids)
+    m = space_mesh.node_normals(scene.nodes, cells, ids)
+    return m / np.maximum(np.linalg.norm(m, axis=1), 1e-300)[:, None]
 
 
 def check_matching(scene: Scene, unpaired, seg_other, tol: float, label: str, other: str,
@@ -42,18 +55,21 @@ def check_matching(scene: Scene, unpaired, seg_other, tol: float, label: str, ot
     side's edge (within tolerance of one of its segments) would be free to pass through it."""
     if len(unpaired) == 0 or len(seg_other) == 0:
         return
-    x = scene.nodes[unpaired][:, None, :]
-    p, q = scene.nodes[seg_other[:, 0]][None], scene.nodes[seg_other[:, 1]][None]
-    d = q - p
-    t = np.einsum("ijk,ijk->ij", x - p, d) / np.einsum("ijk,ijk->ij", d, d)
-    dist = np.linalg.norm(x - (p + t[..., None] * d), axis=2)
-    # on a segment: within tolerance of it and strictly between its end nodes
-    on = ((dist <= tol) & (t > 1e-9) & (t < 1.0 - 1e-9)).any(axis=1)
+    if scene.dimension == 3:  # on a triangle: within tolerance, not at one of its corners
+        near = closest_points(scene.nodes[unpaired], scene.nodes, seg_other)
+        on = (near["distance"] <= tol) & (near["bary"].max(axis=1) < 1.0 - 1e-9)
+    else:
+        x = scene.nodes[unpaired][:, None, :]
+        p, q = scene.nodes[seg_other[:, 0]][None], scene.nodes[seg_other[:, 1]][None]
+        d = q - p
+        t = np.einsum("ijk,ijk->ij", x - p, d) / np.einsum("ijk,ijk->ij", d, d)
+        dist = np.linalg.norm(x - (p + t[..., None] * d), axis=2)
+        # on a segment: within tolerance of it and strictly between its end nodes
+        on = ((dist <= tol) & (t > 1e-9) & (t < 1.0 - 1e-9)).any(axis=1)
     if on.any():
         k = int(unpaired[np.argmax(on)])
-        x0, y0 = scene.nodes[k]
         raise scene.case.error(f"{key}.tolerance", f"non-matching interface: node {k} "
-                               f"({x0:.6g}, {y0:.6g}) of {label} lies on {other} but is paired "
+                               f"{point_text(scene.nodes[k])} of {label} lies on {other} but is paired "
                                f"with no node of it within {tol:g}: node_to_node contact needs "
                                f"matching interface nodes (same spacing and aligned origins "
                                f"on both sides)")
@@ -63,6 +79,29 @@ def check_gaps(scene: Scene, a: np.ndarray, gap: np.ndarray, tol: float, key: st
                 fix: str) -> None:
     if (gap < -tol).any():
         k = int(np.argmin(gap))
-        x, y = scene.nodes[a[k]]
-        raise scene.case.error(key, f"initial penetration at node {int(a[k])} ({x:.6g}, {y:.6g}) "
-                               f"by {-gap[k]:.3g}: {fix}")
+        raise scene.case.error(key, f"initial penetration at node {int(a[k])} "
+                               f"{point_text(scene.nodes[a[k]])} by {-gap[k]:.3g}: {fix}")
+
+
+def check_outside(scene: Scene, a: np.ndarray, normal: np.ndarray, gap: np.ndarray,
+                  tol: float, key: str, what: str) -> None:
+    """3D: a rigid obstacle must start outside every body.  The obstacle's point closest to a
+    candidate that does not touch it (x_a - gap n, gap > tol) must not lie inside a body's
+    volume (in one of its tetrahedra, not on the body's boundary): else the obstacle is beneath
+    the surface, not in front of it (a plane through the body, an indenter buried in it)."""
+    apart = np.flatnonzero(gap > tol)
+    feet = scene.nodes[a[apart]] - gap[apart, None] * normal[apart]
+    inside = containing_tetrahedra(feet, scene.nodes, scene.tetrahedra)
+    found = np.flatnonzero(inside >= 0)
+    if len(found):  # those on a body's boundary touch it from outside
+        skin = space_mesh.boundary_faces(scene.tetrahedra)
+        size = float(np.ptp(scene.nodes, axis=0).max())
+        on_skin = closest_points(feet[found], scene.nodes, skin)["distance"] <= 1e-9 * size
+        inside[found[on_skin]] = -1
+    if (inside >= 0).any():
+        k = int(np.argmax(inside >= 0))
+        body = scene.bodies[int(scene.element_body[inside[k]])]
+        raise scene.case.error(key, f"the {what} starts inside body '{body}': its point "
+                               f"{point_text(feet[k])} closest to node {int(a[apart[k]])} lies "
+                               f"inside the body (element {int(inside[k])}): move the {what} "
+                               f"out of the body, in front of the contact face")

@@ -8,32 +8,31 @@ import numpy as np
 
 from ..case import Case
 from ..errors import CaseError
-from ..schema import RIGID_KINDS
+from ..schema import contact_tags
 from ..scene import Scene
 from ..section import AXIS_TOLERANCE, is_axisymmetric
+from ..toml_writing import point_text
 
 
 def check_file_mesh_tags(case: Case, body_meshes: dict) -> None:
-    """Edge tags of file meshes are only known now: check the BCs and contacts that use them."""
+    """Edge tags (3D: face tags) of file meshes are only known now: check the BCs and contacts
+    that use them."""
     data = case.data
+    surface = "edge" if case.dimension == 2 else "face"
     uses = []  # (key, body, tag)
     for i, bc in enumerate(data["bc"]):
         k = "bc." if len(data["bc"]) == 1 else f"bc.{i}."
-        if bc["edge"]:
-            uses.append((k + "edge", bc["body"], bc["edge"], "edges"))
+        if bc[surface]:
+            uses.append((k + surface, bc["body"], bc[surface], "tags"))
         if bc["nodes"]:
             uses.append((k + "nodes", bc["body"], bc["nodes"], "node_sets"))
     for i, c in enumerate(data["contact"]):
         k = "contact." if len(data["contact"]) == 1 else f"contact.{i}."
-        if c["kind"] in RIGID_KINDS:
-            uses.append((k + "edge", c["body"], c["edge"], "edges"))
-        else:
-            for s in "ab":
-                uses.append((f"{k}edge_{s}", c[f"body_{s}"], c[f"edge_{s}"], "edges"))
+        uses += [(k + key, body, tag, "tags") for key, body, tag in contact_tags(c)]
     for key, body, tag, kind in uses:
         known = getattr(body_meshes[body], kind)
         if tag not in known:
-            what = "edge" if kind == "edges" else "node set"
+            what = surface if kind == "tags" else "node set"
             raise CaseError(f'{case.source}: {key} = "{tag}" is not allowed: body "{body}" has '
                             f"no {what} with that tag (its {what}s: {', '.join(known) or 'none'})")
 
@@ -74,10 +73,10 @@ def check_duplicate_nodes(scene: Scene, pairs: dict) -> None:
             ids = np.flatnonzero(inverse == group) + scene.offsets[name]
             for i, j in zip(ids[:-1], ids[1:]):
                 if (int(i), int(j)) not in joined:
-                    x, y = scene.nodes[i]
                     raise CaseError(
                         f"{scene.case.source}: body '{name}': nodes {int(i) - scene.offsets[name]}"
-                        f" and {int(j) - scene.offsets[name]} are both at ({x:.6g}, {y:.6g}) but "
+                        f" and {int(j) - scene.offsets[name]} are both at "
+                        f"{point_text(scene.nodes[i])} but "
                         f"are not joined: duplicate nodes cut the mesh there (a crack or "
                         f"unconnected parts); merge them (gmsh: Coherence), or pair the two "
                         f"sides with a node_to_node [[contact]]")
@@ -87,7 +86,8 @@ def check_pairs_not_held(scene: Scene) -> None:
     """A pair whose normal direction is entirely held by supports or prescribed displacements
     can carry no contact force (the engine refuses it too; here the message can name the case
     key)."""
-    pairs, fixed = scene.model["pairs"], np.zeros(2 * len(scene.nodes), dtype=bool)
+    d = scene.dimension
+    pairs, fixed = scene.model["pairs"], np.zeros(d * len(scene.nodes), dtype=bool)
     fixed[scene.model["fixed_dofs"]] = True
     for p in scene.prescribed.values():
         fixed[p["dofs"]] = True
@@ -95,19 +95,18 @@ def check_pairs_not_held(scene: Scene) -> None:
     free = np.zeros(len(n), dtype=bool)
     for node in (pairs["node_a"], pairs["node_b"]):
         ok = node >= 0
-        for c in (0, 1):
-            free[ok] |= (n[ok, c] != 0.0) & ~fixed[2 * node[ok] + c]
+        for c in range(d):
+            free[ok] |= (n[ok, c] != 0.0) & ~fixed[d * node[ok] + c]
     if not free.all():
         k = int(np.argmin(free))
         i = int(pairs["node_a"][k])
         c = int(scene.pair_contact[k])
         key = "contact" if len(scene.case.data["contact"]) == 1 else f"contact.{c}"
-        x, y = scene.nodes[i]
-        raise scene.case.error(key, f"node {i} ({x:.6g}, {y:.6g}) is held by supports in the "
-                               f"contact normal direction, so its pair can carry no contact "
-                               f"force: remove the support ([[bc]] fix/symmetry/displacement) "
-                               f"there or the node from the candidates (x_min/x_max/y_min/"
-                               f"y_max)")
+        raise scene.case.error(key, f"node {i} {point_text(scene.nodes[i])} is held by supports "
+                               f"in the contact normal direction, so its pair can carry no "
+                               f"contact force: remove the support ([[bc]] fix/symmetry/"
+                               f"displacement) there or the node from the candidates (x_min/"
+                               f"x_max/y_min/y_max)")
 
 
 def check_stick_on_half_held(scene: Scene) -> None:
