@@ -117,10 +117,13 @@ def mirror_planes(scene, index: int) -> list[tuple[int, float]]:
 
 
 def contact_frame(scene, index: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(n, e1, e2) of [[contact]] ``index``: its mean pair normal, and in-plane axes e1 (x
-    projected onto the contact plane; y when the normal is near x) and e2 = n x e1, the view
+    """(n, e1, e2) of [[contact]] ``index``: the mean pair normal of its FULL contact (the
+    components across its mirror planes cancel, as the resultants' do), and in-plane axes e1
+    (x projected onto the contact plane; y when the normal is near x) and e2 = n x e1, the view
     along the normal."""
     n = np.asarray(scene.model["pairs"]["normal"])[scene.pair_contact == index].sum(axis=0)
+    for axis, _ in mirror_planes(scene, index):
+        n[axis] = 0.0
     n = n / (np.linalg.norm(n) or 1.0)
     axis = np.eye(3)[1 if abs(n[0]) > 0.9 else 0]
     e1 = axis - (axis @ n) * n
