@@ -4,8 +4,7 @@
 //! for the whole remaining load, each candidate event has a scale S ∈ [0, ∞): the fraction of
 //! the trial increment at which it happens. The smallest S (capped at 1) is taken.
 
-use crate::contact::Shift;
-use crate::contact::{Pair, Status};
+use crate::contact::{Pair, Shift, Status};
 use crate::material::{von_mises, yield_scale};
 use crate::section::Section;
 use crate::model::EventKind;
@@ -81,6 +80,8 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                 }
                 match status {
                     Status::Stick if pair.frictional() && state.space.is_some() => {
+                        // Stick → slip on the round cone (3D, `contact`): direction 1 marks a
+                        // frictional slip, whose held direction the switch takes from λ_t there.
                         let lt = [lt, state.space.map_or(0.0, |(t2, _)| t2[p])];
                         let dlt = [dlt, trial.dlambda_t2[p]];
                         if let Some(s) = onto_round_cone(pair.mu, (ln, lt), (dln, dlt), noise.force) {

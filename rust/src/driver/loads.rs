@@ -4,12 +4,12 @@
 //! force, and the size of displacements for round-off tolerances.
 
 use super::clock::{Clock, Phase};
-use crate::contact::Shift;
 use super::path::StageLoad;
 use super::problem::Problem;
 use super::space::Space;
 use super::state::State;
 use super::stiffness::Stiffness;
+use crate::contact::Shift;
 
 /// The loads of the stage the loop is in.
 pub(super) struct StageLoads {

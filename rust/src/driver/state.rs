@@ -1,8 +1,7 @@
 //! The evolving state of the procedure (eqs. 59–62), one trial increment (eq. 44), and the
 //! element state at the start of an increment whose stresses were integrated.
 
-use crate::contact::Shift;
-use crate::contact::{Pair, Status};
+use crate::contact::{Pair, Shift, Status};
 use crate::events::Noise;
 use crate::material::Voigt;
 use std::collections::HashMap;
