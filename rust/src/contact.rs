@@ -2,7 +2,8 @@
 //!
 //! A pair joins a contactor node `a` to a target: another body's node `b` (node-to-node) or
 //! a rigid obstacle (`b = None`). With the target's unit normal n (pointing towards `a`) and
-//! tangent t = (−n_y, n_x), in global DOFs:
+//! tangent t = (−n_y, n_x) (in 3D the frame's t1, and a second row w_t2 along t2), in global
+//! DOFs:
 //!
 //!   w_n = n at a, −n at b   ⇒ gap = gap₀ + w_nᵀ u ≥ 0        (eqs. 21–22, with C_n = −w_n)
 //!   w_t = t at a, −t at b   ⇒ RTD = w_tᵀ u                   (eq. 25, C_t = w_t)
@@ -13,6 +14,58 @@
 //! weights < 0 summing to −1), so its gap is a weighted mean over the interface; it is still
 //! one row of the paper's C_n / C_t. Coulomb (eqs. 1–3): |λ_t| ≤ μ λ_n; a slipping pair carries
 //! λ_t = −d μ λ_n where d = ±1 is the direction of its slip (eq. 41).
+//!
+//! # Friction in space (3D)
+//!
+//! The Coulomb cone is round: |λ_t| ≤ μ λ_n with λ_t = (λ_t1, λ_t2) in the pair's (t1, t2).
+//! - A *stuck* pair has two tangential rows, w_t1ᵀΔu = h1 and w_t2ᵀΔu = h2 (none along a tangent
+//!   its supports hold, as for a node on a symmetry plane: its force there goes to the support
+//!   and the cone bounds the other component).
+//! - A *slipping* pair carries λ_t = μ λ_n e with a held unit direction e in the tangent plane:
+//!   one column w_n + μ(e1 w_t1 + e2 w_t2), its normal row only, exactly as a 2D slip pair, so
+//!   the trial stays one linear solve.
+//! - Stick → slip is exact on the round cone: the smallest S that leaves it,
+//!   |λ_t0 + S Δλ_t| = μ (λ_n0 + S Δλ_n), a quadratic in S (`events::onto_round_cone`); e is the
+//!   force's direction there (a pair that slips as it closes has none: its first trial's slip
+//!   rate sets it). Slip → stick is eq. 54's dissipation test in the plane: the slip rate along
+//!   −e reverses.
+//! - The slip direction turns: within one linear increment the slip rate's direction is
+//!   constant, so at each increment's start a slipping pair whose trial slip rate differs from
+//!   −e by more than `slip_turn` gets e turned to it at zero length (λ_t rotates at fixed
+//!   size, rebalanced by the equilibrium correction at fixed load) and the trial is solved
+//!   again (`driver::slip_turn`); each turn is a zero-length switch for the anti-cycling rule.
+//!   So the friction force's direction lags the slip by at most `slip_turn` per increment.
+//!
+//! Measured on the Mindlin sphere (cases/mindlin_sphere_3d.toml, P then Q = 0.5 μP, μ = 0.3,
+//! Q/μP from the measured forces) against `slip_turn`: the stick radius is set by the pairs'
+//! statuses and moves by at most one node with the angle, and the tangential compliance δ_x
+//! (the sphere cut's x displacement over the shear stage) converges about linearly in the
+//! angle, by 0.25 % from 0.8 rad to 0.05 on the finer mesh; the mesh's error dominates both
+//! (c − a(1 − Q/μP)^(1/3) = −0.39 h at h = 0.06 mm, −0.50 h at h = 0.035 mm). Coarse mesh
+//! (17.4k DOFs, sphere h_contact = 0.06 mm, block 0.08 mm, a/h ≈ 5), δ_x against 0.025 rad:
+//!
+//! | slip_turn (rad) | c/a | Mindlin c/a | δ_x / δ_x(0.025) − 1 | events | wall |
+//! |---|---|---|---|---|---|
+//! | 1.5   | 0.728 | 0.810 | +0.004 % | 120 | 5.3 s |
+//! | 0.8   | 0.728 | 0.810 | +0.017 % | 129 | 6.1 s |
+//! | 0.4   | 0.728 | 0.810 | +0.053 % | 218 | 20 s |
+//! | 0.2   | 0.718 | 0.810 | +0.030 % | 219 | 15 s |
+//! | 0.1   | 0.728 | 0.810 | +0.018 % | 264 | 25 s |
+//! | 0.05  | 0.728 | 0.810 | +0.010 % | 274 | 33 s |
+//! | 0.025 | 0.728 | 0.810 | 0 | 307 | 38 s |
+//!
+//! Finer mesh (31.4k DOFs, h_contact 0.035 / 0.045 mm, a/h ≈ 8), δ_x against 0.05 rad:
+//!
+//! | slip_turn (rad) | c/a | Mindlin c/a | δ_x / δ_x(0.05) − 1 | events | wall |
+//! |---|---|---|---|---|---|
+//! | 0.8  | 0.741 | 0.805 | +0.25 % | 389 | 56 s |
+//! | 0.2  | 0.746 | 0.805 | +0.08 % | 605 | 140 s |
+//! | 0.05 | 0.745 | 0.805 | 0 | 570 | 90 s |
+//!
+//! The default 0.1 bounds the friction force's lag to 6° per increment; its compliance error
+//! by the trend above is ~0.04 %, far below the mesh's, at about twice the events of 1 rad. The rate problem (Lemke) for zero-length runs is 2D only:
+//! in 3D a run that cycles falls to the last resort (freezing).
+
 
 /// A pair's contact frame: the unit normal n of its target (towards the contactor) and a basis
 /// of the tangent plane, `T` = `D` − 1 tangents in `D` dimensions: one in 2D, two in 3D. The
@@ -34,12 +87,44 @@ impl Frame<2, 1> {
     }
 }
 
+impl Frame<3, 2> {
+    /// The frame of a pair in `dim` dimensions, its directions with three components: in 2D
+    /// the planar frame (z = 0; t2 = z, unused); in 3D the `tangents` given, or the engine's
+    /// own: t1 = (e × n)/|e × n| with e the coordinate axis least aligned with n, t2 = n × t1.
+    pub fn of_pair(dim: usize, normal: [f64; 3], tangents: Option<[[f64; 3]; 2]>) -> Self {
+        if dim == 2 {
+            let t = Frame::planar([normal[0], normal[1]]).tangent();
+            return Frame { normal, tangents: [[t[0], t[1], 0.0], [0.0, 0.0, 1.0]] };
+        }
+        let tangents = tangents.unwrap_or_else(|| {
+            let least = (0..3).fold(0, |k, i| if normal[i].abs() < normal[k].abs() { i } else { k });
+            let mut e = [0.0; 3];
+            e[least] = 1.0;
+            let t1 = normalized(cross(e, normal));
+            [t1, cross(normal, t1)]
+        });
+        Frame { normal, tangents }
+    }
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn normalized(a: [f64; 3]) -> [f64; 3] {
+    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    a.map(|v| v / n)
+}
+
 /// The constraint vector of a frame direction `dir` over the nodes of `weights` (c_i): Σ_i c_i
-/// dir at node i, D DOFs per node.
-fn along<const D: usize>(weights: &[(usize, f64)], dir: [f64; D]) -> SparseVec {
-    let entries = weights.iter().flat_map(|&(i, c)| (0..D).map(move |k| (D * i + k, c * dir[k])));
+/// dir at node i, `dim` DOFs per node.
+fn along(weights: &[(usize, f64)], dim: usize, dir: [f64; 3]) -> SparseVec {
+    let entries = weights.iter().flat_map(|&(i, c)| (0..dim).map(move |k| (dim * i + k, c * dir[k])));
     SparseVec { entries: entries.filter(|&(_, c)| c != 0.0).collect() }
 }
+
+/// A pair's gap and RTD shifts by its obstacle's motion: (c_n, c_t1, c_t2) (c_t2 = 0 in 2D).
+pub type Shift = [f64; 3];
 
 /// A constraint vector shorter than this has all its DOFs held by supports (unit normals and
 /// tangents: entries are 0 or of order 1).
@@ -102,46 +187,84 @@ impl Status {
 pub struct Pair {
     pub node_a: usize,
     pub node_b: Option<usize>,
-    pub frame: Frame<2, 1>,
+    /// DOFs per node: 2 or 3.
+    pub dim: usize,
+    /// Normal and tangents with three components (z = 0 in 2D).
+    pub frame: Frame<3, 2>,
     pub gap0: f64,
     pub mu: f64,
     /// Normal constraint vector over free DOFs (supports removed).
     pub w_n: SparseVec,
-    /// Tangential constraint vector over free DOFs.
+    /// Tangential constraint vector over free DOFs (3D: along t1).
     pub w_t: SparseVec,
+    /// 3D: the tangential constraint vector along t2 (empty in 2D).
+    pub w_t2: SparseVec,
     /// The tangential direction is held entirely by supports: no stick constraint.
     pub tangent_held: bool,
-    /// The columns' entries at held DOFs (normal, tangential): the force the pair puts
+    /// 3D: which of t1, t2 the supports hold (a node on a symmetry plane): no stick row along
+    /// it, and its friction force goes to the support (Coulomb's cone bounds the other).
+    pub held: [bool; 2],
+    /// The columns' entries at held DOFs (normal, tangential, 3D: t2): the force the pair puts
     /// straight onto the supports, which a reaction excludes (no constraint: they do not move).
-    pub on_supports: [SparseVec; 2],
+    pub on_supports: [SparseVec; 3],
+}
+
+/// Where a pair is and what it is: its nodes, its frame, the space's dimension.
+pub struct PairGeometry<'a> {
+    pub node_a: usize,
+    pub node_b: Option<usize>,
+    /// Node-to-segment or node-to-surface weights (empty: 1 at a, −1 at b).
+    pub weights: &'a [(usize, f64)],
+    pub dim: usize,
+    pub frame: Frame<3, 2>,
 }
 
 impl Pair {
+    /// A 2D pair with the frame of its unit `normal`.
     pub fn new(node_a: usize, node_b: Option<usize>, normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
-        let mut weights = vec![(node_a, 1.0)];
-        weights.extend(node_b.map(|b| (b, -1.0)));
-        Self::build(node_a, node_b, &weights, false, normal, gap0, mu, fixed)
+        let frame = Frame::of_pair(2, [normal[0], normal[1], 0.0], None);
+        Self::build(PairGeometry { node_a, node_b, weights: &[], dim: 2, frame }, gap0, mu, fixed)
     }
 
-    /// A pair whose constraint column is Σ_i c_i (n or t) at the nodes of `weights` (c_i).
+    /// A 2D pair whose constraint column is Σ_i c_i (n or t) at the nodes of `weights` (c_i).
     pub fn weighted(node_a: usize, node_b: Option<usize>, weights: &[(usize, f64)], normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
-        Self::build(node_a, node_b, weights, true, normal, gap0, mu, fixed)
+        let frame = Frame::of_pair(2, [normal[0], normal[1], 0.0], None);
+        Self::build(PairGeometry { node_a, node_b, weights, dim: 2, frame }, gap0, mu, fixed)
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn build(node_a: usize, node_b: Option<usize>, weights: &[(usize, f64)], weighted: bool, normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
-        let frame = Frame::planar(normal);
-        let t = frame.tangent();
-        let vec_of = |dir: [f64; 2]| along(weights, dir);
+    /// The pair of `g` (node to node, or weighted when `g.weights` is not empty).
+    pub fn build(g: PairGeometry, gap0: f64, mu: f64, fixed: &[bool]) -> Self {
+        let PairGeometry { node_a, node_b, dim, frame, .. } = g;
+        let weighted = !g.weights.is_empty();
+        let mut own_weights = vec![(node_a, 1.0)];
+        own_weights.extend(node_b.map(|b| (b, -1.0)));
+        let weights = if weighted { g.weights } else { &own_weights };
+        let vec_of = |dir: [f64; 3]| along(weights, dim, dir);
         let free = |d: usize| !fixed[d];
-        let w_n = vec_of(normal).restricted(free);
+        let [t, t2] = frame.tangents;
+        let w_n = vec_of(frame.normal).restricted(free);
         let w_t = vec_of(t).restricted(free);
-        let on_supports = [vec_of(normal).restricted(|d| fixed[d]), vec_of(t).restricted(|d| fixed[d])];
+        let w_t2 = if dim == 3 { vec_of(t2).restricted(free) } else { SparseVec::default() };
+        let on_supports = [vec_of(frame.normal).restricted(|d| fixed[d]), vec_of(t).restricted(|d| fixed[d]), if dim == 3 { vec_of(t2).restricted(|d| fixed[d]) } else { SparseVec::default() }];
         // Node to node: held when every tangential DOF is; a weighted row (its force on node a
         // alone) when node a's are: its remaining entries would constrain the target only.
-        let own = |w: &SparseVec| w.entries.iter().filter(|&&(d, _)| d / 2 == node_a).map(|&(_, c)| c * c).sum::<f64>().sqrt();
-        let tangent_held = if weighted { own(&w_t) < HELD_BY_SUPPORTS } else { w_t.norm() < HELD_BY_SUPPORTS };
-        Pair { node_a, node_b, frame, gap0, mu, w_n, w_t, tangent_held, on_supports }
+        let own = |w: &SparseVec| w.entries.iter().filter(|&&(d, _)| d / dim == node_a).map(|&(_, c)| c * c).sum::<f64>().sqrt();
+        let held = |w: &SparseVec| if weighted { own(w) < HELD_BY_SUPPORTS } else { w.norm() < HELD_BY_SUPPORTS };
+        let held = [held(&w_t), dim == 2 || held(&w_t2)];
+        let tangent_held = held[0] && held[1];
+        Pair { node_a, node_b, dim, frame, gap0, mu, w_n, w_t, w_t2, tangent_held, held, on_supports }
+    }
+
+    /// The constraint vectors whose DOFs the contact system reads (its slots): the normal, and
+    /// the tangential ones where friction can act. (A 2D pair lists its tangent always, as it
+    /// always has, so that 2D runs keep their DOF order; in 3D the tangential DOFs of
+    /// frictionless pairs would triple the dense trailing block of the factor for nothing.)
+    pub fn slot_vectors(&self) -> Vec<&SparseVec> {
+        match (self.dim, self.mu > 0.0) {
+            (2, _) => vec![&self.w_n, &self.w_t],
+            (_, true) => vec![&self.w_n, &self.w_t, &self.w_t2],
+            (_, false) => vec![&self.w_n],
+        }
     }
 
     pub fn frictional(&self) -> bool {
@@ -166,10 +289,11 @@ impl Pair {
         self.w_t.dot(u)
     }
 
-    /// y += the force λ_n, λ_t put on the held DOFs (global).
-    pub fn add_support_force(&self, lambda_n: f64, lambda_t: f64, y: &mut [f64]) {
+    /// y += the force λ_n, λ_t (along t1, t2) put on the held DOFs (global).
+    pub fn add_support_force(&self, lambda_n: f64, lambda_t: [f64; 2], y: &mut [f64]) {
         self.on_supports[0].add_to(lambda_n, y);
-        self.on_supports[1].add_to(lambda_t, y);
+        self.on_supports[1].add_to(lambda_t[0], y);
+        self.on_supports[2].add_to(lambda_t[1], y);
     }
 
     /// λ_t = τ λ_n for a slipping pair (eq. 41): τ = −d μ.
@@ -220,7 +344,7 @@ mod tests {
         assert_eq!(p.closed_status(), Status::Stick);
         // its tangential force goes straight to the support: x = 2 λ_t (t = (−1, 0)) at DOF 0
         let mut y = [0.0; 2];
-        p.add_support_force(1.0, -2.0, &mut y);
+        p.add_support_force(1.0, [-2.0, 0.0], &mut y);
         assert_eq!(y, [2.0, 0.0]);
     }
 }

@@ -284,15 +284,16 @@ impl Recorder {
         // P_σ − P − the contact forces at the held DOFs: the supports' force
         let mut contact = vec![0.0; internal.len()];
         for (p, pair) in pairs.iter().enumerate() {
-            pair.add_support_force(state.lambda_n[p], state.lambda_t[p], &mut contact);
+            pair.add_support_force(state.lambda_n[p], [state.lambda_t[p], state.lambda_t2[p]], &mut contact);
         }
         let reaction = (0..internal.len()).map(|d| if problem.dofs.fixed[d] { internal[d] - loads.load.force(d, state.load_fraction) - contact[d] } else { 0.0 }).collect();
         Ok(Snapshot {
             stage: state.stage,
             load_fraction: state.load_fraction,
             time: state.time(),
+            dim: problem.dim,
             u: state.u.clone(),
-            stress: state.stress.iter().map(|s| [s[0], s[1], s[2], s[3]]).collect(),
+            stress: state.stress.iter().map(|s| std::array::from_fn(|k| s[k])).collect(),
             plastic_strain: state.plastic_strain.clone(),
             plastic: if state.plastic.is_empty() { vec![0; problem.elements.len()] } else { state.plastic.iter().map(|&p| p as i8).collect() },
             lambda_n: state.lambda_n.clone(),
@@ -300,6 +301,8 @@ impl Recorder {
             status: state.status.iter().map(|s| s.code()).collect(),
             gap: pairs.iter().zip(&state.shift).map(|(p, c)| p.gap(&state.u) + c[0]).collect(),
             rtd: pairs.iter().zip(&state.shift).map(|(p, c)| p.rtd(&state.u) + c[1]).collect(),
+            lambda_t2: if problem.dim == 3 { state.lambda_t2.clone() } else { vec![] },
+            rtd2: if problem.dim == 3 { pairs.iter().zip(&state.shift).map(|(p, c)| p.w_t2.dot(&state.u) + c[2]).collect() } else { vec![] },
             reaction,
         })
     }
@@ -315,6 +318,7 @@ fn reconstruct(eng: &mut Engine, state: &State) -> Result<(State, Vec<f64>, f64)
     for (p, pair) in problem.global_pairs().iter().enumerate() {
         pair.w_n.add_to(state.lambda_n[p], &mut y);
         pair.w_t.add_to(state.lambda_t[p], &mut y);
+        pair.w_t2.add_to(state.lambda_t2[p], &mut y);
     }
     let mut u = stiffness.apply_ginv(&problem.dofs.map, std::slice::from_ref(&y)).pop().unwrap_or_default();
     if let Space::Reduced(_) = &problem.space {
