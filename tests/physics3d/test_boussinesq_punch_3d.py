@@ -1,0 +1,55 @@
+"""Boussinesq's rigid flat circular punch on an elastic half-space in 3D
+(cases/boussinesq_punch_3d.toml: a rigid 64-sided prism of the disc's area, frictionless,
+pressed by delta into the quarter of a large block) through ``slipstep.run``:
+
+    P = 2 a E* delta,  E* = E / (1 - nu^2)  (Johnson, Contact Mechanics §3.8).
+
+Mesh: the case's, h = 0.1 mm under the punch (a/h = 10), 6k DOFs.  Tolerance on P: the
+punch holds the block's top nodes under it (r < a) and leaves the others free, so the
+discrete punch's edge lies between the last node under it and the first outside: its radius,
+to which P is proportional, within h of a (10 %); the block's base held at depth L = 30 a
+stiffens it by the displacement a half-space would have there, 2 a / (pi L) of delta (2 %,
+one-sided).  And exact on any mesh: the contact's force balances the supports' reactions
+(the equilibrium tolerance), the pressure is compressive under the punch and zero outside.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import CASES, needs_gmsh
+
+import slipstep
+
+CASE = CASES / "boussinesq_punch_3d.toml"
+A, E, NU, DELTA, L, H = 1.0, 70000.0, 0.3, 0.001, 30.0, 0.1
+P = 2 * A * E / (1 - NU ** 2) * DELTA
+EQUILIBRIUM_TOL = 1e-9  # the engine's documented equilibrium_tol (docs/engine_api.md)
+
+
+@pytest.fixture(scope="module")
+def run():
+    pytest.importorskip("gmsh")
+    return slipstep.run(CASE, progress=False)
+
+
+@needs_gmsh
+def test_force_against_boussinesq(run):
+    assert run.completed
+    force = run.summary["total_normal_force"]
+    assert -H / A <= force / P - 1 <= H / A + 2 * A / (math.pi * L), (force, P)
+
+
+@needs_gmsh
+def test_the_supports_carry_the_punch_force(run):
+    snap = run.raw["snapshots"][-1]
+    reaction = np.asarray(snap["reaction"])
+    # the quarter's base reaction (z) balances its contact force: 4 x both is the full punch's
+    assert math.isclose(4 * reaction[:, 2].sum(), run.summary["total_normal_force"],
+                        rel_tol=EQUILIBRIUM_TOL)
+    prof = run.profile()
+    r = np.hypot(prof["x"][:, 0], prof["x"][:, 1])
+    assert (prof["status"][r < A - H] > 0).all() and (prof["pressure"][r < A - H] > 0).all()
+    assert (prof["status"][r > A + H] == 0).all()
