@@ -202,6 +202,7 @@ def contact_numbers(gf, md, mim, mfu, spec: dict, book: dict) -> dict:
     a = float(np.sqrt(4.0 * area[closed].sum() / np.pi))
     p0 = float((force / area).max())
     return {"a": a, "p0": p0, "total_normal_force": float(4.0 * force.sum()),
+            "force": force.tolist(),  # per candidate, in the spec's (slipstep's pair) order
             "n_closed": int(closed.sum()), "n_candidates": len(area),
             "a_error": a / spec["a_hertz"] - 1.0, "p0_error": p0 / spec["p0_hertz"] - 1.0}
 
@@ -268,6 +269,7 @@ def series(sizes, settings, out: Path) -> list[dict]:
                     continue
                 spec = scene_spec(h, setting, msh)
                 r = {"h": h, "setting": setting, **run_child(spec)}
+                r.pop("force", None)  # the nodal forces: for the peer test, not the report
                 rows.append(r)
                 print(line_of(r), flush=True)
                 write_results(rows, out, gf)
