@@ -12,6 +12,7 @@ import contextlib
 import math
 import signal
 import sys
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +23,12 @@ if str(ROOT / "py") not in sys.path:  # run from a checkout without installing
     sys.path.insert(0, str(ROOT / "py"))
 
 CASES = ROOT / "cases"
+
+
+def shipped_cases(dimension: int) -> list[Path]:
+    """The shipped cases of one dimension (2: planar and axisymmetric; 3: in space)."""
+    return [p for p in sorted(CASES.glob("*.toml"))
+            if tomllib.loads(p.read_text()).get("analysis", {}).get("dimension", 2) == dimension]
 
 #: A small case every concept's tests vary: a 2 x 1 block (4 x 2 cells), bottom fixed, a rigid
 #: line above its top (mu = 0.3).
