@@ -20,6 +20,7 @@ import math
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
+from space_physics import equilibrium_residual_3d
 
 import slipstep
 
@@ -45,6 +46,8 @@ def test_force_against_boussinesq(run):
 @needs_gmsh
 def test_the_supports_carry_the_punch_force(run):
     snap = run.raw["snapshots"][-1]
+    for s in run.raw["snapshots"]:
+        assert equilibrium_residual_3d(run.scene.model, s) <= EQUILIBRIUM_TOL
     reaction = np.asarray(snap["reaction"])
     # the quarter's base reaction (z) balances its contact force: 4 x both is the full punch's
     assert math.isclose(4 * reaction[:, 2].sum(), run.summary["total_normal_force"],

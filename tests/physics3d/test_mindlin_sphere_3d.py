@@ -34,7 +34,7 @@ import math
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
-from space_physics import angle_deg, second_moments
+from space_physics import angle_deg, equilibrium_residual_3d, second_moments
 
 import slipstep
 
@@ -108,6 +108,8 @@ def test_forces_balance_the_shear_and_the_cut(along_x):
     top = np.unique(result.scene.global_boundary("sphere", "top"))
     reaction = np.asarray(result.raw["snapshots"][-1]["reaction"])[top, 2].sum()
     assert math.isclose(-2 * reaction, m["P"], rel_tol=EQUILIBRIUM_TOL)
+    for snap in result.raw["snapshots"]:
+        assert equilibrium_residual_3d(result.scene.model, snap) <= EQUILIBRIUM_TOL
 
 
 @needs_gmsh
