@@ -8,7 +8,7 @@ use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use slipstep_core::material::{Material, Plane};
+use slipstep_core::material::{Material, Plane, PLANAR};
 use slipstep_core::mesh::Mesh;
 use slipstep_core::error::ErrorKind;
 use slipstep_core::model::*;
@@ -21,13 +21,58 @@ fn get<'py>(d: &Bound<'py, PyDict>, key: &str) -> PyResult<Bound<'py, PyAny>> {
     d.get_item(key)?.ok_or_else(|| input_error(format!("engine model: missing key '{key}'")))
 }
 
-fn f64_2d(d: &Bound<'_, PyDict>, key: &str, cols: usize) -> PyResult<Vec<[f64; 2]>> {
+/// Rows of a float64 (n, cols) array, each padded with zeros to three components.
+fn f64_2d(d: &Bound<'_, PyDict>, key: &str, cols: usize) -> PyResult<Vec<[f64; 3]>> {
     let arr: PyReadonlyArray2<f64> = get(d, key)?.extract().map_err(|_| input_error(format!("engine model: '{key}' must be a float64 array of shape (n, {cols})")))?;
     let a = arr.as_array();
     if a.ncols() != cols {
         return Err(input_error(format!("engine model: '{key}' must have {cols} columns")));
     }
-    Ok(a.rows().into_iter().map(|r| [r[0], r[1]]).collect())
+    Ok(a.rows().into_iter().map(|r| std::array::from_fn(|k| if k < cols { r[k] } else { 0.0 })).collect())
+}
+
+/// Rows of an int64 (m, cols) array of node indices.
+fn index_rows<const C: usize>(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<[usize; C]>> {
+    let arr: PyReadonlyArray2<i64> = get(d, key)?.extract().map_err(|_| input_error(format!("engine model: '{key}' must be an int64 array of shape (m, {C})")))?;
+    let a = arr.as_array();
+    if a.ncols() != C {
+        return Err(input_error(format!("engine model: '{key}' must have {C} columns")));
+    }
+    a.rows().into_iter().map(|r| {
+        let mut row = [0usize; C];
+        for k in 0..C {
+            row[k] = to_index(r[k], key)?;
+        }
+        Ok(row)
+    }).collect()
+}
+
+/// The mesh of the model's dimension (`dimension`: 2 when absent): nodes (N, 2) and triangles
+/// (M, 3), or nodes (N, 3) and tetrahedra (M, 4). A key of the other dimension is refused by
+/// name.
+fn read_mesh(d: &Bound<'_, PyDict>) -> PyResult<Mesh> {
+    let dimension: i64 = match d.get_item("dimension")? {
+        Some(v) => v.extract().map_err(|_| input_error("engine model: 'dimension' must be an int, 2 or 3"))?,
+        None => 2,
+    };
+    let refuse = |keys: &[&str], what: &str| -> PyResult<()> {
+        match keys.iter().find(|k| d.contains(**k).unwrap_or(false)) {
+            Some(k) => Err(input_error(format!("engine model: '{k}' is a key of {what}; remove it"))),
+            None => Ok(()),
+        }
+    };
+    match dimension {
+        2 => {
+            refuse(&["tetrahedra"], "3D models (dimension = 3), not of this 2D one")?;
+            let nodes = f64_2d(d, "nodes", 2)?.into_iter().map(|p| [p[0], p[1]]).collect();
+            Ok(Mesh::plane(nodes, index_rows::<3>(d, "triangles")?))
+        }
+        3 => {
+            refuse(&["triangles", "plane", "thickness"], "2D models, not of a 3D one (dimension = 3)")?;
+            Ok(Mesh::space(f64_2d(d, "nodes", 3)?, index_rows::<4>(d, "tetrahedra")?))
+        }
+        other => Err(input_error(format!("engine model: dimension = {other}: use 2 or 3"))),
+    }
 }
 
 fn i64_1d(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<i64>> {
@@ -45,16 +90,8 @@ fn to_index(v: i64, what: &str) -> PyResult<usize> {
 }
 
 fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
-    let nodes = f64_2d(d, "nodes", 2)?;
-    let tri: PyReadonlyArray2<i64> = get(d, "triangles")?.extract().map_err(|_| input_error("engine model: 'triangles' must be an int64 array of shape (m, 3)"))?;
-    let tri = tri.as_array();
-    if tri.ncols() != 3 {
-        return Err(input_error("engine model: 'triangles' must have 3 columns"));
-    }
-    let mut triangles = Vec::with_capacity(tri.nrows());
-    for r in tri.rows() {
-        triangles.push([to_index(r[0], "triangles")?, to_index(r[1], "triangles")?, to_index(r[2], "triangles")?]);
-    }
+    let mesh = read_mesh(d)?;
+    let dim = mesh.dim();
     let element_material = i64_1d(d, "element_material")?.into_iter().map(|v| to_index(v, "element_material")).collect::<PyResult<_>>()?;
     let mut materials = Vec::new();
     for m in get(d, "materials")?.cast::<PyList>()?.iter() {
@@ -74,13 +111,10 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
         }
         materials.push(mat);
     }
-    let plane = match get(d, "plane")?.extract::<String>()?.as_str() {
-        "strain" => Plane::Strain,
-        "stress" => Plane::Stress,
-        "axisymmetric" => Plane::Axisymmetric,
-        other => return Err(input_error(format!("engine model: plane = '{other}': use 'strain', 'stress' or 'axisymmetric'"))),
+    let (plane, thickness) = match dim {
+        3 => (Plane::Strain, 1.0), // (not used in 3D)
+        _ => (read_plane(d)?, get(d, "thickness")?.extract()?),
     };
-    let thickness: f64 = get(d, "thickness")?.extract()?;
     let fixed_dofs = i64_1d(d, "fixed_dofs")?.into_iter().map(|v| to_index(v, "fixed_dofs")).collect::<PyResult<_>>()?;
     let load = f64_1d(d, "load")?;
     let mut pairs = Vec::new();
@@ -88,7 +122,8 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
         let p = p.cast::<PyDict>()?;
         let a = i64_1d(p, "node_a")?;
         let b = i64_1d(p, "node_b")?;
-        let normal = f64_2d(p, "normal", 2)?;
+        let normal = f64_2d(p, "normal", dim)?;
+        let tangents = read_tangents(p, dim, a.len())?;
         let gap = f64_1d(p, "gap")?;
         let mu = f64_1d(p, "mu")?;
         let n = a.len();
@@ -105,6 +140,7 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
                 node_a: to_index(a[k], "pairs.node_a")?,
                 node_b: if b[k] < 0 { None } else { Some(b[k] as usize) },
                 normal: normal[k],
+                tangents: tangents.as_ref().map(|t| t[k]),
                 gap: gap[k],
                 mu: mu[k],
                 contact: contact.as_ref().map_or(0, |c| c[k]),
@@ -114,8 +150,31 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
     }
     let options = read_options(d)?;
     let names = read_names(d)?;
-    let (patterns, stages) = read_path(d)?;
-    Ok(Model { mesh: Mesh { nodes, triangles }, element_material, materials, plane, thickness, fixed_dofs, load, patterns, stages, pairs, names, options })
+    let (patterns, stages) = read_path(d, dim)?;
+    Ok(Model { mesh, element_material, materials, plane, thickness, fixed_dofs, load, patterns, stages, pairs, names, options })
+}
+
+fn read_plane(d: &Bound<'_, PyDict>) -> PyResult<Plane> {
+    match get(d, "plane")?.extract::<String>()?.as_str() {
+        "strain" => Ok(Plane::Strain),
+        "stress" => Ok(Plane::Stress),
+        "axisymmetric" => Ok(Plane::Axisymmetric),
+        other => Err(input_error(format!("engine model: plane = '{other}': use 'strain', 'stress' or 'axisymmetric'"))),
+    }
+}
+
+/// The optional `pairs.tangent` (P, 2, 3) of a 3D model (a 2D model's is refused by name).
+fn read_tangents(p: &Bound<'_, PyDict>, dim: usize, n: usize) -> PyResult<Option<Vec<[[f64; 3]; 2]>>> {
+    let Some(t) = p.get_item("tangent")? else { return Ok(None) };
+    if dim != 3 {
+        return Err(input_error("engine model: 'pairs.tangent' is a key of 3D models (dimension = 3); remove it"));
+    }
+    let arr: numpy::PyReadonlyArray3<f64> = t.extract().map_err(|_| input_error("engine model: 'pairs.tangent' must be a float64 array of shape (P, 2, 3)"))?;
+    let a = arr.as_array();
+    if a.shape() != [n, 2, 3] {
+        return Err(input_error(format!("engine model: 'pairs.tangent' has shape {:?}, not (P, 2, 3) = ({n}, 2, 3)", a.shape())));
+    }
+    Ok(Some((0..n).map(|k| std::array::from_fn(|i| std::array::from_fn(|c| a[[k, i, c]]))).collect()))
 }
 
 /// Node-to-segment pairs' weights, in compressed rows (optional keys `weight_ptr` (P+1),
@@ -136,7 +195,7 @@ fn read_pair_weights(p: &Bound<'_, PyDict>, n: usize) -> PyResult<Vec<Vec<(usize
 
 /// The load path: optional `patterns` (list of dict) and `stages` (list of dict), see
 /// docs/engine_api.md.
-fn read_path(d: &Bound<'_, PyDict>) -> PyResult<(Vec<LoadPattern>, Vec<Stage>)> {
+fn read_path(d: &Bound<'_, PyDict>, dim: usize) -> PyResult<(Vec<LoadPattern>, Vec<Stage>)> {
     let list = |key: &str| -> PyResult<Vec<Bound<'_, PyDict>>> {
         match d.get_item(key)? {
             None => Ok(vec![]),
@@ -162,7 +221,7 @@ fn read_path(d: &Bound<'_, PyDict>) -> PyResult<(Vec<LoadPattern>, Vec<Stage>)> 
         let mut motion = Vec::new();
         if optional(&p, "motion_contacts")? {
             let contacts = i64_1d(&p, "motion_contacts")?;
-            let m = f64_2d(&p, "motion", 2)?;
+            let m = f64_2d(&p, "motion", dim)?;
             if contacts.len() != m.len() {
                 return Err(input_error(format!("engine model: pattern '{name}': motion_contacts and motion differ in length")));
             }
@@ -284,18 +343,28 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
         d.set_item("load_fraction", s.load_fraction)?;
         d.set_item("t", s.time)?;
         d.set_item("stage", s.stage)?;
-        let n = s.u.len() / 2;
-        d.set_item("reaction", Array2::from_shape_vec((n, 2), s.reaction).unwrap().into_pyarray(py))?;
-        d.set_item("u", Array2::from_shape_vec((n, 2), s.u).unwrap().into_pyarray(py))?;
+        let (dim, n) = (s.dim, s.u.len() / s.dim);
+        d.set_item("reaction", Array2::from_shape_vec((n, dim), s.reaction).unwrap().into_pyarray(py))?;
+        d.set_item("u", Array2::from_shape_vec((n, dim), s.u).unwrap().into_pyarray(py))?;
         let m = s.stress.len();
-        d.set_item("stress", Array2::from_shape_vec((m, 4), s.stress.into_iter().flatten().collect()).unwrap().into_pyarray(py))?;
+        // 2D: (σx, σy, σz, τxy) of the six; 3D: all six in Voigt order
+        let columns: &[usize] = if dim == 3 { &[0, 1, 2, 3, 4, 5] } else { &PLANAR };
+        let stress: Vec<f64> = s.stress.iter().flat_map(|row| columns.iter().map(move |&k| row[k])).collect();
+        d.set_item("stress", Array2::from_shape_vec((m, columns.len()), stress).unwrap().into_pyarray(py))?;
         d.set_item("plastic_strain", s.plastic_strain.into_pyarray(py))?;
         d.set_item("plastic", Array1::from(s.plastic).into_pyarray(py))?;
         d.set_item("lambda_n", s.lambda_n.into_pyarray(py))?;
-        d.set_item("lambda_t", s.lambda_t.into_pyarray(py))?;
         d.set_item("status", Array1::from(s.status).into_pyarray(py))?;
         d.set_item("gap", s.gap.into_pyarray(py))?;
-        d.set_item("rtd", s.rtd.into_pyarray(py))?;
+        if dim == 3 {
+            // (P, 2) in each pair's (t1, t2)
+            let two = |a: Vec<f64>, b: Vec<f64>| Array2::from_shape_vec((a.len(), 2), a.into_iter().zip(b).flat_map(|(x, y)| [x, y]).collect()).unwrap();
+            d.set_item("lambda_t", two(s.lambda_t, s.lambda_t2).into_pyarray(py))?;
+            d.set_item("rtd", two(s.rtd, s.rtd2).into_pyarray(py))?;
+        } else {
+            d.set_item("lambda_t", s.lambda_t.into_pyarray(py))?;
+            d.set_item("rtd", s.rtd.into_pyarray(py))?;
+        }
         snaps.append(d)?;
     }
     out.set_item("snapshots", snaps)?;

@@ -2,7 +2,8 @@
 //!
 //! A pair joins a contactor node `a` to a target: another body's node `b` (node-to-node) or
 //! a rigid obstacle (`b = None`). With the target's unit normal n (pointing towards `a`) and
-//! tangent t = (−n_y, n_x), in global DOFs:
+//! tangent t = (−n_y, n_x) (in 3D the frame's t1, and a second row w_t2 along t2), in global
+//! DOFs:
 //!
 //!   w_n = n at a, −n at b   ⇒ gap = gap₀ + w_nᵀ u ≥ 0        (eqs. 21–22, with C_n = −w_n)
 //!   w_t = t at a, −t at b   ⇒ RTD = w_tᵀ u                   (eq. 25, C_t = w_t)
@@ -34,10 +35,39 @@ impl Frame<2, 1> {
     }
 }
 
+impl Frame<3, 2> {
+    /// The frame of a pair in `dim` dimensions, its directions with three components: in 2D
+    /// the planar frame (z = 0; t2 = z, unused); in 3D the `tangents` given, or the engine's
+    /// own: t1 = (e × n)/|e × n| with e the coordinate axis least aligned with n, t2 = n × t1.
+    pub fn of_pair(dim: usize, normal: [f64; 3], tangents: Option<[[f64; 3]; 2]>) -> Self {
+        if dim == 2 {
+            let t = Frame::planar([normal[0], normal[1]]).tangent();
+            return Frame { normal, tangents: [[t[0], t[1], 0.0], [0.0, 0.0, 1.0]] };
+        }
+        let tangents = tangents.unwrap_or_else(|| {
+            let least = (0..3).fold(0, |k, i| if normal[i].abs() < normal[k].abs() { i } else { k });
+            let mut e = [0.0; 3];
+            e[least] = 1.0;
+            let t1 = normalized(cross(e, normal));
+            [t1, cross(normal, t1)]
+        });
+        Frame { normal, tangents }
+    }
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn normalized(a: [f64; 3]) -> [f64; 3] {
+    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    a.map(|v| v / n)
+}
+
 /// The constraint vector of a frame direction `dir` over the nodes of `weights` (c_i): Σ_i c_i
-/// dir at node i, D DOFs per node.
-fn along<const D: usize>(weights: &[(usize, f64)], dir: [f64; D]) -> SparseVec {
-    let entries = weights.iter().flat_map(|&(i, c)| (0..D).map(move |k| (D * i + k, c * dir[k])));
+/// dir at node i, `dim` DOFs per node.
+fn along(weights: &[(usize, f64)], dim: usize, dir: [f64; 3]) -> SparseVec {
+    let entries = weights.iter().flat_map(|&(i, c)| (0..dim).map(move |k| (dim * i + k, c * dir[k])));
     SparseVec { entries: entries.filter(|&(_, c)| c != 0.0).collect() }
 }
 
@@ -102,13 +132,16 @@ impl Status {
 pub struct Pair {
     pub node_a: usize,
     pub node_b: Option<usize>,
-    pub frame: Frame<2, 1>,
+    /// Normal and tangents with three components (z = 0 in 2D).
+    pub frame: Frame<3, 2>,
     pub gap0: f64,
     pub mu: f64,
     /// Normal constraint vector over free DOFs (supports removed).
     pub w_n: SparseVec,
-    /// Tangential constraint vector over free DOFs.
+    /// Tangential constraint vector over free DOFs (3D: along t1).
     pub w_t: SparseVec,
+    /// 3D: the tangential constraint vector along t2 (empty in 2D).
+    pub w_t2: SparseVec,
     /// The tangential direction is held entirely by supports: no stick constraint.
     pub tangent_held: bool,
     /// The columns' entries at held DOFs (normal, tangential): the force the pair puts
@@ -116,32 +149,49 @@ pub struct Pair {
     pub on_supports: [SparseVec; 2],
 }
 
+/// Where a pair is and what it is: its nodes, its frame, the space's dimension.
+pub struct PairGeometry<'a> {
+    pub node_a: usize,
+    pub node_b: Option<usize>,
+    /// Node-to-segment or node-to-surface weights (empty: 1 at a, −1 at b).
+    pub weights: &'a [(usize, f64)],
+    pub dim: usize,
+    pub frame: Frame<3, 2>,
+}
+
 impl Pair {
+    /// A 2D pair with the frame of its unit `normal`.
     pub fn new(node_a: usize, node_b: Option<usize>, normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
-        let mut weights = vec![(node_a, 1.0)];
-        weights.extend(node_b.map(|b| (b, -1.0)));
-        Self::build(node_a, node_b, &weights, false, normal, gap0, mu, fixed)
+        let frame = Frame::of_pair(2, [normal[0], normal[1], 0.0], None);
+        Self::build(PairGeometry { node_a, node_b, weights: &[], dim: 2, frame }, gap0, mu, fixed)
     }
 
-    /// A pair whose constraint column is Σ_i c_i (n or t) at the nodes of `weights` (c_i).
+    /// A 2D pair whose constraint column is Σ_i c_i (n or t) at the nodes of `weights` (c_i).
     pub fn weighted(node_a: usize, node_b: Option<usize>, weights: &[(usize, f64)], normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
-        Self::build(node_a, node_b, weights, true, normal, gap0, mu, fixed)
+        let frame = Frame::of_pair(2, [normal[0], normal[1], 0.0], None);
+        Self::build(PairGeometry { node_a, node_b, weights, dim: 2, frame }, gap0, mu, fixed)
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn build(node_a: usize, node_b: Option<usize>, weights: &[(usize, f64)], weighted: bool, normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
-        let frame = Frame::planar(normal);
-        let t = frame.tangent();
-        let vec_of = |dir: [f64; 2]| along(weights, dir);
+    /// The pair of `g` (node to node, or weighted when `g.weights` is not empty).
+    pub fn build(g: PairGeometry, gap0: f64, mu: f64, fixed: &[bool]) -> Self {
+        let PairGeometry { node_a, node_b, dim, frame, .. } = g;
+        let weighted = !g.weights.is_empty();
+        let mut own_weights = vec![(node_a, 1.0)];
+        own_weights.extend(node_b.map(|b| (b, -1.0)));
+        let weights = if weighted { g.weights } else { &own_weights };
+        let vec_of = |dir: [f64; 3]| along(weights, dim, dir);
         let free = |d: usize| !fixed[d];
-        let w_n = vec_of(normal).restricted(free);
+        let [t, t2] = frame.tangents;
+        let w_n = vec_of(frame.normal).restricted(free);
         let w_t = vec_of(t).restricted(free);
-        let on_supports = [vec_of(normal).restricted(|d| fixed[d]), vec_of(t).restricted(|d| fixed[d])];
+        let w_t2 = if dim == 3 { vec_of(t2).restricted(free) } else { SparseVec::default() };
+        let on_supports = [vec_of(frame.normal).restricted(|d| fixed[d]), vec_of(t).restricted(|d| fixed[d])];
         // Node to node: held when every tangential DOF is; a weighted row (its force on node a
         // alone) when node a's are: its remaining entries would constrain the target only.
-        let own = |w: &SparseVec| w.entries.iter().filter(|&&(d, _)| d / 2 == node_a).map(|&(_, c)| c * c).sum::<f64>().sqrt();
-        let tangent_held = if weighted { own(&w_t) < HELD_BY_SUPPORTS } else { w_t.norm() < HELD_BY_SUPPORTS };
-        Pair { node_a, node_b, frame, gap0, mu, w_n, w_t, tangent_held, on_supports }
+        let own = |w: &SparseVec| w.entries.iter().filter(|&&(d, _)| d / dim == node_a).map(|&(_, c)| c * c).sum::<f64>().sqrt();
+        let held = |w: &SparseVec| if weighted { own(w) < HELD_BY_SUPPORTS } else { w.norm() < HELD_BY_SUPPORTS };
+        let tangent_held = held(&w_t) && (dim == 2 || held(&w_t2));
+        Pair { node_a, node_b, frame, gap0, mu, w_n, w_t, w_t2, tangent_held, on_supports }
     }
 
     pub fn frictional(&self) -> bool {

@@ -1,7 +1,11 @@
-//! The constant-strain triangle (CST) and its axisymmetric ring: strain–displacement matrix B
-//! (eq. 10), stiffness K_e = w Bᵀ D B (the element part of K in eq. 36) and internal force
-//! w Bᵀ σ (eq. 42), with w the element's volume: t·A in plane strain and plane stress, the
-//! full ring 2π r̄ A in axisymmetry (r̄ the centroid radius; forces are totals over the ring).
+//! The constant-strain elements: the triangle (CST) with its axisymmetric ring, and the linear
+//! tetrahedron (Tet4). Strain–displacement matrix B (eq. 10), stiffness K_e = w Bᵀ D B (the
+//! element part of K in eq. 36) and internal force w Bᵀ σ (eq. 42), with w the element's
+//! volume: t·A in plane strain and plane stress, the full ring 2π r̄ A in axisymmetry (r̄ the
+//! centroid radius; forces are totals over the ring), V for the tetrahedron.
+//!
+//! An element's B has the rows of the Voigt components its kinematics give (`Element::ROWS`);
+//! strains and stresses meet the material in all six (`material::Voigt`), the others zero.
 //!
 //! B has four rows (εx, εy, εz, γxy) for every plane, matching the four stress components
 //! of `material`: the z row is zero in plane strain and plane stress (εz is 0, or follows from
@@ -11,16 +15,23 @@
 //! the axis (r̄ > 0 for any element of positive area in r >= 0). The rows εr, εz, γrz are
 //! constant and r A r̄ = ∫ r dA, so w Bᵀ σ is the exact virtual work of a uniform stress.
 
+use crate::material::{Plane, Voigt, PLANAR};
 use crate::mesh::Mesh;
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{Matrix6, SMatrix, SVector};
 use std::f64::consts::PI;
 
 /// An element's kinematics, the seam between the mesh and the constitutive law: the nodes it
-/// joins, its DOFs, its strain operator B (S rows: the components of its stress state; N
-/// columns: its DOFs; nalgebra's fixed dimensions) and the measure w it integrates over. K_e,
-/// the strain and the internal force follow from those. The CST of plane strain, plane stress
-/// and axisymmetry is `Element<4, 6>`; a linear tetrahedron would be `Element<6, 12>`.
+/// joins, its DOFs, its strain operator B (S rows: the Voigt components `ROWS` of its stress
+/// state; N columns: its DOFs, `DIM` per node; nalgebra's fixed dimensions) and the measure w
+/// it integrates over. K_e, the strain and the internal force follow from those. The CST of
+/// plane strain, plane stress and axisymmetry is `Element<4, 6>`, the linear tetrahedron
+/// `Element<6, 12>`.
 pub trait Element<const S: usize, const N: usize>: Send + Sync {
+    /// DOFs per node (the space's dimension).
+    const DIM: usize;
+    /// The Voigt component (`material::Voigt`) of each row of B.
+    const ROWS: [usize; S];
+
     /// The mesh nodes of the element.
     fn nodes(&self) -> &[usize];
 
@@ -38,19 +49,29 @@ pub trait Element<const S: usize, const N: usize>: Send + Sync {
         SVector::from_iterator(self.dofs().iter().map(|&d| u[d]))
     }
 
-    /// Strain B u_e for the global displacement vector `u`.
-    fn strain(&self, u: &[f64]) -> SVector<f64, S> {
-        self.b() * self.gather(u)
+    /// Strain B u_e for the global displacement vector `u`, in the six components (those B
+    /// has no row for are 0).
+    fn strain(&self, u: &[f64]) -> Voigt {
+        let e = self.b() * self.gather(u);
+        let mut full = Voigt::zeros();
+        Self::ROWS.iter().zip(e.iter()).for_each(|(&r, &v)| full[r] = v);
+        full
+    }
+
+    /// The rows and columns of B's components of a six-component D.
+    fn rows_of(d: &Matrix6<f64>) -> SMatrix<f64, S, S> {
+        SMatrix::from_fn(|i, j| d[(Self::ROWS[i], Self::ROWS[j])])
     }
 
     /// w Bᵀ D B for the D the stress state pairs with B (`Section::element_matrix`).
-    fn stiffness(&self, d: &SMatrix<f64, S, S>) -> SMatrix<f64, N, N> {
-        self.b().transpose() * d * self.b() * self.measure()
+    fn stiffness(&self, d: &Matrix6<f64>) -> SMatrix<f64, N, N> {
+        self.b().transpose() * Self::rows_of(d) * self.b() * self.measure()
     }
 
     /// Nodal internal forces w Bᵀ σ.
-    fn internal_force(&self, stress: &SVector<f64, S>) -> SVector<f64, N> {
-        self.b().transpose() * stress * self.measure()
+    fn internal_force(&self, stress: &Voigt) -> SVector<f64, N> {
+        let s = SVector::<f64, S>::from_fn(|i, _| stress[Self::ROWS[i]]);
+        self.b().transpose() * s * self.measure()
     }
 }
 
@@ -89,6 +110,14 @@ impl Cst {
         Cst { nodes, volume: 2.0 * PI * r * area, b }
     }
 
+    /// Element `e` of `mesh` with the kinematics of `plane` (`thickness`: planar states only).
+    pub fn of_plane(mesh: &Mesh, e: usize, plane: Plane, thickness: f64) -> Self {
+        match plane {
+            Plane::Axisymmetric => Cst::ring(mesh, e),
+            Plane::Strain | Plane::Stress => Cst::planar(mesh, e, thickness),
+        }
+    }
+
     /// The nodes, the area and the in-plane rows of B (the z row zero).
     fn in_plane(mesh: &Mesh, e: usize) -> ([usize; 3], f64, BMatrix) {
         let nodes = mesh.triangles[e];
@@ -108,6 +137,9 @@ impl Cst {
 }
 
 impl Element<4, 6> for Cst {
+    const DIM: usize = 2;
+    const ROWS: [usize; 4] = PLANAR;
+
     fn nodes(&self) -> &[usize] {
         &self.nodes
     }
@@ -127,25 +159,153 @@ impl Element<4, 6> for Cst {
     }
 }
 
+/// The linear tetrahedron: constant strain over its volume V. Its nodes are positively
+/// oriented, det[x1 − x0, x2 − x0, x3 − x0] = 6V > 0 (`Mesh::validate`).
+#[derive(Debug, Clone)]
+pub struct Tet4 {
+    nodes: [usize; 4],
+    volume: f64,
+    b: SMatrix<f64, 6, 12>,
+}
+
+impl Tet4 {
+    /// Tetrahedron `e` of `mesh`: B from the gradients of its linear shape functions,
+    /// ∇N_k = (row k of the inverse of [1 x y z] at the nodes), rows εx, εy, εz, γyz, γxz, γxy.
+    pub fn new(mesh: &Mesh, e: usize) -> Self {
+        let nodes = mesh.tetrahedra[e];
+        let p = nodes.map(|i| mesh.points[i]);
+        let jac = nalgebra::Matrix3::from_fn(|r, c| p[c + 1][r] - p[0][r]); // columns x_k − x_0
+        let det = jac.determinant();
+        let inv = jac.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros); // validate refuses det ≤ 0
+        // ∇N_k = rows of J⁻¹ (k = 1..3), ∇N_0 = −their sum.
+        let mut grad = [[0.0; 3]; 4];
+        for k in 0..3 {
+            for c in 0..3 {
+                grad[k + 1][c] = inv[(k, c)];
+                grad[0][c] -= inv[(k, c)];
+            }
+        }
+        let mut b = SMatrix::<f64, 6, 12>::zeros();
+        for (k, [gx, gy, gz]) in grad.into_iter().enumerate() {
+            let (x, y, z) = (3 * k, 3 * k + 1, 3 * k + 2);
+            b[(0, x)] = gx;
+            b[(1, y)] = gy;
+            b[(2, z)] = gz;
+            (b[(3, y)], b[(3, z)]) = (gz, gy); // γyz = ∂v/∂z + ∂w/∂y
+            (b[(4, x)], b[(4, z)]) = (gz, gx); // γxz = ∂u/∂z + ∂w/∂x
+            (b[(5, x)], b[(5, y)]) = (gy, gx); // γxy = ∂u/∂y + ∂v/∂x
+        }
+        Tet4 { nodes, volume: det / 6.0, b }
+    }
+}
+
+impl Element<6, 12> for Tet4 {
+    const DIM: usize = 3;
+    const ROWS: [usize; 6] = [0, 1, 2, 3, 4, 5];
+
+    fn nodes(&self) -> &[usize] {
+        &self.nodes
+    }
+
+    /// 3 per node: x, y, z.
+    fn dofs(&self) -> [usize; 12] {
+        std::array::from_fn(|k| 3 * self.nodes[k / 3] + k % 3)
+    }
+
+    fn b(&self) -> &SMatrix<f64, 6, 12> {
+        &self.b
+    }
+
+    fn measure(&self) -> f64 {
+        self.volume
+    }
+}
+
+
+/// The elements of a model, of one kind: triangles (2D) or tetrahedra (3D). Loops over them
+/// are written once, generically over `Element`, and run on either (`on_elements!`).
+#[derive(Debug, Clone)]
+pub enum Elements {
+    Plane(Vec<Cst>),
+    Space(Vec<Tet4>),
+}
+
+/// `on_elements!(elements, els => body)`: the body with `els` the `Elements`' vector, whichever
+/// kind it holds.
+#[macro_export]
+macro_rules! on_elements {
+    ($elements:expr, $els:ident => $body:expr) => {
+        match $elements {
+            $crate::element::Elements::Plane($els) => $body,
+            $crate::element::Elements::Space($els) => $body,
+        }
+    };
+}
+
+impl Elements {
+    /// The elements of `mesh`: tetrahedra in 3D, else triangles with the kinematics of `plane`.
+    pub fn of_mesh(mesh: &Mesh, plane: Plane, thickness: f64) -> Self {
+        match mesh.dim() {
+            3 => Elements::Space((0..mesh.tetrahedra.len()).map(|e| Tet4::new(mesh, e)).collect()),
+            _ => Elements::Plane((0..mesh.triangles.len()).map(|e| Cst::of_plane(mesh, e, plane, thickness)).collect()),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        on_elements!(self, els => els.len())
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The nodes of element e.
+    pub fn nodes(&self, e: usize) -> &[usize] {
+        on_elements!(self, els => els[e].nodes())
+    }
+
+    /// The global DOFs of element e.
+    pub fn dofs(&self, e: usize) -> Vec<usize> {
+        on_elements!(self, els => els[e].dofs().to_vec())
+    }
+
+    /// The strain of element e (six components) for the displacement `u`.
+    pub fn strain(&self, e: usize, u: &[f64]) -> Voigt {
+        on_elements!(self, els => els[e].strain(u))
+    }
+
+    /// f[d] += sign × (w Bᵀ σ)_d of element e at its DOFs d that `keep` accepts.
+    pub fn add_internal_force(&self, e: usize, stress: &Voigt, sign: f64, keep: impl Fn(usize) -> bool, f: &mut [f64]) {
+        on_elements!(self, els => {
+            let fe = els[e].internal_force(stress);
+            for (k, d) in els[e].dofs().into_iter().enumerate() {
+                if keep(d) {
+                    f[d] += sign * fe[k];
+                }
+            }
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::{Material, Plane};
+    use crate::material::{from_planar, Material};
     use crate::section::Section;
-    use nalgebra::{Matrix4, Vector4};
+    use nalgebra::Matrix6;
 
     fn element(m: &Mesh, e: usize, plane: Plane, thickness: f64) -> Cst {
-        plane.stress_state().element(m, e, thickness)
+        Cst::of_plane(m, e, plane, thickness)
     }
 
     /// D of the material as the plane's element pairs it with B.
-    fn elastic_d(material: Material, plane: Plane) -> Matrix4<f64> {
+    fn elastic_d(material: Material, plane: Plane) -> Matrix6<f64> {
         Section::new(material, plane.stress_state()).elastic_matrix()
     }
 
     /// One element away from the axis and one touching it (node 3 at r = 0).
     fn mesh() -> Mesh {
-        Mesh { nodes: vec![[0.1, 0.2], [1.3, 0.1], [0.4, 0.9], [0.0, 0.6]], triangles: vec![[0, 1, 2], [0, 2, 3]] }
+        Mesh::plane(vec![[0.1, 0.2], [1.3, 0.1], [0.4, 0.9], [0.0, 0.6]], vec![[0, 1, 2], [0, 2, 3]])
     }
 
     /// Nodal values of a linear field u = (a0 + a1 x + a2 y, b0 + b1 x + b2 y).
@@ -165,7 +325,7 @@ mod tests {
         let u = linear_field(&m, [0.7, a, b], [-0.2, c, d]);
         for plane in [Plane::Strain, Plane::Stress] {
             let eps = element(&m, 0, plane, 1.0).strain(&u);
-            assert!((eps - Vector4::new(a, d, 0.0, b + c)).norm() < STRAIN_ROUND_OFF, "{plane:?}: {eps}");
+            assert!((eps - from_planar([a, d, 0.0, b + c])).norm() < STRAIN_ROUND_OFF, "{plane:?}: {eps}");
         }
     }
 
@@ -178,7 +338,7 @@ mod tests {
         let u = linear_field(&m, [0.0, a, 0.0], [0.3, d, e]);
         for k in 0..2 {
             let eps = element(&m, k, Plane::Axisymmetric, 1.0).strain(&u);
-            assert!((eps - Vector4::new(a, e, a, d)).norm() < STRAIN_ROUND_OFF, "element {k}: {eps}");
+            assert!((eps - from_planar([a, e, a, d])).norm() < STRAIN_ROUND_OFF, "element {k}: {eps}");
         }
         // Any linear u_r = A r + B z + C: εθ is the exact u_r/r at the centroid.
         let (b, c) = (7e-4, -3e-4);
@@ -242,9 +402,99 @@ mod tests {
                 let strain = el.b() * mode;
                 assert!(strain[HOOP].abs() > 0.1, "element {e}: {strain}");
                 let energy = (mode.transpose() * k * mode)[0];
-                assert!((energy - el.measure() * (strain.transpose() * d * strain)[0]).abs() < 1e-10 * energy && energy > 0.0);
+                assert!((energy - el.measure() * (strain.transpose() * Cst::rows_of(&d) * strain)[0]).abs() < 1e-10 * energy && energy > 0.0);
             }
             assert!((k - k.transpose()).norm() < 1e-12 * k.norm());
         }
+    }
+
+    /// A tetrahedron of general shape (positively oriented) and one on the axes.
+    fn tets() -> Mesh {
+        Mesh::space(vec![[0.1, 0.2, -0.1], [1.3, 0.1, 0.2], [0.4, 0.9, 0.0], [0.3, 0.4, 1.1], [0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 4.0]], vec![[0, 1, 2, 3], [4, 5, 6, 7]])
+    }
+
+    /// A linear field u = c + G x at every node of `m` (3 per node).
+    fn linear_field_3d(m: &Mesh, c: [f64; 3], g: [[f64; 3]; 3]) -> Vec<f64> {
+        m.points.iter().flat_map(|p| (0..3).map(move |i| c[i] + (0..3).map(|j| g[i][j] * p[j]).sum::<f64>())).collect()
+    }
+
+    #[test]
+    fn tetrahedron_gives_a_linear_fields_exact_strain() {
+        // ε = sym(G) with engineering shears: (G00, G11, G22, G12 + G21, G02 + G20, G01 + G10).
+        let m = tets();
+        let g = [[1e-3, -2e-3, 5e-4], [3e-4, 2e-3, -1e-3], [7e-4, 4e-4, -1.5e-3]];
+        let u = linear_field_3d(&m, [0.7, -0.2, 0.4], g);
+        let exact = Voigt::from_row_slice(&[g[0][0], g[1][1], g[2][2], g[1][2] + g[2][1], g[0][2] + g[2][0], g[0][1] + g[1][0]]);
+        for e in 0..2 {
+            let eps = Tet4::new(&m, e).strain(&u);
+            assert!((eps - exact).norm() < STRAIN_ROUND_OFF, "element {e}: {eps}");
+        }
+    }
+
+    #[test]
+    fn tetrahedron_volume_and_nodal_forces_are_the_face_formulas() {
+        // V of the corner tetrahedron (2, 3, 4 on the axes) = 2·3·4/6 = 4; under a uniform σ
+        // node k carries w Bᵀσ = −σ·(A n)_k/3, (A n)_k the outward area vector of the face
+        // opposite node k (the divergence theorem on ∫σ ∇N_k).
+        let m = tets();
+        assert!((Tet4::new(&m, 1).measure() - 4.0).abs() < 1e-14);
+        let sigma = Voigt::from_row_slice(&[120.0, -80.0, 30.0, 15.0, -25.0, 40.0]);
+        let s = |i: usize, j: usize| sigma[[[0, 5, 4], [5, 1, 3], [4, 3, 2]][i][j]];
+        for e in 0..2 {
+            let el = Tet4::new(&m, e);
+            let f = el.internal_force(&sigma);
+            let p = m.tetrahedra[e].map(|i| m.points[i]);
+            for k in 0..4 {
+                let face: Vec<[f64; 3]> = (0..4).filter(|&j| j != k).map(|j| p[j]).collect();
+                let (a, b) = ([0, 1, 2].map(|c| face[1][c] - face[0][c]), [0, 1, 2].map(|c| face[2][c] - face[0][c]));
+                let mut area = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]].map(|v| v / 2.0);
+                let inward = (0..3).map(|c| area[c] * (p[k][c] - face[0][c])).sum::<f64>() > 0.0;
+                if inward {
+                    area = area.map(|v| -v);
+                }
+                for i in 0..3 {
+                    let expected = -(0..3).map(|j| s(i, j) * area[j]).sum::<f64>() / 3.0;
+                    assert!((f[3 * k + i] - expected).abs() < 1e-11 * 120.0, "element {e} node {k} component {i}: {} vs {expected}", f[3 * k + i]);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn tetrahedron_has_exactly_the_six_rigid_modes_as_zero_energy() {
+        // Translations and rotations (u = ω × x) strain nothing; K (12×12, symmetric) has rank 6.
+        let m = tets();
+        let d = Section::new(Material::elastic(70e3, 0.3), &crate::section::Solid).elastic_matrix();
+        for e in 0..2 {
+            let el = Tet4::new(&m, e);
+            let k = el.stiffness(&d);
+            assert!((k - k.transpose()).norm() < 1e-12 * k.norm());
+            for mode in 0..6 {
+                let u = m.points.iter().flat_map(|p| {
+                    let (t, w) = if mode < 3 { (mode, None) } else { (0, Some(mode - 3)) };
+                    (0..3).map(move |c| match w {
+                        None => (c == t) as i32 as f64,
+                        Some(a) => [[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]][a][c],
+                    })
+                }).collect::<Vec<f64>>();
+                let ue = el.gather(&u);
+                assert!((k * ue).norm() < 1e-9 * k.norm(), "element {e} mode {mode}");
+            }
+            let sv = k.singular_values();
+            let rank = sv.iter().filter(|&&v| v > 1e-9 * sv.max()).count();
+            assert_eq!(rank, 6, "element {e}: {sv}");
+        }
+    }
+
+    #[test]
+    fn flat_and_inverted_tetrahedra_are_named() {
+        let mut m = tets();
+        m.tetrahedra[1] = [4, 6, 5, 7];
+        assert!(m.validate().unwrap_err().message.starts_with("element 1 is an inverted tetrahedron"));
+        m.tetrahedra[1] = [4, 5, 6, 7];
+        let (p0, p1, p2) = (m.points[0], m.points[1], m.points[2]);
+        m.points[3] = std::array::from_fn(|c| (p0[c] + p1[c] + p2[c]) / 3.0); // in the plane of the others
+        let err = m.validate().unwrap_err().message;
+        assert!(err.starts_with("element 0 is a flat tetrahedron"), "{err}");
     }
 }

@@ -8,7 +8,7 @@ use crate::contact::{Pair, Status};
 use crate::material::{von_mises, yield_scale};
 use crate::section::Section;
 use crate::model::EventKind;
-use nalgebra::Vector4;
+use crate::material::Voigt;
 use rayon::prelude::*;
 
 #[derive(Debug, Clone, Copy)]
@@ -109,7 +109,7 @@ const PLASTIC_NOISE: f64 = 1e-10;
 
 pub struct ElementState<'a> {
     pub sections: &'a [Section],
-    pub stress: &'a [Vector4<f64>],
+    pub stress: &'a [Voigt],
     pub plastic_strain: &'a [f64],
     pub plastic: &'a [bool],
     pub frozen: &'a [bool],
@@ -121,7 +121,7 @@ pub struct ElementState<'a> {
 /// changes by more than `max_step` × σy (von Mises norm of the increment; with the tangent
 /// frozen at the increment's start, the departure from the yield surface grows with the square
 /// of this). `dstress` and `dplastic` are the trial's stress and plastic-strain increments.
-pub fn element_candidates(state: &ElementState, dstress: &[Vector4<f64>], dplastic: &[f64], max_step: Option<f64>) -> (Vec<Candidate>, f64) {
+pub fn element_candidates(state: &ElementState, dstress: &[Voigt], dplastic: &[f64], max_step: Option<f64>) -> (Vec<Candidate>, f64) {
     let noise = PLASTIC_NOISE * dplastic.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let per_element: Vec<(Option<Candidate>, f64)> = (0..state.stress.len())
         .into_par_iter()
@@ -136,7 +136,7 @@ pub fn element_candidates(state: &ElementState, dstress: &[Vector4<f64>], dplast
 const ELEMENT_CHUNK: usize = 1024;
 
 /// One element's candidate event, and its drift bound (∞ unless it is plastic).
-fn element_candidate(state: &ElementState, e: usize, dstress: &Vector4<f64>, dplastic: f64, noise: f64, max_step: Option<f64>) -> (Option<Candidate>, f64) {
+fn element_candidate(state: &ElementState, e: usize, dstress: &Voigt, dplastic: f64, noise: f64, max_step: Option<f64>) -> (Option<Candidate>, f64) {
     let m = &state.sections[e].material;
     if !m.is_plastic() {
         return (None, f64::INFINITY);

@@ -1,6 +1,6 @@
 //! # slipstep-core
 //!
-//! 2D frictional contact of elastic bodies solved by the *adaptive incremental* procedure of
+//! Frictional contact of elastoplastic bodies in 2D (plane, axisymmetric) and 3D solved by the *adaptive incremental* procedure of
 //! Abdalla, Ali-Eldin & Ghazy: no penalty parameter and no load steps. From the current state
 //! the engine solves for the whole remaining load, computes the load scale at which the next
 //! event happens (a gap closes, a pair separates, a stuck pair starts to slip, a slipping pair
@@ -9,15 +9,15 @@
 //!
 //! One module per concept, in the order of the paper:
 //! - [`material`]: the 3D law: elasticity D (eqs. 9, 18), von Mises plasticity (eq. 11);
-//! - [`section`]: the stress state (plane strain, plane stress, axisymmetry) and a material
-//!   bound to it;
+//! - [`section`]: the stress state (plane strain, plane stress, axisymmetry, a solid) and a
+//!   material bound to it;
 //! - [`stress_integration`]: an element's stress along a strain increment (the elastic–plastic
 //!   split of eq. 16, Prandtl–Reuss integrated with error control);
-//! - [`element`]: element kinematics (the `Element` seam) and the constant-strain triangle
-//!   (eq. 10, K of eq. 36, P_σ of eq. 42);
-//! - [`mesh`]: meshes, validation, bodies;
+//! - [`element`]: element kinematics (the `Element` seam), the constant-strain triangle and
+//!   the linear tetrahedron (eq. 10, K of eq. 36, P_σ of eq. 42);
+//! - [`mesh`]: triangle and tetrahedron meshes, validation, bodies;
 //! - [`contact`]: candidate pairs, their constraint vectors and statuses (eqs. 21–28, 41, 45–46);
-//! - [`rigid_modes`]: rigid-body modes left free by the supports;
+//! - [`rigid_modes`]: rigid-body modes left free by the supports (3 per body in 2D, 6 in 3D);
 //! - [`linalg`]: sparse assembly and the SPD Cholesky factor (faer); [`low_rank`]: the factor
 //!   plus a few rank-one terms (Woodbury), so that a yield needs no refactorization;
 //! - [`events`]: scale factors of the next event (eqs. 48–57);

@@ -20,7 +20,7 @@ use faer::linalg::cholesky::llt::factor::LltError;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Accum, Conj, Mat, MatMut, Par, Side};
-use nalgebra::SMatrix;
+use nalgebra::{Matrix6, SMatrix};
 
 /// Where a global DOF goes in the reduced system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,6 +39,8 @@ pub struct DofMap {
     pub n_equations: usize,
     /// The global DOF of each equation.
     pub dof_of_equation: Vec<usize>,
+    /// DOFs per node (messages name the node and component).
+    pub dim: usize,
 }
 
 impl DofMap {
@@ -70,7 +72,7 @@ impl DofMap {
                 dof_of_equation[*i] = d;
             }
         }
-        DofMap { role, n_equations, dof_of_equation }
+        DofMap { role, n_equations, dof_of_equation, dim: 2 }
     }
 
     pub fn equation(&self, dof: usize) -> Option<usize> {
@@ -102,20 +104,22 @@ impl DofMap {
     /// +22 % (24k) flops against plain AMD: the price of reading the contact flexibility from
     /// the factor. (The clique has O(t²) entries, as the flexibility matrix itself.)
     /// Every trailing DOF must be an equation (neither fixed nor pinned).
-    pub fn ordered<const S: usize, const N: usize>(elements: &[impl Element<S, N>], n_dofs: usize, fixed: &[bool], pinned: &[usize], trailing: &[usize]) -> Result<Self> {
+    pub fn ordered<E: Element<S, N>, const S: usize, const N: usize>(elements: &[E], n_dofs: usize, fixed: &[bool], pinned: &[usize], trailing: &[usize]) -> Result<Self> {
+        let dim = E::DIM;
+        let node_dofs = move |n: usize| (0..dim).map(move |c| dim * n + c);
         let mut is_pinned = vec![false; n_dofs];
         pinned.iter().for_each(|&d| is_pinned[d] = true);
         let is_equation = |d: usize| !fixed[d] && !is_pinned[d];
         let mut role: Vec<DofRole> = (0..n_dofs).map(|d| if is_pinned[d] && !fixed[d] { DofRole::Pinned } else { DofRole::Fixed }).collect();
-        let n_nodes = n_dofs / 2;
+        let n_nodes = n_dofs / dim;
         let mut node_is_trailing = vec![false; n_nodes];
-        trailing.iter().for_each(|&d| node_is_trailing[d / 2] = true);
+        trailing.iter().for_each(|&d| node_is_trailing[d / dim] = true);
         // The node graph, renumbered 0..m, with the trailing nodes joined into a clique: that
         // is what they become in the factor, and AMD then orders the rest for it.
         let mut index = vec![usize::MAX; n_nodes];
         let mut graph_nodes = Vec::new();
         for node in 0..n_nodes {
-            if is_equation(2 * node) || is_equation(2 * node + 1) {
+            if node_dofs(node).any(is_equation) {
                 index[node] = graph_nodes.len();
                 graph_nodes.push(node);
             }
@@ -148,8 +152,8 @@ impl DofMap {
         let mut is_trailing = vec![false; n_dofs];
         trailing.iter().for_each(|&d| is_trailing[d] = true);
         // fwd[new] = old
-        let leading_dofs = fwd.iter().map(|&i| graph_nodes[i]).filter(|&n| !node_is_trailing[n]).flat_map(|n| [2 * n, 2 * n + 1]);
-        let rest = (0..n_nodes).filter(|&n| node_is_trailing[n]).flat_map(|n| [2 * n, 2 * n + 1]).filter(|&d| !is_trailing[d]);
+        let leading_dofs = fwd.iter().map(|&i| graph_nodes[i]).filter(|&n| !node_is_trailing[n]).flat_map(node_dofs);
+        let rest = (0..n_nodes).filter(|&n| node_is_trailing[n]).flat_map(node_dofs).filter(|&d| !is_trailing[d]);
         let mut n_equations = 0;
         for d in leading_dofs.chain(rest).chain(trailing.iter().copied()) {
             if is_equation(d) {
@@ -159,7 +163,7 @@ impl DofMap {
                 bail!(Internal, "internal: trailing DOF {d} is not an equation");
             }
         }
-        Ok(DofMap::with_roles(role, n_equations))
+        Ok(DofMap { dim, ..DofMap::with_roles(role, n_equations) })
     }
 }
 
@@ -189,9 +193,10 @@ impl StiffnessPattern {
     /// Column by column from the node adjacency (two nodes couple when an element joins
     /// them; both DOFs of a node together): no sort of the 21 entries per element, which at
     /// 1M DOFs is ~40M index pairs and their argsort.
-    pub fn new<const S: usize, const N: usize>(elements: &[impl Element<S, N>], map: &DofMap) -> Result<Self> {
+    pub fn new<E: Element<S, N>, const S: usize, const N: usize>(elements: &[E], map: &DofMap) -> Result<Self> {
         let n = map.n_equations;
-        let n_nodes = map.role.len() / 2;
+        let dim = E::DIM;
+        let n_nodes = map.role.len() / dim;
         // Neighbours of each node (itself included), compressed rows.
         let mut degree = vec![1usize; n_nodes + 1];
         for el in elements {
@@ -222,10 +227,10 @@ impl StiffnessPattern {
         col_ptr.push(0);
         let mut rows = Vec::new();
         for c in 0..n {
-            let a = map.dof_of_equation[c] / 2;
+            let a = map.dof_of_equation[c] / dim;
             rows.clear();
             for &b in &neighbours[start[a]..fill[a]] {
-                rows.extend([2 * b, 2 * b + 1].iter().filter_map(|&d| map.equation(d)).filter(|&r| r >= c));
+                rows.extend((0..dim).filter_map(|k| map.equation(dim * b + k)).filter(|&r| r >= c));
             }
             rows.sort_unstable();
             rows.dedup();
@@ -269,7 +274,7 @@ impl StiffnessPattern {
     }
 
     /// Lower triangle of K_reg = Σ_e w Bᵀ D_e B over the equation DOFs (D_e: `Section::element_matrix`).
-    pub fn assemble<const S: usize, const N: usize>(&self, elements: &[impl Element<S, N>], tangents: &[SMatrix<f64, S, S>], map: &DofMap) -> Result<SparseColMat<usize, f64>> {
+    pub fn assemble<const S: usize, const N: usize>(&self, elements: &[impl Element<S, N>], tangents: &[Matrix6<f64>], map: &DofMap) -> Result<SparseColMat<usize, f64>> {
         let mut values = vec![0.0; self.symbolic.row_idx().len()];
         // (for_each_entry visits the elements in turn: one element matrix at a time)
         let mut current: Option<(usize, SMatrix<f64, N, N>)> = None;
@@ -355,7 +360,7 @@ impl SpdSolver {
     /// equations form the trailing block: the symbolic analysis of its pattern, kept for every
     /// refactorization, and the first numeric factorization (`factor`), so that a solver always
     /// holds a factor.
-    pub fn new(lower: &SparseColMat<usize, f64>, dof_of_equation: &[usize], n_trailing: usize) -> Result<Self> {
+    pub fn new(lower: &SparseColMat<usize, f64>, map: &DofMap, n_trailing: usize) -> Result<Self> {
         // The equations are numbered in the factor's order already (`DofMap::ordered`).
         // Supernodal always: the trailing block is read from the supernodes.
         let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() };
@@ -375,13 +380,13 @@ impl SpdSolver {
             n_factorizations: 0,
             n_solves: 0,
         };
-        solver.factor(lower, dof_of_equation)?;
+        solver.factor(lower, map)?;
         Ok(solver)
     }
 
     /// Factor `lower` again (same pattern, new values). A non-positive pivot means a
     /// mechanism: the message names the global DOF through `dof_of_equation`.
-    pub fn factor(&mut self, lower: &SparseColMat<usize, f64>, dof_of_equation: &[usize]) -> Result<()> {
+    pub fn factor(&mut self, lower: &SparseColMat<usize, f64>, map: &DofMap) -> Result<()> {
         let result = self.symbolic.factorize_numeric_llt(&mut self.values, lower.as_ref(), Side::Lower, Default::default(), PAR, MemStack::new(&mut self.factor_scratch), Default::default());
         match result {
             Ok(_) => {
@@ -390,9 +395,10 @@ impl SpdSolver {
             }
             Err(LltError::NonPositivePivot { index }) => {
                 // (The equations are in the factor's order: no permutation to undo.)
-                let hint = dof_of_equation
+                let dim = map.dim;
+                let hint = map.dof_of_equation
                     .get(index)
-                    .map(|&d| format!(" near node {} ({})", d / 2, if d % 2 == 0 { "x" } else { "y" }))
+                    .map(|&d| format!(" near node {} ({})", d / dim, ["x", "y", "z"][d % dim]))
                     .unwrap_or_default();
                 bail!(FreeBody, "the stiffness matrix is singular{hint}: the model has a mechanism (a part held by nothing, or elements joined at a single node); add supports or check the mesh connectivity")
             }
@@ -539,7 +545,7 @@ mod tests {
     use crate::section::Section;
 
     /// Elastic D of E = 1000, ν = 0.3 as the plane's element pairs it with B.
-    fn elastic_d(plane: Plane) -> nalgebra::Matrix4<f64> {
+    fn elastic_d(plane: Plane) -> nalgebra::Matrix6<f64> {
         Section::new(Material::elastic(1000.0, 0.3), plane.stress_state()).elastic_matrix()
     }
 
@@ -561,7 +567,7 @@ mod tests {
                 triangles.push([a, a + 5, a + 4]);
             }
         }
-        let mesh = Mesh { nodes, triangles };
+        let mesh = Mesh::plane(nodes, triangles);
         let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 2.0)).collect();
         let d = elastic_d(Plane::Strain);
         let n = 2 * mesh.nodes.len();
@@ -615,7 +621,7 @@ mod tests {
                 triangles.push([a, a + 4, a + 3]);
             }
         }
-        let mesh = Mesh { nodes, triangles };
+        let mesh = Mesh::plane(nodes, triangles);
         let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
         let d = elastic_d(Plane::Stress);
         let tangents = vec![d; els.len()];
@@ -626,7 +632,7 @@ mod tests {
         }
         let map = DofMap::new(18, &fixed, &[]);
         let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &tangents, &map).unwrap();
-        let mut s = SpdSolver::new(&k, &map.dof_of_equation, 0).unwrap();
+        let mut s = SpdSolver::new(&k, &map, 0).unwrap();
         let rhs: Vec<f64> = (0..map.n_equations).map(|i| 1.0 + i as f64).collect();
         let mut x = rhs.clone();
         s.solve_in_place(&mut x, 1);
@@ -661,7 +667,7 @@ mod tests {
         // The chosen DOFs are the last equations, in the order given.
         let t = chosen.len();
         assert_eq!(chosen, (map.n_equations - t..map.n_equations).collect::<Vec<_>>());
-        let mut s = SpdSolver::new(&k, &map.dof_of_equation, t).unwrap();
+        let mut s = SpdSolver::new(&k, &map, t).unwrap();
         let g = s.trailing_inverse();
         let n = map.n_equations;
         let mut b = vec![0.0; n * chosen.len()];

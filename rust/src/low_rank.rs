@@ -200,7 +200,7 @@ mod tests {
         let mut m = Material::elastic(1000.0, 0.3);
         m.yield_stress = 1.0;
         m.hardening = 50.0;
-        let stress = nalgebra::Vector4::new(0.8, -0.4, 0.1, 0.5);
+        let stress = crate::material::from_planar([0.8, -0.4, 0.1, 0.5]);
         let section = Section::new(m, Plane::Strain.stress_state());
         let elastic = section.element_matrix(&section.tangent(&stress, false));
         let plastic = section.element_matrix(&section.tangent(&stress, true));
@@ -210,9 +210,10 @@ mod tests {
         let mut d = d_f.clone();
         softened.iter().for_each(|&e| d[e] = plastic);
         d[40] = elastic;
-        let mut solver = SpdSolver::new(&pattern.assemble(&els, &d_f, &map).unwrap(), &map.dof_of_equation, trailing.len()).unwrap();
+        let mut solver = SpdSolver::new(&pattern.assemble(&els, &d_f, &map).unwrap(), &map, trailing.len()).unwrap();
         let n = map.n_equations;
-        let column = |e: usize, delta: nalgebra::Matrix4<f64>| {
+        let column = |e: usize, delta: nalgebra::Matrix6<f64>| {
+            let delta = Cst::rows_of(&delta);
             // delta = s c cᵀ (rank one): c from its largest diagonal entry.
             let j = (0..4).max_by(|&a, &b| delta[(a, a)].abs().total_cmp(&delta[(b, b)].abs())).unwrap();
             let c = delta.column(j) / delta[(j, j)].abs().sqrt();
@@ -228,7 +229,7 @@ mod tests {
         solver.solve_in_place(&mut x, 1);
         let c = lr.coefficients(&y);
         lr.subtract(&mut x, &c);
-        let mut fresh = SpdSolver::new(&pattern.assemble(&els, &d, &map).unwrap(), &map.dof_of_equation, trailing.len()).unwrap();
+        let mut fresh = SpdSolver::new(&pattern.assemble(&els, &d, &map).unwrap(), &map, trailing.len()).unwrap();
         let mut exact = y.clone();
         fresh.solve_in_place(&mut exact, 1);
         let big = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));

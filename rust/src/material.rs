@@ -1,11 +1,13 @@
 //! Isotropic elasticity and von Mises plasticity with linear isotropic hardening
 //! (paper §2.2, eqs. 4–11, 18 and Appendix A).
 //!
-//! Stresses and strains carry four components (x, y, z, xy) with engineering shear strain
-//! (eq. 10), z the out-of-plane direction. The law here is three-dimensional over them; what z
-//! is (plane strain, plane stress, the hoop direction of axisymmetry) and how an element's
-//! strain meets this law is the stress state's (`section`), bound to a material by a
-//! `Section`.
+//! Stresses and strains carry the six Voigt components (xx, yy, zz, yz, xz, xy) with
+//! engineering shear strains (eq. 10). The law here is three-dimensional over them; a 2D model
+//! uses (x, y, z, xy) with yz = xz = 0 and z the out-of-plane direction; what z is (plane
+//! strain, plane stress, the hoop direction of axisymmetry, or a third coordinate of a solid)
+//! and how an element's strain meets this law is the stress state's (`section`), bound to a
+//! material by a `Section`. (The zero components add exact zeros to every sum here, so a 2D
+//! history is the one of the former four-component law bit for bit.)
 //!
 //! Prandtl–Reuss (eqs. 5–7) with the flow vector a = ∂σe/∂σ gives the elastoplastic tangent in
 //! *stiffness* form,   D_ep = D − (D a)(D a)ᵀ / (H' + aᵀ D a)   (eq. 11),
@@ -14,7 +16,14 @@
 
 use crate::bail;
 use crate::error::Result;
-use nalgebra::{Matrix4, Vector4};
+use nalgebra::{Matrix6, Vector6};
+
+/// A stress or strain in Voigt order (xx, yy, zz, yz, xz, xy), engineering shear strains.
+pub type Voigt = Vector6<f64>;
+/// The shear components of `Voigt` (normal ones are 0..3).
+pub const SHEARS: std::ops::Range<usize> = 3..6;
+/// The 2D components (x, y, z, xy) of a plane or axisymmetric model among the six.
+pub const PLANAR: [usize; 4] = [0, 1, 2, 5];
 
 /// The stress state a model names (its implementation: `Plane::stress_state` in `section`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -41,6 +50,13 @@ pub struct Material {
     pub yield_stress: f64,
     /// Plastic modulus H' (slope of the uniaxial stress–plastic strain curve).
     pub hardening: f64,
+}
+
+/// The six components of a 2D stress or strain (x, y, z, xy).
+pub fn from_planar(c: [f64; 4]) -> Voigt {
+    let mut v = Voigt::zeros();
+    PLANAR.iter().zip(c).for_each(|(&k, x)| v[k] = x);
+    v
 }
 
 impl Material {
@@ -93,58 +109,79 @@ impl Material {
         self.yield_stress + self.hardening * plastic_strain
     }
 
-    /// Isotropic D over (x, y, z, xy), engineering shear.
-    pub fn elastic_d4(&self) -> Matrix4<f64> {
+    /// Isotropic D over the six Voigt components, engineering shear.
+    pub fn elastic_d(&self) -> Matrix6<f64> {
         let (e, nu) = (self.young, self.poisson);
         let lame = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
         let g = e / (2.0 * (1.0 + nu));
         let d = lame + 2.0 * g;
-        Matrix4::new(
-            d, lame, lame, 0.0,
-            lame, d, lame, 0.0,
-            lame, lame, d, 0.0,
-            0.0, 0.0, 0.0, g,
-        )
+        Matrix6::from_fn(|i, j| match (i < 3, j < 3) {
+            (true, true) if i == j => d,
+            (true, true) => lame,
+            (false, false) if i == j => g,
+            _ => 0.0,
+        })
+    }
+
+    /// The shear modulus G.
+    pub fn shear_modulus(&self) -> f64 {
+        self.young / (2.0 * (1.0 + self.poisson))
     }
 
     /// Tangent at stress σ: elastic, or elastoplastic (eq. 11) for an element that is plastic.
-    pub fn tangent(&self, stress: &Vector4<f64>, plastic: bool) -> Tangent {
-        let d4 = self.elastic_d4();
+    pub fn tangent(&self, stress: &Voigt, plastic: bool) -> Tangent {
+        let d = self.elastic_d();
         if !plastic {
-            return Tangent { d4, flow: None };
+            return Tangent { d, flow: None };
         }
         let a = flow_vector(stress);
-        let da = d4 * a;
-        let denom = self.hardening + a.dot(&da);
-        Tangent { d4: d4 - da * da.transpose() / denom, flow: Some(Flow { da, denom }) }
+        let da = d * a;
+        let denom = self.hardening + voigt_dot(&a, &da);
+        Tangent { d: d - da * da.transpose() / denom, flow: Some(Flow { da, denom }) }
     }
 }
 
-/// σe = sqrt(3/2 s:s) (eq. 6) of (σx, σy, σz, τxy).
-pub fn von_mises(s: &Vector4<f64>) -> f64 {
+/// σe = sqrt(3/2 s:s) (eq. 6).
+pub fn von_mises(s: &Voigt) -> f64 {
     von_mises_squared(s).max(0.0).sqrt()
 }
 
-/// σe² as the quadratic form σᵀ P σ of eqs. 12–13.
-pub fn von_mises_squared(s: &Vector4<f64>) -> f64 {
-    s[0] * s[0] + s[1] * s[1] + s[2] * s[2] - s[0] * s[1] - s[1] * s[2] - s[2] * s[0] + 3.0 * s[3] * s[3]
+/// σe² as the quadratic form σᵀ P σ of eqs. 12–13: ½[(σx−σy)² + (σy−σz)² + (σz−σx)²]
+/// + 3(τyz² + τxz² + τxy²), in the form of the paper's P.
+pub fn von_mises_squared(s: &Voigt) -> f64 {
+    let normal = s[0] * s[0] + s[1] * s[1] + s[2] * s[2] - s[0] * s[1] - s[1] * s[2] - s[2] * s[0];
+    SHEARS.fold(normal, |a, k| a + 3.0 * s[k] * s[k])
 }
 
-fn von_mises_bilinear(s: &Vector4<f64>, t: &Vector4<f64>) -> f64 {
-    s[0] * t[0] + s[1] * t[1] + s[2] * t[2] - 0.5 * (s[0] * t[1] + s[1] * t[0] + s[1] * t[2] + s[2] * t[1] + s[2] * t[0] + s[0] * t[2])
-        + 3.0 * s[3] * t[3]
+fn von_mises_bilinear(s: &Voigt, t: &Voigt) -> f64 {
+    let normal = s[0] * t[0] + s[1] * t[1] + s[2] * t[2] - 0.5 * (s[0] * t[1] + s[1] * t[0] + s[1] * t[2] + s[2] * t[1] + s[2] * t[0] + s[0] * t[2]);
+    SHEARS.fold(normal, |a, k| a + 3.0 * s[k] * t[k])
 }
 
-/// a = ∂σe/∂σ = 3/(2σe) (sx, sy, sz, 2τxy) (engineering shear pairing).
-pub fn flow_vector(s: &Vector4<f64>) -> Vector4<f64> {
-    let se = von_mises(s);
+/// aᵀb of two six-component vectors, summed as (xx + zz + xz) + (yy + xy + yz): with the two
+/// shears a 2D model does not have (yz, xz) last in each partial sum, a 2D product is the
+/// one of the former four-component law bit for bit (nalgebra's 4-vector dot pairs (x + z) +
+/// (y + xy)).
+pub fn voigt_dot(a: &Voigt, b: &Voigt) -> f64 {
+    (a[0] * b[0] + a[2] * b[2] + a[4] * b[4]) + (a[1] * b[1] + a[5] * b[5] + a[3] * b[3])
+}
+
+/// The deviator s of σ (its shear components are σ's).
+pub fn deviator(s: &Voigt) -> Voigt {
     let p = (s[0] + s[1] + s[2]) / 3.0;
-    Vector4::new(s[0] - p, s[1] - p, s[2] - p, 2.0 * s[3]) * (1.5 / se)
+    Voigt::from_fn(|i, _| if i < 3 { s[i] - p } else { s[i] })
+}
+
+/// a = ∂σe/∂σ = 3/(2σe) (sx, sy, sz, 2τyz, 2τxz, 2τxy) (engineering shear pairing).
+pub fn flow_vector(s: &Voigt) -> Voigt {
+    let se = von_mises(s);
+    let dev = deviator(s);
+    Voigt::from_fn(|i, _| if i < 3 { dev[i] } else { 2.0 * dev[i] }) * (1.5 / se)
 }
 
 /// Yield scale factor S_p (eqs. 12–16): the smallest S ≥ 0 with σe(σ + S Δσ) = σy.
 /// Returns None if the increment never reaches the yield surface.
-pub fn yield_scale(stress: &Vector4<f64>, dstress: &Vector4<f64>, yield_stress: f64) -> Option<f64> {
+pub fn yield_scale(stress: &Voigt, dstress: &Voigt, yield_stress: f64) -> Option<f64> {
     let a2 = von_mises_squared(dstress); // Δσe of eq. 12/13
     let a1 = 2.0 * von_mises_bilinear(stress, dstress); // D of eq. 12/13
     let a0 = von_mises_squared(stress) - yield_stress * yield_stress; // σ̄e − Sy²
@@ -161,15 +198,15 @@ pub fn yield_scale(stress: &Vector4<f64>, dstress: &Vector4<f64>, yield_stress: 
 /// The plastic part of a tangent: D a and H' + aᵀ D a (both at the increment's start).
 #[derive(Debug, Clone, Copy)]
 pub struct Flow {
-    pub da: Vector4<f64>,
+    pub da: Voigt,
     pub denom: f64,
 }
 
-/// A material tangent over (x, y, z, xy): D or D_ep (eq. 11), and its plastic part. How it
-/// acts on an element's strain is the section's (`section::Section`).
+/// A material tangent over the six components: D or D_ep (eq. 11), and its plastic part. How
+/// it acts on an element's strain is the section's (`section::Section`).
 #[derive(Debug, Clone, Copy)]
 pub struct Tangent {
-    pub d4: Matrix4<f64>,
+    pub d: Matrix6<f64>,
     pub flow: Option<Flow>,
 }
 
@@ -190,13 +227,13 @@ mod tests {
 
     #[test]
     fn yield_scale_lands_on_the_surface() {
-        let s = Vector4::new(50.0, -20.0, 9.0, 30.0);
-        let ds = Vector4::new(100.0, -40.0, 18.0, 10.0);
+        let s = Voigt::from_row_slice(&[50.0, -20.0, 9.0, -12.0, 7.0, 30.0]);
+        let ds = Voigt::from_row_slice(&[100.0, -40.0, 18.0, 5.0, -3.0, 10.0]);
         let sp = yield_scale(&s, &ds, 200.0).unwrap();
         assert!((von_mises(&(s + ds * sp)) - 200.0).abs() < 1e-10);
         // Unloading towards the origin reaches the surface only after reversing (S > 2).
         assert!(yield_scale(&s, &(-s * 0.5), 200.0).unwrap() > 2.0);
-        assert!(yield_scale(&s, &Vector4::zeros(), 200.0).is_none());
+        assert!(yield_scale(&s, &Voigt::zeros(), 200.0).is_none());
     }
 
     #[test]

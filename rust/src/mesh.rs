@@ -1,4 +1,5 @@
-//! Triangle meshes: validation and the split into bodies (connected components).
+//! Meshes of triangles (2D) or tetrahedra (3D): validation and the split into bodies
+//! (connected components).
 
 use crate::bail;
 use crate::error::Result;
@@ -7,17 +8,70 @@ use crate::error::Result;
 /// of the node coordinates); one further left is at r < 0.
 pub const AXIS_TOLERANCE: f64 = 1e-9;
 
-#[derive(Debug, Clone)]
+/// A flat or inverted tetrahedron: |det[x1 − x0, x2 − x0, x3 − x0]| at most this × the cube of
+/// its longest edge (the triangles' 1e-10 of the squared longest side, one dimension up).
+const FLAT_TETRAHEDRON: f64 = 1e-10;
+
+/// A mesh of one dimension: `nodes` and `triangles` (2D), or `points` and `tetrahedra` (3D);
+/// the other pair is empty.
+#[derive(Debug, Clone, Default)]
 pub struct Mesh {
-    /// Node coordinates (x, y).
+    /// Node coordinates (x, y) of a 2D mesh.
     pub nodes: Vec<[f64; 2]>,
     /// CST connectivity, counter-clockwise.
     pub triangles: Vec<[usize; 3]>,
+    /// Node coordinates (x, y, z) of a 3D mesh.
+    pub points: Vec<[f64; 3]>,
+    /// Linear tetrahedra, positively oriented.
+    pub tetrahedra: Vec<[usize; 4]>,
 }
 
 impl Mesh {
+    /// A 2D mesh.
+    pub fn plane(nodes: Vec<[f64; 2]>, triangles: Vec<[usize; 3]>) -> Self {
+        Mesh { nodes, triangles, ..Default::default() }
+    }
+
+    /// A 3D mesh.
+    pub fn space(points: Vec<[f64; 3]>, tetrahedra: Vec<[usize; 4]>) -> Self {
+        Mesh { points, tetrahedra, ..Default::default() }
+    }
+
+    /// 3 for a mesh of tetrahedra, else 2: the DOFs per node.
+    pub fn dim(&self) -> usize {
+        if self.points.is_empty() { 2 } else { 3 }
+    }
+
     pub fn n_nodes(&self) -> usize {
-        self.nodes.len()
+        self.nodes.len().max(self.points.len())
+    }
+
+    pub fn n_elements(&self) -> usize {
+        self.triangles.len().max(self.tetrahedra.len())
+    }
+
+    /// The nodes of element `e`.
+    pub fn element_nodes(&self, e: usize) -> &[usize] {
+        match self.dim() {
+            2 => &self.triangles[e],
+            _ => &self.tetrahedra[e],
+        }
+    }
+
+    /// The coordinates of node i (z = 0 in 2D).
+    pub fn point(&self, i: usize) -> [f64; 3] {
+        match self.dim() {
+            2 => [self.nodes[i][0], self.nodes[i][1], 0.0],
+            _ => self.points[i],
+        }
+    }
+
+    /// det[x1 − x0, x2 − x0, x3 − x0] of tetrahedron `e` (6 × its signed volume).
+    pub fn signed_volume6(&self, e: usize) -> f64 {
+        let p = self.tetrahedra[e].map(|i| self.points[i]);
+        let d = |k: usize| [p[k][0] - p[0][0], p[k][1] - p[0][1], p[k][2] - p[0][2]];
+        let (a, b, c) = (d(1), d(2), d(3));
+        a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])
     }
 
     /// Twice the signed area of element `e` (> 0 when counter-clockwise).
@@ -29,6 +83,10 @@ impl Mesh {
 
     /// Length of the diagonal of the bounding box: the length scale of tolerances.
     pub fn diameter(&self) -> f64 {
+        if self.dim() == 3 {
+            let (lo, hi) = self.points.iter().fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), p| (std::array::from_fn(|k| lo[k].min(p[k])), std::array::from_fn(|k| hi[k].max(p[k]))));
+            return (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+        }
         let (xmin, xmax, ymin, ymax) = self.nodes.iter().fold((f64::MAX, f64::MIN, f64::MAX, f64::MIN), |b, p| (b.0.min(p[0]), b.1.max(p[0]), b.2.min(p[1]), b.3.max(p[1])));
         ((xmax - xmin).powi(2) + (ymax - ymin).powi(2)).sqrt()
     }
@@ -50,6 +108,9 @@ impl Mesh {
     /// Reject meshes the element routines cannot integrate: no elements, NaN/inf coordinates,
     /// node ids out of range, repeated nodes in a triangle, inverted or degenerate triangles.
     pub fn validate(&self) -> Result<()> {
+        if self.dim() == 3 {
+            return self.validate_space();
+        }
         if self.triangles.is_empty() {
             bail!(Input, "the mesh has no triangles: give each body a mesh with at least one element");
         }
@@ -88,10 +149,42 @@ impl Mesh {
         Ok(())
     }
 
+    /// `validate` of a mesh of tetrahedra: finite coordinates, node ids in range, four distinct
+    /// nodes, positive volume (an inverted or flat tetrahedron is named by its index).
+    fn validate_space(&self) -> Result<()> {
+        if self.tetrahedra.is_empty() {
+            bail!(Input, "the mesh has no tetrahedra: give each body a volume mesh with at least one element");
+        }
+        if let Some((i, p)) = self.points.iter().enumerate().find(|(_, p)| p.iter().any(|v| !v.is_finite())) {
+            bail!(Input, "node {i} has a non-finite coordinate ({}, {}, {}): fix the mesh file", p[0], p[1], p[2]);
+        }
+        let n = self.points.len();
+        for (e, t) in self.tetrahedra.iter().enumerate() {
+            if let Some(&bad) = t.iter().find(|&&v| v >= n) {
+                bail!(Input, "element {e} refers to node {bad}, but the mesh has only {n} nodes: fix the connectivity");
+            }
+            if (0..4).any(|k| t[k + 1..].contains(&t[k])) {
+                bail!(Input, "element {e} repeats a node ({t:?}): remove the degenerate tetrahedron");
+            }
+            let det = self.signed_volume6(e);
+            let longest = (0..4).flat_map(|a| (a + 1..4).map(move |b| (a, b))).map(|(a, b)| {
+                let (p, q) = (self.points[t[a]], self.points[t[b]]);
+                ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+            }).fold(0.0, f64::max);
+            if det.abs() <= FLAT_TETRAHEDRON * longest.powi(3) {
+                bail!(Input, "element {e} is a flat tetrahedron (volume {:.3e} for a longest edge of {longest:.3e}): remove it or move its nodes apart", det / 6.0);
+            }
+            if det < 0.0 {
+                bail!(Input, "element {e} is an inverted tetrahedron (signed volume {:.3e}): list its nodes so that det[x1 - x0, x2 - x0, x3 - x0] > 0", det / 6.0);
+            }
+        }
+        Ok(())
+    }
+
     /// Body index of every node (connected components of the element graph); nodes used by
     /// no element get `usize::MAX`. Returns (body_of_node, number_of_bodies).
     pub fn bodies(&self) -> (Vec<usize>, usize) {
-        let n = self.nodes.len();
+        let n = self.n_nodes();
         let mut parent: Vec<usize> = (0..n).collect();
         fn find(parent: &mut [usize], mut i: usize) -> usize {
             while parent[i] != i {
@@ -101,11 +194,11 @@ impl Mesh {
             i
         }
         let mut used = vec![false; n];
-        for t in &self.triangles {
+        for t in (0..self.n_elements()).map(|e| self.element_nodes(e)) {
             for &v in t {
                 used[v] = true;
             }
-            for k in 1..3 {
+            for k in 1..t.len() {
                 let (ra, rb) = (find(&mut parent, t[0]), find(&mut parent, t[k]));
                 if ra != rb {
                     parent[ra.max(rb)] = ra.min(rb);
@@ -135,10 +228,7 @@ mod tests {
     use super::*;
 
     fn square() -> Mesh {
-        Mesh {
-            nodes: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
-            triangles: vec![[0, 1, 2], [0, 2, 3]],
-        }
+        Mesh::plane(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], vec![[0, 1, 2], [0, 2, 3]])
     }
 
     #[test]
@@ -203,5 +293,5 @@ pub fn test_grid(nx: usize, ny: usize, dx: f64, dy: f64) -> Mesh {
             triangles.push([a, a + nx + 1, a + nx]);
         }
     }
-    Mesh { nodes, triangles }
+    Mesh::plane(nodes, triangles)
 }

@@ -14,7 +14,11 @@ pub use crate::records::*;
 pub struct PairInput {
     pub node_a: usize,
     pub node_b: Option<usize>,
-    pub normal: [f64; 2],
+    /// The target's unit normal (z = 0 in 2D).
+    pub normal: [f64; 3],
+    /// 3D: the pair's tangent basis (t1, t2), orthonormal with t1 × t2 = n; None: the
+    /// engine's own (`contact::Frame::of_pair`).
+    pub tangents: Option<[[f64; 3]; 2]>,
     pub gap: f64,
     pub mu: f64,
     /// Index into `Names::contacts` of the case's contact this pair comes from.
@@ -54,8 +58,8 @@ pub struct LoadPattern {
     pub force: Vec<f64>,
     /// Prescribed displacement components (DOF, value); these DOFs are eliminated like supports.
     pub displacement: Vec<(usize, f64)>,
-    /// Rigid obstacle translations (index into `Names::contacts`, [dx, dy]).
-    pub motion: Vec<(usize, [f64; 2])>,
+    /// Rigid obstacle translations (index into `Names::contacts`, [dx, dy, dz]; dz = 0 in 2D).
+    pub motion: Vec<(usize, [f64; 3])>,
 }
 
 /// One stage of the load path: the factor every pattern reaches at its end (`load` first, then
@@ -68,16 +72,18 @@ pub struct Stage {
 
 #[derive(Debug, Clone)]
 pub struct Model {
+    /// Triangles (2D) or tetrahedra (3D: `Mesh::dim` = 3, the dimension of the model).
     pub mesh: Mesh,
     pub element_material: Vec<usize>,
     pub materials: Vec<Material>,
+    /// The 2D stress state (ignored in 3D).
     pub plane: Plane,
     /// Out-of-plane thickness t (plane strain and plane stress; ignored in axisymmetry, where
     /// every force is a total over the full ring).
     pub thickness: f64,
-    /// DOFs with u = 0 (2·node + component).
+    /// DOFs with u = 0 (dim·node + component).
     pub fixed_dofs: Vec<usize>,
-    /// The force of the pattern named `load` at factor 1 (length 2·nodes).
+    /// The force of the pattern named `load` at factor 1 (length dim·nodes).
     pub load: Vec<f64>,
     /// Further load patterns (forces, prescribed displacements, obstacle motions).
     pub patterns: Vec<LoadPattern>,
@@ -114,15 +120,34 @@ impl Model {
     /// r = 0 (a ring of zero radius cannot move radially), added here so every caller gets it.
     pub fn supported_dofs(&self) -> Vec<usize> {
         let mut dofs = self.fixed_dofs.clone();
-        if self.plane == Plane::Axisymmetric {
+        if self.is_axisymmetric() {
             dofs.extend(self.mesh.axis_nodes().iter().map(|&i| 2 * i));
         }
         dofs
     }
 
+    /// DOFs per node: 2, or 3 for a model of tetrahedra.
+    pub fn dim(&self) -> usize {
+        self.mesh.dim()
+    }
+
+    /// A 2D model of rings about the axis.
+    pub fn is_axisymmetric(&self) -> bool {
+        self.dim() == 2 && self.plane == Plane::Axisymmetric
+    }
+
+    /// "node i (x)" of DOF d.
+    pub fn dof_name(&self, d: usize) -> String {
+        format!("node {} ({})", d / self.dim(), ["x", "y", "z"][d % self.dim()])
+    }
+
     /// The out-of-plane extent forces scale with: the thickness t in plane strain and plane
-    /// stress, the largest circumference 2π r_max in axisymmetry (forces are ring totals).
+    /// stress, the largest circumference 2π r_max in axisymmetry (forces are ring totals), the
+    /// mesh's diameter in 3D (a force over E × a length² is a strain).
     pub fn depth(&self) -> f64 {
+        if self.dim() == 3 {
+            return self.mesh.diameter();
+        }
         match self.plane {
             Plane::Axisymmetric => 2.0 * std::f64::consts::PI * self.mesh.nodes.iter().fold(0.0f64, |m, p| m.max(p[0])),
             Plane::Strain | Plane::Stress => self.thickness,
@@ -130,8 +155,10 @@ impl Model {
     }
 
     fn validate_bulk(&self) -> Result<()> {
-        let n_dofs = 2 * self.mesh.n_nodes();
-        if self.plane == Plane::Axisymmetric {
+        let n_dofs = self.dim() * self.mesh.n_nodes();
+        if self.dim() == 3 {
+            // no plane, no thickness
+        } else if self.plane == Plane::Axisymmetric {
             if let Some((e, i)) = self.mesh.element_left_of_axis() {
                 let body = self.names.element_body.get(e).and_then(|&b| self.names.bodies.get(b)).map(|b| format!(" of body '{b}'")).unwrap_or_default();
                 bail!(Input, "element {e}{body} has node {i} at r = x = {:.6} < 0: an axisymmetric mesh lies in x = r >= 0 (the axis is x = 0); move the body to x >= 0", self.mesh.nodes[i][0]);
@@ -145,17 +172,17 @@ impl Model {
         for (i, m) in self.materials.iter().enumerate() {
             m.validate(&self.material_name(i))?;
         }
-        if self.element_material.len() != self.mesh.triangles.len() {
-            bail!(Input, "element_material has {} entries for {} elements", self.element_material.len(), self.mesh.triangles.len());
+        if self.element_material.len() != self.mesh.n_elements() {
+            bail!(Input, "element_material has {} entries for {} elements", self.element_material.len(), self.mesh.n_elements());
         }
         if let Some((e, &m)) = self.element_material.iter().enumerate().find(|(_, &m)| m >= self.materials.len()) {
             bail!(Input, "element {e} uses material {m}, but only {} materials are given", self.materials.len());
         }
         if self.load.len() != n_dofs {
-            bail!(Input, "the load vector has {} entries for {} DOFs (2 per node)", self.load.len(), n_dofs);
+            bail!(Input, "the load vector has {} entries for {} DOFs ({} per node)", self.load.len(), n_dofs, self.dim());
         }
         if let Some(d) = self.load.iter().position(|v| !v.is_finite()) {
-            bail!(Input, "the load at node {} ({}) is not finite: check the pressure/traction values", d / 2, if d % 2 == 0 { "x" } else { "y" });
+            bail!(Input, "the load at {} is not finite: check the pressure/traction values", self.dof_name(d));
         }
         if let Some(&d) = self.fixed_dofs.iter().find(|&&d| d >= n_dofs) {
             bail!(Input, "fixed DOF {d} is out of range (the mesh has {n_dofs} DOFs)");
@@ -166,7 +193,7 @@ impl Model {
     /// Patterns (finite, in range, prescribed DOFs not also fixed or repeated, motions on rigid
     /// contacts only) and stages (one factor per pattern, finite, each stage changes something).
     fn validate_path(&self) -> Result<()> {
-        let n_dofs = 2 * self.mesh.n_nodes();
+        let n_dofs = self.dim() * self.mesh.n_nodes();
         let mut prescribed = vec![false; n_dofs];
         self.supported_dofs().iter().filter(|&&d| d < n_dofs).for_each(|&d| prescribed[d] = true);
         for pat in &self.patterns {
@@ -182,7 +209,7 @@ impl Model {
                     bail!(Input, "load '{name}': prescribed DOF {d} is out of range or its value {v} is not finite");
                 }
                 if std::mem::replace(&mut prescribed[d], true) {
-                    bail!(Input, "load '{name}': node {} {} is already held by a support or another prescribed displacement: prescribe each component once", d / 2, if d % 2 == 0 { "x" } else { "y" });
+                    bail!(Input, "load '{name}': {} is already held by a support or another prescribed displacement: prescribe each component once", self.dof_name(d));
                 }
             }
             for &(c, m) in &pat.motion {
@@ -259,8 +286,8 @@ impl Model {
 
     fn validate_names(&self) -> Result<()> {
         let n = &self.names;
-        if !n.element_body.is_empty() && n.element_body.len() != self.mesh.triangles.len() {
-            bail!(Input, "names.element_body has {} entries for {} elements", n.element_body.len(), self.mesh.triangles.len());
+        if !n.element_body.is_empty() && n.element_body.len() != self.mesh.n_elements() {
+            bail!(Input, "names.element_body has {} entries for {} elements", n.element_body.len(), self.mesh.n_elements());
         }
         if let Some(&b) = n.element_body.iter().find(|&&b| b >= n.bodies.len()) {
             bail!(Input, "names.element_body refers to body {b}, but only {} body names are given", n.bodies.len());
@@ -293,9 +320,12 @@ impl Model {
         if sum.abs() > WEIGHT_BALANCE * size {
             bail!(Input, "{name}: its node weights sum to {sum:.3e}, not 0: the contactor weights must sum to 1 and the target weights to -1");
         }
-        let nn = (p.normal[0].powi(2) + p.normal[1].powi(2)).sqrt();
+        let nn = (p.normal[0].powi(2) + p.normal[1].powi(2) + p.normal[2].powi(2)).sqrt();
         if !nn.is_finite() || (nn - 1.0).abs() > 1e-6 {
-            bail!(Input, "{name}: the normal ({}, {}) is not a unit vector", p.normal[0], p.normal[1]);
+            bail!(Input, "{name}: the normal {:?} is not a unit vector", &p.normal[..self.dim()]);
+        }
+        if self.dim() == 3 && p.mu > 0.0 {
+            bail!(Input, "{name}: mu = {} > 0 in a 3D model: this engine solves 3D contact frictionless only (friction on the round cone is not built yet); set mu = 0", p.mu);
         }
         if !p.gap.is_finite() {
             bail!(Input, "{name}: the initial gap is not finite");
@@ -317,7 +347,10 @@ impl Model {
     /// "contact 'NAME' pair k (node n at (x, y))", or "contact pair k (node n)" without names.
     pub fn pair_name(&self, k: usize) -> String {
         let p = &self.pairs[k];
-        let at = self.mesh.nodes.get(p.node_a).map(|x| format!(" at ({:.6}, {:.6})", x[0], x[1])).unwrap_or_default();
+        let at = match self.dim() {
+            2 => self.mesh.nodes.get(p.node_a).map(|x| format!(" at ({:.6}, {:.6})", x[0], x[1])),
+            _ => self.mesh.points.get(p.node_a).map(|x| format!(" at ({:.6}, {:.6}, {:.6})", x[0], x[1], x[2])),
+        }.unwrap_or_default();
         match self.names.contacts.get(p.contact) {
             Some(c) => format!("contact '{c}' pair {k} (node {}{at})", p.node_a),
             None => format!("contact pair {k} (node {}{at})", p.node_a),

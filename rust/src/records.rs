@@ -68,10 +68,12 @@ pub struct Snapshot {
     pub stage: usize,
     pub load_fraction: f64,
     pub time: f64,
-    /// Displacement, 2 per node.
+    /// DOFs per node (2 or 3).
+    pub dim: usize,
+    /// Displacement, dim per node.
     pub u: Vec<f64>,
-    /// σx, σy, σz, τxy per element.
-    pub stress: Vec<[f64; 4]>,
+    /// The six stress components (xx, yy, zz, yz, xz, xy) per element (2D: yz = xz = 0).
+    pub stress: Vec<[f64; 6]>,
     pub plastic_strain: Vec<f64>,
     pub plastic: Vec<i8>,
     pub lambda_n: Vec<f64>,
@@ -79,6 +81,9 @@ pub struct Snapshot {
     pub status: Vec<i8>,
     pub gap: Vec<f64>,
     pub rtd: Vec<f64>,
+    /// 3D: λ_t and the RTD along each pair's second tangent t2 (empty in 2D).
+    pub lambda_t2: Vec<f64>,
+    pub rtd2: Vec<f64>,
     /// Support reactions, 2 per node: P_σ − P at fixed and prescribed DOFs (the force the
     /// supports exert on the body), 0 elsewhere.
     pub reaction: Vec<f64>,

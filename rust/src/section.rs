@@ -1,42 +1,41 @@
-//! The stress state of a 2D model and the section that binds it to a material (paper §2.2,
+//! The stress state of a model and the section that binds it to a material (paper §2.2,
 //! eqs. 10–11, Appendix A.3–A.6).
 //!
-//! A material's law is three-dimensional (`material`: four components x, y, z, xy here, z the
-//! out-of-plane direction); an element's strain operator has a row for each of them
-//! (`element`). What z is makes the stress state, and each is an implementation of
-//! `StressState`:
+//! A material's law is three-dimensional (`material`: the six Voigt components); a 2D
+//! element's strain operator has a row for each of x, y, z, xy (`element`), z the out-of-plane
+//! direction, the other two shears zero. What z is makes the stress state, and each is an
+//! implementation of `StressState`:
 //! - `PlaneStrain`: εz = 0 (its row of B is zero), σz tracked; K pairs B with D restricted to
 //!   (x, y, xy);
 //! - `PlaneStress`: σz = 0, εz follows from it (static condensation of the tangent, A.3);
 //! - `Axisymmetric`: rings about the axis x = 0 (x = r, y = the axis), z the hoop direction θ
 //!   with εθ = u_r/r: every component is live and D is whole.
 //!
+//! - `Solid`: a three-dimensional body (linear tetrahedra): all six components are live, D is
+//!   whole, and nothing is condensed.
+//!
 //! A `Section` binds a material to the model's stress state once; the driver asks it for
-//! tangents, stress increments and returns to the yield surface and never names the plane. A
-//! solid (six components) is a further implementation with its own element, not a branch.
+//! tangents, stress increments and returns to the yield surface and never names the plane or
+//! the dimension.
 
-use crate::element::Cst;
-use crate::material::{von_mises, Material, Plane, Tangent};
-use crate::mesh::Mesh;
-use nalgebra::{Matrix3, Matrix4, RowVector3, Vector3, Vector4};
+use crate::material::{deviator, voigt_dot, von_mises, Material, Plane, Tangent, Voigt};
+use nalgebra::{Matrix3, Matrix6, RowVector3, Vector3};
 use std::fmt::Debug;
 
-/// What the out-of-plane direction z of a 2D model is (see the module text).
+/// What the model's stress state is (see the module text).
 pub trait StressState: Debug + Send + Sync {
-    /// Element `e` of `mesh` with this state's kinematics (`thickness`: planar states only).
-    fn element(&self, mesh: &Mesh, e: usize, thickness: f64) -> Cst;
+    /// The elastic D over the six components as the element pairs it with its B: the
+    /// classical closed forms. (`element_matrix` of an elastic tangent agrees with them to
+    /// round-off.)
+    fn elastic_matrix(&self, m: &Material) -> Matrix6<f64>;
 
-    /// The elastic D over (x, y, z, xy) as the element pairs it with its B: the classical
-    /// closed forms. (`element_matrix` of an elastic tangent agrees with them to round-off.)
-    fn elastic_matrix(&self, m: &Material) -> Matrix4<f64>;
+    /// The D the element pairs with its strain operator B (K_e = w Bᵀ D B, eq. 36) for a
+    /// material tangent `d` (the element takes the rows of its B from it).
+    fn element_matrix(&self, d: &Matrix6<f64>) -> Matrix6<f64>;
 
-    /// The D the element pairs with its four-row strain operator B (K_e = w Bᵀ D B, eq. 36)
-    /// for a material tangent `d4` over (x, y, z, xy).
-    fn element_matrix(&self, d4: &Matrix4<f64>) -> Matrix4<f64>;
-
-    /// The full strain (εx, εy, εz, γxy) of an element strain (the rows of its B) under the
-    /// tangent `d4`: the element strain itself where the kinematics give εz.
-    fn full_strain(&self, _d4: &Matrix4<f64>, e: &Vector4<f64>) -> Vector4<f64> {
+    /// The full strain of an element strain (the rows of its B, the others 0) under the
+    /// tangent `d`: the element strain itself where the kinematics give every component.
+    fn full_strain(&self, _d: &Matrix6<f64>, e: &Voigt) -> Voigt {
         *e
     }
 
@@ -48,9 +47,9 @@ pub trait StressState: Debug + Send + Sync {
 
     /// σ with the part the yield function sees scaled by `factor`: the deviator at fixed mean
     /// stress.
-    fn scale_onto_surface(&self, stress: &Vector4<f64>, factor: f64) -> Vector4<f64> {
+    fn scale_onto_surface(&self, stress: &Voigt, factor: f64) -> Voigt {
         let p = (stress[0] + stress[1] + stress[2]) / 3.0;
-        let mean = Vector4::new(p, p, p, 0.0);
+        let mean = Voigt::from_fn(|i, _| if i < 3 { p } else { 0.0 });
         mean + (stress - mean) * factor
     }
 }
@@ -67,12 +66,22 @@ pub struct PlaneStress;
 #[derive(Debug, Clone, Copy)]
 pub struct Axisymmetric;
 
-impl StressState for PlaneStrain {
-    fn element(&self, mesh: &Mesh, e: usize, thickness: f64) -> Cst {
-        Cst::planar(mesh, e, thickness)
+/// A three-dimensional body: every component live.
+#[derive(Debug, Clone, Copy)]
+pub struct Solid;
+
+impl StressState for Solid {
+    fn elastic_matrix(&self, m: &Material) -> Matrix6<f64> {
+        m.elastic_d()
     }
 
-    fn elastic_matrix(&self, m: &Material) -> Matrix4<f64> {
+    fn element_matrix(&self, d: &Matrix6<f64>) -> Matrix6<f64> {
+        *d
+    }
+}
+
+impl StressState for PlaneStrain {
+    fn elastic_matrix(&self, m: &Material) -> Matrix6<f64> {
         let (e, nu) = (m.young, m.poisson);
         let c = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
         #[rustfmt::skip]
@@ -84,17 +93,13 @@ impl StressState for PlaneStrain {
         embed_in_plane(&d)
     }
 
-    fn element_matrix(&self, d4: &Matrix4<f64>) -> Matrix4<f64> {
-        embed_in_plane(&restricted(d4))
+    fn element_matrix(&self, d: &Matrix6<f64>) -> Matrix6<f64> {
+        embed_in_plane(&restricted(d))
     }
 }
 
 impl StressState for PlaneStress {
-    fn element(&self, mesh: &Mesh, e: usize, thickness: f64) -> Cst {
-        Cst::planar(mesh, e, thickness)
-    }
-
-    fn elastic_matrix(&self, m: &Material) -> Matrix4<f64> {
+    fn elastic_matrix(&self, m: &Material) -> Matrix6<f64> {
         let (e, nu) = (m.young, m.poisson);
         let c = e / (1.0 - nu * nu);
         #[rustfmt::skip]
@@ -106,13 +111,15 @@ impl StressState for PlaneStress {
         embed_in_plane(&d)
     }
 
-    fn element_matrix(&self, d4: &Matrix4<f64>) -> Matrix4<f64> {
-        embed_in_plane(&condensed(d4))
+    fn element_matrix(&self, d: &Matrix6<f64>) -> Matrix6<f64> {
+        embed_in_plane(&condensed(d))
     }
 
-    fn full_strain(&self, d4: &Matrix4<f64>, e: &Vector4<f64>) -> Vector4<f64> {
-        let in_plane = Vector3::new(e[0], e[1], e[3]);
-        Vector4::new(e[0], e[1], (condensed_strain_z(d4) * in_plane)[0], e[3])
+    fn full_strain(&self, d: &Matrix6<f64>, e: &Voigt) -> Voigt {
+        let in_plane = Vector3::new(e[0], e[1], e[XY]);
+        let mut full = *e;
+        full[2] = (condensed_strain_z(d) * in_plane)[0];
+        full
     }
 
     fn strain_is_whole(&self) -> bool {
@@ -120,28 +127,24 @@ impl StressState for PlaneStress {
     }
 
     /// Radially: the in-plane stress scaled keeps σz = 0.
-    fn scale_onto_surface(&self, stress: &Vector4<f64>, factor: f64) -> Vector4<f64> {
+    fn scale_onto_surface(&self, stress: &Voigt, factor: f64) -> Voigt {
         stress * factor
     }
 }
 
 impl StressState for Axisymmetric {
-    fn element(&self, mesh: &Mesh, e: usize, _thickness: f64) -> Cst {
-        Cst::ring(mesh, e)
+    fn elastic_matrix(&self, m: &Material) -> Matrix6<f64> {
+        m.elastic_d()
     }
 
-    fn elastic_matrix(&self, m: &Material) -> Matrix4<f64> {
-        m.elastic_d4()
-    }
-
-    /// The whole 4×4 tangent: the hoop row of B is live.
-    fn element_matrix(&self, d4: &Matrix4<f64>) -> Matrix4<f64> {
-        *d4
+    /// The whole tangent: the hoop row of B is live (the element takes x, y, z, xy).
+    fn element_matrix(&self, d: &Matrix6<f64>) -> Matrix6<f64> {
+        *d
     }
 }
 
 impl Plane {
-    /// The stress state this plane names.
+    /// The stress state this plane names (a solid's is `Solid`).
     pub fn stress_state(self) -> &'static dyn StressState {
         match self {
             Plane::Strain => &PlaneStrain,
@@ -165,54 +168,53 @@ impl Section {
     }
 
     /// The material tangent at stress σ: elastic, or elastoplastic (eq. 11) when plastic.
-    pub fn tangent(&self, stress: &Vector4<f64>, plastic: bool) -> Tangent {
+    pub fn tangent(&self, stress: &Voigt, plastic: bool) -> Tangent {
         self.material.tangent(stress, plastic)
     }
 
     /// Elastic D as the element pairs it with its B (closed form).
-    pub fn elastic_matrix(&self) -> Matrix4<f64> {
+    pub fn elastic_matrix(&self) -> Matrix6<f64> {
         self.state.elastic_matrix(&self.material)
     }
 
     /// The D the element pairs with its B for a tangent of this section.
-    pub fn element_matrix(&self, t: &Tangent) -> Matrix4<f64> {
-        self.state.element_matrix(&t.d4)
+    pub fn element_matrix(&self, t: &Tangent) -> Matrix6<f64> {
+        self.state.element_matrix(&t.d)
     }
 
-    /// Δσ (four components) for an element strain increment (eq. 10 with D or D_ep).
-    pub fn stress_increment(&self, t: &Tangent, e: &Vector4<f64>) -> Vector4<f64> {
-        t.d4 * self.state.full_strain(&t.d4, e)
+    /// Δσ for an element strain increment (eq. 10 with D or D_ep).
+    pub fn stress_increment(&self, t: &Tangent, e: &Voigt) -> Voigt {
+        t.d * self.state.full_strain(&t.d, e)
     }
 
     /// Equivalent plastic strain increment Δεp = (D a)ᵀ Δε / (H' + aᵀ D a) (Prandtl–Reuss);
     /// negative means elastic unloading. 0 for an elastic tangent.
-    pub fn plastic_multiplier(&self, t: &Tangent, e: &Vector4<f64>) -> f64 {
+    pub fn plastic_multiplier(&self, t: &Tangent, e: &Voigt) -> f64 {
         match t.flow {
             None => 0.0,
-            Some(f) => f.da.dot(&self.state.full_strain(&t.d4, e)) / f.denom,
+            Some(f) => voigt_dot(&f.da, &self.state.full_strain(&t.d, e)) / f.denom,
         }
     }
 
     /// D_ep Δε (eq. 11) at a stress on the yield surface and the plastic multiplier
     /// Δεp = (D a)ᵀ Δε / (H' + aᵀ D a), unclamped (negative: unloading), given D Δε. Where the
     /// element strain is the whole strain, von Mises gives the closed forms
-    /// D a = (3G/σe) (sx, sy, sz, τxy) and aᵀ D a = 3G (s the deviator), so no tangent is built;
-    /// otherwise (plane stress) it goes through the condensed tangent.
-    pub fn plastic_increment(&self, stress: &Vector4<f64>, e: &Vector4<f64>, d_elastic: &Vector4<f64>) -> (Vector4<f64>, f64) {
+    /// D a = (3G/σe) s (s the deviator, its shears the τ's) and aᵀ D a = 3G, so no tangent is
+    /// built; otherwise (plane stress) it goes through the condensed tangent.
+    pub fn plastic_increment(&self, stress: &Voigt, e: &Voigt, d_elastic: &Voigt) -> (Voigt, f64) {
         if !self.state.strain_is_whole() {
             let t = self.tangent(stress, true);
             return (self.stress_increment(&t, e), self.plastic_multiplier(&t, e));
         }
         let m = &self.material;
-        let g = m.young / (2.0 * (1.0 + m.poisson));
-        let p = (stress[0] + stress[1] + stress[2]) / 3.0;
-        let da = Vector4::new(stress[0] - p, stress[1] - p, stress[2] - p, stress[3]) * (3.0 * g / von_mises(stress));
-        let multiplier = da.dot(e) / (m.hardening + 3.0 * g);
+        let g = m.shear_modulus();
+        let da = deviator(stress) * (3.0 * g / von_mises(stress));
+        let multiplier = voigt_dot(&da, e) / (m.hardening + 3.0 * g);
         (d_elastic - da * multiplier, multiplier)
     }
 
     /// The stress scaled back onto the yield surface σe = σy (`StressState::scale_onto_surface`).
-    pub fn onto_yield_surface(&self, stress: &Vector4<f64>, sy: f64) -> Vector4<f64> {
+    pub fn onto_yield_surface(&self, stress: &Voigt, sy: f64) -> Voigt {
         let se = von_mises(stress);
         if !(se > 0.0) {
             return *stress;
@@ -227,7 +229,7 @@ impl Section {
     /// an out-of-balance force that the next correction undoes along D_ep, leaving the same
     /// drift inside again: in plane stress, where the scaling is radial, the drift then never
     /// decays and the increments stall.)
-    pub fn not_beyond_surface(&self, stress: &Vector4<f64>, sy: f64) -> Vector4<f64> {
+    pub fn not_beyond_surface(&self, stress: &Voigt, sy: f64) -> Voigt {
         if von_mises(stress) > sy {
             self.onto_yield_surface(stress, sy)
         } else {
@@ -236,12 +238,14 @@ impl Section {
     }
 }
 
-/// The in-plane components (x, y, xy) among (x, y, z, xy).
-const IN_PLANE: [usize; 3] = [0, 1, 3];
+/// The xy shear among the six components.
+const XY: usize = 5;
+/// The in-plane components (x, y, xy) among the six.
+const IN_PLANE: [usize; 3] = [0, 1, XY];
 
-/// A 3×3 matrix over (x, y, xy) as a 4×4 one over (x, y, z, xy) with a zero z row and column.
-fn embed_in_plane(m: &Matrix3<f64>) -> Matrix4<f64> {
-    let mut d = Matrix4::zeros();
+/// A 3×3 matrix over (x, y, xy) as a 6×6 one with zero rows and columns elsewhere.
+fn embed_in_plane(m: &Matrix3<f64>) -> Matrix6<f64> {
+    let mut d = Matrix6::zeros();
     for i in 0..3 {
         for j in 0..3 {
             d[(IN_PLANE[i], IN_PLANE[j])] = m[(i, j)];
@@ -251,29 +255,29 @@ fn embed_in_plane(m: &Matrix3<f64>) -> Matrix4<f64> {
 }
 
 /// The in-plane 3×3 block of a tangent (εz = 0).
-fn restricted(d4: &Matrix4<f64>) -> Matrix3<f64> {
-    Matrix3::from_fn(|i, j| d4[(IN_PLANE[i], IN_PLANE[j])])
+fn restricted(d: &Matrix6<f64>) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| d[(IN_PLANE[i], IN_PLANE[j])])
 }
 
 /// The in-plane 3×3 tangent with σz = 0 (static condensation).
-fn condensed(d4: &Matrix4<f64>) -> Matrix3<f64> {
-    let mut d = restricted(d4);
-    let col_z = Vector3::from_fn(|i, _| d4[(IN_PLANE[i], 2)]);
-    let row_z = RowVector3::from_fn(|_, j| d4[(2, IN_PLANE[j])]);
-    d -= col_z * row_z / d4[(2, 2)];
+fn condensed(d6: &Matrix6<f64>) -> Matrix3<f64> {
+    let mut d = restricted(d6);
+    let col_z = Vector3::from_fn(|i, _| d6[(IN_PLANE[i], 2)]);
+    let row_z = RowVector3::from_fn(|_, j| d6[(2, IN_PLANE[j])]);
+    d -= col_z * row_z / d6[(2, 2)];
     d
 }
 
 /// Out-of-plane strain per unit in-plane strain in plane stress, from σz = 0.
-fn condensed_strain_z(d4: &Matrix4<f64>) -> RowVector3<f64> {
-    let dz = d4[(2, 2)];
-    RowVector3::from_fn(|_, j| -d4[(2, IN_PLANE[j])] / dz)
+fn condensed_strain_z(d: &Matrix6<f64>) -> RowVector3<f64> {
+    let dz = d[(2, 2)];
+    RowVector3::from_fn(|_, j| -d[(2, IN_PLANE[j])] / dz)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::flow_vector;
+    use crate::material::{flow_vector, from_planar, von_mises_squared};
 
     fn section(m: Material, plane: Plane) -> Section {
         Section::new(m, plane.stress_state())
@@ -301,10 +305,10 @@ mod tests {
         let s = section(m, Plane::Stress);
         let d = s.elastic_matrix();
         // σ = (1,0,0) ⇒ ε = (1/E, −ν/E, 0); the z row and column are zero
-        let eps = Vector4::new(1.0 / 200.0, -0.25 / 200.0, 0.0, 0.0);
-        assert!((d * eps - Vector4::new(1.0, 0.0, 0.0, 0.0)).norm() < 1e-14);
+        let eps = from_planar([1.0 / 200.0, -0.25 / 200.0, 0.0, 0.0]);
+        assert!((d * eps - from_planar([1.0, 0.0, 0.0, 0.0])).norm() < 1e-14);
         // and the condensed elastic tangent agrees with it (to round-off)
-        let t = s.tangent(&Vector4::zeros(), false);
+        let t = s.tangent(&Voigt::zeros(), false);
         assert!((s.element_matrix(&t) - d).norm() < 1e-13 * d.norm());
     }
 
@@ -316,17 +320,17 @@ mod tests {
         let s = section(m, Plane::Axisymmetric);
         let d = s.elastic_matrix();
         let (e, nu) = (m.young, m.poisson);
-        let c = Matrix4::from_fn(|i, j| match (i, j) {
-            (3, 3) => 2.0 * (1.0 + nu) / e,
-            (3, _) | (_, 3) => 0.0,
-            _ if i == j => 1.0 / e,
-            _ => -nu / e,
+        let c = Matrix6::from_fn(|i, j| match (i < 3, j < 3) {
+            (false, false) if i == j => 2.0 * (1.0 + nu) / e,
+            (true, true) if i == j => 1.0 / e,
+            (true, true) => -nu / e,
+            _ => 0.0,
         });
-        assert!((d * c - Matrix4::identity()).norm() < 1e-12);
-        let t = s.tangent(&Vector4::zeros(), false);
+        assert!((d * c - Matrix6::identity()).norm() < 1e-12);
+        let t = s.tangent(&Voigt::zeros(), false);
         assert_eq!(s.element_matrix(&t), d);
         // the hoop strain is live: Δσ of a pure hoop strain has σθ = (λ + 2G) εθ
-        let ds = s.stress_increment(&t, &Vector4::new(0.0, 0.0, 1e-3, 0.0));
+        let ds = s.stress_increment(&t, &from_planar([0.0, 0.0, 1e-3, 0.0]));
         assert!((ds[2] - d[(2, 2)] * 1e-3).abs() < 1e-12 && ds[0] == ds[1]);
     }
 
@@ -336,9 +340,9 @@ mod tests {
     }
 
     /// The paper's compliance form (A.2): C_ep = C + a aᵀ / H' (a = ∂σe/∂σ).
-    fn compliance_a2(m: &Material, s: &Vector4<f64>) -> Matrix4<f64> {
+    fn compliance_a2(m: &Material, s: &Voigt) -> Matrix6<f64> {
         let a = flow_vector(s);
-        m.elastic_d4().try_inverse().unwrap() + a * a.transpose() / m.hardening
+        m.elastic_d().try_inverse().unwrap() + a * a.transpose() / m.hardening
     }
 
     #[test]
@@ -346,17 +350,17 @@ mod tests {
         let m = hardening_aluminium();
         // Plane strain (A.6): the 4×4 forms are inverse to each other, hence also their
         // εz = 0 restrictions (A.5–A.6 condense the compliance, we restrict the stiffness).
-        let s = Vector4::new(-150.0, -320.0, -141.0, 60.0);
+        let s = from_planar([-150.0, -320.0, -141.0, 60.0]);
         let t = m.tangent(&s, true);
         let c = compliance_a2(&m, &s);
-        assert!((t.d4 * c - Matrix4::identity()).norm() < 1e-10);
+        assert!((t.d * c - Matrix6::identity()).norm() < 1e-10);
         let d_strain = restricted(&c.try_inverse().unwrap());
-        assert!((restricted(&t.d4) - d_strain).norm() < 1e-9 * d_strain.norm());
+        assert!((restricted(&t.d) - d_strain).norm() < 1e-9 * d_strain.norm());
         // Plane stress (A.3): σz = 0, the in-plane compliance is the 3×3 block of A.2.
-        let s = Vector4::new(120.0, -90.0, 0.0, 40.0);
+        let s = from_planar([120.0, -90.0, 0.0, 40.0]);
         let t = m.tangent(&s, true);
         let c3 = restricted(&compliance_a2(&m, &s));
-        assert!((condensed(&t.d4) * c3 - Matrix3::identity()).norm() < 1e-10);
+        assert!((condensed(&t.d) * c3 - Matrix3::identity()).norm() < 1e-10);
     }
 
     #[test]
@@ -364,7 +368,7 @@ mod tests {
         let mut m = Material::elastic(70_000.0, 0.3);
         m.yield_stress = 200.0;
         m.hardening = 0.0; // perfect plasticity: A.2 would divide by zero
-        let s = Vector4::new(100.0, -100.0, 0.0, 20.0);
+        let s = from_planar([100.0, -100.0, 0.0, 20.0]);
         for plane in [Plane::Strain, Plane::Stress, Plane::Axisymmetric] {
             let sec = section(m, plane);
             let diff = sec.element_matrix(&sec.tangent(&s, true)) - sec.element_matrix(&sec.tangent(&s, false));
@@ -375,7 +379,7 @@ mod tests {
         // H' = 0: a plastic increment along the flow leaves σe unchanged (aᵀ D_ep = 0).
         let t = m.tangent(&s, true);
         let a = flow_vector(&s);
-        assert!((a.transpose() * t.d4).norm() < 1e-9 * t.d4.norm());
+        assert!((a.transpose() * t.d).norm() < 1e-9 * t.d.norm());
     }
 
     /// The closed-form plastic step of plane strain and axisymmetry is the inverse of the
@@ -384,10 +388,10 @@ mod tests {
     #[test]
     fn closed_form_plastic_step_inverts_the_compliance_a2() {
         let m = hardening_aluminium();
-        let s = Vector4::new(-150.0, -320.0, -141.0, 60.0);
-        let e = Vector4::new(-2e-4, 3e-4, 0.5e-4, 1e-4);
+        let s = from_planar([-150.0, -320.0, -141.0, 60.0]);
+        let e = from_planar([-2e-4, 3e-4, 0.5e-4, 1e-4]);
         for plane in [Plane::Strain, Plane::Axisymmetric] {
-            let d_elastic = m.elastic_d4() * e;
+            let d_elastic = m.elastic_d() * e;
             let (ds, multiplier) = section(m, plane).plastic_increment(&s, &e, &d_elastic);
             let expected = compliance_a2(&m, &s).try_inverse().unwrap() * e;
             assert!((ds - expected).norm() < 1e-9 * expected.norm(), "{plane:?}: {ds} vs {expected}");
@@ -401,14 +405,54 @@ mod tests {
     #[test]
     fn returns_onto_the_surface_keep_what_the_state_holds() {
         let m = hardening_aluminium();
-        let s = Vector4::new(300.0, -100.0, 60.0, 80.0);
+        let s = from_planar([300.0, -100.0, 60.0, 80.0]);
         let strain = section(m, Plane::Strain).onto_yield_surface(&s, 200.0);
         assert!((von_mises(&strain) - 200.0).abs() < 1e-12 * 200.0);
         assert!(((strain[0] + strain[1] + strain[2]) - (s[0] + s[1] + s[2])).abs() < 1e-12 * 300.0);
-        let flat = Vector4::new(300.0, -100.0, 0.0, 80.0);
+        let flat = from_planar([300.0, -100.0, 0.0, 80.0]);
         let stress = section(m, Plane::Stress).onto_yield_surface(&flat, 200.0);
         assert!((von_mises(&stress) - 200.0).abs() < 1e-12 * 200.0 && stress[2] == 0.0);
         let inside = s * (100.0 / von_mises(&s));
         assert_eq!(section(m, Plane::Strain).not_beyond_surface(&inside, 200.0), inside);
+    }
+
+    /// In space (`Solid`): the closed-form plastic step is the inverse of the compliance A.2
+    /// over all six components, with D a = (3G/σe) s and aᵀ D a = 3G (Prandtl–Reuss), and the
+    /// tangent is whole.
+    #[test]
+    fn solid_plastic_step_inverts_the_compliance_a2_in_six_components() {
+        let m = hardening_aluminium();
+        let sec = Section::new(m, &Solid);
+        let s = Voigt::from_row_slice(&[-150.0, -320.0, -141.0, 45.0, -30.0, 60.0]);
+        let e = Voigt::from_row_slice(&[-2e-4, 3e-4, 0.5e-4, -0.7e-4, 1.2e-4, 1e-4]);
+        let (ds, multiplier) = sec.plastic_increment(&s, &e, &(m.elastic_d() * e));
+        let expected = compliance_a2(&m, &s).try_inverse().unwrap() * e;
+        assert!((ds - expected).norm() < 1e-9 * expected.norm(), "{ds} vs {expected}");
+        assert!((multiplier - flow_vector(&s).dot(&ds) / m.hardening).abs() < 1e-9 * multiplier.abs());
+        let t = sec.tangent(&s, true);
+        let (a, g) = (flow_vector(&s), m.shear_modulus());
+        let se = von_mises(&s);
+        let dev = crate::material::deviator(&s);
+        assert!((m.elastic_d() * a - dev * (3.0 * g / se)).norm() < 1e-9 * g, "D a = (3G/σe) s");
+        assert!((a.dot(&(m.elastic_d() * a)) - 3.0 * g).abs() < 1e-9 * g, "aᵀ D a = 3G");
+        assert_eq!(sec.element_matrix(&t), t.d);
+        assert_eq!(sec.elastic_matrix(), m.elastic_d());
+    }
+
+    /// The von Mises quadratic form in space: σe² = ½[(σx−σy)² + (σy−σz)² + (σz−σx)²]
+    /// + 3(τyz² + τxz² + τxy²), here from its definition sqrt(3/2 s:s) with the tensor's nine
+    /// entries; scaling onto the surface keeps the mean stress.
+    #[test]
+    fn von_mises_in_space_is_the_quadratic_form() {
+        let s = Voigt::from_row_slice(&[120.0, -80.0, 30.0, 15.0, -25.0, 40.0]);
+        let t = [[s[0], s[5], s[4]], [s[5], s[1], s[3]], [s[4], s[3], s[2]]];
+        let p = (s[0] + s[1] + s[2]) / 3.0;
+        let ss: f64 = (0..3).flat_map(|i| (0..3).map(move |j| (i, j))).map(|(i, j)| {
+            let d = t[i][j] - if i == j { p } else { 0.0 };
+            d * d
+        }).sum();
+        assert!((von_mises_squared(&s) - 1.5 * ss).abs() < 1e-10 * ss);
+        let on = Section::new(hardening_aluminium(), &Solid).onto_yield_surface(&s, 50.0);
+        assert!((von_mises(&on) - 50.0).abs() < 1e-12 * 50.0 && ((on[0] + on[1] + on[2]) - 3.0 * p).abs() < 1e-12 * 100.0);
     }
 }

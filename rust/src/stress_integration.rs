@@ -17,9 +17,8 @@
 //! again where that elastic path leaves the surface (a reversal within one increment). A
 //! plastic element an equilibrium correction left inside its surface is elastic up to it.
 
-use crate::material::{von_mises, von_mises_squared, yield_scale};
+use crate::material::{von_mises, von_mises_squared, yield_scale, Voigt, SHEARS};
 use crate::section::Section;
-use nalgebra::Vector4;
 
 /// Largest relative difference of the Euler and Heun stress increments of an accepted
 /// sub-step (‖Δσ₂ − Δσ₁‖ / 2‖σ‖, tensor norms).
@@ -34,8 +33,8 @@ const LOADING_NOISE: f64 = 1e-14;
 /// One element's material state.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointState {
-    /// (σx, σy, σz, τxy): σz is the out-of-plane stress.
-    pub stress: Vector4<f64>,
+    /// The six components (2D: σz the out-of-plane stress, yz = xz = 0).
+    pub stress: Voigt,
     /// Equivalent plastic strain εp.
     pub plastic_strain: f64,
     /// On the yield surface and flowing at the last increment.
@@ -54,10 +53,10 @@ pub struct Integrated {
     pub substeps: usize,
 }
 
-/// Integrate the element's stress over its strain increment `e` = (Δεx, Δεy, Δεz, Δγxy) (the
-/// rows of its strain operator: Δεz = 0 in plane strain and plane stress, the hoop strain in
-/// axisymmetry), with the section's material under its stress state.
-pub fn integrate(section: &Section, start: &PointState, e: &Vector4<f64>) -> Integrated {
+/// Integrate the element's stress over its strain increment `e` (the rows of its strain
+/// operator among the six components: in 2D Δεz = 0 in plane strain and plane stress, the hoop
+/// strain in axisymmetry), with the section's material under its stress state.
+pub fn integrate(section: &Section, start: &PointState, e: &Voigt) -> Integrated {
     let m = &section.material;
     let elastic = section.tangent(&start.stress, false);
     let d_elastic = section.stress_increment(&elastic, e);
@@ -99,13 +98,13 @@ pub fn integrate(section: &Section, start: &PointState, e: &Vector4<f64>) -> Int
 }
 
 /// A size of the strain increment for noise floors: max |component|.
-fn strain_size(e: &Vector4<f64>) -> f64 {
+fn strain_size(e: &Voigt) -> f64 {
     e.iter().fold(0.0f64, |a, v| a.max(v.abs()))
 }
 
 /// An element unloading from its surface (σ on it) along the elastic path σ + r Δσ: the
 /// fraction r ∈ (0, 1) at which that path leaves the surface again, if it does.
-fn reentry(stress: &Vector4<f64>, d_elastic: &Vector4<f64>, sy: f64) -> Option<f64> {
+fn reentry(stress: &Voigt, d_elastic: &Voigt, sy: f64) -> Option<f64> {
     let a2 = von_mises_squared(d_elastic);
     if a2 <= 0.0 {
         return None;
@@ -120,7 +119,7 @@ fn reentry(stress: &Vector4<f64>, d_elastic: &Vector4<f64>, sy: f64) -> Option<f
 
 /// Plastic flow from `stress` (on the yield surface) over the strain increment `e`: modified
 /// Euler sub-steps with error control. Returns the stress, εp and the number of sub-steps.
-fn flow(section: &Section, mut stress: Vector4<f64>, mut plastic_strain: f64, e: &Vector4<f64>) -> (Vector4<f64>, f64, usize) {
+fn flow(section: &Section, mut stress: Voigt, mut plastic_strain: f64, e: &Voigt) -> (Voigt, f64, usize) {
     let (mut done, mut step, mut retried, mut substeps) = (0.0, 1.0, false, 0);
     let d_elastic = section.stress_increment(&section.tangent(&stress, false), e); // D Δε, linear in the step
     while done < 1.0 {
@@ -149,15 +148,19 @@ fn flow(section: &Section, mut stress: Vector4<f64>, mut plastic_strain: f64, e:
     (stress, plastic_strain, substeps)
 }
 
-/// ‖σ‖ of the stress tensor, (σx² + σy² + σz² + 2τxy²)^½: the same in every in-plane frame, so
-/// that the sub-steps do not depend on the frame.
-fn tensor_norm(s: &Vector4<f64>) -> f64 {
-    (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * s[3] * s[3]).sqrt()
+/// ‖σ‖ of the stress tensor, (σx² + σy² + σz² + 2(τyz² + τxz² + τxy²))^½: the same in every
+/// frame, so that the sub-steps do not depend on the frame.
+fn tensor_norm(s: &Voigt) -> f64 {
+    let normal = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
+    SHEARS.fold(normal, |a, k| a + 2.0 * s[k] * s[k]).sqrt()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::from_planar;
+    /// The xy shear among the six components.
+    const XY: usize = 5;
     use crate::material::{Material, Plane};
 
     fn steel(h: f64) -> Material {
@@ -170,7 +173,7 @@ mod tests {
     }
 
     fn start() -> PointState {
-        PointState { stress: Vector4::zeros(), plastic_strain: 0.0, plastic: false }
+        PointState { stress: Voigt::zeros(), plastic_strain: 0.0, plastic: false }
     }
 
     /// Pure shear in plane strain stays pure shear (σx = σy = σz = 0): τ = Gγ up to
@@ -181,11 +184,11 @@ mod tests {
             let m = steel(h);
             let g = m.young / (2.0 * (1.0 + m.poisson));
             let gamma = 5.0 * m.yield_stress / (3f64.sqrt() * g); // 5 × the yield strain
-            let out = integrate(&at(&m, Plane::Strain), &start(), &Vector4::new(0.0, 0.0, 0.0, gamma));
+            let out = integrate(&at(&m, Plane::Strain), &start(), &from_planar([0.0, 0.0, 0.0, gamma]));
             let tau_y = m.yield_stress / 3f64.sqrt();
             let gamma_y = tau_y / g;
             let tau = tau_y + g * h / (h + 3.0 * g) * (gamma - gamma_y);
-            assert!((out.end.stress[3] - tau).abs() < 1e-9 * tau, "H' = {h}: τ = {} vs {tau}", out.end.stress[3]);
+            assert!((out.end.stress[XY] - tau).abs() < 1e-9 * tau, "H' = {h}: τ = {} vs {tau}", out.end.stress[XY]);
             assert!(out.end.stress.fixed_rows::<3>(0).norm() < 1e-9 * tau);
             let r = out.yielded_at.unwrap();
             assert!((r - gamma_y / gamma).abs() < 1e-12, "elastic fraction {r} vs {}", gamma_y / gamma);
@@ -205,7 +208,7 @@ mod tests {
         let eps_y = m.yield_stress * (1.0 - nu) / e;
         let eps = 4.0 * eps_y;
         let sigma = m.yield_stress + (eps - eps_y) / ((1.0 - nu) / e + 0.5 / h);
-        let out = integrate(&at(&m, Plane::Stress), &start(), &Vector4::new(eps, eps, 0.0, 0.0));
+        let out = integrate(&at(&m, Plane::Stress), &start(), &from_planar([eps, eps, 0.0, 0.0]));
         for i in 0..2 {
             assert!((out.end.stress[i] - sigma).abs() < 1e-9 * sigma, "σ{i} = {} vs {sigma}", out.end.stress[i]);
         }
@@ -224,8 +227,8 @@ mod tests {
         let m = steel(1_000.0);
         let g = m.young / (2.0 * (1.0 + m.poisson));
         let gamma = 2.0 * m.yield_stress / (3f64.sqrt() * g);
-        let sheared = integrate(&at(&m, Plane::Strain), &start(), &Vector4::new(0.0, 0.0, 0.0, gamma)).end;
-        let e = Vector4::new(3.0 * m.yield_stress / m.young, -1.0 * m.yield_stress / m.young, 0.0, 0.2 * gamma);
+        let sheared = integrate(&at(&m, Plane::Strain), &start(), &from_planar([0.0, 0.0, 0.0, gamma])).end;
+        let e = from_planar([3.0 * m.yield_stress / m.young, -1.0 * m.yield_stress / m.young, 0.0, 0.2 * gamma]);
         let out = integrate(&at(&m, Plane::Strain), &sheared, &e);
         let n = 200_000;
         let (mut s, mut k) = (sheared.stress, sheared.plastic_strain);
@@ -252,16 +255,16 @@ mod tests {
         let m = steel(2_000.0);
         let g = m.young / (2.0 * (1.0 + m.poisson));
         let tau_y = m.yield_stress / 3f64.sqrt();
-        let inside = PointState { stress: Vector4::new(0.0, 0.0, 0.0, 0.99 * tau_y), plastic_strain: 0.0, plastic: true };
+        let inside = PointState { stress: from_planar([0.0, 0.0, 0.0, 0.99 * tau_y]), plastic_strain: 0.0, plastic: true };
         let gamma = 2.0 * tau_y / g;
-        let out = integrate(&at(&m, Plane::Strain), &inside, &Vector4::new(0.0, 0.0, 0.0, gamma));
+        let out = integrate(&at(&m, Plane::Strain), &inside, &from_planar([0.0, 0.0, 0.0, gamma]));
         let elastic = 0.01 * tau_y / g;
         let tau = tau_y + g * m.hardening / (m.hardening + 3.0 * g) * (gamma - elastic);
-        assert!((out.end.stress[3] - tau).abs() < 1e-9 * tau, "τ = {} vs {tau}", out.end.stress[3]);
+        assert!((out.end.stress[XY] - tau).abs() < 1e-9 * tau, "τ = {} vs {tau}", out.end.stress[XY]);
         assert!(out.end.plastic && !out.unloaded && out.yielded_at.is_none());
-        let short = integrate(&at(&m, Plane::Strain), &inside, &Vector4::new(0.0, 0.0, 0.0, 0.5 * elastic));
+        let short = integrate(&at(&m, Plane::Strain), &inside, &from_planar([0.0, 0.0, 0.0, 0.5 * elastic]));
         assert!(short.end.plastic && short.end.plastic_strain == 0.0);
-        assert!((short.end.stress[3] - (0.99 * tau_y + 0.5 * elastic * g)).abs() < 1e-12 * tau_y);
+        assert!((short.end.stress[XY] - (0.99 * tau_y + 0.5 * elastic * g)).abs() < 1e-12 * tau_y);
         for plane in [Plane::Strain, Plane::Stress] {
             assert_eq!(at(&m, plane).not_beyond_surface(&inside.stress, m.yield_stress), inside.stress);
             let beyond = at(&m, plane).not_beyond_surface(&(inside.stress * 1.1), m.yield_stress);
@@ -277,14 +280,14 @@ mod tests {
         let m = steel(0.0);
         let g = m.young / (2.0 * (1.0 + m.poisson));
         let gamma_y = m.yield_stress / (3f64.sqrt() * g);
-        let loaded = integrate(&at(&m, Plane::Strain), &start(), &Vector4::new(0.0, 0.0, 0.0, 1.5 * gamma_y)).end;
-        let back = integrate(&at(&m, Plane::Strain), &loaded, &Vector4::new(0.0, 0.0, 0.0, -gamma_y));
+        let loaded = integrate(&at(&m, Plane::Strain), &start(), &from_planar([0.0, 0.0, 0.0, 1.5 * gamma_y])).end;
+        let back = integrate(&at(&m, Plane::Strain), &loaded, &from_planar([0.0, 0.0, 0.0, -gamma_y]));
         assert!(back.unloaded && !back.end.plastic && back.yielded_at.is_none());
-        assert!((back.end.stress[3] - (loaded.stress[3] - g * gamma_y)).abs() < 1e-9 * m.yield_stress);
+        assert!((back.end.stress[XY] - (loaded.stress[XY] - g * gamma_y)).abs() < 1e-9 * m.yield_stress);
         assert_eq!(back.end.plastic_strain, loaded.plastic_strain);
-        let reversed = integrate(&at(&m, Plane::Strain), &loaded, &Vector4::new(0.0, 0.0, 0.0, -3.0 * gamma_y));
+        let reversed = integrate(&at(&m, Plane::Strain), &loaded, &from_planar([0.0, 0.0, 0.0, -3.0 * gamma_y]));
         let r = reversed.yielded_at.unwrap();
         assert!((r - 2.0 / 3.0).abs() < 1e-9, "re-yield at {r}: 2γy of the 3γy reversal are elastic");
-        assert!((reversed.end.stress[3] + m.yield_stress / 3f64.sqrt()).abs() < 1e-9 * m.yield_stress);
+        assert!((reversed.end.stress[XY] + m.yield_stress / 3f64.sqrt()).abs() < 1e-9 * m.yield_stress);
     }
 }

@@ -27,7 +27,7 @@ fn rectangle(x0: f64, y0: f64, w: f64, h: f64, nx: usize, ny: usize) -> Mesh {
             }
         }
     }
-    Mesh { nodes, triangles }
+    Mesh::plane(nodes, triangles)
 }
 
 fn nodes_where(mesh: &Mesh, f: impl Fn([f64; 2]) -> bool) -> Vec<usize> {
@@ -119,7 +119,7 @@ fn block_on_rigid_flat_closed_from_the_start() {
     for mu in [0.0, 0.5] {
         let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12)
             .into_iter()
-            .map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.0, mu, contact: 0, weights: vec![] })
+            .map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] })
             .collect();
         let m = model(mesh.clone(), fixed.clone(), load.clone(), pairs, Plane::Strain);
         let res = slipstep_core::run(&m, |_| true).unwrap();
@@ -162,7 +162,7 @@ fn flat_punch_gap_closes_at_the_predicted_load() {
     // Reference: the same model without contact gives u_y at full load.
     let free = model(mesh.clone(), fixed.clone(), load.clone(), vec![], Plane::Stress);
     let uy_full = slipstep_core::run(&free, |_| true).unwrap().snapshots.last().unwrap().u[2 * bottom[0] + 1];
-    let pairs = bottom.iter().map(|&i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.01, mu: 0.0, contact: 0, weights: vec![] }).collect();
+    let pairs = bottom.iter().map(|&i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.01, mu: 0.0, contact: 0, weights: vec![] }).collect();
     let m = model(mesh, fixed, load, pairs, Plane::Stress);
     let res = slipstep_core::run(&m, |_| true).unwrap();
     let closes: Vec<_> = res.events.iter().filter(|e| e.kind == EventKind::Close).collect();
@@ -186,7 +186,7 @@ fn body_free_to_translate_is_a_clear_error() {
     top_traction(&mesh, 1.1, [0.0, -1.0], &mut load);
     let pairs = nodes_where(&mesh, |p| (p[1] - 0.1).abs() < 1e-12)
         .into_iter()
-        .map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.1, mu: 0.0, contact: 0, weights: vec![] })
+        .map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.1, mu: 0.0, contact: 0, weights: vec![] })
         .collect();
     let m = model(mesh, fixed, load, pairs, Plane::Strain);
     let err = slipstep_core::run(&m, |_| true).unwrap_err().message;
@@ -198,7 +198,7 @@ fn initial_penetration_and_negative_mu_are_named() {
     let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 1, 1);
     let mut load = vec![0.0; 8];
     load[5] = -1.0;
-    let mk = |gap: f64, mu: f64| model(mesh.clone(), vec![0, 6], load.clone(), vec![PairInput { node_a: 1, node_b: None, normal: [0.0, 1.0], gap, mu, contact: 0, weights: vec![] }], Plane::Strain);
+    let mk = |gap: f64, mu: f64| model(mesh.clone(), vec![0, 6], load.clone(), vec![PairInput { node_a: 1, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap, mu, contact: 0, weights: vec![] }], Plane::Strain);
     let e = slipstep_core::run(&mk(-0.1, 0.0), |_| true).unwrap_err().message;
     assert!(e.starts_with("initial penetration at contact pair 0"), "{e}");
     let e = slipstep_core::run(&mk(0.0, -0.2), |_| true).unwrap_err().message;
@@ -239,7 +239,7 @@ fn two_blocks(q: f64, wu: f64) -> Model {
             continue;
         }
         let b = (0..off).find(|&b| (mesh.nodes[b][0] - mesh.nodes[a][0]).abs() < 1e-12 && (mesh.nodes[b][1] - 1.0).abs() < 1e-12).unwrap();
-        pairs.push(PairInput { node_a: a, node_b: Some(b), normal: [0.0, 1.0], gap: 0.0, mu: 0.2, contact: 0, weights: vec![] });
+        pairs.push(PairInput { node_a: a, node_b: Some(b), normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.0, mu: 0.2, contact: 0, weights: vec![] });
     }
     model(mesh, fixed, load, pairs, Plane::Strain)
 }
@@ -341,7 +341,7 @@ fn plane_strain_compression_stays_on_the_hardening_line() {
         let res = slipstep_core::run(&m, |_| true).unwrap();
         let last = res.snapshots.last().unwrap();
         for (k, st) in last.stress.iter().enumerate() {
-            let se = slipstep_core::material::von_mises(&nalgebra::Vector4::new(st[0], st[1], st[2], st[3]));
+            let se = slipstep_core::material::von_mises(&nalgebra::Vector6::from_row_slice(st));
             let ep = last.plastic_strain[k];
             assert!(ep > 0.0);
             assert!((se - (sy + h * ep)).abs() < bound * se, "turn {turn}: {se} vs {}", sy + h * ep);
@@ -388,7 +388,7 @@ fn sheared_block(mu: f64, tau: f64) -> Model {
     let n = mesh.nodes.len();
     let mut load = vec![0.0; 2 * n];
     top_traction(&mesh, 1.0, [tau, -1.0], &mut load);
-    let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12).into_iter().map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
+    let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12).into_iter().map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
     let mut m = model(mesh, vec![], load, pairs, Plane::Strain);
     m.names = Names { bodies: vec!["block".into()], element_body: vec![0; m.mesh.triangles.len()], contacts: vec!["base".into()] };
     m
@@ -439,7 +439,7 @@ fn hanging_column(pull: f64, mu: f64) -> (Model, Vec<usize>) {
     let bottom = nodes_where(&mesh, |p| (p[1] - 0.01).abs() < 1e-12);
     let mut load = vec![0.0; 2 * n];
     bottom.iter().for_each(|&i| load[2 * i + 1] = -pull);
-    let pairs = bottom.iter().map(|&i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.01, mu, contact: 0, weights: vec![] }).collect();
+    let pairs = bottom.iter().map(|&i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.01, mu, contact: 0, weights: vec![] }).collect();
     (model(mesh, fixed, load, pairs, Plane::Stress), bottom)
 }
 
@@ -504,7 +504,7 @@ fn a_moving_obstacle_equals_the_body_moved_against_it() {
     // by 0.03 onto the fixed flat: the same contact problem seen from two frames, so the same
     // contact forces, events and stresses; displacements differ by the rigid translation.
     let (mut a, _) = hanging_column(0.0, 0.3);
-    a.patterns = vec![LoadPattern { name: "lift".into(), motion: vec![(0, [0.0, 0.03])], ..Default::default() }];
+    a.patterns = vec![LoadPattern { name: "lift".into(), motion: vec![(0, [0.0, 0.03, 0.0])], ..Default::default() }];
     let top: Vec<usize> = a.fixed_dofs.clone();
     let mut b = a.clone();
     b.fixed_dofs = top.iter().copied().filter(|d| d % 2 == 0).collect();
@@ -634,7 +634,7 @@ fn block_on_flat(mesh: Mesh, h: f64, q: f64, shear: [f64; 2], mu: f64) -> Model 
     let (mut load, mut sheared) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
     top_traction(&mesh, h, [0.0, -q], &mut load);
     top_traction(&mesh, h, shear, &mut sheared);
-    let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12).into_iter().map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0], gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
+    let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12).into_iter().map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
     let mut m = model(mesh, vec![], load, pairs, Plane::Stress);
     m.patterns = vec![LoadPattern { name: "shear".into(), force: sheared, ..Default::default() }];
     m.names = Names { bodies: vec!["block".into()], element_body: vec![0; m.mesh.triangles.len()], contacts: vec!["base".into()] };
@@ -718,7 +718,7 @@ fn crossed_rectangle(w: f64, h: f64, nx: usize, ny: usize) -> Mesh {
             triangles.extend([[a, b, e], [b, c, e], [c, d, e], [d, a, e]]);
         }
     }
-    Mesh { nodes, triangles }
+    Mesh::plane(nodes, triangles)
 }
 
 #[test]

@@ -92,7 +92,7 @@ impl LoadPath {
         for pat in &model.patterns {
             forces.push(pat.force.clone());
             displacements.push(pat.displacement.clone());
-            shifts.push(obstacle_shifts(&model.pairs, &pat.motion));
+            shifts.push(obstacle_shifts(&model.pairs, model.dim(), &pat.motion));
         }
         LoadPath { factors, forces, displacements, shifts, stage_names }
     }
@@ -140,7 +140,7 @@ impl LoadPath {
 
 /// (c_n, c_t) = (−n·m, −t·m) of every pair whose contact's obstacle moves by m (eqs. 21, 25
 /// with the target translated); empty when the pattern moves nothing.
-fn obstacle_shifts(pairs: &[PairInput], motion: &[(usize, [f64; 2])]) -> Vec<[f64; 2]> {
+fn obstacle_shifts(pairs: &[PairInput], dim: usize, motion: &[(usize, [f64; 3])]) -> Vec<[f64; 2]> {
     if motion.is_empty() {
         return vec![];
     }
@@ -148,9 +148,10 @@ fn obstacle_shifts(pairs: &[PairInput], motion: &[(usize, [f64; 2])]) -> Vec<[f6
         .iter()
         .map(|p| match motion.iter().find(|(c, _)| *c == p.contact) {
             Some((_, m)) => {
-                let frame = Frame::planar(p.normal);
-                let (n, t) = (frame.normal, frame.tangent());
-                [-(n[0] * m[0] + n[1] * m[1]), -(t[0] * m[0] + t[1] * m[1])]
+                let frame = Frame::of_pair(dim, p.normal, p.tangents);
+                let (n, t) = (frame.normal, frame.tangents[0]);
+                let dot = |a: [f64; 3]| a[0] * m[0] + a[1] * m[1] + a[2] * m[2];
+                [-dot(n), -dot(t)]
             }
             None => [0.0, 0.0],
         })

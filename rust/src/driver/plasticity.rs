@@ -24,7 +24,6 @@ use super::state::{IncrementStart, State, TrialIncrement};
 use super::switching::switch;
 use super::tangents::Renewal;
 use super::trial::{self, Solve};
-use crate::element::Element;
 use crate::error::Result;
 use crate::events::{self, Candidate};
 use crate::material::{von_mises, yield_scale};
@@ -246,7 +245,7 @@ fn reintegrate(problem: &Problem, state: &mut State, start: &mut IncrementStart)
             let sy = m.current_yield(start.plastic_strain[e]);
             let stress = if start.plastic[e] { section.not_beyond_surface(&start.stress[e], sy) } else { start.stress[e] };
             let point = PointState { stress, plastic_strain: start.plastic_strain[e], plastic: start.plastic[e] };
-            Some((e, integrate(section, &point, &problem.elements[e].strain(&du))))
+            Some((e, integrate(section, &point, &problem.elements.strain(e, &du))))
         })
         .collect();
     for (e, out) in integrated {

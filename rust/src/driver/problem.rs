@@ -8,15 +8,15 @@ use super::path::{LoadPath, StageLoad};
 use super::space::{Reduced, Space};
 use super::state::State;
 use crate::bail;
-use crate::contact::{Pair, SparseVec, HELD_BY_SUPPORTS};
-use crate::element::{Cst, Element};
+use crate::contact::{Frame, Pair, PairGeometry, SparseVec, HELD_BY_SUPPORTS};
+use crate::element::Elements;
 use crate::error::Result;
 use crate::linalg::DofMap;
-use crate::material::Tangent;
+use crate::material::{Tangent, Voigt};
 use crate::model::Model;
+use crate::on_elements;
 use crate::rigid_modes::{free_modes, RigidMode};
-use crate::section::Section;
-use nalgebra::Vector4;
+use crate::section::{Section, Solid, StressState};
 
 /// Zero-gap pairs start closed: a gap within this × the length scale counts as zero.
 const INITIAL_CONTACT: f64 = 1e-12;
@@ -70,7 +70,9 @@ pub(super) struct Bodies {
 
 pub(super) struct Problem<'m> {
     pub model: &'m Model,
-    pub elements: Vec<Cst>,
+    pub elements: Elements,
+    /// DOFs per node (the model's dimension).
+    pub dim: usize,
     /// The material of every element under the model's stress state.
     pub sections: Vec<Section>,
     /// The elements around each node (whether a closure's neighbourhood is elastic).
@@ -90,17 +92,18 @@ impl<'m> Problem<'m> {
     /// Everything the loop needs from `model`, which must have passed `Model::validate`.
     pub fn new(model: &'m Model) -> Result<Self> {
         let mesh = &model.mesh;
-        let n_dofs = 2 * mesh.n_nodes();
+        let dim = mesh.dim();
+        let n_dofs = dim * mesh.n_nodes();
         let path = LoadPath::new(model);
         let mut fixed = vec![false; n_dofs];
         model.supported_dofs().iter().chain(&path.prescribed_dofs()).for_each(|&d| fixed[d] = true);
         let pairs = contact_pairs(model, &fixed)?;
         let (body_of_node, n_bodies) = mesh.bodies();
-        let (modes, pinned) = free_modes(&mesh.nodes, &body_of_node, n_bodies, &fixed, model.plane);
+        let (modes, pinned) = free_modes(mesh, &body_of_node, n_bodies, &fixed, model.plane);
         let (contact_slot, slot_dofs) = contact_slots(&pairs, &fixed, &pinned);
-        let stress_state = model.plane.stress_state();
-        let elements: Vec<Cst> = (0..mesh.triangles.len()).map(|e| stress_state.element(mesh, e, model.thickness)).collect();
-        let map = DofMap::ordered(&elements, n_dofs, &fixed, &pinned, &slot_dofs)?;
+        let stress_state: &'static dyn StressState = if dim == 3 { &Solid } else { model.plane.stress_state() };
+        let elements = Elements::of_mesh(mesh, model.plane, model.thickness);
+        let map = on_elements!(&elements, els => DofMap::ordered(els, n_dofs, &fixed, &pinned, &slot_dofs))?;
         let sections: Vec<Section> = model.element_material.iter().map(|&m| Section::new(model.materials[m], stress_state)).collect();
         let prescribed_elements = elements_touching(&elements, &path.prescribed_dofs());
         let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();
@@ -115,6 +118,7 @@ impl<'m> Problem<'m> {
             model,
             node_elements: node_elements(&elements, mesh.n_nodes()),
             elements,
+            dim,
             sections,
             prescribed_elements,
             pairs,
@@ -172,13 +176,10 @@ impl<'m> Problem<'m> {
     }
 
     /// Internal nodal forces P_σ = Σ w Bᵀ σ (eq. 42; w = t A, or 2π r̄ A in axisymmetry).
-    pub fn internal_force(&self, stress: &[Vector4<f64>]) -> Vec<f64> {
+    pub fn internal_force(&self, stress: &[Voigt]) -> Vec<f64> {
         let mut f = vec![0.0; self.dofs.map.role.len()];
-        for (el, s) in self.elements.iter().zip(stress) {
-            let fe = el.internal_force(s);
-            for (k, d) in el.dofs().iter().enumerate() {
-                f[*d] += fe[k];
-            }
+        for (e, s) in stress.iter().enumerate() {
+            self.elements.add_internal_force(e, s, 1.0, |_| true, &mut f);
         }
         f
     }
@@ -215,14 +216,8 @@ impl<'m> Problem<'m> {
         increments.iter().for_each(|&(d, v)| du[d] = v);
         let mut f = vec![0.0; du.len()];
         for &e in &self.prescribed_elements {
-            let el = &self.elements[e];
-            let s = self.sections[e].stress_increment(&tangents[e], &el.strain(&du));
-            let fe = el.internal_force(&s);
-            for (k, &d) in el.dofs().iter().enumerate() {
-                if !self.dofs.fixed[d] {
-                    f[d] -= fe[k];
-                }
-            }
+            let s = self.sections[e].stress_increment(&tangents[e], &self.elements.strain(e, &du));
+            self.elements.add_internal_force(e, &s, -1.0, |d| !self.dofs.fixed[d], &mut f);
         }
         Some(f)
     }
@@ -247,7 +242,7 @@ impl<'m> Problem<'m> {
     /// force E t |Δc| per pair (the order of what moving a surface node by Δc takes;
     /// t = `Model::depth`). (norm, sum)
     fn path_force_scales(&self) -> (f64, f64) {
-        let elastic: Vec<Tangent> = self.sections.iter().map(|s| s.tangent(&Vector4::zeros(), false)).collect();
+        let elastic: Vec<Tangent> = self.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
         let young = self.sections.iter().map(|s| s.material.young).fold(0.0f64, f64::max);
         let (mut norm, mut sum) = (0.0f64, 0.0f64);
         for k in 0..self.path.n_stages() {
@@ -274,13 +269,12 @@ impl<'m> Problem<'m> {
 /// The contact pairs over the global DOFs (eqs. 45–46), supports removed from their vectors.
 fn contact_pairs(model: &Model, fixed: &[bool]) -> Result<Vec<Pair>> {
     let mut pairs = Vec::with_capacity(model.pairs.len());
+    let dim = model.dim();
     for (k, p) in model.pairs.iter().enumerate() {
-        let nn = (p.normal[0].powi(2) + p.normal[1].powi(2)).sqrt();
-        let normal = [p.normal[0] / nn, p.normal[1] / nn];
-        let pair = match p.weights.is_empty() {
-            true => Pair::new(p.node_a, p.node_b, normal, p.gap.max(0.0), p.mu, fixed),
-            false => Pair::weighted(p.node_a, p.node_b, &p.weights, normal, p.gap.max(0.0), p.mu, fixed),
-        };
+        let nn = (p.normal[0].powi(2) + p.normal[1].powi(2) + p.normal[2].powi(2)).sqrt();
+        let normal = p.normal.map(|v| v / nn);
+        let frame = Frame::of_pair(dim, normal, p.tangents);
+        let pair = Pair::build(PairGeometry { node_a: p.node_a, node_b: p.node_b, weights: &p.weights, dim, frame }, p.gap.max(0.0), p.mu, fixed);
         if pair.w_n.norm() < HELD_BY_SUPPORTS {
             bail!(Input, "{}: its normal direction is held by supports, so it can carry no contact force; remove the pair or the support", model.pair_name(k));
         }
@@ -298,7 +292,7 @@ fn contact_slots(pairs: &[Pair], fixed: &[bool], pinned: &[usize]) -> (Vec<usize
     let mut slot = vec![usize::MAX; fixed.len()];
     let mut slot_dofs = Vec::new();
     for pair in pairs {
-        for &(d, _) in pair.w_n.entries.iter().chain(&pair.w_t.entries) {
+        for &(d, _) in pair.w_n.entries.iter().chain(&pair.w_t.entries).chain(&pair.w_t2.entries) {
             if slot[d] == usize::MAX && !fixed[d] && !is_pinned[d] {
                 slot[d] = slot_dofs.len();
                 slot_dofs.push(d);
@@ -309,19 +303,19 @@ fn contact_slots(pairs: &[Pair], fixed: &[bool], pinned: &[usize]) -> (Vec<usize
 }
 
 /// The elements with a DOF in `dofs`.
-fn elements_touching(elements: &[Cst], dofs: &[usize]) -> Vec<usize> {
+fn elements_touching(elements: &Elements, dofs: &[usize]) -> Vec<usize> {
     if dofs.is_empty() {
         return vec![];
     }
     let set: std::collections::HashSet<usize> = dofs.iter().copied().collect();
-    (0..elements.len()).filter(|&e| elements[e].dofs().iter().any(|d| set.contains(d))).collect()
+    (0..elements.len()).filter(|&e| elements.dofs(e).iter().any(|d| set.contains(d))).collect()
 }
 
 /// The first element of every body (connected component).
 fn first_elements(model: &Model, body_of_node: &[usize], n_bodies: usize) -> Vec<usize> {
     let mut first = vec![usize::MAX; n_bodies];
-    for (e, t) in model.mesh.triangles.iter().enumerate() {
-        let b = body_of_node[t[0]];
+    for e in 0..model.mesh.n_elements() {
+        let b = body_of_node[model.mesh.element_nodes(e)[0]];
         if first[b] == usize::MAX {
             first[b] = e;
         }
@@ -330,10 +324,10 @@ fn first_elements(model: &Model, body_of_node: &[usize], n_bodies: usize) -> Vec
 }
 
 /// The elements around each node.
-fn node_elements(elements: &[Cst], n_nodes: usize) -> Vec<Vec<usize>> {
+fn node_elements(elements: &Elements, n_nodes: usize) -> Vec<Vec<usize>> {
     let mut around = vec![vec![]; n_nodes];
-    for (e, el) in elements.iter().enumerate() {
-        el.nodes().iter().for_each(|&n| around[n].push(e));
+    for e in 0..elements.len() {
+        elements.nodes(e).iter().for_each(|&n| around[n].push(e));
     }
     around
 }

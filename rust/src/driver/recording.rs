@@ -291,8 +291,9 @@ impl Recorder {
             stage: state.stage,
             load_fraction: state.load_fraction,
             time: state.time(),
+            dim: problem.dim,
             u: state.u.clone(),
-            stress: state.stress.iter().map(|s| [s[0], s[1], s[2], s[3]]).collect(),
+            stress: state.stress.iter().map(|s| std::array::from_fn(|k| s[k])).collect(),
             plastic_strain: state.plastic_strain.clone(),
             plastic: if state.plastic.is_empty() { vec![0; problem.elements.len()] } else { state.plastic.iter().map(|&p| p as i8).collect() },
             lambda_n: state.lambda_n.clone(),
@@ -300,6 +301,8 @@ impl Recorder {
             status: state.status.iter().map(|s| s.code()).collect(),
             gap: pairs.iter().zip(&state.shift).map(|(p, c)| p.gap(&state.u) + c[0]).collect(),
             rtd: pairs.iter().zip(&state.shift).map(|(p, c)| p.rtd(&state.u) + c[1]).collect(),
+            lambda_t2: if problem.dim == 3 { vec![0.0; pairs.len()] } else { vec![] },
+            rtd2: if problem.dim == 3 { pairs.iter().map(|p| p.w_t2.dot(&state.u)).collect() } else { vec![] },
             reaction,
         })
     }

@@ -20,7 +20,7 @@ use crate::contact::Status;
 use crate::contact::SparseVec;
 use crate::error::Result;
 use crate::model::{EventKind, EventRecord, StopReason};
-use crate::rigid_modes::describe;
+use crate::rigid_modes::{describe, elementary_modes};
 use nalgebra::DMatrix;
 
 /// A singular value of Cᵀ N below this × the largest is a motion no closed pair resists.
@@ -169,9 +169,10 @@ impl Restraint<'_> {
         match closed.as_slice() {
             _ if names.is_empty() => None,
             [] => {
-                let [fx, fy] = self.body_load(body);
-                let size = fx.hypot(fy);
-                let pull = if size > LOAD_ROUND_OFF * self.p.scales.force { format!("pulls the body away from it along ({:.3}, {:.3})", fx / size, fy / size) } else { "turns the body off it".to_string() };
+                let force = self.body_load(body);
+                let size = norm(&force);
+                let direction: Vec<String> = force.iter().map(|f| format!("{:.3}", f / size)).collect();
+                let pull = if size > LOAD_ROUND_OFF * self.p.scales.force { format!("pulls the body away from it along ({})", direction.join(", ")) } else { "turns the body off it".to_string() };
                 Some(format!("lifts off {at}: {contacts} {} closed (gap 0), but the load {pull}", if names.len() == 1 { "starts" } else { "start" }))
             }
             [p] => Some(format!("tips about {} {at}: the other pairs of {contacts} start closed (gap 0) but separate at once, and the load turns the body about that point", self.p.model.pair_name(*p))),
@@ -186,15 +187,15 @@ impl Restraint<'_> {
 
     /// Words for a combination `v` of the body's modes `idx`.
     fn describe_motion(&self, idx: &[usize], v: &[f64]) -> String {
-        let w = self.motion_weights(idx, v);
-        describe(w[0], w[1], w[2])
+        describe(&self.motion_weights(idx, v))
     }
 
-    /// (translation x, translation y, rotation) of a combination `v` of the body's modes `idx`.
-    fn motion_weights(&self, idx: &[usize], v: &[f64]) -> [f64; 3] {
-        let mut w = [0.0; 3];
+    /// The weights of the elementary motions (translations, rotations: `rigid_modes`) of a
+    /// combination `v` of the body's modes `idx`.
+    fn motion_weights(&self, idx: &[usize], v: &[f64]) -> Vec<f64> {
+        let mut w = vec![0.0; elementary_modes(self.p.dim)];
         for (c, &k) in idx.iter().enumerate() {
-            for (wl, ml) in w.iter_mut().zip(self.p.bodies.modes[k].weights) {
+            for (wl, ml) in w.iter_mut().zip(&self.p.bodies.modes[k].weights) {
                 *wl += v[c] * ml;
             }
         }
@@ -206,17 +207,19 @@ impl Restraint<'_> {
     fn tangential_and_normal_load(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> (f64, f64, f64) {
         let closed: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body).collect();
         let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.p.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
-        let (normal, mu) = ([mean(&|p| p.frame.normal[0]), mean(&|p| p.frame.normal[1])], mean(&|p| p.mu));
-        let [fx, fy] = self.body_load(body);
-        let load_along = |dir: [f64; 2]| -> f64 { (fx * dir[0] + fy * dir[1]) / dir[0].hypot(dir[1]).max(f64::MIN_POSITIVE) };
-        (load_along(self.translation_of(idx, v)).abs(), load_along(normal).abs(), mu)
+        let dim = self.p.dim;
+        let normal: Vec<f64> = (0..dim).map(|k| mean(&|p| p.frame.normal[k])).collect();
+        let mu = mean(&|p| p.mu);
+        let force = self.body_load(body);
+        let load_along = |dir: &[f64]| -> f64 { along(&force, dir) };
+        (load_along(&self.translation_of(idx, v)).abs(), load_along(&normal).abs(), mu)
     }
 
-    /// The resultant (x, y) of the stage's end load on a body.
-    fn body_load(&self, body: usize) -> [f64; 2] {
-        let load = self.loads.load.force_end();
+    /// The resultant (x, y[, z]) of the stage's end load on a body.
+    fn body_load(&self, body: usize) -> Vec<f64> {
+        let (load, dim) = (self.loads.load.force_end(), self.p.dim);
         let nodes = (0..self.p.bodies.of_node.len()).filter(|&i| self.p.bodies.of_node[i] == body);
-        nodes.fold([0.0, 0.0], |[x, y], i| [x + load[2 * i], y + load[2 * i + 1]])
+        nodes.fold(vec![0.0; dim], |f, i| (0..dim).map(|k| f[k] + load[dim * i + k]).collect())
     }
 
     /// (T, N, μ) of `tangential_and_normal_load` when T exceeds the capacity μN: gross sliding.
@@ -231,11 +234,25 @@ impl Restraint<'_> {
         format!("({sense}{words}): its closed pairs all slip; under the stage's full load the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal)", mu * n)
     }
 
-    /// The translation part (x, y) of a combination `v` of the body's modes `idx`.
-    fn translation_of(&self, idx: &[usize], v: &[f64]) -> [f64; 2] {
-        let w = self.motion_weights(idx, v);
-        [w[0], w[1]]
+    /// The translation part (x, y[, z]) of a combination `v` of the body's modes `idx`.
+    fn translation_of(&self, idx: &[usize], v: &[f64]) -> Vec<f64> {
+        let mut w = self.motion_weights(idx, v);
+        w.truncate(self.p.dim);
+        w
     }
+}
+
+/// |v| (hypot in 2D).
+fn norm(v: &[f64]) -> f64 {
+    match v {
+        [x, y] => x.hypot(*y),
+        _ => v.iter().map(|c| c * c).sum::<f64>().sqrt(),
+    }
+}
+
+/// The component of `force` along `dir` (not necessarily unit).
+fn along(force: &[f64], dir: &[f64]) -> f64 {
+    force.iter().zip(dir).map(|(f, d)| f * d).sum::<f64>() / norm(dir).max(f64::MIN_POSITIVE)
 }
 
 /// Right singular vectors of `rows` (k columns) with (near-)zero singular values: the motions

@@ -13,7 +13,7 @@ pub const NU: f64 = 0.25;
 
 /// The unit square [0, 1]² of two CSTs: nodes 0 (0, 0), 1 (1, 0), 2 (1, 1), 3 (0, 1).
 pub fn unit_square() -> Mesh {
-    Mesh { nodes: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], triangles: vec![[0, 1, 2], [0, 2, 3]] }
+    Mesh::plane(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], vec![[0, 1, 2], [0, 2, 3]])
 }
 
 /// A one-material model in plane stress of thickness 1.
@@ -37,7 +37,7 @@ pub fn model(mesh: Mesh, fixed_dofs: Vec<usize>, load: Vec<f64>, pairs: Vec<Pair
 
 /// A pair of node `a` with a rigid obstacle of normal `normal` (towards the node) at `gap`.
 pub fn against_obstacle(a: usize, normal: [f64; 2], gap: f64, mu: f64) -> PairInput {
-    PairInput { node_a: a, node_b: None, normal, gap, mu, contact: 0, weights: vec![] }
+    PairInput { node_a: a, node_b: None, normal: [normal[0], normal[1], 0.0], tangents: None, gap, mu, contact: 0, weights: vec![] }
 }
 
 /// The unit square on rollers (u_x = 0 on x = 0, u_y = 0 on y = 0): a traction `right` on its
@@ -74,7 +74,7 @@ pub fn poisson_wall(q: f64, gap: f64) -> Model {
 /// (+x). The stuck pair holds node 0 in place, so the element carries nothing and the pair
 /// carries the load: λ_n = N, λ_t = T (t = (−1, 0), the force on the node w_t λ_t = −T e_x).
 pub fn pressed_then_sheared(n: f64, t: f64, mu: f64) -> Model {
-    let mesh = Mesh { nodes: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], triangles: vec![[0, 1, 2]] };
+    let mesh = Mesh::plane(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], vec![[0, 1, 2]]);
     let mut m = model(mesh, vec![2, 3, 4, 5], vec![0.0, -n, 0.0, 0.0, 0.0, 0.0], vec![against_obstacle(0, [0.0, 1.0], 0.0, mu)], Material::elastic(E, NU));
     m.patterns = vec![LoadPattern { name: "shear".into(), force: vec![t, 0.0, 0.0, 0.0, 0.0, 0.0], ..Default::default() }];
     m.stages = vec![Stage { name: "press".into(), factors: vec![1.0, 0.0] }, Stage { name: "shear".into(), factors: vec![1.0, 1.0] }];
@@ -93,7 +93,7 @@ pub fn pushed_strip(mu: f64) -> Model {
     let mut load = vec![0.0; 12];
     load[4] = -0.5;
     let pairs = vec![against_obstacle(0, [0.0, 1.0], 0.0, mu), against_obstacle(1, [0.0, 1.0], 0.0, mu)];
-    model(Mesh { nodes, triangles }, vec![0, 6], load, pairs, Material::elastic(E, 0.0))
+    model(Mesh::plane(nodes, triangles), vec![0, 6], load, pairs, Material::elastic(E, 0.0))
 }
 
 /// The square on rollers in two stages: stage 1 pulls its right edge to σx = `a`, stage 2

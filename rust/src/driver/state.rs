@@ -3,7 +3,7 @@
 
 use crate::contact::{Pair, Status};
 use crate::events::Noise;
-use nalgebra::Vector4;
+use crate::material::Voigt;
 use std::collections::HashMap;
 
 /// Everything that changes along the load path: accumulated displacement, stresses and
@@ -17,8 +17,9 @@ pub(super) struct State {
     pub load_fraction: f64,
     /// Displacement over the DOFs the loop carries (`Space`).
     pub u: Vec<f64>,
-    /// σx, σy, σz, τxy per element (empty in the reduced elastic space).
-    pub stress: Vec<Vector4<f64>>,
+    /// The six stress components per element (2D: yz = xz = 0; empty in the reduced elastic
+    /// space).
+    pub stress: Vec<Voigt>,
     pub plastic_strain: Vec<f64>,
     pub lambda_n: Vec<f64>,
     pub lambda_t: Vec<f64>,
@@ -41,7 +42,7 @@ impl State {
             stage: 0,
             load_fraction: 0.0,
             u: vec![0.0; n_dofs],
-            stress: vec![Vector4::zeros(); n_elements],
+            stress: vec![Voigt::zeros(); n_elements],
             plastic_strain: vec![0.0; n_elements],
             lambda_n: vec![0.0; n_pairs],
             lambda_t: vec![0.0; n_pairs],
@@ -103,9 +104,9 @@ impl State {
 /// One trial increment towards a target load fraction (eq. 44 in residual form).
 pub(super) struct TrialIncrement {
     pub du: Vec<f64>,
-    pub dstress: Vec<Vector4<f64>>,
+    pub dstress: Vec<Voigt>,
     /// The strain increment of every element (for `stress_integration`).
-    pub dstrain: Vec<Vector4<f64>>,
+    pub dstrain: Vec<Voigt>,
     /// Equivalent plastic strain increment (negative: the element would unload).
     pub dplastic: Vec<f64>,
     pub dlambda_n: Vec<f64>,
@@ -121,7 +122,7 @@ pub(super) struct TrialIncrement {
 /// were integrated (`advance`): the re-integration starts from it (`plasticity`), a retaken
 /// window returns to it (`window`), and it tells which elements yielded inside.
 pub(super) struct IncrementStart {
-    pub stress: Vec<Vector4<f64>>,
+    pub stress: Vec<Voigt>,
     pub plastic_strain: Vec<f64>,
     pub plastic: Vec<bool>,
     pub u: Vec<f64>,

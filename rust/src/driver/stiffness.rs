@@ -13,6 +13,7 @@ use super::problem::Problem;
 use super::state::State;
 use super::tangents::{Renewal, Tangents};
 use crate::element::Element;
+use crate::on_elements;
 use crate::error::Result;
 use crate::linalg::{DofMap, ElementScatter, SpdSolver, StiffnessPattern};
 use crate::low_rank::{Column, Cost, LowRank};
@@ -74,16 +75,16 @@ impl Stiffness {
         let map = &problem.dofs.map;
         let (pattern, k, elastic) = {
             let _t = clock.time(Phase::Assembly);
-            let pattern = StiffnessPattern::new(&problem.elements, map)?;
+            let pattern = on_elements!(&problem.elements, els => StiffnessPattern::new(els, map))?;
             let d: Vec<_> = tangents.held.iter().zip(&problem.sections).map(|(t, s)| s.element_matrix(t)).collect();
-            let k = pattern.assemble(&problem.elements, &d, map)?;
+            let k = on_elements!(&problem.elements, els => pattern.assemble(els, &d, map))?;
             let plastic_run = problem.sections.iter().any(|s| s.material.is_plastic());
-            let elastic = (plastic_run && !problem.is_reduced()).then(|| ElasticK { values: k.val().to_vec(), scatter: pattern.element_scatter(&problem.elements, map) });
+            let elastic = (plastic_run && !problem.is_reduced()).then(|| ElasticK { values: k.val().to_vec(), scatter: on_elements!(&problem.elements, els => pattern.element_scatter(els, map)) });
             (pattern, k, elastic)
         };
         let solver = {
             let _t = clock.time(Phase::Factorization);
-            SpdSolver::new(&k, &map.dof_of_equation, problem.dofs.slot_dofs.len())?
+            SpdSolver::new(&k, map, problem.dofs.slot_dofs.len())?
         };
         let mut stiffness = Stiffness {
             solver,
@@ -113,7 +114,7 @@ impl Stiffness {
         };
         {
             let _t = clock.time(Phase::Factorization);
-            self.solver.factor(&k, &problem.dofs.map.dof_of_equation)?;
+            self.solver.factor(&k, &problem.dofs.map)?;
         }
         self.factored(clock);
         Ok(())
@@ -141,13 +142,13 @@ impl Stiffness {
                 if t.flow.is_some() {
                     let section = &problem.sections[e];
                     let softening = section.element_matrix(t) - section.elastic_matrix();
-                    elastic.scatter.add(e, &problem.elements[e].stiffness(&softening), &mut values);
+                    on_elements!(&problem.elements, els => elastic.scatter.add(e, &els[e].stiffness(&softening), &mut values));
                 }
             }
             return Ok(self.pattern.with_values(values));
         }
         let d: Vec<_> = self.tangents.held.iter().zip(&problem.sections).map(|(t, s)| s.element_matrix(t)).collect();
-        self.pattern.assemble(&problem.elements, &d, &problem.dofs.map)
+        on_elements!(&problem.elements, els => self.pattern.assemble(els, &d, &problem.dofs.map))
     }
 
     /// The timing unit: one forward + backward substitution, best of a few (not counted as

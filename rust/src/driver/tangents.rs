@@ -11,12 +11,12 @@
 
 use super::state::State;
 use super::problem::{Problem, PARALLEL_CHUNK};
-use crate::element::Element;
+use crate::element::{Cst, Element, Elements, Tet4};
 use crate::linalg::DofMap;
 use crate::low_rank::Column;
-use crate::material::Tangent;
+use crate::material::{deviator, Tangent, Voigt, SHEARS};
 use crate::model::Options;
-use nalgebra::{Matrix4, SymmetricEigen, Vector4};
+use nalgebra::{Matrix6, SVector, SymmetricEigen};
 use rayon::prelude::*;
 
 /// Share of the plastic elements that may have yielded without their tangent in K yet.
@@ -52,7 +52,7 @@ pub(super) struct Tangents {
 impl Tangents {
     /// Every element elastic.
     pub fn elastic(problem: &Problem) -> Self {
-        let held: Vec<Tangent> = problem.sections.iter().map(|s| s.tangent(&Vector4::zeros(), false)).collect();
+        let held: Vec<Tangent> = problem.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
         Tangents { factored: held.clone(), held }
     }
 
@@ -111,27 +111,25 @@ impl Tangents {
     /// c = √(w |λ|) Bᵀ v (w the element's volume).
     pub fn columns(&self, problem: &Problem, e: usize, map: &DofMap) -> Vec<Column> {
         let section = &problem.sections[e];
-        let delta: Matrix4<f64> = section.element_matrix(&self.held[e]) - section.element_matrix(&self.factored[e]);
-        let eig = SymmetricEigen::new(delta);
-        let largest = eig.eigenvalues.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let el = &problem.elements[e];
-        let weight = el.measure();
-        (0..4)
-            .filter(|&i| eig.eigenvalues[i].abs() > RANK_NOISE * largest)
-            .map(|i| {
-                let lambda = eig.eigenvalues[i];
-                let w = el.b().transpose() * eig.eigenvectors.column(i) * (weight * lambda.abs()).sqrt();
-                let entries = el.dofs().iter().zip(w.iter()).filter_map(|(&g, &v)| map.equation(g).map(|q| (q, v))).collect();
-                Column { entries, sign: lambda.signum(), owner: e }
-            })
-            .collect()
+        let delta: Matrix6<f64> = section.element_matrix(&self.held[e]) - section.element_matrix(&self.factored[e]);
+        // (the eigen decomposition at the element's own size: nalgebra's needs a concrete one)
+        match &problem.elements {
+            Elements::Plane(els) => {
+                let eig = SymmetricEigen::new(Cst::rows_of(&delta));
+                rank_one_terms(&els[e], e, eig.eigenvalues.as_slice(), |i| eig.eigenvectors.column(i).into_owned(), map)
+            }
+            Elements::Space(els) => {
+                let eig = SymmetricEigen::new(Tet4::rows_of(&delta));
+                rank_one_terms(&els[e], e, eig.eigenvalues.as_slice(), |i| eig.eigenvectors.column(i).into_owned(), map)
+            }
+        }
     }
 
     /// Δσ, Δεp and Δε of every element for a displacement increment (eqs. 10, 11, 18), with
     /// the tangents K holds.
-    pub fn stress_increment(&self, problem: &Problem, du: &[f64]) -> (Vec<Vector4<f64>>, Vec<f64>, Vec<Vector4<f64>>) {
-        let per_element: Vec<(Vector4<f64>, f64, Vector4<f64>)> = problem.elements.par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.held).zip(&problem.sections).map(|((el, t), section)| {
-            let e = el.strain(du);
+    pub fn stress_increment(&self, problem: &Problem, du: &[f64]) -> (Vec<Voigt>, Vec<f64>, Vec<Voigt>) {
+        let per_element: Vec<(Voigt, f64, Voigt)> = (0..self.held.len()).into_par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.held).zip(&problem.sections).map(|((el, t), section)| {
+            let e = problem.elements.strain(el, du);
             (section.stress_increment(t, &e), section.plastic_multiplier(t, &e), e)
         }).collect();
         let n = per_element.len();
@@ -145,14 +143,29 @@ impl Tangents {
     }
 }
 
+/// w Bᵀ ΔD B of one element as signed rank-one terms over the equations (`columns`), from the
+/// eigenvalues λ_i and eigenvectors v_i of ΔD restricted to the element's rows.
+fn rank_one_terms<const S: usize, const N: usize>(el: &impl Element<S, N>, e: usize, eigenvalues: &[f64], eigenvector: impl Fn(usize) -> SVector<f64, S>, map: &DofMap) -> Vec<Column> {
+    let largest = eigenvalues.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let weight = el.measure();
+    (0..S)
+        .filter(|&i| eigenvalues[i].abs() > RANK_NOISE * largest)
+        .map(|i| {
+            let lambda = eigenvalues[i];
+            let w = el.b().transpose() * eigenvector(i) * (weight * lambda.abs()).sqrt();
+            let entries = el.dofs().iter().zip(w.iter()).filter_map(|(&g, &v)| map.equation(g).map(|q| (q, v))).collect();
+            Column { entries, sign: lambda.signum(), owner: e }
+        })
+        .collect()
+}
+
 /// The angle between a held flow direction D a and the current one. For von Mises D a is
-/// 3G/σe (s_x, s_y, s_z, τ_xy), s the stress deviator, so they are compared as deviators,
-/// with the tensor inner product s:s' = Σ s_i s'_i + 2 τ τ' (invariant under rotation), and
+/// 3G/σe s, s the stress deviator (its shears the τ's), so they are compared as deviators,
+/// with the tensor inner product s:s' = Σ s_i s'_i + 2 Σ τ τ' (invariant under rotation), and
 /// without building a tangent.
-fn turned(held_da: &Vector4<f64>, stress: &Vector4<f64>) -> f64 {
-    let p = (stress[0] + stress[1] + stress[2]) / 3.0;
-    let now = Vector4::new(stress[0] - p, stress[1] - p, stress[2] - p, stress[3]);
-    let inner = |a: &Vector4<f64>, b: &Vector4<f64>| a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + 2.0 * a[3] * b[3];
+fn turned(held_da: &Voigt, stress: &Voigt) -> f64 {
+    let now = deviator(stress);
+    let inner = |a: &Voigt, b: &Voigt| SHEARS.fold(a[0] * b[0] + a[1] * b[1] + a[2] * b[2], |s, k| s + 2.0 * a[k] * b[k]);
     let cos = inner(held_da, &now) / (inner(held_da, held_da) * inner(&now, &now)).sqrt();
     cos.clamp(-1.0, 1.0).acos()
 }

@@ -169,7 +169,7 @@ fn takes_substeps(eng: &Engine, sel: &Selection, every_event: bool, state: &Stat
 fn inside_substeps(problem: &Problem, c: &Candidate, state: &State) -> bool {
     match c.kind {
         EventKind::StickToSlip | EventKind::SlipToStick | EventKind::Separate => true,
-        EventKind::Close => problem.pairs[c.entity].w_n.entries.iter().all(|&(d, _)| problem.node_elements[d / 2].iter().all(|&e| !state.plastic[e])),
+        EventKind::Close => problem.pairs[c.entity].w_n.entries.iter().all(|&(d, _)| problem.node_elements[d / problem.dim].iter().all(|&e| !state.plastic[e])),
         _ => false,
     }
 }
