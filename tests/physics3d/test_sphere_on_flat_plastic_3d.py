@@ -6,14 +6,15 @@ curve.  Both are finite-element solutions of one problem (the same sphere, mater
 motion); the closed forms for this regime are fits (Kogut & Etsion, Jackson & Green) looser
 than the comparison.
 
-CI mesh: h = 0.015 mm near the contact.  Tolerance: each run's contact edge lies between a
-closed and an open node, and the force at a given approach goes with the contact radius like
-a flat punch's (P = 2 a E* delta locally), so each force is within h/(2a) of the converged
-one and the two within h/a of each other, a = sqrt(R omega) (Hertz's radius, below the
-plastic one) at each compared snapshot: 14 % at omega = 5 omega_c, 10 % at 10 omega_c.  The
-bench holds its mesh (h = 0.01) to 2 %.  The forces themselves balance the flat's contact to
-the engine's equilibrium tolerance on any mesh: the eighth's resultant times 4 is the full
-sphere's, the axisymmetric run's is already the ring's total.
+CI mesh: h = 0.02 mm near the contact (4.4k DOFs).  Tolerance: each run's contact edge lies
+between a closed and an open node, and the force at a given approach goes with the contact
+radius like a flat punch's (P = 2 a E* delta locally), so each force is within h/(2a) of the
+converged one and the two within h/a of each other, a = sqrt(R omega) (Hertz's radius, below
+the plastic one) at each compared snapshot: 19 %, 16 %, 14 % at t = 0.5, 0.75, 1.  The elastic
+sphere's force is 13 %, 18 %, 25 % above the plastic one there (measured on the axisymmetric
+model), so a 3D run that missed its yielding fails at t = 0.75 and 1.  The bench holds its
+mesh (h = 0.01) to 2 %.  The plastic states balance the flat's contact forces to the engine's
+equilibrium tolerance on any mesh (recomputed from the stresses at every snapshot).
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from space_physics import equilibrium_residual_3d
 
 import slipstep
 
-H, R, OMEGA = 0.015, 10.0, 0.00213
+H, R, OMEGA = 0.02, 10.0, 0.00213
 EQUILIBRIUM_TOL = 1e-9  # the engine's documented equilibrium_tol (docs/engine_api.md)
 TIMES = [0.5, 0.75, 1.0]
 MESH = [f"mesh.h_contact={H}", "mesh.contact_zone=0.2", "mesh.growth=0.3", "mesh.h_max=2.0",
