@@ -272,7 +272,8 @@ def chart(runs: list[dict], gf_doc: dict | None, path: Path) -> None:
     ax[0].set(xlabel="DOFs", ylabel="whole process [s]", title="Hertz sphere 3D: run time")
     for i, what in enumerate(("a", "p0")):
         ax[1].loglog([r["dofs"] for r in hz], [abs(hertz_errors(r)[i]) for r in hz],
-                     "o-" if i == 0 else "o:", label=f"slipstep |err {what}|")
+                     "o-" if i == 0 else "o:", ms=10, fillstyle="none",
+                     label=f"slipstep |err {what}| (the same discrete problem as GetFEM's)")
         gs = sorted((g for g in gf if g["setting"] == "tuned"), key=lambda g: g["dofs"])
         ax[1].loglog([g["dofs"] for g in gs], [abs(g[f"{what}_error"]) for g in gs],
                      "s-" if i == 0 else "s:", label=f"GetFEM |err {what}|")
