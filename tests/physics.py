@@ -15,6 +15,12 @@ Equilibrium
     the centroid (the documented element, rust/src/element.rs), and the supports include u_r = 0
     at every node on the axis r = 0 (the engine's contract).
 
+In space (``model["dimension"] == 3``) the internal force is that of linear tetrahedra,
+    Σ_e V_e B_eᵀ σ_e with the six Voigt stress columns (xx, yy, zz, yz, xz, xy) and the shape
+    functions' gradients from the nodes (``tet_internal_force``), and the contact force
+    λ_n n + λ_t1 t1 + λ_t2 t2 with each pair's tangent basis (``pairs["tangent"]``, or the
+    contract's default basis: t1 = e × n / |e × n|, e the axis least aligned with n, t2 = n × t1).
+
 Balance
     ``balance_terms(model, snapshot)``: each body's resultant contact force, applied load and
     support reaction (the snapshot's ``reaction``), which must sum to zero;
@@ -69,6 +75,46 @@ def internal_force(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray,
             + np.bincount((2 * triangles + 1).ravel(), weights=fy.ravel(), minlength=n))
 
 
+def tet_internal_force(nodes: np.ndarray, tets: np.ndarray, stress: np.ndarray) -> np.ndarray:
+    """Σ_e V_e B_eᵀ σ_e over all DOFs (3 per node) of linear tetrahedra: node k of element e
+    gets V_e σ_e ∇N_k (σ the symmetric tensor of the six Voigt columns xx, yy, zz, yz, xz, xy),
+    ∇N_k from the inverse of J = [x1 − x0, x2 − x0, x3 − x0] (rows k = 1..3 of J⁻¹, ∇N_0 minus
+    their sum), V_e = |det J|/6."""
+    nodes, tets = np.asarray(nodes, dtype=float), np.asarray(tets)
+    s = np.asarray(stress, dtype=float).reshape(-1, 6)
+    x = nodes[tets]                                        # (M, 4, 3)
+    jac = np.transpose(x[:, 1:, :] - x[:, :1, :], (0, 2, 1))  # columns x_k − x_0
+    inv = np.linalg.inv(jac)                              # rows: ∇N_1..3
+    grad = np.concatenate([-inv.sum(axis=1, keepdims=True), inv], axis=1)  # (M, 4, 3)
+    volume = np.abs(np.linalg.det(jac)) / 6.0
+    tensor = s[:, [[0, 5, 4], [5, 1, 3], [4, 3, 2]]]      # (M, 3, 3)
+    f_nodes = volume[:, None, None] * np.einsum("mij,mkj->mki", tensor, grad)  # (M, 4, 3)
+    f = np.zeros(3 * len(nodes))
+    for c in range(3):
+        np.add.at(f, 3 * tets + c, f_nodes[:, :, c])
+    return f
+
+
+def tangent_basis(normal: np.ndarray, tangent=None) -> tuple[np.ndarray, np.ndarray]:
+    """(t1, t2) of every pair in space: the given ``tangent`` (P, 2, 3), or the contract's
+    default: t1 = e × n / |e × n| with e the coordinate axis least aligned with n, t2 = n × t1."""
+    if tangent is not None:
+        tangent = np.asarray(tangent, dtype=float)
+        return tangent[:, 0, :], tangent[:, 1, :]
+    e = np.eye(3)[np.argmin(np.abs(normal), axis=1)]
+    t1 = np.cross(e, normal)
+    t1 /= np.linalg.norm(t1, axis=1)[:, None]
+    return t1, np.cross(normal, t1)
+
+
+def model_internal_force(model: dict, stress: np.ndarray) -> np.ndarray:
+    """The internal force of a snapshot's stresses for a model of either dimension."""
+    if model.get("dimension", 2) == 3:
+        return tet_internal_force(model["nodes"], model["tetrahedra"], stress)
+    return internal_force(np.asarray(model["nodes"], dtype=float), np.asarray(model["triangles"]),
+                          np.asarray(stress), model["thickness"], model.get("plane", "strain"))
+
+
 def ring_internal_force(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray) -> np.ndarray:
     """Axisymmetric internal forces, totals over the ring: per element 2π r̄ A (∂N_k/∂r σr +
     ∂N_k/∂z τrz + σθ/(3 r̄)) on u_r of node k and 2π r̄ A (∂N_k/∂z σz + ∂N_k/∂r τrz) on u_z
@@ -94,21 +140,27 @@ def contact_force(n_nodes: int, pairs: dict, lambda_n: np.ndarray,
     """The contact forces on the bodies over all DOFs: λ_n n + λ_t t on node a, the opposite on
     node b (none for node_b = −1, a rigid target); t = (−n_y, n_x). A node-to-segment row
     (``weight_ptr`` etc.) puts c_i (λ_n n + λ_t t) on each of its nodes i instead."""
-    normal = np.asarray(pairs["normal"], dtype=float).reshape(-1, 2)
-    tangent = np.stack([-normal[:, 1], normal[:, 0]], axis=1)
     lambda_n, lambda_t = np.asarray(lambda_n, dtype=float), np.asarray(lambda_t, dtype=float)
-    force = lambda_n[:, None] * normal + lambda_t[:, None] * tangent
-    f = np.zeros(2 * n_nodes)
     a, b = np.asarray(pairs["node_a"]), np.asarray(pairs["node_b"])
+    dim = np.asarray(pairs["normal"]).reshape(len(a), -1).shape[1] if len(a) else 2
+    normal = np.asarray(pairs["normal"], dtype=float).reshape(-1, dim)
+    if dim == 3:  # λ_t (P, 2) in each pair's (t1, t2)
+        t1, t2 = tangent_basis(normal, pairs.get("tangent"))
+        lt = lambda_t.reshape(-1, 2)
+        force = lambda_n[:, None] * normal + lt[:, :1] * t1 + lt[:, 1:] * t2
+    else:
+        tangent = np.stack([-normal[:, 1], normal[:, 0]], axis=1)
+        force = lambda_n[:, None] * normal + lambda_t[:, None] * tangent
+    f = np.zeros(dim * n_nodes)
     ptr = np.asarray(pairs.get("weight_ptr", np.zeros(len(a) + 1, dtype=np.int64)))
     weighted = np.diff(ptr) > 0  # node-to-segment rows: Σ_i c_i force at node i
-    for comp in (0, 1):
+    for comp in range(dim):
         plain = ~weighted
-        np.add.at(f, 2 * a[plain] + comp, force[plain, comp])
-        np.add.at(f, 2 * b[plain & (b >= 0)] + comp, -force[plain & (b >= 0), comp])
+        np.add.at(f, dim * a[plain] + comp, force[plain, comp])
+        np.add.at(f, dim * b[plain & (b >= 0)] + comp, -force[plain & (b >= 0), comp])
         if weighted.any():
             rows = np.repeat(np.arange(len(a)), np.diff(ptr))
-            np.add.at(f, 2 * np.asarray(pairs["weight_node"]) + comp,
+            np.add.at(f, dim * np.asarray(pairs["weight_node"]) + comp,
                       np.asarray(pairs["weight_value"]) * force[rows, comp])
     return f
 
@@ -156,9 +208,7 @@ def equilibrium_residual(model: dict, snapshot: dict) -> float:
     relative to the forces it carries."""
     nodes = np.asarray(model["nodes"], dtype=float)
     t = float(snapshot.get("t", snapshot["load_fraction"]))
-    internal = internal_force(nodes, np.asarray(model["triangles"]),
-                              np.asarray(snapshot["stress"]), model["thickness"],
-                              model.get("plane", "strain"))
+    internal = model_internal_force(model, snapshot["stress"])
     r = (internal - applied_load(model, t)
          - contact_force(len(nodes), model["pairs"], np.asarray(snapshot["lambda_n"]),
                          np.asarray(snapshot["lambda_t"])))
@@ -183,15 +233,17 @@ def worst_equilibrium(model: dict, snapshots) -> tuple[float, int, float]:
 def node_body(model: dict) -> np.ndarray:
     """The body index (``element_body``) of every node, from the elements it belongs to."""
     body = np.full(len(model["nodes"]), -1, dtype=np.int64)
-    body[np.asarray(model["triangles"]).ravel()] = np.repeat(np.asarray(model["element_body"]), 3)
+    cells = np.asarray(model["tetrahedra"] if model.get("dimension", 2) == 3 else model["triangles"])
+    body[cells.ravel()] = np.repeat(np.asarray(model["element_body"]), cells.shape[1])
     return body
 
 
 def body_sums(model: dict, force: np.ndarray) -> np.ndarray:
-    """(B, 2): a nodal force vector (2N,) summed over each body's nodes, per component."""
-    body, f = node_body(model), np.asarray(force, dtype=float).reshape(-1, 2)
+    """(B, dim): a nodal force vector (dim N,) summed over each body's nodes, per component."""
+    dim = model.get("dimension", 2)
+    body, f = node_body(model), np.asarray(force, dtype=float).reshape(-1, dim)
     n_bodies = int(np.max(model["element_body"])) + 1
-    return np.stack([np.bincount(body, f[:, c], n_bodies) for c in (0, 1)], axis=1)
+    return np.stack([np.bincount(body, f[:, c], n_bodies) for c in range(dim)], axis=1)
 
 
 def recomputed_reaction(model: dict, snapshot: dict) -> np.ndarray:
@@ -199,8 +251,7 @@ def recomputed_reaction(model: dict, snapshot: dict) -> np.ndarray:
     applied load − contact forces at the held DOFs (``held_dofs``), 0 elsewhere."""
     nodes = np.asarray(model["nodes"], dtype=float)
     t = float(snapshot.get("t", snapshot["load_fraction"]))
-    r = (internal_force(nodes, np.asarray(model["triangles"]), np.asarray(snapshot["stress"]),
-                        model["thickness"], model.get("plane", "strain"))
+    r = (model_internal_force(model, snapshot["stress"])
          - applied_load(model, t)
          - contact_force(len(nodes), model["pairs"], np.asarray(snapshot["lambda_n"]),
                          np.asarray(snapshot["lambda_t"])))
