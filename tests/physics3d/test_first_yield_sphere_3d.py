@@ -25,7 +25,6 @@ import math
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
-from space_physics import tet_centroids
 
 import slipstep
 from slipstep.fields import centroids
@@ -63,7 +62,7 @@ def run3d():
     pytest.importorskip("gmsh")
     result = slipstep.run(CASES / "hertz_sphere_3d.toml", overrides=OVERRIDES, progress=False)
     f, e = first_yield(result)
-    c = tet_centroids(result.scene.nodes, result.scene.tetrahedra[[e]])[0]
+    c = centroids(result.scene.nodes, result.scene.tetrahedra[[e]])[0]
     return {"f": f, "depth": c[2], "radius": math.hypot(c[0], c[1]), "result": result}
 
 

@@ -26,7 +26,7 @@ import math
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
-from space_physics import equilibrium_residual_3d
+from physics import EQUILIBRIUM_TOL, equilibrium_residual
 
 import slipstep
 from slipstep.contact_measures import contact_profile
@@ -38,7 +38,6 @@ P, R, E, NU = 30.0, 50.0, 70000.0, 0.3
 E_STAR = E / (1 - NU ** 2)
 A = (3 * P * R / (4 * E_STAR)) ** (1 / 3)
 P0 = 3 * P / (2 * math.pi * A ** 2)
-EQUILIBRIUM_TOL = 1e-9  # the engine's documented equilibrium_tol (docs/engine_api.md)
 OUT = ["output.snapshots=[1.0]"]
 
 
@@ -61,7 +60,7 @@ def test_the_contact_carries_the_load_and_the_stresses_balance(run3d):
     # the eighth carries P/4: its lambda_n sum, from the arrays, and the summary's full one
     assert math.isclose(4 * np.sum(snap["lambda_n"]), P, rel_tol=EQUILIBRIUM_TOL)
     assert math.isclose(run3d.summary["total_normal_force"], P, rel_tol=EQUILIBRIUM_TOL)
-    assert equilibrium_residual_3d(run3d.scene.model, snap) <= EQUILIBRIUM_TOL
+    assert equilibrium_residual(run3d.scene.model, snap) <= EQUILIBRIUM_TOL
 
 
 @needs_gmsh
