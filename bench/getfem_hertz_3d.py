@@ -57,12 +57,11 @@ import argparse  # noqa: E402 - the process clock starts before any import
 import json  # noqa: E402
 import os  # noqa: E402
 import platform  # noqa: E402
-import subprocess  # noqa: E402
-import sys  # noqa: E402
 import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
+from getfem_hertz import point_x_dofs, rows_of_identity, run_child  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -129,27 +128,13 @@ def scene_spec(h: float, setting: str, msh: Path) -> dict:
 
 
 # --------------------------------------------------------------------------- GetFEM (child side)
-def point_dofs(gf_mesh, mfu) -> np.ndarray:
-    """(n_points,) the x DOF of each mesh point (its y and z DOFs are the next two)."""
-    pid, _ = gf_mesh.pid_from_cvid()
-    dof, _ = mfu.basic_dof_from_cvid()
-    x_dof = np.full(gf_mesh.nbpts(), -1)
-    x_dof[np.asarray(pid, dtype=int)] = np.asarray(dof, dtype=int).reshape(-1, 12)[:, 0::3].ravel()
-    return x_dof
-
-
-def rows_of_identity(gf, n: int, dofs: np.ndarray):
-    """The sparse matrix whose row i picks DOF dofs[i]."""
-    return gf.Spmat("copy", gf.Spmat("identity", n), [int(d) for d in dofs], list(range(n)))
-
-
 def build_model(gf, spec: dict):
     """Mesh read, model assembled (module docstring); returns (md, mim, mfu, bookkeeping)."""
     gf_mesh = gf.Mesh("import", "gmsh", spec["msh"])
     mfu = gf.MeshFem(gf_mesh, 3)
     mfu.set_classical_fem(1)
     mim = gf.MeshIm(gf_mesh, gf.Integ("IM_TETRAHEDRON(1)"))
-    ndof, x_dof = mfu.nbdof(), point_dofs(gf_mesh, mfu)
+    ndof, x_dof = mfu.nbdof(), point_x_dofs(gf_mesh, mfu, dim=3)
     E, nu = spec["E"], spec["nu"]
     md = gf.Model("real")
     md.add_fem_variable("u", mfu)
@@ -225,26 +210,6 @@ def one(spec: dict) -> dict:
 
 
 # --------------------------------------------------------------------------- runs (parent side)
-def run_child(spec: dict, timeout: float = TIMEOUT_S) -> dict:
-    """``one`` in its own process; wall_s is that whole process (start-up to exit)."""
-    with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
-        json.dump(spec, f)
-    cmd = [sys.executable, str(Path(__file__).resolve()), "one", f.name]
-    t0 = time.perf_counter()
-    try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=ROOT)
-    except subprocess.TimeoutExpired:
-        return {"status": "timeout", "error": f"no result within {timeout:.0f} s"}
-    finally:
-        os.unlink(f.name)
-    wall = time.perf_counter() - t0
-    lines = [ln for ln in p.stdout.splitlines() if ln.startswith("GETFEM ")]
-    if not lines:
-        tail = " | ".join((p.stderr or "").strip().splitlines()[-3:])
-        return {"status": "error", "error": f"exit code {p.returncode}: {tail}"}
-    return {**json.loads(lines[-1][len("GETFEM "):]), "wall_s": wall}
-
-
 def line_of(r: dict) -> str:
     head = f"h={r['h']:<7g} {r['setting']:6s}"
     if r["status"] not in ("ok", "not_converged"):
@@ -268,7 +233,7 @@ def series(sizes, settings, out: Path) -> list[dict]:
                 if setting in failed or (setting == "nodal" and h < NODAL_UP_TO):
                     continue
                 spec = scene_spec(h, setting, msh)
-                r = {"h": h, "setting": setting, **run_child(spec)}
+                r = {"h": h, "setting": setting, **run_child(spec, TIMEOUT_S, __file__)}
                 r.pop("force", None)  # the nodal forces: for the peer test, not the report
                 rows.append(r)
                 print(line_of(r), flush=True)
