@@ -71,6 +71,9 @@ fn along(weights: &[(usize, f64)], dim: usize, dir: [f64; 3]) -> SparseVec {
     SparseVec { entries: entries.filter(|&(_, c)| c != 0.0).collect() }
 }
 
+/// A pair's gap and RTD shifts by its obstacle's motion: (c_n, c_t1, c_t2) (c_t2 = 0 in 2D).
+pub type Shift = [f64; 3];
+
 /// A constraint vector shorter than this has all its DOFs held by supports (unit normals and
 /// tangents: entries are 0 or of order 1).
 pub const HELD_BY_SUPPORTS: f64 = 1e-12;
@@ -144,9 +147,12 @@ pub struct Pair {
     pub w_t2: SparseVec,
     /// The tangential direction is held entirely by supports: no stick constraint.
     pub tangent_held: bool,
-    /// The columns' entries at held DOFs (normal, tangential): the force the pair puts
+    /// 3D: which of t1, t2 the supports hold (a node on a symmetry plane): no stick row along
+    /// it, and its friction force goes to the support (Coulomb's cone bounds the other).
+    pub held: [bool; 2],
+    /// The columns' entries at held DOFs (normal, tangential, 3D: t2): the force the pair puts
     /// straight onto the supports, which a reaction excludes (no constraint: they do not move).
-    pub on_supports: [SparseVec; 2],
+    pub on_supports: [SparseVec; 3],
 }
 
 /// Where a pair is and what it is: its nodes, its frame, the space's dimension.
@@ -185,13 +191,14 @@ impl Pair {
         let w_n = vec_of(frame.normal).restricted(free);
         let w_t = vec_of(t).restricted(free);
         let w_t2 = if dim == 3 { vec_of(t2).restricted(free) } else { SparseVec::default() };
-        let on_supports = [vec_of(frame.normal).restricted(|d| fixed[d]), vec_of(t).restricted(|d| fixed[d])];
+        let on_supports = [vec_of(frame.normal).restricted(|d| fixed[d]), vec_of(t).restricted(|d| fixed[d]), if dim == 3 { vec_of(t2).restricted(|d| fixed[d]) } else { SparseVec::default() }];
         // Node to node: held when every tangential DOF is; a weighted row (its force on node a
         // alone) when node a's are: its remaining entries would constrain the target only.
         let own = |w: &SparseVec| w.entries.iter().filter(|&&(d, _)| d / dim == node_a).map(|&(_, c)| c * c).sum::<f64>().sqrt();
         let held = |w: &SparseVec| if weighted { own(w) < HELD_BY_SUPPORTS } else { w.norm() < HELD_BY_SUPPORTS };
-        let tangent_held = held(&w_t) && (dim == 2 || held(&w_t2));
-        Pair { node_a, node_b, frame, gap0, mu, w_n, w_t, w_t2, tangent_held, on_supports }
+        let held = [held(&w_t), dim == 2 || held(&w_t2)];
+        let tangent_held = held[0] && held[1];
+        Pair { node_a, node_b, frame, gap0, mu, w_n, w_t, w_t2, tangent_held, held, on_supports }
     }
 
     pub fn frictional(&self) -> bool {
@@ -216,10 +223,11 @@ impl Pair {
         self.w_t.dot(u)
     }
 
-    /// y += the force λ_n, λ_t put on the held DOFs (global).
-    pub fn add_support_force(&self, lambda_n: f64, lambda_t: f64, y: &mut [f64]) {
+    /// y += the force λ_n, λ_t (along t1, t2) put on the held DOFs (global).
+    pub fn add_support_force(&self, lambda_n: f64, lambda_t: [f64; 2], y: &mut [f64]) {
         self.on_supports[0].add_to(lambda_n, y);
-        self.on_supports[1].add_to(lambda_t, y);
+        self.on_supports[1].add_to(lambda_t[0], y);
+        self.on_supports[2].add_to(lambda_t[1], y);
     }
 
     /// λ_t = τ λ_n for a slipping pair (eq. 41): τ = −d μ.
@@ -270,7 +278,7 @@ mod tests {
         assert_eq!(p.closed_status(), Status::Stick);
         // its tangential force goes straight to the support: x = 2 λ_t (t = (−1, 0)) at DOF 0
         let mut y = [0.0; 2];
-        p.add_support_force(1.0, -2.0, &mut y);
+        p.add_support_force(1.0, [-2.0, 0.0], &mut y);
         assert_eq!(y, [2.0, 0.0]);
     }
 }

@@ -4,6 +4,7 @@
 //! for the whole remaining load, each candidate event has a scale S ∈ [0, ∞): the fraction of
 //! the trial increment at which it happens. The smallest S (capped at 1) is taken.
 
+use crate::contact::Shift;
 use crate::contact::{Pair, Status};
 use crate::material::{von_mises, yield_scale};
 use crate::section::Section;
@@ -35,17 +36,21 @@ pub struct PairState<'a> {
     pub lambda_t: &'a [f64],
     pub u: &'a [f64],
     /// Per pair: the gap and RTD shift of its obstacle's motion (c_n, c_t).
-    pub shift: &'a [[f64; 2]],
+    pub shift: &'a [Shift],
     /// Pairs excluded by the anti-cycling rule until the load advances.
     pub frozen: &'a [bool],
+    /// 3D (None in 2D): λ_t along t2 and the held directions e of slipping pairs.
+    pub space: Option<(&'a [f64], &'a [[f64; 2]])>,
 }
 
 pub struct Trial<'a> {
     pub du: &'a [f64],
     pub dlambda_n: &'a [f64],
     pub dlambda_t: &'a [f64],
-    /// Change of the obstacle shifts (c_n, c_t) over the trial.
-    pub dshift: &'a [[f64; 2]],
+    /// Change of the obstacle shifts (c_n, c_t1, c_t2) over the trial.
+    pub dshift: &'a [Shift],
+    /// 3D: Δλ_t along t2 (empty in 2D).
+    pub dlambda_t2: &'a [f64],
 }
 
 /// All candidate events of the trial increment, unsorted.
@@ -75,6 +80,21 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                     push(&mut out, ln.max(0.0) / -dln, EventKind::Separate, 0);
                 }
                 match status {
+                    Status::Stick if pair.frictional() && state.space.is_some() => {
+                        let lt = [lt, state.space.map_or(0.0, |(t2, _)| t2[p])];
+                        let dlt = [dlt, trial.dlambda_t2[p]];
+                        if let Some(s) = onto_round_cone(pair.mu, (ln, lt), (dln, dlt), noise.force) {
+                            push(&mut out, s, EventKind::StickToSlip, 1);
+                        }
+                    }
+                    Status::Slip { direction } if direction != 0 && state.space.is_some() => {
+                        // Slip → stick (eq. 54 in the plane): the slip rate turns against −e.
+                        let e = state.space.map_or([0.0; 2], |(_, dir)| dir[p]);
+                        let rate = slip_rate(pair, trial, p);
+                        if e[0] * rate[0] + e[1] * rate[1] > noise.displacement {
+                            push(&mut out, 0.0, EventKind::SlipToStick, 0);
+                        }
+                    }
                     Status::Stick if pair.frictional() => {
                         // Stick → slip, eqs. 52–53, on either side of the Coulomb cone.
                         // Reaching λ_t = +μλ_n means slip in −t (d = −1), and vice versa.
@@ -102,6 +122,44 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
         }
     }
     out
+}
+
+/// 3D: a pair's relative tangential velocity (t1, t2) in a trial (0 along a direction the
+/// supports hold).
+pub fn slip_rate(pair: &Pair, trial: &Trial, p: usize) -> [f64; 2] {
+    let along = |w: &crate::contact::SparseVec, k: usize| if pair.held[k - 1] { 0.0 } else { w.dot(trial.du) + trial.dshift[p][k] };
+    [along(&pair.w_t, 1), along(&pair.w_t2, 2)]
+}
+
+/// Stick → slip on the round Coulomb cone (3D): the smallest S ≥ 0 with
+/// |λ_t0 + S Δλ_t| = μ (λ_n0 + S Δλ_n), λ_n(S) > 0: the root of the quadratic
+/// a S² + b S + c = 0, a = |Δλ_t|² − μ²Δλ_n², b = 2(λ_t0·Δλ_t − μ² λ_n0 Δλ_n),
+/// c = |λ_t0|² − μ² λ_n0² (≤ 0 inside the cone). A pair on the cone (c ≥ 0 by round-off) that
+/// moves outwards slips at S = 0. None: the increment stays inside (or its rates are noise).
+pub fn onto_round_cone(mu: f64, (ln, lt): (f64, [f64; 2]), (dln, dlt): (f64, [f64; 2]), noise: f64) -> Option<f64> {
+    if dlt[0].hypot(dlt[1]) <= noise && mu * dln.abs() <= noise {
+        return None;
+    }
+    let mu2 = mu * mu;
+    let a = dlt[0] * dlt[0] + dlt[1] * dlt[1] - mu2 * dln * dln;
+    let b = 2.0 * (lt[0] * dlt[0] + lt[1] * dlt[1] - mu2 * ln * dln);
+    let c = lt[0] * lt[0] + lt[1] * lt[1] - mu2 * ln * ln;
+    // λ_n(S) > 0 there (a pair just closed, λ_n = 0, slips at S = 0 if it is pressed on)
+    let normal_at = |s: f64| ln + s * dln > 0.0 || (s == 0.0 && ln >= 0.0 && dln > 0.0);
+    if c >= 0.0 && (b > 0.0 || (b == 0.0 && a > 0.0)) {
+        // on the cone (to round-off) and the friction force grows faster than its capacity
+        return normal_at(0.0).then_some(0.0);
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    let q = -0.5 * (b + b.signum() * disc.sqrt()); // the roots q/a and c/q, without cancellation
+    let roots = [if a != 0.0 { q / a } else { f64::INFINITY }, if q != 0.0 { c / q } else { f64::INFINITY }];
+    // the first crossing outwards (f' = 2aS + b > 0); one on the cone that moves inwards first
+    // (c ≥ 0, b ≤ 0) leaves it again at the later root
+    let leaving = |s: f64| s.is_finite() && (s > 0.0 || (s == 0.0 && c < 0.0)) && 2.0 * a * s + b > 0.0 && normal_at(s);
+    roots.into_iter().filter(|&s| leaving(s)).fold(None, |best: Option<f64>, s| Some(best.map_or(s, |b| b.min(s))))
 }
 
 /// A plastic multiplier below this × the largest of the trial counts as zero (no unloading).
@@ -169,19 +227,49 @@ mod tests {
     fn closing_scale_is_gap_over_closure() {
         let pairs = one_pair(0.0);
         let u = [0.0, -0.02];
-        let st = PairState { pairs: &pairs, status: &[Status::Open], lambda_n: &[0.0], lambda_t: &[0.0], u: &u, shift: &[[0.0; 2]], frozen: &[false] };
+        let st = PairState { pairs: &pairs, status: &[Status::Open], lambda_n: &[0.0], lambda_t: &[0.0], u: &u, shift: &[[0.0; 3]], frozen: &[false], space: None };
         let du = [0.0, -0.32];
-        let c = candidates(&st, &Trial { du: &du, dlambda_n: &[0.0], dlambda_t: &[0.0], dshift: &[[0.0; 2]] }, Noise { displacement: 1e-14, force: 1e-14 });
+        let c = candidates(&st, &Trial { du: &du, dlambda_n: &[0.0], dlambda_t: &[0.0], dshift: &[[0.0; 3]], dlambda_t2: &[] }, Noise { displacement: 1e-14, force: 1e-14 });
         assert_eq!(c.len(), 1);
         assert!((c[0].scale - 0.08 / 0.32).abs() < 1e-15);
+    }
+
+    /// The round cone (3D): the root lands on |λ_t| = μ λ_n (a pair inside going out; one on
+    /// the cone moving inwards first, which leaves it at the later root; one moving inwards for
+    /// good, which never slips), checked on the cone's own equation.
+    #[test]
+    fn round_cone_scale_lands_on_the_cone() {
+        let (mu, noise) = (0.3, 1e-14);
+        let on_cone = |ln: f64, lt: [f64; 2], dln: f64, dlt: [f64; 2], s: f64| (lt[0] + s * dlt[0]).hypot(lt[1] + s * dlt[1]) - mu * (ln + s * dln);
+        let cases = [(10.0, [1.0, -0.5], 2.0, [3.0, 4.0]), (10.0, [0.0, 0.0], 1.0, [-0.2, 2.5]), (5.0, [0.6, 0.0], -1.0, [0.0, 1.0])];
+        for (ln, lt, dln, dlt) in cases {
+            let s = onto_round_cone(mu, (ln, lt), (dln, dlt), noise).expect("it slips");
+            assert!(s > 0.0 && on_cone(ln, lt, dln, dlt, s).abs() < 1e-12 * ln, "{s}");
+            // nowhere outside before it
+            assert!((1..100).map(|k| s * k as f64 / 100.0).all(|x| on_cone(ln, lt, dln, dlt, x) < 0.0));
+        }
+        // on the cone (λ_t = μλ_n (0.6, 0.8)), turning inwards first: the later crossing
+        let (ln, lt) = (10.0, [1.8, 2.4]);
+        let s = onto_round_cone(mu, (ln, lt), (0.0, [-2.0, 0.5]), noise).expect("it leaves again");
+        assert!(s > 0.5 && on_cone(ln, lt, 0.0, [-2.0, 0.5], s).abs() < 1e-12 * ln, "{s}");
+        // just closed (λ = 0) and sheared more than pressed: at once; pressed more: never
+        assert_eq!(onto_round_cone(mu, (0.0, [0.0; 2]), (0.44, [0.04, -0.17]), noise), Some(0.0));
+        assert_eq!(onto_round_cone(mu, (0.0, [0.0; 2]), (1.0, [0.04, -0.17]), noise), None);
+        // on it, its force shrinking straight back: through zero, out on the opposite side where
+        // |λ_t| = |3 − S| = 3 again (S = 6); pressed harder than it is sheared: no slip
+        let s = onto_round_cone(mu, (ln, lt), (0.0, [-0.6, -0.8]), noise).expect("reversed");
+        assert!((s - 6.0).abs() < 1e-12, "{s}");
+        assert_eq!(onto_round_cone(mu, (ln, [0.5, 0.0]), (10.0, [1.0, 0.0]), noise), None);
+        // on it and moving out: at once
+        assert_eq!(onto_round_cone(mu, (ln, lt), (0.0, [0.6, 0.8]), noise), Some(0.0));
     }
 
     #[test]
     fn stick_slip_scale_hits_the_cone() {
         // λ_n = 10, λ_t = 1, μ = 0.3; Δλ_n = 10, Δλ_t = 5: 1 + 5S = 0.3(10 + 10S) ⇒ S = 1.
         let pairs = one_pair(0.3);
-        let st = PairState { pairs: &pairs, status: &[Status::Stick], lambda_n: &[10.0], lambda_t: &[1.0], u: &[0.0, 0.0], shift: &[[0.0; 2]], frozen: &[false] };
-        let c = candidates(&st, &Trial { du: &[0.0, 0.0], dlambda_n: &[10.0], dlambda_t: &[5.0], dshift: &[[0.0; 2]] }, Noise { displacement: 1e-14, force: 1e-14 });
+        let st = PairState { pairs: &pairs, status: &[Status::Stick], lambda_n: &[10.0], lambda_t: &[1.0], u: &[0.0, 0.0], shift: &[[0.0; 3]], frozen: &[false], space: None };
+        let c = candidates(&st, &Trial { du: &[0.0, 0.0], dlambda_n: &[10.0], dlambda_t: &[5.0], dshift: &[[0.0; 3]], dlambda_t2: &[] }, Noise { displacement: 1e-14, force: 1e-14 });
         assert_eq!(c.len(), 1);
         assert_eq!(c[0].kind, EventKind::StickToSlip);
         assert_eq!(c[0].direction, -1);

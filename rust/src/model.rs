@@ -324,9 +324,6 @@ impl Model {
         if !nn.is_finite() || (nn - 1.0).abs() > 1e-6 {
             bail!(Input, "{name}: the normal {:?} is not a unit vector", &p.normal[..self.dim()]);
         }
-        if self.dim() == 3 && p.mu > 0.0 {
-            bail!(Input, "{name}: mu = {} > 0 in a 3D model: this engine solves 3D contact frictionless only (friction on the round cone is not built yet); set mu = 0", p.mu);
-        }
         if !p.gap.is_finite() {
             bail!(Input, "{name}: the initial gap is not finite");
         }

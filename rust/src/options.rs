@@ -61,6 +61,9 @@ pub const DEFAULT_GROUP_TOL: f64 = 0.03;
 /// Default of `tangent_turn` (radians).
 pub const DEFAULT_TANGENT_TURN: f64 = 0.05;
 
+/// Default of `slip_turn` (radians): see rust/src/contact.rs for its measured error.
+pub const DEFAULT_SLIP_TURN: f64 = 0.1;
+
 /// Every option, in the order the key tables list them.
 pub const SPECS: &[Spec] = &[
     Spec { key: "tie_tol", kind: Kind::Real, default: 1e-9, min: at_least(0.0), max: None, doc: "events whose scale factors lie within S_min (1 + tie_tol) are applied together" },
@@ -70,6 +73,7 @@ pub const SPECS: &[Spec] = &[
     Spec { key: "drift_control", kind: Kind::Flag, default: 1.0, min: None, max: None, doc: "plasticity: integrate the stresses of plastic elements along each increment and restore equilibrium with a correction (false = the paper exactly: D_ep at the increment's start, linear stresses)" },
     Spec { key: "max_stress_step", kind: Kind::Real, default: 0.05, min: above(0.0), max: None, doc: "plasticity with drift control: largest von Mises stress change of a plastic element per increment, x Sy" },
     Spec { key: "tangent_turn", kind: Kind::Real, default: DEFAULT_TANGENT_TURN, min: at_least(0.0), max: at_most(std::f64::consts::FRAC_PI_2), doc: "plasticity with drift control: a plastic element's tangent in the stiffness is renewed when its flow direction has turned by more than this angle (radians; 0 = at every increment, as the paper)" },
+    Spec { key: "slip_turn", kind: Kind::Real, default: DEFAULT_SLIP_TURN, min: above(0.0), max: at_most(std::f64::consts::FRAC_PI_2), doc: "3D friction: a slipping pair's friction force keeps its direction along an increment; at an increment's start it is turned to the trial's slip direction when that differs by more than this angle (radians), and the trial is solved again" },
     Spec { key: "stop_at_first_yield", kind: Kind::Flag, default: 0.0, min: None, max: None, doc: "plasticity: end the run right after the first yield event" },
     Spec { key: "limit_stiffness", kind: Kind::Real, default: 1e-3, min: at_least(0.0), max: below(1.0), doc: "stop at a limit load when the current stiffness of the remaining load falls below this fraction of the initial one (0 = never)" },
     Spec { key: "max_zero_length_switches", kind: Kind::Count, default: 4.0, min: at_least(1.0), max: None, doc: "switches of one pair or element within a zero-length run of events before the rate problem sets the statuses (anti-cycling)" },
@@ -109,6 +113,7 @@ pub struct Options {
     pub drift_control: bool,
     pub max_stress_step: f64,
     pub tangent_turn: f64,
+    pub slip_turn: f64,
     pub stop_at_first_yield: bool,
     pub limit_stiffness: f64,
     pub max_zero_length_switches: usize,
@@ -118,7 +123,7 @@ pub struct Options {
 impl Default for Options {
     /// Every option at its declared default, snapshots at every event.
     fn default() -> Self {
-        let mut o = Options { snapshots: SnapshotRequest::EveryEvent, tie_tol: 0.0, group_tol: 0.0, max_events: 0, equilibrium_tol: 0.0, drift_control: false, max_stress_step: 0.0, tangent_turn: 0.0, stop_at_first_yield: false, limit_stiffness: 0.0, max_zero_length_switches: 0, reduced_elastic: false };
+        let mut o = Options { snapshots: SnapshotRequest::EveryEvent, tie_tol: 0.0, group_tol: 0.0, max_events: 0, equilibrium_tol: 0.0, drift_control: false, max_stress_step: 0.0, tangent_turn: 0.0, slip_turn: 0.0, stop_at_first_yield: false, limit_stiffness: 0.0, max_zero_length_switches: 0, reduced_elastic: false };
         for s in SPECS {
             o.field(s.key).expect("every spec names a field").set(s.default);
         }
@@ -172,6 +177,7 @@ impl Options {
             "drift_control" => Field::Flag(&mut self.drift_control),
             "max_stress_step" => Field::Real(&mut self.max_stress_step),
             "tangent_turn" => Field::Real(&mut self.tangent_turn),
+            "slip_turn" => Field::Real(&mut self.slip_turn),
             "stop_at_first_yield" => Field::Flag(&mut self.stop_at_first_yield),
             "limit_stiffness" => Field::Real(&mut self.limit_stiffness),
             "max_zero_length_switches" => Field::Count(&mut self.max_zero_length_switches),

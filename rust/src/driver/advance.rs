@@ -33,15 +33,22 @@ pub(super) fn to_event(eng: &Engine, state: &mut State, trial: &TrialIncrement, 
     start
 }
 
-/// λ_t = −d μ λ_n for slipping pairs (eq. 62; round-off removed). Returns the largest change:
-/// more than round-off where the last correction left a slipping pair off its cone.
+/// λ_t = −d μ λ_n for slipping pairs (eq. 62; round-off removed; 3D: λ_t = μ λ_n e). Returns
+/// the largest change: more than round-off where the last correction left a slipping pair off
+/// its cone.
 pub(super) fn project_onto_cone(problem: &Problem, state: &mut State) -> f64 {
     let mut largest: f64 = 0.0;
-    for (p, st) in state.status.iter().enumerate() {
-        if let Status::Slip { .. } = st {
-            let on_cone = problem.pairs[p].slip_ratio(*st) * state.lambda_n[p];
+    for p in 0..state.status.len() {
+        if let Status::Slip { .. } = state.status[p] {
+            let [tau, tau2] = problem.slip_ratios(state, p);
+            let on_cone = tau * state.lambda_n[p];
             largest = largest.max((on_cone - state.lambda_t[p]).abs());
             state.lambda_t[p] = on_cone;
+            if problem.dim == 3 {
+                let on_cone = tau2 * state.lambda_n[p];
+                largest = largest.max((on_cone - state.lambda_t2[p]).abs());
+                state.lambda_t2[p] = on_cone;
+            }
         }
     }
     largest

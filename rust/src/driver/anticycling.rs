@@ -112,6 +112,18 @@ impl AntiCycling {
         self.switch_count[key] += 1;
     }
 
+    /// A slipping pair's held direction turns at an increment's start (3D, `slip_turn`): a
+    /// zero-length switch of the pair. False once the pair has used its switches in this run:
+    /// it keeps its direction, so that a run of turns ends.
+    pub fn turn(&mut self, p: usize) -> bool {
+        if self.zero_switches[p] >= self.max_switches {
+            return false;
+        }
+        self.zero_switches[p] += 1;
+        self.switch_count[p] += 1;
+        true
+    }
+
     pub fn n_entities(&self) -> usize {
         self.frozen.len()
     }

@@ -33,7 +33,7 @@ impl Correction {
     pub fn include(&mut self, c: &TrialIncrement, s: f64) {
         let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         self.displacement = self.displacement.max(s * largest(&c.du));
-        self.force = self.force.max(s * largest(&c.dlambda_n).max(largest(&c.dlambda_t)));
+        self.force = self.force.max(s * largest(&c.dlambda_n).max(largest(&c.dlambda_t)).max(largest(&c.dlambda_t2)));
     }
 }
 
@@ -57,16 +57,7 @@ pub(super) fn equilibrium_residual(eng: &Engine, state: &State) -> (f64, Option<
         let (r, internal) = full_residual(eng, state);
         return (r, Some(internal));
     }
-    let r2: f64 = problem
-        .bodies
-        .mode_vectors
-        .iter()
-        .enumerate()
-        .map(|(k, mode)| {
-            let contact: f64 = problem.pairs.iter().enumerate().map(|(p, pair)| state.lambda_n[p] * pair.w_n.dot(mode) + state.lambda_t[p] * pair.w_t.dot(mode)).sum();
-            (eng.loads.mode_force_at(k, state.load_fraction) + contact).powi(2)
-        })
-        .sum();
+    let r2: f64 = (0..problem.bodies.mode_vectors.len()).map(|k| (eng.loads.mode_force_at(k, state.load_fraction) + problem.mode_contact_force(state, k)).powi(2)).sum();
     (r2.sqrt() / problem.scales.load_norm, None)
 }
 
@@ -89,7 +80,8 @@ pub(super) fn check_contact(eng: &Engine, state: &State, frozen: &[bool], correc
     let phi = state.load_fraction;
     for (p, pair) in problem.pairs.iter().enumerate() {
         let g = problem.gap(state, p);
-        let (ln, lt) = (state.lambda_n[p], state.lambda_t[p]);
+        let ln = state.lambda_n[p];
+        let lt = if problem.dim == 3 { state.lambda_t[p].hypot(state.lambda_t2[p]) } else { state.lambda_t[p] };
         let closed = state.status[p].is_closed();
         let violation = if g < -gap_tol {
             format!("penetrates by {:.3e}", -g)

@@ -4,6 +4,7 @@
 //! force, and the size of displacements for round-off tolerances.
 
 use super::clock::{Clock, Phase};
+use crate::contact::Shift;
 use super::path::StageLoad;
 use super::problem::Problem;
 use super::space::Space;
@@ -80,12 +81,12 @@ impl StageLoads {
         self.load.prescribed_at(target).map(|(d, v)| (d, v - state.u[d])).collect()
     }
 
-    /// (c_n, c_t)(target) − (c_n, c_t) of every pair (residual form).
-    pub fn shift_increment(&self, state: &State, target: f64) -> Vec<[f64; 2]> {
+    /// (c_n, c_t1, c_t2)(target) − (c_n, c_t1, c_t2) of every pair (residual form).
+    pub fn shift_increment(&self, state: &State, target: f64) -> Vec<Shift> {
         (0..state.shift.len())
             .map(|p| {
                 let c = self.load.shift(p, target);
-                [c[0] - state.shift[p][0], c[1] - state.shift[p][1]]
+                [c[0] - state.shift[p][0], c[1] - state.shift[p][1], c[2] - state.shift[p][2]]
             })
             .collect()
     }
@@ -107,6 +108,7 @@ impl StageLoads {
         for (p, pair) in problem.global_pairs().iter().enumerate() {
             pair.w_n.add_to(state.lambda_n[p], &mut r);
             pair.w_t.add_to(state.lambda_t[p], &mut r);
+            pair.w_t2.add_to(state.lambda_t2[p], &mut r);
         }
         r
     }

@@ -32,6 +32,7 @@
 //! | integrated stresses, equilibrium correction, re-integration | [`plasticity`] | eqs. 5–11, 59 |
 //! | advance to the event | [`advance`] | eqs. 58–62 |
 //! | a plastic window: open, contact sub-steps, close or retake | [`window`] | eqs. 16, 43–44 |
+//! | 3D friction: a slipping pair's held direction and its turn | [`slip_turn`] | |
 //!
 //! Linear algebra: K# is a generalized inverse of the stiffness with the supports and one
 //! pinned DOF per free rigid-body mode removed; the contact DOFs are last in its SPD factor, so
@@ -68,6 +69,7 @@ mod recording;
 mod scenes;
 mod restraint;
 mod selection;
+mod slip_turn;
 mod space;
 mod state;
 mod stepping;
@@ -174,10 +176,14 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
     stage.stepping = stage.stepping.at(state.time()); // a retaken window behind: grouped again
     let renewal = stage.renewal(&eng.problem.model.options);
     eng.stiffness.update(&eng.problem, state, renewal, eng.clock)?; // D or D_ep at the increment's start (eq. 11)
-    let (trial, base) = {
+    let (mut trial, mut base) = {
         let _t = eng.clock.time(Phase::Solves);
         trial::remaining_load(eng, state, internal.take(), stage.stepping)? // eq. 44
     };
+    while slip_turn::turn_slip_directions(eng, state, &trial, cycles, rec, &mut stage.correction)? {
+        let _t = eng.clock.time(Phase::Solves);
+        (trial, base) = trial::remaining_load(eng, state, None, stage.stepping)?; // 3D: a held slip direction turned
+    }
     let _events = eng.clock.time(Phase::Events);
     let cut = rec.snapshot_cut(eng, state);
     let sel = selection::select(&eng.problem, state, &trial, cycles, cut, stage.stepping); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)

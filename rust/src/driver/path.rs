@@ -11,7 +11,7 @@
 //! unloading, reloading and displacement control are the same loop. With no stages the path is
 //! one stage with every factor 1: P(s) = 0 + s·P, today's proportional load, to the bit.
 
-use crate::contact::Frame;
+use crate::contact::{Frame, Shift};
 use crate::model::{Model, PairInput};
 
 /// The loads of one stage, linear in its fraction s ∈ [0, 1].
@@ -22,8 +22,8 @@ pub(super) struct StageLoad {
     /// Prescribed DOFs: (DOF, ū_start, Δū).
     pub prescribed: Vec<(usize, f64, f64)>,
     /// Per pair: (c_n, c_t) at the stage's start and their change over it.
-    shift_start: Vec<[f64; 2]>,
-    shift_change: Vec<[f64; 2]>,
+    shift_start: Vec<Shift>,
+    shift_change: Vec<Shift>,
 }
 
 impl StageLoad {
@@ -57,9 +57,9 @@ impl StageLoad {
     }
 
     /// (c_n, c_t)(s) of pair p.
-    pub fn shift(&self, p: usize, s: f64) -> [f64; 2] {
+    pub fn shift(&self, p: usize, s: f64) -> Shift {
         let (a, b) = (self.shift_start[p], self.shift_change[p]);
-        [a[0] + s * b[0], a[1] + s * b[1]]
+        [a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]]
     }
 }
 
@@ -70,7 +70,7 @@ pub(super) struct LoadPath {
     forces: Vec<Vec<f64>>,
     displacements: Vec<Vec<(usize, f64)>>,
     /// Per pattern: the (c_n, c_t) of every pair at factor 1.
-    shifts: Vec<Vec<[f64; 2]>>,
+    shifts: Vec<Vec<Shift>>,
     pub stage_names: Vec<String>,
 }
 
@@ -124,8 +124,8 @@ impl LoadPath {
         for (j, disp) in self.displacements.iter().enumerate() {
             prescribed.extend(disp.iter().map(|&(d, v)| (d, start[j] * v, (end[j] - start[j]) * v)));
         }
-        let mut shift_start = vec![[0.0; 2]; n_pairs];
-        let mut shift_change = vec![[0.0; 2]; n_pairs];
+        let mut shift_start = vec![[0.0; 3]; n_pairs];
+        let mut shift_change = vec![[0.0; 3]; n_pairs];
         for (j, shift) in self.shifts.iter().enumerate() {
             for (p, c) in shift.iter().enumerate() {
                 for i in 0..2 {
@@ -140,7 +140,7 @@ impl LoadPath {
 
 /// (c_n, c_t) = (−n·m, −t·m) of every pair whose contact's obstacle moves by m (eqs. 21, 25
 /// with the target translated); empty when the pattern moves nothing.
-fn obstacle_shifts(pairs: &[PairInput], dim: usize, motion: &[(usize, [f64; 3])]) -> Vec<[f64; 2]> {
+fn obstacle_shifts(pairs: &[PairInput], dim: usize, motion: &[(usize, [f64; 3])]) -> Vec<Shift> {
     if motion.is_empty() {
         return vec![];
     }
@@ -149,11 +149,11 @@ fn obstacle_shifts(pairs: &[PairInput], dim: usize, motion: &[(usize, [f64; 3])]
         .map(|p| match motion.iter().find(|(c, _)| *c == p.contact) {
             Some((_, m)) => {
                 let frame = Frame::of_pair(dim, p.normal, p.tangents);
-                let (n, t) = (frame.normal, frame.tangents[0]);
+                let [t1, t2] = frame.tangents;
                 let dot = |a: [f64; 3]| a[0] * m[0] + a[1] * m[1] + a[2] * m[2];
-                [-dot(n), -dot(t)]
+                [-dot(frame.normal), -dot(t1), if dim == 3 { -dot(t2) } else { 0.0 }]
             }
-            None => [0.0, 0.0],
+            None => [0.0; 3],
         })
         .collect()
 }

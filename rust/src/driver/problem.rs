@@ -8,7 +8,7 @@ use super::path::{LoadPath, StageLoad};
 use super::space::{Reduced, Space};
 use super::state::State;
 use crate::bail;
-use crate::contact::{Frame, Pair, PairGeometry, SparseVec, HELD_BY_SUPPORTS};
+use crate::contact::{Frame, Pair, PairGeometry, SparseVec, Status, HELD_BY_SUPPORTS};
 use crate::element::Elements;
 use crate::error::Result;
 use crate::linalg::DofMap;
@@ -107,8 +107,11 @@ impl<'m> Problem<'m> {
         let sections: Vec<Section> = model.element_material.iter().map(|&m| Section::new(model.materials[m], stress_state)).collect();
         let prescribed_elements = elements_touching(&elements, &path.prescribed_dofs());
         let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();
-        let elastic = !model.materials.iter().any(|m| m.is_plastic());
-        let (space, pairs, contact_slot, mode_vectors) = if model.options.reduced_elastic && elastic {
+        // (3D friction turns held slip directions, a force jump at fixed load that only the
+        // full space rebalances: `slip_turn`)
+        let turns = dim == 3 && model.pairs.iter().any(|p| p.mu > 0.0);
+        let reducible = !model.materials.iter().any(|m| m.is_plastic()) && !turns;
+        let (space, pairs, contact_slot, mode_vectors) = if model.options.reduced_elastic && reducible {
             let (reduced, view) = Reduced::new(pairs, &slot_dofs, &contact_slot, &full_modes);
             (Space::Reduced(reduced), view.pairs, view.contact_slot, view.mode_vectors)
         } else {
@@ -169,6 +172,28 @@ impl<'m> Problem<'m> {
     /// The RTD of pair p with its obstacle's motion: w_tᵀu + c_t.
     pub fn rtd(&self, state: &State, p: usize) -> f64 {
         self.pairs[p].rtd(&state.u) + state.shift[p][1]
+    }
+
+    /// 3D: the RTD along t2 with its obstacle's motion: w_t2ᵀu + c_t2.
+    pub fn rtd2(&self, state: &State, p: usize) -> f64 {
+        self.pairs[p].w_t2.dot(&state.u) + state.shift[p][2]
+    }
+
+    /// λ_t = τ λ_n of a slipping pair (eq. 41), τ = (τ1, τ2) along (t1, t2): in 2D (−dμ, 0),
+    /// in 3D μ e with e its held direction (`State::slip_dir`); 0 unless it slips with friction.
+    pub fn slip_ratios(&self, state: &State, p: usize) -> [f64; 2] {
+        let pair = &self.pairs[p];
+        match state.status[p] {
+            _ if self.dim == 2 => [pair.slip_ratio(state.status[p]), 0.0],
+            Status::Slip { direction } if direction != 0 => state.slip_dir[p].map(|e| pair.mu * e),
+            _ => [0.0; 2],
+        }
+    }
+
+    /// Nᵀ W λ: the contact forces' share of free rigid mode k (over the loop's DOFs).
+    pub fn mode_contact_force(&self, state: &State, k: usize) -> f64 {
+        let mode = &self.bodies.mode_vectors[k];
+        self.pairs.iter().enumerate().map(|(p, pair)| state.lambda_n[p] * pair.w_n.dot(mode) + state.lambda_t[p] * pair.w_t.dot(mode) + state.lambda_t2[p] * pair.w_t2.dot(mode)).sum()
     }
 
     pub fn body_of_pair(&self, p: usize) -> usize {

@@ -134,6 +134,9 @@ impl Unknowns {
 /// finds no solution (the caller falls back to freezing). `what`: the remaining load, or a
 /// contact sub-step's (`trial::Solve`).
 pub(super) fn solve_rate_problem(eng: &mut Engine, state: &State, what: Solve) -> Option<Vec<Status>> {
+    if eng.problem.dim == 3 {
+        return None; // (2D only: the faceted cone in space is not built; the last resort freezes)
+    }
     let oob = trial::out_of_balance(eng, state, what, None);
     RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads }.solve(state, &oob)
 }

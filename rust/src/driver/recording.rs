@@ -284,7 +284,7 @@ impl Recorder {
         // P_σ − P − the contact forces at the held DOFs: the supports' force
         let mut contact = vec![0.0; internal.len()];
         for (p, pair) in pairs.iter().enumerate() {
-            pair.add_support_force(state.lambda_n[p], state.lambda_t[p], &mut contact);
+            pair.add_support_force(state.lambda_n[p], [state.lambda_t[p], state.lambda_t2[p]], &mut contact);
         }
         let reaction = (0..internal.len()).map(|d| if problem.dofs.fixed[d] { internal[d] - loads.load.force(d, state.load_fraction) - contact[d] } else { 0.0 }).collect();
         Ok(Snapshot {
@@ -301,8 +301,8 @@ impl Recorder {
             status: state.status.iter().map(|s| s.code()).collect(),
             gap: pairs.iter().zip(&state.shift).map(|(p, c)| p.gap(&state.u) + c[0]).collect(),
             rtd: pairs.iter().zip(&state.shift).map(|(p, c)| p.rtd(&state.u) + c[1]).collect(),
-            lambda_t2: if problem.dim == 3 { vec![0.0; pairs.len()] } else { vec![] },
-            rtd2: if problem.dim == 3 { pairs.iter().map(|p| p.w_t2.dot(&state.u)).collect() } else { vec![] },
+            lambda_t2: if problem.dim == 3 { state.lambda_t2.clone() } else { vec![] },
+            rtd2: if problem.dim == 3 { pairs.iter().zip(&state.shift).map(|(p, c)| p.w_t2.dot(&state.u) + c[2]).collect() } else { vec![] },
             reaction,
         })
     }
@@ -318,6 +318,7 @@ fn reconstruct(eng: &mut Engine, state: &State) -> Result<(State, Vec<f64>, f64)
     for (p, pair) in problem.global_pairs().iter().enumerate() {
         pair.w_n.add_to(state.lambda_n[p], &mut y);
         pair.w_t.add_to(state.lambda_t[p], &mut y);
+        pair.w_t2.add_to(state.lambda_t2[p], &mut y);
     }
     let mut u = stiffness.apply_ginv(&problem.dofs.map, std::slice::from_ref(&y)).pop().unwrap_or_default();
     if let Space::Reduced(_) = &problem.space {

@@ -101,7 +101,12 @@ impl Restraint<'_> {
         for (p, pair) in self.p.pairs.iter().enumerate().filter(|(p, _)| state.status[*p].is_closed()) {
             rows.push(row(&pair.w_n));
             if pair.frictional() && (if_stuck || state.status[p] == Status::Stick) {
-                rows.push(row(&pair.w_t));
+                if self.p.dim == 2 || !pair.held[0] {
+                    rows.push(row(&pair.w_t));
+                }
+                if self.p.dim == 3 && !pair.held[1] {
+                    rows.push(row(&pair.w_t2));
+                }
             }
         }
         rows
@@ -130,7 +135,14 @@ impl Restraint<'_> {
                 continue;
             }
             let words: Vec<String> = free.iter().map(|v| self.describe_motion(&idx, v)).collect();
-            let slip_rows: Vec<Vec<f64>> = self.slipping_pairs_of(body, state).map(|p| idx.iter().map(|&k| self.p.pairs[p].w_t.dot(&self.p.bodies.mode_vectors[k])).collect()).collect();
+            let tangents = |p: usize| {
+                let pair = &self.p.pairs[p];
+                match self.p.dim {
+                    3 => [(&pair.w_t, pair.held[0]), (&pair.w_t2, pair.held[1])].into_iter().filter(|(_, held)| !held).map(|(w, _)| w).collect(),
+                    _ => vec![&pair.w_t],
+                }
+            };
+            let slip_rows: Vec<Vec<f64>> = self.slipping_pairs_of(body, state).flat_map(tangents).map(|w| idx.iter().map(|&k| w.dot(&self.p.bodies.mode_vectors[k])).collect()).collect();
             let held_if_stuck = !slip_rows.is_empty() && free_motions(&[rows_n.as_slice(), slip_rows.as_slice()].concat(), idx.len()).is_empty();
             let name = self.p.model.body_name(self.p.bodies.first_element[body]);
             if held_if_stuck {

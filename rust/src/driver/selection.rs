@@ -77,12 +77,13 @@ pub(super) fn select_contact(problem: &Problem, state: &State, trial: &TrialIncr
 /// The pairs' part of the state as `events` reads it; `frozen`: pairs the anti-cycling rule
 /// holds.
 pub(super) fn pair_state<'a>(problem: &'a Problem, state: &'a State, frozen: &'a [bool]) -> PairState<'a> {
-    PairState { pairs: &problem.pairs, status: &state.status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, shift: &state.shift, frozen }
+    let space = (problem.dim == 3).then_some((&state.lambda_t2[..], &state.slip_dir[..]));
+    PairState { pairs: &problem.pairs, status: &state.status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, shift: &state.shift, frozen, space }
 }
 
 /// A trial's rates as `events` reads them.
 pub(super) fn trial_of(trial: &TrialIncrement) -> Trial<'_> {
-    Trial { du: &trial.du, dlambda_n: &trial.dlambda_n, dlambda_t: &trial.dlambda_t, dshift: &trial.dshift }
+    Trial { du: &trial.du, dlambda_n: &trial.dlambda_n, dlambda_t: &trial.dlambda_t, dshift: &trial.dshift, dlambda_t2: &trial.dlambda_t2 }
 }
 
 /// Every candidate event of the trial (contacts, yields, unloads) and the drift bound.

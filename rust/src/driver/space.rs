@@ -39,7 +39,7 @@ impl Reduced {
         let mut index = contact_slot.to_vec();
         let mut dofs = slot_dofs.to_vec();
         for pair in &pairs {
-            for &(d, _) in pair.w_n.entries.iter().chain(&pair.w_t.entries) {
+            for &(d, _) in pair.w_n.entries.iter().chain(&pair.w_t.entries).chain(&pair.w_t2.entries) {
                 if index[d] == usize::MAX {
                     index[d] = dofs.len();
                     dofs.push(d);
@@ -48,7 +48,7 @@ impl Reduced {
         }
         let remap = |w: &SparseVec| SparseVec { entries: w.entries.iter().map(|&(d, v)| (index[d], v)).collect() };
         let view = ReducedView {
-            pairs: pairs.iter().map(|p| Pair { w_n: remap(&p.w_n), w_t: remap(&p.w_t), ..p.clone() }).collect(),
+            pairs: pairs.iter().map(|p| Pair { w_n: remap(&p.w_n), w_t: remap(&p.w_t), w_t2: remap(&p.w_t2), ..p.clone() }).collect(),
             contact_slot: (0..dofs.len()).map(|r| if r < slot_dofs.len() { r } else { usize::MAX }).collect(),
             mode_vectors: modes.iter().map(|m| dofs.iter().map(|&d| m[d]).collect()).collect(),
         };

@@ -1,6 +1,7 @@
 //! The evolving state of the procedure (eqs. 59–62), one trial increment (eq. 44), and the
 //! element state at the start of an increment whose stresses were integrated.
 
+use crate::contact::Shift;
 use crate::contact::{Pair, Status};
 use crate::events::Noise;
 use crate::material::Voigt;
@@ -28,9 +29,15 @@ pub(super) struct State {
     pub status: Vec<Status>,
     /// RTD at which each stick pair stuck: its tangential constraint holds RTD there (eq. 39).
     pub rtd_stick: Vec<f64>,
+    /// 3D: λ_t and the stuck RTD along each pair's second tangent t2 (0 in 2D).
+    pub lambda_t2: Vec<f64>,
+    pub rtd_stick2: Vec<f64>,
+    /// 3D: the held direction e (along t1, t2; unit) of a slipping pair's friction force,
+    /// λ_t = μ λ_n e (`contact`'s module text).
+    pub slip_dir: Vec<[f64; 2]>,
     pub plastic: Vec<bool>,
     /// Per pair: the gap and RTD shift (c_n, c_t) of its obstacle's motion (`path`).
-    pub shift: Vec<[f64; 2]>,
+    pub shift: Vec<Shift>,
 }
 
 impl State {
@@ -49,8 +56,11 @@ impl State {
             alpha: vec![0.0; n_modes],
             status: pairs.iter().map(|p| if p.gap0 <= gap_tol { p.closed_status() } else { Status::Open }).collect(),
             rtd_stick: vec![0.0; n_pairs],
+            lambda_t2: vec![0.0; n_pairs],
+            rtd_stick2: vec![0.0; n_pairs],
+            slip_dir: vec![[0.0; 2]; n_pairs],
             plastic: vec![false; n_elements],
-            shift: vec![[0.0; 2]; n_pairs],
+            shift: vec![[0.0; 3]; n_pairs],
         }
     }
 
@@ -93,10 +103,12 @@ impl State {
     pub fn advance_forces(&mut self, inc: &TrialIncrement, s: f64) {
         self.lambda_n.iter_mut().zip(&inc.dlambda_n).for_each(|(u, d)| *u += s * d);
         self.lambda_t.iter_mut().zip(&inc.dlambda_t).for_each(|(u, d)| *u += s * d);
+        self.lambda_t2.iter_mut().zip(&inc.dlambda_t2).for_each(|(u, d)| *u += s * d);
         self.alpha.iter_mut().zip(&inc.dalpha).for_each(|(u, d)| *u += s * d);
         for (c, d) in self.shift.iter_mut().zip(&inc.dshift) {
             c[0] += s * d[0];
             c[1] += s * d[1];
+            c[2] += s * d[2];
         }
     }
 }
@@ -111,9 +123,11 @@ pub(super) struct TrialIncrement {
     pub dplastic: Vec<f64>,
     pub dlambda_n: Vec<f64>,
     pub dlambda_t: Vec<f64>,
+    /// 3D: along t2 (empty in 2D).
+    pub dlambda_t2: Vec<f64>,
     pub dalpha: Vec<f64>,
     /// Change of every pair's obstacle shift (c_n, c_t) (`path`).
-    pub dshift: Vec<[f64; 2]>,
+    pub dshift: Vec<Shift>,
     /// The rates below which this increment's changes are round-off (its Δu's and the forces').
     pub noise: Noise,
 }

@@ -74,31 +74,50 @@ fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut Anti
 /// carries λ_n up to tie_tol × its rate): a force jump that the caller rebalances.
 pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64 {
     let p = c.entity;
-    let before = if c.kind == EventKind::StickToSlip { state.lambda_t[p] } else { 0.0 };
-    let dropped = if c.kind == EventKind::Separate { state.lambda_n[p].abs().max(state.lambda_t[p].abs()) } else { 0.0 };
+    let before = if c.kind == EventKind::StickToSlip { [state.lambda_t[p], state.lambda_t2[p]] } else { [0.0; 2] };
+    let dropped = if c.kind == EventKind::Separate { state.lambda_n[p].abs().max(state.lambda_t[p].abs()).max(state.lambda_t2[p].abs()) } else { 0.0 };
     match c.kind {
         EventKind::Close => {
             state.status[p] = problem.pairs[p].closed_status();
             state.rtd_stick[p] = problem.rtd(state, p);
+            state.rtd_stick2[p] = problem.rtd2(state, p);
         }
         EventKind::Separate => {
             state.status[p] = Status::Open;
             state.lambda_n[p] = 0.0;
             state.lambda_t[p] = 0.0;
+            state.lambda_t2[p] = 0.0;
         }
         EventKind::StickToSlip => {
             state.status[p] = Status::Slip { direction: c.direction };
-            state.lambda_t[p] = problem.pairs[p].slip_ratio(state.status[p]) * state.lambda_n[p];
+            if problem.dim == 3 {
+                state.slip_dir[p] = held_direction([state.lambda_t[p], state.lambda_t2[p]]);
+            }
+            let [tau, tau2] = problem.slip_ratios(state, p);
+            state.lambda_t[p] = tau * state.lambda_n[p];
+            state.lambda_t2[p] = tau2 * state.lambda_n[p];
         }
         EventKind::SlipToStick => {
             state.status[p] = Status::Stick;
             state.rtd_stick[p] = problem.rtd(state, p);
+            state.rtd_stick2[p] = problem.rtd2(state, p);
         }
         EventKind::Yield => state.plastic[p] = true,
         EventKind::Unload => state.plastic[p] = false,
         EventKind::Frozen | EventKind::FrozenElement => {}
     }
-    if c.kind == EventKind::StickToSlip { (state.lambda_t[p] - before).abs() } else { dropped }
+    match c.kind {
+        EventKind::StickToSlip if problem.dim == 3 => (state.lambda_t[p] - before[0]).hypot(state.lambda_t2[p] - before[1]),
+        EventKind::StickToSlip => (state.lambda_t[p] - before[0]).abs(),
+        _ => dropped,
+    }
+}
+
+/// The direction e a pair that starts to slip in 3D holds: that of its friction force at the
+/// event, which is on the cone there (|λ_t| = μ λ_n > 0); t1 if that force is zero.
+fn held_direction(lambda_t: [f64; 2]) -> [f64; 2] {
+    let size = lambda_t[0].hypot(lambda_t[1]);
+    if size > 0.0 { lambda_t.map(|v| v / size) } else { [1.0, 0.0] }
 }
 
 /// The events that take pair p from status `from` to `to` (for the rate problem's statuses).

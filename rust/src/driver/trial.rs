@@ -23,6 +23,7 @@ use super::restraint;
 use super::state::{State, TrialIncrement};
 use super::stepping::Stepping;
 use crate::bail;
+use crate::contact::Shift;
 use crate::contact::{SparseVec, Status};
 use crate::error::Result;
 use crate::events::Noise;
@@ -55,11 +56,12 @@ impl Solve<'_> {
     }
 }
 
-/// A row of the small system: pair p's normal or tangential constraint.
+/// A row of the small system: pair p's normal or tangential constraint (3D: along t1, t2).
 #[derive(Clone, Copy)]
 pub(super) enum Row {
     Normal(usize),
     Tangent(usize),
+    Tangent2(usize),
 }
 
 /// K# r at the contact slots and the rigid-body rows −Nᵀ r for the out-of-balance force r; in
@@ -71,7 +73,7 @@ pub(super) struct OutOfBalance {
     /// The prescribed displacement increments ū(target) − u (full space).
     prescribed: Vec<(usize, f64)>,
     /// The obstacle shift increments (c_n, c_t)(target) − (c_n, c_t) per pair.
-    pub dshift: Vec<[f64; 2]>,
+    pub dshift: Vec<Shift>,
     /// C⁻¹ Zᵀ r of the low-rank terms (`low_rank`; empty without them).
     low_rank_coefficients: Vec<f64>,
 }
@@ -98,7 +100,7 @@ impl TrialBase {
     }
 
     /// The out-of-balance force of the remaining fraction c' (contact slots only).
-    fn scaled(&self, c: f64, dshift: Vec<[f64; 2]>) -> OutOfBalance {
+    fn scaled(&self, c: f64, dshift: Vec<Shift>) -> OutOfBalance {
         let k = if self.c > 0.0 { c / self.c } else { 0.0 };
         let times = |v: &[f64]| v.iter().map(|x| k * x).collect();
         OutOfBalance { z0: times(&self.z0), mode_rhs: times(&self.mode_rhs), forward_sweep: vec![], prescribed: vec![], dshift, low_rank_coefficients: vec![] }
@@ -174,7 +176,7 @@ pub(super) fn out_of_balance(eng: &mut Engine, state: &State, what: Solve, inter
 
 /// Rows of the closed pairs: normal (h = −gap − Δc_n) and, for frictional stick, tangential
 /// (h = RTD at sticking − RTD − Δc_t), with Δc the obstacle's motion over the trial.
-fn contact_system(eng: &Engine, state: &State, dshift: &[[f64; 2]]) -> ContactSystem {
+fn contact_system(eng: &Engine, state: &State, dshift: &[Shift]) -> ContactSystem {
     let problem = &eng.problem;
     let (mut rows, mut h) = (Vec::new(), Vec::new());
     for (p, st) in state.status.iter().enumerate() {
@@ -183,36 +185,49 @@ fn contact_system(eng: &Engine, state: &State, dshift: &[[f64; 2]]) -> ContactSy
         }
         rows.push(Row::Normal(p));
         h.push(-problem.gap(state, p) - dshift[p][0]);
+        let held = problem.pairs[p].held;
         if *st == Status::Stick && problem.pairs[p].frictional() {
-            rows.push(Row::Tangent(p));
-            h.push(state.rtd_stick[p] - problem.rtd(state, p) - dshift[p][1]);
+            if problem.dim == 2 || !held[0] {
+                rows.push(Row::Tangent(p));
+                h.push(state.rtd_stick[p] - problem.rtd(state, p) - dshift[p][1]);
+            }
+            if problem.dim == 3 && !held[1] {
+                rows.push(Row::Tangent2(p));
+                h.push(state.rtd_stick2[p] - problem.rtd2(state, p) - dshift[p][2]);
+            }
         }
     }
-    let columns: Vec<Vec<(usize, f64)>> = rows.iter().map(|row| force_direction(problem, *row, &state.status)).collect();
+    let columns: Vec<Vec<(usize, f64)>> = rows.iter().map(|row| force_direction(problem, state, *row)).collect();
     let flex_columns = columns.iter().map(|e| eng.stiffness.flexibility_times(&problem.dofs.contact_slot, e)).collect();
     ContactSystem { rows, h, columns, flex_columns }
 }
 
-/// Column e_j: w_n (+ τ w_t for a slipping pair, τ = −dμ, eq. 41) or w_t.
-fn force_direction(problem: &Problem, row: Row, status: &[Status]) -> Vec<(usize, f64)> {
+/// Column e_j: w_n (+ τ w_t for a slipping pair, τ = −dμ, eq. 41; in 3D + τ1 w_t + τ2 w_t2,
+/// τ = μ e), or w_t (w_t2).
+fn force_direction(problem: &Problem, state: &State, row: Row) -> Vec<(usize, f64)> {
     match row {
         Row::Normal(p) => {
             let pair = &problem.pairs[p];
-            let tau = pair.slip_ratio(status[p]);
+            let [tau, tau2] = problem.slip_ratios(state, p);
             let mut e = pair.w_n.entries.clone();
             if tau != 0.0 {
                 e.extend(pair.w_t.entries.iter().map(|&(d, v)| (d, tau * v)));
             }
+            if tau2 != 0.0 {
+                e.extend(pair.w_t2.entries.iter().map(|&(d, v)| (d, tau2 * v)));
+            }
             e
         }
         Row::Tangent(p) => problem.pairs[p].w_t.entries.clone(),
+        Row::Tangent2(p) => problem.pairs[p].w_t2.entries.clone(),
     }
 }
 
-fn constraint<'a>(problem: &'a Problem, row: Row) -> &'a SparseVec {
+pub(super) fn constraint<'a>(problem: &'a Problem, row: Row) -> &'a SparseVec {
     match row {
         Row::Normal(p) => &problem.pairs[p].w_n,
         Row::Tangent(p) => &problem.pairs[p].w_t,
+        Row::Tangent2(p) => &problem.pairs[p].w_t2,
     }
 }
 
@@ -265,13 +280,19 @@ fn increment(eng: &mut Engine, state: &State, what: Solve, sys: &ContactSystem, 
     let problem = &eng.problem;
     let (m, n_pairs) = (sys.rows.len(), problem.pairs.len());
     let (mut dlambda_n, mut dlambda_t) = (vec![0.0; n_pairs], vec![0.0; n_pairs]);
+    let mut dlambda_t2 = vec![0.0; if problem.dim == 3 { n_pairs } else { 0 }];
     for j in 0..m {
         match sys.rows[j] {
             Row::Normal(p) => {
                 dlambda_n[p] = sol[j];
-                dlambda_t[p] = problem.pairs[p].slip_ratio(state.status[p]) * sol[j];
+                let [tau, tau2] = problem.slip_ratios(state, p);
+                dlambda_t[p] = tau * sol[j];
+                if problem.dim == 3 {
+                    dlambda_t2[p] = tau2 * sol[j];
+                }
             }
             Row::Tangent(p) => dlambda_t[p] = sol[j],
+            Row::Tangent2(p) => dlambda_t2[p] = sol[j],
         }
     }
     let dshift = std::mem::take(&mut oob.dshift);
@@ -292,10 +313,10 @@ fn increment(eng: &mut Engine, state: &State, what: Solve, sys: &ContactSystem, 
         }
     };
     if problem.is_reduced() || sub_step {
-        return TrialIncrement { du, dstress: vec![], dplastic: vec![], dstrain: vec![], dlambda_n, dlambda_t, dalpha, dshift, noise };
+        return TrialIncrement { du, dstress: vec![], dplastic: vec![], dstrain: vec![], dlambda_n, dlambda_t, dlambda_t2, dalpha, dshift, noise };
     }
     let (dstress, dplastic, dstrain) = eng.stiffness.tangents.stress_increment(problem, &du);
-    TrialIncrement { du, dstress, dplastic, dstrain, dlambda_n, dlambda_t, dalpha, dshift, noise }
+    TrialIncrement { du, dstress, dplastic, dstrain, dlambda_n, dlambda_t, dlambda_t2, dalpha, dshift, noise }
 }
 
 /// K#(r + E Δλ): in the reduced space and for a sub-step only at the contact DOFs,

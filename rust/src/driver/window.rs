@@ -40,6 +40,7 @@ use super::state::{IncrementStart, State, TrialIncrement};
 use super::stepping::Stepping;
 use super::switching::switch_statuses;
 use super::trial::{self, Solve, TrialBase};
+use crate::contact::Shift;
 use crate::contact::Status;
 use crate::error::Result;
 use crate::events::Candidate;
@@ -69,7 +70,9 @@ pub(super) struct Window {
     alpha: Vec<f64>,
     status: Vec<Status>,
     rtd_stick: Vec<f64>,
-    shift: Vec<[f64; 2]>,
+    /// 3D: λ_t2, the stuck RTD along t2 and the slip directions.
+    space: (Vec<f64>, Vec<f64>, Vec<[f64; 2]>),
+    shift: Vec<Shift>,
     recorded: Recorded,
     correction: Correction,
 }
@@ -96,6 +99,7 @@ impl Window {
             alpha: state.alpha.clone(),
             status: state.status.clone(),
             rtd_stick: state.rtd_stick.clone(),
+            space: (state.lambda_t2.clone(), state.rtd_stick2.clone(), state.slip_dir.clone()),
             shift: state.shift.clone(),
             recorded: recorded(),
             correction,
@@ -112,6 +116,7 @@ impl Window {
         (state.stage, state.load_fraction) = (self.stage, self.load_fraction);
         (state.lambda_n, state.lambda_t, state.alpha) = (self.lambda_n, self.lambda_t, self.alpha);
         (state.status, state.rtd_stick, state.shift) = (self.status, self.rtd_stick, self.shift);
+        (state.lambda_t2, state.rtd_stick2, state.slip_dir) = self.space;
         let recorded = self.recorded;
         rec.events.truncate(recorded.events);
         rec.steps.truncate(recorded.steps);
@@ -189,7 +194,8 @@ fn contact_substeps(eng: &mut Engine, state: &mut State, sub: TrialIncrement, se
     let (phi, bound_phi) = (state.load_fraction, sel.bound_phi);
     let scale = scale_between(&start, state);
     let (status, rtd_stick) = (std::mem::take(&mut state.status), std::mem::take(&mut state.rtd_stick));
-    *state = State { status, rtd_stick, ..start };
+    let (rtd_stick2, slip_dir) = (std::mem::take(&mut state.rtd_stick2), std::mem::take(&mut state.slip_dir));
+    *state = State { status, rtd_stick, rtd_stick2, slip_dir, ..start };
     let rebalance = jump > eng.problem.scales.force_noise;
     let last = sel.last && !rebalance;
     let ending = if rebalance || sel.group.iter().all(|c| inside_substeps(&eng.problem, c, state)) { vec![] } else { sel.group };
@@ -261,10 +267,11 @@ fn whole_increment(eng: &mut Engine, start: &State, end: &State, base: &TrialBas
     let per = |v: f64| if scale > 0.0 { v / scale } else { 0.0 };
     let dlambda_n: Vec<f64> = end.lambda_n.iter().zip(&start.lambda_n).map(|(a, b)| a - b).collect();
     let dlambda_t: Vec<f64> = end.lambda_t.iter().zip(&start.lambda_t).map(|(a, b)| a - b).collect();
+    let dlambda_t2: Vec<f64> = end.lambda_t2.iter().zip(&start.lambda_t2).map(|(a, b)| a - b).collect();
     let contact_slot = &eng.problem.dofs.contact_slot;
     let mut force_slots = vec![0.0; eng.stiffness.flexibility.nrows()];
     for (p, pair) in eng.problem.pairs.iter().enumerate() {
-        for (w, dl) in [(&pair.w_n, dlambda_n[p]), (&pair.w_t, dlambda_t[p])] {
+        for (w, dl) in [(&pair.w_n, dlambda_n[p]), (&pair.w_t, dlambda_t[p]), (&pair.w_t2, dlambda_t2[p])] {
             for &(d, v) in &w.entries {
                 if contact_slot[d] != usize::MAX {
                     force_slots[contact_slot[d]] += dl * v;
@@ -286,8 +293,9 @@ fn whole_increment(eng: &mut Engine, start: &State, end: &State, base: &TrialBas
         dstrain,
         dlambda_n: dlambda_n.into_iter().map(per).collect(),
         dlambda_t: dlambda_t.into_iter().map(per).collect(),
+        dlambda_t2: if eng.problem.dim == 3 { dlambda_t2.into_iter().map(per).collect() } else { vec![] },
         dalpha: dalpha.into_iter().map(per).collect(),
-        dshift: end.shift.iter().zip(&start.shift).map(|(a, b)| [per(a[0] - b[0]), per(a[1] - b[1])]).collect(),
+        dshift: end.shift.iter().zip(&start.shift).map(|(a, b)| [per(a[0] - b[0]), per(a[1] - b[1]), per(a[2] - b[2])]).collect(),
         noise: base.noise,
     }
 }
