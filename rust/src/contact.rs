@@ -135,6 +135,8 @@ impl Status {
 pub struct Pair {
     pub node_a: usize,
     pub node_b: Option<usize>,
+    /// DOFs per node: 2 or 3.
+    pub dim: usize,
     /// Normal and tangents with three components (z = 0 in 2D).
     pub frame: Frame<3, 2>,
     pub gap0: f64,
@@ -198,7 +200,19 @@ impl Pair {
         let held = |w: &SparseVec| if weighted { own(w) < HELD_BY_SUPPORTS } else { w.norm() < HELD_BY_SUPPORTS };
         let held = [held(&w_t), dim == 2 || held(&w_t2)];
         let tangent_held = held[0] && held[1];
-        Pair { node_a, node_b, frame, gap0, mu, w_n, w_t, w_t2, tangent_held, held, on_supports }
+        Pair { node_a, node_b, dim, frame, gap0, mu, w_n, w_t, w_t2, tangent_held, held, on_supports }
+    }
+
+    /// The constraint vectors whose DOFs the contact system reads (its slots): the normal, and
+    /// the tangential ones where friction can act. (A 2D pair lists its tangent always, as it
+    /// always has, so that 2D runs keep their DOF order; in 3D the tangential DOFs of
+    /// frictionless pairs would triple the dense trailing block of the factor for nothing.)
+    pub fn slot_vectors(&self) -> Vec<&SparseVec> {
+        match (self.dim, self.mu > 0.0) {
+            (2, _) => vec![&self.w_n, &self.w_t],
+            (_, true) => vec![&self.w_n, &self.w_t, &self.w_t2],
+            (_, false) => vec![&self.w_n],
+        }
     }
 
     pub fn frictional(&self) -> bool {

@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from physics import EQUILIBRIUM_TOL, contact_force, equilibrium_residual, tet_internal_force
+from physics import EQUILIBRIUM_TOL, contact_force, equilibrium_residual, tangent_basis, tet_internal_force
 from space3d import BOX
 
 from slipstep.build import build_scene
 from slipstep.case import parse_case
-from slipstep.errors import InputError
+from slipstep.errors import FreeBodyError, InputError
 from slipstep.runner import engine
 
 # A uniform stress from loads of size |σ| on a mesh of O(1) condition: each stress is a few
@@ -273,3 +273,76 @@ def test_a_3d_key_in_a_2d_model_is_named():
     with pytest.raises(InputError) as err:
         engine().solve(model)
     assert "'tetrahedra' is a key of 3D models" in str(err.value)
+
+
+def block_on_a_frictional_plane(ratio, mu=0.3, p=2.0):
+    """The box (ν = 0) standing on a rigid plane z = 0 (a frictional pair at every bottom node,
+    closed at the start, nothing else holding it) under the uniform stress σzz = −p,
+    τxz = τyz = ratio μ p/√2 (a shear at 45° to the mesh's axes, of size ratio μ p): the
+    consistent loads of that stress on every face but the bottom, which the contact carries."""
+    scene = box_scene()
+    tau = ratio * mu * p / np.sqrt(2.0)
+    sigma = np.array([0.0, 0.0, -p, tau, tau, 0.0])
+    model = dict(scene.model)
+    model["materials"] = [{"E": 1000.0, "nu": 0.0}]
+    model["fixed_dofs"] = np.zeros(0, np.int64)
+    cells = scene.global_boundary("b", "bottom")
+    bottom = np.unique(cells)
+    pts = scene.nodes[cells]
+    area = 0.5 * np.linalg.norm(np.cross(pts[:, 1] - pts[:, 0], pts[:, 2] - pts[:, 0]), axis=1)
+    tributary = np.zeros(len(scene.nodes))
+    for corner in range(3):
+        np.add.at(tributary, cells[:, corner], area / 3.0)
+    model["load"] = consistent_load(scene, sigma) - consistent_load_on(scene, sigma, "bottom")
+    n = len(bottom)
+    model["pairs"] = {"node_a": bottom.astype(np.int64), "node_b": -np.ones(n, np.int64),
+                      "normal": np.tile([0.0, 0.0, 1.0], (n, 1)), "gap": np.zeros(n),
+                      "mu": np.full(n, mu), "contact": np.zeros(n, np.int64)}
+    model["contact_names"] = ["plane"]
+    return model, sigma, tributary[bottom]
+
+
+def consistent_load_on(scene, sigma, face):
+    """`consistent_load` of one face only."""
+    normal = dict((("bottom", (0, 0, -1)), ("top", (0, 0, 1))))[face]
+    tensor = sigma[[[0, 5, 4], [5, 1, 3], [4, 3, 2]]]
+    cells = scene.global_boundary("b", face)
+    p = scene.nodes[cells]
+    area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    traction = tensor @ np.array(normal, dtype=float)
+    f = np.zeros(3 * len(scene.nodes))
+    for corner in range(3):
+        for c in range(3):
+            np.add.at(f, 3 * cells[:, corner] + c, area / 3.0 * traction[c])
+    return f
+
+
+def test_a_shear_inside_the_round_cone_sticks_with_the_exact_forces():
+    """At 0.95 of the cone's capacity along 45° every pair sticks and carries the uniform
+    stress's nodal forces exactly: λ_n = p S_j and λ_t = τ S_j (S_j the node's tributary area),
+    the stress uniform. (An inscribed four-facet pyramid with facets along the axes would have
+    let these pairs slip: its capacity along 45° is μλ_n/√2.)"""
+    model, sigma, area = block_on_a_frictional_plane(0.95)
+    snap = engine().solve(model)["snapshots"][-1]
+    assert (snap["status"] == 1).all(), snap["status"]
+    p = -sigma[2]
+    assert np.abs(snap["lambda_n"] - p * area).max() <= ROUND_OFF * p
+    # the plane's tangential force on the body is its traction σ·(−e_z) = −(τxz, τyz) per area
+    traction = -np.array([sigma[4], sigma[3], 0.0])
+    b1, b2 = tangent_basis(np.asarray(model["pairs"]["normal"], dtype=float))
+    along = snap["lambda_t"][:, :1] * b1 + snap["lambda_t"][:, 1:] * b2  # λ_t in x, y, z
+    assert np.abs(along - traction * area[:, None]).max() <= ROUND_OFF * p
+    assert np.abs(snap["stress"] - sigma).max() <= ROUND_OFF * p
+
+
+def test_a_shear_beyond_the_round_cone_slides_the_block():
+    """At 1.05 of the capacity along 45° every pair reaches the round cone at the first instant
+    and slips, and the block, held by nothing else, is free to slide: a one-line error naming
+    the body and both translations of the 45° motion (the engine's free-body error, as for a
+    2D load beyond friction from the start)."""
+    model, _, _ = block_on_a_frictional_plane(1.05)
+    with pytest.raises(FreeBodyError) as err:
+        engine().solve(model)
+    message = str(err.value)
+    assert "body 'b'" in message and "translation in x" in message and "translation in y" in message, message
+    assert "slip" in message and "\n" not in message, message

@@ -317,7 +317,7 @@ fn contact_slots(pairs: &[Pair], fixed: &[bool], pinned: &[usize]) -> (Vec<usize
     let mut slot = vec![usize::MAX; fixed.len()];
     let mut slot_dofs = Vec::new();
     for pair in pairs {
-        for &(d, _) in pair.w_n.entries.iter().chain(&pair.w_t.entries).chain(&pair.w_t2.entries) {
+        for &(d, _) in pair.slot_vectors().into_iter().flat_map(|w| &w.entries) {
             if slot[d] == usize::MAX && !fixed[d] && !is_pinned[d] {
                 slot[d] = slot_dofs.len();
                 slot_dofs.push(d);

@@ -39,14 +39,15 @@ impl Reduced {
         let mut index = contact_slot.to_vec();
         let mut dofs = slot_dofs.to_vec();
         for pair in &pairs {
-            for &(d, _) in pair.w_n.entries.iter().chain(&pair.w_t.entries).chain(&pair.w_t2.entries) {
+            for &(d, _) in pair.slot_vectors().into_iter().flat_map(|w| &w.entries) {
                 if index[d] == usize::MAX {
                     index[d] = dofs.len();
                     dofs.push(d);
                 }
             }
         }
-        let remap = |w: &SparseVec| SparseVec { entries: w.entries.iter().map(|&(d, v)| (index[d], v)).collect() };
+        // (a frictionless 3D pair's tangential DOFs are not among them: its λ_t is 0)
+        let remap = |w: &SparseVec| SparseVec { entries: w.entries.iter().filter(|&&(d, _)| index[d] != usize::MAX).map(|&(d, v)| (index[d], v)).collect() };
         let view = ReducedView {
             pairs: pairs.iter().map(|p| Pair { w_n: remap(&p.w_n), w_t: remap(&p.w_t), w_t2: remap(&p.w_t2), ..p.clone() }).collect(),
             contact_slot: (0..dofs.len()).map(|r| if r < slot_dofs.len() { r } else { usize::MAX }).collect(),

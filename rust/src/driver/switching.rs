@@ -114,10 +114,12 @@ pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64
 }
 
 /// The direction e a pair that starts to slip in 3D holds: that of its friction force at the
-/// event, which is on the cone there (|λ_t| = μ λ_n > 0); t1 if that force is zero.
+/// event, which is on the cone there (|λ_t| = μ λ_n). A pair that slips as it closes (λ = 0)
+/// has none yet: e = 0 carries no friction force in the next trial, whose slip rate then sets
+/// it (a turn, `slip_turn`).
 fn held_direction(lambda_t: [f64; 2]) -> [f64; 2] {
     let size = lambda_t[0].hypot(lambda_t[1]);
-    if size > 0.0 { lambda_t.map(|v| v / size) } else { [1.0, 0.0] }
+    if size > 0.0 { lambda_t.map(|v| v / size) } else { [0.0; 2] }
 }
 
 /// The events that take pair p from status `from` to `to` (for the rate problem's statuses).
