@@ -23,7 +23,7 @@ Two settings (`SETTINGS`): "nodal", the brick's non-symmetric version 1, and "tu
 best setup found on this scene: the symmetric version 2.  Measured at 6.9k DOFs (h = 0.05),
 Newton iterations for version 1 / 2 / 3 and r = E x (0.01, 0.05, 1) mm: 9, 9, 8 / 9, 9, 8 /
 no convergence in 60 (all three r): r = E x 1 mm is the best of these, and version 2 the
-symmetric tangent.
+symmetric tangent.  From u = 0, without load steps: 8 to 11 iterations from 6.9k to 92.6k DOFs.
 
 Outputs, defined as slipstep defines them (slipstep.space.contact_measures): the contact force
 of a candidate is the z-row of the elastic internal force K u at its node (the load acts far
@@ -70,8 +70,9 @@ CASE = ROOT / "cases" / "hertz_sphere_3d.toml"
 SIZES = (0.05, 0.03, 0.02, 0.0125, 0.0105)
 #: name: the augmented Lagrangian's version and its augmentation r (a nodal stiffness).
 SETTINGS = {"nodal": {"version": 1, "r": "E x 1 mm"}, "tuned": {"version": 2, "r": "E x 1 mm"}}
-#: The finest size runs once and only in the tuned setting (~4 min; the nodal setting's 15-20
-#: Newton iterations there would take ~10 min on 2 shared cores).
+#: The sizes finer than this run once and only in the tuned setting: both settings take the
+#: same Newton iterations (8-10 up to 22.6k DOFs) and the fine runs are long (measured on the
+#: shared machine: 60.8k DOFs 587 s, 92.6k DOFs 1727 s, 11 iterations each).
 NODAL_UP_TO = 0.02
 TIMEOUT_S = 2400.0
 MAX_RES = 1e-8
