@@ -17,7 +17,8 @@ Targets: Hertz at ~100k DOFs a within 2 %, p0 within 3 %, the whole process at l
 faster than GetFEM's on the same mesh; Mindlin's stick radius within two contact-node spacings
 of Mindlin's c; the elastoplastic force-approach within 2 % of the axisymmetric run.
 
-Writes results_3d.json (the runs) and hertz_3d.png; bench/run.py's report gets `section`.
+Writes results_3d.json (the runs), results_3d.md and hertz_3d.png; bench/run.py's report gets
+`section` too.
 
     python bench/space3d.py [--quick] [--out DIR]     # the series alone
     python bench/space3d.py --rerun hertz        # those again, the other saved runs kept
@@ -354,8 +355,25 @@ def main(argv=None) -> int:
         runs = series(QUICK if args.quick else FULL, args.out, keep=keep)
     gf = load(args.out)[1]
     chart(runs, gf, args.out / "hertz_3d.png")
-    print("\n".join(section(runs, gf)))
+    text = "\n".join(header() + section(runs, gf))
+    (args.out / "results_3d.md").write_text(text)
+    print(text)
     return 0
+
+
+def header() -> list[str]:
+    """The machine and the code a standalone 3D report was measured on (bench/run.py's full
+    report has its own)."""
+    from run import machine
+
+    m = machine()
+    return ["# Benchmark: the 3D series (bench/space3d.py)", "",
+            f"Machine: {m['cpu']}, {m['cores']} cores, {m['ram_gib']} GiB RAM, shared with other "
+            f"jobs (load average {m['load_start']:.1f} when this report was written). slipstep git "
+            f"{m['git']}, engine built {m['engine_mtime']}. Each run its own process, one at a "
+            f"time; process = spawn to exit. GetFEM's runs: `getfem_results_3d.json` "
+            f"(bench/getfem_hertz_3d.py). This section also joins `results.md` when `make bench` "
+            f"runs bench/run.py.", ""]
 
 
 if __name__ == "__main__":
