@@ -20,9 +20,9 @@ of Mindlin's c; the elastoplastic force-approach within 2 % of the axisymmetric 
 Writes results_3d.json (the runs), results_3d.md and hertz_3d.png; bench/run.py's report gets
 `section` too.
 
-    python bench/space3d.py [--quick] [--out DIR]     # the series alone
-    python bench/space3d.py --rerun hertz        # those again, the other saved runs kept
-    python bench/space3d.py --report bench/results_3d.json
+    python bench/series_3d.py [--quick] [--out DIR]     # the series alone
+    python bench/series_3d.py --rerun hertz        # those again, the other saved runs kept
+    python bench/series_3d.py --report bench/results_3d.json
 """
 
 from __future__ import annotations
@@ -193,7 +193,7 @@ def section(runs: list[dict], gf_doc: dict | None) -> list[str]:
     from run import fmt, pct
 
     gf = getfem_runs(gf_doc)
-    L = ["## 3D targets (bench/space3d.py)", "", "| target | measured | met |", "|---|---|---|"]
+    L = ["## 3D targets (bench/series_3d.py)", "", "| target | measured | met |", "|---|---|---|"]
     L += target_rows(runs, gf) + [""]
     L += ["### Hertz sphere in 3D, side by side with GetFEM 5.4 on the same mesh", "",
           "slipstep: cases/hertz_sphere_3d.toml at h_contact = h, one process per run. GetFEM: "
@@ -367,7 +367,7 @@ def header() -> list[str]:
     from run import machine
 
     m = machine()
-    return ["# Benchmark: the 3D series (bench/space3d.py)", "",
+    return ["# Benchmark: the 3D series (bench/series_3d.py)", "",
             f"Machine: {m['cpu']}, {m['cores']} cores, {m['ram_gib']} GiB RAM, shared with other "
             f"jobs (load average {m['load_start']:.1f} when this report was written). slipstep git "
             f"{m['git']}, engine built {m['engine_mtime']}. Each run its own process, one at a "
