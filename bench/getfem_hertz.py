@@ -134,12 +134,15 @@ def edge_segments(gf_mesh, region: int) -> np.ndarray:
     return tri[keep].reshape(-1, 2)
 
 
-def point_x_dofs(gf_mesh, mfu) -> np.ndarray:
-    """(n_points,) the x DOF of each mesh point (its y DOF is the next one)."""
+def point_x_dofs(gf_mesh, mfu, dim: int = 2) -> np.ndarray:
+    """(n_points,) the x DOF of each mesh point (its y (and z) DOF the next ones) of a mesh of
+    simplices in ``dim`` dimensions (triangles, tetrahedra)."""
     pid, _ = gf_mesh.pid_from_cvid()
     dof, _ = mfu.basic_dof_from_cvid()
+    per_cell = dim * (dim + 1)
     x_dof = np.full(gf_mesh.nbpts(), -1)
-    x_dof[np.asarray(pid, dtype=int)] = np.asarray(dof, dtype=int).reshape(-1, 6)[:, 0::2].ravel()
+    x_dof[np.asarray(pid, dtype=int)] = \
+        np.asarray(dof, dtype=int).reshape(-1, per_cell)[:, 0::dim].ravel()
     return x_dof
 
 
@@ -346,11 +349,12 @@ def one(spec: dict) -> dict:
 
 
 # --------------------------------------------------------------------------- runs (parent side)
-def run_child(spec: dict, timeout: float = TIMEOUT_S) -> dict:
-    """``one`` in its own process; wall_s is that whole process (start-up to exit)."""
+def run_child(spec: dict, timeout: float = TIMEOUT_S, script: str = __file__) -> dict:
+    """``one`` of ``script`` (this one, or bench/getfem_hertz_3d.py) in its own process;
+    wall_s is that whole process (start-up to exit)."""
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
         json.dump(spec, f)
-    cmd = [sys.executable, str(Path(__file__).resolve()), "one", f.name]
+    cmd = [sys.executable, str(Path(script).resolve()), "one", f.name]
     t0 = time.perf_counter()
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=ROOT)

@@ -24,6 +24,10 @@ bench/dolfinx_side_by_side.json (bench/dolfinx_side_by_side.py, which `make benc
 this script and which then rewrites this report with --report, so both are of the same bench).
 Writes results.md (targets first), results.json, time_vs_dofs.png, error_vs_time.png.
 
+The series 3d (bench/series_3d.py: the Hertz sphere in 3D beside GetFEM's 3D runs of
+bench/getfem_results_3d.json, Mindlin's sphere, the elastoplastic sphere against its
+axisymmetric run) runs after the others; its section and hertz_3d.png join the report.
+
     python bench/run.py                       # everything (make bench; takes long)
     python bench/run.py --quick               # a few small runs (< 3 min), into a temp folder
     python bench/run.py --series default,exact --max-dofs 30000
@@ -45,6 +49,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import series_3d
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -73,7 +79,7 @@ SERIES = {  # name: (label, mu, plastic, δ override or None)
     "default": ("elastoplastic μ = 0.3, default settings", 0.3, True, None),
     "exact": ("elastoplastic μ = 0.3, exact mode (δ = 0)", 0.3, True, 0.0),
 }
-NAMES = [*SERIES, "delta", "old"]
+NAMES = [*SERIES, "delta", "old", "3d"]   # 3d: bench/series_3d.py
 FULL = {"elastic0": ELASTIC_SIZES, "elastic03": ELASTIC_SIZES,
         "default": [h for h, _ in LADDER], "exact": [h for h, _ in LADDER],
         "delta": [0.05, 0.025], "old": [0.05]}
@@ -105,6 +111,9 @@ def one(spec: dict) -> dict:
                 raise
             print(f"engine import failed ({exc}); retrying in 10 s", file=sys.stderr, flush=True)
             time.sleep(10)
+    if spec["series"] == "3d":
+        from series_3d import one as one_3d
+        return one_3d(spec)
     from slipstep import CaseError, prepare, solve
     from slipstep.summary import summarize
 
@@ -683,6 +692,10 @@ def report(saved: dict, out: Path, gf_doc: dict | None, cyl: dict | None) -> str
     L += hertz_sections(runs, gf)
     L += cylinder_section(cyl)
     L += elastic_sections(runs)
+    runs_3d, gf_3d = series_3d.load(out)
+    if runs_3d:
+        L += series_3d.section(runs_3d, gf_3d)
+        series_3d.chart(runs_3d, gf_3d, out / "hertz_3d.png")
     L += ["## Charts and data", "",
           "`error_vs_time.png`: (1) |p0 − ref| / ref and (2) |a − ref| / ref of the elastoplastic "
           "Hertz against the whole-process wall time, log–log: slipstep exact (×), default (●), "
@@ -988,6 +1001,8 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     old_dir = None if args.old_engine == "none" else Path(args.old_engine)
     runs, old = run_all(plan(QUICK if args.quick else FULL, selected, args.max_dofs), args.timeout, out, old_dir)
+    if "3d" in selected:
+        series_3d.series(series_3d.QUICK if args.quick else series_3d.FULL, out, args.timeout)
     mach.update(engine_mtime_end=engine_mtime(), bench_wall_s=time.perf_counter() - t0, load_end=os.getloadavg()[0])
     saved = {"machine": mach, "timeout": args.timeout, "old": old, "runs": runs}
     text = report(saved, out, *peers)

@@ -1,0 +1,148 @@
+"""Mindlin's sphere in 3D through ``slipstep.run``: cases/mindlin_sphere_3d.toml (the half
+y >= 0, its cut pushed along x by a traction) and cases/mindlin_sphere_45_3d.toml (no symmetry,
+its cut moved along the diagonal of the mesh's axes), both coarsened, against Mindlin (1949;
+Johnson, Contact Mechanics §7.2) for two bodies of the same material (no normal-tangential
+coupling):
+
+    a = (3 P R / (4 E*))^(1/3), E* = E / (2 (1 - nu^2));  stick disc c = a (1 - Q/(mu P))^(1/3),
+    centred on the contact whatever the direction of Q.
+
+P is the contact's measured normal force (the approach is prescribed), Q the applied shear:
+the traction on the cut times its meshed area, or the cut's reaction when the cut is moved.
+
+CI meshes: the sphere's contact spacing HS = 0.04 mm (a/h = 7.7), the block's 0.06, both growing
+by 0.5 per mm (14k DOFs); at 45 degrees, whole bodies, 0.06 and 0.08 (15.5k DOFs).  The bounds
+below are in the spacing of the run's sphere.  Tolerances:
+- forces: the contact's resultants balance the applied shear and the cut's reaction to the
+  engine's equilibrium tolerance (1e-9), on any mesh, and every snapshot's stresses balance
+  the loads and contact forces (tests/physics.py);
+- contact radius (the equivalent radius of the closed sphere nodes' areas) within one
+  contactor spacing HS of Hertz's a (the true edge lies between a closed and an open node);
+- stick radius: within HS of the true stick edge likewise, and c is 0.794 a, itself known to
+  HS: 3 HS on this mesh (the bench holds the bench mesh to two spacings);
+- sheared at 45 degrees: the stick zone's centroid within HS of the contact point, and its
+  principal second moments (about its centroid, a disc's are equal: c^2/4) equal within
+  4 HS/c (each moment goes as c^2, and a boundary node moves the stick edge by up to HS).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import CASES, needs_gmsh
+from physics import EQUILIBRIUM_TOL, equilibrium_residual
+
+import slipstep
+
+HS, HB = 0.04, 0.06          # the run along x: the sphere's and the block's contact spacings
+HS45, HB45 = 0.06, 0.08      # the run at 45 degrees: whole bodies, coarser (15k DOFs)
+R, E, NU, MU = 50.0, 70000.0, 0.3, 0.3
+E_STAR = E / (2 * (1 - NU ** 2))
+
+
+def coarse(hs: float, hb: float) -> list[str]:
+    return [f"body.sphere.mesh.h_contact={hs}", f"body.block.mesh.h_contact={hb}",
+            "body.sphere.mesh.growth=0.5", "body.block.mesh.growth=0.5",
+            "output.snapshots=[1.0, 2.0]"]
+
+
+def second_moments(points: np.ndarray, weights: np.ndarray):
+    """(centroid (2,), principal values (2,) descending) of points in the plane x, y weighted
+    by ``weights`` (areas)."""
+    w, p = np.asarray(weights, dtype=float), np.asarray(points, dtype=float)[:, :2]
+    c = (w[:, None] * p).sum(axis=0) / w.sum()
+    d = p - c
+    values = np.linalg.eigvalsh(np.einsum("p,pi,pj->ij", w, d, d) / w.sum())
+    return c, values[::-1]
+
+
+def applied_shear(result) -> np.ndarray:
+    """The shear stage's traction times the cut's meshed area, times 2 for the half model (the
+    y components of the two halves cancel)."""
+    bc = next(b for b in result.case.data["bc"] if b["name"] == "shear")
+    tri = result.scene.global_boundary("sphere", "top")
+    x = result.scene.nodes[tri]
+    area = 0.5 * np.linalg.norm(np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1).sum()
+    return 2.0 * area * np.asarray(bc["traction"], dtype=float) * [1.0, 0.0, 0.0]
+
+
+def cut_reaction(result) -> np.ndarray:
+    """The supports' force on the sphere's cut (the prescribed displacements there)."""
+    top = np.unique(result.scene.global_boundary("sphere", "top"))
+    return np.asarray(result.raw["snapshots"][-1]["reaction"])[top].sum(axis=0)
+
+
+def mindlin(result, Q: np.ndarray) -> dict:
+    """Measured P, the applied Q, Mindlin's a and c for them, the summary, the profile."""
+    s = result.summary
+    P = s["total_normal_force"]
+    a = (3 * P * R / (4 * E_STAR)) ** (1 / 3)
+    ratio = np.linalg.norm(Q) / (MU * P)
+    return {"P": P, "Q": Q, "a": a, "c": a * (1 - ratio) ** (1 / 3), "ratio": ratio,
+            "summary": s, "profile": result.profile()}
+
+
+@pytest.fixture(scope="module")
+def along_x():
+    pytest.importorskip("gmsh")
+    result = slipstep.run(CASES / "mindlin_sphere_3d.toml", overrides=coarse(HS, HB),
+                          progress=False)
+    return result, mindlin(result, applied_shear(result))
+
+
+@pytest.fixture(scope="module")
+def diagonal():
+    pytest.importorskip("gmsh")
+    result = slipstep.run(CASES / "mindlin_sphere_45_3d.toml", overrides=coarse(HS45, HB45),
+                          progress=False)
+    return result, mindlin(result, cut_reaction(result) * [1.0, 1.0, 0.0])
+
+
+@needs_gmsh
+def test_forces_balance_the_shear_and_the_cut(along_x):
+    result, m = along_x
+    assert result.completed
+    s = m["summary"]
+    assert math.isclose(s["total_tangential_force"], np.linalg.norm(m["Q"]),
+                        rel_tol=EQUILIBRIUM_TOL)
+    # the cut's reaction (the prescribed approach, both halves) carries P
+    assert math.isclose(-2 * cut_reaction(result)[2], m["P"], rel_tol=EQUILIBRIUM_TOL)
+    for snap in result.raw["snapshots"]:
+        assert equilibrium_residual(result.scene.model, snap) <= EQUILIBRIUM_TOL
+
+
+@needs_gmsh
+def test_contact_and_stick_radii_against_mindlin(along_x):
+    _, m = along_x
+    s = m["summary"]
+    assert abs(s["contact_radius"] - m["a"]) <= HS, (s["contact_radius"], m["a"])
+    assert abs(s["stick_radius"] - m["c"]) <= 3 * HS, (s["stick_radius"], m["c"])
+    assert s["contacts"]["interface"]["n_slip"] > 0 and s["contacts"]["interface"]["n_stick"] > 0
+
+
+@needs_gmsh
+def test_sheared_at_45_degrees_the_forces_balance(diagonal):
+    result, m = diagonal
+    assert result.completed
+    tangential = np.asarray(m["summary"]["tangential_force"])
+    size = np.linalg.norm(m["Q"])
+    assert np.abs(tangential + m["Q"]).max() <= EQUILIBRIUM_TOL * size  # on the sphere: -Q
+    assert math.isclose(-cut_reaction(result)[2], m["P"], rel_tol=EQUILIBRIUM_TOL)
+    for snap in result.raw["snapshots"]:
+        assert equilibrium_residual(result.scene.model, snap) <= EQUILIBRIUM_TOL
+
+
+@needs_gmsh
+def test_sheared_at_45_degrees_the_stick_zone_is_mindlins_disc(diagonal):
+    result, m = diagonal
+    s = m["summary"]
+    assert abs(s["contact_radius"] - m["a"]) <= HS45, (s["contact_radius"], m["a"])
+    assert abs(s["stick_radius"] - m["c"]) <= 3 * HS45, (s["stick_radius"], m["c"])
+    prof = m["profile"]
+    stick = prof["status"] == 1
+    area = np.asarray(result.scene.pair_area)[prof["pair"]][stick]
+    centre, moments = second_moments(prof["x"][stick], area)
+    assert np.linalg.norm(centre) <= HS45
+    assert moments[0] / moments[1] - 1 <= 4 * HS45 / s["stick_radius"]
