@@ -117,10 +117,13 @@ def mirror_planes(scene, index: int) -> list[tuple[int, float]]:
 
 
 def contact_frame(scene, index: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(n, e1, e2) of [[contact]] ``index``: its mean pair normal, and in-plane axes e1 (x
-    projected onto the contact plane; y when the normal is near x) and e2 = n x e1, the view
+    """(n, e1, e2) of [[contact]] ``index``: the mean pair normal of its FULL contact (the
+    components across its mirror planes cancel, as the resultants' do), and in-plane axes e1
+    (x projected onto the contact plane; y when the normal is near x) and e2 = n x e1, the view
     along the normal."""
     n = np.asarray(scene.model["pairs"]["normal"])[scene.pair_contact == index].sum(axis=0)
+    for axis, _ in mirror_planes(scene, index):
+        n[axis] = 0.0
     n = n / (np.linalg.norm(n) or 1.0)
     axis = np.eye(3)[1 if abs(n[0]) > 0.9 else 0]
     e1 = axis - (axis @ n) * n
@@ -156,16 +159,29 @@ def contact_numbers_3d(scene, snapshot: dict, index: int) -> dict:
             "peak_pressure": float(peak.max()) if len(peak) else 0.0}
 
 
+def pressure_centre(scene, prof: dict, index: int) -> np.ndarray:
+    """The centre of pressure of [[contact]] ``index``'s FULL contact: the pressure-weighted
+    mean of its nodes, on every mirror plane of the model (the mirrored halves balance there);
+    the peak-pressure node when nothing is closed."""
+    mine = prof["contact"] == index
+    x, p = prof["x"][mine], prof["pressure"][mine]
+    centre = (p @ x) / p.sum() if p.sum() > 0 else x[np.argmax(p)].astype(float)
+    for axis, value in mirror_planes(scene, index):
+        centre[axis] = value
+    return centre
+
+
 def pressure_line(scene, snapshot: dict, index: int, samples: int = 201) -> dict:
-    """The pressure of [[contact]] ``index`` along the line through its peak-pressure node in
-    the direction e1 of :func:`contact_frame`: the nodal pressures interpolated linearly on the
-    contactor face's triangles seen along the normal.  ``s`` (distance along the line from that
-    node), ``pressure`` (NaN off the face), ``origin``, ``direction``."""
+    """The pressure of [[contact]] ``index`` along the line through its centre of pressure
+    (:func:`pressure_centre`) in the direction e1 of :func:`contact_frame`: the nodal pressures
+    interpolated linearly on the contactor face's triangles seen along the normal.  ``s``
+    (distance along the line from that centre, so Hertz's p0 sqrt(1 - s^2/a^2) compares
+    directly), ``pressure`` (NaN off the face), ``origin``, ``direction``."""
     prof = contact_profile_3d(scene, snapshot)
     mine = prof["contact"] == index
     nodal = np.zeros(len(scene.nodes))
     nodal[prof["node_a"][mine]] = prof["pressure"][mine]
-    origin = prof["x"][mine][np.argmax(prof["pressure"][mine])]
+    origin = pressure_centre(scene, prof, index)
     n, e1, e2 = contact_frame(scene, index)
     face = scene.global_boundary(*contactor_face(scene.case.data["contact"][index]))
     face = face[np.isin(face, prof["node_a"][mine]).any(axis=1)]

@@ -12,7 +12,7 @@ import numpy as np
 from ..figures import STATUS_COLOURS, STATUS_LABELS, finish, label, new_figure
 from ..references import hertz_pressure
 from .contact_geometry import contactor_face
-from .contact_measures import contact_frame, contact_profile_3d, pressure_line
+from .contact_measures import contact_frame, contact_profile_3d, pressure_centre, pressure_line
 
 
 def chosen(scene, result) -> list[tuple[str, object]]:
@@ -43,17 +43,16 @@ def _panels(scene, width: float = 5.0):
 
 def contact_area_figure(path: Path | None, scene, result, summary: dict):
     """Per contact at the final snapshot: its contactor face near the candidates seen along the
-    contact's mean normal (axes e1, e2 of its frame through the peak-pressure node), each
+    contact's mean normal (axes e1, e2 of its frame through its centre of pressure), each
     candidate node a dot coloured by status, and dashed circles of the full contact's
-    equivalent radii (``contact_radius``, ``stick_radius``) about that node."""
+    equivalent radii (``contact_radius``, ``stick_radius``) about that centre."""
     snap = result["snapshots"][-1]
     prof = contact_profile_3d(scene, snap)
     fig, axes = _panels(scene)
     for i, (ax, name) in enumerate(zip(axes, scene.model["contact_names"])):
         mine = prof["contact"] == i
         _, e1, e2 = contact_frame(scene, i)
-        origin = prof["x"][mine][np.argmax(prof["pressure"][mine])]
-        plane = (scene.nodes - origin) @ np.stack([e1, e2]).T
+        plane = (scene.nodes - pressure_centre(scene, prof, i)) @ np.stack([e1, e2]).T
         face = scene.global_boundary(*contactor_face(scene.case.data["contact"][i]))
         face = face[np.isin(face, prof["node_a"][mine]).all(axis=1)]
         if len(face):
@@ -81,8 +80,8 @@ def contact_area_figure(path: Path | None, scene, result, summary: dict):
 
 
 def pressure_figure(path: Path | None, scene, result, summary: dict):
-    """Per contact at the final snapshot: the pressure along the line through its peak-pressure
-    node in the direction e1 (:func:`slipstep.space.contact_measures.pressure_line`), and
+    """Per contact at the final snapshot: the pressure along the line through its centre of
+    pressure in the direction e1 (:func:`slipstep.space.contact_measures.pressure_line`), and
     Hertz's p0 sqrt(1 - s^2/a^2) at the reached load when the scene has the sphere's
     reference."""
     snap = result["snapshots"][-1]
