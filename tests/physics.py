@@ -142,8 +142,9 @@ def contact_force(n_nodes: int, pairs: dict, lambda_n: np.ndarray,
     (``weight_ptr`` etc.) puts c_i (λ_n n + λ_t t) on each of its nodes i instead."""
     lambda_n, lambda_t = np.asarray(lambda_n, dtype=float), np.asarray(lambda_t, dtype=float)
     a, b = np.asarray(pairs["node_a"]), np.asarray(pairs["node_b"])
-    dim = np.asarray(pairs["normal"]).reshape(len(a), -1).shape[1] if len(a) else 2
-    normal = np.asarray(pairs["normal"], dtype=float).reshape(-1, dim)
+    normal = np.asarray(pairs["normal"], dtype=float)
+    dim = normal.shape[1] if normal.ndim == 2 else 2  # (P, 2) or (P, 3), also with P = 0
+    normal = normal.reshape(-1, dim)
     if dim == 3:  # λ_t (P, 2) in each pair's (t1, t2)
         t1, t2 = tangent_basis(normal, pairs.get("tangent"))
         lt = lambda_t.reshape(-1, 2)

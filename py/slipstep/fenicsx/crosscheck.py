@@ -24,6 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
+from ..fields import polar
+from ..references import thick_cylinder_displacement, thick_cylinder_radius, \
+    thick_cylinder_stresses, thick_sphere_outer_displacement, thick_sphere_pressure, \
+    thick_sphere_radius, thick_sphere_stresses
+from ..space.fields import spherical
 from .bulk import BulkProblem, relative_difference
 
 DEFAULT_STEPS = (5, 10, 20, 50)
@@ -33,8 +38,9 @@ def is_plastic(scene) -> bool:
     return any(m.get("Sy") not in (None, math.inf) for m in scene.model["materials"])
 
 
-def engine_result(scene, events: bool = False) -> tuple[dict, float]:
-    """Run the engine with snapshots at every event (``events``) or at the load fraction 1."""
+def engine_result(scene, events: bool = False, fractions=(1.0,)) -> tuple[dict, float]:
+    """Run the engine with snapshots at every event (``events``) or at ``fractions`` of the
+    load."""
     from ..runner import engine
 
     model = dict(scene.model)
@@ -44,7 +50,7 @@ def engine_result(scene, events: bool = False) -> tuple[dict, float]:
         options.pop("fractions", None)
     else:
         options["output"] = "fractions"
-        options["fractions"] = np.array([1.0])
+        options["fractions"] = np.asarray(fractions, dtype=float)
     model["options"] = options
     t0 = time.perf_counter()
     result = engine().solve(model, False)
@@ -66,40 +72,42 @@ def bulk_differences(snapshot: dict, res) -> dict:
 
 # --------------------------------------------------------------------------- Hill
 def hill_setup(scene) -> dict | None:
-    """(a, b, p, E, nu, Sy) when the scene is Hill's problem: one quarter_annulus body, plane
-    strain, perfectly plastic, a pressure on ``inner`` and no other load; else None."""
+    """(shape, a, b, p, E, nu, Sy) when the scene is one of Hill's problems: one perfectly plastic
+    body under a pressure on ``inner`` and no other load nor contact, a ``quarter_annulus`` in
+    plane strain (the thick cylinder) or, in 3D, a ``shell`` (the thick sphere); else None."""
     data = scene.case.data
-    if len(data["body"]) != 1 or data["analysis"]["plane"] != "strain" or data["contact"]:
+    if len(data["body"]) != 1 or data["contact"] or data["point_load"] or data["load"] is not None:
         return None
     body = data["body"][0]
     mesh, mat = body["mesh"], body["material"]
-    if mesh.get("generator") != "quarter_annulus" or mat["Sy"] is None or (mat["H"] or 0) != 0:
+    shape = ("sphere" if scene.dimension == 3 and mesh.get("generator") == "shell" else
+             "cylinder" if scene.dimension == 2 and mesh.get("generator") == "quarter_annulus"
+             and data["analysis"]["plane"] == "strain" else None)
+    if shape is None or mat["Sy"] is None or (mat["H"] or 0) != 0:
         return None
-    loads = [bc for bc in data["bc"] if bc["pressure"] != 0 or bc["traction"] != [0.0, 0.0]]
-    if (len(loads) != 1 or loads[0]["edge"] != "inner" or loads[0]["traction"] != [0.0, 0.0]
-            or data["point_load"] or data["load"] is not None):
+    loads = [bc for bc in data["bc"] if bc["pressure"] != 0 or any(bc["traction"])]
+    if len(loads) != 1 or (loads[0].get("face") or loads[0].get("edge")) != "inner" \
+            or any(loads[0]["traction"]):
         return None
-    return {"a": mesh["a"], "b": mesh["b"], "p": loads[0]["pressure"], "E": mat["E"],
-            "nu": mat["nu"], "Sy": mat["Sy"]}
+    return {"shape": shape, "a": mesh["a"], "b": mesh["b"], "p": loads[0]["pressure"],
+            "E": mat["E"], "nu": mat["nu"], "Sy": mat["Sy"]}
 
 
 def hill_differences(scene, u, stress, plastic_strain) -> dict | None:
     """Differences to Hill's closed form: outer radial displacement (relative), sigma_r and
     sigma_theta at the element centroids (max and RMS, / Sy), plastic radius (largest
     centroid radius of a plastic element) against c."""
-    from ..fields import polar
-    from ..references import thick_cylinder_displacement, thick_cylinder_radius, \
-        thick_cylinder_stresses
-
     h = hill_setup(scene)
     if h is None:
         return None
-    a, b, p, E, nu, Sy = (h[k] for k in ("a", "b", "p", "E", "nu", "Sy"))
-    ur, rc, sr, st = polar(scene.nodes, u, stress, scene.triangles)
+    a, b, p, Sy = (h[k] for k in ("a", "b", "p", "Sy"))
+    if h["shape"] == "sphere":
+        ur, rc, sr, st = spherical(scene.nodes, u, stress, scene.elements)
+        c, ub, (hr, ht) = hill_sphere(rc, h)
+    else:
+        ur, rc, sr, st = polar(scene.nodes, u, stress, scene.triangles)
+        c, ub, (hr, ht) = hill_cylinder(rc, h)
     outer = np.abs(np.linalg.norm(scene.nodes, axis=1) - b) <= 1e-9 * b
-    ub = thick_cylinder_displacement(b, p, a, b, E, nu, Sy)
-    hr, ht = thick_cylinder_stresses(rc, p, a, b, Sy)
-    c = thick_cylinder_radius(p, a, b, Sy / math.sqrt(3.0))
     plastic = plastic_strain > 0
     return {"u_outer": float(ur[outer].mean() / ub - 1.0),
             "sigma_r_max": float(np.abs(sr - hr).max() / Sy),
@@ -107,7 +115,24 @@ def hill_differences(scene, u, stress, plastic_strain) -> dict | None:
             "sigma_r_rms": float(np.sqrt(np.mean((sr - hr) ** 2)) / Sy),
             "sigma_t_rms": float(np.sqrt(np.mean((st - ht) ** 2)) / Sy),
             "plastic_radius": float(rc[plastic].max()) if plastic.any() else a,
-            "hill_c": c, "hill_u_outer": float(ub)}
+            "hill_c": c, "hill_u_outer": float(ub), "shape": h["shape"]}
+
+
+def hill_cylinder(r, h: dict):
+    """Hill's thick cylinder (plane strain, k = Sy/sqrt 3): c, u(b), (sigma_r, sigma_theta)(r)."""
+    k = h["Sy"] / math.sqrt(3.0)
+    a, b, p = h["a"], h["b"], h["p"]
+    return (float(thick_cylinder_radius(p, a, b, k)),
+            thick_cylinder_displacement(b, p, a, b, h["E"], h["nu"], h["Sy"]),
+            thick_cylinder_stresses(r, p, a, b, h["Sy"]))
+
+
+def hill_sphere(rho, h: dict):
+    """Hill's thick sphere (Y = Sy): c, u(b), (sigma_R, sigma_t)(rho)."""
+    a, b, p, Y = h["a"], h["b"], h["p"], h["Sy"]
+    c = float(thick_sphere_radius(p, a, b, Y)) if p > thick_sphere_pressure(a, a, b, Y) else a
+    return (c, thick_sphere_outer_displacement(p, a, b, h["E"], h["nu"], Y),
+            thick_sphere_stresses(rho, p, a, b, Y))
 
 
 # --------------------------------------------------------------------------- drivers
@@ -184,9 +209,14 @@ def run(case_path, out: str | Path, overrides=(), steps=DEFAULT_STEPS, substeps:
     dm = read_dolfinx(out / "mesh.xdmf")
     bulk = BulkProblem(scene, dm)
     report = {"case": scene.case.name, "source": scene.case.source,
-              "n_nodes": len(scene.nodes), "n_elements": len(scene.triangles),
+              "n_nodes": len(scene.nodes), "n_elements": len(scene.elements),
               "n_pairs": int(len(scene.model["pairs"]["node_a"])),
-              "plane": scene.model["plane"], "plastic": is_plastic(scene)}
+              "plane": scene.model.get("plane", "none (3D)"), "plastic": is_plastic(scene)}
+    if report["n_pairs"] and scene.dimension == 3:
+        raise NotImplementedError(
+            f"{scene.case.name}: the 3D cross-check compares the bulk (no [[contact]]); the "
+            f"contact replay is planar and axisymmetric: remove the contacts (and load the body "
+            f"by [[bc]]) to cross-check its bulk")
     if report["n_pairs"]:
         rep = contact_replay(scene, bulk, substeps)
         report["mode"] = "contact replay" + (" (elastoplastic)" if rep["plastic"] else "")
@@ -265,7 +295,8 @@ def markdown(report: dict) -> str:
                      f"{report['timings']['dolfinx']:.3g} s.")
         lines.append("")
     if "hill" in report:
-        lines += ["Against Hill's closed form (perfectly plastic thick cylinder):", "",
+        lines += [f"Against Hill's closed form (perfectly plastic thick "
+                  f"{report['hill']['slipstep']['shape']}):", "",
                   "| quantity | slipstep | dolfinx (largest N) |", "|---|---|---|"]
         for k in ("u_outer", "sigma_r_rms", "sigma_t_rms", "sigma_r_max", "sigma_t_max",
                   "plastic_radius"):
@@ -327,6 +358,8 @@ def _field_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
     from matplotlib.tri import Triangulation
 
     from ..fields import von_mises
+    if scene.dimension == 3:
+        return _von_mises_panel(ax, snap, last)
     tri = Triangulation(scene.nodes[:, 0], scene.nodes[:, 1], scene.triangles)
     if "replay" in report and last is not None:
         from .replay import replay_conditions
@@ -355,3 +388,22 @@ def _field_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
         ax.set_title("slipstep von Mises (final)")
     fig.colorbar(pc, ax=ax)
     ax.set_aspect("equal")
+
+
+def _von_mises_panel(ax, snap: dict, last) -> None:
+    """3D: each element's von Mises stress, dolfinx's against slipstep's (on the diagonal when
+    they agree), or slipstep's sorted when dolfinx has no final state."""
+    from ..space.fields import von_mises_3d
+    ours = von_mises_3d(np.asarray(snap["stress"]))
+    if last is None:
+        ax.plot(np.sort(ours), ".", ms=2)
+        ax.set_ylabel("slipstep von Mises (final), sorted")
+        return
+    theirs = von_mises_3d(last.stress)
+    top = max(ours.max(), theirs.max()) or 1.0
+    ax.plot([0, top], [0, top], "k-", lw=0.6)
+    ax.plot(ours, theirs, ".", ms=2, alpha=0.5)
+    ax.set_xlabel("slipstep von Mises per element")
+    ax.set_ylabel("dolfinx von Mises per element")
+    ax.set_aspect("equal")
+    ax.grid(True, alpha=0.3)

@@ -26,6 +26,20 @@ def stress_tensor_3d(stress: np.ndarray) -> np.ndarray:
     return np.stack([sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz], axis=1)
 
 
+def spherical(nodes: np.ndarray, u: np.ndarray, stress: np.ndarray, tetrahedra: np.ndarray):
+    """Radial displacement at the nodes, and (rho, sigma_R, sigma_t) at element centroids, of
+    a spherically symmetric state centred at the origin: sigma_R = e_R . sigma e_R and the
+    mean tangential stress sigma_t = (tr sigma - sigma_R) / 2."""
+    rho_n = np.linalg.norm(nodes, axis=1)
+    ur = np.einsum("ij,ij->i", u, nodes) / np.where(rho_n > 0, rho_n, 1.0)
+    xc = np.asarray(nodes)[np.asarray(tetrahedra)].mean(axis=1)
+    rho = np.linalg.norm(xc, axis=1)
+    e = xc / rho[:, None]
+    sigma = stress_tensor_3d(stress).reshape(-1, 3, 3)
+    sr = np.einsum("ei,eij,ej->e", e, sigma, e)
+    return ur, rho, sr, 0.5 * (np.trace(sigma, axis1=1, axis2=2) - sr)
+
+
 def tetrahedron_volumes(nodes: np.ndarray, tetrahedra: np.ndarray) -> np.ndarray:
     """|det[x1 - x0, x2 - x0, x3 - x0]| / 6 of each tetrahedron."""
     p = np.asarray(nodes)[np.asarray(tetrahedra)]
