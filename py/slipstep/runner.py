@@ -6,14 +6,11 @@
 
 from __future__ import annotations
 
-import functools
 import signal
 import sys
 import threading
 import time
 from pathlib import Path
-
-import numpy as np
 
 from . import shipped
 from .case import Case, load_case
@@ -72,32 +69,8 @@ def prepare(case: Case | dict | str | Path | None = None, overrides=(), meshes=N
     return build_scene(as_case(case, overrides, meshes), meshes)
 
 
-@functools.lru_cache(maxsize=None)
-def engine_solves_3d() -> bool:
-    """True when the compiled engine takes models with ``dimension = 3`` (docs/engine_api.md):
-    asked once with the smallest such model, one tetrahedron on three fixed nodes pulled at the
-    fourth; an engine without 3D refuses it as InputError (its nodes have three columns)."""
-    probe = {"dimension": 3, "nodes": np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]),
-             "tetrahedra": np.array([[0, 1, 2, 3]], dtype=np.int64),
-             "element_material": np.zeros(1, dtype=np.int64), "materials": [{"E": 1.0, "nu": 0.3}],
-             "fixed_dofs": np.arange(9, dtype=np.int64),
-             "load": np.array([0.0] * 11 + [1e-3]),
-             "pairs": {"node_a": np.zeros(0, np.int64), "node_b": np.zeros(0, np.int64),
-                       "normal": np.zeros((0, 3)), "gap": np.zeros(0), "mu": np.zeros(0)}}
-    try:
-        engine().solve(probe)
-    except InputError:
-        return False
-    return True
-
-
 def solve(scene: Scene, progress=False) -> dict:
     """Run the engine on a prepared scene; ``progress`` as for :func:`run`."""
-    if scene.dimension == 3 and not engine_solves_3d():  # the one place: gone with 3D engines
-        raise EngineMissing(f"{scene.case.source}: 3D scenes need an engine with dimension = 3 "
-                            f"support, and this slipstep._engine solves 2D models only: the "
-                            f"case is valid and meshed (slipstep check), its run waits for "
-                            f"the 3D engine")
     reporter = Reporter(progress, scene.case.name, scene.n_stages)
     result = None
     try:

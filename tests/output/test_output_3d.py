@@ -177,7 +177,6 @@ def test_slipstep_run_of_a_3d_scene_through_a_stand_in_engine(quarter, monkeypat
         return result
 
     monkeypatch.setattr(runner, "engine", lambda: types.SimpleNamespace(solve=solve))
-    monkeypatch.setattr(runner, "engine_solves_3d", lambda: True)
     r = slipstep.run(scene, out=tmp_path, progress=False)
     assert handed["model"] is scene.model and r.out == tmp_path
     f = r.fields()

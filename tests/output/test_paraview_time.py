@@ -22,13 +22,11 @@ from conftest import ROOT
 
 import slipstep
 from slipstep import load_case, shipped
-from slipstep.runner import engine_solves_3d
 
 PVPYTHON = shutil.which("pvpython")
-#: The shipped cases of several stages (a 3D one once the engine solves dimension = 3).
+#: The shipped cases of several stages, planar, axisymmetric and 3D.
 STAGED = [name for name in shipped.names()
-          if len(load_case(shipped.path(name)).data.get("stage") or []) > 1
-          and (load_case(shipped.path(name)).dimension == 2 or engine_solves_3d())]
+          if len(load_case(shipped.path(name)).data.get("stage") or []) > 1]
 #: Element-size keys of the generators, coarsened by :data:`COARSER` (capped at h_max).
 SIZE_KEYS = ("h_contact", "h", "h_outer")
 COARSER = 4.0

@@ -45,8 +45,8 @@ def test_the_license_file_is_cargos_license():
 
 def test_the_limits_and_the_reference_are_stated():
     limits = _section("Limits")
-    for fact in ("2D only", "Small strain", "Quasi-static", "Linear (3-node) triangles",
-                 "von Mises", "isotropic hardening", "axisymmetric"):
+    for fact in ("3D", "Small strain", "Quasi-static", "3-node triangles", "4-node tetrahedra",
+                 "von Mises", "isotropic hardening", "axisymmetric", "slip_turn"):
         assert fact in limits, fact
     reference = _section("Reference")
     assert "Abdalla" in reference and "A numerical incremental procedure" in reference
