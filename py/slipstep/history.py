@@ -24,6 +24,10 @@ def final_load_fraction(result) -> float:
 
 #: Two snapshot times closer than this (relative to the path length, at least 1) are one time.
 TIME_TOL = 1e-9
+#: The same for the XDMF time series: ParaView's XDMF reader drops a time step within ~1e-8
+#: (relative) of its neighbour, at single precision (measured: steps 1.4e-8 apart vanished, 1e-6
+#: apart stayed), so a series keeps one state per time resolvable in single precision.
+SERIES_TIME_TOL = 1e-6
 
 
 # Results without stages (engines before load paths) have no ``t``/``stage``: one stage, t = f.
@@ -42,12 +46,13 @@ def distinct_time_snapshots(result) -> list[int]:
     """The index of the last snapshot at each distinct path time, in order.  Several snapshots
     share a t when events happen together (a stage end and the zero-length switches after it,
     several events at one load): the last is the state after all of them.  A time series
-    keeps one state per time (ParaView shows a repeated time as an empty frame); events.csv
-    keeps every event."""
+    keeps one state per time (ParaView shows a repeated time as an empty frame, and drops one
+    closer to its neighbour than single precision resolves: :data:`SERIES_TIME_TOL`);
+    events.csv keeps every event."""
     times = np.array([snapshot_time(s) for s in result.get("snapshots", [])])
     if len(times) == 0:
         return []
-    last = np.append(np.diff(times) > TIME_TOL * max(1.0, float(times.max())), True)
+    last = np.append(np.diff(times) > SERIES_TIME_TOL * max(1.0, float(times.max())), True)
     return np.flatnonzero(last).tolist()
 
 
