@@ -63,8 +63,10 @@
 //! | 0.05 | 0.745 | 0.805 | 0 | 570 | 90 s |
 //!
 //! The default 0.1 bounds the friction force's lag to 6° per increment; its compliance error
-//! by the trend above is ~0.04 %, far below the mesh's, at about twice the events of 1 rad. The rate problem (Lemke) for zero-length runs is 2D only:
-//! in 3D a run that cycles falls to the last resort (freezing).
+//! by the trend above is ~0.04 %, far below the mesh's, at about twice the events of 1 rad.
+//! A zero-length run that cycles is settled by the rate problem (Lemke) on a cone faceted for
+//! that problem only, its statuses and slip directions then held on the round cone
+//! (`driver::rate_problem`).
 
 
 /// A pair's contact frame: the unit normal n of its target (towards the contactor) and a basis

@@ -25,6 +25,33 @@
 //! whenever a solution exists; with friction the condensed matrix is a P-matrix for small μ
 //! (Klarbring), where Lemke always succeeds; otherwise restarts with other covering vectors
 //! help (`lemke_restarted`). It terminates in every case. The statuses follow from the solution.
+//!
+//! # In space (3D): the round cone faceted for this problem only
+//!
+//! The same problem with Λt = (Λt1, Λt2) and the cone |Λt| ≤ μΛn replaced by a polygon of
+//! `FACETS` = 12 sides (Klarbring's / Stewart and Trinkle's faceted cone): side j has the
+//! outward normal d_j in the tangent plane, its condition μΛn − d_jᵀΛt ≥ 0, and its own slip
+//! rate v_j ≥ 0, slip against its normal:
+//!   v + Σ_j v_j d_j = 0 (Λt free),   0 ≤ v_j ⊥ μΛn − d_jᵀΛt ≥ 0
+//! (2D is this with the two sides d = −t, +t). The polygon is *circumscribed* about the round
+//! cone and turned so that its first side's normal is the pair's friction force (its held slip
+//! direction; t1 at zero force): a pair on the round cone is on that side exactly, so a
+//! slipping pair keeps its direction (the other sides have present slack and are not reachable
+//! at the increment's start, as the other side in 2D); a stuck pair keeps a force its round
+//! cone admits. Only a pair at zero force sees the polygon's other sides: there the polygon
+//! over-estimates the round capacity by at most 1/cos(π/12) − 1 = 3.5 % at its corners (an
+//! inscribed one would under-estimate by 1 − cos(π/12) = 3.4 %, but would put every pair on
+//! the round cone outside it, infeasible at the start); a stuck force there beyond the round
+//! cone is the round cone's stick → slip event at the next selection. Twelve sides keep that
+//! within a few per cent at 14 unknowns per zero-force pair; the slip direction is not limited
+//! to the sides' normals (two adjacent sides slip along any direction between them).
+//!
+//! The hand-back: the statuses the LCP picks become the pairs' statuses on the round cone, and
+//! a pair it sets slipping holds the direction e = Σ v_j d_j / |Σ v_j d_j| (against its slip,
+//! the round cone's maximal dissipation), carrying λ_t = μ λ_n e from there on
+//! (`hold_slip_directions`); its turns from there are the round cone's own (`slip_turn`).
+//! A tangent the supports hold (a symmetry plane) is not a coordinate: the pair has the two
+//! sides along its other tangent, as in 2D.
 
 use super::engine::Engine;
 use super::loads::StageLoads;
@@ -32,7 +59,7 @@ use super::problem::Problem;
 use super::state::State;
 use super::stiffness::Stiffness;
 use super::trial::{self, Solve};
-use crate::contact::Status;
+use crate::contact::{SparseVec, Status};
 use crate::lcp::{lemke_with_covering, LcpSolution};
 use nalgebra::{DMatrix, DVector};
 
@@ -45,18 +72,28 @@ const GAP_ROUND_OFF: f64 = 1e-12;
 const SLIP_RATE: f64 = 1e-9;
 /// Lemke's pivot bound: this × (LCP size) + 100.
 const PIVOTS_PER_VARIABLE: usize = 50;
+/// Facets of the round Coulomb cone in the 3D rate problem (see the module documentation).
+pub(super) const FACETS: usize = 12;
+
+/// One side of a pair's friction cone in its tangential coordinates: the outward normal d of
+/// the facet μΛn − dᵀΛt ≥ 0 (unit), its slip rate along −d; `off`: the present slack of a
+/// facet the pair is not on (None: on it).
+#[derive(Clone, PartialEq)]
+struct Facet {
+    dir: Vec<f64>,
+    off: Option<f64>,
+}
 
 /// How a pair enters the rate problem.
-#[derive(Clone, Copy, PartialEq)]
+#[derive(Clone, PartialEq)]
 enum Role {
     /// Closed with positive force, frictionless (or tangent held): g' = 0.
     Normal,
     /// Closed, stick strictly inside the cone: g' = 0, v = 0.
     Stick,
     /// Frictional, on the cone or at zero force: its slip is decided; `closed`: with positive
-    /// force (g' = 0), else 0 ≤ Λn ⊥ g' ≥ 0. `off_cone`: per side (+t, −t) the slack μλn ± λt
-    /// of a side of the cone the pair is not on (None: on it).
-    Friction { closed: bool, off_cone: [Option<f64>; 2] },
+    /// force (g' = 0), else 0 ≤ Λn ⊥ g' ≥ 0. `facets`: the cone's sides (2D: +t, −t).
+    Friction { closed: bool, facets: Vec<Facet> },
     /// Frictionless at zero gap and zero force: open or closed is decided.
     Critical,
 }
@@ -92,15 +129,33 @@ impl Affine {
     }
 }
 
+/// One pair's forces as affine forms of the unknowns: Λn, Λt along its tangential
+/// coordinates (`RateProblem::tangents`), and the unknowns of its normal force, tangential
+/// forces and facets' slip rates.
+struct PairForces {
+    normal: Affine,
+    tangential: Vec<Affine>,
+    n: usize,
+    t: Vec<usize>,
+    slips: Vec<usize>,
+}
+
 /// A solved rate problem: its pairs, their roles and forces, which end touching, the unknowns,
 /// and the displacement scale of its tolerances.
 struct Solved {
     q: Vec<usize>,
     roles: Vec<Role>,
-    forces: Vec<(Affine, Affine)>,
+    forces: Vec<PairForces>,
     touching: Vec<bool>,
     y: Vec<f64>,
     scale: f64,
+}
+
+/// The rate problem's answer: every pair's status and, in 3D, the held direction e (along t1,
+/// t2) of each pair it sets slipping (None: keep the one it has).
+pub(super) struct RateSolution {
+    pub status: Vec<Status>,
+    pub slip_dir: Vec<Option<[f64; 2]>>,
 }
 
 /// The unknowns and their complementary rows, built up pair by pair.
@@ -133,12 +188,25 @@ impl Unknowns {
 /// The statuses that satisfy every contact condition at the current load, or None when Lemke
 /// finds no solution (the caller falls back to freezing). `what`: the remaining load, or a
 /// contact sub-step's (`trial::Solve`).
-pub(super) fn solve_rate_problem(eng: &mut Engine, state: &State, what: Solve) -> Option<Vec<Status>> {
-    if eng.problem.dim == 3 {
-        return None; // (2D only: the faceted cone in space is not built; the last resort freezes)
-    }
+pub(super) fn solve_rate_problem(eng: &mut Engine, state: &State, what: Solve) -> Option<RateSolution> {
     let oob = trial::out_of_balance(eng, state, what, None);
     RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads }.solve(state, &oob)
+}
+
+/// The held directions the rate problem picked, handed back to the round cone: each pair it
+/// set slipping carries λ_t = μ λ_n e along its e. Returns the largest change of λ_t it made
+/// (a force jump the caller rebalances).
+pub(super) fn hold_slip_directions(problem: &Problem, state: &mut State, sol: &RateSolution) -> f64 {
+    let mut jump: f64 = 0.0;
+    for (p, e) in sol.slip_dir.iter().enumerate() {
+        if let (Some(e), Status::Slip { .. }) = (e, state.status[p]) {
+            state.slip_dir[p] = *e;
+            let [t1, t2] = problem.slip_ratios(state, p).map(|tau| tau * state.lambda_n[p]);
+            jump = jump.max((t1 - state.lambda_t[p]).hypot(t2 - state.lambda_t2[p]));
+            (state.lambda_t[p], state.lambda_t2[p]) = (t1, t2);
+        }
+    }
+    jump
 }
 
 /// The problem's pairs, flexibility and stage loads the rate problem is built from.
@@ -149,41 +217,71 @@ struct RateProblem<'a> {
 }
 
 impl RateProblem<'_> {
-    fn solve(&self, state: &State, oob: &trial::OutOfBalance) -> Option<Vec<Status>> {
+    fn solve(&self, state: &State, oob: &trial::OutOfBalance) -> Option<RateSolution> {
         let q: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| self.in_rate_problem(state, p)).collect();
         let roles: Vec<Role> = q.iter().map(|&p| self.role(state, p)).collect();
         let mut prob = Unknowns::default();
         // Λn, Λt of every pair in q, and α, as affine forms of the unknowns.
-        let forces: Vec<(Affine, Affine)> = roles.iter().map(|&role| self.force_unknowns(&mut prob, role)).collect();
+        let forces: Vec<PairForces> = q.iter().zip(&roles).map(|(&p, role)| self.force_unknowns(&mut prob, p, role)).collect();
         let alpha: Vec<usize> = (0..self.p.bodies.modes.len()).map(|_| prob.length_unknown(true)).collect();
         let (kin_n, kin_t) = self.kinematics(state, &q, &forces, &alpha, &oob.z0);
-        for (i, (&p, &role)) in q.iter().zip(&roles).enumerate() {
+        for (i, (&p, role)) in q.iter().zip(&roles).enumerate() {
             let g = kin_n[i].clone().scaled_add(1.0, &Affine::constant(self.p.gap(state, p) + oob.dshift[p][0]));
-            let h_t = if state.status[p] == Status::Stick {
-                state.rtd_stick[p] - self.p.rtd(state, p) - oob.dshift[p][1]
-            } else {
-                -oob.dshift[p][1]
-            };
-            let v = kin_t[i].clone().scaled_add(-1.0, &Affine::constant(h_t));
+            let v: Vec<Affine> = self.tangents(p).iter().zip(&kin_t[i]).map(|(&k, kin)| {
+                let h_t = if state.status[p] == Status::Stick {
+                    self.stuck_rtd(state, p, k) - self.rtd(state, p, k) - oob.dshift[p][k + 1]
+                } else {
+                    -oob.dshift[p][k + 1]
+                };
+                kin.clone().scaled_add(-1.0, &Affine::constant(h_t))
+            }).collect();
             self.pair_rows(&mut prob, p, role, &forces[i], g, v);
         }
         self.equilibrium_rows(&mut prob, state, &q, &forces, &alpha, oob);
         let y = solve(&prob)?;
-        let scale = kin_n.iter().chain(&kin_t).map(|a| a.eval(&y).abs()).fold(self.loads.largest_displacement(self.p, &state.u, state.load_fraction), f64::max);
+        let scale = kin_n.iter().chain(kin_t.iter().flatten()).map(|a| a.eval(&y).abs()).fold(self.loads.largest_displacement(self.p, &state.u, state.load_fraction), f64::max);
         let touching = q.iter().zip(&kin_n).map(|(&p, g)| self.p.gap(state, p) + oob.dshift[p][0] + g.eval(&y) <= CRITICAL_GAP * scale).collect();
         Some(self.statuses(state, &Solved { q, roles, forces, touching, y, scale }))
     }
 
+    /// The tangential coordinates of pair p (indices into t1, t2): in 2D its tangent always (a
+    /// frictionless pair's Λt is 0); in 3D the tangents a frictional pair's supports leave free.
+    fn tangents(&self, p: usize) -> Vec<usize> {
+        let pair = &self.p.pairs[p];
+        match self.p.dim {
+            2 => vec![0],
+            _ if !pair.frictional() => vec![],
+            _ => (0..2).filter(|&k| !pair.held[k]).collect(),
+        }
+    }
+
+    /// Tangent k's constraint vector, force, RTD and RTD at sticking of pair p.
+    fn tangent_vec(&self, p: usize, k: usize) -> &SparseVec {
+        [&self.p.pairs[p].w_t, &self.p.pairs[p].w_t2][k]
+    }
+    fn lambda_t(&self, state: &State, p: usize, k: usize) -> f64 {
+        [state.lambda_t[p], state.lambda_t2[p]][k]
+    }
+    fn rtd(&self, state: &State, p: usize, k: usize) -> f64 {
+        if k == 0 { self.p.rtd(state, p) } else { self.p.rtd2(state, p) }
+    }
+    fn stuck_rtd(&self, state: &State, p: usize, k: usize) -> f64 {
+        [state.rtd_stick[p], state.rtd_stick2[p]][k]
+    }
+
     /// The row of each free rigid mode k: its body's equilibrium −e_k = 0 with
     /// e_k = Σ (Nᵀw) ΔΛ + Nᵀ r over the pairs `q` (−Nᵀ r = mode_rhs), paired with α_k.
-    fn equilibrium_rows(&self, prob: &mut Unknowns, state: &State, q: &[usize], forces: &[(Affine, Affine)], alpha: &[usize], oob: &trial::OutOfBalance) {
+    fn equilibrium_rows(&self, prob: &mut Unknowns, state: &State, q: &[usize], forces: &[PairForces], alpha: &[usize], oob: &trial::OutOfBalance) {
         for (k, &a) in alpha.iter().enumerate() {
             let mode = &self.p.bodies.mode_vectors[k];
             let mut e = Affine::constant(-oob.mode_rhs[k]);
             for (i, &p) in q.iter().enumerate() {
-                let (wn, wt) = (self.p.pairs[p].w_n.dot(mode), self.p.pairs[p].w_t.dot(mode));
-                e = e.scaled_add(wn, &forces[i].0).scaled_add(-wn, &Affine::constant(state.lambda_n[p]));
-                e = e.scaled_add(wt, &forces[i].1).scaled_add(-wt, &Affine::constant(state.lambda_t[p]));
+                let wn = self.p.pairs[p].w_n.dot(mode);
+                e = e.scaled_add(wn, &forces[i].normal).scaled_add(-wn, &Affine::constant(state.lambda_n[p]));
+                for (&t, force) in self.tangents(p).iter().zip(&forces[i].tangential) {
+                    let wt = self.tangent_vec(p, t).dot(mode);
+                    e = e.scaled_add(wt, force).scaled_add(-wt, &Affine::constant(self.lambda_t(state, p, t)));
+                }
             }
             prob.rows[a] = Some(Affine::constant(0.0).scaled_add(-1.0, &e));
         }
@@ -199,121 +297,166 @@ impl RateProblem<'_> {
 
     fn role(&self, state: &State, p: usize) -> Role {
         let tol = CRITICAL_FORCE * self.p.scales.force;
-        let (pair, ln, lt) = (&self.p.pairs[p], state.lambda_n[p], state.lambda_t[p]);
+        let (pair, ln) = (&self.p.pairs[p], state.lambda_n[p]);
+        let lt: Vec<f64> = self.tangents(p).iter().map(|&k| self.lambda_t(state, p, k)).collect();
         let closed = state.status[p].is_closed() && ln > tol;
         match (pair.frictional(), closed) {
             (false, true) => Role::Normal,
             (false, false) => Role::Critical,
-            (true, true) if pair.mu * ln - lt.abs() > tol => Role::Stick,
+            (true, true) if pair.mu * ln - norm(&lt) > tol => Role::Stick,
             (true, closed) => {
-                let off = |slack: f64| (slack > tol).then_some(slack);
-                Role::Friction { closed, off_cone: [off(pair.mu * ln + lt), off(pair.mu * ln - lt)] }
+                let facet = |dir: Vec<f64>| {
+                    let slack = pair.mu * ln - dir.iter().zip(&lt).map(|(d, l)| d * l).sum::<f64>();
+                    Facet { dir, off: (slack > tol).then_some(slack) }
+                };
+                Role::Friction { closed, facets: self.facet_directions(state, p, &lt, tol).into_iter().map(facet).collect() }
             }
         }
     }
 
-    /// The unknowns of one pair and its forces (Λn, Λt) in terms of them.
-    fn force_unknowns(&self, prob: &mut Unknowns, role: Role) -> (Affine, Affine) {
-        match role {
-            Role::Normal => (Affine::var(prob.unknown(true)), Affine::constant(0.0)),
-            Role::Critical => (Affine::var(prob.unknown(false)), Affine::constant(0.0)),
-            Role::Stick => (
-                Affine::var(prob.unknown(true)),
-                Affine::var(prob.unknown(true)),
-            ),
-            Role::Friction { closed, .. } => {
-                let (n, t) = (prob.unknown(closed), prob.unknown(true));
-                let (_slip_plus, _slip_minus) = (prob.length_unknown(false), prob.length_unknown(false));
-                (Affine::var(n), Affine::var(t))
-            }
+    /// The outward normals of pair p's cone facets in its tangential coordinates (friction
+    /// force λt): along one tangent its two sides −t, +t (exact); in the plane `FACETS` sides
+    /// of the polygon circumscribed about the round cone, the first along the pair's friction
+    /// force (or held slip direction; t1 at zero force), so that a pair on the cone is on it.
+    fn facet_directions(&self, state: &State, p: usize, lt: &[f64], tol: f64) -> Vec<Vec<f64>> {
+        if lt.len() == 1 {
+            return vec![vec![-1.0], vec![1.0]];
         }
-    }
-
-    /// w_nᵀΔu and w_tᵀΔu of every pair in q as affine forms: the flexibility (Cᵀ K# E) applied
-    /// to ΔΛ = Λ − λ, plus K# r and the rigid modes.
-    fn kinematics(&self, state: &State, q: &[usize], forces: &[(Affine, Affine)], alpha: &[usize], z0: &[f64]) -> (Vec<Affine>, Vec<Affine>) {
-        let vecs: Vec<_> = q.iter().flat_map(|&p| [&self.p.pairs[p].w_n, &self.p.pairs[p].w_t]).collect();
-        let change = |f: &Affine, now: f64| f.clone().scaled_add(-1.0, &Affine::constant(now));
-        let deltas: Vec<Affine> = q.iter().zip(forces).flat_map(|(&p, (n, t))| [change(n, state.lambda_n[p]), change(t, state.lambda_t[p])]).collect();
-        let flex: Vec<Vec<f64>> = vecs.iter().map(|w| self.stiffness.flexibility_times(&self.p.dofs.contact_slot, &w.entries)).collect();
-        let forms: Vec<Affine> = vecs
-            .iter()
-            .map(|a| {
-                let mut f = Affine::constant(self.p.dot_slots(a, z0));
-                for (b, delta) in deltas.iter().enumerate() {
-                    f = f.scaled_add(self.p.dot_slots(a, &flex[b]), delta);
-                }
-                for (k, &ak) in alpha.iter().enumerate() {
-                    f = f.scaled_add(a.dot(&self.p.bodies.mode_vectors[k]), &Affine::var(ak));
-                }
-                f
+        let e = state.slip_dir[p];
+        let [c, s] = match norm(lt) {
+            size if size > tol => [lt[0] / size, lt[1] / size],
+            _ if matches!(state.status[p], Status::Slip { .. }) && e[0].hypot(e[1]) > 0.0 => e,
+            _ => [1.0, 0.0],
+        };
+        (0..FACETS)
+            .map(|j| {
+                let (sin, cos) = (2.0 * std::f64::consts::PI * j as f64 / FACETS as f64).sin_cos();
+                vec![cos * c - sin * s, sin * c + cos * s]
             })
-            .collect();
-        forms.chunks(2).map(|c| (c[0].clone(), c[1].clone())).unzip()
+            .collect()
     }
 
-    /// The complementary rows of one pair's unknowns (see the module documentation).
-    fn pair_rows(
-        &self,
-        prob: &mut Unknowns,
-        p: usize,
-        role: Role,
-        forces: &(Affine, Affine),
-        g: Affine,
-        v: Affine,
-    ) {
-        let n = forces.0.coef[0].0;
-        prob.rows[n] = Some(g);
+    /// The unknowns of one pair and its forces (Λn, Λt) in terms of them: Λn, then Λt along
+    /// each tangential coordinate, then one slip rate per facet.
+    fn force_unknowns(&self, prob: &mut Unknowns, p: usize, role: &Role) -> PairForces {
+        let n_t = self.tangents(p).len();
+        let n = prob.unknown(!matches!(role, Role::Critical | Role::Friction { closed: false, .. }));
+        let t: Vec<usize> = match role {
+            Role::Normal | Role::Critical => vec![],
+            Role::Stick | Role::Friction { .. } => (0..n_t).map(|_| prob.unknown(true)).collect(),
+        };
+        let slips = match role {
+            Role::Friction { facets, .. } => facets.iter().map(|_| prob.length_unknown(false)).collect(),
+            _ => vec![],
+        };
+        let tangential = match role {
+            Role::Normal | Role::Critical => vec![Affine::constant(0.0); n_t],
+            _ => t.iter().map(|&i| Affine::var(i)).collect(),
+        };
+        PairForces { normal: Affine::var(n), tangential, n, t, slips }
+    }
+
+    /// w_nᵀΔu and w_tᵀΔu (per tangential coordinate) of every pair in q as affine forms: the
+    /// flexibility (Cᵀ K# E) applied to ΔΛ = Λ − λ, plus K# r and the rigid modes.
+    fn kinematics(&self, state: &State, q: &[usize], forces: &[PairForces], alpha: &[usize], z0: &[f64]) -> (Vec<Affine>, Vec<Vec<Affine>>) {
+        let vecs: Vec<_> = q.iter().flat_map(|&p| std::iter::once(&self.p.pairs[p].w_n).chain(self.tangents(p).into_iter().map(move |k| self.tangent_vec(p, k)))).collect();
+        let change = |f: &Affine, now: f64| f.clone().scaled_add(-1.0, &Affine::constant(now));
+        let deltas: Vec<Affine> = q
+            .iter()
+            .zip(forces)
+            .flat_map(|(&p, f)| std::iter::once(change(&f.normal, state.lambda_n[p])).chain(self.tangents(p).into_iter().zip(&f.tangential).map(|(k, t)| change(t, self.lambda_t(state, p, k)))).collect::<Vec<_>>())
+            .collect();
+        let flex: Vec<Vec<f64>> = vecs.iter().map(|w| self.stiffness.flexibility_times(&self.p.dofs.contact_slot, &w.entries)).collect();
+        let mut forms = vecs.iter().map(|a| {
+            let mut f = Affine::constant(self.p.dot_slots(a, z0));
+            for (b, delta) in deltas.iter().enumerate() {
+                f = f.scaled_add(self.p.dot_slots(a, &flex[b]), delta);
+            }
+            for (k, &ak) in alpha.iter().enumerate() {
+                f = f.scaled_add(a.dot(&self.p.bodies.mode_vectors[k]), &Affine::var(ak));
+            }
+            f
+        });
+        q.iter().map(|&p| (forms.next().expect("a normal form"), forms.by_ref().take(self.tangents(p).len()).collect())).unzip()
+    }
+
+    /// The complementary rows of one pair's unknowns (see the module documentation): g' for Λn;
+    /// for Λt the slip rate v = 0 (stick) or v + Σ v_j d_j = 0 (slip against the facets'
+    /// normals); for each facet's slip rate v_j its facet μΛn − d_jᵀΛt, or its present slack
+    /// when the pair is not on it.
+    fn pair_rows(&self, prob: &mut Unknowns, p: usize, role: &Role, forces: &PairForces, g: Affine, v: Vec<Affine>) {
+        prob.rows[forces.n] = Some(g);
         match role {
             Role::Normal | Role::Critical => {}
-            Role::Stick => prob.rows[n + 1] = Some(v),
-            Role::Friction { off_cone, .. } => {
-                let (t, vp, vm, mu) = (n + 1, n + 2, n + 3, self.p.pairs[p].mu);
-                prob.rows[t] = Some(
-                    v.scaled_add(-1.0, &Affine::var(vp))
-                        .scaled_add(1.0, &Affine::var(vm)),
-                );
-                // A side of the cone the pair is not on cannot be reached at the increment's
-                // start: its slip rate is 0 (its row the present slack), whatever the forces
-                // would be after the whole remaining load with the statuses held.
-                let side = |slack: Option<f64>, sign: f64| match slack {
-                    Some(s) => Affine::constant(s),
-                    None => Affine { coef: vec![(n, mu), (t, sign)], constant: 0.0 },
-                };
-                prob.rows[vp] = Some(side(off_cone[0], 1.0));
-                prob.rows[vm] = Some(side(off_cone[1], -1.0));
+            Role::Stick => forces.t.iter().zip(v).for_each(|(&t, v)| prob.rows[t] = Some(v)),
+            Role::Friction { facets, .. } => {
+                let mu = self.p.pairs[p].mu;
+                for (k, (&t, v)) in forces.t.iter().zip(v).enumerate() {
+                    prob.rows[t] = Some(facets.iter().zip(&forces.slips).fold(v, |row, (f, &s)| row.scaled_add(f.dir[k], &Affine::var(s))));
+                }
+                // A facet the pair is not on cannot be reached at the increment's start: its
+                // slip rate is 0 (its row the present slack), whatever the forces would be
+                // after the whole remaining load with the statuses held.
+                for (f, &s) in facets.iter().zip(&forces.slips) {
+                    prob.rows[s] = Some(match f.off {
+                        Some(slack) => Affine::constant(slack),
+                        None => Affine { coef: std::iter::once((forces.n, mu)).chain(forces.t.iter().zip(&f.dir).map(|(&t, &d)| (t, -d))).collect(), constant: 0.0 },
+                    });
+                }
             }
         }
     }
 
-    /// The status of every pair after the solution y (pairs outside q keep theirs). A pair
-    /// with zero force that ends the trial touching (g' = 0) stays closed: it may be what
-    /// holds a rigid mode.
-    fn statuses(&self, state: &State, sol: &Solved) -> Vec<Status> {
+    /// The status of every pair after the solution y (pairs outside q keep theirs), and the
+    /// held direction of those it sets slipping in 3D. A pair with zero force that ends the
+    /// trial touching (g' = 0) stays closed: it may be what holds a rigid mode.
+    fn statuses(&self, state: &State, sol: &Solved) -> RateSolution {
         let tol = CRITICAL_FORCE * self.p.scales.force;
         let (y, scale) = (&sol.y, sol.scale);
         let mut status = state.status.clone();
-        for (i, (&p, &role)) in sol.q.iter().zip(&sol.roles).enumerate() {
-            let n = sol.forces[i].0.coef[0].0;
-            let opens = sol.forces[i].0.eval(y) <= tol && !sol.touching[i];
+        let mut slip_dir = vec![None; status.len()];
+        for (i, (&p, role)) in sol.q.iter().zip(&sol.roles).enumerate() {
+            let f = &sol.forces[i];
+            let opens = f.normal.eval(y) <= tol && !sol.touching[i];
             status[p] = match role {
                 Role::Normal | Role::Stick => state.status[p],
                 Role::Critical if opens => Status::Open,
                 Role::Critical => self.p.pairs[p].closed_status(),
                 Role::Friction { closed: false, .. } if opens => Status::Open,
-                Role::Friction { .. } => {
-                    let (vp, vm) = (y[n + 2], y[n + 3]);
-                    if vp.max(vm) <= SLIP_RATE * scale {
+                Role::Friction { facets, .. } => {
+                    let rates: Vec<f64> = f.slips.iter().map(|&s| y[s]).collect();
+                    if rates.iter().fold(0.0f64, |a, &r| a.max(r)) <= SLIP_RATE * scale {
                         Status::Stick
+                    } else if self.p.dim == 2 {
+                        Status::Slip { direction: if rates[0] >= rates[1] { 1 } else { -1 } }
                     } else {
-                        Status::Slip {
-                            direction: if vp >= vm { 1 } else { -1 },
-                        }
+                        slip_dir[p] = Some(self.held_direction(p, facets, &rates));
+                        Status::Slip { direction: 1 }
                     }
                 }
             };
         }
-        status
+        RateSolution { status, slip_dir }
+    }
+
+    /// 3D: the direction e (along t1, t2) of the friction force of a pair slipping at the
+    /// facets' rates: against its slip −Σ v_j d_j, the round cone's maximal dissipation.
+    fn held_direction(&self, p: usize, facets: &[Facet], rates: &[f64]) -> [f64; 2] {
+        let tangents = self.tangents(p);
+        let mut e = [0.0; 2];
+        for (f, &r) in facets.iter().zip(rates) {
+            tangents.iter().zip(&f.dir).for_each(|(&k, &d)| e[k] += r * d);
+        }
+        let size = e[0].hypot(e[1]);
+        e.map(|c| c / size)
+    }
+}
+
+/// The Euclidean norm of a pair's tangential components (|λt| along one).
+fn norm(v: &[f64]) -> f64 {
+    match v {
+        [x] => x.abs(),
+        _ => v.iter().map(|x| x * x).sum::<f64>().sqrt(),
     }
 }
 
@@ -499,7 +642,7 @@ mod tests {
         let m = pushed_strip(0.5);
         let clock = Clock::new();
         let (mut eng, mut state) = start(&m, &clock);
-        state.status = solve_rate_problem(&mut eng, &state, Solve::RemainingLoad).expect("the rate problem has a solution");
+        state.status = solve_rate_problem(&mut eng, &state, Solve::RemainingLoad).expect("the rate problem has a solution").status;
         let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
         // Round-off: forces against the load (0.5), rates against the largest displacement rate;
         // ~1e-15 per operation on a six-node scene.
@@ -521,5 +664,182 @@ mod tests {
         let cycles = AntiCycling::new(2, 0, 4);
         let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
         assert!(!sel.zero_length(), "the load advances: S = {}", sel.scale);
+    }
+
+    /// A strip of cubes [0, n] × [0, 1] × [0, 1] (six tetrahedra each, ν = 0) resting on a
+    /// rigid flat z = 0 with its bottom nodes at x < n (gap 0, friction μ), held in x on its
+    /// left face (`planar`: and in y everywhere), pushed towards it by `push` (x, y) at the
+    /// bottom nodes of its right face.
+    pub(super) fn pushed_strip_3d(n: usize, mu: f64, push: [f64; 3], planar: bool) -> crate::model::Model {
+        use crate::material::Material;
+        use crate::mesh::Mesh;
+        let id = |i: usize, j: usize, k: usize| i + (n + 1) * (j + 2 * k);
+        let mut points = vec![[0.0; 3]; 4 * (n + 1)];
+        for (i, j, k) in (0..=n).flat_map(|i| (0..2).flat_map(move |j| (0..2).map(move |k| (i, j, k)))) {
+            points[id(i, j, k)] = [i as f64, j as f64, k as f64];
+        }
+        let mut tets = vec![];
+        for c in 0..n {
+            // Kuhn's six tetrahedra along the cube's diagonal, each oriented positively.
+            for perm in [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]] {
+                let mut at = [0usize; 3];
+                let mut t = vec![id(c, 0, 0)];
+                for &axis in &perm {
+                    at[axis] = 1;
+                    t.push(id(c + at[0], at[1], at[2]));
+                }
+                let p = |v: usize| points[v];
+                let d = |a: usize| [p(t[a])[0] - p(t[0])[0], p(t[a])[1] - p(t[0])[1], p(t[a])[2] - p(t[0])[2]];
+                let (a, b, cc) = (d(1), d(2), d(3));
+                let det = a[0] * (b[1] * cc[2] - b[2] * cc[1]) - a[1] * (b[0] * cc[2] - b[2] * cc[0]) + a[2] * (b[0] * cc[1] - b[1] * cc[0]);
+                if det < 0.0 {
+                    t.swap(2, 3);
+                }
+                tets.push([t[0], t[1], t[2], t[3]]);
+            }
+        }
+        let mut fixed: Vec<usize> = (0..2).flat_map(|j| (0..2).map(move |k| 3 * id(0, j, k))).collect();
+        if planar {
+            fixed.extend((0..points.len()).map(|v| 3 * v + 1));
+        }
+        fixed.sort();
+        let mut load = vec![0.0; 3 * points.len()];
+        for j in 0..2 {
+            load[3 * id(n, j, 0)] = push[0] / 2.0;
+            load[3 * id(n, j, 0) + 1] = push[1] / 2.0;
+            load[3 * id(n, j, 0) + 2] = push[2] / 2.0;
+        }
+        let pairs = (0..n).flat_map(|i| (0..2).map(move |j| (i, j))).map(|(i, j)| crate::model::PairInput { node_a: id(i, j, 0), node_b: None, normal: [0.0, 0.0, 1.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
+        let n_tets = tets.len();
+        let mut m = model(Mesh::space(points, tets), fixed, load, pairs, Material::elastic(E, 0.0));
+        m.element_material = vec![0; n_tets];
+        m
+    }
+
+    /// Zero-length switches one at a time from the start: the statuses after each (None when
+    /// the load advances first).
+    fn one_at_a_time(m: &crate::model::Model, switches: usize) -> Vec<Vec<Status>> {
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(m, &clock);
+        let n = eng.problem.pairs.len();
+        let mut cycles = AntiCycling::new(n, 0, usize::MAX);
+        let mut seen = vec![state.status.clone()];
+        for _ in 0..switches {
+            let Ok((trial, _)) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent) else { break };
+            let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+            if !sel.zero_length() || sel.group.is_empty() {
+                break;
+            }
+            let mut switched = vec![false; n];
+            for c in &sel.group {
+                if let Admission::Apply = cycles.admit(c, true, &mut switched) {
+                    switch(&eng.problem, &mut state, c);
+                }
+            }
+            seen.push(state.status.clone());
+        }
+        seen
+    }
+
+    /// In space: the strip of two cubes held in y (its pairs' one free tangent along x) and in x
+    /// on its left face, pushed towards it at the bottom of its right face, its four pairs at
+    /// zero force: switched one event at a time at zero load (one switch per pair and
+    /// increment, never frozen), its far pairs stick and slip again and again, as the planar
+    /// strip's (found by a search over pushes and μ on strips of two and three cubes).
+    #[test]
+    fn in_space_one_at_a_time_the_pushed_strips_pairs_cycle() {
+        let seen = one_at_a_time(&pushed_strip_3d(2, 0.5, PLANAR_PUSH, true), 6);
+        assert_eq!(seen.len(), 7, "six zero-length switches: {seen:?}");
+        assert_ne!(seen[2], seen[3]);
+        assert_eq!((&seen[4], &seen[6]), (&seen[2], &seen[2]), "{seen:?}");
+        assert_eq!(&seen[5], &seen[3], "{seen:?}");
+    }
+
+    /// The pushes of the 3D strips: held in y, towards the held face; free in y, across it
+    /// and down, so that friction can hold it (|p_y| < μ|p_z|) and its far pairs slip in the
+    /// plane.
+    const PLANAR_PUSH: [f64; 3] = [-0.5, 0.0, 0.0];
+    const SPACE_PUSH: [f64; 3] = [-0.3, 0.2, -1.0];
+
+    /// The faceted rate problem sets the 3D strips' statuses and slip directions together (the
+    /// cycling one's, and one whose far pairs slip across its axis), and
+    /// the trial with them (on the round cone) is admissible from its start, checked on the
+    /// trial's own rates: a closed pair's normal force grows, a slipping pair's friction μλn e
+    /// opposes its slip (−e · slip rate ≥ 0), an open pair's gap does not close; and the load
+    /// advances at once.
+    #[test]
+    fn in_space_the_faceted_rate_problem_sets_admissible_statuses() {
+        settles(&pushed_strip_3d(2, 0.5, PLANAR_PUSH, true));
+        settles(&pushed_strip_3d(2, 1.0, SPACE_PUSH, false));
+    }
+
+    fn settles(m: &crate::model::Model) {
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(m, &clock);
+        let sol = solve_rate_problem(&mut eng, &state, Solve::RemainingLoad).expect("the rate problem has a solution");
+        state.status.clone_from(&sol.status);
+        hold_slip_directions(&eng.problem, &mut state, &sol);
+        let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+        // Round-off, as in 2D: ~1e-15 per operation on a twelve-node scene.
+        let force = 1e-12 * 0.5;
+        let rate = 1e-12 * trial.du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let mut slipping = 0;
+        for (p, pair) in eng.problem.pairs.iter().enumerate() {
+            let gap_rate = pair.w_n.dot(&trial.du);
+            match state.status[p] {
+                Status::Open => assert!(gap_rate >= -rate, "pair {p} open but closing at {gap_rate}"),
+                status => {
+                    assert!(trial.dlambda_n[p] >= -force, "pair {p} {status:?} pulled: {}", trial.dlambda_n[p]);
+                    if let Some(e) = sol.slip_dir[p] {
+                        slipping += 1;
+                        assert!((e[0].hypot(e[1]) - 1.0).abs() <= 1e-15 && state.slip_dir[p] == e, "pair {p} holds the rate problem's unit direction");
+                        let v = crate::events::slip_rate(pair, &super::super::selection::trial_of(&trial), p);
+                        assert!(-(e[0] * v[0] + e[1] * v[1]) >= -rate, "pair {p} slips against its friction: {v:?} along {e:?}");
+                    }
+                }
+            }
+        }
+        assert!(slipping > 0 && state.status.iter().any(|s| s.is_closed()), "{:?}", state.status);
+        let cycles = AntiCycling::new(4, 0, 4);
+        let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+        assert!(!sel.zero_length(), "the load advances: S = {}", sel.scale);
+    }
+
+    /// The faceted cone of the 3D rate problem (module documentation): a pair on the round cone
+    /// is on its first facet, whose normal is its friction force's direction, and off the
+    /// others by their present slack μλn(1 − cos 2πj/k) (the polygon circumscribed, turned to
+    /// the force); a pair strictly inside sticks; at zero force every facet is reachable, the
+    /// first along t1; a pair whose supports hold one tangent has the two sides of the other.
+    #[test]
+    fn the_cone_is_faceted_about_the_pairs_friction_force() {
+        let (mu, ln, angle) = (0.5, 2.0, 0.7f64);
+        let m = pushed_strip_3d(2, mu, [-0.5, 0.0, 0.0], false);
+        let clock = Clock::new();
+        let (eng, mut state) = start(&m, &clock);
+        let rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads };
+        let (free, held) = (2, 0); // at x = 1, and on the face x = 0 held in x (t2 = x there)
+        assert!(eng.problem.pairs[held].held[1] && !eng.problem.pairs[free].held.contains(&true));
+        state.lambda_n[free] = ln;
+        (state.lambda_t[free], state.lambda_t2[free]) = (mu * ln * angle.cos(), mu * ln * angle.sin());
+        let Role::Friction { closed: true, facets } = rp.role(&state, free) else { panic!("a closed pair on the cone") };
+        assert_eq!(facets.len(), FACETS);
+        // Round-off of a sine and cosine sum: a few ulps of the unit normal and of μλn.
+        let tol = 1e-14;
+        for (j, f) in facets.iter().enumerate() {
+            let turn = 2.0 * std::f64::consts::PI * j as f64 / FACETS as f64;
+            assert!((f.dir[0] - (angle + turn).cos()).abs() <= tol && (f.dir[1] - (angle + turn).sin()).abs() <= tol, "facet {j}: {:?}", f.dir);
+            match f.off {
+                None => assert_eq!(j, 0, "only the first facet is reachable"),
+                Some(slack) => assert!(j > 0 && (slack - mu * ln * (1.0 - turn.cos())).abs() <= tol * mu * ln, "facet {j}: {slack}"),
+            }
+        }
+        (state.lambda_t[free], state.lambda_t2[free]) = (0.9 * state.lambda_t[free], 0.9 * state.lambda_t2[free]);
+        assert!(rp.role(&state, free) == Role::Stick);
+        (state.lambda_n[free], state.lambda_t[free], state.lambda_t2[free]) = (0.0, 0.0, 0.0);
+        let Role::Friction { closed: false, facets } = rp.role(&state, free) else { panic!("a pair at zero force") };
+        assert!(facets.iter().all(|f| f.off.is_none()) && facets[0].dir == [1.0, 0.0]);
+        (state.lambda_n[held], state.lambda_t[held]) = (ln, mu * ln);
+        let Role::Friction { facets, .. } = rp.role(&state, held) else { panic!("a pair on the cone") };
+        assert!(facets == [Facet { dir: vec![-1.0], off: Some(2.0 * mu * ln) }, Facet { dir: vec![1.0], off: None }]);
     }
 }

@@ -5,7 +5,7 @@
 use super::anticycling::{Admission, AntiCycling};
 use super::engine::Engine;
 use super::problem::Problem;
-use super::rate_problem::solve_rate_problem;
+use super::rate_problem::{hold_slip_directions, solve_rate_problem};
 use super::recording::Recorder;
 use super::restraint::{hold, Hold};
 use super::selection::Selection;
@@ -53,8 +53,8 @@ pub(super) fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selecti
 /// The statuses of the rate problem's solution, switched and recorded at φ; None when it has
 /// none or changes nothing.
 fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut AntiCycling, rec: &mut Recorder, phi: f64, what: Solve) -> Option<f64> {
-    let status = solve_rate_problem(eng, state, what)?;
-    let changes: Vec<_> = (0..status.len()).flat_map(|p| transitions(p, state.status[p], status[p])).collect();
+    let sol = solve_rate_problem(eng, state, what)?;
+    let changes: Vec<_> = (0..sol.status.len()).flat_map(|p| transitions(p, state.status[p], sol.status[p])).collect();
     if changes.is_empty() {
         return None;
     }
@@ -65,7 +65,7 @@ fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut Anti
         jump = jump.max(switch(&eng.problem, state, c));
         rec.event(c, c.kind, phi);
     }
-    Some(jump)
+    Some(jump.max(hold_slip_directions(&eng.problem, state, &sol)))
 }
 
 /// Apply one event's status change and the forces it sets. Returns the force it moved: the
