@@ -19,10 +19,6 @@ pub struct Candidate {
     pub kind: EventKind,
     /// For stick→slip: the slip direction d (λ_t = −d μ λ_n afterwards).
     pub direction: i8,
-    /// 3D stick→slip: the direction e (t1, t2) the friction force holds from the event, that
-    /// of λ_t0 + S Δλ_t on the cone, or of Δλ_t for a pair whose force starts from zero
-    /// ([0, 0] otherwise).
-    pub held: [f64; 2],
 }
 
 /// Noise floors below which a rate counts as zero (relative to the problem's scales).
@@ -64,7 +60,7 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
             continue;
         }
         let push = |out: &mut Vec<Candidate>, scale: f64, kind, direction| {
-            out.push(Candidate { scale: scale.max(0.0), entity: p, kind, direction, held: [0.0; 2] })
+            out.push(Candidate { scale: scale.max(0.0), entity: p, kind, direction })
         };
         let (ln, lt) = (state.lambda_n[p], state.lambda_t[p]);
         let (dln, dlt) = (trial.dlambda_n[p], trial.dlambda_t[p]);
@@ -89,11 +85,7 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                         let lt = [lt, state.space.map_or(0.0, |(t2, _)| t2[p])];
                         let dlt = [dlt, trial.dlambda_t2[p]];
                         if let Some(s) = onto_round_cone(pair.mu, (ln, lt), (dln, dlt), noise.force) {
-                            let at = [lt[0] + s * dlt[0], lt[1] + s * dlt[1]];
-                            let along = if at[0].hypot(at[1]) > noise.force { at } else { dlt };
-                            let size = along[0].hypot(along[1]);
-                            let held = if size > 0.0 { along.map(|v| v / size) } else { [0.0; 2] };
-                            out.push(Candidate { scale: s.max(0.0), entity: p, kind: EventKind::StickToSlip, direction: 1, held });
+                            push(&mut out, s, EventKind::StickToSlip, 1);
                         }
                     }
                     Status::Slip { direction } if direction != 0 && state.space.is_some() => {
@@ -215,13 +207,13 @@ fn element_candidate(state: &ElementState, e: usize, dstress: &Voigt, dplastic: 
             Some(step) if change > 0.0 => step * sy / change,
             _ => f64::INFINITY,
         };
-        let unload = (dplastic < -noise && !state.frozen[e]).then_some(Candidate { scale: 0.0, entity: e, kind: EventKind::Unload, direction: 0, held: [0.0; 2] });
+        let unload = (dplastic < -noise && !state.frozen[e]).then_some(Candidate { scale: 0.0, entity: e, kind: EventKind::Unload, direction: 0 });
         return (unload, bound);
     }
     if state.frozen[e] {
         return (None, f64::INFINITY);
     }
-    (yield_scale(&state.stress[e], dstress, sy).map(|s| Candidate { scale: s, entity: e, kind: EventKind::Yield, direction: 0, held: [0.0; 2] }), f64::INFINITY)
+    (yield_scale(&state.stress[e], dstress, sy).map(|s| Candidate { scale: s, entity: e, kind: EventKind::Yield, direction: 0 }), f64::INFINITY)
 }
 
 #[cfg(test)]

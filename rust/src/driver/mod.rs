@@ -251,7 +251,7 @@ fn restore_hold(eng: &Engine, state: &mut State, rec: &Recorder, first_event: us
             (EventKind::StickToSlip, Status::Slip { .. }) => EventKind::SlipToStick,
             _ => continue,
         };
-        switch(&eng.problem, state, &Candidate { scale: 0.0, entity: e.entity, kind: back, direction: 0, held: [0.0; 2] });
+        switch(&eng.problem, state, &Candidate { scale: 0.0, entity: e.entity, kind: back, direction: 0 });
     }
 }
 

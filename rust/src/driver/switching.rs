@@ -91,7 +91,7 @@ pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64
         EventKind::StickToSlip => {
             state.status[p] = Status::Slip { direction: c.direction };
             if problem.dim == 3 {
-                state.slip_dir[p] = if c.held != [0.0; 2] { c.held } else { held_direction([state.lambda_t[p], state.lambda_t2[p]]) };
+                state.slip_dir[p] = held_direction([state.lambda_t[p], state.lambda_t2[p]]);
             }
             let [tau, tau2] = problem.slip_ratios(state, p);
             state.lambda_t[p] = tau * state.lambda_n[p];
@@ -113,10 +113,10 @@ pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64
     }
 }
 
-/// The direction e a pair that starts to slip in 3D holds when its event does not say
-/// (`Candidate::held`): that of its friction force, on the cone there (|λ_t| = μ λ_n); none if
-/// that force is zero (e = 0 carries no friction force in the next trial, whose slip rate then
-/// sets it: a turn, `slip_turn`).
+/// The direction e a pair that starts to slip in 3D holds: that of its friction force at the
+/// event, which is on the cone there (|λ_t| = μ λ_n). A pair that slips as it closes (λ = 0)
+/// has none yet: e = 0 carries no friction force in the next trial, whose slip rate then sets
+/// it (a turn, `slip_turn`).
 fn held_direction(lambda_t: [f64; 2]) -> [f64; 2] {
     let size = lambda_t[0].hypot(lambda_t[1]);
     if size > 0.0 { lambda_t.map(|v| v / size) } else { [0.0; 2] }
@@ -124,7 +124,7 @@ fn held_direction(lambda_t: [f64; 2]) -> [f64; 2] {
 
 /// The events that take pair p from status `from` to `to` (for the rate problem's statuses).
 pub(super) fn transitions(p: usize, from: Status, to: Status) -> Vec<Candidate> {
-    let event = |kind, direction| Candidate { scale: 0.0, entity: p, kind, direction, held: [0.0; 2] };
+    let event = |kind, direction| Candidate { scale: 0.0, entity: p, kind, direction };
     match (from, to) {
         (a, b) if a == b => vec![],
         (_, Status::Open) => vec![event(EventKind::Separate, 0)],
