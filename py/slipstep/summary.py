@@ -183,6 +183,8 @@ def _snapshot_numbers(scene, result, snap: dict, sides: list[int]) -> dict:
                     "total_tangential_force": float(np.linalg.norm(np.sum(
                         [c["tangential_force"] for c in contacts.values()], axis=0))),
                     "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
+                    "max_nodal_pressure": max(c["max_nodal_pressure"]
+                                              for c in contacts.values()),
                     "contacts": contacts})
     elif len(scene.pair_xy):
         contacts = contact_summaries(scene, result, snap, sides)
