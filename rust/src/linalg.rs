@@ -670,8 +670,50 @@ mod tests {
             fixed[2 * nx * j + 1] = true;
         }
         let chosen_dofs: Vec<usize> = [3, 0, 4, 2, 1].iter().flat_map(|&j| [2 * (nx * j + nx - 1) + 1, 2 * (nx * j + nx - 1)]).collect();
-        let map = DofMap::ordered(&els, n_dofs, &fixed, &[], &chosen_dofs).unwrap();
-        let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &vec![d; els.len()], &map).unwrap();
+        check_trailing_block(&els, n_dofs, &fixed, &chosen_dofs, d);
+    }
+
+    #[test]
+    fn in_space_the_trailing_block_holds_the_chosen_dofs_alone() {
+        // A 3x2x2-cube bar of tetrahedra (six per cube), fixed on x = 0; the chosen DOFs are the
+        // z components of the free end's nodes, in scrambled order (as a frictionless pair's
+        // normal DOF): they alone end the factor (their nodes' x and y DOFs come before), and
+        // the flexibility and the split solve hold as in the plane.
+        let (nx, ny, nz) = (4, 3, 3);
+        let node = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
+        let points = (0..nz).flat_map(|k| (0..ny).flat_map(move |j| (0..nx).map(move |i| [i as f64, 0.8 * j as f64, 0.6 * k as f64]))).collect();
+        let mut tetrahedra = vec![];
+        for (i, j, k) in (0..nx - 1).flat_map(|i| (0..ny - 1).flat_map(move |j| (0..nz - 1).map(move |k| (i, j, k)))) {
+            // Kuhn's six tetrahedra of a cube along its diagonal from corner 0 to corner 7.
+            let c = |b: usize| node(i + (b & 1), j + ((b >> 1) & 1), k + (b >> 2));
+            for path in [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]] {
+                let t = [c(0), c(path[0]), c(path[1]), c(7)];
+                tetrahedra.push(t);
+            }
+        }
+        let mut mesh = Mesh::space(points, tetrahedra);
+        // Orient every tetrahedron positively (Kuhn's paths alternate in sign).
+        for t in 0..mesh.tetrahedra.len() {
+            let [a, b, c, d] = mesh.tetrahedra[t].map(|n| nalgebra::Vector3::from(mesh.points[n]));
+            if (b - a).cross(&(c - a)).dot(&(d - a)) < 0.0 {
+                mesh.tetrahedra[t].swap(1, 2);
+            }
+        }
+        let els: Vec<crate::element::Tet4> = (0..mesh.tetrahedra.len()).map(|e| crate::element::Tet4::new(&mesh, e)).collect();
+        let d = Section::new(Material::elastic(1000.0, 0.3), &crate::section::Solid).elastic_matrix();
+        let n_dofs = 3 * mesh.points.len();
+        let fixed: Vec<bool> = (0..n_dofs).map(|g| g / 3 % nx == 0).collect();
+        let chosen_dofs: Vec<usize> = [(1, 2), (0, 0), (2, 1), (1, 0), (0, 2)].iter().map(|&(j, k)| 3 * node(nx - 1, j, k) + 2).collect();
+        let map = check_trailing_block(&els, n_dofs, &fixed, &chosen_dofs, d);
+        let first_trailing = map.n_equations - chosen_dofs.len();
+        assert!(chosen_dofs.iter().all(|&g| map.equation(g - 1).unwrap() < first_trailing && map.equation(g - 2).unwrap() < first_trailing));
+    }
+
+    /// The trailing block of the factor ordered with `chosen_dofs` last gives K⁻¹ restricted to
+    /// them, and the split solve around forces on them is one full solve; returns the map.
+    fn check_trailing_block<E: Element<S, N>, const S: usize, const N: usize>(els: &[E], n_dofs: usize, fixed: &[bool], chosen_dofs: &[usize], d: Matrix6<f64>) -> DofMap {
+        let map = DofMap::ordered(els, n_dofs, fixed, &[], chosen_dofs).unwrap();
+        let k = StiffnessPattern::new(els, &map).unwrap().assemble(els, &vec![d; els.len()], &map).unwrap();
         let chosen: Vec<usize> = chosen_dofs.iter().map(|&g| map.equation(g).unwrap()).collect();
         // The chosen DOFs are the last equations, in the order given.
         let t = chosen.len();
@@ -716,5 +758,6 @@ mod tests {
         for i in 0..n {
             assert!((x[i] - with_force[i]).abs() < 1e-12 * big, "x[{i}] = {} vs {}", x[i], with_force[i]);
         }
+        map
     }
 }
