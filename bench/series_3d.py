@@ -155,7 +155,7 @@ def hertz_errors(r: dict) -> tuple[float, float]:
 
 def nodal_error(r: dict) -> float:
     """Error of the largest nodal pressure (GetFEM's p0 is the same measure)."""
-    return r.get("max_nodal_pressure", r["peak_pressure"]) / r["reference"]["p0_hertz"] - 1
+    return (r.get("max_nodal_pressure") or r["peak_pressure"]) / r["reference"]["p0_hertz"] - 1
 
 
 def fit_error(r: dict):
@@ -222,7 +222,7 @@ def section(runs: list[dict], gf_doc: dict | None) -> list[str]:
         L.append(f"| {r['h']:g} | slipstep | {r['dofs']} | {r['events']} events | "
                  f"{fmt(r['engine_s'], '.2f')} | {fmt(r['wall_s'], '.2f')} | "
                  f"{fmt(r['contact_radius'], '.5f')} | {pct(ea, '+.2f')} | "
-                 f"{fmt(r.get('max_nodal_pressure', r['peak_pressure']), '.2f')} | "
+                 f"{fmt(r.get('max_nodal_pressure') or r['peak_pressure'], '.2f')} | "
                  f"{pct(nodal_error(r), '+.2f')} | {pct(ep, '+.2f')} | "
                  f"{pct(fit_error(r), '+.2f')} | |")
         for g in sorted((g for g in gf if g["h"] == r["h"]), key=lambda g: g["setting"]):

@@ -120,6 +120,7 @@ def _space_contact_numbers(scene, result) -> dict:
         **{k: top[k] for k in ("contact_area", "contact_radius", "stick_area", "stick_radius")
            if k in top},
         "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
+        "max_nodal_pressure": max(c["max_nodal_pressure"] for c in contacts.values()),
         "total_normal_force": float(sum(c["total_normal_force"] for c in contacts.values())),
         "tangential_force": tangential.tolist(),
         "total_tangential_force": float(np.linalg.norm(tangential)),
