@@ -175,6 +175,24 @@ def test_the_node_to_surface_patch_test_carries_a_uniform_pressure_exactly():
         assert np.abs(snap["stress"] - expected).max() <= ROUND_OFF * p
 
 
+def test_node_to_node_pairs_between_matching_faces_carry_a_uniform_pressure_exactly():
+    """The same lid meshed like the block's top (4 x 2 cells: its nodes match), node-to-node
+    pairs with friction (μ = 0.3; nothing pushes them sideways, so they stick with λt = 0): σzz =
+    −p everywhere, every pair carries p times its node's tributary area, Σλn = p A, to
+    round-off."""
+    p = 2.5
+    text = LID.format(nx=4, ny=2, p=p).replace('"node_to_surface"', '"node_to_node"')
+    scene = build_scene(parse_case(text.replace("mu = 0.0", "mu = 0.3"), "lid.toml"))
+    snap = engine().solve(scene.model)["snapshots"][-1]
+    assert (snap["status"] == 1).all()
+    assert np.abs(snap["lambda_n"] - p * scene.pair_area).max() <= ROUND_OFF * p * scene.pair_area.max()
+    assert abs(snap["lambda_n"].sum() - p * 2.0 * 1.0) <= ROUND_OFF * p * 2.0
+    assert np.abs(snap["lambda_t"]).max() <= ROUND_OFF * p * scene.pair_area.max()
+    expected = np.zeros(6)
+    expected[2] = -p
+    assert np.abs(snap["stress"] - expected).max() <= ROUND_OFF * p
+
+
 ROLLERS = """
 [[bc]]
 body = "{body}"
