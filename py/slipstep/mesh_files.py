@@ -12,6 +12,15 @@ from .gmsh_api import gmsh_session, triangles_and_edges
 from .mesh import Mesh, MeshError, checked_mesh, from_arrays, planar_coordinates
 
 
+def mesh_file(path) -> tuple[Path, str, str]:
+    """(path, its name for messages, its lower-case suffix) of a mesh file that exists, else a
+    one-line MeshError."""
+    path = Path(path)
+    if not path.exists():
+        raise MeshError(f"{path}: no such mesh file")
+    return path, str(path), path.suffix.lower()
+
+
 def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: float = 1.0) -> Mesh:
     """Read a triangle mesh: ``.msh`` (through gmsh; physical line names are the edge tags,
     physical points the node sets) or ``.xdmf`` (through meshio; line cells, from the same file
@@ -21,11 +30,7 @@ def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: floa
     A mesh whose triangles are ALL clockwise is flipped; a mix is an error naming the first
     inverted element.
     """
-    path = Path(path)
-    where = str(path)
-    if not path.exists():
-        raise MeshError(f"{where}: no such mesh file")
-    suffix = path.suffix.lower()
+    path, where, suffix = mesh_file(path)
     if suffix == ".msh":
         xyz, triangles, edges, node_sets = read_msh_isolated(path, where, triangles_and_edges)
     elif suffix == ".xdmf":

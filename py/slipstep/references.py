@@ -217,12 +217,16 @@ def thick_sphere_radius(p, a: float, b: float, Y: float):
     return _increasing_inverse(lambda c: thick_sphere_pressure(c, a, b, Y), p, a, b)
 
 
+def thick_sphere_plastic_radius(p: float, a: float, b: float, Y: float) -> float:
+    """Hill's plastic radius c at the pressure p: a while the sphere is elastic (p <= p_e)."""
+    return float(thick_sphere_radius(p, a, b, Y)) if p > thick_sphere_pressure(a, a, b, Y) else a
+
 def thick_sphere_stresses(rho, p: float, a: float, b: float, Y: float):
     """(σ_R, σ_t) at spherical radii ρ (Hill, ch. V; Lamé below the elastic limit): in the
     plastic zone a <= ρ <= c, σ_R = −p + 2Y ln(ρ/a) and σ_t = σ_R + Y; outside it Lamé's
     shell c <= ρ <= b under the pressure p_c = (2Y/3)(1 − c³/b³) that yields it at c."""
     rho = np.asarray(rho, dtype=float)
-    c = float(thick_sphere_radius(p, a, b, Y)) if p > thick_sphere_pressure(a, a, b, Y) else a
+    c = thick_sphere_plastic_radius(p, a, b, Y)
     if c == a:
         return thick_sphere_lame(rho, p, a, b)
     er, et = thick_sphere_lame(rho, float(thick_sphere_pressure(c, c, b, Y)), c, b)
@@ -234,7 +238,7 @@ def thick_sphere_outer_displacement(p: float, a: float, b: float, E: float, nu: 
                                     Y: float) -> float:
     """The radial displacement of the outer surface ρ = b (Hill; Lamé below the elastic
     limit): Lamé's of the elastic shell c <= ρ <= b under p_c (:func:`thick_sphere_stresses`)."""
-    c = float(thick_sphere_radius(p, a, b, Y)) if p > thick_sphere_pressure(a, a, b, Y) else a
+    c = thick_sphere_plastic_radius(p, a, b, Y)
     p_c = p if c == a else float(thick_sphere_pressure(c, c, b, Y))
     return float(thick_sphere_displacement(b, p_c, c, b, E, nu))
 

@@ -110,25 +110,33 @@ def _space_contact_numbers(scene, result) -> dict:
     one contact its area, radii and resultants at the top level; totals over every contact."""
     last = result["snapshots"][-1]
     status = np.asarray(last["status"])
-    contacts = {name: contact_numbers_3d(scene, last, i)
-                for i, name in enumerate(scene.model["contact_names"])}
+    totals = space_contact_totals(scene, last)
+    contacts = totals["contacts"]
     top = next(iter(contacts.values())) if len(contacts) == 1 else {}
-    tangential = np.sum([c["tangential_force"] for c in contacts.values()], axis=0)
     return {
         "snapshot_load_fraction": float(last["load_fraction"]),
         "snapshot_t": snapshot_time(last),
         **{k: top[k] for k in ("contact_area", "contact_radius", "stick_area", "stick_radius")
            if k in top},
-        "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
-        "max_nodal_pressure": max(c["max_nodal_pressure"] for c in contacts.values()),
-        "total_normal_force": float(sum(c["total_normal_force"] for c in contacts.values())),
-        "tangential_force": tangential.tolist(),
-        "total_tangential_force": float(np.linalg.norm(tangential)),
+        **totals,
         "n_open": int((status == 0).sum()), "n_stick": int((status == 1).sum()),
         "n_slip": int((status == 2).sum()),
         "contact_reached_last_candidate": reached_window_edge(scene, last),
-        "contacts": contacts,
     }
+
+
+def space_contact_totals(scene, snap: dict) -> dict:
+    """A 3D snapshot's contacts (:func:`contact_numbers_3d` each) and their totals: normal
+    force, tangential resultant and its size, the peak and the largest nodal pressure."""
+    contacts = {name: contact_numbers_3d(scene, snap, i)
+                for i, name in enumerate(scene.model["contact_names"])}
+    tangential = np.sum([c["tangential_force"] for c in contacts.values()], axis=0)
+    return {"peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
+            "max_nodal_pressure": max(c["max_nodal_pressure"] for c in contacts.values()),
+            "total_normal_force": float(sum(c["total_normal_force"] for c in contacts.values())),
+            "tangential_force": tangential.tolist(),
+            "total_tangential_force": float(np.linalg.norm(tangential)),
+            "contacts": contacts}
 
 
 def _contact_numbers(scene, result) -> dict:
@@ -178,15 +186,9 @@ def _snapshot_numbers(scene, result, snap: dict, sides: list[int]) -> dict:
     snapshot (the parts that apply)."""
     out = {}
     if len(scene.pair_xy) and scene.dimension == 3:
-        contacts = {name: contact_numbers_3d(scene, snap, i)
-                    for i, name in enumerate(scene.model["contact_names"])}
-        out.update({"total_normal_force": sum(c["total_normal_force"] for c in contacts.values()),
-                    "total_tangential_force": float(np.linalg.norm(np.sum(
-                        [c["tangential_force"] for c in contacts.values()], axis=0))),
-                    "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
-                    "max_nodal_pressure": max(c["max_nodal_pressure"]
-                                              for c in contacts.values()),
-                    "contacts": contacts})
+        totals = space_contact_totals(scene, snap)
+        del totals["tangential_force"]  # a stage record gives its size only
+        out.update(totals)
     elif len(scene.pair_xy):
         contacts = contact_summaries(scene, result, snap, sides)
         out.update({

@@ -26,8 +26,8 @@ import numpy as np
 
 from ..fields import polar
 from ..references import thick_cylinder_displacement, thick_cylinder_radius, \
-    thick_cylinder_stresses, thick_sphere_outer_displacement, thick_sphere_pressure, \
-    thick_sphere_radius, thick_sphere_stresses
+    thick_cylinder_stresses, thick_sphere_outer_displacement, thick_sphere_plastic_radius, \
+    thick_sphere_stresses
 from ..space.fields import spherical
 from .bulk import BulkProblem, relative_difference
 
@@ -130,8 +130,7 @@ def hill_cylinder(r, h: dict):
 def hill_sphere(rho, h: dict):
     """Hill's thick sphere (Y = Sy): c, u(b), (sigma_R, sigma_t)(rho)."""
     a, b, p, Y = h["a"], h["b"], h["p"], h["Sy"]
-    c = float(thick_sphere_radius(p, a, b, Y)) if p > thick_sphere_pressure(a, a, b, Y) else a
-    return (c, thick_sphere_outer_displacement(p, a, b, h["E"], h["nu"], Y),
+    return (thick_sphere_plastic_radius(p, a, b, Y), thick_sphere_outer_displacement(p, a, b, h["E"], h["nu"], Y),
             thick_sphere_stresses(rho, p, a, b, Y))
 
 

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..gmsh_api import tetrahedra_and_faces
 from ..mesh import MeshError
-from ..mesh_files import read_msh_isolated, tagged_cells, xdmf_mesh
+from ..mesh_files import mesh_file, read_msh_isolated, tagged_cells, xdmf_mesh
 from .mesh import TetMesh, checked_tet_mesh
 
 
@@ -21,11 +21,7 @@ def read_tet_mesh(path: str | Path, face_file: str | Path | None = None,
     """Read a tetrahedron mesh (``.msh`` or ``.xdmf``).  A mesh whose tetrahedra are ALL
     negatively oriented is flipped; a mix is an error naming the first inverted one, as is a
     flat one."""
-    path = Path(path)
-    where = str(path)
-    if not path.exists():
-        raise MeshError(f"{where}: no such mesh file")
-    suffix = path.suffix.lower()
+    path, where, suffix = mesh_file(path)
     if suffix == ".msh":
         xyz, tets, faces, node_sets = read_msh_isolated(path, where, tetrahedra_and_faces)
     elif suffix == ".xdmf":
