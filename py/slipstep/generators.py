@@ -2,7 +2,8 @@
 the contact point), the quarter annulus (gmsh), the structured block, the graded block (gmsh,
 fine around a focus) and the refined block (structured inside a box, gmsh outside).  Each
 returns a checked :class:`slipstep.mesh.Mesh` with the edge tags of
-:data:`slipstep.schema.GENERATOR_EDGES`.
+:data:`slipstep.schema.GENERATOR_EDGES`; the gmsh ones through the mesh cache
+(:mod:`slipstep.mesh_cache`).
 """
 
 from __future__ import annotations

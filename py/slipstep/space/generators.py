@@ -1,7 +1,8 @@
 """The built-in tetrahedron meshes of 3D scenes (gmsh, OpenCASCADE geometry): the sphere, the
 roller, the graded box, the punch and the spherical shell, and the structured box (no gmsh).
 Each returns a checked :class:`slipstep.space.mesh.TetMesh` with the face tags of
-:func:`slipstep.space.schema.generator_faces`.
+:func:`slipstep.space.schema.generator_faces`; the gmsh ones through the mesh cache
+(:mod:`slipstep.mesh_cache`).
 
 A body of revolution or a punch is meshed as its symmetric part (the eighth, or the quarter of
 a punch) and mirrored across the planes of its ``portion``: the quarter and the half are
