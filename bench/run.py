@@ -149,6 +149,16 @@ def one(spec: dict) -> dict:
     }
 
 
+def compile_package() -> None:
+    """Byte-compile slipstep's sources (and the bench's own modules), as pip does when it
+    installs the package: a checkout run with PYTHONDONTWRITEBYTECODE set (as on this bench's
+    machines) would otherwise compile every module in every child process (measured: import
+    0.81 s against 0.18 s with bytecode, load 8 on 2 cores)."""
+    import compileall
+    compileall.compile_dir(str(ROOT / "py" / "slipstep"), quiet=1)
+    compileall.compile_dir(str(HERE), quiet=1, maxlevels=0)  # the modules the children import
+
+
 def run_child(spec: dict, timeout: float, python: str = sys.executable) -> dict:
     """Run ``spec`` in a child process (``python``: this interpreter, or the old engine's);
     wall_s is that whole process, spawn to exit.  Status ok / timeout / error / rejected."""
@@ -544,6 +554,34 @@ def target_rows(runs: list[dict], gf: list[dict], cyl: dict | None, old: dict) -
     return rows
 
 
+SIDE_BY_SIDE_JSON = HERE / "side_by_side_2d.json"
+
+
+def side_by_side_rounds() -> list[str]:
+    """The 2D target's ratio measured with the two codes alternated (bench/side_by_side_2d.py),
+    when its record is there."""
+    doc = load_json(SIDE_BY_SIDE_JSON)
+    if not doc:
+        return []
+    t = doc["timings_median"]
+    rows = ["| round | load | slipstep [s] (meshing) | GetFEM [s] | GetFEM / slipstep (meshing) |",
+            "|---|---|---|---|---|"]
+    rows += [f"| {k + 1} | {r['load']:.1f} | {r['slipstep_s']:.2f} ({r['slipstep_meshing_s']:.2f}) | "
+             f"{r['getfem_s']:.2f} | {r['ratio']:.2f} ({r['ratio_meshing']:.2f}) |"
+             for k, r in enumerate(doc["runs"])]
+    return ["## The 2D target side by side (bench/side_by_side_2d.py)", "",
+            f"Elastoplastic Hertz, default settings, h = {doc['h']:g} mm ({doc['dofs']} DOFs), "
+            f"against GetFEM N = {doc['steps']} on the same mesh, whole process to whole process, "
+            f"the commands alternated round by round on the shared machine (written "
+            f"{doc['written']}): slipstep with its mesh cache, slipstep meshing "
+            f"(`SLIPSTEP_CACHE=off`), GetFEM. **Median of the ratios: {doc['ratio_median']:.2f}× "
+            f"({doc['ratio_meshing_median']:.2f}× meshing)**; slipstep {doc['slipstep_s_median']:.2f} s "
+            f"({doc['slipstep_meshing_s_median']:.2f} s meshing), GetFEM {doc['getfem_s_median']:.2f} s; "
+            f"slipstep's engine {doc['engine_s_median']:.2f} s: factorization {t['factorization']:.2f}, "
+            f"corrections {t['corrections']:.2f}, integration {t['integration']:.2f}, solves "
+            f"{t['solves']:.2f} s (medians); p0 = {doc['p0']:.2f} MPa.", ""] + rows + [""]
+
+
 def hertz_targets(runs: list[dict], gf: list[dict]) -> list[str]:
     """(a) p0 of the default run at TARGET_H vs the reference; (b) its process vs GetFEM's."""
     r = next((r for r in ok_runs(runs, "default") if r["h"] == TARGET_H), None)
@@ -688,6 +726,7 @@ def report(saved: dict, out: Path, gf_doc: dict | None, cyl: dict | None) -> str
     old = saved.get("old") or {}
     L = header(mach, timeout, gf_doc, cyl, old)
     L += ["## Targets (issue 16)", ""] + target_rows(runs, gf, cyl, old) + [""]
+    L += side_by_side_rounds()
     L += event_cost_note()
     L += hertz_sections(runs, gf)
     L += cylinder_section(cyl)
@@ -997,6 +1036,7 @@ def main(argv=None) -> int:
     selected = [s.strip() for s in args.series.split(",") if s.strip()]
     if set(selected) - set(NAMES):
         ap.error(f"unknown series {', '.join(sorted(set(selected) - set(NAMES)))}")
+    compile_package()
     mach = machine()
     t0 = time.perf_counter()
     old_dir = None if args.old_engine == "none" else Path(args.old_engine)

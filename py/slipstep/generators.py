@@ -2,7 +2,8 @@
 the contact point), the quarter annulus (gmsh), the structured block, the graded block (gmsh,
 fine around a focus) and the refined block (structured inside a box, gmsh outside).  Each
 returns a checked :class:`slipstep.mesh.Mesh` with the edge tags of
-:data:`slipstep.schema.GENERATOR_EDGES`.
+:data:`slipstep.schema.GENERATOR_EDGES`; the gmsh ones through the mesh cache
+(:mod:`slipstep.mesh_cache`).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import numpy as np
 
 from .gmsh_api import gmsh_session, size_field_only, threshold_field, triangles_and_edges
 from .mesh import Mesh, MeshError, checked_mesh, signed_areas
+from .mesh_cache import cached
 
 
 def _mesh_with_size_field(gmsh, size: int):
@@ -30,6 +32,7 @@ def _mesh_graded_around(gmsh, points: list[int], h_contact: float, contact_zone:
     return _mesh_with_size_field(gmsh, size)
 
 
+@cached
 def quarter_cylinder(R: float, h_contact: float, contact_zone: float, h_max: float,
                      growth: float = 0.1) -> Mesh:
     """The quarter cylinder of radius R: centre (0, R), bottom point (0, 0), region x >= 0,
@@ -93,6 +96,7 @@ def _mirrored(half: Mesh, tags, size: float):
     return nodes, triangles, edges
 
 
+@cached
 def disc(R: float, h_contact: float, contact_zone: float, h_max: float,
          growth: float = 0.1) -> Mesh:
     """The whole disc of radius R, centre (0, R), bottom point (0, 0), top point (0, 2R): a
@@ -133,6 +137,7 @@ def disc(R: float, h_contact: float, contact_zone: float, h_max: float,
     return checked_mesh(nodes, triangles, edges, points, where="disc mesh")
 
 
+@cached
 def quarter_annulus(a: float, b: float, h: float, h_outer: float = 0.0) -> Mesh:
     """The quarter of a thick-walled cylinder a <= r <= b, x >= 0, y >= 0, centre (0, 0).
 
@@ -253,6 +258,7 @@ def _uniform_near_focus(geo, lines, ends, focus, h_contact, contact_zone):
             geo.mesh.setTransfiniteCurve(line, max(1, round(length / h_contact)) + 1)
 
 
+@cached
 def graded_block(width: float, height: float, h_contact: float, contact_zone: float,
                  h_max: float, growth: float = 0.1, focus=None, x0: float = 0.0,
                  y0: float = 0.0, uniform_edges: bool = False) -> Mesh:
@@ -322,6 +328,7 @@ def graded_block(width: float, height: float, h_contact: float, contact_zone: fl
                         flip_clockwise=True)
 
 
+@cached
 def refined_block(width: float, height: float, nx: int, ny: int, box, h_max: float,
                   growth: float = 0.1, x0: float = 0.0, y0: float = 0.0) -> Mesh:
     """The structured :func:`block` (nx x ny cells) kept only inside ``box`` = [bx0, by0, bx1,

@@ -8,9 +8,7 @@ reports its distribution's version.
 
 from __future__ import annotations
 
-import platform
 import tomllib
-from importlib import metadata
 from pathlib import Path
 
 CARGO_TOML = Path(__file__).resolve().parents[2] / "Cargo.toml"  # py/slipstep/ -> checkout
@@ -19,6 +17,7 @@ CARGO_TOML = Path(__file__).resolve().parents[2] / "Cargo.toml"  # py/slipstep/ 
 def version() -> str:
     if CARGO_TOML.is_file():
         return tomllib.loads(CARGO_TOML.read_text())["workspace"]["package"]["version"]
+    from importlib import metadata  # (not at import: it costs more than the rest of it)
     try:
         return metadata.version("slipstep")
     except metadata.PackageNotFoundError:  # neither a checkout nor installed: a copied folder
@@ -31,6 +30,9 @@ __version__ = version()
 def versions() -> dict[str, str | None]:
     """What a run was made with: slipstep, its compiled engine (the bindings crate's version),
     numpy, gmsh and Python (None for one that is not there)."""
+    import platform
+    from importlib import metadata
+
     import numpy
 
     try:

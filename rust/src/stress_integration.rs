@@ -66,7 +66,7 @@ pub fn integrate(section: &Section, start: &PointState, e: &Voigt) -> Integrated
     }
     let sy = m.current_yield(start.plastic_strain);
     let entry = if start.plastic {
-        let flowing = section.plastic_multiplier(&section.tangent(&start.stress, true), e);
+        let (_, flowing) = section.plastic_increment(&start.stress, e, &d_elastic);
         if flowing <= LOADING_NOISE * strain_size(e) {
             out.unloaded = true;
             reentry(&start.stress, &d_elastic, sy)
@@ -91,7 +91,8 @@ pub fn integrate(section: &Section, start: &PointState, e: &Voigt) -> Integrated
         out.yielded_at = Some(r);
     }
     let on_surface = start.stress + d_elastic * r;
-    let (stress, plastic_strain, substeps) = flow(section, on_surface, start.plastic_strain, &(e * (1.0 - r)));
+    let rest = 1.0 - r;
+    let (stress, plastic_strain, substeps) = flow(section, on_surface, start.plastic_strain, &(e * rest), &(d_elastic * rest));
     out.end = PointState { stress, plastic_strain, plastic: true };
     out.substeps = substeps;
     out
@@ -117,11 +118,11 @@ fn reentry(stress: &Voigt, d_elastic: &Voigt, sy: f64) -> Option<f64> {
     (r > 0.0 && r < 1.0).then_some(r)
 }
 
-/// Plastic flow from `stress` (on the yield surface) over the strain increment `e`: modified
-/// Euler sub-steps with error control. Returns the stress, εp and the number of sub-steps.
-fn flow(section: &Section, mut stress: Voigt, mut plastic_strain: f64, e: &Voigt) -> (Voigt, f64, usize) {
+/// Plastic flow from `stress` (on the yield surface) over the strain increment `e`, whose
+/// elastic stress increment is `d_elastic` (D Δε, linear in the step): modified Euler
+/// sub-steps with error control. Returns the stress, εp and the number of sub-steps.
+fn flow(section: &Section, mut stress: Voigt, mut plastic_strain: f64, e: &Voigt, d_elastic: &Voigt) -> (Voigt, f64, usize) {
     let (mut done, mut step, mut retried, mut substeps) = (0.0, 1.0, false, 0);
-    let d_elastic = section.stress_increment(&section.tangent(&stress, false), e); // D Δε, linear in the step
     while done < 1.0 {
         let (es, des) = (e * step, d_elastic * step);
         let (ds1, dk1) = section.plastic_increment(&stress, &es, &des);

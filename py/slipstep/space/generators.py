@@ -1,7 +1,8 @@
 """The built-in tetrahedron meshes of 3D scenes (gmsh, OpenCASCADE geometry): the sphere, the
 roller, the graded box, the punch and the spherical shell, and the structured box (no gmsh).
 Each returns a checked :class:`slipstep.space.mesh.TetMesh` with the face tags of
-:func:`slipstep.space.schema.generator_faces`.
+:func:`slipstep.space.schema.generator_faces`; the gmsh ones through the mesh cache
+(:mod:`slipstep.mesh_cache`).
 
 A body of revolution or a punch is meshed as its symmetric part (the eighth, or the quarter of
 a punch) and mirrored across the planes of its ``portion``: the quarter and the half are
@@ -17,6 +18,7 @@ import numpy as np
 
 from ..gmsh_api import gmsh_session, size_field_only, tetrahedra_and_faces, threshold_field
 from ..mesh import MeshError
+from ..mesh_cache import cached
 from .mesh import TetMesh, boundary_faces, checked_tet_mesh, signed_volumes
 
 #: A coordinate within SNAP x the body's size of a plane the geometry puts nodes on is that
@@ -95,6 +97,7 @@ def _mirrored_into(part: TetMesh, mirrors: int) -> TetMesh:
     return part
 
 
+@cached
 def sphere(R: float, h_contact: float, contact_zone: float, h_max: float, growth: float = 0.1,
            portion: str = "eighth") -> TetMesh:
     """A sphere of radius R, centre (0, 0, R), below its cut z = R: the eighth x, y >= 0, the
@@ -117,6 +120,7 @@ def sphere(R: float, h_contact: float, contact_zone: float, h_max: float, growth
     return _mirrored_into(eighth, ("eighth", "quarter", "half").index(portion))
 
 
+@cached
 def roller(R: float, length: float, h_contact: float, contact_zone: float, h_max: float,
            growth: float = 0.1, portion: str = "eighth") -> TetMesh:
     """A roller: the cylinder of radius R along y, y in [-length/2, length/2], axis at height
@@ -141,6 +145,7 @@ def roller(R: float, length: float, h_contact: float, contact_zone: float, h_max
     return _mirrored_into(eighth, ("eighth", "quarter", "half").index(portion))
 
 
+@cached
 def punch(a: float, height: float, h_contact: float, contact_zone: float, h_max: float,
           growth: float = 0.1, shape: str = "round", portion: str = "quarter") -> TetMesh:
     """A flat-ended punch along z: a cylinder of radius a (``round``) or a square prism of side
@@ -177,6 +182,7 @@ def _on_symmetry_plane(gmsh, curve: int, eps: float) -> bool:
                                                            abs(low[4]) <= eps)
 
 
+@cached
 def shell(a: float, b: float, h: float, h_outer: float = 0.0) -> TetMesh:
     """The eighth x, y, z >= 0 of the thick spherical shell a <= r <= b, centre (0, 0, 0).
     Faces ``inner``, ``outer``, ``symmetry_x``, ``symmetry_y``, ``symmetry_z``.  Element size h
@@ -211,6 +217,7 @@ def shell(a: float, b: float, h: float, h_outer: float = 0.0) -> TetMesh:
         return _mesh_volume(gmsh, size, "shell mesh", snap=((0, 0.0), (1, 0.0), (2, 0.0)))
 
 
+@cached
 def graded_box(width: float, depth: float, height: float, h_contact: float,
                contact_zone: float, h_max: float, growth: float = 0.1, focus=None,
                corner=(0.0, 0.0, 0.0)) -> TetMesh:

@@ -47,13 +47,17 @@ impl Renewal {
 pub(super) struct Tangents {
     pub held: Vec<Tangent>,
     pub factored: Vec<Tangent>,
+    /// Each material's elastic tangent: an elastic element's stress increment reads this one
+    /// (a few cache lines for the whole mesh) instead of its own copy in `held`.
+    elastic: Vec<Tangent>,
 }
 
 impl Tangents {
     /// Every element elastic.
     pub fn elastic(problem: &Problem) -> Self {
         let held: Vec<Tangent> = problem.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
-        Tangents { factored: held.clone(), held }
+        let elastic = problem.model.materials.iter().map(|m| m.tangent(&Voigt::zeros(), false)).collect();
+        Tangents { factored: held.clone(), held, elastic }
     }
 
     /// After a factorization: K_f holds every element's current tangent.
@@ -128,17 +132,14 @@ impl Tangents {
     /// Δσ, Δεp and Δε of every element for a displacement increment (eqs. 10, 11, 18), with
     /// the tangents K holds.
     pub fn stress_increment(&self, problem: &Problem, du: &[f64]) -> (Vec<Voigt>, Vec<f64>, Vec<Voigt>) {
-        let per_element: Vec<(Voigt, f64, Voigt)> = (0..self.held.len()).into_par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.held).zip(&problem.sections).map(|((el, t), section)| {
+        let material = &problem.model.element_material;
+        let (dstress, (dplastic, dstrain)) = (0..self.held.len()).into_par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.held).zip(&problem.sections).map(|((el, t), section)| {
             let e = problem.elements.strain(el, du);
-            (section.stress_increment(t, &e), section.plastic_multiplier(t, &e), e)
-        }).collect();
-        let n = per_element.len();
-        let (mut dstress, mut dplastic, mut dstrain) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
-        for (s, p, e) in per_element {
-            dstress.push(s);
-            dplastic.push(p);
-            dstrain.push(e);
-        }
+            match t.flow {
+                None => (section.stress_increment(&self.elastic[material[el]], &e), (0.0, e)),
+                Some(_) => (section.stress_increment(t, &e), (section.plastic_multiplier(t, &e), e)),
+            }
+        }).unzip();
         (dstress, dplastic, dstrain)
     }
 }
