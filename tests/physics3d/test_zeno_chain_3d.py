@@ -1,0 +1,85 @@
+"""Termination of a chain of ever shorter increments (a Zeno chain) in space.
+
+cases/mindlin_sphere_45_3d.toml on a coarse mesh (sphere h_contact 0.08, block 0.12), pressing
+stage only: a pair at the edge of the growing contact closed, slipped and separated at one
+instant, then closed again after an increment a third as long, and so on, 1.2e-5 of the stage
+down to 1e-13, ended only by round-off: a slipping neighbour's turn of its held slip direction
+is a force jump whose correction opened the pair again, and the turns shrank threefold.  Each
+increment advanced the load, so the anti-cycling rule, which counted zero-length increments
+only, never saw it.  The rule now counts every increment within SHORT_LOAD (1e-6 of the
+stage's load) of where its run began (rust/src/driver/anticycling.rs), so such a chain is one
+run once its remaining length is below that, and its switches are bounded there.
+
+Checked from the arrays: the closure times of every pair contain no long chain of intervals
+that halve (the bound below), and the pressed state at the stage's end is in equilibrium
+(recomputed from the stresses), without penetration or tension, inside Coulomb's cone.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import CASES, needs_gmsh
+from physics import EQUILIBRIUM_TOL, equilibrium_residual
+
+import slipstep
+
+SHORT_LOAD = 1e-6             # rust/src/driver/anticycling.rs
+MAX_ZERO_LENGTH_SWITCHES = 4  # the engine's default
+# A chain whose first interval is at most 1e-4 of the stage (the measured one: 1.2e-5) halves
+# at most log2(1e-4 / SHORT_LOAD) times before its remaining length is within SHORT_LOAD, and
+# is one run from there: its pair may close MAX_ZERO_LENGTH_SWITCHES + 1 more times.  Before
+# the rule this scene's chain ran 17 halving intervals (pair 2, t = 0.405676 .. 0.4056936).
+LONGEST_CHAIN = math.ceil(math.log2(1e-4 / SHORT_LOAD)) + MAX_ZERO_LENGTH_SWITCHES + 1
+# Round-off tolerances relative to the scene's scales, as tests/engine/test_termination.py's:
+# forces to the largest normal force (the engine's own contact check allows 1e-9 of its force
+# scale), gaps to the largest displacement (the solves' round-off, ~1e-12, amplified by the
+# mortar weights).
+FORCE_TOL = 1e-9
+GAP_TOL = 1e-8
+
+
+def longest_halving_chain(events) -> int:
+    """The most successive intervals between one pair's closures that each at most halve."""
+    t, kind, entity = (np.asarray(events[k]) for k in ("t", "kind", "entity"))
+    longest = 0
+    for p in np.unique(entity[kind == "close"]):
+        gaps = np.diff(np.sort(t[(kind == "close") & (entity == p)]))
+        run = 1
+        for before, after in zip(gaps[:-1], gaps[1:]):
+            run = run + 1 if 0 < after <= 0.5 * before else 1
+            longest = max(longest, run)
+    return longest
+
+
+@pytest.fixture(scope="module")
+def pressed():
+    pytest.importorskip("gmsh")
+    overrides = ["body.sphere.mesh.h_contact=0.08", "body.block.mesh.h_contact=0.12",
+                 "output.snapshots=[1.0]"]
+    # the pressing stage is the scene: stop once the shear stage has begun
+    return slipstep.run(CASES / "mindlin_sphere_45_3d.toml", overrides=overrides,
+                        progress=lambda p: p.t <= 1.0)
+
+
+@needs_gmsh
+def test_no_zeno_chain_while_the_sphere_is_pressed(pressed):
+    assert pressed.raw["stop"]["t"] > 1.0, pressed.raw["stop"]
+    assert longest_halving_chain(pressed.raw["events"]) <= LONGEST_CHAIN
+
+
+@needs_gmsh
+def test_the_pressed_sphere_is_balanced_and_admissible(pressed):
+    model = pressed.scene.model
+    snap = next(s for s in pressed.raw["snapshots"] if s["t"] == 1.0)
+    assert equilibrium_residual(model, snap) <= EQUILIBRIUM_TOL
+    closed = snap["status"] > 0
+    ln, lt = np.asarray(snap["lambda_n"]), np.asarray(snap["lambda_t"])
+    force = FORCE_TOL * ln.max()
+    gap = GAP_TOL * np.abs(snap["u"]).max()
+    assert closed.any() and (snap["gap"] >= -gap).all() and (np.abs(snap["gap"][closed]) <= gap).all()
+    assert (ln[~closed] == 0).all() and (ln[closed] >= -force).all()
+    mu = np.asarray(model["pairs"]["mu"])
+    assert (np.linalg.norm(lt, axis=1) <= mu * ln + force).all()
