@@ -21,7 +21,7 @@ use super::engine::Engine;
 use super::problem::{Problem, PARALLEL_CHUNK};
 use super::selection::{pair_state, trial_of, Selection, STAGE_END, ZERO_SCALE};
 use super::state::{IncrementStart, State, TrialIncrement};
-use super::switching::switch;
+use super::switching::switch_keeping;
 use super::tangents::Renewal;
 use super::trial::{self, Solve};
 use crate::error::Result;
@@ -308,7 +308,7 @@ pub(super) fn correct_at_fixed_load(eng: &mut Engine, state: &mut State, phi: f6
         }
         let tie = first * (1.0 + CORRECTION_TIE) + CORRECTION_TIE_SLACK;
         for x in cands.into_iter().filter(|x| x.scale <= tie) {
-            switch(&eng.problem, state, &x);
+            switch_keeping(eng, state, &x);
             corrected.events.push(x);
         }
     }
