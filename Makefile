@@ -104,13 +104,16 @@ test: $(EXT_STAMP)
 
 # bench/getfem_hertz.py: GetFEM 5.4 on the elastoplastic Hertz scene, slipstep's meshes, N = 5..40
 # load steps, 3 processes each (bench/getfem_results.json; first, so the charts can use it);
-# bench/getfem_hertz_3d.py: GetFEM on the 3D Hertz sphere, slipstep's meshes up to 97k DOFs (~8 min);
+# bench/getfem_hertz_3d.py: GetFEM on the 3D Hertz sphere, slipstep's meshes up to 92.6k DOFs
+# (~40 min: its 92.6k-DOF run alone takes ~20 min on a quiet machine);
+# bench/paired_3d.py: the 3D speed target, slipstep's command line and GetFEM alternated (~20 min);
 # bench/run.py: the Hertz series (~30-40 min on 2 cores) and the 3D series (bench/series_3d.py);
 # bench/dolfinx_side_by_side.py: the thick cylinder against dolfinx on identical meshes (~4 min).
 # All write into bench/.
 bench: $(EXT_STAMP) $(BENCH_APT_STAMP)
 	$(PY) bench/getfem_hertz.py series
 	$(PY) bench/getfem_hertz_3d.py series
+	$(PY) bench/paired_3d.py
 	MPLBACKEND=Agg $(PY) bench/run.py
 	MPLBACKEND=Agg $(PY) bench/dolfinx_side_by_side.py
 

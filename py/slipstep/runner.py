@@ -104,7 +104,13 @@ def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | 
     else:
         scene = prepare(case, overrides, meshes)
     writers = _load_writers(scene, out, figures, xdmf)
-    raw = solve(scene, progress)
+    try:
+        raw = solve(scene, progress)
+    except BaseException:
+        # A daemon thread still inside an extension's import when the interpreter exits is
+        # stopped in C code, which can abort the process instead of the error's clean exit.
+        writers.join()
+        raise
     with _WritingFirst() as ctrl_c:
         result = Result(scene, raw, summarize(scene, raw, wall_time_s=time.perf_counter() - start))
         if out is not None:

@@ -161,6 +161,21 @@ impl SparseVec {
     pub fn norm(&self) -> f64 {
         self.entries.iter().map(|&(_, c)| c * c).sum::<f64>().sqrt()
     }
+
+    /// The part of this vector orthogonal to `other` (itself when `other` is zero).
+    pub fn across(&self, other: &SparseVec) -> SparseVec {
+        let at = |v: &SparseVec, d: usize| v.entries.iter().filter(|e| e.0 == d).map(|e| e.1).sum::<f64>();
+        let nn = other.norm().powi(2);
+        let s = if nn > 0.0 { self.entries.iter().map(|&(d, c)| c * at(other, d)).sum::<f64>() / nn } else { 0.0 };
+        let mut out = self.clone();
+        for &(d, c) in &other.entries {
+            match out.entries.iter_mut().find(|e| e.0 == d) {
+                Some(e) => e.1 -= s * c,
+                None => out.entries.push((d, -s * c)),
+            }
+        }
+        out
+    }
 }
 
 /// The contact status of a pair (paper: C_nN open, C_ta stick, C_ts slip).
@@ -251,10 +266,13 @@ impl Pair {
         let w_t = vec_of(t).restricted(free);
         let w_t2 = if dim == 3 { vec_of(t2).restricted(free) } else { SparseVec::default() };
         let on_supports = [vec_of(frame.normal).restricted(|d| fixed[d]), vec_of(t).restricted(|d| fixed[d]), if dim == 3 { vec_of(t2).restricted(|d| fixed[d]) } else { SparseVec::default() }];
-        // Node to node: held when every tangential DOF is; a weighted row (its force on node a
-        // alone) when node a's are: its remaining entries would constrain the target only.
-        let own = |w: &SparseVec| w.entries.iter().filter(|&&(d, _)| d / dim == node_a).map(|&(_, c)| c * c).sum::<f64>().sqrt();
-        let held = |w: &SparseVec| if weighted { own(w) < HELD_BY_SUPPORTS } else { w.norm() < HELD_BY_SUPPORTS };
+        // A tangential row is held when, on the free DOFs, it adds nothing to the normal row:
+        // zero (every tangential DOF held), or parallel to it (a node on two symmetry planes
+        // under a tilted normal: both rows act on its one free DOF). Node to node: over all
+        // its DOFs; a weighted row (its force on node a alone): over node a's, since its
+        // remaining entries would constrain the target only.
+        let part = |w: &SparseVec| if weighted { w.restricted(|d| d / dim == node_a) } else { w.clone() };
+        let held = |w: &SparseVec| part(w).across(&part(&w_n)).norm() < HELD_BY_SUPPORTS;
         let held = [held(&w_t), dim == 2 || held(&w_t2)];
         let tangent_held = held[0] && held[1];
         Pair { node_a, node_b, dim, frame, gap0, mu, w_n, w_t, w_t2, tangent_held, held, on_supports }

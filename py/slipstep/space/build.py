@@ -17,7 +17,7 @@ from ..scene import Scene, contact_names, materials, merged_bodies
 from ..supports import supports
 from ..validation.scene import check_duplicate_nodes, check_pairs_not_held
 from . import generators
-from .contact_geometry import contact_pairs_3d
+from .contact_geometry import align_to_supports, contact_pairs_3d
 from .mesh import TetMesh
 from .mesh_files import read_tet_mesh
 from .schema import box_divisions
@@ -71,6 +71,10 @@ def build_space_scene(case, body_meshes: dict[str, TetMesh], given=()) -> Scene:
     check_duplicate_nodes(scene, pairs)
     path = case.path
     fixed = supports(scene)
+    held = np.zeros((len(nodes), 3), dtype=bool)
+    held.reshape(-1)[np.asarray(fixed, dtype=np.int64)] = True
+    pairs["tangent"] = scene.pair_tangent = align_to_supports(
+        pairs["normal"], pairs["tangent"], held[pairs["node_a"]])
     scene.model = {
         "dimension": 3,
         "nodes": nodes,

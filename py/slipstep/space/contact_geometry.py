@@ -32,6 +32,31 @@ def tangent_basis(normal: np.ndarray) -> np.ndarray:
     return np.stack([t1, np.cross(n, t1)], axis=1)
 
 
+def align_to_supports(normal: np.ndarray, tangent: np.ndarray, held: np.ndarray) -> np.ndarray:
+    """The tangent bases with, for a contactor node held along exactly one axis k (a node on
+    a symmetry plane), t1 the tangent the support takes: t1 ∝ |P n|^2 e_k - n_k P n (P drops
+    component k), the one tangent whose free part is parallel to the normal's, so that the
+    engine can leave its row to the support instead of a row that duplicates the normal's (a
+    tilted normal on a symmetry plane); t2 = n x t1. ``held`` (P, 3) bool per pair's node.
+    A basis that already has such a tangent is kept (the same axes as before for a normal in
+    a coordinate plane)."""
+    out = tangent.copy()
+    for p in np.flatnonzero(held.sum(axis=1) == 1):
+        n, k = normal[p], int(np.argmax(held[p]))
+        free_n = np.where(held[p], 0.0, n)
+        if any(_parallel(np.where(held[p], 0.0, t), free_n) for t in tangent[p]):
+            continue
+        t1 = free_n @ free_n * np.eye(3)[k] - n[k] * free_n
+        t1 /= np.linalg.norm(t1)
+        out[p] = [t1, np.cross(n, t1)]
+    return out
+
+
+def _parallel(u: np.ndarray, v: np.ndarray, tol: float = 1e-12) -> bool:
+    """u has no part across v (u = 0 counts)."""
+    return np.linalg.norm(u - (u @ v) / (v @ v) * v) < tol
+
+
 def tributary_areas(nodes: np.ndarray, triangles: np.ndarray, ids: np.ndarray) -> np.ndarray:
     """The consistent area of each node of ``ids`` on a face: int N_i dA over its triangles, a
     third of each one's area (a uniform pressure p puts p x this area on every node)."""
@@ -205,8 +230,10 @@ def rigid_surface(case, c: dict, key: str) -> tuple[np.ndarray, np.ndarray]:
 def _surface(scene, c, key, a):
     """Per node its closest point on the surface: inside a triangle its normal; at an edge or
     corner the direction from the closest point to the node (on the body's side of the
-    triangles that meet there), and for a node sitting on it the normal of the meeting triangle
-    most opposed to the body's own outward normal."""
+    triangles that meet there), and for a node sitting on it the direction of the feature's cone
+    of normals (spanned by the meeting triangles' normals) nearest to minus the body's own
+    outward normal: that normal itself under a pyramid's tip or along an edge it fits in, else
+    the cone's nearest side (`nearest_in_cone`)."""
     points, tris = rigid_surface(scene.case, c, key)
     x = scene.nodes[a]
     near = closest_points(x, points, tris)
@@ -226,10 +253,22 @@ def _surface(scene, c, key, a):
             sign = 1.0 if r @ side[p] >= 0 else -1.0
             n[p], gap[p] = sign * r, sign * near["distance"][p]
         else:
-            n[p] = face_n[mine[np.argmax(-(face_n[mine] @ outward[p]))]]
+            n[p] = nearest_in_cone(face_n[mine], -outward[p])
             gap[p] = (x[p] - near["foot"][p]) @ n[p]
     return n, gap, "rigid surface", "move the body or the surface (its file, or tip) so that " \
                                     "they do not overlap"
+
+
+def nearest_in_cone(normals: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The unit direction of the cone spanned by ``normals`` (rows, unit) nearest to the unit
+    ``v``: the projection of v onto the cone (non-negative least squares), normalized; the
+    normal most aligned with v if v projects onto the cone's apex."""
+    from scipy.optimize import nnls
+
+    c, _ = nnls(normals.T, v)
+    d = normals.T @ c
+    size = np.linalg.norm(d)
+    return d / size if size > 1e-12 else normals[np.argmax(normals @ v)]
 
 
 #: Each rigid obstacle's normals and gaps.
