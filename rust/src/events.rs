@@ -300,6 +300,34 @@ mod tests {
         assert_eq!(onto_round_cone(mu, (ln, [0.5, 0.0]), (10.0, [1.0, 0.0]), noise), None);
         // on it and moving out: at once
         assert_eq!(onto_round_cone(mu, (ln, lt), (0.0, [0.6, 0.8]), noise), Some(0.0));
+        // at zero force, sheared with no normal force rate (or one pulling by round-off): at once
+        assert_eq!(onto_round_cone(mu, (0.0, [0.0; 2]), (0.0, [0.04, -0.17]), noise), Some(0.0));
+        assert_eq!(onto_round_cone(mu, (0.0, [0.0; 2]), (-0.5 * noise, [0.04, -0.17]), noise), Some(0.0));
+    }
+
+    /// A facet's turn: the cross force λ_⊥ = e⊥·λ_t reaches ± tan(slip_turn) μ λ_n where the
+    /// friction force has turned by slip_turn off e, on the side it turns to, and nowhere
+    /// before; a force turning slower than its bound grows reaches neither side.
+    #[test]
+    fn a_facet_turns_where_the_force_has_turned_by_the_angle() {
+        let (mu, turn, noise) = (0.3, 0.1f64, 1e-14);
+        let k = turn.tan() * mu;
+        let e = [0.6, 0.8];
+        let cross = [-e[1], e[0]];
+        let (ln, dln) = (10.0, 2.0);
+        let lt = [mu * ln * e[0], mu * ln * e[1]]; // on the facet's tangent point
+        for side in [1.0, -1.0] {
+            let dlt = [mu * dln * e[0] + side * 1.5 * cross[0], mu * dln * e[1] + side * 1.5 * cross[1]];
+            let turns = facet_turns(k, cross, (ln, lt), (dln, dlt), noise);
+            assert_eq!(turns.len(), 1);
+            let (s_side, s) = turns[0];
+            assert_eq!(s_side as f64, side);
+            let force = [lt[0] + s * dlt[0], lt[1] + s * dlt[1]];
+            let along = e[0] * force[0] + e[1] * force[1];
+            assert!(((side * (cross[0] * force[0] + cross[1] * force[1])) / along - turn.tan()).abs() < 1e-12, "{s}");
+        }
+        let slow = [mu * dln * e[0] + 0.5 * k * dln * cross[0], mu * dln * e[1] + 0.5 * k * dln * cross[1]];
+        assert!(facet_turns(k, cross, (ln, lt), (dln, slow), noise).is_empty());
     }
 
     #[test]

@@ -85,7 +85,7 @@ fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut Anti
 /// that the caller rebalances.
 pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64 {
     let p = c.entity;
-    let before = [state.lambda_t[p], state.lambda_t2[p]];
+    let before = if c.kind.is_element_event() { [0.0; 2] } else { [state.lambda_t[p], state.lambda_t2[p]] };
     let dropped = if c.kind == EventKind::Separate { state.lambda_n[p].abs().max(state.lambda_t[p].abs()).max(state.lambda_t2[p].abs()) } else { 0.0 };
     match c.kind {
         EventKind::Close => {
