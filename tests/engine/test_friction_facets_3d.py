@@ -26,6 +26,7 @@ from collections import Counter
 import numpy as np
 import pytest
 from physics import EQUILIBRIUM_TOL, equilibrium_residual, friction_in_space
+from space3d import BOX
 
 from slipstep import _engine
 from slipstep.build import build_scene
@@ -143,32 +144,15 @@ def test_the_facets_hold_at_other_angles(slip_turn):
 
 
 def loaded_contact_node(pull: float):
-    """The box of tests/space3d.py, its top clamped, one bottom node (the centre of the bottom
-    face) on a rigid frictional flat at zero gap and zero force, a tangential point load on it
-    (off the mesh's axes, its normal component `pull` upwards) and nothing else: the pair is
-    closed and stuck, carrying nothing."""
-    model = model_of(f"""
-[analysis]
-dimension = 3
+    """The box of tests/space3d.py, its top clamped instead of its bottom, one bottom node (the
+    centre of the bottom face) on a rigid frictional flat at zero gap and zero force, a
+    tangential point load on it (off the mesh's axes, its normal component `pull` upwards) and
+    nothing else: the pair is closed and stuck, carrying nothing."""
+    clamped_top = BOX.replace('face = "bottom"\nfix', 'face = "top"\nfix')
+    assert clamped_top != BOX
+    model = model_of(clamped_top + f"""
 [output]
 snapshots = "events"
-[[body]]
-name = "b"
-[body.mesh]
-generator = "box"
-width = 2.0
-depth = 1.0
-height = 1.0
-nx = 4
-ny = 2
-nz = 2
-[body.material]
-E = 1000.0
-nu = 0.25
-[[bc]]
-body = "b"
-face = "top"
-fix = ["x", "y", "z"]
 [[point_load]]
 at = [1.0, 0.5, 0.0]
 force = [2.0, 1.0, {pull}]
