@@ -27,6 +27,14 @@ Balance
     ``obstacle_force`` a contact's total force on the bodies; ``recomputed_reaction`` the
     supports' forces from the stresses (internal − load − contact at the held DOFs).
 
+Friction in space
+    ``friction_in_space(model, snapshots, slip_turn, floors)``: what the 3D friction design
+    implies (rust/src/contact.rs: a slipping pair on the facet of the round cone at its held
+    direction e, no slip across e, the facet turned when the force has turned by slip_turn),
+    pair by pair over consecutive snapshots taken at every event: the cone (round for stuck
+    pairs, the facet for slipping ones), the work slipping pairs do, and the angle by which a
+    slipping pair's force lags its slip.
+
 Refinement
     ``observed_order`` of an error between two meshes, ``richardson`` extrapolation to h -> 0.
 
@@ -231,6 +239,46 @@ def worst_equilibrium(model: dict, snapshots) -> tuple[float, int, float]:
 
 
 # --------------------------------------------------------------------------- balance
+def friction_in_space(model: dict, snapshots, slip_turn: float, floors: tuple[float, float]) -> dict:
+    """Worst values over a 3D run's snapshots (every event) of what Coulomb's cone and the
+    friction design imply (module text), each to be compared with round-off:
+
+    - ``outside_round``: max |λ_t| − μλ_n of stuck pairs (≤ 0);
+    - ``inside_facet``, ``beyond_facet``: max μλ_n − |λ_t| and |λ_t| − μλ_n/cos(slip_turn) of
+      slipping pairs (≤ 0: on its facet the force is up to 1/cos(slip_turn) of μλ_n);
+    - ``work``: max λ_t·ΔRTD of a pair slipping at both ends of a step, with either end's force
+      (≤ 0: over a step its slip lies between two consecutive facet directions −e, −e', at most
+      slip_turn apart, and its force within slip_turn of e', so the force has a component
+      against the slip for slip_turn < π/4);
+    - ``lag``: max angle (rad) between such a pair's force at the step's end and its slip over
+      the step (≤ 2 slip_turn, by the same argument), over the pairs whose slip and force exceed
+      ``floors`` = (length, force), below which a direction is round-off;
+    - ``slipping_steps``: how many (pair, step) the lag was measured on."""
+    mu = np.asarray(model["pairs"]["mu"], dtype=float)
+    out = {"outside_round": -np.inf, "inside_facet": -np.inf, "beyond_facet": -np.inf,
+           "work": -np.inf, "lag": 0.0, "slipping_steps": 0}
+    worst = lambda key, values: out.__setitem__(key, max(out[key], values.max(initial=-np.inf)))  # noqa: E731
+    for k, s in enumerate(snapshots):
+        stick, slip = s["status"] == 1, s["status"] == 2
+        ln, lt = np.asarray(s["lambda_n"]), np.asarray(s["lambda_t"])
+        size = np.linalg.norm(lt, axis=1)
+        worst("outside_round", (size - mu * ln)[stick])
+        worst("inside_facet", (mu * ln - size)[slip])
+        worst("beyond_facet", (size - mu * ln / math.cos(slip_turn))[slip])
+        if k == 0:
+            continue
+        prev = snapshots[k - 1]
+        both = slip & (prev["status"] == 2)
+        d = np.asarray(s["rtd"]) - prev["rtd"]
+        for ends in (np.asarray(prev["lambda_t"]), lt):
+            worst("work", np.einsum("ij,ij->i", ends[both], d[both]))
+        moved = both & (np.linalg.norm(d, axis=1) > floors[0]) & (size > floors[1])
+        cos = -np.einsum("ij,ij->i", lt[moved], d[moved]) / (size[moved] * np.linalg.norm(d[moved], axis=1))
+        out["lag"] = max(out["lag"], float(np.arccos(np.clip(cos, -1.0, 1.0)).max(initial=0.0)))
+        out["slipping_steps"] += int(moved.sum())
+    return out
+
+
 def node_body(model: dict) -> np.ndarray:
     """The body index (``element_body``) of every node, from the elements it belongs to."""
     body = np.full(len(model["nodes"]), -1, dtype=np.int64)

@@ -38,8 +38,21 @@ pub struct PairState<'a> {
     pub shift: &'a [Shift],
     /// Pairs excluded by the anti-cycling rule until the load advances.
     pub frozen: &'a [bool],
-    /// 3D (None in 2D): λ_t along t2 and the held directions e of slipping pairs.
-    pub space: Option<(&'a [f64], &'a [[f64; 2]])>,
+    /// 3D (None in 2D).
+    pub space: Option<SpacePairs<'a>>,
+}
+
+/// The pairs' state in space (3D): friction on the round cone, slipping on its facets
+/// (`contact`'s module text).
+pub struct SpacePairs<'a> {
+    /// λ_t along t2.
+    pub lambda_t2: &'a [f64],
+    /// The held directions e of slipping pairs (along t1, t2).
+    pub slip_dir: &'a [[f64; 2]],
+    /// Per pair: e⊥ of a pair slipping on a facet with its cross row, else None.
+    pub cross: Vec<Option<[f64; 2]>>,
+    /// tan(`slip_turn`): a facet's cross force is bounded by this × μ λ_n.
+    pub turn_bound: f64,
 }
 
 pub struct Trial<'a> {
@@ -78,25 +91,31 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                 if dln < -noise.force {
                     push(&mut out, ln.max(0.0) / -dln, EventKind::Separate, 0);
                 }
-                match status {
-                    Status::Stick if pair.frictional() && state.space.is_some() => {
+                match (status, &state.space) {
+                    (Status::Stick, Some(space)) if pair.frictional() => {
                         // Stick → slip on the round cone (3D, `contact`): direction 1 marks a
                         // frictional slip, whose held direction the switch takes from λ_t there.
-                        let lt = [lt, state.space.map_or(0.0, |(t2, _)| t2[p])];
+                        let lt = [lt, space.lambda_t2[p]];
                         let dlt = [dlt, trial.dlambda_t2[p]];
                         if let Some(s) = onto_round_cone(pair.mu, (ln, lt), (dln, dlt), noise.force) {
                             push(&mut out, s, EventKind::StickToSlip, 1);
                         }
                     }
-                    Status::Slip { direction } if direction != 0 && state.space.is_some() => {
+                    (Status::Slip { direction }, Some(space)) if direction != 0 => {
                         // Slip → stick (eq. 54 in the plane): the slip rate turns against −e.
-                        let e = state.space.map_or([0.0; 2], |(_, dir)| dir[p]);
+                        let e = space.slip_dir[p];
                         let rate = slip_rate(pair, trial, p);
                         if e[0] * rate[0] + e[1] * rate[1] > noise.displacement {
                             push(&mut out, 0.0, EventKind::SlipToStick, 0);
                         }
+                        if let Some(cross) = space.cross[p] {
+                            let (lt, dlt) = ([lt, space.lambda_t2[p]], [dlt, trial.dlambda_t2[p]]);
+                            for (side, s) in facet_turns(space.turn_bound * pair.mu, cross, (ln, lt), (dln, dlt), noise.force) {
+                                push(&mut out, s, EventKind::SlipTurn, side);
+                            }
+                        }
                     }
-                    Status::Stick if pair.frictional() => {
+                    (Status::Stick, _) if pair.frictional() => {
                         // Stick → slip, eqs. 52–53, on either side of the Coulomb cone.
                         // Reaching λ_t = +μλ_n means slip in −t (d = −1), and vice versa.
                         let mu = pair.mu;
@@ -109,7 +128,7 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                             push(&mut out, (mu * ln + lt) / den_minus, EventKind::StickToSlip, 1);
                         }
                     }
-                    Status::Slip { direction } if pair.mu > 0.0 => {
+                    (Status::Slip { direction }, _) if pair.mu > 0.0 => {
                         // Slip → stick, eqs. 54–55: the slip rate turns against the friction
                         // force's direction; this happens at zero scale.
                         let dslip = pair.w_t.dot(trial.du) + trial.dshift[p][1];
@@ -136,7 +155,9 @@ pub fn slip_rate(pair: &Pair, trial: &Trial, p: usize) -> [f64; 2] {
 /// |λ_t0 + S Δλ_t| = μ (λ_n0 + S Δλ_n), λ_n(S) > 0: the root of the quadratic
 /// a S² + b S + c = 0, a = |Δλ_t|² − μ²Δλ_n², b = 2(λ_t0·Δλ_t − μ² λ_n0 Δλ_n),
 /// c = |λ_t0|² − μ² λ_n0² (≤ 0 inside the cone). A pair on the cone (c ≥ 0 by round-off) that
-/// moves outwards slips at S = 0. None: the increment stays inside (or its rates are noise).
+/// moves outwards slips at S = 0, also one at zero force sheared with no normal force rate to
+/// hold it (λ_n0 = λ_t0 = 0, |Δλ_t| > μΔλ_n with Δλ_n ≤ 0; if it is pulled off, its separation
+/// at S = 0 comes first). None: the increment stays inside (or its rates are noise).
 pub fn onto_round_cone(mu: f64, (ln, lt): (f64, [f64; 2]), (dln, dlt): (f64, [f64; 2]), noise: f64) -> Option<f64> {
     if dlt[0].hypot(dlt[1]) <= noise && mu * dln.abs() <= noise {
         return None;
@@ -145,8 +166,8 @@ pub fn onto_round_cone(mu: f64, (ln, lt): (f64, [f64; 2]), (dln, dlt): (f64, [f6
     let a = dlt[0] * dlt[0] + dlt[1] * dlt[1] - mu2 * dln * dln;
     let b = 2.0 * (lt[0] * dlt[0] + lt[1] * dlt[1] - mu2 * ln * dln);
     let c = lt[0] * lt[0] + lt[1] * lt[1] - mu2 * ln * ln;
-    // λ_n(S) > 0 there (a pair just closed, λ_n = 0, slips at S = 0 if it is pressed on)
-    let normal_at = |s: f64| ln + s * dln > 0.0 || (s == 0.0 && ln >= 0.0 && dln > 0.0);
+    // λ_n(S) > 0 there, or S = 0 on a pair that still touches (λ_n = 0)
+    let normal_at = |s: f64| ln + s * dln > 0.0 || (s == 0.0 && ln >= 0.0);
     if c >= 0.0 && (b > 0.0 || (b == 0.0 && a > 0.0)) {
         // on the cone (to round-off) and the friction force grows faster than its capacity
         return normal_at(0.0).then_some(0.0);
@@ -161,6 +182,22 @@ pub fn onto_round_cone(mu: f64, (ln, lt): (f64, [f64; 2]), (dln, dlt): (f64, [f6
     // (c ≥ 0, b ≤ 0) leaves it again at the later root
     let leaving = |s: f64| s.is_finite() && (s > 0.0 || (s == 0.0 && c < 0.0)) && 2.0 * a * s + b > 0.0 && normal_at(s);
     roots.into_iter().filter(|&s| leaving(s)).fold(None, |best: Option<f64>, s| Some(best.map_or(s, |b| b.min(s))))
+}
+
+/// A pair slipping on a facet (3D): where its friction force has turned off the held
+/// direction e by `slip_turn`, its cross force λ_⊥ = e⊥·λ_t reaching ± k λ_n (k = tan(slip_turn)
+/// μ), linear in S on either side as eqs. 52–53 in the plane: (side ±1, S) of each side the
+/// increment reaches.
+pub fn facet_turns(k: f64, cross: [f64; 2], (ln, lt): (f64, [f64; 2]), (dln, dlt): (f64, [f64; 2]), noise: f64) -> Vec<(i8, f64)> {
+    let across = cross[0] * lt[0] + cross[1] * lt[1];
+    let rate = cross[0] * dlt[0] + cross[1] * dlt[1];
+    [1i8, -1]
+        .into_iter()
+        .filter_map(|side| {
+            let den = side as f64 * rate - k * dln;
+            (den > noise).then(|| (side, (k * ln - side as f64 * across) / den))
+        })
+        .collect()
 }
 
 /// A plastic multiplier below this × the largest of the trial counts as zero (no unloading).
@@ -263,6 +300,34 @@ mod tests {
         assert_eq!(onto_round_cone(mu, (ln, [0.5, 0.0]), (10.0, [1.0, 0.0]), noise), None);
         // on it and moving out: at once
         assert_eq!(onto_round_cone(mu, (ln, lt), (0.0, [0.6, 0.8]), noise), Some(0.0));
+        // at zero force, sheared with no normal force rate (or one pulling by round-off): at once
+        assert_eq!(onto_round_cone(mu, (0.0, [0.0; 2]), (0.0, [0.04, -0.17]), noise), Some(0.0));
+        assert_eq!(onto_round_cone(mu, (0.0, [0.0; 2]), (-0.5 * noise, [0.04, -0.17]), noise), Some(0.0));
+    }
+
+    /// A facet's turn: the cross force λ_⊥ = e⊥·λ_t reaches ± tan(slip_turn) μ λ_n where the
+    /// friction force has turned by slip_turn off e, on the side it turns to, and nowhere
+    /// before; a force turning slower than its bound grows reaches neither side.
+    #[test]
+    fn a_facet_turns_where_the_force_has_turned_by_the_angle() {
+        let (mu, turn, noise) = (0.3, 0.1f64, 1e-14);
+        let k = turn.tan() * mu;
+        let e = [0.6, 0.8];
+        let cross = [-e[1], e[0]];
+        let (ln, dln) = (10.0, 2.0);
+        let lt = [mu * ln * e[0], mu * ln * e[1]]; // on the facet's tangent point
+        for side in [1.0, -1.0] {
+            let dlt = [mu * dln * e[0] + side * 1.5 * cross[0], mu * dln * e[1] + side * 1.5 * cross[1]];
+            let turns = facet_turns(k, cross, (ln, lt), (dln, dlt), noise);
+            assert_eq!(turns.len(), 1);
+            let (s_side, s) = turns[0];
+            assert_eq!(s_side as f64, side);
+            let force = [lt[0] + s * dlt[0], lt[1] + s * dlt[1]];
+            let along = e[0] * force[0] + e[1] * force[1];
+            assert!(((side * (cross[0] * force[0] + cross[1] * force[1])) / along - turn.tan()).abs() < 1e-12, "{s}");
+        }
+        let slow = [mu * dln * e[0] + 0.5 * k * dln * cross[0], mu * dln * e[1] + 0.5 * k * dln * cross[1]];
+        assert!(facet_turns(k, cross, (ln, lt), (dln, slow), noise).is_empty());
     }
 
     #[test]

@@ -7,6 +7,9 @@ pub enum EventKind {
     Separate,
     StickToSlip,
     SlipToStick,
+    /// 3D: a slipping pair's friction force turned by `slip_turn` off its held slip direction,
+    /// which turns to it (the facet of the round cone it slips on is re-laid at the force).
+    SlipTurn,
     /// Anti-cycling: the pair was frozen in its status for the rest of a zero-length run.
     Frozen,
     /// An elastic element reaches the yield surface (S_p, eq. 16).
@@ -24,6 +27,7 @@ impl EventKind {
             EventKind::Separate => "separate",
             EventKind::StickToSlip => "stick_to_slip",
             EventKind::SlipToStick => "slip_to_stick",
+            EventKind::SlipTurn => "slip_turn",
             EventKind::Frozen => "frozen",
             EventKind::Yield => "yield",
             EventKind::Unload => "unload",

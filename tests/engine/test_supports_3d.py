@@ -11,7 +11,8 @@ the support's, not a constraint.
 
 Checked from the result arrays: equilibrium recomputed from the stresses at every snapshot
 (tests/physics.py, to its stated EQUILIBRIUM_TOL), Signorini (no penetration, no tension) and
-Coulomb's round cone on every pair whose tangential DOFs are free, and the pyramid carrying
+Coulomb's cone on every pair whose tangential DOFs are free (for a slipping pair the facet it
+slips on), and the pyramid carrying
 load (the pressed block pushes back).
 """
 
@@ -118,6 +119,8 @@ def test_a_pyramid_on_a_corner_node_of_two_symmetry_planes_runs_in_balance(tip):
     assert (np.asarray(last["gap"]) >= -FORCE_TOL).all()
     carried = np.where(np.stack(free_side, axis=1), lt, 0.0)
     size = np.linalg.norm(carried, axis=1)
-    assert (size <= 0.3 * ln + FORCE_TOL * max(1.0, ln.max())).all(), \
-        (size - 0.3 * ln).max()
+    # a slipping pair slips on the facet of the cone at its direction, up to 1/cos(slip_turn)
+    # of mu lambda_n (rust/src/contact.rs; slip_turn at its default 0.1)
+    capacity = 0.3 * ln / np.where(np.asarray(last["status"]) == 2, np.cos(0.1), 1.0)
+    assert (size <= capacity + FORCE_TOL * max(1.0, ln.max())).all(), (size - capacity).max()
     assert ln.sum() > 0.0

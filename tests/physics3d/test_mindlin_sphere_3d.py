@@ -22,7 +22,14 @@ below are in the spacing of the run's sphere.  Tolerances:
   HS: 3 HS on this mesh (the bench holds the bench mesh to two spacings);
 - sheared at 45 degrees: the stick zone's centroid within HS of the contact point, and its
   principal second moments (about its centroid, a disc's are equal: c^2/4) equal within
-  4 HS/c (each moment goes as c^2, and a boundary node moves the stick edge by up to HS).
+  4 HS/c (each moment goes as c^2, and a boundary node moves the stick edge by up to HS);
+- friction in space (the run along x keeps a snapshot at every event): no pair slipping at
+  both ends of a step produces work (tests/physics.py's friction_in_space), to a force's
+  round-off (1e-9 of P, the engine's own contact check) times a displacement and vice versa
+  (lengths to 1e-9 of the largest displacement). This follows from the design
+  (rust/src/contact.rs), not from Mindlin; the slip directions are not bounded against -Q: a
+  pair that starts to slip keeps its stuck force's direction, which near the stick edge of
+  this mesh is up to ~35 degrees off -Q.
 """
 
 from __future__ import annotations
@@ -32,7 +39,7 @@ import math
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
-from physics import EQUILIBRIUM_TOL, equilibrium_residual
+from physics import EQUILIBRIUM_TOL, equilibrium_residual, friction_in_space
 
 import slipstep
 
@@ -42,10 +49,10 @@ R, E, NU, MU = 50.0, 70000.0, 0.3, 0.3
 E_STAR = E / (2 * (1 - NU ** 2))
 
 
-def coarse(hs: float, hb: float) -> list[str]:
+def coarse(hs: float, hb: float, snapshots: str = "[1.0, 2.0]") -> list[str]:
     return [f"body.sphere.mesh.h_contact={hs}", f"body.block.mesh.h_contact={hb}",
             "body.sphere.mesh.growth=0.5", "body.block.mesh.growth=0.5",
-            "output.snapshots=[1.0, 2.0]"]
+            f"output.snapshots={snapshots}"]
 
 
 def second_moments(points: np.ndarray, weights: np.ndarray):
@@ -87,7 +94,7 @@ def mindlin(result, Q: np.ndarray) -> dict:
 @pytest.fixture(scope="module")
 def along_x():
     pytest.importorskip("gmsh")
-    result = slipstep.run(CASES / "mindlin_sphere_3d.toml", overrides=coarse(HS, HB),
+    result = slipstep.run(CASES / "mindlin_sphere_3d.toml", overrides=coarse(HS, HB, "events"),
                           progress=False)
     return result, mindlin(result, applied_shear(result))
 
@@ -109,8 +116,12 @@ def test_forces_balance_the_shear_and_the_cut(along_x):
                         rel_tol=EQUILIBRIUM_TOL)
     # the cut's reaction (the prescribed approach, both halves) carries P
     assert math.isclose(-2 * cut_reaction(result)[2], m["P"], rel_tol=EQUILIBRIUM_TOL)
+    # at the stage ends: against the early press's small loads a force jump below the engine's
+    # force noise (1e-12 of the path's force sum, ~1e-7 N here), left to the next increments,
+    # reads above the tolerance
     for snap in result.raw["snapshots"]:
-        assert equilibrium_residual(result.scene.model, snap) <= EQUILIBRIUM_TOL
+        if snap["t"] in (1.0, 2.0):
+            assert equilibrium_residual(result.scene.model, snap) <= EQUILIBRIUM_TOL
 
 
 @needs_gmsh
@@ -146,3 +157,16 @@ def test_sheared_at_45_degrees_the_stick_zone_is_mindlins_disc(diagonal):
     centre, moments = second_moments(prof["x"][stick], area)
     assert np.linalg.norm(centre) <= HS45
     assert moments[0] / moments[1] - 1 <= 4 * HS45 / s["stick_radius"]
+
+
+@needs_gmsh
+def test_slipping_pairs_produce_no_work(along_x):
+    result, m = along_x
+    snaps = result.raw["snapshots"]
+    slip_turn = result.case.data["solver"]["slip_turn"]
+    force = 1e-9 * m["P"]
+    umax = max(np.abs(s["u"]).max() for s in snaps)
+    length = 1e-9 * umax
+    worst = friction_in_space(result.scene.model, snaps, slip_turn, (length, force))
+    assert worst["slipping_steps"] > 0, worst
+    assert worst["work"] <= m["P"] * length + force * umax, worst

@@ -16,7 +16,7 @@ from .scenes import (A_HERTZ, A_JOHNSON, BLOCK_B, DEPTH_JOHNSON, F_JOHNSON, H_PL
 
 KIND_COLOURS = {"close": "tab:blue", "separate": "tab:cyan", "stick_to_slip": "tab:red",
                 "slip_to_stick": "tab:green", "yield": "tab:orange", "unload": "tab:purple",
-                "frozen": "0.3", "frozen_element": "0.6"}
+                "frozen": "0.3", "frozen_element": "0.6", "slip_turn": "tab:olive"}
 
 
 def _plt():

@@ -70,8 +70,9 @@ pub(super) fn check_equilibrium(eng: &Engine, residual: f64, phi: f64, step: usi
     Ok(())
 }
 
-/// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb's cone. A violation by a
-/// pair the last-resort anti-cycling rule froze is reported as an ill-posed scene.
+/// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb's cone (for a slipping 3D
+/// pair the facet it slips on: `Problem::friction_capacity`). A violation by a pair the
+/// last-resort anti-cycling rule froze is reported as an ill-posed scene.
 pub(super) fn check_contact(eng: &Engine, state: &State, frozen: &[bool], correction: Correction) -> Result<()> {
     let problem = &eng.problem;
     let umax = eng.loads.largest_displacement(problem, &state.u, state.load_fraction);
@@ -87,8 +88,8 @@ pub(super) fn check_contact(eng: &Engine, state: &State, frozen: &[bool], correc
             format!("penetrates by {:.3e}", -g)
         } else if closed && ln < -force_tol {
             format!("carries a tensile force {ln:.3e}")
-        } else if closed && lt.abs() > pair.mu * ln + force_tol {
-            format!("violates Coulomb's law (|λ_t| = {:.3e} > μλ_n = {:.3e})", lt.abs(), pair.mu * ln)
+        } else if closed && lt.abs() > problem.friction_capacity(state, p) + force_tol {
+            format!("violates Coulomb's law (|λ_t| = {:.3e} > {:.3e}, μλ_n = {:.3e})", lt.abs(), problem.friction_capacity(state, p), pair.mu * ln)
         } else {
             continue;
         };

@@ -32,7 +32,7 @@
 //! | integrated stresses, equilibrium correction, re-integration | [`plasticity`] | eqs. 5–11, 59 |
 //! | advance to the event | [`advance`] | eqs. 58–62 |
 //! | a plastic window: open, contact sub-steps, close or retake | [`window`] | eqs. 16, 43–44 |
-//! | 3D friction: a slipping pair's held direction and its turn | [`slip_turn`] | |
+//! | 3D friction: the direction of a pair slipping at zero force | [`slip_turn`] | |
 //!
 //! Linear algebra: K# is a generalized inverse of the stiffness with the supports and one
 //! pinned DOF per free rigid-body mode removed; the contact DOFs are last in its SPD factor, so
@@ -93,7 +93,7 @@ use restraint::{hold, Hold};
 use selection::Selection;
 use state::{IncrementStart, State};
 use stepping::Stepping;
-use switching::{switch, switch_statuses};
+use switching::{switch_keeping, switch_statuses};
 use tangents::Renewal;
 use trial::Solve;
 use window::Window;
@@ -180,9 +180,9 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         let _t = eng.clock.time(Phase::Solves);
         trial::remaining_load(eng, state, internal.take(), stage.stepping)? // eq. 44
     };
-    while slip_turn::turn_slip_directions(eng, state, &trial, cycles, rec, &mut stage.correction)? {
+    while slip_turn::direct_unloaded_slips(eng, state, &trial, cycles, rec, &mut stage.correction)? {
         let _t = eng.clock.time(Phase::Solves);
-        (trial, base) = trial::remaining_load(eng, state, None, stage.stepping)?; // 3D: a held slip direction turned
+        (trial, base) = trial::remaining_load(eng, state, None, stage.stepping)?; // 3D: a slip at zero force took its direction
     }
     let _events = eng.clock.time(Phase::Events);
     let cut = rec.snapshot_cut(eng, state);
@@ -251,7 +251,7 @@ fn restore_hold(eng: &Engine, state: &mut State, rec: &Recorder, first_event: us
             (EventKind::StickToSlip, Status::Slip { .. }) => EventKind::SlipToStick,
             _ => continue,
         };
-        switch(&eng.problem, state, &Candidate { scale: 0.0, entity: e.entity, kind: back, direction: 0 });
+        switch_keeping(eng, state, &Candidate { scale: 0.0, entity: e.entity, kind: back, direction: 0 });
     }
 }
 

@@ -107,10 +107,7 @@ impl<'m> Problem<'m> {
         let sections: Vec<Section> = model.element_material.iter().map(|&m| Section::new(model.materials[m], stress_state)).collect();
         let prescribed_elements = elements_touching(&elements, &path.prescribed_dofs());
         let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();
-        // (3D friction turns held slip directions, a force jump at fixed load that only the
-        // full space rebalances: `slip_turn`)
-        let turns = dim == 3 && model.pairs.iter().any(|p| p.mu > 0.0);
-        let reducible = !model.materials.iter().any(|m| m.is_plastic()) && !turns;
+        let reducible = !model.materials.iter().any(|m| m.is_plastic());
         let (space, pairs, contact_slot, mode_vectors) = if model.options.reduced_elastic && reducible {
             let (reduced, view) = Reduced::new(pairs, &slot_dofs, &contact_slot, &full_modes);
             (Space::Reduced(reduced), view.pairs, view.contact_slot, view.mode_vectors)
@@ -188,6 +185,24 @@ impl<'m> Problem<'m> {
             Status::Slip { direction } if direction != 0 => state.slip_dir[p].map(|e| pair.mu * e),
             _ => [0.0; 2],
         }
+    }
+
+    /// 3D: the cross direction e⊥ = (−e2, e1) (along t1, t2) of a slipping pair that holds its
+    /// facet's cross row (`contact`'s module text): both tangents free, a held direction e, and
+    /// a normal force to bound its cross force by (a pair slipping at zero force has none yet:
+    /// `slip_turn`). None for every other pair.
+    pub fn cross_direction(&self, state: &State, p: usize) -> Option<[f64; 2]> {
+        let (pair, e) = (&self.pairs[p], state.slip_dir[p]);
+        let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
+        let on_facet = self.dim == 3 && slipping && pair.mu > 0.0 && !pair.held[0] && !pair.held[1] && e != [0.0; 2];
+        (on_facet && state.lambda_n[p] > self.scales.force_noise).then_some([-e[1], e[0]])
+    }
+
+    /// The largest |λ_t| Coulomb admits on pair p: μ λ_n on the round cone; on a slipping 3D
+    /// pair's facet μ λ_n / cos(`slip_turn`), its cross force bounded by tan(`slip_turn`) μ λ_n.
+    pub fn friction_capacity(&self, state: &State, p: usize) -> f64 {
+        let round = self.pairs[p].mu * state.lambda_n[p];
+        if self.cross_direction(state, p).is_some() { round / self.model.options.slip_turn.cos() } else { round }
     }
 
     /// Nᵀ W λ: the contact forces' share of free rigid mode k (over the loop's DOFs).

@@ -6,7 +6,7 @@ use super::anticycling::AntiCycling;
 use super::problem::Problem;
 use super::state::{State, TrialIncrement};
 use super::stepping::Stepping;
-use crate::events::{self, Candidate, ElementState, PairState, Trial};
+use crate::events::{self, Candidate, ElementState, PairState, SpacePairs, Trial};
 use crate::model::{EventKind, Options};
 
 /// Scale factors at or below this are zero-length increments.
@@ -77,7 +77,12 @@ pub(super) fn select_contact(problem: &Problem, state: &State, trial: &TrialIncr
 /// The pairs' part of the state as `events` reads it; `frozen`: pairs the anti-cycling rule
 /// holds.
 pub(super) fn pair_state<'a>(problem: &'a Problem, state: &'a State, frozen: &'a [bool]) -> PairState<'a> {
-    let space = (problem.dim == 3).then_some((&state.lambda_t2[..], &state.slip_dir[..]));
+    let space = (problem.dim == 3).then(|| SpacePairs {
+        lambda_t2: &state.lambda_t2,
+        slip_dir: &state.slip_dir,
+        cross: (0..problem.pairs.len()).map(|p| problem.cross_direction(state, p)).collect(),
+        turn_bound: problem.model.options.slip_turn.tan(),
+    });
     PairState { pairs: &problem.pairs, status: &state.status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, shift: &state.shift, frozen, space }
 }
 
@@ -123,13 +128,13 @@ fn choose(opts: &Options, state: &State, mut cands: Vec<Candidate>, bound: f64, 
 }
 
 /// Order in which simultaneous zero-length events are applied (lowest first, one class per
-/// increment): releasing a violated constraint (stick→slip, separation) before closing a gap,
-/// and both before re-imposing stick. A slip reversal seen in a trial where a stuck pair
+/// increment): releasing a violated constraint (stick→slip, separation, a facet's turn) before
+/// closing a gap, and both before re-imposing stick. A slip reversal seen in a trial where a stuck pair
 /// already exceeds its cone is an artefact of that trial; applying all of them at once makes
 /// pairs chatter slip→stick→slip at every event.
 fn zero_length_priority(kind: EventKind) -> u8 {
     match kind {
-        EventKind::StickToSlip | EventKind::Separate => 0,
+        EventKind::StickToSlip | EventKind::Separate | EventKind::SlipTurn => 0,
         EventKind::Close | EventKind::Yield => 1,
         EventKind::SlipToStick | EventKind::Unload | EventKind::Frozen | EventKind::FrozenElement => 2,
     }

@@ -1,39 +1,47 @@
-//! Friction in space: a slipping pair's held direction and its turn (rust/src/contact.rs's
+//! Friction in space: the direction of a pair slipping at zero normal force (rust/src/contact.rs's
 //! module text).
 //!
-//! In 3D a slipping pair carries λ_t = μ λ_n e with e held along an increment, so the trial
-//! stays linear. Within one linear increment the slip rate's direction is constant; between
-//! increments it may turn. At an increment's start, a slipping pair whose trial slip rate
-//! differs from −e by more than `slip_turn` has e turned to it at zero length (λ_t rotates at
-//! fixed size, a force jump the equilibrium correction at fixed load rebalances) and the trial
-//! is solved again; each turn is a zero-length switch of the pair for the anti-cycling rule, so
-//! a run of turns ends. A slip rate that points against −e (more than a right angle) is the
-//! slip → stick event's (`events`), not a turn.
+//! A slipping 3D pair holds a direction e and slips on the facet of the round cone at e; its
+//! facet turns with its friction force as an ordinary event (`EventKind::SlipTurn`). A pair
+//! that slips at zero normal force (one that slips as it closes) has no force to take e from:
+//! its first trial has no friction force (e = 0) and no cross row, and at an increment's start
+//! it takes e against its trial's slip rate, when that differs from e by more than
+//! `slip_turn`, and the trial is solved again. With λ_n at round-off this moves no force
+//! (λ_t = μ λ_n e), so there is nothing to rebalance; each such turn is a zero-length switch of
+//! the pair for the anti-cycling rule, so a run of them ends. A slip rate that points against
+//! −e is a turn too: with no normal force there is no friction force to stick with (stuck at
+//! zero force, the pair would slip again at once, `events::onto_round_cone`).
 
 use super::anticycling::AntiCycling;
 use super::checks::Correction;
 use super::engine::Engine;
 use super::plasticity::correct_at_fixed_load;
 use super::recording::Recorder;
-use super::state::{State, TrialIncrement};
 use super::selection::trial_of;
+use super::state::{State, TrialIncrement};
+use super::switching::{contact_forces, jumps_kept, keep_jumps};
 use crate::contact::Status;
 use crate::events::slip_rate;
 use crate::error::Result;
 
-/// Turn the held direction of every slipping pair whose trial slip rate has turned by more
-/// than `slip_turn` from −e (3D), and rebalance the state at its load. Returns whether any
-/// turned: the caller solves the trial again. `correction`: the size of the last equilibrium
-/// correction, which the contact checks allow for.
-pub(super) fn turn_slip_directions(eng: &mut Engine, state: &mut State, trial: &TrialIncrement, cycles: &mut AntiCycling, rec: &mut Recorder, correction: &mut Correction) -> Result<bool> {
+/// Direct every slipping 3D pair that has no normal force to hold its direction by (or no
+/// direction yet) against its trial slip rate, where that turned by more than `slip_turn`
+/// from −e. Returns whether any turned: the caller solves the trial again. A pair that had a
+/// normal force but no direction (a slip rate at round-off when it began) gets its whole
+/// friction force here, a jump rebalanced at its load; `correction`: the size of the last
+/// equilibrium correction, which the contact checks allow for.
+pub(super) fn direct_unloaded_slips(eng: &mut Engine, state: &mut State, trial: &TrialIncrement, cycles: &mut AntiCycling, rec: &mut Recorder, correction: &mut Correction) -> Result<bool> {
     let problem = &eng.problem;
     if problem.dim != 3 {
         return Ok(false);
     }
     let cos_limit = problem.model.options.slip_turn.cos();
-    let mut turned = false;
+    let before = jumps_kept(eng).then(|| contact_forces(state));
+    let (mut turned, mut jump) = (false, 0.0f64);
     for p in 0..problem.pairs.len() {
-        if !matches!(state.status[p], Status::Slip { direction } if direction != 0) {
+        let e = state.slip_dir[p];
+        let unloaded = state.lambda_n[p] <= problem.scales.force_noise || e == [0.0; 2];
+        if !unloaded || !matches!(state.status[p], Status::Slip { direction } if direction != 0) {
             continue;
         }
         let pair = &problem.pairs[p];
@@ -42,19 +50,22 @@ pub(super) fn turn_slip_directions(eng: &mut Engine, state: &mut State, trial: &
         if size <= trial.noise.displacement {
             continue;
         }
-        let e = state.slip_dir[p];
         let cos = -(e[0] * rate[0] + e[1] * rate[1]) / size;
-        if cos < 0.0 || cos >= cos_limit || !cycles.turn(p) {
-            continue; // a reversal (slip → stick), aligned, or out of turns
+        if cos >= cos_limit || !cycles.turn(p) {
+            continue; // aligned, or out of turns
         }
         let e = rate.map(|r| -r / size);
         state.slip_dir[p] = e;
         let ln = state.lambda_n[p];
-        (state.lambda_t[p], state.lambda_t2[p]) = (pair.mu * ln * e[0], pair.mu * ln * e[1]);
+        let lt = [pair.mu * ln * e[0], pair.mu * ln * e[1]];
+        jump = jump.max((lt[0] - state.lambda_t[p]).hypot(lt[1] - state.lambda_t2[p]));
+        (state.lambda_t[p], state.lambda_t2[p]) = (lt[0], lt[1]);
         turned = true;
     }
-
-    if turned {
+    if let Some(before) = before {
+        keep_jumps(state, &before);
+    }
+    if jump > eng.problem.scales.force_noise {
         let phi = state.load_fraction;
         let c = correct_at_fixed_load(eng, state, phi, None)?;
         c.events.iter().for_each(|e| rec.correction_event(e, phi));

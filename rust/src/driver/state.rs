@@ -37,6 +37,11 @@ pub(super) struct State {
     pub plastic: Vec<bool>,
     /// Per pair: the gap and RTD shift (c_n, c_t) of its obstacle's motion (`path`).
     pub shift: Vec<Shift>,
+    /// Reduced space, 3D: per pair the contact force jumps (Δλ_n, Δλ_t1, Δλ_t2) not yet
+    /// rebalanced. The full space reads their out-of-balance force W Δλ from its residual; the
+    /// reduced one carries it here for the trials, and an increment by S leaves (1 − S) of it,
+    /// as of any out-of-balance force (`switching::keep_jumps`). Zero elsewhere.
+    pub jumps: Vec<[f64; 3]>,
 }
 
 impl State {
@@ -60,6 +65,7 @@ impl State {
             slip_dir: vec![[0.0; 2]; n_pairs],
             plastic: vec![false; n_elements],
             shift: vec![[0.0; 3]; n_pairs],
+            jumps: vec![[0.0; 3]; n_pairs],
         }
     }
 
@@ -98,8 +104,11 @@ impl State {
         self.advance_forces(inc, s);
     }
 
-    /// λ, α and the obstacle shifts += s × increment.
+    /// λ, α and the obstacle shifts += s × increment; (1 − s) of the unbalanced jumps remain.
     pub fn advance_forces(&mut self, inc: &TrialIncrement, s: f64) {
+        for jump in self.jumps.iter_mut().filter(|j| **j != [0.0; 3]) {
+            *jump = jump.map(|v| (1.0 - s) * v);
+        }
         self.lambda_n.iter_mut().zip(&inc.dlambda_n).for_each(|(u, d)| *u += s * d);
         self.lambda_t.iter_mut().zip(&inc.dlambda_t).for_each(|(u, d)| *u += s * d);
         self.lambda_t2.iter_mut().zip(&inc.dlambda_t2).for_each(|(u, d)| *u += s * d);

@@ -19,8 +19,18 @@ use crate::model::EventKind;
 /// one-at-a-time rule cycles, the rate problem (for the load `what` solves for) sets the
 /// critical pairs' statuses together. It does too when the switches leave a body on friction
 /// alone, every closed pair slipping (`restraint`: where its slip changes sense, a pair
-/// sticks). Returns the largest force jump a switch made (see `switch`).
+/// sticks). Returns the largest force jump a switch made (see `switch`; in the reduced space
+/// it is kept to be rebalanced: `keep_jumps`).
 pub(super) fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &mut AntiCycling, rec: &mut Recorder, what: Solve) -> f64 {
+    let before = jumps_kept(eng).then(|| contact_forces(state));
+    let jump = switch_group(eng, state, sel, cycles, rec, what);
+    if let Some(before) = before {
+        keep_jumps(state, &before);
+    }
+    jump
+}
+
+fn switch_group(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &mut AntiCycling, rec: &mut Recorder, what: Solve) -> f64 {
     let mut jump: f64 = 0.0;
     let zero_length = cycles.in_run(sel.zero_length(), sel.last, sel.phi); // or short (`anticycling`)
     cycles.increment_selected();
@@ -70,11 +80,12 @@ fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut Anti
 
 /// Apply one event's status change and the forces it sets. Returns the force it moved: the
 /// change of λ_t of a slip (a pair the equilibrium correction moved off the cone is put back
-/// on it), the forces a separation drops (one applied with a tie, before its own scale, still
-/// carries λ_n up to tie_tol × its rate): a force jump that the caller rebalances.
+/// on it) or of a facet's turn (its radial jump), the forces a separation drops (one applied
+/// with a tie, before its own scale, still carries λ_n up to tie_tol × its rate): a force jump
+/// that the caller rebalances.
 pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64 {
     let p = c.entity;
-    let before = if c.kind == EventKind::StickToSlip { [state.lambda_t[p], state.lambda_t2[p]] } else { [0.0; 2] };
+    let before = if c.kind.is_element_event() { [0.0; 2] } else { [state.lambda_t[p], state.lambda_t2[p]] };
     let dropped = if c.kind == EventKind::Separate { state.lambda_n[p].abs().max(state.lambda_t[p].abs()).max(state.lambda_t2[p].abs()) } else { 0.0 };
     match c.kind {
         EventKind::Close => {
@@ -101,25 +112,87 @@ pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64
             state.status[p] = Status::Stick;
             state.rtd_stick[p] = problem.rtd(state, p);
             state.rtd_stick2[p] = problem.rtd2(state, p);
+            if problem.dim == 3 {
+                onto_round_cone(problem, state, p); // from its facet
+            }
         }
+        EventKind::SlipTurn => turn_facet(problem, state, p),
         EventKind::Yield => state.plastic[p] = true,
         EventKind::Unload => state.plastic[p] = false,
         EventKind::Frozen | EventKind::FrozenElement => {}
     }
     match c.kind {
-        EventKind::StickToSlip if problem.dim == 3 => (state.lambda_t[p] - before[0]).hypot(state.lambda_t2[p] - before[1]),
+        EventKind::StickToSlip | EventKind::SlipTurn | EventKind::SlipToStick if problem.dim == 3 => (state.lambda_t[p] - before[0]).hypot(state.lambda_t2[p] - before[1]),
         EventKind::StickToSlip => (state.lambda_t[p] - before[0]).abs(),
         _ => dropped,
+    }
+}
+
+/// A facet's turn (3D, `contact`): the friction force reached tan(slip_turn) μ λ_n across the
+/// held direction e, i.e. turned by slip_turn off it; e turns to the force, and the force goes
+/// to the new facet's point on the round cone, λ_t = μ λ_n e. The only jump is radial, by
+/// (1 − cos slip_turn) |λ_t|, and it lowers the friction force, so the correction that
+/// releases it slips the pair further along −e: it dissipates.
+fn turn_facet(problem: &Problem, state: &mut State, p: usize) {
+    let e = held_direction([state.lambda_t[p], state.lambda_t2[p]]);
+    if e != [0.0; 2] {
+        state.slip_dir[p] = e;
+    }
+    let [tau, tau2] = problem.slip_ratios(state, p);
+    state.lambda_t[p] = tau * state.lambda_n[p];
+    state.lambda_t2[p] = tau2 * state.lambda_n[p];
+}
+
+/// A 3D pair that sticks after slipping on a facet may carry up to 1/cos(slip_turn) of its
+/// round capacity: its force is brought radially onto the round cone (the facet turn's jump,
+/// lowering the force).
+fn onto_round_cone(problem: &Problem, state: &mut State, p: usize) {
+    let capacity = problem.pairs[p].mu * state.lambda_n[p].max(0.0);
+    let size = state.lambda_t[p].hypot(state.lambda_t2[p]);
+    if size > capacity {
+        let k = capacity / size;
+        (state.lambda_t[p], state.lambda_t2[p]) = (k * state.lambda_t[p], k * state.lambda_t2[p]);
     }
 }
 
 /// The direction e a pair that starts to slip in 3D holds: that of its friction force at the
 /// event, which is on the cone there (|λ_t| = μ λ_n). A pair that slips as it closes (λ = 0)
 /// has none yet: e = 0 carries no friction force in the next trial, whose slip rate then sets
-/// it (a turn, `slip_turn`).
+/// it (`slip_turn`).
 fn held_direction(lambda_t: [f64; 2]) -> [f64; 2] {
     let size = lambda_t[0].hypot(lambda_t[1]);
     if size > 0.0 { lambda_t.map(|v| v / size) } else { [0.0; 2] }
+}
+
+/// `switch`, its force jump kept in the reduced space (`keep_jumps`).
+pub(super) fn switch_keeping(eng: &Engine, state: &mut State, c: &Candidate) -> f64 {
+    let before = jumps_kept(eng).then(|| contact_forces(state));
+    let jump = switch(&eng.problem, state, c);
+    if let Some(before) = before {
+        keep_jumps(state, &before);
+    }
+    jump
+}
+
+/// Whether force jumps are kept apart to be rebalanced (`State::jumps`): in the reduced space
+/// in 3D, where a facet's turn is one (in 2D the only jumps are ties', and its histories are
+/// kept as they were).
+pub(super) fn jumps_kept(eng: &Engine) -> bool {
+    eng.problem.is_reduced() && eng.problem.dim == 3
+}
+
+/// Every pair's contact forces (λ_n, λ_t1, λ_t2), to tell what switches change.
+pub(super) fn contact_forces(state: &State) -> Vec<[f64; 3]> {
+    (0..state.lambda_n.len()).map(|p| [state.lambda_n[p], state.lambda_t[p], state.lambda_t2[p]]).collect()
+}
+
+/// The force jumps switches made since `before`, added to the state's unbalanced ones
+/// (`State::jumps`), which the next trial rebalances.
+pub(super) fn keep_jumps(state: &mut State, before: &[[f64; 3]]) {
+    for (p, jump) in state.jumps.iter_mut().enumerate() {
+        let now = [state.lambda_n[p], state.lambda_t[p], state.lambda_t2[p]];
+        (0..3).for_each(|k| jump[k] += now[k] - before[p][k]);
+    }
 }
 
 /// The events that take pair p from status `from` to `to` (for the rate problem's statuses).

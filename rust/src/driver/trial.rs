@@ -27,6 +27,7 @@ use crate::contact::{Shift, SparseVec, Status};
 use crate::error::Result;
 use crate::events::Noise;
 use nalgebra::{DMatrix, DVector};
+use std::borrow::Cow;
 
 /// A pivot of the small system's LU below this × the largest one means "singular".
 const SINGULAR_PIVOT: f64 = 1e-13;
@@ -55,12 +56,14 @@ impl Solve<'_> {
     }
 }
 
-/// A row of the small system: pair p's normal or tangential constraint (3D: along t1, t2).
+/// A row of the small system: pair p's normal or tangential constraint (3D: along t1, t2),
+/// or (3D) a slipping pair's cross row along e⊥ = the direction given (`contact`).
 #[derive(Clone, Copy)]
 pub(super) enum Row {
     Normal(usize),
     Tangent(usize),
     Tangent2(usize),
+    Cross(usize, [f64; 2]),
 }
 
 /// K# r at the contact slots and the rigid-body rows −Nᵀ r for the out-of-balance force r; in
@@ -149,10 +152,17 @@ pub(super) fn out_of_balance(eng: &mut Engine, state: &State, what: Solve, inter
         return base.scaled(target - state.load_fraction, dshift);
     }
     if problem.is_reduced() {
-        // Elastic and in equilibrium: the out-of-balance force is (target − s)(ΔP − K_fp Δū) exactly.
+        // Elastic and in equilibrium: the out-of-balance force is (target − s)(ΔP − K_fp Δū)
+        // exactly, and the force jumps not yet rebalanced (3D: `State::jumps`) add W Δλ.
         let c = target - state.load_fraction;
-        let mode_rhs = loads.mode_force.iter().map(|v| -c * v[1]).collect();
-        return OutOfBalance { z0: loads.reduced.u_load_reduced.iter().map(|v| c * v).collect(), mode_rhs, forward_sweep: vec![], prescribed: vec![], dshift, low_rank_coefficients: vec![] };
+        let mut z0: Vec<f64> = loads.reduced.u_load_reduced.iter().map(|v| c * v).collect();
+        let jumps = jump_force(problem, state);
+        if !jumps.is_empty() {
+            let dz = stiffness.flexibility_times(&problem.dofs.contact_slot, &jumps);
+            z0.iter_mut().zip(&dz).for_each(|(z, d)| *z += d); // reduced index = slot
+        }
+        let mode_rhs = (0..loads.mode_force.len()).map(|k| -c * loads.mode_force[k][1] - jumps.iter().map(|&(d, v)| v * problem.bodies.mode_vectors[k][d]).sum::<f64>()).collect();
+        return OutOfBalance { z0, mode_rhs, forward_sweep: vec![], prescribed: vec![], dshift, low_rank_coefficients: vec![] };
     }
     let internal = internal.unwrap_or_else(|| problem.internal_force(&state.stress));
     let mut r = loads.residual_from(problem, &internal, state, target);
@@ -173,8 +183,20 @@ pub(super) fn out_of_balance(eng: &mut Engine, state: &State, what: Solve, inter
     OutOfBalance { z0, mode_rhs, forward_sweep: w, prescribed, dshift, low_rank_coefficients }
 }
 
-/// Rows of the closed pairs: normal (h = −gap − Δc_n) and, for frictional stick, tangential
-/// (h = RTD at sticking − RTD − Δc_t), with Δc the obstacle's motion over the trial.
+/// W Δλ of the state's unbalanced force jumps (`State::jumps`), as (DOF, force) entries.
+fn jump_force(problem: &Problem, state: &State) -> Vec<(usize, f64)> {
+    let mut force = vec![];
+    for (pair, jump) in problem.pairs.iter().zip(&state.jumps).filter(|(_, j)| **j != [0.0; 3]) {
+        for (w, v) in [(&pair.w_n, jump[0]), (&pair.w_t, jump[1]), (&pair.w_t2, jump[2])] {
+            force.extend(w.entries.iter().map(|&(d, c)| (d, v * c)));
+        }
+    }
+    force
+}
+
+/// Rows of the closed pairs: normal (h = −gap − Δc_n); for frictional stick, tangential
+/// (h = RTD at sticking − RTD − Δc_t); for a 3D pair slipping on a facet, the cross row (no
+/// slip across its held direction: h = −e⊥·Δc_t), with Δc the obstacle's motion over the trial.
 fn contact_system(eng: &Engine, state: &State, dshift: &[Shift]) -> ContactSystem {
     let problem = &eng.problem;
     let (mut rows, mut h) = (Vec::new(), Vec::new());
@@ -195,6 +217,10 @@ fn contact_system(eng: &Engine, state: &State, dshift: &[Shift]) -> ContactSyste
                 h.push(state.rtd_stick2[p] - problem.rtd2(state, p) - dshift[p][2]);
             }
         }
+        if let Some(cross) = problem.cross_direction(state, p) {
+            rows.push(Row::Cross(p, cross));
+            h.push(-(cross[0] * dshift[p][1] + cross[1] * dshift[p][2]));
+        }
     }
     let columns: Vec<Vec<(usize, f64)>> = rows.iter().map(|row| force_direction(problem, state, *row)).collect();
     let flex_columns = columns.iter().map(|e| eng.stiffness.flexibility_times(&problem.dofs.contact_slot, e)).collect();
@@ -202,7 +228,7 @@ fn contact_system(eng: &Engine, state: &State, dshift: &[Shift]) -> ContactSyste
 }
 
 /// Column e_j: w_n (+ τ w_t for a slipping pair, τ = −dμ, eq. 41; in 3D + τ1 w_t + τ2 w_t2,
-/// τ = μ e), or w_t (w_t2).
+/// τ = μ e), or w_t (w_t2, the cross direction's e⊥₁ w_t + e⊥₂ w_t2).
 fn force_direction(problem: &Problem, state: &State, row: Row) -> Vec<(usize, f64)> {
     match row {
         Row::Normal(p) => {
@@ -219,14 +245,16 @@ fn force_direction(problem: &Problem, state: &State, row: Row) -> Vec<(usize, f6
         }
         Row::Tangent(p) => problem.pairs[p].w_t.entries.clone(),
         Row::Tangent2(p) => problem.pairs[p].w_t2.entries.clone(),
+        Row::Cross(p, cross) => problem.pairs[p].along_tangent(cross).entries,
     }
 }
 
-pub(super) fn constraint<'a>(problem: &'a Problem, row: Row) -> &'a SparseVec {
+fn constraint<'a>(problem: &'a Problem, row: Row) -> Cow<'a, SparseVec> {
     match row {
-        Row::Normal(p) => &problem.pairs[p].w_n,
-        Row::Tangent(p) => &problem.pairs[p].w_t,
-        Row::Tangent2(p) => &problem.pairs[p].w_t2,
+        Row::Normal(p) => Cow::Borrowed(&problem.pairs[p].w_n),
+        Row::Tangent(p) => Cow::Borrowed(&problem.pairs[p].w_t),
+        Row::Tangent2(p) => Cow::Borrowed(&problem.pairs[p].w_t2),
+        Row::Cross(p, cross) => Cow::Owned(problem.pairs[p].along_tangent(cross)),
     }
 }
 
@@ -237,9 +265,10 @@ fn solve_small_system(eng: &Engine, state: &State, sys: &ContactSystem, oob: &Ou
     let (m, nm) = (sys.rows.len(), problem.bodies.modes.len());
     let mut a = DMatrix::<f64>::zeros(m + nm, m + nm);
     let mut rhs = DVector::<f64>::zeros(m + nm);
+    let constraints: Vec<Cow<SparseVec>> = sys.rows.iter().map(|&row| constraint(problem, row)).collect();
     for j in 0..m {
         for i in 0..m {
-            a[(i, j)] = problem.dot_slots(constraint(problem, sys.rows[i]), &sys.flex_columns[j]);
+            a[(i, j)] = problem.dot_slots(&constraints[i], &sys.flex_columns[j]);
         }
         for (k, mode) in modes.iter().enumerate() {
             a[(m + k, j)] = sys.columns[j].iter().map(|&(d, v)| v * mode[d]).sum();
@@ -247,12 +276,12 @@ fn solve_small_system(eng: &Engine, state: &State, sys: &ContactSystem, oob: &Ou
     }
     for (k, mode) in modes.iter().enumerate() {
         for i in 0..m {
-            a[(i, m + k)] = constraint(problem, sys.rows[i]).dot(mode);
+            a[(i, m + k)] = constraints[i].dot(mode);
         }
         rhs[m + k] = oob.mode_rhs[k];
     }
     for i in 0..m {
-        rhs[i] = sys.h[i] - problem.dot_slots(constraint(problem, sys.rows[i]), &oob.z0);
+        rhs[i] = sys.h[i] - problem.dot_slots(&constraints[i], &oob.z0);
     }
     let closed_normals = || sys.rows.iter().filter_map(|r| if let Row::Normal(p) = r { Some(*p) } else { None }).collect::<Vec<usize>>();
     restraint::check_restrained(problem, &eng.loads, state, &a, m, &oob.mode_rhs, closed_normals)?;
@@ -292,6 +321,10 @@ fn increment(eng: &mut Engine, state: &State, what: Solve, sys: &ContactSystem, 
             }
             Row::Tangent(p) => dlambda_t[p] = sol[j],
             Row::Tangent2(p) => dlambda_t2[p] = sol[j],
+            Row::Cross(p, cross) => {
+                dlambda_t[p] += cross[0] * sol[j]; // after its normal row's μ e Δλ_n
+                dlambda_t2[p] += cross[1] * sol[j];
+            }
         }
     }
     let dshift = std::mem::take(&mut oob.dshift);
