@@ -27,9 +27,6 @@ use nalgebra::DMatrix;
 const FREE_MOTION: f64 = 1e-9;
 /// T within this (relative) of μN is not gross sliding: the body is at the limit, not beyond.
 const CAPACITY_TIE: f64 = 1e-9;
-/// A free motion whose rotation part (per unit of the body's size) exceeds this × its
-/// translation's turns the body: no slide (`beyond_capacity`).
-const SLIDE_ROTATION: f64 = 1e-6;
 /// A tangential load below this × Σ|load| is round-off (of a moment of the other loads, say).
 const LOAD_ROUND_OFF: f64 = 1e-9;
 
@@ -154,7 +151,7 @@ impl Restraint<'_> {
                     let push: f64 = idx.iter().zip(&free[0]).map(|(&k, c)| -c * mode_rhs[k]).sum();
                     bail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} {}: lower the tangential load, raise mu, or add a support", state.load_fraction, self.p.path.stage_names[state.stage], self.sliding(push, &words[0], capacity));
                 }
-                bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), self.slipping_pairs_of(body, state).count());
+                bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
             }
             if let Some(what) = self.left_at_once(state, body, &words) {
                 bail!(FreeBody, "{name} {what}, and nothing else holds it; add a support (fix/symmetry) that does, or change the load");
@@ -238,15 +235,7 @@ impl Restraint<'_> {
     }
 
     /// (T, N, μ) of `tangential_and_normal_load` when T exceeds the capacity μN: gross sliding.
-    /// Only a translation slides so: a motion that turns the body (about the contact normal,
-    /// its pairs all slipping) is no slide, and T along its translation part (round-off for a
-    /// turn about the body's centre) measures nothing.
     fn beyond_capacity(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> Option<(f64, f64, f64)> {
-        let weights = self.motion_weights(idx, v);
-        let (translation, rotation) = weights.split_at(self.p.dim);
-        if norm(rotation) > SLIDE_ROTATION * norm(translation) {
-            return None;
-        }
         let (t, n, mu) = self.tangential_and_normal_load(body, state, idx, v);
         (t > mu * n * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.p.scales.force).then_some((t, n, mu))
     }

@@ -32,7 +32,7 @@ pub(super) fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selecti
 
 fn switch_group(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &mut AntiCycling, rec: &mut Recorder, what: Solve) -> f64 {
     let mut jump: f64 = 0.0;
-    let zero_length = cycles.in_run(sel.zero_length(), sel.last, sel.phi); // or short (`anticycling`)
+    let zero_length = sel.zero_length();
     cycles.increment_selected();
     if !zero_length {
         cycles.load_advanced();
