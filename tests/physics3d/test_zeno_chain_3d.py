@@ -5,10 +5,10 @@ stage only: a pair at the edge of the growing contact closed, slipped and separa
 instant, then closed again after an increment a third as long, and so on, 1.2e-5 of the stage
 down to 1e-13, ended only by round-off: a slipping neighbour's turn of its held slip direction
 is a force jump whose correction opened the pair again, and the turns shrank threefold.  Each
-increment advanced the load, so the anti-cycling rule, which counted zero-length increments
-only, never saw it.  The rule now counts every increment within SHORT_LOAD (1e-6 of the
-stage's load) of where its run began (rust/src/driver/anticycling.rs), so such a chain is one
-run once its remaining length is below that, and its switches are bounded there.
+increment advanced the load, so the anti-cycling rule, which counts zero-length increments
+only, never saw it.  A turn of the slip direction is now an event at which the force is
+continuous but for a radial drop (rust/src/contact.rs: the facet of the round cone), so no
+correction opens a pair that just closed, and the chain is gone.
 
 Checked from the arrays: the closure times of every pair contain no long chain of intervals
 that halve (the bound below), and the pressed state at the stage's end is in equilibrium
@@ -17,8 +17,6 @@ that halve (the bound below), and the pressed state at the stage's end is in equ
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
@@ -26,13 +24,11 @@ from physics import EQUILIBRIUM_TOL, equilibrium_residual
 
 import slipstep
 
-SHORT_LOAD = 1e-6             # rust/src/driver/anticycling.rs
-MAX_ZERO_LENGTH_SWITCHES = 4  # the engine's default
-# A chain whose first interval is at most 1e-4 of the stage (the measured one: 1.2e-5) halves
-# at most log2(1e-4 / SHORT_LOAD) times before its remaining length is within SHORT_LOAD, and
-# is one run from there: its pair may close MAX_ZERO_LENGTH_SWITCHES + 1 more times.  Before
-# the rule this scene's chain ran 17 halving intervals (pair 2, t = 0.405676 .. 0.4056936).
-LONGEST_CHAIN = math.ceil(math.log2(1e-4 / SHORT_LOAD)) + MAX_ZERO_LENGTH_SWITCHES + 1
+# Pressed monotonically, the contact grows (Hertz's radius with the load), so a pair closes once;
+# one at the contact's edge may open and close again once as its neighbours' slip redistributes
+# the pressure.  Two successive halving intervals between one pair's closures allow that; the
+# chain before the facet design ran 17 (pair 2, t = 0.405676 .. 0.4056936).
+LONGEST_CHAIN = 2
 # Round-off tolerances relative to the scene's scales, as tests/engine/test_termination.py's:
 # forces to the largest normal force (the engine's own contact check allows 1e-9 of its force
 # scale), gaps to the largest displacement (the solves' round-off, ~1e-12, amplified by the
