@@ -185,7 +185,7 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         (trial, base) = trial::remaining_load(eng, state, None, stage.stepping)?; // 3D: a slip at zero force took its direction
     }
     let _events = eng.clock.time(Phase::Events);
-    let cut = rec.snapshot_cut(eng, state);
+    let cut = rec.snapshot_cut(eng, state).min(friction_cut(eng, state)); // (3D: a body held by friction alone meets μN)
     let sel = selection::select(&eng.problem, state, &trial, cycles, cut, stage.stepping); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
     if let Some(stop) = stage.limit.check(eng, state, &trial, &sel) {
         return Ok(Outcome::Stop(stop));
@@ -217,13 +217,22 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
     if sel.last {
         return Ok(Outcome::Stop(StopReason::Completed)); // S = 1 (step 8)
     }
-    if let Some(stop) = lost.or_else(|| support_lost(eng, state, rec, first_event)) {
+    if let Some(stop) = lost.or_else(|| support_lost(eng, state, rec, first_event)).or_else(|| restraint::friction_stop(&eng.problem, &eng.loads, state)) {
         return Ok(Outcome::Stop(stop)); // (or a separation of the correction's)
     }
     if eng.problem.model.options.stop_at_first_yield && sel.group.iter().any(|c| c.kind == EventKind::Yield) {
         return Ok(Outcome::Stop(StopReason::FirstYield));
     }
     Ok(Outcome::Advanced)
+}
+
+/// The trial's scale at which a body held by friction alone meets its capacity μN (∞ if none).
+fn friction_cut(eng: &Engine, state: &State) -> f64 {
+    let remaining = 1.0 - state.load_fraction;
+    match restraint::friction_limit(&eng.problem, &eng.loads, state) {
+        Some(s) if remaining > 0.0 => (s - state.load_fraction) / remaining,
+        _ => f64::INFINITY,
+    }
 }
 
 /// A body that lost its hold along the path, where pairs separated or began to slip since the

@@ -56,6 +56,40 @@ pub(super) fn check_restrained(problem: &Problem, loads: &StageLoads, state: &St
     Restraint { p: problem, loads }.check_restrained(state, a, m, mode_rhs, closed_normals)
 }
 
+/// 3D: the stage fraction in (φ, 1] at which a body held by friction alone (its closed pairs
+/// all slipping) meets its capacity, |T(s)| = μ N(s) for the resultants of its load in the
+/// contact plane and along the normal: its pairs hold at most μ λ_n each, whatever their slip
+/// directions, so no equilibrium exists beyond (the increment is cut there, `friction_stop`
+/// stops the run). None when no body is so held or its load stays inside.
+pub(super) fn friction_limit(problem: &Problem, loads: &StageLoads, state: &State) -> Option<f64> {
+    let r = Restraint { p: problem, loads };
+    let phi = state.load_fraction;
+    let limit = r.friction_held(state).filter_map(|(body, mu, n)| {
+        let (t0, n0) = r.resultants(body, &n, phi);
+        let (t1, n1) = r.resultants(body, &n, 1.0);
+        let d = 1.0 - phi;
+        let rate = ([(t1[0] - t0[0]) / d, (t1[1] - t0[1]) / d], (n1 - n0) / d);
+        crate::events::onto_round_cone(mu, (n0, t0), (rate.1, rate.0), 0.0).map(|s| phi + s * d)
+    }).filter(|&s| s > phi).reduce(f64::min);
+    limit
+}
+
+/// The run's stop where a body held by friction alone carries the tangential load μN
+/// (`friction_limit`'s fraction reached): it slides as a whole.
+pub(super) fn friction_stop(problem: &Problem, loads: &StageLoads, state: &State) -> Option<StopReason> {
+    let r = Restraint { p: problem, loads };
+    let stop = r.friction_held(state).find_map(|(body, mu, n)| {
+        let (t, n_load) = r.resultants(body, &n, state.load_fraction);
+        let t = t[0].hypot(t[1]);
+        (n_load > 0.0 && t >= mu * n_load * (1.0 - CAPACITY_TIE) && t > LOAD_ROUND_OFF * problem.scales.force).then(|| {
+            let name = problem.model.body_name(problem.bodies.first_element[body]);
+            let what = format!("{name} slides as a whole: its closed pairs all slip and its tangential load T = {t:.4e} has reached the friction capacity μN = {:.4e} (N = {n_load:.4e} along the contact normal)", mu * n_load);
+            StopReason::SupportLost { load_fraction: state.time(), stage: problem.model.stage_label(state.stage), what, fix: "lower the tangential load, raise mu, or add a support (fix/symmetry)".into() }
+        })
+    });
+    stop
+}
+
 /// The bodies of a problem under the current stage's loads.
 struct Restraint<'a> {
     p: &'a Problem<'a>,
@@ -107,6 +141,8 @@ impl Restraint<'_> {
                 if self.p.dim == 3 && !pair.held[1] {
                     rows.push(row(&pair.w_t2));
                 }
+            } else if let Some(cross) = self.p.cross_direction(state, p) {
+                rows.push(row(&pair.along_tangent(cross))); // a 3D slip holds across its direction
             }
         }
         rows
@@ -225,6 +261,34 @@ impl Restraint<'_> {
         let force = self.body_load(body);
         let load_along = |dir: &[f64]| -> f64 { along(&force, dir) };
         (load_along(&self.translation_of(idx, v)).abs(), load_along(&normal).abs(), mu)
+    }
+
+    /// 3D bodies held by nothing but their closed pairs (all six rigid modes free: no support
+    /// takes a share of the load) whose closed pairs all slip with friction: (body, μ, the
+    /// closed pairs' mean unit normal), μ the pairs' mean.
+    fn friction_held<'s>(&'s self, state: &'s State) -> impl Iterator<Item = (usize, f64, [f64; 3])> + 's {
+        self.bodies_with_modes().into_iter().filter(|(_, idx)| self.p.dim == 3 && idx.len() == 6).filter_map(move |(body, _)| {
+            let closed: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body).collect();
+            let slipping = |p: &usize| matches!(state.status[*p], Status::Slip { .. }) && self.p.pairs[*p].frictional();
+            if closed.is_empty() || !closed.iter().all(slipping) {
+                return None;
+            }
+            let mut n = [0.0; 3];
+            closed.iter().for_each(|&p| (0..3).for_each(|k| n[k] += self.p.global_pairs()[p].frame.normal[k]));
+            let size = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            let mu = closed.iter().map(|&p| self.p.pairs[p].mu).sum::<f64>() / closed.len() as f64;
+            (size > 0.0).then(|| (body, mu, n.map(|v| v / size)))
+        })
+    }
+
+    /// A body's load at stage fraction s resolved on the unit normal n: its components in a
+    /// basis of the contact plane, and the compressive part along −n.
+    fn resultants(&self, body: usize, n: &[f64; 3], s: f64) -> ([f64; 2], f64) {
+        let nodes = (0..self.p.bodies.of_node.len()).filter(|&i| self.p.bodies.of_node[i] == body);
+        let f = nodes.fold([0.0; 3], |f, i| [0, 1, 2].map(|k| f[k] + self.loads.load.force(3 * i + k, s)));
+        let [t1, t2] = crate::contact::Frame::of_pair(3, *n, None).tangents;
+        let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        ([dot(&f, &t1), dot(&f, &t2)], -dot(&f, n))
     }
 
     /// The resultant (x, y[, z]) of the stage's end load on a body.
