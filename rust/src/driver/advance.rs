@@ -6,6 +6,7 @@ use super::plasticity::{integrate_stresses, place_integrated};
 use super::problem::Problem;
 use super::selection::Selection;
 use super::state::{IncrementStart, State, TrialIncrement};
+use super::switching::{contact_forces, jumps_kept, keep_jumps};
 use crate::contact::Status;
 use crate::model::EventKind;
 
@@ -29,7 +30,13 @@ pub(super) fn to_event(eng: &Engine, state: &mut State, trial: &TrialIncrement, 
     for c in sel.group.iter().filter(|c| c.kind == EventKind::Yield) {
         state.plastic[c.entity] = true;
     }
+    // Put back on its facet, a pair a correction left beyond it has a force jump; in the
+    // reduced space it is kept to be rebalanced (`State::jumps`), as a switch's is.
+    let before = jumps_kept(eng).then(|| contact_forces(state));
     project_onto_cone(&eng.problem, state);
+    if let Some(before) = before {
+        keep_jumps(state, &before);
+    }
     start
 }
 

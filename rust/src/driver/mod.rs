@@ -195,7 +195,7 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
     let window = Window::open(&sel, state, rec, stage.correction);
     let (trial, sel, sub_jump) = window::contact_events(eng, state, trial, sel, base, cycles, rec)?;
     let start = advance::to_event(eng, state, &trial, &sel); // eqs. 58–62
-    let jump = switch_statuses(eng, state, &sel, cycles, rec, Solve::RemainingLoad).max(sub_jump); // step 6
+    let jump = switch_statuses(eng, state, &sel, cycles, rec, Solve::RemainingLoad).max(sub_jump).max(unbalanced_jump(state)); // step 6
     let lost = support_lost(eng, state, rec, first_event);
     if lost.is_some() && (start.is_some() || jump > eng.problem.scales.force_noise) {
         restore_hold(eng, state, rec, first_event); // the correction needs what held it
@@ -224,6 +224,12 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         return Ok(Outcome::Stop(StopReason::FirstYield));
     }
     Ok(Outcome::Advanced)
+}
+
+/// The largest force jump the state keeps unbalanced (`State::jumps`; 0 outside the reduced 3D
+/// space): the advance's and the switches' alike, the correction at fixed load releases them.
+fn unbalanced_jump(state: &State) -> f64 {
+    state.jumps.iter().map(|j| j[0].abs().max(j[1].hypot(j[2]))).fold(0.0, f64::max)
 }
 
 /// The trial's scale at which a body held by friction alone meets its capacity μN (∞ if none).

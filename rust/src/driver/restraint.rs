@@ -27,6 +27,8 @@ use nalgebra::DMatrix;
 const FREE_MOTION: f64 = 1e-9;
 /// T within this (relative) of μN is not gross sliding: the body is at the limit, not beyond.
 const CAPACITY_TIE: f64 = 1e-9;
+/// Unit normals whose dot product is within this of 1 are parallel (pairs on one plane).
+const PARALLEL: f64 = 1e-9;
 /// A tangential load below this × Σ|load| is round-off (of a moment of the other loads, say).
 const LOAD_ROUND_OFF: f64 = 1e-9;
 
@@ -56,9 +58,9 @@ pub(super) fn check_restrained(problem: &Problem, loads: &StageLoads, state: &St
     Restraint { p: problem, loads }.check_restrained(state, a, m, mode_rhs, closed_normals)
 }
 
-/// 3D: the stage fraction in (φ, 1] at which a body held by friction alone (its closed pairs
-/// all slipping) meets its capacity, |T(s)| = μ N(s) for the resultants of its load in the
-/// contact plane and along the normal: its pairs hold at most μ λ_n each, whatever their slip
+/// 3D: the stage fraction in (φ, 1] at which a body held by friction alone (`friction_held`)
+/// meets its capacity, |T(s)| = μ N(s) for the resultants of its load in the contact plane and
+/// along the normal: its pairs hold at most μ λ_n each, whatever their statuses and slip
 /// directions, so no equilibrium exists beyond (the increment is cut there, `friction_stop`
 /// stops the run). None when no body is so held or its load stays inside.
 pub(super) fn friction_limit(problem: &Problem, loads: &StageLoads, state: &State) -> Option<f64> {
@@ -67,10 +69,10 @@ pub(super) fn friction_limit(problem: &Problem, loads: &StageLoads, state: &Stat
     let limit = r.friction_held(state).filter_map(|(body, mu, n)| {
         let (t0, n0) = r.resultants(body, &n, phi);
         let (t1, n1) = r.resultants(body, &n, 1.0);
-        let d = 1.0 - phi;
-        let rate = ([(t1[0] - t0[0]) / d, (t1[1] - t0[1]) / d], (n1 - n0) / d);
-        crate::events::onto_round_cone(mu, (n0, t0), (rate.1, rate.0), 0.0).map(|s| phi + s * d)
-    }).filter(|&s| s > phi).reduce(f64::min);
+        // the change to the stage's end: the cone's root is the share of it taken
+        let change = ([t1[0] - t0[0], t1[1] - t0[1]], n1 - n0);
+        crate::events::onto_round_cone(mu, (n0, t0), (change.1, change.0), 0.0).map(|s| phi + s * (1.0 - phi))
+    }).filter(|&s| s > phi && s <= 1.0).reduce(f64::min);
     limit
 }
 
@@ -83,7 +85,7 @@ pub(super) fn friction_stop(problem: &Problem, loads: &StageLoads, state: &State
         let t = t[0].hypot(t[1]);
         (n_load > 0.0 && t >= mu * n_load * (1.0 - CAPACITY_TIE) && t > LOAD_ROUND_OFF * problem.scales.force).then(|| {
             let name = problem.model.body_name(problem.bodies.first_element[body]);
-            let what = format!("{name} slides as a whole: its closed pairs all slip and its tangential load T = {t:.4e} has reached the friction capacity μN = {:.4e} (N = {n_load:.4e} along the contact normal)", mu * n_load);
+            let what = format!("{name} slides as a whole: its tangential load T = {t:.4e} has reached the friction capacity of its closed pairs, μN = {:.4e} (N = {n_load:.4e} along the contact normal)", mu * n_load);
             StopReason::SupportLost { load_fraction: state.time(), stage: problem.model.stage_label(state.stage), what, fix: "lower the tangential load, raise mu, or add a support (fix/symmetry)".into() }
         })
     });
@@ -264,20 +266,24 @@ impl Restraint<'_> {
     }
 
     /// 3D bodies held by nothing but their closed pairs (all six rigid modes free: no support
-    /// takes a share of the load) whose closed pairs all slip with friction: (body, μ, the
-    /// closed pairs' mean unit normal), μ the pairs' mean.
+    /// takes a share of the load), all frictional and on one plane (parallel normals): (body,
+    /// the pairs' largest μ, their unit normal). Their friction forces lie in that plane and sum
+    /// to at most μ Σλ_n = μN whatever their statuses (Coulomb), so a tangential load T beyond
+    /// μN has no equilibrium: at T = μN every pair carries its whole friction along T.
     fn friction_held<'s>(&'s self, state: &'s State) -> impl Iterator<Item = (usize, f64, [f64; 3])> + 's {
         self.bodies_with_modes().into_iter().filter(|(_, idx)| self.p.dim == 3 && idx.len() == 6).filter_map(move |(body, _)| {
             let closed: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body).collect();
-            let slipping = |p: &usize| matches!(state.status[*p], Status::Slip { .. }) && self.p.pairs[*p].frictional();
-            if closed.is_empty() || !closed.iter().all(slipping) {
+            let normal = |p: usize| self.p.global_pairs()[p].frame.normal;
+            let n = normal(*closed.first()?);
+            let on_plane = |p: &usize| {
+                let m = normal(*p);
+                n[0] * m[0] + n[1] * m[1] + n[2] * m[2] >= 1.0 - PARALLEL
+            };
+            if !closed.iter().all(|&p| self.p.pairs[p].frictional()) || !closed.iter().all(on_plane) {
                 return None;
             }
-            let mut n = [0.0; 3];
-            closed.iter().for_each(|&p| (0..3).for_each(|k| n[k] += self.p.global_pairs()[p].frame.normal[k]));
-            let size = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            let mu = closed.iter().map(|&p| self.p.pairs[p].mu).sum::<f64>() / closed.len() as f64;
-            (size > 0.0).then(|| (body, mu, n.map(|v| v / size)))
+            let mu = closed.iter().map(|&p| self.p.pairs[p].mu).fold(0.0, f64::max);
+            Some((body, mu, n))
         })
     }
 
