@@ -91,9 +91,9 @@ use plasticity::{correct_at_fixed_load, drift, restore_equilibrium, Restored};
 use recording::Recorder;
 use restraint::{hold, Hold};
 use selection::Selection;
-use state::{IncrementStart, State, TrialIncrement};
+use state::{IncrementStart, State};
 use stepping::Stepping;
-use switching::{contact_forces, jumps_kept, keep_jumps, switch_keeping, switch_statuses};
+use switching::{switch_keeping, switch_statuses};
 use tangents::Renewal;
 use trial::Solve;
 use window::Window;
@@ -195,9 +195,7 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
     let window = Window::open(&sel, state, rec, stage.correction);
     let (trial, sel, sub_jump) = window::contact_events(eng, state, trial, sel, base, cycles, rec)?;
     let start = advance::to_event(eng, state, &trial, &sel); // eqs. 58–62
-    let jump = switch_statuses(eng, state, &sel, cycles, rec, Solve::RemainingLoad).max(sub_jump); // step 6
-    aim_unloaded_slips(eng, state, &trial, &sel);
-    let jump = jump.max(unbalanced_jump(state));
+    let jump = switch_statuses(eng, state, &sel, cycles, rec, Solve::RemainingLoad).max(sub_jump).max(unbalanced_jump(state)); // step 6
     let lost = support_lost(eng, state, rec, first_event);
     if lost.is_some() && (start.is_some() || jump > eng.problem.scales.force_noise) {
         restore_hold(eng, state, rec, first_event); // the correction needs what held it
@@ -226,35 +224,6 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         return Ok(Outcome::Stop(StopReason::FirstYield));
     }
     Ok(Outcome::Advanced)
-}
-
-/// 3D: a pair that began to slip at zero normal force has no friction force to take its
-/// direction e from (`switching::held_direction`); it takes that of its stuck trial's friction
-/// force rate, so that from the next trial on its facet's cross row holds it across e (a body
-/// whose pairs all slip so from the first instant, pressed, is held by them). One whose facet
-/// turned at zero force (a cross force rate beyond what its normal force rate bounds) cannot
-/// hold across: it drops e, and its next trial's slip rate sets it (`slip_turn`).
-fn aim_unloaded_slips(eng: &Engine, state: &mut State, trial: &TrialIncrement, sel: &Selection) {
-    let problem = &eng.problem;
-    if problem.dim != 3 {
-        return;
-    }
-    let before = jumps_kept(eng).then(|| contact_forces(state));
-    for c in sel.group.iter().filter(|c| matches!(c.kind, EventKind::StickToSlip | EventKind::SlipTurn)) {
-        let (p, pair) = (c.entity, &problem.pairs[c.entity]);
-        let rate = [trial.dlambda_t[p], trial.dlambda_t2[p]];
-        let size = rate[0].hypot(rate[1]);
-        let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
-        if !slipping || pair.held != [false; 2] || state.lambda_n[p] > problem.scales.force_noise || size <= trial.noise.force {
-            continue;
-        }
-        let e = if c.kind == EventKind::SlipTurn { [0.0; 2] } else { rate.map(|r| r / size) };
-        state.slip_dir[p] = e;
-        (state.lambda_t[p], state.lambda_t2[p]) = (pair.mu * state.lambda_n[p] * e[0], pair.mu * state.lambda_n[p] * e[1]);
-    }
-    if let Some(before) = before {
-        keep_jumps(state, &before);
-    }
 }
 
 /// The largest force jump the state keeps unbalanced (`State::jumps`; 0 outside the reduced 3D

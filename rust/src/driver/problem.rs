@@ -188,15 +188,14 @@ impl<'m> Problem<'m> {
     }
 
     /// 3D: the cross direction e⊥ = (−e2, e1) (along t1, t2) of a slipping pair that holds its
-    /// facet's cross row (`contact`'s module text): both tangents free and a held direction e
-    /// (a pair slipping at zero force may have none yet: `slip_turn`), its normal force not
-    /// negative; at zero force its cross force is bounded by its normal force rate (a facet
-    /// turn at once drops e: `driver::aim_unloaded_slips`). None for every other pair.
+    /// facet's cross row (`contact`'s module text): both tangents free, a held direction e, and
+    /// a normal force to bound its cross force by (a pair slipping at zero force has none yet:
+    /// `slip_turn`). None for every other pair.
     pub fn cross_direction(&self, state: &State, p: usize) -> Option<[f64; 2]> {
         let (pair, e) = (&self.pairs[p], state.slip_dir[p]);
         let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
         let on_facet = self.dim == 3 && slipping && pair.mu > 0.0 && !pair.held[0] && !pair.held[1] && e != [0.0; 2];
-        (on_facet && state.lambda_n[p] >= 0.0).then_some([-e[1], e[0]])
+        (on_facet && state.lambda_n[p] > self.scales.force_noise).then_some([-e[1], e[0]])
     }
 
     /// The largest |λ_t| Coulomb admits on pair p: μ λ_n on the round cone; on a slipping 3D

@@ -24,7 +24,7 @@ use super::state::{State, TrialIncrement};
 use super::stepping::Stepping;
 use crate::bail;
 use crate::contact::{Shift, SparseVec, Status};
-use crate::error::Result;
+use crate::error::{ErrorKind, Result};
 use crate::events::Noise;
 use nalgebra::{DMatrix, DVector};
 use std::borrow::Cow;
@@ -133,8 +133,14 @@ pub(super) fn remaining_load(eng: &mut Engine, state: &State, internal: Option<V
 fn solve_keeping(eng: &mut Engine, state: &State, what: Solve, internal: Option<Vec<f64>>, keep_base: bool) -> Result<(TrialIncrement, Option<TrialBase>)> {
     let oob = out_of_balance(eng, state, what, internal);
     let mut base = keep_base.then(|| TrialBase::of(&oob, 1.0 - state.load_fraction));
-    let sys = contact_system(eng, state, &oob.dshift);
-    let sol = solve_small_system(eng, state, &sys, &oob)?;
+    let mut sys = contact_system(eng, state, &oob.dshift, false);
+    let sol = match solve_small_system(eng, state, &sys, &oob) {
+        Err(e) if e.kind == ErrorKind::FreeBody && unloaded_facets(&eng.problem, state).next().is_some() => {
+            sys = contact_system(eng, state, &oob.dshift, true);
+            solve_small_system(eng, state, &sys, &oob).map_err(|_| e)?
+        }
+        sol => sol?,
+    };
     let inc = increment(eng, state, what, &sys, oob, &sol);
     if let Some(b) = &mut base {
         b.noise = inc.noise;
@@ -194,12 +200,32 @@ fn jump_force(problem: &Problem, state: &State) -> Vec<(usize, f64)> {
     force
 }
 
+/// 3D: the slipping pairs at zero normal force that hold a direction e but no facet yet
+/// (`Problem::cross_direction`), with their cross directions e⊥.
+fn unloaded_facets<'a>(problem: &'a Problem, state: &'a State) -> impl Iterator<Item = (usize, [f64; 2])> + 'a {
+    (0..problem.pairs.len()).filter_map(move |p| {
+        let (pair, e) = (&problem.pairs[p], state.slip_dir[p]);
+        let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
+        let unloaded = (0.0..=problem.scales.force_noise).contains(&state.lambda_n[p]);
+        let directed = problem.dim == 3 && pair.mu > 0.0 && pair.held == [false; 2] && e != [0.0; 2];
+        (slipping && unloaded && directed && problem.cross_direction(state, p).is_none()).then_some((p, [-e[1], e[0]]))
+    })
+}
+
 /// Rows of the closed pairs: normal (h = −gap − Δc_n); for frictional stick, tangential
 /// (h = RTD at sticking − RTD − Δc_t); for a 3D pair slipping on a facet, the cross row (no
 /// slip across its held direction: h = −e⊥·Δc_t), with Δc the obstacle's motion over the trial.
-fn contact_system(eng: &Engine, state: &State, dshift: &[Shift]) -> ContactSystem {
+/// `unloaded`: also for the pairs slipping at zero force with a direction (`unloaded_facets`),
+/// where without them a body is free (pressed, its pairs all slipping from the first instant:
+/// their normal forces grow with the trial; the advance bounds the cross forces they take,
+/// `advance::project_onto_cone`, and the jump is rebalanced).
+fn contact_system(eng: &Engine, state: &State, dshift: &[Shift], unloaded: bool) -> ContactSystem {
     let problem = &eng.problem;
     let (mut rows, mut h) = (Vec::new(), Vec::new());
+    let mut extra_cross = vec![None; problem.pairs.len()];
+    if unloaded {
+        unloaded_facets(problem, state).for_each(|(p, cross)| extra_cross[p] = Some(cross));
+    }
     for (p, st) in state.status.iter().enumerate() {
         if !st.is_closed() {
             continue;
@@ -217,7 +243,7 @@ fn contact_system(eng: &Engine, state: &State, dshift: &[Shift]) -> ContactSyste
                 h.push(state.rtd_stick2[p] - problem.rtd2(state, p) - dshift[p][2]);
             }
         }
-        if let Some(cross) = problem.cross_direction(state, p) {
+        if let Some(cross) = problem.cross_direction(state, p).or(extra_cross[p]) {
             rows.push(Row::Cross(p, cross));
             h.push(-(cross[0] * dshift[p][1] + cross[1] * dshift[p][2]));
         }
