@@ -84,6 +84,8 @@ pub(super) fn check_contact(eng: &Engine, state: &State, frozen: &[bool], correc
         let ln = state.lambda_n[p];
         let lt = if problem.dim == 3 { state.lambda_t[p].hypot(state.lambda_t2[p]) } else { state.lambda_t[p] };
         let closed = state.status[p].is_closed();
+        // a frozen pair has no event to bring it back: held to round-off, not to a correction's allowance
+        let force_tol = if frozen[p] { FORCE_ROUND_OFF * problem.scales.force } else { force_tol };
         let violation = if g < -gap_tol {
             format!("penetrates by {:.3e}", -g)
         } else if closed && ln < -force_tol {
