@@ -151,37 +151,46 @@ pub fn slip_rate(pair: &Pair, trial: &Trial, p: usize) -> [f64; 2] {
     [along(&pair.w_t, 1), along(&pair.w_t2, 2)]
 }
 
-/// Stick → slip on the round Coulomb cone (3D): the smallest S ≥ 0 with
-/// |λ_t0 + S Δλ_t| = μ (λ_n0 + S Δλ_n), λ_n(S) > 0: the root of the quadratic
-/// a S² + b S + c = 0, a = |Δλ_t|² − μ²Δλ_n², b = 2(λ_t0·Δλ_t − μ² λ_n0 Δλ_n),
-/// c = |λ_t0|² − μ² λ_n0² (≤ 0 inside the cone). A pair on the cone (c ≥ 0 by round-off) that
-/// moves outwards slips at S = 0, also one at zero force sheared with no normal force rate to
-/// hold it (λ_n0 = λ_t0 = 0, |Δλ_t| > μΔλ_n with Δλ_n ≤ 0; if it is pulled off, its separation
-/// at S = 0 comes first). None: the increment stays inside (or its rates are noise).
+/// Stick → slip on the round Coulomb cone (3D): the smallest S ≥ 0 where the friction force
+/// leaves the cone, g(S) = |λ_t0 + S Δλ_t| − μ (λ_n0 + S Δλ_n) crossing zero upwards. g is
+/// convex; its zeros with λ_n(S) > 0 are roots of the quadratic a S² + b S + c = 0,
+/// a = |Δλ_t|² − μ²Δλ_n², b = 2(λ_t0·Δλ_t − μ² λ_n0 Δλ_n), c = |λ_t0|² − μ² λ_n0² (the squared
+/// cone, whose other roots are on its mirror image through the apex, λ_n < 0). A pair on the
+/// cone or outside it by round-off (g(0) ≥ 0: also one whose λ_n is a round-off below zero just
+/// after it closed, where the squared cone's c and b describe the mirror image) slips at S = 0
+/// when g grows there, also one at zero force sheared with no normal force rate to hold it (if
+/// it is pulled off, its separation at S = 0 comes first), and one that stays outside; one that
+/// moves inwards first slips where it leaves again. None: the increment stays inside (or its
+/// rates are noise).
 pub fn onto_round_cone(mu: f64, (ln, lt): (f64, [f64; 2]), (dln, dlt): (f64, [f64; 2]), noise: f64) -> Option<f64> {
-    if dlt[0].hypot(dlt[1]) <= noise && mu * dln.abs() <= noise {
+    let shear_rate = dlt[0].hypot(dlt[1]);
+    if shear_rate <= noise && mu * dln.abs() <= noise {
         return None;
     }
     let mu2 = mu * mu;
     let a = dlt[0] * dlt[0] + dlt[1] * dlt[1] - mu2 * dln * dln;
     let b = 2.0 * (lt[0] * dlt[0] + lt[1] * dlt[1] - mu2 * ln * dln);
     let c = lt[0] * lt[0] + lt[1] * lt[1] - mu2 * ln * ln;
-    // λ_n(S) > 0 there, or S = 0 on a pair that still touches (λ_n = 0)
-    let normal_at = |s: f64| ln + s * dln > 0.0 || (s == 0.0 && ln >= 0.0);
-    if c >= 0.0 && (b > 0.0 || (b == 0.0 && a > 0.0)) {
-        // on the cone (to round-off) and the friction force grows faster than its capacity
-        return normal_at(0.0).then_some(0.0);
-    }
+    let size = lt[0].hypot(lt[1]);
+    let inside = size < mu * ln;
     let disc = b * b - 4.0 * a * c;
-    if disc < 0.0 {
-        return None;
+    let q = -0.5 * (b + b.signum() * disc.max(0.0).sqrt()); // the roots q/a and c/q, without cancellation
+    let roots = if disc < 0.0 { [f64::INFINITY; 2] } else { [if a != 0.0 { q / a } else { f64::INFINITY }, if q != 0.0 { c / q } else { f64::INFINITY }] };
+    // where the cone itself (λ_n(S) > 0) is crossed outwards (f' = 2aS + b > 0); a pair on the
+    // cone is not leaving at the point it starts from
+    let leaving = |s: f64| s.is_finite() && (s > 0.0 || (s == 0.0 && inside)) && 2.0 * a * s + b > 0.0 && ln + s * dln > 0.0;
+    let exit = roots.into_iter().filter(|&s| leaving(s)).fold(None, |best: Option<f64>, s| Some(best.map_or(s, |b| b.min(s))));
+    if inside {
+        return exit;
     }
-    let q = -0.5 * (b + b.signum() * disc.sqrt()); // the roots q/a and c/q, without cancellation
-    let roots = [if a != 0.0 { q / a } else { f64::INFINITY }, if q != 0.0 { c / q } else { f64::INFINITY }];
-    // the first crossing outwards (f' = 2aS + b > 0); one on the cone that moves inwards first
-    // (c ≥ 0, b ≤ 0) leaves it again at the later root
-    let leaving = |s: f64| s.is_finite() && (s > 0.0 || (s == 0.0 && c < 0.0)) && 2.0 * a * s + b > 0.0 && normal_at(s);
-    roots.into_iter().filter(|&s| leaving(s)).fold(None, |best: Option<f64>, s| Some(best.map_or(s, |b| b.min(s))))
+    // on or outside the cone: g's slope at S = 0 (along λ_t0, or from the apex)
+    let slope = if size > 0.0 { (lt[0] * dlt[0] + lt[1] * dlt[1]) / size } else { shear_rate } - mu * dln;
+    if slope > 0.0 {
+        return Some(0.0);
+    }
+    // moving inwards first: it leaves again where it crosses outwards; with no such crossing it
+    // either stays inside (pressed more than sheared: g falls for good) or never enters
+    exit.or((shear_rate > mu * dln).then_some(0.0))
 }
 
 /// A pair slipping on a facet (3D): where its friction force has turned off the held
@@ -303,6 +312,15 @@ mod tests {
         // at zero force, sheared with no normal force rate (or one pulling by round-off): at once
         assert_eq!(onto_round_cone(mu, (0.0, [0.0; 2]), (0.0, [0.04, -0.17]), noise), Some(0.0));
         assert_eq!(onto_round_cone(mu, (0.0, [0.0; 2]), (-0.5 * noise, [0.04, -0.17]), noise), Some(0.0));
+        // just closed, λ_n a round-off below zero (as a correction at fixed load leaves it), so
+        // outside the cone by round-off, where the squared cone describes its mirror image:
+        // sheared more than pressed, at once, whether the round-off λ_t points along the shear
+        // (the pyramid's edge: λ_t grows along it as the stick went on) or against it; pressed
+        // more than sheared, never
+        let (ln, lt) = (-4.66e-8, [-2.06e-9, 8.37e-8]);
+        assert_eq!(onto_round_cone(mu, (ln, lt), (0.171, [-0.2076, 0.0405]), noise), Some(0.0));
+        assert_eq!(onto_round_cone(mu, (ln, lt), (0.171, [0.0405, -0.2076]), noise), Some(0.0));
+        assert_eq!(onto_round_cone(mu, (ln, lt), (0.171, [-0.02, 0.004]), noise), None);
     }
 
     /// A facet's turn: the cross force λ_⊥ = e⊥·λ_t reaches ± tan(slip_turn) μ λ_n where the

@@ -16,7 +16,9 @@ gives the reasons):
 The scenes: a block pressed onto a rigid frictional flat by its top, then its top moved along
 x and then along y, so that its bottom slides and its slip turns through a right angle; and a
 tangential point load at a contact node that carries no normal force (a pair closed at zero
-force), which slips at once (before, "an event was missed").
+force), which slips at once (before, "an event was missed"); and an elastoplastic quarter block
+pressed by a Vickers pyramid and unloaded, where a pair closes at a round-off λ_n and must slip
+at once (before, it stayed stuck far outside its cone).
 """
 
 from __future__ import annotations
@@ -194,3 +196,169 @@ def test_a_tangential_load_on_a_contact_node_without_normal_force_slips_it(pull)
     # what the pair carries is bounded by Coulomb (above) and the rest is the clamped top's:
     # the pair cannot hold the load, so the reactions carry most of it
     assert np.linalg.norm(last["lambda_t"][0]) < np.linalg.norm(force)
+
+
+PYRAMID = """
+[analysis]
+dimension = 3
+[output]
+snapshots = {snapshots}
+[[stage]]
+name = "load"
+factors = {{ press = 1.0 }}
+[[stage]]
+name = "unload"
+factors = {{ press = 0.0 }}
+[[body]]
+name = "block"
+[body.mesh]
+generator = "box"
+x0 = 0.0
+y0 = 0.0
+z0 = -3.0
+width = 3.0
+depth = 3.0
+height = 3.0
+h_contact = 0.1
+contact_zone = 0.6
+h_max = 1.0
+growth = 0.3
+focus = [0.0, 0.0, 0.0]
+[body.material]
+E = {E}
+nu = 0.3
+Sy = 500.0
+H = 2000.0
+[[bc]]
+body = "block"
+face = "bottom"
+fix = ["x", "y", "z"]
+[[bc]]
+body = "block"
+face = "left"
+symmetry = true
+[[bc]]
+body = "block"
+face = "front"
+symmetry = true
+[[contact]]
+name = "press"
+kind = "rigid_surface"
+indenter = "vickers"
+tip = [0.0, 0.0, 0.0]
+size = 1.0
+body = "block"
+face = "top"
+x_max = 1.0
+y_max = 1.0
+mu = {mu}
+motion = [0.0, 0.0, -{depth}]
+"""
+
+PYRAMID_E, PYRAMID_DEPTH = 200000.0, 0.05
+# What the engine takes for a round-off force rate: 1e-12 of its force scale, for a scene
+# driven by an obstacle's motion Σ_pairs E D |motion|, D the mesh's diameter
+# (rust/src/driver/problem.rs). A pair whose rates within one step are below it is not
+# switched, so one step moves a stuck pair towards the outside of its cone by at most (1 + μ)
+# × that (λ_t and μ λ_n each by the floor), and a switch whose force jump is below it is not
+# rebalanced (rust/src/driver/mod.rs, `settle`): it leaves an out-of-balance force up to the
+# floor. An event missed moves a pair by the order of its force (on the Vickers block ~0.1,
+# the reactions ~40): four and six orders above these.
+ENGINE_FORCE_NOISE = 1e-12
+
+
+def assert_indented_admissibly(model: dict, result: dict, young: float, depth: float, every_event: bool):
+    """An indentation by an obstacle's motion (its material's E `young`, the motion's length
+    `depth`), completed, checked at every snapshot from the result arrays: Coulomb (stuck pairs
+    on or inside the round cone, slipping ones within their facets), no tension, equilibrium
+    recomputed; at `every_event` also no work produced by a slip over a step (its argument
+    holds over one step: tests/physics.py)."""
+    assert result["stop"]["kind"] == "completed", result["stop"]
+    snaps, slip_turn = result["snapshots"], model["options"]["slip_turn"]
+    mu = float(np.max(model["pairs"]["mu"]))
+    diameter = np.linalg.norm(np.ptp(np.asarray(model["nodes"]), axis=0))
+    noise = ENGINE_FORCE_NOISE * len(model["pairs"]["mu"]) * young * diameter * depth
+    umax = max(np.abs(s["u"]).max() for s in snaps)
+    worst = friction_in_space(model, snaps, slip_turn, (LENGTH_TOL * umax, noise))
+    assert worst["outside_round"] <= (1 + mu) * noise, worst
+    assert worst["beyond_facet"] <= (1 + mu) * noise, worst
+    if every_event:
+        assert worst["work"] <= noise * umax, worst
+    for k, s in enumerate(snaps):
+        assert (s["lambda_n"][s["status"] > 0] >= -noise).all(), (k, "tension", s["lambda_n"].min())
+        reactions = np.linalg.norm(s["reaction"])  # the residual's scale (tests/physics.py)
+        off_balance = equilibrium_residual(model, s) * reactions
+        assert off_balance <= EQUILIBRIUM_TOL * reactions + noise, (k, off_balance)
+
+
+# The snapshots cut increments: at three times the run meets the pair as described below; at
+# every event it is checked everywhere (its path differs, its pairs close at other forces).
+@pytest.mark.parametrize("snapshots", ["[0.5, 1.0, 2.0]", '"events"'])
+def test_a_pair_closing_under_a_pyramids_edge_slips_where_it_leaves_the_cone(snapshots):
+    """A quarter block, elastoplastic, pressed by a Vickers pyramid and unloaded (1.6k DOFs).
+    A pair under the pyramid's edge closes inside a plastic increment; the correction at fixed
+    load leaves its λ_n a round-off below zero, so it starts the next increment outside its
+    cone by round-off, where the squared cone's test looks at the cone's mirror image: it stayed
+    stuck while its friction force grew to four times μ λ_n (before, the run ended with
+    "violates Coulomb's law ... after the equilibrium correction" at t = 0.787)."""
+    model = model_of(PYRAMID.format(E=PYRAMID_E, depth=PYRAMID_DEPTH, mu=0.3, snapshots=snapshots))
+    result = _engine.solve(model, False)
+    kinds = Counter(result["events"]["kind"])
+    assert kinds["yield"] > 0 and kinds["stick_to_slip"] > 0, kinds
+    assert_indented_admissibly(model, result, PYRAMID_E, PYRAMID_DEPTH, snapshots == '"events"')
+
+
+BERKOVICH = """
+[analysis]
+dimension = 3
+[output]
+snapshots = [0.5, 1.0]
+[[body]]
+name = "block"
+[body.mesh]
+generator = "box"
+x0 = -2.0
+y0 = -2.0
+z0 = -2.0
+width = 4.0
+depth = 4.0
+height = 2.0
+h_contact = 0.16
+contact_zone = 0.5
+h_max = 0.8
+growth = 0.3
+focus = [0.0, 0.0, 0.0]
+[body.material]
+E = 1000.0
+nu = 0.3
+Sy = 5.0
+[[bc]]
+body = "block"
+face = "bottom"
+fix = ["x", "y", "z"]
+[[contact]]
+kind = "rigid_surface"
+indenter = "berkovich"
+tip = [0.0, 0.0, 0.0]
+size = 1.0
+body = "block"
+face = "top"
+x_min = -0.8
+x_max = 0.8
+y_min = -0.8
+y_max = 0.8
+mu = 0.2
+motion = [0.0, 0.0, -0.1]
+"""
+
+
+def test_a_slip_switched_below_the_force_noise_inside_contact_substeps_keeps_the_path():
+    """A whole block under a Berkovich pyramid, perfectly plastic (1.5k DOFs). Inside a plastic
+    window's contact sub-steps a stuck pair outside its cone by round-off slips at once, and its
+    force is put on the cone: a jump below the force noise, so the sub-steps go on. The whole
+    increment takes the end forces with that jump, which no sub-step moved (before, the run
+    ended with "contact sub-steps: the increment's displacement differs from its sub-steps'" at
+    t = 0.756)."""
+    model = model_of(BERKOVICH)
+    result = _engine.solve(model, False)
+    assert_indented_admissibly(model, result, 1000.0, 0.1, False)
