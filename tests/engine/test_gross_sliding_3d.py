@@ -99,7 +99,8 @@ def run(mu: float, tau: float, angle_deg: float = 0.0):
     return scene, solve(scene)
 
 
-@pytest.mark.parametrize("mu, tau, angle", [(0.3, 1.0, 0.0), (0.2, 1.0, 0.0), (0.3, 0.8, 30.0)])
+@pytest.mark.parametrize("mu, tau, angle", [(0.3, 1.0, 0.0), (0.2, 1.0, 0.0), (0.1, 1.0, 0.0),
+                                            (0.3, 0.8, 30.0)])
 def test_the_block_slides_where_the_push_reaches_mu_n(mu, tau, angle):
     scene, result = run(mu, tau, angle)
     stop = result["stop"]

@@ -135,7 +135,7 @@ fn solve_keeping(eng: &mut Engine, state: &State, what: Solve, internal: Option<
     let mut base = keep_base.then(|| TrialBase::of(&oob, 1.0 - state.load_fraction));
     let mut sys = contact_system(eng, state, &oob.dshift, false);
     let sol = match solve_small_system(eng, state, &sys, &oob) {
-        Err(e) if e.kind == ErrorKind::FreeBody && unloaded_facets(&eng.problem, state).next().is_some() => {
+        Err(e) if matches!(e.kind, ErrorKind::FreeBody | ErrorKind::GrossSliding) && unloaded_facets(&eng.problem, state).next().is_some() => {
             sys = contact_system(eng, state, &oob.dshift, true);
             solve_small_system(eng, state, &sys, &oob).map_err(|_| e)?
         }
@@ -216,7 +216,8 @@ fn unloaded_facets<'a>(problem: &'a Problem, state: &'a State) -> impl Iterator<
 /// (h = RTD at sticking − RTD − Δc_t); for a 3D pair slipping on a facet, the cross row (no
 /// slip across its held direction: h = −e⊥·Δc_t), with Δc the obstacle's motion over the trial.
 /// `unloaded`: also for the pairs slipping at zero force with a direction (`unloaded_facets`),
-/// where without them a body is free (pressed, its pairs all slipping from the first instant:
+/// where without them a body is free or seems to slide as a whole (pressed, its pairs all
+/// slipping from the first instant, a turn about the normal unresisted:
 /// their normal forces grow with the trial; the advance bounds the cross forces they take,
 /// `advance::project_onto_cone`, and the jump is rebalanced).
 fn contact_system(eng: &Engine, state: &State, dshift: &[Shift], unloaded: bool) -> ContactSystem {
