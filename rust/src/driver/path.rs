@@ -41,11 +41,6 @@ impl StageLoad {
         &self.force_change
     }
 
-    /// P at the stage's end.
-    pub fn force_end(&self) -> Vec<f64> {
-        (0..self.force_start.len()).map(|d| self.force(d, 1.0)).collect()
-    }
-
     /// Δū over the whole stage at every prescribed DOF.
     pub fn prescribed_changes(&self) -> Vec<(usize, f64)> {
         self.prescribed.iter().map(|&(d, _, change)| (d, change)).collect()

@@ -192,10 +192,16 @@ impl<'m> Problem<'m> {
     /// a normal force to bound its cross force by (a pair slipping at zero force has none yet:
     /// `slip_turn`). None for every other pair.
     pub fn cross_direction(&self, state: &State, p: usize) -> Option<[f64; 2]> {
+        self.facet_cross(state, p).filter(|_| state.lambda_n[p] > self.scales.force_noise)
+    }
+
+    /// 3D: e⊥ of a slipping pair that could slip on a facet, whatever its normal force: both
+    /// tangents free, with friction and a held direction e.
+    pub fn facet_cross(&self, state: &State, p: usize) -> Option<[f64; 2]> {
         let (pair, e) = (&self.pairs[p], state.slip_dir[p]);
         let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
-        let on_facet = self.dim == 3 && slipping && pair.mu > 0.0 && !pair.held[0] && !pair.held[1] && e != [0.0; 2];
-        (on_facet && state.lambda_n[p] > self.scales.force_noise).then_some([-e[1], e[0]])
+        let directed = self.dim == 3 && slipping && pair.mu > 0.0 && !pair.held[0] && !pair.held[1] && e != [0.0; 2];
+        directed.then_some([-e[1], e[0]])
     }
 
     /// The largest |λ_t| Coulomb admits on pair p: μ λ_n on the round cone; on a slipping 3D

@@ -290,18 +290,21 @@ impl Restraint<'_> {
     /// A body's load at stage fraction s resolved on the unit normal n: its components in a
     /// basis of the contact plane, and the compressive part along −n.
     fn resultants(&self, body: usize, n: &[f64; 3], s: f64) -> ([f64; 2], f64) {
-        let nodes = (0..self.p.bodies.of_node.len()).filter(|&i| self.p.bodies.of_node[i] == body);
-        let f = nodes.fold([0.0; 3], |f, i| [0, 1, 2].map(|k| f[k] + self.loads.load.force(3 * i + k, s)));
+        let f = self.body_load_at(body, s);
         let [t1, t2] = crate::contact::Frame::of_pair(3, *n, None).tangents;
-        let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-        ([dot(&f, &t1), dot(&f, &t2)], -dot(&f, n))
+        ([along(&f, &t1), along(&f, &t2)], -along(&f, n))
     }
 
     /// The resultant (x, y[, z]) of the stage's end load on a body.
     fn body_load(&self, body: usize) -> Vec<f64> {
-        let (load, dim) = (self.loads.load.force_end(), self.p.dim);
+        self.body_load_at(body, 1.0)
+    }
+
+    /// The resultant (x, y[, z]) of the load on a body at stage fraction s.
+    fn body_load_at(&self, body: usize, s: f64) -> Vec<f64> {
+        let dim = self.p.dim;
         let nodes = (0..self.p.bodies.of_node.len()).filter(|&i| self.p.bodies.of_node[i] == body);
-        nodes.fold(vec![0.0; dim], |f, i| (0..dim).map(|k| f[k] + load[dim * i + k]).collect())
+        nodes.fold(vec![0.0; dim], |f, i| (0..dim).map(|k| f[k] + self.loads.load.force(dim * i + k, s)).collect())
     }
 
     /// (T, N, μ) of `tangential_and_normal_load` when T exceeds the capacity μN: gross sliding.

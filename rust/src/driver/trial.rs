@@ -203,13 +203,8 @@ fn jump_force(problem: &Problem, state: &State) -> Vec<(usize, f64)> {
 /// 3D: the slipping pairs at zero normal force that hold a direction e but no facet yet
 /// (`Problem::cross_direction`), with their cross directions e⊥.
 fn unloaded_facets<'a>(problem: &'a Problem, state: &'a State) -> impl Iterator<Item = (usize, [f64; 2])> + 'a {
-    (0..problem.pairs.len()).filter_map(move |p| {
-        let (pair, e) = (&problem.pairs[p], state.slip_dir[p]);
-        let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
-        let unloaded = (0.0..=problem.scales.force_noise).contains(&state.lambda_n[p]);
-        let directed = problem.dim == 3 && pair.mu > 0.0 && pair.held == [false; 2] && e != [0.0; 2];
-        (slipping && unloaded && directed && problem.cross_direction(state, p).is_none()).then_some((p, [-e[1], e[0]]))
-    })
+    let unloaded = move |p: usize| (0.0..=problem.scales.force_noise).contains(&state.lambda_n[p]);
+    (0..problem.pairs.len()).filter(move |&p| unloaded(p)).filter_map(move |p| problem.facet_cross(state, p).map(|cross| (p, cross)))
 }
 
 /// Rows of the closed pairs: normal (h = −gap − Δc_n); for frictional stick, tangential
