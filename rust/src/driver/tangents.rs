@@ -18,6 +18,7 @@ use crate::material::{deviator, Tangent, Voigt, SHEARS};
 use crate::model::Options;
 use nalgebra::{Matrix6, SVector, SymmetricEigen};
 use rayon::prelude::*;
+use std::collections::HashMap;
 
 /// Share of the plastic elements that may have yielded without their tangent in K yet.
 const WAITING_YIELDS: f64 = 0.05;
@@ -46,7 +47,11 @@ impl Renewal {
 /// The tangent of every element as K holds it, and as the last factor K_f holds it.
 pub(super) struct Tangents {
     pub held: Vec<Tangent>,
-    pub factored: Vec<Tangent>,
+    /// The tangent K_f holds of each element renewed since the last factorization (the others
+    /// hold the same one as K): a factorization clears these instead of copying every
+    /// element's tangent (at 24.5k DOFs 8.5 MB a time, 50 ms over the 36 factorizations of
+    /// the elastoplastic Hertz).
+    replaced: HashMap<usize, Tangent>,
     /// Each material's elastic tangent: an elastic element's stress increment reads this one
     /// (a few cache lines for the whole mesh) instead of its own copy in `held`.
     elastic: Vec<Tangent>,
@@ -57,12 +62,17 @@ impl Tangents {
     pub fn elastic(problem: &Problem) -> Self {
         let held: Vec<Tangent> = problem.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
         let elastic = problem.model.materials.iter().map(|m| m.tangent(&Voigt::zeros(), false)).collect();
-        Tangents { factored: held.clone(), held, elastic }
+        Tangents { held, replaced: HashMap::new(), elastic }
     }
 
     /// After a factorization: K_f holds every element's current tangent.
     pub fn factored(&mut self) {
-        self.factored.clone_from(&self.held);
+        self.replaced.clear();
+    }
+
+    /// Element e's tangent as the last factor holds it.
+    fn factored_tangent(&self, e: usize) -> &Tangent {
+        self.replaced.get(&e).unwrap_or(&self.held[e])
     }
 
     /// The elements whose tangent changed with the state (now renewed in `held`), or None when
@@ -105,7 +115,8 @@ impl Tangents {
             (Some(f), true) => turned(&f.da, &state.stress[e]) > turn,
         };
         if change {
-            self.held[e] = problem.sections[e].tangent(&state.stress[e], state.plastic[e]);
+            let renewed = problem.sections[e].tangent(&state.stress[e], state.plastic[e]);
+            self.replaced.entry(e).or_insert(std::mem::replace(&mut self.held[e], renewed));
         }
         change
     }
@@ -115,7 +126,7 @@ impl Tangents {
     /// c = √(w |λ|) Bᵀ v (w the element's volume).
     pub fn columns(&self, problem: &Problem, e: usize, map: &DofMap) -> Vec<Column> {
         let section = &problem.sections[e];
-        let delta: Matrix6<f64> = section.element_matrix(&self.held[e]) - section.element_matrix(&self.factored[e]);
+        let delta: Matrix6<f64> = section.element_matrix(&self.held[e]) - section.element_matrix(self.factored_tangent(e));
         // (the eigen decomposition at the element's own size: nalgebra's needs a concrete one)
         match &problem.elements {
             Elements::Plane(els) => {
