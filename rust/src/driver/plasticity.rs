@@ -132,7 +132,7 @@ pub(super) fn integrate_stresses(problem: &Problem, state: &State, trial: &Trial
             // back onto the surface first if the last correction left it beyond
             let stress = if plastic { section.not_beyond_surface(&state.stress[e], sy) } else { state.stress[e] };
             let start = PointState { stress, plastic_strain: state.plastic_strain[e], plastic };
-            Some((e, integrate(section, &start, &(trial.dstrain[e] * scale))))
+            Some((e, integrate(section, &start, &(problem.elements.strain(e, &trial.du) * scale))))
         })
         .collect()
 }

@@ -329,7 +329,7 @@ fn reconstruct(eng: &mut Engine, state: &State) -> Result<(State, Vec<f64>, f64)
     for (mode, a) in problem.bodies.modes.iter().zip(&state.alpha) {
         u.iter_mut().zip(&mode.vector).for_each(|(x, v)| *x += a * v);
     }
-    let (stress, _, _) = stiffness.tangents.stress_increment(problem, &u);
+    let (stress, _) = stiffness.tangents.stress_increment(problem, &u);
     let mut full = state.clone();
     full.u = u;
     full.stress = stress;

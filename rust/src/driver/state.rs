@@ -125,8 +125,6 @@ impl State {
 pub(super) struct TrialIncrement {
     pub du: Vec<f64>,
     pub dstress: Vec<Voigt>,
-    /// The strain increment of every element (for `stress_integration`).
-    pub dstrain: Vec<Voigt>,
     /// Equivalent plastic strain increment (negative: the element would unload).
     pub dplastic: Vec<f64>,
     pub dlambda_n: Vec<f64>,

@@ -46,7 +46,13 @@ impl Renewal {
 
 /// The tangent of every element as K holds it, and as the last factor K_f holds it.
 pub(super) struct Tangents {
+    /// (Changed only by `renew`, which keeps `flowing` with it.)
     pub held: Vec<Tangent>,
+    /// Whether each element's held tangent is plastic (D_ep): the stress increments of the
+    /// elastic elements then read neither their 350-byte tangents nor anything but this (at
+    /// 24.5k DOFs a stress increment of every element took 2.0 ms with the tangents read, 1.5
+    /// without, in the run).
+    flowing: Vec<bool>,
     /// The tangent K_f holds of each element renewed since the last factorization (the others
     /// hold the same one as K): a factorization clears these instead of copying every
     /// element's tangent (at 24.5k DOFs 8.5 MB a time, 50 ms over the 36 factorizations of
@@ -62,7 +68,7 @@ impl Tangents {
     pub fn elastic(problem: &Problem) -> Self {
         let held: Vec<Tangent> = problem.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
         let elastic = problem.model.materials.iter().map(|m| m.tangent(&Voigt::zeros(), false)).collect();
-        Tangents { held, replaced: HashMap::new(), elastic }
+        Tangents { flowing: vec![false; held.len()], held, replaced: HashMap::new(), elastic }
     }
 
     /// After a factorization: K_f holds every element's current tangent.
@@ -116,6 +122,7 @@ impl Tangents {
         };
         if change {
             let renewed = problem.sections[e].tangent(&state.stress[e], state.plastic[e]);
+            self.flowing[e] = renewed.flow.is_some();
             self.replaced.entry(e).or_insert(std::mem::replace(&mut self.held[e], renewed));
         }
         change
@@ -140,18 +147,18 @@ impl Tangents {
         }
     }
 
-    /// Δσ, Δεp and Δε of every element for a displacement increment (eqs. 10, 11, 18), with
-    /// the tangents K holds.
-    pub fn stress_increment(&self, problem: &Problem, du: &[f64]) -> (Vec<Voigt>, Vec<f64>, Vec<Voigt>) {
+    /// Δσ and Δεp of every element for a displacement increment (eqs. 10, 11, 18), with the
+    /// tangents K holds. (The strain increments themselves are not kept: the stress
+    /// integration takes the few it needs from Δu.)
+    pub fn stress_increment(&self, problem: &Problem, du: &[f64]) -> (Vec<Voigt>, Vec<f64>) {
         let material = &problem.model.element_material;
-        let (dstress, (dplastic, dstrain)) = (0..self.held.len()).into_par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.held).zip(&problem.sections).map(|((el, t), section)| {
+        (0..self.held.len()).into_par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.flowing).zip(&problem.sections).map(|((el, &flowing), section)| {
             let e = problem.elements.strain(el, du);
-            match t.flow {
-                None => (section.stress_increment(&self.elastic[material[el]], &e), (0.0, e)),
-                Some(_) => (section.stress_increment(t, &e), (section.plastic_multiplier(t, &e), e)),
+            match flowing {
+                false => (section.stress_increment(&self.elastic[material[el]], &e), 0.0),
+                true => (section.stress_increment(&self.held[el], &e), section.plastic_multiplier(&self.held[el], &e)),
             }
-        }).unzip();
-        (dstress, dplastic, dstrain)
+        }).unzip()
     }
 }
 

@@ -367,10 +367,10 @@ fn increment(eng: &mut Engine, state: &State, what: Solve, sys: &ContactSystem, 
         }
     };
     if problem.is_reduced() || sub_step {
-        return TrialIncrement { du, dstress: vec![], dplastic: vec![], dstrain: vec![], dlambda_n, dlambda_t, dlambda_t2, dalpha, dshift, noise };
+        return TrialIncrement { du, dstress: vec![], dplastic: vec![], dlambda_n, dlambda_t, dlambda_t2, dalpha, dshift, noise };
     }
-    let (dstress, dplastic, dstrain) = eng.stiffness.tangents.stress_increment(problem, &du);
-    TrialIncrement { du, dstress, dplastic, dstrain, dlambda_n, dlambda_t, dlambda_t2, dalpha, dshift, noise }
+    let (dstress, dplastic) = eng.stiffness.tangents.stress_increment(problem, &du);
+    TrialIncrement { du, dstress, dplastic, dlambda_n, dlambda_t, dlambda_t2, dalpha, dshift, noise }
 }
 
 /// K#(r + E Δλ): in the reduced space and for a sub-step only at the contact DOFs,

@@ -319,12 +319,11 @@ fn whole_increment(eng: &mut Engine, start: &State, end: &State, base: &TrialBas
         du.iter_mut().zip(mode).for_each(|(x, v)| *x += a * v);
     }
     du.iter_mut().for_each(|x| *x = per(*x));
-    let (dstress, dplastic, dstrain) = eng.stiffness.tangents.stress_increment(&eng.problem, &du);
+    let (dstress, dplastic) = eng.stiffness.tangents.stress_increment(&eng.problem, &du);
     TrialIncrement {
         du,
         dstress,
         dplastic,
-        dstrain,
         dlambda_n: dlambda_n.into_iter().map(per).collect(),
         dlambda_t: dlambda_t.into_iter().map(per).collect(),
         dlambda_t2: if eng.problem.dim == 3 { dlambda_t2.into_iter().map(per).collect() } else { vec![] },
