@@ -44,6 +44,7 @@ model assembly (common), dolfinx set-up (XDMF exchange, form JIT: reported apart
 
     MPLBACKEND=Agg .venv/bin/python bench/dolfinx_side_by_side.py [--scene sphere] [--quick]
                                                                   [--repeat R]
+    MPLBACKEND=Agg .venv/bin/python bench/dolfinx_side_by_side.py --report bench/NAME.json
 
 For the default δ (on the cylinder a target, on the case's own mesh h = 0.25): d_max to the exact
 run, the plastic radius c_fe (largest plastic centroid radius) against Hill's c, and the dolfinx
@@ -214,36 +215,48 @@ def one_mesh(hs: HillScene, h: float, h_outer: float, steps, repeat: int) -> dic
            "e_u_s": es["e_u"], "e_sig_s": es["e_sig"], "c_fe": es["c_fe"], "c_hill": es["c_hill"],
            "n_plastic_s": int(np.count_nonzero(snap["plastic_strain"])), "hill": hill_setup(scene)}
     row["runs"] = dolfinx_runs(scene, norms, snap, es, steps, repeat, row)
-    row["grouped"] = [grouped(hs, h, h_outer, d, norms, snap, row["runs"], repeat) for d in GROUPING]
+    row["grouped"] = [grouped(hs, h, h_outer, d, norms, snap, repeat) for d in GROUPING]
+    return compare(row)
+
+
+def compare(row: dict) -> dict:
+    """The comparisons at equal accuracy of one mesh from its runs (a report's or its JSON's):
+    (A), (B), (C) and d_inf of the module doc, and for each δ the dolfinx N as close to the exact
+    run as it is, in d_max and in the stresses alone (d_σ max)."""
+    runs = row["runs"]
     for key, ok in (("A", lambda r: r["e_sig"] <= OBSERVED * row["e_sig_s"]
                      and abs(r["e_u"]) <= OBSERVED * abs(row["e_u_s"])),
                     ("B", lambda r: r["d_sig"] <= GUARANTEED * row["e_sig_s"]
                      and r["d_u"] <= GUARANTEED * abs(row["e_u_s"]))):
-        row[key] = next((r for r in row["runs"] if ok(r)), None)
-    last = row["runs"][-1]
-    half = next((r for r in row["runs"] if 2 * r["N"] == last["N"]), None)
+        row[key] = next((r for r in runs if ok(r)), None)
+    last = runs[-1]
+    half = next((r for r in runs if 2 * r["N"] == last["N"]), None)
     row["d_inf"] = None if half is None else 2 * last["d_max"] - half["d_max"]
-    row["C"] = {tol: reaching(row["runs"], tol)[0] for tol in PATH_TOLS}
+    row["C"] = {tol: reaching(runs, tol)[0] for tol in PATH_TOLS}
+    for g in row["grouped"]:
+        for key, d, measure in (("dolfinx", g["d_max"], "d_max"),
+                                ("dolfinx_stress", g["d_stress"], "d_stress_max")):
+            hit, interp = reaching(runs, d, measure)
+            g[key] = {**hit, **interp}
     return row
 
 
-def grouped(hs: HillScene, h: float, h_outer: float, delta: float, norms, exact: dict, runs,
+def grouped(hs: HillScene, h: float, h_outer: float, delta: float, norms, exact: dict,
             repeat) -> dict:
     """slipstep with event grouping δ: its path difference from the exact run in the same
-    measure d_max as dolfinx's (max over elements of the stresses and of ε_p), its plastic
-    radius, and the dolfinx N that is as close to the exact run."""
+    measure d_max as dolfinx's (max over elements of the stresses and of ε_p), its parts, its
+    plastic radius."""
     scene = prepared(hs, h, h_outer, delta)
     res, t = timed(lambda: engine_result(scene)[0], repeat)
     snap = res["snapshots"][-1]
     e = norms.errors(snap["u"], snap["stress"], snap["plastic_strain"])
     d_stress = relative(snap["stress"], exact["stress"])
     d_ep = relative(snap["plastic_strain"], exact["plastic_strain"])
-    hit, interp = reaching(runs, max(d_stress, d_ep))
     return {"delta": delta, "default": delta == default_delta(), "t": t,
             "steps": len(res["steps"]["load_fraction"]), "factorizations": res["n_factorizations"],
             "low_rank_updates": int(res.get("n_low_rank_updates", 0)), "e_sig": e["e_sig"],
             "e_u": e["e_u"], "c_fe": e["c_fe"], "d_stress": d_stress, "d_ep": d_ep,
-            "d_max": max(d_stress, d_ep), "dolfinx": {**hit, **interp}}
+            "d_max": max(d_stress, d_ep)}
 
 
 def relative(a, b) -> float:
@@ -280,22 +293,25 @@ def dolfinx_runs(scene, norms, snap: dict, es: dict, steps, repeat: int, row: di
     return runs
 
 
-def reaching(runs: list[dict], d: float) -> tuple[dict, dict]:
-    """The dolfinx N with d_max <= d: (the smallest N tried, {N_interp, t_interp}: N and time
-    interpolated log-log between the N tried before it and it).  Beyond the largest N tried,
-    both extrapolated with d_max ~ C/N and the time per load step of that N (extrapolated)."""
-    i = next((k for k, r in enumerate(runs) if r["d_max"] <= d), None)
+def reaching(runs: list[dict], d: float, measure: str = "d_max") -> tuple[dict, dict]:
+    """The dolfinx N with ``measure`` <= d: (the smallest N tried, {N_interp, t_interp}: N and
+    time interpolated log-log between the N tried before it and it).  Beyond the largest N
+    tried, both extrapolated with d ~ C/N and the time per load step of that N (extrapolated):
+    a lower bound ("at_least") when d fell more slowly than 1/N over the last doubling of N."""
+    i = next((k for k, r in enumerate(runs) if r[measure] <= d), None)
     if i is None:
         last = runs[-1]
-        n = int(np.ceil(last["N"] * last["d_max"] / d))
+        half = next((r for r in runs if 2 * r["N"] == last["N"]), None)
+        n = int(np.ceil(last["N"] * last[measure] / d))
         t = last["t_d"] * n / last["N"]
-        return ({"N": n, "t_d": t, "newton": None, "extrapolated": True},
+        slower = half is not None and half[measure] < 2 * last[measure]
+        return ({"N": n, "t_d": t, "newton": None, "extrapolated": True, "at_least": slower},
                 {"N_interp": float(n), "t_interp": t})
     hit = runs[i]
-    if i == 0 or runs[i - 1]["d_max"] <= hit["d_max"]:
+    if i == 0 or runs[i - 1][measure] <= hit[measure]:
         return hit, {"N_interp": float(hit["N"]), "t_interp": hit["t_d"]}
     lo = runs[i - 1]
-    w = math.log(lo["d_max"] / d) / math.log(lo["d_max"] / hit["d_max"])
+    w = math.log(lo[measure] / d) / math.log(lo[measure] / hit[measure])
     between = lambda a, b: math.exp(math.log(a) + w * (math.log(b) - math.log(a)))  # noqa: E731
     return hit, {"N_interp": between(lo["N"], hit["N"]), "t_interp": between(lo["t_d"], hit["t_d"])}
 
@@ -324,17 +340,23 @@ def _ratio(a, b, fmt=".3g"):
     return "—" if a is None else format(a / b, fmt)
 
 
+def beyond(hit: dict) -> str:
+    """How a dolfinx N was found: tried (''), extrapolated with d ~ C/N ('≈'), or a lower bound
+    of it, d falling more slowly than 1/N ('≥')."""
+    return "≥" if hit.get("at_least") else "≈" if hit.get("extrapolated") else ""
+
+
 def _path_cell(r, tol):
     c = r["C"][tol]
-    pre = "≈" if c.get("extrapolated") else ""
+    pre = beyond(c)
     return (f"{pre}{c['N']} | {pre}{c['t_d']:.3g} | "
             f"{'—' if c['newton'] is None else c['newton']} | {pre}{c['t_d'] / r['t_s']:.3g}")
 
 
-def markdown(hs: HillScene, rows, steps, repeat, machine, total_s) -> str:
+def markdown(hs: HillScene, rows, steps, repeat, machine, ran: dict) -> str:
     return "\n".join(intro(hs, rows, steps, repeat, machine) + default_section(hs, rows)
                      + hill_section(hs, rows, steps) + path_section(hs, rows)
-                     + grouping_section(rows) + every_run_section(hs, rows, total_s))
+                     + grouping_section(rows) + every_run_section(hs, rows, ran))
 
 
 def intro(hs: HillScene, rows, steps, repeat, machine) -> list[str]:
@@ -410,7 +432,8 @@ def path_section(hs: HillScene, rows) -> list[str]:
     L = ["## On the load path (slipstep as the reference), at equal accuracy", "",
           f"{hs.path_note} Smallest N with "
           "d_max ≤ tol; ≈: not reached by the largest N, extrapolated with d_max ~ C/N and the "
-          "time per load step of the largest N. d_∞ = 2 d_max(N) − d_max(N/2) at the largest N "
+          "time per load step of the largest N (≥: d_max fell more slowly than 1/N over the last "
+          "doubling of N, so C/N gives a lower bound). d_∞ = 2 d_max(N) − d_max(N/2) at the largest N "
           "estimates the distance of slipstep from dolfinx's N → ∞ limit.", "",
           "| h bore | slipstep s | events | d_∞ | "
           + " | ".join(f"N (tol {t:g}) | dolfinx s | Newton its | time ratio" for t in PATH_TOLS)
@@ -428,22 +451,27 @@ def grouping_section(rows) -> list[str]:
          "slipstep with δ > 0 against the exact slipstep run in the same measure d_max (and its "
          "parts: the stresses, ε_p), its plastic radius c_fe against Hill's c, and the "
          "dolfinx N that is as close to the exact run: the smallest N tried (≈: extrapolated "
-         "with d_max ~ C/N) and N interpolated log–log between the N tried (time likewise).",
+         "with d_max ~ C/N; ≥: a lower bound) and N interpolated log–log between the N tried "
+         "(time likewise); last, the same in the stresses alone (d_σ max of dolfinx against "
+         "slipstep's d_σ), where ε_p's part of d_max does not fall with N.",
          "",
          "| h bore | δ | slipstep s | increments | factorizations | low-rank updates | e_σ | "
          "d_max | d_σ | d_εp | c_fe [mm] | c_fe / c − 1 | speed-up vs δ = 0 | dolfinx N | "
-         "dolfinx s | interpolated N | its s | time ratio dolfinx / slipstep |",
-         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+         "dolfinx s | interpolated N | its s | time ratio dolfinx / slipstep | stresses alone: "
+         "dolfinx N, s | time ratio |",
+         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         for g in r["grouped"]:
-            hit, pre = g["dolfinx"], "≈" if g["dolfinx"].get("extrapolated") else ""
+            hit, pre, st = g["dolfinx"], beyond(g["dolfinx"]), g["dolfinx_stress"]
             L.append(f"| {r['h']:g} | {g['delta']:g}{' (default)' if g['default'] else ''} | "
                      f"{g['t']:.3g} | {g['steps']} | {g['factorizations']} | "
                      f"{g['low_rank_updates']} | {g['e_sig']:.4e} | {g['d_max']:.1e} | "
                      f"{g['d_stress']:.1e} | {g['d_ep']:.1e} | {g['c_fe']:.3f} | "
                      f"{100 * (g['c_fe'] / r['c_hill'] - 1):+.2f} % | {r['t_s'] / g['t']:.3g} | "
-                     f"{pre}{hit['N']} | {pre}{hit['t_d']:.3g} | {hit['N_interp']:.1f} | "
-                     f"{hit['t_interp']:.3g} | {hit['t_interp'] / g['t']:.3g} |")
+                     f"{pre}{hit['N']} | {pre}{hit['t_d']:.3g} | {pre}{hit['N_interp']:.1f} | "
+                     f"{pre}{hit['t_interp']:.3g} | {pre}{hit['t_interp'] / g['t']:.3g} | "
+                     f"{beyond(st)}{st['N_interp']:.0f}, {beyond(st)}{st['t_interp']:.3g} | "
+                     f"{beyond(st)}{st['t_interp'] / g['t']:.3g} |")
     return L + [""]
 
 
@@ -468,13 +496,13 @@ def default_section(hs: HillScene, rows) -> list[str]:
         L.append(f"| {r['h']:g} | {r['dofs']} | {100 * g['d_max']:.3f} % ({100 * g['d_stress']:.3f} %; "
                  f"{100 * g['d_ep']:.3f} %) | {g['c_fe']:.3f} vs {r['c_hill']:.3f} mm "
                  f"({100 * dc:+.2f} %) | {r['c_fe']:.3f} | {g['t']:.3g} ({r['t_s']:.3g}) | "
-                 f"{'≈' if hit.get('extrapolated') else ''}{hit['N']}, {hit['t_d']:.3g} | "
+                 f"{beyond(hit)}{hit['N']}, {hit['t_d']:.3g} | "
                  f"{hit['N_interp']:.1f}, {hit['t_interp']:.3g} | "
                  f"{'PASS' if ok else 'MISS'}{' (the target mesh)' if r['h'] == hs.target_mesh else ''} |")
     return L + [""]
 
 
-def every_run_section(hs: HillScene, rows, total_s) -> list[str]:
+def every_run_section(hs: HillScene, rows, ran: dict) -> list[str]:
     L = ["## Every run", "",
           "| h bore | code | N | time s | Newton its | e_u | e_σ | e_σ ratio | d_u | d_σ | "
           "d_σ max | d_εp max | plastic elements | time ratio |",
@@ -494,8 +522,8 @@ def every_run_section(hs: HillScene, rows, total_s) -> list[str]:
           + "; FE plastic front (largest plastic centroid radius) "
           + ", ".join(f"{r['c_fe']:.3f}" for r in rows) + f" mm vs Hill's c = "
           f"{rows[0]['c_hill']:.3f} mm (meshes in the order above).", "",
-          f"Chart: {hs.stem}.png. Whole run {total_s:.0f} s; load average at the "
-          f"end {os.getloadavg()[0]:.1f}.", ""]
+          f"Chart: {hs.stem}.png. Whole run {ran['total_s']:.0f} s; load average at the "
+          f"end {ran['load_end']:.1f}.", ""]
     return L
 
 
@@ -515,15 +543,18 @@ def figure(hs: HillScene, rows, path: Path) -> None:
     plt.close(fig)
 
 
-def mesh_colour(i: int) -> str:
-    return f"C{i % 10}"
+def mesh_colours(n: int) -> list:
+    """A colour a mesh, coarse to fine on viridis (apart from the colours of codes)."""
+    from matplotlib import colormaps
+
+    return [colormaps["viridis"](0.85 * i / max(n - 1, 1)) for i in range(n)]
 
 
 def hill_panel(ax, rows) -> None:
     """e_σ against Hill over the solve time: dolfinx over N (a line a mesh, labelled N),
     slipstep exact (★) and default (●).  ``rows``: the meshes of the report or of its JSON."""
-    for i, r in enumerate(rows):
-        c, lab = mesh_colour(i), f"h = {r['h']:g} ({r['dofs']} DOFs)"
+    for c, r in zip(mesh_colours(len(rows)), rows):
+        lab = f"h = {r['h']:g} ({r['dofs']} DOFs)"
         ax.loglog([d["t_d"] for d in r["runs"]], [d["e_sig"] for d in r["runs"]], "o-", color=c,
                   ms=4, label=f"dolfinx over N, {lab}")
         ax.loglog([r["t_s"]], [r["e_sig_s"]], "*", color=c, ms=14, mec="k",
@@ -544,8 +575,8 @@ def hill_panel(ax, rows) -> None:
 def path_panel(ax, rows) -> None:
     """The path differences to slipstep's exact run over the solve time: dolfinx over N
     (d_max and d_σ, a line a mesh), slipstep's δ (same measure d_max), the exact run's time."""
-    for i, r in enumerate(rows):
-        c, lab = mesh_colour(i), f"h = {r['h']:g} ({r['dofs']} DOFs)"
+    for c, r in zip(mesh_colours(len(rows)), rows):
+        lab = f"h = {r['h']:g} ({r['dofs']} DOFs)"
         t = [d["t_d"] for d in r["runs"]]
         ax.loglog(t, [d["d_max"] for d in r["runs"]], "o-", color=c, ms=4,
                   label=f"d_max (all σ, ε_p), {lab}")
@@ -582,13 +613,18 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path, default=None,
                     help=f"folder for the .md, .png and .json (default {HERE.name}/, "
                          f"--quick: {QUICK_OUT})")
+    ap.add_argument("--report", type=Path, metavar="JSON",
+                    help="only the report (.md, .png, .json) again from a saved JSON")
     ap.add_argument("--meshes", default=None,
                     help="comma list of bore sizes h out of the scene's (" + "; ".join(
                         f"{s.name}: {', '.join(f'{h:g}' for h, _ in s.meshes)}"
                         for s in SCENES.values()) + ")")
     args = ap.parse_args(argv)
-    require_dolfinx()
+    if args.report:
+        doc = json.loads(args.report.read_text())
+        return report(SCENES[doc.get("scene", args.scene)], doc, args.out or args.report.parent)
     hs = SCENES[args.scene]
+    require_dolfinx()
     meshes, steps = hs.quick() if args.quick else (hs.meshes, hs.steps)
     if args.meshes:
         meshes = [m for m in hs.meshes if f"{m[0]:g}" in args.meshes.split(",")]
@@ -600,14 +636,25 @@ def main(argv=None) -> int:
         rows.append(one_mesh(hs, h, h_outer, steps, repeat))
         print(f"h = {h:g}: {rows[-1]['dofs']} DOFs done ({time.perf_counter() - t0:.0f} s)",
               flush=True)
-    text = markdown(hs, rows, steps, repeat, machine, time.perf_counter() - t0)
+    ran = {"total_s": time.perf_counter() - t0, "load_end": os.getloadavg()[0]}
     out = args.out or (HERE.parent / QUICK_OUT if args.quick else HERE)
+    out.mkdir(parents=True, exist_ok=True)
+    write_json(hs, rows, steps, repeat, machine, ran, out / f"{hs.stem}.json")
+    return report(hs, json.loads((out / f"{hs.stem}.json").read_text()), out)
+
+
+def report(hs: HillScene, doc: dict, out: Path) -> int:
+    """The .md, .png and .json of ``doc`` (this script's JSON) into ``out``; then, in bench/,
+    the reports that read them."""
+    rows = [compare(m) for m in doc["meshes"]]
+    text = markdown(hs, rows, doc["steps"], doc["repeat"], doc["machine"], doc["ran"])
     out.mkdir(parents=True, exist_ok=True)
     figure(hs, rows, out / f"{hs.stem}.png")
     (out / f"{hs.stem}.md").write_text(text)
-    write_json(hs, rows, steps, repeat, machine, out / f"{hs.stem}.json")
+    write_json(hs, rows, doc["steps"], doc["repeat"], doc["machine"], doc["ran"],
+               out / f"{hs.stem}.json")
     print(text)
-    if out == HERE:
+    if out.resolve() == HERE:
         rewrite_reports()
     return 0
 
@@ -622,12 +669,13 @@ def rewrite_reports() -> None:
                            check=True, stdout=subprocess.DEVNULL)
 
 
-def write_json(hs: HillScene, rows, steps, repeat, machine, path: Path) -> None:
+def write_json(hs: HillScene, rows, steps, repeat, machine, ran: dict, path: Path) -> None:
     """The numbers of every mesh (the .md's), for bench/run.py's targets (c), (d) and chart
     (the cylinder) and bench/series_3d.py's chart (the sphere)."""
     doc = {"what": f"{hs.what}, slipstep exact / grouped and dolfinx N on identical meshes "
-                   f"(bench/dolfinx_side_by_side.py --scene {hs.name})", "machine": machine,
-           "steps": list(steps), "repeat": repeat, "default_delta": default_delta(),
+                   f"(bench/dolfinx_side_by_side.py --scene {hs.name})", "scene": hs.name,
+           "machine": machine,
+           "steps": list(steps), "repeat": repeat, "ran": ran, "default_delta": default_delta(),
            "target_mesh": hs.target_mesh,
            "meshes": [{k: v for k, v in r.items() if k != "C"} for r in rows]}
     path.write_text(json.dumps(doc, indent=1, default=lambda o: o.item()) + "\n")

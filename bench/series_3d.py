@@ -128,12 +128,16 @@ def hertz_fit(scene, snapshot: dict, a) -> float | None:
 
 
 # --------------------------------------------------------------------------- the series (parent)
-def series(sizes: dict, out: Path, timeout: float = TIMEOUT_S, keep=()) -> list[dict]:
-    """Every run of ``specs(sizes)`` in its own process; results_3d.json rewritten after each.
-    ``keep``: saved runs kept instead of run again (those of the same name and h)."""
+def series(sizes: dict, out: Path, timeout: float = TIMEOUT_S, keep=(),
+           kept_on: str | None = None) -> list[dict]:
+    """Every run of ``specs(sizes)`` in its own process; results_3d.json rewritten after each,
+    with the machine and code they ran on.  ``keep``: saved runs kept instead of run again
+    (those of the same name and h), measured as ``kept_on`` says."""
     import run as bench
 
     runs = list(keep)
+    measured = measured_on() + (f"; the runs kept from before: {kept_on}" if keep and kept_on
+                                else "")
     done = {(r["name"], r["h"]) for r in runs}
     for spec in specs(sizes):
         if (spec["name"], spec["h"]) in done:
@@ -141,7 +145,8 @@ def series(sizes: dict, out: Path, timeout: float = TIMEOUT_S, keep=()) -> list[
         r = bench.run_child(spec, timeout)
         runs.append(r)
         print(line_of(r), flush=True)
-        (out / "results_3d.json").write_text(json.dumps({"runs": runs}, indent=1))
+        (out / "results_3d.json").write_text(json.dumps({"measured": measured, "runs": runs},
+                                                        indent=1))
     return runs
 
 
@@ -281,7 +286,11 @@ def sphere_section(doc: dict | None) -> list[str]:
     if not doc:
         return ["No thick-sphere comparison with dolfinx (`bench/dolfinx_side_by_side.py --scene "
                 "sphere` writes it).", ""]
+    from dolfinx_side_by_side import beyond
     from run import fmt, pct
+
+    def reached(hit: dict) -> str:
+        return f"{beyond(hit)}{hit['N_interp']:.0f}, {beyond(hit)}{fmt(hit['t_interp'], '.3g')}"
 
     L = ["### Thick sphere in 3D, side by side with dolfinx on the same mesh", "",
          "cases/thick_sphere_3d.toml (elastic-perfectly plastic, p = 280 MPa), slipstep's exact "
@@ -290,21 +299,24 @@ def sphere_section(doc: dict | None) -> list[str]:
          "wall times in process (meshing common, dolfinx's set-up apart). Against Hill at the "
          "final pressure: e_σ (L2 over σ_R and σ_t), e_u (u at the outer radius), the plastic "
          "front c_fe; path: d_max to slipstep's exact run (every stress component and ε_p, "
-         "largest element difference over the largest value); dolfinx at the same d_max as "
-         "slipstep's default: N interpolated log–log between the N tried (≈: extrapolated).", "",
+         "largest element difference over the largest value) and its stress part d_σ max; "
+         "dolfinx as close to the exact run as slipstep's default: N interpolated log–log "
+         "between the N tried, or extrapolated with d ~ C/N (≈), a lower bound where d fell "
+         "more slowly than 1/N (≥).", "",
          "| h bore | DOFs | exact s (events) | default s | e_σ | e_u | c_fe vs Hill's c | "
-         "dolfinx N = 1: s, e_σ | default's d_max | dolfinx at that d_max: N, s | dolfinx / "
-         "default |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+         "dolfinx N = 1: s, e_σ | default's d_max (d_σ max) | dolfinx at that d_max: N, s | "
+         "at that d_σ max: N, s | dolfinx / default (d_max; d_σ max) |",
+         "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for m in doc["meshes"]:
         g = next(g for g in m["grouped"] if g["default"])
-        one, hit = m["runs"][0], g["dolfinx"]
-        pre = "≈" if hit.get("extrapolated") else ""
+        one, hit, st = m["runs"][0], g["dolfinx"], g["dolfinx_stress"]
         L.append(f"| {m['h']:g} | {m['dofs']} | {fmt(m['t_s'], '.3g')} ({m['events']}) | "
                  f"{fmt(g['t'], '.3g')} | {pct(m['e_sig_s'], '.2f')} | {pct(m['e_u_s'], '+.2f')} | "
                  f"{m['c_fe']:.3f} vs {m['c_hill']:.3f} mm | N = {one['N']}: "
                  f"{fmt(one['t_d'], '.3g')}, {pct(one['e_sig'], '.2f')} | {pct(g['d_max'], '.2f')} "
-                 f"| {pre}{hit['N_interp']:.0f}, {pre}{fmt(hit['t_interp'], '.3g')} | "
-                 f"{fmt(hit['t_interp'] / g['t'], '.1f')} |")
+                 f"({pct(g['d_stress'], '.3f')}) | {reached(hit)} | {reached(st)} | "
+                 f"{beyond(hit)}{hit['t_interp'] / g['t']:.0f}; {beyond(st)}"
+                 f"{st['t_interp'] / g['t']:.0f} |")
     return L + [""]
 
 
@@ -523,34 +535,43 @@ def main(argv=None) -> int:
                                                 "run these again, keep the other saved runs")
     args = ap.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
-    if args.report:
-        runs = json.loads(args.report.read_text())["runs"]
-    else:
+    saved = args.report or args.out / "results_3d.json"
+    if not args.report:
         again = set(args.rerun.split(",")) if args.rerun else None
-        keep = [r for r in load(args.out)[0] if r["status"] == "ok"
+        before = json.loads(saved.read_text()) if again and saved.exists() else {"runs": []}
+        keep = [r for r in before["runs"] if r["status"] == "ok"
                 and r["name"].removesuffix("_axi") not in again] if again else []
-        runs = series(QUICK if args.quick else FULL, args.out, keep=keep)
-    gf = load(args.out)[1]
+        series(QUICK if args.quick else FULL, args.out, keep=keep, kept_on=before.get("measured"))
+    doc = json.loads(saved.read_text())
+    runs, gf = doc["runs"], load(args.out)[1]
     charts(runs, gf, args.out)
-    text = "\n".join(header() + section(runs, gf))
+    text = "\n".join(header(doc.get("measured")) + section(runs, gf))
     (args.out / "results_3d.md").write_text(text)
     print(text)
     return 0
 
 
-def header() -> list[str]:
-    """The machine and the code a standalone 3D report was measured on (bench/run.py's full
-    report has its own)."""
+def measured_on() -> str:
+    """The machine and the code now: saved with the runs as they are measured."""
     from run import machine
 
     m = machine()
+    return (f"{m['cpu']}, {m['cores']} cores, {m['ram_gib']} GiB RAM, shared with other jobs "
+            f"(load average {m['load_start']:.1f} at the start). slipstep git {m['git']}, engine "
+            f"built {m['engine_mtime']}")
+
+
+def header(measured: str | None) -> list[str]:
+    """The machine and the code a standalone 3D report was measured on, as saved with the runs
+    (bench/run.py's full report has its own)."""
+    measured = measured or (measured_on() + " (when this report was written: the runs do not "
+                                            "say where they ran)")
     return ["# Benchmark: the 3D series (bench/series_3d.py)", "",
-            f"Machine: {m['cpu']}, {m['cores']} cores, {m['ram_gib']} GiB RAM, shared with other "
-            f"jobs (load average {m['load_start']:.1f} when this report was written). slipstep git "
-            f"{m['git']}, engine built {m['engine_mtime']}. Each run its own process, one at a "
-            f"time; process = spawn to exit. GetFEM's runs: `getfem_results_3d.json` "
-            f"(bench/getfem_hertz_3d.py). This section also joins `results.md` when `make bench` "
-            f"runs bench/run.py.", ""]
+            f"Machine: {measured}. Each run its own process, one at a time; process = spawn to "
+            f"exit. GetFEM's runs: `getfem_results_3d.json` (bench/getfem_hertz_3d.py). This "
+            f"section also joins `results.md` when `make bench` runs bench/run.py. The paired "
+            f"speed row: bench/paired_3d.json (its own note). The thick sphere beside dolfinx: "
+            f"`dolfinx_side_by_side_3d.md` (its own machine line).", ""]
 
 
 if __name__ == "__main__":
