@@ -187,3 +187,79 @@ fn turned(held_da: &Voigt, stress: &Voigt) -> f64 {
     let cos = inner(held_da, &now) / (inner(held_da, held_da) * inner(&now, &now)).sqrt();
     cos.clamp(-1.0, 1.0).acos()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::clock::Clock;
+    use super::super::engine::Engine;
+    use super::super::scenes::*;
+    use super::*;
+    use crate::material::from_planar;
+    use nalgebra::SMatrix;
+
+    /// Round-off of the few dozen operations behind each entry (~1e-16 relative each), with room.
+    const ROUND_OFF: f64 = 1e-10;
+
+    /// Σ s c cᵀ of element e's low-rank terms, over its own DOFs (rows of fixed DOFs stay 0).
+    fn low_rank_matrix(eng: &Engine, e: usize) -> SMatrix<f64, 6, 6> {
+        let map = &eng.problem.dofs.map;
+        let dofs = eng.problem.elements.dofs(e);
+        let local = |q: usize| dofs.iter().position(|&d| d == map.dof_of_equation[q]).expect("a DOF of the element");
+        let mut k = SMatrix::<f64, 6, 6>::zeros();
+        for c in eng.stiffness.tangents.columns(&eng.problem, e, map) {
+            for &(qi, vi) in &c.entries {
+                for &(qj, vj) in &c.entries {
+                    k[(local(qi), local(qj))] += c.sign * vi * vj;
+                }
+            }
+        }
+        k
+    }
+
+    /// Element 0 of the pressed square yields at σ1 (uniaxial) and its flow then turns to σ2
+    /// (pure shear), both renewals before any factorization: its low-rank terms are K − K_f,
+    /// w Bᵀ (D_ep(σ2) − D) B with D the elastic tangent the factor still holds (recomputed
+    /// here from the element's B), not D_ep(σ2) − D_ep(σ1); its stress increment follows
+    /// D_ep(σ2) and its plastic multiplier the flow at σ2. Unloaded, it is elastic again and
+    /// equal to what the factor holds (no terms); element 1 stays elastic throughout.
+    #[test]
+    fn renewals_between_factorizations_keep_the_factored_tangent() {
+        let sy = 200.0;
+        let m = square_on_rollers(0.0, -sy, plastic(sy, 500.0));
+        let clock = Clock::new();
+        let (mut eng, mut state) = start(&m, &clock);
+        let (s1, s2) = (from_planar([sy, 0.0, 0.0, 0.0]), from_planar([0.0, 0.0, 0.0, sy / 3f64.sqrt()]));
+        let renew = |eng: &mut Engine, state: &State| eng.stiffness.tangents.renew(&eng.problem, state, Renewal::All).expect("a renewal of all never waits");
+        (state.plastic[0], state.stress[0]) = (true, s1);
+        assert_eq!(renew(&mut eng, &state), vec![0]);
+        state.stress[0] = s2;
+        assert_eq!(renew(&mut eng, &state), vec![0], "a flow turned by 90 degrees is renewed");
+
+        let section = eng.problem.sections[0];
+        let (elastic, at_s2) = (section.tangent(&Voigt::zeros(), false), section.tangent(&s2, true));
+        let Elements::Plane(els) = &eng.problem.elements else { panic!("a plane scene") };
+        let expected = els[0].stiffness(&(section.element_matrix(&at_s2) - section.element_matrix(&elastic)));
+        let got = low_rank_matrix(&eng, 0);
+        let dofs = eng.problem.elements.dofs(0);
+        let scale = expected.amax();
+        for i in 0..6 {
+            for j in 0..6 {
+                let free = eng.problem.dofs.map.equation(dofs[i]).is_some() && eng.problem.dofs.map.equation(dofs[j]).is_some();
+                let want = if free { expected[(i, j)] } else { 0.0 };
+                assert!((got[(i, j)] - want).abs() < ROUND_OFF * scale, "K - K_f [{i},{j}] = {} vs {want}", got[(i, j)]);
+            }
+        }
+
+        let du: Vec<f64> = (0..8).map(|k| 1e-3 * (k as f64 - 3.5)).collect();
+        let (dstress, dplastic) = eng.stiffness.tangents.stress_increment(&eng.problem, &du);
+        let (e0, e1) = (eng.problem.elements.strain(0, &du), eng.problem.elements.strain(1, &du));
+        assert_eq!((dstress[0], dplastic[0]), (section.stress_increment(&at_s2, &e0), section.plastic_multiplier(&at_s2, &e0)));
+        assert_eq!((dstress[1], dplastic[1]), (eng.problem.sections[1].stress_increment(&elastic, &e1), 0.0));
+
+        state.plastic[0] = false;
+        assert_eq!(renew(&mut eng, &state), vec![0], "an unload is renewed");
+        assert!(eng.stiffness.tangents.columns(&eng.problem, 0, &eng.problem.dofs.map).is_empty(), "elastic again: K_f's own tangent");
+        let (dstress, dplastic) = eng.stiffness.tangents.stress_increment(&eng.problem, &du);
+        assert_eq!((dstress[0], dplastic[0]), (section.stress_increment(&elastic, &e0), 0.0));
+    }
+}
