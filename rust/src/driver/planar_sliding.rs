@@ -251,3 +251,106 @@ fn tangent_basis(q: [f64; 3]) -> [[f64; 3]; 2] {
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The limits below are closed forms of a few operations on O(1) numbers; the descent
+    /// stops where the residual is 1e-13 of Σ c, so S is exact to round-off (second order).
+    const ROUND_OFF: f64 = 1e-12;
+
+    fn contact(points: &[[f64; 2]], capacity: &[f64]) -> Contact {
+        Contact { at: points.to_vec(), capacity: capacity.iter().map(|&c| [c, 0.0]).collect() }
+    }
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= ROUND_OFF * b.abs().max(1.0)
+    }
+
+    const SQUARE: [[f64; 2]; 4] = [[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0]];
+
+    /// A pure moment on four equal pairs at a square's corners turns it about its centre: the
+    /// pairs carry M = Σ c |r| = 4 c √2.
+    #[test]
+    fn a_pure_moment_turns_the_square_about_its_centre() {
+        let c = 0.3;
+        let l = proportional(&contact(&SQUARE, &[c; 4]), [0.0, 0.0, 1.0]).unwrap();
+        assert!(close(l.scale, 4.0 * c * 2f64.sqrt()), "{l:?}");
+        let centre = l.centre().unwrap();
+        assert!(centre[0].abs() < ROUND_OFF && centre[1].abs() < ROUND_OFF, "{centre:?}");
+    }
+
+    /// A force through the centre of a symmetric contact translates it at |F| = Σ c (Coulomb's
+    /// T = μN), whatever its direction.
+    #[test]
+    fn a_force_through_the_centre_translates_at_mu_n() {
+        let c = [0.1, 0.2, 0.1, 0.2]; // symmetric about the centre
+        for angle in [0.0f64, 0.3, 2.0] {
+            let l = proportional(&contact(&SQUARE, &c), [angle.cos(), angle.sin(), 0.0]).unwrap();
+            assert!(close(l.scale, 0.6) && l.centre().is_none(), "{angle}: {l:?}");
+        }
+    }
+
+    /// The centre on a pair (a kink of D): a pure moment on the square with a fifth pair at its
+    /// centre turns it about that pair, which carries nothing: M = Σ_corners c |r|.
+    #[test]
+    fn a_centre_on_a_pair_is_found_exactly() {
+        let mut points = SQUARE.to_vec();
+        points.push([0.0, 0.0]);
+        let l = proportional(&contact(&points, &[0.3, 0.3, 0.3, 0.3, 5.0]), [0.0, 0.0, -2.0]).unwrap();
+        assert!(close(l.scale, 4.0 * 0.3 * 2f64.sqrt() / 2.0), "{l:?}");
+    }
+
+    /// Two pairs at (±1, 0) (collinear: D is flat across the line), a force F along y at x = d:
+    /// the nearer pair saturates, F(1 + d)/2 = c, and the far one is the centre.
+    #[test]
+    fn an_off_centre_force_on_two_pairs_turns_about_the_far_one() {
+        let (c, d) = (0.25, 0.4);
+        let l = proportional(&contact(&[[-1.0, 0.0], [1.0, 0.0]], &[c, c]), [0.0, 1.0, d]).unwrap();
+        assert!(close(l.scale, 2.0 * c / (1.0 + d)), "{l:?}");
+        let centre = l.centre().unwrap();
+        assert!((centre[0] + 1.0).abs() < 1e-9 && centre[1].abs() < 1e-9, "{centre:?}");
+    }
+
+    /// Along an increment: capacities c (1 + S) and a force F₀ + S ΔF through the centre reach
+    /// Σ c (1 + S) = |F₀ + S ΔF| at the root of that linear equation; a load that stays inside
+    /// has no limit.
+    #[test]
+    fn an_increment_reaches_the_limit_where_capacity_and_load_meet() {
+        let c = 0.1;
+        let k = Contact { at: SQUARE.to_vec(), capacity: vec![[c, c]; 4] };
+        // 4c (1 + S) = 0.2 + 0.8 S  ⇒  S = (0.4 − 0.2) / (0.8 − 0.4) = 0.5
+        let l = first_reach(&k, [0.2, 0.0, 0.0], [0.8, 0.0, 0.0]).unwrap();
+        assert!(close(l.scale, 0.5), "{l:?}");
+        assert!(first_reach(&k, [0.2, 0.0, 0.0], [0.3, 0.0, 0.0]).is_none());
+    }
+
+    /// Every motion's S(q) bounds the limit from above (the load reaches q's supporting plane
+    /// there), so the descent's S is below S(q) of every motion sampled on the sphere, on
+    /// irregular contacts and loads (a stalled descent would be above some).
+    #[test]
+    fn no_motion_reaches_the_limit_earlier() {
+        let mut seed = 12345u64;
+        let mut next = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..20 {
+            let n = 3 + (8.0 * next()) as usize;
+            let at: Vec<[f64; 2]> = (0..n).map(|_| [2.0 * next() - 1.0, 2.0 * next() - 1.0]).collect();
+            let capacity: Vec<f64> = (0..n).map(|_| next()).collect();
+            let k = contact(&at, &capacity);
+            let load = [2.0 * next() - 1.0, 2.0 * next() - 1.0, 2.0 * next() - 1.0];
+            let l = proportional(&k, load).unwrap();
+            let path = Path { contact: &k, start: [0.0; 3], rate: load };
+            for i in 0..200 {
+                for j in 0..100 {
+                    let (theta, phi) = (std::f64::consts::PI * (i as f64 + 0.5) / 200.0, std::f64::consts::TAU * j as f64 / 100.0);
+                    let q = [theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()];
+                    assert!(l.scale <= path.reach(q) * (1.0 + ROUND_OFF), "{l:?} above S = {} at {q:?}", path.reach(q));
+                }
+            }
+        }
+    }
+}
