@@ -55,7 +55,11 @@ pub(super) fn hold(problem: &Problem, loads: &StageLoads, state: &State, events:
 /// rank; else name the body, its free motion and why (a missing support, gross sliding).
 /// `mode_rhs`: the small system's rigid-body rows −Nᵀ r; `closed_normals`: the pairs of its
 /// normal rows.
-pub(super) fn check_restrained(problem: &Problem, loads: &StageLoads, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<()> {
+/// Returns the idle free motions (3D), over all modes: unresisted, but neither loaded nor
+/// moved by any force of the system (a pressed body turning about the normal while its pairs,
+/// all slipping at zero force, have no direction yet to hold it by): the caller holds them
+/// still (α along them = 0), as nothing drives them.
+pub(super) fn check_restrained(problem: &Problem, loads: &StageLoads, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<Vec<Vec<f64>>> {
     Restraint { p: problem, loads }.check_restrained(state, a, m, mode_rhs, closed_normals)
 }
 
@@ -174,7 +178,7 @@ impl Restraint<'_> {
                 (self.lifted_or_tipped(&name, state, body, &idx, &free, events), "lower the load, or add a support (fix/symmetry) that holds the body")
             } else if let Some(capacity) = self.beyond_capacity(body, state, &idx, &slides[0]) {
                 let push: f64 = idx.iter().zip(&slides[0]).map(|(&k, c)| c * self.loads.mode_force[k][1]).sum();
-                (format!("{name} slides as a whole {}", self.sliding(push, &self.describe_motion(&idx, &slides[0]), capacity)), "lower the tangential load, raise mu, or add a support (fix/symmetry)")
+                (format!("{name} slides as a whole {}", self.sliding(Some(push), &self.describe_motion(&idx, &slides[0]), capacity)), "lower the tangential load, raise mu, or add a support (fix/symmetry)")
             } else {
                 hold = Hold::OnFriction;
                 continue;
@@ -227,11 +231,20 @@ impl Restraint<'_> {
         }
     }
 
-    fn check_restrained(&self, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<()> {
+    fn check_restrained(&self, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<Vec<Vec<f64>>> {
+        let mut idle = vec![];
         for (body, idx) in self.bodies_with_modes() {
             let rows_n: Vec<Vec<f64>> = (0..m).map(|i| idx.iter().map(|&k| a[(i, m + k)]).collect()).collect();
             let free = free_motions(&rows_n, idx.len());
             if free.is_empty() {
+                continue;
+            }
+            if self.p.dim == 3 && free.iter().all(|v| self.is_idle(a, m, mode_rhs, &idx, v)) {
+                idle.extend(free.iter().map(|v| {
+                    let mut all = vec![0.0; mode_rhs.len()];
+                    idx.iter().zip(v).for_each(|(&k, c)| all[k] = *c);
+                    all
+                }));
                 continue;
             }
             let words: Vec<String> = free.iter().map(|v| self.describe_motion(&idx, v)).collect();
@@ -249,7 +262,9 @@ impl Restraint<'_> {
                 if let Some(capacity) = self.beyond_capacity(body, state, &idx, &free[0]) {
                     // −Nᵀ r along the motion is the out-of-balance force nothing holds.
                     let push: f64 = idx.iter().zip(&free[0]).map(|(&k, c)| -c * mode_rhs[k]).sum();
-                    bail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} {}: lower the tangential load, raise mu, or add a support", state.load_fraction, self.p.path.stage_names[state.stage], self.sliding(push, &words[0], capacity));
+                    // 3D: the free motions together (the load in the plane picks its direction)
+                    let (push, motion) = if self.p.dim == 3 && free.len() > 1 { (None, words.join("; ")) } else { (Some(push), words[0].clone()) };
+                    bail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} {}: lower the tangential load, raise mu, or add a support", state.load_fraction, self.p.path.stage_names[state.stage], self.sliding(push, &motion, capacity));
                 }
                 bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
             }
@@ -259,7 +274,19 @@ impl Restraint<'_> {
             let closed = closed_normals().into_iter().filter(|&p| self.p.body_of_pair(p) == body).count();
             bail!(FreeBody, "{name} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", words.join("; "));
         }
-        Ok(())
+        Ok(idle)
+    }
+
+    /// Whether a free motion `v` of the body's modes `idx` is idle: no load along it (−Nᵀ r
+    /// at round-off) and no force column of the small system with a share along it (Nᵀ E).
+    fn is_idle(&self, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], idx: &[usize], v: &[f64]) -> bool {
+        let along = |row: &dyn Fn(usize) -> f64| idx.iter().zip(v).map(|(&k, c)| c * row(k)).sum::<f64>();
+        let loaded = along(&|k| mode_rhs[k]).abs() > LOAD_ROUND_OFF * self.p.scales.force;
+        let moved = (0..m).any(|j| {
+            let size = idx.iter().map(|&k| a[(m + k, j)].abs()).fold(0.0, f64::max);
+            along(&|k| a[(m + k, j)]).abs() > FREE_MOTION * size.max(f64::MIN_POSITIVE)
+        });
+        !loaded && !moved
     }
 
     /// Before any load (t = 0), a body some of whose pairs started closed (gap 0) and separated
@@ -314,14 +341,26 @@ impl Restraint<'_> {
         w
     }
 
-    /// Under the stage's end load: the body's load T along the sliding translation, N along the mean
-    /// normal of its closed pairs, and their mean μ.
+    /// The body's load T along the sliding translation (3D: its part in the contact plane, at the
+    /// fraction checked), N along the mean normal of its closed pairs, and their mean μ; in 2D
+    /// under the stage's end load.
     fn tangential_and_normal_load(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> (f64, f64, f64) {
         let closed: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body).collect();
         let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.p.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
         let dim = self.p.dim;
         let normal: Vec<f64> = (0..dim).map(|k| mean(&|p| p.frame.normal[k])).collect();
         let mu = mean(&|p| p.mu);
+        if dim == 3 {
+            // the load at the fraction checked (its remaining change where it is zero there,
+            // as before any load: the ratio of T to N is what friction holds or not), resolved
+            // on the contact plane: a turn about the normal has no translation to read T along
+            let now = self.body_load_at(body, state.load_fraction);
+            let force = if norm(&now) > LOAD_ROUND_OFF * self.p.scales.force { now } else { self.body_load(body).iter().zip(&now).map(|(e, s)| e - s).collect() };
+            let n = along(&force, &normal);
+            let unit = normal.iter().map(|c| c / norm(&normal).max(f64::MIN_POSITIVE)).collect::<Vec<f64>>();
+            let tangential: Vec<f64> = force.iter().zip(&unit).map(|(f, u)| f - n * u).collect();
+            return (norm(&tangential), n.abs(), mu);
+        }
         let force = self.body_load(body);
         let load_along = |dir: &[f64]| -> f64 { along(&force, dir) };
         (load_along(&self.translation_of(idx, v)).abs(), load_along(&normal).abs(), mu)
@@ -405,10 +444,16 @@ impl Restraint<'_> {
         (t > mu * n * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.p.scales.force).then_some((t, n, mu))
     }
 
-    /// "(±motion): …" of gross sliding, the sense that of `push`, the load along the motion.
-    fn sliding(&self, push: f64, words: &str, (t, n, mu): (f64, f64, f64)) -> String {
-        let sense = if push >= 0.0 { "+" } else { "−" };
-        format!("({sense}{words}): its closed pairs all slip; under the stage's full load the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal)", mu * n)
+    /// "(±motion): …" of gross sliding, the sense that of `push`, the load along the motion
+    /// (None: motions named together, no sense).
+    fn sliding(&self, push: Option<f64>, words: &str, (t, n, mu): (f64, f64, f64)) -> String {
+        let sense = match push {
+            Some(p) if p >= 0.0 => "+",
+            Some(_) => "−",
+            None => "",
+        };
+        let load = if self.p.dim == 3 { "under the load at that fraction (the stage's, where none is applied yet)" } else { "under the stage's full load" };
+        format!("({sense}{words}): its closed pairs all slip; {load} the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal)", mu * n)
     }
 
     /// The translation part (x, y[, z]) of a combination `v` of the body's modes `idx`.
