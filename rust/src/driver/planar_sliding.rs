@@ -34,6 +34,7 @@
 //! Lengths are in units of the contact's size (positions about its centre), so that the three
 //! components of q and of w are of one order.
 
+use crate::contact::Frame;
 use nalgebra::{Matrix2, Vector2};
 
 /// |R| on q⊥ below this × Σ c_i: the motion balances the load (round-off of the sums).
@@ -177,7 +178,7 @@ impl Path<'_> {
                 }
             }
         }
-        let [e1, e2] = tangent_basis(q);
+        let [e1, e2] = Frame::of_pair(3, q, None).tangents; // an orthonormal basis of q⊥
         let r2 = Vector2::new(dot(e1, residual), dot(e2, residual));
         if r2.norm() <= STATIONARY * total {
             return None;
@@ -237,19 +238,6 @@ fn norm(a: [f64; 3]) -> f64 {
 fn unit(a: [f64; 3]) -> [f64; 3] {
     let n = norm(a);
     a.map(|x| x / n)
-}
-
-/// An orthonormal basis of the plane ⊥ unit q.
-fn tangent_basis(q: [f64; 3]) -> [[f64; 3]; 2] {
-    let least = (0..3).fold(0, |k, i| if q[i].abs() < q[k].abs() { i } else { k });
-    let mut e = [0.0; 3];
-    e[least] = 1.0;
-    let e1 = unit(cross(e, q));
-    [e1, cross(q, e1)]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
 #[cfg(test)]
