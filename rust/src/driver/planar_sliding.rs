@@ -78,11 +78,13 @@ impl Limit {
 }
 
 /// The first S in [0, 1] where the load w₀ + S Δw reaches the limit of `contact` (its
-/// capacities c_i0 + S Δc_i), and the motion there. None when the load at S = 1 is carried
-/// (then at every S between: the carried S are an interval), or is zero.
+/// capacities c_i0 + S Δc_i), and the motion there. None when the load is carried up to S = 1,
+/// or up to where a capacity falls to zero (a separation, which ends the increment first):
+/// then at every S between (the carried S are an interval); or when it is zero there.
 pub(super) fn first_reach(contact: &Contact, start: Wrench, rate: Wrench) -> Option<Limit> {
-    let end = add(start, rate, 1.0);
-    let at_end = Contact { at: contact.at.clone(), capacity: contact.capacity.iter().map(|c| [c[0] + c[1], 0.0]).collect() };
+    let last = contact.capacity.iter().filter(|c| c[1] < 0.0).map(|c| (c[0] / -c[1]).max(0.0)).fold(1.0, f64::min);
+    let end = add(start, rate, last);
+    let at_end = Contact { at: contact.at.clone(), capacity: contact.capacity.iter().map(|c| [c[0] + last * c[1], 0.0]).collect() };
     let end_limit = proportional(&at_end, end)?;
     if end_limit.scale > 1.0 {
         return None;
