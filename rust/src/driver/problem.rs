@@ -192,7 +192,7 @@ impl<'m> Problem<'m> {
     /// a normal force to bound its cross force by (a pair slipping at zero force has none yet:
     /// `slip_turn`). None for every other pair.
     pub fn cross_direction(&self, state: &State, p: usize) -> Option<[f64; 2]> {
-        self.facet_cross(state, p).filter(|_| state.lambda_n[p] > self.scales.force_noise)
+        self.facet_cross(state, p).filter(|_| state.lambda_n[p] > self.scales.force_noise || state.facet_laid[p])
     }
 
     /// 3D: e⊥ of a slipping pair that could slip on a facet, whatever its normal force: both
