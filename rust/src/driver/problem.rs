@@ -284,12 +284,13 @@ impl<'m> Problem<'m> {
     }
 
     /// Scales of the whole path: max over stages of |ΔP − K_fp Δū| over the free DOFs, and
-    /// of Σ|ΔP| (+ Σ|K_fp Δū|), with every element elastic; an obstacle motion Δc counts as the
-    /// force E t |Δc| per pair (the order of what moving a surface node by Δc takes;
-    /// t = `Model::depth`). (norm, sum)
+    /// of Σ|ΔP| (+ Σ|K_fp Δū|), with every element elastic; an obstacle's motion counts as the
+    /// force it takes to press its contact surface by its largest |Δc| (`motion_forces`).
+    /// (norm, sum)
     fn path_force_scales(&self) -> (f64, f64) {
         let elastic: Vec<Tangent> = self.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
         let young = self.sections.iter().map(|s| s.material.young).fold(0.0f64, f64::max);
+        let surfaces = if self.dim == 3 { self.contact_surface_lengths() } else { vec![] };
         let (mut norm, mut sum) = (0.0f64, 0.0f64);
         for k in 0..self.path.n_stages() {
             let stage = self.stage_load(k);
@@ -298,10 +299,7 @@ impl<'m> Problem<'m> {
             if let Some(f) = held {
                 total += f.iter().map(|v| v.abs()).sum::<f64>();
             }
-            for p in 0..self.global_pairs().len() {
-                let c = stage.shift(p, 1.0);
-                let c0 = stage.shift(p, 0.0);
-                let moved = young * self.model.depth() * (c[0] - c0[0]).hypot(c[1] - c0[1]);
+            for moved in self.motion_forces(&stage, young, &surfaces) {
                 total += moved;
                 effective.push(moved);
             }
@@ -310,6 +308,51 @@ impl<'m> Problem<'m> {
         }
         (norm, sum)
     }
+
+    /// The forces obstacle motions over `stage` produce. In space, per contact of the case:
+    /// E |Δc| ℓ with |Δc| its pairs' largest shift (normal and tangential) and ℓ the length
+    /// its surface can press over (`contact_surface_lengths`). Not summed over the pairs: a
+    /// rigid surface moved by Δc presses the body as one punch, whose force is the body's
+    /// stiffness at that surface's size times Δc (Boussinesq's flat punch: P = 2aE*δ), not
+    /// the stiffness of every node it could touch at once (E h |Δc| per node, (ℓ/h)² nodes:
+    /// a Vickers pyramid on a 0.1-mesh counted 4.2e6 for reactions of ~40, so the force noise
+    /// floor, 1e-12 of it, was a freshly closed pair's force). In the plane, per pair E t |Δc|
+    /// (t = `Model::depth`) as the 2D histories have always had it: the count there is ℓ/h,
+    /// not its square.
+    fn motion_forces(&self, stage: &StageLoad, young: f64, surfaces: &[f64]) -> Vec<f64> {
+        if self.dim == 2 {
+            let pairs = 0..self.global_pairs().len();
+            return pairs.map(|p| (stage.shift(p, 1.0), stage.shift(p, 0.0))).map(|(c, c0)| young * self.model.depth() * (c[0] - c0[0]).hypot(c[1] - c0[1])).collect();
+        }
+        let mut largest = vec![0.0f64; surfaces.len()];
+        for (p, input) in self.model.pairs.iter().enumerate() {
+            let (c, c0) = (stage.shift(p, 1.0), stage.shift(p, 0.0));
+            let moved = (c[0] - c0[0]).hypot(c[1] - c0[1]).hypot(c[2] - c0[2]);
+            largest[input.contact] = largest[input.contact].max(moved);
+        }
+        largest.iter().zip(surfaces).map(|(d, l)| young * d * l).collect()
+    }
+
+    /// 3D: per contact of the case, the length its motion can press over: the diagonal of the
+    /// bounding box of its contactor nodes (the largest punch it can be), at least the longest
+    /// element edge at them (a contact of one node).
+    fn contact_surface_lengths(&self) -> Vec<f64> {
+        let n_contacts = self.model.pairs.iter().map(|p| p.contact + 1).max().unwrap_or(0);
+        let mesh = &self.model.mesh;
+        let (mut low, mut high, mut edge) = (vec![[f64::MAX; 3]; n_contacts], vec![[f64::MIN; 3]; n_contacts], vec![0.0f64; n_contacts]);
+        for p in &self.model.pairs {
+            let (a, c) = (mesh.point(p.node_a), p.contact);
+            (0..3).for_each(|k| (low[c][k], high[c][k]) = (low[c][k].min(a[k]), high[c][k].max(a[k])));
+            for &e in &self.node_elements[p.node_a] {
+                edge[c] = mesh.element_nodes(e).iter().map(|&b| distance(a, mesh.point(b))).fold(edge[c], f64::max);
+            }
+        }
+        (0..n_contacts).map(|c| if edge[c] > 0.0 { distance(low[c], high[c]).max(edge[c]) } else { 0.0 }).collect()
+    }
+}
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1]).hypot(a[2] - b[2])
 }
 
 /// The contact pairs over the global DOFs (eqs. 45–46), supports removed from their vectors.
