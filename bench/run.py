@@ -26,7 +26,9 @@ Writes results.md (targets first), results.json, time_vs_dofs.png, error_vs_time
 
 The series 3d (bench/series_3d.py: the Hertz sphere in 3D beside GetFEM's 3D runs of
 bench/getfem_results_3d.json, Mindlin's sphere, the elastoplastic sphere against its
-axisymmetric run) runs after the others; its section and hertz_3d.png join the report.
+axisymmetric run) runs after the others; its section, hertz_3d.png and error_vs_time_3d.png
+(with the thick sphere beside dolfinx, bench/dolfinx_side_by_side.py --scene sphere) join the
+report.
 
     python bench/run.py                       # everything (make bench; takes long)
     python bench/run.py --quick               # a few small runs (< 3 min), into a temp folder
@@ -734,7 +736,7 @@ def report(saved: dict, out: Path, gf_doc: dict | None, cyl: dict | None) -> str
     runs_3d, gf_3d = series_3d.load(out)
     if runs_3d:
         L += series_3d.section(runs_3d, gf_3d)
-        series_3d.chart(runs_3d, gf_3d, out / "hertz_3d.png")
+        series_3d.charts(runs_3d, gf_3d, out)
     L += ["## Charts and data", "",
           "`error_vs_time.png`: (1) |p0 − ref| / ref and (2) |a − ref| / ref of the elastoplastic "
           "Hertz against the whole-process wall time, log–log: slipstep exact (×), default (●), "

@@ -20,8 +20,11 @@ of Mindlin's c; the elastoplastic force-approach within 2 % of the axisymmetric 
 The speed target is taken from bench/paired_3d.py's run when it exists (the two codes
 alternated pair by pair, so both meet the same load), else from the two separate series.
 
-Writes results_3d.json (the runs), results_3d.md and hertz_3d.png; bench/run.py's report gets
-`section` too.
+Writes results_3d.json (the runs), results_3d.md, hertz_3d.png and error_vs_time_3d.png (the
+errors against the references over the whole-process time: the Hertz sphere beside GetFEM, and
+the thick sphere beside dolfinx from bench/dolfinx_side_by_side_3d.json, written by
+bench/dolfinx_side_by_side.py --scene sphere); bench/run.py's report gets `section` and both
+charts too.
 
     python bench/series_3d.py [--quick] [--out DIR]     # the series alone
     python bench/series_3d.py --rerun hertz        # those again, the other saved runs kept
@@ -40,6 +43,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 CASES = ROOT / "cases"
 GETFEM_3D_JSON = HERE / "getfem_results_3d.json"
+SPHERE_JSON = HERE / "dolfinx_side_by_side_3d.json"  # the thick sphere beside dolfinx
 TIMEOUT_S = 900.0
 R_PLASTIC, OMEGA = 10.0, 0.00213           # the plastic sphere's R and final interference
 PLASTIC_MESH = ["mesh.contact_zone=0.2", "mesh.growth=0.3", "mesh.h_max=2.0"]
@@ -124,12 +128,16 @@ def hertz_fit(scene, snapshot: dict, a) -> float | None:
 
 
 # --------------------------------------------------------------------------- the series (parent)
-def series(sizes: dict, out: Path, timeout: float = TIMEOUT_S, keep=()) -> list[dict]:
-    """Every run of ``specs(sizes)`` in its own process; results_3d.json rewritten after each.
-    ``keep``: saved runs kept instead of run again (those of the same name and h)."""
+def series(sizes: dict, out: Path, timeout: float = TIMEOUT_S, keep=(),
+           kept_on: str | None = None) -> list[dict]:
+    """Every run of ``specs(sizes)`` in its own process; results_3d.json rewritten after each,
+    with the machine and code they ran on.  ``keep``: saved runs kept instead of run again
+    (those of the same name and h), measured as ``kept_on`` says."""
     import run as bench
 
     runs = list(keep)
+    measured = measured_on() + (f"; the runs kept from before: {kept_on}" if keep and kept_on
+                                else "")
     done = {(r["name"], r["h"]) for r in runs}
     for spec in specs(sizes):
         if (spec["name"], spec["h"]) in done:
@@ -137,7 +145,8 @@ def series(sizes: dict, out: Path, timeout: float = TIMEOUT_S, keep=()) -> list[
         r = bench.run_child(spec, timeout)
         runs.append(r)
         print(line_of(r), flush=True)
-        (out / "results_3d.json").write_text(json.dumps({"runs": runs}, indent=1))
+        (out / "results_3d.json").write_text(json.dumps({"measured": measured, "runs": runs},
+                                                        indent=1))
     return runs
 
 
@@ -259,8 +268,56 @@ def section(runs: list[dict], gf_doc: dict | None) -> list[str]:
     if failed:
         L += ["", "Runs that did not finish: " + "; ".join(
             f"{r['name']} h = {r['h']:g}: {r['status']} ({r.get('error', '')})" for r in failed)]
-    return L + ["", "`hertz_3d.png`: the whole process against DOFs (slipstep, GetFEM), the "
-                    "errors of a and p0 against DOFs, the plastic force-approach curves.", ""]
+    return L + [""] + sphere_section(load_sphere()) + [
+        "`hertz_3d.png`: the whole process against DOFs (slipstep, GetFEM), the errors of a and "
+        "p0 against DOFs, the plastic force-approach curves. `error_vs_time_3d.png`: the error "
+        "against the reference over the time, log–log: (1) |a − a_Hertz| / a_Hertz and (2) "
+        "|p0 − p0_Hertz| / p0_Hertz of the Hertz sphere against the whole process, slipstep and "
+        "GetFEM (nodal, tuned) a line each over the meshes (labelled in DOFs; grey: the same mesh, "
+        "hence the same error, with GetFEM's time over slipstep's), p0 as the largest nodal "
+        "pressure for both and slipstep's recovered and fitted peaks beside; hollow: the paired "
+        "run; (3) the thick sphere's e_σ against Hill and (4) its path difference d_max to "
+        "slipstep's exact run, against the solve time, slipstep (exact, δ) and dolfinx (N load "
+        "steps), colour = mesh.", ""]
+
+
+def sphere_section(doc: dict | None) -> list[str]:
+    """The thick sphere beside dolfinx in short (bench/dolfinx_side_by_side_3d.md in full)."""
+    if not doc:
+        return ["No thick-sphere comparison with dolfinx (`bench/dolfinx_side_by_side.py --scene "
+                "sphere` writes it).", ""]
+    from dolfinx_side_by_side import beyond
+    from run import fmt, pct
+
+    def reached(hit: dict) -> str:
+        return f"{beyond(hit)}{hit['N_interp']:.0f}, {beyond(hit)}{fmt(hit['t_interp'], '.3g')}"
+
+    L = ["### Thick sphere in 3D, side by side with dolfinx on the same mesh", "",
+         "cases/thick_sphere_3d.toml (elastic-perfectly plastic, p = 280 MPa), slipstep's exact "
+         "mode (δ = 0) and default (δ = 0.03) against dolfinx 0.5 (Newton, N load steps) on the "
+         "identical tetrahedra (`dolfinx_side_by_side_3d.md`: every run, the measures). Solve "
+         "wall times in process (meshing common, dolfinx's set-up apart). Against Hill at the "
+         "final pressure: e_σ (L2 over σ_R and σ_t), e_u (u at the outer radius), the plastic "
+         "front c_fe; path: d_max to slipstep's exact run (every stress component and ε_p, "
+         "largest element difference over the largest value) and its stress part d_σ max; "
+         "dolfinx as close to the exact run as slipstep's default: N interpolated log–log "
+         "between the N tried, or extrapolated with d ~ C/N (≈), a lower bound where d fell "
+         "more slowly than 1/N (≥).", "",
+         "| h bore | DOFs | exact s (events) | default s | e_σ | e_u | c_fe vs Hill's c | "
+         "dolfinx N = 1: s, e_σ | default's d_max (d_σ max) | dolfinx at that d_max: N, s | "
+         "at that d_σ max: N, s | dolfinx / default (d_max; d_σ max) |",
+         "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for m in doc["meshes"]:
+        g = next(g for g in m["grouped"] if g["default"])
+        one, hit, st = m["runs"][0], g["dolfinx"], g["dolfinx_stress"]
+        L.append(f"| {m['h']:g} | {m['dofs']} | {fmt(m['t_s'], '.3g')} ({m['events']}) | "
+                 f"{fmt(g['t'], '.3g')} | {pct(m['e_sig_s'], '.2f')} | {pct(m['e_u_s'], '+.2f')} | "
+                 f"{m['c_fe']:.3f} vs {m['c_hill']:.3f} mm | N = {one['N']}: "
+                 f"{fmt(one['t_d'], '.3g')}, {pct(one['e_sig'], '.2f')} | {pct(g['d_max'], '.2f')} "
+                 f"({pct(g['d_stress'], '.3f')}) | {reached(hit)} | {reached(st)} | "
+                 f"{beyond(hit)}{hit['t_interp'] / g['t']:.0f}; {beyond(st)}"
+                 f"{st['t_interp'] / g['t']:.0f} |")
+    return L + [""]
 
 
 def target_rows(runs: list[dict], gf: list[dict]) -> list[str]:
@@ -364,6 +421,103 @@ def chart(runs: list[dict], gf_doc: dict | None, path: Path) -> None:
     plt.close(fig)
 
 
+def charts(runs: list[dict], gf_doc: dict | None, out: Path) -> None:
+    """hertz_3d.png and error_vs_time_3d.png into ``out``."""
+    chart(runs, gf_doc, out / "hertz_3d.png")
+    error_chart(runs, gf_doc, load_sphere(), out / "error_vs_time_3d.png")
+
+
+def error_chart(runs: list[dict], gf_doc: dict | None, sphere: dict | None, path: Path) -> None:
+    """error_vs_time_3d.png: the errors against the references over the time (section's
+    closing paragraph says what is drawn)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(2, 2, figsize=(14, 10.5))
+    hz = sorted(ok(runs, "hertz"), key=lambda r: r["dofs"])
+    gf = getfem_runs(gf_doc)
+    slipstep_errors = {"a": [("slipstep", lambda r: hertz_errors(r)[0], "o-C0")],
+                       "p0": [("slipstep, largest nodal pressure (GetFEM's measure)", nodal_error,
+                               "o-C0"),
+                              ("slipstep, recovered peak", lambda r: hertz_errors(r)[1], "v:C4"),
+                              ("slipstep, Hertz's profile fitted", fit_error, "D:C5")]}
+    for axis, what in zip(ax[0], ("a", "p0")):
+        for label, err, style in slipstep_errors[what]:
+            rs = [r for r in hz if err(r) is not None]
+            axis.loglog([r["wall_s"] for r in rs], [abs(err(r)) for r in rs], style, ms=6,
+                        label=label)
+        for setting, style in (("nodal", "s--C1"), ("tuned", "^--C2")):
+            gs = sorted((g for g in gf if g["setting"] == setting), key=lambda g: g["dofs"])
+            axis.loglog([g["wall_s"] for g in gs], [abs(g[f"{what}_error"]) for g in gs], style,
+                        ms=6, label=f"GetFEM {setting}")
+        same_mesh_ratios(axis, hz, gf, what)
+        paired_points(axis, hz, what)
+        axis.set(xlabel="whole process [s]", ylabel=f"|{what} − {what}_Hertz| / {what}_Hertz",
+                 title=f"Hertz sphere 3D: {what} against Hertz vs time")
+        axis.legend(fontsize=7)
+    sphere_panels(ax[1], sphere)
+    for a in ax.ravel():
+        a.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def same_mesh_ratios(axis, hz: list[dict], gf: list[dict], what: str) -> None:
+    """Each slipstep run labelled with its DOFs and joined (grey) to GetFEM's fastest run on the
+    same mesh, the same discrete problem hence the same error, labelled with the time ratio."""
+    for r in hz:
+        e = abs(hertz_errors(r)[0] if what == "a" else nodal_error(r))
+        axis.annotate(f"{r['dofs'] / 1000:.1f}k", (r["wall_s"], e), textcoords="offset points",
+                      xytext=(-4, 5), ha="right", fontsize=6)
+        g = min((g for g in gf if g["h"] == r["h"] and g["status"] == "ok"),
+                key=lambda g: g["wall_s"], default=None)
+        if g:
+            axis.plot([r["wall_s"], g["wall_s"]], [e, e], color="0.6", lw=0.6, zorder=0)
+            axis.annotate(f"×{g['wall_s'] / r['wall_s']:.0f}", (g["wall_s"], e),
+                          textcoords="offset points", xytext=(5, -3), fontsize=6, color="0.3")
+
+
+def paired_points(axis, hz: list[dict], what: str) -> None:
+    """bench/paired_3d.py's pair (the two codes alternated): hollow markers at that mesh's error."""
+    from paired_3d import PAIRED_JSON
+
+    if not PAIRED_JSON.exists():
+        return
+    doc = json.loads(PAIRED_JSON.read_text())
+    r = next((r for r in hz if r["h"] == doc["h"]), None)
+    if r is None:
+        return
+    e = abs(hertz_errors(r)[0] if what == "a" else nodal_error(r))
+    for p in doc["pairs"]:
+        axis.loglog(p["slipstep"]["wall_s"], e, "o", mfc="none", mec="C0", ms=10)
+        axis.loglog(p["getfem"]["wall_s"], e, "^", mfc="none", mec="C2", ms=10)
+    axis.plot([], [], "o", mfc="none", mec="0.3", label="paired run (slipstep ○, GetFEM △)")
+
+
+def sphere_panels(ax, sphere: dict | None) -> None:
+    """The thick sphere beside dolfinx: e_σ against Hill, the path difference to the exact run."""
+    if not sphere:
+        for a in ax:
+            a.text(0.5, 0.5, "no dolfinx_side_by_side_3d.json", transform=a.transAxes,
+                   ha="center")
+        return
+    from dolfinx_side_by_side import hill_panel, path_panel
+
+    hill_panel(ax[0], sphere["meshes"])
+    path_panel(ax[1], sphere["meshes"])
+    ax[0].set_title("thick sphere 3D: e_σ against Hill vs solve time (labels: dolfinx N)",
+                    fontsize=10)
+    ax[1].set_title("thick sphere 3D: difference to slipstep's exact path vs solve time\n"
+                    "dolfinx over N (lines), slipstep δ (● default, ▲ others); dotted: the exact "
+                    "run's time", fontsize=9)
+
+
+def load_sphere() -> dict | None:
+    return json.loads(SPHERE_JSON.read_text()) if SPHERE_JSON.exists() else None
+
+
 def load(out: Path) -> tuple[list[dict], dict | None]:
     """The saved 3D runs (empty without results_3d.json) and GetFEM's 3D runs."""
     path = out / "results_3d.json"
@@ -381,34 +535,43 @@ def main(argv=None) -> int:
                                                 "run these again, keep the other saved runs")
     args = ap.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
-    if args.report:
-        runs = json.loads(args.report.read_text())["runs"]
-    else:
+    saved = args.report or args.out / "results_3d.json"
+    if not args.report:
         again = set(args.rerun.split(",")) if args.rerun else None
-        keep = [r for r in load(args.out)[0] if r["status"] == "ok"
+        before = json.loads(saved.read_text()) if again and saved.exists() else {"runs": []}
+        keep = [r for r in before["runs"] if r["status"] == "ok"
                 and r["name"].removesuffix("_axi") not in again] if again else []
-        runs = series(QUICK if args.quick else FULL, args.out, keep=keep)
-    gf = load(args.out)[1]
-    chart(runs, gf, args.out / "hertz_3d.png")
-    text = "\n".join(header() + section(runs, gf))
+        series(QUICK if args.quick else FULL, args.out, keep=keep, kept_on=before.get("measured"))
+    doc = json.loads(saved.read_text())
+    runs, gf = doc["runs"], load(args.out)[1]
+    charts(runs, gf, args.out)
+    text = "\n".join(header(doc.get("measured")) + section(runs, gf))
     (args.out / "results_3d.md").write_text(text)
     print(text)
     return 0
 
 
-def header() -> list[str]:
-    """The machine and the code a standalone 3D report was measured on (bench/run.py's full
-    report has its own)."""
+def measured_on() -> str:
+    """The machine and the code now: saved with the runs as they are measured."""
     from run import machine
 
     m = machine()
+    return (f"{m['cpu']}, {m['cores']} cores, {m['ram_gib']} GiB RAM, shared with other jobs "
+            f"(load average {m['load_start']:.1f} at the start). slipstep git {m['git']}, engine "
+            f"built {m['engine_mtime']}")
+
+
+def header(measured: str | None) -> list[str]:
+    """The machine and the code a standalone 3D report was measured on, as saved with the runs
+    (bench/run.py's full report has its own)."""
+    measured = measured or (measured_on() + " (when this report was written: the runs do not "
+                                            "say where they ran)")
     return ["# Benchmark: the 3D series (bench/series_3d.py)", "",
-            f"Machine: {m['cpu']}, {m['cores']} cores, {m['ram_gib']} GiB RAM, shared with other "
-            f"jobs (load average {m['load_start']:.1f} when this report was written). slipstep git "
-            f"{m['git']}, engine built {m['engine_mtime']}. Each run its own process, one at a "
-            f"time; process = spawn to exit. GetFEM's runs: `getfem_results_3d.json` "
-            f"(bench/getfem_hertz_3d.py). This section also joins `results.md` when `make bench` "
-            f"runs bench/run.py.", ""]
+            f"Machine: {measured}. Each run its own process, one at a time; process = spawn to "
+            f"exit. GetFEM's runs: `getfem_results_3d.json` (bench/getfem_hertz_3d.py). This "
+            f"section also joins `results.md` when `make bench` runs bench/run.py. The paired "
+            f"speed row: bench/paired_3d.json (its own note). The thick sphere beside dolfinx: "
+            f"`dolfinx_side_by_side_3d.md` (its own machine line).", ""]
 
 
 if __name__ == "__main__":

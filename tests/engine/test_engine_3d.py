@@ -15,7 +15,7 @@ from space3d import BOX
 
 from slipstep.build import build_scene
 from slipstep.case import parse_case
-from slipstep.errors import FreeBodyError, InputError
+from slipstep.errors import GrossSlidingError, InputError
 from slipstep.runner import engine
 
 # A uniform stress from loads of size |σ| on a mesh of O(1) condition: each stress is a few
@@ -355,11 +355,11 @@ def test_a_shear_inside_the_round_cone_sticks_with_the_exact_forces():
 
 def test_a_shear_beyond_the_round_cone_slides_the_block():
     """At 1.05 of the capacity along 45° every pair reaches the round cone at the first instant
-    and slips, and the block, held by nothing else, is free to slide: a one-line error naming
-    the body and both translations of the 45° motion (the engine's free-body error, as for a
-    2D load beyond friction from the start)."""
+    and slips, and the block, held by nothing else, slides: a one-line error naming the body
+    and both translations of the 45° motion (the engine's gross-sliding error, as for a 2D load
+    beyond friction from the start: its tangential load in the plane exceeds mu N)."""
     model, _, _ = block_on_a_frictional_plane(1.05)
-    with pytest.raises(FreeBodyError) as err:
+    with pytest.raises(GrossSlidingError) as err:
         engine().solve(model)
     message = str(err.value)
     assert "body 'b'" in message and "translation in x" in message and "translation in y" in message, message

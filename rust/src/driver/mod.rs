@@ -23,6 +23,7 @@
 //! | the current stage's loads, out-of-balance force | [`loads`] | eq. 42 |
 //! | the engine: problem, stiffness, stage loads | [`engine`] | |
 //! | free bodies, gross sliding, loss of support along the path | [`restraint`] | |
+//! | the limit of a body sliding on friction in one plane (force and moment) | [`planar_sliding`] | |
 //! | trial for the remaining load (small contact system) | [`trial`] | eqs. 43–44 |
 //! | scale factors, S_min, ties, zero-length order, a window's bound | [`selection`] | eqs. 48–57 |
 //! | termination of zero-length runs | [`anticycling`], [`rate_problem`] | |
@@ -61,6 +62,7 @@ mod clock;
 mod engine;
 mod loads;
 mod path;
+mod planar_sliding;
 mod plasticity;
 mod problem;
 mod rate_problem;
@@ -91,7 +93,7 @@ use plasticity::{correct_at_fixed_load, drift, restore_equilibrium, Restored};
 use recording::Recorder;
 use restraint::{hold, Hold};
 use selection::Selection;
-use state::{IncrementStart, State};
+use state::{IncrementStart, State, TrialIncrement};
 use stepping::Stepping;
 use switching::{switch_keeping, switch_statuses};
 use tangents::Renewal;
@@ -185,7 +187,7 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         (trial, base) = trial::remaining_load(eng, state, None, stage.stepping)?; // 3D: a slip at zero force took its direction
     }
     let _events = eng.clock.time(Phase::Events);
-    let cut = rec.snapshot_cut(eng, state).min(friction_cut(eng, state)); // (3D: a body held by friction alone meets μN)
+    let cut = rec.snapshot_cut(eng, state).min(friction_cut(eng, state, &trial)); // (3D: a body held by friction alone meets its limit)
     let sel = selection::select(&eng.problem, state, &trial, cycles, cut, stage.stepping); // S = min(S_c, S_p, S_f, S_r, S_A) (eqs. 48–57)
     if let Some(stop) = stage.limit.check(eng, state, &trial, &sel) {
         return Ok(Outcome::Stop(stop));
@@ -232,10 +234,11 @@ fn unbalanced_jump(state: &State) -> f64 {
     state.jumps.iter().map(|j| j[0].abs().max(j[1].hypot(j[2]))).fold(0.0, f64::max)
 }
 
-/// The trial's scale at which a body held by friction alone meets its capacity μN (∞ if none).
-fn friction_cut(eng: &Engine, state: &State) -> f64 {
+/// The trial's scale at which the load of a body held by friction alone meets the limit of its
+/// pairs (∞ if none).
+fn friction_cut(eng: &Engine, state: &State, trial: &TrialIncrement) -> f64 {
     let remaining = 1.0 - state.load_fraction;
-    match restraint::friction_limit(&eng.problem, &eng.loads, state) {
+    match restraint::friction_limit(&eng.problem, &eng.loads, state, trial) {
         Some(s) if remaining > 0.0 => (s - state.load_fraction) / remaining,
         _ => f64::INFINITY,
     }

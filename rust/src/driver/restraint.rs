@@ -14,7 +14,8 @@
 
 use super::loads::StageLoads;
 use super::problem::Problem;
-use super::state::State;
+use super::planar_sliding;
+use super::state::{State, TrialIncrement};
 use crate::bail;
 use crate::contact::Status;
 use crate::contact::SparseVec;
@@ -54,42 +55,107 @@ pub(super) fn hold(problem: &Problem, loads: &StageLoads, state: &State, events:
 /// rank; else name the body, its free motion and why (a missing support, gross sliding).
 /// `mode_rhs`: the small system's rigid-body rows −Nᵀ r; `closed_normals`: the pairs of its
 /// normal rows.
-pub(super) fn check_restrained(problem: &Problem, loads: &StageLoads, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<()> {
+/// Returns the idle free motions (3D), over all modes: unresisted, but neither loaded nor
+/// moved by any force of the system (a pressed body turning about the normal while its pairs,
+/// all slipping at zero force, have no direction yet to hold it by): the caller holds them
+/// still (α along them = 0), as nothing drives them.
+pub(super) fn check_restrained(problem: &Problem, loads: &StageLoads, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<Vec<Vec<f64>>> {
     Restraint { p: problem, loads }.check_restrained(state, a, m, mode_rhs, closed_normals)
 }
 
-/// 3D: the stage fraction in (φ, 1] at which a body held by friction alone (`friction_held`)
-/// meets its capacity, |T(s)| = μ N(s) for the resultants of its load in the contact plane and
-/// along the normal: its pairs hold at most μ λ_n each, whatever their statuses and slip
-/// directions, so no equilibrium exists beyond (the increment is cut there, `friction_stop`
-/// stops the run). None when no body is so held or its load stays inside.
-pub(super) fn friction_limit(problem: &Problem, loads: &StageLoads, state: &State) -> Option<f64> {
+/// 3D: the stage fraction in (φ, 1] at which the load of a body held by friction alone
+/// (`friction_held`) reaches the limit of its pairs (`planar_sliding`): its force in the
+/// contact plane and moment about the normal, linear in the trial's scale as the pairs' normal
+/// forces λ_n + S Δλ_n are, meet what friction forces within μλ_n can balance, whatever the
+/// pairs' statuses and slip directions; no equilibrium exists beyond (the increment is cut
+/// there, `friction_stop` stops the run). With no moment this is |T| = μN. None when no body
+/// is so held or its load stays inside.
+pub(super) fn friction_limit(problem: &Problem, loads: &StageLoads, state: &State, trial: &TrialIncrement) -> Option<f64> {
     let r = Restraint { p: problem, loads };
     let phi = state.load_fraction;
-    let limit = r.friction_held(state).filter_map(|(body, mu, n)| {
-        let (t0, n0) = r.resultants(body, &n, phi);
-        let (t1, n1) = r.resultants(body, &n, 1.0);
-        // the change to the stage's end: the cone's root is the share of it taken
-        let change = ([t1[0] - t0[0], t1[1] - t0[1]], n1 - n0);
-        crate::events::onto_round_cone(mu, (n0, t0), (change.1, change.0), 0.0).map(|s| phi + s * (1.0 - phi))
+    let limit = r.friction_held(state).filter_map(|plane| {
+        let contact = plane.contact(problem, |p| [state.lambda_n[p], trial.dlambda_n[p]]);
+        let (start, end) = (r.wrench(&plane, phi), r.wrench(&plane, 1.0));
+        let change = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
+        planar_sliding::first_reach(&contact, start, change).map(|l| phi + l.scale * (1.0 - phi))
     }).filter(|&s| s > phi && s <= 1.0).reduce(f64::min);
     limit
 }
 
-/// The run's stop where a body held by friction alone carries the tangential load μN
-/// (`friction_limit`'s fraction reached): it slides as a whole.
+/// The run's stop where the load of a body held by friction alone has reached the limit of
+/// its pairs (`friction_limit`'s fraction reached): it slides as a whole, turning about a
+/// centre in the contact plane when the load has a moment about it.
 pub(super) fn friction_stop(problem: &Problem, loads: &StageLoads, state: &State) -> Option<StopReason> {
     let r = Restraint { p: problem, loads };
-    let stop = r.friction_held(state).find_map(|(body, mu, n)| {
-        let (t, n_load) = r.resultants(body, &n, state.load_fraction);
-        let t = t[0].hypot(t[1]);
-        (n_load > 0.0 && t >= mu * n_load * (1.0 - CAPACITY_TIE) && t > LOAD_ROUND_OFF * problem.scales.force).then(|| {
-            let name = problem.model.body_name(problem.bodies.first_element[body]);
-            let what = format!("{name} slides as a whole: its tangential load T = {t:.4e} has reached the friction capacity of its closed pairs, μN = {:.4e} (N = {n_load:.4e} along the contact normal)", mu * n_load);
-            StopReason::SupportLost { load_fraction: state.time(), stage: problem.model.stage_label(state.stage), what, fix: "lower the tangential load, raise mu, or add a support (fix/symmetry)".into() }
+    let stop = r.friction_held(state).find_map(|plane| {
+        let contact = plane.contact(problem, |p| [state.lambda_n[p], 0.0]);
+        let load = r.wrench(&plane, state.load_fraction);
+        let limit = planar_sliding::proportional(&contact, load)?;
+        let size = load[0].hypot(load[1]) + load[2].abs() * plane.size;
+        (limit.scale <= 1.0 + CAPACITY_TIE && size > LOAD_ROUND_OFF * problem.scales.force).then(|| {
+            let name = problem.model.body_name(problem.bodies.first_element[plane.body]);
+            let what = format!("{name} slides as a whole{}", r.limit_words(&plane, &contact, load, &limit, state));
+            StopReason::SupportLost { load_fraction: state.time(), stage: problem.model.stage_label(state.stage), what, fix: "lower the tangential load or its moment about the contact normal, raise mu, or add a support (fix/symmetry)".into() }
         })
     });
     stop
+}
+
+/// A body held by friction alone on one plane (`Restraint::friction_held`): its closed pairs,
+/// the plane's unit normal n (towards the body) and basis (t1, t2, t1 × t2 = n), the centre of
+/// its pairs and their largest distance from it, the unit of `planar_sliding`'s lengths.
+struct FrictionPlane {
+    body: usize,
+    pairs: Vec<usize>,
+    normal: [f64; 3],
+    basis: [[f64; 3]; 2],
+    centre: [f64; 3],
+    size: f64,
+}
+
+impl FrictionPlane {
+    fn new(problem: &Problem, body: usize, pairs: Vec<usize>, normal: [f64; 3]) -> Self {
+        let basis = crate::contact::Frame::of_pair(3, normal, None).tangents;
+        let points: Vec<[f64; 3]> = pairs.iter().map(|&p| contact_point(problem, p)).collect();
+        let centre = points.iter().fold([0.0; 3], |c, x| [c[0] + x[0], c[1] + x[1], c[2] + x[2]]).map(|c| c / points.len() as f64);
+        let size = points.iter().map(|x| norm(&[x[0] - centre[0], x[1] - centre[1], x[2] - centre[2]])).fold(0.0, f64::max);
+        FrictionPlane { body, pairs, normal, basis, centre, size: if size > 0.0 { size } else { 1.0 } }
+    }
+
+    /// In-plane coordinates of a point about the centre, in units of `size`.
+    fn coordinates(&self, x: [f64; 3]) -> [f64; 2] {
+        let d = [x[0] - self.centre[0], x[1] - self.centre[1], x[2] - self.centre[2]];
+        [along(&d, &self.basis[0]) / self.size, along(&d, &self.basis[1]) / self.size]
+    }
+
+    /// The point of in-plane coordinates `c`.
+    fn point(&self, c: [f64; 2]) -> [f64; 3] {
+        let [a, b] = self.basis;
+        [0, 1, 2].map(|k| self.centre[k] + self.size * (c[0] * a[k] + c[1] * b[k]))
+    }
+
+    /// The pairs' positions and capacities μ λ_n (at S = 0 and its rate) from `normal_force`
+    /// (λ_n and Δλ_n of a pair).
+    fn contact(&self, problem: &Problem, normal_force: impl Fn(usize) -> [f64; 2]) -> planar_sliding::Contact {
+        let at = self.pairs.iter().map(|&p| self.coordinates(contact_point(problem, p))).collect();
+        let capacity = self.pairs.iter().map(|&p| normal_force(p).map(|f| problem.pairs[p].mu * f)).collect();
+        planar_sliding::Contact { at, capacity }
+    }
+}
+
+/// Where pair p acts on its contactor: its node, or the weighted mean of its contactor nodes.
+fn contact_point(problem: &Problem, p: usize) -> [f64; 3] {
+    let input = &problem.model.pairs[p];
+    let mesh = &problem.model.mesh;
+    let contactor: Vec<(usize, f64)> = input.weights.iter().copied().filter(|&(_, c)| c > 0.0).collect();
+    if contactor.is_empty() {
+        return mesh.point(input.node_a);
+    }
+    let total: f64 = contactor.iter().map(|c| c.1).sum();
+    contactor.iter().fold([0.0; 3], |x, &(i, c)| {
+        let y = mesh.point(i);
+        [0, 1, 2].map(|k| x[k] + c / total * y[k])
+    })
 }
 
 /// The bodies of a problem under the current stage's loads.
@@ -112,7 +178,7 @@ impl Restraint<'_> {
                 (self.lifted_or_tipped(&name, state, body, &idx, &free, events), "lower the load, or add a support (fix/symmetry) that holds the body")
             } else if let Some(capacity) = self.beyond_capacity(body, state, &idx, &slides[0]) {
                 let push: f64 = idx.iter().zip(&slides[0]).map(|(&k, c)| c * self.loads.mode_force[k][1]).sum();
-                (format!("{name} slides as a whole {}", self.sliding(push, &self.describe_motion(&idx, &slides[0]), capacity)), "lower the tangential load, raise mu, or add a support (fix/symmetry)")
+                (format!("{name} slides as a whole {}", self.sliding(Some(push), &self.describe_motion(&idx, &slides[0]), capacity)), "lower the tangential load, raise mu, or add a support (fix/symmetry)")
             } else {
                 hold = Hold::OnFriction;
                 continue;
@@ -165,11 +231,20 @@ impl Restraint<'_> {
         }
     }
 
-    fn check_restrained(&self, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<()> {
+    fn check_restrained(&self, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<Vec<Vec<f64>>> {
+        let mut idle = vec![];
         for (body, idx) in self.bodies_with_modes() {
             let rows_n: Vec<Vec<f64>> = (0..m).map(|i| idx.iter().map(|&k| a[(i, m + k)]).collect()).collect();
             let free = free_motions(&rows_n, idx.len());
             if free.is_empty() {
+                continue;
+            }
+            if self.p.dim == 3 && free.iter().all(|v| self.is_idle(a, m, mode_rhs, &idx, v)) {
+                idle.extend(free.iter().map(|v| {
+                    let mut all = vec![0.0; mode_rhs.len()];
+                    idx.iter().zip(v).for_each(|(&k, c)| all[k] = *c);
+                    all
+                }));
                 continue;
             }
             let words: Vec<String> = free.iter().map(|v| self.describe_motion(&idx, v)).collect();
@@ -187,7 +262,9 @@ impl Restraint<'_> {
                 if let Some(capacity) = self.beyond_capacity(body, state, &idx, &free[0]) {
                     // −Nᵀ r along the motion is the out-of-balance force nothing holds.
                     let push: f64 = idx.iter().zip(&free[0]).map(|(&k, c)| -c * mode_rhs[k]).sum();
-                    bail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} {}: lower the tangential load, raise mu, or add a support", state.load_fraction, self.p.path.stage_names[state.stage], self.sliding(push, &words[0], capacity));
+                    // 3D: the free motions together (the load in the plane picks its direction)
+                    let (push, motion) = if self.p.dim == 3 && free.len() > 1 { (None, words.join("; ")) } else { (Some(push), words[0].clone()) };
+                    bail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} {}: lower the tangential load, raise mu, or add a support", state.load_fraction, self.p.path.stage_names[state.stage], self.sliding(push, &motion, capacity));
                 }
                 bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
             }
@@ -197,7 +274,19 @@ impl Restraint<'_> {
             let closed = closed_normals().into_iter().filter(|&p| self.p.body_of_pair(p) == body).count();
             bail!(FreeBody, "{name} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", words.join("; "));
         }
-        Ok(())
+        Ok(idle)
+    }
+
+    /// Whether a free motion `v` of the body's modes `idx` is idle: no load along it (−Nᵀ r
+    /// at round-off) and no force column of the small system with a share along it (Nᵀ E).
+    fn is_idle(&self, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], idx: &[usize], v: &[f64]) -> bool {
+        let along = |row: &dyn Fn(usize) -> f64| idx.iter().zip(v).map(|(&k, c)| c * row(k)).sum::<f64>();
+        let loaded = along(&|k| mode_rhs[k]).abs() > LOAD_ROUND_OFF * self.p.scales.force;
+        let moved = (0..m).any(|j| {
+            let size = idx.iter().map(|&k| a[(m + k, j)].abs()).fold(0.0, f64::max);
+            along(&|k| a[(m + k, j)]).abs() > FREE_MOTION * size.max(f64::MIN_POSITIVE)
+        });
+        !loaded && !moved
     }
 
     /// Before any load (t = 0), a body some of whose pairs started closed (gap 0) and separated
@@ -252,25 +341,37 @@ impl Restraint<'_> {
         w
     }
 
-    /// Under the stage's end load: the body's load T along the sliding translation, N along the mean
-    /// normal of its closed pairs, and their mean μ.
+    /// The body's load T along the sliding translation (3D: its part in the contact plane, at the
+    /// fraction checked), N along the mean normal of its closed pairs, and their mean μ; in 2D
+    /// under the stage's end load.
     fn tangential_and_normal_load(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> (f64, f64, f64) {
         let closed: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body).collect();
         let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.p.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
         let dim = self.p.dim;
         let normal: Vec<f64> = (0..dim).map(|k| mean(&|p| p.frame.normal[k])).collect();
         let mu = mean(&|p| p.mu);
+        if dim == 3 {
+            // the load at the fraction checked (its remaining change where it is zero there,
+            // as before any load: the ratio of T to N is what friction holds or not), resolved
+            // on the contact plane: a turn about the normal has no translation to read T along
+            let now = self.body_load_at(body, state.load_fraction);
+            let force = if norm(&now) > LOAD_ROUND_OFF * self.p.scales.force { now } else { self.body_load(body).iter().zip(&now).map(|(e, s)| e - s).collect() };
+            let n = along(&force, &normal);
+            let unit = normal.iter().map(|c| c / norm(&normal).max(f64::MIN_POSITIVE)).collect::<Vec<f64>>();
+            let tangential: Vec<f64> = force.iter().zip(&unit).map(|(f, u)| f - n * u).collect();
+            return (norm(&tangential), n.abs(), mu);
+        }
         let force = self.body_load(body);
         let load_along = |dir: &[f64]| -> f64 { along(&force, dir) };
         (load_along(&self.translation_of(idx, v)).abs(), load_along(&normal).abs(), mu)
     }
 
     /// 3D bodies held by nothing but their closed pairs (all six rigid modes free: no support
-    /// takes a share of the load), all frictional and on one plane (parallel normals): (body,
-    /// the pairs' largest μ, their unit normal). Their friction forces lie in that plane and sum
-    /// to at most μ Σλ_n = μN whatever their statuses (Coulomb), so a tangential load T beyond
-    /// μN has no equilibrium: at T = μN every pair carries its whole friction along T.
-    fn friction_held<'s>(&'s self, state: &'s State) -> impl Iterator<Item = (usize, f64, [f64; 3])> + 's {
+    /// takes a share of the load), all frictional and on one plane (parallel normals). Their
+    /// friction forces lie in that plane and are bounded by μ λ_n each whatever their statuses,
+    /// so a load in the plane beyond what such forces balance (`planar_sliding`; without a
+    /// moment: T beyond μN) has no equilibrium.
+    fn friction_held<'s>(&'s self, state: &'s State) -> impl Iterator<Item = FrictionPlane> + 's {
         self.bodies_with_modes().into_iter().filter(|(_, idx)| self.p.dim == 3 && idx.len() == 6).filter_map(move |(body, _)| {
             let closed: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body).collect();
             let normal = |p: usize| self.p.global_pairs()[p].frame.normal;
@@ -282,9 +383,39 @@ impl Restraint<'_> {
             if !closed.iter().all(|&p| self.p.pairs[p].frictional()) || !closed.iter().all(on_plane) {
                 return None;
             }
-            let mu = closed.iter().map(|&p| self.p.pairs[p].mu).fold(0.0, f64::max);
-            Some((body, mu, n))
+            Some(FrictionPlane::new(self.p, body, closed, n))
         })
+    }
+
+    /// A body's load at stage fraction s on its friction plane: the force along the plane's
+    /// basis and the moment about the normal through its centre, over its size.
+    fn wrench(&self, plane: &FrictionPlane, s: f64) -> planar_sliding::Wrench {
+        let nodes = (0..self.p.bodies.of_node.len()).filter(|&i| self.p.bodies.of_node[i] == plane.body);
+        let n = plane.normal;
+        nodes.fold([0.0; 3], |w, i| {
+            let f: Vec<f64> = (0..3).map(|k| self.loads.load.force(3 * i + k, s)).collect();
+            let x = self.p.model.mesh.point(i);
+            let r = [0, 1, 2].map(|k| x[k] - plane.centre[k]);
+            let moment = n[0] * (r[1] * f[2] - r[2] * f[1]) + n[1] * (r[2] * f[0] - r[0] * f[2]) + n[2] * (r[0] * f[1] - r[1] * f[0]);
+            [w[0] + along(&f, &plane.basis[0]), w[1] + along(&f, &plane.basis[1]), w[2] + moment / plane.size]
+        })
+    }
+
+    /// ": …" of a body at the limit of its friction plane: the centre it turns about and the
+    /// load's moment there against the pairs' friction moment, or (a translation) its
+    /// tangential load against μN.
+    fn limit_words(&self, plane: &FrictionPlane, contact: &planar_sliding::Contact, load: planar_sliding::Wrench, limit: &planar_sliding::Limit, state: &State) -> String {
+        let (t, n_load) = self.resultants(plane.body, &plane.normal, state.load_fraction);
+        let t = t[0].hypot(t[1]);
+        let capacity: f64 = contact.capacity.iter().map(|c| c[0]).sum();
+        let Some(c) = limit.centre() else {
+            return format!(": its tangential load T = {t:.4e} has reached the friction capacity of its closed pairs, μN = {capacity:.4e} (N = {n_load:.4e} along the contact normal)");
+        };
+        // moments about the centre: the load's, and the pairs' friction against their velocities
+        let moment = (load[2] - (c[0] * load[1] - c[1] * load[0])) * plane.size;
+        let resisted: f64 = contact.at.iter().zip(&contact.capacity).map(|(r, k)| k[0] * (r[0] - c[0]).hypot(r[1] - c[1])).sum::<f64>() * plane.size;
+        let x = plane.point(c);
+        format!(", turning about ({:.4}, {:.4}, {:.4}) in the contact plane: its load there, the tangential force T = {t:.4e} and the moment {moment:.4e} about that point along the contact normal, has reached the limit of its closed pairs' friction, all slipping about that point (their moment there Σ μλ_n r = {resisted:.4e}; μN = {capacity:.4e}, N = {n_load:.4e})", x[0], x[1], x[2])
     }
 
     /// A body's load at stage fraction s resolved on the unit normal n: its components in a
@@ -313,10 +444,16 @@ impl Restraint<'_> {
         (t > mu * n * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.p.scales.force).then_some((t, n, mu))
     }
 
-    /// "(±motion): …" of gross sliding, the sense that of `push`, the load along the motion.
-    fn sliding(&self, push: f64, words: &str, (t, n, mu): (f64, f64, f64)) -> String {
-        let sense = if push >= 0.0 { "+" } else { "−" };
-        format!("({sense}{words}): its closed pairs all slip; under the stage's full load the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal)", mu * n)
+    /// "(±motion): …" of gross sliding, the sense that of `push`, the load along the motion
+    /// (None: motions named together, no sense).
+    fn sliding(&self, push: Option<f64>, words: &str, (t, n, mu): (f64, f64, f64)) -> String {
+        let sense = match push {
+            Some(p) if p >= 0.0 => "+",
+            Some(_) => "−",
+            None => "",
+        };
+        let load = if self.p.dim == 3 { "under the load at that fraction (the stage's, where none is applied yet)" } else { "under the stage's full load" };
+        format!("({sense}{words}): its closed pairs all slip; {load} the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal)", mu * n)
     }
 
     /// The translation part (x, y[, z]) of a combination `v` of the body's modes `idx`.

@@ -11,6 +11,12 @@
 //! the pair for the anti-cycling rule, so a run of them ends. A slip rate that points against
 //! −e is a turn too: with no normal force there is no friction force to stick with (stuck at
 //! zero force, the pair would slip again at once, `events::onto_round_cone`).
+//!
+//! A body whose pairs all begin to slip at zero force (a block pressed on a plane at low μ,
+//! its pairs slipping outwards from the first instant) has nothing that holds its turn about
+//! the normal in that first trial: no pair has a direction, so none a cross row. Nothing
+//! turns it either (no load, no friction force along it): the trial holds such an idle motion
+//! still (`restraint::check_restrained`), and its slip rates give the pairs their directions.
 
 use super::anticycling::AntiCycling;
 use super::checks::Correction;

@@ -306,10 +306,19 @@ fn solve_small_system(eng: &Engine, state: &State, sys: &ContactSystem, oob: &Ou
         rhs[i] = sys.h[i] - problem.dot_slots(&constraints[i], &oob.z0);
     }
     let closed_normals = || sys.rows.iter().filter_map(|r| if let Row::Normal(p) = r { Some(*p) } else { None }).collect::<Vec<usize>>();
-    restraint::check_restrained(problem, &eng.loads, state, &a, m, &oob.mode_rhs, closed_normals)?;
+    let idle = restraint::check_restrained(problem, &eng.loads, state, &a, m, &oob.mode_rhs, closed_normals)?;
     let (s, sol) = {
         let _t = eng.clock.time(Phase::Dense);
         let s = unit_free(&mut a, &mut rhs, m);
+        for v in &idle {
+            // held still: + s v vᵀ on the rigid block (zero there; s: its units after
+            // `unit_free`), whose row along v then reads v·α = 0
+            for (k, vk) in v.iter().enumerate() {
+                for (l, vl) in v.iter().enumerate() {
+                    a[(m + k, m + l)] += s * vk * vl;
+                }
+            }
+        }
         (s, solve_dense(&a, &rhs))
     };
     match sol {
