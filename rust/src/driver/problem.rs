@@ -420,3 +420,46 @@ fn node_elements(elements: &Elements, n_nodes: usize) -> Vec<Vec<usize>> {
     }
     around
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::scenes::{cube_block, model, E};
+    use super::*;
+    use crate::material::Material;
+    use crate::model::{LoadPattern, PairInput};
+
+    /// The block [0, 2]² × [0, 1] of cubes of side 1/`cells` (ν = 0), its top face held, on a
+    /// rigid flat z = 0 (a frictionless pair at every bottom node, gap 0) that is moved up by δ.
+    fn pressed_by_its_flat(cells: usize, delta: f64) -> Model {
+        let n = [2 * cells, 2 * cells, cells];
+        let mesh = cube_block(n, 1.0 / cells as f64);
+        let node = |i: usize, j: usize, k: usize| i + (n[0] + 1) * (j + (n[1] + 1) * k);
+        let grid = |k: usize| (0..=n[1]).flat_map(move |j| (0..=n[0]).map(move |i| node(i, j, k)));
+        let fixed = grid(n[2]).flat_map(|v| (0..3).map(move |c| 3 * v + c)).collect();
+        let pairs = grid(0).map(|a| PairInput { node_a: a, node_b: None, normal: [0.0, 0.0, 1.0], tangents: None, gap: 0.0, mu: 0.0, contact: 0, weights: vec![] }).collect();
+        let (n_dofs, n_tets) = (3 * mesh.points.len(), mesh.tetrahedra.len());
+        let mut m = model(mesh, fixed, vec![0.0; n_dofs], pairs, Material::elastic(E, 0.0));
+        m.element_material = vec![0; n_tets];
+        m.patterns = vec![LoadPattern { name: "press".into(), motion: vec![(0, [0.0, 0.0, delta])], ..Default::default() }];
+        m
+    }
+
+    /// A rigid flat moved by δ presses the block as one punch: it carries E δ A / H = 4 E δ
+    /// (ν = 0: uniform strain δ/H, exact on any mesh of the block), whatever the mesh. The force
+    /// scale of the motion is E δ ℓ with ℓ the pressed face's diagonal (2√2), the same on a
+    /// mesh twice as fine; counted per candidate pair (E D δ each, D the mesh's diameter), it
+    /// grew with the pairs, 9 to 25, for the same force.
+    #[test]
+    fn a_motions_force_scale_is_its_punchs_not_its_pairs() {
+        let delta = 0.01;
+        for cells in [1, 2] {
+            let m = pressed_by_its_flat(cells, delta);
+            m.validate().expect("a valid scene");
+            let problem = Problem::new(&m).expect("a problem");
+            let expected = E * delta * 8f64.sqrt();
+            // a few operations on O(1) numbers: round-off of 1e-15 each
+            assert!((problem.scales.force - expected).abs() <= 1e-12 * expected, "{cells} cells: {} vs {expected}", problem.scales.force);
+            assert!((problem.scales.load_norm - expected).abs() <= 1e-12 * expected);
+        }
+    }
+}

@@ -748,46 +748,22 @@ mod tests {
     /// bottom nodes of its right face.
     pub(super) fn pushed_strip_3d(n: usize, mu: f64, push: [f64; 3], planar: bool) -> crate::model::Model {
         use crate::material::Material;
-        use crate::mesh::Mesh;
         let id = |i: usize, j: usize, k: usize| i + (n + 1) * (j + 2 * k);
-        let mut points = vec![[0.0; 3]; 4 * (n + 1)];
-        for (i, j, k) in (0..=n).flat_map(|i| (0..2).flat_map(move |j| (0..2).map(move |k| (i, j, k)))) {
-            points[id(i, j, k)] = [i as f64, j as f64, k as f64];
-        }
-        let mut tets = vec![];
-        for c in 0..n {
-            // Kuhn's six tetrahedra along the cube's diagonal, each oriented positively.
-            for perm in [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]] {
-                let mut at = [0usize; 3];
-                let mut t = vec![id(c, 0, 0)];
-                for &axis in &perm {
-                    at[axis] = 1;
-                    t.push(id(c + at[0], at[1], at[2]));
-                }
-                let p = |v: usize| points[v];
-                let d = |a: usize| [p(t[a])[0] - p(t[0])[0], p(t[a])[1] - p(t[0])[1], p(t[a])[2] - p(t[0])[2]];
-                let (a, b, cc) = (d(1), d(2), d(3));
-                let det = a[0] * (b[1] * cc[2] - b[2] * cc[1]) - a[1] * (b[0] * cc[2] - b[2] * cc[0]) + a[2] * (b[0] * cc[1] - b[1] * cc[0]);
-                if det < 0.0 {
-                    t.swap(2, 3);
-                }
-                tets.push([t[0], t[1], t[2], t[3]]);
-            }
-        }
+        let mesh = cube_block([n, 1, 1], 1.0);
+        let (n_points, n_tets) = (mesh.points.len(), mesh.tetrahedra.len());
         let mut fixed: Vec<usize> = (0..2).flat_map(|j| (0..2).map(move |k| 3 * id(0, j, k))).collect();
         if planar {
-            fixed.extend((0..points.len()).map(|v| 3 * v + 1));
+            fixed.extend((0..n_points).map(|v| 3 * v + 1));
         }
         fixed.sort();
-        let mut load = vec![0.0; 3 * points.len()];
+        let mut load = vec![0.0; 3 * n_points];
         for j in 0..2 {
             load[3 * id(n, j, 0)] = push[0] / 2.0;
             load[3 * id(n, j, 0) + 1] = push[1] / 2.0;
             load[3 * id(n, j, 0) + 2] = push[2] / 2.0;
         }
         let pairs = (0..n).flat_map(|i| (0..2).map(move |j| (i, j))).map(|(i, j)| crate::model::PairInput { node_a: id(i, j, 0), node_b: None, normal: [0.0, 0.0, 1.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
-        let n_tets = tets.len();
-        let mut m = model(Mesh::space(points, tets), fixed, load, pairs, Material::elastic(E, 0.0));
+        let mut m = model(mesh, fixed, load, pairs, Material::elastic(E, 0.0));
         m.element_material = vec![0; n_tets];
         m
     }
