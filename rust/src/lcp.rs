@@ -281,13 +281,13 @@ impl Tableau {
     fn pivot(&mut self, r: usize, c: usize) {
         let p = self.t[(r, c)];
         let col: Vec<f64> = self.t.column(c).iter().copied().collect();
-        for j in 0..self.t.ncols() {
-            let f = self.t[(r, j)] / p;
-            self.t[(r, j)] = f;
+        // column by column over the column-major storage: row_i −= t_ic f for every i, then
+        // row r's entry set to f itself
+        for column in self.t.as_mut_slice().chunks_exact_mut(self.n) {
+            let f = column[r] / p;
             if f != 0.0 {
-                for (i, &a) in col.iter().enumerate().filter(|&(i, _)| i != r) {
-                    self.t[(i, j)] -= a * f;
-                }
+                column.iter_mut().zip(&col).for_each(|(x, &a)| *x -= a * f);
+                column[r] = f;
             }
         }
         self.t.column_mut(c).fill(0.0);
@@ -301,7 +301,10 @@ impl Tableau {
     fn refine(&mut self, c: usize) {
         let mut r = self.t0.column(c).clone_owned();
         for (k, &v) in self.basic.iter().enumerate() {
-            r.axpy(-self.t[(k, c)], &self.t0.column(v), 1.0);
+            match v {
+                v if v < self.n => r[v] -= self.t[(k, c)], // w_v's original column is e_v
+                v => r.axpy(-self.t[(k, c)], &self.t0.column(v), 1.0),
+            }
         }
         let correction = self.t.columns(0, self.n) * r;
         for (i, dx) in correction.iter().enumerate() {

@@ -6,7 +6,7 @@
 //! switch once more means the one-at-a-time rule is cycling: the statuses of all critical pairs
 //! are then solved together as a complementarity problem (`rate_problem`, Lemke), at most
 //! `MAX_RATE_PROBLEMS` times per run (in 3D on a faceted cone, its statuses and slip
-//! directions handed back to the round one). Only if that fails (no solution reachable: the scene may
+//! directions handed back to the facet design of friction). Only if that fails (no solution reachable: the scene may
 //! be ill-posed for its μ) is the entity frozen in its status until the load advances (a
 //! `frozen` event names it): the last resort. Every zero-length increment switches or freezes
 //! at least one entity, so a run has at most (switches + 1) × entities + MAX_RATE_PROBLEMS

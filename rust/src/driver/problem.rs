@@ -192,7 +192,7 @@ impl<'m> Problem<'m> {
     /// a normal force to bound its cross force by (a pair slipping at zero force has none yet:
     /// `slip_turn`). None for every other pair.
     pub fn cross_direction(&self, state: &State, p: usize) -> Option<[f64; 2]> {
-        self.facet_cross(state, p).filter(|_| state.lambda_n[p] > self.scales.force_noise)
+        self.facet_cross(state, p).filter(|_| state.lambda_n[p] > self.scales.force_noise || state.facet_laid[p])
     }
 
     /// 3D: e⊥ of a slipping pair that could slip on a facet, whatever its normal force: both
@@ -284,12 +284,13 @@ impl<'m> Problem<'m> {
     }
 
     /// Scales of the whole path: max over stages of |ΔP − K_fp Δū| over the free DOFs, and
-    /// of Σ|ΔP| (+ Σ|K_fp Δū|), with every element elastic; an obstacle motion Δc counts as the
-    /// force E t |Δc| per pair (the order of what moving a surface node by Δc takes;
-    /// t = `Model::depth`). (norm, sum)
+    /// of Σ|ΔP| (+ Σ|K_fp Δū|), with every element elastic; an obstacle's motion counts as the
+    /// force it takes to press its contact surface by its largest |Δc| (`motion_forces`).
+    /// (norm, sum)
     fn path_force_scales(&self) -> (f64, f64) {
         let elastic: Vec<Tangent> = self.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
         let young = self.sections.iter().map(|s| s.material.young).fold(0.0f64, f64::max);
+        let surfaces = if self.dim == 3 { self.contact_surface_lengths() } else { vec![] };
         let (mut norm, mut sum) = (0.0f64, 0.0f64);
         for k in 0..self.path.n_stages() {
             let stage = self.stage_load(k);
@@ -298,10 +299,7 @@ impl<'m> Problem<'m> {
             if let Some(f) = held {
                 total += f.iter().map(|v| v.abs()).sum::<f64>();
             }
-            for p in 0..self.global_pairs().len() {
-                let c = stage.shift(p, 1.0);
-                let c0 = stage.shift(p, 0.0);
-                let moved = young * self.model.depth() * (c[0] - c0[0]).hypot(c[1] - c0[1]);
+            for moved in self.motion_forces(&stage, young, &surfaces) {
                 total += moved;
                 effective.push(moved);
             }
@@ -310,6 +308,51 @@ impl<'m> Problem<'m> {
         }
         (norm, sum)
     }
+
+    /// The forces obstacle motions over `stage` produce. In space, per contact of the case:
+    /// E |Δc| ℓ with |Δc| its pairs' largest shift (normal and tangential) and ℓ the length
+    /// its surface can press over (`contact_surface_lengths`). Not summed over the pairs: a
+    /// rigid surface moved by Δc presses the body as one punch, whose force is the body's
+    /// stiffness at that surface's size times Δc (Boussinesq's flat punch: P = 2aE*δ), not
+    /// the stiffness of every node it could touch at once (E h |Δc| per node, (ℓ/h)² nodes:
+    /// a Vickers pyramid on a 0.1-mesh counted 4.2e6 for reactions of ~40, so the force noise
+    /// floor, 1e-12 of it, was a freshly closed pair's force). In the plane, per pair E t |Δc|
+    /// (t = `Model::depth`) as the 2D histories have always had it: the count there is ℓ/h,
+    /// not its square.
+    fn motion_forces(&self, stage: &StageLoad, young: f64, surfaces: &[f64]) -> Vec<f64> {
+        if self.dim == 2 {
+            let pairs = 0..self.global_pairs().len();
+            return pairs.map(|p| (stage.shift(p, 1.0), stage.shift(p, 0.0))).map(|(c, c0)| young * self.model.depth() * (c[0] - c0[0]).hypot(c[1] - c0[1])).collect();
+        }
+        let mut largest = vec![0.0f64; surfaces.len()];
+        for (p, input) in self.model.pairs.iter().enumerate() {
+            let (c, c0) = (stage.shift(p, 1.0), stage.shift(p, 0.0));
+            let moved = (c[0] - c0[0]).hypot(c[1] - c0[1]).hypot(c[2] - c0[2]);
+            largest[input.contact] = largest[input.contact].max(moved);
+        }
+        largest.iter().zip(surfaces).map(|(d, l)| young * d * l).collect()
+    }
+
+    /// 3D: per contact of the case, the length its motion can press over: the diagonal of the
+    /// bounding box of its contactor nodes (the largest punch it can be), at least the longest
+    /// element edge at them (a contact of one node).
+    fn contact_surface_lengths(&self) -> Vec<f64> {
+        let n_contacts = self.model.pairs.iter().map(|p| p.contact + 1).max().unwrap_or(0);
+        let mesh = &self.model.mesh;
+        let (mut low, mut high, mut edge) = (vec![[f64::MAX; 3]; n_contacts], vec![[f64::MIN; 3]; n_contacts], vec![0.0f64; n_contacts]);
+        for p in &self.model.pairs {
+            let (a, c) = (mesh.point(p.node_a), p.contact);
+            (0..3).for_each(|k| (low[c][k], high[c][k]) = (low[c][k].min(a[k]), high[c][k].max(a[k])));
+            for &e in &self.node_elements[p.node_a] {
+                edge[c] = mesh.element_nodes(e).iter().map(|&b| distance(a, mesh.point(b))).fold(edge[c], f64::max);
+            }
+        }
+        (0..n_contacts).map(|c| if edge[c] > 0.0 { distance(low[c], high[c]).max(edge[c]) } else { 0.0 }).collect()
+    }
+}
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1]).hypot(a[2] - b[2])
 }
 
 /// The contact pairs over the global DOFs (eqs. 45–46), supports removed from their vectors.
@@ -376,4 +419,47 @@ fn node_elements(elements: &Elements, n_nodes: usize) -> Vec<Vec<usize>> {
         elements.nodes(e).iter().for_each(|&n| around[n].push(e));
     }
     around
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::scenes::{cube_block, model, E};
+    use super::*;
+    use crate::material::Material;
+    use crate::model::{LoadPattern, PairInput};
+
+    /// The block [0, 2]² × [0, 1] of cubes of side 1/`cells` (ν = 0), its top face held, on a
+    /// rigid flat z = 0 (a frictionless pair at every bottom node, gap 0) that is moved up by δ.
+    fn pressed_by_its_flat(cells: usize, delta: f64) -> Model {
+        let n = [2 * cells, 2 * cells, cells];
+        let mesh = cube_block(n, 1.0 / cells as f64);
+        let node = |i: usize, j: usize, k: usize| i + (n[0] + 1) * (j + (n[1] + 1) * k);
+        let grid = |k: usize| (0..=n[1]).flat_map(move |j| (0..=n[0]).map(move |i| node(i, j, k)));
+        let fixed = grid(n[2]).flat_map(|v| (0..3).map(move |c| 3 * v + c)).collect();
+        let pairs = grid(0).map(|a| PairInput { node_a: a, node_b: None, normal: [0.0, 0.0, 1.0], tangents: None, gap: 0.0, mu: 0.0, contact: 0, weights: vec![] }).collect();
+        let (n_dofs, n_tets) = (3 * mesh.points.len(), mesh.tetrahedra.len());
+        let mut m = model(mesh, fixed, vec![0.0; n_dofs], pairs, Material::elastic(E, 0.0));
+        m.element_material = vec![0; n_tets];
+        m.patterns = vec![LoadPattern { name: "press".into(), motion: vec![(0, [0.0, 0.0, delta])], ..Default::default() }];
+        m
+    }
+
+    /// A rigid flat moved by δ presses the block as one punch: it carries E δ A / H = 4 E δ
+    /// (ν = 0: uniform strain δ/H, exact on any mesh of the block), whatever the mesh. The force
+    /// scale of the motion is E δ ℓ with ℓ the pressed face's diagonal (2√2), the same on a
+    /// mesh twice as fine; counted per candidate pair (E D δ each, D the mesh's diameter), it
+    /// grew with the pairs, 9 to 25, for the same force.
+    #[test]
+    fn a_motions_force_scale_is_its_punchs_not_its_pairs() {
+        let delta = 0.01;
+        for cells in [1, 2] {
+            let m = pressed_by_its_flat(cells, delta);
+            m.validate().expect("a valid scene");
+            let problem = Problem::new(&m).expect("a problem");
+            let expected = E * delta * 8f64.sqrt();
+            // a few operations on O(1) numbers: round-off of 1e-15 each
+            assert!((problem.scales.force - expected).abs() <= 1e-12 * expected, "{cells} cells: {} vs {expected}", problem.scales.force);
+            assert!((problem.scales.load_norm - expected).abs() <= 1e-12 * expected);
+        }
+    }
 }

@@ -46,10 +46,21 @@
 //! within a few per cent at 14 unknowns per zero-force pair; the slip direction is not limited
 //! to the sides' normals (two adjacent sides slip along any direction between them).
 //!
-//! The hand-back: the statuses the LCP picks become the pairs' statuses on the round cone, and
-//! a pair it sets slipping holds the direction e = Σ v_j d_j / |Σ v_j d_j| (against its slip,
-//! the round cone's maximal dissipation), carrying λ_t = μ λ_n e from there on
-//! (`hold_slip_directions`); its turns from there are the round cone's own (`slip_turn`).
+//! The hand-back to the facet design of friction (`contact`): the statuses the LCP picks
+//! become the pairs' statuses, and a pair it sets slipping slips on the facet at the direction
+//! e = Σ v_j d_j / |Σ v_j d_j| (against its slip), carrying λ_t = μ λ_n e, with the facet's
+//! cross row from zero normal force on, its cross force free as on the polygon's side
+//! (`hold_slip_directions`); its turns from there are the facet design's own (`slip_turn`).
+//! The trial that follows is then the LCP's own conditions, but where a side is wider than
+//! the design's facet: a pair at zero force (its force the rate problem's, from zero) that
+//! slips on a side with a force across it beyond tan(slip_turn) μΛn would turn its facet at
+//! once, and its neighbours' forces with it (the receding plate at μ = 2: stuck pairs at
+//! 0.75–0.88 of their cone slipped at once, and the last resort left one outside its cone).
+//! So such a slip lays three facets about its e, 1.9 slip_turn apart, and the problem is
+//! solved again (at most `FACET_PASSES` times; the plate at μ = 0.5–3 needs 2–3 solves, its
+//! polygons growing by 2–8 %). A pair slipping at a corner of two sides carries more than
+//! μΛn along e there (by at most 1/cos(π/12) − 1) and μ λ_n handed back: its trial's force
+//! differs from the LCP's by that, within what a stuck neighbour's margin absorbs.
 //! A tangent the supports hold (a symmetry plane) is not a coordinate: the pair has the two
 //! sides along its other tangent, as in 2D.
 
@@ -74,6 +85,14 @@ const SLIP_RATE: f64 = 1e-9;
 const PIVOTS_PER_VARIABLE: usize = 50;
 /// Facets of the round Coulomb cone in the 3D rate problem (see the module documentation).
 pub(super) const FACETS: usize = 12;
+/// Solves of the 3D rate problem, facets laid about stray slips between them.
+const FACET_PASSES: usize = 4;
+/// Facets laid about a slip direction are this × slip_turn apart (< 2: the middle one's
+/// half-width is within the turn bound).
+const FACET_SPACING: f64 = 1.9;
+/// A force on a facet of the design agrees with it to this (relative): round-off of Lemke's
+/// solution, far below the bound's margin 1 − FACET_SPACING / 2.
+const FACET_AGREEMENT: f64 = 1e-6;
 
 /// One side of a pair's friction cone in its tangential coordinates: the outward normal d of
 /// the facet μΛn − dᵀΛt ≥ 0 (unit), its slip rate along −d; `off`: the present slack of a
@@ -190,17 +209,45 @@ impl Unknowns {
 /// contact sub-step's (`trial::Solve`).
 pub(super) fn solve_rate_problem(eng: &mut Engine, state: &State, what: Solve) -> Option<RateSolution> {
     let oob = trial::out_of_balance(eng, state, what, None);
-    RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads }.solve(state, &oob)
+    // Facets laid about stray slips (`stray_slips`), pass after pass, until none is left.
+    let mut laid = vec![vec![]; eng.problem.pairs.len()];
+    for pass in 1.. {
+        let rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads, laid };
+        let solved = rp.solve(state, &oob)?;
+        let sol = rp.statuses(state, &solved);
+        let stray = rp.stray_slips(&solved, &sol);
+        if stray.is_empty() || pass == FACET_PASSES {
+            return Some(sol);
+        }
+        laid = rp.laid;
+        for (p, e) in stray {
+            laid[p].extend(facets_about(e, eng.problem.model.options.slip_turn));
+        }
+    }
+    unreachable!("the passes end at FACET_PASSES")
 }
 
-/// The held directions the rate problem picked, handed back to the round cone: each pair it
-/// set slipping carries λ_t = μ λ_n e along its e. Returns the largest change of λ_t it made
-/// (a force jump the caller rebalances).
+/// The facet normals laid about a slip direction e (along t1, t2): e itself and e turned by
+/// ±`FACET_SPACING` × slip_turn, so that the facet at e reaches at most that × slip_turn / 2
+/// to either side, within the facet design's turn bound.
+fn facets_about(e: [f64; 2], slip_turn: f64) -> [[f64; 2]; 3] {
+    let turned = |a: f64| {
+        let (s, c) = a.sin_cos();
+        [c * e[0] - s * e[1], s * e[0] + c * e[1]]
+    };
+    [e, turned(FACET_SPACING * slip_turn), turned(-FACET_SPACING * slip_turn)]
+}
+
+/// The held directions the rate problem picked, handed back to the facet design: each pair it
+/// set slipping slips on the facet at its e, λ_t = μ λ_n e, with the facet's cross row from
+/// zero normal force on (`State::facet_laid`), as on the rate problem's polygon side. Returns
+/// the largest change of λ_t it made (a force jump the caller rebalances).
 pub(super) fn hold_slip_directions(problem: &Problem, state: &mut State, sol: &RateSolution) -> f64 {
     let mut jump: f64 = 0.0;
     for (p, e) in sol.slip_dir.iter().enumerate() {
         if let (Some(e), Status::Slip { .. }) = (e, state.status[p]) {
             state.slip_dir[p] = *e;
+            state.facet_laid[p] = true;
             let [t1, t2] = problem.slip_ratios(state, p).map(|tau| tau * state.lambda_n[p]);
             jump = jump.max((t1 - state.lambda_t[p]).hypot(t2 - state.lambda_t2[p]));
             (state.lambda_t[p], state.lambda_t2[p]) = (t1, t2);
@@ -209,15 +256,17 @@ pub(super) fn hold_slip_directions(problem: &Problem, state: &mut State, sol: &R
     jump
 }
 
-/// The problem's pairs, flexibility and stage loads the rate problem is built from.
+/// The problem's pairs, flexibility and stage loads the rate problem is built from, and per
+/// pair the facet normals laid about its slip directions of earlier passes.
 struct RateProblem<'a> {
     p: &'a Problem<'a>,
     stiffness: &'a Stiffness,
     loads: &'a StageLoads,
+    laid: Vec<Vec<[f64; 2]>>,
 }
 
 impl RateProblem<'_> {
-    fn solve(&self, state: &State, oob: &trial::OutOfBalance) -> Option<RateSolution> {
+    fn solve(&self, state: &State, oob: &trial::OutOfBalance) -> Option<Solved> {
         let q: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| self.in_rate_problem(state, p)).collect();
         let roles: Vec<Role> = q.iter().map(|&p| self.role(state, p)).collect();
         let mut prob = Unknowns::default();
@@ -241,7 +290,32 @@ impl RateProblem<'_> {
         let y = solve(&prob)?;
         let scale = kin_n.iter().chain(kin_t.iter().flatten()).map(|a| a.eval(&y).abs()).fold(self.loads.largest_displacement(self.p, &state.u, state.load_fraction), f64::max);
         let touching = q.iter().zip(&kin_n).map(|(&p, g)| self.p.gap(state, p) + oob.dshift[p][0] + g.eval(&y) <= CRITICAL_GAP * scale).collect();
-        Some(self.statuses(state, &Solved { q, roles, forces, touching, y, scale }))
+        Some(Solved { q, roles, forces, touching, y, scale })
+    }
+
+    /// 3D: the pairs at zero force the solution sets slipping whose force across their slip
+    /// direction e is beyond the facet design's tan(slip_turn) μΛn (`contact`): the polygon's
+    /// side they slip on is wider than the design's facet. Handed back, such a pair's facet
+    /// would turn at once (at zero force the force is its rate), and the trial would leave the
+    /// rate problem's solution; with facets laid about e it may not. With their e.
+    fn stray_slips(&self, solved: &Solved, sol: &RateSolution) -> Vec<(usize, [f64; 2])> {
+        let turn = self.p.model.options.slip_turn.tan();
+        let tol = CRITICAL_FORCE * self.p.scales.force;
+        let mut stray = vec![];
+        for (i, (&p, role)) in solved.q.iter().zip(&solved.roles).enumerate() {
+            let (Some(e), Role::Friction { closed: false, facets }) = (sol.slip_dir[p], role) else { continue };
+            if facets.len() == 2 {
+                continue; // one free tangent: its two sides are exact
+            }
+            let f = &solved.forces[i];
+            let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
+            let capacity = self.p.pairs[p].mu * f.normal.eval(&solved.y);
+            let across = e[0] * lt[1] - e[1] * lt[0];
+            if across.abs() > turn * capacity * (1.0 - FACET_AGREEMENT) + tol {
+                stray.push((p, e));
+            }
+        }
+        stray
     }
 
     /// The tangential coordinates of pair p (indices into t1, t2): in 2D its tangent always (a
@@ -322,6 +396,7 @@ impl RateProblem<'_> {
         if lt.len() == 1 {
             return vec![vec![-1.0], vec![1.0]];
         }
+        let laid = self.laid[p].iter().map(|d| d.to_vec());
         let e = state.slip_dir[p];
         let [c, s] = match norm(lt) {
             size if size > tol => [lt[0] / size, lt[1] / size],
@@ -333,6 +408,7 @@ impl RateProblem<'_> {
                 let (sin, cos) = (2.0 * std::f64::consts::PI * j as f64 / FACETS as f64).sin_cos();
                 vec![cos * c - sin * s, sin * c + cos * s]
             })
+            .chain(laid)
             .collect()
     }
 
@@ -672,46 +748,22 @@ mod tests {
     /// bottom nodes of its right face.
     pub(super) fn pushed_strip_3d(n: usize, mu: f64, push: [f64; 3], planar: bool) -> crate::model::Model {
         use crate::material::Material;
-        use crate::mesh::Mesh;
         let id = |i: usize, j: usize, k: usize| i + (n + 1) * (j + 2 * k);
-        let mut points = vec![[0.0; 3]; 4 * (n + 1)];
-        for (i, j, k) in (0..=n).flat_map(|i| (0..2).flat_map(move |j| (0..2).map(move |k| (i, j, k)))) {
-            points[id(i, j, k)] = [i as f64, j as f64, k as f64];
-        }
-        let mut tets = vec![];
-        for c in 0..n {
-            // Kuhn's six tetrahedra along the cube's diagonal, each oriented positively.
-            for perm in [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]] {
-                let mut at = [0usize; 3];
-                let mut t = vec![id(c, 0, 0)];
-                for &axis in &perm {
-                    at[axis] = 1;
-                    t.push(id(c + at[0], at[1], at[2]));
-                }
-                let p = |v: usize| points[v];
-                let d = |a: usize| [p(t[a])[0] - p(t[0])[0], p(t[a])[1] - p(t[0])[1], p(t[a])[2] - p(t[0])[2]];
-                let (a, b, cc) = (d(1), d(2), d(3));
-                let det = a[0] * (b[1] * cc[2] - b[2] * cc[1]) - a[1] * (b[0] * cc[2] - b[2] * cc[0]) + a[2] * (b[0] * cc[1] - b[1] * cc[0]);
-                if det < 0.0 {
-                    t.swap(2, 3);
-                }
-                tets.push([t[0], t[1], t[2], t[3]]);
-            }
-        }
+        let mesh = cube_block([n, 1, 1], 1.0);
+        let (n_points, n_tets) = (mesh.points.len(), mesh.tetrahedra.len());
         let mut fixed: Vec<usize> = (0..2).flat_map(|j| (0..2).map(move |k| 3 * id(0, j, k))).collect();
         if planar {
-            fixed.extend((0..points.len()).map(|v| 3 * v + 1));
+            fixed.extend((0..n_points).map(|v| 3 * v + 1));
         }
         fixed.sort();
-        let mut load = vec![0.0; 3 * points.len()];
+        let mut load = vec![0.0; 3 * n_points];
         for j in 0..2 {
             load[3 * id(n, j, 0)] = push[0] / 2.0;
             load[3 * id(n, j, 0) + 1] = push[1] / 2.0;
             load[3 * id(n, j, 0) + 2] = push[2] / 2.0;
         }
         let pairs = (0..n).flat_map(|i| (0..2).map(move |j| (i, j))).map(|(i, j)| crate::model::PairInput { node_a: id(i, j, 0), node_b: None, normal: [0.0, 0.0, 1.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
-        let n_tets = tets.len();
-        let mut m = model(Mesh::space(points, tets), fixed, load, pairs, Material::elastic(E, 0.0));
+        let mut m = model(mesh, fixed, load, pairs, Material::elastic(E, 0.0));
         m.element_material = vec![0; n_tets];
         m
     }
@@ -816,7 +868,7 @@ mod tests {
         let m = pushed_strip_3d(2, mu, [-0.5, 0.0, 0.0], false);
         let clock = Clock::new();
         let (eng, mut state) = start(&m, &clock);
-        let rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads };
+        let rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads, laid: vec![vec![]; eng.problem.pairs.len()] };
         let (free, held) = (2, 0); // at x = 1, and on the face x = 0 held in x (t2 = x there)
         assert!(eng.problem.pairs[held].held[1] && !eng.problem.pairs[free].held.contains(&true));
         state.lambda_n[free] = ln;

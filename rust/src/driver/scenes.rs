@@ -11,6 +11,40 @@ use crate::model::{LoadPattern, Model, Names, Options, PairInput, Stage};
 pub const E: f64 = 1000.0;
 pub const NU: f64 = 0.25;
 
+/// The box [0, nx h] × [0, ny h] × [0, nz h] of cubes of side h, each split into Kuhn's six
+/// tetrahedra along its diagonal (positively oriented); node (i, j, k) is i + (nx + 1)(j +
+/// (ny + 1) k).
+pub fn cube_block(n: [usize; 3], h: f64) -> Mesh {
+    let id = |i: usize, j: usize, k: usize| i + (n[0] + 1) * (j + (n[1] + 1) * k);
+    let mut points = vec![[0.0; 3]; (n[0] + 1) * (n[1] + 1) * (n[2] + 1)];
+    for k in 0..=n[2] {
+        for j in 0..=n[1] {
+            for i in 0..=n[0] {
+                points[id(i, j, k)] = [i as f64 * h, j as f64 * h, k as f64 * h];
+            }
+        }
+    }
+    let mut tets = vec![];
+    for (i, j, k) in (0..n[2]).flat_map(|k| (0..n[1]).flat_map(move |j| (0..n[0]).map(move |i| (i, j, k)))) {
+        for perm in [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]] {
+            let mut at = [0usize; 3];
+            let mut t = vec![id(i, j, k)];
+            for &axis in &perm {
+                at[axis] = 1;
+                t.push(id(i + at[0], j + at[1], k + at[2]));
+            }
+            let d = |a: usize| [0, 1, 2].map(|c| points[t[a]][c] - points[t[0]][c]);
+            let (a, b, c) = (d(1), d(2), d(3));
+            let det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+            if det < 0.0 {
+                t.swap(2, 3);
+            }
+            tets.push([t[0], t[1], t[2], t[3]]);
+        }
+    }
+    Mesh::space(points, tets)
+}
+
 /// The unit square [0, 1]² of two CSTs: nodes 0 (0, 0), 1 (1, 0), 2 (1, 1), 3 (0, 1).
 pub fn unit_square() -> Mesh {
     Mesh::plane(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], vec![[0, 1, 2], [0, 2, 3]])

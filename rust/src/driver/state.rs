@@ -34,6 +34,9 @@ pub(super) struct State {
     /// 3D: the held direction e (along t1, t2; unit) of a slipping pair's friction force,
     /// λ_t = μ λ_n e (`contact`'s module text).
     pub slip_dir: Vec<[f64; 2]>,
+    /// 3D: a slipping pair whose facet the rate problem laid (`rate_problem::hold_slip_directions`):
+    /// it holds its cross row from zero normal force on, as the rate problem's facet did.
+    pub facet_laid: Vec<bool>,
     pub plastic: Vec<bool>,
     /// Per pair: the gap and RTD shift (c_n, c_t) of its obstacle's motion (`path`).
     pub shift: Vec<Shift>,
@@ -63,6 +66,7 @@ impl State {
             lambda_t2: vec![0.0; n_pairs],
             rtd_stick2: vec![0.0; n_pairs],
             slip_dir: vec![[0.0; 2]; n_pairs],
+            facet_laid: vec![false; n_pairs],
             plastic: vec![false; n_elements],
             shift: vec![[0.0; 3]; n_pairs],
             jumps: vec![[0.0; 3]; n_pairs],

@@ -64,7 +64,9 @@ fn switch_group(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &m
 /// none or changes nothing.
 fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut AntiCycling, rec: &mut Recorder, phi: f64, what: Solve) -> Option<f64> {
     let sol = solve_rate_problem(eng, state, what)?;
-    let changes: Vec<_> = (0..sol.status.len()).flat_map(|p| transitions(p, state.status[p], sol.status[p])).collect();
+    let mut changes: Vec<_> = (0..sol.status.len()).flat_map(|p| transitions(p, state.status[p], sol.status[p])).collect();
+    // a pair that keeps slipping on a facet other than its own turns to the rate problem's
+    changes.extend((0..sol.status.len()).filter(|&p| state.status[p] == sol.status[p] && sol.slip_dir[p].is_some_and(|e| e != state.slip_dir[p] || !state.facet_laid[p])).map(|p| Candidate { scale: 0.0, entity: p, kind: EventKind::SlipTurn, direction: 0 }));
     if changes.is_empty() {
         return None;
     }
@@ -72,7 +74,9 @@ fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut Anti
     let mut jump: f64 = 0.0;
     for c in &changes {
         cycles.count(c, true);
-        jump = jump.max(switch(&eng.problem, state, c));
+        if c.kind != EventKind::SlipTurn {
+            jump = jump.max(switch(&eng.problem, state, c)); // a turn's is the hand-back's
+        }
         rec.event(c, c.kind, phi);
     }
     Some(jump.max(hold_slip_directions(&eng.problem, state, &sol)))
@@ -85,6 +89,9 @@ fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut Anti
 /// that the caller rebalances.
 pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64 {
     let p = c.entity;
+    if !c.kind.is_element_event() && c.kind != EventKind::SlipTurn {
+        state.facet_laid[p] = false;
+    }
     let before = if c.kind.is_element_event() { [0.0; 2] } else { [state.lambda_t[p], state.lambda_t2[p]] };
     let dropped = if c.kind == EventKind::Separate { state.lambda_n[p].abs().max(state.lambda_t[p].abs()).max(state.lambda_t2[p].abs()) } else { 0.0 };
     match c.kind {
