@@ -94,8 +94,8 @@ pub const SPECS: &[Spec] = &[
     Spec { key: "stop_at_first_yield", kind: Kind::Flag, default: 0.0, min: None, max: None, doc: "plasticity: end the run right after the first yield event" },
     Spec { key: "limit_stiffness", kind: Kind::Real, default: 1e-3, min: at_least(0.0), max: below(1.0), doc: "stop at a limit load when the current stiffness of the remaining load falls below this fraction of the initial one (0 = never)" },
     Spec { key: "max_zero_length_switches", kind: Kind::Count, default: 4.0, min: at_least(1.0), max: None, doc: "switches of one pair or element within a zero-length run of events before the rate problem sets the statuses (anti-cycling)" },
-    Spec { key: "factorization", kind: Kind::Choice(Factorization::NAMES), default: 0.0, min: None, max: None, doc: "the factorization of the stiffness: \"faer\" (in-process sparse Cholesky) or \"mumps\" (PETSc's MUMPS, the factor distributed over the MPI ranks of `mpirun -n N slipstep run ...`, for scenes whose factor outgrows one process; needs PETSc with MUMPS, Debian's python3-petsc4py; every rank runs the same event loop, rank 0 writes the results)" },
     Spec { key: "reduced_elastic", kind: Kind::Flag, default: 1.0, min: None, max: None, doc: "elastic runs carry only the contact DOFs between events (false: the general path, for cross-checks)" },
+    Spec { key: "factorization", kind: Kind::Choice(Factorization::NAMES), default: 0.0, min: None, max: None, doc: "the factorization of the stiffness: \"faer\" (in-process sparse Cholesky) or \"mumps\" (PETSc's MUMPS, the factor distributed over the MPI ranks of `mpirun -n N slipstep run ...`, for scenes whose factor outgrows one process; needs PETSc with MUMPS, Debian's python3-petsc4py; every rank runs the same event loop, rank 0 writes the results)" },
 ];
 
 /// The spec of `key`.

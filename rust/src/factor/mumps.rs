@@ -6,6 +6,8 @@
 //! equations. Every call here is collective: all ranks make it in the same order, which the
 //! replicated, deterministic loop guarantees, and every solution is gathered whole to every
 //! rank, so the ranks' loops see the same numbers bit for bit and take the same events.
+//! (From one run to the next, on several ranks, the numbers may differ at round-off: MUMPS
+//! sums contribution blocks in the order the ranks' messages arrive.)
 //!
 //! Against the faer backend: G = K⁻¹ on the trailing equations costs t solves (blocked, in
 //! MUMPS's multi-right-hand-side solve) instead of the factor's trailing block, and a trial's
@@ -26,6 +28,8 @@ use std::ptr::null_mut;
 /// Right-hand sides per MUMPS solve when G is built column by column: n × this many doubles
 /// in flight per rank (100k equations: 100 MB).
 const FLEXIBILITY_BLOCK: usize = 128;
+/// MUMPS's INFOG(1) when ScaLAPACK meets a non-positive pivot in an SPD (SYM = 1) root front.
+const MUMPS_NOT_POSITIVE_DEFINITE: PetscInt = -40;
 
 pub struct Mumps {
     api: &'static Api,
@@ -165,23 +169,27 @@ impl Mumps {
 }
 
 impl Backend for Mumps {
-    /// New values into the distributed matrix and MUMPS's numeric factorization. A zero or
-    /// negative pivot (the matrix is declared SPD) is a mechanism; MUMPS does not say where.
+    /// New values into the distributed matrix and MUMPS's numeric factorization. The matrix
+    /// is declared SPD (MUMPS's SYM = 1, no pivoting): a negative or zero pivot, which MUMPS
+    /// counts (INFOG(12)) or, on the root front ScaLAPACK factors on several ranks, refuses
+    /// (INFOG(1) = -40), means a mechanism; MUMPS does not say where.
     fn factor(&mut self, lower: &SparseColMat<usize, f64>, _map: &DofMap) -> Result<()> {
         let api = self.api;
-        let mut failure = 0;
-        api.quietly(|| unsafe {
+        let (mut failure, mut status, mut negative) = (0, 0, 0);
+        // (MUMPS's status is read whether or not PETSc passes its failure on as an error.)
+        let numeric = api.quietly(|| unsafe {
             self.set_values(lower)?;
-            api.check((api.MatCholeskyFactorNumeric)(self.factor, self.matrix, &self.info), "MatCholeskyFactorNumeric")?;
-            api.check((api.MatFactorGetError)(self.factor, &mut failure), "MatFactorGetError")
+            let numeric = (api.MatCholeskyFactorNumeric)(self.factor, self.matrix, &self.info);
+            api.check((api.MatFactorGetError)(self.factor, &mut failure), "MatFactorGetError")?;
+            api.check((api.MatMumpsGetInfog)(self.factor, 1, &mut status), "MatMumpsGetInfog")?;
+            api.check((api.MatMumpsGetInfog)(self.factor, 12, &mut negative), "MatMumpsGetInfog")?;
+            Ok(numeric)
         })?;
-        if failure == petsc::MAT_FACTOR_NUMERIC_ZEROPIVOT {
+        if failure == petsc::MAT_FACTOR_NUMERIC_ZEROPIVOT || status == MUMPS_NOT_POSITIVE_DEFINITE || negative > 0 {
             bail!(FreeBody, "the stiffness matrix is singular: the model has a mechanism (a part held by nothing, or elements joined at a single node); add supports or check the mesh connectivity");
         }
-        if failure != 0 {
-            let mut infog = 0;
-            unsafe { (api.MatMumpsGetInfog)(self.factor, 1, &mut infog) };
-            bail!(Internal, "MUMPS could not factorize the stiffness (PETSc factor error {failure}, MUMPS INFOG(1) = {infog}; -8/-9 is out of memory): use more ranks or factorization = \"faer\"");
+        if failure != 0 || status < 0 || numeric != 0 {
+            bail!(Internal, "MUMPS could not factorize the stiffness (MUMPS INFOG(1) = {status}; -8, -9 and -13 are out of memory): use more ranks or factorization = \"faer\"");
         }
         Ok(())
     }
