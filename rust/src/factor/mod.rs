@@ -131,7 +131,7 @@ impl Factor {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::element::{Cst, Element};
+    use crate::element::Cst;
     use crate::linalg::StiffnessPattern;
     use crate::material::{Material, Plane};
     use crate::section::Section;

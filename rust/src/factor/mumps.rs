@@ -9,11 +9,12 @@
 //! (From one run to the next, on several ranks, the numbers may differ at round-off: MUMPS
 //! sums contribution blocks in the order the ranks' messages arrive.)
 //!
-//! Against the faer backend: G = K⁻¹ on the trailing equations costs t solves (blocked, in
-//! MUMPS's multi-right-hand-side solve) instead of the factor's trailing block, and a trial's
-//! split solve is two full solves (the forward part solves for b, the backward part for
-//! b + E f) instead of one substitution pair: MUMPS's sweeps are not reachable through PETSc.
-//! PETSc refuses the Schur complement (which would give G directly) on more than one rank.
+//! Against the faer backend: G = K⁻¹ on the trailing equations is MUMPS's computation of
+//! selected entries of the inverse (t sparse right-hand sides, its solves pruned to the tree's
+//! paths they touch) instead of the factor's trailing block, and a trial's split solve is two
+//! full solves (the forward part solves for b, the backward part for b + E f) instead of one
+//! substitution pair: MUMPS's sweeps are not reachable through PETSc. PETSc refuses the Schur
+//! complement (which would give G directly) on more than one rank.
 
 use super::faer_llt::{symbolic_analysis, work_of};
 use super::petsc::{self, Api, FactorInfo, Handle, PetscInt};
@@ -25,9 +26,9 @@ use faer::sparse::SparseColMat;
 use faer::Mat;
 use std::ptr::null_mut;
 
-/// Right-hand sides per MUMPS solve when G is built column by column: n × this many doubles
-/// in flight per rank (100k equations: 100 MB).
-const FLEXIBILITY_BLOCK: usize = 128;
+/// MUMPS's controls (ICNTL) the selected inverse sets and the solves need back.
+const ICNTL_SOLUTION_DISTRIBUTED: PetscInt = 21;
+const ICNTL_INVERSE_ENTRIES: PetscInt = 30;
 /// MUMPS's INFOG(1) when ScaLAPACK meets a non-positive pivot in an SPD (SYM = 1) root front.
 const MUMPS_NOT_POSITIVE_DEFINITE: PetscInt = -40;
 
@@ -121,6 +122,28 @@ impl Mumps {
         api.must((api.VecRestoreArrayRead)(self.whole, &mut p), "VecRestoreArrayRead");
     }
 
+    /// `values` of rank 0 to every rank.
+    unsafe fn broadcast(&self, values: &mut [f64], rank0: bool) {
+        let api = self.api;
+        let own = if rank0 { values.len() } else { 0 };
+        let (mut v, mut to_all, mut all): (Handle, Handle, Handle) = (null_mut(), null_mut(), null_mut());
+        api.must((api.VecCreateMPI)(api.comm(), own as PetscInt, values.len() as PetscInt, &mut v), "VecCreateMPI");
+        let mut p: *mut f64 = null_mut();
+        api.must((api.VecGetArray)(v, &mut p), "VecGetArray");
+        std::slice::from_raw_parts_mut(p, own).copy_from_slice(&values[..own]);
+        api.must((api.VecRestoreArray)(v, &mut p), "VecRestoreArray");
+        api.must((api.VecScatterCreateToAll)(v, &mut to_all, &mut all), "VecScatterCreateToAll");
+        api.must((api.VecScatterBegin)(to_all, v, all, petsc::INSERT_VALUES, petsc::SCATTER_FORWARD), "VecScatterBegin");
+        api.must((api.VecScatterEnd)(to_all, v, all, petsc::INSERT_VALUES, petsc::SCATTER_FORWARD), "VecScatterEnd");
+        let mut q: *const f64 = std::ptr::null();
+        api.must((api.VecGetArrayRead)(all, &mut q), "VecGetArrayRead");
+        values.copy_from_slice(std::slice::from_raw_parts(q, values.len()));
+        api.must((api.VecRestoreArrayRead)(all, &mut q), "VecRestoreArrayRead");
+        api.must((api.VecScatterDestroy)(&mut to_all), "VecScatterDestroy");
+        api.must((api.VecDestroy)(&mut all), "VecDestroy");
+        api.must((api.VecDestroy)(&mut v), "VecDestroy");
+    }
+
     /// K⁻¹ b for one right-hand side over the equations.
     fn solve_one(&mut self, b: &mut [f64]) {
         let api = self.api;
@@ -206,21 +229,48 @@ impl Backend for Mumps {
         }
     }
 
-    /// G = K⁻¹ restricted to the trailing equations, from blocks of unit loads on them
-    /// (symmetrized: the solves' round-off apart, K⁻¹ is symmetric).
+    /// G = K⁻¹ restricted to the trailing equations: MUMPS's selected entries of the inverse
+    /// (found on rank 0, then sent to every rank), symmetrized (K⁻¹ is symmetric; the
+    /// entries (i, j) and (j, i) are computed apart, so they differ at round-off).
     fn trailing_inverse(&mut self) -> Mat<f64> {
-        let (n, t) = (self.n, self.n_trailing);
-        let mut g = Mat::<f64>::zeros(t, t);
-        for start in (0..t).step_by(FLEXIBILITY_BLOCK) {
-            let columns = FLEXIBILITY_BLOCK.min(t - start);
-            let mut b = vec![0.0; n * columns];
-            (0..columns).for_each(|c| b[c * n + n - t + start + c] = 1.0);
-            self.solve_in_place(&mut b, columns);
-            for (c, column) in b.chunks_exact(n).enumerate() {
-                (0..t).for_each(|i| g[(i, start + c)] = column[n - t + i]);
-            }
+        let (api, n, t) = (self.api, self.n, self.n_trailing);
+        if t == 0 {
+            return Mat::zeros(0, 0);
         }
-        Mat::from_fn(t, t, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]))
+        let rank0 = self.first == 0;
+        let trailing: Vec<PetscInt> = (n - t..n).map(|i| i as PetscInt).collect();
+        let mut entries = vec![0.0; t * t];
+        unsafe {
+            // The pattern of the wanted entries, as PETSc hands it to MUMPS: the transpose of
+            // an n × n matrix whose row j lists the rows i of column j, all of it on rank 0.
+            let local = if rank0 { n as PetscInt } else { 0 };
+            let row_entries: Vec<PetscInt> = (0..local as usize).map(|j| if j >= n - t { t as PetscInt } else { 0 }).collect();
+            let mut pattern: Handle = null_mut();
+            api.must((api.MatCreateAIJ)(api.comm(), local, local, n as PetscInt, n as PetscInt, 0, row_entries.as_ptr(), 0, row_entries.as_ptr(), &mut pattern), "MatCreateAIJ");
+            if rank0 {
+                let ones = vec![1.0; t * t];
+                api.must((api.MatSetValues)(pattern, t as PetscInt, trailing.as_ptr(), t as PetscInt, trailing.as_ptr(), ones.as_ptr(), petsc::INSERT_VALUES), "MatSetValues");
+            }
+            api.must((api.MatAssemblyBegin)(pattern, petsc::MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+            api.must((api.MatAssemblyEnd)(pattern, petsc::MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+            let mut wanted: Handle = null_mut();
+            api.must((api.MatCreateTranspose)(pattern, &mut wanted), "MatCreateTranspose");
+            api.must((api.MatMumpsGetInverse)(self.factor, wanted), "MatMumpsGetInverse");
+            // Back to solving: no inverse entries, and (on several ranks) the solution left
+            // distributed, as PETSc's solves expect it.
+            api.must((api.MatMumpsSetIcntl)(self.factor, ICNTL_INVERSE_ENTRIES, 0), "MatMumpsSetIcntl");
+            if !(rank0 && self.end == n) {
+                api.must((api.MatMumpsSetIcntl)(self.factor, ICNTL_SOLUTION_DISTRIBUTED, 1), "MatMumpsSetIcntl");
+            }
+            if rank0 {
+                // Row j of `pattern`, column i: K⁻¹(i, j).
+                api.must((api.MatGetValues)(pattern, t as PetscInt, trailing.as_ptr(), t as PetscInt, trailing.as_ptr(), entries.as_mut_ptr()), "MatGetValues");
+            }
+            api.must((api.MatDestroy)(&mut wanted), "MatDestroy");
+            api.must((api.MatDestroy)(&mut pattern), "MatDestroy");
+            self.broadcast(&mut entries, rank0);
+        }
+        Mat::from_fn(t, t, |i, j| 0.5 * (entries[j * t + i] + entries[i * t + j]))
     }
 
     /// w = [b, K⁻¹b]: one solve.

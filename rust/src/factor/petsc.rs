@@ -75,6 +75,12 @@ api! {
     MatCholeskyFactorNumeric: fn(Handle, Handle, *const FactorInfo);
     MatFactorGetError: fn(Handle, *mut c_int);
     MatMumpsGetInfog: fn(Handle, PetscInt, *mut PetscInt);
+    MatMumpsSetIcntl: fn(Handle, PetscInt, PetscInt);
+    MatMumpsGetInverse: fn(Handle, Handle);
+    MatCreateAIJ: fn(Handle, PetscInt, PetscInt, PetscInt, PetscInt, PetscInt, *const PetscInt, PetscInt, *const PetscInt, *mut Handle);
+    MatCreateTranspose: fn(Handle, *mut Handle);
+    MatGetValues: fn(Handle, PetscInt, *const PetscInt, PetscInt, *const PetscInt, *mut f64);
+    VecCreateMPI: fn(Handle, PetscInt, PetscInt, *mut Handle);
     MatCreateVecs: fn(Handle, *mut Handle, *mut Handle);
     MatSolve: fn(Handle, Handle, Handle);
     MatMatSolve: fn(Handle, Handle, Handle);
