@@ -1,7 +1,10 @@
 """Factorization backends on the 3D elastic Hertz sphere (cases/hertz_sphere_3d.toml): faer
 in-process against PETSc's MUMPS on 1 and 2 MPI ranks, at several mesh sizes.
 
-    .venv/bin/python bench/factorization_backends.py [--h 0.02 0.0125 0.0105] [--out bench/factorization_backends.md]
+    .venv/bin/python bench/factorization_backends.py [--h 0.02 0.0125 0.0105] [--only mumps2]
+
+writes its table to bench/factorization_backends_table.md (bench/factorization_backends.md
+quotes it with the conclusions).
 
 Each run is a whole ``slipstep`` run without output files, one process per rank (``mpirun -n 2``
 for two ranks); every rank reports its peak resident memory (getrusage) and the engine's timers:
@@ -18,6 +21,7 @@ import os
 import resource
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -26,8 +30,8 @@ CASE = ROOT / "cases" / "hertz_sphere_3d.toml"
 BACKENDS = (("faer", None), ("mumps", 1), ("mumps", 2))
 
 
-def worker(h: float, factorization: str) -> None:
-    """One rank's run: prints one JSON line."""
+def worker(h: float, factorization: str, folder: Path) -> None:
+    """One rank's run: its report as ``folder/rank<r>.json`` (the ranks' stdout interleave)."""
     from slipstep import ranks
     from slipstep.runner import run
 
@@ -35,21 +39,22 @@ def worker(h: float, factorization: str) -> None:
     result = run(CASE, overrides=[f"mesh.h_contact={h}", f"solver.factorization={factorization}"],
                  progress=False)
     s = result.summary
-    print(json.dumps({"rank": ranks.rank(), "n_dofs": s["n_dofs"], "n_pairs": s["n_pairs"],
-                      "n_events": s["n_events"], "timings": s["engine_timings_s"],
-                      "wall_s": time.perf_counter() - start,
-                      "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+    report = {"rank": ranks.rank(), "n_dofs": s["n_dofs"], "n_pairs": s["n_pairs"],
+              "n_events": s["n_events"], "timings": s["engine_timings_s"],
+              "wall_s": time.perf_counter() - start,
+              "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+    (folder / f"rank{report['rank']}.json").write_text(json.dumps(report))
 
 
 def measure(h: float, factorization: str, ranks: int | None) -> list[dict]:
-    command = [sys.executable, __file__, "--worker", str(h), factorization]
+    folder = Path(tempfile.mkdtemp(prefix="factorization_backends_"))
+    command = [sys.executable, __file__, "--worker", str(h), factorization, str(folder)]
     if ranks is not None:
         command = ["mpirun", "-n", str(ranks), *command]
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1", MPLBACKEND="Agg")
-    proc = subprocess.run(command, capture_output=True, text=True, env=env, check=True)
-    return sorted((json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")),
-                  key=lambda r: r["rank"])
+    subprocess.run(command, capture_output=True, text=True, env=env, check=True)
+    return [json.loads(p.read_text()) for p in sorted(folder.glob("rank*.json"))]
 
 
 def row(h: float, name: str, ranks: int | None, reports: list[dict]) -> str:
@@ -65,19 +70,22 @@ def row(h: float, name: str, ranks: int | None, reports: list[dict]) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--h", type=float, nargs="+", default=[0.02, 0.0125, 0.0105])
-    parser.add_argument("--out", type=Path, default=ROOT / "bench" / "factorization_backends.md")
-    parser.add_argument("--worker", nargs=2, metavar=("H", "FACTORIZATION"))
+    parser.add_argument("--out", type=Path, default=ROOT / "bench" / "factorization_backends_table.md")
+    parser.add_argument("--worker", nargs=3, metavar=("H", "FACTORIZATION", "FOLDER"))
+    parser.add_argument("--only", choices=["faer", "mumps1", "mumps2"], help="one backend")
     args = parser.parse_args()
     if args.worker:
-        return worker(float(args.worker[0]), args.worker[1])
+        return worker(float(args.worker[0]), args.worker[1], Path(args.worker[2]))
     lines = ["| h | DOFs | pairs | events | factorization | factorize [s] | G [s] | solves [s] | "
              "events [s] | run [s] | peak RSS per rank [MB] |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for h in args.h:
         for name, ranks in BACKENDS:
+            if args.only and args.only != name + (str(ranks) if ranks else ""):
+                continue
             lines.append(row(h, name, ranks, measure(h, name, ranks)))
             print(lines[-1], flush=True)
-    args.out.with_suffix(".table.md").write_text("\n".join(lines) + "\n")
+    args.out.write_text("\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":

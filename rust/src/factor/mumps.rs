@@ -43,9 +43,10 @@ pub struct Mumps {
     gather: Handle,
     whole: Handle,
     info: FactorInfo,
-    /// This rank's equations [first, end).
+    /// This rank's equations [first, end), and whether other ranks hold the rest.
     first: usize,
     end: usize,
+    several_ranks: bool,
     n: usize,
     n_trailing: usize,
     /// The supernodal Cholesky's work for the same pattern (the cost model's, `FactorWork`).
@@ -61,7 +62,7 @@ impl Mumps {
         let (rank, size) = api.rank_and_size();
         let (first, end) = (n * rank / size, n * (rank + 1) / size);
         let work = work_of(&symbolic_analysis(lower)?);
-        let mut m = Mumps { api, matrix: null_mut(), factor: null_mut(), rhs: null_mut(), solution: null_mut(), gather: null_mut(), whole: null_mut(), info: [0.0; 11], first, end, n, n_trailing, work };
+        let mut m = Mumps { api, matrix: null_mut(), factor: null_mut(), rhs: null_mut(), solution: null_mut(), gather: null_mut(), whole: null_mut(), info: [0.0; 11], first, end, several_ranks: size > 1, n, n_trailing, work };
         api.quietly(|| m.create(lower))?;
         m.factor(lower, map)?;
         Ok(m)
@@ -259,7 +260,7 @@ impl Backend for Mumps {
             // Back to solving: no inverse entries, and (on several ranks) the solution left
             // distributed, as PETSc's solves expect it.
             api.must((api.MatMumpsSetIcntl)(self.factor, ICNTL_INVERSE_ENTRIES, 0), "MatMumpsSetIcntl");
-            if !(rank0 && self.end == n) {
+            if self.several_ranks {
                 api.must((api.MatMumpsSetIcntl)(self.factor, ICNTL_SOLUTION_DISTRIBUTED, 1), "MatMumpsSetIcntl");
             }
             if rank0 {
