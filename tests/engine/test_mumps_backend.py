@@ -118,3 +118,18 @@ def test_an_unknown_factorization_is_one_clear_line(tmp_path):
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "factorization" in lines[0] and "mumps" in lines[0], proc.stderr
+
+
+def test_mumps_without_petsc4py_is_one_clear_line(tmp_path):
+    """Where petsc4py cannot be imported (hidden here), a MUMPS run stops before the engine with
+    one line naming the key, what to install and the alternative; nothing is written."""
+    code = ("import sys; sys.modules['petsc4py'] = None; from slipstep.cli import main; "
+            f"raise SystemExit(main(['run', {str(CASES / 'hertz_cylinder.toml')!r}, '--out', "
+            f"{str(tmp_path / 'out')!r}, '--set', 'solver.factorization=mumps']))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                          env=dict(os.environ, MPLBACKEND="Agg"))
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert all(w in lines[0] for w in ("factorization", "petsc4py", '"faer"')), lines[0]
+    assert not (tmp_path / "out").exists()
