@@ -256,6 +256,7 @@ fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
             Some(options::Kind::Real) => options::Value::Real(v.extract()?),
             Some(options::Kind::Count) => options::Value::Count(v.extract()?),
             Some(options::Kind::Flag) => options::Value::Flag(v.extract()?),
+            Some(options::Kind::Choice(_)) => options::Value::Choice(v.extract()?),
             None => options::Value::Real(f64::NAN), // `set` names the unknown key
         };
         options.set(&key, value).map_err(|e| python_error(d.py(), &e))?;
@@ -284,12 +285,17 @@ fn option_specs(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
             options::Kind::Real => "real",
             options::Kind::Count => "count",
             options::Kind::Flag => "flag",
+            options::Kind::Choice(_) => "choice",
         };
         d.set_item("kind", kind)?;
         match s.kind {
             options::Kind::Real => d.set_item("default", s.default)?,
             options::Kind::Count => d.set_item("default", s.default as i64)?,
             options::Kind::Flag => d.set_item("default", s.default != 0.0)?,
+            options::Kind::Choice(names) => {
+                d.set_item("default", names[s.default as usize])?;
+                d.set_item("choices", names.to_vec())?;
+            }
         }
         d.set_item("min", s.min.map(|e| (e.value, e.inclusive)))?;
         d.set_item("max", s.max.map(|e| (e.value, e.inclusive)))?;

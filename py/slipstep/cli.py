@@ -27,7 +27,7 @@ import argparse
 import os
 import sys
 
-from . import shipped
+from . import ranks, shipped
 from .case import load_case
 from .errors import InputError, SlipstepError
 from .build import build_scene
@@ -234,6 +234,8 @@ def _run(args) -> int:
     case = _case(args)
     out = args.out or f"results/{case.name}"
     result, summary = run_case(case, out, progress=not args.quiet)
+    if ranks.rank() != 0:  # a MUMPS run's other ranks: rank 0 reports
+        return 0
     if not args.quiet:
         print(f"{one_line(summary)} -> {out}")
     if summary.get("contact_reached_last_candidate"):

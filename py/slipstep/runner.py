@@ -12,7 +12,7 @@ import threading
 import time
 from pathlib import Path
 
-from . import shipped
+from . import ranks, shipped
 from .case import Case, load_case
 from .errors import EngineMissing, InputError
 from .build import build_scene
@@ -94,6 +94,9 @@ def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | 
     result is returned, like a run that ended early otherwise (``result.stop["kind"]``:
     interrupted, limit_load, event_bound, support_lost); its files are written like a complete
     run's.
+
+    A case with ``[solver] factorization = "mumps"`` run under ``mpirun -n N`` runs on every
+    rank (:mod:`slipstep.ranks`); only rank 0 writes ``out``.
     """
     start = time.perf_counter()
     if isinstance(case, Scene):
@@ -103,6 +106,8 @@ def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | 
         scene = case
     else:
         scene = prepare(case, overrides, meshes)
+    if ranks.start(scene.case) != 0:  # MUMPS under mpirun: rank 0 writes and reports
+        out, progress = None, False
     writers = _load_writers(scene, out, figures, xdmf)
     try:
         raw = solve(scene, progress)

@@ -105,9 +105,10 @@ def _solver_keys() -> dict:
     there once; a case's [solver] table reaches the engine key by key, unchanged."""
     from ._engine import option_specs
 
-    kinds = {"real": "float", "count": "int", "flag": "bool"}
+    kinds = {"real": "float", "count": "int", "flag": "bool", "choice": "str"}
     return {s["key"]: Key(kinds[s["kind"]], s["default"], doc=s["doc"],
-                          check=None if s["kind"] == "flag" else _within(s))
+                          check=_within(s) if s["kind"] in ("real", "count") else None,
+                          choices=tuple(s.get("choices", ())))
             for s in option_specs()}
 
 

@@ -18,8 +18,9 @@
 //! - [`mesh`]: triangle and tetrahedron meshes, validation, bodies;
 //! - [`contact`]: candidate pairs, their constraint vectors and statuses (eqs. 21–28, 41, 45–46);
 //! - [`rigid_modes`]: rigid-body modes left free by the supports (3 per body in 2D, 6 in 3D);
-//! - [`linalg`]: sparse assembly and the SPD Cholesky factor (faer); [`low_rank`]: the factor
-//!   plus a few rank-one terms (Woodbury), so that a yield needs no refactorization;
+//! - [`linalg`]: the equations and the sparse assembly; [`factor`]: the SPD factorization
+//!   behind one seam (faer in-process, or PETSc's MUMPS over MPI ranks); [`low_rank`]: the
+//!   factor plus a few rank-one terms (Woodbury), so that a yield needs no refactorization;
 //! - [`events`]: scale factors of the next event (eqs. 48–57);
 //! - [`driver`]: the incremental loop (§4), one module per phase (see its table);
 //! - [`lcp`]: Lemke's method for the zero-length rate problem;
@@ -34,6 +35,7 @@ pub mod records;
 pub mod element;
 pub mod error;
 pub mod events;
+pub mod factor;
 pub mod linalg;
 pub mod low_rank;
 pub mod material;

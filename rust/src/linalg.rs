@@ -1,4 +1,5 @@
-//! Sparse linear algebra: the reduced stiffness and its Cholesky factor.
+//! Sparse linear algebra: the reduced stiffness, its equations and its pattern (the factor:
+//! `factor`).
 //!
 //! Supports (u = 0) are eliminated. A body that is held only by contact (the paper's cylinder
 //! on the flat, a block on a foundation) has rigid-body modes left in K; for those a few
@@ -11,15 +12,8 @@ use crate::bail;
 use crate::element::Element;
 use crate::error::Result;
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::matmul::matmul;
-use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::sparse::linalg::amd;
-use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering};
-use faer::linalg::cholesky::llt::factor::LltError;
-use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
-use faer::{Accum, Conj, Mat, MatMut, Par, Side};
 use nalgebra::{Matrix6, SMatrix};
 
 /// Where a global DOF goes in the reduced system.
@@ -98,7 +92,7 @@ impl DofMap {
     /// permutation: a fill-reducing order (AMD on the mesh's node graph, both DOFs of a node
     /// together, the nodes with a `trailing` DOF joined into a clique) of the nodes that carry
     /// no trailing DOF, then the other equations of those that do, then the `trailing` DOFs in
-    /// the order given: they end the factor (`SpdSolver`). Measured on the Hertz meshes, the
+    /// the order given: they end the factor (`factor::Backend::trailing_inverse`). Measured on the Hertz meshes, the
     /// clique cuts the factorization flops by 5 % (8.6k DOFs) and 14 % (24k) against AMD on
     /// the graph without the trailing nodes; keeping them last still costs +42 % (8.6k) and
     /// +22 % (24k) flops against plain AMD: the price of reading the contact flexibility from
@@ -320,235 +314,12 @@ impl ElementScatter {
     }
 }
 
-/// The work of a factor's operations in floating-point operations, from its structure
-/// (`SpdSolver::work`): a numeric factorization, a solve pair (one forward + backward
-/// substitution), and the number of equations.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct FactorWork {
-    pub factorization_flops: f64,
-    pub solve_pair_flops: f64,
-    pub equations: f64,
-}
-
-/// One thread for the factor, the solves and the dense block. Measured on this 2-core
-/// machine, faer's parallel (rayon) supernodal factorization is slower: 6.8 s → 10.0 s at
-/// 955k DOFs, and 0.36 s → 0.75 s for 88 factorizations at 8.6k DOFs.
-const PAR: Par = Par::Seq;
-
-/// Cholesky factor of K_reg with the symbolic analysis kept for refactorization.
-///
-/// The equations come numbered in the factor's order (`DofMap::ordered`: fill-reducing, with
-/// a chosen set of *trailing* equations, the contact DOFs, last), so the factor is L Lᵀ = K
-/// without a permutation. With the trailing equations in the last t positions, the forward substitution of a unit load at a trailing DOF only touches the last
-/// t rows, and the trailing rows of the backward substitution only the last t columns: the
-/// flexibility of the trailing DOFs (K⁻¹ restricted to them, the Delassus operator of the
-/// contact problem) is G = T⁻ᵀ T⁻¹ with T the trailing t × t block of L. One dense inversion
-/// then replaces one full solve per contact pair.
-///
-/// The same block splits a solve K x = b + f with f on the trailing equations into one
-/// forward and one backward substitution (`forward`, `trailing_solution`,
-/// `add_trailing_force`, `backward`): the trailing part of K⁻¹b is known after the forward
-/// sweep, and the forward sweep of f only touches the trailing rows (w_t += T⁻¹ f_t). The
-/// event loop uses it to find the contact forces between the sweeps: one solve per trial.
-pub struct SpdSolver {
-    symbolic: SymbolicCholesky<usize>,
-    values: Vec<f64>,
-    /// The last `n_trailing` equations form the trailing block.
-    n_trailing: usize,
-    /// T⁻¹ for the trailing block T of the current factor (lower triangular, t × t).
-    trailing_block_inverse: Mat<f64>,
-    /// Work space of the numeric factorization and of one-column solves, kept between calls.
-    factor_scratch: MemBuffer,
-    solve_scratch: Option<MemBuffer>,
-    pub n_factorizations: usize,
-    pub n_solves: usize,
-}
-
-impl SpdSolver {
-    /// The factor of `lower` (lower triangle of an SPD matrix) whose last `n_trailing`
-    /// equations form the trailing block: the symbolic analysis of its pattern, kept for every
-    /// refactorization, and the first numeric factorization (`factor`), so that a solver always
-    /// holds a factor.
-    pub fn new(lower: &SparseColMat<usize, f64>, map: &DofMap, n_trailing: usize) -> Result<Self> {
-        // The equations are numbered in the factor's order already (`DofMap::ordered`).
-        // Supernodal always: the trailing block is read from the supernodes.
-        let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() };
-        // (Without a permutation faer's analysis reads the upper triangle: hand it Lᵀ's.)
-        let upper = lower.as_ref().transpose().to_col_major().map_err(|e| crate::fail!(Internal, "could not transpose the stiffness pattern: {e:?}"))?;
-        let symbolic = factorize_symbolic_cholesky(upper.symbolic(), Side::Upper, SymmetricOrdering::Identity, params)
-            .map_err(|e| crate::fail!(Internal, "symbolic factorization failed: {e:?}"))?;
-        let factor_scratch = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(PAR, Default::default()))
-            .map_err(|_| crate::fail!(Internal, "out of memory for the Cholesky factorization"))?;
-        let mut solver = SpdSolver {
-            values: vec![0.0; symbolic.len_val()],
-            symbolic,
-            n_trailing,
-            trailing_block_inverse: Mat::zeros(0, 0),
-            factor_scratch,
-            solve_scratch: None,
-            n_factorizations: 0,
-            n_solves: 0,
-        };
-        solver.factor(lower, map)?;
-        Ok(solver)
-    }
-
-    /// Factor `lower` again (same pattern, new values). A non-positive pivot means a
-    /// mechanism: the message names the global DOF through `dof_of_equation`.
-    pub fn factor(&mut self, lower: &SparseColMat<usize, f64>, map: &DofMap) -> Result<()> {
-        let result = self.symbolic.factorize_numeric_llt(&mut self.values, lower.as_ref(), Side::Lower, Default::default(), PAR, MemStack::new(&mut self.factor_scratch), Default::default());
-        match result {
-            Ok(_) => {
-                self.n_factorizations += 1;
-                Ok(())
-            }
-            Err(LltError::NonPositivePivot { index }) => {
-                // (The equations are in the factor's order: no permutation to undo.)
-                let dim = map.dim;
-                let hint = map.dof_of_equation
-                    .get(index)
-                    .map(|&d| format!(" near node {} ({})", d / dim, ["x", "y", "z"][d % dim]))
-                    .unwrap_or_default();
-                bail!(FreeBody, "the stiffness matrix is singular{hint}: the model has a mechanism (a part held by nothing, or elements joined at a single node); add supports or check the mesh connectivity")
-            }
-        }
-    }
-
-    /// The work of a factorization and of a solve pair, from the supernodal structure: a
-    /// supernode of c columns with r rows below them costs c³/3 + c² r + c r² to factor (its
-    /// own block, the panel below it, the update of its ancestors) and holds c(c+1)/2 + c r
-    /// entries, each used twice by a solve pair (2 flops each way).
-    pub fn work(&self) -> FactorWork {
-        let (mut factorization, mut entries) = (0.0, 0.0);
-        if let SymbolicCholeskyRaw::Supernodal(sup) = self.symbolic.raw() {
-            let ptr = sup.col_ptr_for_row_idx();
-            for s in 0..sup.n_supernodes() {
-                let c = (sup.supernode_end()[s] - sup.supernode_begin()[s]) as f64;
-                let r = (ptr[s + 1] - ptr[s]) as f64;
-                factorization += c * c * c / 3.0 + c * c * r + c * r * r;
-                entries += c * (c + 1.0) / 2.0 + c * r;
-            }
-        }
-        FactorWork { factorization_flops: factorization, solve_pair_flops: 4.0 * entries, equations: self.symbolic.nrows() as f64 }
-    }
-
-    /// Solve K_reg X = B in place for `columns` right-hand sides stored column after column
-    /// (one blocked forward/backward substitution for all of them).
-    pub fn solve_in_place(&mut self, b: &mut [f64], columns: usize) {
-        let n = b.len() / columns.max(1);
-        let par = PAR;
-        let mut mem = if columns == 1 { self.one_column_scratch() } else { MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(columns, par)) };
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(b, n, columns), par, MemStack::new(&mut mem));
-        if columns == 1 {
-            self.solve_scratch = Some(mem);
-        }
-        self.n_solves += columns;
-    }
-
-    /// G = K_reg⁻¹ restricted to the trailing equations (the last t),
-    /// from the trailing block T of the factor: G = T⁻ᵀ T⁻¹ (see the type's documentation).
-    pub fn trailing_inverse(&mut self) -> Mat<f64> {
-        let t = self.n_trailing;
-        let sym = &self.symbolic;
-        let n = sym.nrows();
-        let first = n - t;
-        let mut tb = Mat::<f64>::zeros(t, t);
-        if let SymbolicCholeskyRaw::Supernodal(sup) = sym.raw() {
-            let factor = SupernodalLltRef::new(sup, &self.values);
-            for s in (0..sup.n_supernodes()).rev() {
-                let node = factor.supernode(s);
-                let val = node.val();
-                let start = node.start();
-                let ncols = val.ncols();
-                if start + ncols <= first {
-                    break; // supernodes are contiguous column ranges in increasing order
-                }
-                let row_of = |i: usize| if i < ncols { start + i } else { node.pattern()[i - ncols] };
-                for c in 0..ncols {
-                    let j = start + c;
-                    if j < first {
-                        continue;
-                    }
-                    for i in c..val.nrows() {
-                        tb[(row_of(i) - first, j - first)] = val[(i, c)];
-                    }
-                }
-            }
-        }
-        // X = T⁻¹, G = Xᵀ X.
-        let mut x = Mat::<f64>::identity(t, t);
-        let par = PAR;
-        solve_lower_triangular_in_place(tb.as_ref(), x.as_mut(), par);
-        let mut g = Mat::<f64>::zeros(t, t);
-        matmul(g.as_mut(), Accum::Replace, x.transpose(), x.as_ref(), 1.0, par);
-        self.trailing_block_inverse = x;
-        g
-    }
-
-    fn supernodal(&self) -> SupernodalLltRef<'_, usize, f64> {
-        match self.symbolic.raw() {
-            SymbolicCholeskyRaw::Supernodal(sup) => SupernodalLltRef::new(sup, &self.values),
-            SymbolicCholeskyRaw::Simplicial(_) => unreachable!("the factor is always supernodal"),
-        }
-    }
-
-    fn one_column_scratch(&mut self) -> MemBuffer {
-        let sym = &self.symbolic;
-        self.solve_scratch.take().unwrap_or_else(|| MemBuffer::new(sym.solve_in_place_scratch::<f64>(1, PAR)))
-    }
-
-    /// Forward sweep w = L⁻¹ b for b over the equations.
-    pub fn forward(&mut self, b: &[f64]) -> Vec<f64> {
-        let mut mem = self.one_column_scratch();
-        let factor = self.supernodal();
-        let mut w = b.to_vec();
-        let n = w.len();
-        factor.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut w, n, 1), PAR, MemStack::new(&mut mem));
-        self.solve_scratch = Some(mem);
-        w
-    }
-
-    /// The trailing equations' part of K⁻¹b, from the forward sweep w of b: T⁻ᵀ w_t (in the order of the
-    /// trailing equations).
-    pub fn trailing_solution(&self, w: &[f64]) -> Vec<f64> {
-        let t = self.n_trailing;
-        let w_t = &w[w.len() - t..];
-        let x = &self.trailing_block_inverse;
-        // (T⁻ᵀ w_t)_i = Σ_j X_ji w_j, X lower triangular.
-        (0..t).map(|i| (i..t).map(|j| x[(j, i)] * w_t[j]).sum()).collect()
-    }
-
-    /// Add a force f given on the trailing equations to a forward sweep:
-    /// w_t += T⁻¹ f.
-    pub fn add_trailing_force(&self, w: &mut [f64], f: &[f64]) {
-        let t = self.n_trailing;
-        let first = w.len() - t;
-        let x = &self.trailing_block_inverse;
-        for (j, &fj) in f.iter().enumerate() {
-            if fj != 0.0 {
-                for i in j..t {
-                    w[first + i] += x[(i, j)] * fj;
-                }
-            }
-        }
-    }
-
-    /// Backward sweep: x = L⁻ᵀ w, over the equations. Counts one solve.
-    pub fn backward(&mut self, mut w: Vec<f64>) -> Vec<f64> {
-        let mut mem = self.one_column_scratch();
-        let factor = self.supernodal();
-        let n = w.len();
-        factor.l_transpose_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut w, n, 1), PAR, MemStack::new(&mut mem));
-        self.solve_scratch = Some(mem);
-        self.n_solves += 1;
-        w
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::element::Cst;
+    use crate::factor::Factor;
+    use crate::options::Factorization;
     use crate::material::{Material, Plane};
     use crate::mesh::Mesh;
     use crate::section::Section;
@@ -641,7 +412,7 @@ mod tests {
         }
         let map = DofMap::new(18, &fixed, &[]);
         let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &tangents, &map).unwrap();
-        let mut s = SpdSolver::new(&k, &map, 0).unwrap();
+        let mut s = Factor::new(Factorization::Faer, &k, &map, 0).unwrap();
         let rhs: Vec<f64> = (0..map.n_equations).map(|i| 1.0 + i as f64).collect();
         let mut x = rhs.clone();
         s.solve_in_place(&mut x, 1);
@@ -718,7 +489,7 @@ mod tests {
         // The chosen DOFs are the last equations, in the order given.
         let t = chosen.len();
         assert_eq!(chosen, (map.n_equations - t..map.n_equations).collect::<Vec<_>>());
-        let mut s = SpdSolver::new(&k, &map, t).unwrap();
+        let mut s = Factor::new(Factorization::Faer, &k, &map, t).unwrap();
         let g = s.trailing_inverse();
         let n = map.n_equations;
         let mut b = vec![0.0; n * chosen.len()];

@@ -12,7 +12,7 @@
 //! The columns live on the equations of K_f (`DofMap`); Z is kept whole (n × k), so that a
 //! trial's split solve (forward sweep, contact block, backward sweep) stays one solve.
 
-use crate::linalg::{FactorWork, SpdSolver};
+use crate::factor::{Factor, FactorWork};
 use nalgebra::DMatrix;
 
 /// One signed rank-one term s w wᵀ of an element.
@@ -49,7 +49,7 @@ impl LowRank {
     }
 
     /// Drop the terms of `owners` and add `added` (each solved with K_f, all at once).
-    pub fn update(&mut self, solver: &mut SpdSolver, n: usize, owners: &[usize], added: Vec<Column>) {
+    pub fn update(&mut self, solver: &mut Factor, n: usize, owners: &[usize], added: Vec<Column>) {
         if !owners.is_empty() {
             let drop: std::collections::HashSet<usize> = owners.iter().copied().collect();
             let mut j = 0;
@@ -181,6 +181,7 @@ mod tests {
     use crate::element::{Cst, Element};
     use crate::linalg::{DofMap, StiffnessPattern};
     use crate::material::{Material, Plane};
+    use crate::options::Factorization;
     use crate::section::Section;
 
     /// A supported 6 × 4-cell block: K_f, and K = K_f with some elements softened (plastic
@@ -210,7 +211,7 @@ mod tests {
         let mut d = d_f.clone();
         softened.iter().for_each(|&e| d[e] = plastic);
         d[40] = elastic;
-        let mut solver = SpdSolver::new(&pattern.assemble(&els, &d_f, &map).unwrap(), &map, trailing.len()).unwrap();
+        let mut solver = Factor::new(Factorization::Faer, &pattern.assemble(&els, &d_f, &map).unwrap(), &map, trailing.len()).unwrap();
         let n = map.n_equations;
         let column = |e: usize, delta: nalgebra::Matrix6<f64>| {
             let delta = Cst::rows_of(&delta);
@@ -229,7 +230,7 @@ mod tests {
         solver.solve_in_place(&mut x, 1);
         let c = lr.coefficients(&y);
         lr.subtract(&mut x, &c);
-        let mut fresh = SpdSolver::new(&pattern.assemble(&els, &d, &map).unwrap(), &map, trailing.len()).unwrap();
+        let mut fresh = Factor::new(Factorization::Faer, &pattern.assemble(&els, &d, &map).unwrap(), &map, trailing.len()).unwrap();
         let mut exact = y.clone();
         fresh.solve_in_place(&mut exact, 1);
         let big = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));

@@ -18,6 +18,8 @@ pub enum Kind {
     Count,
     /// A switch.
     Flag,
+    /// One of these names (the spec's default: the index of its name).
+    Choice(&'static [&'static str]),
 }
 
 /// One end of an option's allowed range: the value and whether it is allowed itself.
@@ -64,6 +66,21 @@ pub const DEFAULT_TANGENT_TURN: f64 = 0.05;
 /// Default of `slip_turn` (radians): see rust/src/contact.rs for its measured error.
 pub const DEFAULT_SLIP_TURN: f64 = 0.1;
 
+/// Which backend factorizes K (`crate::factor`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Factorization {
+    /// faer's supernodal Cholesky in-process.
+    Faer,
+    /// PETSc's MUMPS, distributed over the MPI ranks of `mpirun`.
+    Mumps,
+}
+
+impl Factorization {
+    /// The names a case gives, in the order of the variants.
+    pub const NAMES: &'static [&'static str] = &["faer", "mumps"];
+    const ALL: [Factorization; 2] = [Factorization::Faer, Factorization::Mumps];
+}
+
 /// Every option, in the order the key tables list them.
 pub const SPECS: &[Spec] = &[
     Spec { key: "tie_tol", kind: Kind::Real, default: 1e-9, min: at_least(0.0), max: None, doc: "events whose scale factors lie within S_min (1 + tie_tol) are applied together" },
@@ -78,6 +95,7 @@ pub const SPECS: &[Spec] = &[
     Spec { key: "limit_stiffness", kind: Kind::Real, default: 1e-3, min: at_least(0.0), max: below(1.0), doc: "stop at a limit load when the current stiffness of the remaining load falls below this fraction of the initial one (0 = never)" },
     Spec { key: "max_zero_length_switches", kind: Kind::Count, default: 4.0, min: at_least(1.0), max: None, doc: "switches of one pair or element within a zero-length run of events before the rate problem sets the statuses (anti-cycling)" },
     Spec { key: "reduced_elastic", kind: Kind::Flag, default: 1.0, min: None, max: None, doc: "elastic runs carry only the contact DOFs between events (false: the general path, for cross-checks)" },
+    Spec { key: "factorization", kind: Kind::Choice(Factorization::NAMES), default: 0.0, min: None, max: None, doc: "the factorization of the stiffness: \"faer\" (in-process sparse Cholesky) or \"mumps\" (PETSc's MUMPS, the factor distributed over the MPI ranks of `mpirun -n N slipstep run ...`, for scenes whose factor outgrows one process; needs PETSc with MUMPS, Debian's python3-petsc4py; every rank runs the same event loop, rank 0 writes the results)" },
 ];
 
 /// The spec of `key`.
@@ -86,11 +104,12 @@ pub fn spec(key: &str) -> Option<&'static Spec> {
 }
 
 /// A value given for an option.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub enum Value {
     Real(f64),
     Count(i64),
     Flag(bool),
+    Choice(String),
 }
 
 #[derive(Debug, Clone)]
@@ -118,12 +137,13 @@ pub struct Options {
     pub limit_stiffness: f64,
     pub max_zero_length_switches: usize,
     pub reduced_elastic: bool,
+    pub factorization: Factorization,
 }
 
 impl Default for Options {
     /// Every option at its declared default, snapshots at every event.
     fn default() -> Self {
-        let mut o = Options { snapshots: SnapshotRequest::EveryEvent, tie_tol: 0.0, group_tol: 0.0, max_events: 0, equilibrium_tol: 0.0, drift_control: false, max_stress_step: 0.0, tangent_turn: 0.0, slip_turn: 0.0, stop_at_first_yield: false, limit_stiffness: 0.0, max_zero_length_switches: 0, reduced_elastic: false };
+        let mut o = Options { snapshots: SnapshotRequest::EveryEvent, tie_tol: 0.0, group_tol: 0.0, max_events: 0, equilibrium_tol: 0.0, drift_control: false, max_stress_step: 0.0, tangent_turn: 0.0, slip_turn: 0.0, stop_at_first_yield: false, limit_stiffness: 0.0, max_zero_length_switches: 0, reduced_elastic: false, factorization: Factorization::Faer };
         for s in SPECS {
             o.field(s.key).expect("every spec names a field").set(s.default);
         }
@@ -144,6 +164,10 @@ impl Options {
             (Kind::Real, Value::Real(x)) => x,
             (Kind::Real | Kind::Count, Value::Count(n)) => n as f64,
             (Kind::Flag, Value::Flag(b)) => f64::from(u8::from(b)),
+            (Kind::Choice(names), Value::Choice(name)) => match names.iter().position(|n| *n == name) {
+                Some(i) => i as f64,
+                None => bail!(Input, "options.{key} = {name:?} is not allowed: give {} (default {})", spec.kind_text(), spec.default_text()),
+            },
             _ => bail!(Input, "options.{key}: give {} (default {})", spec.kind_text(), spec.default_text()),
         };
         spec.check(v)?;
@@ -182,6 +206,7 @@ impl Options {
             "limit_stiffness" => Field::Real(&mut self.limit_stiffness),
             "max_zero_length_switches" => Field::Count(&mut self.max_zero_length_switches),
             "reduced_elastic" => Field::Flag(&mut self.reduced_elastic),
+            "factorization" => Field::Factorization(&mut self.factorization),
             _ => return None,
         })
     }
@@ -192,6 +217,7 @@ enum Field<'a> {
     Real(&'a mut f64),
     Count(&'a mut usize),
     Flag(&'a mut bool),
+    Factorization(&'a mut Factorization),
 }
 
 impl Field<'_> {
@@ -200,6 +226,7 @@ impl Field<'_> {
             Field::Real(x) => **x,
             Field::Count(x) => **x as f64,
             Field::Flag(x) => f64::from(u8::from(**x)),
+            Field::Factorization(x) => Factorization::ALL.iter().position(|f| f == *x).expect("every variant is listed") as f64,
         }
     }
 
@@ -208,6 +235,7 @@ impl Field<'_> {
             Field::Real(x) => *x = v,
             Field::Count(x) => *x = v as usize,
             Field::Flag(x) => *x = v != 0.0,
+            Field::Factorization(x) => *x = Factorization::ALL[v as usize],
         }
     }
 }
@@ -219,7 +247,11 @@ impl Spec {
         let above_min = self.min.is_none_or(|e| v > e.value || (e.inclusive && v == e.value));
         let below_max = self.max.is_none_or(|e| v < e.value || (e.inclusive && v == e.value));
         let whole = self.kind != Kind::Count || v.fract() == 0.0;
-        if !(v.is_finite() && above_min && below_max && whole) {
+        let named = match self.kind {
+            Kind::Choice(names) => v.fract() == 0.0 && v >= 0.0 && v < names.len() as f64,
+            _ => true,
+        };
+        if !(v.is_finite() && above_min && below_max && whole && named) {
             bail!(Input, "options.{} = {v} is not allowed: give {} (default {})", self.key, self.kind_text(), self.default_text());
         }
         Ok(())
@@ -231,6 +263,7 @@ impl Spec {
             Kind::Real => "a number",
             Kind::Count => "a count",
             Kind::Flag => return "true or false".into(),
+            Kind::Choice(names) => return format!("one of {}", names.iter().map(|n| format!("{n:?}")).collect::<Vec<_>>().join(", ")),
         };
         match (self.min, self.max) {
             (Some(lo), Some(hi)) => format!("{what} in {}{}, {}{}", if lo.inclusive { "[" } else { "(" }, lo.value, hi.value, if hi.inclusive { "]" } else { ")" }),
@@ -246,6 +279,7 @@ impl Spec {
             Kind::Flag => (self.default != 0.0).to_string(),
             Kind::Count => format!("{}", self.default as usize),
             Kind::Real => format!("{:?}", self.default),
+            Kind::Choice(names) => format!("{:?}", names[self.default as usize]),
         }
     }
 }
@@ -279,6 +313,8 @@ mod tests {
             ("max_zero_length_switches", Value::Count(0)),
             ("drift_control", Value::Real(1.0)),
             ("group_tol", Value::Flag(true)),
+            ("factorization", Value::Choice("cholmod".into())),
+            ("factorization", Value::Real(1.0)),
             ("no_such_option", Value::Real(1.0)),
         ];
         for (key, value) in bad {
@@ -291,6 +327,10 @@ mod tests {
         o.set("tie_tol", Value::Count(0)).unwrap();
         o.set("drift_control", Value::Flag(false)).unwrap();
         assert!(o.group_tol == 0.0 && o.max_events == 10 && o.tie_tol == 0.0 && !o.drift_control);
+        assert_eq!(o.factorization, Factorization::Faer);
+        o.set("factorization", Value::Choice("mumps".into())).unwrap();
+        assert_eq!(o.factorization, Factorization::Mumps);
+        assert_eq!(spec("factorization").unwrap().kind_text(), "one of \"faer\", \"mumps\"");
         assert_eq!(spec("group_tol").unwrap().kind_text(), "a number in [0, 1)");
         assert_eq!(spec("equilibrium_tol").unwrap().kind_text(), "a number > 0");
     }

@@ -373,7 +373,7 @@ fn contact_pairs(model: &Model, fixed: &[bool]) -> Result<Vec<Pair>> {
 }
 
 /// The contact DOFs that are equations (neither fixed nor pinned) go last in the factor, in
-/// slot order: their flexibility block (`SpdSolver`). Returns the slot of every DOF and the
+/// slot order: their flexibility block (`factor::Backend::trailing_inverse`). Returns the slot of every DOF and the
 /// DOF of every slot.
 fn contact_slots(pairs: &[Pair], fixed: &[bool], pinned: &[usize]) -> (Vec<usize>, Vec<usize>) {
     let mut is_pinned = vec![false; fixed.len()];

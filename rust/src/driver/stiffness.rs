@@ -15,7 +15,8 @@ use super::tangents::{Renewal, Tangents};
 use crate::element::Element;
 use crate::on_elements;
 use crate::error::Result;
-use crate::linalg::{DofMap, ElementScatter, SpdSolver, StiffnessPattern};
+use crate::factor::Factor;
+use crate::linalg::{DofMap, ElementScatter, StiffnessPattern};
 use crate::low_rank::{Column, Cost, LowRank};
 use faer::sparse::SparseColMat;
 
@@ -43,7 +44,7 @@ struct LoadSweep {
 }
 
 pub(super) struct Stiffness {
-    pub solver: SpdSolver,
+    pub solver: Factor,
     pattern: StiffnessPattern,
     elastic: Option<ElasticK>,
     pub tangents: Tangents,
@@ -84,7 +85,7 @@ impl Stiffness {
         };
         let solver = {
             let _t = clock.time(Phase::Factorization);
-            SpdSolver::new(&k, map, problem.dofs.slot_dofs.len())?
+            Factor::new(problem.model.options.factorization, &k, map, problem.dofs.slot_dofs.len())?
         };
         let mut stiffness = Stiffness {
             solver,
