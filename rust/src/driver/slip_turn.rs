@@ -22,6 +22,7 @@ use super::anticycling::AntiCycling;
 use super::checks::Correction;
 use super::engine::Engine;
 use super::plasticity::correct_at_fixed_load;
+use super::problem::Problem;
 use super::recording::Recorder;
 use super::selection::trial_of;
 use super::state::{State, TrialIncrement};
@@ -47,25 +48,15 @@ pub(super) fn direct_unloaded_slips(eng: &mut Engine, state: &mut State, trial: 
     for p in 0..problem.pairs.len() {
         let e = state.slip_dir[p];
         let unloaded = state.lambda_n[p] <= problem.scales.force_noise || e == [0.0; 2];
-        if !unloaded || !matches!(state.status[p], Status::Slip { direction } if direction != 0) {
+        if !unloaded || !slipping(state, p) {
             continue;
         }
-        let pair = &problem.pairs[p];
-        let rate = slip_rate(pair, &trial_of(trial), p);
-        let size = rate[0].hypot(rate[1]);
-        if size <= trial.noise.displacement {
-            continue;
-        }
-        let cos = -(e[0] * rate[0] + e[1] * rate[1]) / size;
+        let Some(against) = against_slip(problem, trial, p) else { continue };
+        let cos = e[0] * against[0] + e[1] * against[1];
         if cos >= cos_limit || !cycles.turn(p) {
             continue; // aligned, or out of turns
         }
-        let e = rate.map(|r| -r / size);
-        state.slip_dir[p] = e;
-        let ln = state.lambda_n[p];
-        let lt = [pair.mu * ln * e[0], pair.mu * ln * e[1]];
-        jump = jump.max((lt[0] - state.lambda_t[p]).hypot(lt[1] - state.lambda_t2[p]));
-        (state.lambda_t[p], state.lambda_t2[p]) = (lt[0], lt[1]);
+        jump = jump.max(hold_direction(problem, state, p, against));
         turned = true;
     }
     if let Some(before) = before {
@@ -78,4 +69,53 @@ pub(super) fn direct_unloaded_slips(eng: &mut Engine, state: &mut State, trial: 
         *correction = c.size;
     }
     Ok(turned)
+}
+
+/// Every slipping 3D pair that has no direction yet (it began to slip at zero force) takes the
+/// one against its slip rate in `inc`: the solve of an equilibrium correction or of a plastic
+/// window's contact sub-step, where no increment's trial comes between the switch and the
+/// force the pair then carries (`direct_unloaded_slips` is that trial's turn). A pair takes
+/// its direction once, so it needs no anti-cycling turn. Returns whether any did (the caller
+/// solves `inc` again) and the force that moved (μ λ_n of a pair already loaded), kept as a
+/// switch's jump is (`keep_jumps`).
+pub(super) fn direct_new_slips(eng: &Engine, state: &mut State, inc: &TrialIncrement) -> (bool, f64) {
+    let problem = &eng.problem;
+    if problem.dim != 3 {
+        return (false, 0.0);
+    }
+    let before = jumps_kept(eng).then(|| contact_forces(state));
+    let (mut directed, mut jump) = (false, 0.0f64);
+    for p in 0..problem.pairs.len() {
+        if state.slip_dir[p] != [0.0; 2] || !slipping(state, p) {
+            continue;
+        }
+        if let Some(e) = against_slip(problem, inc, p) {
+            jump = jump.max(hold_direction(problem, state, p, e));
+            directed = true;
+        }
+    }
+    if let Some(before) = before {
+        keep_jumps(state, &before);
+    }
+    (directed, jump)
+}
+
+fn slipping(state: &State, p: usize) -> bool {
+    matches!(state.status[p], Status::Slip { direction } if direction != 0)
+}
+
+/// The unit vector against pair p's slip rate in `inc`; None while that rate is round-off.
+fn against_slip(problem: &Problem, inc: &TrialIncrement, p: usize) -> Option<[f64; 2]> {
+    let rate = slip_rate(&problem.pairs[p], &trial_of(inc), p);
+    let size = rate[0].hypot(rate[1]);
+    (size > inc.noise.displacement).then(|| rate.map(|r| -r / size))
+}
+
+/// Pair p slips along −e from here: its friction force is μ λ_n e. Returns how far it moved.
+fn hold_direction(problem: &Problem, state: &mut State, p: usize, e: [f64; 2]) -> f64 {
+    state.slip_dir[p] = e;
+    let mu_ln = problem.pairs[p].mu * state.lambda_n[p];
+    let moved = (mu_ln * e[0] - state.lambda_t[p]).hypot(mu_ln * e[1] - state.lambda_t2[p]);
+    (state.lambda_t[p], state.lambda_t2[p]) = (mu_ln * e[0], mu_ln * e[1]);
+    moved
 }

@@ -36,6 +36,7 @@ use super::problem::Problem;
 use super::recording::{Balance, InsideEvent, Recorder};
 use super::restraint::{hold, Hold};
 use super::selection::{select_contact, Selection};
+use super::slip_turn::direct_new_slips;
 use super::state::{IncrementStart, State, TrialIncrement};
 use super::stepping::Stepping;
 use super::switching::{contact_forces, switch_statuses};
@@ -225,6 +226,15 @@ fn walk_contact_events(eng: &mut Engine, state: &mut State, mut sub: TrialIncrem
             break; // the loop's event bound (or `support_lost`) stops the run at its next increment
         }
         sub = trial::solve(eng, state, Solve::SubStep(base), None)?;
+        let before = contact_forces(state);
+        let (directed, jump) = direct_new_slips(eng, state, &sub); // 3D: a slip begun at zero force
+        add_moved(state, &before, jumped);
+        if jump > eng.problem.scales.force_noise {
+            return Ok((sel, jump));
+        }
+        if directed {
+            sub = trial::solve(eng, state, Solve::SubStep(base), None)?;
+        }
         let remaining = 1.0 - state.load_fraction;
         let bound = if bound_phi >= 1.0 { f64::INFINITY } else if remaining > 0.0 { ((bound_phi - state.load_fraction) / remaining).max(0.0) } else { 0.0 };
         sel = select_contact(&eng.problem, state, &sub, cycles, bound);
