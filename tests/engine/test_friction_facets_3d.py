@@ -383,3 +383,15 @@ def test_a_slip_switched_below_the_force_noise_inside_contact_substeps_keeps_the
     model = model_of(BERKOVICH)
     result = _engine.solve(model, False)
     assert_indented_admissibly(model, result, 1000.0, 0.1, False)
+
+
+def test_zero_length_contact_substeps_with_jumps_below_the_noise_pass_the_path_check():
+    """The Berkovich block above at μ = 0.5. Inside a plastic window a run of contact
+    sub-steps all of zero length switches pairs whose force jumps stay below the force noise
+    (put on their cones): the whole increment is zero, and its path check compared the jumps'
+    displacement (4e-10) with a largest displacement of zero (before, the run ended with
+    "contact sub-steps: the increment's displacement differs from its sub-steps' by 4.3e-10
+    (of 0.0e0)" at t = 0.898)."""
+    model = model_of(BERKOVICH.replace("mu = 0.2", "mu = 0.5"))
+    result = _engine.solve(model, False)
+    assert_indented_admissibly(model, result, 1000.0, 0.1, False)

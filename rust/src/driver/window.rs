@@ -258,6 +258,9 @@ fn walk_contact_events(eng: &mut Engine, state: &mut State, mut sub: TrialIncrem
 fn check_contact_path(eng: &Engine, start: &State, end: &State, whole: &TrialIncrement, jumped: &[[f64; 3]]) -> Result<()> {
     let problem = &eng.problem;
     let scale = scale_between(start, end);
+    if scale <= 0.0 {
+        return Ok(()); // sub-steps of zero length: no path, and the whole is zero (`whole_increment`)
+    }
     let moved = match jumped.iter().any(|j| *j != [0.0; 3]) {
         true => eng.stiffness.flexibility.as_ref() * faer::ColRef::from_slice(&slot_forces(problem, jumped, eng.stiffness.flexibility.nrows())),
         false => faer::Col::zeros(eng.stiffness.flexibility.nrows()),
