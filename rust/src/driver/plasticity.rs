@@ -21,7 +21,7 @@ use super::engine::Engine;
 use super::problem::{Problem, PARALLEL_CHUNK};
 use super::selection::{pair_state, trial_of, Selection, STAGE_END, ZERO_SCALE};
 use super::state::{IncrementStart, State, TrialIncrement};
-use super::slip_turn::direct_new_slips;
+use super::slip_direction::direct_new_slips;
 use super::switching::switch_keeping;
 use super::tangents::Renewal;
 use super::trial::{self, Solve};

@@ -36,7 +36,7 @@ use super::problem::Problem;
 use super::recording::{Balance, InsideEvent, Recorder};
 use super::restraint::{hold, Hold};
 use super::selection::{select_contact, Selection};
-use super::slip_turn::direct_new_slips;
+use super::slip_direction::direct_new_slips;
 use super::state::{IncrementStart, State, TrialIncrement};
 use super::stepping::Stepping;
 use super::switching::{contact_forces, switch_statuses};
@@ -242,7 +242,7 @@ fn walk_contact_events(eng: &mut Engine, state: &mut State, mut sub: TrialIncrem
 }
 
 /// The next sub-step's trial; 3D: a slip begun at zero force that it presses takes its
-/// direction from it, and it is solved again (`slip_turn::direct_new_slips`). Returns the trial
+/// direction from it, and it is solved again (`slip_direction::direct_new_slips`). Returns the trial
 /// and the force that moved (added to `jumped`).
 fn substep_trial(eng: &mut Engine, state: &mut State, base: &TrialBase, jumped: &mut [[f64; 3]]) -> Result<(TrialIncrement, f64)> {
     let sub = trial::solve(eng, state, Solve::SubStep(base), None)?;
