@@ -270,9 +270,9 @@ ENGINE_FORCE_NOISE = 1e-12
 def assert_indented_admissibly(model: dict, result: dict, young: float, depth: float, every_event: bool):
     """An indentation by an obstacle's motion (its material's E `young`, the motion's length
     `depth`), completed, checked at every snapshot from the result arrays: Coulomb (stuck pairs
-    on or inside the round cone, slipping ones within their facets), no tension, equilibrium
-    recomputed; at `every_event` also no work produced by a slip over a step (its argument
-    holds over one step: tests/physics.py)."""
+    on or inside the round cone, slipping ones on their facets: μλ_n ≤ |λ_t| ≤ μλ_n/cos
+    slip_turn), no tension, equilibrium recomputed; at `every_event` also no work produced by a
+    slip over a step (its argument holds over one step: tests/physics.py)."""
     assert result["stop"]["kind"] == "completed", result["stop"]
     snaps, slip_turn = result["snapshots"], model["options"]["slip_turn"]
     mu = float(np.max(model["pairs"]["mu"]))
@@ -282,6 +282,10 @@ def assert_indented_admissibly(model: dict, result: dict, young: float, depth: f
     worst = friction_in_space(model, snaps, slip_turn, (LENGTH_TOL * umax, noise))
     assert worst["outside_round"] <= (1 + mu) * noise, worst
     assert worst["beyond_facet"] <= (1 + mu) * noise, worst
+    # on its facet λ_t·e = μ λ_n holds exactly (a row of the solve), so a slipping pair is short
+    # of μ λ_n only by the round-off of its forces; a pair slipping with no direction carries
+    # no friction at all, short by μ λ_n, of the order of the forces
+    assert worst["inside_facet"] <= (1 + mu) * noise, worst
     if every_event:
         assert worst["work"] <= noise * umax, worst
     for k, s in enumerate(snaps):
@@ -306,6 +310,23 @@ def test_a_pair_closing_under_a_pyramids_edge_slips_where_it_leaves_the_cone(sna
     kinds = Counter(result["events"]["kind"])
     assert kinds["yield"] > 0 and kinds["stick_to_slip"] > 0, kinds
     assert_indented_admissibly(model, result, PYRAMID_E, PYRAMID_DEPTH, snapshots == '"events"')
+
+
+@pytest.mark.parametrize("mu", [0.1, 0.5])
+def test_a_pair_that_slips_as_it_closes_carries_its_friction_once_loaded(mu):
+    """The pyramid of the test above, every event a snapshot, at other friction coefficients.
+    A pair under the pyramid closes at the end of a plastic increment and slips at once, at
+    zero force, so it has no friction force to take its slip direction from; the equilibrium
+    correction at fixed load that follows then presses it (λ_n up to ~1e-3 of the largest).
+    It must slip on its facet, its friction force μ λ_n against its slip (before, it took its
+    direction only at the next increment's trial and carried no friction in between: at
+    μ = 0.1 five snapshots, at 0.5 two, showed a slipping pair with λ_n up to 3e-3 and
+    λ_t = 0)."""
+    model = model_of(PYRAMID.format(E=PYRAMID_E, depth=PYRAMID_DEPTH, mu=mu, snapshots='"events"'))
+    result = _engine.solve(model, False)
+    slipping = sum(int(((s["status"] == 2) & (s["lambda_n"] > 0)).sum()) for s in result["snapshots"])
+    assert slipping > 0  # pressed pairs do slip
+    assert_indented_admissibly(model, result, PYRAMID_E, PYRAMID_DEPTH, every_event=True)
 
 
 BERKOVICH = """
@@ -360,5 +381,17 @@ def test_a_slip_switched_below_the_force_noise_inside_contact_substeps_keeps_the
     ended with "contact sub-steps: the increment's displacement differs from its sub-steps'" at
     t = 0.756)."""
     model = model_of(BERKOVICH)
+    result = _engine.solve(model, False)
+    assert_indented_admissibly(model, result, 1000.0, 0.1, False)
+
+
+def test_zero_length_contact_substeps_with_jumps_below_the_noise_pass_the_path_check():
+    """The Berkovich block above at μ = 0.5. Inside a plastic window a run of contact
+    sub-steps all of zero length switches pairs whose force jumps stay below the force noise
+    (put on their cones): the whole increment is zero, and its path check compared the jumps'
+    displacement (4e-10) with a largest displacement of zero (before, the run ended with
+    "contact sub-steps: the increment's displacement differs from its sub-steps' by 4.3e-10
+    (of 0.0e0)" at t = 0.898)."""
+    model = model_of(BERKOVICH.replace("mu = 0.2", "mu = 0.5"))
     result = _engine.solve(model, False)
     assert_indented_admissibly(model, result, 1000.0, 0.1, False)

@@ -30,6 +30,7 @@
 //! | equilibrium, contact conditions, limit load | [`checks`] | eqs. 22–24, 1–2 |
 //! | event history, increments, snapshots | [`recording`] | |
 //! | status switches (step 6) | [`switching`] | eqs. 41, 50–55 |
+//! | 3D friction: the direction a slip begun at zero force takes from a solve that presses it | [`slip_direction`] | |
 //! | integrated stresses, equilibrium correction, re-integration | [`plasticity`] | eqs. 5–11, 59 |
 //! | advance to the event | [`advance`] | eqs. 58–62 |
 //! | a plastic window: open, contact sub-steps, close or retake | [`window`] | eqs. 16, 43–44 |
@@ -71,6 +72,7 @@ mod recording;
 mod scenes;
 mod restraint;
 mod selection;
+mod slip_direction;
 mod slip_turn;
 mod space;
 mod state;

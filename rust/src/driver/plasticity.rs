@@ -21,6 +21,7 @@ use super::engine::Engine;
 use super::problem::{Problem, PARALLEL_CHUNK};
 use super::selection::{pair_state, trial_of, Selection, STAGE_END, ZERO_SCALE};
 use super::state::{IncrementStart, State, TrialIncrement};
+use super::slip_direction::direct_new_slips;
 use super::switching::switch_keeping;
 use super::tangents::Renewal;
 use super::trial::{self, Solve};
@@ -291,7 +292,10 @@ pub(super) fn correct_at_fixed_load(eng: &mut Engine, state: &mut State, phi: f6
     let mut corrected = Corrected::default();
     let unfrozen = vec![false; eng.problem.pairs.len()];
     for step in 0..MAX_CORRECTION_EVENTS {
-        let c = trial::solve(eng, state, Solve::Balance(phi), internal.take())?;
+        let mut c = trial::solve(eng, state, Solve::Balance(phi), internal.take())?;
+        if direct_new_slips(eng, state, &c).0 {
+            c = trial::solve(eng, state, Solve::Balance(phi), None)?; // 3D: a slip begun at zero force took its direction
+        }
         let mut cands = events::candidates(&pair_state(&eng.problem, state, &unfrozen), &trial_of(&c), c.noise);
         // A slip that reverses inside the correction leaves its force on the cone: the state
         // stays admissible, and sticking it would only cycle with the next increment; but in 3D,

@@ -12,6 +12,9 @@
 //! −e is a turn too: with no normal force there is no friction force to stick with (stuck at
 //! zero force, the pair would slip again at once, `events::onto_round_cone`).
 //!
+//! Where a solve presses such a pair before an increment's trial comes, it takes e from that
+//! solve (`slip_direction`).
+//!
 //! A body whose pairs all begin to slip at zero force (a block pressed on a plane at low μ,
 //! its pairs slipping outwards from the first instant) has nothing that holds its turn about
 //! the normal in that first trial: no pair has a direction, so none a cross row. Nothing
@@ -23,11 +26,9 @@ use super::checks::Correction;
 use super::engine::Engine;
 use super::plasticity::correct_at_fixed_load;
 use super::recording::Recorder;
-use super::selection::trial_of;
+use super::slip_direction::{hold_direction, slip_of, slipping};
 use super::state::{State, TrialIncrement};
 use super::switching::{contact_forces, jumps_kept, keep_jumps};
-use crate::contact::Status;
-use crate::events::slip_rate;
 use crate::error::Result;
 
 /// Direct every slipping 3D pair that has no normal force to hold its direction by (or no
@@ -47,25 +48,15 @@ pub(super) fn direct_unloaded_slips(eng: &mut Engine, state: &mut State, trial: 
     for p in 0..problem.pairs.len() {
         let e = state.slip_dir[p];
         let unloaded = state.lambda_n[p] <= problem.scales.force_noise || e == [0.0; 2];
-        if !unloaded || !matches!(state.status[p], Status::Slip { direction } if direction != 0) {
+        if !unloaded || !slipping(state, p) {
             continue;
         }
-        let pair = &problem.pairs[p];
-        let rate = slip_rate(pair, &trial_of(trial), p);
-        let size = rate[0].hypot(rate[1]);
-        if size <= trial.noise.displacement {
-            continue;
-        }
+        let Some((rate, size)) = slip_of(problem, trial, p) else { continue };
         let cos = -(e[0] * rate[0] + e[1] * rate[1]) / size;
         if cos >= cos_limit || !cycles.turn(p) {
             continue; // aligned, or out of turns
         }
-        let e = rate.map(|r| -r / size);
-        state.slip_dir[p] = e;
-        let ln = state.lambda_n[p];
-        let lt = [pair.mu * ln * e[0], pair.mu * ln * e[1]];
-        jump = jump.max((lt[0] - state.lambda_t[p]).hypot(lt[1] - state.lambda_t2[p]));
-        (state.lambda_t[p], state.lambda_t2[p]) = (lt[0], lt[1]);
+        jump = jump.max(hold_direction(problem, state, p, rate.map(|r| -r / size)));
         turned = true;
     }
     if let Some(before) = before {
@@ -79,3 +70,4 @@ pub(super) fn direct_unloaded_slips(eng: &mut Engine, state: &mut State, trial: 
     }
     Ok(turned)
 }
+

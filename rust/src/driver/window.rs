@@ -36,6 +36,7 @@ use super::problem::Problem;
 use super::recording::{Balance, InsideEvent, Recorder};
 use super::restraint::{hold, Hold};
 use super::selection::{select_contact, Selection};
+use super::slip_direction::direct_new_slips;
 use super::state::{IncrementStart, State, TrialIncrement};
 use super::stepping::Stepping;
 use super::switching::{contact_forces, switch_statuses};
@@ -224,7 +225,11 @@ fn walk_contact_events(eng: &mut Engine, state: &mut State, mut sub: TrialIncrem
         if rec.at_event_bound() || matches!(hold(&eng.problem, &eng.loads, state, &rec.events), Hold::Lost(_)) {
             break; // the loop's event bound (or `support_lost`) stops the run at its next increment
         }
-        sub = trial::solve(eng, state, Solve::SubStep(base), None)?;
+        let (next, jump) = substep_trial(eng, state, base, jumped)?;
+        if jump > eng.problem.scales.force_noise {
+            return Ok((sel, jump)); // a slip begun at zero force that carried λ_n already
+        }
+        sub = next;
         let remaining = 1.0 - state.load_fraction;
         let bound = if bound_phi >= 1.0 { f64::INFINITY } else if remaining > 0.0 { ((bound_phi - state.load_fraction) / remaining).max(0.0) } else { 0.0 };
         sel = select_contact(&eng.problem, state, &sub, cycles, bound);
@@ -234,6 +239,20 @@ fn walk_contact_events(eng: &mut Engine, state: &mut State, mut sub: TrialIncrem
         }
     }
     Ok((Selection { group: vec![], ..sel }, 0.0))
+}
+
+/// The next sub-step's trial; 3D: a slip begun at zero force that it presses takes its
+/// direction from it, and it is solved again (`slip_direction::direct_new_slips`). Returns the trial
+/// and the force that moved (added to `jumped`).
+fn substep_trial(eng: &mut Engine, state: &mut State, base: &TrialBase, jumped: &mut [[f64; 3]]) -> Result<(TrialIncrement, f64)> {
+    let sub = trial::solve(eng, state, Solve::SubStep(base), None)?;
+    let before = contact_forces(state);
+    let (directed, jump) = direct_new_slips(eng, state, &sub);
+    add_moved(state, &before, jumped);
+    match directed && jump <= eng.problem.scales.force_noise {
+        true => Ok((trial::solve(eng, state, Solve::SubStep(base), None)?, jump)),
+        false => Ok((sub, jump)),
+    }
 }
 
 /// The whole increment must reproduce the sub-steps' path at the contact slots (the same
@@ -248,6 +267,9 @@ fn walk_contact_events(eng: &mut Engine, state: &mut State, mut sub: TrialIncrem
 fn check_contact_path(eng: &Engine, start: &State, end: &State, whole: &TrialIncrement, jumped: &[[f64; 3]]) -> Result<()> {
     let problem = &eng.problem;
     let scale = scale_between(start, end);
+    if scale <= 0.0 {
+        return Ok(()); // sub-steps of zero length: no path, and the whole is zero (`whole_increment`)
+    }
     let moved = match jumped.iter().any(|j| *j != [0.0; 3]) {
         true => eng.stiffness.flexibility.as_ref() * faer::ColRef::from_slice(&slot_forces(problem, jumped, eng.stiffness.flexibility.nrows())),
         false => faer::Col::zeros(eng.stiffness.flexibility.nrows()),
