@@ -32,6 +32,54 @@ fix = ["x", "y", "z"]
 """
 
 
+# A Vickers pyramid (tip `tip`, a list) pressed by its `motion` (along -z) into the quarter of a
+# block held by two symmetry planes, mu = 0.3: fill with str.format(tip=..., h_contact=..., motion=...).
+VICKERS_QUARTER = """
+[analysis]
+dimension = 3
+[output]
+snapshots = [0.5, 1.0]
+[[body]]
+name = "block"
+[body.mesh]
+generator = "box"
+z0 = -3.0
+width = 3.0
+depth = 3.0
+height = 3.0
+h_contact = {h_contact}
+contact_zone = 0.6
+h_max = 1.0
+growth = 0.3
+focus = [0.0, 0.0, 0.0]
+[body.material]
+E = 1000.0
+nu = 0.3
+[[bc]]
+body = "block"
+face = "bottom"
+fix = ["x", "y", "z"]
+[[bc]]
+body = "block"
+face = "left"
+symmetry = true
+[[bc]]
+body = "block"
+face = "front"
+symmetry = true
+[[contact]]
+kind = "rigid_surface"
+indenter = "vickers"
+tip = {tip}
+size = 1.0
+body = "block"
+face = "top"
+x_max = 1.0
+y_max = 1.0
+mu = 0.3
+motion = [0.0, 0.0, {motion}]
+"""
+
 SPHERE = """
 [case]
 name = "sphere3"

@@ -19,56 +19,13 @@ from __future__ import annotations
 from collections import Counter
 
 from physics import EQUILIBRIUM_TOL, equilibrium_residual, friction_in_space
+from space3d import VICKERS_QUARTER
 
 from slipstep import _engine
 from slipstep.build import build_scene
 from slipstep.case import parse_case
 
-VICKERS = """
-[analysis]
-dimension = 3
-[output]
-snapshots = [1.0]
-[[body]]
-name = "block"
-[body.mesh]
-generator = "box"
-z0 = -3.0
-width = 3.0
-depth = 3.0
-height = 3.0
-h_contact = 0.25
-contact_zone = 0.6
-h_max = 1.0
-growth = 0.3
-focus = [0.0, 0.0, 0.0]
-[body.material]
-E = 1000.0
-nu = 0.3
-[[bc]]
-body = "block"
-face = "bottom"
-fix = ["x", "y", "z"]
-[[bc]]
-body = "block"
-face = "left"
-symmetry = true
-[[bc]]
-body = "block"
-face = "front"
-symmetry = true
-[[contact]]
-kind = "rigid_surface"
-indenter = "vickers"
-tip = [0.0, 0.0, 0.0]
-size = 1.0
-body = "block"
-face = "top"
-x_max = 1.0
-y_max = 1.0
-mu = 0.3
-motion = [0.0, 0.0, -0.2]
-"""
+VICKERS = VICKERS_QUARTER.format(tip="[0.0, 0.0, 0.0]", h_contact=0.25, motion=-0.2)
 MOTION = 0.2
 
 # Round-off, relative to the force the scene carries (its final reaction): the engine's own

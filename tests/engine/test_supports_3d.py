@@ -22,54 +22,10 @@ import numpy as np
 import pytest
 from conftest import needs_gmsh
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
+from space3d import VICKERS_QUARTER
 
 from slipstep import build_scene, parse_case, solve
 
-QUARTER_BLOCK = """
-[analysis]
-dimension = 3
-[output]
-snapshots = [0.5, 1.0]
-[[body]]
-name = "block"
-[body.mesh]
-generator = "box"
-z0 = -3.0
-width = 3.0
-depth = 3.0
-height = 3.0
-h_contact = 0.1
-contact_zone = 0.6
-h_max = 1.0
-growth = 0.3
-focus = [0.0, 0.0, 0.0]
-[body.material]
-E = 1000.0
-nu = 0.3
-[[bc]]
-body = "block"
-face = "bottom"
-fix = ["x", "y", "z"]
-[[bc]]
-body = "block"
-face = "left"
-symmetry = true
-[[bc]]
-body = "block"
-face = "front"
-symmetry = true
-[[contact]]
-kind = "rigid_surface"
-indenter = "vickers"
-tip = {tip}
-size = 1.0
-body = "block"
-face = "top"
-x_max = 1.0
-y_max = 1.0
-mu = 0.3
-motion = [0.0, 0.0, -0.12]
-"""
 
 # Forces here are of order E h^2 x strain ~ 1; a round-off of the engine's small systems is
 # ~1e-12 of that, and Coulomb's cone is held to the same relative size.
@@ -77,13 +33,13 @@ FORCE_TOL = 1e-9
 
 
 def run(tip: str):
-    scene = build_scene(parse_case(QUARTER_BLOCK.replace("{tip}", tip), "vickers.toml"))
+    scene = build_scene(parse_case(VICKERS_QUARTER.format(tip=tip, h_contact=0.1, motion=-0.12), "vickers.toml"))
     return scene, solve(scene)
 
 
 @needs_gmsh
 def test_the_normal_under_a_pyramid_tip_is_its_axis():
-    scene = build_scene(parse_case(QUARTER_BLOCK.replace("{tip}", "[0.0, 0.0, 0.0]"), "v.toml"))
+    scene = build_scene(parse_case(VICKERS_QUARTER.format(tip="[0.0, 0.0, 0.0]", h_contact=0.1, motion=-0.12), "v.toml"))
     pairs = scene.model["pairs"]
     corner = np.flatnonzero(np.linalg.norm(scene.nodes[pairs["node_a"]], axis=1) == 0.0)
     assert len(corner) == 1
