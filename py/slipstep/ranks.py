@@ -25,10 +25,9 @@ def start(case) -> int:
     MUMPS: nothing is started)."""
     if not uses_mumps(case):
         return 0
+    from .fenicsx.dolfinx_api import start_petsc  # (the adapter of the dolfinx stack; not at import)
     try:
-        import petsc4py
-        petsc4py.init()
-        from petsc4py import PETSc
+        PETSc = start_petsc()
     except ImportError as exc:
         raise InputError(f"{case.source}: solver.factorization = \"mumps\" needs petsc4py with "
                          f"PETSc's MUMPS (Debian: apt install python3-petsc4py; {exc}): install "

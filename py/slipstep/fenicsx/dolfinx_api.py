@@ -177,6 +177,16 @@ def _import() -> SimpleNamespace:
                            io=dolfinx.io, ufl=ufl_module, PETSc=PETSc, MPI=MPI, version=version)
 
 
+def start_petsc():
+    """PETSc for the MUMPS factorization backend (``[solver] factorization = "mumps"``, see
+    :mod:`slipstep.ranks`): petsc4py started (MPI with it), dolfinx not imported.  Raises
+    ImportError when petsc4py is missing."""
+    import petsc4py
+    petsc4py.init()
+    from petsc4py import PETSc
+    return PETSc
+
+
 def _uses(point: str) -> str:
     """The branch of ``point`` for the loaded dolfinx."""
     return branch(point, require_dolfinx().version)
