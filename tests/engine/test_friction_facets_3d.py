@@ -256,9 +256,10 @@ motion = [0.0, 0.0, -{depth}]
 """
 
 PYRAMID_E, PYRAMID_DEPTH = 200000.0, 0.05
-# What the engine takes for a round-off force rate: 1e-12 of its force scale, for a scene
-# driven by an obstacle's motion Σ_pairs E D |motion|, D the mesh's diameter
-# (rust/src/driver/problem.rs). A pair whose rates within one step are below it is not
+# The round-off floor the checks allow: 1e-12 of Σ_pairs E D |motion|, D the mesh's diameter
+# — the engine's own floor for a round-off force rate was 1e-12 of that sum; it is now 1e-12 of
+# the motion's punch force E |motion| ℓ (rust/src/driver/problem.rs, motion_forces), smaller,
+# so the sum bounds it. A pair whose rates within one step are below the floor is not
 # switched, so one step moves a stuck pair towards the outside of its cone by at most (1 + μ)
 # × that (λ_t and μ λ_n each by the floor), and a switch whose force jump is below it is not
 # rebalanced (rust/src/driver/mod.rs, `settle`): it leaves an out-of-balance force up to the

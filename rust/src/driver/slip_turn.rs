@@ -70,4 +70,3 @@ pub(super) fn direct_unloaded_slips(eng: &mut Engine, state: &mut State, trial: 
     }
     Ok(turned)
 }
-
