@@ -73,12 +73,14 @@ pub enum Factorization {
     Faer,
     /// PETSc's MUMPS, distributed over the MPI ranks of `mpirun`.
     Mumps,
+    /// faer's Cholesky of the region near the contact, the far field's kept (`factor::condensed`).
+    Condensed,
 }
 
 impl Factorization {
     /// The names a case gives, in the order of the variants.
-    pub const NAMES: &'static [&'static str] = &["faer", "mumps"];
-    const ALL: [Factorization; 2] = [Factorization::Faer, Factorization::Mumps];
+    pub const NAMES: &'static [&'static str] = &["faer", "mumps", "condensed"];
+    const ALL: [Factorization; 3] = [Factorization::Faer, Factorization::Mumps, Factorization::Condensed];
 }
 
 /// Every option, in the order the key tables list them.
@@ -95,7 +97,8 @@ pub const SPECS: &[Spec] = &[
     Spec { key: "limit_stiffness", kind: Kind::Real, default: 1e-3, min: at_least(0.0), max: below(1.0), doc: "stop at a limit load when the current stiffness of the remaining load falls below this fraction of the initial one (0 = never)" },
     Spec { key: "max_zero_length_switches", kind: Kind::Count, default: 4.0, min: at_least(1.0), max: None, doc: "switches of one pair or element within a zero-length run of events before the rate problem sets the statuses (anti-cycling)" },
     Spec { key: "reduced_elastic", kind: Kind::Flag, default: 1.0, min: None, max: None, doc: "elastic runs carry only the contact DOFs between events (false: the general path, for cross-checks)" },
-    Spec { key: "factorization", kind: Kind::Choice(Factorization::NAMES), default: 0.0, min: None, max: None, doc: "the factorization of the stiffness: \"faer\" (in-process sparse Cholesky) or \"mumps\" (PETSc's MUMPS, the factor distributed over the MPI ranks of `mpirun -n N slipstep run ...`, for scenes whose factor outgrows one process; needs PETSc with MUMPS, Debian's python3-petsc4py; every rank runs the same event loop, rank 0 writes the results)" },
+    Spec { key: "factorization", kind: Kind::Choice(Factorization::NAMES), default: 0.0, min: None, max: None, doc: "the factorization of the stiffness: \"faer\" (in-process sparse Cholesky) or \"mumps\" (PETSc's MUMPS, the factor distributed over the MPI ranks of `mpirun -n N slipstep run ...`, for scenes whose factor outgrows one process; needs PETSc with MUMPS, Debian's python3-petsc4py; every rank runs the same event loop, rank 0 writes the results) or \"condensed\" (faer's Cholesky of the region near the contact, the far field's factor and its condensed coupling kept between refactorizations: plastic runs refactorize only that region)" },
+    Spec { key: "near_hops", kind: Kind::Count, default: crate::factor::condensed::DEFAULT_NEAR_HOPS as f64, min: at_least(0.0), max: None, doc: "factorization = \"condensed\": the region refactorized holds the equations within this many element layers of the contact DOFs; it grows by as many around any element outside it whose tangent changes" },
 ];
 
 /// The spec of `key`.
@@ -138,12 +141,13 @@ pub struct Options {
     pub max_zero_length_switches: usize,
     pub reduced_elastic: bool,
     pub factorization: Factorization,
+    pub near_hops: usize,
 }
 
 impl Default for Options {
     /// Every option at its declared default, snapshots at every event.
     fn default() -> Self {
-        let mut o = Options { snapshots: SnapshotRequest::EveryEvent, tie_tol: 0.0, group_tol: 0.0, max_events: 0, equilibrium_tol: 0.0, drift_control: false, max_stress_step: 0.0, tangent_turn: 0.0, slip_turn: 0.0, stop_at_first_yield: false, limit_stiffness: 0.0, max_zero_length_switches: 0, reduced_elastic: false, factorization: Factorization::Faer };
+        let mut o = Options { snapshots: SnapshotRequest::EveryEvent, tie_tol: 0.0, group_tol: 0.0, max_events: 0, equilibrium_tol: 0.0, drift_control: false, max_stress_step: 0.0, tangent_turn: 0.0, slip_turn: 0.0, stop_at_first_yield: false, limit_stiffness: 0.0, max_zero_length_switches: 0, reduced_elastic: false, factorization: Factorization::Faer, near_hops: 0 };
         for s in SPECS {
             o.field(s.key).expect("every spec names a field").set(s.default);
         }
@@ -207,6 +211,7 @@ impl Options {
             "max_zero_length_switches" => Field::Count(&mut self.max_zero_length_switches),
             "reduced_elastic" => Field::Flag(&mut self.reduced_elastic),
             "factorization" => Field::Factorization(&mut self.factorization),
+            "near_hops" => Field::Count(&mut self.near_hops),
             _ => return None,
         })
     }

@@ -85,7 +85,7 @@ impl Stiffness {
         };
         let solver = {
             let _t = clock.time(Phase::Factorization);
-            Factor::new(problem.model.options.factorization, &k, map, problem.dofs.slot_dofs.len())?
+            Factor::of_options(&problem.model.options, &k, map, problem.dofs.slot_dofs.len())?
         };
         let mut stiffness = Stiffness {
             solver,
@@ -102,7 +102,6 @@ impl Stiffness {
             solve_pair: 0.0,
         };
         stiffness.factored(clock);
-        stiffness.cost = Cost::of(stiffness.solver.work());
         stiffness.solve_pair = stiffness.measure_solve_pair(map);
         Ok(stiffness)
     }
@@ -129,6 +128,8 @@ impl Stiffness {
             self.flexibility_factored = self.solver.trailing_inverse();
             self.flexibility.clone_from(&self.flexibility_factored);
         }
+        // (The condensed backend's work changes when its near region grows.)
+        self.cost = Cost::of(self.solver.work());
         self.tangents.factored();
         self.low_rank.clear();
         self.low_rank_spent = 0.0;

@@ -74,10 +74,65 @@ impl FaerLlt {
         }
     }
 
-    fn one_column_scratch(&mut self) -> MemBuffer {
-        let sym = &self.symbolic;
-        self.solve_scratch.take().unwrap_or_else(|| MemBuffer::new(sym.solve_in_place_scratch::<f64>(1, PAR)))
+    /// The trailing t × t block T of the factor L (lower triangular).
+    pub(super) fn trailing_block(&self) -> Mat<f64> {
+        let t = self.n_trailing;
+        let first = self.symbolic.nrows() - t;
+        let mut tb = Mat::<f64>::zeros(t, t);
+        if let SymbolicCholeskyRaw::Supernodal(sup) = self.symbolic.raw() {
+            let factor = SupernodalLltRef::new(sup, &self.values);
+            for s in (0..sup.n_supernodes()).rev() {
+                let node = factor.supernode(s);
+                let val = node.val();
+                let start = node.start();
+                let ncols = val.ncols();
+                if start + ncols <= first {
+                    break; // supernodes are contiguous column ranges in increasing order
+                }
+                let row_of = |i: usize| if i < ncols { start + i } else { node.pattern()[i - ncols] };
+                for c in 0..ncols {
+                    let j = start + c;
+                    if j < first {
+                        continue;
+                    }
+                    for i in c..val.nrows() {
+                        tb[(row_of(i) - first, j - first)] = val[(i, c)];
+                    }
+                }
+            }
+        }
+        tb
     }
+
+    /// B ← L⁻¹ B (the forward sweep) for the columns of `b`.
+    pub(super) fn forward_in_place(&mut self, b: MatMut<'_, f64>) {
+        let mut mem = self.scratch(b.ncols());
+        self.supernodal().l_solve_with_conj(Conj::No, b, PAR, MemStack::new(&mut mem));
+        self.keep_scratch(mem);
+    }
+
+    /// B ← L⁻ᵀ B (the backward sweep) for the columns of `b`.
+    pub(super) fn backward_in_place(&mut self, b: MatMut<'_, f64>) {
+        let mut mem = self.scratch(b.ncols());
+        self.supernodal().l_transpose_solve_with_conj(Conj::No, b, PAR, MemStack::new(&mut mem));
+        self.keep_scratch(mem);
+    }
+
+    /// The work space of a sweep or solve with `columns` right-hand sides (the one-column one is
+    /// kept between calls: `keep_scratch`).
+    fn scratch(&mut self, columns: usize) -> MemBuffer {
+        match (columns, self.solve_scratch.take()) {
+            (1, Some(mem)) => mem,
+            _ => MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(columns, PAR)),
+        }
+    }
+
+    fn keep_scratch(&mut self, mem: MemBuffer) {
+        if self.solve_scratch.is_none() {
+            self.solve_scratch = Some(mem);
+        }
+    }
+
 }
 
 impl Backend for FaerLlt {
@@ -108,62 +163,29 @@ impl Backend for FaerLlt {
     /// (one blocked forward/backward substitution for all of them).
     fn solve_in_place(&mut self, b: &mut [f64], columns: usize) {
         let n = b.len() / columns.max(1);
-        let par = PAR;
-        let mut mem = if columns == 1 { self.one_column_scratch() } else { MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(columns, par)) };
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(b, n, columns), par, MemStack::new(&mut mem));
-        if columns == 1 {
-            self.solve_scratch = Some(mem);
-        }
+        let mut mem = self.scratch(columns);
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(b, n, columns), PAR, MemStack::new(&mut mem));
+        self.keep_scratch(mem);
     }
 
     /// G = K_reg⁻¹ restricted to the trailing equations (the last t),
     /// from the trailing block T of the factor: G = T⁻ᵀ T⁻¹ (see the type's documentation).
     fn trailing_inverse(&mut self) -> Mat<f64> {
         let t = self.n_trailing;
-        let sym = &self.symbolic;
-        let n = sym.nrows();
-        let first = n - t;
-        let mut tb = Mat::<f64>::zeros(t, t);
-        if let SymbolicCholeskyRaw::Supernodal(sup) = sym.raw() {
-            let factor = SupernodalLltRef::new(sup, &self.values);
-            for s in (0..sup.n_supernodes()).rev() {
-                let node = factor.supernode(s);
-                let val = node.val();
-                let start = node.start();
-                let ncols = val.ncols();
-                if start + ncols <= first {
-                    break; // supernodes are contiguous column ranges in increasing order
-                }
-                let row_of = |i: usize| if i < ncols { start + i } else { node.pattern()[i - ncols] };
-                for c in 0..ncols {
-                    let j = start + c;
-                    if j < first {
-                        continue;
-                    }
-                    for i in c..val.nrows() {
-                        tb[(row_of(i) - first, j - first)] = val[(i, c)];
-                    }
-                }
-            }
-        }
         // X = T⁻¹, G = Xᵀ X.
         let mut x = Mat::<f64>::identity(t, t);
-        let par = PAR;
-        solve_lower_triangular_in_place(tb.as_ref(), x.as_mut(), par);
+        solve_lower_triangular_in_place(self.trailing_block().as_ref(), x.as_mut(), PAR);
         let mut g = Mat::<f64>::zeros(t, t);
-        matmul(g.as_mut(), Accum::Replace, x.transpose(), x.as_ref(), 1.0, par);
+        matmul(g.as_mut(), Accum::Replace, x.transpose(), x.as_ref(), 1.0, PAR);
         self.trailing_block_inverse = x;
         g
     }
 
     /// Forward sweep w = L⁻¹ b for b over the equations.
     fn forward(&mut self, b: &[f64]) -> Vec<f64> {
-        let mut mem = self.one_column_scratch();
-        let factor = self.supernodal();
         let mut w = b.to_vec();
         let n = w.len();
-        factor.l_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut w, n, 1), PAR, MemStack::new(&mut mem));
-        self.solve_scratch = Some(mem);
+        self.forward_in_place(MatMut::from_column_major_slice_mut(&mut w, n, 1));
         w
     }
 
@@ -194,11 +216,8 @@ impl Backend for FaerLlt {
 
     /// Backward sweep: x = L⁻ᵀ w, over the equations.
     fn backward(&mut self, mut w: Vec<f64>) -> Vec<f64> {
-        let mut mem = self.one_column_scratch();
-        let factor = self.supernodal();
         let n = w.len();
-        factor.l_transpose_solve_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut w, n, 1), PAR, MemStack::new(&mut mem));
-        self.solve_scratch = Some(mem);
+        self.backward_in_place(MatMut::from_column_major_slice_mut(&mut w, n, 1));
         w
     }
 }

@@ -15,13 +15,14 @@
 //!   the factor's calls are collective and their solutions gathered to every rank. G costs t
 //!   blocked solves, and a trial's split solve two full solves (`mumps`).
 
+pub mod condensed;
 pub mod faer_llt;
 pub mod mumps;
 mod petsc;
 
 use crate::error::Result;
 use crate::linalg::DofMap;
-use crate::options::Factorization;
+use crate::options::{Factorization, Options};
 use faer::sparse::SparseColMat;
 use faer::Mat;
 
@@ -62,6 +63,10 @@ pub trait Backend {
     fn add_trailing_force(&self, w: &mut [f64], f: &[f64]);
     /// The backward part: K⁻¹(b + E f) over the equations.
     fn backward(&mut self, w: Vec<f64>) -> Vec<f64>;
+    /// How many times the factor was built from a new structure (`Factor::n_builds`).
+    fn n_builds(&self) -> usize {
+        1
+    }
 }
 
 /// The factor the loop holds: a backend and the count of its work.
@@ -80,8 +85,28 @@ impl Factor {
         let backend: Box<dyn Backend> = match kind {
             Factorization::Faer => Box::new(faer_llt::FaerLlt::new(lower, map, n_trailing)?),
             Factorization::Mumps => Box::new(mumps::Mumps::new(lower, map, n_trailing)?),
+            Factorization::Condensed => Box::new(condensed::Condensed::new(lower, map, n_trailing, condensed::DEFAULT_NEAR_HOPS)?),
         };
-        Ok(Factor { backend, n_factorizations: 1, n_solves: 0 })
+        Ok(Factor::of(backend))
+    }
+
+    /// The factor of `lower` by the backend and settings of a run's options (`Factor::new`).
+    pub fn of_options(options: &Options, lower: &SparseColMat<usize, f64>, map: &DofMap, n_trailing: usize) -> Result<Self> {
+        match options.factorization {
+            Factorization::Condensed => Ok(Factor::of(Box::new(condensed::Condensed::new(lower, map, n_trailing, options.near_hops)?))),
+            kind => Factor::new(kind, lower, map, n_trailing),
+        }
+    }
+
+    /// The factor a backend holds (its first factorization done).
+    fn of(backend: Box<dyn Backend>) -> Self {
+        Factor { backend, n_factorizations: 1, n_solves: 0 }
+    }
+
+    /// How many times the backend built its factor from a new structure (the condensed one's
+    /// far factor: once, and again at every growth of its near region).
+    pub fn n_builds(&self) -> usize {
+        self.backend.n_builds()
     }
 
     /// Factor `lower` again (same pattern, new values).
