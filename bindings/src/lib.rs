@@ -379,6 +379,7 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     out.set_item("max_equilibrium_residual", r.max_equilibrium_residual)?;
     out.set_item("max_drift", r.max_drift)?;
     out.set_item("n_factorizations", r.n_factorizations)?;
+    out.set_item("n_factor_builds", r.n_factor_builds)?;
     out.set_item("n_solves", r.n_solves)?;
     out.set_item("n_low_rank_updates", r.n_low_rank_updates)?;
     out.set_item("n_contact_substeps", r.n_contact_substeps)?;

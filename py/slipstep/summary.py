@@ -329,6 +329,7 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         "n_dofs": int(scene.n_dofs),
         "n_pairs": int(len(model["pairs"]["node_a"])),
         "n_factorizations": int(result.get("n_factorizations", 0)),
+        "n_factor_builds": int(result.get("n_factor_builds", 0)),
         "n_solves": int(result.get("n_solves", 0)),
         "n_contact_substeps": int(result.get("n_contact_substeps", 0)),
         "n_retaken_windows": int(result.get("n_retaken_windows", 0)),

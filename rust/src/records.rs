@@ -178,6 +178,9 @@ pub struct RunResult {
     pub max_equilibrium_residual: f64,
     pub max_drift: f64,
     pub n_factorizations: usize,
+    /// Factors built from a new structure: 1, or with `factorization = "condensed"` its far
+    /// factor's builds (the first and one per growth of the near region).
+    pub n_factor_builds: usize,
     /// Tangent changes taken as low-rank terms on the last factor instead of a refactorization.
     pub n_low_rank_updates: usize,
     pub n_solves: usize,

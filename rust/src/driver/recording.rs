@@ -256,6 +256,7 @@ impl Recorder {
             max_equilibrium_residual: self.balance.max_residual.max(self.balance.max_snapshot_residual),
             max_drift: self.balance.max_drift,
             n_factorizations: eng.stiffness.solver.n_factorizations,
+            n_factor_builds: eng.stiffness.solver.n_builds(),
             n_low_rank_updates: eng.stiffness.n_low_rank_updates,
             n_contact_substeps: self.n_substeps,
             n_retaken_windows: self.n_retaken,

@@ -162,7 +162,7 @@ mod tests {
     use crate::section::Section;
 
     /// A 9 × 6-node cantilever fixed on x = 0, its free end's DOFs trailing (scrambled order).
-    fn cantilever() -> (SparseColMat<usize, f64>, DofMap, usize) {
+    pub(super) fn cantilever() -> (SparseColMat<usize, f64>, DofMap, usize) {
         let (nx, ny) = (9, 6);
         let mesh = crate::mesh::test_grid(nx, ny, 0.5, 0.4);
         let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
@@ -176,7 +176,7 @@ mod tests {
     }
 
     /// K x from the stored lower triangle.
-    fn times(k: &SparseColMat<usize, f64>, x: &[f64]) -> Vec<f64> {
+    pub(super) fn times(k: &SparseColMat<usize, f64>, x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; x.len()];
         let (ptr, rows, vals) = (k.symbolic().col_ptr(), k.symbolic().row_idx(), k.val());
         for c in 0..x.len() {
@@ -197,21 +197,26 @@ mod tests {
     /// f on the trailing equations satisfies K x = b + E f, and a refactorization takes the new
     /// values.
     fn check_contract(kind: Factorization) {
+        check_contract_of(&format!("{kind:?}"), |k, map, t| Factor::new(kind, k, map, t).unwrap());
+    }
+
+    /// The contract for the factor `make` builds (`kind` names it in the messages).
+    pub(super) fn check_contract_of(kind: &str, make: impl Fn(&SparseColMat<usize, f64>, &DofMap, usize) -> Factor) {
         let (k, map, t) = cantilever();
         let n = map.n_equations;
-        let mut f = Factor::new(kind, &k, &map, t).unwrap();
+        let mut f = make(&k, &map, t);
         let b: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
         let big = b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let residual = |x: &[f64], b: &[f64]| times(&k, x).iter().zip(b).fold(0.0f64, |a, (kx, bi)| a.max((kx - bi).abs()));
         // One and several right-hand sides (the second column is 2b: its solution is 2x).
         let mut x = b.clone();
         f.solve_in_place(&mut x, 1);
-        assert!(residual(&x, &b) < 1e-10 * big, "{kind:?}: residual {}", residual(&x, &b));
+        assert!(residual(&x, &b) < 1e-10 * big, "{kind}: residual {}", residual(&x, &b));
         let mut two: Vec<f64> = b.iter().chain(b.iter()).enumerate().map(|(i, v)| if i < n { *v } else { 2.0 * v }).collect();
         f.solve_in_place(&mut two, 2);
         let xbig = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         for i in 0..n {
-            assert!((two[i] - x[i]).abs() < 1e-12 * xbig && (two[n + i] - 2.0 * x[i]).abs() < 2e-12 * xbig, "{kind:?}: blocked solve, row {i}");
+            assert!((two[i] - x[i]).abs() < 1e-12 * xbig && (two[n + i] - 2.0 * x[i]).abs() < 2e-12 * xbig, "{kind}: blocked solve, row {i}");
         }
         // G: column j is K⁻¹ e_j on the trailing equations, symmetric.
         let g = f.trailing_inverse();
@@ -224,7 +229,7 @@ mod tests {
             assert!(residual(&col, &e) < 1e-10);
             let scale = g[(j, j)];
             for i in 0..t {
-                assert!((g[(i, j)] - col[first + i]).abs() < 1e-10 * scale, "{kind:?}: G[{i},{j}] = {} vs {}", g[(i, j)], col[first + i]);
+                assert!((g[(i, j)] - col[first + i]).abs() < 1e-10 * scale, "{kind}: G[{i},{j}] = {} vs {}", g[(i, j)], col[first + i]);
                 assert!((g[(i, j)] - g[(j, i)]).abs() < 1e-12 * scale);
             }
         }
@@ -233,20 +238,20 @@ mod tests {
         let mut w = f.forward(&b);
         let at_trailing = f.trailing_solution(&w);
         for i in 0..t {
-            assert!((at_trailing[i] - x[first + i]).abs() < 1e-10 * xbig, "{kind:?}: trailing part {i}");
+            assert!((at_trailing[i] - x[first + i]).abs() < 1e-10 * xbig, "{kind}: trailing part {i}");
         }
         f.add_trailing_force(&mut w, &force);
         let split = f.backward(w);
         let mut with_force = b.clone();
         (0..t).for_each(|i| with_force[first + i] += force[i]);
-        assert!(residual(&split, &with_force) < 1e-10 * big, "{kind:?}: split solve residual {}", residual(&split, &with_force));
+        assert!(residual(&split, &with_force) < 1e-10 * big, "{kind}: split solve residual {}", residual(&split, &with_force));
         // Refactorized with K doubled: the solution halves.
         let mut doubled = k.clone();
         doubled.val_mut().iter_mut().for_each(|v| *v *= 2.0);
         f.factor(&doubled, &map).unwrap();
         let mut half = b.clone();
         f.solve_in_place(&mut half, 1);
-        (0..n).for_each(|i| assert!((2.0 * half[i] - x[i]).abs() < 1e-10 * xbig, "{kind:?}: refactorized, row {i}"));
+        (0..n).for_each(|i| assert!((2.0 * half[i] - x[i]).abs() < 1e-10 * xbig, "{kind}: refactorized, row {i}"));
         assert_eq!(f.n_factorizations, 2);
         // Not positive definite (a diagonal entry negated): the mechanism error.
         let mut indefinite = k.clone();
@@ -254,7 +259,7 @@ mod tests {
         let diagonal = (ptr[3]..ptr[4]).find(|&p| rows[p] == 3).unwrap();
         indefinite.val_mut()[diagonal] *= -1.0;
         let err = f.factor(&indefinite, &map).unwrap_err();
-        assert_eq!(err.kind, crate::error::ErrorKind::FreeBody, "{kind:?}: {}", err.message);
+        assert_eq!(err.kind, crate::error::ErrorKind::FreeBody, "{kind}: {}", err.message);
     }
 
     #[test]
