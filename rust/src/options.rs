@@ -335,7 +335,10 @@ mod tests {
         assert_eq!(o.factorization, Factorization::Faer);
         o.set("factorization", Value::Choice("mumps".into())).unwrap();
         assert_eq!(o.factorization, Factorization::Mumps);
-        assert_eq!(spec("factorization").unwrap().kind_text(), "one of \"faer\", \"mumps\"");
+        o.set("factorization", Value::Choice("condensed".into())).unwrap();
+        assert_eq!(o.factorization, Factorization::Condensed);
+        assert_eq!(o.near_hops, crate::factor::condensed::DEFAULT_NEAR_HOPS);
+        assert_eq!(spec("factorization").unwrap().kind_text(), "one of \"faer\", \"mumps\", \"condensed\"");
         assert_eq!(spec("group_tol").unwrap().kind_text(), "a number in [0, 1)");
         assert_eq!(spec("equilibrium_tol").unwrap().kind_text(), "a number > 0");
     }

@@ -14,6 +14,9 @@
 //!   outgrow one process. Every rank runs the same event loop on replicated small systems;
 //!   the factor's calls are collective and their solutions gathered to every rank. G costs t
 //!   blocked solves, and a trial's split solve two full solves (`mumps`).
+//! - [`condensed::Condensed`] (`factorization = "condensed"`): faer's Cholesky of the far field
+//!   kept with its condensed interface coupling, and only the Schur complement of the region
+//!   near the contact refactorized; the region grows where K changes outside it.
 
 pub mod condensed;
 pub mod faer_llt;
