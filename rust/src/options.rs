@@ -66,6 +66,10 @@ pub const DEFAULT_TANGENT_TURN: f64 = 0.05;
 /// Default of `slip_turn` (radians): see rust/src/contact.rs for its measured error.
 pub const DEFAULT_SLIP_TURN: f64 = 0.1;
 
+/// Default of `near_hops`: the element layers around the contact DOFs in the condensed
+/// factorization's first region (`factor::condensed`).
+pub const DEFAULT_NEAR_HOPS: usize = 8;
+
 /// Which backend factorizes K (`crate::factor`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Factorization {
@@ -98,7 +102,7 @@ pub const SPECS: &[Spec] = &[
     Spec { key: "max_zero_length_switches", kind: Kind::Count, default: 4.0, min: at_least(1.0), max: None, doc: "switches of one pair or element within a zero-length run of events before the rate problem sets the statuses (anti-cycling)" },
     Spec { key: "reduced_elastic", kind: Kind::Flag, default: 1.0, min: None, max: None, doc: "elastic runs carry only the contact DOFs between events (false: the general path, for cross-checks)" },
     Spec { key: "factorization", kind: Kind::Choice(Factorization::NAMES), default: 0.0, min: None, max: None, doc: "the factorization of the stiffness: \"faer\" (in-process sparse Cholesky) or \"mumps\" (PETSc's MUMPS, the factor distributed over the MPI ranks of `mpirun -n N slipstep run ...`, for scenes whose factor outgrows one process; needs PETSc with MUMPS, Debian's python3-petsc4py; every rank runs the same event loop, rank 0 writes the results) or \"condensed\" (faer's Cholesky of the region near the contact, the far field's factor and its condensed coupling kept between refactorizations: plastic runs refactorize only that region)" },
-    Spec { key: "near_hops", kind: Kind::Count, default: crate::factor::condensed::DEFAULT_NEAR_HOPS as f64, min: at_least(0.0), max: None, doc: "factorization = \"condensed\": the region refactorized holds the equations within this many element layers of the contact DOFs; it grows by as many around any element outside it whose tangent changes" },
+    Spec { key: "near_hops", kind: Kind::Count, default: DEFAULT_NEAR_HOPS as f64, min: at_least(0.0), max: None, doc: "factorization = \"condensed\": the region refactorized holds the equations within this many element layers of the contact DOFs; it grows by as many layers, and by at least half its size, around any element outside it whose tangent changes" },
 ];
 
 /// The spec of `key`.
@@ -337,7 +341,7 @@ mod tests {
         assert_eq!(o.factorization, Factorization::Mumps);
         o.set("factorization", Value::Choice("condensed".into())).unwrap();
         assert_eq!(o.factorization, Factorization::Condensed);
-        assert_eq!(o.near_hops, crate::factor::condensed::DEFAULT_NEAR_HOPS);
+        assert_eq!(o.near_hops, DEFAULT_NEAR_HOPS);
         assert_eq!(spec("factorization").unwrap().kind_text(), "one of \"faer\", \"mumps\", \"condensed\"");
         assert_eq!(spec("group_tol").unwrap().kind_text(), "a number in [0, 1)");
         assert_eq!(spec("equilibrium_tol").unwrap().kind_text(), "a number > 0");

@@ -47,9 +47,6 @@ use faer::sparse::linalg::amd;
 use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Accum, Mat, MatMut, Par};
 
-/// Graph hops around the contact DOFs in the first near region (option `near_hops`).
-pub const DEFAULT_NEAR_HOPS: usize = 8;
-
 /// A region that grows takes at least this factor more equations (besides `hops` layers
 /// around the change): a plastic zone spreading layer by layer then costs a few far factors,
 /// not one per layer. Measured on the 24.5k-DOF elastoplastic Hertz: 17 growths at 1 (layers

@@ -88,7 +88,7 @@ impl Factor {
         let backend: Box<dyn Backend> = match kind {
             Factorization::Faer => Box::new(faer_llt::FaerLlt::new(lower, map, n_trailing)?),
             Factorization::Mumps => Box::new(mumps::Mumps::new(lower, map, n_trailing)?),
-            Factorization::Condensed => Box::new(condensed::Condensed::new(lower, map, n_trailing, condensed::DEFAULT_NEAR_HOPS)?),
+            Factorization::Condensed => Box::new(condensed::Condensed::new(lower, map, n_trailing, crate::options::DEFAULT_NEAR_HOPS)?),
         };
         Ok(Factor::of(backend))
     }
