@@ -66,7 +66,7 @@ pub struct Condensed {
     far: Option<Far>,
     near: FaerLlt,
     /// How many times the far factor was built (the first included).
-    pub n_far_builds: usize,
+    n_far_builds: usize,
 }
 
 /// The equations of both factors and where K's entries go.
@@ -233,7 +233,8 @@ impl Condensed {
         x
     }
 
-    /// F's rows count of M's sweep in the split solve's w (w = [z_F, the near forward sweep]).
+    /// The number of F's equations: the head z_F of a split solve's w = [z_F, the near
+    /// forward sweep].
     fn n_far_only(&self) -> usize {
         self.split.far_eqs.len() - self.split.n_interface
     }
