@@ -32,10 +32,11 @@
 //! S costs about what a full one does (S's interface block is dense): the 24.5k-DOF
 //! elastoplastic Hertz refactorizes 4.0e8-flop regions at the end against 4.8e8 for all of K
 //! (5 growths, factorization 1.32 s against 1.09 s); the 3D plastic sphere (7.1k DOFs) starts
-//! at 2.4e8 flops (1 hop) against 1.09e9 but ends near the whole body. Where the region stays
-//! small it pays: the elastoplastic load-unload Hertz (hertz_load_unload) factorizes in 0.47 s
-//! against 1.02 s. Elastic runs factor once, and the condensed first factorization (two
-//! factors, two orderings) costs about twice the plain one. Hence an option, not the default.
+//! at 2.4e8 flops (1 hop) against 1.09e9 but ends near the whole body, and at 14.9k DOFs
+//! factorizes in 113-129 s against 114 s. Of the shipped 2D cases only the axisymmetric
+//! plastic sphere (5.3k DOFs, 502 factorizations) gains: 0.95-1.03 s against 1.35-1.43 s.
+//! Elastic runs factor once, and the condensed first factorization (two factors, two
+//! orderings) costs about twice the plain one. Hence an option, not the default.
 
 use super::faer_llt::FaerLlt;
 use super::{Backend, FactorWork};
