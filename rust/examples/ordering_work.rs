@@ -3,13 +3,16 @@
 //! planes x = 0 and y = 0 held normal to them (the eighth of a body), the given contact nodes'
 //! DOFs trailing (all three with friction, the normal one without).
 //!
-//!     cargo run --release --example ordering_work -- PREFIX [frictionless]
+//!     cargo run --release --example ordering_work -- PREFIX [frictionless] [numeric]
+//!
+//! `numeric` also times faer's factorization (analysis, numeric factor) of a matrix of that
+//! pattern (diagonally dominant values: the work of a Cholesky does not depend on them).
 //!
 //! PREFIX.points (f64 × 3 per node), PREFIX.tets (u64 × 4 per tetrahedron), PREFIX.contact
 //! (u64 node ids); `bench/large_3d.py --orderings` writes them.
 
 use slipstep_core::element::Tet4;
-use slipstep_core::factor::faer_llt::{symbolic_analysis, work_of};
+use slipstep_core::factor::faer_llt::{symbolic_analysis, work_of, FaerLlt};
 use slipstep_core::linalg::{DofMap, NodeOrder, StiffnessPattern};
 use slipstep_core::mesh::Mesh;
 use slipstep_core::ordering::{minimum_degree, nested_dissection, NodeGraph};
@@ -45,6 +48,22 @@ fn node_graph_work(mesh: &Mesh, prefix: &str) {
     }
 }
 
+/// A matrix of `pattern` with -1 off the diagonal and the row's entry count + 1 on it:
+/// symmetric and strictly diagonally dominant, so SPD.
+fn dominant(pattern: &StiffnessPattern) -> faer::sparse::SparseColMat<usize, f64> {
+    let shape = pattern.with_values(vec![0.0; pattern.nnz()]);
+    let (col_ptr, row_idx) = (shape.symbolic().col_ptr(), shape.symbolic().row_idx());
+    let mut count = vec![0.0; shape.nrows()];
+    for c in 0..shape.ncols() {
+        for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
+            count[r] += 1.0;
+            count[c] += 1.0;
+        }
+    }
+    let values = (0..shape.ncols()).flat_map(|c| row_idx[col_ptr[c]..col_ptr[c + 1]].iter().map(move |&r| (r, c))).map(|(r, c)| if r == c { count[c] + 1.0 } else { -1.0 }).collect();
+    pattern.with_values(values)
+}
+
 fn read_words(path: &str) -> Vec<[u8; 8]> {
     let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{path}: {e}"));
     bytes.chunks_exact(8).map(|c| c.try_into().unwrap()).collect()
@@ -53,7 +72,8 @@ fn read_words(path: &str) -> Vec<[u8; 8]> {
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let prefix = args.get(1).expect("usage: ordering_work PREFIX [frictionless]");
-    let frictionless = args.get(2).is_some_and(|a| a == "frictionless");
+    let frictionless = args.iter().any(|a| a == "frictionless");
+    let numeric = args.iter().any(|a| a == "numeric");
     let coords: Vec<f64> = read_words(&format!("{prefix}.points")).into_iter().map(f64::from_le_bytes).collect();
     let ids: Vec<usize> = read_words(&format!("{prefix}.tets")).into_iter().map(|w| u64::from_le_bytes(w) as usize).collect();
     let contact: Vec<usize> = read_words(&format!("{prefix}.contact")).into_iter().map(|w| u64::from_le_bytes(w) as usize).collect();
@@ -71,6 +91,7 @@ fn main() {
     let trailing: Vec<usize> = contact.iter().flat_map(|&n| components.clone().map(move |c| 3 * n + c)).filter(|&d| !fixed[d]).collect();
     println!("nodes {} tets {} trailing {}", mesh.n_nodes(), mesh.n_elements(), trailing.len());
     node_graph_work(&mesh, prefix);
+    if std::env::var("NODE_GRAPH_ONLY").is_ok() { return; }
     for (name, how) in [("minimum degree", NodeOrder::MinimumDegree), ("nested dissection", NodeOrder::NestedDissection(&mesh.points))] {
         let start = Instant::now();
         let map = DofMap::ordered_by(&elements, n_dofs, &fixed, &[], &trailing, how).unwrap();
@@ -81,6 +102,12 @@ fn main() {
         let symbolic = symbolic_analysis(&lower).unwrap();
         let analysis = start.elapsed().as_secs_f64();
         let work = work_of(&symbolic);
+        drop(symbolic);
+        if numeric {
+            let start = Instant::now();
+            FaerLlt::new(&dominant(&pattern), &map, trailing.len()).unwrap();
+            println!("{name:18} factorization {:.2} s", start.elapsed().as_secs_f64());
+        }
         println!(
             "{name:18} equations {} ordering {ordering:.2} s analysis {analysis:.2} s  flops {:.3e}  nnz(L) {:.3e}",
             map.n_equations,

@@ -106,12 +106,12 @@ impl DofMap {
     /// Every trailing DOF must be an equation (neither fixed nor pinned).
     ///
     /// This is the plane and axisymmetric order; meshes in space take nested dissection
-    /// (`ordered_by`, `ordering`), which on the Hertz sphere's eighth, the contact nodes' three
-    /// DOFs trailing (friction), measured (`examples/ordering_work.rs`, symbolic analysis):
-    /// 88.3k equations 9.48e11 -> 4.82e11 flops, nnz(L) 1.72e8 -> 1.22e8; 700k equations
-    /// (a/h = 40 over a fine zone of 2a) 1.11e14 -> 1.95e13 flops, nnz(L) 4.34e9 -> 1.79e9.
-    /// METIS's nested dissection, as a yardstick on the 88.3k mesh's node graph, needs 0.63 of
-    /// this dissection's flops.
+    /// (`ordered_by`, `ordering`). Measured on the Hertz sphere's eighth
+    /// (`examples/ordering_work.rs`, symbolic analysis; minimum degree -> nested dissection),
+    /// the contact nodes' normal DOFs trailing: 88.3k equations 6.65e11 -> 2.67e11 flops,
+    /// nnz(L) 1.44e8 -> 9.34e7; 280k (a/h = 31) 4.37e12 -> 1.32e12, 6.14e8 -> 3.52e8; 937k
+    /// (a/h = 40) 5.15e13 -> 1.52e13, 3.72e9 -> 1.93e9. With their three DOFs trailing
+    /// (friction) 88.3k: 9.48e11 -> 4.85e11; 937k: 5.79e13 -> 1.78e13.
     pub fn ordered<E: Element<S, N>, const S: usize, const N: usize>(elements: &[E], n_dofs: usize, fixed: &[bool], pinned: &[usize], trailing: &[usize]) -> Result<Self> {
         Self::ordered_by(elements, n_dofs, fixed, pinned, trailing, NodeOrder::MinimumDegree)
     }
