@@ -18,6 +18,8 @@ Hertz.
 
     python bench/large_3d.py --size 100k 300k [--mu 0.3] [--cold]
     python bench/large_3d.py --report           # bench/large_3d.md from bench/large_3d.json
+    python bench/large_3d.py --dump-mesh PREFIX --size 300k [--mu 0.3]
+        # the mesh as raw files for rust/examples/ordering_work.rs (the orderings' symbolic work)
 
 --cold meshes into a fresh cache folder (the first run of a scene: gmsh included).
 Writes bench/large_3d.json (runs kept by size and mu) and bench/large_3d.md.
@@ -85,6 +87,19 @@ def run(size: str, mu: float, cold: bool, out: Path) -> dict:
             "a_error": s["contact_radius"] / HERTZ_A - 1.0, "p0_error": s["peak_pressure"] / HERTZ_P0 - 1.0}
 
 
+def dump_mesh(size: str, prefix: str) -> None:
+    """The size's mesh (through the mesh cache) as PREFIX.points (f64 x 3), PREFIX.tets (u64
+    x 4) and PREFIX.contact (u64: the surface nodes within z_max of the flat, the candidates)."""
+    import numpy as np
+    from slipstep.space.generators import sphere
+    h, zone, growth, z_max = SIZES[size]
+    mesh = sphere(R=50.0, h_contact=h, contact_zone=zone, h_max=5.0, growth=growth, portion="eighth")
+    surface = mesh.node_sets["surface"]
+    np.asarray(mesh.nodes, dtype="<f8").tofile(prefix + ".points")
+    np.asarray(mesh.tetrahedra, dtype="<u8").tofile(prefix + ".tets")
+    np.asarray(surface[mesh.nodes[surface, 2] <= z_max], dtype="<u8").tofile(prefix + ".contact")
+
+
 def report(runs: list[dict]) -> str:
     head = ("| size | mu | a/h | DOFs | pairs | events | assembly | factorization | G | solves | events [s] "
             "| engine [s] | whole process [s] | peak RSS [MB] | a vs Hertz | p0 vs Hertz |")
@@ -107,7 +122,11 @@ def main() -> None:
     ap.add_argument("--mu", type=float, default=0.0)
     ap.add_argument("--cold", action="store_true", help="mesh into a fresh cache (gmsh included)")
     ap.add_argument("--report", action="store_true", help="only write the table from the saved runs")
+    ap.add_argument("--dump-mesh", metavar="PREFIX", help="write the first size's mesh as raw files and stop")
     args = ap.parse_args()
+    if args.dump_mesh:
+        dump_mesh(args.size[0], args.dump_mesh)
+        return
     runs = json.loads(RESULTS.read_text()) if RESULTS.exists() else []
     if not args.report:
         for size in args.size:

@@ -9,7 +9,7 @@
 //! pattern (diagonally dominant values: the work of a Cholesky does not depend on them).
 //!
 //! PREFIX.points (f64 × 3 per node), PREFIX.tets (u64 × 4 per tetrahedron), PREFIX.contact
-//! (u64 node ids); `bench/large_3d.py --orderings` writes them.
+//! (u64 node ids); `bench/large_3d.py --dump-mesh PREFIX --size SIZE` writes them.
 
 use slipstep_core::element::Tet4;
 use slipstep_core::factor::faer_llt::{symbolic_analysis, work_of, FaerLlt};

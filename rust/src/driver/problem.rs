@@ -103,8 +103,7 @@ impl<'m> Problem<'m> {
         let (contact_slot, slot_dofs) = contact_slots(&pairs, &fixed, &pinned);
         let stress_state: &'static dyn StressState = if dim == 3 { &Solid } else { model.plane.stress_state() };
         let elements = Elements::of_mesh(mesh, model.plane, model.thickness);
-        let how = if dim == 3 { NodeOrder::NestedDissection(&mesh.points) } else { NodeOrder::MinimumDegree };
-        let map = on_elements!(&elements, els => DofMap::ordered_by(els, n_dofs, &fixed, &pinned, &slot_dofs, how))?;
+        let map = on_elements!(&elements, els => DofMap::ordered_by(els, n_dofs, &fixed, &pinned, &slot_dofs, NodeOrder::of_mesh(mesh)))?;
         let sections: Vec<Section> = model.element_material.iter().map(|&m| Section::new(model.materials[m], stress_state)).collect();
         let prescribed_elements = elements_touching(&elements, &path.prescribed_dofs());
         let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();
