@@ -12,9 +12,9 @@ Per run: DOFs, pairs, events, the engine's phases (its own timers: assembly, fac
 = flexibility, solves, events), the process's wall time (spawn to exit: Python start, mesh
 from the cache or gmsh, problem build, engine, output) and its peak resident memory (wait4),
 and the contact radius and peak pressure against Hertz. --mu runs it with Coulomb friction
-(the flat's mu): the normal answer is then Spence's, not Hertz's (the tangential tractions of
-the rigid flat shrink a by a few per mille for nu = 0.3); the errors are still given against
-Hertz.
+(the flat's mu): the normal answer is then Spence's, not Hertz's (a rigid flat's friction
+couples the tangential tractions to the normal ones through (1 - 2 nu) / (2 (1 - nu)) = 0.29
+for nu = 0.3); the errors are still given against Hertz.
 
     python bench/large_3d.py --size 100k 300k [--mu 0.3] [--cold]
     python bench/large_3d.py --report           # bench/large_3d.md from bench/large_3d.json
