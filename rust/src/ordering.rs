@@ -279,6 +279,9 @@ impl Dissection<'_> {
 
     /// A small part in its minimum-degree order.
     fn order_leaf(&mut self, part: &[usize]) -> Result<()> {
+        if part.is_empty() {
+            return Ok(()); // (a side the separator took whole)
+        }
         part.iter().enumerate().for_each(|(k, &v)| self.local[v] = k);
         let mut edges = Vec::new();
         for (k, &v) in part.iter().enumerate() {
