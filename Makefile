@@ -109,7 +109,8 @@ test: $(EXT_STAMP)
 # bench/paired_3d.py: the 3D speed target, slipstep's command line and GetFEM alternated (~20 min);
 # bench/run.py: the Hertz series (~30-40 min on 2 cores) and the 3D series (bench/series_3d.py);
 # bench/dolfinx_side_by_side.py: the thick cylinder against dolfinx on identical meshes (~4 min),
-# --scene sphere: the thick sphere in 3D likewise (~10 min; into bench/error_vs_time_3d.png too).
+# --scene sphere: the thick sphere in 3D likewise (~10 min; into bench/error_vs_time_3d.png too);
+# bench/large_3d.py: the Hertz sphere at 100k, 300k, 600k DOFs, whole process (~10 min, 11 GiB).
 # All write into bench/.
 bench: $(EXT_STAMP) $(BENCH_APT_STAMP)
 	$(PY) bench/getfem_hertz.py series
@@ -118,6 +119,7 @@ bench: $(EXT_STAMP) $(BENCH_APT_STAMP)
 	MPLBACKEND=Agg $(PY) bench/run.py
 	MPLBACKEND=Agg $(PY) bench/dolfinx_side_by_side.py
 	MPLBACKEND=Agg $(PY) bench/dolfinx_side_by_side.py --scene sphere
+	$(PY) bench/large_3d.py --size 100k 300k 600k
 
 fmt:
 	cargo fmt --all

@@ -42,6 +42,7 @@ pub mod material;
 pub mod mesh;
 pub mod model;
 pub mod options;
+pub mod ordering;
 pub mod rigid_modes;
 pub mod section;
 pub mod stress_integration;

@@ -10,10 +10,10 @@
 
 use crate::bail;
 use crate::element::Element;
+use crate::mesh::Mesh;
 use crate::error::Result;
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::amd;
-use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
+use crate::ordering::{self, NodeGraph};
+use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use nalgebra::{Matrix6, SMatrix};
 
 /// Where a global DOF goes in the reduced system.
@@ -105,7 +105,21 @@ impl DofMap {
     /// 57.4k equations and 982 pairs: 4.01e11 -> 2.66e11 factorization flops, nnz(L) 9.09e7 ->
     /// 7.48e7, the last supernode 8547 -> 6349 columns (plain AMD without trailing DOFs: 1.99e11).
     /// Every trailing DOF must be an equation (neither fixed nor pinned).
+    ///
+    /// This is the plane and axisymmetric order; meshes in space of `DISSECTION_FROM` nodes or
+    /// more take nested dissection (`ordered_by`, `NodeOrder::of_mesh`, `ordering`). Measured on the Hertz sphere's eighth
+    /// (`examples/ordering_work.rs`, symbolic analysis; minimum degree -> nested dissection),
+    /// the contact nodes' normal DOFs trailing: 88.3k equations 6.65e11 -> 2.67e11 flops,
+    /// nnz(L) 1.44e8 -> 9.34e7; 280k (a/h = 31) 4.37e12 -> 1.32e12, 6.14e8 -> 3.52e8; 937k
+    /// (a/h = 40) 5.15e13 -> 1.52e13, 3.72e9 -> 1.93e9. With their three DOFs trailing
+    /// (friction) 88.3k: 9.48e11 -> 4.85e11; 937k: 5.79e13 -> 1.78e13.
     pub fn ordered<E: Element<S, N>, const S: usize, const N: usize>(elements: &[E], n_dofs: usize, fixed: &[bool], pinned: &[usize], trailing: &[usize]) -> Result<Self> {
+        Self::ordered_by(elements, n_dofs, fixed, pinned, trailing, NodeOrder::MinimumDegree)
+    }
+
+    /// `ordered` with the nodes' order chosen by `how`. Nested dissection leaves out of its
+    /// graph the nodes whose every equation is trailing: they end the factor anyway.
+    pub fn ordered_by<E: Element<S, N>, const S: usize, const N: usize>(elements: &[E], n_dofs: usize, fixed: &[bool], pinned: &[usize], trailing: &[usize], how: NodeOrder) -> Result<Self> {
         let dim = E::DIM;
         let node_dofs = move |n: usize| (0..dim).map(move |c| dim * n + c);
         let mut is_pinned = vec![false; n_dofs];
@@ -113,49 +127,40 @@ impl DofMap {
         let is_equation = |d: usize| !fixed[d] && !is_pinned[d];
         let mut role: Vec<DofRole> = (0..n_dofs).map(|d| if is_pinned[d] && !fixed[d] { DofRole::Pinned } else { DofRole::Fixed }).collect();
         let n_nodes = n_dofs / dim;
-        let mut node_is_trailing = vec![false; n_nodes];
-        trailing.iter().for_each(|&d| node_is_trailing[d / dim] = true);
-        // The node graph, renumbered 0..m, with the trailing nodes joined into a clique: that
-        // is what they become in the factor, and AMD then orders the rest for it.
-        let mut index = vec![usize::MAX; n_nodes];
-        let mut graph_nodes = Vec::new();
-        for node in 0..n_nodes {
-            if node_dofs(node).any(is_equation) {
-                index[node] = graph_nodes.len();
-                graph_nodes.push(node);
-            }
-        }
-        let m = graph_nodes.len();
-        let mut edges: Vec<Pair<usize, usize>> = (0..m).map(|i| Pair::new(i, i)).collect();
-        for el in elements {
-            let ids: Vec<usize> = el.nodes().iter().map(|&n| index[n]).collect();
-            for (k, &a) in ids.iter().enumerate() {
-                for &b in &ids[k + 1..] {
-                    if a != usize::MAX && b != usize::MAX {
-                        edges.push(Pair::new(a.max(b), a.min(b)));
-                    }
-                }
-            }
-        }
-        // (Plane and axisymmetric: the clique, and the trailing nodes' DOFs all last.)
-        let planar = dim == 2;
-        let ends: Vec<usize> = graph_nodes.iter().filter(|&&n| planar && node_is_trailing[n]).map(|&n| index[n]).collect();
-        for (k, &a) in ends.iter().enumerate() {
-            for &b in &ends[..k] {
-                edges.push(Pair::new(a.max(b), a.min(b)));
-            }
-        }
-        let (graph, _) = SymbolicSparseColMat::try_new_from_indices(m, m, &edges)
-            .map_err(|e| crate::fail!(Internal, "could not analyse the mesh graph: {e:?}"))?;
-        let (mut fwd, mut inv) = (vec![0usize; m], vec![0usize; m]);
-        let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(m, graph.compute_nnz()))
-            .map_err(|_| crate::fail!(Internal, "out of memory for the AMD ordering"))?;
-        amd::order_maybe_unsorted(&mut fwd, &mut inv, graph.as_ref(), amd::Control::default(), MemStack::new(&mut mem))
-            .map_err(|e| crate::fail!(Internal, "the AMD ordering failed: {e:?}"))?;
         let mut is_trailing = vec![false; n_dofs];
         trailing.iter().for_each(|&d| is_trailing[d] = true);
-        // fwd[new] = old
-        let leading_dofs = fwd.iter().map(|&i| graph_nodes[i]).filter(|&n| !(planar && node_is_trailing[n])).flat_map(node_dofs).filter(|&d| !is_trailing[d]);
+        let mut node_is_trailing = vec![false; n_nodes];
+        trailing.iter().for_each(|&d| node_is_trailing[d / dim] = true);
+        // (Plane and axisymmetric: the trailing nodes joined into a clique, their DOFs all last.)
+        let planar = dim == 2;
+        let dissected = matches!(how, NodeOrder::NestedDissection(_));
+        let in_graph = |n: usize| node_dofs(n).any(|d| is_equation(d) && !(dissected && is_trailing[d]));
+        // The node graph, renumbered 0..m.
+        let mut index = vec![usize::MAX; n_nodes];
+        let graph_nodes: Vec<usize> = (0..n_nodes).filter(|&n| in_graph(n)).collect();
+        graph_nodes.iter().enumerate().for_each(|(i, &n)| index[n] = i);
+        let mut edges = Vec::new();
+        for el in elements {
+            let ids: Vec<usize> = el.nodes().iter().map(|&n| index[n]).filter(|&i| i != usize::MAX).collect();
+            for (k, &a) in ids.iter().enumerate() {
+                edges.extend(ids[k + 1..].iter().map(|&b| (a, b)));
+            }
+        }
+        let ends: Vec<usize> = graph_nodes.iter().filter(|&&n| planar && node_is_trailing[n]).map(|&n| index[n]).collect();
+        for (k, &a) in ends.iter().enumerate() {
+            edges.extend(ends[..k].iter().map(|&b| (a, b)));
+        }
+        let graph = NodeGraph::new(graph_nodes.len(), &edges);
+        drop(edges);
+        let order = match how {
+            NodeOrder::MinimumDegree => ordering::minimum_degree(&graph)?,
+            NodeOrder::NestedDissection(points) => {
+                let at: Vec<[f64; 3]> = graph_nodes.iter().map(|&n| points[n]).collect();
+                ordering::nested_dissection(&graph, &at)?
+            }
+        };
+        let leading_dofs = order.iter().map(|&i| graph_nodes[i]).filter(|&n| !(planar && node_is_trailing[n])).flat_map(node_dofs).filter(|&d| !is_trailing[d]);
+        // (A node left out of the dissection's graph has no equation but its trailing ones.)
         let rest = (0..n_nodes).filter(|&n| planar && node_is_trailing[n]).flat_map(node_dofs).filter(|&d| !is_trailing[d]);
         let mut n_equations = 0;
         for d in leading_dofs.chain(rest).chain(trailing.iter().copied()) {
@@ -167,6 +172,32 @@ impl DofMap {
             }
         }
         Ok(DofMap { dim, ..DofMap::with_roles(role, n_equations) })
+    }
+}
+
+/// How `DofMap::ordered_by` orders the nodes (`ordering`).
+#[derive(Debug, Clone, Copy)]
+pub enum NodeOrder<'a> {
+    /// Approximate minimum degree on the node graph.
+    MinimumDegree,
+    /// Geometric nested dissection, the nodes at these points (a mesh in space).
+    NestedDissection(&'a [[f64; 3]]),
+}
+
+/// Meshes in space of at least this many nodes are ordered by nested dissection. It already
+/// saves 18 % of the flops at 7.5k nodes (hertz_sphere_3d, 20.7k equations; 35 % with
+/// friction); below, a factorization takes a fraction of a second whichever the order, and
+/// minimum degree keeps the round-off, hence the event histories, of small scenes as before.
+const DISSECTION_FROM: usize = 3000;
+
+impl<'a> NodeOrder<'a> {
+    /// The order for `mesh` (`DISSECTION_FROM`; plane and axisymmetric meshes: minimum degree).
+    pub fn of_mesh(mesh: &'a Mesh) -> Self {
+        if mesh.dim() == 3 && mesh.n_nodes() >= DISSECTION_FROM {
+            NodeOrder::NestedDissection(&mesh.points)
+        } else {
+            NodeOrder::MinimumDegree
+        }
     }
 }
 
@@ -269,6 +300,11 @@ impl StiffnessPattern {
             offsets.push(entries.len());
         }
         ElementScatter { offsets, entries }
+    }
+
+    /// The number of stored entries (the lower triangle's).
+    pub fn nnz(&self) -> usize {
+        self.symbolic.compute_nnz()
     }
 
     /// The matrix with the pattern and the given values (in the pattern's storage order).

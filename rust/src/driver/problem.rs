@@ -11,7 +11,7 @@ use crate::bail;
 use crate::contact::{Frame, Pair, PairGeometry, SparseVec, Status, HELD_BY_SUPPORTS};
 use crate::element::Elements;
 use crate::error::Result;
-use crate::linalg::DofMap;
+use crate::linalg::{DofMap, NodeOrder};
 use crate::material::{Tangent, Voigt};
 use crate::model::Model;
 use crate::on_elements;
@@ -103,7 +103,7 @@ impl<'m> Problem<'m> {
         let (contact_slot, slot_dofs) = contact_slots(&pairs, &fixed, &pinned);
         let stress_state: &'static dyn StressState = if dim == 3 { &Solid } else { model.plane.stress_state() };
         let elements = Elements::of_mesh(mesh, model.plane, model.thickness);
-        let map = on_elements!(&elements, els => DofMap::ordered(els, n_dofs, &fixed, &pinned, &slot_dofs))?;
+        let map = on_elements!(&elements, els => DofMap::ordered_by(els, n_dofs, &fixed, &pinned, &slot_dofs, NodeOrder::of_mesh(mesh)))?;
         let sections: Vec<Section> = model.element_material.iter().map(|&m| Section::new(model.materials[m], stress_state)).collect();
         let prescribed_elements = elements_touching(&elements, &path.prescribed_dofs());
         let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();

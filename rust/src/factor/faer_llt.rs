@@ -225,7 +225,7 @@ impl Backend for FaerLlt {
 /// The supernodal symbolic analysis of `lower`'s pattern in its own order (the equations are
 /// numbered in the factor's order already, `DofMap::ordered`). Supernodal always: the trailing
 /// block is read from the supernodes.
-pub(super) fn symbolic_analysis(lower: &SparseColMat<usize, f64>) -> Result<SymbolicCholesky<usize>> {
+pub fn symbolic_analysis(lower: &SparseColMat<usize, f64>) -> Result<SymbolicCholesky<usize>> {
     let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() };
     // (Without a permutation faer's analysis reads the upper triangle: hand it Lᵀ's.)
     let upper = lower.as_ref().transpose().to_col_major().map_err(|e| crate::fail!(Internal, "could not transpose the stiffness pattern: {e:?}"))?;
@@ -236,7 +236,7 @@ pub(super) fn symbolic_analysis(lower: &SparseColMat<usize, f64>) -> Result<Symb
 /// supernode of c columns with r rows below them costs c³/3 + c² r + c r² to factor (its
 /// own block, the panel below it, the update of its ancestors) and holds c(c+1)/2 + c r
 /// entries, each used twice by a solve pair (2 flops each way).
-pub(super) fn work_of(symbolic: &SymbolicCholesky<usize>) -> FactorWork {
+pub fn work_of(symbolic: &SymbolicCholesky<usize>) -> FactorWork {
     let (mut factorization, mut entries) = (0.0, 0.0);
     if let SymbolicCholeskyRaw::Supernodal(sup) = symbolic.raw() {
         let ptr = sup.col_ptr_for_row_idx();
