@@ -142,20 +142,12 @@ fn zero_length_priority(kind: EventKind) -> u8 {
 
 /// A plastic window: take the yields out of the candidates; the scale at which the grouped
 /// increment ends for them: the first one's load fraction φ_p, then δ max(φ_p, floor) more; and
-/// that first yield (element, φ_p). With a yield ahead the unloads go inside the window too:
-/// an element whose integrated strain increment points inside its surface unloads there
-/// (`stress_integration`), K takes its elastic tangent before the window's correction (an
-/// unload never waits, `tangents`), and the window is re-integrated until balanced, as for its
-/// yields. (Each would otherwise end the increment at zero scale: 179 of the 607 increments of
-/// the 3D sphere on a flat at 7.1k DOFs, 493 of 1168 at 21k.) With none ahead there is no
-/// window and unloads stay events: they come at zero scale, and K must hold the elastic
-/// tangent of an element that unloads before a trial takes the load off it (a load path's
-/// unloading stage).
+/// that first yield (element, φ_p). (Unloads stay events: they come at zero scale, and K must
+/// hold the elastic tangent of an element that unloads.)
 fn plastic_window(cands: &mut Vec<Candidate>, phi0: f64, remaining: f64, delta: f64) -> (f64, Option<(usize, f64)>) {
     let first = cands.iter().filter(|c| c.kind == EventKind::Yield && c.scale.is_finite()).min_by(|a, b| a.scale.total_cmp(&b.scale)).map(|c| (c.entity, c.scale));
     cands.retain(|c| c.kind != EventKind::Yield);
     let Some((element, scale)) = first.filter(|_| remaining > 0.0) else { return (f64::INFINITY, None) };
-    cands.retain(|c| c.kind != EventKind::Unload);
     let phi = phi0 + scale * remaining;
     ((phi + delta * phi.max(WINDOW_FLOOR) - phi0) / remaining, Some((element, phi)))
 }
@@ -246,25 +238,5 @@ mod tests {
         assert!((onset - s_p).abs() < ROUND_OFF, "onset {onset} vs {s_p}");
         assert!((sel.phi - s_p * (1.0 + delta)).abs() < ROUND_OFF && sel.plastic_inside);
         assert!(sel.group.is_empty(), "the window ends at its bound: {:?}", sel.group.iter().map(|c| c.kind).collect::<Vec<_>>());
-    }
-
-    /// A window with a yield ahead takes the unloads inside (no zero-length increment for them)
-    /// and ends δ max(φ_p, floor) past the first yield's load fraction φ_p = φ0 + S_p c: from
-    /// φ0 = 0.2 with c = 0.8 left, a yield at S_p = 0.5 is at φ_p = 0.6 and the window ends at
-    /// 0.66, the scale (0.66 − 0.2)/0.8 = 0.575; the closure at 0.7 stays an event. With no
-    /// yield ahead (an unloading stage) there is no window, and the unload stays an event.
-    #[test]
-    fn a_window_with_a_yield_ahead_takes_its_unloads_inside() {
-        let at = |scale: f64, entity: usize, kind: EventKind| Candidate { scale, entity, kind, direction: 0 };
-        let (phi0, remaining, delta) = (0.2, 0.8, 0.1);
-        let mut cands = vec![at(0.0, 3, EventKind::Unload), at(0.5, 4, EventKind::Yield), at(0.7, 0, EventKind::Close)];
-        let (bound, first) = plastic_window(&mut cands, phi0, remaining, delta);
-        let (element, phi_p) = first.expect("a yield ahead");
-        assert!(element == 4 && (phi_p - 0.6).abs() < ROUND_OFF && (bound - 0.575).abs() < ROUND_OFF, "{first:?}, {bound}");
-        assert_eq!(cands.iter().map(|c| (c.kind, c.entity)).collect::<Vec<_>>(), [(EventKind::Close, 0)]);
-
-        let mut unloading = vec![at(0.0, 3, EventKind::Unload), at(0.7, 0, EventKind::Close)];
-        assert_eq!(plastic_window(&mut unloading, phi0, remaining, delta), (f64::INFINITY, None));
-        assert_eq!(unloading.iter().map(|c| c.kind).collect::<Vec<_>>(), [EventKind::Unload, EventKind::Close]);
     }
 }
