@@ -24,8 +24,10 @@ from collections import Counter
 
 import numpy as np
 import pytest
+from conftest import CASES, needs_gmsh
 from physics import EQUILIBRIUM_TOL, equilibrium_residual
 
+import slipstep
 from slipstep import _engine
 from slipstep.build import build_scene
 from slipstep.case import parse_case
@@ -128,3 +130,28 @@ def test_receding_plate_in_space_completes_through_the_rate_problem(mu):
     at = np.asarray(model["nodes"])[np.asarray(model["pairs"]["node_a"])]
     centre = last["lambda_n"] @ at[:, :2] / last["lambda_n"].sum()
     assert (centre < 2.5).all(), centre
+
+
+# The frictional Hertz sphere (cases/hertz_sphere_3d.toml at mu = 0.3: the eighth of an elastic
+# sphere pressed on a rigid flat, Spence's problem) on the coarsest mesh that ended on the last
+# resort (11.8k DOFs, ~1 s): at t = 0.376 a pair that closed and slipped at once started a
+# zero-length run; the rate problem set its neighbours slipping, the equilibrium correction of
+# its hand-back's round-off force jump (5e-11 N) stuck them again on slip reversals of 1e-14 mm,
+# the next trial slipped them at once, and after its three rate problems the run froze a pair
+# on its cone, which the next increment pushed outside it. Monotonic loading of a frictional
+# Hertz contact has a solution (every pair sticks once closed, slips near the edge at most).
+SPHERE_H, SPHERE_MU, SPHERE_P = 0.03, 0.3, 30.0
+
+
+@needs_gmsh
+def test_frictional_hertz_sphere_in_space_completes_without_the_last_resort():
+    snapshots = [round(0.025 * k, 3) for k in range(1, 41)]  # every 0.025 of the load
+    result = slipstep.run(CASES / "hertz_sphere_3d.toml", progress=False, overrides=[
+        f"mesh.h_contact={SPHERE_H}", f"contact.flat.mu={SPHERE_MU}", f"output.snapshots={snapshots}"])
+    raw, model = result.raw, result.scene.model
+    assert raw["stop"]["kind"] == "completed", raw["stop"]
+    assert "frozen" not in Counter(raw["events"]["kind"]), "the last resort fired on a scene with a solution"
+    assert len(raw["snapshots"]) == len(snapshots)
+    assert_contact_conditions(model, raw)
+    # the eighth carries P/4 on the flat, from the arrays (the symmetry planes take no force along z)
+    assert abs(4 * raw["snapshots"][-1]["lambda_n"].sum() - SPHERE_P) <= EQUILIBRIUM_TOL * SPHERE_P

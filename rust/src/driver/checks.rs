@@ -10,10 +10,10 @@ use crate::error::Result;
 use crate::model::StopReason;
 
 /// Gap tolerance: × max|u| (round-off of the solves) + × the length scale (of coordinates).
-const GAP_ROUND_OFF: f64 = 1e-8;
+pub(super) const GAP_ROUND_OFF: f64 = 1e-8;
 const GAP_COORDINATE: f64 = 1e-12;
 /// Force tolerance: × Σ|load|.
-const FORCE_ROUND_OFF: f64 = 1e-9;
+pub(super) const FORCE_ROUND_OFF: f64 = 1e-9;
 /// The correction moves gaps by up to its displacement and forces by up to its force size;
 /// these multiples of the last correction are allowed on top (see `Correction`).
 const CORRECTION_GAP_ALLOWANCE: f64 = 2.0;

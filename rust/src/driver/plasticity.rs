@@ -15,7 +15,7 @@
 //! A plastic window is re-integrated from its start until balanced; one whose rounds stall is
 //! handed back (`Restored::Unbalanced`) with the window the caller passed in, to be retaken.
 
-use super::checks::{full_residual, Correction};
+use super::checks::{full_residual, Correction, FORCE_ROUND_OFF, GAP_ROUND_OFF};
 use super::clock::Phase;
 use super::engine::Engine;
 use super::problem::{Problem, PARALLEL_CHUNK};
@@ -282,6 +282,42 @@ fn settle_on_surfaces(eng: &mut Engine, state: &mut State, phi: f64, stage_end: 
     Ok(corrected)
 }
 
+/// Whether pair p's slip reverses in the correction `c` at φ beyond the solves' round-off (3D):
+/// its slip rate along e above what the contact checks take for round-off of a displacement,
+/// `GAP_ROUND_OFF` × the state's largest one. The correction's own noise floor is relative to
+/// its size, and the correction of a switch's round-off jump (a rate problem's hand-back,
+/// 1e-11 of the load) moves the contact DOFs by round-off: sticking pairs for that undid the
+/// rate problem's slips, the next trial slipped them again at once, and the zero-length run
+/// ended on the last resort (an elastic sphere pressed on a flat at μ = 0.3, 11.8k DOFs:
+/// pairs stuck by corrections of 5e-14 mm at displacements of 1e-3 mm).
+fn reverses(eng: &Engine, state: &State, c: &TrialIncrement, p: usize, phi: f64) -> bool {
+    let problem = &eng.problem;
+    if problem.dim != 3 {
+        return false;
+    }
+    let e = state.slip_dir[p];
+    let rate = events::slip_rate(&problem.pairs[p], &trial_of(c), p);
+    e[0] * rate[0] + e[1] * rate[1] > GAP_ROUND_OFF * eng.loads.largest_displacement(problem, &state.u, phi)
+}
+
+/// Whether pair p's friction force stays within the contact checks' round-off of a force
+/// (`FORCE_ROUND_OFF` × the force scale) of its capacity (its cone, or a slipping pair's
+/// facet) over the whole correction `c` with its status held (3D): then its stick → slip or
+/// facet turn is no event. A correction of a rate problem's hand-back (its jumps 1e-11–1e-7 of
+/// the load) slipped at once the pairs the rate problem had stuck on their cones, and turned
+/// by whole radians the facets of pairs that had just closed (λ_n ~ 1e-9 of the load), and the
+/// next trial undid both (the frictional Hertz sphere at 22.6k and 15.4k DOFs).
+fn within_round_off(eng: &Engine, state: &State, c: &TrialIncrement, p: usize) -> bool {
+    let problem = &eng.problem;
+    if problem.dim != 3 {
+        return false;
+    }
+    let mu = problem.pairs[p].mu / problem.model.options.slip_turn.cos();
+    let excess = state.lambda_t[p].hypot(state.lambda_t2[p]) - problem.friction_capacity(state, p);
+    let change = c.dlambda_t[p].hypot(c.dlambda_t2[p]) + mu * c.dlambda_n[p].abs();
+    excess + change <= FORCE_ROUND_OFF * problem.scales.force
+}
+
 /// Equilibrium at fixed load φ by the procedure itself: solve the correction for the
 /// out-of-balance force (eq. 44 with no load change), advance it to the first contact event
 /// that would make the state inadmissible (a gap closing, a pair separating, a stuck pair
@@ -301,8 +337,9 @@ pub(super) fn correct_at_fixed_load(eng: &mut Engine, state: &mut State, phi: f6
         // stays admissible, and sticking it would only cycle with the next increment; but in 3D,
         // where a facet's turn makes corrections frequent, it would move the pair along its
         // friction force (work produced: 0.035 % of the dissipated on the coarse Mindlin sphere),
-        // so there it sticks.
-        cands.retain(|x| x.kind != EventKind::SlipToStick || eng.problem.dim == 3);
+        // so there it sticks, unless its reversal is round-off of the state (`reverses`).
+        cands.retain(|x| x.kind != EventKind::SlipToStick || reverses(eng, state, &c, x.entity, phi));
+        cands.retain(|x| !matches!(x.kind, EventKind::StickToSlip | EventKind::SlipTurn) || !within_round_off(eng, state, &c, x.entity));
         let first = cands.iter().map(|x| x.scale).fold(f64::INFINITY, f64::min);
         // The last allowed step takes the rest whatever it violates (the contact checks then
         // allow for the correction's size).

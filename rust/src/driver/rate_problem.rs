@@ -215,7 +215,8 @@ pub(super) fn solve_rate_problem(eng: &mut Engine, state: &State, what: Solve) -
         let rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads, laid };
         let solved = rp.solve(state, &oob)?;
         let sol = rp.statuses(state, &solved);
-        let stray = rp.stray_slips(&solved, &sol);
+        let mut stray = rp.stray_slips(&solved, &sol);
+        stray.extend(rp.stuck_beyond_round_cone(&solved, &sol));
         if stray.is_empty() || pass == FACET_PASSES {
             return Some(sol);
         }
@@ -316,6 +317,31 @@ impl RateProblem<'_> {
             }
         }
         stray
+    }
+
+    /// 3D: the pairs at zero force the solution sticks with a force beyond the round cone, in a
+    /// corner of the polygon (by up to 1/cos(π/FACETS) − 1), with their force's direction d.
+    /// Handed back, such a pair would slip at once at the next selection (the round cone's
+    /// stick → slip from zero force), the rate problem would stick it again, and the run would
+    /// cycle into the last resort (the frictional Hertz sphere: a pair stuck at 1.011 μΛn).
+    /// Facets laid about d cut that corner, so the next pass sticks it inside the round cone
+    /// or slips it on the facet at d.
+    fn stuck_beyond_round_cone(&self, solved: &Solved, sol: &RateSolution) -> Vec<(usize, [f64; 2])> {
+        let tol = CRITICAL_FORCE * self.p.scales.force;
+        let mut beyond = vec![];
+        for (i, (&p, role)) in solved.q.iter().zip(&solved.roles).enumerate() {
+            let Role::Friction { closed: false, facets } = role else { continue };
+            if facets.len() == 2 || sol.status[p] != Status::Stick {
+                continue; // one free tangent: its two sides are exact
+            }
+            let f = &solved.forces[i];
+            let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
+            let size = norm(&lt);
+            if size > self.p.pairs[p].mu * f.normal.eval(&solved.y) * (1.0 + FACET_AGREEMENT) + tol {
+                beyond.push((p, [lt[0] / size, lt[1] / size]));
+            }
+        }
+        beyond
     }
 
     /// The tangential coordinates of pair p (indices into t1, t2): in 2D its tangent always (a
