@@ -14,10 +14,26 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::SparseColMat;
 use faer::{Accum, Conj, Mat, MatMut, Par, Side};
 
-/// One thread for the factor, the solves and the dense block. Measured on this 2-core
-/// machine, faer's parallel (rayon) supernodal factorization is slower: 6.8 s → 10.0 s at
-/// 955k DOFs, and 0.36 s → 0.75 s for 88 factorizations at 8.6k DOFs.
+/// One thread for the solves and the dense block, and for the factorization of plane and small
+/// meshes. Measured on this 2-core machine, faer's parallel (rayon) supernodal factorization is
+/// slower there, its supernodes small: 6.8 s → 10.0 s at 955k DOFs, and 0.36 s → 0.75 s for 88
+/// factorizations at 8.6k DOFs.
 const PAR: Par = Par::Seq;
+/// A mesh in space ordered by nested dissection has large dense supernodes (its separators):
+/// from this many flops its numeric factorization runs on every thread of the pool
+/// (`factorization_par`). Measured on the 2 cores, quiet: the Hertz sphere's 280k equations,
+/// 1.87e12 flops, 48.3 s → 31.9 s.
+const PARALLEL_FACTORIZATION_FLOPS: f64 = 1e11;
+
+/// The threads of the numeric factorization: all of the pool's for a mesh in space whose
+/// factorization costs at least `PARALLEL_FACTORIZATION_FLOPS`, else one.
+fn factorization_par(symbolic: &SymbolicCholesky<usize>, map: &DofMap) -> Par {
+    if map.dim == 3 && work_of(symbolic).factorization_flops >= PARALLEL_FACTORIZATION_FLOPS {
+        Par::rayon(0)
+    } else {
+        PAR
+    }
+}
 
 /// Cholesky factor of K_reg with the symbolic analysis kept for refactorization.
 ///
@@ -43,6 +59,8 @@ pub struct FaerLlt {
     trailing_block_inverse: Mat<f64>,
     /// Work space of the numeric factorization and of one-column solves, kept between calls.
     factor_scratch: MemBuffer,
+    /// The threads of the numeric factorization (`factorization_par`).
+    factor_par: Par,
     solve_scratch: Option<MemBuffer>,
 }
 
@@ -53,7 +71,8 @@ impl FaerLlt {
     /// holds a factor.
     pub fn new(lower: &SparseColMat<usize, f64>, map: &DofMap, n_trailing: usize) -> Result<Self> {
         let symbolic = symbolic_analysis(lower)?;
-        let factor_scratch = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(PAR, Default::default()))
+        let factor_par = factorization_par(&symbolic, map);
+        let factor_scratch = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(factor_par, Default::default()))
             .map_err(|_| crate::fail!(Internal, "out of memory for the Cholesky factorization"))?;
         let mut solver = FaerLlt {
             values: vec![0.0; symbolic.len_val()],
@@ -61,6 +80,7 @@ impl FaerLlt {
             n_trailing,
             trailing_block_inverse: Mat::zeros(0, 0),
             factor_scratch,
+            factor_par,
             solve_scratch: None,
         };
         solver.factor(lower, map)?;
@@ -139,7 +159,7 @@ impl Backend for FaerLlt {
     /// Factor `lower` again (same pattern, new values). A non-positive pivot means a
     /// mechanism: the message names the global DOF through `dof_of_equation`.
     fn factor(&mut self, lower: &SparseColMat<usize, f64>, map: &DofMap) -> Result<()> {
-        let result = self.symbolic.factorize_numeric_llt(&mut self.values, lower.as_ref(), Side::Lower, Default::default(), PAR, MemStack::new(&mut self.factor_scratch), Default::default());
+        let result = self.symbolic.factorize_numeric_llt(&mut self.values, lower.as_ref(), Side::Lower, Default::default(), self.factor_par, MemStack::new(&mut self.factor_scratch), Default::default());
         match result {
             Ok(_) => Ok(()),
             Err(LltError::NonPositivePivot { index }) => {
