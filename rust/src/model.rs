@@ -95,6 +95,12 @@ pub struct Model {
 }
 
 impl Model {
+    /// Whether any material can yield (a plastic run: no reduced elastic space, drift
+    /// corrections are not round-off).
+    pub fn has_plastic_material(&self) -> bool {
+        self.materials.iter().any(|m| m.is_plastic())
+    }
+
     /// Every check the engine needs before it assembles anything: mesh, materials, loads,
     /// supports, contact pairs, names and options. Errors name the place and the fix.
     pub fn validate(&self) -> Result<()> {

@@ -282,15 +282,6 @@ fn settle_on_surfaces(eng: &mut Engine, state: &mut State, phi: f64, stage_end: 
     Ok(corrected)
 }
 
-/// The round-off rules of `reverses` and `within_round_off` hold for elastic bodies only: in a
-/// plastic run the drift corrections' force changes are not round-off, and holding a stick →
-/// slip there left pairs beyond their cones by more than the contact checks allow (a Berkovich
-/// block at μ = 0.5: |λ_t| = 2.001e-2 > μλ_n at t = 0.9007; a Vickers block at μ = 0.1: a stuck
-/// pair 6e-6 outside its round cone).
-fn has_plastic_material(problem: &Problem) -> bool {
-    problem.model.materials.iter().any(|m| m.is_plastic())
-}
-
 /// Whether pair p's slip reverses in the correction `c` at φ beyond the solves' round-off (3D):
 /// its slip rate along e above what the contact checks take for round-off of a displacement,
 /// `GAP_ROUND_OFF` × the state's largest one. The correction's own noise floor is relative to
@@ -304,7 +295,9 @@ fn reverses(eng: &Engine, state: &State, c: &TrialIncrement, p: usize, phi: f64)
     if problem.dim != 3 {
         return false;
     }
-    if has_plastic_material(problem) {
+    // (Plastic runs: drift corrections are not round-off; holding these switches there left
+    // pairs beyond their cones, a Berkovich block at μ = 0.5 and a Vickers block at μ = 0.1.)
+    if problem.model.has_plastic_material() {
         return true;
     }
     let e = state.slip_dir[p];
@@ -321,7 +314,7 @@ fn reverses(eng: &Engine, state: &State, c: &TrialIncrement, p: usize, phi: f64)
 /// next trial undid both (the frictional Hertz sphere at 22.6k and 15.4k DOFs).
 fn within_round_off(eng: &Engine, state: &State, c: &TrialIncrement, p: usize) -> bool {
     let problem = &eng.problem;
-    if problem.dim != 3 || has_plastic_material(problem) {
+    if problem.dim != 3 || problem.model.has_plastic_material() {
         return false;
     }
     let mu = problem.pairs[p].mu / problem.model.options.slip_turn.cos();

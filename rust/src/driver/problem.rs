@@ -107,7 +107,7 @@ impl<'m> Problem<'m> {
         let sections: Vec<Section> = model.element_material.iter().map(|&m| Section::new(model.materials[m], stress_state)).collect();
         let prescribed_elements = elements_touching(&elements, &path.prescribed_dofs());
         let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();
-        let reducible = !model.materials.iter().any(|m| m.is_plastic());
+        let reducible = !model.has_plastic_material();
         let (space, pairs, contact_slot, mode_vectors) = if model.options.reduced_elastic && reducible {
             let (reduced, view) = Reduced::new(pairs, &slot_dofs, &contact_slot, &full_modes);
             (Space::Reduced(reduced), view.pairs, view.contact_slot, view.mode_vectors)
