@@ -28,12 +28,12 @@ Balance
     supports' forces from the stresses (internal − load − contact at the held DOFs).
 
 Friction in space
-    ``friction_in_space(model, snapshots, slip_turn, floors)``: what the 3D friction design
-    implies (rust/src/contact.rs: a slipping pair on the facet of the round cone at its held
-    direction e, no slip across e, the facet turned when the force has turned by slip_turn),
-    pair by pair over consecutive snapshots taken at every event: the cone (round for stuck
-    pairs, the facet for slipping ones), the work slipping pairs do, and the angle by which a
-    slipping pair's force lags its slip.
+    ``friction_in_space(model, snapshots, slip_turn, floors, events)``: what the 3D friction
+    design implies (rust/src/coulomb.rs: a pair stuck on the round cone until it first slips,
+    then on the polygon laid at that onset, slipping on a side e of it with no slip across e, or
+    at a vertex), pair by pair over consecutive snapshots taken at every event: the cone (round,
+    or the polygon, for stuck pairs, the facet for slipping ones), the work slipping pairs do,
+    and the angle by which a slipping pair's force lags its slip.
 
 Refinement
     ``observed_order`` of an error between two meshes, ``richardson`` extrapolation to h -> 0.
@@ -239,11 +239,31 @@ def worst_equilibrium(model: dict, snapshots) -> tuple[float, int, float]:
 
 
 # --------------------------------------------------------------------------- balance
-def friction_in_space(model: dict, snapshots, slip_turn: float, floors: tuple[float, float]) -> dict:
-    """Worst values over a 3D run's snapshots (every event) of what Coulomb's cone and the
-    friction design imply (module text), each to be compared with round-off:
+def slipped_since_closing(events: dict, n_pairs: int, t: float) -> np.ndarray:
+    """(P,) bool: the pairs that began to slip since they last closed, by path time t (its
+    events included), from a run's event history: in space their friction is on the polygon
+    laid at that slip's onset (rust/src/coulomb.rs), the round cone before."""
+    on_polygon = np.zeros(n_pairs, dtype=bool)
+    for kind, p, when in zip(events["kind"], events["entity"], events["t"]):
+        if when > t:
+            break
+        if kind == "stick_to_slip":
+            on_polygon[p] = True
+        elif kind in ("close", "separate"):
+            on_polygon[p] = False
+    return on_polygon
 
-    - ``outside_round``: max |λ_t| − μλ_n of stuck pairs (≤ 0);
+
+def friction_in_space(model: dict, snapshots, slip_turn: float, floors: tuple[float, float],
+                      events: dict) -> dict:
+    """Worst values over a 3D run's snapshots (every event) of what Coulomb's cone and the
+    friction design imply (module text; ``events``: the run's event history, which tells the
+    stuck pairs on the round cone from those on their polygon), each to be compared with
+    round-off:
+
+    - ``outside_round``: max |λ_t| − μλ_n of stuck pairs that have not slipped since they
+      closed (≤ 0), and ``outside_polygon``: max |λ_t| − μλ_n/cos(slip_turn) of those that have
+      (≤ 0: the polygon circumscribed about the round cone, sides 2θ ≤ 2 slip_turn apart);
     - ``inside_facet``, ``beyond_facet``: max μλ_n − |λ_t| and |λ_t| − μλ_n/cos(slip_turn) of
       slipping pairs (≤ 0: on its facet the force is up to 1/cos(slip_turn) of μλ_n);
     - ``work``: max λ_t·ΔRTD of a pair slipping at both ends of a step, with either end's force
@@ -255,14 +275,16 @@ def friction_in_space(model: dict, snapshots, slip_turn: float, floors: tuple[fl
       ``floors`` = (length, force), below which a direction is round-off;
     - ``slipping_steps``: how many (pair, step) the lag was measured on."""
     mu = np.asarray(model["pairs"]["mu"], dtype=float)
-    out = {"outside_round": -np.inf, "inside_facet": -np.inf, "beyond_facet": -np.inf,
-           "work": -np.inf, "lag": 0.0, "slipping_steps": 0}
+    out = {"outside_round": -np.inf, "outside_polygon": -np.inf, "inside_facet": -np.inf,
+           "beyond_facet": -np.inf, "work": -np.inf, "lag": 0.0, "slipping_steps": 0}
     worst = lambda key, values: out.__setitem__(key, max(out[key], values.max(initial=-np.inf)))  # noqa: E731
     for k, s in enumerate(snapshots):
         stick, slip = s["status"] == 1, s["status"] == 2
         ln, lt = np.asarray(s["lambda_n"]), np.asarray(s["lambda_t"])
         size = np.linalg.norm(lt, axis=1)
-        worst("outside_round", (size - mu * ln)[stick])
+        polygon = slipped_since_closing(events, len(mu), float(s.get("t", s["load_fraction"])))
+        worst("outside_round", (size - mu * ln)[stick & ~polygon])
+        worst("outside_polygon", (size - mu * ln / math.cos(slip_turn))[stick & polygon])
         worst("inside_facet", (mu * ln - size)[slip])
         worst("beyond_facet", (size - mu * ln / math.cos(slip_turn))[slip])
         if k == 0:

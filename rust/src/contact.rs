@@ -28,23 +28,27 @@
 //!   w_n + μ(e1 w_t1 + e2 w_t2), as a 2D slip pair), and the *cross row* along e⊥ = (−e2, e1),
 //!   w_⊥ = −e2 w_t1 + e1 w_t2, held stuck (ΔRTD_⊥ = 0) by its own multiplier λ_⊥, which starts
 //!   at 0 and varies continuously: λ_t = μ λ_n e + λ_⊥ e⊥. The trial stays one linear solve.
-//! - Stick → slip is exact on the round cone: the smallest S that leaves it,
-//!   |λ_t0 + S Δλ_t| = μ (λ_n0 + S Δλ_n), a quadratic in S (`events::onto_round_cone`); e is the
-//!   force's direction there and λ_⊥ = 0: no force jump at the onset. Slip → stick is eq. 54's
-//!   dissipation test along e: the slip rate along −e reverses.
+//! - The first stick → slip since the pair closed is exact on the round cone: the smallest S
+//!   that leaves it, |λ_t0 + S Δλ_t| = μ (λ_n0 + S Δλ_n), a quadratic in S
+//!   (`Coulomb::slip_onset_scale`); e is the force's direction there and λ_⊥ = 0: no force jump
+//!   at the onset. That facet is one side of the polygon the pair's friction is on from then on
+//!   until it opens (`coulomb`: N sides 2θ apart, θ = π/N ≤ slip_turn). Slip → stick is eq. 54's
+//!   dissipation test along e: the slip rate along −e reverses; a stuck pair slips again where
+//!   its force reaches a side of its polygon (linear in S).
 //! - The facet turns (`EventKind::SlipTurn`): when the cross force reaches the bound
-//!   |λ_⊥| = tan(slip_turn) μ λ_n (linear in S on either side, like 2D stick → slip:
-//!   `events::facet_turns`), the friction force has turned by `slip_turn` off e; e turns to it
-//!   and λ_t := μ λ_n e. The only jump is radial, by (1 − cos slip_turn) |λ_t| (0.5 % at the
-//!   default 0.1 rad), and it lowers the friction force, so the correction at fixed load that
-//!   releases it slips the pair further along −e: it dissipates. Between turns the force lies
-//!   on the facet, up to 1/cos(slip_turn) − 1 beyond the round cone (`Problem::
-//!   friction_capacity`), and lags the slip direction by at most slip_turn. A slipping pair
+//!   |λ_⊥| = tan θ μ λ_n (linear in S on either side, like 2D stick → slip:
+//!   `Coulomb::facet_turn_scales`), the force is at the polygon's vertex m = e turned by θ; there
+//!   it is μ λ_n / cos θ along m, and the pair slips in the vertex's normal cone (within θ of
+//!   −m, no cross row) until its slip leaves it on one side, onto that side's facet (at S = 0,
+//!   also a `SlipTurn`). No switch moves the force, so none needs a correction at fixed load.
+//!   The force lies on the polygon, up to 1/cos θ − 1 beyond the round cone
+//!   (`Problem::friction_excess`), and lags the slip direction by at most θ. A slipping pair
 //!   never produces work: its force along its slip is −μ λ_n and across it there is no slip.
-//! - A pair that slips at zero normal force (one that slips as it closes) has no facet yet: no
-//!   friction force and no cross row in its first trial, whose slip rate sets e at zero force
-//!   (`driver::slip_turn`); a pair on a symmetry plane (one tangent held by its supports)
-//!   slips along its free tangent as in 2D, with no cross row (the support holds it).
+//! - A pair that slips at zero normal force (one that slips as it closes) takes e from the
+//!   direction its stuck force was growing in (`Candidate::toward`), or with none from its
+//!   first trial's slip rate (`driver::slip_turn`); at zero force it has no cross row; a pair on
+//!   a symmetry plane (one tangent held by its supports) slips along its free tangent as in 2D,
+//!   with no cross row (the support holds it).
 //!
 //! Measured on the Mindlin sphere (cases/mindlin_sphere_3d.toml, P then Q = 0.5 μP, μ = 0.3),
 //! before (the force held along an increment and turned at an increment's start: a jump of

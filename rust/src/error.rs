@@ -77,3 +77,20 @@ macro_rules! fail {
         $crate::error::Error::new($crate::error::ErrorKind::$kind, format!($($arg)*))
     };
 }
+
+/// Whether `SLIPSTEP_TRACE` is set: the engine then writes what it decides at its rare, costly
+/// steps (rate problems, last resorts) to stderr, one line each, for diagnosis.
+pub fn tracing() -> bool {
+    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *ON.get_or_init(|| std::env::var_os("SLIPSTEP_TRACE").is_some())
+}
+
+/// `trace!("...", args)`: one diagnostic line on stderr when `SLIPSTEP_TRACE` is set.
+#[macro_export]
+macro_rules! trace {
+    ($($arg:tt)*) => {
+        if $crate::error::tracing() {
+            eprintln!("slipstep-trace: {}", format!($($arg)*));
+        }
+    };
+}

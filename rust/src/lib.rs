@@ -17,6 +17,8 @@
 //!   the linear tetrahedron (eq. 10, K of eq. 36, P_σ of eq. 42);
 //! - [`mesh`]: triangle and tetrahedron meshes, validation, bodies;
 //! - [`contact`]: candidate pairs, their constraint vectors and statuses (eqs. 21–28, 41, 45–46);
+//! - [`coulomb`]: Coulomb's law on a pair: capacity, the facets of the round cone, their
+//!   turns, the stick → slip roots (eqs. 1–3, 41, 52–53);
 //! - [`rigid_modes`]: rigid-body modes left free by the supports (3 per body in 2D, 6 in 3D);
 //! - [`linalg`]: the equations and the sparse assembly; [`factor`]: the SPD factorization
 //!   behind one seam (faer in-process, or PETSc's MUMPS over MPI ranks); [`low_rank`]: the
@@ -29,6 +31,7 @@
 //! - [`error`]: typed errors, one kind per failure.
 
 pub mod contact;
+pub mod coulomb;
 pub mod driver;
 pub mod lcp;
 pub mod records;

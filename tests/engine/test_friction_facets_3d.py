@@ -112,8 +112,8 @@ def assert_facets_hold(model: dict, result: dict, slip_turn: float) -> dict:
     force, length = FORCE_TOL * loads, LENGTH_TOL * umax
     for k, s in enumerate(snaps):
         assert (s["lambda_n"][s["status"] > 0] >= -force).all(), (k, "tension", s["lambda_n"].min())
-    worst = friction_in_space(model, snaps, slip_turn, (length, force))
-    assert worst["outside_round"] <= force, worst
+    worst = friction_in_space(model, snaps, slip_turn, (length, force), result["events"])
+    assert worst["outside_round"] <= force and worst["outside_polygon"] <= force, worst
     assert worst["inside_facet"] <= force and worst["beyond_facet"] <= force, worst
     assert worst["work"] <= loads * length + force * umax, worst
     assert worst["lag"] <= 2 * slip_turn + ANGLE_TOL, worst
@@ -271,8 +271,8 @@ ENGINE_FORCE_NOISE = 1e-12
 def assert_indented_admissibly(model: dict, result: dict, young: float, depth: float, every_event: bool):
     """An indentation by an obstacle's motion (its material's E `young`, the motion's length
     `depth`), completed, checked at every snapshot from the result arrays: Coulomb (stuck pairs
-    on or inside the round cone, slipping ones on their facets: μλ_n ≤ |λ_t| ≤ μλ_n/cos
-    slip_turn), no tension, equilibrium recomputed; at `every_event` also no work produced by a
+    on or inside the round cone, or their polygon once they slipped, slipping ones on their
+    facets: μλ_n ≤ |λ_t| ≤ μλ_n/cos slip_turn), no tension, equilibrium recomputed; at `every_event` also no work produced by a
     slip over a step (its argument holds over one step: tests/physics.py)."""
     assert result["stop"]["kind"] == "completed", result["stop"]
     snaps, slip_turn = result["snapshots"], model["options"]["slip_turn"]
@@ -280,8 +280,8 @@ def assert_indented_admissibly(model: dict, result: dict, young: float, depth: f
     diameter = np.linalg.norm(np.ptp(np.asarray(model["nodes"]), axis=0))
     noise = ENGINE_FORCE_NOISE * len(model["pairs"]["mu"]) * young * diameter * depth
     umax = max(np.abs(s["u"]).max() for s in snaps)
-    worst = friction_in_space(model, snaps, slip_turn, (LENGTH_TOL * umax, noise))
-    assert worst["outside_round"] <= (1 + mu) * noise, worst
+    worst = friction_in_space(model, snaps, slip_turn, (LENGTH_TOL * umax, noise), result["events"])
+    assert worst["outside_round"] <= (1 + mu) * noise and worst["outside_polygon"] <= (1 + mu) * noise, worst
     assert worst["beyond_facet"] <= (1 + mu) * noise, worst
     # on its facet λ_t·e = μ λ_n holds exactly (a row of the solve), so a slipping pair is short
     # of μ λ_n only by the round-off of its forces; a pair slipping with no direction carries

@@ -50,8 +50,8 @@ def test_a_pyramid_pressed_by_its_motion_is_admissible_at_every_event():
         assert (s["lambda_n"][closed] >= -force).all(), (k, "tension", s["lambda_n"].min())
         assert (s["gap"] >= -gap).all(), (k, "penetration", s["gap"].min())
         assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (k, equilibrium_residual(model, s))
-    friction = friction_in_space(model, snaps, model["options"]["slip_turn"], (gap, force))
-    assert friction["outside_round"] <= force, friction
+    friction = friction_in_space(model, snaps, model["options"]["slip_turn"], (gap, force), result["events"])
+    assert friction["outside_round"] <= force and friction["outside_polygon"] <= force, friction
     assert friction["inside_facet"] <= force and friction["beyond_facet"] <= force, friction
     # friction opposes the slip: the work λ_t·Δrtd of a slipping pair is never positive beyond
     # the round-off of a force times a displacement

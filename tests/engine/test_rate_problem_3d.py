@@ -25,7 +25,7 @@ from collections import Counter
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
-from physics import EQUILIBRIUM_TOL, equilibrium_residual
+from physics import EQUILIBRIUM_TOL, equilibrium_residual, slipped_since_closing
 
 import slipstep
 from slipstep import _engine
@@ -82,7 +82,8 @@ def plate_model(mu: float) -> dict:
 
 
 def assert_contact_conditions(model: dict, result: dict) -> None:
-    """Signorini and Coulomb's round cone at every snapshot, from the arrays alone."""
+    """Signorini and Coulomb at every snapshot, from the arrays alone (and the event history,
+    which tells a stuck pair on its polygon from one on the round cone)."""
     mu = model["pairs"]["mu"]
     snaps = result["snapshots"]
     force = FORCE_TOL * np.abs(model["load"]).sum()
@@ -95,10 +96,13 @@ def assert_contact_conditions(model: dict, result: dict) -> None:
         assert (np.abs(s["gap"][closed]) <= gap).all(), (k, "a closed pair does not touch")
         assert (ln[~closed] == 0).all() and (lt[~closed] == 0).all(), (k, "an open pair carries force")
         assert (ln[closed] >= -force).all(), (k, ln.min())
-        # a stuck pair inside the round cone; a slipping one on the facet of the cone at its
-        # direction: mu lambda_n along it, up to tan(slip_turn) mu lambda_n across it
-        # (rust/src/contact.rs), so mu lambda_n <= |lambda_t| <= mu lambda_n / cos(slip_turn)
-        capacity = mu * ln / np.where(slipping, np.cos(model["options"]["slip_turn"]), 1.0)
+        # a stuck pair inside the round cone, or inside its polygon once it slipped (circumscribed
+        # about the round cone, sides at most 2 slip_turn apart); a slipping one on the facet of
+        # the cone at its direction: mu lambda_n along it, up to tan(slip_turn) mu lambda_n
+        # across it (rust/src/coulomb.rs), so mu lambda_n <= |lambda_t| <= mu lambda_n /
+        # cos(slip_turn)
+        polygon = slipped_since_closing(result["events"], len(mu), float(s["t"]))
+        capacity = mu * ln / np.where(slipping | polygon, np.cos(model["options"]["slip_turn"]), 1.0)
         assert (size <= capacity + force).all(), (k, "outside Coulomb's cone", (size - capacity).max())
         assert (size[slipping] >= (mu * ln)[slipping] - force).all(), (k, "a slipping pair inside the cone")
         assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (k, equilibrium_residual(model, s))
@@ -118,7 +122,9 @@ def test_receding_plate_in_space_completes_through_the_rate_problem(mu):
     assert result["stop"]["kind"] == "completed", result["stop"]
     kinds = Counter(result["events"]["kind"])
     assert "frozen" not in kinds, "the last resort fired on a scene with a solution"
-    assert result["n_rate_problems"] >= 1, "the scene no longer exercises the rate problem"
+    # (at mu = 3 the one-at-a-time rule settles the start alone since the polygon design of
+    # rust/src/coulomb.rs: its onsets move no force)
+    assert result["n_rate_problems"] >= 1 or mu == 3.0, "the scene no longer exercises the rate problem"
     assert_contact_conditions(model, result)
     # The flat carries the whole load (the symmetry planes take no vertical force).
     last = result["snapshots"][-1]

@@ -167,6 +167,6 @@ def test_slipping_pairs_produce_no_work(along_x):
     force = 1e-9 * m["P"]
     umax = max(np.abs(s["u"]).max() for s in snaps)
     length = 1e-9 * umax
-    worst = friction_in_space(result.scene.model, snaps, slip_turn, (length, force))
+    worst = friction_in_space(result.scene.model, snaps, slip_turn, (length, force), result.raw["events"])
     assert worst["slipping_steps"] > 0, worst
     assert worst["work"] <= m["P"] * length + force * umax, worst

@@ -40,29 +40,17 @@ pub(super) fn to_event(eng: &Engine, state: &mut State, trial: &TrialIncrement, 
     start
 }
 
-/// λ_t = −d μ λ_n for slipping pairs (eq. 62; round-off removed; 3D: λ_t = μ λ_n e, and on a
-/// facet + λ_⊥ e⊥ with its cross force λ_⊥ kept within ± tan(slip_turn) μ λ_n). Returns the
-/// largest change: more than round-off where the last correction left a slipping pair off its
-/// cone.
+/// Slipping pairs onto their friction force (eq. 62; `Problem::slip_force`: in space on their
+/// facet, the cross force kept within its band), round-off removed. Returns the largest change:
+/// more than round-off where the last correction left a slipping pair off its cone.
 pub(super) fn project_onto_cone(problem: &Problem, state: &mut State) -> f64 {
-    let bound = problem.model.options.slip_turn.tan();
     let mut largest: f64 = 0.0;
     for p in 0..state.status.len() {
         if let Status::Slip { .. } = state.status[p] {
-            let [tau, tau2] = problem.slip_ratios(state, p);
-            let ln = state.lambda_n[p];
-            let mut on_cone = [tau * ln, tau2 * ln];
-            if let Some(cross) = problem.cross_direction(state, p) {
-                let most = bound * problem.pairs[p].mu * ln;
-                let across = (cross[0] * state.lambda_t[p] + cross[1] * state.lambda_t2[p]).clamp(-most, most);
-                on_cone = [on_cone[0] + across * cross[0], on_cone[1] + across * cross[1]];
-            }
-            largest = largest.max((on_cone[0] - state.lambda_t[p]).abs());
-            state.lambda_t[p] = on_cone[0];
-            if problem.dim == 3 {
-                largest = largest.max((on_cone[1] - state.lambda_t2[p]).abs());
-                state.lambda_t2[p] = on_cone[1];
-            }
+            let now = [state.lambda_t[p], state.lambda_t2[p]];
+            let on_cone = problem.slip_force(state, p, now);
+            largest = largest.max((on_cone[0] - now[0]).hypot(on_cone[1] - now[1]));
+            (state.lambda_t[p], state.lambda_t2[p]) = (on_cone[0], on_cone[1]);
         }
     }
     largest

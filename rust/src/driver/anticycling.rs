@@ -22,6 +22,9 @@ pub(super) struct AntiCycling {
     max_switches: usize,
     /// Switches of each entity (pairs, then elements) in the current zero-length run.
     zero_switches: Vec<usize>,
+    /// Turns of each pair's held direction at zero force in the current zero-length run
+    /// (`turn`): a budget of their own, as they are no status switches.
+    zero_turns: Vec<usize>,
     frozen: Vec<bool>,
     /// The frozen flags the current increment was selected with (`load_advanced` clears
     /// `frozen` as the increment switches; its end is checked against these too).
@@ -43,7 +46,7 @@ pub(super) enum Admission {
 impl AntiCycling {
     pub fn new(n_pairs: usize, n_elements: usize, max_switches: usize) -> Self {
         let n = n_pairs + n_elements;
-        AntiCycling { n_pairs, max_switches, zero_switches: vec![0; n], frozen: vec![false; n], selected_frozen: vec![false; n], switch_count: vec![0; n], rate_problems_in_run: 0, rate_problems: 0 }
+        AntiCycling { n_pairs, max_switches, zero_switches: vec![0; n], zero_turns: vec![0; n_pairs], frozen: vec![false; n], selected_frozen: vec![false; n], switch_count: vec![0; n], rate_problems_in_run: 0, rate_problems: 0 }
     }
 
     /// Frozen pairs and elements.
@@ -69,6 +72,7 @@ impl AntiCycling {
     /// A positive-length increment ends the zero-length run.
     pub fn load_advanced(&mut self) {
         self.zero_switches.iter_mut().for_each(|c| *c = 0);
+        self.zero_turns.iter_mut().for_each(|c| *c = 0);
         self.frozen.iter_mut().for_each(|f| *f = false);
         self.rate_problems_in_run = 0;
     }
@@ -117,10 +121,10 @@ impl AntiCycling {
     /// zero-length switch of the pair. False once the pair has used its switches in this run:
     /// it keeps its direction, so that a run of turns ends.
     pub fn turn(&mut self, p: usize) -> bool {
-        if self.zero_switches[p] >= self.max_switches {
+        if self.zero_turns[p] >= self.max_switches {
             return false;
         }
-        self.zero_switches[p] += 1;
+        self.zero_turns[p] += 1;
         self.switch_count[p] += 1;
         true
     }

@@ -71,7 +71,7 @@ pub(super) fn check_equilibrium(eng: &Engine, residual: f64, phi: f64, step: usi
 }
 
 /// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb's cone (for a slipping 3D
-/// pair the facet it slips on: `Problem::friction_capacity`). A violation by a pair the
+/// pair that has slipped its polygon: `Problem::friction_excess`). A violation by a pair the
 /// last-resort anti-cycling rule froze is reported as an ill-posed scene.
 pub(super) fn check_contact(eng: &Engine, state: &State, frozen: &[bool], correction: Correction) -> Result<()> {
     let problem = &eng.problem;
@@ -82,7 +82,7 @@ pub(super) fn check_contact(eng: &Engine, state: &State, frozen: &[bool], correc
     for (p, pair) in problem.pairs.iter().enumerate() {
         let g = problem.gap(state, p);
         let ln = state.lambda_n[p];
-        let lt = if problem.dim == 3 { state.lambda_t[p].hypot(state.lambda_t2[p]) } else { state.lambda_t[p] };
+        let lt = state.lambda_t[p].hypot(state.lambda_t2[p]);
         let closed = state.status[p].is_closed();
         // a frozen pair has no event to bring it back: held to round-off, not to a correction's allowance
         let force_tol = if frozen[p] { FORCE_ROUND_OFF * problem.scales.force } else { force_tol };
@@ -90,8 +90,8 @@ pub(super) fn check_contact(eng: &Engine, state: &State, frozen: &[bool], correc
             format!("penetrates by {:.3e}", -g)
         } else if closed && ln < -force_tol {
             format!("carries a tensile force {ln:.3e}")
-        } else if closed && lt.abs() > problem.friction_capacity(state, p) + force_tol {
-            format!("violates Coulomb's law (|λ_t| = {:.3e} > {:.3e}, μλ_n = {:.3e})", lt.abs(), problem.friction_capacity(state, p), pair.mu * ln)
+        } else if closed && problem.friction_excess(state, p) > force_tol {
+            format!("violates Coulomb's law (|λ_t| = {lt:.3e} beyond its cone by {:.3e}, μλ_n = {:.3e})", problem.friction_excess(state, p), pair.mu * ln)
         } else {
             continue;
         };

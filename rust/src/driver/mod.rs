@@ -271,7 +271,7 @@ fn restore_hold(eng: &Engine, state: &mut State, rec: &Recorder, first_event: us
             (EventKind::StickToSlip, Status::Slip { .. }) => EventKind::SlipToStick,
             _ => continue,
         };
-        switch_keeping(eng, state, &Candidate { scale: 0.0, entity: e.entity, kind: back, direction: 0 });
+        switch_keeping(eng, state, &Candidate { scale: 0.0, entity: e.entity, kind: back, direction: 0, toward: [0.0; 2] });
     }
 }
 

@@ -317,8 +317,8 @@ fn within_round_off(eng: &Engine, state: &State, c: &TrialIncrement, p: usize) -
     if problem.dim != 3 || problem.model.has_plastic_material() {
         return false;
     }
-    let mu = problem.pairs[p].mu / problem.model.options.slip_turn.cos();
-    let excess = state.lambda_t[p].hypot(state.lambda_t2[p]) - problem.friction_capacity(state, p);
+    let mu = problem.pairs[p].mu / problem.coulomb(p).turn.cos();
+    let excess = problem.friction_excess(state, p);
     let change = c.dlambda_t[p].hypot(c.dlambda_t2[p]) + mu * c.dlambda_n[p].abs();
     excess + change <= FORCE_ROUND_OFF * problem.scales.force
 }

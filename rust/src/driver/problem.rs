@@ -9,6 +9,7 @@ use super::space::{Reduced, Space};
 use super::state::State;
 use crate::bail;
 use crate::contact::{Frame, Pair, PairGeometry, SparseVec, Status, HELD_BY_SUPPORTS};
+use crate::coulomb::Coulomb;
 use crate::element::Elements;
 use crate::error::Result;
 use crate::linalg::{DofMap, NodeOrder};
@@ -177,11 +178,13 @@ impl<'m> Problem<'m> {
     }
 
     /// λ_t = τ λ_n of a slipping pair (eq. 41), τ = (τ1, τ2) along (t1, t2): in 2D (−dμ, 0),
-    /// in 3D μ e with e its held direction (`State::slip_dir`); 0 unless it slips with friction.
+    /// in 3D μ e with e its held direction (`State::slip_dir`), μ / cos(slip_turn) m at a
+    /// vertex m (`State::vertex`); 0 unless it slips with friction.
     pub fn slip_ratios(&self, state: &State, p: usize) -> [f64; 2] {
         let pair = &self.pairs[p];
         match state.status[p] {
             _ if self.dim == 2 => [pair.slip_ratio(state.status[p]), 0.0],
+            Status::Slip { direction } if direction != 0 && state.vertex[p] => state.slip_dir[p].map(|m| pair.mu / self.coulomb(p).turn.cos() * m),
             Status::Slip { direction } if direction != 0 => state.slip_dir[p].map(|e| pair.mu * e),
             _ => [0.0; 2],
         }
@@ -200,15 +203,43 @@ impl<'m> Problem<'m> {
     pub fn facet_cross(&self, state: &State, p: usize) -> Option<[f64; 2]> {
         let (pair, e) = (&self.pairs[p], state.slip_dir[p]);
         let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
-        let directed = self.dim == 3 && slipping && pair.mu > 0.0 && !pair.held[0] && !pair.held[1] && e != [0.0; 2];
+        let directed = self.dim == 3 && slipping && !state.vertex[p] && pair.mu > 0.0 && !pair.held[0] && !pair.held[1] && e != [0.0; 2];
         directed.then_some([-e[1], e[0]])
     }
 
-    /// The largest |λ_t| Coulomb admits on pair p: μ λ_n on the round cone; on a slipping 3D
-    /// pair's facet μ λ_n / cos(`slip_turn`), its cross force bounded by tan(`slip_turn`) μ λ_n.
-    pub fn friction_capacity(&self, state: &State, p: usize) -> f64 {
-        let round = self.pairs[p].mu * state.lambda_n[p];
-        if self.cross_direction(state, p).is_some() { round / self.model.options.slip_turn.cos() } else { round }
+    /// Coulomb's law on pair p (`coulomb`): its μ and the facets' turn angle.
+    pub fn coulomb(&self, p: usize) -> Coulomb {
+        Coulomb::new(self.pairs[p].mu, self.model.options.slip_turn)
+    }
+
+    /// 3D: the polygon pair p's friction has been on since it last began to slip (its sides
+    /// about `State::slip_dir`, a vertex there or a side: `coulomb`); None for a pair that has
+    /// not slipped since it closed (the round cone), one at zero normal force (where every
+    /// side holds at once), in the plane, or along one free tangent.
+    pub fn polygon_of(&self, state: &State, p: usize) -> Option<([f64; 2], bool)> {
+        let pair = &self.pairs[p];
+        let pressed = state.lambda_n[p] > self.scales.force_noise;
+        let laid = self.dim == 3 && pair.mu > 0.0 && !pair.held[0] && !pair.held[1] && state.slip_dir[p] != [0.0; 2] && pressed;
+        laid.then_some((state.slip_dir[p], state.vertex[p]))
+    }
+
+    /// How far pair p's friction force is beyond its cone (round, or its polygon): > 0 violates
+    /// Coulomb's law.
+    pub fn friction_excess(&self, state: &State, p: usize) -> f64 {
+        self.coulomb(p).excess(self.polygon_of(state, p), state.lambda_n[p], [state.lambda_t[p], state.lambda_t2[p]])
+    }
+
+    /// The friction force (along t1, t2) of a slipping pair: −d μ λ_n in the plane (eq. 41), on
+    /// its facet in space (eq. 62: μ λ_n along e, the cross force of `lambda_t` kept within the
+    /// band where the pair has a cross row), or at its vertex; zero without compression.
+    pub fn slip_force(&self, state: &State, p: usize, lambda_t: [f64; 2]) -> [f64; 2] {
+        let law = self.coulomb(p);
+        match state.status[p] {
+            Status::Slip { direction } if self.dim == 2 => [-(direction as f64) * law.capacity(state.lambda_n[p]), 0.0],
+            Status::Slip { direction } if direction != 0 && state.vertex[p] => law.vertex_force(state.lambda_n[p], state.slip_dir[p]),
+            Status::Slip { direction } if direction != 0 => law.on_facet(state.lambda_n[p], state.slip_dir[p], lambda_t, self.cross_direction(state, p).is_some()),
+            _ => [0.0; 2],
+        }
     }
 
     /// Nᵀ W λ: the contact forces' share of free rigid mode k (over the loop's DOFs).

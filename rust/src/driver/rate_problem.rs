@@ -33,12 +33,14 @@
 //! outward normal d_j in the tangent plane, its condition μΛn − d_jᵀΛt ≥ 0, and its own slip
 //! rate v_j ≥ 0, slip against its normal:
 //!   v + Σ_j v_j d_j = 0 (Λt free),   0 ≤ v_j ⊥ μΛn − d_jᵀΛt ≥ 0
-//! (2D is this with the two sides d = −t, +t). The polygon is *circumscribed* about the round
-//! cone and turned so that its first side's normal is the pair's friction force (its held slip
-//! direction; t1 at zero force): a pair on the round cone is on that side exactly, so a
-//! slipping pair keeps its direction (the other sides have present slack and are not reachable
-//! at the increment's start, as the other side in 2D); a stuck pair keeps a force its round
-//! cone admits. Only a pair at zero force sees the polygon's other sides: there the polygon
+//! (2D is this with the two sides d = −t, +t). A pair with a force that has slipped since it
+//! closed has its own polygon (`coulomb`), and the problem takes its sides. For the others the
+//! polygon is *circumscribed* about the round cone and turned so that its first side's normal
+//! is the pair's friction force (its held slip direction; t1 at zero force): a pair on the
+//! round cone is on that side exactly, so a slipping pair keeps its direction. A side a force
+//! is not on has present slack and is not reachable at the increment's start (its slip rate is
+//! 0): in space it is no unknown (in the plane it keeps one, its row that slack, as the other
+//! side there always did). Only a pair at zero force sees the polygon's other sides: there the polygon
 //! over-estimates the round capacity by at most 1/cos(π/12) − 1 = 3.5 % at its corners (an
 //! inscribed one would under-estimate by 1 − cos(π/12) = 3.4 %, but would put every pair on
 //! the round cone outside it, infeasible at the start); a stuck force there beyond the round
@@ -46,19 +48,20 @@
 //! within a few per cent at 14 unknowns per zero-force pair; the slip direction is not limited
 //! to the sides' normals (two adjacent sides slip along any direction between them).
 //!
-//! The hand-back to the facet design of friction (`contact`): the statuses the LCP picks
-//! become the pairs' statuses, and a pair it sets slipping slips on the facet at the direction
-//! e = Σ v_j d_j / |Σ v_j d_j| (against its slip), carrying λ_t = μ λ_n e, with the facet's
-//! cross row from zero normal force on, its cross force free as on the polygon's side
-//! (`hold_slip_directions`); its turns from there are the facet design's own (`slip_turn`).
+//! The hand-back to the facet design of friction (`coulomb`): the statuses the LCP picks
+//! become the pairs' statuses, and a pair it sets slipping slips on the side it slips on, at the
+//! vertex of two adjacent sides of a polygon, or (a corner of the wider twelve-gon) on the facet
+//! at the direction e = Σ v_j d_j / |Σ v_j d_j| (against its slip), with the facet's cross row
+//! from zero normal force on, its cross force free as on the polygon's side
+//! (`hold_slip_directions`); its turns from there are the facet design's own.
 //! The trial that follows is then the LCP's own conditions, but where a side is wider than
 //! the design's facet: a pair at zero force (its force the rate problem's, from zero) that
-//! slips on a side with a force across it beyond tan(slip_turn) μΛn would turn its facet at
+//! slips on a side with a force across it beyond tan θ μΛn would turn its facet at
 //! once, and its neighbours' forces with it (the receding plate at μ = 2: stuck pairs at
 //! 0.75–0.88 of their cone slipped at once, and the last resort left one outside its cone).
-//! So such a slip lays three facets about its e, 1.9 slip_turn apart, and the problem is
-//! solved again (at most `FACET_PASSES` times; the plate at μ = 0.5–3 needs 2–3 solves, its
-//! polygons growing by 2–8 %). A pair slipping at a corner of two sides carries more than
+//! So such a slip lays three facets about its e, the sides of the polygon laid at e (2θ apart,
+//! whose corners are its vertices), and the problem is solved again (at most `FACET_PASSES`
+//! times). A pair slipping at a corner of two twelve-gon sides carries more than
 //! μΛn along e there (by at most 1/cos(π/12) − 1) and μ λ_n handed back: its trial's force
 //! differs from the LCP's by that, within what a stuck neighbour's margin absorbs.
 //! A tangent the supports hold (a symmetry plane) is not a coordinate: the pair has the two
@@ -87,16 +90,17 @@ const PIVOTS_PER_VARIABLE: usize = 50;
 pub(super) const FACETS: usize = 12;
 /// Solves of the 3D rate problem, facets laid about stray slips between them.
 const FACET_PASSES: usize = 4;
-/// Facets laid about a slip direction are this × slip_turn apart (< 2: the middle one's
-/// half-width is within the turn bound).
-const FACET_SPACING: f64 = 1.9;
+/// Two sides' normals are adjacent on a polygon when their dot product is within this of
+/// cos 2θ (round-off of a sine and cosine).
+const SAME_SIDE: f64 = 1e-9;
 /// A force on a facet of the design agrees with it to this (relative): round-off of Lemke's
-/// solution, far below the bound's margin 1 − FACET_SPACING / 2.
+/// solution.
 const FACET_AGREEMENT: f64 = 1e-6;
 
 /// One side of a pair's friction cone in its tangential coordinates: the outward normal d of
 /// the facet μΛn − dᵀΛt ≥ 0 (unit), its slip rate along −d; `off`: the present slack of a
-/// facet the pair is not on (None: on it).
+/// facet the pair is not on (None: on it). (In the plane such a side keeps its unknown, whose
+/// row is that slack; in space a polygon's sides the force is not on are no unknowns.)
 #[derive(Clone, PartialEq)]
 struct Facet {
     dir: Vec<f64>,
@@ -112,7 +116,7 @@ enum Role {
     Stick,
     /// Frictional, on the cone or at zero force: its slip is decided; `closed`: with positive
     /// force (g' = 0), else 0 ≤ Λn ⊥ g' ≥ 0. `facets`: the cone's sides (2D: +t, −t).
-    Friction { closed: bool, facets: Vec<Facet> },
+    Friction { closed: bool, facets: Vec<Facet>, polygon: bool },
     /// Frictionless at zero gap and zero force: open or closed is decided.
     Critical,
 }
@@ -170,11 +174,12 @@ struct Solved {
     scale: f64,
 }
 
-/// The rate problem's answer: every pair's status and, in 3D, the held direction e (along t1,
-/// t2) of each pair it sets slipping (None: keep the one it has).
+/// The rate problem's answer: every pair's status and, in 3D, where each pair it sets slipping
+/// slips: its facet's direction e (along t1, t2), or a vertex m of its polygon (`coulomb`)
+/// (None: keep the one it has).
 pub(super) struct RateSolution {
     pub status: Vec<Status>,
-    pub slip_dir: Vec<Option<[f64; 2]>>,
+    pub slip_dir: Vec<Option<([f64; 2], bool)>>,
 }
 
 /// The unknowns and their complementary rows, built up pair by pair.
@@ -222,35 +227,36 @@ pub(super) fn solve_rate_problem(eng: &mut Engine, state: &State, what: Solve) -
         }
         laid = rp.laid;
         for (p, e) in stray {
-            laid[p].extend(facets_about(e, eng.problem.model.options.slip_turn));
+            laid[p].extend(facets_about(e, eng.problem.coulomb(p).turn));
         }
     }
     unreachable!("the passes end at FACET_PASSES")
 }
 
-/// The facet normals laid about a slip direction e (along t1, t2): e itself and e turned by
-/// ±`FACET_SPACING` × slip_turn, so that the facet at e reaches at most that × slip_turn / 2
-/// to either side, within the facet design's turn bound.
-fn facets_about(e: [f64; 2], slip_turn: f64) -> [[f64; 2]; 3] {
+/// The facet normals laid about a slip direction e (along t1, t2): e itself and its neighbours
+/// on the polygon laid at e (`coulomb`, sides 2θ apart), so that the facet at e reaches θ to
+/// either side, the facet design's band, and its corners are the polygon's vertices.
+fn facets_about(e: [f64; 2], turn: f64) -> [[f64; 2]; 3] {
     let turned = |a: f64| {
         let (s, c) = a.sin_cos();
         [c * e[0] - s * e[1], s * e[0] + c * e[1]]
     };
-    [e, turned(FACET_SPACING * slip_turn), turned(-FACET_SPACING * slip_turn)]
+    [e, turned(2.0 * turn), turned(-2.0 * turn)]
 }
 
-/// The held directions the rate problem picked, handed back to the facet design: each pair it
-/// set slipping slips on the facet at its e, λ_t = μ λ_n e, with the facet's cross row from
-/// zero normal force on (`State::facet_laid`), as on the rate problem's polygon side. Returns
-/// the largest change of λ_t it made (a force jump the caller rebalances).
+/// Where the pairs the rate problem set slipping slip, handed back to the facet design of
+/// friction (`coulomb`): each slips on the facet (or at the vertex) it picked, with the facet's
+/// cross row from zero normal force on (`State::facet_laid`), as on the rate problem's polygon
+/// side; its force goes onto it (a pair on its polygon already is there: no jump). Returns the
+/// largest change of λ_t it made (a force jump the caller rebalances).
 pub(super) fn hold_slip_directions(problem: &Problem, state: &mut State, sol: &RateSolution) -> f64 {
     let mut jump: f64 = 0.0;
-    for (p, e) in sol.slip_dir.iter().enumerate() {
-        if let (Some(e), Status::Slip { .. }) = (e, state.status[p]) {
-            state.slip_dir[p] = *e;
-            state.facet_laid[p] = true;
-            let [t1, t2] = problem.slip_ratios(state, p).map(|tau| tau * state.lambda_n[p]);
-            jump = jump.max((t1 - state.lambda_t[p]).hypot(t2 - state.lambda_t2[p]));
+    for (p, placed) in sol.slip_dir.iter().enumerate() {
+        if let (Some((e, vertex)), Status::Slip { .. }) = (placed, state.status[p]) {
+            (state.slip_dir[p], state.vertex[p], state.facet_laid[p]) = (*e, *vertex, true);
+            let now = [state.lambda_t[p], state.lambda_t2[p]];
+            let [t1, t2] = problem.slip_force(state, p, now);
+            jump = jump.max((t1 - now[0]).hypot(t2 - now[1]));
             (state.lambda_t[p], state.lambda_t2[p]) = (t1, t2);
         }
     }
@@ -295,24 +301,23 @@ impl RateProblem<'_> {
     }
 
     /// 3D: the pairs at zero force the solution sets slipping whose force across their slip
-    /// direction e is beyond the facet design's tan(slip_turn) μΛn (`contact`): the polygon's
+    /// direction e is beyond the facet design's band, tan θ μΛn (`coulomb`): the polygon's
     /// side they slip on is wider than the design's facet. Handed back, such a pair's facet
     /// would turn at once (at zero force the force is its rate), and the trial would leave the
     /// rate problem's solution; with facets laid about e it may not. With their e.
     fn stray_slips(&self, solved: &Solved, sol: &RateSolution) -> Vec<(usize, [f64; 2])> {
-        let turn = self.p.model.options.slip_turn.tan();
         let tol = CRITICAL_FORCE * self.p.scales.force;
         let mut stray = vec![];
         for (i, (&p, role)) in solved.q.iter().zip(&solved.roles).enumerate() {
-            let (Some(e), Role::Friction { closed: false, facets }) = (sol.slip_dir[p], role) else { continue };
-            if facets.len() == 2 {
+            let (Some((e, _)), Role::Friction { closed: false, .. }) = (sol.slip_dir[p], role) else { continue };
+            if self.tangents(p).len() == 1 {
                 continue; // one free tangent: its two sides are exact
             }
             let f = &solved.forces[i];
             let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
-            let capacity = self.p.pairs[p].mu * f.normal.eval(&solved.y);
+            let band = self.p.coulomb(p).cross_bound(f.normal.eval(&solved.y));
             let across = e[0] * lt[1] - e[1] * lt[0];
-            if across.abs() > turn * capacity * (1.0 - FACET_AGREEMENT) + tol {
+            if across.abs() > band * (1.0 - FACET_AGREEMENT) + tol {
                 stray.push((p, e));
             }
         }
@@ -330,8 +335,8 @@ impl RateProblem<'_> {
         let tol = CRITICAL_FORCE * self.p.scales.force;
         let mut beyond = vec![];
         for (i, (&p, role)) in solved.q.iter().zip(&solved.roles).enumerate() {
-            let Role::Friction { closed: false, facets } = role else { continue };
-            if facets.len() == 2 || sol.status[p] != Status::Stick {
+            let Role::Friction { closed: false, .. } = role else { continue };
+            if self.tangents(p).len() == 1 || sol.status[p] != Status::Stick {
                 continue; // one free tangent: its two sides are exact
             }
             let f = &solved.forces[i];
@@ -400,30 +405,47 @@ impl RateProblem<'_> {
         let (pair, ln) = (&self.p.pairs[p], state.lambda_n[p]);
         let lt: Vec<f64> = self.tangents(p).iter().map(|&k| self.lambda_t(state, p, k)).collect();
         let closed = state.status[p].is_closed() && ln > tol;
+        // a pair with a force keeps the polygon it slipped on (`coulomb`); at zero force its
+        // orientation holds nothing and the rate problem's own polygon is laid
+        let polygon = self.p.polygon_of(state, p).filter(|_| closed);
+        let margin = match polygon {
+            Some(_) => -self.p.friction_excess(state, p),
+            None => pair.mu * ln - norm(&lt),
+        };
         match (pair.frictional(), closed) {
             (false, true) => Role::Normal,
             (false, false) => Role::Critical,
-            (true, true) if pair.mu * ln - norm(&lt) > tol => Role::Stick,
+            (true, true) if margin > tol => Role::Stick,
             (true, closed) => {
+                // only the sides the force is on can slip at the increment's start (the others'
+                // slip rates are 0: their present slack is positive)
                 let facet = |dir: Vec<f64>| {
                     let slack = pair.mu * ln - dir.iter().zip(&lt).map(|(d, l)| d * l).sum::<f64>();
                     Facet { dir, off: (slack > tol).then_some(slack) }
                 };
-                Role::Friction { closed, facets: self.facet_directions(state, p, &lt, tol).into_iter().map(facet).collect() }
+                let space = lt.len() == 2;
+                let facets = self.facet_directions(state, p, &lt, polygon).into_iter().map(facet).filter(|f| !space || f.off.is_none()).collect();
+                Role::Friction { closed, facets, polygon: polygon.is_some() }
             }
         }
     }
 
     /// The outward normals of pair p's cone facets in its tangential coordinates (friction
-    /// force λt): along one tangent its two sides −t, +t (exact); in the plane `FACETS` sides
-    /// of the polygon circumscribed about the round cone, the first along the pair's friction
-    /// force (or held slip direction; t1 at zero force), so that a pair on the cone is on it.
-    fn facet_directions(&self, state: &State, p: usize, lt: &[f64], tol: f64) -> Vec<Vec<f64>> {
+    /// force λt): along one tangent its two sides −t, +t (exact); in the plane the sides of the
+    /// polygon it slips on (`coulomb`), or for a pair on the round cone `FACETS` sides of the
+    /// polygon circumscribed about it, the first along its friction force (or held slip
+    /// direction; t1 at zero force), so that a pair on the cone is on it, and the facets laid
+    /// about its stray slips.
+    fn facet_directions(&self, state: &State, p: usize, lt: &[f64], polygon: Option<([f64; 2], bool)>) -> Vec<Vec<f64>> {
         if lt.len() == 1 {
             return vec![vec![-1.0], vec![1.0]];
         }
+        if let Some((e, vertex)) = polygon {
+            return self.p.coulomb(p).polygon(e, vertex).map(|d| d.to_vec()).collect();
+        }
         let laid = self.laid[p].iter().map(|d| d.to_vec());
         let e = state.slip_dir[p];
+        let tol = CRITICAL_FORCE * self.p.scales.force;
         let [c, s] = match norm(lt) {
             size if size > tol => [lt[0] / size, lt[1] / size],
             _ if matches!(state.status[p], Status::Slip { .. }) && e[0].hypot(e[1]) > 0.0 => e,
@@ -525,20 +547,41 @@ impl RateProblem<'_> {
                 Role::Critical if opens => Status::Open,
                 Role::Critical => self.p.pairs[p].closed_status(),
                 Role::Friction { closed: false, .. } if opens => Status::Open,
-                Role::Friction { facets, .. } => {
+                Role::Friction { facets, polygon, .. } => {
                     let rates: Vec<f64> = f.slips.iter().map(|&s| y[s]).collect();
                     if rates.iter().fold(0.0f64, |a, &r| a.max(r)) <= SLIP_RATE * scale {
                         Status::Stick
                     } else if self.p.dim == 2 {
                         Status::Slip { direction: if rates[0] >= rates[1] { 1 } else { -1 } }
                     } else {
-                        slip_dir[p] = Some(self.held_direction(p, facets, &rates));
+                        slip_dir[p] = Some(self.placement(p, facets, &rates, SLIP_RATE * scale, *polygon));
                         Status::Slip { direction: 1 }
                     }
                 }
             };
         }
         RateSolution { status, slip_dir }
+    }
+
+    /// 3D: where a pair slipping at the facets' `rates` slips in the facet design (`coulomb`): on
+    /// the one side with a slip rate above `noise`, or at the vertex of two adjacent sides of a
+    /// polygon (its own, `polygon`, or laid about a stray slip: 2θ apart); else (a corner of
+    /// the rate problem's wider polygon) on the facet at its slip direction (`held_direction`).
+    fn placement(&self, p: usize, facets: &[Facet], rates: &[f64], noise: f64, polygon: bool) -> ([f64; 2], bool) {
+        if self.tangents(p).len() == 1 {
+            return (self.held_direction(p, facets, rates), false); // along its one free tangent
+        }
+        let slipping: Vec<[f64; 2]> = facets.iter().zip(rates).filter(|(_, &r)| r > noise).map(|(f, _)| [f.dir[0], f.dir[1]]).collect();
+        let adjacent = |a: [f64; 2], b: [f64; 2]| (a[0] * b[0] + a[1] * b[1] - (2.0 * self.p.coulomb(p).turn).cos()).abs() < SAME_SIDE;
+        match slipping[..] {
+            [a] => (a, false),
+            [a, b] if polygon || adjacent(a, b) => {
+                let m = [a[0] + b[0], a[1] + b[1]];
+                let size = m[0].hypot(m[1]);
+                ([m[0] / size, m[1] / size], true)
+            }
+            _ => (self.held_direction(p, facets, rates), false),
+        }
     }
 
     /// 3D: the direction e (along t1, t2) of the friction force of a pair slipping at the
@@ -588,7 +631,10 @@ fn solve(prob: &Unknowns) -> Option<Vec<f64>> {
     };
     let m_c = pick(&bounded, &bounded) - &m_cf * &x_fc;
     let q_c = DVector::from_fn(bounded.len(), |i, _| q[bounded[i]]) - &m_cf * &x_q;
-    let z_c = lemke_restarted(&m_c, &q_c)?.z;
+    let started = std::time::Instant::now();
+    let lemke = lemke_restarted(&m_c, &q_c);
+    crate::trace!("rate problem: LCP of {} unknowns ({} free eliminated): {} in {:.2} s", q_c.len(), free.len(), lemke.as_ref().map_or("no solution".to_string(), |s| format!("{} pivots", s.pivots)), started.elapsed().as_secs_f64());
+    let z_c = lemke?.z;
     let x_f = -(&x_fc * &z_c + &x_q);
     let mut z = DVector::<f64>::zeros(q.len());
     bounded.iter().zip(z_c.iter()).for_each(|(&r, &v)| z[r] = v);
@@ -868,7 +914,7 @@ mod tests {
                 Status::Open => assert!(gap_rate >= -rate, "pair {p} open but closing at {gap_rate}"),
                 status => {
                     assert!(trial.dlambda_n[p] >= -force, "pair {p} {status:?} pulled: {}", trial.dlambda_n[p]);
-                    if let Some(e) = sol.slip_dir[p] {
+                    if let Some((e, _)) = sol.slip_dir[p] {
                         slipping += 1;
                         assert!((e[0].hypot(e[1]) - 1.0).abs() <= 1e-15 && state.slip_dir[p] == e, "pair {p} holds the rate problem's unit direction");
                         let v = crate::events::slip_rate(pair, &super::super::selection::trial_of(&trial), p);
@@ -884,10 +930,12 @@ mod tests {
     }
 
     /// The faceted cone of the 3D rate problem (module documentation): a pair on the round cone
-    /// is on its first facet, whose normal is its friction force's direction, and off the
-    /// others by their present slack μλn(1 − cos 2πj/k) (the polygon circumscribed, turned to
-    /// the force); a pair strictly inside sticks; at zero force every facet is reachable, the
-    /// first along t1; a pair whose supports hold one tangent has the two sides of the other.
+    /// is on the first facet of the polygon circumscribed and turned to its force, whose normal
+    /// is its friction force's direction, the only side it can slip on (the others have present
+    /// slack, no unknowns); a pair strictly inside sticks; at zero force every facet is
+    /// reachable, the first along t1; a pair on its own polygon (it slipped since it closed)
+    /// at a vertex has the vertex's two sides; a pair whose supports hold one tangent has the
+    /// two sides of the other.
     #[test]
     fn the_cone_is_faceted_about_the_pairs_friction_force() {
         let (mu, ln, angle) = (0.5, 2.0, 0.7f64);
@@ -899,22 +947,26 @@ mod tests {
         assert!(eng.problem.pairs[held].held[1] && !eng.problem.pairs[free].held.contains(&true));
         state.lambda_n[free] = ln;
         (state.lambda_t[free], state.lambda_t2[free]) = (mu * ln * angle.cos(), mu * ln * angle.sin());
-        let Role::Friction { closed: true, facets } = rp.role(&state, free) else { panic!("a closed pair on the cone") };
-        assert_eq!(facets.len(), FACETS);
+        let Role::Friction { closed: true, facets, polygon: false } = rp.role(&state, free) else { panic!("a closed pair on the cone") };
         // Round-off of a sine and cosine sum: a few ulps of the unit normal and of μλn.
         let tol = 1e-14;
-        for (j, f) in facets.iter().enumerate() {
-            let turn = 2.0 * std::f64::consts::PI * j as f64 / FACETS as f64;
-            assert!((f.dir[0] - (angle + turn).cos()).abs() <= tol && (f.dir[1] - (angle + turn).sin()).abs() <= tol, "facet {j}: {:?}", f.dir);
-            match f.off {
-                None => assert_eq!(j, 0, "only the first facet is reachable"),
-                Some(slack) => assert!(j > 0 && (slack - mu * ln * (1.0 - turn.cos())).abs() <= tol * mu * ln, "facet {j}: {slack}"),
-            }
-        }
+        assert!(facets.len() == 1 && facets[0].off.is_none(), "only the first facet is reachable");
+        assert!((facets[0].dir[0] - angle.cos()).abs() <= tol && (facets[0].dir[1] - angle.sin()).abs() <= tol, "{:?}", facets[0].dir);
+        // on its own polygon, at the vertex m: the two sides m ± θ
+        let law = eng.problem.coulomb(free);
+        let m = [angle.cos(), angle.sin()];
+        (state.status[free], state.slip_dir[free], state.vertex[free]) = (Status::Slip { direction: 1 }, m, true);
+        [state.lambda_t[free], state.lambda_t2[free]] = law.vertex_force(ln, m);
+        let Role::Friction { closed: true, facets, polygon: true } = rp.role(&state, free) else { panic!("a pair at its polygon's vertex") };
+        let mut sides: Vec<f64> = facets.iter().map(|f| f.dir[1].atan2(f.dir[0]) - angle).collect();
+        sides.sort_by(f64::total_cmp);
+        assert!(sides.len() == 2 && (sides[0] + law.turn).abs() <= 1e-12 && (sides[1] - law.turn).abs() <= 1e-12, "{sides:?}");
+        (state.status[free], state.slip_dir[free], state.vertex[free]) = (Status::Stick, [0.0; 2], false);
+        (state.lambda_t[free], state.lambda_t2[free]) = (mu * ln * angle.cos(), mu * ln * angle.sin());
         (state.lambda_t[free], state.lambda_t2[free]) = (0.9 * state.lambda_t[free], 0.9 * state.lambda_t2[free]);
         assert!(rp.role(&state, free) == Role::Stick);
         (state.lambda_n[free], state.lambda_t[free], state.lambda_t2[free]) = (0.0, 0.0, 0.0);
-        let Role::Friction { closed: false, facets } = rp.role(&state, free) else { panic!("a pair at zero force") };
+        let Role::Friction { closed: false, facets, .. } = rp.role(&state, free) else { panic!("a pair at zero force") };
         assert!(facets.iter().all(|f| f.off.is_none()) && facets[0].dir == [1.0, 0.0]);
         (state.lambda_n[held], state.lambda_t[held]) = (ln, mu * ln);
         let Role::Friction { facets, .. } = rp.role(&state, held) else { panic!("a pair on the cone") };

@@ -80,8 +80,9 @@ pub(super) fn pair_state<'a>(problem: &'a Problem, state: &'a State, frozen: &'a
     let space = (problem.dim == 3).then(|| SpacePairs {
         lambda_t2: &state.lambda_t2,
         slip_dir: &state.slip_dir,
+        vertex: &state.vertex,
         cross: (0..problem.pairs.len()).map(|p| problem.cross_direction(state, p)).collect(),
-        turn_bound: problem.model.options.slip_turn.tan(),
+        turn: problem.model.options.slip_turn,
     });
     PairState { pairs: &problem.pairs, status: &state.status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, shift: &state.shift, frozen, space }
 }

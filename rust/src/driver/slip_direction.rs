@@ -66,7 +66,8 @@ pub(super) fn slip_of(problem: &Problem, inc: &TrialIncrement, p: usize) -> Opti
 /// Pair p slips along −e from here: its friction force is μ λ_n e. Returns how far it moved.
 pub(super) fn hold_direction(problem: &Problem, state: &mut State, p: usize, e: [f64; 2]) -> f64 {
     state.slip_dir[p] = e;
-    let mu_ln = problem.pairs[p].mu * state.lambda_n[p];
+    state.vertex[p] = false;
+    let mu_ln = problem.coulomb(p).capacity(state.lambda_n[p]);
     let moved = (mu_ln * e[0] - state.lambda_t[p]).hypot(mu_ln * e[1] - state.lambda_t2[p]);
     (state.lambda_t[p], state.lambda_t2[p]) = (mu_ln * e[0], mu_ln * e[1]);
     moved

@@ -10,7 +10,7 @@
 //! (λ_t = μ λ_n e), so there is nothing to rebalance; each such turn is a zero-length switch of
 //! the pair for the anti-cycling rule, so a run of them ends. A slip rate that points against
 //! −e is a turn too: with no normal force there is no friction force to stick with (stuck at
-//! zero force, the pair would slip again at once, `events::onto_round_cone`).
+//! zero force, the pair would slip again at once, `Coulomb::slip_onset_scale`).
 //!
 //! Where a solve presses such a pair before an increment's trial comes, it takes e from that
 //! solve (`slip_direction`).

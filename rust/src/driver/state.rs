@@ -37,6 +37,9 @@ pub(super) struct State {
     /// 3D: a slipping pair whose facet the rate problem laid (`rate_problem::hold_slip_directions`):
     /// it holds its cross row from zero normal force on, as the rate problem's facet did.
     pub facet_laid: Vec<bool>,
+    /// 3D: a slipping pair at the vertex `slip_dir` = m of two facets (`coulomb`): its force is
+    /// μ λ_n / cos(slip_turn) along m, both facets hold, it slips within slip_turn of −m.
+    pub vertex: Vec<bool>,
     pub plastic: Vec<bool>,
     /// Per pair: the gap and RTD shift (c_n, c_t) of its obstacle's motion (`path`).
     pub shift: Vec<Shift>,
@@ -67,6 +70,7 @@ impl State {
             rtd_stick2: vec![0.0; n_pairs],
             slip_dir: vec![[0.0; 2]; n_pairs],
             facet_laid: vec![false; n_pairs],
+            vertex: vec![false; n_pairs],
             plastic: vec![false; n_elements],
             shift: vec![[0.0; 3]; n_pairs],
             jumps: vec![[0.0; 3]; n_pairs],

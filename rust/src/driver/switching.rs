@@ -38,6 +38,7 @@ fn switch_group(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &m
         cycles.load_advanced();
     }
     if zero_length && cycles.wants_rate_problem(&sel.group) {
+        crate::trace!("rate problem at phi {}: cycling one at a time ({} events in the group)", sel.phi, sel.group.len());
         if let Some(jump) = switch_by_rate_problem(eng, state, cycles, rec, sel.phi, what) {
             return jump;
         }
@@ -55,18 +56,25 @@ fn switch_group(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &m
     }
     let slip_or_separation = sel.group.iter().any(|c| matches!(c.kind, EventKind::StickToSlip | EventKind::Separate));
     if slip_or_separation && cycles.may_solve_rate_problem() && matches!(hold(&eng.problem, &eng.loads, state, &rec.events), Hold::OnFriction) {
+        crate::trace!("rate problem at phi {}: a body rests on friction alone", sel.phi);
         jump = jump.max(switch_by_rate_problem(eng, state, cycles, rec, sel.phi, what).unwrap_or(0.0));
     }
     jump
 }
+
+/// Unit directions whose dot product is within this of 1 are the same (round-off of Lemke's
+/// solution and of a sine and cosine).
+const SAME_DIRECTION: f64 = 1e-9;
 
 /// The statuses of the rate problem's solution, switched and recorded at φ; None when it has
 /// none or changes nothing.
 fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut AntiCycling, rec: &mut Recorder, phi: f64, what: Solve) -> Option<f64> {
     let sol = solve_rate_problem(eng, state, what)?;
     let mut changes: Vec<_> = (0..sol.status.len()).flat_map(|p| transitions(p, state.status[p], sol.status[p])).collect();
-    // a pair that keeps slipping on a facet other than its own turns to the rate problem's
-    changes.extend((0..sol.status.len()).filter(|&p| state.status[p] == sol.status[p] && sol.slip_dir[p].is_some_and(|e| e != state.slip_dir[p] || !state.facet_laid[p])).map(|p| Candidate { scale: 0.0, entity: p, kind: EventKind::SlipTurn, direction: 0 }));
+    // a pair that keeps slipping, elsewhere than on its own facet or vertex, turns to the rate
+    // problem's (one that keeps its own is no event)
+    let moved = |p: usize| sol.slip_dir[p].is_some_and(|(e, vertex)| vertex != state.vertex[p] || e[0] * state.slip_dir[p][0] + e[1] * state.slip_dir[p][1] < 1.0 - SAME_DIRECTION);
+    changes.extend((0..sol.status.len()).filter(|&p| state.status[p] == sol.status[p] && moved(p)).map(|p| Candidate { scale: 0.0, entity: p, kind: EventKind::SlipTurn, direction: 0, toward: [0.0; 2] }));
     if changes.is_empty() {
         return None;
     }
@@ -97,33 +105,32 @@ pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64
     match c.kind {
         EventKind::Close => {
             state.status[p] = problem.pairs[p].closed_status();
+            (state.slip_dir[p], state.vertex[p]) = ([0.0; 2], false); // the round cone until it slips
             state.rtd_stick[p] = problem.rtd(state, p);
             state.rtd_stick2[p] = problem.rtd2(state, p);
         }
         EventKind::Separate => {
             state.status[p] = Status::Open;
+            (state.slip_dir[p], state.vertex[p]) = ([0.0; 2], false);
             state.lambda_n[p] = 0.0;
             state.lambda_t[p] = 0.0;
             state.lambda_t2[p] = 0.0;
         }
         EventKind::StickToSlip => {
             state.status[p] = Status::Slip { direction: c.direction };
+            let now = [state.lambda_t[p], state.lambda_t2[p]];
             if problem.dim == 3 {
-                state.slip_dir[p] = held_direction([state.lambda_t[p], state.lambda_t2[p]]);
+                (state.slip_dir[p], state.vertex[p]) = onset_facet(problem, state, p, now, c.toward);
             }
-            let [tau, tau2] = problem.slip_ratios(state, p);
-            state.lambda_t[p] = tau * state.lambda_n[p];
-            state.lambda_t2[p] = tau2 * state.lambda_n[p];
+            [state.lambda_t[p], state.lambda_t2[p]] = problem.slip_force(state, p, now);
         }
         EventKind::SlipToStick => {
+            // stuck where it is (in space, on its facet's band: no force jump)
             state.status[p] = Status::Stick;
             state.rtd_stick[p] = problem.rtd(state, p);
             state.rtd_stick2[p] = problem.rtd2(state, p);
-            if problem.dim == 3 {
-                onto_round_cone(problem, state, p); // from its facet
-            }
         }
-        EventKind::SlipTurn => turn_facet(problem, state, p),
+        EventKind::SlipTurn => turn_facet(problem, state, p, c.direction),
         EventKind::Yield => state.plastic[p] = true,
         EventKind::Unload => state.plastic[p] = false,
         EventKind::Frozen | EventKind::FrozenElement => {}
@@ -135,40 +142,38 @@ pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64
     }
 }
 
-/// A facet's turn (3D, `contact`): the friction force reached tan(slip_turn) μ λ_n across the
-/// held direction e, i.e. turned by slip_turn off it; e turns to the force, and the force goes
-/// to the new facet's point on the round cone, λ_t = μ λ_n e. The only jump is radial, by
-/// (1 − cos slip_turn) |λ_t|, and it lowers the friction force, so the correction that
-/// releases it slips the pair further along −e: it dissipates.
-fn turn_facet(problem: &Problem, state: &mut State, p: usize) {
-    let e = held_direction([state.lambda_t[p], state.lambda_t2[p]]);
-    if e != [0.0; 2] {
-        state.slip_dir[p] = e;
+/// The facet (or vertex) a 3D pair starts to slip on, from its force there: the side of its
+/// polygon it reached (`coulomb`), or on the round cone the facet tangent at its force's direction,
+/// which lays its polygon; at zero force the direction its stuck force was growing in
+/// (`toward`; if none either, the next trial's slip rate sets it: `slip_turn`).
+fn onset_facet(problem: &Problem, state: &State, p: usize, force: [f64; 2], toward: [f64; 2]) -> ([f64; 2], bool) {
+    let ln = state.lambda_n[p];
+    if let Some((e, vertex)) = problem.polygon_of(state, p) {
+        let law = problem.coulomb(p);
+        return law.place_on_polygon(e, vertex, ln, force, PLACE_TOL * law.capacity(ln));
     }
-    let [tau, tau2] = problem.slip_ratios(state, p);
-    state.lambda_t[p] = tau * state.lambda_n[p];
-    state.lambda_t2[p] = tau2 * state.lambda_n[p];
+    let size = force[0].hypot(force[1]);
+    (if toward != [0.0; 2] || size == 0.0 { toward } else { force.map(|v| v / size) }, false)
 }
 
-/// A 3D pair that sticks after slipping on a facet may carry up to 1/cos(slip_turn) of its
-/// round capacity: its force is brought radially onto the round cone (the facet turn's jump,
-/// lowering the force).
-fn onto_round_cone(problem: &Problem, state: &mut State, p: usize) {
-    let capacity = problem.pairs[p].mu * state.lambda_n[p].max(0.0);
-    let size = state.lambda_t[p].hypot(state.lambda_t2[p]);
-    if size > capacity {
-        let k = capacity / size;
-        (state.lambda_t[p], state.lambda_t2[p]) = (k * state.lambda_t[p], k * state.lambda_t2[p]);
-    }
-}
+/// A force within this × its capacity μ λ_n of two sides of its polygon is at their vertex.
+const PLACE_TOL: f64 = 1e-9;
 
-/// The direction e a pair that starts to slip in 3D holds: that of its friction force at the
-/// event, which is on the cone there (|λ_t| = μ λ_n). A pair that slips as it closes (λ = 0)
-/// has none yet: e = 0 carries no friction force in the next trial, whose slip rate then sets
-/// it (`slip_turn`).
-fn held_direction(lambda_t: [f64; 2]) -> [f64; 2] {
-    let size = lambda_t[0].hypot(lambda_t[1]);
-    if size > 0.0 { lambda_t.map(|v| v / size) } else { [0.0; 2] }
+/// A facet's turn (3D, `coulomb`): a pair whose cross force reached the edge of its facet's
+/// band goes to the vertex there, with the next facet (m = e turned by slip_turn towards the
+/// force); one at a vertex whose slip left its normal cone on side `side` goes onto that side's
+/// facet. Either way the force does not move (round-off aside): the band's edge is the vertex.
+fn turn_facet(problem: &Problem, state: &mut State, p: usize, side: i8) {
+    let (law, now, e) = (problem.coulomb(p), [state.lambda_t[p], state.lambda_t2[p]], state.slip_dir[p]);
+    if state.vertex[p] {
+        state.slip_dir[p] = law.facet_of(e, side as f64);
+        state.vertex[p] = false;
+    } else {
+        let across = e[0] * now[1] - e[1] * now[0];
+        state.slip_dir[p] = law.vertex_of(e, across);
+        state.vertex[p] = true;
+    }
+    [state.lambda_t[p], state.lambda_t2[p]] = problem.slip_force(state, p, now);
 }
 
 /// `switch`, its force jump kept in the reduced space (`keep_jumps`).
@@ -204,7 +209,7 @@ pub(super) fn keep_jumps(state: &mut State, before: &[[f64; 3]]) {
 
 /// The events that take pair p from status `from` to `to` (for the rate problem's statuses).
 pub(super) fn transitions(p: usize, from: Status, to: Status) -> Vec<Candidate> {
-    let event = |kind, direction| Candidate { scale: 0.0, entity: p, kind, direction };
+    let event = |kind, direction| Candidate { scale: 0.0, entity: p, kind, direction, toward: [0.0; 2] };
     match (from, to) {
         (a, b) if a == b => vec![],
         (_, Status::Open) => vec![event(EventKind::Separate, 0)],
