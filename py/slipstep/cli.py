@@ -197,9 +197,11 @@ def _list() -> int:
 def _new(args) -> int:
     """NAME.toml: a copy of the shipped case ``--from`` named NAME."""
     target = shipped.copy(args.source, args.name)
-    load_case(target)  # the copy is a valid case
-    print(f"{target}: a copy of the shipped case {args.source}, named {target.stem}; edit it, "
-          f"then `slipstep check {target}` and `slipstep run {target}` (keys: `slipstep keys`)")
+    files = shipped.referenced_files(load_case(target).data)  # the copy is a valid case
+    beside = f" (with {', '.join(files)} beside it)" if files else ""
+    print(f"{target}: a copy of the shipped case {args.source}, named {target.stem}{beside}; "
+          f"edit it, then `slipstep check {target}` and `slipstep run {target}` (keys: "
+          f"`slipstep keys`)")
     return 0
 
 
