@@ -184,6 +184,8 @@ def recovered_peak(scene, profile: dict, index: int, radius: float) -> float:
     _, e1, e2 = contact_frame(scene, index)
     x, p = mirrored_points(scene, index, profile["x"][mine], profile["pressure"][mine])
     top = int(np.argmax(p))
+    if len(p) < 12:  # no window of 12 nodes (one closed node has no spacing either)
+        return float(p[top])
     plane = (x - x[top]) @ np.stack([e1, e2]).T
     distance = np.linalg.norm(plane, axis=1)
     spacing = float(np.median(np.sort(distance)[1:7]))
