@@ -9,7 +9,8 @@ per stage (at most :data:`AUTO_PER_STAGE`) as keep results.h5 within :data:`AUTO
 events themselves stay in events.csv either way.
 
 The size of a time step is that of the arrays the XDMF writer
-(:func:`slipstep.output.xdmf_step`, :func:`~slipstep.output.xdmf_step_3d`) writes for a
+(:func:`slipstep.output.xdmf_step`, :func:`~slipstep.output.xdmf_step_3d`, and the record
+:func:`~slipstep.output.snapshot_record` beside them) writes for a
 snapshot of zeros of the engine's shapes: the same code that writes them, so the prediction
 follows the writer.
 """
@@ -38,12 +39,14 @@ def _zero_snapshot(scene) -> dict:
 
 def step_bytes(scene) -> int:
     """The bytes of one time step of results.h5 (its point and cell data)."""
-    from .output import xdmf_step, xdmf_step_3d
+    from .output import snapshot_record, xdmf_step, xdmf_step_3d
 
     step = xdmf_step_3d if scene.dimension == 3 else xdmf_step
-    point_data, cell_data = step(scene, _zero_snapshot(scene))
+    zero = _zero_snapshot(scene)
+    point_data, cell_data = step(scene, zero)
     return int(sum(np.asarray(v).nbytes for v in point_data.values()) +
-               sum(np.asarray(block).nbytes for v in cell_data.values() for block in v))
+               sum(np.asarray(block).nbytes for v in cell_data.values() for block in v) +
+               sum(v.nbytes for v in snapshot_record(zero).values()))
 
 
 def mesh_bytes(scene) -> int:
