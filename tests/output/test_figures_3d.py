@@ -149,3 +149,16 @@ def test_the_result_s_views_in_3d(vickers):
     assert vickers.figure("contact_area", ax=ax) is fig and ax.lines
     with pytest.raises(ValueError, match="draws 2 panel"):
         vickers.figure("plastic_zone", ax=Figure().subplots())
+
+
+@needs_gmsh
+@pytest.mark.filterwarnings("error")
+def test_a_contact_of_one_node_has_its_peak_without_a_warning(vickers):
+    """A pyramid touching with its tip alone closes one node: the peak fit has no spacing to
+    measure (numpy's 'Mean of empty slice' leaked here) and gives that node's pressure."""
+    from slipstep.space.contact_measures import recovered_peak
+
+    prof = vickers.profile(1.0, stage=1)
+    one = {**prof, "status": np.where(np.arange(len(prof["status"])) == 0, 2, 0),
+           "x": prof["position"]}
+    assert recovered_peak(vickers.scene, one, 0, 0.01) == prof["pressure"][0]

@@ -39,6 +39,9 @@ GRADED_OR_REFINED = ("h_max", "growth")
 #: The least yield strain Sy/E a material is given with: below it E and Sy are in different
 #: units (Validator.yield_strain).
 LEAST_YIELD_STRAIN = 1e-5
+#: The magnitudes the engine takes E, Sy and H in (rust/src/material.rs, MAGNITUDES); beyond
+#: them it refuses the value with its own message, which names that fix.
+ENGINE_MAGNITUDES = (1e-50, 1e50)
 
 
 def inert_keys(data: dict) -> dict[str, tuple]:
@@ -309,8 +312,12 @@ class Validator:
     def yield_strain(self, material: dict, prefix: str) -> None:
         """A yield stress no material has beside its E: Sy/E below :data:`LEAST_YIELD_STRAIN`
         (lead's and annealed copper's are ~3e-4) is E and Sy in different units (E in Pa, Sy in
-        MPa gives 1e-9).  A large Sy stays allowed: it keeps a body elastic."""
-        if material["Sy"] is not None and material["Sy"] < LEAST_YIELD_STRAIN * material["E"]:
+        MPa gives 1e-9).  A large Sy stays allowed: it keeps a body elastic.  Values beyond the
+        engine's magnitudes are left to its own message."""
+        low, high = ENGINE_MAGNITUDES
+        if material["Sy"] is None or not all(low <= material[k] <= high for k in ("E", "Sy")):
+            return
+        if material["Sy"] < LEAST_YIELD_STRAIN * material["E"]:
             raise self.fail(prefix + "Sy", f"= {material['Sy']:g} is not allowed: it is "
                                            f"{material['Sy'] / material['E']:.3g} of E = "
                                            f"{material['E']:g}, a yield strain Sy/E below "
