@@ -13,6 +13,7 @@ classes of ``errors``; the shipped cases and studies are in ``shipped``.
     >>> r = slipstep.run("hertz_cylinder", overrides=["contact.mu=0.1"], out="results/hertz")
     >>> r                                   # a one-line summary (a table in a notebook)
     >>> r.fields(1.0)["u"], r.profile()["pressure"], r.to_meshio(0.5), r.events
+    >>> slipstep.load("results/hertz")     # the same Result, read back from its folder
 """
 
 from .version import __version__
@@ -26,8 +27,9 @@ from .scene import Scene
 from .progress import Progress
 from .result import Result
 from .runner import as_case, prepare, run, run_case, solve
+from .saved import load
 
 __all__ = ["__version__", "Case", "CaseError", "InputError", "Mesh", "MeshError", "Progress", "Result",
            "Scene", "SlipstepError", "TetMesh", "as_case", "build_scene", "from_arrays",
-           "from_meshio", "from_tetrahedra", "load_case", "parse_case", "prepare", "run",
+           "from_meshio", "from_tetrahedra", "load", "load_case", "parse_case", "prepare", "run",
            "run_case", "solve"]

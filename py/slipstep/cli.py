@@ -32,6 +32,7 @@ from .case import load_case
 from .errors import InputError, SlipstepError
 from .build import build_scene
 from .runner import run_case
+from .snapshot_plan import predicted_text
 from .summary import one_line
 from .version import __version__
 
@@ -69,7 +70,8 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--out", default=None, help="output folder (default: results/<study>)")
     s.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
     s.add_argument("--mpi", action="store_true", help="use mpi4py.futures.MPIPoolExecutor: "
-                   "mpirun -n N python -m mpi4py.futures -m slipstep sweep STUDY --mpi")
+                   "mpirun -n N python -m mpi4py.futures -m slipstep sweep STUDY --mpi (as root: mpirun "
+                   "--allow-run-as-root ...)")
     s.add_argument("--set", dest="overrides", action="append", default=[],
                    metavar="KEY=VALUE", help=f"override a key in every case ({KEYS_HELP})")
     s.add_argument("--quiet", action="store_true", help="no progress lines")
@@ -197,9 +199,11 @@ def _list() -> int:
 def _new(args) -> int:
     """NAME.toml: a copy of the shipped case ``--from`` named NAME."""
     target = shipped.copy(args.source, args.name)
-    load_case(target)  # the copy is a valid case
-    print(f"{target}: a copy of the shipped case {args.source}, named {target.stem}; edit it, "
-          f"then `slipstep check {target}` and `slipstep run {target}` (keys: `slipstep keys`)")
+    files = shipped.referenced_files(load_case(target).data)  # the copy is a valid case
+    beside = f" (with {', '.join(files)} beside it)" if files else ""
+    print(f"{target}: a copy of the shipped case {args.source}, named {target.stem}{beside}; "
+          f"edit it, then `slipstep check {target}` and `slipstep run {target}` (keys: "
+          f"`slipstep keys`)")
     return 0
 
 
@@ -209,6 +213,7 @@ def _check(args) -> int:
     print(f"{scene.case.name}: {len(m['nodes'])} nodes, {len(scene.elements)} elements, "
           f"{scene.n_dofs} dofs, {len(m['pairs']['node_a'])} contact pairs, "
           f"{len(m['fixed_dofs'])} fixed dofs")
+    print(predicted_text(scene))
     return 0
 
 

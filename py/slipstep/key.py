@@ -19,8 +19,8 @@ class Key:
     ``type`` is one of ``"float"``, ``"int"``, ``"str"``, ``"bool"``, ``"vec2"`` (two floats),
     ``"vec3"`` (three floats), ``"vec"`` (one float per dimension of the case: [x, y] or
     [x, y, z]), ``"box"`` (four floats [x0, y0, x1, y1]),
-    ``"axes"`` (a list of ``"x"``/``"y"``/``"z"``, z in 3D only), ``"snapshots"`` (``"events"``
-    or a list of path times), ``"xy"`` (an inline table of floats x, y and, in 3D, z),
+    ``"axes"`` (a list of ``"x"``/``"y"``/``"z"``, z in 3D only), ``"snapshots"`` (``"auto"``,
+    ``"events"`` or a list of path times), ``"xy"`` (an inline table of floats x, y and, in 3D, z),
     ``"factors"`` (an inline table of floats by load name), ``"points"`` (a list of [x, y]).
     ``check(value)`` returns ``None`` or the reason the value is not allowed.  ``dims``: the
     case dimensions (``[analysis] dimension``) the key belongs to; given in a case of another

@@ -77,7 +77,7 @@ ALIASES = {"mesh": "body.mesh", "material": "body.material"}
 TYPE_TEXT = {"float": "number", "int": "integer", "str": "string", "bool": "true|false",
              "vec2": "[x, y]", "vec3": "[x, y, z]", "vec": "[x, y] (3D: [x, y, z])",
              "box": "[x0, y0, x1, y1]", "axes": '["x", "y"] (3D: "z")',
-             "snapshots": '"events"|[t, ...]', "xy": "{x = .., y = ..} (3D: z)",
+             "snapshots": '"auto"|"events"|[t, ...]', "xy": "{x = .., y = ..} (3D: z)",
              "factors": "{LOAD = .., ...}", "points": "[[x, y], ...]"}
 
 

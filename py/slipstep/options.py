@@ -6,14 +6,17 @@ import numpy as np
 
 from .case import Case
 from .schema import SOLVER_KEYS
+from .snapshot_plan import requested
 
 
-def solver_options(case: Case) -> dict:
+def solver_options(case: Case, snapshots=None) -> dict:
     """The engine's ``options``: the [solver] table as it is (its keys are the engine's,
     :data:`slipstep.schema.SOLVER_KEYS`), and snapshots at every event or at given path times,
     every stage end added (``"fractions"`` as always for a case without [[stage]], displacement and
-    motion, ``"times"`` otherwise)."""
-    snaps = case.data["output"]["snapshots"]
+    motion, ``"times"`` otherwise).  ``snapshots``: ``"events"`` or the times, as
+    :func:`slipstep.snapshot_plan.requested` resolves the case's ``[output] snapshots``
+    (None: that of a 2D case, where ``"auto"`` is ``"events"``)."""
+    snaps = requested(case) if snapshots is None else snapshots
     solver = case.data["solver"]
     options = {key: solver[key] for key in SOLVER_KEYS}  # the engine's own keys, as given
     if snaps == "events":

@@ -125,22 +125,47 @@ def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     of a run without stages; one grid per distinct t, the state after every event there:
     :func:`slipstep.history.distinct_time_snapshots`) of the fields of :func:`xdmf_step` on
     2D points, with the case's units in an ``Information`` element ``units`` of the Domain
-    (``length: mm, force: N, stress: MPa``; absent when ``[case] units`` does not give them)."""
+    (``length: mm, force: N, stress: MPa``; absent when ``[case] units`` does not give them).
+    Beside the fields results.h5 keeps each step's :func:`snapshot_record` (group
+    :data:`RECORD_GROUP`), which the XDMF does not name: with them :func:`slipstep.saved.load`
+    reads the run back exactly."""
+    import h5py
     import meshio
 
     space = scene.dimension == 3
     cells = [("tetra", scene.tetrahedra)] if space else [("triangle", scene.triangles)]
     step = xdmf_step_3d if space else xdmf_step
+    kept = distinct_time_snapshots(result)
     with _working_directory(folder):
         with meshio.xdmf.TimeSeriesWriter(f"{name}.xdmf") as writer:
             writer.write_points_cells(scene.nodes, cells)
-            for k in distinct_time_snapshots(result):
+            for k in kept:
                 snap = result["snapshots"][k]
                 point_data, cell_data = step(scene, snap)
                 writer.write_data(snapshot_time(snap), point_data=point_data,
                                   cell_data=cell_data)
+    records = [snapshot_record(result["snapshots"][k]) for k in kept]
+    with h5py.File(Path(folder) / f"{name}.h5", "a") as h5:
+        group = h5.create_group(RECORD_GROUP)
+        for key in records[0]:
+            group.create_dataset(key, data=np.stack([r[key] for r in records]))
     if scene.case.units:
         _record_units(Path(folder) / f"{name}.xdmf", scene.case.units)
+
+
+#: The group of results.h5 that holds the steps' :func:`snapshot_record`.
+RECORD_GROUP = "slipstep_snapshots"
+
+
+def snapshot_record(snap: dict) -> dict:
+    """What results.h5 keeps of a snapshot beside its fields: its place on the path (t, stage
+    0-based, load_fraction) and the engine's per-pair arrays (lambda_n, lambda_t, status, gap,
+    rtd), as the engine gave them."""
+    out = {"t": np.float64(snapshot_time(snap)), "stage": np.int64(snap.get("stage", 0)),
+           "load_fraction": np.float64(snap["load_fraction"])}
+    for key in ("lambda_n", "lambda_t", "status", "gap", "rtd"):
+        out[key] = np.asarray(snap[key])
+    return out
 
 
 def _record_units(path: Path, units: dict) -> None:

@@ -2,7 +2,7 @@
 overrides applied) written back as a case file, ``case.toml`` beside the results, so that
 ``slipstep run <folder>/case.toml`` reruns it.
 
-Written as it validates: mesh files by their absolute paths, the keys that other keys make
+Written as it validates: mesh and surface files by their absolute paths, the keys that other keys make
 inert and the validator refuses left out (:func:`slipstep.validation.document.inert_keys`),
 and a body whose mesh came from Python as ``generator = "given"`` (its mesh is not in the
 file: pass it again)."""
@@ -28,8 +28,10 @@ def resolved_case_text(case: Case, given_meshes=(), header=()) -> str:
             lines += ["", *toml_table(f"[{name}]", _known(data[name], keys, inert.get(name)))]
     for array, keys in ARRAY_KEYS.items():
         for i, element in enumerate(data[array]):
-            lines += ["", *toml_table(f"[[{array}]]", _known(element, keys,
-                                                             inert.get(f"{array}.{i}")))]
+            table = _known(element, keys, inert.get(f"{array}.{i}"))
+            if array == "contact" and table.get("file"):  # a rigid surface's file
+                table["file"] = _absolute(case, table["file"])
+            lines += ["", *toml_table(f"[[{array}]]", table)]
             if array == "body":
                 lines += _body_tables(case, i, element, element["name"] in given_meshes, inert)
     return "\n".join(lines).lstrip("\n") + "\n"
@@ -46,10 +48,15 @@ def _body_tables(case: Case, i: int, body: dict, given: bool, inert: dict) -> li
                       f"(slipstep.run(case, meshes={{...}})): pass it again to rerun"]
         mesh = {"generator": "given"}
     elif "file" in mesh:
-        for key in ("file", "edge_file"):
+        for key in ("file", "edge_file", "face_file"):
             if mesh.get(key):
-                mesh[key] = str((Path(case.base_dir) / mesh[key]).resolve())
+                mesh[key] = _absolute(case, mesh[key])
     return lines + ["", *toml_table("[body.mesh]", mesh)]
+
+
+def _absolute(case: Case, name: str) -> str:
+    """A file the case names, by its absolute path (a results folder is elsewhere)."""
+    return str((Path(case.base_dir) / name).resolve())
 
 
 def _known(table: dict, keys: dict, inert=()) -> dict:

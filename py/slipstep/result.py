@@ -26,7 +26,7 @@ from .history import ELEMENT_EVENTS, event_positions, event_times, same_time, sn
 from .errors import InputError
 from .summary import one_line
 
-#: The columns of :attr:`Result.events`.
+#: The columns of :attr:`Result.events` (3D: z after y).
 EVENT_DTYPE = [("step", "i8"), ("t", "f8"), ("stage", "i8"), ("load_fraction", "f8"),
                ("kind", "U14"), ("entity", "i8"), ("entity_kind", "U7"), ("x", "f8"),
                ("y", "f8")]
@@ -59,9 +59,26 @@ class Result:
         return self.scene.nodes
 
     @property
+    def elements(self) -> np.ndarray:
+        """(M, 3) node ids of the triangles, or in 3D (M, 4) of the tetrahedra."""
+        return self.scene.elements
+
+    @property
     def triangles(self) -> np.ndarray:
-        """(M, 3) node ids of the elements (counter-clockwise)."""
+        """(M, 3) node ids of the elements (counter-clockwise); a 3D result has
+        :attr:`tetrahedra`."""
+        if self.scene.dimension == 3:
+            raise AttributeError("a 3D result has tetrahedra, not triangles: r.tetrahedra "
+                                 "(r.elements in either dimension)")
         return self.scene.triangles
+
+    @property
+    def tetrahedra(self) -> np.ndarray:
+        """(M, 4) node ids of the elements of a 3D result."""
+        if self.scene.dimension != 3:
+            raise AttributeError("a 2D result has triangles, not tetrahedra: r.triangles "
+                                 "(r.elements in either dimension)")
+        return self.scene.tetrahedra
 
     # ------------------------------------------------------------------ history
     @property
@@ -73,18 +90,20 @@ class Result:
     def events(self) -> np.ndarray:
         """One row per event (and entity), a numpy structured array with the columns of
         events.csv: step, t (path time), stage (1-based), load_fraction (within its stage),
-        kind, entity (pair or element index), entity_kind, x, y (node a of the pair, the
-        element's centroid).  ``r.events["t"][r.events["kind"] == "yield"]``, or
+        kind, entity (pair or element index), entity_kind, x, y (3D: x, y, z; node a of the
+        pair, the element's centroid).  ``r.events["t"][r.events["kind"] == "yield"]``, or
         ``pandas.DataFrame(r.events)``."""
         ev = self.raw["events"]
-        out = np.zeros(len(ev["step"]), dtype=EVENT_DTYPE)
+        dtype = EVENT_DTYPE + ([("z", "f8")] if self.scene.dimension == 3 else [])
+        out = np.zeros(len(ev["step"]), dtype=dtype)
         t, stage = event_times(self.raw)
         out["step"], out["t"], out["stage"] = ev["step"], t, stage + 1
         for key in ("load_fraction", "kind", "entity"):
             out[key] = ev[key]
         out["entity_kind"] = np.where(np.isin(out["kind"], ELEMENT_EVENTS), "element", "pair")
         xy = event_positions(self.scene, self.raw)
-        out["x"], out["y"] = xy[:, 0], xy[:, 1]
+        for k, name in enumerate("xyz"[:xy.shape[1]]):
+            out[name] = xy[:, k]
         return out
 
     # ------------------------------------------------------------------ one snapshot
@@ -181,9 +200,13 @@ class Result:
         contact_profile.csv: per candidate pair sorted by x, arrays x, y, s, contact, pressure,
         tangential_stress, rtd, status, gap, pair, node_a (:func:`slipstep.
         contact_measures.contact_profile`; 3D: :func:`slipstep.space.contact_measures.
-        contact_profile_3d`, sorted by x, y, z)."""
+        contact_profile_3d`, sorted by x, y, z, with node a's coordinates as the columns x, y,
+        z as in contact_profile.csv, and together as ``position`` (P, 3))."""
         if self.scene.dimension == 3:
-            return contact_profile_3d(self.scene, self.snapshot(t, stage))
+            prof = contact_profile_3d(self.scene, self.snapshot(t, stage))
+            position = prof.pop("x")
+            return {"x": position[:, 0], "y": position[:, 1], "z": position[:, 2],
+                    "position": position, **prof}
         return contact_profile(self.scene, self.snapshot(t, stage))
 
     def to_meshio(self, t: float | None = None, stage: int | None = None):
@@ -217,7 +240,8 @@ class Result:
     def figure(self, name: str, ax=None):
         """One of :meth:`figures` by name, drawn on the caller's ``ax`` when given (an Axes, or
         a sequence of Axes for the figures of several panels: contact_interface 3,
-        contact_extent 2, force_displacement one per prescribed load); returns its Figure."""
+        contact_extent 2, force_displacement one per prescribed load; in 3D contact_area and
+        contact_pressure_line one per contact, plastic_zone two); returns its Figure."""
         from .figures import chosen
         from .space import figures as space_figures
 
@@ -225,8 +249,6 @@ class Result:
         builders = dict((space_figures.chosen if space else chosen)(self.scene, self.raw))
         if name not in builders:
             raise ValueError(f"figure {name!r}: this run has {', '.join(builders) or 'none'}")
-        if space:  # one panel per contact, on a figure of its own
-            return builders[name](None, self.scene, self.raw, self.summary)
         return builders[name](None, self.scene, self.raw, self.summary, ax=ax)
 
     def write(self, out: str | Path, figures: bool | None = None,
@@ -265,8 +287,8 @@ class Result:
         return [
             ("stopped", f"{stop} at t = {float(self.stop.get('t', 0.0)):.4g} of "
                         f"{s.get('n_stages', 1)} stage(s)"),
-            ("mesh", f"{len(m['nodes'])} nodes, {len(m['triangles'])} elements, "
-                     f"{2 * len(m['nodes'])} DOFs, {len(m['pairs']['node_a'])} contact pairs"),
+            ("mesh", f"{len(m['nodes'])} nodes, {len(self.elements)} elements, "
+                     f"{self.scene.n_dofs} DOFs, {len(m['pairs']['node_a'])} contact pairs"),
             ("events", f"{s['n_events']}: " + ", ".join(f"{n} {k}" for k, n in kinds.items())),
             ("summary", one_line(s)),
             ("snapshots", self._snapshot_text()),

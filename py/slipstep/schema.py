@@ -26,9 +26,10 @@ def _check_nu(nu: float) -> str | None:
 def _check_snapshots_form(v) -> str | None:
     """The form only; the range (0, n_stages] is checked once the stages are known."""
     if isinstance(v, str):
-        return None if v == "events" else 'use "events" or a list of load fractions in (0, 1]'
+        return None if v in ("auto", "events") else \
+            'use "auto", "events" or a list of load fractions in (0, 1]'
     if not v:
-        return 'the list is empty: use "events" or e.g. [0.25, 0.5, 1.0]'
+        return 'the list is empty: use "auto", "events" or e.g. [0.25, 0.5, 1.0]'
     return None
 
 
@@ -78,10 +79,13 @@ LOAD_KEYS = {
 }
 
 OUTPUT_KEYS = {
-    "snapshots": Key("snapshots", "events",
-                     doc='"events" (a snapshot after every event) or a list of path times in '
-                         "(0, n_stages] (= load fractions in (0, 1] without [[stage]]; every "
-                         "stage end is always added)", check=_check_snapshots_form),
+    "snapshots": Key("snapshots", "auto",
+                     doc='"auto" (sized for the scene: in 2D "events"; in 3D the stage ends and '
+                         "evenly spaced path times, at most 10 per stage, as many as keep "
+                         'results.h5 within 100 MB), "events" (a snapshot after every event: '
+                         "the full-field history) or a list of path times in (0, n_stages] (= "
+                         "load fractions in (0, 1] without [[stage]]; every stage end is always "
+                         "added)", check=_check_snapshots_form),
     "figures": Key("bool", True, doc="write PNG figures"),
     "xdmf": Key("bool", True, doc="write the XDMF/HDF5 time series of u and stresses"),
 }

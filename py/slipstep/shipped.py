@@ -17,6 +17,7 @@ import re
 from importlib import resources
 from pathlib import Path
 
+from .case import load_case
 from .errors import InputError
 
 KINDS = ("cases", "studies")
@@ -69,16 +70,40 @@ def unknown(name: str, kind: str = "cases") -> str:
 
 def copy(source: str, name: str) -> Path:
     """Write ``NAME.toml`` (``name`` itself if it ends in .toml), the shipped case ``source``
-    with its ``[case] name`` set to the file's stem; an existing file is not replaced."""
+    with its ``[case] name`` set to the file's stem, and beside it every file the case names
+    (:func:`referenced_files`: meshes, surfaces), so the copy runs where it is; an existing
+    file is not replaced (one that holds the same bytes is kept as it is)."""
     try:
-        text = path(source).read_text(encoding="utf-8")
+        original = path(source)
     except FileNotFoundError:
         raise InputError(unknown(source)) from None
     target = Path(name if name.endswith(".toml") else f"{name}.toml")
     if target.exists():
         raise InputError(f"{target} exists: give another NAME, or remove the file first")
-    target.write_text(renamed(text, target.stem), encoding="utf-8")
+    files = referenced_files(load_case(original).data)
+    for rel in files:
+        there = target.parent / rel
+        if there.exists() and there.read_bytes() != (original.parent / rel).read_bytes():
+            raise InputError(f"{there} exists and differs from the file {source} names: "
+                             f"remove it, or copy the case into another folder")
+    for rel in files:
+        there = target.parent / rel
+        there.parent.mkdir(parents=True, exist_ok=True)
+        if not there.exists():
+            there.write_bytes((original.parent / rel).read_bytes())
+    target.write_text(renamed(original.read_text(encoding="utf-8"), target.stem),
+                      encoding="utf-8")
     return target
+
+
+def referenced_files(data: dict) -> list[str]:
+    """The relative paths of the files a validated case names, in order: each body's mesh
+    ``file``, ``edge_file``, ``face_file`` and each contact's surface ``file`` (absolute paths
+    are left out: they stay where they are)."""
+    named = [b.get("mesh", {}).get(key, "") for b in data.get("body", [])
+             for key in ("file", "edge_file", "face_file")]
+    named += [c.get("file", "") for c in data.get("contact", [])]
+    return list(dict.fromkeys(f for f in named if f and not Path(f).is_absolute()))
 
 
 def renamed(text: str, name: str) -> str:

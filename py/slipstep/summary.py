@@ -328,6 +328,7 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         "n_elements": int(len(scene.elements)),
         "n_dofs": int(scene.n_dofs),
         "n_pairs": int(len(model["pairs"]["node_a"])),
+        "frictionless": all(c["mu"] == 0.0 for c in scene.case.data["contact"]),
         "n_factorizations": int(result.get("n_factorizations", 0)),
         "n_factor_builds": int(result.get("n_factor_builds", 0)),
         "n_solves": int(result.get("n_solves", 0)),
@@ -368,22 +369,23 @@ def quantity(summary: dict, value: float, kind: str) -> str:
 def contact_text(summary: dict, named: bool = False) -> str:
     """The contact state in a few words: a and c of a half model, else each contact's closed
     and stick extents along s, in the case's length unit (``named``: a and c named); empty
-    without contact."""
+    without contact.  A frictionless run has no stick zone: c is left out."""
+    stick = not summary.get("frictionless", False)
     for a_key, c_key, what in (("contact_half_width", "stick_half_width", "half-width"),
                                ("contact_radius", "stick_radius", "radius")):
         if a_key in summary:
             a = quantity(summary, summary[a_key], "length")
             c = quantity(summary, summary[c_key], "length")
             if named:
-                return f"a = {a} contact {what}, c = {c} stick {what}"
-            return f"a = {a}, c = {c}"
+                return f"a = {a} contact {what}" + (f", c = {c} stick {what}" if stick else "")
+            return f"a = {a}" + (f", c = {c}" if stick else "")
     unit = summary.get("units", {}).get("length")
     unit = f" {unit}" if unit else ""
     parts = []
     for name, c in summary.get("contacts", {}).items():
         if "contact_radius" in c:  # 3D
-            parts.append(f"{name}: contact radius {c['contact_radius']:.4g}{unit}, stick radius "
-                         f"{c['stick_radius']:.4g}{unit}")
+            parts.append(f"{name}: contact radius {c['contact_radius']:.4g}{unit}" +
+                         (f", stick radius {c['stick_radius']:.4g}{unit}" if stick else ""))
             continue
         closed, stick = c["closed_extent"], c["stick_extent"]
         text = f"{name}: " + (f"closed s in [{closed[0]:.4g}, {closed[1]:.4g}]{unit}" if closed

@@ -58,12 +58,44 @@ def test_what_the_validator_refuses_by_key_or_type_the_schema_flags(validator, w
     assert list(validator.iter_errors(_broken(change))), what
 
 
+def _broken_3d(change) -> dict:
+    data = tomllib.loads((CASES / "mindlin_sphere_3d.toml").read_text())
+    change(data)
+    return data
+
+
+@pytest.mark.parametrize("what, change", [
+    ("a plane in space", lambda d: d["analysis"].update(plane="strain")),
+    ("a thickness in space", lambda d: d["analysis"].update(thickness=1.0)),
+    ("an edge in space", lambda d: d["bc"][0].update(edge="bottom")),
+    ("a 2D generator in space", lambda d: d["body"][1]["mesh"].update(generator="block")),
+    ("a 2D contact kind in space", lambda d: d["contact"][0].update(kind="node_to_segment")),
+    ("a point of two numbers in space",
+     lambda d: d["body"][1]["mesh"].update(focus=[0.0, 0.0])),
+])
+def test_the_keys_of_the_plane_are_flagged_in_a_3d_case(validator, what, change):
+    """Issue 38: the schema accepted 2D keys in a 3D case; the validator refuses each of them
+    (tests/case/test_case_validation.py), and so does an editor now."""
+    assert not list(validator.iter_errors(_broken_3d(lambda d: None)))
+    assert list(validator.iter_errors(_broken_3d(change))), what
+
+
+@pytest.mark.parametrize("what, change", [
+    ("a face in the plane", lambda d: d["bc"][0].update(face="bottom")),
+    ("a 3D contact kind in the plane", lambda d: d["contact"][0].update(kind="rigid_plane")),
+])
+def test_the_keys_of_space_are_flagged_in_a_2d_case(validator, what, change):
+    assert list(validator.iter_errors(_broken(change))), what
+
+
 def test_solver_keys_carry_the_engines_defaults():
     """The [solver] keys are the engine's (rust/src/options.rs), default and meaning included."""
     from slipstep._engine import option_specs
 
-    solver = json_schema.case_schema()["properties"]["solver"]["properties"]
     specs = {s["key"]: s for s in option_specs()}
-    assert set(solver) == set(specs) == set(schema.SOLVER_KEYS)
-    for key, s in specs.items():
-        assert solver[key]["default"] == s["default"] and solver[key]["description"] == s["doc"]
+    for branch in ("then", "else"):  # 3D, 2D
+        solver = json_schema.case_schema()[branch]["properties"]["solver"]["properties"]
+        assert set(solver) == set(specs) == set(schema.SOLVER_KEYS)
+        for key, s in specs.items():
+            assert solver[key]["default"] == s["default"]
+            assert solver[key]["description"] == s["doc"]

@@ -95,6 +95,26 @@ def test_new_copies_a_shipped_case_under_its_new_name(tmp_path, source):
         {k: v for k, v in original.data["case"].items() if k != "name"}
     text = (tmp_path / "mine.toml").read_text()
     assert text.count("#") == shipped.path(source).read_text().count("#")
+    for rel in shipped.referenced_files(original.data):  # the meshes and surfaces it names
+        assert (tmp_path / rel).read_bytes() == (shipped.path(source).parent / rel).read_bytes()
+
+
+def test_a_new_case_that_names_a_surface_file_is_checked_where_it_was_written(tmp_path):
+    """Issue 38: `new --from boussinesq_punch_3d` left its flat_punch_3d.stl behind, and the
+    copy failed with "no such surface file"."""
+    proc = slipstep("new", "vickers", "--from", "boussinesq_punch_3d", cwd=tmp_path)
+    assert "(with flat_punch_3d.stl beside it)" in proc.stdout, proc.stderr
+    proc = slipstep("check", "vickers.toml", cwd=tmp_path)
+    assert proc.returncode == 0 and proc.stdout.startswith("vickers: "), proc.stderr
+
+
+def test_new_keeps_a_different_file_of_the_same_name_and_names_the_fix(tmp_path):
+    (tmp_path / "flat_punch_3d.stl").write_text("mine")
+    line = one_error_line(slipstep("new", "vickers", "--from", "boussinesq_punch_3d",
+                                   cwd=tmp_path))
+    assert line.startswith("flat_punch_3d.stl exists and differs from the file")
+    assert not (tmp_path / "vickers.toml").exists()
+    assert (tmp_path / "flat_punch_3d.stl").read_text() == "mine"
 
 
 def test_new_keeps_an_existing_file_and_names_the_fix(tmp_path):

@@ -82,6 +82,42 @@ def test_node_to_node_contact_is_an_error_naming_the_limit(tmp_path, capsys):
                  "--set", "body.punch.mesh.h=1.0", "--set", "body.foundation.mesh.h=1.0"])
     assert code == 2
     assert "node-to-node" in capsys.readouterr().err
+    assert not (tmp_path / "tb").exists()  # issue 38: the exchanged mesh was left behind
+
+
+def test_a_refused_case_leaves_an_existing_folder_as_it_was(tmp_path, capsys):
+    out = tmp_path / "tb"
+    out.mkdir()
+    (out / "mine.txt").write_text("kept")
+    code = main(["crosscheck", str(CASES / "two_blocks.toml"), "--out", str(out),
+                 "--set", "body.punch.mesh.h=1.0", "--set", "body.foundation.mesh.h=1.0"])
+    assert code == 2 and sorted(p.name for p in out.iterdir()) == ["mine.txt"]
+
+
+def test_the_form_compiler_s_log_lines_are_not_printed(capsys):
+    """dolfinx compiles a form through distutils, which sets the root logger to INFO and logs
+    each compiler call: on a first run (an empty JIT cache) the terminal filled with
+    ``INFO:root`` lines.  Here those calls are made as distutils makes them, inside the seam
+    every form compilation goes through."""
+    import logging
+
+    from slipstep.fenicsx.dolfinx_api import quiet_compiler
+
+    root = logging.getLogger()
+    level = root.level
+    handler = logging.StreamHandler()  # what logging.basicConfig (ffcx's) adds
+    root.addHandler(handler)
+    try:
+        with quiet_compiler():
+            root.setLevel(logging.INFO)  # distutils' set_verbosity(1)
+            logging.info("gcc -pthread -c _cffi_form.c")
+            logging.warning("a warning still shows")
+        assert root.level == level
+        logging.info("after compiling: the root logger's own level again")
+    finally:
+        root.removeHandler(handler)
+    err = capsys.readouterr().err
+    assert "gcc" not in err and "a warning still shows" in err
 
 
 def test_bad_steps_are_an_error(capsys):

@@ -71,7 +71,9 @@ def test_the_summary_reports_the_full_contact(quarter):
     assert abs(s["total_normal_force"] / full_p - 1) <= 0.2
     assert math.isclose(s["peak_pressure"], P0, rel_tol=1e-12)  # the node at r = 0
     assert s["n_stick"] == int((r < C).sum()) and s["n_slip"] == int(((r >= C) & (r < A)).sum())
-    assert "contact radius" in one_line(s) and "stick radius" in one_line(s)
+    # the stand-in's case is frictionless (mu = 0, the default): its line names no stick zone
+    assert "contact radius" in one_line(s) and "stick" not in one_line(s)
+    assert "stick radius" in one_line(dict(s, frictionless=False))
     assert math.isclose(s["max_von_mises"], math.sqrt(50.0 ** 2 + 3 * 10.0 ** 2), rel_tol=1e-12)
 
 
@@ -184,7 +186,7 @@ def test_slipstep_run_of_a_3d_scene_through_a_stand_in_engine(quarter, monkeypat
     assert f["u"].shape == (n, 3) and f["stress"].shape == (m, 6)
     assert f["lambda_t"].shape == (p, 2) and f["tangential_stress"].shape == (p, 3)
     assert np.allclose(f["pressure"] * scene.pair_area, result["snapshots"][0]["lambda_n"])
-    assert r.profile()["x"].shape == (p, 3)
+    assert r.profile()["position"].shape == (p, 3) and r.profile()["y"].shape == (p,)
     mesh = r.to_meshio()
     assert mesh.cells[0].type == "tetra" and mesh.points.shape == (n, 3)
     assert set(r.figures()) == {"contact_area", "contact_pressure_line"}

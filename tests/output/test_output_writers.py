@@ -90,10 +90,12 @@ def test_the_summary_line_names_and_units_its_quantities(hertz):
     a, c, p0 = s["contact_half_width"], s["stick_half_width"], s["peak_pressure"]
     h = s["hertz"]
     for part in ("f = 1 load fraction", f"a = {a:.4g} mm contact half-width",
-                 f"c = {c:.4g} mm stick half-width", f"p0 = {p0:.4g} MPa peak pressure",
+                 f"p0 = {p0:.4g} MPa peak pressure",
                  f"(Hertz a = {h['a_hertz_at_final']:.4g} mm, p0 = "
                  f"{h['p0_hertz_at_final']:.4g} MPa)"):
         assert part in line, (part, line)
+    assert s["frictionless"] and "stick" not in line  # mu = 0: no stick zone to name
+    assert f"c = {c:.4g} mm stick half-width" in one_line(dict(s, frictionless=False))
     bare = one_line(dict(s, units={}))
     assert f"a = {a:.4g} contact half-width" in bare and "mm" not in bare and "MPa" not in bare
 

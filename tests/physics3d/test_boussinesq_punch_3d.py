@@ -61,6 +61,6 @@ def test_the_supports_carry_the_punch_force(run):
     # the quarter's base reaction (z) balances the punch's force
     assert math.isclose(4 * reaction[:, 2].sum(), punch_force(run, snap), rel_tol=EQUILIBRIUM_TOL)
     prof = run.profile()
-    r = np.hypot(prof["x"][:, 0], prof["x"][:, 1])
+    r = np.hypot(prof["x"], prof["y"])
     assert (prof["status"][r < A - H] > 0).all() and (prof["pressure"][r < A - H] > 0).all()
     assert (prof["status"][r > A + H] == 0).all()

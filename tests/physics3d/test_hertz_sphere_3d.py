@@ -73,7 +73,7 @@ def test_contact_radius_and_peak_pressure_against_hertz(run3d):
 @needs_gmsh
 def test_pressure_profile_against_hertz(run3d):
     prof = run3d.profile()
-    r = np.hypot(prof["x"][:, 0], prof["x"][:, 1])
+    r = np.hypot(prof["x"], prof["y"])
     inside = r < 0.8 * A
     assert inside.sum() >= 10  # nodes enough for an rms
     dev = (prof["pressure"][inside] - P0 * np.sqrt(1 - (r[inside] / A) ** 2)) / P0
@@ -91,7 +91,7 @@ def test_the_same_scene_as_its_axisymmetric_run(run3d, run_axi):
     # the axisymmetric profile, interpolated at the 3D nodes' radii, within 0.8 a
     a_prof = contact_profile(run_axi.scene, run_axi.raw["snapshots"][-1])
     prof = run3d.profile()
-    r = np.hypot(prof["x"][:, 0], prof["x"][:, 1])
+    r = np.hypot(prof["x"], prof["y"])
     inside = r < 0.8 * A
     ref = np.interp(r[inside], a_prof["x"], a_prof["pressure"])
     assert math.sqrt(np.mean(((prof["pressure"][inside] - ref) / P0) ** 2)) <= H / A

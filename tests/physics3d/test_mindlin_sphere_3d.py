@@ -154,7 +154,7 @@ def test_sheared_at_45_degrees_the_stick_zone_is_mindlins_disc(diagonal):
     prof = m["profile"]
     stick = prof["status"] == 1
     area = np.asarray(result.scene.pair_area)[prof["pair"]][stick]
-    centre, moments = second_moments(prof["x"][stick], area)
+    centre, moments = second_moments(prof["position"][stick], area)
     assert np.linalg.norm(centre) <= HS45
     assert moments[0] / moments[1] - 1 <= 4 * HS45 / s["stick_radius"]
 

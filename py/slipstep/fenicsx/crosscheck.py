@@ -17,8 +17,10 @@ pressures are forces over ``scene.pair_area`` (the ring areas there).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
+import shutil
 import time
 from pathlib import Path
 
@@ -198,12 +200,40 @@ def run(case_path, out: str | Path, overrides=(), steps=DEFAULT_STEPS, substeps:
     dolfinx results (``dolfinx.xdmf``, written by dolfinx)."""
     from ..case import load_case
     from ..build import build_scene
-    from .exchange import read_dolfinx, write_scene_xdmf
 
     t0 = time.perf_counter()
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     scene = build_scene(load_case(case_path, overrides))
+    n_pairs = int(len(scene.model["pairs"]["node_a"]))
+    if n_pairs and scene.dimension == 3:
+        raise NotImplementedError(
+            f"{scene.case.name}: the 3D cross-check compares the bulk (no [[contact]]); the "
+            f"contact replay is planar and axisymmetric: remove the contacts (and load the body "
+            f"by [[bc]]) to cross-check its bulk")
+    with _removed_on_failure(Path(out)) as out:
+        return _compared(scene, out, steps, substeps, t0)
+
+
+@contextlib.contextmanager
+def _removed_on_failure(out: Path):
+    """``out`` (created when missing); the files a failed comparison wrote there (the exchanged
+    mesh, say, when the replay refuses the scene) are removed, and the folders it created."""
+    made = [p for p in (out, *out.parents) if not p.exists()]  # the deepest first
+    out.mkdir(parents=True, exist_ok=True)
+    before = set(out.iterdir())
+    try:
+        yield out
+    except BaseException:
+        for path in set(out.iterdir()) - before:
+            shutil.rmtree(path) if path.is_dir() else path.unlink()
+        for folder in made:
+            folder.rmdir()
+        raise
+
+
+def _compared(scene, out: Path, steps, substeps: int, t0: float) -> dict:
+    """:func:`run` on a built scene, into the folder ``out``."""
+    from .exchange import read_dolfinx, write_scene_xdmf
+
     write_scene_xdmf(scene, out / "mesh.xdmf")
     dm = read_dolfinx(out / "mesh.xdmf")
     bulk = BulkProblem(scene, dm)
@@ -211,11 +241,6 @@ def run(case_path, out: str | Path, overrides=(), steps=DEFAULT_STEPS, substeps:
               "n_nodes": len(scene.nodes), "n_elements": len(scene.elements),
               "n_pairs": int(len(scene.model["pairs"]["node_a"])),
               "plane": scene.model.get("plane", "none (3D)"), "plastic": is_plastic(scene)}
-    if report["n_pairs"] and scene.dimension == 3:
-        raise NotImplementedError(
-            f"{scene.case.name}: the 3D cross-check compares the bulk (no [[contact]]); the "
-            f"contact replay is planar and axisymmetric: remove the contacts (and load the body "
-            f"by [[bc]]) to cross-check its bulk")
     if report["n_pairs"]:
         rep = contact_replay(scene, bulk, substeps)
         report["mode"] = "contact replay" + (" (elastoplastic)" if rep["plastic"] else "")

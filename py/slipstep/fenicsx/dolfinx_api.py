@@ -17,6 +17,8 @@ Serial only (one MPI process): the package's maps are built from process-local n
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import re
 import warnings
 from dataclasses import dataclass
@@ -271,7 +273,8 @@ def expression(ufl_expr, W):
     points = W.element.interpolation_points
     if _uses("interpolation_points") == "method":
         points = points()
-    return require_dolfinx().fem.Expression(ufl_expr, points)
+    with quiet_compiler():
+        return require_dolfinx().fem.Expression(ufl_expr, points)
 
 
 def interpolate(func, expr) -> None:
@@ -284,7 +287,31 @@ def compile_form(form):
     """A compiled form (``fem.form``); a form compiled already is returned as it is."""
     fem = require_dolfinx().fem
     compiled = fem.Form if _uses("compiled_form") == "Form" else fem.FormMetaClass
-    return form if isinstance(form, compiled) else fem.form(form)
+    if isinstance(form, compiled):
+        return form
+    with quiet_compiler():
+        return fem.form(form)
+
+
+class _WarningsOnly(logging.Filter):
+    def filter(self, record: logging.LogRecord) -> bool:
+        return record.levelno >= logging.WARNING
+
+
+@contextlib.contextmanager
+def quiet_compiler():
+    """dolfinx compiles a new form with cffi through distutils, whose log is the root logger:
+    it sets that logger to INFO and logs every compiler call, which ffcx's logging.basicConfig
+    prints as ``INFO:root:...`` lines on a first run.  While compiling, the root logger passes
+    warnings and errors only, and its level is restored after."""
+    root = logging.getLogger()
+    level, quiet = root.level, _WarningsOnly()
+    root.addFilter(quiet)
+    try:
+        yield
+    finally:
+        root.removeFilter(quiet)
+        root.setLevel(level)
 
 
 def assemble_matrix(form):

@@ -14,6 +14,7 @@ from ..mesh import MeshError
 from ..options import solver_options
 from ..references import effective_modulus, hertz_sphere
 from ..scene import Scene, contact_names, materials, merged_bodies
+from ..snapshot_plan import requested, step_bytes
 from ..supports import supports
 from ..validation.scene import check_duplicate_nodes, check_pairs_not_held
 from . import generators
@@ -84,7 +85,6 @@ def build_space_scene(case, body_meshes: dict[str, TetMesh], given=()) -> Scene:
         "fixed_dofs": fixed,
         "load": load_vector(scene) if not path.staged else load_force(scene, path.head),
         "pairs": pairs,
-        "options": solver_options(case),
         "body_names": list(bodies),
         "element_body": element_body,
         "contact_names": contact_names(case),
@@ -92,6 +92,8 @@ def build_space_scene(case, body_meshes: dict[str, TetMesh], given=()) -> Scene:
     set_load_path(scene, path)
     check_pairs_not_held(scene)
     scene.reference = hertz_sphere_reference(scene)
+    # "auto" snapshots are sized by the scene's time step in results.h5 (slipstep.snapshot_plan)
+    scene.model["options"] = solver_options(case, requested(case, step_bytes(scene)))
     return scene
 
 

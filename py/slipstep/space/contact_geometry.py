@@ -156,11 +156,31 @@ def _rigid_pairs(scene, c: dict, key: str) -> dict:
                  f"check the obstacle's side or normal ({what})")
     check_gaps(scene, a, gap, c["tolerance"], key, fix)
     check_outside(scene, a, n, gap, c["tolerance"], key, what)
+    if c["kind"] == "rigid_surface" and c["indenter"]:
+        check_indenter_size(scene, c, key, float(gap.min()))
     gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
     return {"node_a": a, "node_b": np.full(len(a), -1, dtype=np.int64), "normal": n,
             "gap": gap, "area": tributary_areas(scene.nodes, face, a),
             "foot": np.tile([-1.0, -1.0, -1.0, 0.0, 0.0, 0.0], (len(a), 1)),
             "point_gap": np.full(len(a), np.nan)}
+
+
+def check_indenter_size(scene, c: dict, key: str, gap: float) -> None:
+    """A pyramid must stand higher than it is pressed in: its depth is its tip's largest travel
+    down the path (the motion's -z times the factor, largest at a stage end) less its starting
+    gap; a base at ``size`` above the tip within that depth would enter the body."""
+    path = scene.case.path
+    index = next(i for i, x in enumerate(scene.case.data["contact"]) if x is c)
+    load = next((x for x in path.loads if x.array == "contact" and x.index == index), None)
+    if load is None:
+        return
+    column = path.names.index(load.label)
+    depth = max(-row[column] * c["motion"][2] for row in path.factors) - max(gap, 0.0)
+    if depth >= c["size"]:
+        raise scene.case.error(f"{key}.size", f"= {c['size']:g} is not allowed: the "
+                               f"{c['indenter']} pyramid is pressed {depth:.4g} deep, deeper "
+                               f"than its height above the tip: its base would enter the body; "
+                               f"give size > {depth:.4g} (e.g. {2 * depth:.3g})")
 
 
 def _plane(scene, c, key, a):

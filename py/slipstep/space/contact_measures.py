@@ -111,7 +111,9 @@ def mirror_planes(scene, index: int) -> list[tuple[int, float]]:
             axis = int(np.argmin(np.ptp(points, axis=0)))
             side = mine[:, axis] - points[0, axis]
             if ((side >= -tol).all() or (side <= tol).all()) and (np.abs(side) <= tol).any():
-                planes.add((axis, float(points[0, axis])))
+                # on the tolerance's grid: a plane of two bodies is one plane though a mesh
+                # file puts its nodes at 1e-16 and the other's at 0
+                planes.add((axis, float(np.round(points[0, axis] / tol) * tol)))
         per_body.append(planes)
     return sorted(set.intersection(*per_body)) if per_body and len(mine) else []
 
@@ -184,6 +186,8 @@ def recovered_peak(scene, profile: dict, index: int, radius: float) -> float:
     _, e1, e2 = contact_frame(scene, index)
     x, p = mirrored_points(scene, index, profile["x"][mine], profile["pressure"][mine])
     top = int(np.argmax(p))
+    if len(p) < 12:  # no window of 12 nodes (one closed node has no spacing either)
+        return float(p[top])
     plane = (x - x[top]) @ np.stack([e1, e2]).T
     distance = np.linalg.norm(plane, axis=1)
     spacing = float(np.median(np.sort(distance)[1:7]))

@@ -104,5 +104,13 @@ def merged_surface(points: np.ndarray, triangles: np.ndarray, where: str):
     if degenerate.any():
         k = int(np.argmax(degenerate))
         raise MeshError(f"{where}: triangle {k} has two equal corners: remove it")
+    corners = points[first][tris]
+    twice_area = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0],
+                                         corners[:, 2] - corners[:, 0]), axis=1)
+    flat = twice_area <= 1e-12 * size * size  # three distinct corners on one line
+    if flat.any():
+        k = int(np.argmax(flat))
+        raise MeshError(f"{where}: triangle {k} has no area (its corners lie on one line, so "
+                        f"it has no normal): remove it")
     used, tris = np.unique(tris, return_inverse=True)
     return points[first][used], tris.reshape(-1, 3)

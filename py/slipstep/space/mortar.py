@@ -62,9 +62,10 @@ def clip(polygon: np.ndarray, triangle: np.ndarray) -> np.ndarray:
 def _barycentric(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
     """Barycentric coordinates (K, 3) of points (K, 3) of a triangle's plane."""
     e1, e2 = tri[1] - tri[0], tri[2] - tri[0]
-    gram = np.array([[e1 @ e1, e1 @ e2], [e1 @ e2, e2 @ e2]])
-    rhs = np.stack([(points - tri[0]) @ e1, (points - tri[0]) @ e2], axis=1)
-    v, w = np.linalg.solve(gram, rhs.T)
+    g11, g12, g22 = e1 @ e1, e1 @ e2, e2 @ e2  # the Gram matrix, solved by Cramer's rule
+    r1, r2 = (points - tri[0]) @ e1, (points - tri[0]) @ e2
+    det = g11 * g22 - g12 * g12
+    v, w = (g22 * r1 - g12 * r2) / det, (g11 * r2 - g12 * r1) / det
     return np.column_stack([1.0 - v - w, v, w])
 
 
@@ -169,17 +170,31 @@ def node_to_surface_rows(nodes, contactor, target, candidates, min_area) -> dict
         return _assembled(rows, nodes, target, np.zeros((0, 3)), [], min_area)
     n_c, _ = triangle_normals(nodes, contactor)
     n_t, _ = triangle_normals(nodes, target)
-    reach = closest_points(nodes[contactor].mean(axis=1), nodes, target)["distance"]
+    reach = _reach(nodes[contactor].mean(axis=1), nodes[np.unique(target)])
+    boxes = (nodes[target].min(axis=1), nodes[target].max(axis=1),
+             float(np.ptp(nodes[target].reshape(-1, 3), axis=0).max()))
     for i, tc in enumerate(contactor):
-        _project(rows, nodes, tc, n_c[i], target, n_t, reach[i])
+        _project(rows, nodes, tc, n_c[i], target, n_t, reach[i], boxes)
     return _assembled(rows, nodes, target, n_t, candidates, min_area)
 
 
-def _project(rows: _Rows, nodes, tc, n_c, target, n_t, reach: float) -> None:
+def _reach(points: np.ndarray, corners: np.ndarray, block: int = 512) -> np.ndarray:
+    """The distance of each point to the nearest target corner: no less than its distance to
+    the target surface, so the boxes it grows hold every triangle that one would."""
+    out = np.empty(len(points))
+    squared = np.einsum("vk,vk->v", corners, corners)
+    for start in range(0, len(points), block):
+        p = points[start:start + block]
+        d2 = np.einsum("pk,pk->p", p, p)[:, None] - 2.0 * p @ corners.T + squared[None]
+        out[start:start + block] = np.sqrt(np.maximum(d2.min(axis=1), 0.0))
+    return out
+
+
+def _project(rows: _Rows, nodes, tc, n_c, target, n_t, reach: float, boxes) -> None:
     """Add to ``rows`` the pieces of contactor triangle ``tc`` over the target triangles near
-    it (their boxes within ``reach``, its distance from the target, and its own size)."""
-    low_t, high_t = nodes[target].min(axis=1), nodes[target].max(axis=1)
-    size = float(np.ptp(nodes[target].reshape(-1, 3), axis=0).max())
+    it (their boxes ``boxes``: low and high corners and the target's size, within ``reach``,
+    no less than its distance from the target, and its own size)."""
+    low_t, high_t, size = boxes
     margin = reach + np.ptp(nodes[tc], axis=0).max() + 1e-9 * size
     low, high = nodes[tc].min(axis=0) - margin, nodes[tc].max(axis=0) + margin
     near = np.flatnonzero((high_t >= low).all(axis=1) & (low_t <= high).all(axis=1))

@@ -25,7 +25,7 @@ _TYPE_HELP = {
     "vec3": "three numbers, e.g. [0.0, 0.0, 1.0]",
     "box": "four numbers [x0, y0, x1, y1], e.g. [0.0, -15.0, 15.0, 0.0]",
     "axes": 'a list of "x"/"y", e.g. ["x", "y"]',
-    "snapshots": '"events" or a list of load fractions',
+    "snapshots": '"auto", "events" or a list of load fractions',
     "xy": "an inline table of numbers x and/or y, e.g. {x = 0.0, y = -0.1}",
     "factors": "an inline table of load names and numbers, e.g. {load = 1.0}",
     "points": "a list of [x, y] points, e.g. [[0.0, 1.0], [10.0, 1.0]]",
@@ -36,6 +36,12 @@ _TYPE_HELP = {
 #: shape the refined block (refine_box) too: a structured block refuses them when given.
 GRADED_ONLY = ("contact_zone", "focus", "uniform_edges")
 GRADED_OR_REFINED = ("h_max", "growth")
+#: The least yield strain Sy/E a material is given with: below it E and Sy are in different
+#: units (Validator.yield_strain).
+LEAST_YIELD_STRAIN = 1e-5
+#: The magnitudes the engine takes E, Sy and H in (rust/src/material.rs, MAGNITUDES); beyond
+#: them it refuses the value with its own message, which names that fix.
+ENGINE_MAGNITUDES = (1e-50, 1e50)
 
 
 def inert_keys(data: dict) -> dict[str, tuple]:
@@ -294,6 +300,7 @@ class Validator:
                                               "E and nu")
         body["material"] = self.table(raw["material"], MATERIAL_KEYS, "[body.material]",
                                       f"{sub}material.")
+        self.yield_strain(body["material"], f"{sub}material.")
         if "mesh" not in raw:
             choices = " or ".join(toml_text(g) for g in MESH_VARIANTS
                                   if generator_dimension(g) == self.dimension)
@@ -301,6 +308,21 @@ class Validator:
                                           f'{choices}, or file = "..."')
         body["mesh"] = self.mesh(raw["mesh"], f"{sub}mesh.")
         return body
+
+    def yield_strain(self, material: dict, prefix: str) -> None:
+        """A yield stress no material has beside its E: Sy/E below :data:`LEAST_YIELD_STRAIN`
+        (lead's and annealed copper's are ~3e-4) is E and Sy in different units (E in Pa, Sy in
+        MPa gives 1e-9).  A large Sy stays allowed: it keeps a body elastic.  Values beyond the
+        engine's magnitudes are left to its own message."""
+        low, high = ENGINE_MAGNITUDES
+        if material["Sy"] is None or not all(low <= material[k] <= high for k in ("E", "Sy")):
+            return
+        if material["Sy"] < LEAST_YIELD_STRAIN * material["E"]:
+            raise self.fail(prefix + "Sy", f"= {material['Sy']:g} is not allowed: it is "
+                                           f"{material['Sy'] / material['E']:.3g} of E = "
+                                           f"{material['E']:g}, a yield strain Sy/E below "
+                                           f"{LEAST_YIELD_STRAIN:g} that no material has: give E "
+                                           f"and Sy in the same units (e.g. both in MPa)")
 
     def mesh(self, raw, prefix: str) -> dict:
         if not isinstance(raw, dict):
