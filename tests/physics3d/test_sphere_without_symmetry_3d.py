@@ -12,11 +12,14 @@ gaps up to 5 mm, far beyond the approach, so they cannot close.
    Hertz's): the approach delta = a^2/R measured on the axis as in test_hertz_sphere_3d.py
    (shortening from the contact point to d a, interpolated in the tetrahedra, plus Huber's
    half-space below) at d = 1 and 1.5, inside the fine zone (0.4 mm = 1.6 a), within (h/a)^2
-   (second order: 0.96 % at h = 0.025, a/h = 10); the contact radius within one spacing h of
+   (second order: 1.0 % at h = 0.025, a/h = 10); the contact radius within one spacing h of
    a and the peak pressure within h/a of p0 (the node-spacing bounds of test_hertz_sphere_3d);
    the flat's force equal to the cut's reaction and every stress state balanced, to the
    equilibrium tolerance (1e-9).  The far field is coarse (growth 0.5 per mm, h_max 10 mm):
-   it stiffens the sphere's bulk, which only changes P, and P is measured.
+   it stiffens the sphere's bulk, which only changes P, and P is measured.  Measured: the
+   approach +0.06 % and -0.29 % at a and 1.5 a; with every E x 1.05 or x 0.95
+   (tests/mutate_3d.py) -0.84/-1.66 % and +1.03/+1.19 %, both rejected, the latter narrowly:
+   the E check with margin is test_hertz_sphere_3d.py's, on its finer mesh.
 2. The same scene with every coordinate rotated (mesh nodes, the flat's point, normal and
    motion) by a rotation about no coordinate axis: the discrete problem is the same, so the
    answers must be the rotated ones: u -> Q u, sigma -> Q sigma Q^T, and lambda_n, gaps,
