@@ -9,10 +9,15 @@ without the compiled engine, against numbers known in advance.
 from __future__ import annotations
 
 import contextlib
+import importlib
 import math
+import os
+import re
+import shutil
 import signal
 import sys
 import tomllib
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -70,6 +75,90 @@ def mesh_cache_of_the_session(tmp_path_factory):
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("SLIPSTEP_CACHE", str(tmp_path_factory.mktemp("mesh_cache")))
         yield
+
+
+# --------------------------------------------------------------------------- enforced skips
+#: What `make test` installs and some tests skip without, in one place: name -> (kind, source).
+#: kind "module" (importable in the venv) or "program" (on PATH); source (list, package): the
+#: line of ci/requirements.txt (pip) or ci/apt-packages.txt (apt) that brings it, or the
+#: package of those lists it comes with.  On a machine where one of them is missing, a skip
+#: whose reason names it is a failure (``enforce_skip``), and so is
+#: tests/package/test_enforced_dependencies.py: `make test` cannot go green without them.  Skips
+#: for anything else stay skips (PyPI unreachable, a test wanting more MPI ranks).
+ENFORCED = {
+    "gmsh": ("module", ("pip", "gmsh")),
+    "hypothesis": ("module", ("pip", "hypothesis")),
+    "jupytext": ("module", ("pip", "jupytext")),
+    "nbclient": ("module", ("pip", "nbclient")),
+    "nbformat": ("module", ("pip", "jupytext")),      # jupytext's dependency
+    "jsonschema": ("module", ("pip", "jupytext")),    # nbformat's dependency
+    "ipywidgets": ("module", ("pip", "ipywidgets")),
+    "matplotlib": ("module", ("pip", "matplotlib")),
+    "dolfinx": ("module", ("apt", "python3-dolfinx")),
+    "meshio": ("module", ("apt", "python3-meshio")),
+    "h5py": ("module", ("apt", "python3-h5py")),
+    "scipy": ("module", ("apt", "python3-scipy")),
+    "getfem": ("module", ("apt", "python3-getfem")),
+    "petsc4py": ("module", ("apt", "python3-petsc4py")),
+    "mpi4py": ("module", ("apt", "python3-dolfinx")),
+    "slipstep._engine": ("module", ("make", "build")),
+    "pvpython": ("program", ("apt", "python3-paraview")),
+    "mpirun": ("program", ("apt", "mpi-default-bin")),
+}
+
+#: Dependencies a developer knowingly lacks, comma-separated (e.g. "pvpython,getfem"): their
+#: skips stay skips.  `make test` unsets it.
+ALLOW_MISSING = "SLIPSTEP_ALLOW_MISSING"
+
+
+@cache
+def available(name: str) -> bool:
+    """Whether an ENFORCED dependency is there: the module imports (not merely found: a broken
+    installation counts as missing), the program is on PATH."""
+    kind, _ = ENFORCED[name]
+    if kind == "program":
+        return shutil.which(name) is not None
+    try:
+        importlib.import_module(name)
+    except Exception:
+        return False
+    return True
+
+
+def missing_named(reason: str, is_available=available) -> list[str]:
+    """The ENFORCED dependencies that ``reason`` (a skip's text) names and that are missing
+    (and not allowed to be, SLIPSTEP_ALLOW_MISSING)."""
+    allowed = {n.strip() for n in os.environ.get(ALLOW_MISSING, "").split(",") if n.strip()}
+    named = [n for n in ENFORCED if re.search(rf"(?<![\w.]){re.escape(n)}(?!\w)", reason)]
+    return [n for n in named if n not in allowed and not is_available(n)]
+
+
+def enforce_skip(report, is_available=available) -> None:
+    """Turn a skipped test or collector report into a failure when its reason names a missing
+    dependency that `make test` installs (ENFORCED)."""
+    if not report.skipped or hasattr(report, "wasxfail"):
+        return
+    longrepr = report.longrepr
+    reason = longrepr[2] if isinstance(longrepr, tuple) else str(longrepr)
+    missing = missing_named(reason, is_available)
+    if missing:
+        sources = ", ".join(f"{n} ({ENFORCED[n][1][0]}: {ENFORCED[n][1][1]})" for n in missing)
+        report.outcome = "failed"
+        report.longrepr = (f"skipped for want of what `make test` installs: {sources}; install it "
+                           f"(make setup), or name it in {ALLOW_MISSING} on a machine that "
+                           f"cannot have it.  The skip's reason: {reason}")
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    outcome = yield
+    enforce_skip(outcome.get_result())
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_make_collect_report(collector):
+    outcome = yield
+    enforce_skip(outcome.get_result())
 
 
 def _has_gmsh() -> bool:

@@ -197,3 +197,42 @@ def mindlin_stand_in(scene, a: float, c: float, p0: float, mu: float, stress=Non
             "n_solves": 1, "n_rate_problems": 0, "interrupted": False, "stop_reason": None,
             "stop": {"kind": "completed", "message": None, "load_fraction": 1.0, "t": 1.0},
             "timings": {}}
+
+
+def displacement_at(nodes: np.ndarray, tets: np.ndarray, u: np.ndarray,
+                    points: np.ndarray) -> np.ndarray:
+    """The displacement of linear tetrahedra at ``points`` (K, 3): in each point's element (the
+    one whose smallest barycentric coordinate is largest, >= -1e-9: a point on a shared face or
+    edge reads the same value from every element there), u interpolated linearly.  Raises if a
+    point lies outside the mesh."""
+    nodes, u = np.asarray(nodes, dtype=float), np.asarray(u, dtype=float).reshape(-1, 3)
+    x = nodes[tets]                                             # (M, 4, 3)
+    jac = np.transpose(x[:, 1:] - x[:, :1], (0, 2, 1))          # columns x_k - x_0
+    out = []
+    for p in np.atleast_2d(points):
+        lam = np.linalg.solve(jac, (p - x[:, 0])[:, :, None])[:, :, 0]   # (M, 3)
+        bary = np.column_stack([1.0 - lam.sum(axis=1), lam])             # (M, 4)
+        e = int(np.argmax(bary.min(axis=1)))
+        if bary[e].min() < -1e-9:
+            raise ValueError(f"point {p} lies outside the mesh")
+        out.append(bary[e] @ u[tets[e]])
+    return np.array(out)
+
+
+def hertz_approach_errors(nodes, tets, u, P: float, R: float, E: float, nu: float,
+                          origin, inward, depths) -> list[float]:
+    """Relative errors of the approach of a sphere (radius R, E, nu) pressed by P onto a rigid
+    flat, measured as in tests/physics/test_axisymmetric_hertz.py but in space: the shortening
+    of the axis from the contact point ``origin`` to the depth d a along ``inward`` (the unit
+    normal into the sphere), (u(origin) - u(origin + d a inward)) . inward, interpolated in the
+    tetrahedra, plus Huber's half-space shortening below d a
+    (``references.sphere_axis_compression``), against Hertz's delta = a^2/R, for each d in
+    ``depths``.  The mesh need not have nodes on the axis."""
+    from slipstep import references
+
+    a, p0, delta = references.hertz_sphere(P, R, E, nu)
+    origin, inward = np.asarray(origin, dtype=float), np.asarray(inward, dtype=float)
+    points = origin + np.outer([0.0, *depths], inward) * a
+    w = displacement_at(nodes, tets, u, points) @ inward
+    return [float((w[0] - w[k + 1] + references.sphere_axis_compression(d, nu) * p0 * a / E)
+                  / delta - 1.0) for k, d in enumerate(depths)]

@@ -6,6 +6,8 @@ Each ``tests/case/bad_inputs/NN_name.toml`` starts with comment lines
     # expect: word | word | ...        (all must appear in the error line)
     # args: --set KEY=VALUE ...        (optional: extra command-line arguments)
     # out: under-file | is-file        (optional: --out is below / is a regular file)
+    # xfail: what slipstep does instead (optional: a known gap, strict: it fails once fixed,
+    #        and then the line goes)
 
 and may use mesh files beside it.  ``slipstep run CASE --out DIR`` must exit with 2 and print
 exactly one stderr line ``slipstep: error: ...`` containing every expected word (the place and
@@ -16,6 +18,7 @@ the fix), with no traceback and no panic, and must leave what was already in the
 from __future__ import annotations
 
 import os
+import re
 import shlex
 import subprocess
 import sys
@@ -25,6 +28,11 @@ import pytest
 
 CATALOGUE = Path(__file__).resolve().parent / "bad_inputs"
 CASES = sorted(CATALOGUE.glob("*.toml"))
+#: The catalogue's size when last counted: an entry that goes missing fails (entries are added,
+#: never dropped; raise this with them).
+SIZE = 170
+#: Of them in space (``dimension = 3``): the 3D front's own checks.
+SIZE_3D = 56
 
 
 def header(path: Path) -> dict:
@@ -36,7 +44,7 @@ def header(path: Path) -> dict:
         if not line.startswith("#"):
             break
         key, sep, value = line[1:].partition(":")
-        if sep and key.strip() in ("bad", "expect", "args", "out"):
+        if sep and key.strip() in ("bad", "expect", "args", "out", "xfail"):
             meta[key.strip()] = value.strip()
     return meta
 
@@ -56,8 +64,13 @@ def slipstep(*args, cwd: Path) -> subprocess.CompletedProcess:
                           capture_output=True, text=True, errors="replace", timeout=120)
 
 
+def in_space(path: Path) -> bool:
+    return re.search(rb"^dimension\s*=\s*3\b", path.read_bytes(), re.M) is not None
+
+
 def test_the_catalogue_is_complete():
-    assert len(CASES) >= 30
+    assert len(CASES) >= SIZE, f"{SIZE - len(CASES)} catalogue entries went missing"
+    assert sum(map(in_space, CASES)) >= SIZE_3D
     for case in CASES:
         meta = header(case)
         assert meta.get("bad"), f"{case.name}: no '# bad:' line"
@@ -65,7 +78,13 @@ def test_the_catalogue_is_complete():
         assert meta.get("out", "") in ("", "under-file", "is-file"), case.name
 
 
-@pytest.mark.parametrize("case", CASES, ids=[c.stem for c in CASES])
+def entry(case: Path):
+    known = header(case).get("xfail")
+    marks = [pytest.mark.xfail(strict=True, reason=known)] if known else []
+    return pytest.param(case, id=case.stem, marks=marks)
+
+
+@pytest.mark.parametrize("case", [entry(c) for c in CASES])
 def test_bad_input_gives_one_clear_line(case: Path, tmp_path: Path):
     meta = header(case)
     expect = [w.strip() for w in meta["expect"].split("|") if w.strip()]

@@ -1,6 +1,7 @@
 """The GetFEM peer of `make bench` (bench/getfem_hertz.py) solves slipstep's Hertz scene.
 
-GetFEM (Debian python3-getfem) is installed for the bench only: without it these tests skip.
+GetFEM (Debian python3-getfem) is installed by `make test` (ci/apt-packages.txt): without it
+these tests skip, and the skip fails the run (tests/conftest.py, ENFORCED).
 Both codes read the same mesh (slipstep's generator, written by slipstep.mesh_files.write_msh), so:
 
 * frictionless and elastic, the two solve the *same* discrete problem (CST stiffness, nodal

@@ -1,7 +1,7 @@
 """The 3D GetFEM peer of `make bench` (bench/getfem_hertz_3d.py) solves slipstep's own 3D Hertz
 scene (cases/hertz_sphere_3d.toml) on the same mesh, read from the .msh slipstep's scene is
-written to.  GetFEM (Debian python3-getfem) is installed for the bench only: without it this
-skips.
+written to.  GetFEM (Debian python3-getfem) is installed by `make test` (ci/apt-packages.txt):
+on a machine without it this skips, and the skip fails the run (tests/conftest.py, ENFORCED).
 
 Frictionless and elastic, the two codes solve the *same* discrete problem: linear tetrahedra
 (exact stiffness), the same symmetry rows, the same consistent load on the cut (A/3 per corner,
