@@ -13,10 +13,12 @@
 //! it was; off the main thread Python never raises KeyboardInterrupt anyway.
 //!
 //! [`TestTrigger`]: `SLIPSTEP_TEST_INTERRUPT=event=N` raises a real SIGINT in the process once
-//! the run has recorded N events (`=end`: after its last increment), so that tests interrupt at
-//! a known event instead of racing a clock.
+//! the run has recorded N events (`=end`: after its last increment; `=NAME:N`: at the N-th pass
+//! of the engine's checkpoint NAME inside an increment, `slipstep_core::interrupt::Checkpoint`,
+//! e.g. `lcp_pivot:50`), so that tests interrupt at a known place instead of racing a clock.
 
 use pyo3::prelude::*;
+use slipstep_core::interrupt::Checkpoint;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// Set by the chained handler; cleared when the event loop hands the signal to Python.
@@ -30,6 +32,7 @@ static WATCHING: AtomicBool = AtomicBool::new(false);
 /// The handler put in front of Python's: note the signal, then let Python record it.
 extern "C" fn on_sigint(sig: libc::c_int, info: *mut libc::siginfo_t, context: *mut libc::c_void) {
     RECEIVED.store(true, Ordering::SeqCst);
+    slipstep_core::interrupt::request(); // seen at the engine's next checkpoint, in any phase
     let previous = PREVIOUS.load(Ordering::SeqCst);
     if previous == 0 {
         return;
@@ -121,10 +124,16 @@ pub struct TestTrigger {
 
 impl TestTrigger {
     pub const VARIABLE: &'static str = "SLIPSTEP_TEST_INTERRUPT";
+    /// `SLIPSTEP_TEST_PANIC=NAME:N`: a panic at the N-th pass of checkpoint NAME, as an engine bug
+    /// would (tests of the failure path: an InternalError with the results so far).
+    pub const PANIC: &'static str = "SLIPSTEP_TEST_PANIC";
 
     pub fn from_env() -> TestTrigger {
         let value = std::env::var(Self::VARIABLE).unwrap_or_default();
         let at_event = value.strip_prefix("event=").and_then(|n| n.trim().parse().ok());
+        let at_checkpoint = |value: &str| value.split_once(':').and_then(|(name, n)| Some((Checkpoint::named(name.trim())?, n.trim().parse().ok()?)));
+        let panic = std::env::var(Self::PANIC).ok().and_then(|v| at_checkpoint(&v)).map(|(at, after)| (at, after, panic_here as fn()));
+        slipstep_core::interrupt::arm(at_checkpoint(&value).map(|(at, after)| (at, after, raise_sigint as fn())).or(panic));
         TestTrigger { at_event, at_end: value.trim() == "end" }
     }
 
@@ -142,6 +151,10 @@ impl TestTrigger {
             raise_sigint();
         }
     }
+}
+
+fn panic_here() {
+    panic!("a test panic ({})", TestTrigger::PANIC);
 }
 
 fn raise_sigint() {

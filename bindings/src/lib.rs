@@ -13,6 +13,7 @@ use slipstep_core::mesh::Mesh;
 use slipstep_core::error::ErrorKind;
 use slipstep_core::model::*;
 use slipstep_core::options;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 mod interrupt;
@@ -422,45 +423,110 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
 /// Ctrl-C (SIGINT, also a KeyboardInterrupt the callback raises) stops the run the same way at
 /// the next increment; one that arrives during the last increment, when nothing is left to
 /// stop, is reported as `stop.late_interrupt` with the complete result. Any other exception the
-/// callback raises stops the run and is re-raised.
+/// callback raises stops the run and is re-raised. Inside an increment that takes long (a
+/// rate problem, say) the callback is called with the last increment's progress at most every
+/// `max(report_interval, PULSE_S)` seconds, and Ctrl-C stops the run there too.
+///
+/// A run that fails inside its loop raises its error (`slipstep.errors`) with the results up to
+/// its last completed increment as the exception's `result` (the same dict); a panic (an
+/// engine bug) is an `InternalError`, never a Rust panic.
 #[pyfunction]
 #[pyo3(signature = (model, progress = None, report_interval = 0.1))]
 fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: Option<Bound<'py, PyAny>>, report_interval: f64) -> PyResult<Bound<'py, PyDict>> {
-    let callback = progress_callback(progress)?;
+    let reporting = Arc::new(Reporting { callback: progress_callback(progress)?, last: Mutex::new(None), failure: Mutex::new(None) });
     let model = read_model(model).map_err(|e| malformed(py, e))?;
-    let mut failure: Option<PyErr> = None;
+    slipstep_core::interrupt::clear();
     let watch = interrupt::Watch::start(py);
     let mut trigger = interrupt::TestTrigger::from_env();
+    let pulsing = reporting.clone();
+    slipstep_core::interrupt::pulse(Some((Box::new(move || pulsing.pulse()), report_interval.max(PULSE_S))));
     let result = py.detach(|| {
         let mut last_report = Instant::now();
-        slipstep_core::run(&model, |p: Progress| {
-            trigger.after_increment(p.events);
-            if !watch.take() && last_report.elapsed().as_secs_f64() < report_interval {
-                return true;
-            }
-            last_report = Instant::now();
-            Python::attach(|py| report(py, callback.as_ref(), &p)).unwrap_or_else(|e| {
-                failure = Some(e);
-                false
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            slipstep_core::run(&model, |p: Progress| {
+                trigger.after_increment(p.events);
+                *lock(&reporting.last) = Some(p);
+                slipstep_core::interrupt::touch();
+                if !watch.take() && last_report.elapsed().as_secs_f64() < report_interval {
+                    return true;
+                }
+                last_report = Instant::now();
+                reporting.report(&p)
             })
-        })
+        }))
     });
+    slipstep_core::interrupt::pulse(None);
+    slipstep_core::interrupt::arm(None);
+    slipstep_core::interrupt::clear();
     trigger.at_end();
     drop(watch);
-    if let Some(e) = failure {
+    let result = result.map_err(|panic| python_error(py, &engine_bug(panic.as_ref())))?;
+    if let Some(e) = lock(&reporting.failure).take() {
         if !e.is_instance_of::<PyKeyboardInterrupt>(py) {
             return Err(e);
         }
     }
-    let late = matches!(result, Ok(ref r) if r.stop == StopReason::Completed) && pending_interrupt(py)?;
-    let out = match result {
-        Ok(r) => result_to_dict(py, r)?,
-        Err(e) => return Err(python_error(py, &e)),
-    };
+    let r = result.map_err(|e| python_error(py, &e))?;
+    match &r.stop {
+        StopReason::Interrupted { .. } => {
+            pending_interrupt(py)?; // taken where a checkpoint inside an increment saw it first
+        }
+        StopReason::Failed { error, .. } => {
+            let raised = python_error(py, error);
+            raised.value(py).setattr("result", result_to_dict(py, r.clone())?)?;
+            return Err(raised);
+        }
+        _ => {}
+    }
+    let late = r.stop == StopReason::Completed && pending_interrupt(py)?;
+    let out = result_to_dict(py, r)?;
     if late {
         out.get_item("stop")?.expect("result_to_dict writes stop").set_item("late_interrupt", true)?;
     }
     Ok(out)
+}
+
+/// Progress inside an increment is reported at most this often (s), whatever `report_interval`.
+const PULSE_S: f64 = 0.25;
+
+/// The progress callback and what it has seen, shared by the event loop's reports and the
+/// engine's pulse inside long increments.
+struct Reporting {
+    callback: Option<Py<PyAny>>,
+    /// The last increment's progress (None before the first).
+    last: Mutex<Option<Progress>>,
+    /// An exception the callback raised (the run stops).
+    failure: Mutex<Option<PyErr>>,
+}
+
+impl Reporting {
+    /// Report `p` with the GIL; false (stop the run) when the callback asks or raised.
+    fn report(&self, p: &Progress) -> bool {
+        Python::attach(|py| report(py, self.callback.as_ref(), p)).unwrap_or_else(|e| {
+            *lock(&self.failure) = Some(e);
+            false
+        })
+    }
+
+    /// Inside a long increment: report the last progress; a stop asked then stops the engine at
+    /// its next checkpoint.
+    fn pulse(&self) {
+        let p = lock(&self.last).unwrap_or(Progress { steps: 0, events: 0, t: 0.0 });
+        if !self.report(&p) {
+            slipstep_core::interrupt::request();
+        }
+    }
+}
+
+/// A mutex's value, also after a panic poisoned it.
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// A panic outside the event loop (which turns its own into a failed stop) as the bug it is.
+fn engine_bug(payload: &(dyn std::any::Any + Send)) -> slipstep_core::Error {
+    let what = payload.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| payload.downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown".into());
+    slipstep_core::Error::new(ErrorKind::Internal, format!("an engine bug stopped the run before it began ({what}); please report it with the case"))
 }
 
 /// A Ctrl-C that arrived during the last increment, when nothing was left to stop: taken here
@@ -520,6 +586,7 @@ fn python_error(py: Python<'_>, e: &slipstep_core::Error) -> PyErr {
         ErrorKind::Equilibrium => "EquilibriumError",
         ErrorKind::IllPosed => "IllPosedError",
         ErrorKind::Internal => "InternalError",
+        ErrorKind::Interrupted => "InternalError", // never raised: an interrupted run returns
     };
     let raised = py.import("slipstep.errors").and_then(|m| m.getattr(class)).and_then(|c| c.call1((e.message.clone(),)));
     match raised {
@@ -531,6 +598,14 @@ fn python_error(py: Python<'_>, e: &slipstep_core::Error) -> PyErr {
 
 #[pymodule]
 fn _engine(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // A panic is caught and raised as an InternalError naming it; Rust's own report on stderr
+    // (two lines and a backtrace hint) only with SLIPSTEP_TRACE, for diagnosis.
+    let rust_report = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if slipstep_core::error::tracing() {
+            rust_report(info);
+        }
+    }));
     m.add_function(wrap_pyfunction!(solve, m)?)?;
     m.add_function(wrap_pyfunction!(option_specs, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

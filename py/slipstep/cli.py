@@ -29,7 +29,7 @@ import sys
 
 from . import ranks, shipped
 from .case import load_case
-from .errors import InputError, SlipstepError
+from .errors import InputError, InternalError, SlipstepError
 from .build import build_scene
 from .runner import run_case
 from .snapshot_plan import predicted_text
@@ -131,7 +131,7 @@ def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     try:
         return _command(args)
-    except SlipstepError as exc:
+    except (SlipstepError, InternalError) as exc:
         if os.environ.get("SLIPSTEP_TRACEBACK"):
             raise
         return _error(str(exc))

@@ -4,8 +4,9 @@ Every :class:`SlipstepError` is meant for the user: its message is one line that
 place (case key, body, contact, element) and the fix; ``slipstep`` prints it as
 ``slipstep: error: <message>`` and exits with 2.  The compiled engine raises the classes of
 this module too (``slipstep._engine.solve`` imports it), one per kind of core error.
-:class:`InternalError` is not a SlipstepError: it is a bug, and the command line lets its
-traceback through.
+:class:`InternalError` is not a SlipstepError: it is a bug, which the command line reports in
+one line too.  An error inside the engine's event loop comes with the results up to there
+(the exception's ``result``; ``slipstep run`` writes them).
 """
 
 from __future__ import annotations
@@ -61,8 +62,9 @@ class EngineMissing(SlipstepError, RuntimeError):
 
 
 class InternalError(RuntimeError):
-    """A bug in slipstep (an invariant of the engine broke).  Not a SlipstepError: the command
-    line shows its traceback; please report it with the case."""
+    """A bug in slipstep (an invariant of the engine broke, or a panic in it).  Not a
+    SlipstepError (no fix of the user's makes it go away): the command line prints its one line
+    (``SLIPSTEP_TRACEBACK=1``: the traceback); please report it with the case."""
 
 
 __all__ = ["CaseError", "EngineMissing", "EquilibriumError", "FreeBodyError", "GrossSlidingError",

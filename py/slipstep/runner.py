@@ -90,10 +90,13 @@ def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | 
     cylinder; :func:`as_case`), or a prepared Scene.  ``progress``: True (a tqdm bar), False,
     or a callable ``f(slipstep.progress.Progress)`` that may return False to stop the run.
 
-    Ctrl-C (a notebook's interrupt too) stops the engine at the next increment and the partial
-    result is returned, like a run that ended early otherwise (``result.stop["kind"]``:
+    Ctrl-C (a notebook's interrupt too) stops the engine within its current phase and the
+    partial result is returned, like a run that ended early otherwise (``result.stop["kind"]``:
     interrupted, limit_load, event_bound, support_lost); its files are written like a complete
-    run's.
+    run's.  A run that fails inside its event loop (an error of :mod:`slipstep.errors`, an
+    engine bug as ``InternalError``) writes its results up to its last completed increment the
+    same way, then raises the error, its message naming the case and where the results are,
+    with that partial :class:`Result` as the exception's ``result``.
 
     A case with ``[solver] factorization = "mumps"`` run under ``mpirun -n N`` runs on every
     rank (:mod:`slipstep.ranks`); only rank 0 writes ``out``.
@@ -111,11 +114,14 @@ def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | 
     writers = _load_writers(scene, out, figures, xdmf)
     try:
         raw = solve(scene, progress)
-    except BaseException:
+    except BaseException as exc:
         # A daemon thread still inside an extension's import when the interpreter exits is
         # stopped in C code, which can abort the process instead of the error's clean exit.
         writers.join()
-        raise
+        partial = getattr(exc, "result", None)
+        if not isinstance(partial, dict):
+            raise
+        raise _failed(exc, scene, partial, out, figures, xdmf, start) from None
     with _WritingFirst() as ctrl_c:
         result = Result(scene, raw, summarize(scene, raw, wall_time_s=time.perf_counter() - start))
         if out is not None:
@@ -129,6 +135,21 @@ def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | 
     if ctrl_c.received:
         raw["stop"]["late_interrupt"] = True
     return result
+
+
+def _failed(exc: BaseException, scene: Scene, raw: dict, out, figures, xdmf, start: float):
+    """The engine's failure inside its loop, its results so far (``raw``) written to ``out``
+    like an early stop's: the same exception, its message naming the case, the path time of
+    the last completed increment and the folder, with the partial Result as ``result``."""
+    result = Result(scene, raw, summarize(scene, raw, wall_time_s=time.perf_counter() - start))
+    where = f"results up to t = {raw['stop']['t']:.6g}"
+    if out is not None:
+        write_results(out, scene, raw, result.summary, figures, xdmf)
+        result.out = Path(out)
+        where += f" in {out}"
+    failure = type(exc)(f"{scene.case.name}: {exc} ({where})")
+    failure.result = result
+    return failure
 
 
 class _WritingFirst:

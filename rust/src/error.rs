@@ -24,6 +24,8 @@ pub enum ErrorKind {
     IllPosed,
     /// A broken invariant of the engine itself: a bug.
     Internal,
+    /// A stop was requested from outside (`interrupt`): not a failure, the run ends there.
+    Interrupted,
 }
 
 impl ErrorKind {
@@ -36,6 +38,7 @@ impl ErrorKind {
             ErrorKind::Equilibrium => "equilibrium",
             ErrorKind::IllPosed => "ill_posed",
             ErrorKind::Internal => "internal",
+            ErrorKind::Interrupted => "interrupted",
         }
     }
 }

@@ -56,6 +56,8 @@ pub enum LcpFailure {
     PivotLimit { pivots: usize },
     /// M or q contains NaN/inf, or the dimensions disagree.
     BadInput,
+    /// A stop was requested (`interrupt`) while it pivoted.
+    Interrupted { pivots: usize },
 }
 
 #[derive(Debug, Clone)]
@@ -209,6 +211,9 @@ impl Tableau {
         while leaving != z0 {
             if pivots >= max_pivots {
                 return Err(LcpFailure::PivotLimit { pivots });
+            }
+            if crate::interrupt::checkpoint(crate::interrupt::Checkpoint::LcpPivot).is_err() {
+                return Err(LcpFailure::Interrupted { pivots });
             }
             let entering = if leaving < self.n {
                 leaving + self.n

@@ -28,7 +28,8 @@
 //! - [`lcp`]: Lemke's method for the zero-length rate problem;
 //! - [`model`]: input records and their validation; [`options`]: the solver options, declared
 //!   once (key, default, range, meaning); [`records`]: output records;
-//! - [`error`]: typed errors, one kind per failure.
+//! - [`error`]: typed errors, one kind per failure; [`interrupt`]: stopping a run from outside
+//!   in every phase.
 
 pub mod contact;
 pub mod coulomb;
@@ -39,6 +40,7 @@ pub mod element;
 pub mod error;
 pub mod events;
 pub mod factor;
+pub mod interrupt;
 pub mod linalg;
 pub mod low_rank;
 pub mod material;

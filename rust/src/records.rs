@@ -141,6 +141,9 @@ pub enum StopReason {
     SupportLost { load_fraction: f64, stage: String, what: String, fix: String },
     /// The progress callback asked to stop (Ctrl-C).
     Interrupted { load_fraction: f64 },
+    /// The run failed at path time `load_fraction` (a lost equilibrium, an ill-posed scene, an
+    /// engine bug): the results up to the last completed increment are kept.
+    Failed { load_fraction: f64, error: crate::error::Error },
 }
 
 impl StopReason {
@@ -152,6 +155,7 @@ impl StopReason {
             StopReason::EventBound { .. } => "event_bound",
             StopReason::SupportLost { .. } => "support_lost",
             StopReason::Interrupted { .. } => "interrupted",
+            StopReason::Failed { .. } => "failed",
         }
     }
 
@@ -162,6 +166,7 @@ impl StopReason {
             StopReason::EventBound { load_fraction, max_steps, busiest } => Some(format!("the event loop reached max_events = {max_steps} increments at load fraction {load_fraction:.6} (most switching: {busiest}); the results up to there are kept: raise solver.max_events or coarsen the mesh")),
             StopReason::SupportLost { load_fraction, stage, what, fix } => Some(format!("support lost at t = {load_fraction:.6} ({stage}): {what}; no equilibrium exists beyond this load; the results up to there are kept: {fix}")),
             StopReason::Interrupted { load_fraction } => Some(format!("interrupted at load fraction {load_fraction:.6}; the results up to there are kept")),
+            StopReason::Failed { error, .. } => Some(error.message.clone()),
             StopReason::Completed | StopReason::FirstYield => None,
         }
     }

@@ -84,7 +84,7 @@ mod trial;
 mod window;
 
 use crate::contact::Status;
-use crate::error::Result;
+use crate::error::{Error, ErrorKind, Result};
 use crate::events::Candidate;
 use crate::model::{EventKind, Model, Options, Progress, RunResult, StopReason};
 use anticycling::AntiCycling;
@@ -104,7 +104,10 @@ use window::Window;
 
 /// Run the procedure on a model, stage by stage along its load path (`path`); `progress` is
 /// called after every increment and stops the run (keeping the results so far) when it returns
-/// false.
+/// false, as a request through `interrupt` does in any phase. A model or scene the engine
+/// refuses before any load is applied (a free body, a load beyond friction at t = 0) is an
+/// error; a later failure (and a panic: an engine bug) ends the run as a
+/// `StopReason::Failed` with the results of the increments completed.
 pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<RunResult> {
     model.validate()?;
     let clock = Clock::new();
@@ -112,21 +115,46 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     let mut state = eng.initial_state();
     let mut rec = Recorder::new(&mut eng, &state)?;
     let mut cycles = AntiCycling::new(eng.problem.pairs.len(), eng.problem.loop_elements(), model.options.max_zero_length_switches);
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_path(&mut eng, &mut state, &mut rec, &mut cycles, &mut progress)));
+    let t = state.time();
+    if let Ok(Err(e)) = &outcome {
+        if t == 0.0 && e.kind != ErrorKind::Interrupted && !crate::interrupt::requested() {
+            return Err(e.clone()); // refused before any load was applied: nothing to keep
+        }
+    }
+    let (stop, settled) = match outcome {
+        Ok(Ok(stop)) => (stop, true),
+        // (a failure after a stop was requested is the request's doing: a rate problem cut
+        // short freezes pairs)
+        Ok(Err(e)) if e.kind == ErrorKind::Interrupted || crate::interrupt::requested() => (StopReason::Interrupted { load_fraction: t }, false),
+        Ok(Err(error)) => (StopReason::Failed { load_fraction: t, error }, false),
+        Err(panic) => (StopReason::Failed { load_fraction: t, error: engine_bug(panic.as_ref(), t) }, false),
+    };
+    rec.finish(eng, &state, stop, settled, cycles.rate_problems)
+}
+
+/// The stages of the load path in turn (`path`), each from the state the last one left.
+fn run_path(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &mut AntiCycling, progress: &mut impl FnMut(Progress) -> bool) -> Result<StopReason> {
     // The internal force of the state's stresses, from its equilibrium check, for the next trial.
     let mut internal = None;
-    let mut stop = StopReason::Completed;
     for k in 0..eng.problem.path.n_stages() {
         if k > 0 {
-            eng.begin_stage(k, &mut state); // the next stage's remaining load, from this state
+            eng.begin_stage(k, state); // the next stage's remaining load, from this state
             rec.stage = k;
             cycles.load_advanced();
         }
-        stop = run_stage(&mut eng, &mut state, &mut rec, &mut cycles, &mut internal, &mut progress)?;
+        let stop = run_stage(eng, state, rec, cycles, &mut internal, progress)?;
         if stop != StopReason::Completed {
-            break;
+            return Ok(stop);
         }
     }
-    rec.finish(eng, &state, stop, cycles.rate_problems)
+    Ok(StopReason::Completed)
+}
+
+/// A panic inside the loop as the failure it is: a broken invariant of the engine.
+fn engine_bug(payload: &(dyn std::any::Any + Send), t: f64) -> Error {
+    let what = payload.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| payload.downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown".into());
+    Error::new(ErrorKind::Internal, format!("an engine bug stopped the run at t = {t:.6} ({what}); please report it with the case"))
 }
 
 /// What the loop carries from one increment of a stage to the next.
@@ -185,6 +213,7 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         trial::remaining_load(eng, state, internal.take(), stage.stepping)? // eq. 44
     };
     while slip_turn::direct_unloaded_slips(eng, state, &trial, cycles, rec, &mut stage.correction)? {
+        crate::interrupt::checkpoint(crate::interrupt::Checkpoint::UnloadedTurn)?;
         let _t = eng.clock.time(Phase::Solves);
         (trial, base) = trial::remaining_load(eng, state, None, stage.stepping)?; // 3D: a slip at zero force took its direction
     }

@@ -333,6 +333,7 @@ pub(super) fn correct_at_fixed_load(eng: &mut Engine, state: &mut State, phi: f6
     let mut corrected = Corrected::default();
     let unfrozen = vec![false; eng.problem.pairs.len()];
     for step in 0..MAX_CORRECTION_EVENTS {
+        crate::interrupt::checkpoint(crate::interrupt::Checkpoint::Correction)?;
         let mut c = trial::solve(eng, state, Solve::Balance(phi), internal.take())?;
         if direct_new_slips(eng, state, &c).0 {
             c = trial::solve(eng, state, Solve::Balance(phi), None)?; // 3D: a slip begun at zero force took its direction

@@ -74,7 +74,7 @@ use super::state::State;
 use super::stiffness::Stiffness;
 use super::trial::{self, Solve};
 use crate::contact::{SparseVec, Status};
-use crate::lcp::{lemke_with_covering, LcpSolution};
+use crate::lcp::{lemke_with_covering, LcpFailure, LcpSolution};
 use nalgebra::{DMatrix, DVector};
 
 /// A force below this × Σ|load| counts as zero: the pair is critical (or open, in a solution).
@@ -217,6 +217,7 @@ pub(super) fn solve_rate_problem(eng: &mut Engine, state: &State, what: Solve) -
     // Facets laid about stray slips (`stray_slips`), pass after pass, until none is left.
     let mut laid = vec![vec![]; eng.problem.pairs.len()];
     for pass in 1.. {
+        crate::interrupt::checkpoint(crate::interrupt::Checkpoint::RateProblem).ok()?;
         let rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads, laid };
         let solved = rp.solve(state, &oob)?;
         let sol = rp.statuses(state, &solved);
@@ -689,8 +690,12 @@ fn lemke_restarted(m: &DMatrix<f64>, q: &DVector<f64>) -> Option<LcpSolution> {
     let mut seed = COVERING_SEED;
     (0..=COVERING_RESTARTS).find_map(|attempt| {
         let d = DVector::from_fn(n, |_, _| if attempt == 0 { 1.0 } else { covering_entry(&mut seed) });
-        lemke_with_covering(m, q, &d, max_pivots).ok()
+        match lemke_with_covering(m, q, &d, max_pivots) {
+            Err(LcpFailure::Interrupted { .. }) => Some(None), // no restart: the run stops
+            attempt => attempt.ok().map(Some),
+        }
     })
+    .flatten()
 }
 
 /// Covering vectors tried after d = 1, their seed and the range of their entries.

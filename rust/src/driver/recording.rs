@@ -237,10 +237,11 @@ impl Recorder {
     }
 
     /// The final snapshot (for requested fractions, and for runs that stopped early) and the
-    /// result.
-    pub fn finish(mut self, mut eng: Engine, state: &State, stop: StopReason, rate_problems: usize) -> Result<RunResult> {
+    /// result; `settled`: the state is an increment's end (not one a failure or an interrupt
+    /// inside an increment left), whose fields make that snapshot.
+    pub fn finish(mut self, mut eng: Engine, state: &State, stop: StopReason, settled: bool, rate_problems: usize) -> Result<RunResult> {
         let early = !matches!(stop, StopReason::Completed | StopReason::FirstYield);
-        if early || !self.every_event {
+        if settled && (early || !self.every_event) {
             if self.snapshots.last().map_or(true, |s| (s.time - state.time()).abs() > SAME_FRACTION) {
                 let last = self.snapshot(&mut eng, state, None)?;
                 self.snapshots.push(last);
