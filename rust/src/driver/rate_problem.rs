@@ -29,7 +29,7 @@
 //! # In space (3D): the round cone faceted for this problem only
 //!
 //! The same problem with Λt = (Λt1, Λt2) and the cone |Λt| ≤ μΛn replaced by a polygon of
-//! `FACETS` = 12 sides (Klarbring's / Stewart and Trinkle's faceted cone): side j has the
+//! `FACETS` sides (Klarbring's / Stewart and Trinkle's faceted cone): side j has the
 //! outward normal d_j in the tangent plane, its condition μΛn − d_jᵀΛt ≥ 0, and its own slip
 //! rate v_j ≥ 0, slip against its normal:
 //!   v + Σ_j v_j d_j = 0 (Λt free),   0 ≤ v_j ⊥ μΛn − d_jᵀΛt ≥ 0
@@ -40,13 +40,17 @@
 //! round cone is on that side exactly, so a slipping pair keeps its direction. A side a force
 //! is not on has present slack and is not reachable at the increment's start (its slip rate is
 //! 0): in space it is no unknown (in the plane it keeps one, its row that slack, as the other
-//! side there always did). Only a pair at zero force sees the polygon's other sides: there the polygon
-//! over-estimates the round capacity by at most 1/cos(π/12) − 1 = 3.5 % at its corners (an
-//! inscribed one would under-estimate by 1 − cos(π/12) = 3.4 %, but would put every pair on
-//! the round cone outside it, infeasible at the start); a stuck force there beyond the round
-//! cone is the round cone's stick → slip event at the next selection. Twelve sides keep that
-//! within a few per cent at 14 unknowns per zero-force pair; the slip direction is not limited
-//! to the sides' normals (two adjacent sides slip along any direction between them).
+//! side there always did). Only a pair at zero force sees the polygon's other sides: a square,
+//! 6 unknowns per zero-force pair (an inscribed one would put every pair on the round cone
+//! outside it, infeasible at the start). Its corners over-estimate the round capacity by
+//! 1/cos(π/4) − 1 = 41 %, and its sides are wider than the facet design's band, so a pair the
+//! solution sticks beyond the round cone, or slips with a force across its slip beyond the
+//! band, gets the sides of the polygon laid about its direction and the problem is solved
+//! again (`stuck_beyond_round_cone`, `stray_slips`): only where the solution needs them. With
+//! twelve sides (3.5 % at the corners, 14 unknowns per pair) the pad of issue 37, 258 pairs at
+//! zero gap and force at t = 0, made LCPs of 3354 unknowns (~40 s each on this machine); with
+//! the square, 1290–1587 (2.4–4.2 s), the same statuses after the passes (144 stuck, 62
+//! slipping against 143/63: one pair of the solution's 258 at its cone's edge).
 //!
 //! The hand-back to the facet design of friction (`coulomb`): the statuses the LCP picks
 //! become the pairs' statuses, and a pair it sets slipping slips on the side it slips on, at the
@@ -86,8 +90,9 @@ const GAP_ROUND_OFF: f64 = 1e-12;
 const SLIP_RATE: f64 = 1e-9;
 /// Lemke's pivot bound: this × (LCP size) + 100.
 const PIVOTS_PER_VARIABLE: usize = 50;
-/// Facets of the round Coulomb cone in the 3D rate problem (see the module documentation).
-pub(super) const FACETS: usize = 12;
+/// Sides of the polygon about the round Coulomb cone of a pair at zero force in the 3D rate
+/// problem (see the module documentation): a square, refined where the solution needs it.
+pub(super) const FACETS: usize = 4;
 /// Solves of the 3D rate problem, facets laid about stray slips between them.
 const FACET_PASSES: usize = 4;
 /// Two sides' normals are adjacent on a polygon when their dot product is within this of
