@@ -191,6 +191,20 @@ impl Coulomb {
         exit.or((shear_rate > mu * dln).then_some(0.0))
     }
 
+    /// Stick → slip in the plane (eqs. 52–53), on either side of the cone: λ_t reaching +μ λ_n
+    /// slips along −t (d = −1), −μ λ_n along +t (d = 1); (d, S) of each side the increment
+    /// moves towards.
+    pub fn planar_onset_scales(&self, (ln, lt): (f64, f64), (dln, dlt): (f64, f64), noise: f64) -> Vec<(i8, f64)> {
+        let mu = self.mu;
+        [(-1i8, 1.0), (1, -1.0)]
+            .into_iter()
+            .filter_map(|(direction, side)| {
+                let den = side * dlt - mu * dln;
+                (den > noise).then(|| (direction, (mu * ln - side * lt) / den))
+            })
+            .collect()
+    }
+
     /// A pair slipping on the facet with cross direction e⊥ = `cross`: where its cross force
     /// λ_⊥ = e⊥·λ_t reaches ± tan θ μ λ_n (the vertex on that side), linear in S on either side
     /// as eqs. 52–53 in the plane: (side ±1, S) of each side the increment reaches.
@@ -208,8 +222,11 @@ impl Coulomb {
     }
 }
 
-/// θ = π/N for the smallest even N ≥ 4 with π/N ≤ `slip_turn`.
+/// θ = π/N for the smallest even N ≥ 4 with π/N ≤ `slip_turn` (0: the plane, no polygon).
 fn polygon_half_angle(slip_turn: f64) -> f64 {
+    if slip_turn <= 0.0 {
+        return 0.0;
+    }
     let half_sides = (std::f64::consts::FRAC_PI_2 / slip_turn).ceil().max(2.0); // a square at least
     std::f64::consts::FRAC_PI_2 / half_sides
 }
@@ -328,6 +345,17 @@ mod tests {
         assert!((1..100).all(|k| law.excess(Some((e, false)), ln, [lt[0] + s * k as f64 / 100.0 * dlt[0], lt[1] + s * k as f64 / 100.0 * dlt[1]]) < 0.0));
         assert!(at[0] < 0.0, "out on the reversed side: {at:?}");
         assert_eq!(law.polygon_exit_scale(e, false, (ln, lt), (1.0, [-0.1, 0.0]), 1e-14), None);
+    }
+
+    /// In the plane (eqs. 52–53): λ_n = 10, λ_t = 1, μ = 0.3, Δλ_n = 10, Δλ_t = 5 reaches
+    /// +μλ_n at 1 + 5S = 0.3(10 + 10S), S = 1, slipping along −t; turned round it reaches −μλ_n
+    /// at the same S; a rate into the cone reaches neither.
+    #[test]
+    fn in_the_plane_the_onset_is_where_the_force_reaches_a_side() {
+        let law = Coulomb::new(0.3, 0.0);
+        assert_eq!(law.planar_onset_scales((10.0, 1.0), (10.0, 5.0), 1e-14), vec![(-1, 1.0)]);
+        assert_eq!(law.planar_onset_scales((10.0, -1.0), (10.0, -5.0), 1e-14), vec![(1, 1.0)]);
+        assert!(law.planar_onset_scales((10.0, 1.0), (10.0, 1.0), 1e-14).is_empty());
     }
 
     /// The round cone (3D): the root lands on |λ_t| = μ λ_n (a pair inside going out; one on

@@ -138,15 +138,8 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                     }
                     (Status::Stick, _) if pair.frictional() => {
                         // Stick → slip, eqs. 52–53, on either side of the Coulomb cone.
-                        // Reaching λ_t = +μλ_n means slip in −t (d = −1), and vice versa.
-                        let mu = pair.mu;
-                        let den_plus = dlt - mu * dln;
-                        if den_plus > noise.force {
-                            push(&mut out, (mu * ln - lt) / den_plus, EventKind::StickToSlip, -1);
-                        }
-                        let den_minus = -dlt - mu * dln;
-                        if den_minus > noise.force {
-                            push(&mut out, (mu * ln + lt) / den_minus, EventKind::StickToSlip, 1);
+                        for (direction, s) in Coulomb::new(pair.mu, 0.0).planar_onset_scales((ln, lt), (dln, dlt), noise.force) {
+                            push(&mut out, s, EventKind::StickToSlip, direction);
                         }
                     }
                     (Status::Slip { direction }, _) if pair.mu > 0.0 => {

@@ -91,7 +91,7 @@ pub(super) fn check_contact(eng: &Engine, state: &State, frozen: &[bool], correc
         } else if closed && ln < -force_tol {
             format!("carries a tensile force {ln:.3e}")
         } else if closed && problem.friction_excess(state, p) > force_tol {
-            format!("violates Coulomb's law (|λ_t| = {lt:.3e} beyond its cone by {:.3e}, μλ_n = {:.3e})", problem.friction_excess(state, p), pair.mu * ln)
+            format!("violates Coulomb's law (|λ_t| = {lt:.3e} beyond its cone by {:.3e}, μλ_n = {:.3e})", problem.friction_excess(state, p), problem.coulomb(p).capacity(ln))
         } else {
             continue;
         };

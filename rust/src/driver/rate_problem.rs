@@ -416,7 +416,7 @@ impl RateProblem<'_> {
         let polygon = self.p.polygon_of(state, p).filter(|_| closed);
         let margin = match polygon {
             Some(_) => -self.p.friction_excess(state, p),
-            None => pair.mu * ln - norm(&lt),
+            None => self.p.coulomb(p).capacity(ln) - norm(&lt),
         };
         match (pair.frictional(), closed) {
             (false, true) => Role::Normal,
