@@ -220,8 +220,7 @@ impl Tableau {
             } else {
                 leaving - self.n
             };
-            self.refine(2 * self.n + 1);
-            self.refine(entering);
+            self.refine([2 * self.n + 1, entering]);
             let r = self
                 .leaving_row(entering)
                 .ok_or(LcpFailure::Ray { pivots })?;
@@ -300,20 +299,38 @@ impl Tableau {
         self.basic[r] = c;
     }
 
-    /// One step of iterative refinement of tableau column c = B⁻¹ x (x: its original column),
-    /// which pivoting alone lets drift: r = x − B (B⁻¹ x) from the original columns of the
-    /// basis, then B⁻¹ x += B⁻¹ r. O(n²), so exact ties stay ties to round-off.
-    fn refine(&mut self, c: usize) {
-        let mut r = self.t0.column(c).clone_owned();
+    /// One step of iterative refinement of tableau columns c = B⁻¹ x (x: their original
+    /// columns), which pivoting alone lets drift: r = x − B (B⁻¹ x) from the original columns of
+    /// the basis, then B⁻¹ x += B⁻¹ r. O(n²), so exact ties stay ties to round-off; the two
+    /// columns of a pivot (the right-hand side, the entering one) in one pass over the basis
+    /// and over B⁻¹, the tableau's memory traffic being its cost.
+    fn refine(&mut self, columns: [usize; 2]) {
+        let n = self.n;
+        let mut r = columns.map(|c| self.t0.column(c).clone_owned());
+        let x = columns.map(|c| self.t.column(c).clone_owned());
         for (k, &v) in self.basic.iter().enumerate() {
-            match v {
-                v if v < self.n => r[v] -= self.t[(k, c)], // w_v's original column is e_v
-                v => r.axpy(-self.t[(k, c)], &self.t0.column(v), 1.0),
+            if v < n {
+                r.iter_mut().zip(&x).for_each(|(r, x)| r[v] -= x[k]); // w_v's original column is e_v
+            } else {
+                let original = self.t0.column(v);
+                for (i, &m) in original.iter().enumerate() {
+                    r[0][i] -= x[0][k] * m;
+                    r[1][i] -= x[1][k] * m;
+                }
             }
         }
-        let correction = self.t.columns(0, self.n) * r;
-        for (i, dx) in correction.iter().enumerate() {
-            self.t[(i, c)] += dx;
+        let mut correction = [vec![0.0; n], vec![0.0; n]];
+        for (j, inverse) in self.t.as_slice()[..n * n].chunks_exact(n).enumerate() {
+            let (a, b) = (r[0][j], r[1][j]);
+            for (i, &v) in inverse.iter().enumerate() {
+                correction[0][i] += a * v;
+                correction[1][i] += b * v;
+            }
+        }
+        for (c, dx) in columns.into_iter().zip(&correction) {
+            for (i, d) in dx.iter().enumerate() {
+                self.t[(i, c)] += d;
+            }
         }
     }
 
