@@ -1,5 +1,5 @@
 """The 3D series of `make bench` (bench/run.py runs it as its series ``3d``): the targets of the
-3D engine, each run its own process (bench/run.py's ``run_child``: the whole process timed,
+3D engine, each run its own process (bench/processes.py's ``run_child``: the whole process timed,
 spawn to exit), one at a time.
 
   hertz     cases/hertz_sphere_3d.toml (the eighth sphere, elastic, frictionless) on the meshes
@@ -38,6 +38,8 @@ import json
 import math
 import time
 from pathlib import Path
+
+from processes import fmt, machine, pct, run_child
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -133,8 +135,6 @@ def series(sizes: dict, out: Path, timeout: float = TIMEOUT_S, keep=(),
     """Every run of ``specs(sizes)`` in its own process; results_3d.json rewritten after each,
     with the machine and code they ran on.  ``keep``: saved runs kept instead of run again
     (those of the same name and h), measured as ``kept_on`` says."""
-    import run as bench
-
     runs = list(keep)
     measured = measured_on() + (f"; the runs kept from before: {kept_on}" if keep and kept_on
                                 else "")
@@ -142,7 +142,7 @@ def series(sizes: dict, out: Path, timeout: float = TIMEOUT_S, keep=(),
     for spec in specs(sizes):
         if (spec["name"], spec["h"]) in done:
             continue
-        r = bench.run_child(spec, timeout)
+        r = run_child(spec, timeout)
         runs.append(r)
         print(line_of(r), flush=True)
         (out / "results_3d.json").write_text(json.dumps({"measured": measured, "runs": runs},
@@ -209,7 +209,6 @@ def getfem_runs(doc: dict | None) -> list[dict]:
 # --------------------------------------------------------------------------- report
 def section(runs: list[dict], gf_doc: dict | None) -> list[str]:
     """The 3D section of results.md: targets, then the tables."""
-    from run import fmt, pct
 
     gf = getfem_runs(gf_doc)
     L = ["## 3D targets (bench/series_3d.py)", "", "| target | measured | met |", "|---|---|---|"]
@@ -287,7 +286,6 @@ def sphere_section(doc: dict | None) -> list[str]:
         return ["No thick-sphere comparison with dolfinx (`bench/dolfinx_side_by_side.py --scene "
                 "sphere` writes it).", ""]
     from dolfinx_side_by_side import beyond
-    from run import fmt, pct
 
     def reached(hit: dict) -> str:
         return f"{beyond(hit)}{hit['N_interp']:.0f}, {beyond(hit)}{fmt(hit['t_interp'], '.3g')}"
@@ -321,7 +319,6 @@ def sphere_section(doc: dict | None) -> list[str]:
 
 
 def target_rows(runs: list[dict], gf: list[dict]) -> list[str]:
-    from run import fmt, pct
 
     rows = []
     big = [r for r in ok(runs, "hertz") if r["dofs"] >= TARGET_DOFS]
@@ -553,7 +550,6 @@ def main(argv=None) -> int:
 
 def measured_on() -> str:
     """The machine and the code now: saved with the runs as they are measured."""
-    from run import machine
 
     m = machine()
     return (f"{m['cpu']}, {m['cores']} cores, {m['ram_gib']} GiB RAM, shared with other jobs "
