@@ -105,6 +105,16 @@ def half_widths(contacts: dict[str, dict], sides: list[int]) -> dict:
             "stick_half_width": side * stick[far] if stick else 0.0}
 
 
+def circle_radii(widths: dict, axisymmetric: bool) -> dict:
+    """The half-widths, and in axisymmetry (a contact circle, as in 3D) the same numbers under
+    the keys of a circle in every dimension, ``contact_radius`` and ``stick_radius`` (the
+    half-width keys kept as aliases for one release)."""
+    if not (axisymmetric and widths):
+        return widths
+    return {**widths, "contact_radius": widths["contact_half_width"],
+            "stick_radius": widths["stick_half_width"]}
+
+
 def _space_contact_numbers(scene, result) -> dict:
     """The contact part of a 3D summary at the final snapshot: per contact its numbers, and for
     one contact its area, radii and resultants at the top level; totals over every contact."""
@@ -153,7 +163,7 @@ def _contact_numbers(scene, result) -> dict:
     return {
         "snapshot_load_fraction": float(last["load_fraction"]),
         "snapshot_t": snapshot_time(last),
-        **half_widths(contacts, sides),
+        **circle_radii(half_widths(contacts, sides), is_axisymmetric(scene.case)),
         "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
         "total_normal_force": float(np.sum(last["lambda_n"])),
         "total_tangential_force": float(np.sum(last["lambda_t"])),
