@@ -381,8 +381,8 @@ def contact_text(summary: dict, named: bool = False) -> str:
     and stick extents along s, in the case's length unit (``named``: a and c named); empty
     without contact.  A frictionless run has no stick zone: c is left out."""
     stick = not summary.get("frictionless", False)
-    for a_key, c_key, what in (("contact_half_width", "stick_half_width", "half-width"),
-                               ("contact_radius", "stick_radius", "radius")):
+    for a_key, c_key, what in (("contact_radius", "stick_radius", "radius"),
+                               ("contact_half_width", "stick_half_width", "half-width")):
         if a_key in summary:
             a = quantity(summary, summary[a_key], "length")
             c = quantity(summary, summary[c_key], "length")
