@@ -1,4 +1,4 @@
-"""The run's resultants along its path, one row per increment (issue 38): each contact's force
+"""The run's resultants along its path, one row per increment: each contact's force
 and moment, each support's reaction, the applied loads, the obstacles' motions and prescribed
 displacements, and the load-displacement curves of the loads that drive the run
 (``history.csv``, the summary's driving force, the load-depth and Q-delta figures).
