@@ -318,7 +318,19 @@ fn read_names(d: &Bound<'_, PyDict>) -> PyResult<Names> {
         Some(_) => i64_1d(d, "element_body")?.into_iter().map(|v| to_index(v, "element_body")).collect::<PyResult<_>>()?,
         None => vec![],
     };
-    Ok(Names { bodies: strings("body_names")?, element_body, contacts: strings("contact_names")? })
+    let supports = match d.get_item("support_dofs")? {
+        None => vec![],
+        Some(v) => {
+            let names = strings("support_names")?;
+            let groups: Vec<PyReadonlyArray1<i64>> = v.extract().map_err(|_| input_error("engine model: 'support_dofs' must be a list of int64 arrays"))?;
+            if groups.len() != names.len() {
+                return Err(input_error(format!("engine model: 'support_dofs' has {} groups for {} support_names", groups.len(), names.len())));
+            }
+            let dofs = groups.iter().map(|g| g.as_array().iter().map(|&v| to_index(v, "support_dofs")).collect::<PyResult<Vec<_>>>());
+            names.into_iter().zip(dofs).map(|(n, d)| Ok((n, d?))).collect::<PyResult<_>>()?
+        }
+    };
+    Ok(Names { bodies: strings("body_names")?, element_body, contacts: strings("contact_names")?, supports })
 }
 
 fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyDict>> {
@@ -343,6 +355,27 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     st.set_item("normal_force", r.steps.iter().map(|s| s.normal_force).collect::<Vec<_>>().into_pyarray(py))?;
     st.set_item("n_plastic", r.steps.iter().map(|s| s.n_plastic as i64).collect::<Vec<_>>().into_pyarray(py))?;
     st.set_item("drift", r.steps.iter().map(|s| s.drift).collect::<Vec<_>>().into_pyarray(py))?;
+    // the resultants (issue 38): (S, C, dim) forces, moments (S, C, 3) in 3D and M_z (S, C) in
+    // 2D, reactions (S, G, dim) per support group, works (S, 1 + patterns)
+    let dim = r.dim;
+    let rows = |per: fn(&StepRecord) -> &Vec<[f64; 3]>, width: usize, cols: &[usize]| {
+        let data: Vec<f64> = r.steps.iter().flat_map(|s| per(s).iter().flat_map(|v| cols.iter().map(|&k| v[k]))).collect();
+        numpy::ndarray::Array3::from_shape_vec((r.steps.len(), width, cols.len()), data).unwrap()
+    };
+    let n_contacts = r.steps.first().map_or(0, |s| s.contact_force.len());
+    let n_supports = r.steps.first().map_or(0, |s| s.reaction.len());
+    let n_loads = r.steps.first().map_or(0, |s| s.load_work.len());
+    let components: &[usize] = if dim == 3 { &[0, 1, 2] } else { &[0, 1] };
+    st.set_item("contact_force", rows(|s| &s.contact_force, n_contacts, components).into_pyarray(py))?;
+    if dim == 3 {
+        st.set_item("contact_moment", rows(|s| &s.contact_moment, n_contacts, &[0, 1, 2]).into_pyarray(py))?;
+    } else {
+        let mz = rows(|s| &s.contact_moment, n_contacts, &[2]).into_shape_with_order((r.steps.len(), n_contacts)).unwrap();
+        st.set_item("contact_moment", mz.into_pyarray(py))?;
+    }
+    st.set_item("reaction", rows(|s| &s.reaction, n_supports, components).into_pyarray(py))?;
+    let work: Vec<f64> = r.steps.iter().flat_map(|s| s.load_work.iter().copied()).collect();
+    st.set_item("load_work", Array2::from_shape_vec((r.steps.len(), n_loads), work).unwrap().into_pyarray(py))?;
     out.set_item("steps", st)?;
     let snaps = PyList::empty(py);
     for s in r.snapshots {

@@ -22,7 +22,7 @@ from .options import solver_options
 from .references import effective_modulus, hertz_line, hertz_sphere
 from .scene import Scene, contact_names, materials, merged_bodies
 from .schema import block_divisions
-from .supports import supports
+from .supports import engine_support_groups, supports
 from .validation.scene import (check_duplicate_nodes, check_file_mesh_tags, check_pairs_not_held,
                                check_radii, check_stick_on_half_held)
 
@@ -125,6 +125,8 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
         "body_names": list(bodies),
         "element_body": element_body,
         "contact_names": contact_names(case),
+        # the reactions recorded at every increment, per [[bc]]
+        **engine_support_groups(scene),
     }
     scene.pair_area = contact_areas(scene)
     set_load_path(scene, path)

@@ -127,7 +127,11 @@ def chosen(scene, result) -> list[tuple[str, object]]:
     ``contact_interface`` and, for one stage, ``contact_growth`` (when the case has contact
     pairs); for a load path (:func:`slipstep.history.is_staged`) ``force_displacement`` (when
     it has prescribed displacements or motions and reactions) and ``contact_extent`` (with
-    contact pairs); ``von_mises`` (when a material has a yield stress)."""
+    contact pairs); ``load_depth`` and ``q_delta`` (:mod:`slipstep.load_figures`: a motion or
+    prescribed displacement into a contact, a load along one); ``von_mises`` (when a material
+    has a yield stress)."""
+    from .load_figures import chosen_load_figures
+
     out = []
     if not result.get("snapshots"):
         return out
@@ -141,6 +145,7 @@ def chosen(scene, result) -> list[tuple[str, object]]:
             out.append(("force_displacement", force_displacement_figure))
         if pairs:
             out.append(("contact_extent", extent_figure))
+    out += chosen_load_figures(scene, result)
     if is_elastoplastic(scene):
         out.append(("von_mises", von_mises_figure))
     return out

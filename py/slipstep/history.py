@@ -130,13 +130,16 @@ def load_factor(scene, name: str, t):
 
 def reactions(scene, snapshot: dict) -> dict[str, tuple[float, ...]]:
     """Per [[bc]] name (``scene.support_dofs``): the summed support reaction (Rx, Ry) (3D:
-    (Rx, Ry, Rz)) its DOFs exert on the body at ``snapshot``; empty without ``reaction`` in the
-    snapshot."""
+    (Rx, Ry, Rz)) its DOFs exert on the body at ``snapshot``, a DOF held by several [[bc]] in
+    the first (:func:`slipstep.supports.support_groups`, as the engine's per-increment
+    reactions); empty without ``reaction`` in the snapshot."""
+    from .supports import support_groups
+
     if "reaction" not in snapshot:
         return {}
     r = np.asarray(snapshot["reaction"], dtype=float).reshape(-1)
     out = {}
-    for name, dofs in getattr(scene, "support_dofs", {}).items():
+    for name, dofs in support_groups(scene).items():
         d = scene.nodes.shape[1]
         dofs = np.unique(np.asarray(dofs, dtype=np.int64))
         out[name] = tuple(float(r[dofs[dofs % d == c]].sum()) for c in range(d))

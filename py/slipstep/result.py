@@ -87,6 +87,17 @@ class Result:
         return np.array([snapshot_time(s) for s in self.raw.get("snapshots", [])])
 
     @property
+    def history(self) -> dict:
+        """The resultants at t = 0 and after every increment, the arrays of history.csv
+        (:func:`slipstep.resultants.step_history`): ``t``, ``stage``, ``contact_force`` (R, C,
+        3), ``contact_moment``, ``reaction`` (R, G, 3, per ``support_names``), ``factor``,
+        ``applied``, ``load_work``, ``motion``, ``prescribed``; the driving loads' curves are
+        :func:`slipstep.resultants.drivers` of it."""
+        from .resultants import step_history
+
+        return step_history(self.scene, self.raw)
+
+    @property
     def events(self) -> np.ndarray:
         """One row per event (and entity), a numpy structured array with the columns of
         events.csv: step, t (path time), stage (1-based), load_fraction (within its stage),
@@ -293,7 +304,8 @@ class Result:
             ("summary", one_line(s)),
             ("snapshots", self._snapshot_text()),
             ("files", str(self.out) if self.out else ""),
-            ("methods", "fields(t), profile(t), to_meshio(t), events, figures(), write(out)"),
+            ("methods", "fields(t), profile(t), to_meshio(t), events, history, figures(), "
+                        "write(out)"),
         ]
 
 

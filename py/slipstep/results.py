@@ -13,6 +13,7 @@ from . import figures as figs
 from . import output
 from .errors import InputError
 from .resolved_case import resolved_case_text
+from .resultants import write_history_csv
 from .space.figures import write_figures_3d
 
 
@@ -40,6 +41,7 @@ def write_results(out: str | Path, scene, result, summary: dict, figures: bool |
     try:
         snaps = result.get("snapshots", [])
         output.write_events_csv(stage / "events.csv", scene, result)
+        write_history_csv(stage / "history.csv", scene, result)
         if snaps and len(scene.pair_xy):
             output.write_profile_csv(stage / "contact_profile.csv", scene, snaps[-1])
         if xdmf and snaps:

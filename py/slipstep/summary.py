@@ -22,6 +22,8 @@ from .fields import centroids, is_elastoplastic, von_mises
 from .history import (event_times, final_load_fraction, final_time, load_factor, reactions,
                       snapshot_time, stage_ends, stage_names)
 from .references import JOHNSON_LINE_YIELD, sphere_axis_yield
+from .resultants import (driving_forces, drivers, indentation, snapshot_resultants,
+                         step_history)
 from .section import AXIS_TOLERANCE, is_axisymmetric
 from .space.contact_measures import contact_numbers_3d, reached_window_edge
 from .space.fields import von_mises_3d
@@ -64,14 +66,18 @@ def _axis_nodes(scene, body: str) -> np.ndarray:
 def contact_summaries(scene, result, snapshot: dict, sides: list[int]) -> dict[str, dict]:
     """Per [[contact]] (by name) at ``snapshot``: its axis (origin, tangent), whether it is a
     half model, pair counts, closed and stick extents [s_min, s_max] (None when empty), total
-    normal and tangential force and peak pressure.  The closed extent is interpolated in path
-    time at the snapshot's t between the edge's crossings of its stage
+    normal and tangential force (sum lambda_n, sum lambda_t: each pair's along its own frame),
+    the resultant ``force`` [Fx, Fy] on the contactor body (sum lambda_n n + lambda_t t; in
+    axisymmetry only Fy, the axial one, is a resultant) and peak pressure.  The closed extent
+    is interpolated in path time at the snapshot's t between the edge's crossings of its stage
     (:func:`slipstep.contact_measures.crossing_times`), the same way at every snapshot."""
     prof = contact_profile(scene, snapshot)
     last, upcoming = (x[prof["pair"]] for x in crossing_times(scene, result, snapshot))
     f = snapshot_time(snapshot)
     lambda_n = np.asarray(snapshot["lambda_n"], dtype=float)[prof["pair"]]
     lambda_t = np.asarray(snapshot["lambda_t"], dtype=float)[prof["pair"]]
+    n_c = len(scene.model["contact_names"])
+    resultant, _ = snapshot_resultants(scene, snapshot, n_c)
     out = {}
     for i, name in enumerate(scene.model["contact_names"]):
         mine = prof["contact"] == i
@@ -87,6 +93,7 @@ def contact_summaries(scene, result, snapshot: dict, sides: list[int]) -> dict[s
             "stick_extent": None if closed is None else stick_extent(s, status, closed),
             "total_normal_force": float(lambda_n[mine].sum()),
             "total_tangential_force": float(lambda_t[mine].sum()),
+            "force": resultant[i, :2].tolist(),
             "peak_pressure": float(prof["pressure"][mine].max()),
         }
     return out
@@ -126,8 +133,8 @@ def _space_contact_numbers(scene, result) -> dict:
     return {
         "snapshot_load_fraction": float(last["load_fraction"]),
         "snapshot_t": snapshot_time(last),
-        **{k: top[k] for k in ("contact_area", "contact_radius", "stick_area", "stick_radius")
-           if k in top},
+        **{k: top[k] for k in ("contact_area", "contact_radius", "stick_area", "stick_radius",
+                               "force") if k in top},
         **totals,
         "n_open": int((status == 0).sum()), "n_stick": int((status == 1).sum()),
         "n_slip": int((status == 2).sum()),
@@ -212,21 +219,34 @@ def _snapshot_numbers(scene, result, snap: dict, sides: list[int]) -> dict:
     return out
 
 
-def stage_records(scene, result) -> list[dict]:
+def stage_records(scene, result, hist: dict | None = None) -> list[dict]:
     """One record per completed stage, at the snapshot ending it (:func:`stage_ends`): stage
     (1-based), name, t_end, n_events (rows of events.csv in the stage), then
-    :func:`_snapshot_numbers`."""
+    :func:`_snapshot_numbers`, and ``driving_forces`` (each driving load's force at the stage's
+    end, the history's last row there)."""
     snaps = result.get("snapshots", [])
     names = stage_names(scene, result)
     _, ev_stage = event_times(result)
     sides = ([half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
              if len(scene.pair_xy) and scene.dimension == 2 else [])
+    hist = step_history(scene, result) if hist is None else hist
+    forces = driving_forces_along(scene, hist)
     records = []
     for k, i in stage_ends(result, len(names)):
-        records.append({"stage": k + 1, "name": names[k], "t_end": snapshot_time(snaps[i]),
+        t_end = snapshot_time(snaps[i])
+        records.append({"stage": k + 1, "name": names[k], "t_end": t_end,
                         "n_events": int(np.count_nonzero(ev_stage == k)),
                         **_snapshot_numbers(scene, result, snaps[i], sides)})
+        row = np.flatnonzero(np.abs(hist["t"] - t_end) <= 1e-12 * max(1.0, t_end))
+        if len(row) and forces:
+            records[-1]["driving_forces"] = {name: float(f[row[-1]]) for name, f in forces.items()}
     return records
+
+
+def driving_forces_along(scene, hist: dict) -> dict[str, np.ndarray]:
+    """Each driving load's force along the history (the whole's; :func:`slipstep.resultants.
+    drivers`)."""
+    return {name: d["force"] for name, d in drivers(scene, hist).items()}
 
 
 # --------------------------------------------------------------------------- first yield
@@ -314,6 +334,28 @@ def _hertz_numbers(scene, summary: dict, f: float) -> dict:
     return ref
 
 
+def driver_numbers(scene, result, hist: dict | None = None) -> dict:
+    """``driving_forces`` (by load name: the loads that drive the run, their force and
+    displacement at the end and the largest force reached, :func:`slipstep.resultants.
+    driving_forces`), ``driving_force`` (the force of the load that moves in the last stage,
+    else the first one's) and ``indentation`` (Oliver–Pharr, by load name, for an indenter that
+    unloads: :func:`slipstep.resultants.indentation`); empty without drivers."""
+    hist = step_history(scene, result) if hist is None else hist
+    forces = driving_forces(scene, hist)
+    if not forces:
+        return {}
+    factor, stage = hist["factor"], hist["stage"]
+    last = stage == stage.max() if len(stage) else np.zeros(0, bool)
+    moving = [name for name in forces if last.any()
+              and np.ptp(factor[last, list(hist["load_names"]).index(name)]) > 0]
+    main = (moving or list(forces))[0]
+    out = {"driving_forces": forces, "driving_force": {"name": main, **forces[main]}}
+    ind = indentation(scene, hist)
+    if ind:
+        out["indentation"] = ind
+    return out
+
+
 def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
     """The numbers of a run, for summary.json and the one-line report."""
     model = scene.model
@@ -361,7 +403,9 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
     summary.update(_contact_numbers(scene, result))
     if snaps and "reaction" in snaps[-1]:
         summary["reactions"] = {k: list(r) for k, r in reactions(scene, snaps[-1]).items()}
-    summary["stages"] = stage_records(scene, result)
+    hist = step_history(scene, result)
+    summary.update(driver_numbers(scene, result, hist))
+    summary["stages"] = stage_records(scene, result, hist)
     if scene.reference:
         # one stage: every factor is f; else the factor of the load pattern at the end
         load = f if len(names) == 1 else float(load_factor(scene, "load", summary["final_t"]))
@@ -406,6 +450,27 @@ def contact_text(summary: dict, named: bool = False) -> str:
     return "; ".join(parts)
 
 
+def driver_text(summary: dict) -> list[str]:
+    """The driving forces in a few words each: ``P = 43.66 N pyramid force along its motion at
+    0.03 mm`` (with its largest when the run unloaded from it), then the Oliver–Pharr hardness
+    and reduced modulus of an indenter that unloaded."""
+    what = {"motion": "force along its motion", "displacement": "reaction along its displacement",
+            "load": "load"}
+    out = []
+    for name, d in summary.get("driving_forces", {}).items():
+        force = d["force"] if abs(d["force"]) > 1e-12 * abs(d["max_force"]) else 0.0
+        text = (f"P = {quantity(summary, force, 'force')} {name} {what[d['kind']]} at "
+                f"{quantity(summary, d['displacement'], 'length')}")
+        if d["max_force"] > d["force"] + 1e-3 * abs(d["max_force"]):  # it unloaded
+            text += (f" (max {quantity(summary, d['max_force'], 'force')} at "
+                     f"{quantity(summary, d['displacement_at_max'], 'length')})")
+        out.append(text)
+    for name, op in summary.get("indentation", {}).items():
+        out.append(f"Oliver-Pharr ({name}): H = {quantity(summary, op['H'], 'stress')}, "
+                   f"E_r = {quantity(summary, op['E_r'], 'stress')}")
+    return out
+
+
 def one_line(summary: dict) -> str:
     """The summary the CLI prints: each quantity named, in the case's units (:func:`quantity`)."""
     parts = [f"{summary['case']}: {summary['n_events']} events"]
@@ -420,6 +485,7 @@ def one_line(summary: dict) -> str:
         h = summary["hertz"]
         parts.append(f"(Hertz a = {quantity(summary, h['a_hertz_at_final'], 'length')}, "
                      f"p0 = {quantity(summary, h['p0_hertz_at_final'], 'stress')})")
+    parts += driver_text(summary)
     if summary.get("first_yield_load_fraction") is not None:
         now = summary.get("n_plastic_elements", 0)
         parts += [f"first yield at f = {summary['first_yield_load_fraction']:.4g}",

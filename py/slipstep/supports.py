@@ -48,6 +48,29 @@ def supports(scene: Scene) -> np.ndarray:
     return np.unique(np.concatenate(fixed)).astype(np.int64)
 
 
+def support_groups(scene) -> dict[str, np.ndarray]:
+    """Per [[bc]] name (``scene.support_dofs``, in its order) the DOFs whose reaction it
+    reports: each DOF in one group only, the first that holds it (a node on the edge of a fixed
+    base and a symmetry plane counts in the base), so that the groups' reactions add up to the
+    supports' total.  The engine records each group's reaction at every increment (its
+    ``support_names`` / ``support_dofs``); :func:`slipstep.history.reactions` sums the same
+    DOFs of a snapshot."""
+    taken: set[int] = set()
+    out = {}
+    for name, dofs in getattr(scene, "support_dofs", {}).items():
+        dofs = np.asarray(dofs, dtype=np.int64)
+        mine = dofs[~np.isin(dofs, np.fromiter(taken, dtype=np.int64, count=len(taken)))]
+        taken.update(mine.tolist())
+        out[name] = mine
+    return out
+
+
+def engine_support_groups(scene) -> dict:
+    """The model keys of :func:`support_groups` (docs/engine_api.md)."""
+    groups = support_groups(scene)
+    return {"support_names": list(groups), "support_dofs": list(groups.values())}
+
+
 def _axis_supports(scene: Scene) -> np.ndarray:
     """Axisymmetry: u_r = 0 at every node on the axis x = 0 (within 1e-9 of the scene's size,
     the engine's AXIS_TOLERANCE; the engine adds them too); a prescribed radial displacement

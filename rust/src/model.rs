@@ -47,6 +47,9 @@ pub struct Names {
     /// Body (index into `bodies`) of every element.
     pub element_body: Vec<usize>,
     pub contacts: Vec<String>,
+    /// The named supports ([[bc]] that hold or prescribe DOFs) and the DOFs each holds, for the
+    /// reactions recorded at every increment (`StepRecord::reaction`); a DOF counts in one.
+    pub supports: Vec<(String, Vec<usize>)>,
 }
 
 /// A load pattern at factor 1: forces, prescribed displacements and rigid-obstacle motions
@@ -297,6 +300,10 @@ impl Model {
         }
         if let Some(&b) = n.element_body.iter().find(|&&b| b >= n.bodies.len()) {
             bail!(Input, "names.element_body refers to body {b}, but only {} body names are given", n.bodies.len());
+        }
+        let n_dofs = self.dim() * self.mesh.n_nodes();
+        if let Some((name, &d)) = n.supports.iter().find_map(|(name, dofs)| dofs.iter().find(|&&d| d >= n_dofs).map(|d| (name, d))) {
+            bail!(Input, "support '{name}' names DOF {d}, but the mesh has {n_dofs} DOFs");
         }
         if !n.contacts.is_empty() {
             if let Some((k, p)) = self.pairs.iter().enumerate().find(|(_, p)| p.contact >= n.contacts.len()) {

@@ -65,6 +65,24 @@ pub struct StepRecord {
     pub n_plastic: usize,
     /// Max |σe − σy(εp)| / σy(εp) over plastic elements at the end of the step, before return.
     pub drift: f64,
+    /// Per contact (index into `Names::contacts`): the resultant of its pairs' forces on their
+    /// contactor nodes, Σ_p (n λ_n + t1 λ_t1 + t2 λ_t2), in global axes (z = 0 in 2D). A rigid
+    /// obstacle's force on the body; a two-body contact's on its contactor body (the target body
+    /// takes the opposite).
+    pub contact_force: Vec<[f64; 3]>,
+    /// Per contact: the moment about the origin of those forces, each pair's at its contactor
+    /// point (node a, or Σ c_i x_i over a weighted row's contactor nodes), in the undeformed
+    /// coordinates (small strain); 2D: (0, 0, M_z).
+    pub contact_moment: Vec<[f64; 3]>,
+    /// Per support group (`Names::supports`): the force its DOFs exert on the body, Σ over them
+    /// per component (P_σ − P − contact forces there, as a snapshot's `reaction`); NaN where
+    /// not known: a contact sub-step of a grouped plastic increment, whose stresses are only
+    /// integrated at the increment's end.
+    pub reaction: Vec<[f64; 3]>,
+    /// Per force pattern (`load`, then `Model::patterns`): P_j · u, its nodal forces at factor 1
+    /// times the displacement (the work-conjugate displacement times |P_j|'s scale; 0 for a
+    /// pattern without forces); NaN at contact sub-steps.
+    pub load_work: Vec<f64>,
 }
 
 #[derive(Debug, Clone)]
@@ -174,6 +192,8 @@ impl StopReason {
 
 #[derive(Debug, Clone)]
 pub struct RunResult {
+    /// DOFs per node (2 or 3).
+    pub dim: usize,
     pub stage_names: Vec<String>,
     pub events: Vec<EventRecord>,
     pub steps: Vec<StepRecord>,

@@ -390,7 +390,7 @@ fn sheared_block(mu: f64, tau: f64) -> Model {
     top_traction(&mesh, 1.0, [tau, -1.0], &mut load);
     let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12).into_iter().map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
     let mut m = model(mesh, vec![], load, pairs, Plane::Strain);
-    m.names = Names { bodies: vec!["block".into()], element_body: vec![0; m.mesh.triangles.len()], contacts: vec!["base".into()] };
+    m.names = Names { bodies: vec!["block".into()], element_body: vec![0; m.mesh.triangles.len()], contacts: vec!["base".into()], ..Default::default() };
     m
 }
 
@@ -637,7 +637,7 @@ fn block_on_flat(mesh: Mesh, h: f64, q: f64, shear: [f64; 2], mu: f64) -> Model 
     let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12).into_iter().map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
     let mut m = model(mesh, vec![], load, pairs, Plane::Stress);
     m.patterns = vec![LoadPattern { name: "shear".into(), force: sheared, ..Default::default() }];
-    m.names = Names { bodies: vec!["block".into()], element_body: vec![0; m.mesh.triangles.len()], contacts: vec!["base".into()] };
+    m.names = Names { bodies: vec!["block".into()], element_body: vec![0; m.mesh.triangles.len()], contacts: vec!["base".into()], ..Default::default() };
     m
 }
 

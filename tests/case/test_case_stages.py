@@ -97,11 +97,18 @@ def old_load_vector(scene) -> np.ndarray:
 
 
 def assert_old_model(scene) -> None:
-    """The model is exactly the pre-issue-13 one: same keys, same arrays bit for bit."""
+    """The model is exactly the pre-issue-13 one: same keys, same arrays bit for bit; beside
+    them only the support groups whose reactions every increment records (issue 38), each
+    [[bc]]'s DOFs, a DOF in the first that holds it."""
     m = scene.model
     assert set(m) == {"nodes", "triangles", "element_material", "materials", "plane",
                       "thickness", "fixed_dofs", "load", "pairs", "options", "body_names",
-                      "element_body", "contact_names"}
+                      "element_body", "contact_names", "support_names", "support_dofs"}
+    assert m["support_names"] == list(scene.support_dofs)
+    groups = m["support_dofs"]
+    for k, (name, dofs) in enumerate(zip(m["support_names"], groups)):
+        earlier = np.concatenate([np.zeros(0, np.int64), *groups[:k]])
+        assert np.array_equal(dofs, np.setdiff1d(scene.support_dofs[name], earlier)), name
     fixed, load = old_fixed_dofs(scene), old_load_vector(scene)
     assert m["fixed_dofs"].dtype == fixed.dtype and np.array_equal(m["fixed_dofs"], fixed)
     assert m["load"].dtype == load.dtype and m["load"].tobytes() == load.tobytes()

@@ -127,8 +127,8 @@ def test_write_results(hertz, tmp_path):
     written = write_results(tmp_path, scene, result, summary)
     names = sorted(p.name for p in written)
     assert names == ["case.toml", "contact_growth.png", "contact_interface.png",
-                     "contact_profile.csv", "events.csv", "results.h5", "results.xdmf",
-                     "summary.json"]
+                     "contact_profile.csv", "events.csv", "history.csv", "results.h5",
+                     "results.xdmf", "summary.json"]
     assert not list(tmp_path.glob(".partial-*"))
 
     with open(tmp_path / "events.csv") as fh:
@@ -360,7 +360,8 @@ def test_run_case_api_with_a_stand_in_engine(hertz, tmp_path, monkeypatch):
     assert seen["model"]["load"].shape == (2 * len(scene.nodes),)
     assert summary["case"] == "hertz_cylinder" and summary["wall_time_s"] > 0
     assert sorted(p.name for p in tmp_path.iterdir()) == ["case.toml", "contact_profile.csv",
-                                                          "events.csv", "summary.json"]
+                                                          "events.csv", "history.csv",
+                                                          "summary.json"]
 
 
 def test_reached_last_candidate_only_for_a_cut_candidate_window(hertz):

@@ -103,8 +103,8 @@ def test_a_load_unload_counts_the_plastic_zone_and_the_yielding_elements_apart(t
 def test_cylinder_files(cylinder):
     out, *_ = cylinder
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["case.toml", "events.csv", "results.h5", "results.xdmf", "summary.json",
-                     "von_mises.png"]
+    assert names == ["case.toml", "events.csv", "history.csv", "results.h5", "results.xdmf",
+                     "summary.json", "von_mises.png"]
     assert (out / "von_mises.png").stat().st_size > 10_000
 
 

@@ -361,7 +361,7 @@ def test_write_results_of_a_load_path(scene, tmp_path):
     assert sorted(p.name for p in written) == ["case.toml", "contact_extent.png",
                                                "contact_interface.png", "contact_profile.csv",
                                                "events.csv", "force_displacement.png",
-                                               "summary.json"]
+                                               "history.csv", "load_depth.png", "summary.json"]
 
 
 def test_write_results_without_stages_keeps_the_figures(bare, tmp_path):
@@ -370,4 +370,4 @@ def test_write_results_without_stages_keeps_the_figures(bare, tmp_path):
                             figures=True, xdmf=False)
     assert sorted(p.name for p in written) == ["case.toml", "contact_growth.png",
                                                "contact_interface.png", "contact_profile.csv",
-                                               "events.csv", "summary.json"]
+                                               "events.csv", "history.csv", "summary.json"]

@@ -15,7 +15,7 @@ from ..options import solver_options
 from ..references import effective_modulus, hertz_sphere
 from ..scene import Scene, contact_names, materials, merged_bodies
 from ..snapshot_plan import requested, step_bytes
-from ..supports import supports
+from ..supports import engine_support_groups, supports
 from ..validation.scene import check_duplicate_nodes, check_pairs_not_held
 from . import generators
 from .contact_geometry import align_to_supports, contact_pairs_3d
@@ -88,6 +88,7 @@ def build_space_scene(case, body_meshes: dict[str, TetMesh], given=()) -> Scene:
         "body_names": list(bodies),
         "element_body": element_body,
         "contact_names": contact_names(case),
+        **engine_support_groups(scene),
     }
     set_load_path(scene, path)
     check_pairs_not_held(scene)

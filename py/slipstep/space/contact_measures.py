@@ -98,22 +98,31 @@ def mirror_planes(scene, index: int) -> list[tuple[int, float]]:
     """The symmetry planes (axis, value) the model of [[contact]] ``index`` is cut by: a plane
     x_axis = value that is a ``symmetry`` face of every body the contact touches, with the
     contact's candidates all on one side of it and some on it."""
-    data = scene.case.data
     mine = scene.pair_xy[scene.pair_contact == index]
+    return mirror_planes_of(scene, contact_bodies_3d(scene.case.data["contact"][index]), mine)
+
+
+def mirror_planes_of(scene, bodies, points: np.ndarray) -> list[tuple[int, float]]:
+    """The symmetry planes (axis, value) that cut every one of ``bodies`` (a [[bc]]
+    ``symmetry`` face of each) with ``points`` all on one side of the plane and some on it: the
+    planes across which the model's part of a contact, a load or a support is mirrored into the
+    whole."""
+    data = scene.case.data
+    mine = np.asarray(points, dtype=float).reshape(-1, 3)
     tol = 1e-9 * float(np.ptp(scene.nodes, axis=0).max())
     per_body = []
-    for body in contact_bodies_3d(data["contact"][index]):
+    for body in bodies:
         planes = set()
         for bc in data["bc"]:
             if not (bc["symmetry"] and bc["body"] == body):
                 continue
-            points = scene.nodes[np.unique(scene.global_boundary(body, bc["face"]))]
-            axis = int(np.argmin(np.ptp(points, axis=0)))
-            side = mine[:, axis] - points[0, axis]
+            face = scene.nodes[np.unique(scene.global_boundary(body, bc["face"]))]
+            axis = int(np.argmin(np.ptp(face, axis=0)))
+            side = mine[:, axis] - face[0, axis]
             if ((side >= -tol).all() or (side <= tol).all()) and (np.abs(side) <= tol).any():
                 # on the tolerance's grid: a plane of two bodies is one plane though a mesh
                 # file puts its nodes at 1e-16 and the other's at 0
-                planes.add((axis, float(np.round(points[0, axis] / tol) * tol)))
+                planes.add((axis, float(np.round(face[0, axis] / tol) * tol)))
         per_body.append(planes)
     return sorted(set.intersection(*per_body)) if per_body and len(mine) else []
 
@@ -136,7 +145,10 @@ def contact_frame(scene, index: int) -> tuple[np.ndarray, np.ndarray, np.ndarray
 def contact_numbers_3d(scene, snapshot: dict, index: int) -> dict:
     """The numbers of [[contact]] ``index`` at a snapshot, for its full contact (module doc):
     pair counts, contact and stick areas and equivalent radii, the total normal force (sum
-    lambda_n), the tangential resultant (vector and size), the peak pressure."""
+    lambda_n: the pairs' normal forces each along its own normal, not a resultant), the
+    resultant ``force`` on the contactor body in x, y, z (sum lambda_n n + lambda_t t; the
+    model's part of it ``force_model``), the tangential resultant (vector and size), the peak
+    pressure."""
     mine = scene.pair_contact == index
     planes = mirror_planes(scene, index)
     factor = 2.0 ** len(planes)
@@ -144,10 +156,13 @@ def contact_numbers_3d(scene, snapshot: dict, index: int) -> dict:
     area = scene.pair_area[mine]
     closed = factor * float(area[status > 0].sum())
     stick = factor * float(area[status == 1].sum())
-    _, tangential = row_forces(scene, snapshot)
+    normal, tangential = row_forces(scene, snapshot)
     resultant = factor * tangential[mine].sum(axis=0)
+    part = (normal + tangential)[mine].sum(axis=0)
+    force = factor * part
     for axis, _ in planes:
         resultant[axis] = 0.0  # mirrored: along the plane's normal the halves cancel
+        force[axis] = 0.0
     profile = contact_profile_3d(scene, snapshot)
     peak = profile["pressure"][profile["contact"] == index]
     return {"n_pairs": int(mine.sum()), "n_closed": int((status > 0).sum()),
@@ -156,6 +171,7 @@ def contact_numbers_3d(scene, snapshot: dict, index: int) -> dict:
             "contact_area": closed, "contact_radius": math.sqrt(closed / math.pi),
             "stick_area": stick, "stick_radius": math.sqrt(stick / math.pi),
             "total_normal_force": factor * float(np.asarray(snapshot["lambda_n"])[mine].sum()),
+            "force": force.tolist(), "force_model": part.tolist(),
             "tangential_force": resultant.tolist(),
             "total_tangential_force": float(np.linalg.norm(resultant)),
             "peak_pressure": recovered_peak(scene, profile, index, math.sqrt(closed / math.pi)),

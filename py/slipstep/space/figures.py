@@ -23,13 +23,17 @@ from .fields import von_mises_3d
 
 def chosen(scene, result) -> list[tuple[str, object]]:
     """(file stem, builder) of the figures that apply: the contact area and the pressure line
-    when the scene has contact pairs and the run snapshots, the plastic zone when it can
-    yield."""
+    when the scene has contact pairs and the run snapshots, ``load_depth`` and ``q_delta``
+    (:mod:`slipstep.load_figures`: a motion or prescribed displacement into a contact, a load
+    along one), the plastic zone when it can yield."""
+    from ..load_figures import chosen_load_figures
+
     if not result.get("snapshots"):
         return []
     out = []
     if len(scene.pair_xy):
         out += [("contact_area", contact_area_figure), ("contact_pressure_line", pressure_figure)]
+        out += chosen_load_figures(scene, result)
     if is_elastoplastic(scene):
         out.append(("plastic_zone", plastic_zone_figure))
     return out

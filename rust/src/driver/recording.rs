@@ -4,14 +4,17 @@
 
 use super::anticycling::AntiCycling;
 use super::checks::full_residual;
+use super::clock::Phase;
 use super::engine::Engine;
 use super::selection::Selection;
 use super::space::Space;
 use super::state::{State, TrialIncrement};
 use crate::bail;
+use crate::contact::Pair;
 use crate::error::Result;
 use crate::events::Candidate;
 use crate::model::{EventKind, EventRecord, RunResult, Snapshot, SnapshotRequest, StepRecord, StopReason};
+use crate::rigid_modes::RigidMode;
 
 /// A requested snapshot time this close past the increment's end still falls inside it.
 const FRACTION_SLACK: f64 = 1e-15;
@@ -57,6 +60,9 @@ pub(super) struct Recorder {
     pub n_substeps: usize,
     /// Windows taken back and retaken event by event (`retake`).
     pub n_retaken: usize,
+    /// The resultants every increment records (contact forces and moments, reactions, loads'
+    /// work).
+    resultants: Resultants,
 }
 
 impl Recorder {
@@ -77,6 +83,7 @@ impl Recorder {
             n_substeps: 0,
             n_retaken: 0,
             max_steps: if opts.max_events > 0 { opts.max_events } else { 50 * (n_pairs + plastic_capable + 1) + 1000 },
+            resultants: Resultants::new(eng),
         };
         match &opts.snapshots {
             SnapshotRequest::EveryEvent => {
@@ -197,7 +204,9 @@ impl Recorder {
         self.n_substeps += 1;
         let residual = self.steps.last().map_or(0.0, |s| s.residual);
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
-        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift: self.balance.drift });
+        let (contact_force, contact_moment) = self.resultants.contacts(state);
+        let (reaction, load_work) = self.resultants.unknown();
+        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift: self.balance.drift, contact_force, contact_moment, reaction, load_work });
     }
 
     /// An event of the equilibrium correction at φ. A pair the correction separates that closed
@@ -228,7 +237,9 @@ impl Recorder {
     pub fn step(&mut self, eng: &mut Engine, state: &State, scale: f64, residual: f64, internal: Option<&[f64]>) -> Result<()> {
         let drift = self.balance.drift;
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
-        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift });
+        let (contact_force, contact_moment) = self.resultants.contacts(state);
+        let (reaction, load_work) = self.resultants.supports_and_loads(eng, state, internal);
+        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift, contact_force, contact_moment, reaction, load_work });
         if self.every_event {
             let snapshot = self.snapshot(eng, state, internal)?;
             self.snapshots.push(snapshot);
@@ -248,6 +259,7 @@ impl Recorder {
             }
         }
         Ok(RunResult {
+            dim: eng.problem.dim,
             stage_names: eng.problem.path.stage_names.clone(),
             events: self.events,
             steps: self.steps,
@@ -311,6 +323,206 @@ impl Recorder {
 
 }
 
+/// What every increment records beside its counts (issue 38): each contact's resultant force
+/// and moment (O(pairs)), each support group's reaction and each force pattern's work P_j · u.
+///
+/// The reactions and works are linear in the state. The full space has u, and at every
+/// increment's end the internal force P_σ of its equilibrium check: a group's reaction is
+/// Σ (P_σ − P − contact forces) over its DOFs, a work P_j · u, O(group DOFs + pairs). The
+/// reduced elastic space carries neither (only the contact DOFs between events): there each is
+/// a functional a·u of u = Σ u_stage (completed) + s u_stage + ū(s) + K#(W λ) + N α, read from
+/// the state's λ and α with z = K# a solved once at the start (`Functional`): one solve per
+/// held component of each group (a = K s, s the group's DOFs along it, whose internal force
+/// (K u)·s = a·u) and per force pattern, none per increment, O(pairs) per increment.
+struct Resultants {
+    /// Per pair: its contact, and its contactor point (node a, or Σ c_i x_i over the contactor
+    /// nodes of a weighted row).
+    contact: Vec<usize>,
+    point: Vec<[f64; 3]>,
+    /// Per pair: its frame (n, t1, t2; t2 unused in 2D).
+    frame: Vec<[[f64; 3]; 3]>,
+    dim: usize,
+    n_contacts: usize,
+    /// Per support group: its held components.
+    supports: Vec<Vec<Held>>,
+    /// Per force pattern (`load`, then `Model::patterns`): a = P_j.
+    loads: Vec<Functional>,
+}
+
+/// The DOFs of a support group along one component.
+struct Held {
+    component: usize,
+    dofs: Vec<usize>,
+    /// The pairs' force straight onto these DOFs per unit (λ_n, λ_t1, λ_t2) (`Pair::on_supports`).
+    direct: Vec<(usize, [f64; 3])>,
+    /// Reduced space: their internal force (K u)·s as the functional a = K s.
+    internal: Option<Functional>,
+}
+
+/// A linear functional a·u of the displacement. Full space: from u. Reduced space: a·u =
+/// a·(Σ u_stage + s u_stage + ū(s)) + Σ_p (z·w_p) λ_p + Σ_k (a·N_k) α_k with z = K# a (K# is
+/// symmetric: a·K#(W λ) = z·W λ), the first term affine in s within a stage.
+struct Functional {
+    /// a's nonzero entries over all DOFs.
+    a: Vec<(usize, f64)>,
+    /// Reduced space: per pair (z·w_n, z·w_t, z·w_t2), per free rigid mode a·N_k.
+    pairs: Vec<[f64; 3]>,
+    modes: Vec<f64>,
+    /// Reduced space: (stage, a·(Σ u_stage + ū_start), a·(u_stage + Δū)) of the last stage seen.
+    stage: Option<(usize, f64, f64)>,
+}
+
+impl Functional {
+    fn new(a: &[f64]) -> Self {
+        Functional { a: a.iter().enumerate().filter(|&(_, &v)| v != 0.0).map(|(d, &v)| (d, v)).collect(), pairs: vec![], modes: vec![], stage: None }
+    }
+
+    fn dot(&self, u: &[f64]) -> f64 {
+        if u.is_empty() {
+            return 0.0; // (no completed stage yet)
+        }
+        self.a.iter().map(|&(d, v)| v * u[d]).sum()
+    }
+
+    /// Reduced space: the coefficients of λ and α from z = K# a.
+    fn reduce(&mut self, z: &[f64], pairs: &[Pair], modes: &[RigidMode]) {
+        self.pairs = pairs.iter().map(|p| [p.w_n.dot(z), p.w_t.dot(z), p.w_t2.dot(z)]).collect();
+        self.modes = modes.iter().map(|m| self.dot(&m.vector)).collect();
+    }
+
+    fn value(&mut self, eng: &Engine, state: &State) -> f64 {
+        if !eng.problem.is_reduced() {
+            return self.dot(&state.u);
+        }
+        let (c0, c1) = match self.stage {
+            Some((k, c0, c1)) if k == state.stage => (c0, c1),
+            _ => {
+                let (reduced, load) = (&eng.loads.reduced, &eng.loads.load);
+                let mut start = vec![0.0; eng.problem.dofs.fixed.len()];
+                let mut change = start.clone();
+                load.prescribed.iter().for_each(|&(d, s0, ds)| (start[d], change[d]) = (s0, ds));
+                let c = (self.dot(&reduced.u_done) + self.dot(&start), self.dot(&reduced.u_load) + self.dot(&change));
+                self.stage = Some((state.stage, c.0, c.1));
+                c
+            }
+        };
+        let lambda = (0..self.pairs.len()).filter(|&p| state.lambda_n[p] != 0.0 || state.lambda_t[p] != 0.0 || state.lambda_t2[p] != 0.0);
+        let contacts: f64 = lambda.map(|p| self.pairs[p][0] * state.lambda_n[p] + self.pairs[p][1] * state.lambda_t[p] + self.pairs[p][2] * state.lambda_t2[p]).sum();
+        let modes: f64 = self.modes.iter().zip(&state.alpha).map(|(a, b)| a * b).sum();
+        c0 + state.load_fraction * c1 + contacts + modes
+    }
+}
+
+impl Resultants {
+    fn new(eng: &mut Engine) -> Self {
+        let problem = &eng.problem;
+        let (model, dim) = (problem.model, problem.dim);
+        let pairs = problem.global_pairs();
+        let contact: Vec<usize> = model.pairs.iter().map(|p| p.contact).collect();
+        let n_contacts = model.names.contacts.len().max(contact.iter().map(|&c| c + 1).max().unwrap_or(0));
+        let point = model.pairs.iter().map(|p| {
+            let contactor: Vec<(usize, f64)> = p.weights.iter().copied().filter(|&(_, c)| c > 0.0).collect();
+            let total: f64 = contactor.iter().map(|&(_, c)| c).sum();
+            match contactor.is_empty() {
+                true => model.mesh.point(p.node_a),
+                false => {
+                    let mut x = [0.0; 3];
+                    contactor.iter().for_each(|&(i, c)| x.iter_mut().zip(model.mesh.point(i)).for_each(|(a, b)| *a += c / total * b));
+                    x
+                }
+            }
+        }).collect();
+        let fixed = &problem.dofs.fixed;
+        let supports: Vec<Vec<Held>> = model.names.supports.iter().map(|(_, dofs)| {
+            (0..dim).filter_map(|c| {
+                let dofs: Vec<usize> = dofs.iter().copied().filter(|&d| d % dim == c && fixed[d]).collect();
+                let mut mask = vec![false; fixed.len()];
+                dofs.iter().for_each(|&d| mask[d] = true);
+                let on = |w: &crate::contact::SparseVec| w.entries.iter().filter(|e| mask[e.0]).map(|e| e.1).sum::<f64>();
+                let direct = pairs.iter().enumerate().map(|(p, pair)| (p, [on(&pair.on_supports[0]), on(&pair.on_supports[1]), on(&pair.on_supports[2])])).filter(|(_, v)| *v != [0.0; 3]).collect();
+                (!dofs.is_empty()).then_some(Held { component: c, dofs, direct, internal: None })
+            }).collect()
+        }).collect();
+        let loads: Vec<Functional> = std::iter::once(&model.load).chain(model.patterns.iter().map(|p| &p.force)).map(|f| Functional::new(f)).collect();
+        let frame = pairs.iter().map(|p| [p.frame.normal, p.frame.tangents[0], p.frame.tangents[1]]).collect();
+        let mut out = Resultants { contact, point, frame, dim, n_contacts, supports, loads };
+        if eng.problem.is_reduced() {
+            out.reduce(eng);
+        }
+        out
+    }
+
+    /// Reduced space: every functional's z = K# a, in one solve of many right-hand sides.
+    fn reduce(&mut self, eng: &mut Engine) {
+        let _t = eng.clock.time(Phase::Solves);
+        let n = eng.problem.dofs.fixed.len();
+        for held in self.supports.iter_mut().flatten() {
+            let mut s = vec![0.0; n];
+            held.dofs.iter().for_each(|&d| s[d] = 1.0);
+            let (stress, _) = eng.stiffness.tangents.stress_increment(&eng.problem, &s);
+            held.internal = Some(Functional::new(&eng.problem.internal_force(&stress)));
+        }
+        let mut functionals: Vec<&mut Functional> = self.supports.iter_mut().flatten().filter_map(|h| h.internal.as_mut()).chain(self.loads.iter_mut()).filter(|f| !f.a.is_empty()).collect();
+        let ys: Vec<Vec<f64>> = functionals.iter().map(|f| {
+            let mut y = vec![0.0; n];
+            f.a.iter().for_each(|&(d, v)| y[d] = v);
+            y
+        }).collect();
+        let zs = eng.stiffness.apply_ginv(&eng.problem.dofs.map, &ys);
+        for (f, z) in functionals.iter_mut().zip(&zs) {
+            f.reduce(z, eng.problem.global_pairs(), &eng.problem.bodies.modes);
+        }
+    }
+
+    /// Per contact its resultant force on the contactor side and that force's moment about the
+    /// origin (`StepRecord::contact_force`, `contact_moment`).
+    fn contacts(&self, state: &State) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+        let mut force = vec![[0.0; 3]; self.n_contacts];
+        let mut moment = vec![[0.0; 3]; self.n_contacts];
+        for (p, [n, t1, t2]) in self.frame.iter().enumerate() {
+            let lambda = [state.lambda_n[p], state.lambda_t[p], if self.dim == 3 { state.lambda_t2[p] } else { 0.0 }];
+            if lambda == [0.0; 3] {
+                continue;
+            }
+            let f: [f64; 3] = std::array::from_fn(|k| n[k] * lambda[0] + t1[k] * lambda[1] + t2[k] * lambda[2]);
+            let x = self.point[p];
+            let m = [x[1] * f[2] - x[2] * f[1], x[2] * f[0] - x[0] * f[2], x[0] * f[1] - x[1] * f[0]];
+            let c = self.contact[p];
+            (0..3).for_each(|k| (force[c][k], moment[c][k]) = (force[c][k] + f[k], moment[c][k] + m[k]));
+        }
+        (force, moment)
+    }
+
+    /// Per support group its reaction and per force pattern its work at the state
+    /// (`StepRecord::reaction`, `load_work`); `internal`: the state's internal force (full space).
+    fn supports_and_loads(&mut self, eng: &Engine, state: &State, internal: Option<&[f64]>) -> (Vec<[f64; 3]>, Vec<f64>) {
+        let reduced = eng.problem.is_reduced();
+        let phi = state.load_fraction;
+        let lambda = |p: usize| [state.lambda_n[p], state.lambda_t[p], state.lambda_t2[p]];
+        let reaction = self.supports.iter_mut().map(|group| {
+            let mut r = [0.0; 3];
+            for held in group.iter_mut() {
+                let inner = match (internal, held.internal.as_mut()) {
+                    (Some(f), _) if !reduced => held.dofs.iter().map(|&d| f[d]).sum(),
+                    (_, Some(functional)) if reduced => functional.value(eng, state),
+                    _ => f64::NAN,
+                };
+                let load: f64 = held.dofs.iter().map(|&d| eng.loads.load.force(d, phi)).sum();
+                let direct: f64 = held.direct.iter().map(|&(p, c)| { let l = lambda(p); c[0] * l[0] + c[1] * l[1] + c[2] * l[2] }).sum();
+                r[held.component] = inner - load - direct;
+            }
+            r
+        }).collect();
+        let work = self.loads.iter_mut().map(|f| if f.a.is_empty() { 0.0 } else { f.value(eng, state) }).collect();
+        (reaction, work)
+    }
+
+    /// A contact sub-step's reactions and works: not known (NaN).
+    fn unknown(&self) -> (Vec<[f64; 3]>, Vec<f64>) {
+        (vec![[f64::NAN; 3]; self.supports.len()], vec![f64::NAN; self.loads.len()])
+    }
+}
+
 /// u = Σ u_stage (completed) + s u_stage + K#(W λ) + N α, ū at the prescribed DOFs, and its
 /// stresses, for the reduced space; also the internal force P_σ and the fields' equilibrium
 /// residual, which must be within `equilibrium_tol`.
@@ -342,4 +554,84 @@ fn reconstruct(eng: &mut Engine, state: &State) -> Result<(State, Vec<f64>, f64)
         bail!(Equilibrium, "equilibrium residual {residual:.3e} of the reconstructed fields exceeds {tol:.1e} at load fraction {:.6}: the linear system is ill-conditioned", state.load_fraction);
     }
     Ok((full, internal, residual))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::run;
+    use super::super::scenes::*;
+    use crate::model::{LoadPattern, Model, RunResult, Stage};
+
+    /// Round-off of the resultants relative to the load (a few sums of element forces).
+    const ROUND_OFF: f64 = 1e-12;
+
+    fn run_in(mut m: Model, reduced: bool) -> RunResult {
+        m.options.reduced_elastic = reduced;
+        m.validate().expect("a valid scene");
+        run(&m, |_| true).expect("it runs")
+    }
+
+    /// The square on rollers pressed by q on its top against a wall to its right (node 2):
+    /// every increment's reactions, the same in the reduced elastic space (functionals of the
+    /// contact forces) as in the full one (the internal force), balance the load and the wall:
+    /// the bottom rollers carry q, the left ones the wall's force; the wall's force is its
+    /// pair's λ_n along its normal (−1, 0), at node 2 (1, 1) its moment about the origin
+    /// M_z = x F_y − y F_x = λ_n; the pressure's work P·u = −(q/2)(u_y2 + u_y3).
+    #[test]
+    fn reactions_balance_in_both_spaces() {
+        let q = 2.0;
+        let mut records = vec![];
+        for reduced in [true, false] {
+            let mut m = poisson_wall(q, 1e-4);
+            m.names.supports = vec![("left".into(), vec![0, 6]), ("bottom".into(), vec![1, 3])];
+            let r = run_in(m, reduced);
+            let last = r.steps.last().expect("steps");
+            let (lambda, force, moment) = (r.snapshots.last().unwrap().lambda_n[0], last.contact_force[0], last.contact_moment[0]);
+            assert!(lambda > 0.0, "the wall is reached");
+            assert!((force[0] + lambda).abs() <= ROUND_OFF * q && force[1] == 0.0 && force[2] == 0.0, "{force:?}");
+            assert!((moment[2] - lambda).abs() <= ROUND_OFF * q && moment[0] == 0.0 && moment[1] == 0.0, "{moment:?}");
+            for s in &r.steps {
+                let applied_y = -q * s.load_fraction;
+                let [left, bottom] = [s.reaction[0], s.reaction[1]];
+                assert!((left[0] + s.contact_force[0][0]).abs() <= ROUND_OFF * q, "left {left:?} against the wall {:?}", s.contact_force[0]);
+                assert!((bottom[1] + applied_y).abs() <= ROUND_OFF * q, "bottom {bottom:?}");
+                assert!(left[1] == 0.0 && bottom[0] == 0.0, "a group reacts only along what it holds");
+            }
+            let u = &r.snapshots.last().unwrap().u;
+            let work = -q / 2.0 * (u[5] + u[7]);
+            assert!((last.load_work[0] - work).abs() <= ROUND_OFF * work.abs(), "P·u {} against {work}", last.load_work[0]);
+            records.push(r.steps);
+        }
+        let (reduced, full) = (&records[0], &records[1]);
+        assert_eq!(reduced.len(), full.len());
+        for (a, b) in reduced.iter().zip(full) {
+            for g in 0..2 {
+                (0..3).for_each(|c| assert!((a.reaction[g][c] - b.reaction[g][c]).abs() <= ROUND_OFF * q));
+            }
+            assert!((a.load_work[0] - b.load_work[0]).abs() <= ROUND_OFF * b.load_work[0].abs().max(1e-300));
+        }
+    }
+
+    /// The square on rollers pulled by a prescribed u_x = d on its right edge (nodes 1, 2) in
+    /// two stages (d, then back to d/2): the pulled edge's reaction is E d (plane stress,
+    /// uniaxial, thickness 1), the left rollers' −E d, in both spaces (the reduced one reads
+    /// the prescribed values and each stage's K#-load per stage).
+    #[test]
+    fn a_prescribed_displacement_reacts_with_its_stress() {
+        let d = 1e-3;
+        for reduced in [true, false] {
+            let mut m = square_on_rollers(0.0, 0.0, crate::material::Material::elastic(E, NU));
+            m.patterns = vec![LoadPattern { name: "pull".into(), displacement: vec![(2, d), (4, d)], ..Default::default() }];
+            m.stages = vec![Stage { name: "out".into(), factors: vec![0.0, 1.0] }, Stage { name: "back".into(), factors: vec![0.0, 0.5] }];
+            m.names.supports = vec![("left".into(), vec![0, 6]), ("pulled".into(), vec![2, 4]), ("bottom".into(), vec![1, 3])];
+            let r = run_in(m, reduced);
+            assert_eq!(r.steps.len(), 2);
+            for (s, factor) in r.steps.iter().zip([1.0, 0.5]) {
+                let pull = E * d * factor;
+                assert!((s.reaction[1][0] - pull).abs() <= ROUND_OFF * pull, "pulled {:?} against {pull}", s.reaction[1]);
+                assert!((s.reaction[0][0] + pull).abs() <= ROUND_OFF * pull, "left {:?}", s.reaction[0]);
+                assert!(s.reaction[2][1].abs() <= ROUND_OFF * pull, "bottom {:?}", s.reaction[2]);
+            }
+        }
+    }
 }
