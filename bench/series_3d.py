@@ -7,15 +7,18 @@ spawn to exit), one at a time.
             p0 against Hertz, the whole process against GetFEM's on the same mesh
   mindlin   cases/mindlin_sphere_3d.toml (the half sphere on a block, pressed then sheared to
             Q = 0.5 mu P): the stick radius against Mindlin's c = a (1 - Q/(mu P))^(1/3) for the
-            measured P and Q, in contact-node spacings of the sphere's mesh
+            measured P and Q, in contact-node spacings of the sphere's mesh (the case's mesh
+            and the next finer, the block's spacing 0.75 of the sphere's as in the case;
+            bench/mindlin_convergence_3d.py runs the mesh series and the unloading)
   plastic   cases/sphere_on_flat_plastic_3d.toml (the eighth, elastic-perfectly plastic, to
             10 omega_c) and slipstep's axisymmetric run of the same scene
             (cases/sphere_on_flat_plastic.toml with the same mesh sizes near the contact, the
             same motion): the force-approach curves
 
 Targets: Hertz at ~100k DOFs a within 2 %, p0 within 3 %, the whole process at least 10x
-faster than GetFEM's on the same mesh; Mindlin's stick radius within two contact-node spacings
-of Mindlin's c; the elastoplastic force-approach within 2 % of the axisymmetric run.
+faster than GetFEM's on the same mesh; Mindlin's stick radius within one contact-node spacing
+of Mindlin's c (a spacing resolves the stick edge); the elastoplastic force-approach within
+2 % of the axisymmetric run.
 
 The speed target is taken from bench/paired_3d.py's run when it exists (the two codes
 alternated pair by pair, so both meet the same load), else from the two separate series.
@@ -52,11 +55,11 @@ PLASTIC_MESH = ["mesh.contact_zone=0.2", "mesh.growth=0.3", "mesh.h_max=2.0"]
 PLASTIC_TIMES = [0.1, 0.25, 0.5, 0.75, 1.0]
 PLASTIC_FROM = 0.25                        # the curves are compared from this load fraction
 MINDLIN_R, MINDLIN_E, MINDLIN_NU, MINDLIN_MU = 50.0, 70000.0, 0.3, 0.3
-A_TOL, P0_TOL, SPEED_UP, SPACINGS, PLASTIC_TOL = 0.02, 0.03, 10.0, 2.0, 0.02
+A_TOL, P0_TOL, SPEED_UP, SPACINGS, PLASTIC_TOL = 0.02, 0.03, 10.0, 1.0, 0.02
 TARGET_DOFS = 90_000                       # "~100k DOFs": the Hertz target's run has at least
-FULL = {"hertz": [0.05, 0.03, 0.02, 0.0125, 0.0105], "mindlin": [(0.04, 0.06), (0.03, 0.045)],
+FULL = {"hertz": [0.05, 0.03, 0.02, 0.0125, 0.0105], "mindlin": [(0.04, 0.03), (0.03, 0.0225)],
         "plastic": [0.015, 0.01]}
-QUICK = {"hertz": [0.05, 0.03], "mindlin": [(0.04, 0.06)], "plastic": [0.025]}
+QUICK = {"hertz": [0.05, 0.03], "mindlin": [(0.04, 0.03)], "plastic": [0.025]}
 
 
 # --------------------------------------------------------------------------- specs

@@ -103,6 +103,71 @@ def test_the_contact_csv_has_both_tangential_components_and_the_slip_direction(q
                              [0.0, 0.0, 0.0])
 
 
+#: The quarter sphere on a block of its own (the half y >= 0), node_to_surface: mortar rows
+ON_BLOCK = QUARTER.replace("""[[contact]]
+kind = "rigid_plane"
+body = "sphere"
+face = "surface"
+z_max = 0.1""", """[[body]]
+name = "block"
+[body.mesh]
+generator = "box"
+x0 = -3.0
+y0 = 0.0
+z0 = -2.0
+width = 6.0
+depth = 3.0
+height = 2.0
+h_contact = 0.4
+contact_zone = 1.0
+h_max = 1.0
+growth = 0.5
+focus = [0.0, 0.0, 0.0]
+[body.material]
+E = 70000.0
+nu = 0.3
+[[bc]]
+body = "block"
+face = "bottom"
+fix = ["x", "y", "z"]
+[[bc]]
+body = "block"
+face = "front"
+symmetry = true
+[[contact]]
+kind = "node_to_surface"
+body_a = "sphere"
+face_a = "surface"
+body_b = "block"
+face_b = "top"
+z_max = 0.1""")
+
+
+@needs_gmsh
+def test_a_node_to_surface_contact_covers_its_closed_rows_supports():
+    """Mortar rows (node_to_surface): a contact's area is that of the contactor triangles with a
+    closed row at a corner, its stick area those with a stuck row (cases/README.md), for the
+    full contact (mirrored across y = 0); a rigid plane's stays its pairs' tributary areas
+    (test_the_summary_reports_the_full_contact above)."""
+    pytest.importorskip("gmsh")
+    scene = build_scene(parse_case(ON_BLOCK, "q.toml"))
+    assert scene.case.data["contact"][0]["kind"] == "node_to_surface"
+    s = summarize(scene, mindlin_stand_in(scene, A, C, P0, MU), 0.0)
+    assert s["contacts"]["contact 0"]["symmetry_planes"] == ["y = 0"]
+    node_a = scene.model["pairs"]["node_a"]
+    r = np.hypot(scene.pair_xy[:, 0], scene.pair_xy[:, 1])
+    face = scene.global_boundary("sphere", "surface")
+    _, area = triangle_normals(scene.nodes, face)
+    for key, inside in (("contact", r < A), ("stick", r < C)):
+        touched = np.isin(face, node_a[inside]).any(axis=1)
+        assert math.isclose(s[f"{key}_area"], 2 * area[touched].sum(), rel_tol=1e-12)
+        assert math.isclose(s[f"{key}_radius"], math.sqrt(s[f"{key}_area"] / math.pi),
+                            rel_tol=1e-12)
+        # the rows' own tributary areas end short of them, by less than a spacing (0.3)
+        tributary = math.sqrt(2 * areas_by_node(scene)[node_a[inside]].sum() / math.pi)
+        assert 0 < s[f"{key}_radius"] - tributary <= 0.3, (key, s[f"{key}_radius"], tributary)
+
+
 @needs_gmsh
 def test_the_xdmf_holds_tetrahedra_stress_tensors_and_contact_fields(quarter, tmp_path):
     meshio = pytest.importorskip("meshio")

@@ -10,22 +10,27 @@ coupling):
 P is the contact's measured normal force (the approach is prescribed), Q the applied shear:
 the traction on the cut times its meshed area, or the cut's reaction when the cut is moved.
 
-CI meshes: the sphere's contact spacing HS = 0.04 mm (a/h = 7.7), the block's 0.06, both growing
+CI meshes: the sphere's contact spacing HS = 0.04 mm (a/h = 7.8), the block's 0.06, both growing
 by 0.5 per mm (14k DOFs); at 45 degrees, whole bodies, 0.06 and 0.08 (15.5k DOFs).  The bounds
 below are in the spacing of the run's sphere.  The shear is raised above the cases' Q = 0.5 mu P
-(the traction along x by 1.33, the cut's diagonal move by 1.4: Q/(mu P) = 0.60 and 0.65), where
-c/a = (1 - Q/(mu P))^(1/3) is steeper in mu: the same runs at mu = 0.2 put c 0.27 a and 0.27 a
-below the mu = 0.3 value, against 0.16 a at Q = 0.5 mu P, where they passed the former bound
-of three spacings.  Tolerances:
+(the traction along x by 1.33, the cut's diagonal move by 1.4: Q/(mu P) = 0.63 and 0.65 at the
+measured P = 31.9 N and 34.1 N: these meshes are stiffer than the cases' own), where c/a =
+(1 - Q/(mu P))^(1/3) is steeper in mu: the same runs at mu = 0.2 put c 0.36 a and 0.25 a below
+the mu = 0.3 value, against 0.16 a at Q = 0.5 mu P.  The contact and stick radii are the
+summary's (cases/README.md): for node_to_surface rows the area of the contactor triangles with
+a closed, resp. stuck, row at a corner, where the rows' tractions act (the former sum of the
+rows' tributary areas put both edges about half a spacing lower: -0.91 HS and -0.64 HS with
+the case's former approach; bench/mindlin_convergence_3d.md).  Tolerances:
 - forces: the contact's resultants balance the applied shear and the cut's reaction to the
   engine's equilibrium tolerance (1e-9), on any mesh, and every snapshot's stresses balance
   the loads and contact forces (tests/physics.py);
-- contact radius (the equivalent radius of the closed sphere nodes' areas) within one
-  contactor spacing HS of Hertz's a (the true edge lies between a closed and an open node);
-- stick radius: c = (c/a) a scales with the contact, whose radius is within HS of Hertz's a
-  (above), and the stick edge is itself resolved to a spacing (it lies between a stuck and a
-  slipping node): within (1 + c/a) HS of Mindlin's c (1.74 HS along x, 1.70 HS at 45 degrees;
-  measured -0.91 HS and -0.64 HS; at mu = 0.2 the same check reads -3.13 HS and -2.24 HS);
+- contact radius within one contactor spacing HS of Hertz's a, and stick radius within HS of
+  Mindlin's c: the rows are a spacing apart and each is closed (stuck) or not as a whole, so
+  the discrete edge lies between the last closed (stuck) row and the first open (slipping)
+  one, where the closed rows' supports end: the edge is resolved to HS (measured: contact
+  -0.11 HS and -0.16 HS, stick -0.30 HS and -0.21 HS; at mu = 0.2 the stick check reads
+  -2.82 HS and -1.78 HS; tests/physics3d/test_mindlin_deresiewicz_3d.py holds it on two meshes
+  and along Mindlin-Deresiewicz's unloading);
 - Coulomb at the case's mu = 0.3 at the stage ends, exact on any mesh: every stuck pair inside
   the round cone, every slipping pair on the facet of the cone at its direction, mu lambda_n
   <= |lambda_t| <= mu lambda_n / cos(slip_turn) (rust/src/contact.rs), to 1e-9 of P;
@@ -59,7 +64,7 @@ E_STAR = E / (2 * (1 - NU ** 2))
 
 
 #: The shears, raised from the cases' Q = 0.5 mu P: the traction along x by 1.33 (Q = 5.98 N, Q/(mu
-#: P) = 0.60 at the measured P = 33.2 N), the cut's move along the diagonal by 1.4 (Q/(mu P) = 0.65)
+#: P) = 0.63 at the measured P = 31.9 N), the cut's move along the diagonal by 1.4 (Q/(mu P) = 0.65)
 SHEAR_X = "bc.shear.traction=[7.62e-4, 0.0, 0.0]"
 SHEAR_45 = "bc.shear.displacement={x = 2.533e-4, y = 2.533e-4}"
 
@@ -68,11 +73,6 @@ def coarse(hs: float, hb: float, snapshots: str = "[1.0, 2.0]") -> list[str]:
     return [f"body.sphere.mesh.h_contact={hs}", f"body.block.mesh.h_contact={hb}",
             "body.sphere.mesh.growth=0.5", "body.block.mesh.growth=0.5",
             f"output.snapshots={snapshots}"]
-
-
-def stick_bound(m: dict, hs: float) -> float:
-    """(1 + c/a) hs: the stick edge's own spacing plus the contact radius's, scaled by c/a."""
-    return (1 + m["c"] / m["a"]) * hs
 
 
 def coulomb_violation(result, mu: float) -> float:
@@ -167,7 +167,7 @@ def test_contact_and_stick_radii_against_mindlin(along_x):
     _, m = along_x
     s = m["summary"]
     assert abs(s["contact_radius"] - m["a"]) <= HS, (s["contact_radius"], m["a"])
-    assert abs(s["stick_radius"] - m["c"]) <= stick_bound(m, HS), (s["stick_radius"], m["c"])
+    assert abs(s["stick_radius"] - m["c"]) <= HS, (s["stick_radius"], m["c"])
     assert s["contacts"]["interface"]["n_slip"] > 0 and s["contacts"]["interface"]["n_stick"] > 0
 
 
@@ -194,7 +194,7 @@ def test_sheared_at_45_degrees_the_stick_zone_is_mindlins_disc(diagonal):
     result, m = diagonal
     s = m["summary"]
     assert abs(s["contact_radius"] - m["a"]) <= HS45, (s["contact_radius"], m["a"])
-    assert abs(s["stick_radius"] - m["c"]) <= stick_bound(m, HS45), (s["stick_radius"], m["c"])
+    assert abs(s["stick_radius"] - m["c"]) <= HS45, (s["stick_radius"], m["c"])
     prof = m["profile"]
     stick = prof["status"] == 1
     area = np.asarray(result.scene.pair_area)[prof["pair"]][stick]

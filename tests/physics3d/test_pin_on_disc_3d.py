@@ -6,8 +6,12 @@ against Hertz (Johnson, Contact Mechanics §4.2; two bodies of the same material
 
 Tolerances: the contact's normal resultant (the full contact, mirrored across the planes
 x = 0 and y = 0 that both meshes hold) equals the applied traction times the cut's meshed area
-to the engine's tolerance; the contact radius (the equivalent radius of the closed nodes'
-areas) within one contactor spacing H (the script's fine size) of Hertz's a.  The files are
+to the engine's tolerance; the contact radius (the summary's: for these node_to_surface rows
+the equivalent radius of the pin's face triangles with a closed row at a corner,
+cases/README.md) within one contactor spacing H (the script's fine size) of Hertz's a: the
+rows are a spacing apart, so the edge is resolved to H (measured +0.33 H at a/h = 4; the same
+script at H = 0.02 and 0.015: +0.09 H and +0.12 H, where the rows' tributary areas read -0.39 H
+and -0.37 H).  The files are
 the script's output: meshing again gives the same face tags and, within 10 %, the same
 number of nodes (gmsh is deterministic for one version; another version meshes a size field a
 little differently, so the nodes themselves are not compared).

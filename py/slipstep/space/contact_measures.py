@@ -4,9 +4,21 @@ slip direction; per contact its area, equivalent radii and resultants, for the F
 the model is a symmetric part of it; the pressure along a line through the contact (numpy only,
 nothing written here).  The 3D counterpart of :mod:`slipstep.contact_measures`.
 
-Areas are the consistent tributary areas of the contactor nodes on their face triangles
-(``scene.pair_area``: int N_a dA): a contact's area is that of its closed pairs, its stick area
-that of its sticking ones, and ``contact_radius`` = sqrt(area / pi), ``stick_radius`` likewise.
+A contact's area is where its contact forces act, by the kind of its rows (:func:`zone_area`):
+- rows at nodes (``rigid_plane``, ``rigid_surface``, ``node_to_node``: each pair's gap and slip
+  are node a's own, its force acts at node a): the consistent tributary areas of its closed
+  pairs' contactor nodes (``scene.pair_area``: int N_a dA), whose sum puts the zone's edge
+  midway between the last closed node and the first open one;
+- mortar rows (``node_to_surface``: row j's gap and slip are means over its node's support,
+  weighted by N_j; its force spreads over the contactor as the traction (lambda_j / S_j) N_j):
+  the contactor triangles with a closed row at a corner, the support of that traction field.
+  A closed row holds its weighted gap at zero over its whole support, so the contact covers
+  the supports of the closed rows: the last closed row lies about half a spacing inside the
+  edge, and a tributary sum would put the edge there (the sphere of mindlin_sphere_3d.toml
+  pressed onto its block without friction: -0.42 to -0.52 spacings off Hertz's a from a/h = 5
+  to 10, this measure -0.06 to +0.05; bench/mindlin_convergence_3d.md);
+its stick area likewise with the sticking pairs, and ``contact_radius`` = sqrt(area / pi),
+``stick_radius`` likewise.
 A symmetric part: every body a contact touches is cut by the same symmetry planes ([[bc]]
 ``symmetry`` faces) through its candidates, all on one side of each (:func:`mirror_planes`);
 its full contact is 2^k times the part's, resultants mirrored (the components along the k plane
@@ -21,6 +33,7 @@ import numpy as np
 
 from ..contact_measures import contactor_forces
 from .contact_geometry import contactor_face
+from .mesh import triangle_normals
 
 
 def row_forces(scene, snapshot: dict) -> tuple[np.ndarray, np.ndarray]:
@@ -153,9 +166,8 @@ def contact_numbers_3d(scene, snapshot: dict, index: int) -> dict:
     planes = mirror_planes(scene, index)
     factor = 2.0 ** len(planes)
     status = np.asarray(snapshot["status"])[mine]
-    area = scene.pair_area[mine]
-    closed = factor * float(area[status > 0].sum())
-    stick = factor * float(area[status == 1].sum())
+    closed = factor * zone_area(scene, index, status > 0)
+    stick = factor * zone_area(scene, index, status == 1)
     normal, tangential = row_forces(scene, snapshot)
     resultant = factor * tangential[mine].sum(axis=0)
     part = (normal + tangential)[mine].sum(axis=0)
@@ -176,6 +188,22 @@ def contact_numbers_3d(scene, snapshot: dict, index: int) -> dict:
             "total_tangential_force": float(np.linalg.norm(resultant)),
             "peak_pressure": recovered_peak(scene, profile, index, math.sqrt(closed / math.pi)),
             "max_nodal_pressure": float(peak.max()) if len(peak) else 0.0}
+
+
+def zone_area(scene, index: int, chosen: np.ndarray) -> float:
+    """The area of the modelled part of [[contact]] ``index`` on which its ``chosen`` pairs
+    (a mask over its pairs: the closed, the sticking ones) act (module doc): for mortar rows
+    (``node_to_surface``) the area of the contactor face's triangles with a chosen row's node
+    at a corner, else the sum of the chosen pairs' tributary areas ``scene.pair_area``."""
+    mine = np.flatnonzero(scene.pair_contact == index)
+    contact = scene.case.data["contact"][index]
+    if contact["kind"] != "node_to_surface":
+        return float(scene.pair_area[mine][chosen].sum())
+    face = scene.global_boundary(*contactor_face(contact))
+    on = np.zeros(len(scene.nodes), dtype=bool)
+    on[scene.model["pairs"]["node_a"][mine][chosen]] = True
+    _, area = triangle_normals(scene.nodes, face)
+    return float(area[on[face].any(axis=1)].sum())
 
 
 #: The fit window of :func:`recovered_peak`: PEAK_SPACINGS node spacings around the largest
