@@ -290,7 +290,8 @@ def box(width: float, depth: float, height: float, nx: int, ny: int, nz: int,
             corners.append(nid(i + ci, j + cj, k + ck))
         tets.append(np.column_stack(corners))
     tets = _oriented(nodes, np.concatenate(tets))
-    faces = _box_faces(nodes, tets, (x0, y0, z0), (x0 + width, y0 + depth, z0 + height))
+    # the planes as the nodes have them (x0 + nx width / nx may differ from x0 + width)
+    faces = _box_faces(nodes, tets, [a[0] for a in axes], [a[-1] for a in axes])
     return checked_tet_mesh(nodes, tets, faces, where="box mesh")
 
 
@@ -306,10 +307,11 @@ def _oriented(nodes, tets) -> np.ndarray:
 def _box_faces(nodes, tets, low, high) -> dict:
     """The boundary triangles of a box's mesh, by the plane they lie on."""
     tris = boundary_faces(tets)
-    centre = nodes[tris].mean(axis=1)
     out = {}
     for name, axis, value in (("bottom", 2, low[2]), ("top", 2, high[2]), ("left", 0, low[0]),
                               ("right", 0, high[0]), ("front", 1, low[1]),
                               ("back", 1, high[1])):
-        out[name] = tris[centre[:, axis] == value]
+        # all three corners on the plane: a mean of three equal coordinates is not always the
+        # coordinate ((h + h + h)/3 != h for some h), which left a face tag empty
+        out[name] = tris[(nodes[tris][:, :, axis] == value).all(axis=1)]
     return out
