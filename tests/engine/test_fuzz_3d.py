@@ -544,20 +544,18 @@ def test_a_box_of_any_height_has_its_top_face():
 #: A single cell (2 x 1 x 0.3125, six tetrahedra) resting at zero gap on a rigid frictional
 #: flat (mu = 0.1), held by nothing else, pressed by p = 1 on its top, the scene turned by the
 #: rotation of the quaternion (0.5, 0.4, 0.8, 0.6): at t = 0 every pair slips outwards (Poisson's
-#: expansion) at zero force, and the engine stops with FreeBodyError ("body 'upper' is free to
-#: move (translation in x + translation in y; translation in z + rotation about x; ...): its 8
-#: closed contact pair(s) slip ..."; the body has 4 pairs).  The same scene unturned, or turned
-#: about one coordinate axis, completes (17 events, every check of assert_admissible met); so
-#: does tests/engine/test_pressed_block_3d.py's block, which is the same scene on the axes.
+#: expansion) at zero force.  It stopped with FreeBodyError ("body 'upper' is free to move
+#: ...") where the same scene on the axes completed: the rate problem eliminated every pair's
+#: tangential force with its equation, but K# pins a node of the floating body, whose two
+#: tangents' flexibilities are then dependent (turned off the axes, to round-off: M_ff of rank
+#: 7 of 8, its Schur complement 1e33), and Lemke's first pivot was a ray.  The rate problem now
+#: eliminates an independent set (rust/src/driver/rate_problem.rs, ``independent_free``).
 FREE_BODY_WHEN_TURNED = {
     "family": "block_on_flat", "mu": 0.1, "nu": 0.3, "slip_turn": 0.1,
     "rotation": (0.5, 0.4, 0.8, 0.6), "seed": 0, "tangential": 0.5, "direction": 0.0,
     "width": 2.0, "depth": 1.0, "height": 0.3125, "nx": 1, "ny": 1, "nz": 1, "distortion": 0.0}
 
 
-@pytest.mark.xfail(strict=True, reason="engine: FreeBodyError at t = 0 for a block pressed on "
-                   "a frictional flat turned off the axes (completes on the axes); found by "
-                   "the 3D fuzz")
 def test_a_pressed_block_on_a_turned_flat_is_held_by_its_slipping_pairs():
     check_spec(FREE_BODY_WHEN_TURNED)
 
@@ -571,14 +569,15 @@ def test_the_same_block_on_the_axes_completes():
 #: 14943993) on a rigid frictional flat at zero gap (mu = 0.3, nu = 0.4), held by nothing
 #: else, pressed by p = 1, then sheared by 0.1 x 0.5 mu p (a twentieth of what friction holds)
 #: along x, the scene turned by the quaternion (-0.84, 0.85, -0.84, -0.84): at t = 1, where the
-#: shear begins, pair 0 cycles through slip_turn and stick_to_slip at zero load increment, the
-#: rate problem finds no admissible set and the last resort freezes it outside its cone:
+#: shear begins, pair 0 cycled through slip_turn and stick_to_slip at zero load increment, the
+#: rate problem found no admissible set and the last resort froze it outside its cone:
 #: IllPosedError "contact 'flat' pair 0 ... violates Coulomb's law (|lambda_t| = 8.275e-2 beyond
 #: its cone by 4.300e-3, mu lambda_n = 7.829e-2) at load fraction 1.000000: its statuses cycled
 #: at zero load increment ...".  Unturned, or with the nodes undistorted, it completes.  (The
 #: same failure, also at t = 1 on pair 0, came from a 6 x 3 x 1 block turned by pi about y up to
 #: round-off: with the rotation's off-diagonal entries 1e-37 it fails, with them exactly 0 it
-#: completes, 85 events.)
+#: completes, 85 events.)  The cause was the turned block's above (the rate problem's
+#: dependent tangents of the pinned node), fixed with it.
 ILL_POSED_AT_THE_SHEAR = {
     "family": "block_on_flat", "mu": 0.3, "nu": 0.4, "slip_turn": 0.1,
     "rotation": (-0.84, 0.85, -0.84, -0.84), "seed": 14943993, "tangential": 0.1,
@@ -586,9 +585,6 @@ ILL_POSED_AT_THE_SHEAR = {
     "distortion": 0.15}
 
 
-@pytest.mark.xfail(strict=True, reason="engine: IllPosedError (a pair frozen outside its cone) "
-                   "where the shear of a turned, distorted block on a frictional flat begins; "
-                   "found by the 3D fuzz")
 def test_a_turned_block_sheared_far_below_its_friction_completes():
     check_spec(ILL_POSED_AT_THE_SHEAR)
 

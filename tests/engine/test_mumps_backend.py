@@ -4,8 +4,8 @@ history of the default in-process factorization (faer) to round-off.
 Both backends solve the same SPD systems with backward-stable Cholesky factorizations, in
 different orders of elimination; two such solutions differ by about kappa(K) * eps relative.
 For these coarse meshes kappa(K) ~ (body size / smallest element)^2 (P1 elements, one
-material): hertz_cylinder at h = 0.15 on R = 125, (125 / 0.15)^2 ~ 7e5; the sphere R = 50 at
-h = 0.15, ~ 1e5 (the block's ratio is smaller); times eps = 2.2e-16: < 2e-10. An event's
+material): hertz_cylinder at h = 0.15 on R = 125, (125 / 0.15)^2 ~ 7e5; the sphere R = 50 on
+a block meshed at h = 0.09 near the contact, (50 / 0.09)^2 ~ 3e5; times eps = 2.2e-16: < 2e-10. An event's
 load fraction is a ratio of such solutions. So: the same events (kind and entity, in order), load
 fractions within 1e-9 and every snapshot's displacements within 1e-9 of the largest, a factor
 5 above that bound. A wrong solve (a rank's rows lost, a stale factor after a tangent change, a
@@ -46,7 +46,7 @@ SCENES = {
                                ["contact.mu=0.35", "material.Sy=200", "material.H=700",
                                 "mesh.h_contact=0.15"]),
     "mindlin_sphere_3d": (CASES / "mindlin_sphere_3d.toml",
-                          ["body.sphere.mesh.h_contact=0.15", "body.block.mesh.h_contact=0.22"]),
+                          ["body.sphere.mesh.h_contact=0.12", "body.block.mesh.h_contact=0.09"]),
 }
 
 

@@ -717,18 +717,53 @@ fn covering_entry(seed: &mut u64) -> f64 {
     COVERING_RANGE.0 + u * (COVERING_RANGE.1 - COVERING_RANGE.0)
 }
 
+/// The free unknowns whose equations can eliminate them: among those with a diagonal entry,
+/// a set on which M_ff is regular, picked by symmetric Gaussian elimination with diagonal
+/// pivoting (each unknown by its own equation), a pivot below `DEPENDENT` × the largest
+/// diagonal entry ending it. The others are split (saddles): a rigid amplitude (no diagonal
+/// entry), and a force whose flexibility depends on the others' (the tangents of a floating
+/// body's node that K# pins, turned off the axes: M_ff singular to round-off, its Schur
+/// complement 10^33, Lemke's first pivot a ray).
+fn independent_free(prob: &Unknowns) -> Option<Vec<bool>> {
+    let diagonal = |i: usize| prob.rows[i].as_ref().map_or(0.0, |r| r.coef.iter().filter(|&&(j, _)| j == i).map(|&(_, v)| v).sum());
+    let free: Vec<usize> = (0..prob.free.len()).filter(|&i| prob.free[i] && diagonal(i) != 0.0).collect();
+    let mut a = DMatrix::<f64>::zeros(free.len(), free.len());
+    for (r, &i) in free.iter().enumerate() {
+        for &(j, v) in &prob.rows[i].as_ref()?.coef {
+            if let Some(c) = free.iter().position(|&f| f == j) {
+                a[(r, c)] += v;
+            }
+        }
+    }
+    let largest = (0..free.len()).map(|k| a[(k, k)].abs()).fold(0.0, f64::max);
+    let mut chosen = vec![false; prob.free.len()];
+    let mut left: Vec<usize> = (0..free.len()).collect();
+    while let Some(k) = left.iter().copied().max_by(|&x, &y| a[(x, x)].abs().total_cmp(&a[(y, y)].abs())) {
+        let pivot = a[(k, k)];
+        if !(pivot.abs() > DEPENDENT * largest) {
+            break;
+        }
+        chosen[free[k]] = true;
+        left.retain(|&i| i != k);
+        for &i in &left {
+            let f = a[(i, k)] / pivot;
+            for &j in &left {
+                a[(i, j)] -= f * a[(k, j)];
+            }
+        }
+    }
+    Some(chosen)
+}
+
+/// A pivot of M_ff below this × its largest diagonal entry is round-off: that unknown depends.
+const DEPENDENT: f64 = 1e-9;
+
 /// M y + q over the unknowns with every saddle unknown split in two; which were split, and the
 /// column of each unknown.
 #[allow(clippy::type_complexity)]
 fn split_saddles(prob: &Unknowns) -> Option<(DMatrix<f64>, DVector<f64>, Vec<bool>, Vec<usize>)> {
-    let split: Vec<bool> = (0..prob.free.len())
-        .map(|i| {
-            prob.free[i]
-                && !prob.rows[i]
-                    .as_ref()
-                    .is_some_and(|r| r.coef.iter().any(|&(j, a)| j == i && a != 0.0))
-        })
-        .collect();
+    let eliminable = independent_free(prob)?;
+    let split: Vec<bool> = (0..prob.free.len()).map(|i| prob.free[i] && !eliminable[i]).collect();
     let mut col = Vec::with_capacity(prob.free.len());
     let mut n = 0;
     for &sp in &split {
@@ -981,5 +1016,24 @@ mod tests {
         (state.lambda_n[held], state.lambda_t[held]) = (ln, mu * ln);
         let Role::Friction { facets, .. } = rp.role(&state, held) else { panic!("a pair on the cone") };
         assert!(facets == [Facet { dir: vec![-1.0], off: Some(2.0 * mu * ln) }, Facet { dir: vec![1.0], off: None }]);
+    }
+
+    /// Three free forces whose flexibilities are dependent to round-off (the second a multiple
+    /// of the first, as a pinned node's two tangents turned off the axes) and a rigid
+    /// amplitude: the first and the third are eliminated, the second and the amplitude split.
+    #[test]
+    fn dependent_free_unknowns_are_split_not_eliminated() {
+        let mut prob = Unknowns::default();
+        let ids: Vec<usize> = (0..3).map(|_| prob.unknown(true)).collect();
+        let alpha = prob.length_unknown(true);
+        let (k, eps) = (0.06, 1e-19);
+        let flex = [[1.0, k, 0.3], [k, k * k + eps, 0.3 * k], [0.3, 0.3 * k, 2.0]];
+        for (i, &u) in ids.iter().enumerate() {
+            let coef = ids.iter().zip(flex[i]).map(|(&j, v)| (j, v)).chain(std::iter::once((alpha, 1.0))).collect();
+            prob.rows[u] = Some(Affine { coef, constant: 0.1 });
+        }
+        prob.rows[alpha] = Some(Affine { coef: ids.iter().map(|&j| (j, -1.0)).collect(), constant: 1.0 });
+        let chosen = independent_free(&prob).expect("every row given");
+        assert_eq!(chosen, vec![true, false, true, false]);
     }
 }
