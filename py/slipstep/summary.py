@@ -451,16 +451,16 @@ def contact_text(summary: dict, named: bool = False) -> str:
 
 
 def driver_text(summary: dict) -> list[str]:
-    """The driving forces in a few words each: ``P = 43.66 N pyramid force along its motion at
-    0.03 mm`` (with its largest when the run unloaded from it), then the Oliver–Pharr hardness
-    and reduced modulus of an indenter that unloaded."""
-    what = {"motion": "force along its motion", "displacement": "reaction along its displacement",
-            "load": "load"}
+    """The driving forces in a few words each, named by their load: ``pyramid: F = 43.66 N
+    along its motion at 0.03 mm`` (with its largest when the run unloaded from it), then the
+    Oliver–Pharr hardness and reduced modulus of an indenter that unloaded."""
+    what = {"motion": "along its motion at {u}", "displacement": "reaction at {u} along it",
+            "load": "resultant, its nodes {u} along it"}
     out = []
     for name, d in summary.get("driving_forces", {}).items():
         force = d["force"] if abs(d["force"]) > 1e-12 * abs(d["max_force"]) else 0.0
-        text = (f"P = {quantity(summary, force, 'force')} {name} {what[d['kind']]} at "
-                f"{quantity(summary, d['displacement'], 'length')}")
+        u = quantity(summary, d["displacement"], "length")
+        text = f"{name}: F = {quantity(summary, force, 'force')} " + what[d["kind"]].format(u=u)
         if d["max_force"] > d["force"] + 1e-3 * abs(d["max_force"]):  # it unloaded
             text += (f" (max {quantity(summary, d['max_force'], 'force')} at "
                      f"{quantity(summary, d['displacement_at_max'], 'length')})")
