@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .figures import finish, given_axes, label, new_figure, title
+from .figure_frame import finish, given_axes, label, new_figure, title
 from .history import stage_names
 from .resultants import contact_normal, drivers, indentation, step_history, whole
 

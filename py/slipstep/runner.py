@@ -184,7 +184,7 @@ def _load_writers(scene: Scene, out, figures: bool | None, xdmf: bool | None):
     options = scene.case.data["output"]
     wanted = []
     if out is not None and (options["figures"] if figures is None else figures):
-        from .figures import preload
+        from .figure_frame import preload
         wanted.append(preload)
     if out is not None and (options["xdmf"] if xdmf is None else xdmf):
         wanted.append(lambda: __import__("meshio"))

@@ -462,7 +462,7 @@ def markdown_table(rows: list[dict]) -> str:
 
 
 def figure(path: Path, rows: list[dict], inc: dict) -> None:
-    from .figures import Plots  # pyplot's calls on the object API: notebook-safe
+    from .figure_frame import Plots  # pyplot's calls on the object API: notebook-safe
 
     plt = Plots()
 

@@ -20,9 +20,9 @@ KIND_COLOURS = {"close": "tab:blue", "separate": "tab:cyan", "stick_to_slip": "t
 
 
 def _plt():
-    """pyplot's figure calls on matplotlib's object API (:class:`slipstep.figures.Plots`): no
+    """pyplot's figure calls on matplotlib's object API (:class:`slipstep.figure_frame.Plots`): no
     backend switch, no global figure state, so the figures are notebook-safe."""
-    from ..figures import Plots
+    from ..figure_frame import Plots
 
     return Plots()
 

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..fields import is_elastoplastic
-from ..figures import STATUS_COLOURS, STATUS_LABELS, finish, given_axes, label, new_figure
+from ..figure_frame import STATUS_COLOURS, STATUS_LABELS, finish, given_axes, label, new_figure
 from ..references import hertz_pressure
 from .contact_geometry import contactor_face
 from .contact_measures import (contact_frame, contact_numbers_3d, contact_profile_3d,
