@@ -44,6 +44,13 @@ const TIE_TOL: f64 = 1e-12;
 /// A basic value below ZERO_TOL × max_k |b_k| is round-off of a degenerate zero (so its ratio
 /// ties with the least one within ZERO_TOL max_k |b_k| / a_i).
 const ZERO_TOL: f64 = 1e-13;
+/// A ratio test decided by less than this (relative) is refined first (`Tableau::clear_choice`):
+/// far above the round-off of the tableau's entries (~1e-16 per pivot, ~1e-13 after
+/// thousands), far below a difference the problem's data make.
+const NEAR: f64 = 1e-7;
+/// An entering column's entry within this factor of the pivot threshold may be on either side
+/// of it to round-off: the column is refined first.
+const PIVOT_BAND: f64 = 1e3;
 /// Sweeps of symmetric Ruiz equilibration of M (a few bring rows and columns near unit size).
 const EQUILIBRATION_SWEEPS: usize = 8;
 
@@ -220,7 +227,12 @@ impl Tableau {
             } else {
                 leaving - self.n
             };
-            self.refine([2 * self.n + 1, entering]);
+            // refined only where the ratio test is close to a tie (or a pivot to the
+            // threshold): elsewhere round-off cannot change its choice, and the refinement's
+            // O(n²) reads cost as much as the pivot itself
+            if !self.clear_choice(entering) {
+                self.refine([2 * self.n + 1, entering]);
+            }
             let r = self
                 .leaving_row(entering)
                 .ok_or(LcpFailure::Ray { pivots })?;
@@ -229,6 +241,23 @@ impl Tableau {
             pivots += 1;
         }
         Ok(pivots)
+    }
+
+    /// Whether the ratio test for column c picks its row by a margin round-off cannot close:
+    /// no entry within a factor `PIVOT_BAND` of the pivot threshold, and one row's ratio below every other's
+    /// by `NEAR` (relative, with the floor `NEAR` β / a_i for degenerate rows).
+    fn clear_choice(&self, c: usize) -> bool {
+        let a = |i: usize| self.t[(i, c)];
+        let largest = (0..self.n).map(|i| a(i).abs()).fold(0.0, f64::max);
+        let (low, high) = (PIVOT_TOL * largest / PIVOT_BAND, PIVOT_TOL * largest * PIVOT_BAND);
+        if (0..self.n).any(|i| (low..=high).contains(&a(i).abs())) {
+            return false;
+        }
+        let beta = (0..self.n).map(|i| self.rhs(i).abs()).fold(0.0, f64::max);
+        let rows = (0..self.n).filter(|&i| a(i) > PIVOT_TOL * largest);
+        let ratio = |i: usize| self.rhs(i).max(0.0) / a(i);
+        let theta_min = rows.clone().map(ratio).fold(f64::INFINITY, f64::min);
+        rows.filter(|&i| ratio(i) <= theta_min + NEAR * (theta_min.abs() + beta / a(i))).count() == 1
     }
 
     /// The row leaving when column c enters (minimum ratio test, lexicographic ties); None

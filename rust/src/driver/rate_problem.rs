@@ -52,6 +52,19 @@
 //! the square, 1290–1587 (2.4–4.2 s), the same statuses after the passes (144 stuck, 62
 //! slipping against 143/63: one pair of the solution's 258 at its cone's edge).
 //!
+//! # A working set: the pairs presumed stuck
+//!
+//! Most pairs of a contact that closes at once stick, and Lemke's work grows as the cube of
+//! its complementary unknowns. So in space the pairs at zero force are first presumed to
+//! close and stick: their forces are free unknowns with a stuck pair's equations (g' = 0,
+//! v = 0), eliminated with the others' free forces, and Lemke solves for the rest. A presumed
+//! pair the solution leaves pulling or beyond its round cone joins the complementary ones, and
+//! the problem is solved again (`RateProblem::solve`). A presumed pair that the final solution
+//! keeps meets a stuck pair's conditions, so that solution solves the whole problem. The pad:
+//! its first LCP 0 unknowns (all 258 presumed), 135 pairs then wrong, the next 675 unknowns,
+//! 15 more, then 750; every LCP of its two rate problems 0.2–0.6 s (1.9–3.1 s with none
+//! presumed), the same contact (a, c, p0) as without.
+//!
 //! The hand-back to the facet design of friction (`coulomb`): the statuses the LCP picks
 //! become the pairs' statuses, and a pair it sets slipping slips on the side it slips on, at the
 //! vertex of two adjacent sides of a polygon, or (a corner of the wider twelve-gon) on the facet
@@ -93,6 +106,8 @@ const PIVOTS_PER_VARIABLE: usize = 50;
 /// Sides of the polygon about the round Coulomb cone of a pair at zero force in the 3D rate
 /// problem (see the module documentation): a square, refined where the solution needs it.
 pub(super) const FACETS: usize = 4;
+/// Rounds of the working set (`RateProblem::solve`) before it presumes nothing.
+const WORKING_SET_ROUNDS: usize = 4;
 /// Solves of the 3D rate problem, facets laid about stray slips between them.
 const FACET_PASSES: usize = 4;
 /// Two sides' normals are adjacent on a polygon when their dot product is within this of
@@ -221,9 +236,11 @@ pub(super) fn solve_rate_problem(eng: &mut Engine, state: &State, what: Solve) -
     let oob = trial::out_of_balance(eng, state, what, None);
     // Facets laid about stray slips (`stray_slips`), pass after pass, until none is left.
     let mut laid = vec![vec![]; eng.problem.pairs.len()];
+    let (mut presumed, mut compliance) = (None, std::cell::OnceCell::new());
     for pass in 1.. {
         crate::interrupt::checkpoint(crate::interrupt::Checkpoint::RateProblem).ok()?;
-        let rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads, laid };
+        let mut rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads, laid, presumed: vec![], compliance };
+        rp.presumed = presumed.take().unwrap_or_else(|| rp.zero_force_pairs(state));
         let solved = rp.solve(state, &oob)?;
         let sol = rp.statuses(state, &solved);
         let mut stray = rp.stray_slips(&solved, &sol);
@@ -231,7 +248,7 @@ pub(super) fn solve_rate_problem(eng: &mut Engine, state: &State, what: Solve) -
         if stray.is_empty() || pass == FACET_PASSES {
             return Some(sol);
         }
-        laid = rp.laid;
+        (laid, presumed, compliance) = (rp.laid, Some(rp.presumed), rp.compliance);
         for (p, e) in stray {
             laid[p].extend(facets_about(e, eng.problem.coulomb(p).turn));
         }
@@ -276,10 +293,68 @@ struct RateProblem<'a> {
     stiffness: &'a Stiffness,
     loads: &'a StageLoads,
     laid: Vec<Vec<[f64; 2]>>,
+    /// Per pair: presumed to close and stick (the working set's guess, 3D: see `solve`).
+    presumed: Vec<bool>,
+    /// wᵀ K# w' of every two of the pairs' w_n and free tangents, in the order of
+    /// `kinematics`: the same in every round and pass of one rate problem (its pairs and their
+    /// tangents are the state's).
+    compliance: std::cell::OnceCell<DMatrix<f64>>,
 }
 
 impl RateProblem<'_> {
-    fn solve(&self, state: &State, oob: &trial::OutOfBalance) -> Option<Solved> {
+    /// The problem solved on a working set (3D): the pairs at zero force are presumed to close
+    /// and stick (`presumed`: their forces free unknowns, eliminated with g' = 0, v = 0, as a
+    /// stuck pair's), and only the others are complementary unknowns of Lemke's. A presumed
+    /// pair the solution leaves pulling (Λn < 0) or beyond its round cone joins the
+    /// complementary ones and the problem is solved again: at most `WORKING_SET_ROUNDS` times,
+    /// then with none presumed (as when Lemke finds no solution with some presumed). The
+    /// solution it ends with solves the whole problem: a presumed pair's conditions hold as a
+    /// stuck one's. Lemke's work grows as the cube of its unknowns, and most pairs of a
+    /// contact that closes at once stick (the pad of issue 37: 258 pairs at zero gap and force,
+    /// 144 of them stuck).
+    fn solve(&mut self, state: &State, oob: &trial::OutOfBalance) -> Option<Solved> {
+        for round in 0.. {
+            let solved = self.solve_presuming(state, oob);
+            let any = self.presumed.contains(&true);
+            let Some(solved) = solved else {
+                if !any {
+                    return None;
+                }
+                self.presumed.iter_mut().for_each(|x| *x = false);
+                continue;
+            };
+            let wrong = self.wrongly_presumed(&solved);
+            if wrong.is_empty() {
+                return Some(solved);
+            }
+            crate::trace!("rate problem: {} of the pairs presumed stuck are not", wrong.len());
+            match round < WORKING_SET_ROUNDS {
+                true => wrong.into_iter().for_each(|p| self.presumed[p] = false),
+                false => self.presumed.iter_mut().for_each(|x| *x = false),
+            }
+        }
+        unreachable!("the rounds end with none presumed")
+    }
+
+    /// 3D: the pairs of the problem at zero force (the working set's first guess); none in 2D.
+    fn zero_force_pairs(&self, state: &State) -> Vec<bool> {
+        let tol = CRITICAL_FORCE * self.p.scales.force;
+        (0..self.p.pairs.len()).map(|p| self.p.dim == 3 && self.in_rate_problem(state, p) && state.lambda_n[p].abs() <= tol && state.lambda_t[p].hypot(state.lambda_t2[p]) <= tol).collect()
+    }
+
+    /// The presumed pairs whose solved forces are not a stuck pair's: Λn < 0, or beyond the
+    /// round cone |Λt| ≤ μ Λn (to the force noise).
+    fn wrongly_presumed(&self, solved: &Solved) -> Vec<usize> {
+        let tol = CRITICAL_FORCE * self.p.scales.force;
+        solved.q.iter().enumerate().filter(|&(_, &p)| self.presumed[p]).filter(|&(i, &p)| {
+            let f = &solved.forces[i];
+            let ln = f.normal.eval(&solved.y);
+            let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
+            ln < -tol || norm(&lt) > self.p.pairs[p].mu * ln + tol
+        }).map(|(_, &p)| p).collect()
+    }
+
+    fn solve_presuming(&self, state: &State, oob: &trial::OutOfBalance) -> Option<Solved> {
         let q: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| self.in_rate_problem(state, p)).collect();
         let roles: Vec<Role> = q.iter().map(|&p| self.role(state, p)).collect();
         let mut prob = Unknowns::default();
@@ -409,6 +484,9 @@ impl RateProblem<'_> {
     fn role(&self, state: &State, p: usize) -> Role {
         let tol = CRITICAL_FORCE * self.p.scales.force;
         let (pair, ln) = (&self.p.pairs[p], state.lambda_n[p]);
+        if self.presumed[p] {
+            return if pair.frictional() { Role::Stick } else { Role::Normal };
+        }
         let lt: Vec<f64> = self.tangents(p).iter().map(|&k| self.lambda_t(state, p, k)).collect();
         let closed = state.status[p].is_closed() && ln > tol;
         // a pair with a force keeps the polygon it slipped on (`coulomb`); at zero force its
@@ -496,11 +574,14 @@ impl RateProblem<'_> {
             .zip(forces)
             .flat_map(|(&p, f)| std::iter::once(change(&f.normal, state.lambda_n[p])).chain(self.tangents(p).into_iter().zip(&f.tangential).map(|(k, t)| change(t, self.lambda_t(state, p, k)))).collect::<Vec<_>>())
             .collect();
-        let flex: Vec<Vec<f64>> = vecs.iter().map(|w| self.stiffness.flexibility_times(&self.p.dofs.contact_slot, &w.entries)).collect();
-        let mut forms = vecs.iter().map(|a| {
+        let compliance = self.compliance.get_or_init(|| {
+            let flex: Vec<Vec<f64>> = vecs.iter().map(|w| self.stiffness.flexibility_times(&self.p.dofs.contact_slot, &w.entries)).collect();
+            DMatrix::from_fn(vecs.len(), vecs.len(), |a, b| self.p.dot_slots(vecs[a], &flex[b]))
+        });
+        let mut forms = vecs.iter().enumerate().map(|(i, a)| {
             let mut f = Affine::constant(self.p.dot_slots(a, z0));
             for (b, delta) in deltas.iter().enumerate() {
-                f = f.scaled_add(self.p.dot_slots(a, &flex[b]), delta);
+                f = f.scaled_add(compliance[(i, b)], delta);
             }
             for (k, &ak) in alpha.iter().enumerate() {
                 f = f.scaled_add(a.dot(&self.p.bodies.mode_vectors[k]), &Affine::var(ak));
@@ -549,6 +630,7 @@ impl RateProblem<'_> {
             let f = &sol.forces[i];
             let opens = f.normal.eval(y) <= tol && !sol.touching[i];
             status[p] = match role {
+                Role::Normal | Role::Stick if self.presumed[p] => self.p.pairs[p].closed_status(),
                 Role::Normal | Role::Stick => state.status[p],
                 Role::Critical if opens => Status::Open,
                 Role::Critical => self.p.pairs[p].closed_status(),
@@ -627,14 +709,11 @@ fn solve(prob: &Unknowns) -> Option<Vec<f64>> {
     let pick = |rows: &[usize], cols: &[usize]| {
         DMatrix::from_fn(rows.len(), cols.len(), |i, j| m[(rows[i], cols[j])])
     };
-    let lu_ff = pick(&free, &free).lu();
-    let (m_cf, m_fc) = (pick(&bounded, &free), pick(&free, &bounded));
-    let q_f = DVector::from_fn(free.len(), |i, _| q[free[i]]);
-    let (x_fc, x_q) = if free.is_empty() {
-        (DMatrix::zeros(0, bounded.len()), DVector::zeros(0))
-    } else {
-        (lu_ff.solve(&m_fc)?, lu_ff.solve(&q_f)?)
-    };
+    let m_cf = pick(&bounded, &free);
+    // [M_ff⁻¹ M_fc | M_ff⁻¹ q_f] in one solve
+    let rhs = DMatrix::from_fn(free.len(), bounded.len() + 1, |i, j| if j < bounded.len() { m[(free[i], bounded[j])] } else { q[free[i]] });
+    let x = solve_dense(&pick(&free, &free), rhs)?;
+    let (x_fc, x_q) = (x.columns(0, bounded.len()).into_owned(), x.column(bounded.len()).into_owned());
     let m_c = pick(&bounded, &bounded) - &m_cf * &x_fc;
     let q_c = DVector::from_fn(bounded.len(), |i, _| q[bounded[i]]) - &m_cf * &x_q;
     let started = std::time::Instant::now();
@@ -657,6 +736,23 @@ fn solve(prob: &Unknowns) -> Option<Vec<f64>> {
             })
             .collect(),
     )
+}
+
+/// X = A⁻¹ B by LU with partial pivoting (faer's blocked kernel: the free block of the pad of
+/// issue 37 has ~600 unknowns); None when A is singular (a zero pivot) or X is not finite.
+fn solve_dense(a: &DMatrix<f64>, b: DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let (n, k) = b.shape();
+    if n == 0 {
+        return Some(b);
+    }
+    let lu = faer::linalg::solvers::PartialPivLu::new(faer::MatRef::from_column_major_slice(a.as_slice(), n, n));
+    if (0..n).any(|i| lu.U()[(i, i)] == 0.0) {
+        return None;
+    }
+    let mut x = b;
+    use faer::linalg::solvers::SolveCore;
+    lu.solve_in_place_with_conj(faer::Conj::No, faer::MatMut::from_column_major_slice_mut(x.as_mut_slice(), n, k));
+    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 /// The length unknowns' columns and rows × the flexibility's size s (the largest diagonal entry
@@ -727,30 +823,31 @@ fn covering_entry(seed: &mut u64) -> f64 {
 fn independent_free(prob: &Unknowns) -> Option<Vec<bool>> {
     let diagonal = |i: usize| prob.rows[i].as_ref().map_or(0.0, |r| r.coef.iter().filter(|&&(j, _)| j == i).map(|&(_, v)| v).sum());
     let free: Vec<usize> = (0..prob.free.len()).filter(|&i| prob.free[i] && diagonal(i) != 0.0).collect();
-    let mut a = DMatrix::<f64>::zeros(free.len(), free.len());
+    let mut slot = vec![usize::MAX; prob.free.len()];
+    free.iter().enumerate().for_each(|(k, &i)| slot[i] = k);
+    let n = free.len();
+    let mut a = DMatrix::<f64>::zeros(n, n);
     for (r, &i) in free.iter().enumerate() {
         for &(j, v) in &prob.rows[i].as_ref()?.coef {
-            if let Some(c) = free.iter().position(|&f| f == j) {
-                a[(r, c)] += v;
+            if slot[j] != usize::MAX {
+                a[(r, slot[j])] += v;
             }
         }
     }
-    let largest = (0..free.len()).map(|k| a[(k, k)].abs()).fold(0.0, f64::max);
+    let largest = (0..n).map(|k| a[(k, k)].abs()).fold(0.0, f64::max);
     let mut chosen = vec![false; prob.free.len()];
-    let mut left: Vec<usize> = (0..free.len()).collect();
-    while let Some(k) = left.iter().copied().max_by(|&x, &y| a[(x, x)].abs().total_cmp(&a[(y, y)].abs())) {
-        let pivot = a[(k, k)];
+    let mut order: Vec<usize> = (0..n).collect();
+    for k in 0..n {
+        let j = (k..n).max_by(|&x, &y| a[(x, x)].abs().total_cmp(&a[(y, y)].abs())).expect("k < n");
+        let pivot = a[(j, j)];
         if !(pivot.abs() > DEPENDENT * largest) {
             break;
         }
-        chosen[free[k]] = true;
-        left.retain(|&i| i != k);
-        for &i in &left {
-            let f = a[(i, k)] / pivot;
-            for &j in &left {
-                a[(i, j)] -= f * a[(k, j)];
-            }
-        }
+        (a.swap_rows(k, j), a.swap_columns(k, j), order.swap(k, j));
+        chosen[free[order[k]]] = true;
+        let m = n - k - 1;
+        let (column, row) = (a.view((k + 1, k), (m, 1)).column(0).clone_owned(), a.view((k, k + 1), (1, m)).row(0).transpose());
+        a.view_mut((k + 1, k + 1), (m, m)).ger(-1.0 / pivot, &column, &row, 1.0);
     }
     Some(chosen)
 }
@@ -987,7 +1084,7 @@ mod tests {
         let m = pushed_strip_3d(2, mu, [-0.5, 0.0, 0.0], false);
         let clock = Clock::new();
         let (eng, mut state) = start(&m, &clock);
-        let rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads, laid: vec![vec![]; eng.problem.pairs.len()] };
+        let rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads, laid: vec![vec![]; eng.problem.pairs.len()], presumed: vec![false; eng.problem.pairs.len()], compliance: Default::default() };
         let (free, held) = (2, 0); // at x = 1, and on the face x = 0 held in x (t2 = x there)
         assert!(eng.problem.pairs[held].held[1] && !eng.problem.pairs[free].held.contains(&true));
         state.lambda_n[free] = ln;
