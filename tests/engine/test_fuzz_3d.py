@@ -617,9 +617,9 @@ LAG_AT_ZERO_FORCE_ONSET = {
     "height": 0.3125, "nx": 3, "ny": 1, "nz": 1, "distortion": 0.0}
 
 
-@pytest.mark.xfail(strict=True, reason="engine: a pair that starts to slip at zero force slips "
-                   "without a cross row for the whole increment, its force lagging its slip by "
-                   "0.31 rad > 2 slip_turn; found by the 3D fuzz")
+@pytest.mark.xfail(strict=True, reason="engine: pairs slipping from zero force take their "
+                   "directions from their trials turn after turn, which swing until the turns "
+                   "run out: a force lags its slip by 0.31 rad > 2 slip_turn; found by the 3D fuzz")
 def test_a_pair_slipping_from_zero_force_keeps_its_force_against_its_slip():
     model, result = solve_spec(LAG_AT_ZERO_FORCE_ONSET)
     measured = assert_admissible(model, result)  # admissible otherwise
