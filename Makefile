@@ -143,3 +143,11 @@ FORCE:
 fuzz: $(EXT_STAMP)
 	SLIPSTEP_FUZZ_EXAMPLES=$${SLIPSTEP_FUZZ_EXAMPLES:-2000} MPLBACKEND=Agg \
 		$(PY) -m pytest -q -p no:cacheprovider tests/case/test_fuzz.py
+
+# The 3D engine fuzzer (tests/engine/test_fuzz_3d.py): `make test` runs 100 derandomized scenes;
+# `make fuzz-3d` runs SLIPSTEP_FUZZ_EXAMPLES random ones per family (default 200: six families,
+# about 5-10 minutes on 2 cores; 40 per family took 51-114 s).
+.PHONY: fuzz-3d
+fuzz-3d: $(EXT_STAMP)
+	SLIPSTEP_FUZZ_EXAMPLES=$${SLIPSTEP_FUZZ_EXAMPLES:-200} MPLBACKEND=Agg \
+		$(PY) -m pytest -q -p no:cacheprovider tests/engine/test_fuzz_3d.py

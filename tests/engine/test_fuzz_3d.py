@@ -3,7 +3,7 @@ must complete admissibly.
 
 Beside the 2D fuzzer (tests/case/test_fuzz.py, whose budget rules it shares: a bounded,
 derandomized set in `make test`, ``SLIPSTEP_FUZZ_EXAMPLES`` random ones per family in
-`make fuzz`).  Every scene is built by the product's case machinery (``slipstep.prepare`` of a
+`make fuzz-3d`).  Every scene is built by the product's case machinery (``slipstep.prepare`` of a
 case dict, its meshes from the 3D generators, given from Python so that they can be rotated
 and distorted) and solved by ``_engine.solve`` with a snapshot at every event.
 
@@ -98,7 +98,7 @@ from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 #: examples per family: a fixed, derandomized budget in `make test`; SLIPSTEP_FUZZ_EXAMPLES
-#: (make fuzz) switches to that many random examples (as tests/case/test_fuzz.py).
+#: (make fuzz-3d) switches to that many random examples (as tests/case/test_fuzz.py).
 LONG = int(os.environ.get("SLIPSTEP_FUZZ_EXAMPLES", "0") or 0)
 
 # Round-off, relative to the scene's scales as tests/engine/test_friction_facets_3d.py's: forces
@@ -128,7 +128,7 @@ HANG = 60
 
 def budget(n: int):
     """Hypothesis settings: ``n`` examples in `make test` (derandomized), LONG random ones
-    under `make fuzz`."""
+    under `make fuzz-3d`."""
     return settings(max_examples=LONG or n, derandomize=not LONG, deadline=None, database=None,
                     print_blob=True,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
