@@ -712,7 +712,7 @@ fn solve(prob: &Unknowns) -> Option<Vec<f64>> {
     let m_cf = pick(&bounded, &free);
     // [M_ff⁻¹ M_fc | M_ff⁻¹ q_f] in one solve
     let rhs = DMatrix::from_fn(free.len(), bounded.len() + 1, |i, j| if j < bounded.len() { m[(free[i], bounded[j])] } else { q[free[i]] });
-    let x = solve_dense(&pick(&free, &free), rhs)?;
+    let x = trial::lu_solve(&pick(&free, &free), rhs, 0.0)?; // singular: an exact zero pivot
     let (x_fc, x_q) = (x.columns(0, bounded.len()).into_owned(), x.column(bounded.len()).into_owned());
     let m_c = pick(&bounded, &bounded) - &m_cf * &x_fc;
     let q_c = DVector::from_fn(bounded.len(), |i, _| q[bounded[i]]) - &m_cf * &x_q;
@@ -736,23 +736,6 @@ fn solve(prob: &Unknowns) -> Option<Vec<f64>> {
             })
             .collect(),
     )
-}
-
-/// X = A⁻¹ B by LU with partial pivoting (faer's blocked kernel: the free block of the pad of
-/// issue 37 has ~600 unknowns); None when A is singular (a zero pivot) or X is not finite.
-fn solve_dense(a: &DMatrix<f64>, b: DMatrix<f64>) -> Option<DMatrix<f64>> {
-    let (n, k) = b.shape();
-    if n == 0 {
-        return Some(b);
-    }
-    let lu = faer::linalg::solvers::PartialPivLu::new(faer::MatRef::from_column_major_slice(a.as_slice(), n, n));
-    if (0..n).any(|i| lu.U()[(i, i)] == 0.0) {
-        return None;
-    }
-    let mut x = b;
-    use faer::linalg::solvers::SolveCore;
-    lu.solve_in_place_with_conj(faer::Conj::No, faer::MatMut::from_column_major_slice_mut(x.as_mut_slice(), n, k));
-    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 /// The length unknowns' columns and rows × the flexibility's size s (the largest diagonal entry

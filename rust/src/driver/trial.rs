@@ -437,25 +437,29 @@ fn unit_free(a: &mut DMatrix<f64>, rhs: &mut DVector<f64>, m: usize) -> f64 {
     s
 }
 
-/// Solve the small dense system by LU with partial pivoting (faer's blocked kernel); None when
-/// it is singular to working precision.
+/// Solve the small dense system by LU with partial pivoting; None when it is singular to
+/// working precision (a pivot ≤ `SINGULAR_PIVOT` × the largest).
 fn solve_dense(a: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>> {
-    let n = rhs.len();
+    let x = lu_solve(a, DMatrix::from_column_slice(rhs.len(), 1, rhs.as_slice()), SINGULAR_PIVOT)?;
+    Some(x.column(0).into_owned())
+}
+
+/// X = A⁻¹ B by LU with partial pivoting (faer's blocked kernel); None when a pivot of U is
+/// ≤ `singular` × the largest (0: an exact zero) or X is not finite.
+pub(super) fn lu_solve(a: &DMatrix<f64>, b: DMatrix<f64>, singular: f64) -> Option<DMatrix<f64>> {
+    let (n, k) = b.shape();
     if n == 0 {
-        return Some(DVector::zeros(0));
+        return Some(b);
     }
-    let mat = faer::MatRef::from_column_major_slice(a.as_slice(), n, n);
-    let lu = faer::linalg::solvers::PartialPivLu::new(mat);
-    let u = lu.U();
-    let pivots: Vec<f64> = (0..n).map(|i| u[(i, i)].abs()).collect();
+    let lu = faer::linalg::solvers::PartialPivLu::new(faer::MatRef::from_column_major_slice(a.as_slice(), n, n));
+    let pivots: Vec<f64> = (0..n).map(|i| lu.U()[(i, i)].abs()).collect();
     let largest = pivots.iter().fold(0.0f64, |m, v| m.max(*v));
-    if !(largest > 0.0) || pivots.iter().any(|&p| p <= SINGULAR_PIVOT * largest) {
+    if !(largest > 0.0) || pivots.iter().any(|&p| p <= singular * largest) {
         return None;
     }
-    let mut x = faer::Mat::<f64>::from_fn(n, 1, |i, _| rhs[i]);
+    let mut x = b;
     use faer::linalg::solvers::SolveCore;
-    lu.solve_in_place_with_conj(faer::Conj::No, x.as_mut());
-    let x = DVector::from_fn(n, |i, _| x[(i, 0)]);
+    lu.solve_in_place_with_conj(faer::Conj::No, faer::MatMut::from_column_major_slice_mut(x.as_mut_slice(), n, k));
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
