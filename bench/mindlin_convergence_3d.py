@@ -110,15 +110,11 @@ def tributary_radius(scene, snap, chosen) -> float:
 
 
 def cut_weights(scene) -> np.ndarray:
-    """Each node's share of a uniform traction on the sphere's cut (a third of its triangles)."""
-    from slipstep.space.mesh import triangle_normals
+    """Each node's share of a uniform traction on the sphere's cut: its tributary area there."""
+    from slipstep.space.contact_geometry import tributary_areas
 
-    tri = scene.global_boundary("sphere", "top")
-    _, area = triangle_normals(scene.nodes, tri)
-    w = np.zeros(len(scene.nodes))
-    for k in range(3):
-        np.add.at(w, tri[:, k], area / 3)
-    return w
+    return tributary_areas(scene.nodes, scene.global_boundary("sphere", "top"),
+                           np.arange(len(scene.nodes)))
 
 
 # --------------------------------------------------------------------------- runs

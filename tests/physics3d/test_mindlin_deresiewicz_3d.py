@@ -67,8 +67,8 @@ from physics import EQUILIBRIUM_TOL, equilibrium_residual
 
 import slipstep
 from slipstep.case import parse_case
+from slipstep.space.contact_geometry import tributary_areas
 from slipstep.space.contact_measures import contact_numbers_3d, row_forces
-from slipstep.space.mesh import triangle_normals
 
 R, E, NU, MU = 50.0, 70000.0, 0.3, 0.3
 E_STAR, G = E / (2 * (1 - NU ** 2)), E / (2 * (1 + NU))
@@ -97,13 +97,9 @@ def run(spacings: tuple[float, float]):
 
 
 def cut_weights(scene) -> np.ndarray:
-    """Each node's share of a uniform traction on the sphere's cut (a third of its triangles)."""
-    tri = scene.global_boundary("sphere", "top")
-    _, area = triangle_normals(scene.nodes, tri)
-    w = np.zeros(len(scene.nodes))
-    for k in range(3):
-        np.add.at(w, tri[:, k], area / 3)
-    return w
+    """Each node's share of a uniform traction on the sphere's cut: its tributary area there."""
+    return tributary_areas(scene.nodes, scene.global_boundary("sphere", "top"),
+                           np.arange(len(scene.nodes)))
 
 
 def numbers(result) -> dict:
