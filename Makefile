@@ -101,6 +101,7 @@ test-py: $(EXT_STAMP)
 	env -u SLIPSTEP_ALLOW_MISSING MPLBACKEND=Agg $(PY) -m pytest -q tests
 
 test: $(EXT_STAMP)
+	ci/check-format.sh
 	ci/cargo-test.sh
 	env -u SLIPSTEP_ALLOW_MISSING MPLBACKEND=Agg $(PY) -m pytest -q tests
 
@@ -123,8 +124,10 @@ bench: $(EXT_STAMP) $(BENCH_APT_STAMP)
 	MPLBACKEND=Agg $(PY) bench/dolfinx_side_by_side.py --scene sphere
 	$(PY) bench/large_3d.py --size 100k 300k 600k
 
-fmt:
+# Formats Rust (rustfmt.toml) and Python (pyproject.toml [tool.ruff]); `make test` checks both.
+fmt: $(VENV_STAMP)
 	cargo fmt --all
+	ruff format --quiet .
 
 # clean: build products (keeps .venv, results/). distclean: also the venv.
 clean:

@@ -36,15 +36,21 @@ import getfem_hertz as peer  # noqa: E402
 
 ELASTIC = ["contact.mu=0"]
 FRICTION = ["contact.mu=0.3"]
-HERTZ = {"a": 1.4384, "p0": 442.6}          # Johnson §4.3 at P = 1000 N/mm (the case file)
-LADDER = {"exact": (0.2, 0.1, 0.07, 0.05, 0.035, 0.025),
-          "grouped": (0.05, 0.035, 0.025, 0.0175, 0.0125, 0.009),
-          "getfem": (0.1, 0.05, 0.025, 0.0125),
-          "path": {0.1: (5, 10, 20, 40, 80, 160, 320), 0.05: (5, 10, 20, 40, 80, 160)}}
-QUICK = {"exact": (0.2, 0.1, 0.05), "grouped": (0.1, 0.05), "getfem": (0.2, 0.1),
-         "path": {0.2: (10, 20, 40)}}
+HERTZ = {"a": 1.4384, "p0": 442.6}  # Johnson §4.3 at P = 1000 N/mm (the case file)
+LADDER = {
+    "exact": (0.2, 0.1, 0.07, 0.05, 0.035, 0.025),
+    "grouped": (0.05, 0.035, 0.025, 0.0175, 0.0125, 0.009),
+    "getfem": (0.1, 0.05, 0.025, 0.0125),
+    "path": {0.1: (5, 10, 20, 40, 80, 160, 320), 0.05: (5, 10, 20, 40, 80, 160)},
+}
+QUICK = {
+    "exact": (0.2, 0.1, 0.05),
+    "grouped": (0.1, 0.05),
+    "getfem": (0.2, 0.1),
+    "path": {0.2: (10, 20, 40)},
+}
 GETFEM_STEPS = (40, 80)
-FINE_H = 0.1                # Richardson triples for the reference a start at h <= FINE_H
+FINE_H = 0.1  # Richardson triples for the reference a start at h <= FINE_H
 GROUPED = "solver.group_tol=1e-3"
 EXACT = "solver.group_tol=0"
 STORE = HERE / "getfem_checks.json"
@@ -58,18 +64,28 @@ def slipstep_run(h: float, overrides: list[str]) -> dict:
     from slipstep.summary import summarize
 
     t0 = time.perf_counter()
-    scene = prepare(peer.CASE, overrides=[*overrides, f"mesh.h_contact={h}",
-                                          "output.snapshots=[1.0]"])
+    scene = prepare(
+        peer.CASE, overrides=[*overrides, f"mesh.h_contact={h}", "output.snapshots=[1.0]"]
+    )
     t1 = time.perf_counter()
     result = solve(scene)
     engine_s = time.perf_counter() - t1
     s = summarize(scene, result, wall_time_s=engine_s)
     prof = contact_profile(scene, result["snapshots"][-1])
-    return {"code": "slipstep", "h": h, "dofs": scene.n_dofs, "events": s["n_events"],
-            "p0": s["peak_pressure"], "a": s["contact_half_width"],
-            "stick_half_width": s["stick_half_width"],
-            "total_normal_force": s["total_normal_force"], "engine_s": engine_s,
-            "mesh_s": t1 - t0, "x": prof["x"].tolist(), "pressure": prof["pressure"].tolist()}
+    return {
+        "code": "slipstep",
+        "h": h,
+        "dofs": scene.n_dofs,
+        "events": s["n_events"],
+        "p0": s["peak_pressure"],
+        "a": s["contact_half_width"],
+        "stick_half_width": s["stick_half_width"],
+        "total_normal_force": s["total_normal_force"],
+        "engine_s": engine_s,
+        "mesh_s": t1 - t0,
+        "x": prof["x"].tolist(),
+        "pressure": prof["pressure"].tolist(),
+    }
 
 
 def getfem_run(h: float, overrides: list[str], steps: int) -> dict:
@@ -82,8 +98,11 @@ def cached(store: dict, key: str, make) -> dict:
     if key not in store:
         store[key] = make()
         STORE.write_text(json.dumps(store, indent=1) + "\n")
-        print(f"{key}: p0 = {store[key].get('p0', float('nan')):.3f}, a = "
-              f"{store[key].get('a', float('nan')):.5f}", flush=True)
+        print(
+            f"{key}: p0 = {store[key].get('p0', float('nan')):.3f}, a = "
+            f"{store[key].get('a', float('nan')):.5f}",
+            flush=True,
+        )
     return store[key]
 
 
@@ -102,32 +121,51 @@ def physics(store: dict, h: float) -> list[str]:
     """The two comparisons of the module docstring, as markdown lines."""
     el_ss = cached(store, f"slipstep elastic mu=0 h={h}", lambda: slipstep_run(h, ELASTIC))
     el_gf = cached(store, f"getfem elastic mu=0 h={h} N=1", lambda: getfem_run(h, ELASTIC, 1))
-    lines = [f"## Same physics, h_contact = {h} mm ({el_ss['dofs']} DOFs)", "",
-             "| run | p0 (MPa) | a (mm) | p0 vs Hertz | a vs Hertz | max Δp / p0 vs slipstep |"
-             " force balance Σλn − P/2 (N/mm) |", "|---|---|---|---|---|---|---|"]
-    for name, r in (("slipstep, elastic μ = 0", el_ss),
-                    ("GetFEM N = 1, elastic μ = 0 (a: one step has no history to interpolate "
-                     "in, so the outermost closed node)", el_gf)):
-        lines.append(f"| {name} | {r['p0']:.3f} | {r['a']:.5f} | {r['p0'] / HERTZ['p0'] - 1:+.2%} "
-                     f"| {r['a'] / HERTZ['a'] - 1:+.2%} | {node_difference(r, el_ss):.1e} | "
-                     f"{r['total_normal_force'] - 500:+.1e} |")
+    lines = [
+        f"## Same physics, h_contact = {h} mm ({el_ss['dofs']} DOFs)",
+        "",
+        "| run | p0 (MPa) | a (mm) | p0 vs Hertz | a vs Hertz | max Δp / p0 vs slipstep |"
+        " force balance Σλn − P/2 (N/mm) |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for name, r in (
+        ("slipstep, elastic μ = 0", el_ss),
+        (
+            "GetFEM N = 1, elastic μ = 0 (a: one step has no history to interpolate "
+            "in, so the outermost closed node)",
+            el_gf,
+        ),
+    ):
+        lines.append(
+            f"| {name} | {r['p0']:.3f} | {r['a']:.5f} | {r['p0'] / HERTZ['p0'] - 1:+.2%} "
+            f"| {r['a'] / HERTZ['a'] - 1:+.2%} | {node_difference(r, el_ss):.1e} | "
+            f"{r['total_normal_force'] - 500:+.1e} |"
+        )
     fr_ss = cached(store, f"slipstep elastic mu=0.3 h={h}", lambda: slipstep_run(h, FRICTION))
-    lines.append(f"| slipstep, elastic μ = 0.3 ({fr_ss['events']} events) | {fr_ss['p0']:.3f} | "
-                 f"{fr_ss['a']:.5f} | | | 0 | {fr_ss['total_normal_force'] - 500:+.1e} |")
+    lines.append(
+        f"| slipstep, elastic μ = 0.3 ({fr_ss['events']} events) | {fr_ss['p0']:.3f} | "
+        f"{fr_ss['a']:.5f} | | | 0 | {fr_ss['total_normal_force'] - 500:+.1e} |"
+    )
     for n in (10, 40):
         r = cached(store, f"getfem elastic mu=0.3 h={h} N={n}", lambda: getfem_run(h, FRICTION, n))
-        lines.append(f"| GetFEM N = {n}, elastic μ = 0.3 | {r['p0']:.3f} | {r['a']:.5f} | | | "
-                     f"{node_difference(r, fr_ss):.1e} | {r['total_normal_force'] - 500:+.1e} |")
+        lines.append(
+            f"| GetFEM N = {n}, elastic μ = 0.3 | {r['p0']:.3f} | {r['a']:.5f} | | | "
+            f"{node_difference(r, fr_ss):.1e} | {r['total_normal_force'] - 500:+.1e} |"
+        )
     ep_ss = cached(store, f"slipstep exact h={h}", lambda: slipstep_run(h, [*peer.SCENE, EXACT]))
-    lines.append(f"| slipstep exact, elastoplastic μ = 0.3 ({ep_ss['events']} events) | "
-                 f"{ep_ss['p0']:.3f} | {ep_ss['a']:.5f} | | | 0 | "
-                 f"{ep_ss['total_normal_force'] - 500:+.1e} |")
+    lines.append(
+        f"| slipstep exact, elastoplastic μ = 0.3 ({ep_ss['events']} events) | "
+        f"{ep_ss['p0']:.3f} | {ep_ss['a']:.5f} | | | 0 | "
+        f"{ep_ss['total_normal_force'] - 500:+.1e} |"
+    )
     for n in peer.STEPS:
         r = cached(store, f"getfem h={h} N={n}", lambda: getfem_run(h, peer.SCENE, n))
-        lines.append(f"| GetFEM N = {n}, elastoplastic ({r['newton_iterations']} Newton; p0 "
-                     f"{r['p0'] / ep_ss['p0'] - 1:+.2%}, a {r['a'] / ep_ss['a'] - 1:+.2%} vs "
-                     f"exact) | {r['p0']:.3f} | {r['a']:.5f} | | | {node_difference(r, ep_ss):.1e}"
-                     f" | {r['total_normal_force'] - 500:+.1e} |")
+        lines.append(
+            f"| GetFEM N = {n}, elastoplastic ({r['newton_iterations']} Newton; p0 "
+            f"{r['p0'] / ep_ss['p0'] - 1:+.2%}, a {r['a'] / ep_ss['a'] - 1:+.2%} vs "
+            f"exact) | {r['p0']:.3f} | {r['a']:.5f} | | | {node_difference(r, ep_ss):.1e}"
+            f" | {r['total_normal_force'] - 500:+.1e} |"
+        )
     return lines + [""]
 
 
@@ -157,62 +195,91 @@ def richardson(h: list[float], v: list[float]) -> dict | None:
 def halving_triples(runs: list[dict]) -> list[list[dict]]:
     """Runs (h1, h2, h3) of one series with h1/h2 and h2/h3 both 2 within 5 %."""
     by_h = sorted(runs, key=lambda r: -r["h"])
-    near = [(i, j) for i, ri in enumerate(by_h) for j, rj in enumerate(by_h)
-            if abs(ri["h"] / rj["h"] - 2.0) <= 0.1]
+    near = [
+        (i, j)
+        for i, ri in enumerate(by_h)
+        for j, rj in enumerate(by_h)
+        if abs(ri["h"] / rj["h"] - 2.0) <= 0.1
+    ]
     return [[by_h[i], by_h[j], by_h[k]] for i, j in near for j2, k in near if j2 == j]
 
 
 def reference_runs(store: dict, ladder: dict) -> dict[str, list[dict]]:
     """The refinement series of each code (module docstring), cached."""
-    series = {"slipstep exact": [cached(store, f"slipstep exact h={h}",
-                                        lambda h=h: slipstep_run(h, [*peer.SCENE, EXACT]))
-                                 for h in ladder["exact"]],
-              "slipstep δ = 1e-3": [cached(store, f"slipstep grouped h={h}",
-                                           lambda h=h: slipstep_run(h, [*peer.SCENE, GROUPED]))
-                                    for h in ladder["grouped"]]}
+    series = {
+        "slipstep exact": [
+            cached(
+                store, f"slipstep exact h={h}", lambda h=h: slipstep_run(h, [*peer.SCENE, EXACT])
+            )
+            for h in ladder["exact"]
+        ],
+        "slipstep δ = 1e-3": [
+            cached(
+                store,
+                f"slipstep grouped h={h}",
+                lambda h=h: slipstep_run(h, [*peer.SCENE, GROUPED]),
+            )
+            for h in ladder["grouped"]
+        ],
+    }
     for n in GETFEM_STEPS:
-        series[f"GetFEM N = {n}"] = [cached(store, f"getfem h={h} N={n}",
-                                            lambda h=h, n=n: getfem_run(h, peer.SCENE, n))
-                                     for h in ladder["getfem"]]
+        series[f"GetFEM N = {n}"] = [
+            cached(store, f"getfem h={h} N={n}", lambda h=h, n=n: getfem_run(h, peer.SCENE, n))
+            for h in ladder["getfem"]
+        ]
     return series
 
 
 def path_convergence(store: dict, ladder: dict) -> list[str]:
     """GetFEM's load-stepping error on a fixed mesh: p0 and a with N steps against slipstep's
     exact run there (N -> infinity should close the gap if both solve the same rate problem)."""
-    lines = ["## GetFEM N -> ∞ on a fixed mesh, against slipstep exact", "",
-             "| h (mm) | N | Newton | p0 (MPa) | p0 − exact | a (mm) | a − exact |",
-             "|---|---|---|---|---|---|---|"]
+    lines = [
+        "## GetFEM N -> ∞ on a fixed mesh, against slipstep exact",
+        "",
+        "| h (mm) | N | Newton | p0 (MPa) | p0 − exact | a (mm) | a − exact |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for h, steps in ladder["path"].items():
-        exact = cached(store, f"slipstep exact h={h}",
-                       lambda h=h: slipstep_run(h, [*peer.SCENE, EXACT]))
-        lines.append(f"| {h:g} | exact | {exact['events']} events | {exact['p0']:.3f} | 0 | "
-                     f"{exact['a']:.5f} | 0 |")
+        exact = cached(
+            store, f"slipstep exact h={h}", lambda h=h: slipstep_run(h, [*peer.SCENE, EXACT])
+        )
+        lines.append(
+            f"| {h:g} | exact | {exact['events']} events | {exact['p0']:.3f} | 0 | "
+            f"{exact['a']:.5f} | 0 |"
+        )
         for n in steps:
             r = cached(store, f"getfem h={h} N={n}", lambda h=h, n=n: getfem_run(h, peer.SCENE, n))
             if "p0" in r:
-                lines.append(f"| {h:g} | {n} | {r['newton_iterations']} | {r['p0']:.3f} | "
-                             f"{r['p0'] - exact['p0']:+.3f} | {r['a']:.5f} | "
-                             f"{r['a'] - exact['a']:+.5f} |")
+                lines.append(
+                    f"| {h:g} | {n} | {r['newton_iterations']} | {r['p0']:.3f} | "
+                    f"{r['p0'] - exact['p0']:+.3f} | {r['a']:.5f} | "
+                    f"{r['a'] - exact['a']:+.5f} |"
+                )
     return lines + [""]
 
 
 def series_table(series: dict[str, list[dict]]) -> list[str]:
-    lines = ["## Refinement series, elastoplastic Hertz (μ = 0.3, Sy = 200, H' = 700)", "",
-             "| series | h (mm) | DOFs | p0 (MPa) | a (mm) | events / Newton |",
-             "|---|---|---|---|---|---|"]
+    lines = [
+        "## Refinement series, elastoplastic Hertz (μ = 0.3, Sy = 200, H' = 700)",
+        "",
+        "| series | h (mm) | DOFs | p0 (MPa) | a (mm) | events / Newton |",
+        "|---|---|---|---|---|---|",
+    ]
     for name, runs in series.items():
         for r in runs:
             work = r.get("events", r.get("newton_iterations"))
-            lines.append(f"| {name} | {r['h']:g} | {r['dofs']} | {r['p0']:.3f} | {r['a']:.5f} "
-                         f"| {work} |")
+            lines.append(
+                f"| {name} | {r['h']:g} | {r['dofs']} | {r['p0']:.3f} | {r['a']:.5f} " f"| {work} |"
+            )
     return lines + [""]
 
 
 def richardson_table(series: dict[str, list[dict]]) -> tuple[list[str], list[dict]]:
     """Every halving triple's Richardson limit: markdown, and the fits (series, key, h, limit)."""
-    lines = ["| series | quantity | h triple (mm) | values | observed order | limit |",
-             "|---|---|---|---|---|---|"]
+    lines = [
+        "| series | quantity | h triple (mm) | values | observed order | limit |",
+        "|---|---|---|---|---|---|",
+    ]
     fits = []
     for name, runs in series.items():
         for rows in halving_triples(runs):
@@ -221,8 +288,9 @@ def richardson_table(series: dict[str, list[dict]]) -> tuple[list[str], list[dic
                 fit = richardson(hs, [r[key] for r in rows])
                 values = ", ".join(f"{r[key]:.4f}" for r in rows)
                 got = "not monotone | –" if fit is None else f"{fit['q']:.2f} | {fit['limit']:.4f}"
-                lines.append(f"| {name} | {key} | {', '.join(f'{h:g}' for h in hs)} | {values} "
-                             f"| {got} |")
+                lines.append(
+                    f"| {name} | {key} | {', '.join(f'{h:g}' for h in hs)} | {values} " f"| {got} |"
+                )
                 if fit is not None:
                     fits.append({"series": name, "key": key, **fit})
     return lines + [""], fits
@@ -247,22 +315,31 @@ def conclusion(series: dict[str, list[dict]], fits: list[dict]) -> list[str]:
     offset = {k: float(np.mean([exact[h][k] - grouped[h][k] for h in both])) for k in ("p0", "a")}
     h_min = min(exact)
     p0 = [exact[h_min]["p0"]] + [r["p0"] + offset["p0"] for h, r in grouped.items() if h < h_min]
-    a = [f["limit"] + (offset["a"] if "δ" in f["series"] else 0.0) for f in fits
-         if f["key"] == "a" and f["series"].startswith("slipstep") and f["h"][0] <= FINE_H]
+    a = [
+        f["limit"] + (offset["a"] if "δ" in f["series"] else 0.0)
+        for f in fits
+        if f["key"] == "a" and f["series"].startswith("slipstep") and f["h"][0] <= FINE_H
+    ]
     (p_mid, p_half), (a_mid, a_half) = band(p0), band(a)
-    return ["## Reference", "",
-            f"δ = 1e-3 against exact on h = {', '.join(f'{h:g}' for h in both)} mm: p0 "
-            f"{offset['p0']:+.3f} MPa, a {offset['a']:+.5f} mm (exact − grouped, mean).", "",
-            f"- p0 = {p_mid:.2f} ± {p_half:.2f} MPa: slipstep exact at h = {h_min:g} and δ = 1e-3 "
-            f"(corrected) below it: {', '.join(f'{v:.3f}' for v in p0)}",
-            f"- a = {a_mid:.4f} ± {a_half:.4f} mm: Richardson limits of slipstep's series, triples "
-            f"within h <= {FINE_H:g} mm: {', '.join(f'{v:.4f}' for v in a)}", ""]
+    return [
+        "## Reference",
+        "",
+        f"δ = 1e-3 against exact on h = {', '.join(f'{h:g}' for h in both)} mm: p0 "
+        f"{offset['p0']:+.3f} MPa, a {offset['a']:+.5f} mm (exact − grouped, mean).",
+        "",
+        f"- p0 = {p_mid:.2f} ± {p_half:.2f} MPa: slipstep exact at h = {h_min:g} and δ = 1e-3 "
+        f"(corrected) below it: {', '.join(f'{v:.3f}' for v in p0)}",
+        f"- a = {a_mid:.4f} ± {a_half:.4f} mm: Richardson limits of slipstep's series, triples "
+        f"within h <= {FINE_H:g} mm: {', '.join(f'{v:.4f}' for v in a)}",
+        "",
+    ]
 
 
 def reference(store: dict, ladder: dict) -> list[str]:
     """The series, every halving triple's Richardson limit and the reference, as markdown."""
-    series = {name: [r for r in runs if "p0" in r]
-              for name, runs in reference_runs(store, ladder).items()}
+    series = {
+        name: [r for r in runs if "p0" in r] for name, runs in reference_runs(store, ladder).items()
+    }
     rich, fits = richardson_table(series)
     return series_table(series) + rich + conclusion(series, fits)
 
@@ -277,8 +354,11 @@ def main(argv=None) -> int:
     args = p.parse_args(argv)
     store = load_store()
     ladder = QUICK if getattr(args, "quick", False) else LADDER
-    lines = (physics(store, args.h) if args.command == "physics"
-             else path_convergence(store, ladder) + reference(store, ladder))
+    lines = (
+        physics(store, args.h)
+        if args.command == "physics"
+        else path_convergence(store, ladder) + reference(store, ladder)
+    )
     text = "\n".join(lines)
     print(text)
     quick = "_quick" if getattr(args, "quick", False) else ""

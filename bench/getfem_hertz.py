@@ -83,14 +83,14 @@ CASE = ROOT / "cases" / "hertz_cylinder.toml"
 SCENE = ["material.Sy=200", "material.H=700", "contact.mu=0.3"]
 SIZES = (0.05, 0.025, 0.0125)
 STEPS = (5, 10, 20, 40)
-TIMEOUT_S = 600.0          # per run, as bench/run.py
-REPEATS = 3                # shared machine: min and median of 3 whole processes,
-REPEAT_BELOW_S = 120.0     # for runs shorter than this (a longer one runs once)
-MAX_RES = 1e-8             # Newton: relative residual (GetFEM's criterion, see `solve_steps`)
-MAX_ITER = 50              # Newton iterations per load step
+TIMEOUT_S = 600.0  # per run, as bench/run.py
+REPEATS = 3  # shared machine: min and median of 3 whole processes,
+REPEAT_BELOW_S = 120.0  # for runs shorter than this (a longer one runs once)
+MAX_RES = 1e-8  # Newton: relative residual (GetFEM's criterion, see `solve_steps`)
+MAX_ITER = 50  # Newton iterations per load step
 NEWTON = ("max_res", MAX_RES, "max_iter", MAX_ITER, "lsolver", "mumps", "lsearch", "simplest")
-START_STRAIN = 1e-12       # Newton's first iterate (`start_off_zero`)
-PROBE = 1e-3              # load fraction beyond 1 of the solve that measures gap rates
+START_STRAIN = 1e-12  # Newton's first iterate (`start_off_zero`)
+PROBE = 1e-3  # load fraction beyond 1 of the solve that measures gap rates
 LAW = "plane strain Prandtl Reuss linear hardening"
 
 
@@ -112,10 +112,17 @@ def scene_spec(h: float, steps: int, overrides=SCENE, msh: Path | None = None) -
     (sym,) = [bc["edge"] for bc in case.data["bc"] if bc["symmetry"]]
     mat = body["material"]
     return {
-        "msh": str(msh), "h": h, "steps": steps, "nodes": mesh.n_nodes,
+        "msh": str(msh),
+        "h": h,
+        "steps": steps,
+        "nodes": mesh.n_nodes,
         "regions": {"contact": tags[contact["edge"]], "symmetry": tags[sym], "load": tags["top"]},
-        "E": mat["E"], "nu": mat["nu"], "Sy": mat.get("Sy"), "H": mat.get("H") or 0.0,
-        "mu": contact["mu"], "traction": hertz_cut_pressure(case),
+        "E": mat["E"],
+        "nu": mat["nu"],
+        "Sy": mat.get("Sy"),
+        "H": mat.get("H") or 0.0,
+        "mu": contact["mu"],
+        "traction": hertz_cut_pressure(case),
         "thickness": case.data["analysis"]["thickness"],
         "window": [contact[k] for k in ("x_min", "x_max", "y_min", "y_max")],
         "tolerance": contact["tolerance"],
@@ -141,8 +148,9 @@ def point_x_dofs(gf_mesh, mfu, dim: int = 2) -> np.ndarray:
     dof, _ = mfu.basic_dof_from_cvid()
     per_cell = dim * (dim + 1)
     x_dof = np.full(gf_mesh.nbpts(), -1)
-    x_dof[np.asarray(pid, dtype=int)] = \
+    x_dof[np.asarray(pid, dtype=int)] = (
         np.asarray(dof, dtype=int).reshape(-1, per_cell)[:, 0::dim].ravel()
+    )
     return x_dof
 
 
@@ -176,8 +184,12 @@ def add_material(gf, md, mim, spec: dict) -> None:
         md.add_isotropic_linearized_elasticity_brick(mim, "u", "lambda", "mu")
         return
     scalar, tensor = gf.MeshImData(mim, -1), gf.MeshImData(mim, -1, [2, 2])
-    for name, where in (("xi", scalar), ("Previous_xi", scalar), ("Previous_alpha", scalar),
-                        ("Previous_Ep", tensor)):
+    for name, where in (
+        ("xi", scalar),
+        ("Previous_xi", scalar),
+        ("Previous_alpha", scalar),
+        ("Previous_Ep", tensor),
+    ):
         md.add_im_data(name, where)
     md.add_initialized_data("sigma_y", spec["Sy"])
     md.add_initialized_data("H_k", 0.0)
@@ -187,8 +199,21 @@ def add_material(gf, md, mim, spec: dict) -> None:
 
 def plastic_args(spec: dict) -> tuple:
     """The arguments shared by the plasticity brick and its next_iter (θ = 1, dt = 1)."""
-    return (LAW, "displacement only", "u", "xi", "Previous_Ep", "Previous_alpha", "lambda",
-            "mu", "sigma_y", "H_k", "H_i", "1", "1")
+    return (
+        LAW,
+        "displacement only",
+        "u",
+        "xi",
+        "Previous_Ep",
+        "Previous_alpha",
+        "lambda",
+        "mu",
+        "sigma_y",
+        "H_k",
+        "H_i",
+        "1",
+        "1",
+    )
 
 
 def add_contact(gf, md, ndof: int, ids, length, points, x_dof, spec: dict, held) -> None:
@@ -211,8 +236,20 @@ def add_contact(gf, md, ndof: int, ids, length, points, x_dof, spec: dict, held)
     md.add_initialized_data("friction", np.where(np.isin(ids, held), 0.0, spec["mu"]))
     md.add_initialized_data("gamma", -1.0)  # the brick slides by BT (u + gamma wt)
     BT = rows_of_identity(gf, ndof, x_dof[ids])
-    md.add_basic_contact_brick("u", "lambda_n", "lambda_t", "r", BN, BT, "friction", "gap",
-                               "alpha", 1, "gamma", "Previous_u")
+    md.add_basic_contact_brick(
+        "u",
+        "lambda_n",
+        "lambda_t",
+        "r",
+        BN,
+        BT,
+        "friction",
+        "gap",
+        "alpha",
+        1,
+        "gamma",
+        "Previous_u",
+    )
 
 
 def build_model(gf, spec: dict):
@@ -229,15 +266,15 @@ def build_model(gf, spec: dict):
     add_material(gf, md, mim, spec)
     sym = np.unique(edge_segments(gf_mesh, spec["regions"]["symmetry"]))
     md.add_variable("lambda_sym", len(sym))
-    md.add_constraint_with_multipliers("u", "lambda_sym", rows_of_identity(gf, ndof, x_dof[sym]),
-                                       np.zeros(len(sym)))
+    md.add_constraint_with_multipliers(
+        "u", "lambda_sym", rows_of_identity(gf, ndof, x_dof[sym]), np.zeros(len(sym))
+    )
     md.add_initialized_data("traction", [0.0, 0.0])
     md.add_source_term_brick(mim, "u", "traction", spec["regions"]["load"])
     segments = edge_segments(gf_mesh, spec["regions"]["contact"])
     ids, length = candidates(spec, points, segments)
     add_contact(gf, md, ndof, ids, length * spec["thickness"], points, x_dof, spec, sym)
-    return md, mim, {"ids": ids, "length": length, "points": points, "x_dof": x_dof,
-                     "ndof": ndof}
+    return md, mim, {"ids": ids, "length": length, "points": points, "x_dof": x_dof, "ndof": ndof}
 
 
 def start_off_zero(md, book: dict) -> None:
@@ -270,9 +307,13 @@ def solve_steps(md, mim, spec: dict, book: dict) -> dict:
         gaps.append(book["points"][book["ids"], 1] + u[y_dof])
         forces.append(-np.asarray(md.variable("lambda_n")))
     lt = md.variable("lambda_t") if spec["mu"] else np.zeros(len(book["ids"]))
-    return {"gaps": np.array(gaps), "forces": np.array(forces), "iterations": iterations,
-            "tangential": -np.asarray(lt),
-            "converged": converged}
+    return {
+        "gaps": np.array(gaps),
+        "forces": np.array(forces),
+        "iterations": iterations,
+        "tangential": -np.asarray(lt),
+        "converged": converged,
+    }
 
 
 def closing_rates(md, spec: dict, book: dict, gaps: np.ndarray) -> np.ndarray:
@@ -302,8 +343,11 @@ def step_closure(gaps: np.ndarray, closed: np.ndarray, rate: np.ndarray):
             closure[i] = 0.0
             continue
         k = open_steps[-1]
-        closure[i] = f[k + 1] if k == 0 else np.clip(
-            _secant_zero(f[k - 1:k + 1], gaps[k - 1:k + 1, i]), f[k], f[k + 1])
+        closure[i] = (
+            f[k + 1]
+            if k == 0
+            else np.clip(_secant_zero(f[k - 1 : k + 1], gaps[k - 1 : k + 1, i]), f[k], f[k + 1])
+        )
     return closure, predicted
 
 
@@ -321,11 +365,16 @@ def contact_numbers(spec: dict, book: dict, hist: dict) -> dict:
     closure, predicted = step_closure(hist["gaps"], closed, hist["rate"])
     x = book["points"][book["ids"], 0]
     pressure = forces[-1] / (book["length"] * spec["thickness"])
-    return {"p0": float(pressure.max()), "total_normal_force": float(forces[-1].sum()),
-            "a": contact_half_width(x, closed[-1].astype(int), closure, predicted, 1.0),
-            "n_closed": int(closed[-1].sum()), "x_outer_closed": float(x[closed[-1]].max()),
-            "x": x.tolist(), "pressure": pressure.tolist(),
-            "tangential": (hist["tangential"] / (book["length"] * spec["thickness"])).tolist()}
+    return {
+        "p0": float(pressure.max()),
+        "total_normal_force": float(forces[-1].sum()),
+        "a": contact_half_width(x, closed[-1].astype(int), closure, predicted, 1.0),
+        "n_closed": int(closed[-1].sum()),
+        "x_outer_closed": float(x[closed[-1]].max()),
+        "x": x.tolist(),
+        "pressure": pressure.tolist(),
+        "tangential": (hist["tangential"] / (book["length"] * spec["thickness"])).tolist(),
+    }
 
 
 def one(spec: dict) -> dict:
@@ -342,10 +391,20 @@ def one(spec: dict) -> dict:
     t3 = time.perf_counter()
     out = contact_numbers(spec, book, hist)
     status = "ok" if hist["converged"] else "not_converged"
-    return {"status": status, "h": spec["h"], "steps": spec["steps"], "dofs": book["ndof"],
-            "n_candidates": len(book["ids"]), "newton_iterations": hist["iterations"], **out,
-            "import_s": t0 - T_START, "setup_s": t1 - t0, "solve_s": t2 - t1,
-            "probe_s": t3 - t2, "post_s": time.perf_counter() - t3}
+    return {
+        "status": status,
+        "h": spec["h"],
+        "steps": spec["steps"],
+        "dofs": book["ndof"],
+        "n_candidates": len(book["ids"]),
+        "newton_iterations": hist["iterations"],
+        **out,
+        "import_s": t0 - T_START,
+        "setup_s": t1 - t0,
+        "solve_s": t2 - t1,
+        "probe_s": t3 - t2,
+        "post_s": time.perf_counter() - t3,
+    }
 
 
 # --------------------------------------------------------------------------- runs (parent side)
@@ -367,7 +426,7 @@ def run_child(spec: dict, timeout: float = TIMEOUT_S, script: str = __file__) ->
     if not lines:
         tail = " | ".join((p.stderr or "").strip().splitlines()[-3:])
         return {"status": "error", "error": f"exit code {p.returncode}: {tail}"}
-    return {**json.loads(lines[-1][len("GETFEM "):]), "wall_s": wall}
+    return {**json.loads(lines[-1][len("GETFEM ") :]), "wall_s": wall}
 
 
 def repeated(spec: dict, repeats: int) -> dict:
@@ -391,9 +450,24 @@ def repeated(spec: dict, repeats: int) -> dict:
 
 def record(r: dict) -> dict:
     """The JSON row of a run (module docstring)."""
-    keys = ("h", "dofs", "steps", "status", "newton_iterations", "p0", "a", "total_normal_force",
-            "wall_s", "wall_s_median", "solve_s", "solve_s_median", "setup_s", "probe_s",
-            "repeats", "error")
+    keys = (
+        "h",
+        "dofs",
+        "steps",
+        "status",
+        "newton_iterations",
+        "p0",
+        "a",
+        "total_normal_force",
+        "wall_s",
+        "wall_s_median",
+        "solve_s",
+        "solve_s_median",
+        "setup_s",
+        "probe_s",
+        "repeats",
+        "error",
+    )
     return {k: r[k] for k in keys if k in r}
 
 
@@ -419,24 +493,31 @@ def line_of(r: dict) -> str:
     head = f"h={r['h']:<7g} N={r['steps']:<3d}"
     if r["status"] not in ("ok", "not_converged"):
         return f"{head} {r['status']}: {r.get('error', '')}"
-    return (f"{head} {r['dofs']:7d} DOFs {r['newton_iterations']:4d} Newton  wall "
-            f"{r['wall_s']:7.2f} s (median {r.get('wall_s_median', r['wall_s']):7.2f})  solve "
-            f"{r['solve_s']:7.2f} s  p0={r['p0']:.2f} a={r['a']:.4f} "
-            f"F={r['total_normal_force']:.3f} {r['status']}")
+    return (
+        f"{head} {r['dofs']:7d} DOFs {r['newton_iterations']:4d} Newton  wall "
+        f"{r['wall_s']:7.2f} s (median {r.get('wall_s_median', r['wall_s']):7.2f})  solve "
+        f"{r['solve_s']:7.2f} s  p0={r['p0']:.2f} a={r['a']:.4f} "
+        f"F={r['total_normal_force']:.3f} {r['status']}"
+    )
 
 
 def write_results(rows: list[dict], out: Path, gf) -> None:
     doc = {
         "what": "GetFEM 5.4 on slipstep's elastoplastic Hertz scene, same mesh (bench/"
-                "getfem_hertz.py; schema in its docstring)",
+        "getfem_hertz.py; schema in its docstring)",
         "getfem": getattr(gf, "__version__", "5.4 (Debian python3-getfem)"),
         "scene": {"case": str(CASE.relative_to(ROOT)), "overrides": SCENE},
-        "settings": {"law": LAW, "newton_max_res": MAX_RES, "newton_max_iter": MAX_ITER,
-                     "lsolver": "mumps", "contact": "basic contact brick, Alart-Curnier "
-                     "non-symmetric, incremental Coulomb (wt = Previous_u)"},
+        "settings": {
+            "law": LAW,
+            "newton_max_res": MAX_RES,
+            "newton_max_iter": MAX_ITER,
+            "lsolver": "mumps",
+            "contact": "basic contact brick, Alart-Curnier "
+            "non-symmetric, incremental Coulomb (wt = Previous_u)",
+        },
         "host": f"{platform.node()} ({os.cpu_count()} cores)",
         "note": "shared machine (other engineers' jobs): times are noisy; min and median of "
-                "the repeats",
+        "the repeats",
         "runs": rows,
     }
     out.write_text(json.dumps(doc, indent=1) + "\n")
@@ -457,8 +538,12 @@ def main(argv=None) -> int:
         result = one(json.loads(Path(args.spec).read_text()))
         print("GETFEM " + json.dumps(result), flush=True)
         return 0
-    series([float(h) for h in args.sizes.split(",")], [int(n) for n in args.steps.split(",")],
-           args.repeat, Path(args.out))
+    series(
+        [float(h) for h in args.sizes.split(",")],
+        [int(n) for n in args.steps.split(",")],
+        args.repeat,
+        Path(args.out),
+    )
     return 0
 
 

@@ -89,8 +89,17 @@ def write_tet_msh(path: Path, nodes: np.ndarray, tets: np.ndarray, faces: dict) 
     tags["body"] = len(tags) + 1
     rows = [f'2 {tags[n]} "{n}"' for n in names] + [f'3 {tags["body"]} "body"']
     blocks = [(2, tags[n], faces[n]) for n in names] + [(4, tags["body"], tets)]
-    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(rows)),
-             *rows, "$EndPhysicalNames", "$Nodes", str(len(nodes))]
+    lines = [
+        "$MeshFormat",
+        "2.2 0 8",
+        "$EndMeshFormat",
+        "$PhysicalNames",
+        str(len(rows)),
+        *rows,
+        "$EndPhysicalNames",
+        "$Nodes",
+        str(len(nodes)),
+    ]
     lines += [f"{i + 1} {x!r} {y!r} {z!r}" for i, (x, y, z) in enumerate(nodes.tolist())]
     lines += ["$EndNodes", "$Elements", str(sum(len(b[2]) for b in blocks))]
     k = 0
@@ -118,14 +127,24 @@ def scene_spec(h: float, setting: str, msh: Path) -> dict:
     mat = data["body"][0]["material"]
     top = mesh.faces["top"]
     from slipstep.space.loads import sphere_cut_pressure
-    q = sphere_cut_pressure(data["load"]["P"], data["body"][0]["mesh"]["R"], "eighth",
-                            mesh.nodes, top)
-    return {"msh": str(msh), "h": h, "setting": setting, "E": mat["E"], "nu": mat["nu"],
-            "q": q, "regions": {k: tags[k] for k in ("symmetry_x", "symmetry_y", "top",
-                                                     "contact")},
-            "candidates": mesh.nodes[node_a].tolist(), "area": scene.pair_area.tolist(),
-            "a_hertz": scene.reference["a_hertz"], "p0_hertz": scene.reference["p0_hertz"],
-            "P": data["load"]["P"]}
+
+    q = sphere_cut_pressure(
+        data["load"]["P"], data["body"][0]["mesh"]["R"], "eighth", mesh.nodes, top
+    )
+    return {
+        "msh": str(msh),
+        "h": h,
+        "setting": setting,
+        "E": mat["E"],
+        "nu": mat["nu"],
+        "q": q,
+        "regions": {k: tags[k] for k in ("symmetry_x", "symmetry_y", "top", "contact")},
+        "candidates": mesh.nodes[node_a].tolist(),
+        "area": scene.pair_area.tolist(),
+        "a_hertz": scene.reference["a_hertz"],
+        "p0_hertz": scene.reference["p0_hertz"],
+        "P": data["load"]["P"],
+    }
 
 
 # --------------------------------------------------------------------------- GetFEM (child side)
@@ -146,17 +165,21 @@ def build_model(gf, spec: dict):
     for axis, name in enumerate(("symmetry_x", "symmetry_y")):
         held = np.asarray(gf_mesh.pid_in_regions(regions[name]), dtype=int)
         md.add_variable(f"lambda_{name}", len(held))
-        md.add_constraint_with_multipliers("u", f"lambda_{name}",
-                                           rows_of_identity(gf, ndof, x_dof[held] + axis),
-                                           np.zeros(len(held)))
+        md.add_constraint_with_multipliers(
+            "u",
+            f"lambda_{name}",
+            rows_of_identity(gf, ndof, x_dof[held] + axis),
+            np.zeros(len(held)),
+        )
     md.add_initialized_data("traction", [0.0, 0.0, -spec["q"]])
     md.add_source_term_brick(mim, "u", "traction", regions["top"])
     contact = np.asarray(gf_mesh.pid_in_regions(regions["contact"]), dtype=int)
     version, r = augmentation(spec)
     md.add_variable("lambda_n", len(contact))
     md.add_initialized_data("r", r)
-    md.add_nodal_contact_with_rigid_obstacle_brick(mim, "u", "lambda_n", "r", regions["contact"],
-                                                   "z", version)
+    md.add_nodal_contact_with_rigid_obstacle_brick(
+        mim, "u", "lambda_n", "r", regions["contact"], "z", version
+    )
     points = np.asarray(gf_mesh.pts()).T.copy()
     return md, mim, mfu, {"x_dof": x_dof, "points": points, "ndof": ndof, "mesh": gf_mesh}
 
@@ -176,8 +199,13 @@ def contact_numbers(gf, md, mim, mfu, spec: dict, book: dict) -> dict:
     mfd = gf.MeshFem(book["mesh"], 1)
     mfd.set_classical_fem(0)
     n = mfd.nbdof()
-    K = gf.asm_linear_elasticity(mim, mfu, mfd, np.full(n, E * nu / ((1 + nu) * (1 - 2 * nu))),
-                                 np.full(n, E / (2 * (1 + nu))))
+    K = gf.asm_linear_elasticity(
+        mim,
+        mfu,
+        mfd,
+        np.full(n, E * nu / ((1 + nu) * (1 - 2 * nu))),
+        np.full(n, E / (2 * (1 + nu))),
+    )
     internal = K.mult(md.variable("u"))
     dist, point = cKDTree(book["points"]).query(np.asarray(spec["candidates"]))
     if dist.max() > 1e-9 * np.ptp(book["points"]):
@@ -187,10 +215,16 @@ def contact_numbers(gf, md, mim, mfu, spec: dict, book: dict) -> dict:
     closed = force > 1e-9 * force.max()
     a = float(np.sqrt(4.0 * area[closed].sum() / np.pi))
     p0 = float((force / area).max())
-    return {"a": a, "p0": p0, "total_normal_force": float(4.0 * force.sum()),
-            "force": force.tolist(),  # per candidate, in the spec's (slipstep's pair) order
-            "n_closed": int(closed.sum()), "n_candidates": len(area),
-            "a_error": a / spec["a_hertz"] - 1.0, "p0_error": p0 / spec["p0_hertz"] - 1.0}
+    return {
+        "a": a,
+        "p0": p0,
+        "total_normal_force": float(4.0 * force.sum()),
+        "force": force.tolist(),  # per candidate, in the spec's (slipstep's pair) order
+        "n_closed": int(closed.sum()),
+        "n_candidates": len(area),
+        "a_error": a / spec["a_hertz"] - 1.0,
+        "p0_error": p0 / spec["p0_hertz"] - 1.0,
+    }
 
 
 def one(spec: dict) -> dict:
@@ -204,10 +238,18 @@ def one(spec: dict) -> dict:
     its, ok = md.solve(*NEWTON)
     t2 = time.perf_counter()
     out = contact_numbers(gf, md, mim, mfu, spec, book)
-    return {"status": "ok" if ok else "not_converged", "h": spec["h"],
-            "setting": spec["setting"], "dofs": book["ndof"], "newton_iterations": int(its),
-            **out, "import_s": t0 - T_START, "setup_s": t1 - t0, "solve_s": t2 - t1,
-            "post_s": time.perf_counter() - t2}
+    return {
+        "status": "ok" if ok else "not_converged",
+        "h": spec["h"],
+        "setting": spec["setting"],
+        "dofs": book["ndof"],
+        "newton_iterations": int(its),
+        **out,
+        "import_s": t0 - T_START,
+        "setup_s": t1 - t0,
+        "solve_s": t2 - t1,
+        "post_s": time.perf_counter() - t2,
+    }
 
 
 # --------------------------------------------------------------------------- runs (parent side)
@@ -215,10 +257,12 @@ def line_of(r: dict) -> str:
     head = f"h={r['h']:<7g} {r['setting']:6s}"
     if r["status"] not in ("ok", "not_converged"):
         return f"{head} {r['status']}: {r.get('error', '')}"
-    return (f"{head} {r['dofs']:7d} DOFs {r['newton_iterations']:3d} Newton  wall "
-            f"{r['wall_s']:7.2f} s  solve {r['solve_s']:7.2f} s  a={r['a']:.5f} "
-            f"({100 * r['a_error']:+.2f} %) p0={r['p0']:.2f} ({100 * r['p0_error']:+.2f} %) "
-            f"F={r['total_normal_force']:.3f} {r['status']}")
+    return (
+        f"{head} {r['dofs']:7d} DOFs {r['newton_iterations']:3d} Newton  wall "
+        f"{r['wall_s']:7.2f} s  solve {r['solve_s']:7.2f} s  a={r['a']:.5f} "
+        f"({100 * r['a_error']:+.2f} %) p0={r['p0']:.2f} ({100 * r['p0_error']:+.2f} %) "
+        f"F={r['total_normal_force']:.3f} {r['status']}"
+    )
 
 
 def series(sizes, settings, out: Path) -> list[dict]:
@@ -245,14 +289,16 @@ def series(sizes, settings, out: Path) -> list[dict]:
 
 
 def write_results(rows: list[dict], out: Path, gf) -> None:
-    doc = {"what": "GetFEM 5.4 on slipstep's 3D Hertz sphere, same mesh (bench/"
-                   "getfem_hertz_3d.py; schema in its docstring)",
-           "getfem": getattr(gf, "__version__", "5.4 (Debian python3-getfem)"),
-           "scene": {"case": str(CASE.relative_to(ROOT))},
-           "settings": {**SETTINGS, "newton_max_res": MAX_RES, "lsolver": "mumps"},
-           "host": f"{platform.node()} ({os.cpu_count()} cores)",
-           "note": "shared machine (other engineers' jobs): times are noisy; one process per run",
-           "runs": rows}
+    doc = {
+        "what": "GetFEM 5.4 on slipstep's 3D Hertz sphere, same mesh (bench/"
+        "getfem_hertz_3d.py; schema in its docstring)",
+        "getfem": getattr(gf, "__version__", "5.4 (Debian python3-getfem)"),
+        "scene": {"case": str(CASE.relative_to(ROOT))},
+        "settings": {**SETTINGS, "newton_max_res": MAX_RES, "lsolver": "mumps"},
+        "host": f"{platform.node()} ({os.cpu_count()} cores)",
+        "note": "shared machine (other engineers' jobs): times are noisy; one process per run",
+        "runs": rows,
+    }
     out.write_text(json.dumps(doc, indent=1) + "\n")
 
 

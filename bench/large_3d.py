@@ -55,8 +55,13 @@ PHASES = ("assembly", "factorization", "flexibility", "solves", "events")
 
 def overrides(size: str, mu: float) -> list[str]:
     h, zone, growth, z_max = SIZES[size]
-    keys = {"mesh.h_contact": h, "mesh.contact_zone": zone, "mesh.growth": growth,
-            "contact.flat.z_max": z_max, "contact.flat.mu": mu}
+    keys = {
+        "mesh.h_contact": h,
+        "mesh.contact_zone": zone,
+        "mesh.growth": growth,
+        "contact.flat.z_max": z_max,
+        "contact.flat.mu": mu,
+    }
     return [a for k, v in keys.items() for a in ("--set", f"{k}={v!r}")]
 
 
@@ -66,8 +71,17 @@ def run(size: str, mu: float, cold: bool, out: Path) -> dict:
     cache = tempfile.TemporaryDirectory() if cold else None
     if cache:
         env["SLIPSTEP_CACHE"] = cache.name
-    cmd = [sys.executable, "-m", "slipstep", "run", "cases/hertz_sphere_3d.toml", "--quiet",
-           "--out", str(out), *overrides(size, mu)]
+    cmd = [
+        sys.executable,
+        "-m",
+        "slipstep",
+        "run",
+        "cases/hertz_sphere_3d.toml",
+        "--quiet",
+        "--out",
+        str(out),
+        *overrides(size, mu),
+    ]
     t0 = time.perf_counter()
     p = subprocess.Popen(cmd, cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True)
     _, status, usage = os.wait4(p.pid, 0)
@@ -75,16 +89,38 @@ def run(size: str, mu: float, cold: bool, out: Path) -> dict:
     err = p.stderr.read().strip()
     if cache:
         cache.cleanup()
-    record = {"size": size, "mu": mu, "cold": cold, "mesh": dict(zip(("h_contact", "contact_zone", "growth", "z_max"), SIZES[size])),
-              "wall_s": wall, "peak_rss_mb": usage.ru_maxrss / 1024.0, "exit": os.waitstatus_to_exitcode(status)}
+    record = {
+        "size": size,
+        "mu": mu,
+        "cold": cold,
+        "mesh": dict(zip(("h_contact", "contact_zone", "growth", "z_max"), SIZES[size])),
+        "wall_s": wall,
+        "peak_rss_mb": usage.ru_maxrss / 1024.0,
+        "exit": os.waitstatus_to_exitcode(status),
+    }
     summary_path = out / "summary.json"
     if record["exit"] != 0 or not summary_path.exists():
         return {**record, "error": err.splitlines()[-1] if err else "no summary"}
     s = json.loads(summary_path.read_text())
-    return {**record, **{k: s[k] for k in ("n_dofs", "n_pairs", "n_events", "contact_radius", "peak_pressure", "total_normal_force")},
-            "engine_s": s["wall_time_s"], "phases_s": {k: s["engine_timings_s"].get(k, 0.0) for k in PHASES},
-            "a_over_h": HERTZ_A / SIZES[size][0],
-            "a_error": s["contact_radius"] / HERTZ_A - 1.0, "p0_error": s["peak_pressure"] / HERTZ_P0 - 1.0}
+    return {
+        **record,
+        **{
+            k: s[k]
+            for k in (
+                "n_dofs",
+                "n_pairs",
+                "n_events",
+                "contact_radius",
+                "peak_pressure",
+                "total_normal_force",
+            )
+        },
+        "engine_s": s["wall_time_s"],
+        "phases_s": {k: s["engine_timings_s"].get(k, 0.0) for k in PHASES},
+        "a_over_h": HERTZ_A / SIZES[size][0],
+        "a_error": s["contact_radius"] / HERTZ_A - 1.0,
+        "p0_error": s["peak_pressure"] / HERTZ_P0 - 1.0,
+    }
 
 
 def dump_mesh(size: str, prefix: str) -> None:
@@ -92,8 +128,11 @@ def dump_mesh(size: str, prefix: str) -> None:
     x 4) and PREFIX.contact (u64: the surface nodes within z_max of the flat, the candidates)."""
     import numpy as np
     from slipstep.space.generators import sphere
+
     h, zone, growth, z_max = SIZES[size]
-    mesh = sphere(R=50.0, h_contact=h, contact_zone=zone, h_max=5.0, growth=growth, portion="eighth")
+    mesh = sphere(
+        R=50.0, h_contact=h, contact_zone=zone, h_max=5.0, growth=growth, portion="eighth"
+    )
     surface = mesh.node_sets["surface"]
     np.asarray(mesh.nodes, dtype="<f8").tofile(prefix + ".points")
     np.asarray(mesh.tetrahedra, dtype="<u8").tofile(prefix + ".tets")
@@ -101,18 +140,23 @@ def dump_mesh(size: str, prefix: str) -> None:
 
 
 def report(runs: list[dict]) -> str:
-    head = ("| size | mu | a/h | DOFs | pairs | events | assembly | factorization | G | solves | events [s] "
-            "| engine [s] | whole process [s] | peak RSS [MB] | a vs Hertz | p0 vs Hertz |")
+    head = (
+        "| size | mu | a/h | DOFs | pairs | events | assembly | factorization | G | solves | events [s] "
+        "| engine [s] | whole process [s] | peak RSS [MB] | a vs Hertz | p0 vs Hertz |"
+    )
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for r in runs:
         if "error" in r:
-            lines.append(f"| {r['size']} | {r['mu']} | | | | | | | | | | | {r['wall_s']:.0f} | {r['peak_rss_mb']:.0f} | {r['error']} | |")
+            lines.append(
+                f"| {r['size']} | {r['mu']} | | | | | | | | | | | {r['wall_s']:.0f} | {r['peak_rss_mb']:.0f} | {r['error']} | |"
+            )
             continue
         ph = r["phases_s"]
         lines.append(
             f"| {r['size']}{' (cold cache)' if r['cold'] else ''} | {r['mu']} | {r['a_over_h']:.0f} | {r['n_dofs']} | {r['n_pairs']} | {r['n_events']} "
             f"| {ph['assembly']:.1f} | {ph['factorization']:.1f} | {ph['flexibility']:.1f} | {ph['solves']:.1f} | {ph['events']:.1f} "
-            f"| {r['engine_s']:.1f} | {r['wall_s']:.1f} | {r['peak_rss_mb']:.0f} | {100 * r['a_error']:+.2f} % | {100 * r['p0_error']:+.2f} % |")
+            f"| {r['engine_s']:.1f} | {r['wall_s']:.1f} | {r['peak_rss_mb']:.0f} | {100 * r['a_error']:+.2f} % | {100 * r['p0_error']:+.2f} % |"
+        )
     return "\n".join(lines) + "\n"
 
 
@@ -121,8 +165,12 @@ def main() -> None:
     ap.add_argument("--size", nargs="+", choices=list(SIZES), default=["100k", "300k"])
     ap.add_argument("--mu", type=float, default=0.0)
     ap.add_argument("--cold", action="store_true", help="mesh into a fresh cache (gmsh included)")
-    ap.add_argument("--report", action="store_true", help="only write the table from the saved runs")
-    ap.add_argument("--dump-mesh", metavar="PREFIX", help="write the first size's mesh as raw files and stop")
+    ap.add_argument(
+        "--report", action="store_true", help="only write the table from the saved runs"
+    )
+    ap.add_argument(
+        "--dump-mesh", metavar="PREFIX", help="write the first size's mesh as raw files and stop"
+    )
     args = ap.parse_args()
     if args.dump_mesh:
         dump_mesh(args.size[0], args.dump_mesh)
@@ -133,7 +181,9 @@ def main() -> None:
             with tempfile.TemporaryDirectory() as out:
                 r = run(size, args.mu, args.cold, Path(out))
             print(json.dumps(r), flush=True)
-            runs = [x for x in runs if (x["size"], x["mu"], x["cold"]) != (size, args.mu, args.cold)] + [r]
+            runs = [
+                x for x in runs if (x["size"], x["mu"], x["cold"]) != (size, args.mu, args.cold)
+            ] + [r]
             RESULTS.write_text(json.dumps(runs, indent=1) + "\n")
     order = list(SIZES)
     runs.sort(key=lambda r: (r["mu"], r["cold"], order.index(r["size"])))

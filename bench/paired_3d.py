@@ -31,21 +31,30 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 PAIRED_JSON = HERE / "paired_3d.json"
-H_TARGET = 0.0105                  # 92.6k DOFs: the target's "~100k DOFs" run
+H_TARGET = 0.0105  # 92.6k DOFs: the target's "~100k DOFs" run
 
 
 def timed(cmd: list[str]) -> dict:
     """One whole process: wall seconds, CPU seconds (user + sys), peak resident MiB, exit code."""
     t0 = time.perf_counter()
-    proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                            env=dict(os.environ, MPLBACKEND="Agg"))
+    proc = subprocess.Popen(
+        cmd,
+        cwd=ROOT,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        env=dict(os.environ, MPLBACKEND="Agg"),
+    )
     _, status, usage = os.wait4(proc.pid, 0)
     wall = time.perf_counter() - t0
     err = proc.stderr.read().decode(errors="replace").strip().splitlines()[-2:]
     proc.stderr.close()
-    return {"wall_s": wall, "cpu_s": usage.ru_utime + usage.ru_stime,
-            "peak_mib": usage.ru_maxrss / 1024, "exit": os.waitstatus_to_exitcode(status),
-            "stderr_tail": " | ".join(err)}
+    return {
+        "wall_s": wall,
+        "cpu_s": usage.ru_utime + usage.ru_stime,
+        "peak_mib": usage.ru_maxrss / 1024,
+        "exit": os.waitstatus_to_exitcode(status),
+        "stderr_tail": " | ".join(err),
+    }
 
 
 def commands(h: float, tmp: Path) -> tuple[list[str], list[str]]:
@@ -56,8 +65,18 @@ def commands(h: float, tmp: Path) -> tuple[list[str], list[str]]:
     spec = getfem_hertz_3d.scene_spec(h, "tuned", tmp / "hertz.msh")
     (tmp / "spec.json").write_text(json.dumps(spec))
     slipstep = str(Path(sys.executable).with_name("slipstep"))
-    a = [slipstep, "run", "hertz_sphere_3d", "--set", f"mesh.h_contact={h}",
-         "--set", "output.snapshots=[1.0]", "--out", str(tmp / "out"), "--quiet"]
+    a = [
+        slipstep,
+        "run",
+        "hertz_sphere_3d",
+        "--set",
+        f"mesh.h_contact={h}",
+        "--set",
+        "output.snapshots=[1.0]",
+        "--out",
+        str(tmp / "out"),
+        "--quiet",
+    ]
     b = [sys.executable, str(HERE / "getfem_hertz_3d.py"), "one", str(tmp / "spec.json")]
     return a, b
 
@@ -70,12 +89,19 @@ def paired(h: float, n_pairs: int) -> dict:
             pair = {"slipstep": timed(a), "getfem": timed(b)}
             pair["ratio_wall"] = pair["getfem"]["wall_s"] / pair["slipstep"]["wall_s"]
             pairs.append(pair)
-            print(f"pair {k + 1}: slipstep {pair['slipstep']['wall_s']:.1f} s, GetFEM "
-                  f"{pair['getfem']['wall_s']:.1f} s: {pair['ratio_wall']:.1f}x", flush=True)
+            print(
+                f"pair {k + 1}: slipstep {pair['slipstep']['wall_s']:.1f} s, GetFEM "
+                f"{pair['getfem']['wall_s']:.1f} s: {pair['ratio_wall']:.1f}x",
+                flush=True,
+            )
     ok = [p for p in pairs if p["slipstep"]["exit"] == 0 and p["getfem"]["exit"] == 0]
-    return {"what": "slipstep and GetFEM alternated, whole processes (bench/paired_3d.py)",
-            "h": h, "load_average_start": os.getloadavg()[0], "pairs": pairs,
-            "median_ratio_wall": statistics.median(p["ratio_wall"] for p in ok) if ok else None}
+    return {
+        "what": "slipstep and GetFEM alternated, whole processes (bench/paired_3d.py)",
+        "h": h,
+        "load_average_start": os.getloadavg()[0],
+        "pairs": pairs,
+        "median_ratio_wall": statistics.median(p["ratio_wall"] for p in ok) if ok else None,
+    }
 
 
 def main(argv=None) -> int:

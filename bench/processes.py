@@ -30,14 +30,23 @@ def run_child(spec: dict, timeout: float, python: str = sys.executable) -> dict:
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=cwd)
     except subprocess.TimeoutExpired:
-        return {**spec, "status": "timeout", "error": f"no result within {timeout:.0f} s",
-                "wall_s": time.perf_counter() - t0}
+        return {
+            **spec,
+            "status": "timeout",
+            "error": f"no result within {timeout:.0f} s",
+            "wall_s": time.perf_counter() - t0,
+        }
     wall = time.perf_counter() - t0
     lines = [ln for ln in p.stdout.splitlines() if ln.startswith("BENCH ")]
     if not lines:
         tail = " | ".join((p.stderr or "").strip().splitlines()[-3:])
-        return {**spec, "status": "error", "error": f"exit code {p.returncode}: {tail}", "wall_s": wall}
-    return {**spec, **json.loads(lines[-1][len("BENCH "):]), "wall_s": wall}
+        return {
+            **spec,
+            "status": "error",
+            "error": f"exit code {p.returncode}: {tail}",
+            "wall_s": wall,
+        }
+    return {**spec, **json.loads(lines[-1][len("BENCH ") :]), "wall_s": wall}
 
 
 def machine() -> dict:
@@ -47,6 +56,7 @@ def machine() -> dict:
             return m.group(1).strip() if m else "?"
         except OSError:
             return "?"
+
     from importlib import metadata
 
     def version(pkg):
@@ -54,27 +64,40 @@ def machine() -> dict:
             return metadata.version(pkg)
         except metadata.PackageNotFoundError:
             return "?"
+
     try:
-        commit = subprocess.run(["git", "describe", "--always", "--dirty"], cwd=ROOT,
-                                capture_output=True, text=True).stdout.strip() or "?"
+        commit = (
+            subprocess.run(
+                ["git", "describe", "--always", "--dirty"], cwd=ROOT, capture_output=True, text=True
+            ).stdout.strip()
+            or "?"
+        )
     except OSError:
         commit = "?"
     mem_kib = first("/proc/meminfo", r"^MemTotal:\s+(\d+)")
     return {
         "cpu": first("/proc/cpuinfo", r"^model name\s*:(.*)$"),
-        "cores": len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count(),
+        "cores": len(os.sched_getaffinity(0))
+        if hasattr(os, "sched_getaffinity")
+        else os.cpu_count(),
         "ram_gib": round(int(mem_kib) / 2**20, 1) if mem_kib.isdigit() else "?",
         "os": first("/etc/os-release", r'^PRETTY_NAME="?([^"\n]*)') + f" ({platform.release()})",
-        "python": platform.python_version(), "numpy": version("numpy"), "gmsh": version("gmsh"),
-        "slipstep": version("slipstep"), "git": commit,
+        "python": platform.python_version(),
+        "numpy": version("numpy"),
+        "gmsh": version("gmsh"),
+        "slipstep": version("slipstep"),
+        "git": commit,
         "faer": first(ROOT / "Cargo.lock", r'name = "faer"\nversion = "([^"]+)"'),
-        "engine_mtime": engine_mtime(), "load_start": os.getloadavg()[0],
+        "engine_mtime": engine_mtime(),
+        "load_start": os.getloadavg()[0],
     }
 
 
 def engine_mtime() -> str:
     libs = sorted((ROOT / "py" / "slipstep").glob("_engine*.so"))
-    return time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(libs[0].stat().st_mtime)) if libs else "?"
+    return (
+        time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(libs[0].stat().st_mtime)) if libs else "?"
+    )
 
 
 def fmt(v, spec=".3f"):
@@ -82,4 +105,8 @@ def fmt(v, spec=".3f"):
 
 
 def pct(v, spec=".3f"):
-    return "–" if v is None or (isinstance(v, float) and math.isnan(v)) else format(100 * v, spec) + " %"
+    return (
+        "–"
+        if v is None or (isinstance(v, float) and math.isnan(v))
+        else format(100 * v, spec) + " %"
+    )

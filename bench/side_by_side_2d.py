@@ -61,30 +61,53 @@ def rounds(n: int, h: float, steps: int) -> list[dict]:
             bad = [r for r in (warm, cold, getfem) if r.get("status") != "ok"]
             if bad:
                 raise SystemExit(f"round {k}: a run failed: {bad[0].get('error')}")
-            row = {"load": load, "slipstep_s": warm["wall_s"], "slipstep_meshing_s": cold["wall_s"],
-                   "getfem_s": getfem["wall_s"], "ratio": getfem["wall_s"] / warm["wall_s"],
-                   "ratio_meshing": getfem["wall_s"] / cold["wall_s"],
-                   "engine_s": warm["engine_s"], "mesh_s": warm["mesh_s"],
-                   "mesh_meshing_s": cold["mesh_s"], "import_s": warm["import_s"],
-                   "timings": warm["timings"], "p0": warm["p0"], "getfem_p0": getfem["p0"],
-                   "dofs": warm["dofs"], "newton_iterations": getfem["newton_iterations"]}
+            row = {
+                "load": load,
+                "slipstep_s": warm["wall_s"],
+                "slipstep_meshing_s": cold["wall_s"],
+                "getfem_s": getfem["wall_s"],
+                "ratio": getfem["wall_s"] / warm["wall_s"],
+                "ratio_meshing": getfem["wall_s"] / cold["wall_s"],
+                "engine_s": warm["engine_s"],
+                "mesh_s": warm["mesh_s"],
+                "mesh_meshing_s": cold["mesh_s"],
+                "import_s": warm["import_s"],
+                "timings": warm["timings"],
+                "p0": warm["p0"],
+                "getfem_p0": getfem["p0"],
+                "dofs": warm["dofs"],
+                "newton_iterations": getfem["newton_iterations"],
+            }
             out.append(row)
-            print(f"round {k + 1}/{n}: load {load:.2f}  slipstep {row['slipstep_s']:.2f} s "
-                  f"(meshing {row['slipstep_meshing_s']:.2f} s)  GetFEM {row['getfem_s']:.2f} s  "
-                  f"ratio {row['ratio']:.2f} (meshing {row['ratio_meshing']:.2f})", flush=True)
+            print(
+                f"round {k + 1}/{n}: load {load:.2f}  slipstep {row['slipstep_s']:.2f} s "
+                f"(meshing {row['slipstep_meshing_s']:.2f} s)  GetFEM {row['getfem_s']:.2f} s  "
+                f"ratio {row['ratio']:.2f} (meshing {row['ratio_meshing']:.2f})",
+                flush=True,
+            )
     return out
 
 
 def summary(rows: list[dict], h: float, steps: int) -> dict:
     med = lambda key: statistics.median(r[key] for r in rows)  # noqa: E731
     phases = rows[0]["timings"].keys()
-    return {"h": h, "steps": steps, "dofs": rows[0]["dofs"], "rounds": len(rows),
-            "ratio_median": med("ratio"), "ratio_meshing_median": med("ratio_meshing"),
-            "slipstep_s_median": med("slipstep_s"), "slipstep_meshing_s_median": med("slipstep_meshing_s"),
-            "getfem_s_median": med("getfem_s"), "engine_s_median": med("engine_s"),
-            "timings_median": {p: statistics.median(r["timings"][p] for r in rows) for p in phases},
-            "p0": rows[0]["p0"], "load": [r["load"] for r in rows],
-            "written": time.strftime("%Y-%m-%d %H:%M", time.gmtime()), "runs": rows}
+    return {
+        "h": h,
+        "steps": steps,
+        "dofs": rows[0]["dofs"],
+        "rounds": len(rows),
+        "ratio_median": med("ratio"),
+        "ratio_meshing_median": med("ratio_meshing"),
+        "slipstep_s_median": med("slipstep_s"),
+        "slipstep_meshing_s_median": med("slipstep_meshing_s"),
+        "getfem_s_median": med("getfem_s"),
+        "engine_s_median": med("engine_s"),
+        "timings_median": {p: statistics.median(r["timings"][p] for r in rows) for p in phases},
+        "p0": rows[0]["p0"],
+        "load": [r["load"] for r in rows],
+        "written": time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
+        "runs": rows,
+    }
 
 
 def main(argv=None) -> int:
@@ -96,8 +119,10 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     result = summary(rounds(args.rounds, args.h, args.steps), args.h, args.steps)
     args.out.write_text(json.dumps(result, indent=1) + "\n")
-    print(f"median GetFEM / slipstep: {result['ratio_median']:.2f} (cached mesh), "
-          f"{result['ratio_meshing_median']:.2f} (meshing); wrote {args.out}")
+    print(
+        f"median GetFEM / slipstep: {result['ratio_median']:.2f} (cached mesh), "
+        f"{result['ratio_meshing_median']:.2f} (meshing); wrote {args.out}"
+    )
     return 0
 
 

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import gmsh
 
-R, LENGTH = 3.0, 8.0                     # mm: the pin's radius and height
-DISC = (6.0, 6.0, 4.0)                   # mm: the disc block's width, depth, height
+R, LENGTH = 3.0, 8.0  # mm: the pin's radius and height
+DISC = (6.0, 6.0, 4.0)  # mm: the disc block's width, depth, height
 H_FINE, FINE_ZONE, H_COARSE = 0.03, 0.3, 1.5
 HERE = Path(__file__).resolve().parent
 
@@ -78,7 +78,7 @@ def mesh(name: str, build, name_of) -> Path:
         volume = gmsh.model.getEntities(3)[0][1]
         _name_faces(volume, name_of)
         eps = 1e-9
-        (_, point), = gmsh.model.getEntitiesInBoundingBox(-eps, -eps, -eps, eps, eps, eps, 0)
+        ((_, point),) = gmsh.model.getEntitiesInBoundingBox(-eps, -eps, -eps, eps, eps, eps, 0)
         _size_field(point)
         gmsh.model.mesh.generate(3)
         path = HERE / f"pin_on_disc_3d_{name}.msh"

@@ -14,13 +14,16 @@ from slipstep import shipped
 from slipstep.fenicsx import crosscheck
 
 out = Path("results/thick_cylinder_crosscheck")
-report = crosscheck.run(shipped.path("thick_cylinder"), out, overrides=["mesh.h=1.0"],
-                        steps=(5, 10))
+report = crosscheck.run(
+    shipped.path("thick_cylinder"), out, overrides=["mesh.h=1.0"], steps=(5, 10)
+)
 
 # %%
 for row in report["rows"]:
     print(f"{row['what']}: relative difference u {row['u']:.2e}, stress {row['stress']:.2e}")
 hill = report["hill"]
-print(f"plastic radius: slipstep {hill['slipstep']['plastic_radius']:.3f} mm, dolfinx "
-      f"{hill['dolfinx']['plastic_radius']:.3f} mm, Hill {hill['slipstep']['hill_c']:.3f} mm")
+print(
+    f"plastic radius: slipstep {hill['slipstep']['plastic_radius']:.3f} mm, dolfinx "
+    f"{hill['dolfinx']['plastic_radius']:.3f} mm, Hill {hill['slipstep']['hill_c']:.3f} mm"
+)
 print(json.dumps({"report": str(out / "crosscheck.md")}))

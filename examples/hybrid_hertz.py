@@ -46,8 +46,11 @@ def cylinder_mesh(h_contact: float, h_max: float = 8.0):
     try:
         gmsh.model.add("quarter_cylinder")
         geo = gmsh.model.geo
-        bottom, centre, right = (geo.addPoint(0, 0, 0), geo.addPoint(0, R, 0),
-                                 geo.addPoint(R, R, 0))
+        bottom, centre, right = (
+            geo.addPoint(0, 0, 0),
+            geo.addPoint(0, R, 0),
+            geo.addPoint(R, R, 0),
+        )
         arc = geo.addCircleArc(bottom, centre, right)
         top = geo.addLine(right, centre)
         sym = geo.addLine(centre, bottom)
@@ -80,8 +83,9 @@ def main(argv=None) -> dict:
     """The example with the command line's options (``argv``; None: ``sys.argv``), the
     parameters above by default."""
     ap = argparse.ArgumentParser(description="slipstep's contact on a plain dolfinx model")
-    ap.add_argument("--h-contact", type=float, default=H_CONTACT,
-                    help="element size at the contact")
+    ap.add_argument(
+        "--h-contact", type=float, default=H_CONTACT, help="element size at the contact"
+    )
     ap.add_argument("--mu", type=float, default=MU, help="Coulomb friction coefficient")
     ap.add_argument("--out", default=OUT, help="output folder")
     args = ap.parse_args(argv)
@@ -113,8 +117,20 @@ def solve(h_contact: float = H_CONTACT, mu: float = MU, out_dir: str = OUT) -> d
     bcs = [api.dirichletbc(0.0, sym_dofs, V, component=0)]
 
     # ---- slipstep: event-driven contact of the arc on the flat y = 0 ----------------------
-    out = solve_contact(V, a, L, facet_tags, ARC, E=E, nu=NU, plane="strain", bcs=bcs,
-                        flat_point=(0.0, 0.0), flat_normal=(0.0, 1.0), mu=mu)
+    out = solve_contact(
+        V,
+        a,
+        L,
+        facet_tags,
+        ARC,
+        E=E,
+        nu=NU,
+        plane="strain",
+        bcs=bcs,
+        flat_point=(0.0, 0.0),
+        flat_normal=(0.0, 1.0),
+        mu=mu,
+    )
 
     # ---- back in dolfinx: Functions to keep using ------------------------------------------
     p = api.dof_values(out.pressure)
@@ -122,25 +138,30 @@ def solve(h_contact: float = H_CONTACT, mu: float = MU, out_dir: str = OUT) -> d
     contact = p > 0
     a_num = float(xq[contact].max()) if contact.any() else 0.0
     force = api.assemble_scalar(out.pressure * ds(ARC))  # = P/2 (thickness 1)
-    E_star = E / (1 - NU ** 2)
+    E_star = E / (1 - NU**2)
     a_h = math.sqrt(4 * P * R / (math.pi * E_star))
     p0_h = 2 * P / (math.pi * a_h)
     Path(out_dir).mkdir(parents=True, exist_ok=True)
-    api.write_functions(Path(out_dir) / "hybrid_hertz.xdmf", mesh,
-                        [(0.0, [out.u, out.pressure])])
+    api.write_functions(Path(out_dir) / "hybrid_hertz.xdmf", mesh, [(0.0, [out.u, out.pressure])])
     summary = {
-        "n_cells": api.num_cells(mesh), "n_nodes": len(api.node_coordinates(mesh)),
+        "n_cells": api.num_cells(mesh),
+        "n_nodes": len(api.node_coordinates(mesh)),
         "events": int(len(out.result["events"]["kind"])),
-        "outermost_closed_x": a_num, "a_hertz": a_h,
-        "peak_pressure": float(p.max()), "p0_hertz": p0_h,
-        "force_from_pressure": float(force), "half_load": P / 2,
+        "outermost_closed_x": a_num,
+        "a_hertz": a_h,
+        "peak_pressure": float(p.max()),
+        "p0_hertz": p0_h,
+        "force_from_pressure": float(force),
+        "half_load": P / 2,
         "operator_check": out.operator_difference,
         "wall_time_s": time.perf_counter() - start,
     }
-    print(f"{summary['n_cells']} cells, {summary['events']} events, "
-          f"{summary['wall_time_s']:.2f} s: outermost closed node x = {a_num:.4f} mm "
-          f"(Hertz a = {a_h:.4f}), peak pressure {p.max():.1f} MPa (Hertz p0 = {p0_h:.1f}), "
-          f"integral of the pressure {force:.6g} N/mm (P/2 = {P / 2:g}) -> {out_dir}")
+    print(
+        f"{summary['n_cells']} cells, {summary['events']} events, "
+        f"{summary['wall_time_s']:.2f} s: outermost closed node x = {a_num:.4f} mm "
+        f"(Hertz a = {a_h:.4f}), peak pressure {p.max():.1f} MPa (Hertz p0 = {p0_h:.1f}), "
+        f"integral of the pressure {force:.6g} N/mm (P/2 = {P / 2:g}) -> {out_dir}"
+    )
     return summary
 
 

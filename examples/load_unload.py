@@ -32,10 +32,12 @@ for stage in (1, 2):
 # %%
 for t, stage in ((1.0, 1), (2.0, 2)):
     f = r.fields(t, stage=stage)
-    print(f"t = {t}: total normal force {f['lambda_n'].sum():.3f} N/mm, "
-          f"{int(f['plastic'].sum())} elements on the yield surface, "
-          f"{int((f['plastic_strain'] > 0).sum())} with plastic strain, "
-          f"max plastic strain {f['plastic_strain'].max():.3e}")
+    print(
+        f"t = {t}: total normal force {f['lambda_n'].sum():.3f} N/mm, "
+        f"{int(f['plastic'].sum())} elements on the yield surface, "
+        f"{int((f['plastic_strain'] > 0).sum())} with plastic strain, "
+        f"max plastic strain {f['plastic_strain'].max():.3e}"
+    )
 
 # %% [markdown]
 # The figures as matplotlib objects (drawn without pyplot, so a notebook's own figures and

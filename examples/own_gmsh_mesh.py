@@ -41,8 +41,12 @@ def quarter_cylinder(h_fine: float = 0.05, h_max: float = 6.0):
         field.setNumbers(dist, "PointsList", [point])
         size = field.add("Threshold")
         field.setNumber(size, "InField", dist)
-        for key, value in (("SizeMin", h_fine), ("SizeMax", h_max), ("DistMin", 2.5),
-                           ("DistMax", 60.0)):
+        for key, value in (
+            ("SizeMin", h_fine),
+            ("SizeMax", h_max),
+            ("DistMin", 2.5),
+            ("DistMax", 60.0),
+        ):
             field.setNumber(size, key, value)
         field.setAsBackgroundMesh(size)
         for key in ("MeshSizeFromPoints", "MeshSizeFromCurvature", "MeshSizeExtendFromBoundary"):
@@ -54,8 +58,10 @@ def quarter_cylinder(h_fine: float = 0.05, h_max: float = 6.0):
         triangles = np.array([row[int(t)] for t in tri[0]]).reshape(-1, 3)
         edges = {}
         for name, group in tags.items():
-            segs = [gmsh.model.mesh.getElements(1, c)[2][0]
-                    for c in gmsh.model.getEntitiesForPhysicalGroup(1, group)]
+            segs = [
+                gmsh.model.mesh.getElements(1, c)[2][0]
+                for c in gmsh.model.getEntitiesForPhysicalGroup(1, group)
+            ]
             edges[name] = np.array([row[int(t)] for t in np.concatenate(segs)]).reshape(-1, 2)
         return xyz.reshape(-1, 3), triangles, edges
     finally:
@@ -71,15 +77,17 @@ case = {
     "case": {"name": "my_gmsh_cylinder", "units": "mm, N, MPa"},
     "output": {"snapshots": [0.5, 1.0], "figures": False, "xdmf": False},
     "body": [{"name": "cylinder", "material": {"E": E, "nu": NU}}],  # mesh: given below
-    "bc": [{"body": "cylinder", "edge": "symmetry", "symmetry": True},
-           {"body": "cylinder", "edge": "top", "pressure": P / (2 * R)}],  # P/2 on the quarter
+    "bc": [
+        {"body": "cylinder", "edge": "symmetry", "symmetry": True},
+        {"body": "cylinder", "edge": "top", "pressure": P / (2 * R)},
+    ],  # P/2 on the quarter
     "contact": [{"kind": "rigid_line", "body": "cylinder", "edge": "arc", "x_max": 4.0}],
 }
 r = slipstep.run(case, meshes={"cylinder": mesh}, progress=False)
 r  # noqa: B018
 
 # %%
-E_star = E / (1 - NU ** 2)
+E_star = E / (1 - NU**2)
 a = math.sqrt(4 * P * R / (math.pi * E_star))
 print(f"a  = {r.summary['contact_half_width']:.4f} mm   (Hertz {a:.4f})")
 print(f"p0 = {r.summary['peak_pressure']:.1f} MPa   (Hertz {2 * P / (math.pi * a):.1f})")

@@ -66,8 +66,11 @@ for t in times:
     if point is None or point.GetArray("u") is None:
         empty.append(t)
         continue
-    step = {"t": t, "max_u": largest(point.GetArray("u")),
-            "max_von_mises": largest(cell.GetArray("von_mises"))}
+    step = {
+        "t": t,
+        "max_u": largest(point.GetArray("u")),
+        "max_von_mises": largest(cell.GetArray("von_mises")),
+    }
     if point.GetArray("contact_pressure") is not None:
         step["max_contact_pressure"] = largest(point.GetArray("contact_pressure"))
     steps.append(step)

@@ -32,8 +32,12 @@ CASES = ROOT / "cases"
 
 def shipped_cases(dimension: int) -> list[Path]:
     """The shipped cases of one dimension (2: planar and axisymmetric; 3: in space)."""
-    return [p for p in sorted(CASES.glob("*.toml"))
-            if tomllib.loads(p.read_text()).get("analysis", {}).get("dimension", 2) == dimension]
+    return [
+        p
+        for p in sorted(CASES.glob("*.toml"))
+        if tomllib.loads(p.read_text()).get("analysis", {}).get("dimension", 2) == dimension
+    ]
+
 
 #: A small case every concept's tests vary: a 2 x 1 block (4 x 2 cells), bottom fixed, a rigid
 #: line above its top (mu = 0.3).
@@ -90,8 +94,8 @@ ENFORCED = {
     "hypothesis": ("module", ("pip", "hypothesis")),
     "jupytext": ("module", ("pip", "jupytext")),
     "nbclient": ("module", ("pip", "nbclient")),
-    "nbformat": ("module", ("pip", "jupytext")),      # jupytext's dependency
-    "jsonschema": ("module", ("pip", "jupytext")),    # nbformat's dependency
+    "nbformat": ("module", ("pip", "jupytext")),  # jupytext's dependency
+    "jsonschema": ("module", ("pip", "jupytext")),  # nbformat's dependency
     "ipywidgets": ("module", ("pip", "ipywidgets")),
     "matplotlib": ("module", ("pip", "matplotlib")),
     "dolfinx": ("module", ("apt", "python3-dolfinx")),
@@ -144,9 +148,11 @@ def enforce_skip(report, is_available=available) -> None:
     if missing:
         sources = ", ".join(f"{n} ({ENFORCED[n][1][0]}: {ENFORCED[n][1][1]})" for n in missing)
         report.outcome = "failed"
-        report.longrepr = (f"skipped for want of what `make test` installs: {sources}; install it "
-                           f"(make setup), or name it in {ALLOW_MISSING} on a machine that "
-                           f"cannot have it.  The skip's reason: {reason}")
+        report.longrepr = (
+            f"skipped for want of what `make test` installs: {sources}; install it "
+            f"(make setup), or name it in {ALLOW_MISSING} on a machine that "
+            f"cannot have it.  The skip's reason: {reason}"
+        )
 
 
 @pytest.hookimpl(hookwrapper=True)
@@ -185,13 +191,23 @@ def synthetic_hertz_result(scene, final_fraction: float = 1.0, interrupted: bool
     t = scene.model["thickness"]
     x = scene.pair_xy[:, 0]
     gap0 = scene.model["pairs"]["gap"]
-    closes_at = (x / a) ** 2            # a(f) = a sqrt(f)
+    closes_at = (x / a) ** 2  # a(f) = a sqrt(f)
     closes_at[gap0 == 0.0] = 0.0
 
     order = np.argsort(closes_at)
     events = {"step": [], "load_fraction": [], "kind": [], "entity": []}
-    steps = {k: [] for k in ("load_fraction", "scale", "residual", "n_closed", "n_stick",
-                             "n_slip", "normal_force")}
+    steps = {
+        k: []
+        for k in (
+            "load_fraction",
+            "scale",
+            "residual",
+            "n_closed",
+            "n_stick",
+            "n_slip",
+            "normal_force",
+        )
+    }
     snapshots = []
     n_nodes, n_el = len(scene.nodes), len(scene.triangles)
 
@@ -199,11 +215,16 @@ def synthetic_hertz_result(scene, final_fraction: float = 1.0, interrupted: bool
         closed = closes_at <= f
         af, pf = a * math.sqrt(f), p0 * math.sqrt(f)
         p = np.where(closed, pf * np.sqrt(np.clip(1 - (x / af) ** 2, 0, None)), 0.0)
-        return {"load_fraction": f, "u": np.zeros((n_nodes, 2)), "stress": np.zeros((n_el, 4)),
-                "lambda_n": p * scene.pair_length * t, "lambda_t": np.zeros(len(x)),
-                "status": np.where(closed, 2, 0).astype(np.int8),
-                "gap": np.where(closed, 0.0, gap0 * (1 - f / np.maximum(closes_at, 1e-300))),
-                "rtd": np.zeros(len(x))}
+        return {
+            "load_fraction": f,
+            "u": np.zeros((n_nodes, 2)),
+            "stress": np.zeros((n_el, 4)),
+            "lambda_n": p * scene.pair_length * t,
+            "lambda_t": np.zeros(len(x)),
+            "status": np.where(closed, 2, 0).astype(np.int8),
+            "gap": np.where(closed, 0.0, gap0 * (1 - f / np.maximum(closes_at, 1e-300))),
+            "rtd": np.zeros(len(x)),
+        }
 
     step = 0
     for i in order:
@@ -231,10 +252,12 @@ def synthetic_hertz_result(scene, final_fraction: float = 1.0, interrupted: bool
     closure = np.where(final["status"] > 0, closes_at, np.nan)
     predicted = np.where(final["status"] > 0, np.nan, closes_at)
     return {
-        "events": {"step": np.asarray(events["step"], dtype=np.int64),
-                   "load_fraction": np.asarray(events["load_fraction"]),
-                   "kind": events["kind"],
-                   "entity": np.asarray(events["entity"], dtype=np.int64)},
+        "events": {
+            "step": np.asarray(events["step"], dtype=np.int64),
+            "load_fraction": np.asarray(events["load_fraction"]),
+            "kind": events["kind"],
+            "entity": np.asarray(events["entity"], dtype=np.int64),
+        },
         "steps": steps,
         "snapshots": snapshots,
         "closure_fraction": closure,
@@ -243,8 +266,11 @@ def synthetic_hertz_result(scene, final_fraction: float = 1.0, interrupted: bool
         "n_factorizations": 1,
         "n_solves": n_steps,
         "interrupted": interrupted,
-        "stop": {"kind": "interrupted" if interrupted else "completed", "message": None,
-                 "load_fraction": final_fraction},
+        "stop": {
+            "kind": "interrupted" if interrupted else "completed",
+            "message": None,
+            "load_fraction": final_fraction,
+        },
         "stop_reason": None,
         "timings": {"assembly": 0.0, "factorization": 0.0, "solves": 0.0, "events": 0.0},
     }
@@ -258,8 +284,10 @@ class Hang(Exception):
 def time_limit(seconds: float, what: str = "the run"):
     """Raise ``Hang`` if the block runs longer than ``seconds`` (SIGALRM; the engine checks
     Python signals every 0.1 s and stops with ``interrupted``)."""
+
     def alarm(signum, frame):
         raise Hang(f"{what} took more than {seconds} s")
+
     old = signal.signal(signal.SIGALRM, alarm)
     signal.setitimer(signal.ITIMER_REAL, seconds)
     try:

@@ -61,15 +61,20 @@ EQUILIBRIUM_TOL = 1e-9
 
 
 # --------------------------------------------------------------------------- equilibrium
-def internal_force(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray,
-                   thickness: float, plane: str = "strain") -> np.ndarray:
+def internal_force(
+    nodes: np.ndarray,
+    triangles: np.ndarray,
+    stress: np.ndarray,
+    thickness: float,
+    plane: str = "strain",
+) -> np.ndarray:
     """Σ_e t A_e B_eᵀ (σx, σy, τxy)_e over all DOFs (2 per node), for triangles of either
     orientation; the ring's forces for ``plane == "axisymmetric"`` (``ring_internal_force``)."""
     if plane == "axisymmetric":
         return ring_internal_force(nodes, triangles, stress)
     nodes, triangles = np.asarray(nodes, dtype=float), np.asarray(triangles)
     stress = np.asarray(stress, dtype=float).reshape(-1, 4)
-    x, y = nodes[triangles, 0], nodes[triangles, 1]            # (M, 3)
+    x, y = nodes[triangles, 0], nodes[triangles, 1]  # (M, 3)
     area2 = (x[:, 1] - x[:, 0]) * (y[:, 2] - y[:, 0]) - (x[:, 2] - x[:, 0]) * (y[:, 1] - y[:, 0])
     b = np.stack([y[:, 1] - y[:, 2], y[:, 2] - y[:, 0], y[:, 0] - y[:, 1]], axis=1)  # area2 ∂N/∂x
     c = np.stack([x[:, 2] - x[:, 1], x[:, 0] - x[:, 2], x[:, 1] - x[:, 0]], axis=1)  # area2 ∂N/∂y
@@ -79,8 +84,9 @@ def internal_force(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray,
     fx = half_t * (b * sx + c * txy)
     fy = half_t * (c * sy + b * txy)
     n = 2 * len(nodes)
-    return (np.bincount((2 * triangles).ravel(), weights=fx.ravel(), minlength=n)
-            + np.bincount((2 * triangles + 1).ravel(), weights=fy.ravel(), minlength=n))
+    return np.bincount((2 * triangles).ravel(), weights=fx.ravel(), minlength=n) + np.bincount(
+        (2 * triangles + 1).ravel(), weights=fy.ravel(), minlength=n
+    )
 
 
 def tet_internal_force(nodes: np.ndarray, tets: np.ndarray, stress: np.ndarray) -> np.ndarray:
@@ -90,12 +96,12 @@ def tet_internal_force(nodes: np.ndarray, tets: np.ndarray, stress: np.ndarray) 
     their sum), V_e = |det J|/6."""
     nodes, tets = np.asarray(nodes, dtype=float), np.asarray(tets)
     s = np.asarray(stress, dtype=float).reshape(-1, 6)
-    x = nodes[tets]                                        # (M, 4, 3)
+    x = nodes[tets]  # (M, 4, 3)
     jac = np.transpose(x[:, 1:, :] - x[:, :1, :], (0, 2, 1))  # columns x_k − x_0
-    inv = np.linalg.inv(jac)                              # rows: ∇N_1..3
+    inv = np.linalg.inv(jac)  # rows: ∇N_1..3
     grad = np.concatenate([-inv.sum(axis=1, keepdims=True), inv], axis=1)  # (M, 4, 3)
     volume = np.abs(np.linalg.det(jac)) / 6.0
-    tensor = s[:, [[0, 5, 4], [5, 1, 3], [4, 3, 2]]]      # (M, 3, 3)
+    tensor = s[:, [[0, 5, 4], [5, 1, 3], [4, 3, 2]]]  # (M, 3, 3)
     f_nodes = volume[:, None, None] * np.einsum("mij,mkj->mki", tensor, grad)  # (M, 4, 3)
     f = np.zeros(3 * len(nodes))
     for c in range(3):
@@ -119,8 +125,13 @@ def model_internal_force(model: dict, stress: np.ndarray) -> np.ndarray:
     """The internal force of a snapshot's stresses for a model of either dimension."""
     if model.get("dimension", 2) == 3:
         return tet_internal_force(model["nodes"], model["tetrahedra"], stress)
-    return internal_force(np.asarray(model["nodes"], dtype=float), np.asarray(model["triangles"]),
-                          np.asarray(stress), model["thickness"], model.get("plane", "strain"))
+    return internal_force(
+        np.asarray(model["nodes"], dtype=float),
+        np.asarray(model["triangles"]),
+        np.asarray(stress),
+        model["thickness"],
+        model.get("plane", "strain"),
+    )
 
 
 def ring_internal_force(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray) -> np.ndarray:
@@ -129,22 +140,24 @@ def ring_internal_force(nodes: np.ndarray, triangles: np.ndarray, stress: np.nda
     (r̄ the centroid radius, N_k = 1/3 there; stress columns σr, σz, σθ, τrz)."""
     nodes, triangles = np.asarray(nodes, dtype=float), np.asarray(triangles)
     s = np.asarray(stress, dtype=float).reshape(-1, 4)
-    r, z = nodes[triangles, 0], nodes[triangles, 1]                                  # (M, 3)
+    r, z = nodes[triangles, 0], nodes[triangles, 1]  # (M, 3)
     area2 = (r[:, 1] - r[:, 0]) * (z[:, 2] - z[:, 0]) - (r[:, 2] - r[:, 0]) * (z[:, 1] - z[:, 0])
     dn_dr = np.stack([z[:, 1] - z[:, 2], z[:, 2] - z[:, 0], z[:, 0] - z[:, 1]], 1) / area2[:, None]
     dn_dz = np.stack([r[:, 2] - r[:, 1], r[:, 0] - r[:, 2], r[:, 1] - r[:, 0]], 1) / area2[:, None]
     r_bar = r.mean(axis=1)
     volume = (2.0 * math.pi * r_bar * 0.5 * np.abs(area2))[:, None]
-    sr, sz, st, trz = (s[:, k:k + 1] for k in range(4))
+    sr, sz, st, trz = (s[:, k : k + 1] for k in range(4))
     fr = volume * (dn_dr * sr + dn_dz * trz + st / (3.0 * r_bar[:, None]))
     fz = volume * (dn_dz * sz + dn_dr * trz)
     n = 2 * len(nodes)
-    return (np.bincount((2 * triangles).ravel(), weights=fr.ravel(), minlength=n)
-            + np.bincount((2 * triangles + 1).ravel(), weights=fz.ravel(), minlength=n))
+    return np.bincount((2 * triangles).ravel(), weights=fr.ravel(), minlength=n) + np.bincount(
+        (2 * triangles + 1).ravel(), weights=fz.ravel(), minlength=n
+    )
 
 
-def contact_force(n_nodes: int, pairs: dict, lambda_n: np.ndarray,
-                  lambda_t: np.ndarray) -> np.ndarray:
+def contact_force(
+    n_nodes: int, pairs: dict, lambda_n: np.ndarray, lambda_t: np.ndarray
+) -> np.ndarray:
     """The contact forces on the bodies over all DOFs: λ_n n + λ_t t on node a, the opposite on
     node b (none for node_b = −1, a rigid target); t = (−n_y, n_x). A node-to-segment row
     (``weight_ptr`` etc.) puts c_i (λ_n n + λ_t t) on each of its nodes i instead."""
@@ -169,8 +182,11 @@ def contact_force(n_nodes: int, pairs: dict, lambda_n: np.ndarray,
         np.add.at(f, dim * b[plain & (b >= 0)] + comp, -force[plain & (b >= 0), comp])
         if weighted.any():
             rows = np.repeat(np.arange(len(a)), np.diff(ptr))
-            np.add.at(f, dim * np.asarray(pairs["weight_node"]) + comp,
-                      np.asarray(pairs["weight_value"]) * force[rows, comp])
+            np.add.at(
+                f,
+                dim * np.asarray(pairs["weight_node"]) + comp,
+                np.asarray(pairs["weight_value"]) * force[rows, comp],
+            )
     return f
 
 
@@ -199,8 +215,11 @@ def held_dofs(model: dict) -> np.ndarray:
     """Supported DOFs: fixed ones, those with a prescribed displacement, and in axisymmetry u_r
     of the nodes on the axis r = 0 (within 1e-9 of the mesh's bounding-box diagonal)."""
     held = [np.asarray(model["fixed_dofs"], dtype=np.int64)]
-    held += [np.asarray(p["displacement_dofs"], dtype=np.int64)
-             for p in model.get("patterns", []) if "displacement_dofs" in p]
+    held += [
+        np.asarray(p["displacement_dofs"], dtype=np.int64)
+        for p in model.get("patterns", [])
+        if "displacement_dofs" in p
+    ]
     if model.get("plane") == "axisymmetric":
         nodes = np.asarray(model["nodes"], dtype=float)
         size = float(np.linalg.norm(np.ptp(nodes, axis=0)))
@@ -218,9 +237,16 @@ def equilibrium_residual(model: dict, snapshot: dict) -> float:
     nodes = np.asarray(model["nodes"], dtype=float)
     t = float(snapshot.get("t", snapshot["load_fraction"]))
     internal = model_internal_force(model, snapshot["stress"])
-    r = (internal - applied_load(model, t)
-         - contact_force(len(nodes), model["pairs"], np.asarray(snapshot["lambda_n"]),
-                         np.asarray(snapshot["lambda_t"])))
+    r = (
+        internal
+        - applied_load(model, t)
+        - contact_force(
+            len(nodes),
+            model["pairs"],
+            np.asarray(snapshot["lambda_n"]),
+            np.asarray(snapshot["lambda_t"]),
+        )
+    )
     free = np.ones(len(r), bool)
     free[held_dofs(model)] = False
     n_stages = max(1, len(model.get("stages", [])))
@@ -254,8 +280,9 @@ def slipped_since_closing(events: dict, n_pairs: int, t: float) -> np.ndarray:
     return on_polygon
 
 
-def friction_in_space(model: dict, snapshots, slip_turn: float, floors: tuple[float, float],
-                      events: dict) -> dict:
+def friction_in_space(
+    model: dict, snapshots, slip_turn: float, floors: tuple[float, float], events: dict
+) -> dict:
     """Worst values over a 3D run's snapshots (every event) of what Coulomb's cone and the
     friction design imply (module text; ``events``: the run's event history, which tells the
     stuck pairs on the round cone from those on their polygon), each to be compared with
@@ -275,8 +302,15 @@ def friction_in_space(model: dict, snapshots, slip_turn: float, floors: tuple[fl
       ``floors`` = (length, force), below which a direction is round-off;
     - ``slipping_steps``: how many (pair, step) the lag was measured on."""
     mu = np.asarray(model["pairs"]["mu"], dtype=float)
-    out = {"outside_round": -np.inf, "outside_polygon": -np.inf, "inside_facet": -np.inf,
-           "beyond_facet": -np.inf, "work": -np.inf, "lag": 0.0, "slipping_steps": 0}
+    out = {
+        "outside_round": -np.inf,
+        "outside_polygon": -np.inf,
+        "inside_facet": -np.inf,
+        "beyond_facet": -np.inf,
+        "work": -np.inf,
+        "lag": 0.0,
+        "slipping_steps": 0,
+    }
     worst = lambda key, values: out.__setitem__(key, max(out[key], values.max(initial=-np.inf)))  # noqa: E731
     for k, s in enumerate(snapshots):
         stick, slip = s["status"] == 1, s["status"] == 2
@@ -295,7 +329,9 @@ def friction_in_space(model: dict, snapshots, slip_turn: float, floors: tuple[fl
         for ends in (np.asarray(prev["lambda_t"]), lt):
             worst("work", np.einsum("ij,ij->i", ends[both], d[both]))
         moved = both & (np.linalg.norm(d, axis=1) > floors[0]) & (size > floors[1])
-        cos = -np.einsum("ij,ij->i", lt[moved], d[moved]) / (size[moved] * np.linalg.norm(d[moved], axis=1))
+        cos = -np.einsum("ij,ij->i", lt[moved], d[moved]) / (
+            size[moved] * np.linalg.norm(d[moved], axis=1)
+        )
         out["lag"] = max(out["lag"], float(np.arccos(np.clip(cos, -1.0, 1.0)).max(initial=0.0)))
         out["slipping_steps"] += int(moved.sum())
     return out
@@ -304,7 +340,9 @@ def friction_in_space(model: dict, snapshots, slip_turn: float, floors: tuple[fl
 def node_body(model: dict) -> np.ndarray:
     """The body index (``element_body``) of every node, from the elements it belongs to."""
     body = np.full(len(model["nodes"]), -1, dtype=np.int64)
-    cells = np.asarray(model["tetrahedra"] if model.get("dimension", 2) == 3 else model["triangles"])
+    cells = np.asarray(
+        model["tetrahedra"] if model.get("dimension", 2) == 3 else model["triangles"]
+    )
     body[cells.ravel()] = np.repeat(np.asarray(model["element_body"]), cells.shape[1])
     return body
 
@@ -322,10 +360,16 @@ def recomputed_reaction(model: dict, snapshot: dict) -> np.ndarray:
     applied load − contact forces at the held DOFs (``held_dofs``), 0 elsewhere."""
     nodes = np.asarray(model["nodes"], dtype=float)
     t = float(snapshot.get("t", snapshot["load_fraction"]))
-    r = (model_internal_force(model, snapshot["stress"])
-         - applied_load(model, t)
-         - contact_force(len(nodes), model["pairs"], np.asarray(snapshot["lambda_n"]),
-                         np.asarray(snapshot["lambda_t"])))
+    r = (
+        model_internal_force(model, snapshot["stress"])
+        - applied_load(model, t)
+        - contact_force(
+            len(nodes),
+            model["pairs"],
+            np.asarray(snapshot["lambda_n"]),
+            np.asarray(snapshot["lambda_t"]),
+        )
+    )
     out = np.zeros_like(r)
     held = held_dofs(model)
     out[held] = r[held]
@@ -339,10 +383,13 @@ def balance_terms(model: dict, snapshot: dict) -> dict:
     ``scale``, the sum of the absolute nodal terms (the size of the numbers summed)."""
     n = len(model["nodes"])
     t = float(snapshot.get("t", snapshot["load_fraction"]))
-    forces = {"contact": contact_force(n, model["pairs"], np.asarray(snapshot["lambda_n"]),
-                                       np.asarray(snapshot["lambda_t"])),
-              "load": applied_load(model, t),
-              "reaction": np.asarray(snapshot["reaction"], dtype=float).reshape(-1)}
+    forces = {
+        "contact": contact_force(
+            n, model["pairs"], np.asarray(snapshot["lambda_n"]), np.asarray(snapshot["lambda_t"])
+        ),
+        "load": applied_load(model, t),
+        "reaction": np.asarray(snapshot["reaction"], dtype=float).reshape(-1),
+    }
     out = {k: body_sums(model, f) for k, f in forces.items()}
     out["scale"] = sum(body_sums(model, np.abs(f)) for f in forces.values())
     return out
@@ -355,8 +402,7 @@ def obstacle_force(model: dict, snapshot: dict, contact: int) -> np.ndarray:
     mine = np.asarray(pairs.get("contact", np.zeros(len(pairs["node_a"]), np.int64))) == contact
     n = np.asarray(pairs["normal"], dtype=float).reshape(-1, 2)[mine]
     t = np.stack([-n[:, 1], n[:, 0]], axis=1)
-    return (np.asarray(snapshot["lambda_n"])[mine] @ n
-            + np.asarray(snapshot["lambda_t"])[mine] @ t)
+    return np.asarray(snapshot["lambda_n"])[mine] @ n + np.asarray(snapshot["lambda_t"])[mine] @ t
 
 
 # --------------------------------------------------------------------------- refinement
@@ -369,7 +415,7 @@ def observed_order(error_coarse: float, error_fine: float, ratio: float = 2.0) -
 def richardson(coarse: float, fine: float, order: float, ratio: float = 2.0) -> float:
     """Richardson's extrapolation to h -> 0 of a value converging at ``order`` from the meshes
     h (``coarse``) and h/ratio (``fine``): fine + (fine - coarse)/(ratio^order - 1)."""
-    return fine + (fine - coarse) / (ratio ** order - 1.0)
+    return fine + (fine - coarse) / (ratio**order - 1.0)
 
 
 # --------------------------------------------------------------------------- stresses
@@ -378,20 +424,28 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
     s = np.asarray(stress, dtype=float).reshape(-1, 4)
     mean = s[:, :3].mean(axis=1, keepdims=True)
     dev = s[:, :3] - mean
-    return np.sqrt(1.5 * (np.sum(dev ** 2, axis=1) + 2.0 * s[:, 3] ** 2))
+    return np.sqrt(1.5 * (np.sum(dev**2, axis=1) + 2.0 * s[:, 3] ** 2))
 
 
 # --------------------------------------------------------------------------- energy
-def strain_energy(nodes: np.ndarray, triangles: np.ndarray, stress: np.ndarray, E: float,
-                  nu: float, thickness: float) -> float:
+def strain_energy(
+    nodes: np.ndarray,
+    triangles: np.ndarray,
+    stress: np.ndarray,
+    E: float,
+    nu: float,
+    thickness: float,
+) -> float:
     """Elastic energy of constant-stress triangles of one isotropic material (plane strain or
     stress): Σ_e t A_e w_e, w = (σx² + σy² + σz² − 2ν(σxσy + σyσz + σzσx))/(2E) + τ²(1+ν)/E
     (σz = 0 in plane stress; in plane strain εz = 0, so σz does no work and w = σ:ε/2 still)."""
     nodes, triangles = np.asarray(nodes, dtype=float), np.asarray(triangles)
     sx, sy, sz, txy = np.asarray(stress, dtype=float).reshape(-1, 4).T
     x, y = nodes[triangles, 0], nodes[triangles, 1]
-    area = 0.5 * np.abs((x[:, 1] - x[:, 0]) * (y[:, 2] - y[:, 0])
-                        - (x[:, 2] - x[:, 0]) * (y[:, 1] - y[:, 0]))
-    w = ((sx ** 2 + sy ** 2 + sz ** 2 - 2.0 * nu * (sx * sy + sy * sz + sz * sx)) / (2.0 * E)
-         + txy ** 2 * (1.0 + nu) / E)
+    area = 0.5 * np.abs(
+        (x[:, 1] - x[:, 0]) * (y[:, 2] - y[:, 0]) - (x[:, 2] - x[:, 0]) * (y[:, 1] - y[:, 0])
+    )
+    w = (sx**2 + sy**2 + sz**2 - 2.0 * nu * (sx * sy + sy * sz + sz * sx)) / (2.0 * E) + txy**2 * (
+        1.0 + nu
+    ) / E
     return float(thickness * np.sum(area * w))

@@ -145,7 +145,8 @@ def assert_contract(model: dict) -> None:
     t1, t2 = tangent[:, 0], tangent[:, 1]
     assert np.allclose(np.einsum("pi,pi->p", t1, t2), 0.0, atol=1e-12)
     assert np.allclose(np.linalg.norm(t1, axis=1), 1.0) and np.allclose(
-        np.linalg.norm(t2, axis=1), 1.0)
+        np.linalg.norm(t2, axis=1), 1.0
+    )
     assert np.allclose(np.cross(t1, t2), normal, atol=1e-12)  # t1 x t2 = n
     assert (pairs["gap"] >= 0).all() and (pairs["mu"] >= 0).all()
     if "weight_ptr" in pairs:
@@ -153,15 +154,20 @@ def assert_contract(model: dict) -> None:
         for k in range(P):
             row = slice(ptr[k], ptr[k + 1])
             if ptr[k + 1] > ptr[k]:  # they cancel: contactor +1, target -1
-                assert abs(value[row].sum()) <= 1e-9 and abs(value[row][value[row] > 0].sum()
-                                                             - 1.0) <= 1e-9
+                assert (
+                    abs(value[row].sum()) <= 1e-9
+                    and abs(value[row][value[row] > 0].sum() - 1.0) <= 1e-9
+                )
 
 
 #: A quarter sphere (y >= 0: the plane y = 0 its mirror) on a rigid flat, for the Mindlin
 #: stand-in below: a shear along x is symmetric about y = 0.
-QUARTER = SPHERE.replace('generator = "sphere"', 'generator = "sphere"\nportion = "quarter"').replace(
+QUARTER = SPHERE.replace(
+    'generator = "sphere"', 'generator = "sphere"\nportion = "quarter"'
+).replace(
     '[[bc]]\nbody = "sphere"\nface = "symmetry_x"\nsymmetry = true\n',
-    '[[bc]]\nbody = "sphere"\nface = "top"\nfix = ["x"]\n')
+    '[[bc]]\nbody = "sphere"\nface = "top"\nfix = ["x"]\n',
+)
 
 
 def mindlin_stand_in(scene, a: float, c: float, p0: float, mu: float, stress=None) -> dict:
@@ -180,38 +186,66 @@ def mindlin_stand_in(scene, a: float, c: float, p0: float, mu: float, stress=Non
     status = np.where(r < c, 1, np.where(r < a, 2, 0)).astype(np.int8)
     n, m, P = len(scene.nodes), len(scene.tetrahedra), len(x)
     row = np.zeros(6) if stress is None else np.asarray(stress, dtype=float)
-    snap = {"t": 1.0, "stage": 0, "load_fraction": 1.0, "u": np.zeros((n, 3)),
-            "reaction": np.zeros((n, 3)), "stress": np.tile(row, (m, 1)),
-            "plastic_strain": np.zeros(m), "plastic": np.zeros(m, np.int8),
-            "lambda_n": p * area, "lambda_t": lam_t, "status": status,
-            "gap": np.where(status > 0, 0.0, scene.model["pairs"]["gap"]),
-            "rtd": np.zeros((P, 2))}
-    return {"events": {"step": np.zeros(0, np.int64), "load_fraction": np.zeros(0),
-                       "t": np.zeros(0), "stage": np.zeros(0, np.int64), "kind": [],
-                       "entity": np.zeros(0, np.int64)},
-            "steps": {"load_fraction": np.array([1.0]), "t": np.array([1.0]),
-                      "stage": np.zeros(1, np.int64)},
-            "snapshots": [snap], "closure_fraction": np.zeros(P),
-            "predicted_closure": np.full(P, np.inf), "n_stages": 1, "stage_names": ["stage 1"],
-            "max_drift": 0.0, "max_equilibrium_residual": 1e-14, "n_factorizations": 1,
-            "n_solves": 1, "n_rate_problems": 0, "interrupted": False, "stop_reason": None,
-            "stop": {"kind": "completed", "message": None, "load_fraction": 1.0, "t": 1.0},
-            "timings": {}}
+    snap = {
+        "t": 1.0,
+        "stage": 0,
+        "load_fraction": 1.0,
+        "u": np.zeros((n, 3)),
+        "reaction": np.zeros((n, 3)),
+        "stress": np.tile(row, (m, 1)),
+        "plastic_strain": np.zeros(m),
+        "plastic": np.zeros(m, np.int8),
+        "lambda_n": p * area,
+        "lambda_t": lam_t,
+        "status": status,
+        "gap": np.where(status > 0, 0.0, scene.model["pairs"]["gap"]),
+        "rtd": np.zeros((P, 2)),
+    }
+    return {
+        "events": {
+            "step": np.zeros(0, np.int64),
+            "load_fraction": np.zeros(0),
+            "t": np.zeros(0),
+            "stage": np.zeros(0, np.int64),
+            "kind": [],
+            "entity": np.zeros(0, np.int64),
+        },
+        "steps": {
+            "load_fraction": np.array([1.0]),
+            "t": np.array([1.0]),
+            "stage": np.zeros(1, np.int64),
+        },
+        "snapshots": [snap],
+        "closure_fraction": np.zeros(P),
+        "predicted_closure": np.full(P, np.inf),
+        "n_stages": 1,
+        "stage_names": ["stage 1"],
+        "max_drift": 0.0,
+        "max_equilibrium_residual": 1e-14,
+        "n_factorizations": 1,
+        "n_solves": 1,
+        "n_rate_problems": 0,
+        "interrupted": False,
+        "stop_reason": None,
+        "stop": {"kind": "completed", "message": None, "load_fraction": 1.0, "t": 1.0},
+        "timings": {},
+    }
 
 
-def displacement_at(nodes: np.ndarray, tets: np.ndarray, u: np.ndarray,
-                    points: np.ndarray) -> np.ndarray:
+def displacement_at(
+    nodes: np.ndarray, tets: np.ndarray, u: np.ndarray, points: np.ndarray
+) -> np.ndarray:
     """The displacement of linear tetrahedra at ``points`` (K, 3): in each point's element (the
     one whose smallest barycentric coordinate is largest, >= -1e-9: a point on a shared face or
     edge reads the same value from every element there), u interpolated linearly.  Raises if a
     point lies outside the mesh."""
     nodes, u = np.asarray(nodes, dtype=float), np.asarray(u, dtype=float).reshape(-1, 3)
-    x = nodes[tets]                                             # (M, 4, 3)
-    jac = np.transpose(x[:, 1:] - x[:, :1], (0, 2, 1))          # columns x_k - x_0
+    x = nodes[tets]  # (M, 4, 3)
+    jac = np.transpose(x[:, 1:] - x[:, :1], (0, 2, 1))  # columns x_k - x_0
     out = []
     for p in np.atleast_2d(points):
-        lam = np.linalg.solve(jac, (p - x[:, 0])[:, :, None])[:, :, 0]   # (M, 3)
-        bary = np.column_stack([1.0 - lam.sum(axis=1), lam])             # (M, 4)
+        lam = np.linalg.solve(jac, (p - x[:, 0])[:, :, None])[:, :, 0]  # (M, 3)
+        bary = np.column_stack([1.0 - lam.sum(axis=1), lam])  # (M, 4)
         e = int(np.argmax(bary.min(axis=1)))
         if bary[e].min() < -1e-9:
             raise ValueError(f"point {p} lies outside the mesh")
@@ -219,8 +253,9 @@ def displacement_at(nodes: np.ndarray, tets: np.ndarray, u: np.ndarray,
     return np.array(out)
 
 
-def hertz_approach_errors(nodes, tets, u, P: float, R: float, E: float, nu: float,
-                          origin, inward, depths) -> list[float]:
+def hertz_approach_errors(
+    nodes, tets, u, P: float, R: float, E: float, nu: float, origin, inward, depths
+) -> list[float]:
     """Relative errors of the approach of a sphere (radius R, E, nu) pressed by P onto a rigid
     flat, measured as in tests/physics/test_axisymmetric_hertz.py but in space: the shortening
     of the axis from the contact point ``origin`` to the depth d a along ``inward`` (the unit
@@ -234,5 +269,9 @@ def hertz_approach_errors(nodes, tets, u, P: float, R: float, E: float, nu: floa
     origin, inward = np.asarray(origin, dtype=float), np.asarray(inward, dtype=float)
     points = origin + np.outer([0.0, *depths], inward) * a
     w = displacement_at(nodes, tets, u, points) @ inward
-    return [float((w[0] - w[k + 1] + references.sphere_axis_compression(d, nu) * p0 * a / E)
-                  / delta - 1.0) for k, d in enumerate(depths)]
+    return [
+        float(
+            (w[0] - w[k + 1] + references.sphere_axis_compression(d, nu) * p0 * a / E) / delta - 1.0
+        )
+        for k, d in enumerate(depths)
+    ]

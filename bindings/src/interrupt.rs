@@ -41,7 +41,8 @@ extern "C" fn on_sigint(sig: libc::c_int, info: *mut libc::siginfo_t, context: *
     // (neither SIG_DFL nor SIG_IGN), called with the arguments its flags declare.
     unsafe {
         if PREVIOUS_SIGINFO.load(Ordering::SeqCst) {
-            let f: extern "C" fn(libc::c_int, *mut libc::siginfo_t, *mut libc::c_void) = std::mem::transmute(previous);
+            let f: extern "C" fn(libc::c_int, *mut libc::siginfo_t, *mut libc::c_void) =
+                std::mem::transmute(previous);
             f(sig, info, context);
         } else {
             let f: extern "C" fn(libc::c_int) = std::mem::transmute(previous);
@@ -66,7 +67,10 @@ impl Watch {
         // SAFETY: plain sigaction calls on valid, zero-initialised structs.
         unsafe {
             let mut current: libc::sigaction = std::mem::zeroed();
-            if libc::sigaction(libc::SIGINT, std::ptr::null(), &mut current) != 0 || current.sa_sigaction == libc::SIG_DFL || current.sa_sigaction == libc::SIG_IGN {
+            if libc::sigaction(libc::SIGINT, std::ptr::null(), &mut current) != 0
+                || current.sa_sigaction == libc::SIG_DFL
+                || current.sa_sigaction == libc::SIG_IGN
+            {
                 WATCHING.store(false, Ordering::SeqCst);
                 return idle;
             }
@@ -75,7 +79,8 @@ impl Watch {
             RECEIVED.store(false, Ordering::SeqCst);
             let mut ours: libc::sigaction = std::mem::zeroed();
             ours.sa_sigaction = on_sigint as *const () as usize;
-            ours.sa_flags = libc::SA_SIGINFO | (current.sa_flags & (libc::SA_ONSTACK | libc::SA_RESTART));
+            ours.sa_flags =
+                libc::SA_SIGINFO | (current.sa_flags & (libc::SA_ONSTACK | libc::SA_RESTART));
             ours.sa_mask = current.sa_mask;
             if libc::sigaction(libc::SIGINT, &ours, std::ptr::null_mut()) != 0 {
                 WATCHING.store(false, Ordering::SeqCst);
@@ -98,7 +103,9 @@ impl Drop for Watch {
         // place (a callback may have installed another with signal.signal meanwhile).
         unsafe {
             let mut current: libc::sigaction = std::mem::zeroed();
-            if libc::sigaction(libc::SIGINT, std::ptr::null(), &mut current) == 0 && current.sa_sigaction == on_sigint as *const () as usize {
+            if libc::sigaction(libc::SIGINT, std::ptr::null(), &mut current) == 0
+                && current.sa_sigaction == on_sigint as *const () as usize
+            {
                 libc::sigaction(libc::SIGINT, &previous, std::ptr::null_mut());
             }
         }
@@ -131,9 +138,18 @@ impl TestTrigger {
     pub fn from_env() -> TestTrigger {
         let value = std::env::var(Self::VARIABLE).unwrap_or_default();
         let at_event = value.strip_prefix("event=").and_then(|n| n.trim().parse().ok());
-        let at_checkpoint = |value: &str| value.split_once(':').and_then(|(name, n)| Some((Checkpoint::named(name.trim())?, n.trim().parse().ok()?)));
-        let panic = std::env::var(Self::PANIC).ok().and_then(|v| at_checkpoint(&v)).map(|(at, after)| (at, after, panic_here as fn()));
-        slipstep_core::interrupt::arm(at_checkpoint(&value).map(|(at, after)| (at, after, raise_sigint as fn())).or(panic));
+        let at_checkpoint = |value: &str| {
+            value.split_once(':').and_then(|(name, n)| {
+                Some((Checkpoint::named(name.trim())?, n.trim().parse().ok()?))
+            })
+        };
+        let panic = std::env::var(Self::PANIC)
+            .ok()
+            .and_then(|v| at_checkpoint(&v))
+            .map(|(at, after)| (at, after, panic_here as fn()));
+        slipstep_core::interrupt::arm(
+            at_checkpoint(&value).map(|(at, after)| (at, after, raise_sigint as fn())).or(panic),
+        );
         TestTrigger { at_event, at_end: value.trim() == "end" }
     }
 

@@ -8,9 +8,9 @@ use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
+use slipstep_core::error::ErrorKind;
 use slipstep_core::material::{Material, Plane, PLANAR};
 use slipstep_core::mesh::Mesh;
-use slipstep_core::error::ErrorKind;
 use slipstep_core::model::*;
 use slipstep_core::options;
 use std::sync::{Arc, Mutex};
@@ -24,28 +24,38 @@ fn get<'py>(d: &Bound<'py, PyDict>, key: &str) -> PyResult<Bound<'py, PyAny>> {
 
 /// Rows of a float64 (n, cols) array, each padded with zeros to three components.
 fn f64_2d(d: &Bound<'_, PyDict>, key: &str, cols: usize) -> PyResult<Vec<[f64; 3]>> {
-    let arr: PyReadonlyArray2<f64> = get(d, key)?.extract().map_err(|_| input_error(format!("engine model: '{key}' must be a float64 array of shape (n, {cols})")))?;
+    let arr: PyReadonlyArray2<f64> = get(d, key)?.extract().map_err(|_| {
+        input_error(format!("engine model: '{key}' must be a float64 array of shape (n, {cols})"))
+    })?;
     let a = arr.as_array();
     if a.ncols() != cols {
         return Err(input_error(format!("engine model: '{key}' must have {cols} columns")));
     }
-    Ok(a.rows().into_iter().map(|r| std::array::from_fn(|k| if k < cols { r[k] } else { 0.0 })).collect())
+    Ok(a.rows()
+        .into_iter()
+        .map(|r| std::array::from_fn(|k| if k < cols { r[k] } else { 0.0 }))
+        .collect())
 }
 
 /// Rows of an int64 (m, cols) array of node indices.
 fn index_rows<const C: usize>(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<[usize; C]>> {
-    let arr: PyReadonlyArray2<i64> = get(d, key)?.extract().map_err(|_| input_error(format!("engine model: '{key}' must be an int64 array of shape (m, {C})")))?;
+    let arr: PyReadonlyArray2<i64> = get(d, key)?.extract().map_err(|_| {
+        input_error(format!("engine model: '{key}' must be an int64 array of shape (m, {C})"))
+    })?;
     let a = arr.as_array();
     if a.ncols() != C {
         return Err(input_error(format!("engine model: '{key}' must have {C} columns")));
     }
-    a.rows().into_iter().map(|r| {
-        let mut row = [0usize; C];
-        for k in 0..C {
-            row[k] = to_index(r[k], key)?;
-        }
-        Ok(row)
-    }).collect()
+    a.rows()
+        .into_iter()
+        .map(|r| {
+            let mut row = [0usize; C];
+            for k in 0..C {
+                row[k] = to_index(r[k], key)?;
+            }
+            Ok(row)
+        })
+        .collect()
 }
 
 /// The mesh of the model's dimension (`dimension`: 2 when absent): nodes (N, 2) and triangles
@@ -53,12 +63,16 @@ fn index_rows<const C: usize>(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<
 /// name.
 fn read_mesh(d: &Bound<'_, PyDict>) -> PyResult<Mesh> {
     let dimension: i64 = match d.get_item("dimension")? {
-        Some(v) => v.extract().map_err(|_| input_error("engine model: 'dimension' must be an int, 2 or 3"))?,
+        Some(v) => v
+            .extract()
+            .map_err(|_| input_error("engine model: 'dimension' must be an int, 2 or 3"))?,
         None => 2,
     };
     let refuse = |keys: &[&str], what: &str| -> PyResult<()> {
         match keys.iter().find(|k| d.contains(**k).unwrap_or(false)) {
-            Some(k) => Err(input_error(format!("engine model: '{k}' is a key of {what}; remove it"))),
+            Some(k) => {
+                Err(input_error(format!("engine model: '{k}' is a key of {what}; remove it")))
+            }
             None => Ok(()),
         }
     };
@@ -69,7 +83,10 @@ fn read_mesh(d: &Bound<'_, PyDict>) -> PyResult<Mesh> {
             Ok(Mesh::plane(nodes, index_rows::<3>(d, "triangles")?))
         }
         3 => {
-            refuse(&["triangles", "plane", "thickness"], "2D models, not of a 3D one (dimension = 3)")?;
+            refuse(
+                &["triangles", "plane", "thickness"],
+                "2D models, not of a 3D one (dimension = 3)",
+            )?;
             Ok(Mesh::space(f64_2d(d, "nodes", 3)?, index_rows::<4>(d, "tetrahedra")?))
         }
         other => Err(input_error(format!("engine model: dimension = {other}: use 2 or 3"))),
@@ -77,23 +94,31 @@ fn read_mesh(d: &Bound<'_, PyDict>) -> PyResult<Mesh> {
 }
 
 fn i64_1d(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<i64>> {
-    let arr: PyReadonlyArray1<i64> = get(d, key)?.extract().map_err(|_| input_error(format!("engine model: '{key}' must be an int64 array")))?;
+    let arr: PyReadonlyArray1<i64> = get(d, key)?
+        .extract()
+        .map_err(|_| input_error(format!("engine model: '{key}' must be an int64 array")))?;
     Ok(arr.as_array().to_vec())
 }
 
 fn f64_1d(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<f64>> {
-    let arr: PyReadonlyArray1<f64> = get(d, key)?.extract().map_err(|_| input_error(format!("engine model: '{key}' must be a float64 array")))?;
+    let arr: PyReadonlyArray1<f64> = get(d, key)?
+        .extract()
+        .map_err(|_| input_error(format!("engine model: '{key}' must be a float64 array")))?;
     Ok(arr.as_array().to_vec())
 }
 
 fn to_index(v: i64, what: &str) -> PyResult<usize> {
-    usize::try_from(v).map_err(|_| input_error(format!("engine model: negative index {v} in {what}")))
+    usize::try_from(v)
+        .map_err(|_| input_error(format!("engine model: negative index {v} in {what}")))
 }
 
 fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
     let mesh = read_mesh(d)?;
     let dim = mesh.dim();
-    let element_material = i64_1d(d, "element_material")?.into_iter().map(|v| to_index(v, "element_material")).collect::<PyResult<_>>()?;
+    let element_material = i64_1d(d, "element_material")?
+        .into_iter()
+        .map(|v| to_index(v, "element_material"))
+        .collect::<PyResult<_>>()?;
     let mut materials = Vec::new();
     for m in get(d, "materials")?.cast::<PyList>()?.iter() {
         let m = m.cast::<PyDict>()?;
@@ -116,7 +141,10 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
         3 => (Plane::Strain, 1.0), // (not used in 3D)
         _ => (read_plane(d)?, get(d, "thickness")?.extract()?),
     };
-    let fixed_dofs = i64_1d(d, "fixed_dofs")?.into_iter().map(|v| to_index(v, "fixed_dofs")).collect::<PyResult<_>>()?;
+    let fixed_dofs = i64_1d(d, "fixed_dofs")?
+        .into_iter()
+        .map(|v| to_index(v, "fixed_dofs"))
+        .collect::<PyResult<_>>()?;
     let load = f64_1d(d, "load")?;
     let mut pairs = Vec::new();
     if let Some(p) = d.get_item("pairs")? {
@@ -129,11 +157,20 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
         let mu = f64_1d(p, "mu")?;
         let n = a.len();
         let contact = match p.get_item("contact")? {
-            Some(_) => Some(i64_1d(p, "contact")?.into_iter().map(|v| to_index(v, "pairs.contact")).collect::<PyResult<Vec<_>>>()?),
+            Some(_) => Some(
+                i64_1d(p, "contact")?
+                    .into_iter()
+                    .map(|v| to_index(v, "pairs.contact"))
+                    .collect::<PyResult<Vec<_>>>()?,
+            ),
             None => None,
         };
-        if [b.len(), normal.len(), gap.len(), mu.len()].iter().any(|&l| l != n) || contact.as_ref().map_or(false, |c| c.len() != n) {
-            return Err(input_error("engine model: the pair arrays node_a, node_b, normal, gap, mu differ in length"));
+        if [b.len(), normal.len(), gap.len(), mu.len()].iter().any(|&l| l != n)
+            || contact.as_ref().map_or(false, |c| c.len() != n)
+        {
+            return Err(input_error(
+                "engine model: the pair arrays node_a, node_b, normal, gap, mu differ in length",
+            ));
         }
         let weights = read_pair_weights(p, n)?;
         for k in 0..n {
@@ -152,7 +189,20 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
     let options = read_options(d)?;
     let names = read_names(d)?;
     let (patterns, stages) = read_path(d, dim)?;
-    Ok(Model { mesh, element_material, materials, plane, thickness, fixed_dofs, load, patterns, stages, pairs, names, options })
+    Ok(Model {
+        mesh,
+        element_material,
+        materials,
+        plane,
+        thickness,
+        fixed_dofs,
+        load,
+        patterns,
+        stages,
+        pairs,
+        names,
+        options,
+    })
 }
 
 fn read_plane(d: &Bound<'_, PyDict>) -> PyResult<Plane> {
@@ -160,22 +210,37 @@ fn read_plane(d: &Bound<'_, PyDict>) -> PyResult<Plane> {
         "strain" => Ok(Plane::Strain),
         "stress" => Ok(Plane::Stress),
         "axisymmetric" => Ok(Plane::Axisymmetric),
-        other => Err(input_error(format!("engine model: plane = '{other}': use 'strain', 'stress' or 'axisymmetric'"))),
+        other => Err(input_error(format!(
+            "engine model: plane = '{other}': use 'strain', 'stress' or 'axisymmetric'"
+        ))),
     }
 }
 
 /// The optional `pairs.tangent` (P, 2, 3) of a 3D model (a 2D model's is refused by name).
-fn read_tangents(p: &Bound<'_, PyDict>, dim: usize, n: usize) -> PyResult<Option<Vec<[[f64; 3]; 2]>>> {
+fn read_tangents(
+    p: &Bound<'_, PyDict>,
+    dim: usize,
+    n: usize,
+) -> PyResult<Option<Vec<[[f64; 3]; 2]>>> {
     let Some(t) = p.get_item("tangent")? else { return Ok(None) };
     if dim != 3 {
-        return Err(input_error("engine model: 'pairs.tangent' is a key of 3D models (dimension = 3); remove it"));
+        return Err(input_error(
+            "engine model: 'pairs.tangent' is a key of 3D models (dimension = 3); remove it",
+        ));
     }
-    let arr: numpy::PyReadonlyArray3<f64> = t.extract().map_err(|_| input_error("engine model: 'pairs.tangent' must be a float64 array of shape (P, 2, 3)"))?;
+    let arr: numpy::PyReadonlyArray3<f64> = t.extract().map_err(|_| {
+        input_error("engine model: 'pairs.tangent' must be a float64 array of shape (P, 2, 3)")
+    })?;
     let a = arr.as_array();
     if a.shape() != [n, 2, 3] {
-        return Err(input_error(format!("engine model: 'pairs.tangent' has shape {:?}, not (P, 2, 3) = ({n}, 2, 3)", a.shape())));
+        return Err(input_error(format!(
+            "engine model: 'pairs.tangent' has shape {:?}, not (P, 2, 3) = ({n}, 2, 3)",
+            a.shape()
+        )));
     }
-    Ok(Some((0..n).map(|k| std::array::from_fn(|i| std::array::from_fn(|c| a[[k, i, c]]))).collect()))
+    Ok(Some(
+        (0..n).map(|k| std::array::from_fn(|i| std::array::from_fn(|c| a[[k, i, c]]))).collect(),
+    ))
 }
 
 /// Node-to-segment pairs' weights, in compressed rows (optional keys `weight_ptr` (P+1),
@@ -187,11 +252,21 @@ fn read_pair_weights(p: &Bound<'_, PyDict>, n: usize) -> PyResult<Vec<Vec<(usize
     let ptr = i64_1d(p, "weight_ptr")?;
     let nodes = i64_1d(p, "weight_node")?;
     let values = f64_1d(p, "weight_value")?;
-    let bad = ptr.len() != n + 1 || nodes.len() != values.len() || ptr.windows(2).any(|w| w[0] > w[1]) || ptr.first() != Some(&0) || ptr.last().map_or(true, |&e| e as usize != nodes.len());
+    let bad = ptr.len() != n + 1
+        || nodes.len() != values.len()
+        || ptr.windows(2).any(|w| w[0] > w[1])
+        || ptr.first() != Some(&0)
+        || ptr.last().map_or(true, |&e| e as usize != nodes.len());
     if bad {
         return Err(input_error("engine model: pairs.weight_ptr must have P+1 non-decreasing entries from 0 to len(weight_node) = len(weight_value)"));
     }
-    (0..n).map(|k| (ptr[k] as usize..ptr[k + 1] as usize).map(|i| Ok((to_index(nodes[i], "pairs.weight_node")?, values[i]))).collect()).collect()
+    (0..n)
+        .map(|k| {
+            (ptr[k] as usize..ptr[k + 1] as usize)
+                .map(|i| Ok((to_index(nodes[i], "pairs.weight_node")?, values[i])))
+                .collect()
+        })
+        .collect()
 }
 
 /// The load path: optional `patterns` (list of dict) and `stages` (list of dict), see
@@ -200,10 +275,20 @@ fn read_path(d: &Bound<'_, PyDict>, dim: usize) -> PyResult<(Vec<LoadPattern>, V
     let list = |key: &str| -> PyResult<Vec<Bound<'_, PyDict>>> {
         match d.get_item(key)? {
             None => Ok(vec![]),
-            Some(v) => v.cast::<PyList>().map_err(|_| input_error(format!("engine model: '{key}' must be a list of dict")))?.iter().map(|x| x.cast_into::<PyDict>().map_err(|_| input_error(format!("engine model: '{key}' must be a list of dict")))).collect(),
+            Some(v) => v
+                .cast::<PyList>()
+                .map_err(|_| input_error(format!("engine model: '{key}' must be a list of dict")))?
+                .iter()
+                .map(|x| {
+                    x.cast_into::<PyDict>().map_err(|_| {
+                        input_error(format!("engine model: '{key}' must be a list of dict"))
+                    })
+                })
+                .collect(),
         }
     };
-    let optional = |p: &Bound<'_, PyDict>, key: &str| -> PyResult<bool> { Ok(p.get_item(key)?.is_some()) };
+    let optional =
+        |p: &Bound<'_, PyDict>, key: &str| -> PyResult<bool> { Ok(p.get_item(key)?.is_some()) };
     let mut patterns = Vec::new();
     for p in list("patterns")? {
         let name: String = get(&p, "name")?.extract()?;
@@ -224,7 +309,9 @@ fn read_path(d: &Bound<'_, PyDict>, dim: usize) -> PyResult<(Vec<LoadPattern>, V
             let contacts = i64_1d(&p, "motion_contacts")?;
             let m = f64_2d(&p, "motion", dim)?;
             if contacts.len() != m.len() {
-                return Err(input_error(format!("engine model: pattern '{name}': motion_contacts and motion differ in length")));
+                return Err(input_error(format!(
+                    "engine model: pattern '{name}': motion_contacts and motion differ in length"
+                )));
             }
             for (c, v) in contacts.into_iter().zip(m) {
                 motion.push((to_index(c, "motion_contacts")?, v));
@@ -267,7 +354,11 @@ fn read_options(d: &Bound<'_, PyDict>) -> PyResult<Options> {
             "events" => SnapshotRequest::EveryEvent,
             "times" => SnapshotRequest::Times(f64_1d(o, "times")?),
             "fractions" => SnapshotRequest::Times(f64_1d(o, "fractions")?),
-            other => return Err(input_error(format!("engine model: options.output = '{other}': use 'events' or 'times'"))),
+            other => {
+                return Err(input_error(format!(
+                    "engine model: options.output = '{other}': use 'events' or 'times'"
+                )))
+            }
         };
     }
     Ok(options)
@@ -310,72 +401,144 @@ fn option_specs(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
 fn read_names(d: &Bound<'_, PyDict>) -> PyResult<Names> {
     let strings = |key: &str| -> PyResult<Vec<String>> {
         match d.get_item(key)? {
-            Some(v) => v.extract().map_err(|_| input_error(format!("engine model: '{key}' must be a list of str"))),
+            Some(v) => v
+                .extract()
+                .map_err(|_| input_error(format!("engine model: '{key}' must be a list of str"))),
             None => Ok(vec![]),
         }
     };
     let element_body = match d.get_item("element_body")? {
-        Some(_) => i64_1d(d, "element_body")?.into_iter().map(|v| to_index(v, "element_body")).collect::<PyResult<_>>()?,
+        Some(_) => i64_1d(d, "element_body")?
+            .into_iter()
+            .map(|v| to_index(v, "element_body"))
+            .collect::<PyResult<_>>()?,
         None => vec![],
     };
     let supports = match d.get_item("support_dofs")? {
         None => vec![],
         Some(v) => {
             let names = strings("support_names")?;
-            let groups: Vec<PyReadonlyArray1<i64>> = v.extract().map_err(|_| input_error("engine model: 'support_dofs' must be a list of int64 arrays"))?;
+            let groups: Vec<PyReadonlyArray1<i64>> = v.extract().map_err(|_| {
+                input_error("engine model: 'support_dofs' must be a list of int64 arrays")
+            })?;
             if groups.len() != names.len() {
-                return Err(input_error(format!("engine model: 'support_dofs' has {} groups for {} support_names", groups.len(), names.len())));
+                return Err(input_error(format!(
+                    "engine model: 'support_dofs' has {} groups for {} support_names",
+                    groups.len(),
+                    names.len()
+                )));
             }
-            let dofs = groups.iter().map(|g| g.as_array().iter().map(|&v| to_index(v, "support_dofs")).collect::<PyResult<Vec<_>>>());
+            let dofs = groups.iter().map(|g| {
+                g.as_array()
+                    .iter()
+                    .map(|&v| to_index(v, "support_dofs"))
+                    .collect::<PyResult<Vec<_>>>()
+            });
             names.into_iter().zip(dofs).map(|(n, d)| Ok((n, d?))).collect::<PyResult<_>>()?
         }
     };
-    Ok(Names { bodies: strings("body_names")?, element_body, contacts: strings("contact_names")?, supports })
+    Ok(Names {
+        bodies: strings("body_names")?,
+        element_body,
+        contacts: strings("contact_names")?,
+        supports,
+    })
 }
 
 fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
     let ev = PyDict::new(py);
-    ev.set_item("step", r.events.iter().map(|e| e.step as i64).collect::<Vec<_>>().into_pyarray(py))?;
-    ev.set_item("load_fraction", r.events.iter().map(|e| e.load_fraction).collect::<Vec<_>>().into_pyarray(py))?;
+    ev.set_item(
+        "step",
+        r.events.iter().map(|e| e.step as i64).collect::<Vec<_>>().into_pyarray(py),
+    )?;
+    ev.set_item(
+        "load_fraction",
+        r.events.iter().map(|e| e.load_fraction).collect::<Vec<_>>().into_pyarray(py),
+    )?;
     ev.set_item("t", r.events.iter().map(|e| e.time).collect::<Vec<_>>().into_pyarray(py))?;
-    ev.set_item("stage", r.events.iter().map(|e| e.stage as i64).collect::<Vec<_>>().into_pyarray(py))?;
+    ev.set_item(
+        "stage",
+        r.events.iter().map(|e| e.stage as i64).collect::<Vec<_>>().into_pyarray(py),
+    )?;
     ev.set_item("kind", r.events.iter().map(|e| e.kind.name()).collect::<Vec<_>>())?;
-    ev.set_item("entity", r.events.iter().map(|e| e.entity as i64).collect::<Vec<_>>().into_pyarray(py))?;
+    ev.set_item(
+        "entity",
+        r.events.iter().map(|e| e.entity as i64).collect::<Vec<_>>().into_pyarray(py),
+    )?;
     out.set_item("events", ev)?;
     let st = PyDict::new(py);
-    st.set_item("load_fraction", r.steps.iter().map(|s| s.load_fraction).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item(
+        "load_fraction",
+        r.steps.iter().map(|s| s.load_fraction).collect::<Vec<_>>().into_pyarray(py),
+    )?;
     st.set_item("t", r.steps.iter().map(|s| s.time).collect::<Vec<_>>().into_pyarray(py))?;
-    st.set_item("stage", r.steps.iter().map(|s| s.stage as i64).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item(
+        "stage",
+        r.steps.iter().map(|s| s.stage as i64).collect::<Vec<_>>().into_pyarray(py),
+    )?;
     st.set_item("scale", r.steps.iter().map(|s| s.scale).collect::<Vec<_>>().into_pyarray(py))?;
-    st.set_item("residual", r.steps.iter().map(|s| s.residual).collect::<Vec<_>>().into_pyarray(py))?;
-    st.set_item("n_closed", r.steps.iter().map(|s| s.n_closed as i64).collect::<Vec<_>>().into_pyarray(py))?;
-    st.set_item("n_stick", r.steps.iter().map(|s| s.n_stick as i64).collect::<Vec<_>>().into_pyarray(py))?;
-    st.set_item("n_slip", r.steps.iter().map(|s| s.n_slip as i64).collect::<Vec<_>>().into_pyarray(py))?;
-    st.set_item("normal_force", r.steps.iter().map(|s| s.normal_force).collect::<Vec<_>>().into_pyarray(py))?;
-    st.set_item("n_plastic", r.steps.iter().map(|s| s.n_plastic as i64).collect::<Vec<_>>().into_pyarray(py))?;
+    st.set_item(
+        "residual",
+        r.steps.iter().map(|s| s.residual).collect::<Vec<_>>().into_pyarray(py),
+    )?;
+    st.set_item(
+        "n_closed",
+        r.steps.iter().map(|s| s.n_closed as i64).collect::<Vec<_>>().into_pyarray(py),
+    )?;
+    st.set_item(
+        "n_stick",
+        r.steps.iter().map(|s| s.n_stick as i64).collect::<Vec<_>>().into_pyarray(py),
+    )?;
+    st.set_item(
+        "n_slip",
+        r.steps.iter().map(|s| s.n_slip as i64).collect::<Vec<_>>().into_pyarray(py),
+    )?;
+    st.set_item(
+        "normal_force",
+        r.steps.iter().map(|s| s.normal_force).collect::<Vec<_>>().into_pyarray(py),
+    )?;
+    st.set_item(
+        "n_plastic",
+        r.steps.iter().map(|s| s.n_plastic as i64).collect::<Vec<_>>().into_pyarray(py),
+    )?;
     st.set_item("drift", r.steps.iter().map(|s| s.drift).collect::<Vec<_>>().into_pyarray(py))?;
     // the resultants (issue 38): (S, C, dim) forces, moments (S, C, 3) in 3D and M_z (S, C) in
     // 2D, reactions (S, G, dim) per support group, works (S, 1 + patterns)
     let dim = r.dim;
     let rows = |per: fn(&StepRecord) -> &Vec<[f64; 3]>, width: usize, cols: &[usize]| {
-        let data: Vec<f64> = r.steps.iter().flat_map(|s| per(s).iter().flat_map(|v| cols.iter().map(|&k| v[k]))).collect();
+        let data: Vec<f64> = r
+            .steps
+            .iter()
+            .flat_map(|s| per(s).iter().flat_map(|v| cols.iter().map(|&k| v[k])))
+            .collect();
         numpy::ndarray::Array3::from_shape_vec((r.steps.len(), width, cols.len()), data).unwrap()
     };
     let n_contacts = r.steps.first().map_or(0, |s| s.contact_force.len());
     let n_supports = r.steps.first().map_or(0, |s| s.reaction.len());
     let n_loads = r.steps.first().map_or(0, |s| s.load_work.len());
     let components: &[usize] = if dim == 3 { &[0, 1, 2] } else { &[0, 1] };
-    st.set_item("contact_force", rows(|s| &s.contact_force, n_contacts, components).into_pyarray(py))?;
+    st.set_item(
+        "contact_force",
+        rows(|s| &s.contact_force, n_contacts, components).into_pyarray(py),
+    )?;
     if dim == 3 {
-        st.set_item("contact_moment", rows(|s| &s.contact_moment, n_contacts, &[0, 1, 2]).into_pyarray(py))?;
+        st.set_item(
+            "contact_moment",
+            rows(|s| &s.contact_moment, n_contacts, &[0, 1, 2]).into_pyarray(py),
+        )?;
     } else {
-        let mz = rows(|s| &s.contact_moment, n_contacts, &[2]).into_shape_with_order((r.steps.len(), n_contacts)).unwrap();
+        let mz = rows(|s| &s.contact_moment, n_contacts, &[2])
+            .into_shape_with_order((r.steps.len(), n_contacts))
+            .unwrap();
         st.set_item("contact_moment", mz.into_pyarray(py))?;
     }
     st.set_item("reaction", rows(|s| &s.reaction, n_supports, components).into_pyarray(py))?;
     let work: Vec<f64> = r.steps.iter().flat_map(|s| s.load_work.iter().copied()).collect();
-    st.set_item("load_work", Array2::from_shape_vec((r.steps.len(), n_loads), work).unwrap().into_pyarray(py))?;
+    st.set_item(
+        "load_work",
+        Array2::from_shape_vec((r.steps.len(), n_loads), work).unwrap().into_pyarray(py),
+    )?;
     out.set_item("steps", st)?;
     let snaps = PyList::empty(py);
     for s in r.snapshots {
@@ -384,13 +547,20 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
         d.set_item("t", s.time)?;
         d.set_item("stage", s.stage)?;
         let (dim, n) = (s.dim, s.u.len() / s.dim);
-        d.set_item("reaction", Array2::from_shape_vec((n, dim), s.reaction).unwrap().into_pyarray(py))?;
+        d.set_item(
+            "reaction",
+            Array2::from_shape_vec((n, dim), s.reaction).unwrap().into_pyarray(py),
+        )?;
         d.set_item("u", Array2::from_shape_vec((n, dim), s.u).unwrap().into_pyarray(py))?;
         let m = s.stress.len();
         // 2D: (σx, σy, σz, τxy) of the six; 3D: all six in Voigt order
         let columns: &[usize] = if dim == 3 { &[0, 1, 2, 3, 4, 5] } else { &PLANAR };
-        let stress: Vec<f64> = s.stress.iter().flat_map(|row| columns.iter().map(move |&k| row[k])).collect();
-        d.set_item("stress", Array2::from_shape_vec((m, columns.len()), stress).unwrap().into_pyarray(py))?;
+        let stress: Vec<f64> =
+            s.stress.iter().flat_map(|row| columns.iter().map(move |&k| row[k])).collect();
+        d.set_item(
+            "stress",
+            Array2::from_shape_vec((m, columns.len()), stress).unwrap().into_pyarray(py),
+        )?;
         d.set_item("plastic_strain", s.plastic_strain.into_pyarray(py))?;
         d.set_item("plastic", Array1::from(s.plastic).into_pyarray(py))?;
         d.set_item("lambda_n", s.lambda_n.into_pyarray(py))?;
@@ -398,7 +568,13 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
         d.set_item("gap", s.gap.into_pyarray(py))?;
         if dim == 3 {
             // (P, 2) in each pair's (t1, t2)
-            let two = |a: Vec<f64>, b: Vec<f64>| Array2::from_shape_vec((a.len(), 2), a.into_iter().zip(b).flat_map(|(x, y)| [x, y]).collect()).unwrap();
+            let two = |a: Vec<f64>, b: Vec<f64>| {
+                Array2::from_shape_vec(
+                    (a.len(), 2),
+                    a.into_iter().zip(b).flat_map(|(x, y)| [x, y]).collect(),
+                )
+                .unwrap()
+            };
             d.set_item("lambda_t", two(s.lambda_t, s.lambda_t2).into_pyarray(py))?;
             d.set_item("rtd", two(s.rtd, s.rtd2).into_pyarray(py))?;
         } else {
@@ -426,10 +602,15 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
     out.set_item("n_stages", r.stage_names.len())?;
     out.set_item("stage_names", r.stage_names.clone())?;
     out.set_item("interrupted", matches!(r.stop, StopReason::Interrupted { .. }))?;
-    out.set_item("stop_reason", match r.stop {
-        StopReason::LimitLoad { .. } | StopReason::EventBound { .. } | StopReason::SupportLost { .. } => r.stop.message(),
-        _ => None,
-    })?;
+    out.set_item(
+        "stop_reason",
+        match r.stop {
+            StopReason::LimitLoad { .. }
+            | StopReason::EventBound { .. }
+            | StopReason::SupportLost { .. } => r.stop.message(),
+            _ => None,
+        },
+    )?;
     out.set_item("stop", stop)?;
     out.set_item("n_rate_problems", r.n_rate_problems)?;
     let t = PyDict::new(py);
@@ -465,14 +646,26 @@ fn result_to_dict<'py>(py: Python<'py>, r: RunResult) -> PyResult<Bound<'py, PyD
 /// engine bug) is an `InternalError`, never a Rust panic.
 #[pyfunction]
 #[pyo3(signature = (model, progress = None, report_interval = 0.1))]
-fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: Option<Bound<'py, PyAny>>, report_interval: f64) -> PyResult<Bound<'py, PyDict>> {
-    let reporting = Arc::new(Reporting { callback: progress_callback(progress)?, last: Mutex::new(None), failure: Mutex::new(None) });
+fn solve<'py>(
+    py: Python<'py>,
+    model: &Bound<'py, PyDict>,
+    progress: Option<Bound<'py, PyAny>>,
+    report_interval: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let reporting = Arc::new(Reporting {
+        callback: progress_callback(progress)?,
+        last: Mutex::new(None),
+        failure: Mutex::new(None),
+    });
     let model = read_model(model).map_err(|e| malformed(py, e))?;
     slipstep_core::interrupt::clear();
     let watch = interrupt::Watch::start(py);
     let mut trigger = interrupt::TestTrigger::from_env();
     let pulsing = reporting.clone();
-    slipstep_core::interrupt::pulse(Some((Box::new(move || pulsing.pulse()), report_interval.max(PULSE_S))));
+    slipstep_core::interrupt::pulse(Some((
+        Box::new(move || pulsing.pulse()),
+        report_interval.max(PULSE_S),
+    )));
     let result = py.detach(|| {
         let mut last_report = Instant::now();
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
@@ -514,7 +707,9 @@ fn solve<'py>(py: Python<'py>, model: &Bound<'py, PyDict>, progress: Option<Boun
     let late = r.stop == StopReason::Completed && pending_interrupt(py)?;
     let out = result_to_dict(py, r)?;
     if late {
-        out.get_item("stop")?.expect("result_to_dict writes stop").set_item("late_interrupt", true)?;
+        out.get_item("stop")?
+            .expect("result_to_dict writes stop")
+            .set_item("late_interrupt", true)?;
     }
     Ok(out)
 }
@@ -558,7 +753,11 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
 
 /// A panic outside the event loop (which turns its own into a failed stop) as the bug it is.
 fn engine_bug(payload: &(dyn std::any::Any + Send)) -> slipstep_core::Error {
-    let what = payload.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| payload.downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown".into());
+    let what = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown".into());
     slipstep_core::Error::new(ErrorKind::Internal, format!("an engine bug stopped the run before it began ({what}); please report it with the case"))
 }
 
@@ -579,7 +778,10 @@ fn progress_callback(progress: Option<Bound<'_, PyAny>>) -> PyResult<Option<Py<P
         None => Ok(None),
         Some(p) if p.is_none() || p.extract::<bool>().ok() == Some(false) => Ok(None),
         Some(p) if p.is_callable() => Ok(Some(p.unbind())),
-        Some(p) => Err(input_error(format!("progress = {}: give None or a callable progress(events, steps, t)", p.repr().map(|r| r.to_string()).unwrap_or_default()))),
+        Some(p) => Err(input_error(format!(
+            "progress = {}: give None or a callable progress(events, steps, t)",
+            p.repr().map(|r| r.to_string()).unwrap_or_default()
+        ))),
     }
 }
 
@@ -594,7 +796,11 @@ fn report(py: Python<'_>, callback: Option<&Py<PyAny>>, p: &Progress) -> PyResul
 /// Any failure while reading the model dict (a wrong type pyo3 could not extract, say) is an
 /// input error of the model, not a bug of the caller's Python.
 fn malformed(py: Python<'_>, e: PyErr) -> PyErr {
-    let already = py.import("slipstep.errors").and_then(|m| m.getattr("InputError")).map(|c| e.is_instance(py, &c)).unwrap_or(false);
+    let already = py
+        .import("slipstep.errors")
+        .and_then(|m| m.getattr("InputError"))
+        .map(|c| e.is_instance(py, &c))
+        .unwrap_or(false);
     if already {
         e
     } else {
@@ -621,10 +827,15 @@ fn python_error(py: Python<'_>, e: &slipstep_core::Error) -> PyErr {
         ErrorKind::Internal => "InternalError",
         ErrorKind::Interrupted => "InternalError", // never raised: an interrupted run returns
     };
-    let raised = py.import("slipstep.errors").and_then(|m| m.getattr(class)).and_then(|c| c.call1((e.message.clone(),)));
+    let raised = py
+        .import("slipstep.errors")
+        .and_then(|m| m.getattr(class))
+        .and_then(|c| c.call1((e.message.clone(),)));
     match raised {
         Ok(exc) => PyErr::from_value(exc),
-        Err(_) if e.kind == ErrorKind::Internal => pyo3::exceptions::PyRuntimeError::new_err(e.message.clone()),
+        Err(_) if e.kind == ErrorKind::Internal => {
+            pyo3::exceptions::PyRuntimeError::new_err(e.message.clone())
+        }
         Err(_) => PyValueError::new_err(e.message.clone()),
     }
 }

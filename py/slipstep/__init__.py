@@ -29,7 +29,28 @@ from .result import Result
 from .runner import as_case, prepare, run, run_case, solve
 from .saved import load
 
-__all__ = ["__version__", "Case", "CaseError", "InputError", "Mesh", "MeshError", "Progress", "Result",
-           "Scene", "SlipstepError", "TetMesh", "as_case", "build_scene", "from_arrays",
-           "from_meshio", "from_tetrahedra", "load", "load_case", "parse_case", "prepare", "run",
-           "run_case", "solve"]
+__all__ = [
+    "__version__",
+    "Case",
+    "CaseError",
+    "InputError",
+    "Mesh",
+    "MeshError",
+    "Progress",
+    "Result",
+    "Scene",
+    "SlipstepError",
+    "TetMesh",
+    "as_case",
+    "build_scene",
+    "from_arrays",
+    "from_meshio",
+    "from_tetrahedra",
+    "load",
+    "load_case",
+    "parse_case",
+    "prepare",
+    "run",
+    "run_case",
+    "solve",
+]

@@ -23,8 +23,13 @@ from .references import effective_modulus, hertz_line, hertz_sphere
 from .scene import Scene, contact_names, materials, merged_bodies
 from .schema import block_divisions
 from .supports import engine_support_groups, supports
-from .validation.scene import (check_duplicate_nodes, check_file_mesh_tags, check_pairs_not_held,
-                               check_radii, check_stick_on_half_held)
+from .validation.scene import (
+    check_duplicate_nodes,
+    check_file_mesh_tags,
+    check_pairs_not_held,
+    check_radii,
+    check_stick_on_half_held,
+)
 
 
 def mesh_body(case: Case, index: int) -> Mesh:
@@ -36,25 +41,42 @@ def mesh_body(case: Case, index: int) -> Mesh:
         raise given_mesh_missing(case, body["name"])
     try:
         if spec.get("file"):
-            path = (case.base_dir / spec["file"])
+            path = case.base_dir / spec["file"]
             edge_file = case.base_dir / spec["edge_file"] if spec["edge_file"] else None
             return read_mesh(path, edge_file, spec["scale"])
         if spec["generator"] in ("quarter_cylinder", "half_cylinder", "disc"):
             make = getattr(generators, spec["generator"])
-            return make(spec["R"], spec["h_contact"], spec["contact_zone"], spec["h_max"],
-                        spec["growth"])
+            return make(
+                spec["R"], spec["h_contact"], spec["contact_zone"], spec["h_max"], spec["growth"]
+            )
         if spec["generator"] == "quarter_annulus":
             return generators.quarter_annulus(spec["a"], spec["b"], spec["h"], spec["h_outer"])
         if spec["h_contact"] > 0:  # the graded block (gmsh); else the structured one
-            return generators.graded_block(spec["width"], spec["height"], spec["h_contact"],
-                                        spec["contact_zone"], spec["h_max"], spec["growth"],
-                                        spec["focus"], spec["x0"], spec["y0"],
-                                        spec["uniform_edges"])
+            return generators.graded_block(
+                spec["width"],
+                spec["height"],
+                spec["h_contact"],
+                spec["contact_zone"],
+                spec["h_max"],
+                spec["growth"],
+                spec["focus"],
+                spec["x0"],
+                spec["y0"],
+                spec["uniform_edges"],
+            )
         nx, ny = block_divisions(spec)
         if spec["refine_box"] is not None:  # the structured grid inside it, coarse outside
-            return generators.refined_block(spec["width"], spec["height"], nx, ny,
-                                         spec["refine_box"], spec["h_max"], spec["growth"],
-                                         spec["x0"], spec["y0"])
+            return generators.refined_block(
+                spec["width"],
+                spec["height"],
+                nx,
+                ny,
+                spec["refine_box"],
+                spec["h_max"],
+                spec["growth"],
+                spec["x0"],
+                spec["y0"],
+            )
         return generators.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
     except MeshError as exc:
         raise CaseError(f"{case.source}: {where}: {exc}") from None
@@ -62,10 +84,15 @@ def mesh_body(case: Case, index: int) -> Mesh:
 
 def given_mesh_missing(case: Case, body: str) -> CaseError:
     """The error of a body whose ``generator = "given"`` mesh was not passed from Python."""
-    how = "slipstep.mesh.from_arrays or from_meshio" if case.dimension == 2 else \
-        "slipstep.from_tetrahedra"
-    return CaseError(f'{case.source}: body.{body}.mesh.generator = "given": pass its mesh from '
-                     f'Python, slipstep.run(case, meshes={{"{body}": mesh}}) ({how})')
+    how = (
+        "slipstep.mesh.from_arrays or from_meshio"
+        if case.dimension == 2
+        else "slipstep.from_tetrahedra"
+    )
+    return CaseError(
+        f'{case.source}: body.{body}.mesh.generator = "given": pass its mesh from '
+        f'Python, slipstep.run(case, meshes={{"{body}": mesh}}) ({how})'
+    )
 
 
 def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
@@ -76,35 +103,52 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
     given = dict(meshes or {})
     unknown = sorted(set(given) - set(bodies))
     if unknown:
-        raise InputError(f"build_scene: meshes given for {', '.join(map(repr, unknown))}, "
-                         f"which the case has no body of (its bodies: {', '.join(bodies)})")
+        raise InputError(
+            f"build_scene: meshes given for {', '.join(map(repr, unknown))}, "
+            f"which the case has no body of (its bodies: {', '.join(bodies)})"
+        )
     mesher = mesh_body
     if case.dimension == 3:
         from .space.build import build_space_scene, mesh_body_3d
+
         mesher = mesh_body_3d
     wrong = [name for name in given if given[name].dimension != case.dimension]
     if wrong:
-        raise InputError(f"build_scene: the mesh given for {wrong[0]!r} is "
-                         f"{given[wrong[0]].dimension}D, the case {case.dimension}D "
-                         f"(analysis.dimension): give a {case.dimension}D mesh")
-    missing = [b["name"] for b in data["body"]
-               if b["mesh"].get("generator") == "given" and b["name"] not in given]
+        raise InputError(
+            f"build_scene: the mesh given for {wrong[0]!r} is "
+            f"{given[wrong[0]].dimension}D, the case {case.dimension}D "
+            f"(analysis.dimension): give a {case.dimension}D mesh"
+        )
+    missing = [
+        b["name"]
+        for b in data["body"]
+        if b["mesh"].get("generator") == "given" and b["name"] not in given
+    ]
     if missing:
         raise given_mesh_missing(case, missing[0])
-    body_meshes = {name: given[name] if name in given else mesher(case, i)
-                   for i, name in enumerate(bodies)}
+    body_meshes = {
+        name: given[name] if name in given else mesher(case, i) for i, name in enumerate(bodies)
+    }
     check_file_mesh_tags(case, body_meshes)
     if case.dimension == 3:
-        return build_space_scene(case, body_meshes, tuple(name for name in bodies
-                                                          if name in given))
+        return build_space_scene(case, body_meshes, tuple(name for name in bodies if name in given))
 
     offsets, nodes, triangles, element_body = merged_bodies(bodies, body_meshes)
 
-    scene = Scene(case=case, bodies=bodies, meshes=body_meshes, offsets=offsets, nodes=nodes,
-                  triangles=triangles, element_body=element_body, model={},
-                  pair_xy=np.zeros((0, 2)), pair_length=np.zeros(0),
-                  pair_contact=np.zeros(0, dtype=np.int64),
-                  given_meshes=tuple(name for name in bodies if name in given))
+    scene = Scene(
+        case=case,
+        bodies=bodies,
+        meshes=body_meshes,
+        offsets=offsets,
+        nodes=nodes,
+        triangles=triangles,
+        element_body=element_body,
+        model={},
+        pair_xy=np.zeros((0, 2)),
+        pair_length=np.zeros(0),
+        pair_contact=np.zeros(0, dtype=np.int64),
+        given_meshes=tuple(name for name in bodies if name in given),
+    )
     check_radii(scene)
     pairs = contact_pairs(scene)
     check_duplicate_nodes(scene, pairs)
@@ -155,8 +199,23 @@ def hertz_reference(scene: Scene) -> dict:
     E_star = effective_modulus(E, nu, plane)
     if plane == "axisymmetric":
         a, p0, delta = hertz_sphere(P, R, E, nu)
-        return {"contact": "sphere", "a_hertz": a, "p0_hertz": p0, "delta_hertz": delta, "P": P,
-                "R": R, "E_star": E_star, "load_exponent": 1.0 / 3.0}
+        return {
+            "contact": "sphere",
+            "a_hertz": a,
+            "p0_hertz": p0,
+            "delta_hertz": delta,
+            "P": P,
+            "R": R,
+            "E_star": E_star,
+            "load_exponent": 1.0 / 3.0,
+        }
     a, p0 = hertz_line(P, R, E, nu, plane)
-    return {"contact": "line", "a_hertz": a, "p0_hertz": p0, "P": P, "R": R, "E_star": E_star,
-            "load_exponent": 0.5}
+    return {
+        "contact": "line",
+        "a_hertz": a,
+        "p0_hertz": p0,
+        "P": P,
+        "R": R,
+        "E_star": E_star,
+        "load_exponent": 0.5,
+    }

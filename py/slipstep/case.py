@@ -86,14 +86,16 @@ class Case:
         return dict(zip(("length", "force", "stress"), words))
 
     @classmethod
-    def from_toml(cls, text: str, source: str = "<case>", base_dir: Path | str = ".",
-                  overrides=()) -> "Case":
+    def from_toml(
+        cls, text: str, source: str = "<case>", base_dir: Path | str = ".", overrides=()
+    ) -> "Case":
         """A case from TOML text (:func:`parse_case`)."""
         return parse_case(text, source, base_dir, overrides)
 
     @classmethod
-    def from_dict(cls, data: dict, source: str = "<dict>", base_dir: Path | str = ".",
-                  overrides=()) -> "Case":
+    def from_dict(
+        cls, data: dict, source: str = "<dict>", base_dir: Path | str = ".", overrides=()
+    ) -> "Case":
         """A case from a dict shaped like the TOML document (``{"case": {...}, "body":
         [{...}], ...}``, keys as in cases/README.md), validated like a file: tuples and numpy
         arrays count as lists, numpy numbers as numbers, a None value as an absent key."""
@@ -102,8 +104,12 @@ class Case:
         raw, overrides = _toml_like(data), tuple(overrides)
         for item in overrides:
             apply_override(raw, item, source)
-        return cls(data=Validator(source).case(raw), source=source, base_dir=Path(base_dir),
-                   overrides=overrides)
+        return cls(
+            data=Validator(source).case(raw),
+            source=source,
+            base_dir=Path(base_dir),
+            overrides=overrides,
+        )
 
 
 def default_case_path() -> Path:
@@ -127,13 +133,13 @@ def load_case(path: str | Path | None = None, overrides=()) -> Case:
     except OSError as exc:
         raise CaseError(f"{source}: cannot read the case file: {exc.strerror}") from None
     except UnicodeDecodeError as exc:
-        raise CaseError(f"{source}: not a UTF-8 text file (byte {exc.start}): a case is a TOML "
-                        f"text file") from None
+        raise CaseError(
+            f"{source}: not a UTF-8 text file (byte {exc.start}): a case is a TOML " f"text file"
+        ) from None
     return parse_case(text, source=source, base_dir=path.resolve().parent, overrides=overrides)
 
 
-def parse_case(text: str, source: str = "<case>", base_dir: Path | str = ".",
-               overrides=()) -> Case:
+def parse_case(text: str, source: str = "<case>", base_dir: Path | str = ".", overrides=()) -> Case:
     """Like :func:`load_case`, from TOML text."""
     try:
         raw = tomllib.loads(text)

@@ -38,8 +38,21 @@ def contact_pairs(scene: Scene) -> dict:
     target towards node_a), initial gap, mu (the C_n, C_t columns of Eqs. 45-46 per pair).
     Also fills the scene's pair positions and tributary lengths."""
     case = scene.case
-    cols = {k: [] for k in ("node_a", "node_b", "normal", "gap", "mu", "length", "contact",
-                            "weights", "foot", "point_gap")}
+    cols = {
+        k: []
+        for k in (
+            "node_a",
+            "node_b",
+            "normal",
+            "gap",
+            "mu",
+            "length",
+            "contact",
+            "weights",
+            "foot",
+            "point_gap",
+        )
+    }
     for i, c in enumerate(case.data["contact"]):
         key = "contact" if len(case.data["contact"]) == 1 else f"contact.{i}"
         body_a, edge_a = contactor_edge(c)
@@ -67,18 +80,26 @@ def contact_pairs(scene: Scene) -> dict:
         cols["point_gap"].append(point)
     if not cols["node_a"]:
         scene.pair_xy = np.zeros((0, 2))
-        return {"node_a": np.zeros(0, np.int64), "node_b": np.zeros(0, np.int64),
-                "normal": np.zeros((0, 2)), "gap": np.zeros(0), "mu": np.zeros(0),
-                "contact": np.zeros(0, np.int64)}
-    pairs = {"node_a": np.concatenate(cols["node_a"]).astype(np.int64),
-             "node_b": np.concatenate(cols["node_b"]).astype(np.int64),
-             "normal": np.concatenate(cols["normal"]).reshape(-1, 2),
-             "gap": np.concatenate(cols["gap"]),
-             "mu": np.concatenate(cols["mu"]).astype(np.float64),
-             "contact": np.concatenate(cols["contact"]).astype(np.int64)}
+        return {
+            "node_a": np.zeros(0, np.int64),
+            "node_b": np.zeros(0, np.int64),
+            "normal": np.zeros((0, 2)),
+            "gap": np.zeros(0),
+            "mu": np.zeros(0),
+            "contact": np.zeros(0, np.int64),
+        }
+    pairs = {
+        "node_a": np.concatenate(cols["node_a"]).astype(np.int64),
+        "node_b": np.concatenate(cols["node_b"]).astype(np.int64),
+        "normal": np.concatenate(cols["normal"]).reshape(-1, 2),
+        "gap": np.concatenate(cols["gap"]),
+        "mu": np.concatenate(cols["mu"]).astype(np.float64),
+        "contact": np.concatenate(cols["contact"]).astype(np.int64),
+    }
     if any(cols["weights"]):  # node-to-segment rows (docs/engine_api.md)
-        pairs["weight_ptr"], pairs["weight_node"], pairs["weight_value"] = \
+        pairs["weight_ptr"], pairs["weight_node"], pairs["weight_value"] = (
             mortar.compressed_weights(cols["weights"])
+        )
     scene.pair_xy = scene.nodes[pairs["node_a"]]
     scene.pair_foot = np.concatenate(cols["foot"]).reshape(-1, 3)
     scene.pair_point_gap = np.concatenate(cols["point_gap"])
@@ -119,24 +140,52 @@ def _node_to_segment_pairs(scene: Scene, c: dict, key: str):
     seg_b = scene.global_edge(c["body_b"], c["edge_b"])
     candidates = np.unique(seg_a)
     xy = scene.nodes[candidates]
-    inside = ((xy[:, 0] >= c["x_min"]) & (xy[:, 0] <= c["x_max"]) &
-              (xy[:, 1] >= c["y_min"]) & (xy[:, 1] <= c["y_max"]))
-    length_scale = float(np.linalg.norm(scene.nodes[seg_a[:, 1]] - scene.nodes[seg_a[:, 0]], axis=1).min())
-    rows = mortar.node_to_segment_pairs(scene.nodes, seg_a, seg_b, candidates[inside],
-                                        1e-9 * length_scale, radial=is_axisymmetric(scene.case))
+    inside = (
+        (xy[:, 0] >= c["x_min"])
+        & (xy[:, 0] <= c["x_max"])
+        & (xy[:, 1] >= c["y_min"])
+        & (xy[:, 1] <= c["y_max"])
+    )
+    length_scale = float(
+        np.linalg.norm(scene.nodes[seg_a[:, 1]] - scene.nodes[seg_a[:, 0]], axis=1).min()
+    )
+    rows = mortar.node_to_segment_pairs(
+        scene.nodes,
+        seg_a,
+        seg_b,
+        candidates[inside],
+        1e-9 * length_scale,
+        radial=is_axisymmetric(scene.case),
+    )
     if not rows["node_a"]:
-        raise scene.case.error(f"{key}.edge_b", f"no node of {c['body_a']}:{c['edge_a']} in the "
-                               f"candidate window projects onto {c['body_b']}:{c['edge_b']}: "
-                               f"check the edges, or widen x_min/x_max/y_min/y_max")
+        raise scene.case.error(
+            f"{key}.edge_b",
+            f"no node of {c['body_a']}:{c['edge_a']} in the "
+            f"candidate window projects onto {c['body_b']}:{c['edge_b']}: "
+            f"check the edges, or widen x_min/x_max/y_min/y_max",
+        )
     a = np.asarray(rows["node_a"], dtype=np.int64)
     normal, gap, point = (np.asarray(rows[k]) for k in ("normal", "gap", "point_gap"))
-    check_gaps(scene, a, np.minimum(gap, point), c["tolerance"], key,
-                f"move body '{c['body_a']}' away from body '{c['body_b']}'")
+    check_gaps(
+        scene,
+        a,
+        np.minimum(gap, point),
+        c["tolerance"],
+        key,
+        f"move body '{c['body_a']}' away from body '{c['body_b']}'",
+    )
     # a node that touches starts its row closed (slipstep.mortar: first point of contact)
     gap = np.where((np.abs(gap) <= c["tolerance"]) | (np.abs(point) <= c["tolerance"]), 0.0, gap)
-    return (a, np.asarray(rows["node_b"], dtype=np.int64), normal, gap,
-            np.asarray(rows["length"]), rows["weights"], np.asarray(rows["foot"], dtype=float),
-            point)
+    return (
+        a,
+        np.asarray(rows["node_b"], dtype=np.int64),
+        normal,
+        gap,
+        np.asarray(rows["length"]),
+        rows["weights"],
+        np.asarray(rows["foot"], dtype=float),
+        point,
+    )
 
 
 def tributary_lengths(nodes: np.ndarray, segments: np.ndarray, ids: np.ndarray) -> np.ndarray:
@@ -152,13 +201,20 @@ def _window_candidates(scene: Scene, c: dict, key: str) -> np.ndarray:
     """Global ids (sorted) of the nodes of a rigid contact's ``edge`` inside its x/y window."""
     candidates = np.unique(scene.global_edge(c["body"], c["edge"]))
     xy = scene.nodes[candidates]
-    inside = ((xy[:, 0] >= c["x_min"]) & (xy[:, 0] <= c["x_max"]) &
-              (xy[:, 1] >= c["y_min"]) & (xy[:, 1] <= c["y_max"]))
+    inside = (
+        (xy[:, 0] >= c["x_min"])
+        & (xy[:, 0] <= c["x_max"])
+        & (xy[:, 1] >= c["y_min"])
+        & (xy[:, 1] <= c["y_max"])
+    )
     a = candidates[inside]
     if len(a) == 0:
-        raise scene.case.error(f"{key}.x_max", f"no node of edge '{c['edge']}' of body "
-                               f"'{c['body']}' lies in the candidate window: widen x_min/x_max/"
-                               f"y_min/y_max")
+        raise scene.case.error(
+            f"{key}.x_max",
+            f"no node of edge '{c['edge']}' of body "
+            f"'{c['body']}' lies in the candidate window: widen x_min/x_max/"
+            f"y_min/y_max",
+        )
     return a
 
 
@@ -166,8 +222,18 @@ def _rigid_pairs(scene: Scene, c: dict, key: str, a, n, gap, fix: str, flip: str
     """The pairs of a rigid obstacle from its candidates ``a``, their normals ``n`` (from the
     obstacle into the body, fixed: small sliding) and initial gaps: the facing and penetration
     checks, gaps within tolerance snapped to 0, node_b = -1."""
-    check_facing(scene, a, n, gap, c["tolerance"], scene.global_edge(c["body"], c["edge"]),
-                  None, None, key, flip)
+    check_facing(
+        scene,
+        a,
+        n,
+        gap,
+        c["tolerance"],
+        scene.global_edge(c["body"], c["edge"]),
+        None,
+        None,
+        key,
+        flip,
+    )
     check_gaps(scene, a, gap, c["tolerance"], key, fix)
     gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
     return a, np.full(len(a), -1, dtype=np.int64), n, gap
@@ -178,9 +244,16 @@ def _rigid_line_pairs(scene: Scene, c: dict, key: str):
     a = _window_candidates(scene, c, key)
     n = np.asarray(c["normal"]) / np.linalg.norm(c["normal"])
     gap = (scene.nodes[a] - np.asarray(c["point"])) @ n
-    return _rigid_pairs(scene, c, key, a, np.tile(n, (len(a), 1)), gap,
-                        "move the body away from the line or the line (contact.point) away "
-                        "from the body", FLIP)
+    return _rigid_pairs(
+        scene,
+        c,
+        key,
+        a,
+        np.tile(n, (len(a), 1)),
+        gap,
+        "move the body away from the line or the line (contact.point) away " "from the body",
+        FLIP,
+    )
 
 
 def _rigid_circle_pairs(scene: Scene, c: dict, key: str):
@@ -197,19 +270,29 @@ def _rigid_circle_pairs(scene: Scene, c: dict, key: str):
     if at_centre.any():
         k = int(np.argmax(at_centre))
         x, y = scene.nodes[a[k]]
-        raise scene.case.error(f"{key}.centre", f"node {int(a[k])} ({x:.6g}, {y:.6g}) lies at "
-                               f"the centre of the rigid circle, where the normal (the direction "
-                               f"to the nearest point of the circle) is undefined: move the "
-                               f"centre, or leave the node out of the candidates (x_min/x_max/"
-                               f"y_min/y_max)")
+        raise scene.case.error(
+            f"{key}.centre",
+            f"node {int(a[k])} ({x:.6g}, {y:.6g}) lies at "
+            f"the centre of the rigid circle, where the normal (the direction "
+            f"to the nearest point of the circle) is undefined: move the "
+            f"centre, or leave the node out of the candidates (x_min/x_max/"
+            f"y_min/y_max)",
+        )
     sign = 1.0 if c["side"] == "outside" else -1.0
     n = sign * d / r[:, None]
     gap = sign * (r - radius)
-    return _rigid_pairs(scene, c, key, a, n, gap,
-                        "move the body or the circle (contact.centre, contact.radius) so that "
-                        "they do not overlap",
-                        'check contact.side ("outside": the body is outside the circle; '
-                        '"inside": in a hole or cup) and contact.centre')
+    return _rigid_pairs(
+        scene,
+        c,
+        key,
+        a,
+        n,
+        gap,
+        "move the body or the circle (contact.centre, contact.radius) so that "
+        "they do not overlap",
+        'check contact.side ("outside": the body is outside the circle; '
+        '"inside": in a hole or cup) and contact.centre',
+    )
 
 
 def _rigid_polyline_pairs(scene: Scene, c: dict, key: str):
@@ -220,24 +303,39 @@ def _rigid_polyline_pairs(scene: Scene, c: dict, key: str):
     beyond it) is not a candidate."""
     a = _window_candidates(scene, c, key)
     outward = meshing.node_normals(scene.nodes, scene.global_edge(c["body"], c["edge"]), a)
-    near = polyline_closest(np.asarray(c["points"], dtype=float), c["side"], scene.nodes[a],
-                            outward, c["tolerance"])
+    near = polyline_closest(
+        np.asarray(c["points"], dtype=float), c["side"], scene.nodes[a], outward, c["tolerance"]
+    )
     if not near["onto"].any():
-        raise scene.case.error(f"{key}.points", f"no candidate node of edge '{c['edge']}' of "
-                               f"body '{c['body']}' projects onto the rigid polyline (a "
-                               f"contactor node that projects nowhere is not a candidate): "
-                               f"extend the polyline (points) or widen the window (x_min/x_max/"
-                               f"y_min/y_max)")
+        raise scene.case.error(
+            f"{key}.points",
+            f"no candidate node of edge '{c['edge']}' of "
+            f"body '{c['body']}' projects onto the rigid polyline (a "
+            f"contactor node that projects nowhere is not a candidate): "
+            f"extend the polyline (points) or widen the window (x_min/x_max/"
+            f"y_min/y_max)",
+        )
     keep = near["onto"]
-    return _rigid_pairs(scene, c, key, a[keep], near["normal"][keep], near["gap"][keep],
-                        "move the body or the polyline (contact.points) so that they do not "
-                        "overlap",
-                        'check contact.side (the side the body lies on, walking the polyline '
-                        'from its first point to its last)')
+    return _rigid_pairs(
+        scene,
+        c,
+        key,
+        a[keep],
+        near["normal"][keep],
+        near["gap"][keep],
+        "move the body or the polyline (contact.points) so that they do not " "overlap",
+        'check contact.side (the side the body lies on, walking the polyline '
+        'from its first point to its last)',
+    )
 
 
-def polyline_closest(points: np.ndarray, side: str, xy: np.ndarray,
-                     outward: np.ndarray | None = None, touch: float = 0.0) -> dict:
+def polyline_closest(
+    points: np.ndarray,
+    side: str,
+    xy: np.ndarray,
+    outward: np.ndarray | None = None,
+    touch: float = 0.0,
+) -> dict:
     """The closest points of the polyline ``points`` (M, 2) to the points ``xy`` (N, 2).
 
     Per point: ``segment`` (the closest segment, the first one of a tie), ``vertex`` (the index
@@ -258,7 +356,7 @@ def polyline_closest(points: np.ndarray, side: str, xy: np.ndarray,
     seg_n = np.stack([-d[:, 1], d[:, 0]], axis=1) / length[:, None]  # left normals
     if side == "right":
         seg_n = -seg_n
-    raw = np.einsum("psk,sk->ps", xy[:, None, :] - start[None], d) / length ** 2
+    raw = np.einsum("psk,sk->ps", xy[:, None, :] - start[None], d) / length**2
     t = np.clip(raw, 0.0, 1.0)
     dist = np.linalg.norm(xy[:, None, :] - (start[None] + t[..., None] * d[None]), axis=2)
     seg = np.argmin(dist, axis=1)
@@ -275,12 +373,19 @@ def polyline_closest(points: np.ndarray, side: str, xy: np.ndarray,
     last = len(d) - 1
     beyond = np.zeros(len(xy), dtype=bool)
     if not closed:
-        beyond = (((seg == 0) & (raw_seg < -1e-9)) | ((seg == last) & (raw_seg > 1.0 + 1e-9)))
+        beyond = ((seg == 0) & (raw_seg < -1e-9)) | ((seg == last) & (raw_seg > 1.0 + 1e-9))
     s = cum[seg] + t_seg * length[seg]
     s = np.where(beyond & (seg == 0) & (raw_seg < 0.0), raw_seg * length[0], s)
     s = np.where(beyond & (seg == last) & (raw_seg > 1.0), cum[last] + raw_seg * length[last], s)
-    return {"segment": seg, "vertex": vertex, "foot": foot, "normal": normal, "gap": gap,
-            "onto": ~beyond, "s": s}
+    return {
+        "segment": seg,
+        "vertex": vertex,
+        "foot": foot,
+        "normal": normal,
+        "gap": gap,
+        "onto": ~beyond,
+        "s": s,
+    }
 
 
 def _vertex_normals(points, seg_n, closed: bool, xy, vertex, normal, outward, touch: float):
@@ -347,8 +452,11 @@ def _cross(a, b):
 
 
 #: The pair builder of each rigid obstacle kind.
-RIGID_PAIRS = {"rigid_line": _rigid_line_pairs, "rigid_circle": _rigid_circle_pairs,
-               "rigid_polyline": _rigid_polyline_pairs}
+RIGID_PAIRS = {
+    "rigid_line": _rigid_line_pairs,
+    "rigid_circle": _rigid_circle_pairs,
+    "rigid_polyline": _rigid_polyline_pairs,
+}
 
 
 def nearest_nodes(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -357,9 +465,9 @@ def nearest_nodes(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     fit)."""
     index, distance = np.zeros(len(x), dtype=np.int64), np.zeros(len(x))
     for start in range(0, len(x), 256):
-        d = np.linalg.norm(x[start:start + 256, None, :] - y[None, :, :], axis=2)
-        index[start:start + 256] = np.argmin(d, axis=1)
-        distance[start:start + 256] = d[np.arange(len(d)), index[start:start + 256]]
+        d = np.linalg.norm(x[start : start + 256, None, :] - y[None, :, :], axis=2)
+        index[start : start + 256] = np.argmin(d, axis=1)
+        distance[start : start + 256] = d[np.arange(len(d)), index[start : start + 256]]
     return index, distance
 
 
@@ -375,16 +483,21 @@ def node_to_node_pairs(scene: Scene, c: dict, key: str):
     ok = distance <= c["tolerance"]
     label_a, label_b = f"{body_a}:{tag_a}", f"{body_b}:{tag_b}"
     if not ok.any():
-        raise scene.case.error(f"{key}.tolerance", f"no node of {label_a} is within "
-                               f"{c['tolerance']:g} of a node of {label_b}: the meshes must "
-                               f"match on the interface, or increase tolerance")
+        raise scene.case.error(
+            f"{key}.tolerance",
+            f"no node of {label_a} is within "
+            f"{c['tolerance']:g} of a node of {label_b}: the meshes must "
+            f"match on the interface, or increase tolerance",
+        )
     a, b = nodes_a[ok], nodes_b[nearest[ok]]
     check_matching(scene, nodes_a[~ok], seg_b, c["tolerance"], label_a, label_b, key)
-    check_matching(scene, np.setdiff1d(nodes_b, b), seg_a, c["tolerance"], label_b, label_a,
-                    key)
+    check_matching(scene, np.setdiff1d(nodes_b, b), seg_a, c["tolerance"], label_b, label_a, key)
     if len(np.unique(b)) != len(b):
-        raise scene.case.error(f"{key}.tolerance", f"= {c['tolerance']:g} pairs one target node "
-                               f"with several contactor nodes: decrease it")
+        raise scene.case.error(
+            f"{key}.tolerance",
+            f"= {c['tolerance']:g} pairs one target node "
+            f"with several contactor nodes: decrease it",
+        )
     if c["normal"] is not None:
         n = np.tile(np.asarray(c["normal"]) / np.linalg.norm(c["normal"]), (len(a), 1))
     else:
@@ -392,7 +505,8 @@ def node_to_node_pairs(scene: Scene, c: dict, key: str):
         n = n / np.linalg.norm(n, axis=1, keepdims=True)
     gap = np.einsum("ij,ij->i", scene.nodes[a] - scene.nodes[b], n)
     check_facing(scene, a, n, gap, c["tolerance"], seg_a, b, seg_b, key)
-    check_gaps(scene, a, gap, c["tolerance"], key,
-                f"move body '{body_a}' away from body '{body_b}'")
+    check_gaps(
+        scene, a, gap, c["tolerance"], key, f"move body '{body_a}' away from body '{body_b}'"
+    )
     gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
     return a, b, n, gap

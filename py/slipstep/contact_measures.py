@@ -63,8 +63,11 @@ def contact_axis(scene, index: int) -> tuple[np.ndarray, np.ndarray]:
         n, origin = np.asarray(c["normal"], dtype=float), np.asarray(c["point"], dtype=float)
     else:
         mine = scene.pair_contact == index
-        n = (np.asarray(c["normal"], dtype=float) if c.get("normal") is not None
-             else np.asarray(scene.model["pairs"]["normal"])[mine].sum(axis=0))
+        n = (
+            np.asarray(c["normal"], dtype=float)
+            if c.get("normal") is not None
+            else np.asarray(scene.model["pairs"]["normal"])[mine].sum(axis=0)
+        )
         origin = np.zeros(2)
     length = np.linalg.norm(n)
     n = n / length if length > 0 else np.array([0.0, 1.0])  # normals that cancel (a ring): s = x
@@ -93,8 +96,9 @@ def contact_coordinate(scene, index: int, xy) -> np.ndarray:
         return (-1.0 if c["side"] == "outside" else 1.0) * c["radius"] * theta + 0.0
     if c["kind"] == "rigid_polyline":
         sign = 1.0 if c["side"] == "left" else -1.0
-        return sign * polyline_closest(np.asarray(c["points"], dtype=float), c["side"],
-                                       xy)["s"] + 0.0
+        return (
+            sign * polyline_closest(np.asarray(c["points"], dtype=float), c["side"], xy)["s"] + 0.0
+        )
     origin, tau = contact_axis(scene, index)
     return (xy - origin) @ tau
 
@@ -162,7 +166,9 @@ def pointwise(scene, snapshot: dict, key: str) -> np.ndarray:
         return value
     u = np.asarray(snapshot["u"], dtype=float).reshape(-1, 2)
     l1, l2, eta = foot[rows, 0].astype(int), foot[rows, 1].astype(int), foot[rows, 2]
-    rel = u[scene.model["pairs"]["node_a"][rows]] - ((1 - eta)[:, None] * u[l1] + eta[:, None] * u[l2])
+    rel = u[scene.model["pairs"]["node_a"][rows]] - (
+        (1 - eta)[:, None] * u[l1] + eta[:, None] * u[l2]
+    )
     n = np.asarray(scene.model["pairs"]["normal"], dtype=float)[rows]
     if key == "gap":
         value[rows] = scene.pair_point_gap[rows] + np.einsum("ij,ij->i", rel, n)
@@ -180,11 +186,12 @@ def edge_crossings(scene, result) -> dict:
     t, stage = event_times(result)
     mine = np.isin(kinds, ("close", "separate"))
     start = np.flatnonzero(np.asarray(scene.model["pairs"]["gap"]) == 0.0)
-    return {"pair": np.concatenate([start, np.asarray(ev["entity"], dtype=np.int64)[mine]]),
-            "t": np.concatenate([np.zeros(len(start)), t[mine]]),
-            "stage": np.concatenate([np.zeros(len(start), dtype=np.int64), stage[mine]]),
-            "closes": np.concatenate([np.ones(len(start), dtype=bool),
-                                      kinds[mine] == "close"])}
+    return {
+        "pair": np.concatenate([start, np.asarray(ev["entity"], dtype=np.int64)[mine]]),
+        "t": np.concatenate([np.zeros(len(start)), t[mine]]),
+        "stage": np.concatenate([np.zeros(len(start), dtype=np.int64), stage[mine]]),
+        "closes": np.concatenate([np.ones(len(start), dtype=bool), kinds[mine] == "close"]),
+    }
 
 
 def crossing_times(scene, result, snapshot: dict, crossings: dict | None = None):
@@ -259,8 +266,10 @@ def closed_extent(s, status, last, upcoming, t) -> list[float] | None:
     :func:`contact_half_width` places the far one; None if nothing is closed."""
     if not (status > 0).any():
         return None
-    return [-contact_half_width(-s, status, last, upcoming, t),
-            contact_half_width(s, status, last, upcoming, t)]
+    return [
+        -contact_half_width(-s, status, last, upcoming, t),
+        contact_half_width(s, status, last, upcoming, t),
+    ]
 
 
 def stick_extent(s, status, closed: list[float]) -> list[float] | None:
@@ -329,12 +338,14 @@ def path_history(scene, result) -> dict:
     which = np.asarray(scene.pair_contact, dtype=np.int64)
     s = pair_coordinate(scene)
     crossings = edge_crossings(scene, result)
-    out = {"t": np.array([snapshot_time(x) for x in snaps]),
-           "stage": np.array([int(x.get("stage", 0)) for x in snaps], dtype=np.int64),
-           "normal_force": np.zeros((len(snaps), n_c)),
-           "tangential_force": np.zeros((len(snaps), n_c)),
-           "n_closed": np.zeros((len(snaps), n_c), dtype=np.int64),
-           "extent": np.full((len(snaps), n_c, 2), np.nan)}
+    out = {
+        "t": np.array([snapshot_time(x) for x in snaps]),
+        "stage": np.array([int(x.get("stage", 0)) for x in snaps], dtype=np.int64),
+        "normal_force": np.zeros((len(snaps), n_c)),
+        "tangential_force": np.zeros((len(snaps), n_c)),
+        "n_closed": np.zeros((len(snaps), n_c), dtype=np.int64),
+        "extent": np.full((len(snaps), n_c, 2), np.nan),
+    }
     for k, snap in enumerate(snaps):
         closed = np.asarray(snap["status"]) > 0
         out["normal_force"][k] = np.bincount(which, np.asarray(snap["lambda_n"]), n_c)
@@ -344,8 +355,9 @@ def path_history(scene, result) -> dict:
         status = np.asarray(snap["status"])
         for c in np.unique(which[closed]):
             mine = which == c
-            out["extent"][k, c] = closed_extent(s[mine], status[mine], last[mine],
-                                                upcoming[mine], out["t"][k])
+            out["extent"][k, c] = closed_extent(
+                s[mine], status[mine], last[mine], upcoming[mine], out["t"][k]
+            )
     out["total_normal_force"] = out["normal_force"].sum(axis=1)
     out["total_tangential_force"] = out["tangential_force"].sum(axis=1)
     return out
@@ -371,10 +383,13 @@ def force_displacement(scene, result) -> dict[str, dict]:
         amp = float(np.linalg.norm(per_node, axis=1).max()) if len(dofs) else 0.0
         if amp == 0.0 or not snaps or "reaction" not in snaps[0]:
             continue
-        force = [np.asarray(x["reaction"], dtype=float).reshape(-1)[dofs] @ u1 / amp
-                 for x in snaps]
-        out[name] = {"t": t, "displacement": load_factor(scene, name, t) * amp,
-                     "force": np.array([0.0] + force), "what": "support reaction"}
+        force = [np.asarray(x["reaction"], dtype=float).reshape(-1)[dofs] @ u1 / amp for x in snaps]
+        out[name] = {
+            "t": t,
+            "displacement": load_factor(scene, name, t) * amp,
+            "force": np.array([0.0] + force),
+            "what": "support reaction",
+        }
     which = np.asarray(scene.pair_contact, dtype=np.int64)
     for name, m in getattr(scene, "motions", {}).items():
         c, motion = int(m["contact"]), np.asarray(m["motion"], dtype=float)
@@ -385,12 +400,16 @@ def force_displacement(scene, result) -> dict[str, dict]:
             continue
         _, tau = contact_axis(scene, c)
         n, tangent = np.array([-tau[1], tau[0]]), -tau
-        key, axis = (("lambda_n", n) if abs(motion @ n) >= abs(motion @ tangent)
-                     else ("lambda_t", tangent))
+        key, axis = (
+            ("lambda_n", n) if abs(motion @ n) >= abs(motion @ tangent) else ("lambda_t", tangent)
+        )
         force = [float(np.asarray(x[key])[which == c].sum()) for x in snaps]
-        out[name] = {"t": t, "displacement": load_factor(scene, name, t) * float(motion @ axis),
-                     "force": np.array([0.0] + force),
-                     "what": "normal force" if key == "lambda_n" else "tangential force"}
+        out[name] = {
+            "t": t,
+            "displacement": load_factor(scene, name, t) * float(motion @ axis),
+            "force": np.array([0.0] + force),
+            "what": "normal force" if key == "lambda_n" else "tangential force",
+        }
     return out
 
 
@@ -405,8 +424,12 @@ def _motion_curve(scene, result, index: int, motion: np.ndarray, factor) -> dict
     mine = np.asarray(scene.pair_contact, dtype=np.int64) == index
     n = np.asarray(scene.model["pairs"]["normal"], dtype=float)[mine]
     along_n, along_t = n @ motion / amp, np.stack([-n[:, 1], n[:, 0]], axis=1) @ motion / amp
-    force = [float(np.asarray(x["lambda_n"])[mine] @ along_n
-                   + np.asarray(x["lambda_t"])[mine] @ along_t)
-             for x in result.get("snapshots", [])]
-    return {"displacement": np.asarray(factor) * amp, "force": np.array([0.0] + force),
-            "what": "contact force along the motion"}
+    force = [
+        float(np.asarray(x["lambda_n"])[mine] @ along_n + np.asarray(x["lambda_t"])[mine] @ along_t)
+        for x in result.get("snapshots", [])
+    ]
+    return {
+        "displacement": np.asarray(factor) * amp,
+        "force": np.array([0.0] + force),
+        "what": "contact force along the motion",
+    }

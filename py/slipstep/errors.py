@@ -67,6 +67,15 @@ class InternalError(RuntimeError):
     (``SLIPSTEP_TRACEBACK=1``: the traceback); please report it with the case."""
 
 
-__all__ = ["CaseError", "EngineMissing", "EquilibriumError", "FreeBodyError", "GrossSlidingError",
-           "IllPosedError", "InputError", "InternalError", "SingularSystemError",
-           "SlipstepError"]
+__all__ = [
+    "CaseError",
+    "EngineMissing",
+    "EquilibriumError",
+    "FreeBodyError",
+    "GrossSlidingError",
+    "IllPosedError",
+    "InputError",
+    "InternalError",
+    "SingularSystemError",
+    "SlipstepError",
+]

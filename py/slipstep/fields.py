@@ -11,9 +11,11 @@ from .space.fields import von_mises_3d
 
 #: Names of the four stress columns, per plane (the engine's x, y, z, xy; z out of plane, the
 #: hoop direction theta of a ring).
-STRESS_NAMES = {"strain": ("sigma_x", "sigma_y", "sigma_z", "tau_xy"),
-                "stress": ("sigma_x", "sigma_y", "sigma_z", "tau_xy"),
-                "axisymmetric": ("sigma_r", "sigma_z", "sigma_theta", "tau_rz")}
+STRESS_NAMES = {
+    "strain": ("sigma_x", "sigma_y", "sigma_z", "tau_xy"),
+    "stress": ("sigma_x", "sigma_y", "sigma_z", "tau_xy"),
+    "axisymmetric": ("sigma_r", "sigma_z", "sigma_theta", "tau_rz"),
+}
 
 
 def coordinate_names(scene) -> tuple[str, ...]:
@@ -31,7 +33,7 @@ def stress_names(scene) -> tuple[str, str, str, str]:
 def von_mises(stress: np.ndarray) -> np.ndarray:
     """Equivalent stress of (M, 4) rows sigma_x, sigma_y, sigma_z, tau_xy."""
     sx, sy, sz, txy = stress.T
-    return np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2) + 3.0 * txy ** 2)
+    return np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2) + 3.0 * txy**2)
 
 
 def stress_tensor(stress: np.ndarray) -> np.ndarray:
@@ -59,8 +61,10 @@ def nodal_stress(scene, stress: np.ndarray) -> np.ndarray:
     area = np.repeat(0.5 * np.abs(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])), 3)
     corner = scene.triangles.ravel()  # element e's nodes at rows 3e, 3e + 1, 3e + 2
     weight = np.bincount(corner, area, minlength=n)
-    total = np.stack([np.bincount(corner, area * np.repeat(column, 3), minlength=n)
-                      for column in stress.T], axis=1)
+    total = np.stack(
+        [np.bincount(corner, area * np.repeat(column, 3), minlength=n) for column in stress.T],
+        axis=1,
+    )
     return total / np.where(weight > 0, weight, 1.0)[:, None]
 
 
@@ -97,8 +101,11 @@ def yield_drift(scene, snap) -> np.ndarray:
     hp = np.array([m.get("H") or 0.0 for m in mats], dtype=float)[index]
     current = sy + hp * np.asarray(snap["plastic_strain"], dtype=float)
     stress = np.asarray(snap["stress"], dtype=float)
-    se = (von_mises_3d(stress) if scene.model.get("dimension", 2) == 3 else
-          von_mises(stress.reshape(-1, 4)))
+    se = (
+        von_mises_3d(stress)
+        if scene.model.get("dimension", 2) == 3
+        else von_mises(stress.reshape(-1, 4))
+    )
     plastic = (np.asarray(snap["plastic"]) > 0) & np.isfinite(current)  # elastic bodies: Sy = inf
     drift = np.zeros(len(se))
     drift[plastic] = np.abs(se[plastic] - current[plastic]) / current[plastic]

@@ -41,8 +41,13 @@ class Plots:
         return new_figure(*figsize, layout="constrained" if constrained_layout else "none")
 
     @staticmethod
-    def subplots(nrows: int = 1, ncols: int = 1, figsize=(6.4, 4.8),
-                 constrained_layout: bool = False, **kwargs):
+    def subplots(
+        nrows: int = 1,
+        ncols: int = 1,
+        figsize=(6.4, 4.8),
+        constrained_layout: bool = False,
+        **kwargs,
+    ):
         fig = Plots.figure(figsize, constrained_layout)
         return fig, fig.subplots(nrows, ncols, **kwargs)
 
@@ -88,8 +93,10 @@ def given_axes(ax, n: int, what: str) -> list:
     axes = list(ax) if isinstance(ax, (list, tuple, np.ndarray)) else [ax]
     axes = list(np.ravel(np.asarray(axes, dtype=object)))
     if len(axes) != n or not all(hasattr(a, "figure") for a in axes):
-        raise ValueError(f"ax = {ax!r}: the {what} figure draws {n} panel(s): give "
-                         f"{'an Axes' if n == 1 else f'{n} Axes, e.g. fig.subplots({n})'}")
+        raise ValueError(
+            f"ax = {ax!r}: the {what} figure draws {n} panel(s): give "
+            f"{'an Axes' if n == 1 else f'{n} Axes, e.g. fig.subplots({n})'}"
+        )
     return axes
 
 

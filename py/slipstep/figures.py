@@ -22,8 +22,15 @@ import numpy as np
 
 from .contact_measures import contact_growth, contact_profile, force_displacement, path_history
 from .fields import centroids, coordinate_names, is_elastoplastic, von_mises
-from .figure_frame import (STATUS_COLOURS, STATUS_LABELS, finish, given_axes, label, new_figure,
-                           title)
+from .figure_frame import (
+    STATUS_COLOURS,
+    STATUS_LABELS,
+    finish,
+    given_axes,
+    label,
+    new_figure,
+    title,
+)
 from .history import is_staged, snapshot_time, stage_names
 from .summary import contact_text
 
@@ -59,8 +66,10 @@ def chosen(scene, result) -> list[tuple[str, object]]:
 
 def write_figures(folder: Path, scene, result, summary: dict) -> list[Path]:
     """Write every figure of :func:`chosen` as ``folder/<stem>.png``; returns the paths."""
-    return [draw(Path(folder) / f"{stem}.png", scene, result, summary)
-            for stem, draw in chosen(scene, result)]
+    return [
+        draw(Path(folder) / f"{stem}.png", scene, result, summary)
+        for stem, draw in chosen(scene, result)
+    ]
 
 
 def figures(scene, result, summary: dict) -> dict:
@@ -87,32 +96,46 @@ def interface_figure(path: Path | None, scene, result, summary: dict, *, ax=None
     else:
         axes = given_axes(ax, 3, "interface")
         fig = axes[0].figure
-    panels = [("pressure", "contact pressure", "stress"),
-              ("tangential_stress", "tangential stress\n(along t = (-n_y, n_x))", "stress"),
-              ("rtd", "relative tangential\ndisplacement (RTD)", "length")]
+    panels = [
+        ("pressure", "contact pressure", "stress"),
+        ("tangential_stress", "tangential stress\n(along t = (-n_y, n_x))", "stress"),
+        ("rtd", "relative tangential\ndisplacement (RTD)", "length"),
+    ]
     for ax, (key, text, kind) in zip(axes, panels):
         ax.plot(x[show], prof[key][show], "-", color="0.75", lw=1, zorder=1)
         for s, colour in STATUS_COLOURS.items():
             m = show & (status == s)
             if m.any():
-                ax.plot(x[m], prof[key][m], "o", ms=3, color=colour, label=STATUS_LABELS[s],
-                        zorder=2)
+                ax.plot(
+                    x[m], prof[key][m], "o", ms=3, color=colour, label=STATUS_LABELS[s], zorder=2
+                )
         ax.set_ylabel(label(text, scene, kind))
         ax.grid(alpha=0.3)
     hertz = summary.get("hertz")
     if hertz and hertz["a_hertz_at_final"] > 0:  # 0: the load unloaded to nothing
         ah, p0 = hertz["a_hertz_at_final"], hertz["p0_hertz_at_final"]
         xs = np.linspace(0.0, ah, 200)
-        axes[0].plot(xs, p0 * np.sqrt(np.clip(1 - (xs / ah) ** 2, 0, None)), "k--", lw=1,
-                     label=f"Hertz (a = {ah:.4g}, p0 = {p0:.4g})")
+        axes[0].plot(
+            xs,
+            p0 * np.sqrt(np.clip(1 - (xs / ah) ** 2, 0, None)),
+            "k--",
+            lw=1,
+            label=f"Hertz (a = {ah:.4g}, p0 = {p0:.4g})",
+        )
     if a:
         for ax in axes:
             ax.axvline(a, color="k", lw=0.7, ls=":")
     axes[0].legend(fontsize=8)
     axes[-1].set_xlabel(label(coordinate_names(scene)[0], scene, "length"))
-    title(fig, axes, f"{scene.case.name}: interface at {_when(scene, result, snap)}   "
-                     f"({contact_text(summary)})", own=ax is None)
+    title(
+        fig,
+        axes,
+        f"{scene.case.name}: interface at {_when(scene, result, snap)}   "
+        f"({contact_text(summary)})",
+        own=ax is None,
+    )
     return finish(fig, path)
+
 
 def growth_figure(path: Path | None, scene, result, summary: dict, *, ax=None):
     """Outermost closed node x against the load fraction (a step curve from the event history),
@@ -130,8 +153,13 @@ def growth_figure(path: Path | None, scene, result, summary: dict, *, ax=None):
         ff = np.linspace(0.0, 1.0, 200)
         k = hertz.get("load_exponent", 0.5)  # a grows as f^k: 1/2 line contact, 1/3 sphere
         # plain text, no TeX: matplotlib's mathtext parser costs more than this whole figure
-        ax.plot(ff, hertz["a_hertz"] * ff ** k, "k--", lw=1,
-                label="Hertz a √f" if k == 0.5 else "Hertz a f^(1/3)")
+        ax.plot(
+            ff,
+            hertz["a_hertz"] * ff**k,
+            "k--",
+            lw=1,
+            label="Hertz a √f" if k == 0.5 else "Hertz a f^(1/3)",
+        )
     ax.set_xlabel("load fraction f")
     ax.set_ylabel(label("contact half-length", scene, "length"))
     ax.set_xlim(0, 1)
@@ -140,6 +168,7 @@ def growth_figure(path: Path | None, scene, result, summary: dict, *, ax=None):
     ax.legend()
     ax.set_title(f"{scene.case.name}: growth of the contact", fontsize=10)
     return finish(fig, path)
+
 
 def _when(scene, result, snap: dict) -> str:
     """``load fraction f`` for one stage, else ``t = ... (stage name)``."""
@@ -164,8 +193,15 @@ def _stage_lines(ax, names: list[str], label: bool) -> None:
         if k:
             ax.axvline(k, color="k", lw=0.7, ls=":")
         if label:
-            ax.text(k + 0.5, 1.0, name, transform=ax.get_xaxis_transform(), ha="center",
-                    va="bottom", fontsize=8)
+            ax.text(
+                k + 0.5,
+                1.0,
+                name,
+                transform=ax.get_xaxis_transform(),
+                ha="center",
+                va="bottom",
+                fontsize=8,
+            )
     ax.set_xlim(0, len(names))
 
 
@@ -174,8 +210,9 @@ def _steps(t: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.repeat(t, 2)[1:], np.repeat(v, 2)[:-1]
 
 
-def force_displacement_figure(path: Path | None, scene, result, summary: dict | None = None,
-                              *, ax=None):
+def force_displacement_figure(
+    path: Path | None, scene, result, summary: dict | None = None, *, ax=None
+):
     """One panel per prescribed displacement or motion (:func:`slipstep.
     contact_measures.force_displacement`; or one Axes of ``ax`` each): force against displacement from t = 0,
     one colour per stage, so the loading and unloading branches (and any hysteresis) show."""
@@ -183,16 +220,24 @@ def force_displacement_figure(path: Path | None, scene, result, summary: dict | 
     names = stage_names(scene, result)
     own = ax is None
     if own:
-        fig = new_figure(5 * len(curves), 4.2, left=0.16 / len(curves), bottom=0.13, top=0.88,
-                         wspace=0.3)
+        fig = new_figure(
+            5 * len(curves), 4.2, left=0.16 / len(curves), bottom=0.13, top=0.88, wspace=0.3
+        )
         panels = list(fig.subplots(1, len(curves), squeeze=False)[0])
     else:
         panels = given_axes(ax, len(curves), "force-displacement")
         fig = panels[0].figure
     for ax, (load, c) in zip(panels, curves.items()):
         for k, name, m in _stage_masks(c["t"], names):
-            ax.plot(c["displacement"][m], c["force"][m], "-o", ms=2.5, lw=1.2,
-                    color=f"C{k % 10}", label=name)
+            ax.plot(
+                c["displacement"][m],
+                c["force"][m],
+                "-o",
+                ms=2.5,
+                lw=1.2,
+                color=f"C{k % 10}",
+                label=name,
+            )
         kind = "motion" if c["what"] != "support reaction" else "prescribed displacement"
         ax.set_xlabel(label(f"{load}: {kind}", scene, "length"))
         ax.set_ylabel(label(c["what"], scene, "force"))
@@ -200,6 +245,7 @@ def force_displacement_figure(path: Path | None, scene, result, summary: dict | 
         ax.legend(fontsize=8)
     title(fig, panels, f"{scene.case.name}: force against displacement along the load path", own)
     return finish(fig, path)
+
 
 def extent_figure(path: Path | None, scene, result, summary: dict | None = None, *, ax=None):
     """Per contact against the path time t: the closed extent [s_min, s_max] of its closed
@@ -220,8 +266,9 @@ def extent_figure(path: Path | None, scene, result, summary: dict | None = None,
         for edge in (lo, hi):
             top.plot(x, edge, color=colour, lw=1)
         bottom.plot(h["t"], h["normal_force"][:, c], "-", color=colour, label=f"{contact}: normal")
-        bottom.plot(h["t"], h["tangential_force"][:, c], "--", color=colour,
-                    label=f"{contact}: tangential")
+        bottom.plot(
+            h["t"], h["tangential_force"][:, c], "--", color=colour, label=f"{contact}: tangential"
+        )
     top.set_ylabel(label("closed extent along s", scene, "length"))
     bottom.set_ylabel(label("contact force", scene, "force"))
     bottom.set_xlabel("path time t")
@@ -231,6 +278,7 @@ def extent_figure(path: Path | None, scene, result, summary: dict | None = None,
         ax.legend(fontsize=8)
     title(fig, [top], f"{scene.case.name}: contact along the load path", ax is None, y=0.985)
     return finish(fig, path)
+
 
 # --------------------------------------------------------------------------- plasticity
 def zone_boundary(triangles: np.ndarray, inside: np.ndarray) -> np.ndarray:
@@ -294,21 +342,30 @@ def von_mises_figure(path: Path | None, scene, result, summary: dict, *, ax=None
     else:
         (ax,) = given_axes(ax, 1, "von Mises")
         fig = ax.figure
-    art = ax.tripcolor(scene.nodes[:, 0], scene.nodes[:, 1], scene.triangles[drawn],
-                       facecolors=vm[drawn], cmap="viridis")
-    fig.colorbar(art, ax=None if cax is not None else ax, cax=cax,
-                 label=label("von Mises stress", scene, "stress"))
+    art = ax.tripcolor(
+        scene.nodes[:, 0],
+        scene.nodes[:, 1],
+        scene.triangles[drawn],
+        facecolors=vm[drawn],
+        cmap="viridis",
+    )
+    fig.colorbar(
+        art,
+        ax=None if cax is not None else ax,
+        cax=cax,
+        label=label("von Mises stress", scene, "stress"),
+    )
     plastic = np.asarray(snap.get("plastic", np.zeros(len(vm))), dtype=bool)
     yielded = np.asarray(snap.get("plastic_strain", np.zeros(len(vm)))) > 0.0
     handles = []
-    for zone, style, text in ((plastic, "-", f"plastic ({int(plastic.sum())} elements)"),
-                              (yielded, "--", f"yielded, now elastic "
-                                              f"({int((yielded & ~plastic).sum())})")):
+    for zone, style, text in (
+        (plastic, "-", f"plastic ({int(plastic.sum())} elements)"),
+        (yielded, "--", f"yielded, now elastic " f"({int((yielded & ~plastic).sum())})"),
+    ):
         if style == "--" and np.array_equal(zone, plastic):
             continue
         segs = scene.nodes[zone_boundary(scene.triangles, zone)]
-        lines = LineCollection(segs, colors="tab:red", linewidths=1.2, linestyles=style,
-                               label=text)
+        lines = LineCollection(segs, colors="tab:red", linewidths=1.2, linestyles=style, label=text)
         ax.add_collection(lines)
         handles.append(lines)
     e = summary.get("first_yield_element")
@@ -322,8 +379,9 @@ def von_mises_figure(path: Path | None, scene, result, summary: dict, *, ax=None
     ax.set_ylabel(label(coordinate_names(scene)[1], scene, "length"))
     if handles:
         ax.legend(handles=handles, fontsize=8, loc="best")
-    ax.set_title(f"{scene.case.name}: von Mises stress at {_when(scene, result, snap)}",
-                 fontsize=10)
+    ax.set_title(
+        f"{scene.case.name}: von Mises stress at {_when(scene, result, snap)}", fontsize=10
+    )
     return finish(fig, path)
 
 

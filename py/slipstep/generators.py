@@ -23,8 +23,9 @@ def _mesh_with_size_field(gmsh, size: int):
     return triangles_and_edges(gmsh)
 
 
-def _mesh_graded_around(gmsh, points: list[int], h_contact: float, contact_zone: float,
-                        h_max: float, growth: float):
+def _mesh_graded_around(
+    gmsh, points: list[int], h_contact: float, contact_zone: float, h_max: float, growth: float
+):
     """Mesh the model with h = h_contact within contact_zone of the geometry points ``points``
     (d = the distance from the nearest), growing linearly, h = h_contact + growth
     (d - contact_zone), up to h_max (Distance + Threshold)."""
@@ -33,8 +34,9 @@ def _mesh_graded_around(gmsh, points: list[int], h_contact: float, contact_zone:
 
 
 @cached
-def quarter_cylinder(R: float, h_contact: float, contact_zone: float, h_max: float,
-                     growth: float = 0.1) -> Mesh:
+def quarter_cylinder(
+    R: float, h_contact: float, contact_zone: float, h_max: float, growth: float = 0.1
+) -> Mesh:
     """The quarter cylinder of radius R: centre (0, R), bottom point (0, 0), region x >= 0,
     y <= R (Fig. 4 of the paper, right quarter).
 
@@ -59,16 +61,19 @@ def quarter_cylinder(R: float, h_contact: float, contact_zone: float, h_max: flo
         gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [bottom]), "bottom_point")
         gmsh.model.addPhysicalGroup(2, [surface])
 
-        xyz, triangles, edges, node_sets = _mesh_graded_around(gmsh, [bottom], h_contact,
-                                                               contact_zone, h_max, growth)
+        xyz, triangles, edges, node_sets = _mesh_graded_around(
+            gmsh, [bottom], h_contact, contact_zone, h_max, growth
+        )
 
     nodes = xyz[:, :2].copy()
-    return checked_mesh(nodes, triangles, edges, node_sets, where="quarter_cylinder mesh",
-                   flip_clockwise=True)
+    return checked_mesh(
+        nodes, triangles, edges, node_sets, where="quarter_cylinder mesh", flip_clockwise=True
+    )
 
 
-def half_cylinder(R: float, h_contact: float, contact_zone: float, h_max: float,
-                  growth: float = 0.1) -> Mesh:
+def half_cylinder(
+    R: float, h_contact: float, contact_zone: float, h_max: float, growth: float = 0.1
+) -> Mesh:
     """The lower half of the cylinder of radius R, centre (0, R), bottom point (0, 0): the
     quarter_cylinder mirrored across x = 0 (so the mesh is symmetric, and its nodes on x = 0
     are shared). For tangential loads, which a symmetric quarter cannot carry.
@@ -77,9 +82,13 @@ def half_cylinder(R: float, h_contact: float, contact_zone: float, h_max: float,
     """
     quarter = quarter_cylinder(R, h_contact, contact_zone, h_max, growth)
     nodes, triangles, edges = _mirrored(quarter, ("arc", "top"), R)
-    return checked_mesh(nodes, triangles, edges,
-                        {"bottom_point": quarter.node_sets["bottom_point"]},
-                   where="half_cylinder mesh")
+    return checked_mesh(
+        nodes,
+        triangles,
+        edges,
+        {"bottom_point": quarter.node_sets["bottom_point"]},
+        where="half_cylinder mesh",
+    )
 
 
 def _mirrored(half: Mesh, tags, size: float):
@@ -91,14 +100,14 @@ def _mirrored(half: Mesh, tags, size: float):
     mirror[~on_axis] = len(x) + np.arange(int((~on_axis).sum()))
     nodes = np.vstack([half.nodes, half.nodes[~on_axis] * [-1.0, 1.0]])
     triangles = np.vstack([half.triangles, mirror[half.triangles][:, ::-1]])
-    edges = {tag: np.vstack([half.edges[tag], mirror[half.edges[tag]][:, ::-1]])
-             for tag in tags}
+    edges = {tag: np.vstack([half.edges[tag], mirror[half.edges[tag]][:, ::-1]]) for tag in tags}
     return nodes, triangles, edges
 
 
 @cached
-def disc(R: float, h_contact: float, contact_zone: float, h_max: float,
-         growth: float = 0.1) -> Mesh:
+def disc(
+    R: float, h_contact: float, contact_zone: float, h_max: float, growth: float = 0.1
+) -> Mesh:
     """The whole disc of radius R, centre (0, R), bottom point (0, 0), top point (0, 2R): a
     roller on a flat loaded at its top (a diametrically compressed disc).  Meshed as its right
     half x >= 0 and mirrored across x = 0 (symmetric, nodes on x = 0 shared).
@@ -122,18 +131,18 @@ def disc(R: float, h_contact: float, contact_zone: float, h_max: float,
         geo.synchronize()
         for name, curve in (("lower_arc", lower), ("upper_arc", upper)):
             gmsh.model.setPhysicalName(1, gmsh.model.addPhysicalGroup(1, [curve]), name)
-        for name, point in (("bottom_point", bottom), ("top_point", top),
-                            ("centre_point", centre)):
+        for name, point in (("bottom_point", bottom), ("top_point", top), ("centre_point", centre)):
             gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [point]), name)
         gmsh.model.addPhysicalGroup(2, [surface])
-        xyz, triangles, edges, node_sets = _mesh_graded_around(gmsh, [bottom, top], h_contact,
-                                                               contact_zone, h_max, growth)
-    half = checked_mesh(xyz[:, :2].copy(), triangles, edges, node_sets, where="disc mesh",
-                   flip_clockwise=True)
+        xyz, triangles, edges, node_sets = _mesh_graded_around(
+            gmsh, [bottom, top], h_contact, contact_zone, h_max, growth
+        )
+    half = checked_mesh(
+        xyz[:, :2].copy(), triangles, edges, node_sets, where="disc mesh", flip_clockwise=True
+    )
     nodes, triangles, edges = _mirrored(half, ("lower_arc", "upper_arc"), R)
     edges["circle"] = np.vstack([edges["lower_arc"], edges["upper_arc"]])
-    points = {name: half.node_sets[name] for name in ("bottom_point", "top_point",
-                                                       "centre_point")}
+    points = {name: half.node_sets[name] for name in ("bottom_point", "top_point", "centre_point")}
     return checked_mesh(nodes, triangles, edges, points, where="disc mesh")
 
 
@@ -161,8 +170,12 @@ def quarter_annulus(a: float, b: float, h: float, h_outer: float = 0.0) -> Mesh:
         inner = geo.addCircleArc(inner_y, centre, inner_x)
         surface = geo.addPlaneSurface([geo.addCurveLoop([x_axis, outer, y_axis, inner])])
         geo.synchronize()
-        for name, curve in (("inner", inner), ("outer", outer), ("x_axis", x_axis),
-                            ("y_axis", y_axis)):
+        for name, curve in (
+            ("inner", inner),
+            ("outer", outer),
+            ("x_axis", x_axis),
+            ("y_axis", y_axis),
+        ):
             gmsh.model.setPhysicalName(1, gmsh.model.addPhysicalGroup(1, [curve]), name)
         gmsh.model.addPhysicalGroup(2, [surface])
 
@@ -178,8 +191,9 @@ def quarter_annulus(a: float, b: float, h: float, h_outer: float = 0.0) -> Mesh:
     # the geometry points on the axes are exact; snap round-off of the other axis nodes
     nodes[np.unique(edges["x_axis"]), 1] = 0.0
     nodes[np.unique(edges["y_axis"]), 0] = 0.0
-    return checked_mesh(nodes, triangles, edges, node_sets, where="quarter_annulus mesh",
-                   flip_clockwise=True)
+    return checked_mesh(
+        nodes, triangles, edges, node_sets, where="quarter_annulus mesh", flip_clockwise=True
+    )
 
 
 def _grid_triangles(i: np.ndarray, j: np.ndarray, nid) -> np.ndarray:
@@ -193,8 +207,7 @@ def _grid_triangles(i: np.ndarray, j: np.ndarray, nid) -> np.ndarray:
     return np.concatenate([t1, t2])
 
 
-def block(width: float, height: float, nx: int, ny: int, x0: float = 0.0,
-          y0: float = 0.0) -> Mesh:
+def block(width: float, height: float, nx: int, ny: int, x0: float = 0.0, y0: float = 0.0) -> Mesh:
     """A structured rectangle [x0, x0+width] x [y0, y0+height], nx by ny cells, each cut into
     two triangles (diagonals alternate, so the mesh has no preferred direction).
 
@@ -218,10 +231,19 @@ def block(width: float, height: float, nx: int, ny: int, x0: float = 0.0,
     right = np.column_stack([nid(nx, np.arange(ny)), nid(nx, np.arange(1, ny + 1))])
     top = np.column_stack([nid(np.arange(nx, 0, -1), ny), nid(np.arange(nx - 1, -1, -1), ny)])
     left = np.column_stack([nid(0, np.arange(ny, 0, -1)), nid(0, np.arange(ny - 1, -1, -1))])
-    corners = {"corner_bottom_left": [nid(0, 0)], "corner_bottom_right": [nid(nx, 0)],
-               "corner_top_right": [nid(nx, ny)], "corner_top_left": [nid(0, ny)]}
-    return checked_mesh(nodes, triangles, {"bottom": bottom, "right": right, "top": top,
-                                      "left": left}, corners, where="block mesh")
+    corners = {
+        "corner_bottom_left": [nid(0, 0)],
+        "corner_bottom_right": [nid(nx, 0)],
+        "corner_top_right": [nid(nx, ny)],
+        "corner_top_left": [nid(0, ny)],
+    }
+    return checked_mesh(
+        nodes,
+        triangles,
+        {"bottom": bottom, "right": right, "top": top, "left": left},
+        corners,
+        where="block mesh",
+    )
 
 
 def _graded_block_focus(width, height, h_contact, contact_zone, h_max, growth, focus, x0, y0):
@@ -230,20 +252,25 @@ def _graded_block_focus(width, height, h_contact, contact_zone, h_max, growth, f
     if not (width > 0 and height > 0):
         raise MeshError(f"{where}: width = {width:g}, height = {height:g}: both must be > 0")
     if not 0 < h_contact <= h_max:
-        raise MeshError(f"{where}: h_contact = {h_contact:g}, h_max = {h_max:g}: need "
-                        f"0 < h_contact <= h_max")
+        raise MeshError(
+            f"{where}: h_contact = {h_contact:g}, h_max = {h_max:g}: need "
+            f"0 < h_contact <= h_max"
+        )
     if not (contact_zone > 0 and growth > 0):
-        raise MeshError(f"{where}: contact_zone = {contact_zone:g}, growth = {growth:g}: both "
-                        f"must be > 0")
+        raise MeshError(
+            f"{where}: contact_zone = {contact_zone:g}, growth = {growth:g}: both " f"must be > 0"
+        )
     x1, y1 = x0 + width, y0 + height
     if focus is None:
         focus = (x0 + 0.5 * width, y1)
     fx, fy = float(focus[0]), float(focus[1])
     tol = 1e-9 * max(width, height)  # round-off of a focus written on the boundary
     if not (x0 - tol <= fx <= x1 + tol and y0 - tol <= fy <= y1 + tol):
-        raise MeshError(f"{where}: focus ({fx:g}, {fy:g}) lies outside the block "
-                        f"[{x0:g}, {x1:g}] x [{y0:g}, {y1:g}]: move it inside or onto its "
-                        f"boundary")
+        raise MeshError(
+            f"{where}: focus ({fx:g}, {fy:g}) lies outside the block "
+            f"[{x0:g}, {x1:g}] x [{y0:g}, {y1:g}]: move it inside or onto its "
+            f"boundary"
+        )
     fx = x0 if abs(fx - x0) <= tol else x1 if abs(fx - x1) <= tol else fx
     fy = y0 if abs(fy - y0) <= tol else y1 if abs(fy - y1) <= tol else fy
     return fx, fy
@@ -259,9 +286,18 @@ def _uniform_near_focus(geo, lines, ends, focus, h_contact, contact_zone):
 
 
 @cached
-def graded_block(width: float, height: float, h_contact: float, contact_zone: float,
-                 h_max: float, growth: float = 0.1, focus=None, x0: float = 0.0,
-                 y0: float = 0.0, uniform_edges: bool = False) -> Mesh:
+def graded_block(
+    width: float,
+    height: float,
+    h_contact: float,
+    contact_zone: float,
+    h_max: float,
+    growth: float = 0.1,
+    focus=None,
+    x0: float = 0.0,
+    y0: float = 0.0,
+    uniform_edges: bool = False,
+) -> Mesh:
     """The rectangle [x0, x0+width] x [y0, y0+height], meshed unstructured by gmsh, fine
     around the point ``focus`` (default: the middle of the top edge, (x0 + width/2, y0 +
     height)).
@@ -278,30 +314,40 @@ def graded_block(width: float, height: float, h_contact: float, contact_zone: fl
     than contact_zone is divided uniformly, n = round(length / h_contact) segments, so that
     another body's structured nodes can match it (a punch on a graded half-space, node_to_node).
     """
-    fx, fy = _graded_block_focus(width, height, h_contact, contact_zone, h_max, growth, focus,
-                                 x0, y0)
+    fx, fy = _graded_block_focus(
+        width, height, h_contact, contact_zone, h_max, growth, focus, x0, y0
+    )
     x1, y1 = x0 + width, y0 + height
     with gmsh_session() as gmsh:
         gmsh.model.add("graded_block")
         geo = gmsh.model.geo
-        corners = {"corner_bottom_left": (x0, y0), "corner_bottom_right": (x1, y0),
-                   "corner_top_right": (x1, y1), "corner_top_left": (x0, y1)}
+        corners = {
+            "corner_bottom_left": (x0, y0),
+            "corner_bottom_right": (x1, y0),
+            "corner_top_right": (x1, y1),
+            "corner_top_left": (x0, y1),
+        }
         points = {name: geo.addPoint(x, y, 0.0) for name, (x, y) in corners.items()}
         at_corner = [name for name, xy in corners.items() if xy == (fx, fy)]
         # the sides counter-clockwise (body on the left), each a list of its gmsh lines
-        sides = {"bottom": ("corner_bottom_left", "corner_bottom_right", fy == y0),
-                 "right": ("corner_bottom_right", "corner_top_right", fx == x1),
-                 "top": ("corner_top_right", "corner_top_left", fy == y1),
-                 "left": ("corner_top_left", "corner_bottom_left", fx == x0)}
+        sides = {
+            "bottom": ("corner_bottom_left", "corner_bottom_right", fy == y0),
+            "right": ("corner_bottom_right", "corner_top_right", fx == x1),
+            "top": ("corner_top_right", "corner_top_left", fy == y1),
+            "left": ("corner_top_left", "corner_bottom_left", fx == x0),
+        }
         focus_point = points[at_corner[0]] if at_corner else geo.addPoint(fx, fy, 0.0)
         lines = {}
         for tag, (a, b, on_it) in sides.items():
             if on_it and not at_corner:  # split the side at focus
-                lines[tag] = [geo.addLine(points[a], focus_point),
-                              geo.addLine(focus_point, points[b])]
+                lines[tag] = [
+                    geo.addLine(points[a], focus_point),
+                    geo.addLine(focus_point, points[b]),
+                ]
                 if uniform_edges:
-                    _uniform_near_focus(geo, lines[tag], [corners[a], corners[b]], (fx, fy),
-                                        h_contact, contact_zone)
+                    _uniform_near_focus(
+                        geo, lines[tag], [corners[a], corners[b]], (fx, fy), h_contact, contact_zone
+                    )
             else:
                 lines[tag] = [geo.addLine(points[a], points[b])]
         loop = geo.addCurveLoop([c for tag in sides for c in lines[tag]])
@@ -316,21 +362,29 @@ def graded_block(width: float, height: float, h_contact: float, contact_zone: fl
             gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [p]), name)
         gmsh.model.addPhysicalGroup(2, [surface])
 
-        xyz, triangles, edges, node_sets = _mesh_graded_around(gmsh, [focus_point], h_contact,
-                                                               contact_zone, h_max, growth)
+        xyz, triangles, edges, node_sets = _mesh_graded_around(
+            gmsh, [focus_point], h_contact, contact_zone, h_max, growth
+        )
 
     nodes = xyz[:, :2].copy()
     # the sides are exact lines; snap round-off of their nodes (the corners and focus are exact)
-    for tag, axis, value in (("bottom", 1, y0), ("right", 0, x1), ("top", 1, y1),
-                             ("left", 0, x0)):
+    for tag, axis, value in (("bottom", 1, y0), ("right", 0, x1), ("top", 1, y1), ("left", 0, x0)):
         nodes[np.unique(edges[tag]), axis] = value
-    return checked_mesh(nodes, triangles, edges, node_sets, where="block mesh",
-                        flip_clockwise=True)
+    return checked_mesh(nodes, triangles, edges, node_sets, where="block mesh", flip_clockwise=True)
 
 
 @cached
-def refined_block(width: float, height: float, nx: int, ny: int, box, h_max: float,
-                  growth: float = 0.1, x0: float = 0.0, y0: float = 0.0) -> Mesh:
+def refined_block(
+    width: float,
+    height: float,
+    nx: int,
+    ny: int,
+    box,
+    h_max: float,
+    growth: float = 0.1,
+    x0: float = 0.0,
+    y0: float = 0.0,
+) -> Mesh:
     """The structured :func:`block` (nx x ny cells) kept only inside ``box`` = [bx0, by0, bx1,
     by1]; the rest of the rectangle meshed by gmsh, coarsening away from the box.
 
@@ -349,8 +403,10 @@ def refined_block(width: float, height: float, nx: int, ny: int, box, h_max: flo
         return block(width, height, nx, ny, x0, y0)
     h = min(width / nx, height / ny)
     if not (h_max >= h and growth > 0):
-        raise MeshError(f"block mesh: h_max = {h_max:g}, growth = {growth:g}: need h_max >= "
-                        f"the grid spacing {h:g} and growth > 0")
+        raise MeshError(
+            f"block mesh: h_max = {h_max:g}, growth = {growth:g}: need h_max >= "
+            f"the grid spacing {h:g} and growth > 0"
+        )
     patch, patch_triangles = _structured_patch(width, height, nx, ny, cells, x0, y0)
     counts = (cells[2] - cells[0], cells[3] - cells[1])
     hole = (patch[0, 0], patch[0, 1], patch[-1, 0], patch[-1, 1])
@@ -373,16 +429,22 @@ def _box_cells(width, height, nx, ny, box, x0, y0) -> tuple[int, int, int, int]:
     tol = 1e-9 * max(width, height)
     shown = f"refine_box [{bx0:g}, {by0:g}, {bx1:g}, {by1:g}]"
     if not (bx0 < bx1 and by0 < by1):
-        raise MeshError(f"block mesh: {shown} is empty: write it [x0, y0, x1, y1] with "
-                        f"x0 < x1 and y0 < y1")
+        raise MeshError(
+            f"block mesh: {shown} is empty: write it [x0, y0, x1, y1] with " f"x0 < x1 and y0 < y1"
+        )
     if not (x0 - tol <= bx0 and bx1 <= x1 + tol and y0 - tol <= by0 and by1 <= y1 + tol):
-        raise MeshError(f"block mesh: {shown} reaches outside the block [{x0:g}, {x1:g}] x "
-                        f"[{y0:g}, {y1:g}]: keep it inside")
-    lower = [max(0, int(np.floor((b - o) * n / size + 1e-9)))
-             for b, o, n, size in ((bx0, x0, nx, width), (by0, y0, ny, height))]
-    upper = [min(n, max(lo + 1, int(np.ceil((b - o) * n / size - 1e-9))))
-             for b, o, n, size, lo in ((bx1, x0, nx, width, lower[0]),
-                                       (by1, y0, ny, height, lower[1]))]
+        raise MeshError(
+            f"block mesh: {shown} reaches outside the block [{x0:g}, {x1:g}] x "
+            f"[{y0:g}, {y1:g}]: keep it inside"
+        )
+    lower = [
+        max(0, int(np.floor((b - o) * n / size + 1e-9)))
+        for b, o, n, size in ((bx0, x0, nx, width), (by0, y0, ny, height))
+    ]
+    upper = [
+        min(n, max(lo + 1, int(np.ceil((b - o) * n / size - 1e-9))))
+        for b, o, n, size, lo in ((bx1, x0, nx, width, lower[0]), (by1, y0, ny, height, lower[1]))
+    ]
     return lower[0], lower[1], upper[0], upper[1]
 
 
@@ -391,8 +453,9 @@ def _structured_patch(width, height, nx, ny, cells, x0, y0):
     with the block's own coordinate formula and diagonal parity; node (i, j) is row
     (j - j0) (i1 - i0 + 1) + i - i0."""
     i0, j0, i1, j1 = cells
-    X, Y = np.meshgrid(x0 + width * np.arange(i0, i1 + 1) / nx,
-                       y0 + height * np.arange(j0, j1 + 1) / ny)
+    X, Y = np.meshgrid(
+        x0 + width * np.arange(i0, i1 + 1) / nx, y0 + height * np.arange(j0, j1 + 1) / ny
+    )
 
     def nid(i, j):
         return (j - j0) * (i1 - i0 + 1) + i - i0
@@ -410,20 +473,31 @@ def _mesh_outside_box(rect, hole, counts, h, h_max, growth):
     with gmsh_session() as gmsh:
         gmsh.model.add("refined_block")
         occ = gmsh.model.occ
-        occ.cut([(2, occ.addRectangle(x0, y0, 0.0, x1 - x0, y1 - y0))],
-                [(2, occ.addRectangle(X0, Y0, 0.0, X1 - X0, Y1 - Y0))])
+        occ.cut(
+            [(2, occ.addRectangle(x0, y0, 0.0, x1 - x0, y1 - y0))],
+            [(2, occ.addRectangle(X0, Y0, 0.0, X1 - X0, Y1 - Y0))],
+        )
         occ.synchronize()
         tol = 1e-9 * max(x1 - x0, y1 - y0)
         for _, curve in gmsh.model.getEntities(1):
-            ends = [gmsh.model.getValue(0, abs(t), [])[:2]
-                    for _, t in gmsh.model.getBoundary([(1, curve)], oriented=False)]
+            ends = [
+                gmsh.model.getValue(0, abs(t), [])[:2]
+                for _, t in gmsh.model.getBoundary([(1, curve)], oriented=False)
+            ]
             n = _segments_on_hole(*ends, hole, counts, tol)
             if n:
                 gmsh.model.mesh.setTransfiniteCurve(curve, n + 1)
         fields = gmsh.model.mesh.field
         size = fields.add("Box")
-        for key, value in (("VIn", h), ("VOut", h_max), ("XMin", X0), ("XMax", X1),
-                           ("YMin", Y0), ("YMax", Y1), ("Thickness", (h_max - h) / growth)):
+        for key, value in (
+            ("VIn", h),
+            ("VOut", h_max),
+            ("XMin", X0),
+            ("XMax", X1),
+            ("YMin", Y0),
+            ("YMax", Y1),
+            ("Thickness", (h_max - h) / growth),
+        ):
             fields.setNumber(size, key, value)
         xyz, triangles, _, _ = _mesh_with_size_field(gmsh, size)
     nodes = xyz[:, :2].copy()
@@ -437,11 +511,19 @@ def _segments_on_hole(p, q, hole, counts, tol) -> int:
     (a part of it, when the hole touches the rectangle's boundary), else 0."""
     X0, Y0, X1, Y1 = hole
     (px, py), (qx, qy) = p, q
-    if abs(py - qy) <= tol and min(abs(py - Y0), abs(py - Y1)) <= tol \
-            and min(px, qx) >= X0 - tol and max(px, qx) <= X1 + tol:
+    if (
+        abs(py - qy) <= tol
+        and min(abs(py - Y0), abs(py - Y1)) <= tol
+        and min(px, qx) >= X0 - tol
+        and max(px, qx) <= X1 + tol
+    ):
         return round(abs(qx - px) / (X1 - X0) * counts[0])
-    if abs(px - qx) <= tol and min(abs(px - X0), abs(px - X1)) <= tol \
-            and min(py, qy) >= Y0 - tol and max(py, qy) <= Y1 + tol:
+    if (
+        abs(px - qx) <= tol
+        and min(abs(px - X0), abs(px - X1)) <= tol
+        and min(py, qy) >= Y0 - tol
+        and max(py, qy) <= Y1 + tol
+    ):
         return round(abs(qy - py) / (Y1 - Y0) * counts[1])
     return 0
 
@@ -459,8 +541,10 @@ def _rows_on_patch(outer, patch, hole, counts, tol) -> np.ndarray:
     off = np.abs(patch[rows[on]] - outer[on]).max(axis=1, initial=0.0) > tol
     if off.any():
         k = on[np.argmax(off)]
-        raise MeshError(f"block mesh: gmsh put a node at ({x[k]:g}, {y[k]:g}) on the refine_box "
-                        f"side between the grid's nodes: report this (gmsh version)")
+        raise MeshError(
+            f"block mesh: gmsh put a node at ({x[k]:g}, {y[k]:g}) on the refine_box "
+            f"side between the grid's nodes: report this (gmsh version)"
+        )
     return rows
 
 
@@ -468,15 +552,23 @@ def _side_chains(nodes, used, rect) -> tuple[dict, dict]:
     """Edge tags bottom / right / top / left of a rectangle's mesh (the used nodes on each side,
     counter-clockwise, joined into segments) and its corner node sets."""
     x0, y0, x1, y1 = rect
-    sides = {"bottom": (1, y0, 0, 1.0), "right": (0, x1, 1, 1.0), "top": (1, y1, 0, -1.0),
-             "left": (0, x0, 1, -1.0)}
+    sides = {
+        "bottom": (1, y0, 0, 1.0),
+        "right": (0, x1, 1, 1.0),
+        "top": (1, y1, 0, -1.0),
+        "left": (0, x0, 1, -1.0),
+    }
     edges = {}
     for tag, (axis, value, along, sense) in sides.items():
         on = used[nodes[used, axis] == value]
         on = on[np.argsort(sense * nodes[on, along], kind="stable")]
         edges[tag] = np.column_stack([on[:-1], on[1:]])
     corners = {}
-    for name, (cx, cy) in (("corner_bottom_left", (x0, y0)), ("corner_bottom_right", (x1, y0)),
-                           ("corner_top_right", (x1, y1)), ("corner_top_left", (x0, y1))):
+    for name, (cx, cy) in (
+        ("corner_bottom_left", (x0, y0)),
+        ("corner_bottom_right", (x1, y0)),
+        ("corner_top_right", (x1, y1)),
+        ("corner_top_left", (x0, y1)),
+    ):
         corners[name] = used[(nodes[used, 0] == cx) & (nodes[used, 1] == cy)]
     return edges, corners

@@ -17,8 +17,10 @@ def gmsh_session():
     try:
         import gmsh
     except ImportError:
-        raise MeshError("the gmsh Python package is needed for the built-in meshes and .msh "
-                        "files: pip install gmsh") from None
+        raise MeshError(
+            "the gmsh Python package is needed for the built-in meshes and .msh "
+            "files: pip install gmsh"
+        ) from None
     if gmsh.isInitialized():
         gmsh.finalize()
     gmsh.initialize(["", "-v", "0"], readConfigFiles=False, interruptible=False)
@@ -37,8 +39,9 @@ def size_field_only(gmsh, field: int) -> None:
         gmsh.option.setNumber(f"Mesh.{opt}", 0)
 
 
-def threshold_field(gmsh, h_contact: float, contact_zone: float, h_max: float, growth: float,
-                    points=(), curves=()) -> int:
+def threshold_field(
+    gmsh, h_contact: float, contact_zone: float, h_max: float, growth: float, points=(), curves=()
+) -> int:
     """The size field h = h_contact within contact_zone of the geometry ``points`` and
     ``curves`` (d = the distance from the nearest), growing linearly, h = h_contact + growth
     (d - contact_zone), up to h_max (Distance + Threshold)."""
@@ -63,8 +66,9 @@ def _node_rows(gmsh):
     (-1 for a tag that is not a node; tags may be huge)."""
     tags, coords, _ = gmsh.model.mesh.getNodes()
     if len(tags) == 0:
-        raise MeshError("the file holds no mesh (no nodes): save the mesh, not only the "
-                        "geometry")
+        raise MeshError(
+            "the file holds no mesh (no nodes): save the mesh, not only the " "geometry"
+        )
     order = np.argsort(tags, kind="stable")
     sorted_tags = tags[order].astype(np.int64)
 

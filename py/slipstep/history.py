@@ -103,8 +103,11 @@ def stage_ends(result, n_stages: int) -> list[tuple[int, int]]:
     out = []
     snaps = result.get("snapshots", [])
     for k in range(n_stages):
-        own = [i for i, s in enumerate(snaps) if int(s.get("stage", 0)) == k
-               and abs(float(s["load_fraction"]) - 1.0) <= 1e-12]
+        own = [
+            i
+            for i, s in enumerate(snaps)
+            if int(s.get("stage", 0)) == k and abs(float(s["load_fraction"]) - 1.0) <= 1e-12
+        ]
         at_t = [i for i, s in enumerate(snaps) if abs(snapshot_time(s) - (k + 1)) <= 1e-12]
         if own or at_t:
             out.append((k, (own or at_t)[-1]))
@@ -113,8 +116,11 @@ def stage_ends(result, n_stages: int) -> list[tuple[int, int]]:
 
 def is_staged(scene, result) -> bool:
     """True for a load path with several stages, prescribed displacements or motions."""
-    return (len(stage_names(scene, result)) > 1 or bool(getattr(scene, "prescribed", {}))
-            or bool(getattr(scene, "motions", {})))
+    return (
+        len(stage_names(scene, result)) > 1
+        or bool(getattr(scene, "prescribed", {}))
+        or bool(getattr(scene, "motions", {}))
+    )
 
 
 def load_factor(scene, name: str, t):

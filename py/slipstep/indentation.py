@@ -31,8 +31,10 @@ EPSILON = {"vickers": 0.72, "berkovich": 0.72, "sphere": 0.75}
 #: β of E_r = √π S / (2 β √A).
 BETA = {"vickers": 1.012, "berkovich": 1.034, "sphere": 1.0}
 #: Face angle from the axis of the ideal pyramids (slipstep.space.indenters.FACE_ANGLE).
-AREA_COEFFICIENT = {"vickers": 4.0 * math.tan(math.radians(68.0)) ** 2,
-                    "berkovich": 3.0 * math.sqrt(3.0) * math.tan(math.radians(65.27)) ** 2}
+AREA_COEFFICIENT = {
+    "vickers": 4.0 * math.tan(math.radians(68.0)) ** 2,
+    "berkovich": 3.0 * math.sqrt(3.0) * math.tan(math.radians(65.27)) ** 2,
+}
 
 
 def projected_area(indenter: str, h_c: float, radius: float | None = None) -> float:
@@ -95,9 +97,15 @@ def power_law_fit(h, P) -> tuple[float, float, float]:
     return alpha, hf, m
 
 
-def oliver_pharr(h, P, indenter: str, radius: float | None = None,
-                 epsilon: float | None = None, beta: float | None = None,
-                 upper: float = UPPER_FRACTION) -> dict:
+def oliver_pharr(
+    h,
+    P,
+    indenter: str,
+    radius: float | None = None,
+    epsilon: float | None = None,
+    beta: float | None = None,
+    upper: float = UPPER_FRACTION,
+) -> dict:
     """The Oliver–Pharr numbers of a load-depth curve with an unloading branch (module doc):
     ``h_max``, ``P_max``, the fit (``alpha``, ``h_f``, ``m``, ``n_fit`` points), ``S``,
     ``h_c``, ``A``, ``H``, ``E_r``, and the ``epsilon`` and ``beta`` used.  ValueError when the
@@ -114,7 +122,20 @@ def oliver_pharr(h, P, indenter: str, radius: float | None = None,
     b = BETA[indenter] if beta is None else beta
     h_c = h_max - eps * P_max / S
     A = projected_area(indenter, h_c, radius)
-    return {"indenter": indenter, "h_max": h_max, "P_max": P_max, "alpha": alpha, "h_f": h_f,
-            "m": m, "n_fit": int(len(fitted)), "upper_fraction": upper, "S": S,
-            "epsilon": eps, "beta": b, "h_c": h_c, "A": A, "H": P_max / A,
-            "E_r": math.sqrt(math.pi) * S / (2.0 * b * math.sqrt(A))}
+    return {
+        "indenter": indenter,
+        "h_max": h_max,
+        "P_max": P_max,
+        "alpha": alpha,
+        "h_f": h_f,
+        "m": m,
+        "n_fit": int(len(fitted)),
+        "upper_fraction": upper,
+        "S": S,
+        "epsilon": eps,
+        "beta": b,
+        "h_c": h_c,
+        "A": A,
+        "H": P_max / A,
+        "E_r": math.sqrt(math.pi) * S / (2.0 * b * math.sqrt(A)),
+    }

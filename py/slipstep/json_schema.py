@@ -38,8 +38,11 @@ TYPES = {
     "box": _pair(4),
     "axes": {"type": "array", "items": {"enum": ["x", "y", "z"]}, "uniqueItems": True},
     "snapshots": {"anyOf": [{"enum": ["auto", "events"]}, {"type": "array", "items": _NUMBER}]},
-    "xy": {"type": "object", "properties": {"x": _NUMBER, "y": _NUMBER, "z": _NUMBER},
-           "additionalProperties": False},
+    "xy": {
+        "type": "object",
+        "properties": {"x": _NUMBER, "y": _NUMBER, "z": _NUMBER},
+        "additionalProperties": False,
+    },
     "factors": {"type": "object", "additionalProperties": _NUMBER},
     "points": {"type": "array", "items": _pair(2)},
 }
@@ -58,8 +61,11 @@ def key_schema(key: schema.Key, dimension: int) -> dict:
     kind = DIMENSIONAL[key.type][dimension - 2] if key.type in DIMENSIONAL else TYPES[key.type]
     out = {"enum": list(key.choices)} if key.choices else dict(kind)
     out["description"] = key.doc + (f" [{key.unit}]" if key.unit else "")
-    if key.default is not schema.REQUIRED and key.default is not None and not (
-            isinstance(key.default, float) and math.isinf(key.default)):
+    if (
+        key.default is not schema.REQUIRED
+        and key.default is not None
+        and not (isinstance(key.default, float) and math.isinf(key.default))
+    ):
         out["default"] = key.default
     return out
 
@@ -70,8 +76,11 @@ def table(keys: dict, dimension: int, extra: dict | None = None) -> dict:
     mine = {name: k for name, k in keys.items() if dimension in k.dims}
     props = {name: key_schema(k, dimension) for name, k in mine.items()}
     props.update(extra or {})
-    required = [name for name, k in mine.items()
-                if k.default is schema.REQUIRED or dimension in k.required_in]
+    required = [
+        name
+        for name, k in mine.items()
+        if k.default is schema.REQUIRED or dimension in k.required_in
+    ]
     out = {"type": "object", "properties": props, "additionalProperties": False}
     if required:
         out["required"] = required
@@ -96,9 +105,10 @@ def variants(selector: str, tables: dict, dimension: int, belongs) -> list[dict]
 
 def _mesh(dimension: int) -> dict:
     """[body.mesh]: one of the generators' tables, or a mesh file."""
-    return {"anyOf": variants("generator", schema.MESH_VARIANTS, dimension,
-                              schema.generator_dimension) +
-            [table(schema.FILE_MESH_KEYS, dimension)]}
+    return {
+        "anyOf": variants("generator", schema.MESH_VARIANTS, dimension, schema.generator_dimension)
+        + [table(schema.FILE_MESH_KEYS, dimension)]
+    }
 
 
 def dimension_schema(dimension: int) -> dict:
@@ -107,11 +117,13 @@ def dimension_schema(dimension: int) -> dict:
     for array in schema.ARRAYS:
         if array == "body":
             material = table(schema.BODY_SUBTABLES["material"], dimension)
-            item = table(schema.BODY_KEYS, dimension, {"mesh": _mesh(dimension),
-                                                       "material": material})
+            item = table(
+                schema.BODY_KEYS, dimension, {"mesh": _mesh(dimension), "material": material}
+            )
         elif array == "contact":
-            item = {"anyOf": variants("kind", schema.CONTACT_VARIANTS, dimension,
-                                      schema.kind_dimension)}
+            item = {
+                "anyOf": variants("kind", schema.CONTACT_VARIANTS, dimension, schema.kind_dimension)
+            }
         else:
             item = table(schema.ARRAY_KEYS[array], dimension)
         props[array] = {"type": "array", "items": item}
@@ -121,13 +133,21 @@ def dimension_schema(dimension: int) -> dict:
 def case_schema() -> dict:
     """The JSON Schema (draft 2020-12) of a case file: that of space when ``[analysis]
     dimension = 3``, else that of the plane."""
-    in_space = {"properties": {"analysis": {"properties": {"dimension": {"const": 3}},
-                                            "required": ["dimension"]}},
-                "required": ["analysis"]}
-    return {"$schema": "https://json-schema.org/draft/2020-12/schema",
-            "$id": "https://slipstep.invalid/case.schema.json",
-            "title": "slipstep case file", "type": "object",
-            "if": in_space, "then": dimension_schema(3), "else": dimension_schema(2)}
+    in_space = {
+        "properties": {
+            "analysis": {"properties": {"dimension": {"const": 3}}, "required": ["dimension"]}
+        },
+        "required": ["analysis"],
+    }
+    return {
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "$id": "https://slipstep.invalid/case.schema.json",
+        "title": "slipstep case file",
+        "type": "object",
+        "if": in_space,
+        "then": dimension_schema(3),
+        "else": dimension_schema(2),
+    }
 
 
 def text() -> str:

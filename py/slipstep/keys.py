@@ -46,8 +46,14 @@ def _variants(name: str, selector: str, variants: dict) -> list[Section]:
     out = []
     for values in grouped.values():
         chosen = " | ".join(f'"{v}"' for v in values)
-        out.append(Section(name, f"[{name}] {selector} = {chosen}", (selector, tuple(values)),
-                           variants[values[0]]))
+        out.append(
+            Section(
+                name,
+                f"[{name}] {selector} = {chosen}",
+                (selector, tuple(values)),
+                variants[values[0]],
+            )
+        )
     return out
 
 
@@ -57,11 +63,18 @@ def sections() -> list[Section]:
     for array in schema.ARRAYS:
         if array == "body":
             out.append(Section("body", "[[body]]", NONE, schema.BODY_KEYS))
-            out.append(Section("body.material", "[body.material]", NONE,
-                               schema.BODY_SUBTABLES["material"]))
+            out.append(
+                Section("body.material", "[body.material]", NONE, schema.BODY_SUBTABLES["material"])
+            )
             out += _variants("body.mesh", "generator", schema.MESH_VARIANTS)
-            out.append(Section("body.mesh", '[body.mesh] file = "mesh.msh" | "mesh.xdmf"',
-                               ("file", ()), schema.FILE_MESH_KEYS))
+            out.append(
+                Section(
+                    "body.mesh",
+                    '[body.mesh] file = "mesh.msh" | "mesh.xdmf"',
+                    ("file", ()),
+                    schema.FILE_MESH_KEYS,
+                )
+            )
         elif array == "contact":
             out += _variants("contact", "kind", schema.CONTACT_VARIANTS)
         else:
@@ -74,11 +87,21 @@ ALIASES = {"mesh": "body.mesh", "material": "body.material"}
 
 
 #: How each schema type is written in a case file.
-TYPE_TEXT = {"float": "number", "int": "integer", "str": "string", "bool": "true|false",
-             "vec2": "[x, y]", "vec3": "[x, y, z]", "vec": "[x, y] (3D: [x, y, z])",
-             "box": "[x0, y0, x1, y1]", "axes": '["x", "y"] (3D: "z")',
-             "snapshots": '"auto"|"events"|[t, ...]', "xy": "{x = .., y = ..} (3D: z)",
-             "factors": "{LOAD = .., ...}", "points": "[[x, y], ...]"}
+TYPE_TEXT = {
+    "float": "number",
+    "int": "integer",
+    "str": "string",
+    "bool": "true|false",
+    "vec2": "[x, y]",
+    "vec3": "[x, y, z]",
+    "vec": "[x, y] (3D: [x, y, z])",
+    "box": "[x0, y0, x1, y1]",
+    "axes": '["x", "y"] (3D: "z")',
+    "snapshots": '"auto"|"events"|[t, ...]',
+    "xy": "{x = .., y = ..} (3D: z)",
+    "factors": "{LOAD = .., ...}",
+    "points": "[[x, y], ...]",
+}
 
 
 def default_text(key: schema.Key) -> str:
@@ -101,11 +124,15 @@ def type_text(key: schema.Key) -> str:
 
 def render(section: Section, only: str | None = None, width: int = 100) -> str:
     """The section as a text table: key, type [unit], default, meaning (wrapped)."""
-    rows = [(name, type_text(k), default_text(k), k.doc) for name, k in section.keys.items()
-            if only is None or name == only]
+    rows = [
+        (name, type_text(k), default_text(k), k.doc)
+        for name, k in section.keys.items()
+        if only is None or name == only
+    ]
     if section.name == "body" and only is None:
-        rows += [(sub, "table", "required", f"[body.{sub}], below")
-                 for sub in schema.BODY_SUBTABLES]
+        rows += [
+            (sub, "table", "required", f"[body.{sub}], below") for sub in schema.BODY_SUBTABLES
+        ]
     widths = [max(len(r[i]) for r in rows + [("key", "type", "default", "")]) for i in range(3)]
     indent = sum(widths) + 2 + 2 * 3
     lines = [section.title]
@@ -145,7 +172,15 @@ def _merged(chosen: list[Section], key: str) -> list[Section]:
     groups: dict[int, list[Section]] = {}
     for s in chosen:
         groups.setdefault(id(s.keys[key]), []).append(s)
-    return [g[0] if len(g) == 1 else
-            Section(g[0].name, f"[{g[0].name}] {g[0].variants[0]} = "
-                    + " | ".join(f'"{v}"' for s in g for v in s.variants[1]), NONE, g[0].keys)
-            for g in groups.values()]
+    return [
+        g[0]
+        if len(g) == 1
+        else Section(
+            g[0].name,
+            f"[{g[0].name}] {g[0].variants[0]} = "
+            + " | ".join(f'"{v}"' for s in g for v in s.variants[1]),
+            NONE,
+            g[0].keys,
+        )
+        for g in groups.values()
+    ]

@@ -28,8 +28,11 @@ from .resultants import contact_normal, drivers, indentation, step_history, whol
 
 def depth_drivers(scene, hist: dict) -> dict:
     """The drivers of ``load_depth``: motions and prescribed displacements into a contact."""
-    return {k: d for k, d in drivers(scene, hist).items()
-            if d["kind"] in ("motion", "displacement") and not d["tangential"]}
+    return {
+        k: d
+        for k, d in drivers(scene, hist).items()
+        if d["kind"] in ("motion", "displacement") and not d["tangential"]
+    }
 
 
 def shear_drivers(scene, hist: dict) -> dict:
@@ -41,8 +44,9 @@ def _panels(n: int, ax, what: str):
     if ax is not None:
         axes = given_axes(ax, n, what)
         return axes[0].figure, axes, False
-    fig = new_figure(5.2 * n, 4.4, left=0.15 / n, right=1 - 0.03 / n, bottom=0.12, top=0.87,
-                     wspace=0.32)
+    fig = new_figure(
+        5.2 * n, 4.4, left=0.15 / n, right=1 - 0.03 / n, bottom=0.12, top=0.87, wspace=0.32
+    )
     return fig, list(np.atleast_1d(fig.subplots(1, n))), True
 
 
@@ -59,8 +63,7 @@ def _by_stage(ax, x, y, stage, names) -> None:
     ax.xaxis.set_major_locator(MaxNLocator(5))
 
 
-def load_depth_figure(path: Path | None, scene, result, summary: dict | None = None, *,
-                      ax=None):
+def load_depth_figure(path: Path | None, scene, result, summary: dict | None = None, *, ax=None):
     """Force against depth per driver into a contact (module doc), with the Oliver–Pharr
     analysis where an indenter unloads; on the caller's Axes ``ax`` (one per driver) if
     given."""
@@ -78,8 +81,7 @@ def load_depth_figure(path: Path | None, scene, result, summary: dict | None = N
             _unloading_inset(ax, h, P, d["stage"], names, op)
         what = "depth" if d["kind"] == "motion" else "prescribed displacement"
         ax.set_xlabel(label(f"{name}: {what} h", scene, "length"))
-        ax.set_ylabel(label("force P" + (" (whole model)" if d["planes"] else ""), scene,
-                            "force"))
+        ax.set_ylabel(label("force P" + (" (whole model)" if d["planes"] else ""), scene, "force"))
         ax.set_xlim(left=min(0.0, float(np.nanmin(h))))
         ax.set_ylim(bottom=min(0.0, float(np.nanmin(P))))
         ax.grid(alpha=0.3)
@@ -99,8 +101,7 @@ def _unloading_inset(ax, h, P, stage, names, op: dict) -> None:
     lo = h_f - 0.15 * (h_max - h_f)
     hs = np.linspace(h_f, h_max, 60)
     inset.plot(hs, op["alpha"] * (hs - h_f) ** op["m"], "k--", lw=0.8)
-    inset.plot([h_max - op["P_max"] / op["S"], h_max], [0.0, op["P_max"]], ":", color="0.3",
-               lw=0.8)
+    inset.plot([h_max - op["P_max"] / op["S"], h_max], [0.0, op["P_max"]], ":", color="0.3", lw=0.8)
     inset.set_xlim(lo, h_max + 0.05 * (h_max - h_f))
     inset.set_ylim(0, 1.05 * op["P_max"])
     inset.tick_params(labelsize=6)
@@ -112,8 +113,13 @@ def _oliver_pharr(ax, op: dict, scene) -> None:
     """The fit of the upper unloading part, the tangent S at h_max, and the numbers."""
     h_max, P_max, h_f = op["h_max"], op["P_max"], op["h_f"]
     hs = np.linspace(max(h_f, h_max - 1.5 * (h_max - h_f)), h_max, 100)
-    ax.plot(hs, op["alpha"] * np.clip(hs - h_f, 0, None) ** op["m"], "k--", lw=0.9,
-            label=f"fit P = α (h − h_f)^m, m = {op['m']:.3g}")
+    ax.plot(
+        hs,
+        op["alpha"] * np.clip(hs - h_f, 0, None) ** op["m"],
+        "k--",
+        lw=0.9,
+        label=f"fit P = α (h − h_f)^m, m = {op['m']:.3g}",
+    )
     h0 = h_max - P_max / op["S"]
     ax.plot([h0, h_max], [0.0, P_max], ":", color="0.3", lw=0.9, label="S = dP/dh at h_max")
     ax.plot([op["h_c"]], [0.0], "v", color="k", ms=5, label="h_c")
@@ -122,12 +128,22 @@ def _oliver_pharr(ax, op: dict, scene) -> None:
     def q(v, kind):
         return f"{v:.4g} {units[kind]}" if units else f"{v:.4g}"
 
-    text = (f"Oliver–Pharr ({op['indenter']}, ε = {op['epsilon']}, β = {op['beta']})\n"
-            f"S = {op['S']:.4g}, h_c = {q(op['h_c'], 'length')}\n"
-            f"A(h_c) = {op['A']:.4g}, H = {q(op['H'], 'stress')}\n"
-            f"E_r = {q(op['E_r'], 'stress')}")
-    ax.text(0.98, 0.03, text, transform=ax.transAxes, ha="right", va="bottom", fontsize=7.5,
-            bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.7"})
+    text = (
+        f"Oliver–Pharr ({op['indenter']}, ε = {op['epsilon']}, β = {op['beta']})\n"
+        f"S = {op['S']:.4g}, h_c = {q(op['h_c'], 'length')}\n"
+        f"A(h_c) = {op['A']:.4g}, H = {q(op['H'], 'stress')}\n"
+        f"E_r = {q(op['E_r'], 'stress')}"
+    )
+    ax.text(
+        0.98,
+        0.03,
+        text,
+        transform=ax.transAxes,
+        ha="right",
+        va="bottom",
+        fontsize=7.5,
+        bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.7"},
+    )
 
 
 def q_delta_figure(path: Path | None, scene, result, summary: dict | None = None, *, ax=None):
@@ -147,14 +163,21 @@ def q_delta_figure(path: Path | None, scene, result, summary: dict | None = None
         first = np.flatnonzero(np.abs(dd) > 0)
         if len(first):  # the first increment's stiffness: where Q would go without slip
             k0 = dq[first[0]] / dd[first[0]]
-            ax.plot([0.0, float(np.nanmax(dd))], [Q[start], Q[start] + k0 * float(np.nanmax(dd))],
-                    ":", color="0.4", lw=0.9, label="first increment's stiffness")
+            ax.plot(
+                [0.0, float(np.nanmax(dd))],
+                [Q[start], Q[start] + k0 * float(np.nanmax(dd))],
+                ":",
+                color="0.4",
+                lw=0.9,
+                label="first increment's stiffness",
+            )
         limit = _friction_limit(scene, hist, d, start)
         if limit is not None:
             ax.axhline(limit, color="k", ls="--", lw=0.9, label=f"μP = {limit:.4g}")
         ax.set_xlabel(label(f"{name}: tangential displacement δ", scene, "length"))
-        ax.set_ylabel(label("tangential force Q" + (" (whole model)" if d["planes"] else ""),
-                            scene, "force"))
+        ax.set_ylabel(
+            label("tangential force Q" + (" (whole model)" if d["planes"] else ""), scene, "force")
+        )
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="lower right")
     title(fig, axes, f"{scene.case.name}: tangential force against displacement (Mindlin)", own)
@@ -165,8 +188,11 @@ def _friction_limit(scene, hist: dict, d: dict, row: int) -> float | None:
     """μ P of the one frictional contact a tangential driver shears, P its normal force (the
     whole's, along its mean normal) at ``row``; None unless exactly one contact touches it."""
     a = np.asarray(scene.model["pairs"]["node_a"], dtype=np.int64)
-    ids = np.concatenate([np.arange(scene.meshes[x].n_nodes) + scene.offsets[x]
-                          for x in d["bodies"]]) if d["bodies"] else np.zeros(0, np.int64)
+    ids = (
+        np.concatenate([np.arange(scene.meshes[x].n_nodes) + scene.offsets[x] for x in d["bodies"]])
+        if d["bodies"]
+        else np.zeros(0, np.int64)
+    )
     b = np.asarray(scene.model["pairs"]["node_b"], dtype=np.int64)
     touching = np.unique(np.asarray(scene.pair_contact)[np.isin(a, ids) | np.isin(b, ids)])
     if d["kind"] == "motion":

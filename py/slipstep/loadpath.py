@@ -16,11 +16,11 @@ class Load:
     """One load pattern at factor 1: ``[load]``, a ``[[bc]]`` with pressure, traction or
     displacement, a ``[[point_load]]``, or a ``[[contact]]`` with motion."""
 
-    name: str        # its `name` ("load" for [load]); "" when unnamed
-    key: str         # the element as --set spells it: "load", "bc", "bc.1", "bc.push"
-    array: str       # "load", "bc", "point_load" or "contact"
-    index: int       # its position in that array
-    force: bool      # applies forces (P, pressure, traction, a point force)
+    name: str  # its `name` ("load" for [load]); "" when unnamed
+    key: str  # the element as --set spells it: "load", "bc", "bc.1", "bc.push"
+    array: str  # "load", "bc", "point_load" or "contact"
+    index: int  # its position in that array
+    force: bool  # applies forces (P, pressure, traction, a point force)
     kinematic: bool  # prescribes displacements or moves a rigid obstacle
 
     @property
@@ -68,15 +68,34 @@ def case_loads(data: dict) -> tuple:
     for i, bc in enumerate(data["bc"]):
         force = bc["pressure"] != 0.0 or any(c != 0.0 for c in bc["traction"])
         if force or bc["displacement"]:
-            out.append(Load(bc["name"], element_key("bc", data["bc"], i), "bc", i, force,
-                            bool(bc["displacement"])))
+            out.append(
+                Load(
+                    bc["name"],
+                    element_key("bc", data["bc"], i),
+                    "bc",
+                    i,
+                    force,
+                    bool(bc["displacement"]),
+                )
+            )
     for i, pl in enumerate(data["point_load"]):
-        out.append(Load(pl["name"], element_key("point_load", data["point_load"], i),
-                        "point_load", i, True, False))
+        out.append(
+            Load(
+                pl["name"],
+                element_key("point_load", data["point_load"], i),
+                "point_load",
+                i,
+                True,
+                False,
+            )
+        )
     for i, c in enumerate(data["contact"]):
         if c.get("motion") is not None:
-            out.append(Load(c["name"], element_key("contact", data["contact"], i), "contact", i,
-                            False, True))
+            out.append(
+                Load(
+                    c["name"], element_key("contact", data["contact"], i), "contact", i, False, True
+                )
+            )
     return tuple(out)
 
 
@@ -90,13 +109,22 @@ def load_path(data: dict, source: str = "<case>") -> LoadPath:
         patterns = tuple(x for x in loads if x.kinematic)
         _check_load_names(patterns, source)
         n = 1 + len(patterns)
-        return LoadPath(loads, None, patterns, ("load", *(x.label for x in patterns)),
-                        ("stage 1",), ((0.0,) * n, (1.0,) * n), False)
+        return LoadPath(
+            loads,
+            None,
+            patterns,
+            ("load", *(x.label for x in patterns)),
+            ("stage 1",),
+            ((0.0,) * n, (1.0,) * n),
+            False,
+        )
     for x in loads:
         if not x.name:
-            raise CaseError(f"{source}: {x.key} is a load without a name: with [[stage]] every "
-                            f'load needs one; add name = "..." to it (stages name loads in '
-                            f"factors)")
+            raise CaseError(
+                f"{source}: {x.key} is a load without a name: with [[stage]] every "
+                f'load needs one; add name = "..." to it (stages name loads in '
+                f"factors)"
+            )
     _check_load_names(loads, source)
     head = next((x for x in loads if x.name == "load"), None)
     patterns = tuple(x for x in loads if x is not head)
@@ -111,12 +139,16 @@ def _check_load_names(loads, source: str) -> None:
     seen = {}
     for x in loads:
         if x.label == "load" and x.kinematic:
-            raise CaseError(f'{source}: {x.key}.name = "load" is not allowed: "load" names the '
-                            f"force pattern ([load], or a force [[bc]]/[[point_load]] named so); "
-                            f'a displacement or motion load needs another name, e.g. "push"')
+            raise CaseError(
+                f'{source}: {x.key}.name = "load" is not allowed: "load" names the '
+                f"force pattern ([load], or a force [[bc]]/[[point_load]] named so); "
+                f'a displacement or motion load needs another name, e.g. "push"'
+            )
         if x.label in seen:  # by index: --set finds the first of a shared name
-            raise CaseError(f"{source}: {x.array}.{x.index}.name = {toml_text(x.label)} is used twice "
-                            f"(also by {seen[x.label]}): load names must be unique; rename one")
+            raise CaseError(
+                f"{source}: {x.array}.{x.index}.name = {toml_text(x.label)} is used twice "
+                f"(also by {seen[x.label]}): load names must be unique; rename one"
+            )
         seen[x.label] = x.place
 
 
@@ -129,13 +161,17 @@ def _factor_rows(stages: list, names: tuple, has_load: bool, source: str) -> tup
         key = element_key("stage", stages, k) + ".factors"
         for name, value in stage["factors"].items():
             if name not in valid:
-                raise CaseError(f"{source}: {key}.{name} = {toml_text(value)} is not allowed: no load "
-                                f"is named {toml_text(name)} (loads: {', '.join(valid) or 'none'}); "
-                                f'a load is named by its name key ([load] is "load")')
+                raise CaseError(
+                    f"{source}: {key}.{name} = {toml_text(value)} is not allowed: no load "
+                    f"is named {toml_text(name)} (loads: {', '.join(valid) or 'none'}); "
+                    f'a load is named by its name key ([load] is "load")'
+                )
             current[names.index(name)] = value
         if tuple(current) == rows[-1]:
-            raise CaseError(f"{source}: {key} changes nothing: every factor equals its value at "
-                            f"the end of the previous stage (all start at 0); give a factor that "
-                            f"changes, or remove the stage")
+            raise CaseError(
+                f"{source}: {key} changes nothing: every factor equals its value at "
+                f"the end of the previous stage (all start at 0); give a factor that "
+                f"changes, or remove the stage"
+            )
         rows.append(tuple(current))
     return tuple(rows)

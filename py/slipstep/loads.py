@@ -18,8 +18,15 @@ from .space.loads import face_load, sphere_cut_pressure
 from .supports import bc_surface
 
 
-def edge_load(nodes: np.ndarray, segments: np.ndarray, n_nodes: int, thickness: float,
-              pressure: float = 0.0, traction=(0.0, 0.0), plane: str = "strain") -> np.ndarray:
+def edge_load(
+    nodes: np.ndarray,
+    segments: np.ndarray,
+    n_nodes: int,
+    thickness: float,
+    pressure: float = 0.0,
+    traction=(0.0, 0.0),
+    plane: str = "strain",
+) -> np.ndarray:
     """Consistent nodal loads of a uniform pressure and/or traction on linear edge segments.
 
     Traction on a segment: t = traction - pressure * n (n outward); each end node gets t times
@@ -29,7 +36,9 @@ def edge_load(nodes: np.ndarray, segments: np.ndarray, n_nodes: int, thickness: 
     f = np.zeros(2 * n_nodes)
     if len(segments) == 0:
         return f
-    t = np.asarray(traction, dtype=np.float64)[None, :] - pressure * meshing.outward_normals(nodes, segments)
+    t = np.asarray(traction, dtype=np.float64)[None, :] - pressure * meshing.outward_normals(
+        nodes, segments
+    )
     share = boundary_shares(nodes, segments, plane, thickness)
     for end in (0, 1):
         force = t * share[:, end, None]
@@ -43,8 +52,9 @@ def load_vector(scene: Scene) -> np.ndarray:
     pressure/traction, ``[load] P``, ``[[point_load]]``, in this order), thickness included."""
     rank = {"bc": 0, "load": 1, "point_load": 2}
     f = np.zeros(scene.n_dofs)
-    for load in sorted((x for x in case_loads(scene.case.data) if x.force),
-                       key=lambda x: rank[x.array]):
+    for load in sorted(
+        (x for x in case_loads(scene.case.data) if x.force), key=lambda x: rank[x.array]
+    ):
         f += load_force(scene, load)
     return f
 
@@ -60,8 +70,13 @@ def load_force(scene: Scene, load: Load | None) -> np.ndarray:
     if load.array == "load" and d == 3:
         body = data["load"]["body"]
         mesh = scene.case.body(body)["mesh"]
-        q = sphere_cut_pressure(data["load"]["P"], mesh["R"], mesh["portion"], scene.nodes,
-                                scene.global_boundary(body, "top"))
+        q = sphere_cut_pressure(
+            data["load"]["P"],
+            mesh["R"],
+            mesh["portion"],
+            scene.nodes,
+            scene.global_boundary(body, "top"),
+        )
         return boundary_load(scene, body, "top", q)
     if load.array == "load":
         return boundary_load(scene, data["load"]["body"], "top", hertz_cut_pressure(scene.case))
@@ -69,17 +84,19 @@ def load_force(scene: Scene, load: Load | None) -> np.ndarray:
         bc = data["bc"][load.index]
         return boundary_load(scene, bc["body"], bc_surface(bc), bc["pressure"], bc["traction"])
     pl = data["point_load"][load.index]
-    candidates = ([pl["body"]] if pl["body"] else scene.bodies)
-    ids = np.concatenate([np.arange(scene.meshes[b].n_nodes) + scene.offsets[b]
-                          for b in candidates])
+    candidates = [pl["body"]] if pl["body"] else scene.bodies
+    ids = np.concatenate(
+        [np.arange(scene.meshes[b].n_nodes) + scene.offsets[b] for b in candidates]
+    )
     node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1))]
     weight = 1.0 if plane == "axisymmetric" or d == 3 else t
-    f[d * node:d * node + d] += np.asarray(pl["force"]) * weight
+    f[d * node : d * node + d] += np.asarray(pl["force"]) * weight
     return f
 
 
-def boundary_load(scene: Scene, body: str, tag: str, pressure: float = 0.0,
-                  traction=None) -> np.ndarray:
+def boundary_load(
+    scene: Scene, body: str, tag: str, pressure: float = 0.0, traction=None
+) -> np.ndarray:
     """The consistent nodal forces of a uniform pressure and traction on a body's edge tag
     (:func:`edge_load`), or in 3D on its face tag (:func:`slipstep.space.loads.face_load`)."""
     data, n = scene.case.data, len(scene.nodes)
@@ -87,8 +104,15 @@ def boundary_load(scene: Scene, body: str, tag: str, pressure: float = 0.0,
     traction = np.zeros(scene.dimension) if traction is None else traction
     if scene.dimension == 3:
         return face_load(scene.nodes, cells, n, pressure, traction)
-    return edge_load(scene.nodes, cells, n, data["analysis"]["thickness"], pressure, traction,
-                     plane=data["analysis"]["plane"])
+    return edge_load(
+        scene.nodes,
+        cells,
+        n,
+        data["analysis"]["thickness"],
+        pressure,
+        traction,
+        plane=data["analysis"]["plane"],
+    )
 
 
 def set_load_path(scene: Scene, path: LoadPath) -> None:
@@ -100,13 +124,18 @@ def set_load_path(scene: Scene, path: LoadPath) -> None:
     scene.n_stages = path.n_stages
     scene.factors = np.array(path.factors, dtype=np.float64)
     contacts = scene.case.data["contact"]
-    scene.motions = {x.label: {"contact": x.index, "motion": list(contacts[x.index]["motion"])}
-                     for x in path.loads if x.array == "contact"}
+    scene.motions = {
+        x.label: {"contact": x.index, "motion": list(contacts[x.index]["motion"])}
+        for x in path.loads
+        if x.array == "contact"
+    }
     if path.patterns:
         scene.model["patterns"] = [load_pattern(scene, x, path.staged) for x in path.patterns]
     if path.staged:
-        scene.model["stages"] = [{"name": s["name"], "factors": np.array(row, dtype=np.float64)}
-                                 for s, row in zip(scene.case.data["stage"], path.factors[1:])]
+        scene.model["stages"] = [
+            {"name": s["name"], "factors": np.array(row, dtype=np.float64)}
+            for s, row in zip(scene.case.data["stage"], path.factors[1:])
+        ]
 
 
 def load_pattern(scene: Scene, load: Load, with_force: bool) -> dict:
@@ -132,5 +161,5 @@ def hertz_cut_pressure(case: Case) -> float:
     load = case.data["load"]
     R = case.body(load["body"])["mesh"]["R"]
     if is_axisymmetric(case):
-        return load["P"] / (math.pi * R ** 2)
+        return load["P"] / (math.pi * R**2)
     return load["P"] / (2.0 * R)

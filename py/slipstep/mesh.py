@@ -36,7 +36,9 @@ class Mesh:
     def __post_init__(self):
         self.nodes = np.ascontiguousarray(self.nodes, dtype=np.float64)
         self.triangles = np.ascontiguousarray(self.triangles, dtype=np.int64)
-        self.edges = {k: np.asarray(v, dtype=np.int64).reshape(-1, 2) for k, v in self.edges.items()}
+        self.edges = {
+            k: np.asarray(v, dtype=np.int64).reshape(-1, 2) for k, v in self.edges.items()
+        }
         for tag, segs in self.edges.items():
             self.node_sets.setdefault(tag, np.unique(segs))
         self.node_sets = {k: np.asarray(v, dtype=np.int64) for k, v in self.node_sets.items()}
@@ -92,21 +94,27 @@ def check_triangles(nodes: np.ndarray, triangles: np.ndarray, where: str = "") -
         area = signed_areas(nodes, triangles)
         p = nodes[triangles]
         sides = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
-        longest2 = (sides ** 2).sum(-1).max(1)
+        longest2 = (sides**2).sum(-1).max(1)
     if not (np.isfinite(area).all() and np.isfinite(longest2).all()):
         e = int(np.argmin(np.isfinite(area) & np.isfinite(longest2)))
-        raise MeshError(f"{prefix}element {e}: its size overflows (coordinates up to "
-                        f"{np.abs(nodes).max():.3g}): rescale the mesh (mesh.scale)")
+        raise MeshError(
+            f"{prefix}element {e}: its size overflows (coordinates up to "
+            f"{np.abs(nodes).max():.3g}): rescale the mesh (mesh.scale)"
+        )
     # the engine's threshold (rust/src/mesh.rs): twice the area <= 1e-10 (longest side)^2
     degenerate = np.abs(area) <= 0.5e-10 * longest2
     if degenerate.any():
         e = int(np.nonzero(degenerate)[0][0])
-        raise MeshError(f"{prefix}element {e} is degenerate (area {area[e]:.3g}, nodes "
-                        f"{triangles[e].tolist()}): remove it or fix its nodes")
+        raise MeshError(
+            f"{prefix}element {e} is degenerate (area {area[e]:.3g}, nodes "
+            f"{triangles[e].tolist()}): remove it or fix its nodes"
+        )
     if (area < 0).any():
         e = int(np.nonzero(area < 0)[0][0])
-        raise MeshError(f"{prefix}element {e} is inverted (signed area {area[e]:.3g}): reorder "
-                        f"its nodes counter-clockwise")
+        raise MeshError(
+            f"{prefix}element {e} is inverted (signed area {area[e]:.3g}): reorder "
+            f"its nodes counter-clockwise"
+        )
 
 
 def orient_edges(triangles: np.ndarray, edges: dict[str, np.ndarray], where: str = "") -> dict:
@@ -137,10 +145,14 @@ def orient_edges(triangles: np.ndarray, edges: dict[str, np.ndarray], where: str
             i = bad[0]
             p, q = segs[i]
             if not found[i]:
-                raise MeshError(f"{prefix}edge '{tag}' segment {int(p)}-{int(q)} is not a side of "
-                                f"any triangle")
-            raise MeshError(f"{prefix}edge '{tag}' segment {int(p)}-{int(q)} is inside the "
-                            f"mesh (shared by {counts[k[i]]} triangles): tag boundary sides only")
+                raise MeshError(
+                    f"{prefix}edge '{tag}' segment {int(p)}-{int(q)} is not a side of "
+                    f"any triangle"
+                )
+            raise MeshError(
+                f"{prefix}edge '{tag}' segment {int(p)}-{int(q)} is inside the "
+                f"mesh (shared by {counts[k[i]]} triangles): tag boundary sides only"
+            )
         out[tag] = directed[first[k]]
     return out
 
@@ -166,13 +178,16 @@ def planar_coordinates(xyz, where: str) -> np.ndarray:
     """(N, 2) float64 coordinates from (N, 2) or (N, 3) with z = 0."""
     xyz = np.asarray(xyz, dtype=np.float64)
     if xyz.ndim != 2 or xyz.shape[1] not in (2, 3):
-        raise MeshError(f"{where}: the node coordinates have shape {xyz.shape}: expected 2 or "
-                        f"3 columns")
+        raise MeshError(
+            f"{where}: the node coordinates have shape {xyz.shape}: expected 2 or " f"3 columns"
+        )
     if xyz.shape[1] == 3:
         zmax = np.abs(xyz[:, 2]).max(initial=0.0)
         if zmax > 1e-12 * max(np.abs(xyz[:, :2]).max(initial=1.0), 1.0):
-            raise MeshError(f"{where}: the mesh is not planar (|z| up to {zmax:.3g}): slipstep "
-                            f"meshes lie in the x-y plane")
+            raise MeshError(
+                f"{where}: the mesh is not planar (|z| up to {zmax:.3g}): slipstep "
+                f"meshes lie in the x-y plane"
+            )
     return xyz[:, :2]
 
 
@@ -184,23 +199,29 @@ def checked_mesh(nodes, triangles, edges, node_sets=None, where="", flip_clockwi
     node_sets = dict(node_sets or {})
     prefix = f"{where}: " if where else ""
     if len(triangles) == 0:
-        raise MeshError(f"{prefix}the mesh has no triangles: give each body at least one "
-                        f"3-node triangle")
+        raise MeshError(
+            f"{prefix}the mesh has no triangles: give each body at least one " f"3-node triangle"
+        )
     if triangles.min() < 0 or triangles.max() >= len(nodes):
         bad = int(np.nonzero((triangles < 0).any(1) | (triangles >= len(nodes)).any(1))[0][0])
-        raise MeshError(f"{prefix}element {bad} refers to a node outside 0..{len(nodes) - 1}: "
-                        f"fix the connectivity")
+        raise MeshError(
+            f"{prefix}element {bad} refers to a node outside 0..{len(nodes) - 1}: "
+            f"fix the connectivity"
+        )
     for k, v in [*edges.items(), *node_sets.items()]:
         v = np.asarray(v, dtype=np.int64)
         if v.size and (v.min() < 0 or v.max() >= len(nodes)):
-            raise MeshError(f"{prefix}tag '{k}' refers to a node that is not in the mesh: fix "
-                            f"the file")
+            raise MeshError(
+                f"{prefix}tag '{k}' refers to a node that is not in the mesh: fix " f"the file"
+            )
     used = np.unique(triangles)
     finite = np.isfinite(nodes[used]).all(axis=1)
     if not finite.all():
         k = int(used[np.argmin(finite)])
-        raise MeshError(f"{prefix}node {k} has a non-finite coordinate "
-                        f"({nodes[k, 0]}, {nodes[k, 1]}): fix the mesh file")
+        raise MeshError(
+            f"{prefix}node {k} has a non-finite coordinate "
+            f"({nodes[k, 0]}, {nodes[k, 1]}): fix the mesh file"
+        )
     if len(used) != len(nodes):
         new = np.full(len(nodes), -1, dtype=np.int64)
         new[used] = np.arange(len(used))
@@ -219,12 +240,23 @@ def checked_mesh(nodes, triangles, edges, node_sets=None, where="", flip_clockwi
     return Mesh(nodes, triangles, edges, node_sets)
 
 
-def from_arrays(nodes, triangles, edges: dict | None = None, node_sets: dict | None = None,
-                where: str = "mesh from arrays") -> Mesh:
+def from_arrays(
+    nodes,
+    triangles,
+    edges: dict | None = None,
+    node_sets: dict | None = None,
+    where: str = "mesh from arrays",
+) -> Mesh:
     """A body's mesh from numpy arrays, without files: ``nodes`` (N, 2) (or (N, 3) with z = 0),
     ``triangles`` (M, 3) node ids, ``edges`` tag -> (K, 2) boundary segments (the tags that
     [[bc]] and [[contact]] name), ``node_sets`` name -> node ids.  Checked and cleaned like a
     file mesh: unused nodes dropped, an all-clockwise mesh flipped, edges oriented with the
     body on the left."""
-    return checked_mesh(planar_coordinates(nodes, where), triangles, dict(edges or {}), node_sets,
-                        where=where, flip_clockwise=True)
+    return checked_mesh(
+        planar_coordinates(nodes, where),
+        triangles,
+        dict(edges or {}),
+        node_sets,
+        where=where,
+        flip_clockwise=True,
+    )

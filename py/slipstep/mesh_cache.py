@@ -31,8 +31,14 @@ import numpy as np
 #: The layout of an entry; a change makes every older entry stale.
 FORMAT = 1
 #: The modules whose source decides a generated mesh (the package's own files).
-MESHING_CODE = ("generators.py", "gmsh_api.py", "mesh.py", "mesh_cache.py",
-                "space/generators.py", "space/mesh.py")
+MESHING_CODE = (
+    "generators.py",
+    "gmsh_api.py",
+    "mesh.py",
+    "mesh_cache.py",
+    "space/generators.py",
+    "space/mesh.py",
+)
 PACKAGE = Path(__file__).resolve().parent
 OFF = "off"
 #: gmsh's module states its version within this many bytes of its start.
@@ -55,6 +61,7 @@ def gmsh_version() -> str:
     """The installed gmsh's version, read from the head of its Python module (gmsh itself is
     not loaded: that takes longer than reading a cached mesh); "none" without gmsh."""
     import importlib.util
+
     spec = importlib.util.find_spec("gmsh")
     if spec is None or not spec.origin:
         return "none"
@@ -85,8 +92,16 @@ def key(generator: str, arguments: dict) -> str | None:
         args = json.dumps(_plain(arguments), sort_keys=True, allow_nan=True)
     except TypeError:
         return None
-    return json.dumps({"format": FORMAT, "generator": generator, "arguments": json.loads(args),
-                       "gmsh": gmsh_version(), "code": code_version()}, sort_keys=True)
+    return json.dumps(
+        {
+            "format": FORMAT,
+            "generator": generator,
+            "arguments": json.loads(args),
+            "gmsh": gmsh_version(),
+            "code": code_version(),
+        },
+        sort_keys=True,
+    )
 
 
 def _plain(value):
@@ -148,8 +163,12 @@ def store(path: Path, entry_key: str, mesh) -> None:
     is skipped: the run goes on with the mesh it made."""
     arrays = _arrays(mesh)
     buffer = io.BytesIO()
-    np.savez(buffer, __key__=np.array(entry_key), __digest__=np.array(_digest(entry_key, arrays)),
-             **arrays)
+    np.savez(
+        buffer,
+        __key__=np.array(entry_key),
+        __digest__=np.array(_digest(entry_key, arrays)),
+        **arrays,
+    )
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         handle, temporary = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
@@ -169,6 +188,7 @@ def load(path: Path, entry_key: str):
     key, arrays that do not match their digest)."""
     from .mesh import Mesh
     from .space.mesh import TetMesh
+
     try:
         with np.load(path, allow_pickle=False) as f:
             arrays = {name: f[name] for name in f.files}
@@ -177,7 +197,11 @@ def load(path: Path, entry_key: str):
     stored_key, digest = arrays.pop("__key__", None), arrays.pop("__digest__", None)
     if stored_key is None or digest is None or str(stored_key) != entry_key:
         return None
-    if "nodes" not in arrays or "elements" not in arrays or _digest(entry_key, arrays) != str(digest):
+    if (
+        "nodes" not in arrays
+        or "elements" not in arrays
+        or _digest(entry_key, arrays) != str(digest)
+    ):
         return None
     tags = {k[4:]: v for k, v in arrays.items() if k.startswith("tag:")}
     sets = {k[4:]: v for k, v in arrays.items() if k.startswith("set:")}

@@ -46,8 +46,10 @@ def read_mesh(path: str | Path, edge_file: str | Path | None = None, scale: floa
     xy = planar_coordinates(xyz, where)
     if not np.isfinite(xy).all():
         k = int(np.nonzero(~np.isfinite(xy).all(axis=1))[0][0])
-        raise MeshError(f"{where}: node {k} has a non-finite coordinate "
-                        f"({', '.join(str(c) for c in xy[k])}): fix the mesh file")
+        raise MeshError(
+            f"{where}: node {k} has a non-finite coordinate "
+            f"({', '.join(str(c) for c in xy[k])}): fix the mesh file"
+        )
     return checked_mesh(xy * scale, triangles, edges, node_sets, where=where, flip_clockwise=True)
 
 
@@ -57,8 +59,7 @@ def _read_msh(path: str, where: str, extract):
         try:
             gmsh.open(path)
         except Exception as exc:  # gmsh raises bare Exception
-            raise MeshError(f"{where}: gmsh cannot read it: {' '.join(str(exc).split())}") \
-                from None
+            raise MeshError(f"{where}: gmsh cannot read it: {' '.join(str(exc).split())}") from None
         try:
             return extract(gmsh)
         except MeshError as exc:
@@ -108,8 +109,10 @@ def read_msh_isolated(path: Path, where: str, extract):
         return payload
     if kind == "error":
         raise MeshError(payload)
-    raise MeshError(f"{where}: gmsh crashed while reading it (exit code {child.exitcode}): the "
-                    f"file is damaged or truncated; export the mesh again")
+    raise MeshError(
+        f"{where}: gmsh crashed while reading it (exit code {child.exitcode}): the "
+        f"file is damaged or truncated; export the mesh again"
+    )
 
 
 def _read_xdmf(path: Path, need_triangles: bool = True):
@@ -133,8 +136,10 @@ def xdmf_mesh(path: Path):
     except Exception as exc:  # noqa: BLE001 - XML, HDF5, numpy and meshio errors alike
         why = " ".join(str(exc).split()) or f"{type(exc).__name__} (not a valid XDMF mesh)"
         if "one grid" in why:  # meshio reads a single grid
-            raise MeshError(f"{path}: meshio cannot read this XDMF (several grids, e.g. a time "
-                            f"series?): write the mesh on its own") from None
+            raise MeshError(
+                f"{path}: meshio cannot read this XDMF (several grids, e.g. a time "
+                f"series?): write the mesh on its own"
+            ) from None
         raise MeshError(f"{path}: meshio cannot read it: {why}") from None
     return m
 
@@ -146,8 +151,10 @@ def _meshio_cells(m, where: str, need_triangles: bool = True):
     for b in m.cells:
         if b.type not in ("triangle", "line", "vertex"):
             hint = " (a volume mesh: set analysis.dimension = 3)" if b.type == "tetra" else ""
-            raise MeshError(f"{where}: cells of type '{b.type}': only triangles and lines "
-                            f"are supported{hint}")
+            raise MeshError(
+                f"{where}: cells of type '{b.type}': only triangles and lines "
+                f"are supported{hint}"
+            )
     if need_triangles and not triangles:
         raise MeshError(f"{where}: no triangle cells")
     tri = np.concatenate(triangles) if triangles else np.zeros((0, 3), np.int64)
@@ -159,8 +166,11 @@ def tagged_cells(m, kind: str, where: str) -> dict[str, np.ndarray]:
     meshio.Mesh grouped by the first integer cell-data array of their block: tag name (its
     field_data name if any, else its number) -> cells."""
     dim = {"line": 1, "triangle": 2}[kind]
-    names = {int(v[0]): k for k, v in getattr(m, "field_data", {}).items()
-             if len(v) >= 2 and int(v[1]) == dim}
+    names = {
+        int(v[0]): k
+        for k, v in getattr(m, "field_data", {}).items()
+        if len(v) >= 2 and int(v[1]) == dim
+    }
     out: dict[str, np.ndarray] = {}
     for i, block_ in enumerate(m.cells):
         if block_.type != kind:
@@ -204,8 +214,17 @@ def write_msh(mesh: Mesh, path: str | Path) -> dict[str, int]:
     elements = [(15, tags[n], [[int(k)] for k in mesh.node_sets[n]]) for n in sets]
     elements += [(1, tags[n], mesh.edges[n].tolist()) for n in edges]
     elements.append((2, tags["body"], mesh.triangles.tolist()))
-    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(rows)),
-             *rows, "$EndPhysicalNames", "$Nodes", str(mesh.n_nodes)]
+    lines = [
+        "$MeshFormat",
+        "2.2 0 8",
+        "$EndMeshFormat",
+        "$PhysicalNames",
+        str(len(rows)),
+        *rows,
+        "$EndPhysicalNames",
+        "$Nodes",
+        str(mesh.n_nodes),
+    ]
     lines += [f"{i + 1} {x!r} {y!r} 0" for i, (x, y) in enumerate(mesh.nodes.tolist())]
     lines += ["$EndNodes", "$Elements", str(sum(len(e[2]) for e in elements))]
     k = 0

@@ -67,8 +67,9 @@ def _closest_on_target(x, nodes, target):
     seg = np.argmin(np.linalg.norm(x[:, None, :] - y, axis=2), axis=1)
     g = np.arange(len(x))
     ends = _free_ends(target)
-    beyond = ((eta[g, seg] < 0.0) & np.isin(target[seg, 0], ends)) | \
-             ((eta[g, seg] > 1.0) & np.isin(target[seg, 1], ends))
+    beyond = ((eta[g, seg] < 0.0) & np.isin(target[seg, 0], ends)) | (
+        (eta[g, seg] > 1.0) & np.isin(target[seg, 1], ends)
+    )
     return seg, clamped[g, seg], y[g, seg], ~beyond
 
 
@@ -124,16 +125,24 @@ def mortar_integrals(nodes, contactor, target, rows, radial: bool = False):
     return D, M, G, NS, L
 
 
-def node_to_segment_pairs(nodes, contactor, target, candidates, min_length,
-                          radial: bool = False):
+def node_to_segment_pairs(nodes, contactor, target, candidates, min_length, radial: bool = False):
     """The rows of the contactor nodes `candidates` (see the module doc): arrays node_a,
     node_b (the target node of largest weight, for names), normal, gap, length (∫ N_j ds),
     and the weights as a list of [(node, c)] per row; ring-weighted in axisymmetry
     (``radial``). Rows with a length <= min_length are dropped (they project nowhere)."""
-    D, M, G, NS, L = mortar_integrals(nodes, contactor, target, [int(j) for j in candidates],
-                                      radial)
-    out = {"node_a": [], "node_b": [], "normal": [], "gap": [], "point_gap": [], "foot": [],
-           "length": [], "weights": []}
+    D, M, G, NS, L = mortar_integrals(
+        nodes, contactor, target, [int(j) for j in candidates], radial
+    )
+    out = {
+        "node_a": [],
+        "node_b": [],
+        "normal": [],
+        "gap": [],
+        "point_gap": [],
+        "foot": [],
+        "length": [],
+        "weights": [],
+    }
     for j in candidates:
         j = int(j)
         S = sum(D[j].values())
@@ -145,11 +154,15 @@ def node_to_segment_pairs(nodes, contactor, target, candidates, min_length,
         out["normal"].append(n)
         out["gap"].append(G[j] / S)
         seg, eta, y, _ = _closest_on_target(nodes[j][None], nodes, target)
-        out["point_gap"].append(float((nodes[j] - y[0]) @ meshing.outward_normals(nodes, target[seg])[0]))
+        out["point_gap"].append(
+            float((nodes[j] - y[0]) @ meshing.outward_normals(nodes, target[seg])[0])
+        )
         out["foot"].append((int(target[seg[0], 0]), int(target[seg[0], 1]), float(eta[0])))
         out["length"].append(L[j])
-        out["weights"].append([(k, v / S) for k, v in D[j].items() if v != 0.0] +
-                              [(l, -v / S) for l, v in M[j].items() if v != 0.0])
+        out["weights"].append(
+            [(k, v / S) for k, v in D[j].items() if v != 0.0]
+            + [(l, -v / S) for l, v in M[j].items() if v != 0.0]
+        )
     return out
 
 
@@ -161,5 +174,8 @@ def compressed_weights(weights):
         node.extend(int(i) for i, _ in w)
         value.extend(float(c) for _, c in w)
         ptr.append(len(node))
-    return (np.asarray(ptr, dtype=np.int64), np.asarray(node, dtype=np.int64),
-            np.asarray(value, dtype=np.float64))
+    return (
+        np.asarray(ptr, dtype=np.int64),
+        np.asarray(node, dtype=np.int64),
+        np.asarray(value, dtype=np.float64),
+    )

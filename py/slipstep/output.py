@@ -24,10 +24,22 @@ from pathlib import Path
 import numpy as np
 
 from .contact_measures import contact_profile
-from .fields import (coordinate_names, is_elastoplastic, nodal_stress, stress_names, stress_tensor,
-                     von_mises, yield_drift)
-from .history import (ELEMENT_EVENTS, distinct_time_snapshots, event_positions, event_times,
-                      snapshot_time)
+from .fields import (
+    coordinate_names,
+    is_elastoplastic,
+    nodal_stress,
+    stress_names,
+    stress_tensor,
+    von_mises,
+    yield_drift,
+)
+from .history import (
+    ELEMENT_EVENTS,
+    distinct_time_snapshots,
+    event_positions,
+    event_times,
+    snapshot_time,
+)
 from .space.contact_measures import contact_profile_3d
 from .space.fields import STRESS_NAMES_3D, nodal_stress_3d, stress_tensor_3d, von_mises_3d
 
@@ -45,14 +57,32 @@ def write_events_csv(path: Path, scene, result) -> None:
     where = event_positions(scene, result)
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["step", "load_fraction", "kind", "entity", "entity_kind",
-                    *coordinate_names(scene), "t", "stage"])
+        w.writerow(
+            [
+                "step",
+                "load_fraction",
+                "kind",
+                "entity",
+                "entity_kind",
+                *coordinate_names(scene),
+                "t",
+                "stage",
+            ]
+        )
         for k in range(len(ev["step"])):
             kind, entity = ev["kind"][k], int(ev["entity"][k])
-            w.writerow([int(ev["step"][k]), repr(float(ev["load_fraction"][k])), kind, entity,
-                        "element" if kind in ELEMENT_EVENTS else "pair",
-                        *(repr(float(c)) for c in where[k]), repr(float(times[k])),
-                        int(stages[k]) + 1])
+            w.writerow(
+                [
+                    int(ev["step"][k]),
+                    repr(float(ev["load_fraction"][k])),
+                    kind,
+                    entity,
+                    "element" if kind in ELEMENT_EVENTS else "pair",
+                    *(repr(float(c)) for c in where[k]),
+                    repr(float(times[k])),
+                    int(stages[k]) + 1,
+                ]
+            )
 
 
 def write_profile_csv(path: Path, scene, snapshot: dict) -> None:
@@ -66,16 +96,36 @@ def write_profile_csv(path: Path, scene, snapshot: dict) -> None:
     names = scene.model["contact_names"]
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow([*coordinate_names(scene), "pressure", "tangential_stress", "rtd", "status", "gap", "pair",
-                    "node_a", "s", "contact"])
+        w.writerow(
+            [
+                *coordinate_names(scene),
+                "pressure",
+                "tangential_stress",
+                "rtd",
+                "status",
+                "gap",
+                "pair",
+                "node_a",
+                "s",
+                "contact",
+            ]
+        )
         for i in range(len(prof["x"])):
-            w.writerow([repr(float(prof["x"][i])), repr(float(prof["y"][i])),
-                        repr(float(prof["pressure"][i])),
-                        repr(float(prof["tangential_stress"][i])),
-                        repr(float(prof["rtd"][i])), STATUS_NAMES[prof["status"][i]],
-                        repr(float(prof["gap"][i])), int(prof["pair"][i]),
-                        int(prof["node_a"][i]), repr(float(prof["s"][i])),
-                        names[prof["contact"][i]]])
+            w.writerow(
+                [
+                    repr(float(prof["x"][i])),
+                    repr(float(prof["y"][i])),
+                    repr(float(prof["pressure"][i])),
+                    repr(float(prof["tangential_stress"][i])),
+                    repr(float(prof["rtd"][i])),
+                    STATUS_NAMES[prof["status"][i]],
+                    repr(float(prof["gap"][i])),
+                    int(prof["pair"][i]),
+                    int(prof["node_a"][i]),
+                    repr(float(prof["s"][i])),
+                    names[prof["contact"][i]],
+                ]
+            )
 
 
 @contextlib.contextmanager
@@ -90,14 +140,23 @@ def _working_directory(path: Path):
 
 
 #: The columns of a 3D contact_profile.csv after x, y, z: (name, profile key, component).
-PROFILE_3D = (("pressure", "pressure", None), ("tangential_stress_1", "tau", 0),
-              ("tangential_stress_2", "tau", 1), ("tangential_stress_x", "tangential_stress", 0),
-              ("tangential_stress_y", "tangential_stress", 1),
-              ("tangential_stress_z", "tangential_stress", 2), ("slip_1", "slip", 0),
-              ("slip_2", "slip", 1), ("slip_x", "slip_xyz", 0), ("slip_y", "slip_xyz", 1),
-              ("slip_z", "slip_xyz", 2), ("slip_direction_x", "slip_direction", 0),
-              ("slip_direction_y", "slip_direction", 1),
-              ("slip_direction_z", "slip_direction", 2), ("gap", "gap", None))
+PROFILE_3D = (
+    ("pressure", "pressure", None),
+    ("tangential_stress_1", "tau", 0),
+    ("tangential_stress_2", "tau", 1),
+    ("tangential_stress_x", "tangential_stress", 0),
+    ("tangential_stress_y", "tangential_stress", 1),
+    ("tangential_stress_z", "tangential_stress", 2),
+    ("slip_1", "slip", 0),
+    ("slip_2", "slip", 1),
+    ("slip_x", "slip_xyz", 0),
+    ("slip_y", "slip_xyz", 1),
+    ("slip_z", "slip_xyz", 2),
+    ("slip_direction_x", "slip_direction", 0),
+    ("slip_direction_y", "slip_direction", 1),
+    ("slip_direction_z", "slip_direction", 2),
+    ("gap", "gap", None),
+)
 
 
 def write_profile_csv_3d(path: Path, scene, snapshot: dict) -> None:
@@ -111,13 +170,20 @@ def write_profile_csv_3d(path: Path, scene, snapshot: dict) -> None:
     names = scene.model["contact_names"]
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["x", "y", "z", *(c[0] for c in PROFILE_3D), "status", "pair", "node_a",
-                    "contact"])
+        w.writerow(
+            ["x", "y", "z", *(c[0] for c in PROFILE_3D), "status", "pair", "node_a", "contact"]
+        )
         for i in range(len(prof["pair"])):
             values = [prof[key][i] if c is None else prof[key][i, c] for _, key, c in PROFILE_3D]
-            w.writerow([*(repr(float(v)) for v in (*prof["x"][i], *values)),
-                        STATUS_NAMES[prof["status"][i]], int(prof["pair"][i]),
-                        int(prof["node_a"][i]), names[prof["contact"][i]]])
+            w.writerow(
+                [
+                    *(repr(float(v)) for v in (*prof["x"][i], *values)),
+                    STATUS_NAMES[prof["status"][i]],
+                    int(prof["pair"][i]),
+                    int(prof["node_a"][i]),
+                    names[prof["contact"][i]],
+                ]
+            )
 
 
 def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
@@ -142,8 +208,7 @@ def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
             for k in kept:
                 snap = result["snapshots"][k]
                 point_data, cell_data = step(scene, snap)
-                writer.write_data(snapshot_time(snap), point_data=point_data,
-                                  cell_data=cell_data)
+                writer.write_data(snapshot_time(snap), point_data=point_data, cell_data=cell_data)
     records = [snapshot_record(result["snapshots"][k]) for k in kept]
     with h5py.File(Path(folder) / f"{name}.h5", "a") as h5:
         group = h5.create_group(RECORD_GROUP)
@@ -161,8 +226,11 @@ def snapshot_record(snap: dict) -> dict:
     """What results.h5 keeps of a snapshot beside its fields: its place on the path (t, stage
     0-based, load_fraction) and the engine's per-pair arrays (lambda_n, lambda_t, status, gap,
     rtd), as the engine gave them."""
-    out = {"t": np.float64(snapshot_time(snap)), "stage": np.int64(snap.get("stage", 0)),
-           "load_fraction": np.float64(snap["load_fraction"])}
+    out = {
+        "t": np.float64(snapshot_time(snap)),
+        "stage": np.int64(snap.get("stage", 0)),
+        "load_fraction": np.float64(snap["load_fraction"]),
+    }
     for key in ("lambda_n", "lambda_t", "status", "gap", "rtd"):
         out[key] = np.asarray(snap[key])
     return out
@@ -173,8 +241,11 @@ def _record_units(path: Path, units: dict) -> None:
     import xml.etree.ElementTree as ET
 
     tree = ET.parse(path)
-    info = ET.Element("Information", Name="units",
-                      Value=", ".join(f"{kind}: {unit}" for kind, unit in units.items()))
+    info = ET.Element(
+        "Information",
+        Name="units",
+        Value=", ".join(f"{kind}: {unit}" for kind, unit in units.items()),
+    )
     tree.getroot().find("Domain").insert(0, info)
     tree.write(path)
 
@@ -214,17 +285,23 @@ def xdmf_step_3d(scene, snap: dict) -> tuple[dict, dict]:
     and in elastoplastic cases plastic_strain, plastic and yield_drift; body with several."""
     s = np.asarray(snap["stress"], dtype=float).reshape(-1, 6)
     nodal = nodal_stress_3d(scene.nodes, scene.tetrahedra, s)
-    point_data = {key: np.asarray(snap[key], dtype=float).reshape(-1, 3)
-                  for key in ("u", "reaction") if key in snap}
+    point_data = {
+        key: np.asarray(snap[key], dtype=float).reshape(-1, 3)
+        for key in ("u", "reaction")
+        if key in snap
+    }
     point_data.update(nodal_stress=stress_tensor_3d(nodal), nodal_von_mises=von_mises_3d(nodal))
     if len(scene.pair_xy):
         prof = contact_profile_3d(scene, snap)
         order = np.lexsort((prof["pressure"], prof["node_a"]))  # the largest pressure last
-        for name, key in (("contact_pressure", "pressure"), ("contact_status", "status"),
-                          ("contact_gap", "gap"), ("contact_tangential_stress",
-                                                   "tangential_stress"),
-                          ("contact_slip", "slip_xyz"), ("contact_slip_direction",
-                                                         "slip_direction")):
+        for name, key in (
+            ("contact_pressure", "pressure"),
+            ("contact_status", "status"),
+            ("contact_gap", "gap"),
+            ("contact_tangential_stress", "tangential_stress"),
+            ("contact_slip", "slip_xyz"),
+            ("contact_slip_direction", "slip_direction"),
+        ):
             values = np.asarray(prof[key], dtype=float)
             field = np.zeros((len(scene.nodes), *values.shape[1:]))
             field[prof["node_a"][order]] = values[order]
@@ -251,9 +328,13 @@ def state_cell_data(scene, snap: dict) -> dict:
 
 
 #: Point data of the contact (name in results.xdmf -> column of contact_profile.csv).
-CONTACT_POINT_DATA = {"contact_pressure": "pressure",
-                      "contact_tangential_stress": "tangential_stress", "contact_gap": "gap",
-                      "contact_status": "status", "contact_slip": "rtd"}
+CONTACT_POINT_DATA = {
+    "contact_pressure": "pressure",
+    "contact_tangential_stress": "tangential_stress",
+    "contact_gap": "gap",
+    "contact_status": "status",
+    "contact_slip": "rtd",
+}
 
 
 def contact_point_data(scene, snap: dict) -> dict:

@@ -8,8 +8,16 @@ import tomllib
 from typing import Any
 
 from .errors import CaseError
-from .schema import (ARRAY_KEYS, ARRAYS, BODY_SUBTABLES, CONTACT_VARIANTS, FILE_MESH_KEYS,
-                     MESH_VARIANTS, RIGID_LINE_KEYS, TABLES)
+from .schema import (
+    ARRAY_KEYS,
+    ARRAYS,
+    BODY_SUBTABLES,
+    CONTACT_VARIANTS,
+    FILE_MESH_KEYS,
+    MESH_VARIANTS,
+    RIGID_LINE_KEYS,
+    TABLES,
+)
 
 
 def parse_override(item: str) -> tuple[str, Any]:
@@ -25,8 +33,10 @@ def parse_override(item: str) -> tuple[str, Any]:
         if text and all(c.isalnum() or c in "_-./" for c in text):
             value = text
         else:
-            raise CaseError(f"--set {item}: {text!r} is not a TOML value "
-                            f'(numbers as 0.35, strings as "text", lists as [0, 1])') from None
+            raise CaseError(
+                f"--set {item}: {text!r} is not a TOML value "
+                f'(numbers as 0.35, strings as "text", lists as [0, 1])'
+            ) from None
     return key, value
 
 
@@ -40,9 +50,11 @@ def apply_override(raw: dict, item: str, source: str = "<case>") -> None:
     if head in ("mesh", "material"):  # shorthand for the single body
         bodies = raw.get("body", [])
         if len(bodies) != 1:
-            raise CaseError(f"{where}: '{head}.*' is short for body.<name>.{head}.* only in a "
-                            f"case with one body; this one has {len(bodies)}: use "
-                            f"body.<name>.{key}")
+            raise CaseError(
+                f"{where}: '{head}.*' is short for body.<name>.{head}.* only in a "
+                f"case with one body; this one has {len(bodies)}: use "
+                f"body.<name>.{key}"
+            )
         head, rest = "body", ["0", head, *rest]
 
     if head in TABLES:
@@ -65,17 +77,30 @@ def apply_override(raw: dict, item: str, source: str = "<case>") -> None:
             keys = BODY_SUBTABLES[sub]
             if sub == "mesh":  # the keys of this mesh's form, if it has a known one
                 form = "file" if "file" in table else table.get("generator")
-                keys = FILE_MESH_KEYS if form == "file" else MESH_VARIANTS.get(form if isinstance(form, str) else "", keys)
+                keys = (
+                    FILE_MESH_KEYS
+                    if form == "file"
+                    else MESH_VARIANTS.get(form if isinstance(form, str) else "", keys)
+                )
             _set_in_table(table, keys, rest[1:], value, where, f"[body.{sub}]")
             return
         keys = ARRAY_KEYS[head]
         if head == "contact":  # the keys of this contact's kind, if it has a known one
             kind = element.get("kind")
             keys = CONTACT_VARIANTS.get(kind if isinstance(kind, str) else "", keys)
-            if kind in ("node_to_node", "node_to_segment") and rest == ["motion"]:  # refused by the validator,
+            if kind in ("node_to_node", "node_to_segment") and rest == [
+                "motion"
+            ]:  # refused by the validator,
                 keys = {**keys, "motion": RIGID_LINE_KEYS["motion"]}  # with the reason
-        _set_in_table(element, keys, rest, value, where, f"[[{head}]]",
-                      extra=tuple(BODY_SUBTABLES) if head == "body" else ())
+        _set_in_table(
+            element,
+            keys,
+            rest,
+            value,
+            where,
+            f"[[{head}]]",
+            extra=tuple(BODY_SUBTABLES) if head == "body" else (),
+        )
         return
     valid = ", ".join([*TABLES, *ARRAYS, "mesh", "material"])
     raise CaseError(f"{where}: unknown key '{head}'; valid first parts are {valid}")
@@ -90,8 +115,10 @@ def _array_index(elements: list, head: str, rest: list[str], where: str) -> tupl
         if first.isdigit():
             i = int(first)
             if i >= len(elements):
-                raise CaseError(f"{where}: [[{head}]] has {len(elements)} entries: "
-                                f"use an index 0..{len(elements) - 1}")
+                raise CaseError(
+                    f"{where}: [[{head}]] has {len(elements)} entries: "
+                    f"use an index 0..{len(elements) - 1}"
+                )
             return i, rest[1:]
         names = [e.get("name") for e in elements]
         if first in names:
@@ -100,12 +127,15 @@ def _array_index(elements: list, head: str, rest: list[str], where: str) -> tupl
         return 0, rest
     names = [str(e["name"]) for e in elements if "name" in e]
     hint = f" or a name ({', '.join(names)})" if names else ""
-    raise CaseError(f"{where}: the case has {len(elements)} [[{head}]] entries: say which, "
-                    f"e.g. {head}.0.{'.'.join(rest) or 'KEY'} (an index{hint})")
+    raise CaseError(
+        f"{where}: the case has {len(elements)} [[{head}]] entries: say which, "
+        f"e.g. {head}.0.{'.'.join(rest) or 'KEY'} (an index{hint})"
+    )
 
 
-def _set_in_table(table: dict, keys: dict, rest: list[str], value, where: str, label: str,
-                  extra: tuple = ()) -> None:
+def _set_in_table(
+    table: dict, keys: dict, rest: list[str], value, where: str, label: str, extra: tuple = ()
+) -> None:
     """Set ``rest`` = [key] in ``table``, or [key, entry] of an inline-table key
     (``factors.load``, ``displacement.y``); entries are checked by the validator."""
     valid = ", ".join([*keys, *extra])
@@ -118,8 +148,9 @@ def _set_in_table(table: dict, keys: dict, rest: list[str], value, where: str, l
         return
     sub = table.setdefault(rest[0], {})
     if not isinstance(sub, dict):
-        raise CaseError(f"{where}: {rest[0]} must be an inline table, e.g. "
-                        f"{rest[0]} = {{{rest[1]} = 1.0}}")
+        raise CaseError(
+            f"{where}: {rest[0]} must be an inline table, e.g. " f"{rest[0]} = {{{rest[1]} = 1.0}}"
+        )
     sub[rest[1]] = value
 
 

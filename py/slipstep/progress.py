@@ -30,11 +30,11 @@ REPORT_INTERVAL_S = 0.1
 class Progress:
     """One report of a running engine."""
 
-    events: int          # events so far (rows of result["events"])
-    steps: int           # increments so far
-    t: float             # path time reached (the load fraction for one stage)
-    n_stages: int        # the path ends at t = n_stages
-    elapsed: float       # seconds since the engine started
+    events: int  # events so far (rows of result["events"])
+    steps: int  # increments so far
+    t: float  # path time reached (the load fraction for one stage)
+    n_stages: int  # the path ends at t = n_stages
+    elapsed: float  # seconds since the engine started
 
     @property
     def fraction(self) -> float:
@@ -52,9 +52,15 @@ class Bar:
         else:
             from tqdm.std import tqdm
 
-        self.bar = tqdm(total=float(n_stages), desc=name, unit="t", leave=True, file=sys.stderr,
-                        bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.3g}/{total:g} "
-                                   "[{elapsed}{postfix}]")
+        self.bar = tqdm(
+            total=float(n_stages),
+            desc=name,
+            unit="t",
+            leave=True,
+            file=sys.stderr,
+            bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.3g}/{total:g} "
+            "[{elapsed}{postfix}]",
+        )
 
     def __call__(self, p: Progress) -> None:
         self.bar.n = p.t
@@ -82,13 +88,16 @@ class Notes:
 
     def __call__(self, p: Progress) -> None:
         if not self.started:
-            self.note(f"running, t = {p.t:.3g} of {p.n_stages} after {p.events} events"
-                      f"{self.hint}")
+            self.note(
+                f"running, t = {p.t:.3g} of {p.n_stages} after {p.events} events" f"{self.hint}"
+            )
             self.started = True
 
     def close(self, p: Progress, stop: str) -> None:
-        self.note(f"{stop} at t = {p.t:.4g} of {p.n_stages}: {p.events} events, {p.steps} "
-                  f"increments, {p.elapsed:.1f} s")
+        self.note(
+            f"{stop} at t = {p.t:.4g} of {p.n_stages}: {p.events} events, {p.steps} "
+            f"increments, {p.elapsed:.1f} s"
+        )
 
     def note(self, text: str) -> None:
         if sys.stderr is not None:  # None: pythonw, a daemon
@@ -131,8 +140,10 @@ class Reporter:
         self.start, self.name, self.n_stages = time.perf_counter(), name, n_stages
         self.bar, self.user = None, None
         if progress not in (None, False, True) and not callable(progress):
-            raise TypeError(f"progress = {progress!r}: give True (a bar), False, or a callable "
-                            f"f(progress: slipstep.progress.Progress)")
+            raise TypeError(
+                f"progress = {progress!r}: give True (a bar), False, or a callable "
+                f"f(progress: slipstep.progress.Progress)"
+            )
         self.wants_bar = progress is True
         self.user = progress if callable(progress) and progress is not True else None
         self.callback = self.report if (self.wants_bar or self.user) else False
@@ -153,8 +164,11 @@ class Reporter:
         """Close the display, showing the run's final state (a callable gets no final report:
         the result is in the caller's hands)."""
         if self.bar and result is not None:
-            p = self.progress(len(result["events"]["step"]),
-                              len(result["steps"]["load_fraction"]), final_time(result))
+            p = self.progress(
+                len(result["events"]["step"]),
+                len(result["steps"]["load_fraction"]),
+                final_time(result),
+            )
             self.bar.close(p, result["stop"]["kind"])
         elif self.bar:
             self.bar.abandon()

@@ -25,21 +25,29 @@ def start(case) -> int:
     MUMPS: nothing is started)."""
     if not uses_mumps(case):
         return 0
-    from .fenicsx.dolfinx_api import start_petsc  # (the adapter of the dolfinx stack; not at import)
+    from .fenicsx.dolfinx_api import (
+        start_petsc,
+    )  # (the adapter of the dolfinx stack; not at import)
+
     try:
         PETSc = start_petsc()
     except ImportError as exc:
-        raise InputError(f"{case.source}: solver.factorization = \"mumps\" needs petsc4py with "
-                         f"PETSc's MUMPS (Debian: apt install python3-petsc4py; {exc}): install "
-                         f"it or use factorization = \"faer\"") from None
+        raise InputError(
+            f"{case.source}: solver.factorization = \"mumps\" needs petsc4py with "
+            f"PETSc's MUMPS (Debian: apt install python3-petsc4py; {exc}): install "
+            f"it or use factorization = \"faer\""
+        ) from None
     if not PETSc.Sys.hasExternalPackage("mumps"):
-        raise InputError(f"{case.source}: solver.factorization = \"mumps\": this PETSc has no "
-                         f"MUMPS; use factorization = \"faer\"")
+        raise InputError(
+            f"{case.source}: solver.factorization = \"mumps\": this PETSc has no "
+            f"MUMPS; use factorization = \"faer\""
+        )
     return PETSc.COMM_WORLD.rank
 
 
 def rank() -> int:
     """This process's rank once PETSc runs (0 otherwise)."""
     import sys
+
     petsc = sys.modules.get("petsc4py.PETSc")
     return petsc.COMM_WORLD.rank if petsc is not None else 0

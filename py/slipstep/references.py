@@ -38,10 +38,12 @@ import numpy as np
 def effective_modulus(E: float, nu: float, plane: str = "strain") -> float:
     """E* of an elastic body on a rigid one: E/(1 − ν²) in plane strain and for a sphere
     (``"axisymmetric"``), E in plane stress."""
-    return E if plane == "stress" else E / (1.0 - nu ** 2)
+    return E if plane == "stress" else E / (1.0 - nu**2)
 
 
-def hertz_line(P: float, R: float, E: float, nu: float, plane: str = "strain") -> tuple[float, float]:
+def hertz_line(
+    P: float, R: float, E: float, nu: float, plane: str = "strain"
+) -> tuple[float, float]:
     """Contact half-width a and peak pressure p0 of an elastic cylinder (radius R, line load P
     per unit thickness on the full cylinder) on a rigid flat (Johnson §4.3):
     a = √(4PR/(πE*)), p0 = 2P/(πa); a and p0 grow as P^(1/2)."""
@@ -56,7 +58,7 @@ def hertz_sphere(P: float, R: float, E: float, nu: float) -> tuple[float, float,
     E* = E/(1 − ν²); a and p0 grow as P^(1/3), δ as P^(2/3)."""
     e_star = effective_modulus(E, nu)
     a = (3.0 * P * R / (4.0 * e_star)) ** (1.0 / 3.0)
-    return a, 3.0 * P / (2.0 * math.pi * a ** 2), a ** 2 / R
+    return a, 3.0 * P / (2.0 * math.pi * a**2), a**2 / R
 
 
 def hertz_pressure(x, a: float, p0: float) -> np.ndarray:
@@ -76,8 +78,8 @@ def sphere_axis_stresses(zeta, nu: float) -> tuple[np.ndarray, np.ndarray]:
     at depths ζ = z/a > 0: σr = σθ = −(1 + ν)(1 − ζ arctan(1/ζ)) + 1/(2(1 + ζ²)),
     σz = −1/(1 + ζ²) (τrz = 0 on the axis)."""
     zeta = np.asarray(zeta, dtype=float)
-    sigma_r = -(1.0 + nu) * (1.0 - zeta * np.arctan(1.0 / zeta)) + 0.5 / (1.0 + zeta ** 2)
-    return sigma_r, -1.0 / (1.0 + zeta ** 2)
+    sigma_r = -(1.0 + nu) * (1.0 - zeta * np.arctan(1.0 / zeta)) + 0.5 / (1.0 + zeta**2)
+    return sigma_r, -1.0 / (1.0 + zeta**2)
 
 
 def sphere_axis_yield(nu: float) -> tuple[float, float]:
@@ -101,7 +103,7 @@ def sphere_axis_compression(zeta, nu: float) -> np.ndarray:
     At ζ = 0 it is the approach of distant points, (1 − ν²) π/2 = δ E/(p0 a)."""
     zeta = np.asarray(zeta, dtype=float)
     arccot = np.arctan2(1.0, zeta)
-    g = 0.5 * zeta - 0.5 * zeta ** 2 * arccot + 0.5 * np.arctan(zeta)
+    g = 0.5 * zeta - 0.5 * zeta**2 * arccot + 0.5 * np.arctan(zeta)
     return (1.0 + nu) * (arccot - 2.0 * nu * (0.25 * math.pi - g))
 
 
@@ -111,7 +113,7 @@ def flat_punch_pressure(x, b: float, P: float) -> np.ndarray:
     an elastic half-plane, frictionless (Johnson ch. 2; Sadowsky 1928): P/(π √(b² − x²)),
     singular at the edges |x| = b."""
     x = np.asarray(x, dtype=float)
-    return P / (np.pi * np.sqrt(b ** 2 - x ** 2))
+    return P / (np.pi * np.sqrt(b**2 - x**2))
 
 
 # --------------------------------------------------------------------------- thick cylinder
@@ -128,7 +130,7 @@ def thick_cylinder_pressure(c, a: float, b: float, k: float):
     """Hill: the internal pressure at which the plastic zone reaches radius c,
     k [2 ln(c/a) + 1 − c²/b²]."""
     c = np.asarray(c, dtype=float)
-    return k * (2.0 * np.log(c / a) + 1.0 - c ** 2 / b ** 2)
+    return k * (2.0 * np.log(c / a) + 1.0 - c**2 / b**2)
 
 
 def thick_cylinder_radius(p, a: float, b: float, k: float):
@@ -147,7 +149,7 @@ def thick_cylinder_first_yield(a: float, b: float, Sy: float, nu: float) -> floa
     A = p a²/(b² − a²): σe(a) = A √(3 β² + (1 − 2ν)²), β = b²/a²); slightly below Hill's
     k (1 − a²/b²) for ν < 1/2."""
     beta = b * b / (a * a)
-    return Sy * (b * b - a * a) / (a * a) / math.sqrt(3 * beta ** 2 + (1 - 2 * nu) ** 2)
+    return Sy * (b * b - a * a) / (a * a) / math.sqrt(3 * beta**2 + (1 - 2 * nu) ** 2)
 
 
 def thick_cylinder_stresses(r, p: float, a: float, b: float, Sy: float):
@@ -157,10 +159,10 @@ def thick_cylinder_stresses(r, p: float, a: float, b: float, Sy: float):
     c = thick_cylinder_radius(p, a, b, k)
     if c == a:  # Lamé
         A = p * a * a / (b * b - a * a)
-        return A * (1 - b * b / r ** 2), A * (1 + b * b / r ** 2)
+        return A * (1 - b * b / r**2), A * (1 + b * b / r**2)
     s = k * c * c / (b * b)
-    sr = np.where(r < c, -p + 2 * k * np.log(r / a), -s * (b * b / r ** 2 - 1))
-    st = np.where(r < c, sr + 2 * k, s * (b * b / r ** 2 + 1))
+    sr = np.where(r < c, -p + 2 * k * np.log(r / a), -s * (b * b / r**2 - 1))
+    st = np.where(r < c, sr + 2 * k, s * (b * b / r**2 + 1))
     return sr, st
 
 
@@ -193,14 +195,14 @@ def thick_sphere_lame(rho, p: float, a: float, b: float) -> tuple[np.ndarray, np
     """Lamé's elastic sphere a <= ρ <= b under internal pressure p: (σ_R, σ_t) at the spherical
     radius ρ, σ_R = −p (b³/ρ³ − 1)/(b³/a³ − 1), σ_t = σθ = σφ = p (b³/(2ρ³) + 1)/(b³/a³ − 1)."""
     rho = np.asarray(rho, dtype=float)
-    k = b ** 3 / a ** 3 - 1.0
-    return -p * (b ** 3 / rho ** 3 - 1.0) / k, p * (0.5 * b ** 3 / rho ** 3 + 1.0) / k
+    k = b**3 / a**3 - 1.0
+    return -p * (b**3 / rho**3 - 1.0) / k, p * (0.5 * b**3 / rho**3 + 1.0) / k
 
 
 def thick_sphere_displacement(rho, p: float, a: float, b: float, E: float, nu: float) -> np.ndarray:
     """Lamé's radial displacement: p a³/(E (b³ − a³)) [(1 − 2ν) ρ + (1 + ν) b³/(2ρ²)]."""
     rho = np.asarray(rho, dtype=float)
-    return p * a ** 3 / (E * (b ** 3 - a ** 3)) * ((1 - 2 * nu) * rho + (1 + nu) * b ** 3 / (2 * rho ** 2))
+    return p * a**3 / (E * (b**3 - a**3)) * ((1 - 2 * nu) * rho + (1 + nu) * b**3 / (2 * rho**2))
 
 
 def thick_sphere_pressure(c, a: float, b: float, Y: float):
@@ -208,7 +210,7 @@ def thick_sphere_pressure(c, a: float, b: float, Y: float):
     Tresca here: σθ = σφ) reaches radius c: 2Y ln(c/a) + (2Y/3)(1 − c³/b³).  At c = a it is the
     elastic limit p_e = (2Y/3)(1 − a³/b³), at c = b the limit 2Y ln(b/a)."""
     c = np.asarray(c, dtype=float)
-    return 2.0 * Y * np.log(c / a) + 2.0 * Y / 3.0 * (1.0 - c ** 3 / b ** 3)
+    return 2.0 * Y * np.log(c / a) + 2.0 * Y / 3.0 * (1.0 - c**3 / b**3)
 
 
 def thick_sphere_radius(p, a: float, b: float, Y: float):
@@ -220,6 +222,7 @@ def thick_sphere_radius(p, a: float, b: float, Y: float):
 def thick_sphere_plastic_radius(p: float, a: float, b: float, Y: float) -> float:
     """Hill's plastic radius c at the pressure p: a while the sphere is elastic (p <= p_e)."""
     return float(thick_sphere_radius(p, a, b, Y)) if p > thick_sphere_pressure(a, a, b, Y) else a
+
 
 def thick_sphere_stresses(rho, p: float, a: float, b: float, Y: float):
     """(σ_R, σ_t) at spherical radii ρ (Hill, ch. V; Lamé below the elastic limit): in the
@@ -234,8 +237,9 @@ def thick_sphere_stresses(rho, p: float, a: float, b: float, Y: float):
     return np.where(rho < c, plastic_r, er), np.where(rho < c, plastic_r + Y, et)
 
 
-def thick_sphere_outer_displacement(p: float, a: float, b: float, E: float, nu: float,
-                                    Y: float) -> float:
+def thick_sphere_outer_displacement(
+    p: float, a: float, b: float, E: float, nu: float, Y: float
+) -> float:
     """The radial displacement of the outer surface ρ = b (Hill; Lamé below the elastic
     limit): Lamé's of the elastic shell c <= ρ <= b under p_c (:func:`thick_sphere_stresses`)."""
     c = thick_sphere_plastic_radius(p, a, b, Y)
@@ -272,9 +276,9 @@ def cattaneo_traction(x, a: float, c: float, p0: float, mu: float) -> np.ndarray
 def line_contact_dissipation(P: float, Q_star: float, mu: float, E: float, nu: float) -> float:
     """W per cycle ±Q* (per unit thickness) of a line contact of two equal elastic bodies
     pressed by P (plane strain), from the derivation above."""
-    K, F = 2.0 * (1.0 - nu ** 2) / E, mu * P
+    K, F = 2.0 * (1.0 - nu**2) / E, mu * P
     r = Q_star / F
-    return 4.0 * K * F ** 2 / math.pi * ((1.0 - r) * math.log1p(-r) + r - 0.5 * r * r)
+    return 4.0 * K * F**2 / math.pi * ((1.0 - r) * math.log1p(-r) + r - 0.5 * r * r)
 
 
 # --------------------------------------------------------------------------- Spence
@@ -321,7 +325,7 @@ def _elliptic_ratio(k: float) -> float:
     """K'(k)/K(k) for the modulus k in (0, 1), accurate near both ends."""
     from scipy.special import ellipkm1
 
-    kp2 = (1.0 - k) * (1.0 + k)                  # k'² without cancellation
+    kp2 = (1.0 - k) * (1.0 + k)  # k'² without cancellation
     return float(ellipkm1(k * k) / ellipkm1(kp2))  # K(m = 1 − k²) / K(m = k²)
 
 
@@ -331,15 +335,20 @@ def goodman_stick_ratio(beta_over_mu: float) -> float:
 
     if beta_over_mu <= 0:
         return 1.0
-    return float(brentq(lambda k: _elliptic_ratio(k) - beta_over_mu, 1e-300, 1.0 - 1e-16,
-                        xtol=1e-15, rtol=1e-14))
+    return float(
+        brentq(
+            lambda k: _elliptic_ratio(k) - beta_over_mu, 1e-300, 1.0 - 1e-16, xtol=1e-15, rtol=1e-14
+        )
+    )
 
 
 def _panel_log(x, s1, s2):
     """−(1/π) ∫_{s1}^{s2} ln|x − s| ds."""
+
     def F(t):
         at = np.abs(t)
         return np.where(at > 0, t * np.log(np.where(at > 0, at, 1.0)) - t, 0.0)
+
     return -(F(x - s1) - F(x - s2)) / math.pi
 
 
@@ -356,17 +365,22 @@ def spence_stick_ratio(mu: float, beta: float, panels: int = 1000, coupled: bool
     e = np.linspace(0.0, 1.0, panels + 1)
     x = 0.5 * (e[1:] + e[:-1])[:, None]
     s1, s2 = e[None, :-1], e[None, 1:]
-    log_p = _panel_log(x, s1, s2) + _panel_log(x, -s2, -s1)   # even density on both halves
-    log_q = _panel_log(x, s1, s2) - _panel_log(x, -s2, -s1)   # odd density
+    log_p = _panel_log(x, s1, s2) + _panel_log(x, -s2, -s1)  # even density on both halves
+    log_q = _panel_log(x, s1, s2) - _panel_log(x, -s2, -s1)  # odd density
     sgn_p = _panel_sign(x, s1, s2) + _panel_sign(x, -s2, -s1)
     sgn_q = _panel_sign(x, s1, s2) - _panel_sign(x, -s2, -s1)
-    kernels = {"uz_p": log_p, "uz_q": beta * sgn_q if coupled else 0.0 * sgn_q,
-               "ux_p": -beta * sgn_p, "ux_q": log_q, "length": np.diff(e)}
+    kernels = {
+        "uz_p": log_p,
+        "uz_q": beta * sgn_q if coupled else 0.0 * sgn_q,
+        "ux_p": -beta * sgn_p,
+        "ux_q": log_q,
+        "length": np.diff(e),
+    }
 
     # Bisection on the number k of stick panels: too many and q̇ exceeds the cone outwards at
     # the stick edge (the square-root singularity of an oversized stick zone), too few and q̇
     # turns inwards there while the slip next to it runs against its friction.
-    lo, hi = 0, panels     # invariant: k <= lo is too small (or 0), k >= hi too large (or n)
+    lo, hi = 0, panels  # invariant: k <= lo is too small (or 0), k >= hi too large (or n)
     while hi - lo > 1:
         mid = (lo + hi) // 2
         over, against = _stick_slip_rates(kernels, mu, mid)
@@ -392,16 +406,16 @@ def _stick_slip_rates(kernels: dict, mu: float, k: int) -> tuple[bool, bool]:
     stick = np.arange(n) < k
     M = np.zeros((2 * n + 1, 2 * n + 1))
     rhs = np.zeros(2 * n + 1)
-    M[:n, :n], M[:n, n:2 * n], M[:n, 2 * n] = uz_p, uz_q, -1.0   # u_z = rigid approach
-    M[n:2 * n, :n] = np.where(stick[:, None], ux_p, 0.0)         # stick: u_x = 0
-    M[n:2 * n, n:2 * n] = np.where(stick[:, None], ux_q, 0.0)
-    slip = np.flatnonzero(~stick)                                # slip: q = μ p
+    M[:n, :n], M[:n, n : 2 * n], M[:n, 2 * n] = uz_p, uz_q, -1.0  # u_z = rigid approach
+    M[n : 2 * n, :n] = np.where(stick[:, None], ux_p, 0.0)  # stick: u_x = 0
+    M[n : 2 * n, n : 2 * n] = np.where(stick[:, None], ux_q, 0.0)
+    slip = np.flatnonzero(~stick)  # slip: q = μ p
     M[n + slip, n + slip] = 1.0
     M[n + slip, slip] = -mu
-    M[2 * n, :n] = 2.0 * kernels["length"]                       # total load 1
+    M[2 * n, :n] = 2.0 * kernels["length"]  # total load 1
     rhs[2 * n] = 1.0
     sol = np.linalg.solve(M, rhs)
-    p, q = sol[:n], sol[n:2 * n]
+    p, q = sol[:n], sol[n : 2 * n]
     ux = ux_p @ p + ux_q @ q
     return bool(np.any(q[stick] > mu * p[stick])), bool(np.any(ux[~stick] > 0))
 
@@ -443,9 +457,9 @@ JG_SWITCH = 1.9
 class Critical:
     """The first-yield values a fit is normalised by."""
 
-    interference: float   # ω_c
-    force: float          # P_c
-    area: float           # A_c
+    interference: float  # ω_c
+    force: float  # P_c
+    area: float  # A_c
 
 
 def kogut_etsion_critical(R: float, E_star: float, Y: float, nu: float) -> Critical:
@@ -459,8 +473,8 @@ def kogut_etsion(w) -> tuple[np.ndarray, np.ndarray]:
     w = np.asarray(w, dtype=float)
     if np.any(w > KE_MAX) or np.any(w < 0):
         raise ValueError(f"Kogut & Etsion's fits cover 0 <= omega/omega_c <= {KE_MAX:g}")
-    P = np.where(w < 1, w ** 1.5, np.where(w <= 6, 1.03 * w ** 1.425, 1.40 * w ** 1.263))
-    A = np.where(w < 1, w, np.where(w <= 6, 0.93 * w ** 1.136, 0.94 * w ** 1.146))
+    P = np.where(w < 1, w**1.5, np.where(w <= 6, 1.03 * w**1.425, 1.40 * w**1.263))
+    A = np.where(w < 1, w, np.where(w <= 6, 0.93 * w**1.136, 0.94 * w**1.146))
     return P, A
 
 
@@ -480,6 +494,8 @@ def jackson_green(w, R: float, E_star: float, Y: float, nu: float):
     A = np.where(plastic, w * (w / JG_SWITCH) ** B, w)
     a = np.sqrt(A * jackson_green_critical(R, E_star, Y, nu).area / math.pi)
     hardness = 2.84 * Y * (1.0 - np.exp(-0.82 * np.maximum(a / R, 1e-300) ** -0.7))
-    P_plastic = (np.exp(-0.25 * w ** (5.0 / 12.0)) * w ** 1.5
-                 + 4.0 * hardness / (C * Y) * (1.0 - np.exp(-w ** (5.0 / 9.0) / 25.0)) * w)
-    return np.where(plastic, P_plastic, w ** 1.5), A
+    P_plastic = (
+        np.exp(-0.25 * w ** (5.0 / 12.0)) * w**1.5
+        + 4.0 * hardness / (C * Y) * (1.0 - np.exp(-(w ** (5.0 / 9.0)) / 25.0)) * w
+    )
+    return np.where(plastic, P_plastic, w**1.5), A

@@ -40,12 +40,17 @@ def resolved_case_text(case: Case, given_meshes=(), header=()) -> str:
 def _body_tables(case: Case, i: int, body: dict, given: bool, inert: dict) -> list[str]:
     """[body.material] and [body.mesh] of body i (its mesh ``given`` from Python, or with its
     file paths made absolute)."""
-    lines = ["", *toml_table("[body.material]", _known(body["material"],
-                                                       BODY_SUBTABLES["material"]))]
+    lines = [
+        "",
+        *toml_table("[body.material]", _known(body["material"], BODY_SUBTABLES["material"])),
+    ]
     mesh = _known(body["mesh"], BODY_SUBTABLES["mesh"], inert.get(f"body.{i}.mesh"))
     if given:
-        lines += ["", f"# body {body['name']!r}: its mesh came from Python "
-                      f"(slipstep.run(case, meshes={{...}})): pass it again to rerun"]
+        lines += [
+            "",
+            f"# body {body['name']!r}: its mesh came from Python "
+            f"(slipstep.run(case, meshes={{...}})): pass it again to rerun",
+        ]
         mesh = {"generator": "given"}
     elif "file" in mesh:
         for key in ("file", "edge_file", "face_file"):
@@ -62,4 +67,6 @@ def _absolute(case: Case, name: str) -> str:
 def _known(table: dict, keys: dict, inert=()) -> dict:
     """The entries of a validated table that a case file may hold: schema keys with a value
     (None is an absent optional key), inert ones left out."""
-    return {k: v for k, v in table.items() if k in keys and v is not None and k not in (inert or ())}
+    return {
+        k: v for k, v in table.items() if k in keys and v is not None and k not in (inert or ())
+    }

@@ -27,9 +27,17 @@ from .errors import InputError
 from .summary import one_line
 
 #: The columns of :attr:`Result.events` (3D: z after y).
-EVENT_DTYPE = [("step", "i8"), ("t", "f8"), ("stage", "i8"), ("load_fraction", "f8"),
-               ("kind", "U14"), ("entity", "i8"), ("entity_kind", "U7"), ("x", "f8"),
-               ("y", "f8")]
+EVENT_DTYPE = [
+    ("step", "i8"),
+    ("t", "f8"),
+    ("stage", "i8"),
+    ("load_fraction", "f8"),
+    ("kind", "U14"),
+    ("entity", "i8"),
+    ("entity_kind", "U7"),
+    ("x", "f8"),
+    ("y", "f8"),
+]
 
 
 class Result:
@@ -68,16 +76,20 @@ class Result:
         """(M, 3) node ids of the elements (counter-clockwise); a 3D result has
         :attr:`tetrahedra`."""
         if self.scene.dimension == 3:
-            raise AttributeError("a 3D result has tetrahedra, not triangles: r.tetrahedra "
-                                 "(r.elements in either dimension)")
+            raise AttributeError(
+                "a 3D result has tetrahedra, not triangles: r.tetrahedra "
+                "(r.elements in either dimension)"
+            )
         return self.scene.triangles
 
     @property
     def tetrahedra(self) -> np.ndarray:
         """(M, 4) node ids of the elements of a 3D result."""
         if self.scene.dimension != 3:
-            raise AttributeError("a 2D result has triangles, not tetrahedra: r.triangles "
-                                 "(r.elements in either dimension)")
+            raise AttributeError(
+                "a 2D result has triangles, not tetrahedra: r.triangles "
+                "(r.elements in either dimension)"
+            )
         return self.scene.tetrahedra
 
     # ------------------------------------------------------------------ history
@@ -113,7 +125,7 @@ class Result:
             out[key] = ev[key]
         out["entity_kind"] = np.where(np.isin(out["kind"], ELEMENT_EVENTS), "element", "pair")
         xy = event_positions(self.scene, self.raw)
-        for k, name in enumerate("xyz"[:xy.shape[1]]):
+        for k, name in enumerate("xyz"[: xy.shape[1]]):
             out[name] = xy[:, k]
         return out
 
@@ -125,8 +137,10 @@ class Result:
         the start of stage k + 1 after its zero-length switches (elements that unload, say)."""
         snaps = self.raw.get("snapshots", [])
         if not snaps:
-            raise InputError(f"{self.case.name}: the run has no snapshots (it stopped before "
-                             f"the first increment)")
+            raise InputError(
+                f"{self.case.name}: the run has no snapshots (it stopped before "
+                f"the first increment)"
+            )
         times = self.times
         pick = np.ones(len(snaps), bool)
         if stage is not None:
@@ -136,8 +150,10 @@ class Result:
         if not pick.any():
             where = f"t = {t:g}" if t is not None else "the end"
             where += f" in stage {stage}" if stage is not None else ""
-            raise InputError(f"{self.case.name}: no snapshot at {where}; snapshots are at t = "
-                             f"{_listed(times)}: ask for more with output.snapshots")
+            raise InputError(
+                f"{self.case.name}: no snapshot at {where}; snapshots are at t = "
+                f"{_listed(times)}: ask for more with output.snapshots"
+            )
         return snaps[np.flatnonzero(pick)[-1]]
 
     def fields(self, t: float | None = None, stage: int | None = None) -> dict:
@@ -159,10 +175,14 @@ class Result:
         if self.scene.dimension == 3:
             return self._fields_3d(snap)
         stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
-        out = {"t": snapshot_time(snap), "stage": int(snap.get("stage", 0)) + 1,
-               "load_fraction": float(snap["load_fraction"]),
-               "u": np.asarray(snap["u"], dtype=float).reshape(-1, 2), "stress": stress,
-               "von_mises": von_mises(stress)}
+        out = {
+            "t": snapshot_time(snap),
+            "stage": int(snap.get("stage", 0)) + 1,
+            "load_fraction": float(snap["load_fraction"]),
+            "u": np.asarray(snap["u"], dtype=float).reshape(-1, 2),
+            "stress": stress,
+            "von_mises": von_mises(stress),
+        }
         out["nodal_stress"] = nodal_stress(self.scene, stress)
         out["nodal_von_mises"] = von_mises(out["nodal_stress"])
         if "reaction" in snap:
@@ -185,11 +205,16 @@ class Result:
         scene = self.scene
         stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 6)
         nodal = nodal_stress_3d(scene.nodes, scene.tetrahedra, stress)
-        out = {"t": snapshot_time(snap), "stage": int(snap.get("stage", 0)) + 1,
-               "load_fraction": float(snap["load_fraction"]),
-               "u": np.asarray(snap["u"], dtype=float).reshape(-1, 3), "stress": stress,
-               "von_mises": von_mises_3d(stress), "nodal_stress": nodal,
-               "nodal_von_mises": von_mises_3d(nodal)}
+        out = {
+            "t": snapshot_time(snap),
+            "stage": int(snap.get("stage", 0)) + 1,
+            "load_fraction": float(snap["load_fraction"]),
+            "u": np.asarray(snap["u"], dtype=float).reshape(-1, 3),
+            "stress": stress,
+            "von_mises": von_mises_3d(stress),
+            "nodal_stress": nodal,
+            "nodal_von_mises": von_mises_3d(nodal),
+        }
         if "reaction" in snap:
             out["reaction"] = np.asarray(snap["reaction"], dtype=float).reshape(-1, 3)
         if is_elastoplastic(scene):
@@ -200,8 +225,12 @@ class Result:
         out["lambda_t"] = np.asarray(snap["lambda_t"], dtype=float).reshape(-1, 2)
         out["status"] = np.asarray(snap["status"]).astype(np.int64)
         prof = contact_profile_3d(scene, snap)
-        for key, target in (("pressure", "pressure"), ("tangential_stress", "tangential_stress"),
-                            ("gap", "gap"), ("slip", "rtd")):
+        for key, target in (
+            ("pressure", "pressure"),
+            ("tangential_stress", "tangential_stress"),
+            ("gap", "gap"),
+            ("slip", "rtd"),
+        ):
             out[target] = np.empty_like(prof[key])
             out[target][prof["pair"]] = prof[key]
         return out
@@ -216,8 +245,13 @@ class Result:
         if self.scene.dimension == 3:
             prof = contact_profile_3d(self.scene, self.snapshot(t, stage))
             position = prof.pop("x")
-            return {"x": position[:, 0], "y": position[:, 1], "z": position[:, 2],
-                    "position": position, **prof}
+            return {
+                "x": position[:, 0],
+                "y": position[:, 1],
+                "z": position[:, 2],
+                "position": position,
+                **prof,
+            }
         return contact_profile(self.scene, self.snapshot(t, stage))
 
     def to_meshio(self, t: float | None = None, stage: int | None = None):
@@ -231,12 +265,17 @@ class Result:
 
         if self.scene.dimension == 3:  # tetrahedra, the fields of results.xdmf
             point_data, cell_data = xdmf_step_3d(self.scene, self.snapshot(t, stage))
-            return meshio.Mesh(self.nodes, [("tetra", self.scene.tetrahedra)],
-                               point_data=point_data, cell_data=cell_data)
+            return meshio.Mesh(
+                self.nodes,
+                [("tetra", self.scene.tetrahedra)],
+                point_data=point_data,
+                cell_data=cell_data,
+            )
         point_data, cell_data = xdmf_step(self.scene, self.snapshot(t, stage))
         points = np.column_stack([self.nodes, np.zeros(len(self.nodes))])
-        return meshio.Mesh(points, [("triangle", self.triangles)], point_data=point_data,
-                           cell_data=cell_data)
+        return meshio.Mesh(
+            points, [("triangle", self.triangles)], point_data=point_data, cell_data=cell_data
+        )
 
     # ------------------------------------------------------------------ files and figures
     def figures(self) -> dict:
@@ -262,8 +301,9 @@ class Result:
             raise ValueError(f"figure {name!r}: this run has {', '.join(builders) or 'none'}")
         return builders[name](None, self.scene, self.raw, self.summary, ax=ax)
 
-    def write(self, out: str | Path, figures: bool | None = None,
-              xdmf: bool | None = None) -> list[Path]:
+    def write(
+        self, out: str | Path, figures: bool | None = None, xdmf: bool | None = None
+    ) -> list[Path]:
         """Write the run's files into ``out`` (all or nothing, :func:`slipstep.results.
         write_results`); ``figures`` and ``xdmf`` default to the case's ``[output]``."""
         from .results import write_results
@@ -283,29 +323,42 @@ class Result:
 
     def _repr_html_(self) -> str:
         rows = [(k, v) for k, v in self._overview() if v]
-        body = "".join(f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
-                       f"<td style='text-align:left'>{html.escape(str(v))}</td></tr>"
-                       for k, v in rows)
-        return (f"<b>slipstep.Result</b> <code>{html.escape(self.case.name)}</code>"
-                f"<table>{body}</table>")
+        body = "".join(
+            f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
+            f"<td style='text-align:left'>{html.escape(str(v))}</td></tr>"
+            for k, v in rows
+        )
+        return (
+            f"<b>slipstep.Result</b> <code>{html.escape(self.case.name)}</code>"
+            f"<table>{body}</table>"
+        )
 
     def _overview(self) -> list[tuple[str, str]]:
         """(label, text) rows of the HTML view."""
         s, m = self.summary, self.scene.model
-        stop = self.stop["kind"] + (f" ({self.stop['message']})" if self.stop.get("message")
-                                    else "")
+        stop = self.stop["kind"] + (
+            f" ({self.stop['message']})" if self.stop.get("message") else ""
+        )
         kinds = Counter(self.raw["events"]["kind"])
         return [
-            ("stopped", f"{stop} at t = {float(self.stop.get('t', 0.0)):.4g} of "
-                        f"{s.get('n_stages', 1)} stage(s)"),
-            ("mesh", f"{len(m['nodes'])} nodes, {len(self.elements)} elements, "
-                     f"{self.scene.n_dofs} DOFs, {len(m['pairs']['node_a'])} contact pairs"),
+            (
+                "stopped",
+                f"{stop} at t = {float(self.stop.get('t', 0.0)):.4g} of "
+                f"{s.get('n_stages', 1)} stage(s)",
+            ),
+            (
+                "mesh",
+                f"{len(m['nodes'])} nodes, {len(self.elements)} elements, "
+                f"{self.scene.n_dofs} DOFs, {len(m['pairs']['node_a'])} contact pairs",
+            ),
             ("events", f"{s['n_events']}: " + ", ".join(f"{n} {k}" for k, n in kinds.items())),
             ("summary", one_line(s)),
             ("snapshots", self._snapshot_text()),
             ("files", str(self.out) if self.out else ""),
-            ("methods", "fields(t), profile(t), to_meshio(t), events, history, figures(), "
-                        "write(out)"),
+            (
+                "methods",
+                "fields(t), profile(t), to_meshio(t), events, history, figures(), " "write(out)",
+            ),
         ]
 
 
@@ -313,5 +366,5 @@ def _listed(times: np.ndarray, most: int = 6) -> str:
     """``0.1, 0.2, ..., 1`` (at most ``most`` values shown)."""
     shown = [f"{x:.4g}" for x in times]
     if len(shown) > most:
-        shown = shown[:most // 2] + ["..."] + shown[-(most // 2):]
+        shown = shown[: most // 2] + ["..."] + shown[-(most // 2) :]
     return ", ".join(shown)

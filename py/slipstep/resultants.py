@@ -73,13 +73,16 @@ def pattern_forces(scene) -> list[np.ndarray | None]:
         out.append(np.asarray(p["force"], dtype=float) if "force" in p else None)
     names = list(getattr(scene, "load_names", ["load"]))
     out += [None] * (len(names) - len(out))
-    return [None if f is None or not np.any(f) else f for f in out[:len(names)]]
+    return [None if f is None or not np.any(f) else f for f in out[: len(names)]]
 
 
 def _factors(scene, t: np.ndarray) -> np.ndarray:
     """(R, L) the factor of every load at the path times t."""
-    return np.stack([load_factor(scene, name, t) for name in scene.load_names], axis=1) \
-        if len(t) else np.zeros((0, len(scene.load_names)))
+    return (
+        np.stack([load_factor(scene, name, t) for name in scene.load_names], axis=1)
+        if len(t)
+        else np.zeros((0, len(scene.load_names)))
+    )
 
 
 def prescribed_vector(scene, name: str) -> np.ndarray:
@@ -112,21 +115,22 @@ def step_history(scene, result) -> dict:
     steps = result.get("steps", {})
     groups = support_groups(scene)
     forces = pattern_forces(scene)
-    n_c = (len(scene.model.get("contact_names", []))
-           or int(np.max(scene.pair_contact, initial=-1)) + 1)
+    n_c = (
+        len(scene.model.get("contact_names", [])) or int(np.max(scene.pair_contact, initial=-1)) + 1
+    )
     if "contact_force" in steps:
         t = np.concatenate([[0.0], np.asarray(steps["t"], dtype=float)])
         n = len(t) - 1
         stage = np.concatenate([[0], np.asarray(steps["stage"], dtype=np.int64)])
         phi = np.concatenate([[0.0], np.asarray(steps["load_fraction"], dtype=float)])
         force = np.zeros((n + 1, n_c, 3))
-        force[1:, :steps["contact_force"].shape[1]] = _padded(steps["contact_force"], dim)
+        force[1:, : steps["contact_force"].shape[1]] = _padded(steps["contact_force"], dim)
         moment = np.zeros((n + 1, n_c, 3))
         m = np.asarray(steps["contact_moment"], dtype=float)
         if dim == 3:
-            moment[1:, :m.shape[1]] = m
+            moment[1:, : m.shape[1]] = m
         else:
-            moment[1:, :m.shape[1], 2] = m
+            moment[1:, : m.shape[1], 2] = m
         reaction = np.zeros((n + 1, len(groups), 3))
         r = np.asarray(steps["reaction"], dtype=float)
         if r.shape[1] == len(groups):
@@ -135,30 +139,43 @@ def step_history(scene, result) -> dict:
             reaction[1:] = np.nan
         work = np.zeros((n + 1, len(forces)))
         w = np.asarray(steps["load_work"], dtype=float)
-        work[1:, :w.shape[1]] = w[:, :len(forces)]
+        work[1:, : w.shape[1]] = w[:, : len(forces)]
         step = np.arange(n + 1)
     else:
-        t, stage, phi, force, moment, reaction, work, step = _from_snapshots(scene, result,
-                                                                             groups, forces, n_c)
+        t, stage, phi, force, moment, reaction, work, step = _from_snapshots(
+            scene, result, groups, forces, n_c
+        )
     factor = _factors(scene, t)
     applied = np.zeros((len(t), len(forces), 3))
     for j, f in enumerate(forces):
         if f is not None:
-            applied[:, j] = factor[:, j:j + 1] * _padded(f.reshape(-1, dim).sum(axis=0), dim)
+            applied[:, j] = factor[:, j : j + 1] * _padded(f.reshape(-1, dim).sum(axis=0), dim)
     motion = np.zeros((len(t), n_c, 3))
     for name, mo in getattr(scene, "motions", {}).items():
-        motion[:, int(mo["contact"])] += np.outer(load_factor(scene, name, t),
-                                                  _padded(mo["motion"], dim))
+        motion[:, int(mo["contact"])] += np.outer(
+            load_factor(scene, name, t), _padded(mo["motion"], dim)
+        )
     prescribed = np.zeros((len(t), len(forces), 3))
     for name in getattr(scene, "prescribed", {}):
         j = list(scene.load_names).index(name)
         prescribed[:, j] = np.outer(factor[:, j], prescribed_vector(scene, name))
-    return {"step": step, "t": t, "stage": stage, "load_fraction": phi,
-            "contact_force": force, "contact_moment": moment, "reaction": reaction,
-            "factor": factor, "applied": applied, "load_work": work, "motion": motion,
-            "prescribed": prescribed,
-            "contact_names": list(scene.model.get("contact_names", [])),
-            "support_names": list(groups), "load_names": list(scene.load_names)}
+    return {
+        "step": step,
+        "t": t,
+        "stage": stage,
+        "load_fraction": phi,
+        "contact_force": force,
+        "contact_moment": moment,
+        "reaction": reaction,
+        "factor": factor,
+        "applied": applied,
+        "load_work": work,
+        "motion": motion,
+        "prescribed": prescribed,
+        "contact_names": list(scene.model.get("contact_names", [])),
+        "support_names": list(groups),
+        "load_names": list(scene.load_names),
+    }
 
 
 def pair_forces(scene, snap: dict) -> np.ndarray:
@@ -184,8 +201,8 @@ def contactor_points(scene) -> np.ndarray:
     out = x[np.asarray(pairs["node_a"], dtype=np.int64)].copy()
     ptr = np.asarray(pairs.get("weight_ptr", np.zeros(len(out) + 1, dtype=np.int64)))
     for k in np.flatnonzero(np.diff(ptr) > 0):
-        nodes = np.asarray(pairs["weight_node"])[ptr[k]:ptr[k + 1]]
-        c = np.asarray(pairs["weight_value"], dtype=float)[ptr[k]:ptr[k + 1]]
+        nodes = np.asarray(pairs["weight_node"])[ptr[k] : ptr[k + 1]]
+        c = np.asarray(pairs["weight_value"], dtype=float)[ptr[k] : ptr[k + 1]]
         mine = c > 0
         out[k] = (c[mine, None] * x[nodes[mine]]).sum(axis=0) / c[mine].sum()
     return out
@@ -259,8 +276,11 @@ def body_of_nodes(scene, nodes) -> list[str]:
     """The bodies the given nodes belong to, in body order."""
     nodes = np.asarray(nodes, dtype=np.int64)
     first = {b: scene.offsets[b] for b in scene.bodies}
-    return [b for b in scene.bodies
-            if ((nodes >= first[b]) & (nodes < first[b] + scene.meshes[b].n_nodes)).any()]
+    return [
+        b
+        for b in scene.bodies
+        if ((nodes >= first[b]) & (nodes < first[b] + scene.meshes[b].n_nodes)).any()
+    ]
 
 
 def contact_planes(scene, index: int) -> list[tuple[int, float]]:
@@ -290,10 +310,15 @@ def drivers(scene, hist: dict) -> dict[str, dict]:
             continue
         e = m / np.linalg.norm(m)
         planes = contact_planes(scene, c)
-        out[name] = {"kind": "motion", "contact": c, "direction": e, "planes": planes,
-                     "displacement": hist["motion"][:, c] @ e,
-                     "force_model": hist["contact_force"][:, c] @ e,
-                     "force": whole(hist["contact_force"][:, c], planes) @ e}
+        out[name] = {
+            "kind": "motion",
+            "contact": c,
+            "direction": e,
+            "planes": planes,
+            "displacement": hist["motion"][:, c] @ e,
+            "force_model": hist["contact_force"][:, c] @ e,
+            "force": whole(hist["contact_force"][:, c], planes) @ e,
+        }
     groups = support_groups(scene)
     for name in getattr(scene, "prescribed", {}):
         d = prescribed_vector(scene, name)
@@ -306,10 +331,15 @@ def drivers(scene, hist: dict) -> dict[str, dict]:
         j = list(hist["load_names"]).index(name)
         nodes = np.unique(dofs // dim)
         planes = _mirror(scene, body_of_nodes(scene, nodes), scene.nodes[nodes])
-        out[name] = {"kind": "displacement", "support": g, "direction": e, "planes": planes,
-                     "displacement": hist["prescribed"][:, j] @ e,
-                     "force_model": hist["reaction"][:, g] @ e,
-                     "force": whole(hist["reaction"][:, g], planes) @ e}
+        out[name] = {
+            "kind": "displacement",
+            "support": g,
+            "direction": e,
+            "planes": planes,
+            "displacement": hist["prescribed"][:, j] @ e,
+            "force_model": hist["reaction"][:, g] @ e,
+            "force": whole(hist["reaction"][:, g], planes) @ e,
+        }
     for j, (name, f) in enumerate(zip(hist["load_names"], pattern_forces(scene))):
         if f is None:
             continue
@@ -321,10 +351,14 @@ def drivers(scene, hist: dict) -> dict[str, dict]:
             continue  # self-balanced (a pressure inside a ring): no resultant to follow
         e = full / np.linalg.norm(full)
         along = float(part @ e)
-        out[name] = {"kind": "load", "direction": e, "planes": planes,
-                     "displacement": hist["load_work"][:, j] / along,
-                     "force_model": hist["factor"][:, j] * along,
-                     "force": hist["factor"][:, j] * float(full @ e)}
+        out[name] = {
+            "kind": "load",
+            "direction": e,
+            "planes": planes,
+            "displacement": hist["load_work"][:, j] / along,
+            "force_model": hist["factor"][:, j] * along,
+            "force": hist["factor"][:, j] * float(full @ e),
+        }
     for name, d in out.items():
         d["t"], d["stage"] = hist["t"], hist["stage"]
         d["bodies"] = _driver_bodies(scene, name, d)
@@ -363,8 +397,13 @@ def is_tangential(scene, d: dict) -> bool:
     else:
         a = np.asarray(scene.model["pairs"]["node_a"], dtype=np.int64)
         b = np.asarray(scene.model["pairs"]["node_b"], dtype=np.int64)
-        ids = np.concatenate([np.arange(scene.meshes[x].n_nodes) + scene.offsets[x]
-                              for x in d["bodies"]]) if d["bodies"] else np.zeros(0, np.int64)
+        ids = (
+            np.concatenate(
+                [np.arange(scene.meshes[x].n_nodes) + scene.offsets[x] for x in d["bodies"]]
+            )
+            if d["bodies"]
+            else np.zeros(0, np.int64)
+        )
         mine = np.isin(a, ids) | np.isin(b, ids)
         touching = np.unique(np.asarray(scene.pair_contact)[mine]).tolist()
     normals = [contact_normal(scene, c) for c in touching]
@@ -380,11 +419,16 @@ def driving_forces(scene, hist: dict) -> dict[str, dict]:
         force, disp = np.nan_to_num(d["force"]), np.nan_to_num(d["displacement"])
         model = np.nan_to_num(d["force_model"])
         k = int(np.argmax(force))  # (a history has its row at t = 0 at least)
-        out[name] = {"kind": d["kind"], "force": float(force[-1]),
-                     "force_model": float(model[-1]), "displacement": float(disp[-1]),
-                     "max_force": float(force[k]), "displacement_at_max": float(disp[k]),
-                     "direction": d["direction"].tolist(),
-                     "symmetry_planes": [f"{'xyz'[a]} = {v:g}" for a, v in d["planes"]]}
+        out[name] = {
+            "kind": d["kind"],
+            "force": float(force[-1]),
+            "force_model": float(model[-1]),
+            "displacement": float(disp[-1]),
+            "max_force": float(force[k]),
+            "displacement_at_max": float(disp[k]),
+            "direction": d["direction"].tolist(),
+            "symmetry_planes": [f"{'xyz'[a]} = {v:g}" for a, v in d["planes"]],
+        }
     return out
 
 
@@ -400,24 +444,40 @@ def history_columns(scene, hist: dict) -> list[tuple[str, np.ndarray]]:
     """(header, column) of history.csv, in order (cases/README.md, Outputs)."""
     f_unit, l_unit, m_unit = (_unit(scene, k) for k in ("force", "length", "moment"))
     comps, mcomps = force_components(scene), moment_components(scene)
-    cols = [("step", hist["step"]), ("t", hist["t"]), ("stage", hist["stage"] + 1),
-            ("load_fraction", hist["load_fraction"])]
+    cols = [
+        ("step", hist["step"]),
+        ("t", hist["t"]),
+        ("stage", hist["stage"] + 1),
+        ("load_fraction", hist["load_fraction"]),
+    ]
     for name, d in drivers(scene, hist).items():
         cols.append((f"driver.{name}.displacement [{l_unit}]", d["displacement"]))
         cols.append((f"driver.{name}.force [{f_unit}]", d["force"]))
     for c, name in enumerate(hist["contact_names"]):
-        cols += [(f"contact.{name}.F_{component_name(scene, k)} [{f_unit}]",
-                  hist["contact_force"][:, c, k]) for k in comps]
-        cols += [(f"contact.{name}.M_{AXES[k]} [{m_unit}]", hist["contact_moment"][:, c, k])
-                 for k in mcomps]
+        cols += [
+            (
+                f"contact.{name}.F_{component_name(scene, k)} [{f_unit}]",
+                hist["contact_force"][:, c, k],
+            )
+            for k in comps
+        ]
+        cols += [
+            (f"contact.{name}.M_{AXES[k]} [{m_unit}]", hist["contact_moment"][:, c, k])
+            for k in mcomps
+        ]
         if np.any(hist["motion"][:, c]):
-            cols += [(f"contact.{name}.u_{component_name(scene, k)} [{l_unit}]",
-                      hist["motion"][:, c, k]) for k in range(scene.dimension)]
+            cols += [
+                (f"contact.{name}.u_{component_name(scene, k)} [{l_unit}]", hist["motion"][:, c, k])
+                for k in range(scene.dimension)
+            ]
     groups = support_groups(scene)
     for g, name in enumerate(hist["support_names"]):
         held = set((np.asarray(groups.get(name, []), dtype=np.int64) % scene.dimension).tolist())
-        cols += [(f"bc.{name}.R_{component_name(scene, k)} [{f_unit}]", hist["reaction"][:, g, k])
-                 for k in comps if k in held]
+        cols += [
+            (f"bc.{name}.R_{component_name(scene, k)} [{f_unit}]", hist["reaction"][:, g, k])
+            for k in comps
+            if k in held
+        ]
     forces = pattern_forces(scene)
     for j, name in enumerate(hist["load_names"]):
         kinematic = np.any(hist["prescribed"][:, j]) or name in getattr(scene, "motions", {})
@@ -425,13 +485,21 @@ def history_columns(scene, hist: dict) -> list[tuple[str, np.ndarray]]:
             continue
         cols.append((f"load.{name}.factor", hist["factor"][:, j]))
         if forces[j] is not None:
-            cols += [(f"load.{name}.F_{component_name(scene, k)} [{f_unit}]",
-                      hist["applied"][:, j, k]) for k in comps]
-            cols.append((f"load.{name}.work_per_factor [{f_unit} {l_unit}]",
-                         hist["load_work"][:, j]))
+            cols += [
+                (f"load.{name}.F_{component_name(scene, k)} [{f_unit}]", hist["applied"][:, j, k])
+                for k in comps
+            ]
+            cols.append(
+                (f"load.{name}.work_per_factor [{f_unit} {l_unit}]", hist["load_work"][:, j])
+            )
         if np.any(hist["prescribed"][:, j]):
-            cols += [(f"load.{name}.u_{component_name(scene, k)} [{l_unit}]",
-                      hist["prescribed"][:, j, k]) for k in range(scene.dimension)]
+            cols += [
+                (
+                    f"load.{name}.u_{component_name(scene, k)} [{l_unit}]",
+                    hist["prescribed"][:, j, k],
+                )
+                for k in range(scene.dimension)
+            ]
     return cols
 
 
@@ -466,8 +534,11 @@ def indenter_shape(scene, index: int) -> tuple[str, float | None] | None:
         return None
     if c["kind"] == "rigid_sphere":
         return "sphere", float(c["radius"])
-    if (c["kind"] == "rigid_circle" and scene.model.get("plane") == "axisymmetric"
-            and abs(c["centre"][0]) <= 1e-12 * max(1.0, abs(c["radius"]))):
+    if (
+        c["kind"] == "rigid_circle"
+        and scene.model.get("plane") == "axisymmetric"
+        and abs(c["centre"][0]) <= 1e-12 * max(1.0, abs(c["radius"]))
+    ):
         return "sphere", float(c["radius"])
     return None
 

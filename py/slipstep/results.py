@@ -17,8 +17,14 @@ from .resultants import write_history_csv
 from .space.figures import write_figures_3d
 
 
-def write_results(out: str | Path, scene, result, summary: dict, figures: bool | None = None,
-                  xdmf: bool | None = None) -> list[Path]:
+def write_results(
+    out: str | Path,
+    scene,
+    result,
+    summary: dict,
+    figures: bool | None = None,
+    xdmf: bool | None = None,
+) -> list[Path]:
     """Write every output file of a run into ``out`` (created if needed); returns the paths.
     ``figures`` and ``xdmf`` default to the case's ``[output]`` choices.
 
@@ -29,8 +35,9 @@ def write_results(out: str | Path, scene, result, summary: dict, figures: bool |
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         why = "it is a regular file" if out.is_file() else exc.strerror
-        raise InputError(f"{out}: cannot write the results there ({why}): choose another "
-                         f"--out folder") from None
+        raise InputError(
+            f"{out}: cannot write the results there ({why}): choose another " f"--out folder"
+        ) from None
     options = scene.case.data["output"]
     figures = options["figures"] if figures is None else figures
     xdmf = options["xdmf"] if xdmf is None else xdmf
@@ -66,7 +73,10 @@ def case_toml(scene, summary: dict) -> str:
     case = scene.case
     sets = "".join(f" --set {item}" for item in case.overrides)
     made = ", ".join(f"{k} {v}" for k, v in summary.get("versions", {}).items())
-    header = ["The case of this run, resolved (every default filled in, the overrides applied):",
-              f"  {case.source}{sets}", "Rerun it: slipstep run case.toml",
-              *([f"Made with {made}."] if made else [])]
+    header = [
+        "The case of this run, resolved (every default filled in, the overrides applied):",
+        f"  {case.source}{sets}",
+        "Rerun it: slipstep run case.toml",
+        *([f"Made with {made}."] if made else []),
+    ]
     return resolved_case_text(case, scene.given_meshes, header)

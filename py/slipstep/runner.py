@@ -31,8 +31,10 @@ def engine():
     try:
         from . import _engine
     except ImportError as exc:
-        raise EngineMissing(f"the compiled engine slipstep._engine is not available ({exc}): "
-                            f"build it with `make build` (maturin develop --release)") from None
+        raise EngineMissing(
+            f"the compiled engine slipstep._engine is not available ({exc}): "
+            f"build it with `make build` (maturin develop --release)"
+        ) from None
     return _engine
 
 
@@ -42,8 +44,10 @@ def as_case(case: Case | dict | str | Path | None = None, overrides=(), meshes=N
     a shipped case (:mod:`slipstep.shipped`), or None (the built-in Hertz cylinder)."""
     if isinstance(case, Case):
         if overrides:
-            raise InputError(f"{case.source}: overrides apply when a case is read: pass its "
-                             f"path, text (Case.from_toml) or dict (Case.from_dict)")
+            raise InputError(
+                f"{case.source}: overrides apply when a case is read: pass its "
+                f"path, text (Case.from_toml) or dict (Case.from_dict)"
+            )
         return case
     if isinstance(case, dict):
         return Case.from_dict(_given_meshes(case, meshes or {}), overrides=overrides)
@@ -56,9 +60,12 @@ def _given_meshes(data: dict, meshes: dict) -> dict:
     bodies = data.get("body")
     if not isinstance(bodies, list) or not meshes:
         return data
-    fill = [{**b, "mesh": {"generator": "given"}}
-            if isinstance(b, dict) and "mesh" not in b and b.get("name") in meshes else b
-            for b in bodies]
+    fill = [
+        {**b, "mesh": {"generator": "given"}}
+        if isinstance(b, dict) and "mesh" not in b and b.get("name") in meshes
+        else b
+        for b in bodies
+    ]
     return {**data, "body": fill}
 
 
@@ -80,9 +87,16 @@ def solve(scene: Scene, progress=False) -> dict:
     return result
 
 
-def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | None = None,
-        overrides=(), progress=True, *, meshes=None, figures: bool | None = None,
-        xdmf: bool | None = None) -> Result:
+def run(
+    case: Case | dict | Scene | str | Path | None = None,
+    out: str | Path | None = None,
+    overrides=(),
+    progress=True,
+    *,
+    meshes=None,
+    figures: bool | None = None,
+    xdmf: bool | None = None,
+) -> Result:
     """Solve a case and return its :class:`~slipstep.result.Result`; write its files into
     ``out`` when given (``figures`` and ``xdmf`` default to the case's ``[output]``).
 
@@ -104,8 +118,10 @@ def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | 
     start = time.perf_counter()
     if isinstance(case, Scene):
         if overrides or meshes:
-            raise InputError(f"{case.case.source}: a prepared Scene takes no overrides or "
-                             f"meshes: pass the case instead")
+            raise InputError(
+                f"{case.case.source}: a prepared Scene takes no overrides or "
+                f"meshes: pass the case instead"
+            )
         scene = case
     else:
         scene = prepare(case, overrides, meshes)
@@ -130,8 +146,9 @@ def run(case: Case | dict | Scene | str | Path | None = None, out: str | Path | 
                 write_results(out, scene, raw, result.summary, figures, xdmf)
                 result.out = Path(out)
             except KeyboardInterrupt:
-                raise KeyboardInterrupt(f"interrupted while writing results; nothing was "
-                                        f"replaced in {out}") from None
+                raise KeyboardInterrupt(
+                    f"interrupted while writing results; nothing was " f"replaced in {out}"
+                ) from None
     if ctrl_c.received:
         raw["stop"]["late_interrupt"] = True
     return result
@@ -160,8 +177,10 @@ class _WritingFirst:
 
     def __enter__(self):
         self.received, self.previous = False, None
-        if (threading.current_thread() is threading.main_thread()
-                and signal.getsignal(signal.SIGINT) is signal.default_int_handler):
+        if (
+            threading.current_thread() is threading.main_thread()
+            and signal.getsignal(signal.SIGINT) is signal.default_int_handler
+        ):
             self.previous = signal.signal(signal.SIGINT, self._hold)
         return self
 
@@ -185,6 +204,7 @@ def _load_writers(scene: Scene, out, figures: bool | None, xdmf: bool | None):
     wanted = []
     if out is not None and (options["figures"] if figures is None else figures):
         from .figure_frame import preload
+
         wanted.append(preload)
     if out is not None and (options["xdmf"] if xdmf is None else xdmf):
         wanted.append(lambda: __import__("meshio"))
@@ -201,8 +221,12 @@ def _load_writers(scene: Scene, out, figures: bool | None, xdmf: bool | None):
     return thread
 
 
-def run_case(case_or_path: Case | str | Path | None = None, out: str | Path | None = None,
-             overrides=(), progress: bool = False) -> tuple[dict, dict]:
+def run_case(
+    case_or_path: Case | str | Path | None = None,
+    out: str | Path | None = None,
+    overrides=(),
+    progress: bool = False,
+) -> tuple[dict, dict]:
     """:func:`run` returning ``(result dict, summary)`` (docs/engine_api.md), no progress by
     default: the form before :class:`~slipstep.result.Result`, kept for existing callers."""
     result = run(case_or_path, out, overrides, progress)

@@ -22,14 +22,14 @@ class Scene:
     case: Case
     bodies: list[str]
     meshes: dict[str, Mesh]
-    offsets: dict[str, int]           # first global node id of each body
-    nodes: np.ndarray                 # (N, 2); 3D: (N, 3)
-    triangles: np.ndarray             # (M, 3); 3D: (0, 3), the elements are ``tetrahedra``
-    element_body: np.ndarray          # (M,) index into bodies
-    model: dict                       # the engine model
-    pair_xy: np.ndarray               # (P, 2) position of node_a; 3D: (P, 3)
-    pair_length: np.ndarray           # (P,) tributary length of node_a on its candidate edge
-    pair_contact: np.ndarray          # (P,) index of the [[contact]] entry it came from
+    offsets: dict[str, int]  # first global node id of each body
+    nodes: np.ndarray  # (N, 2); 3D: (N, 3)
+    triangles: np.ndarray  # (M, 3); 3D: (0, 3), the elements are ``tetrahedra``
+    element_body: np.ndarray  # (M,) index into bodies
+    model: dict  # the engine model
+    pair_xy: np.ndarray  # (P, 2) position of node_a; 3D: (P, 3)
+    pair_length: np.ndarray  # (P,) tributary length of node_a on its candidate edge
+    pair_contact: np.ndarray  # (P,) index of the [[contact]] entry it came from
     # (P,) the area its contact force acts on: L t, or its ring 2 pi int N_a r ds (contact_areas)
     pair_area: np.ndarray = field(default_factory=lambda: np.zeros(0))
     # node-to-segment rows: node a's closest target point (end nodes l1, l2 and parameter eta)
@@ -45,8 +45,8 @@ class Scene:
     stage_names: list = field(default_factory=lambda: ["stage 1"])
     n_stages: int = 1
     support_dofs: dict = field(default_factory=dict)  # bc name -> (k,) DOFs it holds
-    prescribed: dict = field(default_factory=dict)    # load name -> {"dofs", "values"}
-    motions: dict = field(default_factory=dict)       # load name -> {"contact", "motion"}
+    prescribed: dict = field(default_factory=dict)  # load name -> {"dofs", "values"}
+    motions: dict = field(default_factory=dict)  # load name -> {"contact", "motion"}
     factors: np.ndarray = field(default_factory=lambda: np.array([[0.0], [1.0]]))
     given_meshes: tuple = ()  # the bodies whose mesh came from Python (build_scene's meshes)
     # 3D scenes (slipstep.space.build): the elements, and each pair's tangent basis (t1, t2)
@@ -77,8 +77,9 @@ class Scene:
         return self.meshes[body].tags[tag] + self.offsets[body]
 
 
-def merged_bodies(bodies: list[str], meshes: dict) -> tuple[dict, np.ndarray, np.ndarray,
-                                                             np.ndarray]:
+def merged_bodies(
+    bodies: list[str], meshes: dict
+) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray]:
     """The bodies' meshes in one global numbering, body after body: (first node of each body,
     nodes, elements (triangles, or tetrahedra in 3D) in global node ids, the body index of
     each element)."""
@@ -88,8 +89,9 @@ def merged_bodies(bodies: list[str], meshes: dict) -> tuple[dict, np.ndarray, np
         start += meshes[name].n_nodes
     nodes = np.concatenate([meshes[b].nodes for b in bodies])
     elements = np.concatenate([meshes[b].elements + offsets[b] for b in bodies])
-    element_body = np.concatenate([np.full(meshes[b].n_elements, i, dtype=np.int64)
-                                   for i, b in enumerate(bodies)])
+    element_body = np.concatenate(
+        [np.full(meshes[b].n_elements, i, dtype=np.int64) for i, b in enumerate(bodies)]
+    )
     return offsets, nodes, elements, element_body
 
 

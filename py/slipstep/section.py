@@ -22,8 +22,9 @@ def is_axisymmetric(case: Case) -> bool:
     return case.data["analysis"]["plane"] == "axisymmetric"
 
 
-def boundary_shares(nodes: np.ndarray, segments: np.ndarray, plane: str,
-                    thickness: float) -> np.ndarray:
+def boundary_shares(
+    nodes: np.ndarray, segments: np.ndarray, plane: str, thickness: float
+) -> np.ndarray:
     """(S, 2): int N_k w ds over each linear segment for its end nodes k = 0, 1, the weight of a
     uniform traction at each end (its consistent nodal force = traction x share, exact for
     linear N).  Plane strain and plane stress: w = t, so t L/2 each; axisymmetric: w = 2 pi r,
@@ -36,8 +37,9 @@ def boundary_shares(nodes: np.ndarray, segments: np.ndarray, plane: str,
     return np.stack([half, half], axis=1)
 
 
-def node_shares(nodes: np.ndarray, segments: np.ndarray, plane: str, thickness: float,
-                ids: np.ndarray) -> np.ndarray:
+def node_shares(
+    nodes: np.ndarray, segments: np.ndarray, plane: str, thickness: float, ids: np.ndarray
+) -> np.ndarray:
     """Sum of :func:`boundary_shares` at each node of ``ids`` over the segments touching it:
     t L (L the tributary length) in the plane, int N_i 2 pi r ds (its ring) in axisymmetry."""
     per_node = np.zeros(len(nodes))

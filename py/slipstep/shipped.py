@@ -40,8 +40,10 @@ def path(name: str, kind: str = "cases") -> Path:
     stem = name[:-5] if name.endswith(".toml") else name
     found = folder(kind) / f"{stem}.toml"
     if not found.is_file():
-        raise FileNotFoundError(f"no shipped {kind[:-1] if kind == 'cases' else 'study'} "
-                                f"{name!r} (shipped: {', '.join(names(kind))})")
+        raise FileNotFoundError(
+            f"no shipped {kind[:-1] if kind == 'cases' else 'study'} "
+            f"{name!r} (shipped: {', '.join(names(kind))})"
+        )
     return found
 
 
@@ -64,8 +66,10 @@ def unknown(name: str, kind: str = "cases") -> str:
     stem = name[:-5] if name.endswith(".toml") else name
     close = difflib.get_close_matches(stem, names(kind), n=3, cutoff=0.75)
     hint = f"; did you mean {', '.join(close)}?" if close else ""
-    return (f"{name}: no such {what} file, and no shipped {what} of that name{hint} "
-            f"(`slipstep list` shows the shipped ones)")
+    return (
+        f"{name}: no such {what} file, and no shipped {what} of that name{hint} "
+        f"(`slipstep list` shows the shipped ones)"
+    )
 
 
 def copy(source: str, name: str) -> Path:
@@ -84,15 +88,16 @@ def copy(source: str, name: str) -> Path:
     for rel in files:
         there = target.parent / rel
         if there.exists() and there.read_bytes() != (original.parent / rel).read_bytes():
-            raise InputError(f"{there} exists and differs from the file {source} names: "
-                             f"remove it, or copy the case into another folder")
+            raise InputError(
+                f"{there} exists and differs from the file {source} names: "
+                f"remove it, or copy the case into another folder"
+            )
     for rel in files:
         there = target.parent / rel
         there.parent.mkdir(parents=True, exist_ok=True)
         if not there.exists():
             there.write_bytes((original.parent / rel).read_bytes())
-    target.write_text(renamed(original.read_text(encoding="utf-8"), target.stem),
-                      encoding="utf-8")
+    target.write_text(renamed(original.read_text(encoding="utf-8"), target.stem), encoding="utf-8")
     return target
 
 
@@ -100,8 +105,11 @@ def referenced_files(data: dict) -> list[str]:
     """The relative paths of the files a validated case names, in order: each body's mesh
     ``file``, ``edge_file``, ``face_file`` and each contact's surface ``file`` (absolute paths
     are left out: they stay where they are)."""
-    named = [b.get("mesh", {}).get(key, "") for b in data.get("body", [])
-             for key in ("file", "edge_file", "face_file")]
+    named = [
+        b.get("mesh", {}).get(key, "")
+        for b in data.get("body", [])
+        for key in ("file", "edge_file", "face_file")
+    ]
     named += [c.get("file", "") for c in data.get("contact", [])]
     return list(dict.fromkeys(f for f in named if f and not Path(f).is_absolute()))
 

@@ -30,11 +30,21 @@ def _zero_snapshot(scene) -> dict:
     """A snapshot of zeros with the engine's shapes (docs/engine_api.md)."""
     n, m, p, d = len(scene.nodes), len(scene.elements), len(scene.pair_xy), scene.dimension
     stress = 6 if d == 3 else 4
-    return {"u": np.zeros(n * d), "reaction": np.zeros(n * d), "stress": np.zeros(m * stress),
-            "plastic_strain": np.zeros(m), "plastic": np.zeros(m, dtype=np.int8),
-            "lambda_n": np.zeros(p), "lambda_t": np.zeros(p * (d - 1)),
-            "status": np.zeros(p, dtype=np.int8), "gap": np.zeros(p),
-            "rtd": np.zeros(p * (d - 1)), "t": 1.0, "stage": 0, "load_fraction": 1.0}
+    return {
+        "u": np.zeros(n * d),
+        "reaction": np.zeros(n * d),
+        "stress": np.zeros(m * stress),
+        "plastic_strain": np.zeros(m),
+        "plastic": np.zeros(m, dtype=np.int8),
+        "lambda_n": np.zeros(p),
+        "lambda_t": np.zeros(p * (d - 1)),
+        "status": np.zeros(p, dtype=np.int8),
+        "gap": np.zeros(p),
+        "rtd": np.zeros(p * (d - 1)),
+        "t": 1.0,
+        "stage": 0,
+        "load_fraction": 1.0,
+    }
 
 
 def step_bytes(scene) -> int:
@@ -44,9 +54,11 @@ def step_bytes(scene) -> int:
     step = xdmf_step_3d if scene.dimension == 3 else xdmf_step
     zero = _zero_snapshot(scene)
     point_data, cell_data = step(scene, zero)
-    return int(sum(np.asarray(v).nbytes for v in point_data.values()) +
-               sum(np.asarray(block).nbytes for v in cell_data.values() for block in v) +
-               sum(v.nbytes for v in snapshot_record(zero).values()))
+    return int(
+        sum(np.asarray(v).nbytes for v in point_data.values())
+        + sum(np.asarray(block).nbytes for v in cell_data.values() for block in v)
+        + sum(v.nbytes for v in snapshot_record(zero).values())
+    )
 
 
 def mesh_bytes(scene) -> int:
@@ -60,8 +72,7 @@ def auto_times(n_stages: int, bytes_per_step: float) -> list[float]:
     :data:`AUTO_BYTES`."""
     fit = int(AUTO_BYTES // max(bytes_per_step * n_stages, 1.0))
     per_stage = min(AUTO_PER_STAGE, max(1, fit))
-    return [round(k + i / per_stage, 12) for k in range(n_stages)
-            for i in range(1, per_stage + 1)]
+    return [round(k + i / per_stage, 12) for k in range(n_stages) for i in range(1, per_stage + 1)]
 
 
 def requested(case, bytes_per_step: float | None = None):
@@ -83,17 +94,21 @@ def predicted_text(scene) -> str:
     snaps = requested(scene.case, per_step)
     mb = 1e-6
     if snaps == "events":
-        return (f"results.h5: {mesh * mb:.1f} MB of mesh and {per_step * mb:.1f} MB per "
-                f"snapshot, one after every event (output.snapshots = \"events\"; a list of "
-                f"path times bounds it)")
+        return (
+            f"results.h5: {mesh * mb:.1f} MB of mesh and {per_step * mb:.1f} MB per "
+            f"snapshot, one after every event (output.snapshots = \"events\"; a list of "
+            f"path times bounds it)"
+        )
     times = sorted(set(snaps) | {float(k) for k in range(1, scene.case.path.n_stages + 1)})
     total = mesh + len(times) * per_step
-    return (f"results.h5: ~{total * mb:.1f} MB ({len(times)} snapshots of "
-            f"{per_step * mb:.1f} MB at t = {_listed(times)})")
+    return (
+        f"results.h5: ~{total * mb:.1f} MB ({len(times)} snapshots of "
+        f"{per_step * mb:.1f} MB at t = {_listed(times)})"
+    )
 
 
 def _listed(times: list[float], most: int = 6) -> str:
     shown = [f"{t:.4g}" for t in times]
     if len(shown) > most:
-        shown = shown[:most // 2] + ["..."] + shown[-(most // 2):]
+        shown = shown[: most // 2] + ["..."] + shown[-(most // 2) :]
     return ", ".join(shown)

@@ -38,8 +38,22 @@ from .references import thick_cylinder_radius
 from .mesh import checked_mesh
 from .summary import contact_text, summarize
 
-COLUMNS = ["scenario", "group", "status", "error", "n_events", "n_steps", "final_load_fraction",
-           "max_residual", "max_drift", "reference", "rel_error", "note", "wall_s", "p_full"]
+COLUMNS = [
+    "scenario",
+    "group",
+    "status",
+    "error",
+    "n_events",
+    "n_steps",
+    "final_load_fraction",
+    "max_residual",
+    "max_drift",
+    "reference",
+    "rel_error",
+    "note",
+    "wall_s",
+    "p_full",
+]
 
 
 def _case(name: str) -> str:
@@ -63,26 +77,38 @@ def structured_annulus(a: float, b: float, nr: int, nt: int, crossed: bool = Tru
         tc = 0.5 * (t[:-1] + t[1:])
         RC, TC = np.meshgrid(rc, tc, indexing="ij")
         c = len(nodes) + np.arange(nr * nt)
-        nodes = np.vstack([nodes, np.column_stack([(RC * np.cos(TC)).ravel(),
-                                                   (RC * np.sin(TC)).ravel()])])
-        tris = np.vstack([np.column_stack(x) for x in ((p00, p10, c), (p10, p11, c),
-                                                       (p11, p01, c), (p01, p00, c))])
+        nodes = np.vstack(
+            [nodes, np.column_stack([(RC * np.cos(TC)).ravel(), (RC * np.sin(TC)).ravel()])]
+        )
+        tris = np.vstack(
+            [
+                np.column_stack(x)
+                for x in ((p00, p10, c), (p10, p11, c), (p11, p01, c), (p01, p00, c))
+            ]
+        )
     else:
         alt = ((np.arange(nr)[:, None] + np.arange(nt)[None, :]) % 2 == 0).ravel()
-        t1 = np.where(alt[:, None], np.column_stack([p00, p10, p11]),
-                      np.column_stack([p00, p10, p01]))
-        t2 = np.where(alt[:, None], np.column_stack([p00, p11, p01]),
-                      np.column_stack([p10, p11, p01]))
+        t1 = np.where(
+            alt[:, None], np.column_stack([p00, p10, p11]), np.column_stack([p00, p10, p01])
+        )
+        t2 = np.where(
+            alt[:, None], np.column_stack([p00, p11, p01]), np.column_stack([p10, p11, p01])
+        )
         tris = np.vstack([t1, t2])
 
     def seg(ids):
         return np.column_stack([ids[:-1], ids[1:]])
 
-    edges = {"inner": seg(grid[0, :]), "outer": seg(grid[-1, :]),
-             "x_axis": seg(grid[:, 0]), "y_axis": seg(grid[:, -1])}
+    edges = {
+        "inner": seg(grid[0, :]),
+        "outer": seg(grid[-1, :]),
+        "x_axis": seg(grid[:, 0]),
+        "y_axis": seg(grid[:, -1]),
+    }
     node_sets = {k: np.unique(v) for k, v in edges.items()}
-    return checked_mesh(nodes, tris, edges, node_sets, where="structured quarter annulus",
-                   flip_clockwise=True)
+    return checked_mesh(
+        nodes, tris, edges, node_sets, where="structured quarter annulus", flip_clockwise=True
+    )
 
 
 # --------------------------------------------------------------------------- running
@@ -104,26 +130,51 @@ def _run(path, overrides=(), mesh=None):
     return scene, result, summary, error, time.perf_counter() - t0
 
 
-def _row(name, group, summary, error, wall, reference="", rel_error=float("nan"), note="",
-         status=None, run=(None, None)):
+def _row(
+    name,
+    group,
+    summary,
+    error,
+    wall,
+    reference="",
+    rel_error=float("nan"),
+    note="",
+    status=None,
+    run=(None, None),
+):
     """One row of the table; ``run``: the (scene, result) it came from, kept under ``_run`` for
     checks on the arrays (not written)."""
     s = summary or {}
     if status is None:
         status = "failed" if summary is None else STATUS_OF_STOP[s["stop"]["kind"]]
-    return {"scenario": name, "group": group, "status": status, "error": error,
-            "n_events": s.get("n_events", ""), "n_steps": s.get("n_steps", ""),
-            "final_load_fraction": s.get("final_load_fraction", float("nan")),
-            "max_residual": s.get("max_equilibrium_residual", float("nan")),
-            "max_drift": s.get("max_drift", float("nan")), "reference": reference,
-            "rel_error": rel_error, "note": note, "wall_s": wall, "_run": run}
+    return {
+        "scenario": name,
+        "group": group,
+        "status": status,
+        "error": error,
+        "n_events": s.get("n_events", ""),
+        "n_steps": s.get("n_steps", ""),
+        "final_load_fraction": s.get("final_load_fraction", float("nan")),
+        "max_residual": s.get("max_equilibrium_residual", float("nan")),
+        "max_drift": s.get("max_drift", float("nan")),
+        "reference": reference,
+        "rel_error": rel_error,
+        "note": note,
+        "wall_s": wall,
+        "_run": run,
+    }
 
 
 #: A row's status for each way the engine ends a run (``result["stop"]["kind"]``); a limit
 #: load is the expected end of a run loaded beyond collapse.
-STATUS_OF_STOP = {"completed": "completed", "first_yield": "completed",
-                  "limit_load": "limit load", "event_bound": "stopped",
-                  "support_lost": "support lost", "interrupted": "stopped"}
+STATUS_OF_STOP = {
+    "completed": "completed",
+    "first_yield": "completed",
+    "limit_load": "limit load",
+    "event_bound": "stopped",
+    "support_lost": "support lost",
+    "interrupted": "stopped",
+}
 
 
 def _centroid_radius(scene):
@@ -154,17 +205,36 @@ def scenario_h0(quick: bool) -> list[dict]:
         snap = res["snapshots"][-1]
         plastic = np.asarray(snap["plastic_strain"]) > 0
         c = float(_centroid_radius(scene)[plastic].max()) if plastic.any() else a
-    rows.append(_row("H'=0 thick cylinder p=175", "H0", s, err, wall, run=(scene, res),
-                     reference=f"Hill plastic radius c = {c_ref:.3f}", rel_error=c / c_ref - 1,
-                     note=f"plastic radius {c:.3f} (outermost plastic centroid)"))
+    rows.append(
+        _row(
+            "H'=0 thick cylinder p=175",
+            "H0",
+            s,
+            err,
+            wall,
+            run=(scene, res),
+            reference=f"Hill plastic radius c = {c_ref:.3f}",
+            rel_error=c / c_ref - 1,
+            note=f"plastic radius {c:.3f} (outermost plastic centroid)",
+        )
+    )
     ov = ["material.Sy=200", "material.H=0", "mesh.h_contact=0.15"]
     scene, res, s, err, wall = _run(None, ov)
     hz = (s or {}).get("hertz", {})
-    rows.append(_row("H'=0 Hertz Sy=200 h_c=0.15", "H0", s, err, wall, run=(scene, res),
-                     reference="Johnson first yield 0.60 p0/Sy",
-                     rel_error=hz.get("first_yield_rel_error", float("nan")) or float("nan"),
-                     note=f"{(s or {}).get('n_plastic_elements', 0)} plastic elements, "
-                          f"a/a_Hertz-1 = {hz.get('a_rel_error', float('nan')):+.3f}"))
+    rows.append(
+        _row(
+            "H'=0 Hertz Sy=200 h_c=0.15",
+            "H0",
+            s,
+            err,
+            wall,
+            run=(scene, res),
+            reference="Johnson first yield 0.60 p0/Sy",
+            rel_error=hz.get("first_yield_rel_error", float("nan")) or float("nan"),
+            note=f"{(s or {}).get('n_plastic_elements', 0)} plastic elements, "
+            f"a/a_Hertz-1 = {hz.get('a_rel_error', float('nan')):+.3f}",
+        )
+    )
     return rows
 
 
@@ -183,9 +253,11 @@ def scenario_incompressible(quick: bool) -> tuple[list[dict], dict]:
     base = [f"bc.bore.pressure={p!r}", f"output.snapshots={fr}", "output.figures=false"]
     nus = (0.3, 0.45, 0.49, 0.499)
     nr, nt = (10, 24) if quick else (20, 48)
-    meshes = {"gmsh CST": None,
-              "structured 2-tri": structured_annulus(a, b, nr, nt, crossed=False),
-              "union jack": structured_annulus(a, b, nr, nt, crossed=True)}
+    meshes = {
+        "gmsh CST": None,
+        "structured 2-tri": structured_annulus(a, b, nr, nt, crossed=False),
+        "union jack": structured_annulus(a, b, nr, nt, crossed=True),
+    }
     if quick:
         nus = (0.3, 0.499)
         meshes.pop("structured 2-tri")
@@ -210,21 +282,32 @@ def scenario_incompressible(quick: bool) -> tuple[list[dict], dict]:
                 # load path against the elastic one (Hill: 0 at the limit pressure)
                 k_el = pp[0] / ur[0]
                 sel = pp >= pp[-1] - 0.1 * p
-                k_end = (np.polyfit(ur[sel], pp[sel], 1)[0] if sel.sum() >= 2 else float("nan"))
+                k_end = np.polyfit(ur[sel], pp[sel], 1)[0] if sel.sum() >= 2 else float("nan")
                 outer_ring = rc >= rc.max() - 1e-9 - (b - a) / max(nr, 1)
                 plast = np.asarray(res["snapshots"][-1]["plastic_strain"]) > 0
                 rel = p_full_v / p_lim - 1
-                note = (f"carried p = {p_end:.1f} (limit {p_lim:.1f}); all elements plastic "
-                        f"at p = {p_full}; final stiffness / elastic = {k_end / k_el:.3f}; "
-                        f"outer ring plastic {plast[outer_ring].mean():.0%}")
+                note = (
+                    f"carried p = {p_end:.1f} (limit {p_lim:.1f}); all elements plastic "
+                    f"at p = {p_full}; final stiffness / elastic = {k_end / k_el:.3f}; "
+                    f"outer ring plastic {plast[outer_ring].mean():.0%}"
+                )
                 curves[(mname, nu)] += (k_end / k_el, p_end, p_full_v)
                 E = 200000.0
                 u_hill = (1 + nu) * k * (2 - 2 * nu) * b / E  # Hill's u(b) at p_lim (c = b)
                 note += f"; u(b)/u_Hill(b, p_lim) = {ur[-1] / u_hill:.2f}"
-            rows.append(_row(f"nu={nu} {mname} p=1.1 p_lim", "incompressible", s, err, wall,
-                             run=(scene, res),
-                             reference="p(all elements plastic) / p_lim - 1",
-                             rel_error=rel, note=note))
+            rows.append(
+                _row(
+                    f"nu={nu} {mname} p=1.1 p_lim",
+                    "incompressible",
+                    s,
+                    err,
+                    wall,
+                    run=(scene, res),
+                    reference="p(all elements plastic) / p_lim - 1",
+                    rel_error=rel,
+                    note=note,
+                )
+            )
             rows[-1]["p_full"] = p_full_v
             rows[-1]["nu"] = nu
             rows[-1]["mesh"] = mname
@@ -244,11 +327,24 @@ def scenario_friction(quick: bool) -> list[dict]:
                 scale = max(float(ln.max()), 1e-300)
                 excess = max(excess, float(np.max(np.abs(lt) - mu * ln)) / scale)
             rel = (s.get("hertz") or {}).get("a_rel_error", float("nan"))
-            note = (f"final: {s['n_stick']} stick / {s['n_slip']} slip pairs, "
-                    f"{contact_text(s)}; max(|lt| - mu ln)/max ln = {excess:.1e}")
+            note = (
+                f"final: {s['n_stick']} stick / {s['n_slip']} slip pairs, "
+                f"{contact_text(s)}; max(|lt| - mu ln)/max ln = {excess:.1e}"
+            )
             s["coulomb_excess"] = excess
-        rows.append(_row(f"Hertz elastic mu={mu}", "friction", s, err, wall, run=(scene, res),
-                         reference="Hertz a", rel_error=rel, note=note))
+        rows.append(
+            _row(
+                f"Hertz elastic mu={mu}",
+                "friction",
+                s,
+                err,
+                wall,
+                run=(scene, res),
+                reference="Hertz a",
+                rel_error=rel,
+                note=note,
+            )
+        )
         rows[-1]["_summary"] = s
     return rows
 
@@ -301,16 +397,28 @@ mu = 0.3
 
 def scenario_ties(quick: bool) -> list[dict]:
     rows = []
-    scene, res, s, err, wall = _run(_case("two_blocks"), ["output.snapshots=[1.0]",
-                                                          "output.figures=false"])
+    scene, res, s, err, wall = _run(
+        _case("two_blocks"), ["output.snapshots=[1.0]", "output.figures=false"]
+    )
     note = ""
     if s:
         steps = np.asarray(res["events"]["step"])
         per = np.bincount(steps) if len(steps) else np.zeros(1, int)
-        note = (f"{len(per.nonzero()[0])} increments, up to {per.max()} simultaneous events; "
-                f"final {s['n_stick']} stick / {s['n_slip']} slip / {s['n_open']} open")
-    rows.append(_row("two_blocks (symmetric matching mesh)", "ties", s, err, wall,
-                     run=(scene, res), note=note))
+        note = (
+            f"{len(per.nonzero()[0])} increments, up to {per.max()} simultaneous events; "
+            f"final {s['n_stick']} stick / {s['n_slip']} slip / {s['n_open']} open"
+        )
+    rows.append(
+        _row(
+            "two_blocks (symmetric matching mesh)",
+            "ties",
+            s,
+            err,
+            wall,
+            run=(scene, res),
+            note=note,
+        )
+    )
     # uniaxial strain: u_y(bottom) = -q H / (lambda + 2G), the same at every bottom node
     E, nu, q, H = 200000.0, 0.3, 100.0, 4.0
     m = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
@@ -327,37 +435,71 @@ def scenario_ties(quick: bool) -> list[dict]:
         steps_close = np.unique(np.asarray(ev["step"])[close])
         lf_close = np.asarray(ev["load_fraction"])[close]
         n_pairs = s["n_pairs"]
-        note = (f"{close.sum()} of {n_pairs} pairs close, in {len(steps_close)} increment(s), at "
-                f"f = {lf_close.min() if close.any() else float('nan'):.6f} (exact 0.5)")
+        note = (
+            f"{close.sum()} of {n_pairs} pairs close, in {len(steps_close)} increment(s), at "
+            f"f = {lf_close.min() if close.any() else float('nan'):.6f} (exact 0.5)"
+        )
         rel = float(lf_close.max() / 0.5 - 1) if close.any() else float("nan")
         s["closed_in_one_increment"] = bool(close.sum() == n_pairs and len(steps_close) == 1)
-    rows.append(_row("flat block on rigid flat, equal gaps", "ties", s, err, wall,
-                     run=(scene, res),
-                     reference="closure at f = 0.5", rel_error=rel, note=note))
+    rows.append(
+        _row(
+            "flat block on rigid flat, equal gaps",
+            "ties",
+            s,
+            err,
+            wall,
+            run=(scene, res),
+            reference="closure at f = 0.5",
+            rel_error=rel,
+            note=note,
+        )
+    )
     rows[-1]["_summary"] = s
     return rows
 
 
 def scenario_receding(quick: bool) -> list[dict]:
     rows = []
-    for name, ov in (("two_blocks", []),
-                     ("paper_block_elastic",
-                      ["body.punch.mesh.h=1.0", "body.halfspace.mesh.h=1.0"] if quick else [])):
-        scene, res, s, err, wall = _run(_case(name), ov + ["output.snapshots=[1.0]",
-                                                           "output.figures=false"])
+    for name, ov in (
+        ("two_blocks", []),
+        (
+            "paper_block_elastic",
+            ["body.punch.mesh.h=1.0", "body.halfspace.mesh.h=1.0"] if quick else [],
+        ),
+    ):
+        scene, res, s, err, wall = _run(
+            _case(name), ov + ["output.snapshots=[1.0]", "output.figures=false"]
+        )
         note = ""
         if s:
-            note = (f"{contact_text(s)}; final {s['n_stick']} stick / {s['n_slip']} slip / "
-                    f"{s['n_open']} open of {s['n_pairs']}")
-        rows.append(_row(f"{name} (zero gaps, start in stick)", "receding", s, err, wall,
-                         run=(scene, res),
-                         note=note))
+            note = (
+                f"{contact_text(s)}; final {s['n_stick']} stick / {s['n_slip']} slip / "
+                f"{s['n_open']} open of {s['n_pairs']}"
+            )
+        rows.append(
+            _row(
+                f"{name} (zero gaps, start in stick)",
+                "receding",
+                s,
+                err,
+                wall,
+                run=(scene, res),
+                note=note,
+            )
+        )
     return rows
 
 
 def scenario_grading(quick: bool) -> list[dict]:
-    ov = ["mesh.h_contact=0.001", "mesh.contact_zone=0.02", "mesh.h_max=10", "mesh.growth=0.3",
-          "contact.x_max=3.0", "output.snapshots=[1.0]", "output.figures=false"]
+    ov = [
+        "mesh.h_contact=0.001",
+        "mesh.contact_zone=0.02",
+        "mesh.h_max=10",
+        "mesh.growth=0.3",
+        "contact.x_max=3.0",
+        "output.snapshots=[1.0]",
+        "output.figures=false",
+    ]
     scene, res, s, err, wall = _run(None, ov)
     note, rel = "", float("nan")
     if s:
@@ -365,10 +507,21 @@ def scenario_grading(quick: bool) -> list[dict]:
         edge = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1)
         ratio = edge.max() / edge.min()
         rel = s["hertz"]["a_rel_error"]
-        note = (f"{s['n_elements']} elements, longest/shortest edge = {ratio:.2e}")
+        note = f"{s['n_elements']} elements, longest/shortest edge = {ratio:.2e}"
         s["size_ratio"] = float(ratio)
-    rows = [_row("Hertz, h_contact=0.001, h_max=10", "grading", s, err, wall, run=(scene, res),
-                 reference="Hertz a", rel_error=rel, note=note)]
+    rows = [
+        _row(
+            "Hertz, h_contact=0.001, h_max=10",
+            "grading",
+            s,
+            err,
+            wall,
+            run=(scene, res),
+            reference="Hertz a",
+            rel_error=rel,
+            note=note,
+        )
+    ]
     rows[-1]["_summary"] = s
     return rows
 
@@ -376,6 +529,7 @@ def scenario_grading(quick: bool) -> list[dict]:
 def scenario_newton(quick: bool) -> tuple[list[dict], str]:
     try:
         from .fenicsx import require_dolfinx
+
         require_dolfinx()
         from .fenicsx.bulk import BulkProblem
     except Exception as exc:  # noqa: BLE001
@@ -395,10 +549,19 @@ def scenario_newton(quick: bool) -> tuple[list[dict], str]:
             plastic = np.asarray(res["snapshots"][-1]["plastic_strain"]) > 0
             c = float(_centroid_radius(scene)[plastic].max())
             ub = _outer_ur(scene, u_ss, b)
-            rows.append(_row(f"slipstep thick cylinder p={p:g}", "newton", s, err, wall,
-                             run=(scene, res),
-                             reference=f"Hill c = {c_ref:.3f}", rel_error=c / c_ref - 1,
-                             note=f"plastic radius {c:.3f}; u(b) = {ub:.4e}"))
+            rows.append(
+                _row(
+                    f"slipstep thick cylinder p={p:g}",
+                    "newton",
+                    s,
+                    err,
+                    wall,
+                    run=(scene, res),
+                    reference=f"Hill c = {c_ref:.3f}",
+                    rel_error=c / c_ref - 1,
+                    note=f"plastic radius {c:.3f}; u(b) = {ub:.4e}",
+                )
+            )
         try:
             bulk = BulkProblem(scene)
         except Exception as exc:  # noqa: BLE001
@@ -412,23 +575,39 @@ def scenario_newton(quick: bool) -> tuple[list[dict], str]:
                 ok = all(x <= 1e-10 for x in resid)
                 plastic = np.asarray(r.plastic_strain) > 0
                 c = float(_centroid_radius(scene)[plastic].max()) if plastic.any() else a
-                du = (np.linalg.norm(r.u - u_ss) / np.linalg.norm(u_ss)) if u_ss is not None \
+                du = (
+                    (np.linalg.norm(r.u - u_ss) / np.linalg.norm(u_ss))
+                    if u_ss is not None
                     else float("nan")
+                )
                 ub = _outer_ur(scene, r.u, b)
-                row = {"scenario": f"dolfinx Newton {n} step(s) p={p:g}", "group": "newton",
-                       "status": "converged" if ok else "not converged",
-                       "error": "" if ok else f"residual {max(resid):.1e} after "
-                                               f"{max(its)} iterations",
-                       "n_events": "", "n_steps": n, "final_load_fraction": 1.0,
-                       "max_residual": max(resid), "max_drift": float("nan"),
-                       "reference": f"Hill c = {c_ref:.3f}", "rel_error": c / c_ref - 1,
-                       "note": f"Newton iterations {its}; plastic radius {c:.3f}; "
-                               f"|u - u_slipstep|/|u_slipstep| = {du:.1e}; u(b) = {ub:.4e}",
-                       "wall_s": time.perf_counter() - t0}
+                row = {
+                    "scenario": f"dolfinx Newton {n} step(s) p={p:g}",
+                    "group": "newton",
+                    "status": "converged" if ok else "not converged",
+                    "error": ""
+                    if ok
+                    else f"residual {max(resid):.1e} after " f"{max(its)} iterations",
+                    "n_events": "",
+                    "n_steps": n,
+                    "final_load_fraction": 1.0,
+                    "max_residual": max(resid),
+                    "max_drift": float("nan"),
+                    "reference": f"Hill c = {c_ref:.3f}",
+                    "rel_error": c / c_ref - 1,
+                    "note": f"Newton iterations {its}; plastic radius {c:.3f}; "
+                    f"|u - u_slipstep|/|u_slipstep| = {du:.1e}; u(b) = {ub:.4e}",
+                    "wall_s": time.perf_counter() - t0,
+                }
             except Exception as exc:  # noqa: BLE001
-                row = _row(f"dolfinx Newton {n} step(s) p={p:g}", "newton", None,
-                           f"{type(exc).__name__}: {exc}".splitlines()[0],
-                           time.perf_counter() - t0, status="not converged")
+                row = _row(
+                    f"dolfinx Newton {n} step(s) p={p:g}",
+                    "newton",
+                    None,
+                    f"{type(exc).__name__}: {exc}".splitlines()[0],
+                    time.perf_counter() - t0,
+                    status="not converged",
+                )
             rows.append(row)
     return rows, ""
 
@@ -451,10 +630,30 @@ def write_csv(path: Path, rows: list[dict]) -> None:
 
 
 def markdown_table(rows: list[dict]) -> str:
-    cols = ["scenario", "status", "n_events", "final_load_fraction", "max_residual",
-            "max_drift", "rel_error", "wall_s", "note", "error"]
-    head = ["scenario", "status", "events", "f_end", "max residual", "max drift",
-            "error vs ref", "wall s", "what it shows", "error line"]
+    cols = [
+        "scenario",
+        "status",
+        "n_events",
+        "final_load_fraction",
+        "max_residual",
+        "max_drift",
+        "rel_error",
+        "wall_s",
+        "note",
+        "error",
+    ]
+    head = [
+        "scenario",
+        "status",
+        "events",
+        "f_end",
+        "max residual",
+        "max drift",
+        "error vs ref",
+        "wall s",
+        "what it shows",
+        "error line",
+    ]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in rows:
         lines.append("| " + " | ".join(_fmt(r.get(c, "")).replace("|", "/") for c in cols) + " |")
@@ -488,8 +687,7 @@ def figure(path: Path, rows: list[dict], inc: dict) -> None:
         if not sel:
             continue
         x = [r["nu"] for r in sel]
-        y = [(r["p_full"] / p_lim) if not math.isnan(r["p_full"]) else float("nan")
-             for r in sel]
+        y = [(r["p_full"] / p_lim) if not math.isnan(r["p_full"]) else float("nan") for r in sel]
         ax0.plot(range(len(x)), y, marker=markers[mname], label=mname)
         for i, r in enumerate(sel):
             if r["status"] not in ("completed", "limit load") or math.isnan(r["p_full"]):
@@ -501,11 +699,17 @@ def figure(path: Path, rows: list[dict], inc: dict) -> None:
     ax0.set_title("volumetric locking of CST (x: never fully plastic / stopped)")
     ax0.legend(fontsize=8)
     names = [r["scenario"] for r in rows if r["group"] != "newton"]
-    res = [r["max_residual"] if isinstance(r["max_residual"], float) else float("nan")
-           for r in rows if r["group"] != "newton"]
+    res = [
+        r["max_residual"] if isinstance(r["max_residual"], float) else float("nan")
+        for r in rows
+        if r["group"] != "newton"
+    ]
     res = [max(x, 1e-17) if not math.isnan(x) else float("nan") for x in res]
-    colors = ["tab:green" if r["status"] == "completed" else "tab:red"
-              for r in rows if r["group"] != "newton"]
+    colors = [
+        "tab:green" if r["status"] == "completed" else "tab:red"
+        for r in rows
+        if r["group"] != "newton"
+    ]
     y = np.arange(len(names))
     ax2.barh(y, res, color=colors)
     failed = [i for i, x in enumerate(res) if math.isnan(x)]
@@ -529,16 +733,28 @@ def run(out: str | Path, quick: bool = False, progress=print) -> dict:
     rows: list[dict] = []
     inc: dict = {}
     newton_note = ""
-    for name, fn in (("H0", scenario_h0), ("incompressible", scenario_incompressible),
-                     ("friction", scenario_friction), ("ties", scenario_ties),
-                     ("receding", scenario_receding), ("grading", scenario_grading),
-                     ("newton", scenario_newton)):
+    for name, fn in (
+        ("H0", scenario_h0),
+        ("incompressible", scenario_incompressible),
+        ("friction", scenario_friction),
+        ("ties", scenario_ties),
+        ("receding", scenario_receding),
+        ("grading", scenario_grading),
+        ("newton", scenario_newton),
+    ):
         t = time.perf_counter()
         try:
             got = fn(quick)
         except Exception as exc:  # noqa: BLE001
-            got = [_row(f"{name} (scenario crashed)", name, None,
-                        traceback.format_exception_only(type(exc), exc)[-1].strip(), 0.0)]
+            got = [
+                _row(
+                    f"{name} (scenario crashed)",
+                    name,
+                    None,
+                    traceback.format_exception_only(type(exc), exc)[-1].strip(),
+                    0.0,
+                )
+            ]
         if name == "incompressible" and isinstance(got, tuple):
             got, inc = got
         if name == "newton" and isinstance(got, tuple):
@@ -548,40 +764,56 @@ def run(out: str | Path, quick: bool = False, progress=print) -> dict:
             progress(f"stability: {name}: {len(got)} run(s) in {time.perf_counter() - t:.1f} s")
     write_csv(out / "stability.csv", rows)
     figure(out / "stability.png", rows, inc)
-    md = [f"# Stability study{' (--quick)' if quick else ''}", "",
-          "Scenarios where the usual methods fail. `max residual` is the "
-          "engine's max over events of |K u - f - contact forces| / |f|; `max drift` the max "
-          "of |sigma_e - sigma_y| / sigma_y before the return; `error vs ref` is "
-          "described per row (Hill plastic radius, Hertz a, Johnson first yield, exact "
-          "closure fraction; for completed near-incompressible runs the final tangent "
-          "stiffness / elastic stiffness — Hill's exact answer is 0 at the limit pressure).",
-          "", markdown_table(rows), "", "![stability](stability.png)", "",
-          "## Notes", "",
-          "- H' = 0: the engine assembles the elastoplastic *stiffness* (Prandtl-Reuss tangent "
-          "D_ep), which stays finite at H' = 0; the paper's compliance form (A.2) divides by "
-          "H' and cannot be used.",
-          "- Near-incompressibility (thick cylinder, plane strain, H' = 0, loaded to "
-          "1.1 x Hill's limit 2k ln(b/a)): plastic flow is isochoric and constant-strain "
-          "triangles lock as nu -> 1/2: the pressure at which every element is plastic rises "
-          "above Hill's limit (or is never reached) on the free (gmsh) CST mesh, and on "
-          "coarse meshes the stiffness after the limit stays positive. A structured "
-          "2-triangle polar grid, aligned with the radial flow, locks much less. The crossed \"union jack\" mesh "
-          "(4 CST per quad through its centre; `slipstep.stability.structured_annulus`) "
-          "is fully plastic at the limit for every nu. Rows: p(all plastic) / p_lim - 1 in "
-          "`error vs ref`.",
-          "- Beyond the limit load slipstep stops at collapse: once the current stiffness of "
-          "the remaining load falls below 1e-3 of the initial one the run ends with a "
-          "`limit load reached` reason at the load it carried (status `limit load`; the "
-          "results up to there are kept), instead of running on along a nearly singular "
-          "tangent. Where locking keeps the mesh stiff (CST at nu = 0.499) the stop comes "
-          "late or the ill-conditioning error comes first (see the error lines).",
-          f"- dolfinx fixed-step Newton (full Newton, consistent tangent, backward-Euler "
-          f"radial return): {newton_note or 'see the newton rows: below the limit it converges for 1, 2, 5 and 10 steps (radial loading, so one step already gives the same answer within its tolerance), beyond the limit it diverges for every step count, where slipstep runs on (above)'}.",
-          "",
-          "Failed or stopped runs: " + (", ".join(f"{r['scenario']} ({r['error']})" for r in rows
-                                                  if r["status"] not in ("completed", "converged", "limit load"))
-                                        or "none") + ".",
-          "", f"Total wall time {time.perf_counter() - t0:.1f} s."]
+    md = [
+        f"# Stability study{' (--quick)' if quick else ''}",
+        "",
+        "Scenarios where the usual methods fail. `max residual` is the "
+        "engine's max over events of |K u - f - contact forces| / |f|; `max drift` the max "
+        "of |sigma_e - sigma_y| / sigma_y before the return; `error vs ref` is "
+        "described per row (Hill plastic radius, Hertz a, Johnson first yield, exact "
+        "closure fraction; for completed near-incompressible runs the final tangent "
+        "stiffness / elastic stiffness — Hill's exact answer is 0 at the limit pressure).",
+        "",
+        markdown_table(rows),
+        "",
+        "![stability](stability.png)",
+        "",
+        "## Notes",
+        "",
+        "- H' = 0: the engine assembles the elastoplastic *stiffness* (Prandtl-Reuss tangent "
+        "D_ep), which stays finite at H' = 0; the paper's compliance form (A.2) divides by "
+        "H' and cannot be used.",
+        "- Near-incompressibility (thick cylinder, plane strain, H' = 0, loaded to "
+        "1.1 x Hill's limit 2k ln(b/a)): plastic flow is isochoric and constant-strain "
+        "triangles lock as nu -> 1/2: the pressure at which every element is plastic rises "
+        "above Hill's limit (or is never reached) on the free (gmsh) CST mesh, and on "
+        "coarse meshes the stiffness after the limit stays positive. A structured "
+        "2-triangle polar grid, aligned with the radial flow, locks much less. The crossed \"union jack\" mesh "
+        "(4 CST per quad through its centre; `slipstep.stability.structured_annulus`) "
+        "is fully plastic at the limit for every nu. Rows: p(all plastic) / p_lim - 1 in "
+        "`error vs ref`.",
+        "- Beyond the limit load slipstep stops at collapse: once the current stiffness of "
+        "the remaining load falls below 1e-3 of the initial one the run ends with a "
+        "`limit load reached` reason at the load it carried (status `limit load`; the "
+        "results up to there are kept), instead of running on along a nearly singular "
+        "tangent. Where locking keeps the mesh stiff (CST at nu = 0.499) the stop comes "
+        "late or the ill-conditioning error comes first (see the error lines).",
+        f"- dolfinx fixed-step Newton (full Newton, consistent tangent, backward-Euler "
+        f"radial return): {newton_note or 'see the newton rows: below the limit it converges for 1, 2, 5 and 10 steps (radial loading, so one step already gives the same answer within its tolerance), beyond the limit it diverges for every step count, where slipstep runs on (above)'}.",
+        "",
+        "Failed or stopped runs: "
+        + (
+            ", ".join(
+                f"{r['scenario']} ({r['error']})"
+                for r in rows
+                if r["status"] not in ("completed", "converged", "limit load")
+            )
+            or "none"
+        )
+        + ".",
+        "",
+        f"Total wall time {time.perf_counter() - t0:.1f} s.",
+    ]
     (out / "report.md").write_text("\n".join(md) + "\n")
     return {"rows": rows, "incompressible": inc, "newton_note": newton_note}
 

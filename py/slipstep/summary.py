@@ -15,15 +15,29 @@ import math
 import numpy as np
 
 from .contact_geometry import contact_bodies
-from .contact_measures import (closed_extent, contact_axis, contact_profile, crossing_times,
-                               pair_coordinate, reached_last_candidate, stick_extent,
-                               target_points)
+from .contact_measures import (
+    closed_extent,
+    contact_axis,
+    contact_profile,
+    crossing_times,
+    pair_coordinate,
+    reached_last_candidate,
+    stick_extent,
+    target_points,
+)
 from .fields import centroids, is_elastoplastic, von_mises
-from .history import (event_times, final_load_fraction, final_time, load_factor, reactions,
-                      snapshot_time, stage_ends, stage_names)
+from .history import (
+    event_times,
+    final_load_fraction,
+    final_time,
+    load_factor,
+    reactions,
+    snapshot_time,
+    stage_ends,
+    stage_names,
+)
 from .references import JOHNSON_LINE_YIELD, sphere_axis_yield
-from .resultants import (driving_forces, drivers, indentation, snapshot_resultants,
-                         step_history)
+from .resultants import driving_forces, drivers, indentation, snapshot_resultants, step_history
 from .section import AXIS_TOLERANCE, is_axisymmetric
 from .space.contact_measures import contact_numbers_3d, reached_window_edge
 from .space.fields import von_mises_3d
@@ -40,12 +54,16 @@ def half_model_side(scene, index: int) -> int:
     origin, tau = contact_axis(scene, index)
     tol = 1e-9 * float(np.ptp(scene.nodes, axis=0).max())  # round-off of the node coordinates
     for body in contact_bodies(case.data["contact"][index]):
-        mirrors = [np.unique(scene.global_edge(body, bc["edge"])) for bc in case.data["bc"]
-                   if bc["symmetry"] and bc["body"] == body]
+        mirrors = [
+            np.unique(scene.global_edge(body, bc["edge"]))
+            for bc in case.data["bc"]
+            if bc["symmetry"] and bc["body"] == body
+        ]
         if is_axisymmetric(case):
             mirrors.append(_axis_nodes(scene, body))
-        on_line = [len(ids) and np.abs((scene.nodes[ids] - origin) @ tau).max() <= tol
-                   for ids in mirrors]
+        on_line = [
+            len(ids) and np.abs((scene.nodes[ids] - origin) @ tau).max() <= tol for ids in mirrors
+        ]
         if not any(on_line):
             return 0
     s = pair_coordinate(scene)[scene.pair_contact == index]
@@ -86,9 +104,13 @@ def contact_summaries(scene, result, snapshot: dict, sides: list[int]) -> dict[s
         origin, tau = contact_axis(scene, i)
         out[name] = {
             "kind": scene.case.data["contact"][i]["kind"],
-            "origin": origin.tolist(), "tangent": tau.tolist(), "half_model": sides[i] != 0,
-            "n_pairs": int(mine.sum()), "n_closed": int((status > 0).sum()),
-            "n_stick": int((status == 1).sum()), "n_slip": int((status == 2).sum()),
+            "origin": origin.tolist(),
+            "tangent": tau.tolist(),
+            "half_model": sides[i] != 0,
+            "n_pairs": int(mine.sum()),
+            "n_closed": int((status > 0).sum()),
+            "n_stick": int((status == 1).sum()),
+            "n_slip": int((status == 2).sum()),
             "closed_extent": closed,
             "stick_extent": None if closed is None else stick_extent(s, status, closed),
             "total_normal_force": float(lambda_n[mine].sum()),
@@ -108,8 +130,10 @@ def half_widths(contacts: dict[str, dict], sides: list[int]) -> dict:
     side, (entry,) = sides[0], contacts.values()
     far = 1 if side > 0 else 0
     closed, stick = entry["closed_extent"], entry["stick_extent"]
-    return {"contact_half_width": side * closed[far] if closed else 0.0,
-            "stick_half_width": side * stick[far] if stick else 0.0}
+    return {
+        "contact_half_width": side * closed[far] if closed else 0.0,
+        "stick_half_width": side * stick[far] if stick else 0.0,
+    }
 
 
 def circle_radii(widths: dict, axisymmetric: bool) -> dict:
@@ -118,8 +142,11 @@ def circle_radii(widths: dict, axisymmetric: bool) -> dict:
     half-width keys kept as aliases for one release)."""
     if not (axisymmetric and widths):
         return widths
-    return {**widths, "contact_radius": widths["contact_half_width"],
-            "stick_radius": widths["stick_half_width"]}
+    return {
+        **widths,
+        "contact_radius": widths["contact_half_width"],
+        "stick_radius": widths["stick_half_width"],
+    }
 
 
 def _space_contact_numbers(scene, result) -> dict:
@@ -133,10 +160,14 @@ def _space_contact_numbers(scene, result) -> dict:
     return {
         "snapshot_load_fraction": float(last["load_fraction"]),
         "snapshot_t": snapshot_time(last),
-        **{k: top[k] for k in ("contact_area", "contact_radius", "stick_area", "stick_radius",
-                               "force") if k in top},
+        **{
+            k: top[k]
+            for k in ("contact_area", "contact_radius", "stick_area", "stick_radius", "force")
+            if k in top
+        },
         **totals,
-        "n_open": int((status == 0).sum()), "n_stick": int((status == 1).sum()),
+        "n_open": int((status == 0).sum()),
+        "n_stick": int((status == 1).sum()),
         "n_slip": int((status == 2).sum()),
         "contact_reached_last_candidate": reached_window_edge(scene, last),
     }
@@ -145,15 +176,19 @@ def _space_contact_numbers(scene, result) -> dict:
 def space_contact_totals(scene, snap: dict) -> dict:
     """A 3D snapshot's contacts (:func:`contact_numbers_3d` each) and their totals: normal
     force, tangential resultant and its size, the peak and the largest nodal pressure."""
-    contacts = {name: contact_numbers_3d(scene, snap, i)
-                for i, name in enumerate(scene.model["contact_names"])}
+    contacts = {
+        name: contact_numbers_3d(scene, snap, i)
+        for i, name in enumerate(scene.model["contact_names"])
+    }
     tangential = np.sum([c["tangential_force"] for c in contacts.values()], axis=0)
-    return {"peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
-            "max_nodal_pressure": max(c["max_nodal_pressure"] for c in contacts.values()),
-            "total_normal_force": float(sum(c["total_normal_force"] for c in contacts.values())),
-            "tangential_force": tangential.tolist(),
-            "total_tangential_force": float(np.linalg.norm(tangential)),
-            "contacts": contacts}
+    return {
+        "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
+        "max_nodal_pressure": max(c["max_nodal_pressure"] for c in contacts.values()),
+        "total_normal_force": float(sum(c["total_normal_force"] for c in contacts.values())),
+        "tangential_force": tangential.tolist(),
+        "total_tangential_force": float(np.linalg.norm(tangential)),
+        "contacts": contacts,
+    }
 
 
 def _contact_numbers(scene, result) -> dict:
@@ -194,8 +229,16 @@ def plastic_counts(snap: dict) -> dict:
     return out
 
 
-STAGE_CONTACT_KEYS = ("closed_extent", "stick_extent", "n_closed", "n_stick", "n_slip",
-                      "total_normal_force", "total_tangential_force", "peak_pressure")
+STAGE_CONTACT_KEYS = (
+    "closed_extent",
+    "stick_extent",
+    "n_closed",
+    "n_stick",
+    "n_slip",
+    "total_normal_force",
+    "total_tangential_force",
+    "peak_pressure",
+)
 
 
 def _snapshot_numbers(scene, result, snap: dict, sides: list[int]) -> dict:
@@ -208,12 +251,16 @@ def _snapshot_numbers(scene, result, snap: dict, sides: list[int]) -> dict:
         out.update(totals)
     elif len(scene.pair_xy):
         contacts = contact_summaries(scene, result, snap, sides)
-        out.update({
-            "total_normal_force": float(np.sum(snap["lambda_n"])),
-            "total_tangential_force": float(np.sum(snap["lambda_t"])),
-            "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
-            "contacts": {name: {k: c[k] for k in STAGE_CONTACT_KEYS}
-                         for name, c in contacts.items()}})
+        out.update(
+            {
+                "total_normal_force": float(np.sum(snap["lambda_n"])),
+                "total_tangential_force": float(np.sum(snap["lambda_t"])),
+                "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
+                "contacts": {
+                    name: {k: c[k] for k in STAGE_CONTACT_KEYS} for name, c in contacts.items()
+                },
+            }
+        )
     out.update(plastic_counts(snap))
     out["reactions"] = {name: list(r) for name, r in reactions(scene, snap).items()}
     return out
@@ -227,16 +274,25 @@ def stage_records(scene, result, hist: dict | None = None) -> list[dict]:
     snaps = result.get("snapshots", [])
     names = stage_names(scene, result)
     _, ev_stage = event_times(result)
-    sides = ([half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
-             if len(scene.pair_xy) and scene.dimension == 2 else [])
+    sides = (
+        [half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
+        if len(scene.pair_xy) and scene.dimension == 2
+        else []
+    )
     hist = step_history(scene, result) if hist is None else hist
     forces = driving_forces_along(scene, hist)
     records = []
     for k, i in stage_ends(result, len(names)):
         t_end = snapshot_time(snaps[i])
-        records.append({"stage": k + 1, "name": names[k], "t_end": t_end,
-                        "n_events": int(np.count_nonzero(ev_stage == k)),
-                        **_snapshot_numbers(scene, result, snaps[i], sides)})
+        records.append(
+            {
+                "stage": k + 1,
+                "name": names[k],
+                "t_end": t_end,
+                "n_events": int(np.count_nonzero(ev_stage == k)),
+                **_snapshot_numbers(scene, result, snaps[i], sides),
+            }
+        )
         row = np.flatnonzero(np.abs(hist["t"] - t_end) <= 1e-12 * max(1.0, t_end))
         if len(row) and forces:
             records[-1]["driving_forces"] = {name: float(f[row[-1]]) for name, f in forces.items()}
@@ -277,14 +333,20 @@ def first_yield(scene, result) -> dict:
     (:func:`element_depth`); every value None when nothing yielded."""
     kinds = list(result["events"]["kind"])
     if "yield" not in kinds:
-        return {"first_yield_load_fraction": None, "first_yield_element": None,
-                "first_yield_x": None, "first_yield_depth": None}
+        return {
+            "first_yield_load_fraction": None,
+            "first_yield_element": None,
+            "first_yield_x": None,
+            "first_yield_depth": None,
+        }
     k = kinds.index("yield")
     e = int(result["events"]["entity"][k])
-    return {"first_yield_load_fraction": float(result["events"]["load_fraction"][k]),
-            "first_yield_element": e,
-            "first_yield_x": float(centroids(scene.nodes, scene.elements[[e]])[0, 0]),
-            "first_yield_depth": element_depth(scene, e)}
+    return {
+        "first_yield_load_fraction": float(result["events"]["load_fraction"][k]),
+        "first_yield_element": e,
+        "first_yield_x": float(centroids(scene.nodes, scene.elements[[e]])[0, 0]),
+        "first_yield_depth": element_depth(scene, e),
+    }
 
 
 def johnson_first_yield(scene) -> float | None:
@@ -317,7 +379,7 @@ def _hertz_numbers(scene, summary: dict, f: float) -> dict:
     ref["a_hertz_at_final"] = ref["a_hertz"] * scale
     ref["p0_hertz_at_final"] = ref["p0_hertz"] * scale
     if "delta_hertz" in ref:
-        ref["delta_hertz_at_final"] = ref["delta_hertz"] * scale ** 2
+        ref["delta_hertz_at_final"] = ref["delta_hertz"] * scale**2
     width = summary.get("contact_half_width", summary.get("contact_radius"))  # 3D: the radius
     if width is not None and ref["a_hertz_at_final"] > 0:
         ref["a_rel_error"] = width / ref["a_hertz_at_final"] - 1.0
@@ -346,8 +408,11 @@ def driver_numbers(scene, result, hist: dict | None = None) -> dict:
         return {}
     factor, stage = hist["factor"], hist["stage"]
     last = stage == stage.max() if len(stage) else np.zeros(0, bool)
-    moving = [name for name in forces if last.any()
-              and np.ptp(factor[last, list(hist["load_names"]).index(name)]) > 0]
+    moving = [
+        name
+        for name in forces
+        if last.any() and np.ptp(factor[last, list(hist["load_names"]).index(name)]) > 0
+    ]
     main = (moving or list(forces))[0]
     out = {"driving_forces": forces, "driving_force": {"name": main, **forces[main]}}
     ind = indentation(scene, hist)
@@ -369,8 +434,12 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         "n_events": int(len(result["events"]["step"])),
         "n_steps": int(len(result["steps"]["load_fraction"])),
         "final_load_fraction": f,
-        "stop": {"kind": stop["kind"], "message": stop["message"],
-                 "load_fraction": float(stop["load_fraction"]), "t": final_time(result)},
+        "stop": {
+            "kind": stop["kind"],
+            "message": stop["message"],
+            "load_fraction": float(stop["load_fraction"]),
+            "t": final_time(result),
+        },
         "final_t": final_time(result),
         "n_stages": len(names),
         "stage_names": names,
@@ -425,8 +494,10 @@ def contact_text(summary: dict, named: bool = False) -> str:
     and stick extents along s, in the case's length unit (``named``: a and c named); empty
     without contact.  A frictionless run has no stick zone: c is left out."""
     stick = not summary.get("frictionless", False)
-    for a_key, c_key, what in (("contact_radius", "stick_radius", "radius"),
-                               ("contact_half_width", "stick_half_width", "half-width")):
+    for a_key, c_key, what in (
+        ("contact_radius", "stick_radius", "radius"),
+        ("contact_half_width", "stick_half_width", "half-width"),
+    ):
         if a_key in summary:
             a = quantity(summary, summary[a_key], "length")
             c = quantity(summary, summary[c_key], "length")
@@ -438,12 +509,15 @@ def contact_text(summary: dict, named: bool = False) -> str:
     parts = []
     for name, c in summary.get("contacts", {}).items():
         if "contact_radius" in c:  # 3D
-            parts.append(f"{name}: contact radius {c['contact_radius']:.4g}{unit}" +
-                         (f", stick radius {c['stick_radius']:.4g}{unit}" if stick else ""))
+            parts.append(
+                f"{name}: contact radius {c['contact_radius']:.4g}{unit}"
+                + (f", stick radius {c['stick_radius']:.4g}{unit}" if stick else "")
+            )
             continue
         closed, stick = c["closed_extent"], c["stick_extent"]
-        text = f"{name}: " + (f"closed s in [{closed[0]:.4g}, {closed[1]:.4g}]{unit}" if closed
-                              else "open")
+        text = f"{name}: " + (
+            f"closed s in [{closed[0]:.4g}, {closed[1]:.4g}]{unit}" if closed else "open"
+        )
         if stick:
             text += f", stick [{stick[0]:.4g}, {stick[1]:.4g}]{unit}"
         parts.append(text)
@@ -454,20 +528,27 @@ def driver_text(summary: dict) -> list[str]:
     """The driving forces in a few words each, named by their load: ``pyramid: F = 43.66 N
     along its motion at 0.03 mm`` (with its largest when the run unloaded from it), then the
     Oliver–Pharr hardness and reduced modulus of an indenter that unloaded."""
-    what = {"motion": "along its motion at {u}", "displacement": "reaction at {u} along it",
-            "load": "resultant, its nodes {u} along it"}
+    what = {
+        "motion": "along its motion at {u}",
+        "displacement": "reaction at {u} along it",
+        "load": "resultant, its nodes {u} along it",
+    }
     out = []
     for name, d in summary.get("driving_forces", {}).items():
         force = d["force"] if abs(d["force"]) > 1e-12 * abs(d["max_force"]) else 0.0
         u = quantity(summary, d["displacement"], "length")
         text = f"{name}: F = {quantity(summary, force, 'force')} " + what[d["kind"]].format(u=u)
         if d["max_force"] > d["force"] + 1e-3 * abs(d["max_force"]):  # it unloaded
-            text += (f" (max {quantity(summary, d['max_force'], 'force')} at "
-                     f"{quantity(summary, d['displacement_at_max'], 'length')})")
+            text += (
+                f" (max {quantity(summary, d['max_force'], 'force')} at "
+                f"{quantity(summary, d['displacement_at_max'], 'length')})"
+            )
         out.append(text)
     for name, op in summary.get("indentation", {}).items():
-        out.append(f"Oliver-Pharr ({name}): H = {quantity(summary, op['H'], 'stress')}, "
-                   f"E_r = {quantity(summary, op['E_r'], 'stress')}")
+        out.append(
+            f"Oliver-Pharr ({name}): H = {quantity(summary, op['H'], 'stress')}, "
+            f"E_r = {quantity(summary, op['E_r'], 'stress')}"
+        )
     return out
 
 
@@ -483,14 +564,18 @@ def one_line(summary: dict) -> str:
         parts += [contact_text(summary, named=True), f"p0 = {p0} peak pressure"]
     if "hertz" in summary and "a_rel_error" in summary["hertz"]:
         h = summary["hertz"]
-        parts.append(f"(Hertz a = {quantity(summary, h['a_hertz_at_final'], 'length')}, "
-                     f"p0 = {quantity(summary, h['p0_hertz_at_final'], 'stress')})")
+        parts.append(
+            f"(Hertz a = {quantity(summary, h['a_hertz_at_final'], 'length')}, "
+            f"p0 = {quantity(summary, h['p0_hertz_at_final'], 'stress')})"
+        )
     parts += driver_text(summary)
     if summary.get("first_yield_load_fraction") is not None:
         now = summary.get("n_plastic_elements", 0)
-        parts += [f"first yield at f = {summary['first_yield_load_fraction']:.4g}",
-                  f"{summary.get('n_yielded_elements', now)} elements yielded (plastic strain "
-                  f"> 0), {now} yielding now"]
+        parts += [
+            f"first yield at f = {summary['first_yield_load_fraction']:.4g}",
+            f"{summary.get('n_yielded_elements', now)} elements yielded (plastic strain "
+            f"> 0), {now} yielding now",
+        ]
     parts += [f"{summary['n_dofs']} dofs", f"{summary['wall_time_s']:.2f} s"]
     if summary["stop"]["kind"] == "interrupted":
         parts.append("INTERRUPTED")

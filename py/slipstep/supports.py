@@ -82,10 +82,13 @@ def _axis_supports(scene: Scene) -> np.ndarray:
         if clash.any():
             node = int(p["dofs"][np.argmax(clash)]) // 2
             load = next(x for x in case_loads(scene.case.data) if x.label == name)
-            raise scene.case.error(f"{load.key}.displacement.x", f"node {node} (0, "
-                                   f"{scene.nodes[node, 1]:.6g}) lies on the axis x = 0, where "
-                                   f'plane = "axisymmetric" holds u_r = 0 already: drop x '
-                                   f"from displacement, or use a node set off the axis")
+            raise scene.case.error(
+                f"{load.key}.displacement.x",
+                f"node {node} (0, "
+                f"{scene.nodes[node, 1]:.6g}) lies on the axis x = 0, where "
+                f'plane = "axisymmetric" holds u_r = 0 already: drop x '
+                f"from displacement, or use a node set off the axis",
+            )
     return dofs.astype(np.int64)
 
 
@@ -118,22 +121,34 @@ def _symmetry_component(scene: Scene, bc: dict, key: str) -> int:
     component normal to a plane face parallel to a coordinate plane."""
     d, tag = scene.dimension, bc_surface(bc)
     cells = scene.global_boundary(bc["body"], tag)
-    n = (meshing.outward_normals(scene.nodes, cells) if d == 2 else
-         triangle_normals(scene.nodes, cells)[0])
+    n = (
+        meshing.outward_normals(scene.nodes, cells)
+        if d == 2
+        else triangle_normals(scene.nodes, cells)[0]
+    )
     for c in range(d):
         if np.all(np.abs(n[:, c]) > 1 - 1e-9):
             if "xyz"[c] in bc["displacement"]:
-                raise scene.case.error(f"{key}.displacement.{'xyz'[c]}", f"symmetry = true "
-                                       f"holds {'xyz'[c]} on {_what(d)} '{tag}' (its normal "
-                                       f"component): a component is held or prescribed, not "
-                                       f"both; remove symmetry or {'xyz'[c]} from displacement")
+                raise scene.case.error(
+                    f"{key}.displacement.{'xyz'[c]}",
+                    f"symmetry = true "
+                    f"holds {'xyz'[c]} on {_what(d)} '{tag}' (its normal "
+                    f"component): a component is held or prescribed, not "
+                    f"both; remove symmetry or {'xyz'[c]} from displacement",
+                )
             return c
     if d == 3:
-        raise scene.case.error(f"{key}.symmetry", f"face '{tag}' is not a plane parallel to a "
-                               f"coordinate plane (x = const, y = const or z = const): use "
-                               f"fix = [...] instead")
-    raise scene.case.error(f"{key}.symmetry", f"edge '{tag}' is not a straight line "
-                           f"parallel to the x or y axis: use fix = [...] instead")
+        raise scene.case.error(
+            f"{key}.symmetry",
+            f"face '{tag}' is not a plane parallel to a "
+            f"coordinate plane (x = const, y = const or z = const): use "
+            f"fix = [...] instead",
+        )
+    raise scene.case.error(
+        f"{key}.symmetry",
+        f"edge '{tag}' is not a straight line "
+        f"parallel to the x or y axis: use fix = [...] instead",
+    )
 
 
 def _what(dimension: int) -> str:
@@ -156,11 +171,14 @@ def _prescribed(scene: Scene, load: Load, owner: np.ndarray, holder: np.ndarray)
         k = int(dofs[np.argmax(clash)])
         c, node = "xyz"[k % d], k // d
         how = "fix/symmetry" if holder[k] >= 0 else "displacement"
-        raise scene.case.error(f"{load.key}.displacement.{c}", f"node {node} "
-                               f"{point_text(scene.nodes[node])} is also held in {c} by "
-                               f"{element_key('bc', bcs, int(owner[k]))} ({how}): each "
-                               f"component is fixed or prescribed once; drop {c} from one of "
-                               f'them (a zero component is a support: fix = ["{c}"] may '
-                               f"overlap others), or use a node set without that node")
+        raise scene.case.error(
+            f"{load.key}.displacement.{c}",
+            f"node {node} "
+            f"{point_text(scene.nodes[node])} is also held in {c} by "
+            f"{element_key('bc', bcs, int(owner[k]))} ({how}): each "
+            f"component is fixed or prescribed once; drop {c} from one of "
+            f'them (a zero component is a support: fix = ["{c}"] may '
+            f"overlap others), or use a node set without that node",
+        )
     owner[dofs] = load.index
     return dofs.astype(np.int64), values.astype(np.float64)

@@ -73,7 +73,7 @@ class Study:
     """A parsed study: base case, fixed overrides, varied keys (ordered), output options."""
 
     name: str
-    base: str | None                 # case path (absolute) or None = built-in default
+    base: str | None  # case path (absolute) or None = built-in default
     set: list[str] = field(default_factory=list)
     vary: dict[str, list] = field(default_factory=dict)
     output: dict = field(default_factory=lambda: dict(OUTPUT_KEYS))
@@ -88,9 +88,16 @@ class Study:
         for i, values in enumerate(combos):
             params = dict(zip(keys, values))
             overrides = list(self.set) + [f"{k}={toml_literal(v)}" for k, v in params.items()]
-            tasks.append({"index": i, "case_id": case_id(i, params), "params": params,
-                          "base": self.base, "overrides": overrides,
-                          "options": dict(self.output)})
+            tasks.append(
+                {
+                    "index": i,
+                    "case_id": case_id(i, params),
+                    "params": params,
+                    "base": self.base,
+                    "overrides": overrides,
+                    "options": dict(self.output),
+                }
+            )
         return tasks
 
 
@@ -130,18 +137,26 @@ def load_study(path: str | Path, extra_set=()) -> Study:
     return parse_study(raw, source, path.parent, default_name=path.stem, extra_set=extra_set)
 
 
-def parse_study(raw: dict, source: str = "<study>", base_dir: str | Path = ".",
-                default_name: str = "study", extra_set=()) -> Study:
+def parse_study(
+    raw: dict,
+    source: str = "<study>",
+    base_dir: str | Path = ".",
+    default_name: str = "study",
+    extra_set=(),
+) -> Study:
     """A study from its TOML document (a dict)."""
     unknown = set(raw) - {"study", "vary", "output"}
     if unknown:
-        raise StudyError(f"{source}: unknown table [{sorted(unknown)[0]}]: use [study], [vary] "
-                         f"and [output]")
+        raise StudyError(
+            f"{source}: unknown table [{sorted(unknown)[0]}]: use [study], [vary] " f"and [output]"
+        )
     st = raw.get("study", {})
     bad = set(st) - STUDY_KEYS
     if bad:
-        raise StudyError(f"{source}: study.{sorted(bad)[0]} is not a study key: use "
-                         f"{', '.join(sorted(STUDY_KEYS))}")
+        raise StudyError(
+            f"{source}: study.{sorted(bad)[0]} is not a study key: use "
+            f"{', '.join(sorted(STUDY_KEYS))}"
+        )
     base = st.get("base", "default")
     if not isinstance(base, str) or not base:
         raise StudyError(f'{source}: study.base must be a case file path or "default"')
@@ -161,14 +176,21 @@ def parse_study(raw: dict, source: str = "<study>", base_dir: str | Path = ".",
     out = dict(OUTPUT_KEYS)
     for key, value in raw.get("output", {}).items():
         if key not in OUTPUT_KEYS:
-            raise StudyError(f"{source}: output.{key} is not an output option: use "
-                             f"{', '.join(OUTPUT_KEYS)}")
+            raise StudyError(
+                f"{source}: output.{key} is not an output option: use " f"{', '.join(OUTPUT_KEYS)}"
+            )
         if not isinstance(value, bool):
             raise StudyError(f"{source}: output.{key} must be true or false")
         out[key] = value
-    study = Study(name=st.get("name", default_name), base=base_path,
-                  set=list(fixed) + list(extra_set), vary=dict(vary), output=out,
-                  description=st.get("description", ""), source=source)
+    study = Study(
+        name=st.get("name", default_name),
+        base=base_path,
+        set=list(fixed) + list(extra_set),
+        vary=dict(vary),
+        output=out,
+        description=st.get("description", ""),
+        source=source,
+    )
     check_study(study)
     return study
 
@@ -200,23 +222,29 @@ def result_arrays(scene, result, fields: bool = False) -> dict[str, np.ndarray]:
     xy = np.zeros((len(entity), 2))
     for k, (kind, e) in enumerate(zip(kinds, entity)):
         xy[k] = centres[e] if kind in ELEMENT_EVENTS else scene.pair_xy[e]
-    arrays = {"events_step": np.asarray(ev["step"], dtype=np.int64),
-              "events_load_fraction": np.asarray(ev["load_fraction"], dtype=float),
-              "events_kind": kinds, "events_entity": entity, "events_xy": xy}
+    arrays = {
+        "events_step": np.asarray(ev["step"], dtype=np.int64),
+        "events_load_fraction": np.asarray(ev["load_fraction"], dtype=float),
+        "events_kind": kinds,
+        "events_entity": entity,
+        "events_xy": xy,
+    }
     for key, value in result["steps"].items():
         arrays[f"steps_{key}"] = np.asarray(value)
     snaps = result.get("snapshots", [])
     arrays["snap_load_fraction"] = np.asarray([s["load_fraction"] for s in snaps], dtype=float)
     if len(scene.pair_xy):
         profiles = [contact_profile(scene, s) for s in snaps]
-        order = contact_profile(scene, snaps[-1])["pair"] if snaps else np.argsort(
-            scene.pair_xy[:, 0])
+        order = (
+            contact_profile(scene, snaps[-1])["pair"] if snaps else np.argsort(scene.pair_xy[:, 0])
+        )
         arrays["profile_pair"] = np.asarray(order)
         arrays["profile_x"] = scene.pair_xy[order, 0]
         arrays["profile_y"] = scene.pair_xy[order, 1]
         for key in ("pressure", "tangential_stress", "rtd", "status", "gap"):
-            arrays[f"profile_{key}"] = (np.array([p[key] for p in profiles]) if profiles
-                                        else np.zeros((0, len(order))))
+            arrays[f"profile_{key}"] = (
+                np.array([p[key] for p in profiles]) if profiles else np.zeros((0, len(order)))
+            )
         arrays["closure_fraction"] = np.asarray(result["closure_fraction"], dtype=float)[order]
         arrays["predicted_closure"] = np.asarray(result["predicted_closure"], dtype=float)[order]
         gf, gx = contact_growth(scene, result)
@@ -224,10 +252,15 @@ def result_arrays(scene, result, fields: bool = False) -> dict[str, np.ndarray]:
     if fields and snaps:
         arrays["snap_u"] = np.array([np.asarray(sn["u"]).reshape(-1, 2) for sn in snaps])
         last = snaps[-1]
-        arrays.update({"nodes": scene.nodes, "triangles": scene.triangles,
-                       "element_body": scene.element_body,
-                       "u": np.asarray(last["u"]).reshape(-1, 2),
-                       "stress": np.asarray(last["stress"], dtype=float).reshape(-1, 4)})
+        arrays.update(
+            {
+                "nodes": scene.nodes,
+                "triangles": scene.triangles,
+                "element_body": scene.element_body,
+                "u": np.asarray(last["u"]).reshape(-1, 2),
+                "stress": np.asarray(last["stress"], dtype=float).reshape(-1, 4),
+            }
+        )
         for key in ("plastic_strain", "plastic"):
             if key in last:
                 arrays[key] = np.asarray(last[key])
@@ -244,8 +277,11 @@ def run_task(task: dict) -> dict:
     start = time.perf_counter()
     out = {"case_id": task["case_id"], "host": os.uname().nodename, "pid": os.getpid()}
     try:
-        first_yield = ["solver.stop_at_first_yield=true"] if task["options"].get(
-            "stop_at_first_yield") else []
+        first_yield = (
+            ["solver.stop_at_first_yield=true"]
+            if task["options"].get("stop_at_first_yield")
+            else []
+        )
         scene = prepare(task["base"], [*task["overrides"], *first_yield])
         result = solve(scene)
         summary = summarize(scene, result, wall_time_s=time.perf_counter() - start)
@@ -263,15 +299,19 @@ def run_task(task: dict) -> dict:
     except Exception as exc:  # noqa: BLE001 - reported per case, the sweep goes on
         out["error"] = f"{type(exc).__name__}: {exc}"
         return out
-    out.update(summary=summary, arrays=arrays, interrupted=interrupted,
-               case_toml=case_toml(scene, summary))
+    out.update(
+        summary=summary, arrays=arrays, interrupted=interrupted, case_toml=case_toml(scene, summary)
+    )
     return out
 
 
 # --------------------------------------------------------------------------- files
 def _identity(task: dict) -> dict:
-    return {"base": task["base"], "overrides": list(task["overrides"]),
-            "options": dict(task["options"])}
+    return {
+        "base": task["base"],
+        "overrides": list(task["overrides"]),
+        "options": dict(task["options"]),
+    }
 
 
 def is_done(out: Path, task: dict) -> bool:
@@ -292,8 +332,12 @@ def write_case(out: Path, task: dict, payload: dict) -> Path:
     stage = out / f".partial-{task['case_id']}"
     stage.mkdir(parents=True, exist_ok=True)
     summary = dict(payload["summary"])
-    summary["sweep"] = {"case_id": task["case_id"], "params": task["params"],
-                        "host": payload.get("host"), **_identity(task)}
+    summary["sweep"] = {
+        "case_id": task["case_id"],
+        "params": task["params"],
+        "host": payload.get("host"),
+        **_identity(task),
+    }
     np.savez_compressed(stage / "result.npz", **payload["arrays"])
     write_summary_json(stage / "summary.json", summary)
     (stage / "case.toml").write_text(payload["case_toml"], encoding="utf-8")
@@ -326,9 +370,19 @@ def _flatten(d: dict, prefix: str = "") -> dict:
     return flat
 
 
-FIRST_COLUMNS = ("case", "final_load_fraction", "first_yield_load_fraction", "first_yield_x",
-                 "first_yield_depth", "contact_half_width", "stick_half_width", "peak_pressure",
-                 "n_events", "n_plastic_elements", "wall_time_s")
+FIRST_COLUMNS = (
+    "case",
+    "final_load_fraction",
+    "first_yield_load_fraction",
+    "first_yield_x",
+    "first_yield_depth",
+    "contact_half_width",
+    "stick_half_width",
+    "peak_pressure",
+    "n_events",
+    "n_plastic_elements",
+    "wall_time_s",
+)
 
 
 def write_table(out: Path, tasks: list[dict]) -> Path:
@@ -347,8 +401,13 @@ def write_table(out: Path, tasks: list[dict]) -> Path:
         w = csv.writer(fh)
         w.writerow(["case_id", *params, *cols])
         for task, flat in rows:
-            w.writerow([task["case_id"], *(task["params"].get(p, "") for p in params),
-                        *("" if flat.get(c) is None else flat.get(c) for c in cols)])
+            w.writerow(
+                [
+                    task["case_id"],
+                    *(task["params"].get(p, "") for p in params),
+                    *("" if flat.get(c) is None else flat.get(c) for c in cols),
+                ]
+            )
     os.replace(tmp, path)
     return path
 
@@ -374,9 +433,11 @@ def _executor(workers: int | None, mpi: bool):
     # threads can inherit a held lock and hang (seen under pytest).
     import multiprocessing
 
-    return cf.ProcessPoolExecutor(max_workers=workers or default_workers(),
-                                  mp_context=multiprocessing.get_context("spawn"),
-                                  initializer=_ignore_sigint)
+    return cf.ProcessPoolExecutor(
+        max_workers=workers or default_workers(),
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_ignore_sigint,
+    )
 
 
 def _ignore_sigint() -> None:
@@ -410,9 +471,9 @@ def _stop(executor) -> None:
 class SweepReport:
     out: Path
     tasks: list[dict]
-    done: list[str]          # case ids finished in this call
-    skipped: list[str]       # already finished before (resumed)
-    failed: dict             # case id -> error message
+    done: list[str]  # case ids finished in this call
+    skipped: list[str]  # already finished before (resumed)
+    failed: dict  # case id -> error message
     interrupted: bool = False
 
     @property
@@ -420,15 +481,30 @@ class SweepReport:
         return not self.failed and not self.interrupted
 
 
-def run_sweep(study: Study, out: str | Path, workers: int | None = None, mpi: bool = False,
-              log=print) -> SweepReport:
+def run_sweep(
+    study: Study, out: str | Path, workers: int | None = None, mpi: bool = False, log=print
+) -> SweepReport:
     """Run every case of ``study`` not already finished in ``out``; see the module docstring."""
-    return run_tasks(study.tasks(), out, workers=workers, mpi=mpi, log=log, name=study.name,
-                     about={"description": study.description, "source": study.source})
+    return run_tasks(
+        study.tasks(),
+        out,
+        workers=workers,
+        mpi=mpi,
+        log=log,
+        name=study.name,
+        about={"description": study.description, "source": study.source},
+    )
 
 
-def run_tasks(tasks: list[dict], out: str | Path, workers: int | None = None, mpi: bool = False,
-              log=print, name: str = "sweep", about: dict | None = None) -> SweepReport:
+def run_tasks(
+    tasks: list[dict],
+    out: str | Path,
+    workers: int | None = None,
+    mpi: bool = False,
+    log=print,
+    name: str = "sweep",
+    about: dict | None = None,
+) -> SweepReport:
     """Run the tasks (dicts as made by :meth:`Study.tasks`: case_id, params, base, overrides,
     options) not already finished in ``out``, in worker processes, writing each as it ends."""
     out = Path(out)
@@ -482,8 +558,10 @@ def run_tasks(tasks: list[dict], out: str | Path, workers: int | None = None, mp
         else:
             executor.shutdown(wait=True)
         if log:
-            log(f"{name}: {len(report.done)} cases run in "
-                f"{time.perf_counter() - start:.1f} s ({'MPI' if mpi else 'local processes'})")
+            log(
+                f"{name}: {len(report.done)} cases run in "
+                f"{time.perf_counter() - start:.1f} s ({'MPI' if mpi else 'local processes'})"
+            )
     write_table(out, tasks)
     return report
 
@@ -500,15 +578,17 @@ def _brief(s: dict) -> str:
 
 def main(args) -> int:
     """``slipstep sweep`` (called by the CLI with parsed arguments)."""
-    study = load_study(shipped.resolve(args.study, "studies"),
-                       getattr(args, "overrides", []) or [])
+    study = load_study(shipped.resolve(args.study, "studies"), getattr(args, "overrides", []) or [])
     out = args.out or f"results/{study.name}"
     log = None if getattr(args, "quiet", False) else (lambda m: print(m, flush=True))
     report = run_sweep(study, out, workers=args.workers, mpi=args.mpi, log=log)
     if report.interrupted:
-        print(f"slipstep: sweep interrupted: {len(report.done) + len(report.skipped)} of "
-              f"{len(report.tasks)} cases are done in {out}; run the same command again to "
-              f"resume", file=sys.stderr)
+        print(
+            f"slipstep: sweep interrupted: {len(report.done) + len(report.skipped)} of "
+            f"{len(report.tasks)} cases are done in {out}; run the same command again to "
+            f"resume",
+            file=sys.stderr,
+        )
         return 130
     if report.failed:
         for cid, msg in report.failed.items():

@@ -24,8 +24,13 @@ def toml_value(value) -> str:
     inline tables; a float by its shortest round-trip repr (``inf``, ``-inf`` as TOML has
     them)."""
     if isinstance(value, str):
-        return '"' + "".join(_ESCAPES.get(c) or (f"\\u{ord(c):04x}" if _is_control(c) else c)
-                             for c in value) + '"'
+        return (
+            '"'
+            + "".join(
+                _ESCAPES.get(c) or (f"\\u{ord(c):04x}" if _is_control(c) else c) for c in value
+            )
+            + '"'
+        )
     if isinstance(value, dict):
         return "{" + ", ".join(f"{toml_key(k)} = {toml_value(v)}" for k, v in value.items()) + "}"
     if isinstance(value, (list, tuple)):

@@ -18,6 +18,7 @@ def version() -> str:
     if CARGO_TOML.is_file():
         return tomllib.loads(CARGO_TOML.read_text())["workspace"]["package"]["version"]
     from importlib import metadata  # (not at import: it costs more than the rest of it)
+
     try:
         return metadata.version("slipstep")
     except metadata.PackageNotFoundError:  # neither a checkout nor installed: a copied folder
@@ -37,6 +38,7 @@ def versions() -> dict[str, str | None]:
 
     try:
         from . import _engine
+
         engine = getattr(_engine, "__version__", None)
     except ImportError:
         engine = None
@@ -44,5 +46,10 @@ def versions() -> dict[str, str | None]:
         gmsh = metadata.version("gmsh")
     except metadata.PackageNotFoundError:
         gmsh = None
-    return {"slipstep": __version__, "engine": engine, "numpy": numpy.__version__, "gmsh": gmsh,
-            "python": platform.python_version()}
+    return {
+        "slipstep": __version__,
+        "engine": engine,
+        "numpy": numpy.__version__,
+        "gmsh": gmsh,
+        "python": platform.python_version(),
+    }

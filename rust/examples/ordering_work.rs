@@ -11,40 +11,69 @@
 //! PREFIX.points (f64 × 3 per node), PREFIX.tets (u64 × 4 per tetrahedron), PREFIX.contact
 //! (u64 node ids); `bench/large_3d.py --dump-mesh PREFIX --size SIZE` writes them.
 
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymmetricOrdering,
+};
+use faer::sparse::{Pair, SymbolicSparseColMat};
+use faer::Side;
 use slipstep_core::element::Tet4;
 use slipstep_core::factor::faer_llt::{symbolic_analysis, work_of, FaerLlt};
 use slipstep_core::linalg::{DofMap, NodeOrder, StiffnessPattern};
 use slipstep_core::mesh::Mesh;
 use slipstep_core::ordering::{minimum_degree, nested_dissection, NodeGraph};
-use faer::perm::PermRef;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, SymmetricOrdering};
-use faer::sparse::{Pair, SymbolicSparseColMat};
-use faer::Side;
 use std::time::Instant;
 
 /// The work of the scalar node graph's factor in each node order: the orderings compared
 /// without DOFs, supports or trailing block (METIS's from PREFIX.metis when it exists).
 fn node_graph_work(mesh: &Mesh, prefix: &str) {
     let n = mesh.n_nodes();
-    let edges: Vec<(usize, usize)> = mesh.tetrahedra.iter().flat_map(|t| (0..4).flat_map(move |i| (i + 1..4).map(move |j| (t[i], t[j])))).collect();
+    let edges: Vec<(usize, usize)> = mesh
+        .tetrahedra
+        .iter()
+        .flat_map(|t| (0..4).flat_map(move |i| (i + 1..4).map(move |j| (t[i], t[j]))))
+        .collect();
     let graph = NodeGraph::new(n, &edges);
     let mut upper: Vec<Pair<usize, usize>> = (0..n).map(|i| Pair::new(i, i)).collect();
     for a in 0..n {
         upper.extend(graph.neighbours(a).iter().filter(|&&b| b > a).map(|&b| Pair::new(a, b)));
     }
     let (pattern, _) = SymbolicSparseColMat::try_new_from_indices(n, n, &upper).unwrap();
-    let mut orders = vec![("minimum degree", minimum_degree(&graph).unwrap()), ("nested dissection", nested_dissection(&graph, &mesh.points).unwrap())];
+    let mut orders = vec![
+        ("minimum degree", minimum_degree(&graph).unwrap()),
+        ("nested dissection", nested_dissection(&graph, &mesh.points).unwrap()),
+    ];
     if let Ok(bytes) = std::fs::read(format!("{prefix}.metis")) {
-        orders.push(("METIS NodeND", bytes.chunks_exact(8).map(|c| u64::from_le_bytes(c.try_into().unwrap()) as usize).collect()));
+        orders.push((
+            "METIS NodeND",
+            bytes
+                .chunks_exact(8)
+                .map(|c| u64::from_le_bytes(c.try_into().unwrap()) as usize)
+                .collect(),
+        ));
     }
     for (name, order) in orders {
         let mut inverse = vec![0usize; n];
         order.iter().enumerate().for_each(|(k, &v)| inverse[v] = k);
         let perm = PermRef::new_checked(&order, &inverse, n);
-        let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: faer::sparse::linalg::SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() };
-        let symbolic = factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, SymmetricOrdering::Custom(perm), params).unwrap();
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold:
+                faer::sparse::linalg::SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
+        let symbolic = factorize_symbolic_cholesky(
+            pattern.as_ref(),
+            Side::Upper,
+            SymmetricOrdering::Custom(perm),
+            params,
+        )
+        .unwrap();
         let work = work_of(&symbolic);
-        println!("node graph, {name:18} flops {:.3e}  nnz(L) {:.3e}", work.factorization_flops, work.solve_pair_flops / 4.0);
+        println!(
+            "node graph, {name:18} flops {:.3e}  nnz(L) {:.3e}",
+            work.factorization_flops,
+            work.solve_pair_flops / 4.0
+        );
     }
 }
 
@@ -60,7 +89,10 @@ fn dominant(pattern: &StiffnessPattern) -> faer::sparse::SparseColMat<usize, f64
             count[c] += 1.0;
         }
     }
-    let values = (0..shape.ncols()).flat_map(|c| row_idx[col_ptr[c]..col_ptr[c + 1]].iter().map(move |&r| (r, c))).map(|(r, c)| if r == c { count[c] + 1.0 } else { -1.0 }).collect();
+    let values = (0..shape.ncols())
+        .flat_map(|c| row_idx[col_ptr[c]..col_ptr[c + 1]].iter().map(move |&r| (r, c)))
+        .map(|(r, c)| if r == c { count[c] + 1.0 } else { -1.0 })
+        .collect();
     pattern.with_values(values)
 }
 
@@ -74,9 +106,16 @@ fn main() {
     let prefix = args.get(1).expect("usage: ordering_work PREFIX [frictionless]");
     let frictionless = args.iter().any(|a| a == "frictionless");
     let numeric = args.iter().any(|a| a == "numeric");
-    let coords: Vec<f64> = read_words(&format!("{prefix}.points")).into_iter().map(f64::from_le_bytes).collect();
-    let ids: Vec<usize> = read_words(&format!("{prefix}.tets")).into_iter().map(|w| u64::from_le_bytes(w) as usize).collect();
-    let contact: Vec<usize> = read_words(&format!("{prefix}.contact")).into_iter().map(|w| u64::from_le_bytes(w) as usize).collect();
+    let coords: Vec<f64> =
+        read_words(&format!("{prefix}.points")).into_iter().map(f64::from_le_bytes).collect();
+    let ids: Vec<usize> = read_words(&format!("{prefix}.tets"))
+        .into_iter()
+        .map(|w| u64::from_le_bytes(w) as usize)
+        .collect();
+    let contact: Vec<usize> = read_words(&format!("{prefix}.contact"))
+        .into_iter()
+        .map(|w| u64::from_le_bytes(w) as usize)
+        .collect();
     let points: Vec<[f64; 3]> = coords.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
     let tets: Vec<[usize; 4]> = ids.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
     let mesh = Mesh::space(points, tets);
@@ -88,11 +127,20 @@ fn main() {
         fixed[3 * i + 1] |= p[1] == 0.0;
     }
     let components = if frictionless { 2..3 } else { 0..3 };
-    let trailing: Vec<usize> = contact.iter().flat_map(|&n| components.clone().map(move |c| 3 * n + c)).filter(|&d| !fixed[d]).collect();
+    let trailing: Vec<usize> = contact
+        .iter()
+        .flat_map(|&n| components.clone().map(move |c| 3 * n + c))
+        .filter(|&d| !fixed[d])
+        .collect();
     println!("nodes {} tets {} trailing {}", mesh.n_nodes(), mesh.n_elements(), trailing.len());
     node_graph_work(&mesh, prefix);
-    if std::env::var("NODE_GRAPH_ONLY").is_ok() { return; }
-    for (name, how) in [("minimum degree", NodeOrder::MinimumDegree), ("nested dissection", NodeOrder::NestedDissection(&mesh.points))] {
+    if std::env::var("NODE_GRAPH_ONLY").is_ok() {
+        return;
+    }
+    for (name, how) in [
+        ("minimum degree", NodeOrder::MinimumDegree),
+        ("nested dissection", NodeOrder::NestedDissection(&mesh.points)),
+    ] {
         let start = Instant::now();
         let map = DofMap::ordered_by(&elements, n_dofs, &fixed, &[], &trailing, how).unwrap();
         let ordering = start.elapsed().as_secs_f64();

@@ -118,7 +118,8 @@ impl Frame<3, 2> {
             return Frame { normal, tangents: [[t[0], t[1], 0.0], [0.0, 0.0, 1.0]] };
         }
         let tangents = tangents.unwrap_or_else(|| {
-            let least = (0..3).fold(0, |k, i| if normal[i].abs() < normal[k].abs() { i } else { k });
+            let least =
+                (0..3).fold(0, |k, i| if normal[i].abs() < normal[k].abs() { i } else { k });
             let mut e = [0.0; 3];
             e[least] = 1.0;
             let t1 = normalized(cross(e, normal));
@@ -140,7 +141,8 @@ fn normalized(a: [f64; 3]) -> [f64; 3] {
 /// The constraint vector of a frame direction `dir` over the nodes of `weights` (c_i): Σ_i c_i
 /// dir at node i, `dim` DOFs per node.
 fn along(weights: &[(usize, f64)], dim: usize, dir: [f64; 3]) -> SparseVec {
-    let entries = weights.iter().flat_map(|&(i, c)| (0..dim).map(move |k| (dim * i + k, c * dir[k])));
+    let entries =
+        weights.iter().flat_map(|&(i, c)| (0..dim).map(move |k| (dim * i + k, c * dir[k])));
     SparseVec { entries: entries.filter(|&(_, c)| c != 0.0).collect() }
 }
 
@@ -180,9 +182,15 @@ impl SparseVec {
 
     /// The part of this vector orthogonal to `other` (itself when `other` is zero).
     pub fn across(&self, other: &SparseVec) -> SparseVec {
-        let at = |v: &SparseVec, d: usize| v.entries.iter().filter(|e| e.0 == d).map(|e| e.1).sum::<f64>();
+        let at = |v: &SparseVec, d: usize| {
+            v.entries.iter().filter(|e| e.0 == d).map(|e| e.1).sum::<f64>()
+        };
         let nn = other.norm().powi(2);
-        let s = if nn > 0.0 { self.entries.iter().map(|&(d, c)| c * at(other, d)).sum::<f64>() / nn } else { 0.0 };
+        let s = if nn > 0.0 {
+            self.entries.iter().map(|&(d, c)| c * at(other, d)).sum::<f64>() / nn
+        } else {
+            0.0
+        };
         let mut out = self.clone();
         for &(d, c) in &other.entries {
             match out.entries.iter_mut().find(|e| e.0 == d) {
@@ -203,7 +211,9 @@ pub enum Status {
     /// would be redundant, so it is not imposed and λ_t stays 0.
     Stick,
     /// Closed and slipping with λ_t = −d μ λ_n. Frictionless closed pairs are Slip with μ = 0.
-    Slip { direction: i8 },
+    Slip {
+        direction: i8,
+    },
 }
 
 impl Status {
@@ -257,13 +267,28 @@ pub struct PairGeometry<'a> {
 
 impl Pair {
     /// A 2D pair with the frame of its unit `normal`.
-    pub fn new(node_a: usize, node_b: Option<usize>, normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
+    pub fn new(
+        node_a: usize,
+        node_b: Option<usize>,
+        normal: [f64; 2],
+        gap0: f64,
+        mu: f64,
+        fixed: &[bool],
+    ) -> Self {
         let frame = Frame::of_pair(2, [normal[0], normal[1], 0.0], None);
         Self::build(PairGeometry { node_a, node_b, weights: &[], dim: 2, frame }, gap0, mu, fixed)
     }
 
     /// A 2D pair whose constraint column is Σ_i c_i (n or t) at the nodes of `weights` (c_i).
-    pub fn weighted(node_a: usize, node_b: Option<usize>, weights: &[(usize, f64)], normal: [f64; 2], gap0: f64, mu: f64, fixed: &[bool]) -> Self {
+    pub fn weighted(
+        node_a: usize,
+        node_b: Option<usize>,
+        weights: &[(usize, f64)],
+        normal: [f64; 2],
+        gap0: f64,
+        mu: f64,
+        fixed: &[bool],
+    ) -> Self {
         let frame = Frame::of_pair(2, [normal[0], normal[1], 0.0], None);
         Self::build(PairGeometry { node_a, node_b, weights, dim: 2, frame }, gap0, mu, fixed)
     }
@@ -281,17 +306,35 @@ impl Pair {
         let w_n = vec_of(frame.normal).restricted(free);
         let w_t = vec_of(t).restricted(free);
         let w_t2 = if dim == 3 { vec_of(t2).restricted(free) } else { SparseVec::default() };
-        let on_supports = [vec_of(frame.normal).restricted(|d| fixed[d]), vec_of(t).restricted(|d| fixed[d]), if dim == 3 { vec_of(t2).restricted(|d| fixed[d]) } else { SparseVec::default() }];
+        let on_supports = [
+            vec_of(frame.normal).restricted(|d| fixed[d]),
+            vec_of(t).restricted(|d| fixed[d]),
+            if dim == 3 { vec_of(t2).restricted(|d| fixed[d]) } else { SparseVec::default() },
+        ];
         // A tangential row is held when, on the free DOFs, it adds nothing to the normal row:
         // zero (every tangential DOF held), or parallel to it (a node on two symmetry planes
         // under a tilted normal: both rows act on its one free DOF). Node to node: over all
         // its DOFs; a weighted row (its force on node a alone): over node a's, since its
         // remaining entries would constrain the target only.
-        let part = |w: &SparseVec| if weighted { w.restricted(|d| d / dim == node_a) } else { w.clone() };
+        let part =
+            |w: &SparseVec| if weighted { w.restricted(|d| d / dim == node_a) } else { w.clone() };
         let held = |w: &SparseVec| part(w).across(&part(&w_n)).norm() < HELD_BY_SUPPORTS;
         let held = [held(&w_t), dim == 2 || held(&w_t2)];
         let tangent_held = held[0] && held[1];
-        Pair { node_a, node_b, dim, frame, gap0, mu, w_n, w_t, w_t2, tangent_held, held, on_supports }
+        Pair {
+            node_a,
+            node_b,
+            dim,
+            frame,
+            gap0,
+            mu,
+            w_n,
+            w_t,
+            w_t2,
+            tangent_held,
+            held,
+            on_supports,
+        }
     }
 
     /// The constraint vectors whose DOFs the contact system reads (its slots): the normal, and
@@ -372,13 +415,29 @@ mod tests {
         // Contactor node 0 (weight 1), target nodes 1, 2 (−0.25, −0.75): moving everything by
         // the same vector keeps the gap; the gap is u0 − (0.25 u1 + 0.75 u2) along n.
         let fixed = vec![false; 6];
-        let p = Pair::weighted(0, Some(2), &[(0, 1.0), (1, -0.25), (2, -0.75)], [0.0, 1.0], 0.0, 0.3, &fixed);
+        let p = Pair::weighted(
+            0,
+            Some(2),
+            &[(0, 1.0), (1, -0.25), (2, -0.75)],
+            [0.0, 1.0],
+            0.0,
+            0.3,
+            &fixed,
+        );
         let shift = [0.3, -0.2, 0.3, -0.2, 0.3, -0.2];
         assert!(p.gap(&shift).abs() < 1e-15 && p.rtd(&shift).abs() < 1e-15);
         let u = [0.0, 0.1, 0.0, 0.4, 0.0, 0.0];
         assert!((p.gap(&u) - (0.1 - 0.25 * 0.4)).abs() < 1e-15);
         // Node 0 held in x on a symmetry line: no stick row, although the targets are free.
-        let held = Pair::weighted(0, Some(2), &[(0, 1.0), (1, -0.25), (2, -0.75)], [0.0, 1.0], 0.0, 0.3, &[true, false, false, false, false, false]);
+        let held = Pair::weighted(
+            0,
+            Some(2),
+            &[(0, 1.0), (1, -0.25), (2, -0.75)],
+            [0.0, 1.0],
+            0.0,
+            0.3,
+            &[true, false, false, false, false, false],
+        );
         assert!(held.tangent_held && !p.tangent_held);
     }
 

@@ -60,7 +60,13 @@ impl Coulomb {
     /// λ_t of a pair slipping on the facet at e (along t1, t2): μ λ_n along e, the cross part of
     /// `lambda_t` kept within the band (eq. 62 in space; `cross`: false for a facet with no
     /// cross row, whose force is μ λ_n e).
-    pub fn on_facet(&self, lambda_n: f64, e: [f64; 2], lambda_t: [f64; 2], cross: bool) -> [f64; 2] {
+    pub fn on_facet(
+        &self,
+        lambda_n: f64,
+        e: [f64; 2],
+        lambda_t: [f64; 2],
+        cross: bool,
+    ) -> [f64; 2] {
         let along = self.capacity(lambda_n);
         let across = if cross {
             let most = self.cross_bound(lambda_n);
@@ -112,7 +118,14 @@ impl Coulomb {
     /// side: the smallest S ≥ 0 with e_j·(λ_t0 + S Δλ_t) = μ (λ_n0 + S Δλ_n) crossed outwards
     /// (eq. 53 side by side). A force on a side (or beyond it by round-off) moving out leaves at
     /// S = 0. None: it stays inside (or its rates are noise).
-    pub fn polygon_exit_scale(&self, e: [f64; 2], vertex: bool, (ln, lt): (f64, [f64; 2]), (dln, dlt): (f64, [f64; 2]), noise: f64) -> Option<f64> {
+    pub fn polygon_exit_scale(
+        &self,
+        e: [f64; 2],
+        vertex: bool,
+        (ln, lt): (f64, [f64; 2]),
+        (dln, dlt): (f64, [f64; 2]),
+        noise: f64,
+    ) -> Option<f64> {
         let mu = self.mu;
         self.polygon(e, vertex)
             .filter_map(|d| {
@@ -125,7 +138,14 @@ impl Coulomb {
 
     /// Where on its polygon (sides about e) a force λ_t lies: the side it is on, or the vertex
     /// (within `tol` of two sides). (unit direction, at a vertex).
-    pub fn place_on_polygon(&self, e: [f64; 2], vertex: bool, lambda_n: f64, lambda_t: [f64; 2], tol: f64) -> ([f64; 2], bool) {
+    pub fn place_on_polygon(
+        &self,
+        e: [f64; 2],
+        vertex: bool,
+        lambda_n: f64,
+        lambda_t: [f64; 2],
+        tol: f64,
+    ) -> ([f64; 2], bool) {
         let cap = self.capacity(lambda_n);
         let excess = |d: [f64; 2]| d[0] * lambda_t[0] + d[1] * lambda_t[1] - cap;
         let mut sides: Vec<[f64; 2]> = self.polygon(e, vertex).collect();
@@ -141,10 +161,20 @@ impl Coulomb {
     }
 
     /// The largest amount by which a force exceeds its cone: the round one, or its polygon.
-    pub fn excess(&self, polygon: Option<([f64; 2], bool)>, lambda_n: f64, lambda_t: [f64; 2]) -> f64 {
+    pub fn excess(
+        &self,
+        polygon: Option<([f64; 2], bool)>,
+        lambda_n: f64,
+        lambda_t: [f64; 2],
+    ) -> f64 {
         match polygon {
             None => lambda_t[0].hypot(lambda_t[1]) - self.capacity(lambda_n),
-            Some((e, vertex)) => self.polygon(e, vertex).map(|d| d[0] * lambda_t[0] + d[1] * lambda_t[1]).fold(f64::NEG_INFINITY, f64::max) - self.capacity(lambda_n),
+            Some((e, vertex)) => {
+                self.polygon(e, vertex)
+                    .map(|d| d[0] * lambda_t[0] + d[1] * lambda_t[1])
+                    .fold(f64::NEG_INFINITY, f64::max)
+                    - self.capacity(lambda_n)
+            }
         }
     }
 
@@ -159,7 +189,12 @@ impl Coulomb {
     /// sheared with no normal force rate to hold it (if it is pulled off, its separation at S = 0
     /// comes first); one that moves inwards first slips where it leaves again. None: the
     /// increment stays inside (or its rates are noise).
-    pub fn slip_onset_scale(&self, (ln, lt): (f64, [f64; 2]), (dln, dlt): (f64, [f64; 2]), noise: f64) -> Option<f64> {
+    pub fn slip_onset_scale(
+        &self,
+        (ln, lt): (f64, [f64; 2]),
+        (dln, dlt): (f64, [f64; 2]),
+        noise: f64,
+    ) -> Option<f64> {
         let mu = self.mu;
         let shear_rate = dlt[0].hypot(dlt[1]);
         if shear_rate <= noise && mu * dln.abs() <= noise {
@@ -173,16 +208,32 @@ impl Coulomb {
         let inside = size < mu * ln;
         let disc = b * b - 4.0 * a * c;
         let q = -0.5 * (b + b.signum() * disc.max(0.0).sqrt()); // the roots q/a and c/q, without cancellation
-        let roots = if disc < 0.0 { [f64::INFINITY; 2] } else { [if a != 0.0 { q / a } else { f64::INFINITY }, if q != 0.0 { c / q } else { f64::INFINITY }] };
+        let roots = if disc < 0.0 {
+            [f64::INFINITY; 2]
+        } else {
+            [
+                if a != 0.0 { q / a } else { f64::INFINITY },
+                if q != 0.0 { c / q } else { f64::INFINITY },
+            ]
+        };
         // where the cone itself (λ_n(S) > 0) is crossed outwards (g' = 2aS + b > 0); a pair on
         // the cone is not leaving at the point it starts from
-        let leaving = |s: f64| s.is_finite() && (s > 0.0 || (s == 0.0 && inside)) && 2.0 * a * s + b > 0.0 && ln + s * dln > 0.0;
-        let exit = roots.into_iter().filter(|&s| leaving(s)).fold(None, |best: Option<f64>, s| Some(best.map_or(s, |b| b.min(s))));
+        let leaving = |s: f64| {
+            s.is_finite()
+                && (s > 0.0 || (s == 0.0 && inside))
+                && 2.0 * a * s + b > 0.0
+                && ln + s * dln > 0.0
+        };
+        let exit = roots
+            .into_iter()
+            .filter(|&s| leaving(s))
+            .fold(None, |best: Option<f64>, s| Some(best.map_or(s, |b| b.min(s))));
         if inside {
             return exit;
         }
         // on or outside the cone: g's slope at S = 0 (along λ_t0, or from the apex)
-        let slope = if size > 0.0 { (lt[0] * dlt[0] + lt[1] * dlt[1]) / size } else { shear_rate } - mu * dln;
+        let slope = if size > 0.0 { (lt[0] * dlt[0] + lt[1] * dlt[1]) / size } else { shear_rate }
+            - mu * dln;
         if slope > 0.0 {
             return Some(0.0);
         }
@@ -194,7 +245,12 @@ impl Coulomb {
     /// Stick → slip in the plane (eqs. 52–53), on either side of the cone: λ_t reaching +μ λ_n
     /// slips along −t (d = −1), −μ λ_n along +t (d = 1); (d, S) of each side the increment
     /// moves towards.
-    pub fn planar_onset_scales(&self, (ln, lt): (f64, f64), (dln, dlt): (f64, f64), noise: f64) -> Vec<(i8, f64)> {
+    pub fn planar_onset_scales(
+        &self,
+        (ln, lt): (f64, f64),
+        (dln, dlt): (f64, f64),
+        noise: f64,
+    ) -> Vec<(i8, f64)> {
         let mu = self.mu;
         [(-1i8, 1.0), (1, -1.0)]
             .into_iter()
@@ -208,7 +264,13 @@ impl Coulomb {
     /// A pair slipping on the facet with cross direction e⊥ = `cross`: where its cross force
     /// λ_⊥ = e⊥·λ_t reaches ± tan θ μ λ_n (the vertex on that side), linear in S on either side
     /// as eqs. 52–53 in the plane: (side ±1, S) of each side the increment reaches.
-    pub fn facet_turn_scales(&self, cross: [f64; 2], (ln, lt): (f64, [f64; 2]), (dln, dlt): (f64, [f64; 2]), noise: f64) -> Vec<(i8, f64)> {
+    pub fn facet_turn_scales(
+        &self,
+        cross: [f64; 2],
+        (ln, lt): (f64, [f64; 2]),
+        (dln, dlt): (f64, [f64; 2]),
+        noise: f64,
+    ) -> Vec<(i8, f64)> {
         let k = self.turn.tan() * self.mu;
         let across = cross[0] * lt[0] + cross[1] * lt[1];
         let rate = cross[0] * dlt[0] + cross[1] * dlt[1];
@@ -268,7 +330,9 @@ mod tests {
             let sides: Vec<[f64; 2]> = law.polygon([0.6, 0.8], false).collect();
             assert!(law.turn <= slip_turn + ROUND_OFF && sides.len() % 2 == 0 && sides.len() >= 2);
             assert!((sides.len() as f64 * law.turn - std::f64::consts::PI).abs() < ROUND_OFF);
-            assert!(sides.iter().any(|d| (d[0] + 0.6).abs() < ROUND_OFF && (d[1] + 0.8).abs() < ROUND_OFF));
+            assert!(sides
+                .iter()
+                .any(|d| (d[0] + 0.6).abs() < ROUND_OFF && (d[1] + 0.8).abs() < ROUND_OFF));
         }
     }
 
@@ -279,10 +343,15 @@ mod tests {
         let (law, ln, e) = (Coulomb::new(0.5, 0.1), 4.0, [0.6, 0.8]);
         let perp = [-e[1], e[0]];
         let bound = law.turn.tan() * 0.5 * ln;
-        for (across, kept) in [(0.0, 0.0), (0.5 * bound, 0.5 * bound), (3.0 * bound, bound), (-3.0 * bound, -bound)] {
+        for (across, kept) in
+            [(0.0, 0.0), (0.5 * bound, 0.5 * bound), (3.0 * bound, bound), (-3.0 * bound, -bound)]
+        {
             let f = [1.7 * e[0] + across * perp[0], 1.7 * e[1] + across * perp[1]];
             let on = law.on_facet(ln, e, f, true);
-            assert!((dot(on, e) - 0.5 * ln).abs() < ROUND_OFF && (dot(on, perp) - kept).abs() < ROUND_OFF);
+            assert!(
+                (dot(on, e) - 0.5 * ln).abs() < ROUND_OFF
+                    && (dot(on, perp) - kept).abs() < ROUND_OFF
+            );
         }
         let on = law.on_facet(ln, e, [5.0, -3.0], false);
         assert!((on[0] - 2.0 * e[0]).abs() < ROUND_OFF && (on[1] - 2.0 * e[1]).abs() < ROUND_OFF);
@@ -297,14 +366,24 @@ mod tests {
         let e = [0.6, 0.8];
         let perp = [-e[1], e[0]];
         for side in [1.0, -1.0] {
-            let edge = [law.capacity(ln) * e[0] + side * law.cross_bound(ln) * perp[0], law.capacity(ln) * e[1] + side * law.cross_bound(ln) * perp[1]];
+            let edge = [
+                law.capacity(ln) * e[0] + side * law.cross_bound(ln) * perp[0],
+                law.capacity(ln) * e[1] + side * law.cross_bound(ln) * perp[1],
+            ];
             let m = law.vertex_of(e, side);
             let at_vertex = law.vertex_force(ln, m);
-            assert!((at_vertex[0] - edge[0]).abs() < ROUND_OFF && (at_vertex[1] - edge[1]).abs() < ROUND_OFF, "{at_vertex:?} {edge:?}");
+            assert!(
+                (at_vertex[0] - edge[0]).abs() < ROUND_OFF
+                    && (at_vertex[1] - edge[1]).abs() < ROUND_OFF,
+                "{at_vertex:?} {edge:?}"
+            );
             let back = law.facet_of(m, -side);
             assert!((back[0] - e[0]).abs() < ROUND_OFF && (back[1] - e[1]).abs() < ROUND_OFF);
             let next = law.facet_of(m, side);
-            assert!((dot(next, e) - (2.0 * law.turn).cos()).abs() < ROUND_OFF && (dot(next, edge) - law.capacity(ln)).abs() < ROUND_OFF * ln);
+            assert!(
+                (dot(next, e) - (2.0 * law.turn).cos()).abs() < ROUND_OFF
+                    && (dot(next, edge) - law.capacity(ln)).abs() < ROUND_OFF * ln
+            );
             assert!(law.excess(Some((e, false)), ln, edge).abs() < ROUND_OFF * ln);
             let (placed, vertex) = law.place_on_polygon(e, false, ln, edge, 1e-9);
             assert!(vertex && (placed[0] - m[0]).abs() < 1e-9 && (placed[1] - m[1]).abs() < 1e-9);
@@ -342,7 +421,11 @@ mod tests {
         let s = law.polygon_exit_scale(e, false, (ln, lt), (0.0, dlt), 1e-14).expect("it leaves");
         let at = [lt[0] + s * dlt[0], lt[1] + s * dlt[1]];
         assert!(law.excess(Some((e, false)), ln, at).abs() < ROUND_OFF, "{s}");
-        assert!((1..100).all(|k| law.excess(Some((e, false)), ln, [lt[0] + s * k as f64 / 100.0 * dlt[0], lt[1] + s * k as f64 / 100.0 * dlt[1]]) < 0.0));
+        assert!((1..100).all(|k| law.excess(
+            Some((e, false)),
+            ln,
+            [lt[0] + s * k as f64 / 100.0 * dlt[0], lt[1] + s * k as f64 / 100.0 * dlt[1]]
+        ) < 0.0));
         assert!(at[0] < 0.0, "out on the reversed side: {at:?}");
         assert_eq!(law.polygon_exit_scale(e, false, (ln, lt), (1.0, [-0.1, 0.0]), 1e-14), None);
     }
@@ -365,12 +448,20 @@ mod tests {
     fn round_cone_scale_lands_on_the_cone() {
         let (mu, noise) = (0.3, 1e-14);
         let law = Coulomb::new(mu, 0.1);
-        let on_cone = |ln: f64, lt: [f64; 2], dln: f64, dlt: [f64; 2], s: f64| (lt[0] + s * dlt[0]).hypot(lt[1] + s * dlt[1]) - mu * (ln + s * dln);
-        let cases = [(10.0, [1.0, -0.5], 2.0, [3.0, 4.0]), (10.0, [0.0, 0.0], 1.0, [-0.2, 2.5]), (5.0, [0.6, 0.0], -1.0, [0.0, 1.0])];
+        let on_cone = |ln: f64, lt: [f64; 2], dln: f64, dlt: [f64; 2], s: f64| {
+            (lt[0] + s * dlt[0]).hypot(lt[1] + s * dlt[1]) - mu * (ln + s * dln)
+        };
+        let cases = [
+            (10.0, [1.0, -0.5], 2.0, [3.0, 4.0]),
+            (10.0, [0.0, 0.0], 1.0, [-0.2, 2.5]),
+            (5.0, [0.6, 0.0], -1.0, [0.0, 1.0]),
+        ];
         for (ln, lt, dln, dlt) in cases {
             let s = law.slip_onset_scale((ln, lt), (dln, dlt), noise).expect("it slips");
             assert!(s > 0.0 && on_cone(ln, lt, dln, dlt, s).abs() < 1e-12 * ln, "{s}");
-            assert!((1..100).map(|k| s * k as f64 / 100.0).all(|x| on_cone(ln, lt, dln, dlt, x) < 0.0));
+            assert!((1..100)
+                .map(|k| s * k as f64 / 100.0)
+                .all(|x| on_cone(ln, lt, dln, dlt, x) < 0.0));
         }
         // on the cone (λ_t = μλ_n (0.6, 0.8)), turning inwards first: the later crossing
         let (ln, lt) = (10.0, [1.8, 2.4]);
@@ -388,7 +479,10 @@ mod tests {
         assert_eq!(law.slip_onset_scale((ln, lt), (0.0, [0.6, 0.8]), noise), Some(0.0));
         // at zero force, sheared with no normal force rate (or one pulling by round-off): at once
         assert_eq!(law.slip_onset_scale((0.0, [0.0; 2]), (0.0, [0.04, -0.17]), noise), Some(0.0));
-        assert_eq!(law.slip_onset_scale((0.0, [0.0; 2]), (-0.5 * noise, [0.04, -0.17]), noise), Some(0.0));
+        assert_eq!(
+            law.slip_onset_scale((0.0, [0.0; 2]), (-0.5 * noise, [0.04, -0.17]), noise),
+            Some(0.0)
+        );
         // just closed, λ_n a round-off below zero (as a correction at fixed load leaves it), so
         // outside the cone by round-off, where the squared cone describes its mirror image:
         // sheared more than pressed, at once, whether the round-off λ_t points along the shear
@@ -413,16 +507,24 @@ mod tests {
         let (ln, dln) = (10.0, 2.0);
         let lt = [mu * ln * e[0], mu * ln * e[1]];
         for side in [1.0, -1.0] {
-            let dlt = [mu * dln * e[0] + side * 1.5 * cross[0], mu * dln * e[1] + side * 1.5 * cross[1]];
+            let dlt =
+                [mu * dln * e[0] + side * 1.5 * cross[0], mu * dln * e[1] + side * 1.5 * cross[1]];
             let turns = law.facet_turn_scales(cross, (ln, lt), (dln, dlt), noise);
             assert_eq!(turns.len(), 1);
             let (s_side, s) = turns[0];
             assert_eq!(s_side as f64, side);
             let force = [lt[0] + s * dlt[0], lt[1] + s * dlt[1]];
             let along = e[0] * force[0] + e[1] * force[1];
-            assert!(((side * (cross[0] * force[0] + cross[1] * force[1])) / along - turn.tan()).abs() < 1e-12, "{s}");
+            assert!(
+                ((side * (cross[0] * force[0] + cross[1] * force[1])) / along - turn.tan()).abs()
+                    < 1e-12,
+                "{s}"
+            );
         }
-        let slow = [mu * dln * e[0] + 0.5 * k * dln * cross[0], mu * dln * e[1] + 0.5 * k * dln * cross[1]];
+        let slow = [
+            mu * dln * e[0] + 0.5 * k * dln * cross[0],
+            mu * dln * e[1] + 0.5 * k * dln * cross[1],
+        ];
         assert!(law.facet_turn_scales(cross, (ln, lt), (dln, slow), noise).is_empty());
     }
 }

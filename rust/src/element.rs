@@ -177,7 +177,7 @@ impl Tet4 {
         let jac = nalgebra::Matrix3::from_fn(|r, c| p[c + 1][r] - p[0][r]); // columns x_k − x_0
         let det = jac.determinant();
         let inv = jac.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros); // validate refuses det ≤ 0
-        // ∇N_k = rows of J⁻¹ (k = 1..3), ∇N_0 = −their sum.
+                                                                              // ∇N_k = rows of J⁻¹ (k = 1..3), ∇N_0 = −their sum.
         let mut grad = [[0.0; 3]; 4];
         for k in 0..3 {
             for c in 0..3 {
@@ -221,7 +221,6 @@ impl Element<6, 12> for Tet4 {
     }
 }
 
-
 /// The elements of a model, of one kind: triangles (2D) or tetrahedra (3D). Loops over them
 /// are written once, generically over `Element`, and run on either (`on_elements!`).
 #[derive(Debug, Clone)]
@@ -247,7 +246,11 @@ impl Elements {
     pub fn of_mesh(mesh: &Mesh, plane: Plane, thickness: f64) -> Self {
         match mesh.dim() {
             3 => Elements::Space((0..mesh.tetrahedra.len()).map(|e| Tet4::new(mesh, e)).collect()),
-            _ => Elements::Plane((0..mesh.triangles.len()).map(|e| Cst::of_plane(mesh, e, plane, thickness)).collect()),
+            _ => Elements::Plane(
+                (0..mesh.triangles.len())
+                    .map(|e| Cst::of_plane(mesh, e, plane, thickness))
+                    .collect(),
+            ),
         }
     }
 
@@ -275,7 +278,14 @@ impl Elements {
     }
 
     /// f[d] += sign × (w Bᵀ σ)_d of element e at its DOFs d that `keep` accepts.
-    pub fn add_internal_force(&self, e: usize, stress: &Voigt, sign: f64, keep: impl Fn(usize) -> bool, f: &mut [f64]) {
+    pub fn add_internal_force(
+        &self,
+        e: usize,
+        stress: &Voigt,
+        sign: f64,
+        keep: impl Fn(usize) -> bool,
+        f: &mut [f64],
+    ) {
         on_elements!(self, els => {
             let fe = els[e].internal_force(stress);
             for (k, d) in els[e].dofs().into_iter().enumerate() {
@@ -305,12 +315,18 @@ mod tests {
 
     /// One element away from the axis and one touching it (node 3 at r = 0).
     fn mesh() -> Mesh {
-        Mesh::plane(vec![[0.1, 0.2], [1.3, 0.1], [0.4, 0.9], [0.0, 0.6]], vec![[0, 1, 2], [0, 2, 3]])
+        Mesh::plane(
+            vec![[0.1, 0.2], [1.3, 0.1], [0.4, 0.9], [0.0, 0.6]],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
     }
 
     /// Nodal values of a linear field u = (a0 + a1 x + a2 y, b0 + b1 x + b2 y).
     fn linear_field(m: &Mesh, a: [f64; 3], b: [f64; 3]) -> Vec<f64> {
-        m.nodes.iter().flat_map(|p| [a[0] + a[1] * p[0] + a[2] * p[1], b[0] + b[1] * p[0] + b[2] * p[1]]).collect()
+        m.nodes
+            .iter()
+            .flat_map(|p| [a[0] + a[1] * p[0] + a[2] * p[1], b[0] + b[1] * p[0] + b[2] * p[1]])
+            .collect()
     }
 
     // Round-off bound of the strain tests: strains O(1e-3) from nodal values up to O(1) (the
@@ -325,7 +341,10 @@ mod tests {
         let u = linear_field(&m, [0.7, a, b], [-0.2, c, d]);
         for plane in [Plane::Strain, Plane::Stress] {
             let eps = element(&m, 0, plane, 1.0).strain(&u);
-            assert!((eps - from_planar([a, d, 0.0, b + c])).norm() < STRAIN_ROUND_OFF, "{plane:?}: {eps}");
+            assert!(
+                (eps - from_planar([a, d, 0.0, b + c])).norm() < STRAIN_ROUND_OFF,
+                "{plane:?}: {eps}"
+            );
         }
     }
 
@@ -338,14 +357,20 @@ mod tests {
         let u = linear_field(&m, [0.0, a, 0.0], [0.3, d, e]);
         for k in 0..2 {
             let eps = element(&m, k, Plane::Axisymmetric, 1.0).strain(&u);
-            assert!((eps - from_planar([a, e, a, d])).norm() < STRAIN_ROUND_OFF, "element {k}: {eps}");
+            assert!(
+                (eps - from_planar([a, e, a, d])).norm() < STRAIN_ROUND_OFF,
+                "element {k}: {eps}"
+            );
         }
         // Any linear u_r = A r + B z + C: εθ is the exact u_r/r at the centroid.
         let (b, c) = (7e-4, -3e-4);
         let u = linear_field(&m, [c, a, b], [0.0, 0.0, 0.0]);
         for k in 0..2 {
             let el = element(&m, k, Plane::Axisymmetric, 1.0);
-            let centre = m.triangles[k].map(|i| m.nodes[i]).iter().fold([0.0; 2], |s, p| [s[0] + p[0] / 3.0, s[1] + p[1] / 3.0]);
+            let centre = m.triangles[k]
+                .map(|i| m.nodes[i])
+                .iter()
+                .fold([0.0; 2], |s, p| [s[0] + p[0] / 3.0, s[1] + p[1] / 3.0]);
             let exact = (c + a * centre[0] + b * centre[1]) / centre[0];
             assert!((el.strain(&u)[HOOP] - exact).abs() < STRAIN_ROUND_OFF, "element {k}");
         }
@@ -359,7 +384,10 @@ mod tests {
         let el = element(&m, 1, Plane::Axisymmetric, 7.0); // thickness does not apply
         let r = (0.1 + 0.4 + 0.0) / 3.0;
         assert!((el.measure() - 2.0 * PI * r * m.signed_area2(1) / 2.0).abs() < 1e-15);
-        assert!((element(&m, 1, Plane::Strain, 7.0).measure() - 7.0 * m.signed_area2(1) / 2.0).abs() < 1e-15);
+        assert!(
+            (element(&m, 1, Plane::Strain, 7.0).measure() - 7.0 * m.signed_area2(1) / 2.0).abs()
+                < 1e-15
+        );
     }
 
     /// Rigid modes of an element: translation x, translation y, rotation about the origin.
@@ -369,7 +397,14 @@ mod tests {
         [
             ElementVector::from_row_slice(&[1., 0., 1., 0., 1., 0.]),
             ElementVector::from_row_slice(&[0., 1., 0., 1., 0., 1.]),
-            ElementVector::from_row_slice(&[rot(0)[0], rot(0)[1], rot(1)[0], rot(1)[1], rot(2)[0], rot(2)[1]]),
+            ElementVector::from_row_slice(&[
+                rot(0)[0],
+                rot(0)[1],
+                rot(1)[0],
+                rot(1)[1],
+                rot(2)[0],
+                rot(2)[1],
+            ]),
         ]
     }
 
@@ -397,12 +432,20 @@ mod tests {
             let el = element(&m, e, Plane::Axisymmetric, 1.0);
             let k = el.stiffness(&d);
             let [tx, ty, rot] = rigid_modes(&m, e);
-            assert!((el.b() * ty).norm() < STRAIN_ROUND_OFF && (k * ty).norm() < 1e-12 * k.norm(), "element {e}");
+            assert!(
+                (el.b() * ty).norm() < STRAIN_ROUND_OFF && (k * ty).norm() < 1e-12 * k.norm(),
+                "element {e}"
+            );
             for mode in [tx, rot] {
                 let strain = el.b() * mode;
                 assert!(strain[HOOP].abs() > 0.1, "element {e}: {strain}");
                 let energy = (mode.transpose() * k * mode)[0];
-                assert!((energy - el.measure() * (strain.transpose() * Cst::rows_of(&d) * strain)[0]).abs() < 1e-10 * energy && energy > 0.0);
+                assert!(
+                    (energy - el.measure() * (strain.transpose() * Cst::rows_of(&d) * strain)[0])
+                        .abs()
+                        < 1e-10 * energy
+                        && energy > 0.0
+                );
             }
             assert!((k - k.transpose()).norm() < 1e-12 * k.norm());
         }
@@ -410,12 +453,27 @@ mod tests {
 
     /// A tetrahedron of general shape (positively oriented) and one on the axes.
     fn tets() -> Mesh {
-        Mesh::space(vec![[0.1, 0.2, -0.1], [1.3, 0.1, 0.2], [0.4, 0.9, 0.0], [0.3, 0.4, 1.1], [0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 4.0]], vec![[0, 1, 2, 3], [4, 5, 6, 7]])
+        Mesh::space(
+            vec![
+                [0.1, 0.2, -0.1],
+                [1.3, 0.1, 0.2],
+                [0.4, 0.9, 0.0],
+                [0.3, 0.4, 1.1],
+                [0.0, 0.0, 0.0],
+                [2.0, 0.0, 0.0],
+                [0.0, 3.0, 0.0],
+                [0.0, 0.0, 4.0],
+            ],
+            vec![[0, 1, 2, 3], [4, 5, 6, 7]],
+        )
     }
 
     /// A linear field u = c + G x at every node of `m` (3 per node).
     fn linear_field_3d(m: &Mesh, c: [f64; 3], g: [[f64; 3]; 3]) -> Vec<f64> {
-        m.points.iter().flat_map(|p| (0..3).map(move |i| c[i] + (0..3).map(|j| g[i][j] * p[j]).sum::<f64>())).collect()
+        m.points
+            .iter()
+            .flat_map(|p| (0..3).map(move |i| c[i] + (0..3).map(|j| g[i][j] * p[j]).sum::<f64>()))
+            .collect()
     }
 
     #[test]
@@ -424,7 +482,14 @@ mod tests {
         let m = tets();
         let g = [[1e-3, -2e-3, 5e-4], [3e-4, 2e-3, -1e-3], [7e-4, 4e-4, -1.5e-3]];
         let u = linear_field_3d(&m, [0.7, -0.2, 0.4], g);
-        let exact = Voigt::from_row_slice(&[g[0][0], g[1][1], g[2][2], g[1][2] + g[2][1], g[0][2] + g[2][0], g[0][1] + g[1][0]]);
+        let exact = Voigt::from_row_slice(&[
+            g[0][0],
+            g[1][1],
+            g[2][2],
+            g[1][2] + g[2][1],
+            g[0][2] + g[2][0],
+            g[0][1] + g[1][0],
+        ]);
         for e in 0..2 {
             let eps = Tet4::new(&m, e).strain(&u);
             assert!((eps - exact).norm() < STRAIN_ROUND_OFF, "element {e}: {eps}");
@@ -446,15 +511,27 @@ mod tests {
             let p = m.tetrahedra[e].map(|i| m.points[i]);
             for k in 0..4 {
                 let face: Vec<[f64; 3]> = (0..4).filter(|&j| j != k).map(|j| p[j]).collect();
-                let (a, b) = ([0, 1, 2].map(|c| face[1][c] - face[0][c]), [0, 1, 2].map(|c| face[2][c] - face[0][c]));
-                let mut area = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]].map(|v| v / 2.0);
+                let (a, b) = (
+                    [0, 1, 2].map(|c| face[1][c] - face[0][c]),
+                    [0, 1, 2].map(|c| face[2][c] - face[0][c]),
+                );
+                let mut area = [
+                    a[1] * b[2] - a[2] * b[1],
+                    a[2] * b[0] - a[0] * b[2],
+                    a[0] * b[1] - a[1] * b[0],
+                ]
+                .map(|v| v / 2.0);
                 let inward = (0..3).map(|c| area[c] * (p[k][c] - face[0][c])).sum::<f64>() > 0.0;
                 if inward {
                     area = area.map(|v| -v);
                 }
                 for i in 0..3 {
                     let expected = -(0..3).map(|j| s(i, j) * area[j]).sum::<f64>() / 3.0;
-                    assert!((f[3 * k + i] - expected).abs() < 1e-11 * 120.0, "element {e} node {k} component {i}: {} vs {expected}", f[3 * k + i]);
+                    assert!(
+                        (f[3 * k + i] - expected).abs() < 1e-11 * 120.0,
+                        "element {e} node {k} component {i}: {} vs {expected}",
+                        f[3 * k + i]
+                    );
                 }
             }
         }
@@ -470,13 +547,19 @@ mod tests {
             let k = el.stiffness(&d);
             assert!((k - k.transpose()).norm() < 1e-12 * k.norm());
             for mode in 0..6 {
-                let u = m.points.iter().flat_map(|p| {
-                    let (t, w) = if mode < 3 { (mode, None) } else { (0, Some(mode - 3)) };
-                    (0..3).map(move |c| match w {
-                        None => (c == t) as i32 as f64,
-                        Some(a) => [[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]][a][c],
+                let u = m
+                    .points
+                    .iter()
+                    .flat_map(|p| {
+                        let (t, w) = if mode < 3 { (mode, None) } else { (0, Some(mode - 3)) };
+                        (0..3).map(move |c| match w {
+                            None => (c == t) as i32 as f64,
+                            Some(a) => {
+                                [[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]][a][c]
+                            }
+                        })
                     })
-                }).collect::<Vec<f64>>();
+                    .collect::<Vec<f64>>();
                 let ue = el.gather(&u);
                 assert!((k * ue).norm() < 1e-9 * k.norm(), "element {e} mode {mode}");
             }
@@ -490,7 +573,11 @@ mod tests {
     fn flat_and_inverted_tetrahedra_are_named() {
         let mut m = tets();
         m.tetrahedra[1] = [4, 6, 5, 7];
-        assert!(m.validate().unwrap_err().message.starts_with("element 1 is an inverted tetrahedron"));
+        assert!(m
+            .validate()
+            .unwrap_err()
+            .message
+            .starts_with("element 1 is an inverted tetrahedron"));
         m.tetrahedra[1] = [4, 5, 6, 7];
         let (p0, p1, p2) = (m.points[0], m.points[1], m.points[2]);
         m.points[3] = std::array::from_fn(|c| (p0[c] + p1[c] + p2[c]) / 3.0); // in the plane of the others

@@ -6,10 +6,10 @@
 
 use crate::contact::{Pair, Shift, Status};
 use crate::coulomb::{Coulomb, VertexExit};
-use crate::material::{von_mises, yield_scale};
-use crate::section::Section;
-use crate::model::EventKind;
 use crate::material::Voigt;
+use crate::material::{von_mises, yield_scale};
+use crate::model::EventKind;
+use crate::section::Section;
 use rayon::prelude::*;
 
 #[derive(Debug, Clone, Copy)]
@@ -79,7 +79,13 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
             continue;
         }
         let push = |out: &mut Vec<Candidate>, scale: f64, kind, direction| {
-            out.push(Candidate { scale: scale.max(0.0), entity: p, kind, direction, toward: [0.0; 2] })
+            out.push(Candidate {
+                scale: scale.max(0.0),
+                entity: p,
+                kind,
+                direction,
+                toward: [0.0; 2],
+            })
         };
         let (ln, lt) = (state.lambda_n[p], state.lambda_t[p]);
         let (dln, dlt) = (trial.dlambda_n[p], trial.dlambda_t[p]);
@@ -89,7 +95,12 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                 // obstacle's motion).
                 let dgap = pair.w_n.dot(trial.du) + trial.dshift[p][0];
                 if dgap < -noise.displacement {
-                    push(&mut out, (pair.gap(state.u) + state.shift[p][0]).max(0.0) / -dgap, EventKind::Close, 0);
+                    push(
+                        &mut out,
+                        (pair.gap(state.u) + state.shift[p][0]).max(0.0) / -dgap,
+                        EventKind::Close,
+                        0,
+                    );
                 }
             }
             status => {
@@ -102,23 +113,58 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                         // Stick → slip (3D, `coulomb`): on the round cone, or on its polygon for
                         // a pair that slipped since it closed; direction 1 marks a frictional
                         // slip, whose facet the switch takes from λ_t there.
-                        let (law, lt, dlt) = (Coulomb::new(pair.mu, space.turn), [lt, space.lambda_t2[p]], [dlt, trial.dlambda_t2[p]]);
+                        let (law, lt, dlt) = (
+                            Coulomb::new(pair.mu, space.turn),
+                            [lt, space.lambda_t2[p]],
+                            [dlt, trial.dlambda_t2[p]],
+                        );
                         let e = space.slip_dir[p];
-                        let onset = if e != [0.0; 2] && !pair.held[0] && !pair.held[1] && ln > noise.force { law.polygon_exit_scale(e, space.vertex[p], (ln, lt), (dln, dlt), noise.force) } else { law.slip_onset_scale((ln, lt), (dln, dlt), noise.force) };
+                        let onset = if e != [0.0; 2]
+                            && !pair.held[0]
+                            && !pair.held[1]
+                            && ln > noise.force
+                        {
+                            law.polygon_exit_scale(
+                                e,
+                                space.vertex[p],
+                                (ln, lt),
+                                (dln, dlt),
+                                noise.force,
+                            )
+                        } else {
+                            law.slip_onset_scale((ln, lt), (dln, dlt), noise.force)
+                        };
                         if let Some(s) = onset {
                             let growing = dlt[0].hypot(dlt[1]);
-                            let unloaded = lt[0].hypot(lt[1]) <= noise.force && growing > noise.force;
+                            let unloaded =
+                                lt[0].hypot(lt[1]) <= noise.force && growing > noise.force;
                             let toward = if unloaded { dlt.map(|v| v / growing) } else { [0.0; 2] };
-                            out.push(Candidate { scale: s.max(0.0), entity: p, kind: EventKind::StickToSlip, direction: 1, toward });
+                            out.push(Candidate {
+                                scale: s.max(0.0),
+                                entity: p,
+                                kind: EventKind::StickToSlip,
+                                direction: 1,
+                                toward,
+                            });
                         }
                     }
-                    (Status::Slip { direction }, Some(space)) if direction != 0 && space.vertex[p] => {
+                    (Status::Slip { direction }, Some(space))
+                        if direction != 0 && space.vertex[p] =>
+                    {
                         // At a vertex: its slip leaves the vertex's normal cone onto a facet, or
                         // turns against the force (eq. 54): at S = 0.
                         let law = Coulomb::new(pair.mu, space.turn);
-                        match law.vertex_exit(space.slip_dir[p], slip_rate(pair, trial, p), noise.displacement) {
-                            Some(VertexExit::Stick) => push(&mut out, 0.0, EventKind::SlipToStick, 0),
-                            Some(VertexExit::Facet(side)) => push(&mut out, 0.0, EventKind::SlipTurn, side as i8),
+                        match law.vertex_exit(
+                            space.slip_dir[p],
+                            slip_rate(pair, trial, p),
+                            noise.displacement,
+                        ) {
+                            Some(VertexExit::Stick) => {
+                                push(&mut out, 0.0, EventKind::SlipToStick, 0)
+                            }
+                            Some(VertexExit::Facet(side)) => {
+                                push(&mut out, 0.0, EventKind::SlipTurn, side as i8)
+                            }
                             None => {}
                         }
                     }
@@ -131,14 +177,23 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                         }
                         if let Some(cross) = space.cross[p] {
                             let (lt, dlt) = ([lt, space.lambda_t2[p]], [dlt, trial.dlambda_t2[p]]);
-                            for (side, s) in Coulomb::new(pair.mu, space.turn).facet_turn_scales(cross, (ln, lt), (dln, dlt), noise.force) {
+                            for (side, s) in Coulomb::new(pair.mu, space.turn).facet_turn_scales(
+                                cross,
+                                (ln, lt),
+                                (dln, dlt),
+                                noise.force,
+                            ) {
                                 push(&mut out, s, EventKind::SlipTurn, side);
                             }
                         }
                     }
                     (Status::Stick, _) if pair.frictional() => {
                         // Stick → slip, eqs. 52–53, on either side of the Coulomb cone.
-                        for (direction, s) in Coulomb::new(pair.mu, 0.0).planar_onset_scales((ln, lt), (dln, dlt), noise.force) {
+                        for (direction, s) in Coulomb::new(pair.mu, 0.0).planar_onset_scales(
+                            (ln, lt),
+                            (dln, dlt),
+                            noise.force,
+                        ) {
                             push(&mut out, s, EventKind::StickToSlip, direction);
                         }
                     }
@@ -161,7 +216,13 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
 /// 3D: a pair's relative tangential velocity (t1, t2) in a trial (0 along a direction the
 /// supports hold).
 pub fn slip_rate(pair: &Pair, trial: &Trial, p: usize) -> [f64; 2] {
-    let along = |w: &crate::contact::SparseVec, k: usize| if pair.held[k - 1] { 0.0 } else { w.dot(trial.du) + trial.dshift[p][k] };
+    let along = |w: &crate::contact::SparseVec, k: usize| {
+        if pair.held[k - 1] {
+            0.0
+        } else {
+            w.dot(trial.du) + trial.dshift[p][k]
+        }
+    };
     [along(&pair.w_t, 1), along(&pair.w_t2, 2)]
 }
 
@@ -182,7 +243,12 @@ pub struct ElementState<'a> {
 /// changes by more than `max_step` × σy (von Mises norm of the increment; with the tangent
 /// frozen at the increment's start, the departure from the yield surface grows with the square
 /// of this). `dstress` and `dplastic` are the trial's stress and plastic-strain increments.
-pub fn element_candidates(state: &ElementState, dstress: &[Voigt], dplastic: &[f64], max_step: Option<f64>) -> (Vec<Candidate>, f64) {
+pub fn element_candidates(
+    state: &ElementState,
+    dstress: &[Voigt],
+    dplastic: &[f64],
+    max_step: Option<f64>,
+) -> (Vec<Candidate>, f64) {
     let noise = PLASTIC_NOISE * dplastic.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let per_element: Vec<(Option<Candidate>, f64)> = (0..state.stress.len())
         .into_par_iter()
@@ -197,7 +263,14 @@ pub fn element_candidates(state: &ElementState, dstress: &[Voigt], dplastic: &[f
 const ELEMENT_CHUNK: usize = 1024;
 
 /// One element's candidate event, and its drift bound (∞ unless it is plastic).
-fn element_candidate(state: &ElementState, e: usize, dstress: &Voigt, dplastic: f64, noise: f64, max_step: Option<f64>) -> (Option<Candidate>, f64) {
+fn element_candidate(
+    state: &ElementState,
+    e: usize,
+    dstress: &Voigt,
+    dplastic: f64,
+    noise: f64,
+    max_step: Option<f64>,
+) -> (Option<Candidate>, f64) {
     let m = &state.sections[e].material;
     if !m.is_plastic() {
         return (None, f64::INFINITY);
@@ -209,13 +282,28 @@ fn element_candidate(state: &ElementState, e: usize, dstress: &Voigt, dplastic: 
             Some(step) if change > 0.0 => step * sy / change,
             _ => f64::INFINITY,
         };
-        let unload = (dplastic < -noise && !state.frozen[e]).then_some(Candidate { scale: 0.0, entity: e, kind: EventKind::Unload, direction: 0, toward: [0.0; 2] });
+        let unload = (dplastic < -noise && !state.frozen[e]).then_some(Candidate {
+            scale: 0.0,
+            entity: e,
+            kind: EventKind::Unload,
+            direction: 0,
+            toward: [0.0; 2],
+        });
         return (unload, bound);
     }
     if state.frozen[e] {
         return (None, f64::INFINITY);
     }
-    (yield_scale(&state.stress[e], dstress, sy).map(|s| Candidate { scale: s, entity: e, kind: EventKind::Yield, direction: 0, toward: [0.0; 2] }), f64::INFINITY)
+    (
+        yield_scale(&state.stress[e], dstress, sy).map(|s| Candidate {
+            scale: s,
+            entity: e,
+            kind: EventKind::Yield,
+            direction: 0,
+            toward: [0.0; 2],
+        }),
+        f64::INFINITY,
+    )
 }
 
 #[cfg(test)]
@@ -230,9 +318,28 @@ mod tests {
     fn closing_scale_is_gap_over_closure() {
         let pairs = one_pair(0.0);
         let u = [0.0, -0.02];
-        let st = PairState { pairs: &pairs, status: &[Status::Open], lambda_n: &[0.0], lambda_t: &[0.0], u: &u, shift: &[[0.0; 3]], frozen: &[false], space: None };
+        let st = PairState {
+            pairs: &pairs,
+            status: &[Status::Open],
+            lambda_n: &[0.0],
+            lambda_t: &[0.0],
+            u: &u,
+            shift: &[[0.0; 3]],
+            frozen: &[false],
+            space: None,
+        };
         let du = [0.0, -0.32];
-        let c = candidates(&st, &Trial { du: &du, dlambda_n: &[0.0], dlambda_t: &[0.0], dshift: &[[0.0; 3]], dlambda_t2: &[] }, Noise { displacement: 1e-14, force: 1e-14 });
+        let c = candidates(
+            &st,
+            &Trial {
+                du: &du,
+                dlambda_n: &[0.0],
+                dlambda_t: &[0.0],
+                dshift: &[[0.0; 3]],
+                dlambda_t2: &[],
+            },
+            Noise { displacement: 1e-14, force: 1e-14 },
+        );
         assert_eq!(c.len(), 1);
         assert!((c[0].scale - 0.08 / 0.32).abs() < 1e-15);
     }
@@ -241,8 +348,27 @@ mod tests {
     fn stick_slip_scale_hits_the_cone() {
         // λ_n = 10, λ_t = 1, μ = 0.3; Δλ_n = 10, Δλ_t = 5: 1 + 5S = 0.3(10 + 10S) ⇒ S = 1.
         let pairs = one_pair(0.3);
-        let st = PairState { pairs: &pairs, status: &[Status::Stick], lambda_n: &[10.0], lambda_t: &[1.0], u: &[0.0, 0.0], shift: &[[0.0; 3]], frozen: &[false], space: None };
-        let c = candidates(&st, &Trial { du: &[0.0, 0.0], dlambda_n: &[10.0], dlambda_t: &[5.0], dshift: &[[0.0; 3]], dlambda_t2: &[] }, Noise { displacement: 1e-14, force: 1e-14 });
+        let st = PairState {
+            pairs: &pairs,
+            status: &[Status::Stick],
+            lambda_n: &[10.0],
+            lambda_t: &[1.0],
+            u: &[0.0, 0.0],
+            shift: &[[0.0; 3]],
+            frozen: &[false],
+            space: None,
+        };
+        let c = candidates(
+            &st,
+            &Trial {
+                du: &[0.0, 0.0],
+                dlambda_n: &[10.0],
+                dlambda_t: &[5.0],
+                dshift: &[[0.0; 3]],
+                dlambda_t2: &[],
+            },
+            Noise { displacement: 1e-14, force: 1e-14 },
+        );
         assert_eq!(c.len(), 1);
         assert_eq!(c[0].kind, EventKind::StickToSlip);
         assert_eq!(c[0].direction, -1);

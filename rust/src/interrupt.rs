@@ -42,7 +42,14 @@ impl Checkpoint {
     }
 
     pub fn named(name: &str) -> Option<Checkpoint> {
-        [Checkpoint::LcpPivot, Checkpoint::RateProblem, Checkpoint::Correction, Checkpoint::UnloadedTurn].into_iter().find(|c| c.name() == name)
+        [
+            Checkpoint::LcpPivot,
+            Checkpoint::RateProblem,
+            Checkpoint::Correction,
+            Checkpoint::UnloadedTurn,
+        ]
+        .into_iter()
+        .find(|c| c.name() == name)
     }
 }
 
@@ -73,7 +80,8 @@ static PASSES: AtomicUsize = AtomicUsize::new(0);
 /// Arm the test trigger (None: disarm).
 pub fn arm(trigger: Option<(Checkpoint, usize, fn())>) {
     PASSES.store(0, Ordering::SeqCst);
-    *ARMED.lock().unwrap_or_else(|e| e.into_inner()) = trigger.map(|(at, after, fire)| Armed { at, after, fire });
+    *ARMED.lock().unwrap_or_else(|e| e.into_inner()) =
+        trigger.map(|(at, after, fire)| Armed { at, after, fire });
 }
 
 /// A progress report from inside a long phase, and how often (s).
@@ -88,7 +96,8 @@ static PULSE: Mutex<Option<Pulsing>> = Mutex::new(None);
 
 /// Call `pulse` from checkpoints when no increment has ended for `interval` seconds (None: stop).
 pub fn pulse(pulse: Option<(Pulse, f64)>) {
-    *PULSE.lock().unwrap_or_else(|e| e.into_inner()) = pulse.map(|(pulse, interval)| Pulsing { pulse, interval, last: Instant::now() });
+    *PULSE.lock().unwrap_or_else(|e| e.into_inner()) =
+        pulse.map(|(pulse, interval)| Pulsing { pulse, interval, last: Instant::now() });
 }
 
 /// An increment ended (it reported its progress itself).
@@ -101,12 +110,20 @@ pub fn touch() {
 /// A long loop passes `at`: the test trigger and the pulse, if due; Err(Interrupted) if a stop
 /// was requested.
 pub fn checkpoint(at: Checkpoint) -> Result<()> {
-    if let Some(p) = PULSE.lock().unwrap_or_else(|e| e.into_inner()).as_mut().filter(|p| p.last.elapsed().as_secs_f64() >= p.interval) {
+    if let Some(p) = PULSE
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .as_mut()
+        .filter(|p| p.last.elapsed().as_secs_f64() >= p.interval)
+    {
         p.last = Instant::now();
         (p.pulse)();
     }
     let mut armed = ARMED.lock().unwrap_or_else(|e| e.into_inner());
-    if armed.as_ref().is_some_and(|a| a.at == at) && PASSES.fetch_add(1, Ordering::SeqCst) + 1 >= armed.as_ref().map_or(usize::MAX, |a| a.after) {
+    if armed.as_ref().is_some_and(|a| a.at == at)
+        && PASSES.fetch_add(1, Ordering::SeqCst) + 1
+            >= armed.as_ref().map_or(usize::MAX, |a| a.after)
+    {
         let fire = armed.take().map(|a| a.fire);
         drop(armed);
         fire.into_iter().for_each(|f| f());

@@ -93,21 +93,13 @@ pub fn lemke_with_covering(
     max_pivots: usize,
 ) -> Result<LcpSolution, LcpFailure> {
     let n = q.len();
-    let finite = m
-        .iter()
-        .chain(q.iter())
-        .chain(d.iter())
-        .all(|v| v.is_finite());
+    let finite = m.iter().chain(q.iter()).chain(d.iter()).all(|v| v.is_finite());
     if m.shape() != (n, n) || d.len() != n || !finite || d.iter().any(|&v| v <= 0.0) {
         return Err(LcpFailure::BadInput);
     }
     if q.iter().all(|&v| v >= 0.0) {
         let z = DVector::zeros(n);
-        return Ok(LcpSolution {
-            z,
-            w: q.clone(),
-            pivots: 0,
-        });
+        return Ok(LcpSolution { z, w: q.clone(), pivots: 0 });
     }
     let scaling = Scaling::new(m, q);
     let mut tab = Tableau::new(m, q, d, &scaling);
@@ -130,11 +122,7 @@ impl Scaling {
             // D_i ← D_i / √(max |(D M D)_ij|, |(D M D)_ji| over j), rounded to a power of two.
             let f = DVector::from_fn(n, |i, _| {
                 let big = (0..n)
-                    .map(|j| {
-                        (d[i] * m[(i, j)] * d[j])
-                            .abs()
-                            .max((d[j] * m[(j, i)] * d[i]).abs())
-                    })
+                    .map(|j| (d[i] * m[(i, j)] * d[j]).abs().max((d[j] * m[(j, i)] * d[i]).abs()))
                     .fold(0.0, f64::max);
                 if big > 0.0 {
                     power_of_two(1.0 / big.sqrt())
@@ -148,10 +136,7 @@ impl Scaling {
             d.fill(1.0);
         }
         let s = power_of_two(q.component_mul(&d).amax());
-        Scaling {
-            diag: d,
-            s: if s.is_normal() { s } else { 1.0 },
-        }
+        Scaling { diag: d, s: if s.is_normal() { s } else { 1.0 } }
     }
 }
 
@@ -183,12 +168,7 @@ impl Tableau {
             t[(i, 2 * n)] = -d[i];
             t[(i, 2 * n + 1)] = sc.diag[i] * q[i] / sc.s;
         }
-        Tableau {
-            n,
-            t0: t.clone(),
-            t,
-            basic: (0..n).collect(),
-        }
+        Tableau { n, t0: t.clone(), t, basic: (0..n).collect() }
     }
 
     fn z0(&self) -> usize {
@@ -209,9 +189,8 @@ impl Tableau {
         let z0 = self.z0();
         let d = |i: usize| -self.t[(i, z0)];
         let all: Vec<usize> = (0..self.n).collect();
-        let r = self
-            .lex_min(&all, |i| self.rhs(i) / d(i), d)
-            .ok_or(LcpFailure::Ray { pivots: 0 })?;
+        let r =
+            self.lex_min(&all, |i| self.rhs(i) / d(i), d).ok_or(LcpFailure::Ray { pivots: 0 })?;
         let mut leaving = self.basic[r];
         self.pivot(r, z0);
         let mut pivots = 1;
@@ -222,20 +201,14 @@ impl Tableau {
             if crate::interrupt::checkpoint(crate::interrupt::Checkpoint::LcpPivot).is_err() {
                 return Err(LcpFailure::Interrupted { pivots });
             }
-            let entering = if leaving < self.n {
-                leaving + self.n
-            } else {
-                leaving - self.n
-            };
+            let entering = if leaving < self.n { leaving + self.n } else { leaving - self.n };
             // refined only where the ratio test is close to a tie (or a pivot to the
             // threshold): elsewhere round-off cannot change its choice, and the refinement's
             // O(n²) reads cost as much as the pivot itself
             if !self.clear_choice(entering) {
                 self.refine([2 * self.n + 1, entering]);
             }
-            let r = self
-                .leaving_row(entering)
-                .ok_or(LcpFailure::Ray { pivots })?;
+            let r = self.leaving_row(entering).ok_or(LcpFailure::Ray { pivots })?;
             leaving = self.basic[r];
             self.pivot(r, entering);
             pivots += 1;
@@ -257,7 +230,8 @@ impl Tableau {
         let rows = (0..self.n).filter(|&i| a(i) > PIVOT_TOL * largest);
         let ratio = |i: usize| self.rhs(i).max(0.0) / a(i);
         let theta_min = rows.clone().map(ratio).fold(f64::INFINITY, f64::min);
-        rows.filter(|&i| ratio(i) <= theta_min + NEAR * (theta_min.abs() + beta / a(i))).count() == 1
+        rows.filter(|&i| ratio(i) <= theta_min + NEAR * (theta_min.abs() + beta / a(i))).count()
+            == 1
     }
 
     /// The row leaving when column c enters (minimum ratio test, lexicographic ties); None
@@ -265,9 +239,7 @@ impl Tableau {
     fn leaving_row(&self, c: usize) -> Option<usize> {
         let a = |i: usize| self.t[(i, c)];
         let largest = (0..self.n).map(|i| a(i).abs()).fold(0.0, f64::max);
-        let rows: Vec<usize> = (0..self.n)
-            .filter(|&i| a(i) > PIVOT_TOL * largest)
-            .collect();
+        let rows: Vec<usize> = (0..self.n).filter(|&i| a(i) > PIVOT_TOL * largest).collect();
         // θ_i = b_i / a_i, a round-off negative b_i counted as the zero it is.
         self.lex_min(&rows, |i| self.rhs(i).max(0.0) / a(i), a)
     }
@@ -300,10 +272,7 @@ impl Tableau {
             if ties.len() <= 1 {
                 break;
             }
-            let least = ties
-                .iter()
-                .map(|&i| key(i, j))
-                .fold(f64::INFINITY, f64::min);
+            let least = ties.iter().map(|&i| key(i, j)).fold(f64::INFINITY, f64::min);
             ties.retain(|&i| key(i, j) <= least + TIE_TOL * least.abs() + ZERO_TOL * rho);
         }
         ties.first().copied()
@@ -421,14 +390,8 @@ fn violation(m: &DMatrix<f64>, q: &DVector<f64>, z: &DVector<f64>, sc: &Scaling)
     let zeta = z.component_div(&sc.diag).amax();
     (0..q.len())
         .map(|i| {
-            let terms = (0..q.len())
-                .map(|j| m[(i, j)].abs() * sc.diag[j])
-                .sum::<f64>();
-            let err = if z[i] > 0.0 {
-                w[i].abs()
-            } else {
-                (-w[i]).max(0.0)
-            };
+            let terms = (0..q.len()).map(|j| m[(i, j)].abs() * sc.diag[j]).sum::<f64>();
+            let err = if z[i] > 0.0 { w[i].abs() } else { (-w[i]).max(0.0) };
             if err > 0.0 {
                 err / (q[i].abs() + terms * zeta)
             } else {
@@ -464,25 +427,13 @@ mod tests {
     fn assert_solves(m: &DMatrix<f64>, q: &DVector<f64>, s: &LcpSolution, tol: f64) {
         let w = m * &s.z + q;
         for i in 0..q.len() {
-            let scale = q[i].abs()
-                + (0..q.len())
-                    .map(|j| (m[(i, j)] * s.z[j]).abs())
-                    .sum::<f64>();
+            let scale = q[i].abs() + (0..q.len()).map(|j| (m[(i, j)] * s.z[j]).abs()).sum::<f64>();
             let ctx = format!("i = {i}, z = {}, w = {}", s.z, w);
             assert!(s.z[i] >= -1e-12 * s.z.amax(), "z ≥ 0 fails: {ctx}");
             assert!(w[i] >= -tol * scale, "w ≥ 0 fails: {ctx}");
-            assert!(
-                (s.z[i] * w[i]).abs() <= tol * s.z[i].abs() * scale,
-                "z w = 0 fails: {ctx}"
-            );
-            assert!(
-                (s.w[i] - w[i]).abs() <= tol * scale,
-                "returned w ≠ M z + q: {ctx}"
-            );
-            assert!(
-                s.z[i] * s.w[i] == 0.0,
-                "returned pair not complementary: {ctx}"
-            );
+            assert!((s.z[i] * w[i]).abs() <= tol * s.z[i].abs() * scale, "z w = 0 fails: {ctx}");
+            assert!((s.w[i] - w[i]).abs() <= tol * scale, "returned w ≠ M z + q: {ctx}");
+            assert!(s.z[i] * s.w[i] == 0.0, "returned pair not complementary: {ctx}");
         }
     }
 
@@ -496,11 +447,7 @@ mod tests {
             let m_bb = DMatrix::from_fn(idx.len(), idx.len(), |a, b| m[(idx[a], idx[b])]);
             let q_b = DVector::from_fn(idx.len(), |a, _| -q[idx[a]]);
             // (nalgebra's LU panics on 0 × 0.)
-            let z_b = if idx.is_empty() {
-                Some(q_b)
-            } else {
-                m_bb.lu().solve(&q_b)
-            };
+            let z_b = if idx.is_empty() { Some(q_b) } else { m_bb.lu().solve(&q_b) };
             let Some(z_b) = z_b else { continue };
             let mut z = DVector::zeros(n);
             idx.iter().zip(z_b.iter()).for_each(|(&i, &v)| z[i] = v);
@@ -562,11 +509,7 @@ mod tests {
     fn random_p_matrices_solve_and_match_enumeration() {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
         for trial in 0..200 {
-            let n = if trial < 150 {
-                1 + trial % 10
-            } else {
-                11 + trial % 20
-            };
+            let n = if trial < 150 { 1 + trial % 10 } else { 11 + trial % 20 };
             let (m, q) = random_p_lcp(&mut rng, n, trial % 3);
             let s = lemke(&m, &q, 50 * n + 100).expect("a P-matrix LCP has a solution");
             assert_solves(&m, &q, &s, 1e-10);
@@ -575,10 +518,7 @@ mod tests {
             let s_d = lemke_with_covering(&m, &q, &d, 50 * n + 100).expect("solved");
             assert_solves(&m, &q, &s_d, 1e-10);
             for (&a, &b) in s.z.iter().zip(s_d.z.iter()) {
-                assert!(
-                    (a - b).abs() <= 1e-8 * a.abs().max(b.abs()),
-                    "trial {trial}: {a} vs {b}"
-                );
+                assert!((a - b).abs() <= 1e-8 * a.abs().max(b.abs()), "trial {trial}: {a} vs {b}");
             }
             if n <= 10 {
                 // P-matrix: exactly one complementary basis is feasible.
@@ -625,22 +565,12 @@ mod tests {
         });
         let mut basic: Vec<usize> = (0..n).collect();
         let mut seen = std::collections::HashSet::new();
-        let (mut r, mut c) = (
-            (0..n).fold(0, |b, i| if q[i] < q[b] { i } else { b }),
-            2 * n,
-        );
+        let (mut r, mut c) = ((0..n).fold(0, |b, i| if q[i] < q[b] { i } else { b }), 2 * n);
         for _ in 0..100 {
             let row = t.row(r) / t[(r, c)];
             for i in 0..n {
                 let f = t[(i, c)];
-                t.set_row(
-                    i,
-                    &(if i == r {
-                        row.clone()
-                    } else {
-                        t.row(i) - row.clone() * f
-                    }),
-                );
+                t.set_row(i, &(if i == r { row.clone() } else { t.row(i) - row.clone() * f }));
             }
             let leaving = std::mem::replace(&mut basic[r], c);
             let mut key = basic.clone();
@@ -648,26 +578,15 @@ mod tests {
             if leaving == 2 * n || !seen.insert((key, leaving)) {
                 return leaving != 2 * n;
             }
-            c = if leaving < n {
-                leaving + n
-            } else {
-                leaving - n
-            };
+            c = if leaving < n { leaving + n } else { leaving - n };
             let ratio = |i: usize| t[(i, 2 * n + 1)] / t[(i, c)];
             let rows: Vec<usize> = (0..n).filter(|&i| t[(i, c)] > 1e-9).collect();
             let least = rows.iter().map(|&i| ratio(i)).fold(f64::INFINITY, f64::min);
-            let ties: Vec<usize> = rows
-                .into_iter()
-                .filter(|&i| ratio(i) <= least + 1e-9)
-                .collect();
+            let ties: Vec<usize> = rows.into_iter().filter(|&i| ratio(i) <= least + 1e-9).collect();
             let Some(&first) = ties.first() else {
                 return false;
             };
-            r = ties
-                .iter()
-                .copied()
-                .find(|&i| basic[i] == 2 * n)
-                .unwrap_or(first);
+            r = ties.iter().copied().find(|&i| basic[i] == 2 * n).unwrap_or(first);
         }
         false
     }
@@ -767,15 +686,9 @@ mod tests {
             for a in 0..qn.len() {
                 let (lambda_n, lambda_t) = (s.z[4 * a], s.z[4 * a + 1] - s.z[4 * a + 2]);
                 let slip = (w[4 * a + 1] - w[4 * a + 2]) / 2.0;
-                assert!(
-                    lambda_t.abs() <= mu * lambda_n * (1.0 + 1e-12) + 1e-15,
-                    "μ = {mu}"
-                );
+                assert!(lambda_t.abs() <= mu * lambda_n * (1.0 + 1e-12) + 1e-15, "μ = {mu}");
                 if slip.abs() > 1e-12 {
-                    assert!(
-                        (lambda_t + mu * lambda_n * slip.signum()).abs() < 1e-12,
-                        "μ = {mu}"
-                    );
+                    assert!((lambda_t + mu * lambda_n * slip.signum()).abs() < 1e-12, "μ = {mu}");
                 }
             }
         }
@@ -788,14 +701,8 @@ mod tests {
         m[(0, 1)] = f64::NAN;
         assert_eq!(lemke(&m, &q, 10).err(), Some(LcpFailure::BadInput));
         let inf_q = DVector::from_vec(vec![-1.0, f64::INFINITY]);
-        assert_eq!(
-            lemke(&DMatrix::identity(2, 2), &inf_q, 10).err(),
-            Some(LcpFailure::BadInput)
-        );
-        assert_eq!(
-            lemke(&DMatrix::identity(3, 3), &q, 10).err(),
-            Some(LcpFailure::BadInput)
-        );
+        assert_eq!(lemke(&DMatrix::identity(2, 2), &inf_q, 10).err(), Some(LcpFailure::BadInput));
+        assert_eq!(lemke(&DMatrix::identity(3, 3), &q, 10).err(), Some(LcpFailure::BadInput));
         let zero_d = DVector::from_vec(vec![1.0, 0.0]);
         let r = lemke_with_covering(&DMatrix::identity(2, 2), &q, &zero_d, 10);
         assert_eq!(r.err(), Some(LcpFailure::BadInput));
@@ -807,15 +714,9 @@ mod tests {
         assert_eq!((empty.z.len(), empty.pivots), (0, 0));
         let q = DVector::from_vec(vec![-1.0, 2.0]);
         let id = DMatrix::identity(2, 2);
-        assert_eq!(
-            lemke(&id, &q, 0).err(),
-            Some(LcpFailure::PivotLimit { pivots: 0 })
-        );
+        assert_eq!(lemke(&id, &q, 0).err(), Some(LcpFailure::PivotLimit { pivots: 0 }));
         // M = 0 with some q_i < 0: w = q is infeasible, the first column is zero: a ray.
-        assert!(matches!(
-            lemke(&DMatrix::zeros(2, 2), &q, 10),
-            Err(LcpFailure::Ray { .. })
-        ));
+        assert!(matches!(lemke(&DMatrix::zeros(2, 2), &q, 10), Err(LcpFailure::Ray { .. })));
     }
 
     #[test]
@@ -823,7 +724,10 @@ mod tests {
         // LCP(D M₀ D, D q₀) is solved by z = D⁻¹ z₀ (w = D w₀): with D a power of two the
         // scaled problem is exact, so its solution must be the textbook one, z₀ = (7/5, 1/5),
         // scaled, to round-off, however far D is from 1 (here 2^±330 ≈ 1e±99: z near 1e±100).
-        let (m0, q0) = (DMatrix::from_row_slice(2, 2, &[2.0, 1.0, -1.0, 2.0]), DVector::from_vec(vec![-3.0, 1.0]));
+        let (m0, q0) = (
+            DMatrix::from_row_slice(2, 2, &[2.0, 1.0, -1.0, 2.0]),
+            DVector::from_vec(vec![-3.0, 1.0]),
+        );
         for (a, b) in [(330, -330), (-330, 330), (300, 300), (-300, -300)] {
             let d = DVector::from_vec(vec![2f64.powi(a), 2f64.powi(b)]);
             let m = DMatrix::from_diagonal(&d) * &m0 * DMatrix::from_diagonal(&d);
@@ -832,19 +736,32 @@ mod tests {
 
             assert_solves(&m, &q, &s, 1e-14);
             let z0 = s.z.component_mul(&d);
-            assert!((z0[0] - 1.4).abs() < 1e-14 && (z0[1] - 0.2).abs() < 1e-14, "D = {d}: z = {}", s.z);
+            assert!(
+                (z0[0] - 1.4).abs() < 1e-14 && (z0[1] - 0.2).abs() < 1e-14,
+                "D = {d}: z = {}",
+                s.z
+            );
         }
         // A uniform scale of M alone (a compliance in other units) scales z inversely.
         for c in [1e-80, 1e80] {
             let s = lemke(&(&m0 * c), &q0, 100).unwrap_or_else(|e| panic!("c = {c}: {e:?}"));
-            assert!((s.z[0] * c - 1.4).abs() < 1e-14 && (s.z[1] * c - 0.2).abs() < 1e-14, "c = {c}: z = {}", s.z);
+            assert!(
+                (s.z[0] * c - 1.4).abs() < 1e-14 && (s.z[1] * c - 0.2).abs() < 1e-14,
+                "c = {c}: z = {}",
+                s.z
+            );
         }
         // Beyond f64: M = diag(1e300, 1e-300), q = (−1e-300, −1e300) is solved only by
         // z = (1e-600, 1e600), which f64 cannot hold. No non-finite z may come back.
         let m = DMatrix::from_row_slice(2, 2, &[1e300, 0.0, 0.0, 1e-300]);
         let q = DVector::from_vec(vec![-1e-300, -1e300]);
         if let Ok(s) = lemke(&m, &q, 10) {
-            assert!(s.z.iter().chain(s.w.iter()).all(|v| v.is_finite()), "z = {}, w = {}", s.z, s.w);
+            assert!(
+                s.z.iter().chain(s.w.iter()).all(|v| v.is_finite()),
+                "z = {}, w = {}",
+                s.z,
+                s.w
+            );
         }
     }
 }

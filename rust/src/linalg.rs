@@ -10,8 +10,8 @@
 
 use crate::bail;
 use crate::element::Element;
-use crate::mesh::Mesh;
 use crate::error::Result;
+use crate::mesh::Mesh;
 use crate::ordering::{self, NodeGraph};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use nalgebra::{Matrix6, SMatrix};
@@ -113,19 +113,34 @@ impl DofMap {
     /// nnz(L) 1.44e8 -> 9.34e7; 280k (a/h = 31) 4.37e12 -> 1.32e12, 6.14e8 -> 3.52e8; 937k
     /// (a/h = 40) 5.15e13 -> 1.52e13, 3.72e9 -> 1.93e9. With their three DOFs trailing
     /// (friction) 88.3k: 9.48e11 -> 4.85e11; 937k: 5.79e13 -> 1.78e13.
-    pub fn ordered<E: Element<S, N>, const S: usize, const N: usize>(elements: &[E], n_dofs: usize, fixed: &[bool], pinned: &[usize], trailing: &[usize]) -> Result<Self> {
+    pub fn ordered<E: Element<S, N>, const S: usize, const N: usize>(
+        elements: &[E],
+        n_dofs: usize,
+        fixed: &[bool],
+        pinned: &[usize],
+        trailing: &[usize],
+    ) -> Result<Self> {
         Self::ordered_by(elements, n_dofs, fixed, pinned, trailing, NodeOrder::MinimumDegree)
     }
 
     /// `ordered` with the nodes' order chosen by `how`. Nested dissection leaves out of its
     /// graph the nodes whose every equation is trailing: they end the factor anyway.
-    pub fn ordered_by<E: Element<S, N>, const S: usize, const N: usize>(elements: &[E], n_dofs: usize, fixed: &[bool], pinned: &[usize], trailing: &[usize], how: NodeOrder) -> Result<Self> {
+    pub fn ordered_by<E: Element<S, N>, const S: usize, const N: usize>(
+        elements: &[E],
+        n_dofs: usize,
+        fixed: &[bool],
+        pinned: &[usize],
+        trailing: &[usize],
+        how: NodeOrder,
+    ) -> Result<Self> {
         let dim = E::DIM;
         let node_dofs = move |n: usize| (0..dim).map(move |c| dim * n + c);
         let mut is_pinned = vec![false; n_dofs];
         pinned.iter().for_each(|&d| is_pinned[d] = true);
         let is_equation = |d: usize| !fixed[d] && !is_pinned[d];
-        let mut role: Vec<DofRole> = (0..n_dofs).map(|d| if is_pinned[d] && !fixed[d] { DofRole::Pinned } else { DofRole::Fixed }).collect();
+        let mut role: Vec<DofRole> = (0..n_dofs)
+            .map(|d| if is_pinned[d] && !fixed[d] { DofRole::Pinned } else { DofRole::Fixed })
+            .collect();
         let n_nodes = n_dofs / dim;
         let mut is_trailing = vec![false; n_dofs];
         trailing.iter().for_each(|&d| is_trailing[d] = true);
@@ -134,19 +149,25 @@ impl DofMap {
         // (Plane and axisymmetric: the trailing nodes joined into a clique, their DOFs all last.)
         let planar = dim == 2;
         let dissected = matches!(how, NodeOrder::NestedDissection(_));
-        let in_graph = |n: usize| node_dofs(n).any(|d| is_equation(d) && !(dissected && is_trailing[d]));
+        let in_graph =
+            |n: usize| node_dofs(n).any(|d| is_equation(d) && !(dissected && is_trailing[d]));
         // The node graph, renumbered 0..m.
         let mut index = vec![usize::MAX; n_nodes];
         let graph_nodes: Vec<usize> = (0..n_nodes).filter(|&n| in_graph(n)).collect();
         graph_nodes.iter().enumerate().for_each(|(i, &n)| index[n] = i);
         let mut edges = Vec::new();
         for el in elements {
-            let ids: Vec<usize> = el.nodes().iter().map(|&n| index[n]).filter(|&i| i != usize::MAX).collect();
+            let ids: Vec<usize> =
+                el.nodes().iter().map(|&n| index[n]).filter(|&i| i != usize::MAX).collect();
             for (k, &a) in ids.iter().enumerate() {
                 edges.extend(ids[k + 1..].iter().map(|&b| (a, b)));
             }
         }
-        let ends: Vec<usize> = graph_nodes.iter().filter(|&&n| planar && node_is_trailing[n]).map(|&n| index[n]).collect();
+        let ends: Vec<usize> = graph_nodes
+            .iter()
+            .filter(|&&n| planar && node_is_trailing[n])
+            .map(|&n| index[n])
+            .collect();
         for (k, &a) in ends.iter().enumerate() {
             edges.extend(ends[..k].iter().map(|&b| (a, b)));
         }
@@ -159,9 +180,17 @@ impl DofMap {
                 ordering::nested_dissection(&graph, &at)?
             }
         };
-        let leading_dofs = order.iter().map(|&i| graph_nodes[i]).filter(|&n| !(planar && node_is_trailing[n])).flat_map(node_dofs).filter(|&d| !is_trailing[d]);
+        let leading_dofs = order
+            .iter()
+            .map(|&i| graph_nodes[i])
+            .filter(|&n| !(planar && node_is_trailing[n]))
+            .flat_map(node_dofs)
+            .filter(|&d| !is_trailing[d]);
         // (A node left out of the dissection's graph has no equation but its trailing ones.)
-        let rest = (0..n_nodes).filter(|&n| planar && node_is_trailing[n]).flat_map(node_dofs).filter(|&d| !is_trailing[d]);
+        let rest = (0..n_nodes)
+            .filter(|&n| planar && node_is_trailing[n])
+            .flat_map(node_dofs)
+            .filter(|&d| !is_trailing[d]);
         let mut n_equations = 0;
         for d in leading_dofs.chain(rest).chain(trailing.iter().copied()) {
             if is_equation(d) {
@@ -208,7 +237,11 @@ pub struct StiffnessPattern {
 }
 
 /// Visit every lower-triangle entry (row, col, element, i, j) of the assembly, in a fixed order.
-fn for_each_entry<const S: usize, const N: usize>(elements: &[impl Element<S, N>], map: &DofMap, mut f: impl FnMut(usize, usize, usize, usize, usize)) {
+fn for_each_entry<const S: usize, const N: usize>(
+    elements: &[impl Element<S, N>],
+    map: &DofMap,
+    mut f: impl FnMut(usize, usize, usize, usize, usize),
+) {
     for (e, el) in elements.iter().enumerate() {
         let eqs = el.dofs().map(|g| map.equation(g));
         for i in 0..N {
@@ -227,7 +260,10 @@ impl StiffnessPattern {
     /// Column by column from the node adjacency (two nodes couple when an element joins
     /// them; both DOFs of a node together): no sort of the 21 entries per element, which at
     /// 1M DOFs is ~40M index pairs and their argsort.
-    pub fn new<E: Element<S, N>, const S: usize, const N: usize>(elements: &[E], map: &DofMap) -> Result<Self> {
+    pub fn new<E: Element<S, N>, const S: usize, const N: usize>(
+        elements: &[E],
+        map: &DofMap,
+    ) -> Result<Self> {
         let n = map.n_equations;
         let dim = E::DIM;
         let n_nodes = map.role.len() / dim;
@@ -278,13 +314,18 @@ impl StiffnessPattern {
     /// Position of entry (r, c), r ≥ c, among the values.
     fn position(&self, r: usize, c: usize) -> usize {
         let (col_ptr, row_idx) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
-        col_ptr[c] + row_idx[col_ptr[c]..col_ptr[c + 1]].binary_search(&r).expect("entry in the pattern")
+        col_ptr[c]
+            + row_idx[col_ptr[c]..col_ptr[c + 1]].binary_search(&r).expect("entry in the pattern")
     }
 
     /// Where each element's lower-triangle entries sit among the values of the assembled matrix
     /// (in the `assemble` order): the plastic loop re-adds only the elements whose tangent
     /// changed instead of reassembling all of them.
-    pub fn element_scatter<const S: usize, const N: usize>(&self, elements: &[impl Element<S, N>], map: &DofMap) -> ElementScatter {
+    pub fn element_scatter<const S: usize, const N: usize>(
+        &self,
+        elements: &[impl Element<S, N>],
+        map: &DofMap,
+    ) -> ElementScatter {
         let mut offsets = Vec::with_capacity(elements.len() + 1);
         let mut entries = Vec::with_capacity(elements.len() * 21);
         offsets.push(0);
@@ -313,7 +354,12 @@ impl StiffnessPattern {
     }
 
     /// Lower triangle of K_reg = Σ_e w Bᵀ D_e B over the equation DOFs (D_e: `Section::element_matrix`).
-    pub fn assemble<const S: usize, const N: usize>(&self, elements: &[impl Element<S, N>], tangents: &[Matrix6<f64>], map: &DofMap) -> Result<SparseColMat<usize, f64>> {
+    pub fn assemble<const S: usize, const N: usize>(
+        &self,
+        elements: &[impl Element<S, N>],
+        tangents: &[Matrix6<f64>],
+        map: &DofMap,
+    ) -> Result<SparseColMat<usize, f64>> {
         let mut values = vec![0.0; self.symbolic.row_idx().len()];
         // (for_each_entry visits the elements in turn: one element matrix at a time)
         let mut current: Option<(usize, SMatrix<f64, N, N>)> = None;
@@ -355,9 +401,9 @@ mod tests {
     use super::*;
     use crate::element::Cst;
     use crate::factor::Factor;
-    use crate::options::Factorization;
     use crate::material::{Material, Plane};
     use crate::mesh::Mesh;
+    use crate::options::Factorization;
     use crate::section::Section;
 
     /// Elastic D of E = 1000, ν = 0.3 as the plane's element pairs it with B.
@@ -398,7 +444,10 @@ mod tests {
         }
         assert!((&k - k.transpose()).norm() < 1e-12 * k.norm());
         let map = DofMap::new(n, &vec![false; n], &[]);
-        let lower = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &vec![d; els.len()], &map).unwrap();
+        let lower = StiffnessPattern::new(&els, &map)
+            .unwrap()
+            .assemble(&els, &vec![d; els.len()], &map)
+            .unwrap();
         let dense_lower = lower.to_dense();
         for i in 0..n {
             for j in 0..n {
@@ -456,7 +505,8 @@ mod tests {
         let dense = k.to_dense();
         let n = map.n_equations;
         for i in 0..n {
-            let kx: f64 = (0..n).map(|j| if i >= j { dense[(i, j)] } else { dense[(j, i)] } * x[j]).sum();
+            let kx: f64 =
+                (0..n).map(|j| if i >= j { dense[(i, j)] } else { dense[(j, i)] } * x[j]).sum();
             assert!((kx - rhs[i]).abs() < 1e-10 * n as f64, "row {i}: {kx} vs {}", rhs[i]);
         }
     }
@@ -476,7 +526,10 @@ mod tests {
             fixed[2 * nx * j] = true;
             fixed[2 * nx * j + 1] = true;
         }
-        let chosen_dofs: Vec<usize> = [3, 0, 4, 2, 1].iter().flat_map(|&j| [2 * (nx * j + nx - 1) + 1, 2 * (nx * j + nx - 1)]).collect();
+        let chosen_dofs: Vec<usize> = [3, 0, 4, 2, 1]
+            .iter()
+            .flat_map(|&j| [2 * (nx * j + nx - 1) + 1, 2 * (nx * j + nx - 1)])
+            .collect();
         check_trailing_block(&els, n_dofs, &fixed, &chosen_dofs, d);
     }
 
@@ -488,9 +541,17 @@ mod tests {
         // the flexibility and the split solve hold as in the plane.
         let (nx, ny, nz) = (4, 3, 3);
         let node = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
-        let points = (0..nz).flat_map(|k| (0..ny).flat_map(move |j| (0..nx).map(move |i| [i as f64, 0.8 * j as f64, 0.6 * k as f64]))).collect();
+        let points = (0..nz)
+            .flat_map(|k| {
+                (0..ny).flat_map(move |j| {
+                    (0..nx).map(move |i| [i as f64, 0.8 * j as f64, 0.6 * k as f64])
+                })
+            })
+            .collect();
         let mut tetrahedra = vec![];
-        for (i, j, k) in (0..nx - 1).flat_map(|i| (0..ny - 1).flat_map(move |j| (0..nz - 1).map(move |k| (i, j, k)))) {
+        for (i, j, k) in (0..nx - 1)
+            .flat_map(|i| (0..ny - 1).flat_map(move |j| (0..nz - 1).map(move |k| (i, j, k))))
+        {
             // Kuhn's six tetrahedra of a cube along its diagonal from corner 0 to corner 7.
             let c = |b: usize| node(i + (b & 1), j + ((b >> 1) & 1), k + (b >> 2));
             for path in [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]] {
@@ -506,21 +567,36 @@ mod tests {
                 mesh.tetrahedra[t].swap(1, 2);
             }
         }
-        let els: Vec<crate::element::Tet4> = (0..mesh.tetrahedra.len()).map(|e| crate::element::Tet4::new(&mesh, e)).collect();
-        let d = Section::new(Material::elastic(1000.0, 0.3), &crate::section::Solid).elastic_matrix();
+        let els: Vec<crate::element::Tet4> =
+            (0..mesh.tetrahedra.len()).map(|e| crate::element::Tet4::new(&mesh, e)).collect();
+        let d =
+            Section::new(Material::elastic(1000.0, 0.3), &crate::section::Solid).elastic_matrix();
         let n_dofs = 3 * mesh.points.len();
         let fixed: Vec<bool> = (0..n_dofs).map(|g| g / 3 % nx == 0).collect();
-        let chosen_dofs: Vec<usize> = [(1, 2), (0, 0), (2, 1), (1, 0), (0, 2)].iter().map(|&(j, k)| 3 * node(nx - 1, j, k) + 2).collect();
+        let chosen_dofs: Vec<usize> = [(1, 2), (0, 0), (2, 1), (1, 0), (0, 2)]
+            .iter()
+            .map(|&(j, k)| 3 * node(nx - 1, j, k) + 2)
+            .collect();
         let map = check_trailing_block(&els, n_dofs, &fixed, &chosen_dofs, d);
         let first_trailing = map.n_equations - chosen_dofs.len();
-        assert!(chosen_dofs.iter().all(|&g| map.equation(g - 1).unwrap() < first_trailing && map.equation(g - 2).unwrap() < first_trailing));
+        assert!(chosen_dofs.iter().all(|&g| map.equation(g - 1).unwrap() < first_trailing
+            && map.equation(g - 2).unwrap() < first_trailing));
     }
 
     /// The trailing block of the factor ordered with `chosen_dofs` last gives K⁻¹ restricted to
     /// them, and the split solve around forces on them is one full solve; returns the map.
-    fn check_trailing_block<E: Element<S, N>, const S: usize, const N: usize>(els: &[E], n_dofs: usize, fixed: &[bool], chosen_dofs: &[usize], d: Matrix6<f64>) -> DofMap {
+    fn check_trailing_block<E: Element<S, N>, const S: usize, const N: usize>(
+        els: &[E],
+        n_dofs: usize,
+        fixed: &[bool],
+        chosen_dofs: &[usize],
+        d: Matrix6<f64>,
+    ) -> DofMap {
         let map = DofMap::ordered(els, n_dofs, fixed, &[], chosen_dofs).unwrap();
-        let k = StiffnessPattern::new(els, &map).unwrap().assemble(els, &vec![d; els.len()], &map).unwrap();
+        let k = StiffnessPattern::new(els, &map)
+            .unwrap()
+            .assemble(els, &vec![d; els.len()], &map)
+            .unwrap();
         let chosen: Vec<usize> = chosen_dofs.iter().map(|&g| map.equation(g).unwrap()).collect();
         // The chosen DOFs are the last equations, in the order given.
         let t = chosen.len();
@@ -536,7 +612,12 @@ mod tests {
         let scale = (0..chosen.len()).map(|i| g[(i, i)]).fold(0.0, f64::max);
         for (c, _) in chosen.iter().enumerate() {
             for (r, &eq) in chosen.iter().enumerate() {
-                assert!((g[(r, c)] - b[c * n + eq]).abs() < 1e-12 * scale, "G[{r},{c}] = {} vs {}", g[(r, c)], b[c * n + eq]);
+                assert!(
+                    (g[(r, c)] - b[c * n + eq]).abs() < 1e-12 * scale,
+                    "G[{r},{c}] = {} vs {}",
+                    g[(r, c)],
+                    b[c * n + eq]
+                );
             }
         }
 
@@ -551,7 +632,12 @@ mod tests {
         let at_chosen = s.trailing_solution(&w);
         let big = full.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         for (c, &eq) in chosen.iter().enumerate() {
-            assert!((at_chosen[c] - full[eq]).abs() < 1e-12 * big, "trailing part {c}: {} vs {}", at_chosen[c], full[eq]);
+            assert!(
+                (at_chosen[c] - full[eq]).abs() < 1e-12 * big,
+                "trailing part {c}: {} vs {}",
+                at_chosen[c],
+                full[eq]
+            );
         }
         let mut with_force = y.clone();
         for (c, &eq) in chosen.iter().enumerate() {
@@ -563,7 +649,12 @@ mod tests {
         let x = s.backward(w);
         let big = with_force.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         for i in 0..n {
-            assert!((x[i] - with_force[i]).abs() < 1e-12 * big, "x[{i}] = {} vs {}", x[i], with_force[i]);
+            assert!(
+                (x[i] - with_force[i]).abs() < 1e-12 * big,
+                "x[{i}] = {} vs {}",
+                x[i],
+                with_force[i]
+            );
         }
         map
     }

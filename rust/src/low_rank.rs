@@ -87,19 +87,25 @@ impl LowRank {
         }
         // Symmetric in exact arithmetic (Wᵀ K_f⁻¹ W); average the round-off away.
         let c = (&c + c.transpose()) * 0.5;
-        self.capacitance_inverse = c.try_inverse().unwrap_or_else(|| DMatrix::from_element(k, k, f64::NAN));
+        self.capacitance_inverse =
+            c.try_inverse().unwrap_or_else(|| DMatrix::from_element(k, k, f64::NAN));
     }
 
     /// C⁻¹ Zᵀ y for y over the equations: the coefficients whose −Z combination corrects
     /// K_f⁻¹ y to K⁻¹ y.
     pub fn coefficients(&self, y: &[f64]) -> Vec<f64> {
-        let zty: Vec<f64> = self.z.iter().map(|zj| zj.iter().zip(y).map(|(a, b)| a * b).sum()).collect();
+        let zty: Vec<f64> =
+            self.z.iter().map(|zj| zj.iter().zip(y).map(|(a, b)| a * b).sum()).collect();
         self.solve_capacitance(&zty)
     }
 
     /// C⁻¹ Zᵀ f for a force f on the last `t` equations only (given there, in order).
     pub fn trailing_coefficients(&self, f: &[f64]) -> Vec<f64> {
-        let zty: Vec<f64> = self.z.iter().map(|zj| zj[zj.len() - f.len()..].iter().zip(f).map(|(a, b)| a * b).sum()).collect();
+        let zty: Vec<f64> = self
+            .z
+            .iter()
+            .map(|zj| zj[zj.len() - f.len()..].iter().zip(f).map(|(a, b)| a * b).sum())
+            .collect();
         self.solve_capacitance(&zty)
     }
 
@@ -155,7 +161,11 @@ pub const FACTOR_FLOP_WEIGHT: f64 = 0.25;
 impl Cost {
     /// The costs of a factor of this structure.
     pub fn of(work: FactorWork) -> Self {
-        Cost { factorization: FACTOR_FLOP_WEIGHT * work.factorization_flops, solve_pair: work.solve_pair_flops, equations: work.equations }
+        Cost {
+            factorization: FACTOR_FLOP_WEIGHT * work.factorization_flops,
+            solve_pair: work.solve_pair_flops,
+            equations: work.equations,
+        }
     }
 
     /// The extra work of `rank` terms for one solve (Zᵀy and Z c: 4 n k) .
@@ -195,7 +205,8 @@ mod tests {
         let n_dofs = 2 * mesh.nodes.len();
         let mut fixed = vec![false; n_dofs];
         (0..nx).for_each(|i| (fixed[2 * i], fixed[2 * i + 1]) = (true, true));
-        let trailing: Vec<usize> = (0..nx).flat_map(|i| [2 * (nx * (ny - 1) + i), 2 * (nx * (ny - 1) + i) + 1]).collect();
+        let trailing: Vec<usize> =
+            (0..nx).flat_map(|i| [2 * (nx * (ny - 1) + i), 2 * (nx * (ny - 1) + i) + 1]).collect();
         let map = DofMap::ordered(&els, n_dofs, &fixed, &[], &trailing).unwrap();
         let pattern = StiffnessPattern::new(&els, &map).unwrap();
         let mut m = Material::elastic(1000.0, 0.3);
@@ -211,26 +222,49 @@ mod tests {
         let mut d = d_f.clone();
         softened.iter().for_each(|&e| d[e] = plastic);
         d[40] = elastic;
-        let mut solver = Factor::new(Factorization::Faer, &pattern.assemble(&els, &d_f, &map).unwrap(), &map, trailing.len()).unwrap();
+        let mut solver = Factor::new(
+            Factorization::Faer,
+            &pattern.assemble(&els, &d_f, &map).unwrap(),
+            &map,
+            trailing.len(),
+        )
+        .unwrap();
         let n = map.n_equations;
         let column = |e: usize, delta: nalgebra::Matrix6<f64>| {
             let delta = Cst::rows_of(&delta);
             // delta = s c cᵀ (rank one): c from its largest diagonal entry.
-            let j = (0..4).max_by(|&a, &b| delta[(a, a)].abs().total_cmp(&delta[(b, b)].abs())).unwrap();
+            let j = (0..4)
+                .max_by(|&a, &b| delta[(a, a)].abs().total_cmp(&delta[(b, b)].abs()))
+                .unwrap();
             let c = delta.column(j) / delta[(j, j)].abs().sqrt();
             let w = els[e].b().transpose() * c * els[e].measure().sqrt();
-            let entries = els[e].dofs().iter().zip(w.iter()).filter_map(|(&g, &v)| map.equation(g).map(|q| (q, v))).collect();
+            let entries = els[e]
+                .dofs()
+                .iter()
+                .zip(w.iter())
+                .filter_map(|(&g, &v)| map.equation(g).map(|q| (q, v)))
+                .collect();
             Column { entries, sign: delta[(j, j)].signum(), owner: e }
         };
         let mut lr = LowRank::default();
-        let added: Vec<Column> = softened.iter().map(|&e| column(e, plastic - elastic)).chain([column(40, elastic - plastic)]).collect();
+        let added: Vec<Column> = softened
+            .iter()
+            .map(|&e| column(e, plastic - elastic))
+            .chain([column(40, elastic - plastic)])
+            .collect();
         lr.update(&mut solver, n, &[], added);
         let y: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
         let mut x = y.clone();
         solver.solve_in_place(&mut x, 1);
         let c = lr.coefficients(&y);
         lr.subtract(&mut x, &c);
-        let mut fresh = Factor::new(Factorization::Faer, &pattern.assemble(&els, &d, &map).unwrap(), &map, trailing.len()).unwrap();
+        let mut fresh = Factor::new(
+            Factorization::Faer,
+            &pattern.assemble(&els, &d, &map).unwrap(),
+            &map,
+            trailing.len(),
+        )
+        .unwrap();
         let mut exact = y.clone();
         fresh.solve_in_place(&mut exact, 1);
         let big = exact.iter().fold(0.0f64, |a, v| a.max(v.abs()));
@@ -245,7 +279,10 @@ mod tests {
         for i in 0..t {
             for j in 0..t {
                 g[(i, j)] += corr[(i, j)];
-                assert!((g[(i, j)] - g_fresh[(i, j)]).abs() < 1e-10 * g_fresh[(i, i)].abs().max(g_fresh[(j, j)].abs()));
+                assert!(
+                    (g[(i, j)] - g_fresh[(i, j)]).abs()
+                        < 1e-10 * g_fresh[(i, i)].abs().max(g_fresh[(j, j)].abs())
+                );
             }
         }
         // Dropping the terms of an element and adding them again changes nothing.

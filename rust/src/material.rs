@@ -95,7 +95,10 @@ impl Material {
             bail!(Input, "{name}: H = {h:?} is not allowed: the plastic modulus H' must be >= 0 (0 = perfectly plastic)");
         }
         if beyond(h) {
-            bail!(Input, "{name}: H = {h:?} is not allowed: the plastic modulus H' (unless 0) {unit}");
+            bail!(
+                Input,
+                "{name}: H = {h:?} is not allowed: the plastic modulus H' (unless 0) {unit}"
+            );
         }
         Ok(())
     }
@@ -154,7 +157,8 @@ pub fn von_mises_squared(s: &Voigt) -> f64 {
 }
 
 fn von_mises_bilinear(s: &Voigt, t: &Voigt) -> f64 {
-    let normal = s[0] * t[0] + s[1] * t[1] + s[2] * t[2] - 0.5 * (s[0] * t[1] + s[1] * t[0] + s[1] * t[2] + s[2] * t[1] + s[2] * t[0] + s[0] * t[2]);
+    let normal = s[0] * t[0] + s[1] * t[1] + s[2] * t[2]
+        - 0.5 * (s[0] * t[1] + s[1] * t[0] + s[1] * t[2] + s[2] * t[1] + s[2] * t[0] + s[0] * t[2]);
     SHEARS.fold(normal, |a, k| a + 3.0 * s[k] * t[k])
 }
 
@@ -238,8 +242,16 @@ mod tests {
 
     #[test]
     fn bad_values_are_named() {
-        assert!(Material::elastic(-1.0, 0.3).validate("material 0").unwrap_err().message.contains("E = -1"));
-        assert!(Material::elastic(1.0, 0.5).validate("material 2").unwrap_err().message.contains("material 2: nu = 0.5"));
+        assert!(Material::elastic(-1.0, 0.3)
+            .validate("material 0")
+            .unwrap_err()
+            .message
+            .contains("E = -1"));
+        assert!(Material::elastic(1.0, 0.5)
+            .validate("material 2")
+            .unwrap_err()
+            .message
+            .contains("material 2: nu = 0.5"));
     }
 
     /// Moduli whose squared stresses leave f64's range are refused by key, at the bounds and
@@ -249,12 +261,25 @@ mod tests {
         let (low, high) = MAGNITUDES;
         let steel = Material { young: 2e5, poisson: 0.3, yield_stress: 250.0, hardening: 0.0 };
         assert!(steel.validate("m").is_ok());
-        assert!(Material { young: high, yield_stress: 1e-3 * high, hardening: high, ..steel }.validate("m").is_ok());
-        assert!(Material { young: low, yield_stress: 1e3 * low, hardening: low, ..steel }.validate("m").is_ok());
-        for (bad, key) in [(Material { young: 1e200, ..steel }, "E = 1e200"), (Material { young: 1e-60, yield_stress: f64::INFINITY, ..steel }, "E = 1e-60"),
-            (Material { yield_stress: 1e51, ..steel }, "Sy = 1e51"), (Material { hardening: 1e300, ..steel }, "H = 1e300"), (Material { hardening: 1e-51, ..steel }, "H = 1e-51")] {
+        assert!(Material { young: high, yield_stress: 1e-3 * high, hardening: high, ..steel }
+            .validate("m")
+            .is_ok());
+        assert!(Material { young: low, yield_stress: 1e3 * low, hardening: low, ..steel }
+            .validate("m")
+            .is_ok());
+        for (bad, key) in [
+            (Material { young: 1e200, ..steel }, "E = 1e200"),
+            (Material { young: 1e-60, yield_stress: f64::INFINITY, ..steel }, "E = 1e-60"),
+            (Material { yield_stress: 1e51, ..steel }, "Sy = 1e51"),
+            (Material { hardening: 1e300, ..steel }, "H = 1e300"),
+            (Material { hardening: 1e-51, ..steel }, "H = 1e-51"),
+        ] {
             let msg = bad.validate("body 'b' material").unwrap_err().message;
-            assert!(msg.starts_with(&format!("body 'b' material: {key} is not allowed")) && msg.contains("another unit"), "{msg}");
+            assert!(
+                msg.starts_with(&format!("body 'b' material: {key} is not allowed"))
+                    && msg.contains("another unit"),
+                "{msg}"
+            );
         }
     }
 }

@@ -39,7 +39,11 @@ impl Mesh {
 
     /// 3 for a mesh of tetrahedra, else 2: the DOFs per node.
     pub fn dim(&self) -> usize {
-        if self.points.is_empty() { 2 } else { 3 }
+        if self.points.is_empty() {
+            2
+        } else {
+            3
+        }
     }
 
     pub fn n_nodes(&self) -> usize {
@@ -71,7 +75,8 @@ impl Mesh {
         let p = self.tetrahedra[e].map(|i| self.points[i]);
         let d = |k: usize| [p[k][0] - p[0][0], p[k][1] - p[0][1], p[k][2] - p[0][2]];
         let (a, b, c) = (d(1), d(2), d(3));
-        a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])
+        a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+            + a[2] * (b[0] * c[1] - b[1] * c[0])
     }
 
     /// Twice the signed area of element `e` (> 0 when counter-clockwise).
@@ -84,10 +89,19 @@ impl Mesh {
     /// Length of the diagonal of the bounding box: the length scale of tolerances.
     pub fn diameter(&self) -> f64 {
         if self.dim() == 3 {
-            let (lo, hi) = self.points.iter().fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), p| (std::array::from_fn(|k| lo[k].min(p[k])), std::array::from_fn(|k| hi[k].max(p[k]))));
+            let (lo, hi) =
+                self.points.iter().fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), p| {
+                    (
+                        std::array::from_fn(|k| lo[k].min(p[k])),
+                        std::array::from_fn(|k| hi[k].max(p[k])),
+                    )
+                });
             return (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
         }
-        let (xmin, xmax, ymin, ymax) = self.nodes.iter().fold((f64::MAX, f64::MIN, f64::MAX, f64::MIN), |b, p| (b.0.min(p[0]), b.1.max(p[0]), b.2.min(p[1]), b.3.max(p[1])));
+        let (xmin, xmax, ymin, ymax) =
+            self.nodes.iter().fold((f64::MAX, f64::MIN, f64::MAX, f64::MIN), |b, p| {
+                (b.0.min(p[0]), b.1.max(p[0]), b.2.min(p[1]), b.3.max(p[1]))
+            });
         ((xmax - xmin).powi(2) + (ymax - ymin).powi(2)).sqrt()
     }
 
@@ -95,14 +109,21 @@ impl Mesh {
     pub fn axis_nodes(&self) -> Vec<usize> {
         let tol = AXIS_TOLERANCE * self.diameter();
         let mut on_axis = vec![false; self.nodes.len()];
-        self.triangles.iter().flatten().filter(|&&i| self.nodes[i][0].abs() <= tol).for_each(|&i| on_axis[i] = true);
+        self.triangles
+            .iter()
+            .flatten()
+            .filter(|&&i| self.nodes[i][0].abs() <= tol)
+            .for_each(|&i| on_axis[i] = true);
         (0..self.nodes.len()).filter(|&i| on_axis[i]).collect()
     }
 
     /// The first element with a node at r = x < 0 (beyond `AXIS_TOLERANCE`): (element, node).
     pub fn element_left_of_axis(&self) -> Option<(usize, usize)> {
         let tol = AXIS_TOLERANCE * self.diameter();
-        self.triangles.iter().enumerate().find_map(|(e, t)| t.iter().find(|&&i| self.nodes[i][0] < -tol).map(|&i| (e, i)))
+        self.triangles
+            .iter()
+            .enumerate()
+            .find_map(|(e, t)| t.iter().find(|&&i| self.nodes[i][0] < -tol).map(|&i| (e, i)))
     }
 
     /// Reject meshes the element routines cannot integrate: no elements, NaN/inf coordinates,
@@ -112,11 +133,19 @@ impl Mesh {
             return self.validate_space();
         }
         if self.triangles.is_empty() {
-            bail!(Input, "the mesh has no triangles: give each body a mesh with at least one element");
+            bail!(
+                Input,
+                "the mesh has no triangles: give each body a mesh with at least one element"
+            );
         }
         for (i, p) in self.nodes.iter().enumerate() {
             if !p[0].is_finite() || !p[1].is_finite() {
-                bail!(Input, "node {i} has a non-finite coordinate ({}, {}): fix the mesh file", p[0], p[1]);
+                bail!(
+                    Input,
+                    "node {i} has a non-finite coordinate ({}, {}): fix the mesh file",
+                    p[0],
+                    p[1]
+                );
             }
         }
         let n = self.nodes.len();
@@ -125,7 +154,11 @@ impl Mesh {
                 bail!(Input, "element {e} refers to node {bad}, but the mesh has only {n} nodes: fix the connectivity");
             }
             if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
-                bail!(Input, "element {e} repeats a node ({:?}): remove the degenerate triangle", t);
+                bail!(
+                    Input,
+                    "element {e} repeats a node ({:?}): remove the degenerate triangle",
+                    t
+                );
             }
         }
         for e in 0..self.triangles.len() {
@@ -155,8 +188,16 @@ impl Mesh {
         if self.tetrahedra.is_empty() {
             bail!(Input, "the mesh has no tetrahedra: give each body a volume mesh with at least one element");
         }
-        if let Some((i, p)) = self.points.iter().enumerate().find(|(_, p)| p.iter().any(|v| !v.is_finite())) {
-            bail!(Input, "node {i} has a non-finite coordinate ({}, {}, {}): fix the mesh file", p[0], p[1], p[2]);
+        if let Some((i, p)) =
+            self.points.iter().enumerate().find(|(_, p)| p.iter().any(|v| !v.is_finite()))
+        {
+            bail!(
+                Input,
+                "node {i} has a non-finite coordinate ({}, {}, {}): fix the mesh file",
+                p[0],
+                p[1],
+                p[2]
+            );
         }
         let n = self.points.len();
         for (e, t) in self.tetrahedra.iter().enumerate() {
@@ -164,13 +205,19 @@ impl Mesh {
                 bail!(Input, "element {e} refers to node {bad}, but the mesh has only {n} nodes: fix the connectivity");
             }
             if (0..4).any(|k| t[k + 1..].contains(&t[k])) {
-                bail!(Input, "element {e} repeats a node ({t:?}): remove the degenerate tetrahedron");
+                bail!(
+                    Input,
+                    "element {e} repeats a node ({t:?}): remove the degenerate tetrahedron"
+                );
             }
             let det = self.signed_volume6(e);
-            let longest = (0..4).flat_map(|a| (a + 1..4).map(move |b| (a, b))).map(|(a, b)| {
-                let (p, q) = (self.points[t[a]], self.points[t[b]]);
-                ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
-            }).fold(0.0, f64::max);
+            let longest = (0..4)
+                .flat_map(|a| (a + 1..4).map(move |b| (a, b)))
+                .map(|(a, b)| {
+                    let (p, q) = (self.points[t[a]], self.points[t[b]]);
+                    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+                })
+                .fold(0.0, f64::max);
             if det.abs() <= FLAT_TETRAHEDRON * longest.powi(3) {
                 bail!(Input, "element {e} is a flat tetrahedron (volume {:.3e} for a longest edge of {longest:.3e}): remove it or move its nodes apart", det / 6.0);
             }
@@ -228,7 +275,10 @@ mod tests {
     use super::*;
 
     fn square() -> Mesh {
-        Mesh::plane(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], vec![[0, 1, 2], [0, 2, 3]])
+        Mesh::plane(
+            vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
     }
 
     #[test]
@@ -284,7 +334,8 @@ mod tests {
 /// Tests: a structured grid of nx × ny nodes spaced dx, dy, each cell cut into two triangles.
 #[cfg(test)]
 pub fn test_grid(nx: usize, ny: usize, dx: f64, dy: f64) -> Mesh {
-    let nodes: Vec<[f64; 2]> = (0..ny).flat_map(|j| (0..nx).map(move |i| [i as f64 * dx, j as f64 * dy])).collect();
+    let nodes: Vec<[f64; 2]> =
+        (0..ny).flat_map(|j| (0..nx).map(move |i| [i as f64 * dx, j as f64 * dy])).collect();
     let mut triangles = vec![];
     for j in 0..ny - 1 {
         for i in 0..nx - 1 {

@@ -158,7 +158,9 @@ impl Model {
             return self.mesh.diameter();
         }
         match self.plane {
-            Plane::Axisymmetric => 2.0 * std::f64::consts::PI * self.mesh.nodes.iter().fold(0.0f64, |m, p| m.max(p[0])),
+            Plane::Axisymmetric => {
+                2.0 * std::f64::consts::PI * self.mesh.nodes.iter().fold(0.0f64, |m, p| m.max(p[0]))
+            }
             Plane::Strain | Plane::Stress => self.thickness,
         }
     }
@@ -169,11 +171,21 @@ impl Model {
             // no plane, no thickness
         } else if self.plane == Plane::Axisymmetric {
             if let Some((e, i)) = self.mesh.element_left_of_axis() {
-                let body = self.names.element_body.get(e).and_then(|&b| self.names.bodies.get(b)).map(|b| format!(" of body '{b}'")).unwrap_or_default();
+                let body = self
+                    .names
+                    .element_body
+                    .get(e)
+                    .and_then(|&b| self.names.bodies.get(b))
+                    .map(|b| format!(" of body '{b}'"))
+                    .unwrap_or_default();
                 bail!(Input, "element {e}{body} has node {i} at r = x = {:.6} < 0: an axisymmetric mesh lies in x = r >= 0 (the axis is x = 0); move the body to x >= 0", self.mesh.nodes[i][0]);
             }
         } else if !(self.thickness.is_finite() && self.thickness > 0.0) {
-            bail!(Input, "thickness = {} is not allowed: give a positive out-of-plane thickness", self.thickness);
+            bail!(
+                Input,
+                "thickness = {} is not allowed: give a positive out-of-plane thickness",
+                self.thickness
+            );
         }
         if self.materials.is_empty() {
             bail!(Input, "no material given: every body needs a material with E and nu");
@@ -182,16 +194,37 @@ impl Model {
             m.validate(&self.material_name(i))?;
         }
         if self.element_material.len() != self.mesh.n_elements() {
-            bail!(Input, "element_material has {} entries for {} elements", self.element_material.len(), self.mesh.n_elements());
+            bail!(
+                Input,
+                "element_material has {} entries for {} elements",
+                self.element_material.len(),
+                self.mesh.n_elements()
+            );
         }
-        if let Some((e, &m)) = self.element_material.iter().enumerate().find(|(_, &m)| m >= self.materials.len()) {
-            bail!(Input, "element {e} uses material {m}, but only {} materials are given", self.materials.len());
+        if let Some((e, &m)) =
+            self.element_material.iter().enumerate().find(|(_, &m)| m >= self.materials.len())
+        {
+            bail!(
+                Input,
+                "element {e} uses material {m}, but only {} materials are given",
+                self.materials.len()
+            );
         }
         if self.load.len() != n_dofs {
-            bail!(Input, "the load vector has {} entries for {} DOFs ({} per node)", self.load.len(), n_dofs, self.dim());
+            bail!(
+                Input,
+                "the load vector has {} entries for {} DOFs ({} per node)",
+                self.load.len(),
+                n_dofs,
+                self.dim()
+            );
         }
         if let Some(d) = self.load.iter().position(|v| !v.is_finite()) {
-            bail!(Input, "the load at {} is not finite: check the pressure/traction values", self.dof_name(d));
+            bail!(
+                Input,
+                "the load at {} is not finite: check the pressure/traction values",
+                self.dof_name(d)
+            );
         }
         if let Some(&d) = self.fixed_dofs.iter().find(|&&d| d >= n_dofs) {
             bail!(Input, "fixed DOF {d} is out of range (the mesh has {n_dofs} DOFs)");
@@ -208,10 +241,17 @@ impl Model {
         for pat in &self.patterns {
             let name = &pat.name;
             if !pat.force.is_empty() && pat.force.len() != n_dofs {
-                bail!(Input, "load '{name}': the force vector has {} entries for {n_dofs} DOFs", pat.force.len());
+                bail!(
+                    Input,
+                    "load '{name}': the force vector has {} entries for {n_dofs} DOFs",
+                    pat.force.len()
+                );
             }
             if pat.force.iter().any(|v| !v.is_finite()) {
-                bail!(Input, "load '{name}': a force is not finite: check its pressure/traction values");
+                bail!(
+                    Input,
+                    "load '{name}': a force is not finite: check its pressure/traction values"
+                );
             }
             for &(d, v) in &pat.displacement {
                 if d >= n_dofs || !v.is_finite() {
@@ -225,7 +265,9 @@ impl Model {
                 if !m.iter().all(|v| v.is_finite()) {
                     bail!(Input, "load '{name}': the motion of contact {c} is not finite");
                 }
-                if let Some(k) = self.pairs.iter().position(|p| p.contact == c && p.node_b.is_some()) {
+                if let Some(k) =
+                    self.pairs.iter().position(|p| p.contact == c && p.node_b.is_some())
+                {
                     bail!(Input, "load '{name}': motion on {}, a pair of deformable bodies: motion moves a rigid obstacle; prescribe a displacement on one of the bodies instead", self.pair_name(k));
                 }
             }
@@ -235,13 +277,20 @@ impl Model {
         for (k, stage) in self.stages.iter().enumerate() {
             let name = self.stage_label(k);
             if stage.factors.len() != n_factors {
-                bail!(Input, "{name} has {} factors for {n_factors} load patterns (load first)", stage.factors.len());
+                bail!(
+                    Input,
+                    "{name} has {} factors for {n_factors} load patterns (load first)",
+                    stage.factors.len()
+                );
             }
             if stage.factors.iter().any(|v| !v.is_finite()) {
                 bail!(Input, "{name}: a load factor is not finite");
             }
             if stage.factors == previous {
-                bail!(Input, "{name} changes no load factor: remove it, or give the factors it should reach");
+                bail!(
+                    Input,
+                    "{name} changes no load factor: remove it, or give the factors it should reach"
+                );
             }
             previous = stage.factors.clone();
         }
@@ -257,21 +306,43 @@ impl Model {
         let one_stage = [Stage { name: String::new(), factors: vec![1.0; strains.len()] }];
         let stages = if self.stages.is_empty() { &one_stage[..] } else { &self.stages[..] };
         for (k, stage) in stages.iter().enumerate() {
-            let reached: Vec<f64> = stage.factors.iter().zip(&strains).map(|(f, (_, e))| f.abs() * e).collect();
+            let reached: Vec<f64> =
+                stage.factors.iter().zip(&strains).map(|(f, (_, e))| f.abs() * e).collect();
             let total: f64 = reached.iter().sum();
-            let p = (0..reached.len()).fold(0, |best, p| if reached[p] > reached[best] { p } else { best });
+            let p = (0..reached.len())
+                .fold(0, |best, p| if reached[p] > reached[best] { p } else { best });
             let tiny = reached.iter().position(|&e| e > 0.0 && e < MIN_NOMINAL_STRAIN);
             let (p, bound, hint) = match (total > MAX_NOMINAL_STRAIN, tiny) {
-                (true, _) => (p, "at most 1 is meaningful (small strain: displacements up to the scene's size)", MAX_NOMINAL_STRAIN / total),
-                (false, Some(p)) => (p, "at least 1e-100 is needed (smaller loads underflow f64's products)", MIN_NOMINAL_STRAIN / reached[p]),
+                (true, _) => (
+                    p,
+                    "at most 1 is meaningful (small strain: displacements up to the scene's size)",
+                    MAX_NOMINAL_STRAIN / total,
+                ),
+                (false, Some(p)) => (
+                    p,
+                    "at least 1e-100 is needed (smaller loads underflow f64's products)",
+                    MIN_NOMINAL_STRAIN / reached[p],
+                ),
                 (false, None) => continue,
             };
             let (name, factor, lower) = (&strains[p].0, stage.factors[p], hint < 1.0);
             let (at, fix) = match self.stages.is_empty() {
-                true if lower => (format!("load '{name}'"), format!("lower its values at least {:.1e}-fold", 1.0 / hint)),
-                true => (format!("load '{name}'"), format!("raise its values at least {hint:.1e}-fold, or remove it")),
-                false if lower => (format!("{}: load '{name}' at factor {factor:e}", self.stage_label(k)), format!("keep |factor| <= {:.3e} at these values", factor.abs() * hint)),
-                false => (format!("{}: load '{name}' at factor {factor:e}", self.stage_label(k)), format!("keep |factor| >= {:.3e} at these values, or 0", factor.abs() * hint)),
+                true if lower => (
+                    format!("load '{name}'"),
+                    format!("lower its values at least {:.1e}-fold", 1.0 / hint),
+                ),
+                true => (
+                    format!("load '{name}'"),
+                    format!("raise its values at least {hint:.1e}-fold, or remove it"),
+                ),
+                false if lower => (
+                    format!("{}: load '{name}' at factor {factor:e}", self.stage_label(k)),
+                    format!("keep |factor| <= {:.3e} at these values", factor.abs() * hint),
+                ),
+                false => (
+                    format!("{}: load '{name}' at factor {factor:e}", self.stage_label(k)),
+                    format!("keep |factor| >= {:.3e} at these values, or 0", factor.abs() * hint),
+                ),
             };
             bail!(Input, "{at} reaches a nominal strain of {:.1e} (displacement or motion over the scene's size, force over E × its section); {bound}: {fix}", reached[p]);
         }
@@ -283,11 +354,18 @@ impl Model {
     /// obstacle motion over L; L the mesh's diameter plus its largest initial gap.
     fn nominal_strains(&self) -> Vec<(String, f64)> {
         let length = self.mesh.diameter() + self.pairs.iter().fold(0.0f64, |g, p| g.max(p.gap));
-        let stiffness = self.materials.iter().fold(f64::INFINITY, |e, m| e.min(m.young)) * self.depth() * length;
+        let stiffness = self.materials.iter().fold(f64::INFINITY, |e, m| e.min(m.young))
+            * self.depth()
+            * length;
         let force = |f: &[f64]| f.iter().map(|v| v.abs() / stiffness).sum::<f64>();
         let mut strains = vec![(String::from("load"), force(&self.load))];
         for pat in &self.patterns {
-            let moved = pat.displacement.iter().map(|d| d.1).chain(pat.motion.iter().flat_map(|m| m.1)).fold(0.0f64, |a, v| a.max(v.abs() / length));
+            let moved = pat
+                .displacement
+                .iter()
+                .map(|d| d.1)
+                .chain(pat.motion.iter().flat_map(|m| m.1))
+                .fold(0.0f64, |a, v| a.max(v.abs() / length));
             strains.push((pat.name.clone(), force(&pat.force).max(moved)));
         }
         strains
@@ -296,24 +374,50 @@ impl Model {
     fn validate_names(&self) -> Result<()> {
         let n = &self.names;
         if !n.element_body.is_empty() && n.element_body.len() != self.mesh.n_elements() {
-            bail!(Input, "names.element_body has {} entries for {} elements", n.element_body.len(), self.mesh.n_elements());
+            bail!(
+                Input,
+                "names.element_body has {} entries for {} elements",
+                n.element_body.len(),
+                self.mesh.n_elements()
+            );
         }
         if let Some(&b) = n.element_body.iter().find(|&&b| b >= n.bodies.len()) {
-            bail!(Input, "names.element_body refers to body {b}, but only {} body names are given", n.bodies.len());
+            bail!(
+                Input,
+                "names.element_body refers to body {b}, but only {} body names are given",
+                n.bodies.len()
+            );
         }
         let n_dofs = self.dim() * self.mesh.n_nodes();
-        if let Some((name, &d)) = n.supports.iter().find_map(|(name, dofs)| dofs.iter().find(|&&d| d >= n_dofs).map(|d| (name, d))) {
+        if let Some((name, &d)) = n
+            .supports
+            .iter()
+            .find_map(|(name, dofs)| dofs.iter().find(|&&d| d >= n_dofs).map(|d| (name, d)))
+        {
             bail!(Input, "support '{name}' names DOF {d}, but the mesh has {n_dofs} DOFs");
         }
         if !n.contacts.is_empty() {
-            if let Some((k, p)) = self.pairs.iter().enumerate().find(|(_, p)| p.contact >= n.contacts.len()) {
-                bail!(Input, "pair {k} refers to contact {}, but only {} contact names are given", p.contact, n.contacts.len());
+            if let Some((k, p)) =
+                self.pairs.iter().enumerate().find(|(_, p)| p.contact >= n.contacts.len())
+            {
+                bail!(
+                    Input,
+                    "pair {k} refers to contact {}, but only {} contact names are given",
+                    p.contact,
+                    n.contacts.len()
+                );
             }
         }
         Ok(())
     }
 
-    fn validate_pair(&self, k: usize, p: &PairInput, body_of_node: &[usize], length_scale: f64) -> Result<()> {
+    fn validate_pair(
+        &self,
+        k: usize,
+        p: &PairInput,
+        body_of_node: &[usize],
+        length_scale: f64,
+    ) -> Result<()> {
         let name = self.pair_name(k);
         let in_mesh = |i: usize| i < self.mesh.n_nodes() && body_of_node[i] != usize::MAX;
         if !in_mesh(p.node_a) || p.node_b.map_or(false, |b| !in_mesh(b)) {
@@ -324,7 +428,11 @@ impl Model {
             bail!(Input, "{name} joins node {} to itself", p.node_a);
         }
         if !(p.mu.is_finite() && p.mu >= 0.0) {
-            bail!(Input, "{name}: mu = {} is not allowed: the friction coefficient must be >= 0", p.mu);
+            bail!(
+                Input,
+                "{name}: mu = {} is not allowed: the friction coefficient must be >= 0",
+                p.mu
+            );
         }
         if let Some(&(i, c)) = p.weights.iter().find(|&&(i, c)| !in_mesh(i) || !c.is_finite()) {
             bail!(Input, "{name}: weight {c} on node {i} is not allowed: node-to-segment weights need finite values on nodes of an element");
@@ -359,8 +467,13 @@ impl Model {
         let p = &self.pairs[k];
         let at = match self.dim() {
             2 => self.mesh.nodes.get(p.node_a).map(|x| format!(" at ({:.6}, {:.6})", x[0], x[1])),
-            _ => self.mesh.points.get(p.node_a).map(|x| format!(" at ({:.6}, {:.6}, {:.6})", x[0], x[1], x[2])),
-        }.unwrap_or_default();
+            _ => self
+                .mesh
+                .points
+                .get(p.node_a)
+                .map(|x| format!(" at ({:.6}, {:.6}, {:.6})", x[0], x[1], x[2])),
+        }
+        .unwrap_or_default();
         match self.names.contacts.get(p.contact) {
             Some(c) => format!("contact '{c}' pair {k} (node {}{at})", p.node_a),
             None => format!("contact pair {k} (node {}{at})", p.node_a),
@@ -369,7 +482,12 @@ impl Model {
 
     /// "body 'NAME' material" of the first element that uses material i, or "material i".
     pub fn material_name(&self, i: usize) -> String {
-        let body = self.element_material.iter().position(|&m| m == i).and_then(|e| self.names.element_body.get(e)).and_then(|&b| self.names.bodies.get(b));
+        let body = self
+            .element_material
+            .iter()
+            .position(|&m| m == i)
+            .and_then(|e| self.names.element_body.get(e))
+            .and_then(|&b| self.names.bodies.get(b));
         body.map_or_else(|| format!("material {i}"), |b| format!("body '{b}' material"))
     }
 
@@ -388,7 +506,9 @@ mod tests {
 
     #[test]
     fn snapshot_times_lie_on_the_path() {
-        for (times, n_stages) in [(vec![0.5, f64::NAN], 1), (vec![0.0], 1), (vec![1.5], 1), (vec![2.5], 2)] {
+        for (times, n_stages) in
+            [(vec![0.5, f64::NAN], 1), (vec![0.0], 1), (vec![1.5], 1), (vec![2.5], 2)]
+        {
             let o = Options { snapshots: SnapshotRequest::Times(times), ..Options::default() };
             let err = o.validate_times(n_stages).unwrap_err().message;
             assert!(err.starts_with("options.times") && err.contains("is not allowed"), "{err}");

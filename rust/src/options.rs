@@ -84,7 +84,8 @@ pub enum Factorization {
 impl Factorization {
     /// The names a case gives, in the order of the variants.
     pub const NAMES: &'static [&'static str] = &["faer", "mumps", "condensed"];
-    const ALL: [Factorization; 3] = [Factorization::Faer, Factorization::Mumps, Factorization::Condensed];
+    const ALL: [Factorization; 3] =
+        [Factorization::Faer, Factorization::Mumps, Factorization::Condensed];
 }
 
 /// Every option, in the order the key tables list them.
@@ -151,7 +152,23 @@ pub struct Options {
 impl Default for Options {
     /// Every option at its declared default, snapshots at every event.
     fn default() -> Self {
-        let mut o = Options { snapshots: SnapshotRequest::EveryEvent, tie_tol: 0.0, group_tol: 0.0, max_events: 0, equilibrium_tol: 0.0, drift_control: false, max_stress_step: 0.0, tangent_turn: 0.0, slip_turn: 0.0, stop_at_first_yield: false, limit_stiffness: 0.0, max_zero_length_switches: 0, reduced_elastic: false, factorization: Factorization::Faer, near_hops: 0 };
+        let mut o = Options {
+            snapshots: SnapshotRequest::EveryEvent,
+            tie_tol: 0.0,
+            group_tol: 0.0,
+            max_events: 0,
+            equilibrium_tol: 0.0,
+            drift_control: false,
+            max_stress_step: 0.0,
+            tangent_turn: 0.0,
+            slip_turn: 0.0,
+            stop_at_first_yield: false,
+            limit_stiffness: 0.0,
+            max_zero_length_switches: 0,
+            reduced_elastic: false,
+            factorization: Factorization::Faer,
+            near_hops: 0,
+        };
         for s in SPECS {
             o.field(s.key).expect("every spec names a field").set(s.default);
         }
@@ -172,11 +189,23 @@ impl Options {
             (Kind::Real, Value::Real(x)) => x,
             (Kind::Real | Kind::Count, Value::Count(n)) => n as f64,
             (Kind::Flag, Value::Flag(b)) => f64::from(u8::from(b)),
-            (Kind::Choice(names), Value::Choice(name)) => match names.iter().position(|n| *n == name) {
-                Some(i) => i as f64,
-                None => bail!(Input, "options.{key} = {name:?} is not allowed: give {} (default {})", spec.kind_text(), spec.default_text()),
-            },
-            _ => bail!(Input, "options.{key}: give {} (default {})", spec.kind_text(), spec.default_text()),
+            (Kind::Choice(names), Value::Choice(name)) => {
+                match names.iter().position(|n| *n == name) {
+                    Some(i) => i as f64,
+                    None => bail!(
+                        Input,
+                        "options.{key} = {name:?} is not allowed: give {} (default {})",
+                        spec.kind_text(),
+                        spec.default_text()
+                    ),
+                }
+            }
+            _ => bail!(
+                Input,
+                "options.{key}: give {} (default {})",
+                spec.kind_text(),
+                spec.default_text()
+            ),
         };
         spec.check(v)?;
         self.field(key).expect("every spec names a field").set(v);
@@ -186,13 +215,17 @@ impl Options {
     /// Every option within its spec's range (for options built in Rust, field by field).
     pub fn validate(&self) -> Result<()> {
         let mut o = self.clone();
-        SPECS.iter().try_for_each(|s| s.check(o.field(s.key).expect("every spec names a field").get()))
+        SPECS
+            .iter()
+            .try_for_each(|s| s.check(o.field(s.key).expect("every spec names a field").get()))
     }
 
     /// Snapshot times must lie on the path, in (0, number of stages].
     pub(crate) fn validate_times(&self, n_stages: usize) -> Result<()> {
         if let SnapshotRequest::Times(f) = &self.snapshots {
-            if let Some(bad) = f.iter().find(|v| !(v.is_finite() && **v > 0.0 && **v <= n_stages as f64)) {
+            if let Some(bad) =
+                f.iter().find(|v| !(v.is_finite() && **v > 0.0 && **v <= n_stages as f64))
+            {
                 bail!(Input, "options.times: {bad} is not allowed: snapshot times must lie in (0, {n_stages}] (stage k runs over t in [k-1, k])");
             }
         }
@@ -235,7 +268,10 @@ impl Field<'_> {
             Field::Real(x) => **x,
             Field::Count(x) => **x as f64,
             Field::Flag(x) => f64::from(u8::from(**x)),
-            Field::Factorization(x) => Factorization::ALL.iter().position(|f| f == *x).expect("every variant is listed") as f64,
+            Field::Factorization(x) => {
+                Factorization::ALL.iter().position(|f| f == *x).expect("every variant is listed")
+                    as f64
+            }
         }
     }
 
@@ -261,7 +297,13 @@ impl Spec {
             _ => true,
         };
         if !(v.is_finite() && above_min && below_max && whole && named) {
-            bail!(Input, "options.{} = {v} is not allowed: give {} (default {})", self.key, self.kind_text(), self.default_text());
+            bail!(
+                Input,
+                "options.{} = {v} is not allowed: give {} (default {})",
+                self.key,
+                self.kind_text(),
+                self.default_text()
+            );
         }
         Ok(())
     }
@@ -272,12 +314,27 @@ impl Spec {
             Kind::Real => "a number",
             Kind::Count => "a count",
             Kind::Flag => return "true or false".into(),
-            Kind::Choice(names) => return format!("one of {}", names.iter().map(|n| format!("{n:?}")).collect::<Vec<_>>().join(", ")),
+            Kind::Choice(names) => {
+                return format!(
+                    "one of {}",
+                    names.iter().map(|n| format!("{n:?}")).collect::<Vec<_>>().join(", ")
+                )
+            }
         };
         match (self.min, self.max) {
-            (Some(lo), Some(hi)) => format!("{what} in {}{}, {}{}", if lo.inclusive { "[" } else { "(" }, lo.value, hi.value, if hi.inclusive { "]" } else { ")" }),
-            (Some(lo), None) => format!("{what} {} {}", if lo.inclusive { ">=" } else { ">" }, lo.value),
-            (None, Some(hi)) => format!("{what} {} {}", if hi.inclusive { "<=" } else { "<" }, hi.value),
+            (Some(lo), Some(hi)) => format!(
+                "{what} in {}{}, {}{}",
+                if lo.inclusive { "[" } else { "(" },
+                lo.value,
+                hi.value,
+                if hi.inclusive { "]" } else { ")" }
+            ),
+            (Some(lo), None) => {
+                format!("{what} {} {}", if lo.inclusive { ">=" } else { ">" }, lo.value)
+            }
+            (None, Some(hi)) => {
+                format!("{what} {} {}", if hi.inclusive { "<=" } else { "<" }, hi.value)
+            }
             (None, None) => format!("a finite {}", &what[2..]),
         }
     }
@@ -342,7 +399,10 @@ mod tests {
         o.set("factorization", Value::Choice("condensed".into())).unwrap();
         assert_eq!(o.factorization, Factorization::Condensed);
         assert_eq!(o.near_hops, DEFAULT_NEAR_HOPS);
-        assert_eq!(spec("factorization").unwrap().kind_text(), "one of \"faer\", \"mumps\", \"condensed\"");
+        assert_eq!(
+            spec("factorization").unwrap().kind_text(),
+            "one of \"faer\", \"mumps\", \"condensed\""
+        );
         assert_eq!(spec("group_tol").unwrap().kind_text(), "a number in [0, 1)");
         assert_eq!(spec("equilibrium_tol").unwrap().kind_text(), "a number > 0");
     }

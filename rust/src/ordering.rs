@@ -31,7 +31,15 @@ const LEAF: usize = 128;
 const SHARES: [f64; 3] = [0.4, 0.5, 0.6];
 
 /// The normals of the planes tried: the axes and the diagonals of the cube.
-const DIRECTIONS: [[f64; 3]; 7] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0], [1.0, 1.0, -1.0], [1.0, -1.0, 1.0], [-1.0, 1.0, 1.0]];
+const DIRECTIONS: [[f64; 3]; 7] = [
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, 0.0, 1.0],
+    [1.0, 1.0, 1.0],
+    [1.0, 1.0, -1.0],
+    [1.0, -1.0, 1.0],
+    [-1.0, 1.0, 1.0],
+];
 
 /// An undirected graph on nodes 0..m, its neighbour lists in compressed rows (no self loops).
 pub struct NodeGraph {
@@ -102,10 +110,17 @@ pub fn minimum_degree(graph: &NodeGraph) -> Result<Vec<usize>> {
     let (pattern, _) = SymbolicSparseColMat::try_new_from_indices(m, m, &entries)
         .map_err(|e| crate::fail!(Internal, "could not analyse the mesh graph: {e:?}"))?;
     let (mut order, mut inverse) = (vec![0usize; m], vec![0usize; m]);
-    let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(m, pattern.compute_nnz()))
-        .map_err(|_| crate::fail!(Internal, "out of memory for the AMD ordering"))?;
-    amd::order_maybe_unsorted(&mut order, &mut inverse, pattern.as_ref(), amd::Control::default(), MemStack::new(&mut mem))
-        .map_err(|e| crate::fail!(Internal, "the AMD ordering failed: {e:?}"))?;
+    let mut mem =
+        MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(m, pattern.compute_nnz()))
+            .map_err(|_| crate::fail!(Internal, "out of memory for the AMD ordering"))?;
+    amd::order_maybe_unsorted(
+        &mut order,
+        &mut inverse,
+        pattern.as_ref(),
+        amd::Control::default(),
+        MemStack::new(&mut mem),
+    )
+    .map_err(|e| crate::fail!(Internal, "the AMD ordering failed: {e:?}"))?;
     Ok(order)
 }
 
@@ -113,7 +128,15 @@ pub fn minimum_degree(graph: &NodeGraph) -> Result<Vec<usize>> {
 /// k-th node to eliminate (see the module's documentation).
 pub fn nested_dissection(graph: &NodeGraph, points: &[[f64; 3]]) -> Result<Vec<usize>> {
     let m = graph.len();
-    let mut dissection = Dissection { graph, points, label: vec![0; m], next_label: 1, distance: vec![u32::MAX; m], local: vec![usize::MAX; m], order: Vec::with_capacity(m) };
+    let mut dissection = Dissection {
+        graph,
+        points,
+        label: vec![0; m],
+        next_label: 1,
+        distance: vec![u32::MAX; m],
+        local: vec![usize::MAX; m],
+        order: Vec::with_capacity(m),
+    };
     let mut nodes: Vec<usize> = (0..m).collect();
     dissection.dissect(&mut nodes)?;
     Ok(dissection.order)
@@ -142,8 +165,14 @@ impl Dissection<'_> {
         }
         // The cut of the fewest separator nodes per 4 f (1 - f) (see the module's documentation).
         let tries = (0..DIRECTIONS.len() + 1).flat_map(|key| SHARES.map(|share| (key, share)));
-        let mut cost = |(key, share): (usize, f64)| self.split(part, key, share).1.len() as f64 / (4.0 * share * (1.0 - share));
-        let best = tries.map(|t| (t, cost(t))).min_by(|a, b| a.1.total_cmp(&b.1)).map(|(t, _)| t).unwrap_or((0, 0.5));
+        let mut cost = |(key, share): (usize, f64)| {
+            self.split(part, key, share).1.len() as f64 / (4.0 * share * (1.0 - share))
+        };
+        let best = tries
+            .map(|t| (t, cost(t)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(t, _)| t)
+            .unwrap_or((0, 0.5));
         let (low, cut) = self.split(part, best.0, best.1);
         let label = &self.label;
         part.sort_unstable_by_key(|&v| label[v]); // low half, high half, separator
@@ -211,7 +240,10 @@ impl Dissection<'_> {
 
     /// The nodes of `side` with a neighbour labelled `other`.
     fn touching(&self, side: &[usize], other: u32) -> Vec<usize> {
-        side.iter().copied().filter(|&v| self.graph.neighbours(v).iter().any(|&w| self.label[w] == other)).collect()
+        side.iter()
+            .copied()
+            .filter(|&v| self.graph.neighbours(v).iter().any(|&w| self.label[w] == other))
+            .collect()
     }
 
     /// A smallest set of nodes that meets every edge between `a` and `b` (the nodes of the two
@@ -222,7 +254,17 @@ impl Dissection<'_> {
     fn smallest_cover(&mut self, a: &[usize], b: &[usize], b_label: u32) -> Vec<usize> {
         b.iter().enumerate().for_each(|(k, &v)| self.local[v] = k);
         let (graph, label, local) = (self.graph, &self.label, &self.local);
-        let edges: Vec<Vec<usize>> = a.iter().map(|&v| graph.neighbours(v).iter().filter(|&&w| label[w] == b_label).map(|&w| local[w]).collect()).collect();
+        let edges: Vec<Vec<usize>> = a
+            .iter()
+            .map(|&v| {
+                graph
+                    .neighbours(v)
+                    .iter()
+                    .filter(|&&w| label[w] == b_label)
+                    .map(|&w| local[w])
+                    .collect()
+            })
+            .collect();
         b.iter().for_each(|&v| self.local[v] = usize::MAX);
         let (mut mate_of_a, mut mate_of_b) = (vec![usize::MAX; a.len()], vec![usize::MAX; b.len()]);
         let mut reached_by = vec![usize::MAX; b.len()]; // the node of `a` a search reached it from
@@ -285,7 +327,14 @@ impl Dissection<'_> {
         part.iter().enumerate().for_each(|(k, &v)| self.local[v] = k);
         let mut edges = Vec::new();
         for (k, &v) in part.iter().enumerate() {
-            edges.extend(self.graph.neighbours(v).iter().map(|&w| self.local[w]).filter(|&l| l != usize::MAX && l < k).map(|l| (k, l)));
+            edges.extend(
+                self.graph
+                    .neighbours(v)
+                    .iter()
+                    .map(|&w| self.local[w])
+                    .filter(|&l| l != usize::MAX && l < k)
+                    .map(|l| (k, l)),
+            );
         }
         let order = minimum_degree(&NodeGraph::new(part.len(), &edges))?;
         self.order.extend(order.iter().map(|&k| part[k]));
@@ -306,9 +355,19 @@ mod tests {
     fn cube(k: usize) -> Mesh {
         let id = |i: usize, j: usize, l: usize| (l * (k + 1) + j) * (k + 1) + i;
         let h = 1.0 / k as f64;
-        let points = (0..(k + 1).pow(3)).map(|n| [(n % (k + 1)) as f64 * h, (n / (k + 1) % (k + 1)) as f64 * h, (n / (k + 1).pow(2)) as f64 * h]).collect();
+        let points = (0..(k + 1).pow(3))
+            .map(|n| {
+                [
+                    (n % (k + 1)) as f64 * h,
+                    (n / (k + 1) % (k + 1)) as f64 * h,
+                    (n / (k + 1).pow(2)) as f64 * h,
+                ]
+            })
+            .collect();
         let mut tets = Vec::new();
-        for (i, j, l) in (0..k).flat_map(|l| (0..k).flat_map(move |j| (0..k).map(move |i| (i, j, l)))) {
+        for (i, j, l) in
+            (0..k).flat_map(|l| (0..k).flat_map(move |j| (0..k).map(move |i| (i, j, l))))
+        {
             let corner = |d: [usize; 3]| id(i + d[0], j + d[1], l + d[2]);
             // The six monotone paths from (0,0,0) to (1,1,1), one per order of the axes.
             for axes in [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]] {
@@ -324,16 +383,23 @@ mod tests {
         Mesh::space(points, tets)
     }
 
-    fn map_of(mesh: &Mesh, fixed: &[bool], trailing: &[usize], how: NodeOrder) -> (Vec<Tet4>, DofMap) {
+    fn map_of(
+        mesh: &Mesh,
+        fixed: &[bool],
+        trailing: &[usize],
+        how: NodeOrder,
+    ) -> (Vec<Tet4>, DofMap) {
         let elements: Vec<Tet4> = (0..mesh.n_elements()).map(|e| Tet4::new(mesh, e)).collect();
-        let map = DofMap::ordered_by(&elements, 3 * mesh.n_nodes(), fixed, &[], trailing, how).unwrap();
+        let map =
+            DofMap::ordered_by(&elements, 3 * mesh.n_nodes(), fixed, &[], trailing, how).unwrap();
         (elements, map)
     }
 
     /// The factorization flops of K_reg's pattern in the map's order (symbolic analysis only).
     fn flops(elements: &[Tet4], map: &DofMap) -> f64 {
         let pattern = StiffnessPattern::new(elements, map).unwrap();
-        work_of(&symbolic_analysis(&pattern.with_values(vec![0.0; pattern.nnz()])).unwrap()).factorization_flops
+        work_of(&symbolic_analysis(&pattern.with_values(vec![0.0; pattern.nnz()])).unwrap())
+            .factorization_flops
     }
 
     /// Nested dissection numbers every equation once, fixed DOFs none, and ends with the
@@ -345,8 +411,13 @@ mod tests {
         // The face z = 0 held; the face z = 1 in contact: its normal DOFs trailing, listed
         // against the nodes' order, and the x DOFs of its first row too (a frictional pair's).
         let fixed: Vec<bool> = (0..n_dofs).map(|d| mesh.points[d / 3][2] == 0.0).collect();
-        let top: Vec<usize> = (0..mesh.n_nodes()).rev().filter(|&n| mesh.points[n][2] == 1.0).collect();
-        let trailing: Vec<usize> = top.iter().map(|&n| 3 * n + 2).chain(top.iter().filter(|&&n| mesh.points[n][1] == 0.0).map(|&n| 3 * n)).collect();
+        let top: Vec<usize> =
+            (0..mesh.n_nodes()).rev().filter(|&n| mesh.points[n][2] == 1.0).collect();
+        let trailing: Vec<usize> = top
+            .iter()
+            .map(|&n| 3 * n + 2)
+            .chain(top.iter().filter(|&&n| mesh.points[n][1] == 0.0).map(|&n| 3 * n))
+            .collect();
         let (_, map) = map_of(&mesh, &fixed, &trailing, NodeOrder::NestedDissection(&mesh.points));
         let n_free = fixed.iter().filter(|&&f| !f).count();
         assert_eq!(map.n_equations, n_free);
@@ -379,12 +450,18 @@ mod tests {
         let mesh = cube(16);
         let n_dofs = 3 * mesh.n_nodes();
         let fixed: Vec<bool> = (0..n_dofs).map(|d| mesh.points[d / 3][2] == 0.0).collect();
-        let top: Vec<usize> = (0..mesh.n_nodes()).filter(|&n| mesh.points[n][2] == 1.0).map(|n| 3 * n + 2).collect();
+        let top: Vec<usize> =
+            (0..mesh.n_nodes()).filter(|&n| mesh.points[n][2] == 1.0).map(|n| 3 * n + 2).collect();
         for trailing in [vec![], top] {
             let (elements, amd) = map_of(&mesh, &fixed, &trailing, NodeOrder::MinimumDegree);
-            let (_, nd) = map_of(&mesh, &fixed, &trailing, NodeOrder::NestedDissection(&mesh.points));
+            let (_, nd) =
+                map_of(&mesh, &fixed, &trailing, NodeOrder::NestedDissection(&mesh.points));
             let ratio = flops(&elements, &nd) / flops(&elements, &amd);
-            assert!(ratio < 0.75, "{} trailing DOFs: nested dissection / minimum degree flops = {ratio:.3}", trailing.len());
+            assert!(
+                ratio < 0.75,
+                "{} trailing DOFs: nested dissection / minimum degree flops = {ratio:.3}",
+                trailing.len()
+            );
         }
     }
 }

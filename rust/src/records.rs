@@ -227,4 +227,3 @@ pub struct Progress {
     /// Path time t (the load fraction for a single stage).
     pub t: f64,
 }
-

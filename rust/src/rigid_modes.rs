@@ -33,21 +33,36 @@ pub struct RigidMode {
 
 /// The number of elementary rigid motions in `dim` dimensions: translations, then rotations.
 pub fn elementary_modes(dim: usize) -> usize {
-    if dim == 2 { 3 } else { 6 }
+    if dim == 2 {
+        3
+    } else {
+        6
+    }
 }
 
 /// Free rigid modes of every body, plus the pinned DOFs (one per mode); `plane` is the 2D
 /// stress state (ignored in 3D).
-pub fn free_modes(mesh: &Mesh, body_of_node: &[usize], n_bodies: usize, fixed: &[bool], plane: Plane) -> (Vec<RigidMode>, Vec<usize>) {
+pub fn free_modes(
+    mesh: &Mesh,
+    body_of_node: &[usize],
+    n_bodies: usize,
+    fixed: &[bool],
+    plane: Plane,
+) -> (Vec<RigidMode>, Vec<usize>) {
     let dim = mesh.dim();
     let mut modes = Vec::new();
     let mut pinned = Vec::new();
     for body in 0..n_bodies {
-        let members: Vec<usize> = (0..mesh.n_nodes()).filter(|&i| body_of_node[i] == body).collect();
+        let members: Vec<usize> =
+            (0..mesh.n_nodes()).filter(|&i| body_of_node[i] == body).collect();
         let frame = BodyFrame::of(mesh, &members);
         let mut body_vectors: Vec<Vec<f64>> = Vec::new();
         let axisymmetric = dim == 2 && plane == Plane::Axisymmetric;
-        for coef in surviving_combinations(&frame.supports_gram(&members, fixed), frame.threshold(&members, fixed), axisymmetric) {
+        for coef in surviving_combinations(
+            &frame.supports_gram(&members, fixed),
+            frame.threshold(&members, fixed),
+            axisymmetric,
+        ) {
             let mut v = vec![0.0; fixed.len()];
             for &i in &members {
                 for c in 0..dim {
@@ -146,7 +161,13 @@ impl<'n> BodyFrame<'n> {
 /// plane's greedy choice lands, against 1e-11 of the full path.)
 fn pin_on_the_largest_ring(mesh: &Mesh, members: &[usize], vectors: &[Vec<f64>]) -> Vec<usize> {
     let nodes = &mesh.nodes;
-    let outer = members.iter().copied().fold(members[0], |best, i| if nodes[i][0] > nodes[best][0] { i } else { best });
+    let outer = members.iter().copied().fold(members[0], |best, i| {
+        if nodes[i][0] > nodes[best][0] {
+            i
+        } else {
+            best
+        }
+    });
     vectors.iter().map(|_| 2 * outer + 1).collect()
 }
 
@@ -158,10 +179,14 @@ fn surviving_combinations(ata: &DMatrix<f64>, threshold: f64, axisymmetric: bool
     if axisymmetric {
         return if ata[(1, 1)] <= threshold { vec![vec![0.0, 1.0, 0.0]] } else { vec![] };
     }
-    let null = |values: &[f64], column: &dyn Fn(usize) -> Vec<f64>| -> Vec<Vec<f64>> { (0..values.len()).filter(|&k| values[k] <= threshold).map(column).collect() };
+    let null = |values: &[f64], column: &dyn Fn(usize) -> Vec<f64>| -> Vec<Vec<f64>> {
+        (0..values.len()).filter(|&k| values[k] <= threshold).map(column).collect()
+    };
     if ata.nrows() == 3 {
         let eig = Matrix3::from_fn(|i, j| ata[(i, j)]).symmetric_eigen();
-        return null(eig.eigenvalues.as_slice(), &|k| eig.eigenvectors.column(k).iter().copied().collect());
+        return null(eig.eigenvalues.as_slice(), &|k| {
+            eig.eigenvectors.column(k).iter().copied().collect()
+        });
     }
     let eig = Matrix6::from_fn(|i, j| ata[(i, j)]).symmetric_eigen();
     null(eig.eigenvalues.as_slice(), &|k| eig.eigenvectors.column(k).iter().copied().collect())
@@ -171,9 +196,21 @@ fn surviving_combinations(ata: &DMatrix<f64>, threshold: f64, axisymmetric: bool
 pub fn describe(weights: &[f64]) -> String {
     let names: &[&str] = match weights.len() {
         3 => &["translation in x", "translation in y", "rotation"],
-        _ => &["translation in x", "translation in y", "translation in z", "rotation about x", "rotation about y", "rotation about z"],
+        _ => &[
+            "translation in x",
+            "translation in y",
+            "translation in z",
+            "rotation about x",
+            "rotation about y",
+            "rotation about z",
+        ],
     };
-    let parts: Vec<&str> = weights.iter().zip(names).filter(|(c, _)| c.abs() > NAMED_WEIGHT).map(|(_, &s)| s).collect();
+    let parts: Vec<&str> = weights
+        .iter()
+        .zip(names)
+        .filter(|(c, _)| c.abs() > NAMED_WEIGHT)
+        .map(|(_, &s)| s)
+        .collect();
     parts.join(" + ")
 }
 
@@ -184,7 +221,8 @@ fn pick_pinned_dofs(members: &[usize], dim: usize, vectors: &[Vec<f64>]) -> Vec<
     if r == 0 {
         return vec![];
     }
-    let dofs: Vec<usize> = members.iter().flat_map(|&i| (0..dim).map(move |c| dim * i + c)).collect();
+    let dofs: Vec<usize> =
+        members.iter().flat_map(|&i| (0..dim).map(move |c| dim * i + c)).collect();
     let mut rows = DMatrix::<f64>::zeros(dofs.len(), r);
     for (j, &d) in dofs.iter().enumerate() {
         for k in 0..r {
@@ -222,12 +260,17 @@ mod tests {
     use super::*;
 
     fn square_nodes() -> Mesh {
-        Mesh::plane(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], vec![[0, 1, 2], [0, 2, 3]])
+        Mesh::plane(
+            vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
     }
 
     /// The unit cube's corners in 3D (five tetrahedra are not needed: modes read the nodes).
     fn cube() -> Mesh {
-        let points = (0..8).map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64]).collect();
+        let points = (0..8)
+            .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+            .collect();
         Mesh::space(points, vec![[0, 1, 2, 4]])
     }
 
@@ -260,7 +303,12 @@ mod tests {
         let (modes, _) = free_modes(&m, &[0; 8], 1, &z_only, Plane::Strain);
         assert_eq!(modes.len(), 3);
         let words: Vec<&str> = modes.iter().map(|md| md.description.as_str()).collect();
-        assert!(words.iter().all(|w| !w.contains("translation in z") && !w.contains("rotation about x") && !w.contains("rotation about y")), "{words:?}");
+        assert!(
+            words.iter().all(|w| !w.contains("translation in z")
+                && !w.contains("rotation about x")
+                && !w.contains("rotation about y")),
+            "{words:?}"
+        );
     }
 
     #[test]

@@ -371,7 +371,8 @@ mod tests {
         let s = from_planar([100.0, -100.0, 0.0, 20.0]);
         for plane in [Plane::Strain, Plane::Stress, Plane::Axisymmetric] {
             let sec = section(m, plane);
-            let diff = sec.element_matrix(&sec.tangent(&s, true)) - sec.element_matrix(&sec.tangent(&s, false));
+            let diff = sec.element_matrix(&sec.tangent(&s, true))
+                - sec.element_matrix(&sec.tangent(&s, false));
             let mut v: Vec<f64> = diff.singular_values().iter().copied().collect();
             v.sort_by(|a, b| b.partial_cmp(a).unwrap());
             assert!(v[0] > 0.0 && v[1] < 1e-9 * v[0], "{plane:?}: {v:?}");
@@ -394,7 +395,10 @@ mod tests {
             let d_elastic = m.elastic_d() * e;
             let (ds, multiplier) = section(m, plane).plastic_increment(&s, &e, &d_elastic);
             let expected = compliance_a2(&m, &s).try_inverse().unwrap() * e;
-            assert!((ds - expected).norm() < 1e-9 * expected.norm(), "{plane:?}: {ds} vs {expected}");
+            assert!(
+                (ds - expected).norm() < 1e-9 * expected.norm(),
+                "{plane:?}: {ds} vs {expected}"
+            );
             let a = flow_vector(&s);
             assert!((multiplier - a.dot(&ds) / m.hardening).abs() < 1e-9 * multiplier.abs());
         }
@@ -428,7 +432,9 @@ mod tests {
         let (ds, multiplier) = sec.plastic_increment(&s, &e, &(m.elastic_d() * e));
         let expected = compliance_a2(&m, &s).try_inverse().unwrap() * e;
         assert!((ds - expected).norm() < 1e-9 * expected.norm(), "{ds} vs {expected}");
-        assert!((multiplier - flow_vector(&s).dot(&ds) / m.hardening).abs() < 1e-9 * multiplier.abs());
+        assert!(
+            (multiplier - flow_vector(&s).dot(&ds) / m.hardening).abs() < 1e-9 * multiplier.abs()
+        );
         let t = sec.tangent(&s, true);
         let (a, g) = (flow_vector(&s), m.shear_modulus());
         let se = von_mises(&s);
@@ -447,12 +453,18 @@ mod tests {
         let s = Voigt::from_row_slice(&[120.0, -80.0, 30.0, 15.0, -25.0, 40.0]);
         let t = [[s[0], s[5], s[4]], [s[5], s[1], s[3]], [s[4], s[3], s[2]]];
         let p = (s[0] + s[1] + s[2]) / 3.0;
-        let ss: f64 = (0..3).flat_map(|i| (0..3).map(move |j| (i, j))).map(|(i, j)| {
-            let d = t[i][j] - if i == j { p } else { 0.0 };
-            d * d
-        }).sum();
+        let ss: f64 = (0..3)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                let d = t[i][j] - if i == j { p } else { 0.0 };
+                d * d
+            })
+            .sum();
         assert!((von_mises_squared(&s) - 1.5 * ss).abs() < 1e-10 * ss);
         let on = Section::new(hardening_aluminium(), &Solid).onto_yield_surface(&s, 50.0);
-        assert!((von_mises(&on) - 50.0).abs() < 1e-12 * 50.0 && ((on[0] + on[1] + on[2]) - 3.0 * p).abs() < 1e-12 * 100.0);
+        assert!(
+            (von_mises(&on) - 50.0).abs() < 1e-12 * 50.0
+                && ((on[0] + on[1] + on[2]) - 3.0 * p).abs() < 1e-12 * 100.0
+        );
     }
 }

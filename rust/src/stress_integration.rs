@@ -60,7 +60,12 @@ pub fn integrate(section: &Section, start: &PointState, e: &Voigt) -> Integrated
     let m = &section.material;
     let elastic = section.tangent(&start.stress, false);
     let d_elastic = section.stress_increment(&elastic, e);
-    let mut out = Integrated { end: PointState { stress: start.stress + d_elastic, ..*start }, yielded_at: None, unloaded: false, substeps: 0 };
+    let mut out = Integrated {
+        end: PointState { stress: start.stress + d_elastic, ..*start },
+        yielded_at: None,
+        unloaded: false,
+        substeps: 0,
+    };
     if !m.is_plastic() || strain_size(e) == 0.0 {
         return out;
     }
@@ -92,7 +97,8 @@ pub fn integrate(section: &Section, start: &PointState, e: &Voigt) -> Integrated
     }
     let on_surface = start.stress + d_elastic * r;
     let rest = 1.0 - r;
-    let (stress, plastic_strain, substeps) = flow(section, on_surface, start.plastic_strain, &(e * rest), &(d_elastic * rest));
+    let (stress, plastic_strain, substeps) =
+        flow(section, on_surface, start.plastic_strain, &(e * rest), &(d_elastic * rest));
     out.end = PointState { stress, plastic_strain, plastic: true };
     out.substeps = substeps;
     out
@@ -121,7 +127,13 @@ fn reentry(stress: &Voigt, d_elastic: &Voigt, sy: f64) -> Option<f64> {
 /// Plastic flow from `stress` (on the yield surface) over the strain increment `e`, whose
 /// elastic stress increment is `d_elastic` (D Δε, linear in the step): modified Euler
 /// sub-steps with error control. Returns the stress, εp and the number of sub-steps.
-fn flow(section: &Section, mut stress: Voigt, mut plastic_strain: f64, e: &Voigt, d_elastic: &Voigt) -> (Voigt, f64, usize) {
+fn flow(
+    section: &Section,
+    mut stress: Voigt,
+    mut plastic_strain: f64,
+    e: &Voigt,
+    d_elastic: &Voigt,
+) -> (Voigt, f64, usize) {
     let (mut done, mut step, mut retried, mut substeps) = (0.0, 1.0, false, 0);
     while done < 1.0 {
         let (es, des) = (e * step, d_elastic * step);
@@ -132,14 +144,16 @@ fn flow(section: &Section, mut stress: Voigt, mut plastic_strain: f64, e: &Voigt
         let error = tensor_norm(&(ds2 - ds1)) / (2.0 * tensor_norm(&next).max(f64::MIN_POSITIVE));
         substeps += 1;
         if error > STRESS_TOLERANCE && step > SMALLEST_SUBSTEP {
-            step = (step * (0.9 * (STRESS_TOLERANCE / error).sqrt()).max(0.1)).max(SMALLEST_SUBSTEP);
+            step =
+                (step * (0.9 * (STRESS_TOLERANCE / error).sqrt()).max(0.1)).max(SMALLEST_SUBSTEP);
             retried = true;
             continue;
         }
         plastic_strain += 0.5 * (dk1 + dk2);
         stress = section.onto_yield_surface(&next, section.material.current_yield(plastic_strain));
         done += step;
-        let mut grow = if error > 0.0 { (0.9 * (STRESS_TOLERANCE / error).sqrt()).min(1.1) } else { 1.1 };
+        let mut grow =
+            if error > 0.0 { (0.9 * (STRESS_TOLERANCE / error).sqrt()).min(1.1) } else { 1.1 };
         if retried {
             grow = grow.min(1.0);
             retried = false;
@@ -185,18 +199,30 @@ mod tests {
             let m = steel(h);
             let g = m.young / (2.0 * (1.0 + m.poisson));
             let gamma = 5.0 * m.yield_stress / (3f64.sqrt() * g); // 5 × the yield strain
-            let out = integrate(&at(&m, Plane::Strain), &start(), &from_planar([0.0, 0.0, 0.0, gamma]));
+            let out =
+                integrate(&at(&m, Plane::Strain), &start(), &from_planar([0.0, 0.0, 0.0, gamma]));
             let tau_y = m.yield_stress / 3f64.sqrt();
             let gamma_y = tau_y / g;
             let tau = tau_y + g * h / (h + 3.0 * g) * (gamma - gamma_y);
-            assert!((out.end.stress[XY] - tau).abs() < 1e-9 * tau, "H' = {h}: τ = {} vs {tau}", out.end.stress[XY]);
+            assert!(
+                (out.end.stress[XY] - tau).abs() < 1e-9 * tau,
+                "H' = {h}: τ = {} vs {tau}",
+                out.end.stress[XY]
+            );
             assert!(out.end.stress.fixed_rows::<3>(0).norm() < 1e-9 * tau);
             let r = out.yielded_at.unwrap();
-            assert!((r - gamma_y / gamma).abs() < 1e-12, "elastic fraction {r} vs {}", gamma_y / gamma);
+            assert!(
+                (r - gamma_y / gamma).abs() < 1e-12,
+                "elastic fraction {r} vs {}",
+                gamma_y / gamma
+            );
             // εp = (γ − γy − (τ − τy)/G)/√3, and the end state is on the hardened surface.
             let ep = (gamma - gamma_y - (tau - tau_y) / g) / 3f64.sqrt();
             assert!((out.end.plastic_strain - ep).abs() < 1e-9 * ep);
-            assert!((von_mises(&out.end.stress) - m.current_yield(out.end.plastic_strain)).abs() < 1e-9 * m.yield_stress);
+            assert!(
+                (von_mises(&out.end.stress) - m.current_yield(out.end.plastic_strain)).abs()
+                    < 1e-9 * m.yield_stress
+            );
         }
     }
 
@@ -211,10 +237,17 @@ mod tests {
         let sigma = m.yield_stress + (eps - eps_y) / ((1.0 - nu) / e + 0.5 / h);
         let out = integrate(&at(&m, Plane::Stress), &start(), &from_planar([eps, eps, 0.0, 0.0]));
         for i in 0..2 {
-            assert!((out.end.stress[i] - sigma).abs() < 1e-9 * sigma, "σ{i} = {} vs {sigma}", out.end.stress[i]);
+            assert!(
+                (out.end.stress[i] - sigma).abs() < 1e-9 * sigma,
+                "σ{i} = {} vs {sigma}",
+                out.end.stress[i]
+            );
         }
         assert!(out.end.stress[2] == 0.0 || out.end.stress[2].abs() < 1e-12 * sigma);
-        assert!((out.end.plastic_strain - (sigma - m.yield_stress) / h).abs() < 1e-9 * out.end.plastic_strain);
+        assert!(
+            (out.end.plastic_strain - (sigma - m.yield_stress) / h).abs()
+                < 1e-9 * out.end.plastic_strain
+        );
         assert!((out.yielded_at.unwrap() - 0.25).abs() < 1e-12);
     }
 
@@ -228,8 +261,14 @@ mod tests {
         let m = steel(1_000.0);
         let g = m.young / (2.0 * (1.0 + m.poisson));
         let gamma = 2.0 * m.yield_stress / (3f64.sqrt() * g);
-        let sheared = integrate(&at(&m, Plane::Strain), &start(), &from_planar([0.0, 0.0, 0.0, gamma])).end;
-        let e = from_planar([3.0 * m.yield_stress / m.young, -1.0 * m.yield_stress / m.young, 0.0, 0.2 * gamma]);
+        let sheared =
+            integrate(&at(&m, Plane::Strain), &start(), &from_planar([0.0, 0.0, 0.0, gamma])).end;
+        let e = from_planar([
+            3.0 * m.yield_stress / m.young,
+            -1.0 * m.yield_stress / m.young,
+            0.0,
+            0.2 * gamma,
+        ]);
         let out = integrate(&at(&m, Plane::Strain), &sheared, &e);
         let n = 200_000;
         let (mut s, mut k) = (sheared.stress, sheared.plastic_strain);
@@ -240,9 +279,16 @@ mod tests {
             s += sec.stress_increment(&t, &es);
         }
         let scale = m.yield_stress;
-        assert!((out.end.stress - s).norm() < 5e-5 * scale, "Δσ = {:e}", (out.end.stress - s).norm());
+        assert!(
+            (out.end.stress - s).norm() < 5e-5 * scale,
+            "Δσ = {:e}",
+            (out.end.stress - s).norm()
+        );
         assert!((out.end.plastic_strain - k).abs() < 5e-5 * k);
-        assert!((von_mises(&out.end.stress) - m.current_yield(out.end.plastic_strain)).abs() < 1e-9 * scale);
+        assert!(
+            (von_mises(&out.end.stress) - m.current_yield(out.end.plastic_strain)).abs()
+                < 1e-9 * scale
+        );
         assert!(out.substeps > 1, "the turn needs more than one sub-step");
     }
 
@@ -256,18 +302,33 @@ mod tests {
         let m = steel(2_000.0);
         let g = m.young / (2.0 * (1.0 + m.poisson));
         let tau_y = m.yield_stress / 3f64.sqrt();
-        let inside = PointState { stress: from_planar([0.0, 0.0, 0.0, 0.99 * tau_y]), plastic_strain: 0.0, plastic: true };
+        let inside = PointState {
+            stress: from_planar([0.0, 0.0, 0.0, 0.99 * tau_y]),
+            plastic_strain: 0.0,
+            plastic: true,
+        };
         let gamma = 2.0 * tau_y / g;
         let out = integrate(&at(&m, Plane::Strain), &inside, &from_planar([0.0, 0.0, 0.0, gamma]));
         let elastic = 0.01 * tau_y / g;
         let tau = tau_y + g * m.hardening / (m.hardening + 3.0 * g) * (gamma - elastic);
-        assert!((out.end.stress[XY] - tau).abs() < 1e-9 * tau, "τ = {} vs {tau}", out.end.stress[XY]);
+        assert!(
+            (out.end.stress[XY] - tau).abs() < 1e-9 * tau,
+            "τ = {} vs {tau}",
+            out.end.stress[XY]
+        );
         assert!(out.end.plastic && !out.unloaded && out.yielded_at.is_none());
-        let short = integrate(&at(&m, Plane::Strain), &inside, &from_planar([0.0, 0.0, 0.0, 0.5 * elastic]));
+        let short = integrate(
+            &at(&m, Plane::Strain),
+            &inside,
+            &from_planar([0.0, 0.0, 0.0, 0.5 * elastic]),
+        );
         assert!(short.end.plastic && short.end.plastic_strain == 0.0);
         assert!((short.end.stress[XY] - (0.99 * tau_y + 0.5 * elastic * g)).abs() < 1e-12 * tau_y);
         for plane in [Plane::Strain, Plane::Stress] {
-            assert_eq!(at(&m, plane).not_beyond_surface(&inside.stress, m.yield_stress), inside.stress);
+            assert_eq!(
+                at(&m, plane).not_beyond_surface(&inside.stress, m.yield_stress),
+                inside.stress
+            );
             let beyond = at(&m, plane).not_beyond_surface(&(inside.stress * 1.1), m.yield_stress);
             assert!((von_mises(&beyond) - m.yield_stress).abs() < 1e-12 * m.yield_stress);
         }
@@ -281,14 +342,31 @@ mod tests {
         let m = steel(0.0);
         let g = m.young / (2.0 * (1.0 + m.poisson));
         let gamma_y = m.yield_stress / (3f64.sqrt() * g);
-        let loaded = integrate(&at(&m, Plane::Strain), &start(), &from_planar([0.0, 0.0, 0.0, 1.5 * gamma_y])).end;
-        let back = integrate(&at(&m, Plane::Strain), &loaded, &from_planar([0.0, 0.0, 0.0, -gamma_y]));
+        let loaded = integrate(
+            &at(&m, Plane::Strain),
+            &start(),
+            &from_planar([0.0, 0.0, 0.0, 1.5 * gamma_y]),
+        )
+        .end;
+        let back =
+            integrate(&at(&m, Plane::Strain), &loaded, &from_planar([0.0, 0.0, 0.0, -gamma_y]));
         assert!(back.unloaded && !back.end.plastic && back.yielded_at.is_none());
-        assert!((back.end.stress[XY] - (loaded.stress[XY] - g * gamma_y)).abs() < 1e-9 * m.yield_stress);
+        assert!(
+            (back.end.stress[XY] - (loaded.stress[XY] - g * gamma_y)).abs() < 1e-9 * m.yield_stress
+        );
         assert_eq!(back.end.plastic_strain, loaded.plastic_strain);
-        let reversed = integrate(&at(&m, Plane::Strain), &loaded, &from_planar([0.0, 0.0, 0.0, -3.0 * gamma_y]));
+        let reversed = integrate(
+            &at(&m, Plane::Strain),
+            &loaded,
+            &from_planar([0.0, 0.0, 0.0, -3.0 * gamma_y]),
+        );
         let r = reversed.yielded_at.unwrap();
-        assert!((r - 2.0 / 3.0).abs() < 1e-9, "re-yield at {r}: 2γy of the 3γy reversal are elastic");
-        assert!((reversed.end.stress[XY] + m.yield_stress / 3f64.sqrt()).abs() < 1e-9 * m.yield_stress);
+        assert!(
+            (r - 2.0 / 3.0).abs() < 1e-9,
+            "re-yield at {r}: 2γy of the 3γy reversal are elastic"
+        );
+        assert!(
+            (reversed.end.stress[XY] + m.yield_stress / 3f64.sqrt()).abs() < 1e-9 * m.yield_stress
+        );
     }
 }

@@ -47,7 +47,13 @@ fn top_traction(mesh: &Mesh, y_top: f64, traction: [f64; 2], load: &mut [f64]) {
     }
 }
 
-fn model(mesh: Mesh, fixed: Vec<usize>, load: Vec<f64>, pairs: Vec<PairInput>, plane: Plane) -> Model {
+fn model(
+    mesh: Mesh,
+    fixed: Vec<usize>,
+    load: Vec<f64>,
+    pairs: Vec<PairInput>,
+    plane: Plane,
+) -> Model {
     let n_el = mesh.triangles.len();
     Model {
         mesh,
@@ -92,7 +98,10 @@ fn patch_test_uniform_tension_gives_uniform_stress() {
         assert_eq!(res.steps.len(), 1, "no contact: one increment");
         let last = res.snapshots.last().unwrap();
         for s in &last.stress {
-            assert!((s[0] - 5.0).abs() < 1e-10 && s[1].abs() < 1e-10 && s[3].abs() < 1e-10, "{s:?}");
+            assert!(
+                (s[0] - 5.0).abs() < 1e-10 && s[1].abs() < 1e-10 && s[3].abs() < 1e-10,
+                "{s:?}"
+            );
             let sz = if plane == Plane::Strain { 0.3 * 5.0 } else { 0.0 };
             assert!((s[2] - sz).abs() < 1e-10);
         }
@@ -113,13 +122,23 @@ fn block_on_rigid_flat_closed_from_the_start() {
     let (w, h, q) = (2.0, 1.0, 3.0);
     let mesh = rectangle(0.0, 0.0, w, h, 6, 3);
     let n = mesh.nodes.len();
-    let fixed: Vec<usize> = nodes_where(&mesh, |p| p[0].abs() < 1e-12).iter().map(|i| 2 * i).collect();
+    let fixed: Vec<usize> =
+        nodes_where(&mesh, |p| p[0].abs() < 1e-12).iter().map(|i| 2 * i).collect();
     let mut load = vec![0.0; 2 * n];
     top_traction(&mesh, h, [0.0, -q], &mut load);
     for mu in [0.0, 0.5] {
         let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12)
             .into_iter()
-            .map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] })
+            .map(|i| PairInput {
+                node_a: i,
+                node_b: None,
+                normal: [0.0, 1.0, 0.0],
+                tangents: None,
+                gap: 0.0,
+                mu,
+                contact: 0,
+                weights: vec![],
+            })
             .collect();
         let m = model(mesh.clone(), fixed.clone(), load.clone(), pairs, Plane::Strain);
         let res = slipstep_core::run(&m, |_| true).unwrap();
@@ -161,8 +180,21 @@ fn flat_punch_gap_closes_at_the_predicted_load() {
     }
     // Reference: the same model without contact gives u_y at full load.
     let free = model(mesh.clone(), fixed.clone(), load.clone(), vec![], Plane::Stress);
-    let uy_full = slipstep_core::run(&free, |_| true).unwrap().snapshots.last().unwrap().u[2 * bottom[0] + 1];
-    let pairs = bottom.iter().map(|&i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.01, mu: 0.0, contact: 0, weights: vec![] }).collect();
+    let uy_full =
+        slipstep_core::run(&free, |_| true).unwrap().snapshots.last().unwrap().u[2 * bottom[0] + 1];
+    let pairs = bottom
+        .iter()
+        .map(|&i| PairInput {
+            node_a: i,
+            node_b: None,
+            normal: [0.0, 1.0, 0.0],
+            tangents: None,
+            gap: 0.01,
+            mu: 0.0,
+            contact: 0,
+            weights: vec![],
+        })
+        .collect();
     let m = model(mesh, fixed, load, pairs, Plane::Stress);
     let res = slipstep_core::run(&m, |_| true).unwrap();
     let closes: Vec<_> = res.events.iter().filter(|e| e.kind == EventKind::Close).collect();
@@ -171,7 +203,10 @@ fn flat_punch_gap_closes_at_the_predicted_load() {
     assert!(f_expected < 1.0, "test set-up: the gap must close before full load");
     // The first closure happens exactly when the most-displaced bottom node reaches the flat.
     let first = closes[0].load_fraction;
-    assert!(first <= f_expected * (1.0 + 1e-9), "first closure {first} vs uniform-gap estimate {f_expected}");
+    assert!(
+        first <= f_expected * (1.0 + 1e-9),
+        "first closure {first} vs uniform-gap estimate {f_expected}"
+    );
     let last = res.snapshots.last().unwrap();
     assert!(last.gap.iter().all(|&g| g > -1e-12));
 }
@@ -181,12 +216,22 @@ fn body_free_to_translate_is_a_clear_error() {
     // A block with only x-symmetry and an open gap below: nothing holds it vertically.
     let mesh = rectangle(0.0, 0.1, 1.0, 1.0, 2, 2);
     let n = mesh.nodes.len();
-    let fixed: Vec<usize> = nodes_where(&mesh, |p| p[0].abs() < 1e-12).iter().map(|i| 2 * i).collect();
+    let fixed: Vec<usize> =
+        nodes_where(&mesh, |p| p[0].abs() < 1e-12).iter().map(|i| 2 * i).collect();
     let mut load = vec![0.0; 2 * n];
     top_traction(&mesh, 1.1, [0.0, -1.0], &mut load);
     let pairs = nodes_where(&mesh, |p| (p[1] - 0.1).abs() < 1e-12)
         .into_iter()
-        .map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.1, mu: 0.0, contact: 0, weights: vec![] })
+        .map(|i| PairInput {
+            node_a: i,
+            node_b: None,
+            normal: [0.0, 1.0, 0.0],
+            tangents: None,
+            gap: 0.1,
+            mu: 0.0,
+            contact: 0,
+            weights: vec![],
+        })
         .collect();
     let m = model(mesh, fixed, load, pairs, Plane::Strain);
     let err = slipstep_core::run(&m, |_| true).unwrap_err().message;
@@ -198,7 +243,24 @@ fn initial_penetration_and_negative_mu_are_named() {
     let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 1, 1);
     let mut load = vec![0.0; 8];
     load[5] = -1.0;
-    let mk = |gap: f64, mu: f64| model(mesh.clone(), vec![0, 6], load.clone(), vec![PairInput { node_a: 1, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap, mu, contact: 0, weights: vec![] }], Plane::Strain);
+    let mk = |gap: f64, mu: f64| {
+        model(
+            mesh.clone(),
+            vec![0, 6],
+            load.clone(),
+            vec![PairInput {
+                node_a: 1,
+                node_b: None,
+                normal: [0.0, 1.0, 0.0],
+                tangents: None,
+                gap,
+                mu,
+                contact: 0,
+                weights: vec![],
+            }],
+            Plane::Strain,
+        )
+    };
     let e = slipstep_core::run(&mk(-0.1, 0.0), |_| true).unwrap_err().message;
     assert!(e.starts_with("initial penetration at contact pair 0"), "{e}");
     let e = slipstep_core::run(&mk(0.0, -0.2), |_| true).unwrap_err().message;
@@ -238,8 +300,22 @@ fn two_blocks(q: f64, wu: f64) -> Model {
         if (mesh.nodes[a][1] - 1.0).abs() > 1e-12 {
             continue;
         }
-        let b = (0..off).find(|&b| (mesh.nodes[b][0] - mesh.nodes[a][0]).abs() < 1e-12 && (mesh.nodes[b][1] - 1.0).abs() < 1e-12).unwrap();
-        pairs.push(PairInput { node_a: a, node_b: Some(b), normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.0, mu: 0.2, contact: 0, weights: vec![] });
+        let b = (0..off)
+            .find(|&b| {
+                (mesh.nodes[b][0] - mesh.nodes[a][0]).abs() < 1e-12
+                    && (mesh.nodes[b][1] - 1.0).abs() < 1e-12
+            })
+            .unwrap();
+        pairs.push(PairInput {
+            node_a: a,
+            node_b: Some(b),
+            normal: [0.0, 1.0, 0.0],
+            tangents: None,
+            gap: 0.0,
+            mu: 0.2,
+            contact: 0,
+            weights: vec![],
+        });
     }
     model(mesh, fixed, load, pairs, Plane::Strain)
 }
@@ -263,7 +339,10 @@ fn tractionless_body_returns_zero_stress() {
     // Supported square without load: one increment, zero displacement and zero stress.
     let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 3, 3);
     let n = mesh.nodes.len();
-    let fixed: Vec<usize> = nodes_where(&mesh, |p| p[1].abs() < 1e-12).iter().flat_map(|&i| [2 * i, 2 * i + 1]).collect();
+    let fixed: Vec<usize> = nodes_where(&mesh, |p| p[1].abs() < 1e-12)
+        .iter()
+        .flat_map(|&i| [2 * i, 2 * i + 1])
+        .collect();
     let m = model(mesh, fixed, vec![0.0; 2 * n], vec![], Plane::Strain);
     let res = slipstep_core::run(&m, |_| true).unwrap();
     let last = res.snapshots.last().unwrap();
@@ -314,9 +393,16 @@ fn uniaxial_plane_stress_follows_the_hardening_line_exactly() {
         let s = snap.load_fraction * q;
         let strain = s / e + ((s - sy) / h).max(0.0);
         let ux = snap.u[2 * 1]; // node (1, 0)
-        assert!((ux - strain).abs() < 1e-12 * strain.max(1e-3), "f = {}: {ux} vs {strain}", snap.load_fraction);
+        assert!(
+            (ux - strain).abs() < 1e-12 * strain.max(1e-3),
+            "f = {}: {ux} vs {strain}",
+            snap.load_fraction
+        );
         for (k, st) in snap.stress.iter().enumerate() {
-            assert!((st[0] - s).abs() < 1e-9 && st[1].abs() < 1e-9 && st[2].abs() < 1e-9, "{st:?} vs σ = {s}");
+            assert!(
+                (st[0] - s).abs() < 1e-9 && st[1].abs() < 1e-9 && st[2].abs() < 1e-9,
+                "{st:?} vs σ = {s}"
+            );
             assert!((snap.plastic_strain[k] - ((s - sy) / h).max(0.0)).abs() < 1e-12);
         }
     }
@@ -336,7 +422,9 @@ fn plane_strain_compression_stays_on_the_hardening_line() {
     // relative. With a tangent up to θ = tangent_turn off the flow, the correction (at most
     // max_stress_step² of σy: the linearization error of an increment) departs by up to
     // θ × that: 0.05 × 0.05² = 1.25e-4.
-    for (turn, bound) in [(0.0, 1e-7), (slipstep_core::model::DEFAULT_TANGENT_TURN, 0.05 * 0.05 * 0.05)] {
+    for (turn, bound) in
+        [(0.0, 1e-7), (slipstep_core::model::DEFAULT_TANGENT_TURN, 0.05 * 0.05 * 0.05)]
+    {
         m.options.tangent_turn = turn;
         let res = slipstep_core::run(&m, |_| true).unwrap();
         let last = res.snapshots.last().unwrap();
@@ -344,7 +432,11 @@ fn plane_strain_compression_stays_on_the_hardening_line() {
             let se = slipstep_core::material::von_mises(&nalgebra::Vector6::from_row_slice(st));
             let ep = last.plastic_strain[k];
             assert!(ep > 0.0);
-            assert!((se - (sy + h * ep)).abs() < bound * se, "turn {turn}: {se} vs {}", sy + h * ep);
+            assert!(
+                (se - (sy + h * ep)).abs() < bound * se,
+                "turn {turn}: {se} vs {}",
+                sy + h * ep
+            );
             assert!((st[1] + 6.0).abs() < 1e-9, "equilibrium: σy = −q");
         }
     }
@@ -372,7 +464,10 @@ fn reduced_elastic_mode_reproduces_the_general_path() {
     }
     for (x, y) in a.snapshots.iter().zip(&b.snapshots) {
         for k in 0..x.lambda_n.len() {
-            assert!((x.lambda_n[k] - y.lambda_n[k]).abs() < 1e-10 && (x.lambda_t[k] - y.lambda_t[k]).abs() < 1e-10);
+            assert!(
+                (x.lambda_n[k] - y.lambda_n[k]).abs() < 1e-10
+                    && (x.lambda_t[k] - y.lambda_t[k]).abs() < 1e-10
+            );
         }
         for k in 0..x.u.len() {
             assert!((x.u[k] - y.u[k]).abs() < 1e-12);
@@ -388,9 +483,26 @@ fn sheared_block(mu: f64, tau: f64) -> Model {
     let n = mesh.nodes.len();
     let mut load = vec![0.0; 2 * n];
     top_traction(&mesh, 1.0, [tau, -1.0], &mut load);
-    let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12).into_iter().map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
+    let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12)
+        .into_iter()
+        .map(|i| PairInput {
+            node_a: i,
+            node_b: None,
+            normal: [0.0, 1.0, 0.0],
+            tangents: None,
+            gap: 0.0,
+            mu,
+            contact: 0,
+            weights: vec![],
+        })
+        .collect();
     let mut m = model(mesh, vec![], load, pairs, Plane::Strain);
-    m.names = Names { bodies: vec!["block".into()], element_body: vec![0; m.mesh.triangles.len()], contacts: vec!["base".into()], ..Default::default() };
+    m.names = Names {
+        bodies: vec!["block".into()],
+        element_body: vec![0; m.mesh.triangles.len()],
+        contacts: vec!["base".into()],
+        ..Default::default()
+    };
     m
 }
 
@@ -405,7 +517,10 @@ fn the_core_validates_its_options_itself() {
     assert!(err.message.starts_with("options.tie_tol = NaN is not allowed"), "{}", err.message);
     let mut m = sheared_block(0.5, 0.1);
     m.pairs[0].contact = 3;
-    assert_eq!(slipstep_core::run(&m, |_| true).unwrap_err().kind, slipstep_core::error::ErrorKind::Input);
+    assert_eq!(
+        slipstep_core::run(&m, |_| true).unwrap_err().kind,
+        slipstep_core::error::ErrorKind::Input
+    );
 }
 
 #[test]
@@ -416,7 +531,11 @@ fn shear_beyond_the_friction_limit_is_gross_sliding_of_the_named_body() {
     assert_eq!(err.kind, slipstep_core::error::ErrorKind::GrossSliding, "{}", err.message);
     assert!(err.message.starts_with("body 'block' slides as a whole"), "{}", err.message);
     assert!(err.message.contains("translation in x"), "{}", err.message);
-    assert!(err.message.contains("T = 1.2000e0") && err.message.contains("μN = 1.0000e0"), "{}", err.message);
+    assert!(
+        err.message.contains("T = 1.2000e0") && err.message.contains("μN = 1.0000e0"),
+        "{}",
+        err.message
+    );
     // Frictionless, any tangential load slides the block: capacity μN = 0.
     let err = slipstep_core::run(&sheared_block(0.0, 0.1), |_| true).unwrap_err();
     assert_eq!(err.kind, slipstep_core::error::ErrorKind::GrossSliding, "{}", err.message);
@@ -435,11 +554,26 @@ fn shear_beyond_the_friction_limit_is_gross_sliding_of_the_named_body() {
 fn hanging_column(pull: f64, mu: f64) -> (Model, Vec<usize>) {
     let mesh = rectangle(0.0, 0.01, 1.0, 2.0, 2, 4);
     let n = mesh.nodes.len();
-    let fixed: Vec<usize> = nodes_where(&mesh, |p| (p[1] - 2.01).abs() < 1e-12).into_iter().flat_map(|i| [2 * i, 2 * i + 1]).collect();
+    let fixed: Vec<usize> = nodes_where(&mesh, |p| (p[1] - 2.01).abs() < 1e-12)
+        .into_iter()
+        .flat_map(|i| [2 * i, 2 * i + 1])
+        .collect();
     let bottom = nodes_where(&mesh, |p| (p[1] - 0.01).abs() < 1e-12);
     let mut load = vec![0.0; 2 * n];
     bottom.iter().for_each(|&i| load[2 * i + 1] = -pull);
-    let pairs = bottom.iter().map(|&i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.01, mu, contact: 0, weights: vec![] }).collect();
+    let pairs = bottom
+        .iter()
+        .map(|&i| PairInput {
+            node_a: i,
+            node_b: None,
+            normal: [0.0, 1.0, 0.0],
+            tangents: None,
+            gap: 0.01,
+            mu,
+            contact: 0,
+            weights: vec![],
+        })
+        .collect();
     (model(mesh, fixed, load, pairs, Plane::Stress), bottom)
 }
 
@@ -456,7 +590,8 @@ fn elastic_load_then_unload_retraces_the_path() {
     m.stages = vec![stage(&[1.0]), stage(&[0.0])];
     let res = slipstep_core::run(&m, |_| true).unwrap();
     assert_eq!(res.stop, StopReason::Completed);
-    let (loaded, last) = (res.snapshots.iter().find(|s| s.time == 1.0).unwrap(), res.snapshots.last().unwrap());
+    let (loaded, last) =
+        (res.snapshots.iter().find(|s| s.time == 1.0).unwrap(), res.snapshots.last().unwrap());
     assert_eq!(last.time, 2.0);
     let umax = loaded.u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let lmax = loaded.lambda_n.iter().fold(0.0f64, |a, v| a.max(*v));
@@ -468,7 +603,12 @@ fn elastic_load_then_unload_retraces_the_path() {
     for c in closes {
         let sep = res.events.iter().find(|e| e.kind == EventKind::Separate && e.entity == c.entity);
         let t = sep.map_or(2.0, |e| e.time); // the last to close may separate exactly at t = 2
-        assert!((t - (2.0 - c.time)).abs() < 1e-9, "pair {} closed at {} but separates at {t}", c.entity, c.time);
+        assert!(
+            (t - (2.0 - c.time)).abs() < 1e-9,
+            "pair {} closed at {} but separates at {t}",
+            c.entity,
+            c.time
+        );
     }
 }
 
@@ -483,16 +623,30 @@ fn prescribed_displacement_is_held_by_the_force_that_produces_it() {
     let u = &forced.snapshots.last().unwrap().u;
     let mut held = free.clone();
     held.load = vec![0.0; u.len()];
-    held.patterns = vec![LoadPattern { name: "pull".into(), displacement: bottom.iter().flat_map(|&i| [(2 * i, u[2 * i]), (2 * i + 1, u[2 * i + 1])]).collect(), ..Default::default() }];
+    held.patterns = vec![LoadPattern {
+        name: "pull".into(),
+        displacement: bottom
+            .iter()
+            .flat_map(|&i| [(2 * i, u[2 * i]), (2 * i + 1, u[2 * i + 1])])
+            .collect(),
+        ..Default::default()
+    }];
     held.options.reduced_elastic = false;
     for reduced in [false, true] {
         held.options.reduced_elastic = reduced;
         let res = slipstep_core::run(&held, |_| true).unwrap();
         let snap = res.snapshots.last().unwrap();
         let umax = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        assert!(snap.u.iter().zip(u).all(|(a, b)| (a - b).abs() <= 1e-9 * umax), "reduced = {reduced}: fields differ");
+        assert!(
+            snap.u.iter().zip(u).all(|(a, b)| (a - b).abs() <= 1e-9 * umax),
+            "reduced = {reduced}: fields differ"
+        );
         for &i in &bottom {
-            assert!((snap.reaction[2 * i + 1] - (-10.0)).abs() < 1e-9 * 10.0, "reaction {} at node {i}", snap.reaction[2 * i + 1]);
+            assert!(
+                (snap.reaction[2 * i + 1] - (-10.0)).abs() < 1e-9 * 10.0,
+                "reaction {} at node {i}",
+                snap.reaction[2 * i + 1]
+            );
             assert!(snap.reaction[2 * i].abs() < 1e-9 * 10.0);
         }
     }
@@ -504,23 +658,38 @@ fn a_moving_obstacle_equals_the_body_moved_against_it() {
     // by 0.03 onto the fixed flat: the same contact problem seen from two frames, so the same
     // contact forces, events and stresses; displacements differ by the rigid translation.
     let (mut a, _) = hanging_column(0.0, 0.3);
-    a.patterns = vec![LoadPattern { name: "lift".into(), motion: vec![(0, [0.0, 0.03, 0.0])], ..Default::default() }];
+    a.patterns = vec![LoadPattern {
+        name: "lift".into(),
+        motion: vec![(0, [0.0, 0.03, 0.0])],
+        ..Default::default()
+    }];
     let top: Vec<usize> = a.fixed_dofs.clone();
     let mut b = a.clone();
     b.fixed_dofs = top.iter().copied().filter(|d| d % 2 == 0).collect();
-    b.patterns = vec![LoadPattern { name: "press".into(), displacement: top.iter().copied().filter(|d| d % 2 == 1).map(|d| (d, -0.03)).collect(), ..Default::default() }];
-    let (ra, rb) = (slipstep_core::run(&a, |_| true).unwrap(), slipstep_core::run(&b, |_| true).unwrap());
+    b.patterns = vec![LoadPattern {
+        name: "press".into(),
+        displacement: top.iter().copied().filter(|d| d % 2 == 1).map(|d| (d, -0.03)).collect(),
+        ..Default::default()
+    }];
+    let (ra, rb) =
+        (slipstep_core::run(&a, |_| true).unwrap(), slipstep_core::run(&b, |_| true).unwrap());
     let kinds = |r: &RunResult| r.events.iter().map(|e| (e.kind, e.entity)).collect::<Vec<_>>();
     assert_eq!(kinds(&ra), kinds(&rb));
     let (sa, sb) = (ra.snapshots.last().unwrap(), rb.snapshots.last().unwrap());
     let lmax = sa.lambda_n.iter().fold(0.0f64, |m, v| m.max(*v));
     assert!(lmax > 0.0, "the flat must reach the column");
     for k in 0..sa.lambda_n.len() {
-        assert!((sa.lambda_n[k] - sb.lambda_n[k]).abs() < 1e-9 * lmax && (sa.lambda_t[k] - sb.lambda_t[k]).abs() < 1e-9 * lmax);
+        assert!(
+            (sa.lambda_n[k] - sb.lambda_n[k]).abs() < 1e-9 * lmax
+                && (sa.lambda_t[k] - sb.lambda_t[k]).abs() < 1e-9 * lmax
+        );
         assert!((sa.gap[k] - sb.gap[k]).abs() < 1e-12);
     }
     for i in 0..sa.u.len() / 2 {
-        assert!((sa.u[2 * i] - sb.u[2 * i]).abs() < 1e-12 && (sa.u[2 * i + 1] - (sb.u[2 * i + 1] + 0.03)).abs() < 1e-12);
+        assert!(
+            (sa.u[2 * i] - sb.u[2 * i]).abs() < 1e-12
+                && (sa.u[2 * i + 1] - (sb.u[2 * i + 1] + 0.03)).abs() < 1e-12
+        );
     }
 }
 
@@ -531,11 +700,22 @@ fn path_input_errors_name_the_load_or_stage() {
     let err = slipstep_core::run(&m, |_| true).unwrap_err();
     assert!(err.message.starts_with("stage 2 changes no load factor"), "{}", err.message);
     m.stages = vec![stage(&[1.0, 0.5])];
-    assert!(slipstep_core::run(&m, |_| true).unwrap_err().message.contains("has 2 factors for 1 load patterns"));
+    assert!(slipstep_core::run(&m, |_| true)
+        .unwrap_err()
+        .message
+        .contains("has 2 factors for 1 load patterns"));
     m.stages.clear();
-    m.patterns = vec![LoadPattern { name: "push".into(), displacement: vec![(m.fixed_dofs[0], 0.1)], ..Default::default() }];
+    m.patterns = vec![LoadPattern {
+        name: "push".into(),
+        displacement: vec![(m.fixed_dofs[0], 0.1)],
+        ..Default::default()
+    }];
     let err = slipstep_core::run(&m, |_| true).unwrap_err();
-    assert!(err.message.starts_with("load 'push'") && err.message.contains("already held"), "{}", err.message);
+    assert!(
+        err.message.starts_with("load 'push'") && err.message.contains("already held"),
+        "{}",
+        err.message
+    );
     let _ = bottom;
 }
 
@@ -580,19 +760,39 @@ fn ring_patch_test_reproduces_uniform_radial_and_axial_strain() {
     for (r_in, width) in [(0.0, 1.0), (0.5, 1.0)] {
         let mesh = rectangle(r_in, 0.0, width, 1.0, 4, 4);
         let n = mesh.nodes.len();
-        let fixed: Vec<usize> = nodes_where(&mesh, |p| p[1].abs() < 1e-12).iter().map(|i| 2 * i + 1).collect();
+        let fixed: Vec<usize> =
+            nodes_where(&mesh, |p| p[1].abs() < 1e-12).iter().map(|i| 2 * i + 1).collect();
         let mut load = vec![0.0; 2 * n];
-        ring_traction(&mesh, nodes_where(&mesh, |p| (p[0] - r_in - width).abs() < 1e-12), [s[0], 0.0], &mut load);
-        ring_traction(&mesh, nodes_where(&mesh, |p| (p[1] - 1.0).abs() < 1e-12), [0.0, s[1]], &mut load);
+        ring_traction(
+            &mesh,
+            nodes_where(&mesh, |p| (p[0] - r_in - width).abs() < 1e-12),
+            [s[0], 0.0],
+            &mut load,
+        );
+        ring_traction(
+            &mesh,
+            nodes_where(&mesh, |p| (p[1] - 1.0).abs() < 1e-12),
+            [0.0, s[1]],
+            &mut load,
+        );
         if r_in > 0.0 {
-            ring_traction(&mesh, nodes_where(&mesh, |p| (p[0] - r_in).abs() < 1e-12), [-s[0], 0.0], &mut load);
+            ring_traction(
+                &mesh,
+                nodes_where(&mesh, |p| (p[0] - r_in).abs() < 1e-12),
+                [-s[0], 0.0],
+                &mut load,
+            );
         }
         let m = model(mesh, fixed, load, vec![], Plane::Axisymmetric);
         let res = slipstep_core::run(&m, |_| true).unwrap();
         let last = res.snapshots.last().unwrap();
         // Round-off: displacements O(1e-3) from a solve of a few dozen DOFs; stresses O(1).
         for (i, p) in m.mesh.nodes.iter().enumerate() {
-            assert!((last.u[2 * i] - a * p[0]).abs() < 1e-13 && (last.u[2 * i + 1] - b * p[1]).abs() < 1e-13, "r_in {r_in}, node {i}");
+            assert!(
+                (last.u[2 * i] - a * p[0]).abs() < 1e-13
+                    && (last.u[2 * i + 1] - b * p[1]).abs() < 1e-13,
+                "r_in {r_in}, node {i}"
+            );
         }
         for st in &last.stress {
             assert!((0..4).all(|k| (st[k] - s[k]).abs() < 1e-10), "r_in {r_in}: {st:?} vs {s:?}");
@@ -611,9 +811,16 @@ fn ring_body_is_free_only_along_the_axis() {
     ring_traction(&mesh, nodes_where(&mesh, |p| (p[0] - 1.5).abs() < 1e-12), [3.0, 0.0], &mut load);
     let m = model(mesh.clone(), vec![], load.clone(), vec![], Plane::Axisymmetric);
     let err = slipstep_core::run(&m, |_| true).unwrap_err().message;
-    assert!(err.contains("free to move") && err.contains("translation in y") && !err.contains("rotation"), "{err}");
+    assert!(
+        err.contains("free to move")
+            && err.contains("translation in y")
+            && !err.contains("rotation"),
+        "{err}"
+    );
     let held = vec![2 * nodes_where(&mesh, |p| p[1].abs() < 1e-12)[0] + 1];
-    assert!(slipstep_core::run(&model(mesh, held, load, vec![], Plane::Axisymmetric), |_| true).is_ok());
+    assert!(
+        slipstep_core::run(&model(mesh, held, load, vec![], Plane::Axisymmetric), |_| true).is_ok()
+    );
 }
 
 #[test]
@@ -623,7 +830,10 @@ fn ring_element_left_of_the_axis_is_named() {
     let mut m = model(mesh, vec![1], vec![0.0; 2 * n], vec![], Plane::Axisymmetric);
     m.thickness = f64::NAN; // thickness does not apply to rings: not what is refused here
     let err = slipstep_core::run(&m, |_| true).unwrap_err().message;
-    assert!(err.starts_with("element 0 has node 0 at r = x = -0.25") && err.contains("x >= 0"), "{err}");
+    assert!(
+        err.starts_with("element 0 has node 0 at r = x = -0.25") && err.contains("x >= 0"),
+        "{err}"
+    );
 }
 
 /// A block of height h resting on the rigid flat y = 0 (a pair of coefficient μ at gap 0
@@ -634,10 +844,27 @@ fn block_on_flat(mesh: Mesh, h: f64, q: f64, shear: [f64; 2], mu: f64) -> Model 
     let (mut load, mut sheared) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
     top_traction(&mesh, h, [0.0, -q], &mut load);
     top_traction(&mesh, h, shear, &mut sheared);
-    let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12).into_iter().map(|i| PairInput { node_a: i, node_b: None, normal: [0.0, 1.0, 0.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
+    let pairs = nodes_where(&mesh, |p| p[1].abs() < 1e-12)
+        .into_iter()
+        .map(|i| PairInput {
+            node_a: i,
+            node_b: None,
+            normal: [0.0, 1.0, 0.0],
+            tangents: None,
+            gap: 0.0,
+            mu,
+            contact: 0,
+            weights: vec![],
+        })
+        .collect();
     let mut m = model(mesh, vec![], load, pairs, Plane::Stress);
     m.patterns = vec![LoadPattern { name: "shear".into(), force: sheared, ..Default::default() }];
-    m.names = Names { bodies: vec!["block".into()], element_body: vec![0; m.mesh.triangles.len()], contacts: vec!["base".into()], ..Default::default() };
+    m.names = Names {
+        bodies: vec!["block".into()],
+        element_body: vec![0; m.mesh.triangles.len()],
+        contacts: vec!["base".into()],
+        ..Default::default()
+    };
     m
 }
 
@@ -659,7 +886,9 @@ fn a_block_sheared_until_it_tips_stops_there_with_its_results() {
     m.stages = vec![stage(&[1.0, 0.0]), Stage { name: "shear".into(), factors: vec![1.0, 1.0] }];
     let res = slipstep_core::run(&m, |_| true).unwrap();
     let t_tip = 1.0 + q * w / (2.0 * h * tau);
-    let StopReason::SupportLost { load_fraction: t, .. } = res.stop else { panic!("{:?}", res.stop) };
+    let StopReason::SupportLost { load_fraction: t, .. } = res.stop else {
+        panic!("{:?}", res.stop)
+    };
     // 1e-9: the event's scale comes from a linear solve (round-off ~1e-12 of the load).
     assert!((t - t_tip).abs() < 1e-9, "stopped at t = {t}, tips at {t_tip}");
     let message = res.stop.message().unwrap();
@@ -670,7 +899,10 @@ fn a_block_sheared_until_it_tips_stops_there_with_its_results() {
     assert_eq!(last.status.iter().filter(|&&c| c != 0).count(), 1, "only the pivot is closed");
     let (fy, fx) = contact_resultant(last);
     // 1e-9 of the load: equilibrium of the whole block (equilibrium_tol).
-    assert!((fy - q * w).abs() < 1e-9 * q * w && (fx - tau * w * (t - 1.0)).abs() < 1e-9 * q * w, "Σ = ({fx}, {fy})");
+    assert!(
+        (fy - q * w).abs() < 1e-9 * q * w && (fx - tau * w * (t - 1.0)).abs() < 1e-9 * q * w,
+        "Σ = ({fx}, {fy})"
+    );
 }
 
 #[test]
@@ -682,12 +914,17 @@ fn a_block_sheared_beyond_friction_slides_at_the_friction_limit() {
     let mut m = block_on_flat(rectangle(0.0, 0.0, w, h, 8, 6), h, q, [-tau, 0.0], mu);
     m.stages = vec![stage(&[1.0, 0.0]), Stage { name: "shear".into(), factors: vec![1.0, 1.0] }];
     let res = slipstep_core::run(&m, |_| true).unwrap();
-    let StopReason::SupportLost { load_fraction: t, .. } = res.stop else { panic!("{:?}", res.stop) };
+    let StopReason::SupportLost { load_fraction: t, .. } = res.stop else {
+        panic!("{:?}", res.stop)
+    };
     assert!((t - (1.0 + mu * q / tau)).abs() < 1e-9, "t = {t}"); // round-off of the event's scale
     let message = res.stop.message().unwrap();
     assert!(message.starts_with(&format!("support lost at t = {t:.6} (stage 'shear'): body 'block' slides as a whole (−translation in x)")), "{message}");
     let (fy, fx) = contact_resultant(res.snapshots.last().unwrap());
-    assert!((fy - q * w).abs() < 1e-9 * q * w && (fx - mu * q * w).abs() < 1e-9 * q * w, "Σ = ({fx}, {fy})");
+    assert!(
+        (fy - q * w).abs() < 1e-9 * q * w && (fx - mu * q * w).abs() < 1e-9 * q * w,
+        "Σ = ({fx}, {fy})"
+    );
 }
 
 #[test]
@@ -698,17 +935,25 @@ fn a_block_pulled_off_the_flat_lifts_off_where_the_pressure_changes_sign() {
     let mut m = block_on_flat(rectangle(0.0, 0.0, w, h, 4, 2), h, 1.0, [0.0, 0.0], 0.3);
     m.stages = vec![stage(&[1.0, 0.0]), stage(&[-1.0, 0.0])];
     let res = slipstep_core::run(&m, |_| true).unwrap();
-    let StopReason::SupportLost { load_fraction: t, .. } = res.stop else { panic!("{:?}", res.stop) };
+    let StopReason::SupportLost { load_fraction: t, .. } = res.stop else {
+        panic!("{:?}", res.stop)
+    };
     assert!((t - 1.5).abs() < 1e-9, "t = {t}"); // round-off of the separation scale
     let message = res.stop.message().unwrap();
-    assert!(message.starts_with("support lost at t = 1.500000 (stage 2): body 'block' lifts off") && message.contains("its last closed pair (contact 'base' pair"), "{message}");
+    assert!(
+        message.starts_with("support lost at t = 1.500000 (stage 2): body 'block' lifts off")
+            && message.contains("its last closed pair (contact 'base' pair"),
+        "{message}"
+    );
     assert!(res.snapshots.last().unwrap().status.iter().all(|&c| c == 0));
 }
 
 /// [0, w] × [0, h], nx × ny cells each cut into four triangles at its centre node: mirror-
 /// symmetric about x = w/2, and with nx odd no node lies on that axis.
 fn crossed_rectangle(w: f64, h: f64, nx: usize, ny: usize) -> Mesh {
-    let mut nodes: Vec<[f64; 2]> = (0..=ny).flat_map(|j| (0..=nx).map(move |i| [w * i as f64 / nx as f64, h * j as f64 / ny as f64])).collect();
+    let mut nodes: Vec<[f64; 2]> = (0..=ny)
+        .flat_map(|j| (0..=nx).map(move |i| [w * i as f64 / nx as f64, h * j as f64 / ny as f64]))
+        .collect();
     let mut triangles = vec![];
     for j in 0..ny {
         for i in 0..nx {
@@ -732,7 +977,8 @@ fn a_pressed_block_whose_pairs_all_slip_is_held_by_friction_not_refused() {
     let mesh = crossed_rectangle(w, h, 5, 2);
     let bottom = nodes_where(&mesh, |p| p[1].abs() < 1e-12);
     for mu in [0.01, 0.05, 0.1] {
-        let res = slipstep_core::run(&block_on_flat(mesh.clone(), h, q, [0.0, 0.0], mu), |_| true).unwrap();
+        let res = slipstep_core::run(&block_on_flat(mesh.clone(), h, q, [0.0, 0.0], mu), |_| true)
+            .unwrap();
         assert_eq!(res.stop, StopReason::Completed);
         let last = res.snapshots.last().unwrap();
         let (fy, fx) = contact_resultant(last);
@@ -742,12 +988,25 @@ fn a_pressed_block_whose_pairs_all_slip_is_held_by_friction_not_refused() {
             let mirror = bottom.len() - 1 - k;
             assert!((mesh.nodes[i][0] + mesh.nodes[bottom[mirror]][0] - w).abs() < 1e-12);
             let (ln, lt) = (last.lambda_n[k], last.lambda_t[k]);
-            assert!((ln - last.lambda_n[mirror]).abs() < 1e-12 * q * w && (lt + last.lambda_t[mirror]).abs() < 1e-12 * q * w, "pair {k} is not the mirror of pair {mirror}");
-            assert!(-lt * (w / 2.0 - mesh.nodes[i][0]) >= 0.0, "pair {k}: friction {} points outwards", -lt);
+            assert!(
+                (ln - last.lambda_n[mirror]).abs() < 1e-12 * q * w
+                    && (lt + last.lambda_t[mirror]).abs() < 1e-12 * q * w,
+                "pair {k} is not the mirror of pair {mirror}"
+            );
+            assert!(
+                -lt * (w / 2.0 - mesh.nodes[i][0]) >= 0.0,
+                "pair {k}: friction {} points outwards",
+                -lt
+            );
             assert!(lt.abs() <= mu * ln * (1.0 + 1e-12), "pair {k} outside the cone");
         }
     }
-    let err = slipstep_core::run(&block_on_flat(mesh, h, q, [0.0, 0.0], 0.0), |_| true).unwrap_err();
+    let err =
+        slipstep_core::run(&block_on_flat(mesh, h, q, [0.0, 0.0], 0.0), |_| true).unwrap_err();
     assert_eq!(err.kind, slipstep_core::error::ErrorKind::FreeBody);
-    assert!(err.message.starts_with("body 'block' is free to move (translation in x)"), "{}", err.message);
+    assert!(
+        err.message.starts_with("body 'block' is free to move (translation in x)"),
+        "{}",
+        err.message
+    );
 }

@@ -91,13 +91,19 @@ fn code_only(text: &str) -> String {
 /// The modules declared `#[cfg(test)] mod name;` in a parent's text.
 fn test_only_children(text: &str) -> Vec<String> {
     let words: Vec<&str> = text.split_whitespace().collect();
-    words.windows(3).filter(|w| w[0] == "#[cfg(test)]" && w[1] == "mod").map(|w| w[2].trim_end_matches(';').to_string()).collect()
+    words
+        .windows(3)
+        .filter(|w| w[0] == "#[cfg(test)]" && w[1] == "mod")
+        .map(|w| w[2].trim_end_matches(';').to_string())
+        .collect()
 }
 
 /// The paths a use tree names: `a::{b, c::{d, e}}` → a::b, a::c::d, a::c::e.
 fn expand(tree: &str) -> Vec<String> {
     let tree = tree.trim();
-    let Some(open) = tree.find('{') else { return vec![tree.split(" as ").next().unwrap_or(tree).trim().to_string()] };
+    let Some(open) = tree.find('{') else {
+        return vec![tree.split(" as ").next().unwrap_or(tree).trim().to_string()];
+    };
     let prefix = tree[..open].trim_end_matches("::").trim();
     let inner = &tree[open + 1..tree.rfind('}').unwrap_or(tree.len())];
     let (mut items, mut depth, mut start) = (vec![], 0, 0);
@@ -113,7 +119,12 @@ fn expand(tree: &str) -> Vec<String> {
         }
     }
     items.push(&inner[start..]);
-    items.into_iter().filter(|i| !i.trim().is_empty()).flat_map(expand).map(|p| if prefix.is_empty() { p } else { format!("{prefix}::{p}") }).collect()
+    items
+        .into_iter()
+        .filter(|i| !i.trim().is_empty())
+        .flat_map(expand)
+        .map(|p| if prefix.is_empty() { p } else { format!("{prefix}::{p}") })
+        .collect()
 }
 
 /// The module a path names from module `here`: crate-absolute, relative to the parent
@@ -151,7 +162,14 @@ fn resolve(path: &str, here: &Module, known: &BTreeMap<Module, String>) -> Optio
 /// The crate's module graph, test code left out.
 fn graph(src: &Path) -> Graph {
     let mut known = modules(src);
-    let test_only: Vec<Module> = known.iter().flat_map(|(m, text)| test_only_children(text).into_iter().map(move |c| m.iter().cloned().chain([c]).collect())).collect();
+    let test_only: Vec<Module> = known
+        .iter()
+        .flat_map(|(m, text)| {
+            test_only_children(text)
+                .into_iter()
+                .map(move |c| m.iter().cloned().chain([c]).collect())
+        })
+        .collect();
     test_only.iter().for_each(|m| {
         known.remove(m);
     });
@@ -161,7 +179,11 @@ fn graph(src: &Path) -> Graph {
         let mut paths = vec![];
         for statement in code.split(';') {
             let s = statement.trim_start();
-            let s = s.strip_prefix("pub(super) ").or_else(|| s.strip_prefix("pub(crate) ")).or_else(|| s.strip_prefix("pub ")).unwrap_or(s);
+            let s = s
+                .strip_prefix("pub(super) ")
+                .or_else(|| s.strip_prefix("pub(crate) "))
+                .or_else(|| s.strip_prefix("pub "))
+                .unwrap_or(s);
             if let Some(tree) = s.strip_prefix("use ") {
                 paths.extend(expand(tree));
             }
@@ -170,7 +192,9 @@ fn graph(src: &Path) -> Graph {
             let mut rest = code.as_str();
             while let Some(at) = rest.find(root) {
                 let tail = &rest[at..];
-                let end = tail.find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':')).unwrap_or(tail.len());
+                let end = tail
+                    .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+                    .unwrap_or(tail.len());
                 paths.push(tail[..end].trim_end_matches(':').to_string());
                 rest = &tail[root.len()..];
             }
@@ -189,7 +213,12 @@ fn graph(src: &Path) -> Graph {
 
 /// A cycle of the graph, if it has one (as the modules along it).
 fn find_cycle(g: &Graph) -> Option<Vec<Module>> {
-    fn visit(m: &Module, g: &Graph, state: &mut BTreeMap<Module, u8>, path: &mut Vec<Module>) -> Option<Vec<Module>> {
+    fn visit(
+        m: &Module,
+        g: &Graph,
+        state: &mut BTreeMap<Module, u8>,
+        path: &mut Vec<Module>,
+    ) -> Option<Vec<Module>> {
         state.insert(m.clone(), 1);
         path.push(m.clone());
         for next in g.get(m).into_iter().flatten() {
@@ -211,11 +240,21 @@ fn find_cycle(g: &Graph) -> Option<Vec<Module>> {
         None
     }
     let mut state = BTreeMap::new();
-    g.keys().find_map(|m| if state.contains_key(m) { None } else { visit(m, g, &mut state, &mut vec![]) })
+    g.keys().find_map(|m| {
+        if state.contains_key(m) {
+            None
+        } else {
+            visit(m, g, &mut state, &mut vec![])
+        }
+    })
 }
 
 fn name(m: &Module) -> String {
-    if m.is_empty() { "crate".into() } else { m.join("::") }
+    if m.is_empty() {
+        "crate".into()
+    } else {
+        m.join("::")
+    }
 }
 
 fn src() -> PathBuf {
@@ -236,8 +275,18 @@ fn the_crates_modules_import_each_other_without_cycles() {
 fn the_reader_sees_known_imports_and_the_detector_finds_a_cycle() {
     let g = graph(&src());
     let m = |s: &str| -> Module { s.split("::").map(String::from).collect() };
-    for (from, to) in [("driver::trial", "driver::engine"), ("driver::window", "driver::selection"), ("driver", "driver::window"), ("low_rank", "factor"), ("driver::recording", "driver::checks")] {
-        assert!(g.get(&m(from)).is_some_and(|e| e.contains(&m(to))), "{from} -> {to} not read; edges of {from}: {:?}", g.get(&m(from)));
+    for (from, to) in [
+        ("driver::trial", "driver::engine"),
+        ("driver::window", "driver::selection"),
+        ("driver", "driver::window"),
+        ("low_rank", "factor"),
+        ("driver::recording", "driver::checks"),
+    ] {
+        assert!(
+            g.get(&m(from)).is_some_and(|e| e.contains(&m(to))),
+            "{from} -> {to} not read; edges of {from}: {:?}",
+            g.get(&m(from))
+        );
     }
     let mut looped = g.clone();
     looped.entry(m("driver::engine")).or_default().insert(m("driver::window"));

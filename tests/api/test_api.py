@@ -37,8 +37,12 @@ COARSE = ["mesh.h_contact=0.2"]
 def staged(tmp_path_factory):
     """An elastoplastic load-unload run (two stages, plastic fields, reactions) with its files."""
     out = tmp_path_factory.mktemp("api") / "lu"
-    r = slipstep.run("hertz_load_unload", out=out, progress=False,
-                     overrides=COARSE + ["output.snapshots=[0.5, 1.0, 1.5, 2.0]"])
+    r = slipstep.run(
+        "hertz_load_unload",
+        out=out,
+        progress=False,
+        overrides=COARSE + ["output.snapshots=[0.5, 1.0, 1.5, 2.0]"],
+    )
     return r, out
 
 
@@ -67,6 +71,7 @@ def test_fields_equal_the_xdmf_contents(staged):
     steps = [g for g in grids if g.find("Time") is not None]
     assert len(steps) == len(r.times)
     with h5py.File(out / "results.h5") as h5:
+
         def read(item):
             return h5[item.text.split(":")[1]][()]
 
@@ -124,11 +129,19 @@ def test_events_and_profile_equal_the_csv_files(staged):
     ev = r.events
     assert len(rows) == len(ev) > 0
     for row, e in zip(rows, ev):
-        assert (int(row["step"]), row["kind"], int(row["entity"]), row["entity_kind"],
-                int(row["stage"])) == (e["step"], e["kind"], e["entity"], e["entity_kind"],
-                                       e["stage"])
+        assert (
+            int(row["step"]),
+            row["kind"],
+            int(row["entity"]),
+            row["entity_kind"],
+            int(row["stage"]),
+        ) == (e["step"], e["kind"], e["entity"], e["entity_kind"], e["stage"])
         assert [float(row[k]) for k in ("t", "load_fraction", "x", "y")] == [
-            e["t"], e["load_fraction"], e["x"], e["y"]]
+            e["t"],
+            e["load_fraction"],
+            e["x"],
+            e["y"],
+        ]
     with open(out / "contact_profile.csv") as fh:
         prof_rows = list(csv.DictReader(fh))
     prof = r.profile()
@@ -151,8 +164,9 @@ def test_case_from_toml_and_from_dict_equal_the_file():
         text = path.read_text()
         from_file = load_case(path)
         assert Case.from_toml(text, base_dir=path.parent).data == from_file.data, path
-        assert Case.from_dict(tomllib.loads(text), base_dir=path.parent).data == \
-            from_file.data, path
+        assert (
+            Case.from_dict(tomllib.loads(text), base_dir=path.parent).data == from_file.data
+        ), path
 
 
 def test_case_from_dict_takes_numpy_and_tuples_and_overrides():
@@ -171,13 +185,17 @@ def _block_case(q: float) -> dict:
     """A block on a frictionless rigid flat y = 0, uniform pressure q on its top, x held at
     one corner node set: the exact solution is uniform, sigma_y = -q, sigma_x = sigma_xy = 0
     (plane stress, so sigma_z = 0 too), which CST elements represent exactly."""
-    return {"case": {"name": "block_from_arrays", "units": "mm, N, MPa"},
-            "analysis": {"plane": "stress"},
-            "output": {"snapshots": [1.0], "figures": False, "xdmf": False},
-            "body": [{"name": "block", "material": {"E": 1000.0, "nu": 0.3}}],
-            "bc": [{"body": "block", "edge": "top", "pressure": q},
-                   {"body": "block", "nodes": "corner", "fix": ["x"]}],
-            "contact": [{"kind": "rigid_line", "body": "block", "edge": "bottom"}]}
+    return {
+        "case": {"name": "block_from_arrays", "units": "mm, N, MPa"},
+        "analysis": {"plane": "stress"},
+        "output": {"snapshots": [1.0], "figures": False, "xdmf": False},
+        "body": [{"name": "block", "material": {"E": 1000.0, "nu": 0.3}}],
+        "bc": [
+            {"body": "block", "edge": "top", "pressure": q},
+            {"body": "block", "nodes": "corner", "fix": ["x"]},
+        ],
+        "contact": [{"kind": "rigid_line", "body": "block", "edge": "bottom"}],
+    }
 
 
 def _grid(nx: int = 6, ny: int = 3, w: float = 3.0, h: float = 1.5):
@@ -185,7 +203,12 @@ def _grid(nx: int = 6, ny: int = 3, w: float = 3.0, h: float = 1.5):
     x, y = np.meshgrid(np.linspace(0, w, nx + 1), np.linspace(0, h, ny + 1))
     nodes = np.column_stack([x.ravel(), y.ravel()])
     ids = np.arange(len(nodes)).reshape(ny + 1, nx + 1)
-    a, b, c, d = ids[:-1, :-1].ravel(), ids[:-1, 1:].ravel(), ids[1:, 1:].ravel(), ids[1:, :-1].ravel()
+    a, b, c, d = (
+        ids[:-1, :-1].ravel(),
+        ids[:-1, 1:].ravel(),
+        ids[1:, 1:].ravel(),
+        ids[1:, :-1].ravel(),
+    )
     triangles = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
     bottom = np.column_stack([ids[0, :-1], ids[0, 1:]])
     top = np.column_stack([ids[-1, 1:], ids[-1, :-1]])
@@ -201,10 +224,12 @@ def test_a_scene_from_arrays_or_meshio_without_files(route):
     else:  # the same as gmsh would hand it over: line cells tagged by physical group ids
         lines = np.concatenate([edges["bottom"], edges["top"]])
         tags = np.repeat([1, 2], [len(edges["bottom"]), len(edges["top"])])
-        m = meshio.Mesh(np.column_stack([nodes, np.zeros(len(nodes))]),
-                        [("triangle", triangles), ("line", lines)],
-                        cell_data={"gmsh:physical": [np.zeros(len(triangles), int), tags]},
-                        field_data={"bottom": np.array([1, 1]), "top": np.array([2, 1])})
+        m = meshio.Mesh(
+            np.column_stack([nodes, np.zeros(len(nodes))]),
+            [("triangle", triangles), ("line", lines)],
+            cell_data={"gmsh:physical": [np.zeros(len(triangles), int), tags]},
+            field_data={"bottom": np.array([1, 1]), "top": np.array([2, 1])},
+        )
         mesh = from_meshio(m)
         mesh.node_sets["corner"] = np.array([0])
     q = 2.0
@@ -219,8 +244,11 @@ def test_a_scene_from_arrays_or_meshio_without_files(route):
 def test_a_given_mesh_that_is_not_given_is_one_clear_error():
     case = _block_case(1.0)
     case["body"][0]["mesh"] = {"generator": "given"}
-    with pytest.raises(InputError, match=r'mesh.generator = "given": pass its mesh from Python, '
-                                         r'slipstep.run\(case, meshes=\{"block": mesh\}\)'):
+    with pytest.raises(
+        InputError,
+        match=r'mesh.generator = "given": pass its mesh from Python, '
+        r'slipstep.run\(case, meshes=\{"block": mesh\}\)',
+    ):
         slipstep.run(case, progress=False)
 
 
@@ -233,8 +261,13 @@ def test_a_shipped_case_by_name():
 # The elastoplastic Hertz cylinder event by event (group_tol = 0): 100+ increments to report on.
 # The tests ask for a report after every increment (REPORT_INTERVAL_S = 0), so which increment a
 # report or an interrupt lands on does not depend on the machine's speed.
-ELASTOPLASTIC = ["mesh.h_contact=0.1", "output.snapshots=events", "material.Sy=200",
-                 "material.H=700", "solver.group_tol=0"]
+ELASTOPLASTIC = [
+    "mesh.h_contact=0.1",
+    "output.snapshots=events",
+    "material.Sy=200",
+    "material.H=700",
+    "solver.group_tol=0",
+]
 
 
 @pytest.fixture
@@ -295,10 +328,17 @@ def _run_in_a_fresh_interpreter(tmp_path, trigger: str) -> dict:
         print(json.dumps({"stop": r.stop, "events": len(r.events), "t": r.fields()["t"],
                           "events_before_last_increment": int((steps < steps.max()).sum())}))
     """)
-    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT / "py"),
-               SLIPSTEP_TEST_INTERRUPT=trigger)
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          cwd=tmp_path, env=env, timeout=300)
+    env = dict(
+        os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT / "py"), SLIPSTEP_TEST_INTERRUPT=trigger
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        env=env,
+        timeout=300,
+    )
     assert proc.returncode == 0, proc.stderr[-2000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
@@ -384,15 +424,24 @@ def test_figures_leave_pyplot_and_the_backend_alone(tmp_path):
     """)
     env = {k: v for k, v in os.environ.items() if k != "MPLBACKEND"}
     env["PYTHONPATH"] = str(ROOT / "py")
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          timeout=300, cwd=tmp_path, env=env)
+    proc = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=tmp_path,
+        env=env,
+    )
     assert proc.returncode == 0, proc.stderr[-2000:]
     first, second = proc.stdout.strip().splitlines()[-2:]
     assert first == "svg False ['contact_growth', 'contact_interface', 'von_mises']"
     # the colour bar and the pressure axis carry the case's stress unit
     assert second == "von Mises stress [MPa] | contact pressure [MPa]"
     assert {p.name for p in (tmp_path / "o").glob("*.png")} == {
-        "contact_growth.png", "contact_interface.png", "von_mises.png"}
+        "contact_growth.png",
+        "contact_interface.png",
+        "von_mises.png",
+    }
 
 
 @needs_gmsh

@@ -27,12 +27,20 @@ from slipstep.output import json_safe
 def saved(request, tmp_path_factory):
     out = tmp_path_factory.mktemp("saved") / request.param
     if request.param == "2d":
-        r = slipstep.run("hertz_load_unload", out=out, progress=False,
-                         overrides=["mesh.h_contact=0.2", "output.snapshots=[0.5, 1.0, 1.5, 2.0]"])
+        r = slipstep.run(
+            "hertz_load_unload",
+            out=out,
+            progress=False,
+            overrides=["mesh.h_contact=0.2", "output.snapshots=[0.5, 1.0, 1.5, 2.0]"],
+        )
     else:
         pytest.importorskip("gmsh")
-        r = slipstep.run(CASES / "vickers_indentation_3d.toml", out=out, progress=False,
-                         overrides=["output.snapshots=[0.5, 1.0, 1.5, 2.0]"])
+        r = slipstep.run(
+            CASES / "vickers_indentation_3d.toml",
+            out=out,
+            progress=False,
+            overrides=["output.snapshots=[0.5, 1.0, 1.5, 2.0]"],
+        )
     return r, out
 
 
@@ -65,8 +73,12 @@ def test_a_folder_without_results_is_one_clear_error(tmp_path):
 
 
 def test_a_mesh_that_changed_since_the_run_is_one_clear_error(tmp_path):
-    slipstep.run("hertz_cylinder", out=tmp_path, progress=False,
-                 overrides=["mesh.h_contact=0.2", "output.snapshots=[1.0]", "output.figures=false"])
+    slipstep.run(
+        "hertz_cylinder",
+        out=tmp_path,
+        progress=False,
+        overrides=["mesh.h_contact=0.2", "output.snapshots=[1.0]", "output.figures=false"],
+    )
     text = (tmp_path / "case.toml").read_text()
     assert "h_contact = 0.2\n" in text
     (tmp_path / "case.toml").write_text(text.replace("h_contact = 0.2\n", "h_contact = 0.25\n"))

@@ -60,8 +60,15 @@ def tree(root: Path) -> dict:
 def slipstep(*args, cwd: Path) -> subprocess.CompletedProcess:
     env = {k: v for k, v in os.environ.items() if k != "SLIPSTEP_TRACEBACK"}
     env["MPLBACKEND"] = "Agg"
-    return subprocess.run([sys.executable, "-m", "slipstep", *map(str, args)], cwd=cwd, env=env,
-                          capture_output=True, text=True, errors="replace", timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "slipstep", *map(str, args)],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        errors="replace",
+        timeout=120,
+    )
 
 
 def in_space(path: Path) -> bool:

@@ -44,8 +44,12 @@ def test_embedded_default_is_the_hertz_case_and_cases_link_to_it():
     assert default.name == "hertz_cylinder"
     assert default.data["load"]["P"] == 1000.0
     body = default.data["body"][0]
-    assert body["mesh"]["R"] == 125.0 and body["material"] == {"E": 70000.0, "nu": 0.3,
-                                                               "Sy": None, "H": None}
+    assert body["mesh"]["R"] == 125.0 and body["material"] == {
+        "E": 70000.0,
+        "nu": 0.3,
+        "Sy": None,
+        "H": None,
+    }
     link = CASES / "hertz_cylinder.toml"
     assert link.is_symlink()
     assert link.resolve() == (ROOT / "py/slipstep/data/hertz_cylinder.toml").resolve()
@@ -65,13 +69,18 @@ def test_missing_material_table():
 
 def test_nu_at_one_half_is_rejected_with_the_fix():
     msg = error_of(MINIMAL.replace("nu = 0.25", "nu = 0.5"))
-    assert msg == ("cases/x.toml: material.nu = 0.5 is not allowed: Poisson's ratio must "
-                   "satisfy -1 < nu < 0.5 (use 0.499 for near-incompressible)")
+    assert msg == (
+        "cases/x.toml: material.nu = 0.5 is not allowed: Poisson's ratio must "
+        "satisfy -1 < nu < 0.5 (use 0.499 for near-incompressible)"
+    )
 
 
-@pytest.mark.parametrize("bad, key", [
-    ("E = 1000.0", "material.E"),
-])
+@pytest.mark.parametrize(
+    "bad, key",
+    [
+        ("E = 1000.0", "material.E"),
+    ],
+)
 def test_non_positive_modulus(bad, key):
     msg = error_of(MINIMAL.replace(bad, "E = -5.0"))
     assert f"{key} = -5.0 is not allowed" in msg
@@ -118,16 +127,19 @@ def test_plasticity_parameters_are_checked():
 
 def test_bad_snapshot_fractions():
     msg = error_of(MINIMAL + "\n[output]\nsnapshots = [0.5, 0.2]\n")
-    assert "output.snapshots = [0.5, 0.2] is not allowed: the load fractions must be strictly " \
-           "increasing" in msg
+    assert (
+        "output.snapshots = [0.5, 0.2] is not allowed: the load fractions must be strictly "
+        "increasing" in msg
+    )
     msg = error_of(MINIMAL + "\n[output]\nsnapshots = [0.0, 1.0]\n")
     assert "(0, 1]" in msg
 
 
 def test_bad_plane():
     msg = error_of(MINIMAL + '\n[analysis]\nplane = "spherical"\n')
-    assert ('analysis.plane = "spherical" is not allowed: use "strain" or "stress" or '
-            '"axisymmetric"') in msg
+    assert (
+        'analysis.plane = "spherical" is not allowed: use "strain" or "stress" or ' '"axisymmetric"'
+    ) in msg
 
 
 def test_bc_that_does_nothing():
@@ -136,8 +148,11 @@ def test_bc_that_does_nothing():
 
 
 def test_two_bodies_use_names_in_keys():
-    second = MINIMAL.split("[[bc]]")[0].replace('name = "b"', 'name = "c"').replace(
-        '[case]\nname = "mini"\n', "")
+    second = (
+        MINIMAL.split("[[bc]]")[0]
+        .replace('name = "b"', 'name = "c"')
+        .replace('[case]\nname = "mini"\n', "")
+    )
     text = MINIMAL + second.replace("nu = 0.25", "nu = 0.7")
     msg = error_of(text)
     assert "body.c.material.nu = 0.7 is not allowed" in msg
@@ -157,10 +172,17 @@ def test_overrides_are_single_keys():
 
 
 def test_override_by_name_index_and_bare_word():
-    c = load_case(CASES / "two_blocks.toml",
-                  ["body.punch.material.E=210000", "bc.load.pressure=20",
-                   "bc.1.symmetry=false", "bc.1.fix=['x']", "analysis.plane=stress",
-                   "solver.max_events=50"])
+    c = load_case(
+        CASES / "two_blocks.toml",
+        [
+            "body.punch.material.E=210000",
+            "bc.load.pressure=20",
+            "bc.1.symmetry=false",
+            "bc.1.fix=['x']",
+            "analysis.plane=stress",
+            "solver.max_events=50",
+        ],
+    )
     assert c.body("punch")["material"]["E"] == 210000.0
     assert c.data["bc"][0]["pressure"] == 20.0
     assert c.data["bc"][1]["fix"] == ["x"] and c.data["bc"][1]["symmetry"] is False
@@ -182,8 +204,9 @@ def test_unknown_override_section():
 
 
 def test_ambiguous_override_asks_for_an_index():
-    with pytest.raises(CaseError, match=r"has 2 \[\[body\]\] entries: say which, e.g. "
-                                        r"body.0.material.E"):
+    with pytest.raises(
+        CaseError, match=r"has 2 \[\[body\]\] entries: say which, e.g. " r"body.0.material.E"
+    ):
         load_case(CASES / "two_blocks.toml", ["body.material.E=3"])
     with pytest.raises(CaseError, match=r"short for body.<name>.material"):
         load_case(CASES / "two_blocks.toml", ["material.E=3"])
@@ -211,10 +234,22 @@ def test_file_source_is_the_given_path(tmp_path):
 
 def test_readme_documents_every_key():
     readme = (CASES / "README.md").read_text()
-    tables = [schema.CASE_KEYS, schema.ANALYSIS_KEYS, schema.LOAD_KEYS,
-              schema.OUTPUT_KEYS, schema.SOLVER_KEYS, schema.BODY_KEYS,
-              schema.MATERIAL_KEYS, schema.QUARTER_CYLINDER_KEYS, schema.BLOCK_KEYS,
-              schema.QUARTER_ANNULUS_KEYS, schema.FILE_MESH_KEYS, schema.BC_KEYS, schema.POINT_LOAD_KEYS,
-              schema.RIGID_LINE_KEYS, schema.NODE_TO_NODE_KEYS]
+    tables = [
+        schema.CASE_KEYS,
+        schema.ANALYSIS_KEYS,
+        schema.LOAD_KEYS,
+        schema.OUTPUT_KEYS,
+        schema.SOLVER_KEYS,
+        schema.BODY_KEYS,
+        schema.MATERIAL_KEYS,
+        schema.QUARTER_CYLINDER_KEYS,
+        schema.BLOCK_KEYS,
+        schema.QUARTER_ANNULUS_KEYS,
+        schema.FILE_MESH_KEYS,
+        schema.BC_KEYS,
+        schema.POINT_LOAD_KEYS,
+        schema.RIGID_LINE_KEYS,
+        schema.NODE_TO_NODE_KEYS,
+    ]
     missing = sorted({k for t in tables for k in t if f"`{k}`" not in readme})
     assert not missing, f"cases/README.md does not document {missing}"

@@ -46,7 +46,9 @@ from slipstep.mesh import MeshError  # noqa: E402
 from slipstep.mesh_files import read_mesh  # noqa: E402
 
 # meshio parses damaged inline XML data with numpy.fromstring, which warns about it
-pytestmark = pytest.mark.filterwarnings("ignore:string or file could not be read:DeprecationWarning")
+pytestmark = pytest.mark.filterwarnings(
+    "ignore:string or file could not be read:DeprecationWarning"
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 CATALOGUE = ROOT / "tests" / "case" / "bad_inputs"
@@ -59,13 +61,19 @@ LONG = int(os.environ.get("SLIPSTEP_FUZZ_EXAMPLES", "0") or 0)
 def budget(n: int):
     """Hypothesis settings: ``n`` examples in `make test` (derandomized, so the run is the
     same every time), LONG random ones under `make fuzz`."""
-    return settings(max_examples=LONG or n, derandomize=not LONG, deadline=None, database=None,
-                    print_blob=True,
-                    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
-                                           HealthCheck.filter_too_much,
-                                           HealthCheck.function_scoped_fixture])
-
-
+    return settings(
+        max_examples=LONG or n,
+        derandomize=not LONG,
+        deadline=None,
+        database=None,
+        print_blob=True,
+        suppress_health_check=[
+            HealthCheck.too_slow,
+            HealthCheck.data_too_large,
+            HealthCheck.filter_too_much,
+            HealthCheck.function_scoped_fixture,
+        ],
+    )
 
 
 def assert_one_line(exc: BaseException) -> None:
@@ -105,29 +113,112 @@ def toml_document(doc: dict) -> str:
 
 
 #: names the schema uses, so that random documents get past the first unknown-key check
-VOCABULARY = ["case", "analysis", "load", "output", "solver", "body", "bc", "point_load",
-              "contact", "name", "mesh", "material", "generator", "block", "quarter_cylinder",
-              "quarter_annulus", "file", "E", "nu", "Sy", "H", "width", "height", "nx", "ny", "h",
-              "x0", "y0", "R", "h_contact", "contact_zone", "h_max", "growth", "edge", "nodes",
-              "fix", "symmetry", "pressure", "traction", "kind", "rigid_line", "node_to_node",
-              "body_a", "body_b", "edge_a", "edge_b", "mu", "normal", "point", "tolerance",
-              "x_min", "x_max", "snapshots", "events", "figures", "xdmf", "tie_tol",
-              "max_events", "plane", "thickness", "strain", "stress", "P", "at", "force",
-              "top", "bottom", "left", "right", "arc", "x", "y", "scale", "edge_file",
-              # load paths (issue 13) and contact geometry (issue 14)
-              "stage", "factors", "displacement", "motion", "node_to_segment", "rigid_circle",
-              "rigid_polyline", "centre", "radius", "side", "points", "focus", "half_cylinder"]
+VOCABULARY = [
+    "case",
+    "analysis",
+    "load",
+    "output",
+    "solver",
+    "body",
+    "bc",
+    "point_load",
+    "contact",
+    "name",
+    "mesh",
+    "material",
+    "generator",
+    "block",
+    "quarter_cylinder",
+    "quarter_annulus",
+    "file",
+    "E",
+    "nu",
+    "Sy",
+    "H",
+    "width",
+    "height",
+    "nx",
+    "ny",
+    "h",
+    "x0",
+    "y0",
+    "R",
+    "h_contact",
+    "contact_zone",
+    "h_max",
+    "growth",
+    "edge",
+    "nodes",
+    "fix",
+    "symmetry",
+    "pressure",
+    "traction",
+    "kind",
+    "rigid_line",
+    "node_to_node",
+    "body_a",
+    "body_b",
+    "edge_a",
+    "edge_b",
+    "mu",
+    "normal",
+    "point",
+    "tolerance",
+    "x_min",
+    "x_max",
+    "snapshots",
+    "events",
+    "figures",
+    "xdmf",
+    "tie_tol",
+    "max_events",
+    "plane",
+    "thickness",
+    "strain",
+    "stress",
+    "P",
+    "at",
+    "force",
+    "top",
+    "bottom",
+    "left",
+    "right",
+    "arc",
+    "x",
+    "y",
+    "scale",
+    "edge_file",
+    # load paths (issue 13) and contact geometry (issue 14)
+    "stage",
+    "factors",
+    "displacement",
+    "motion",
+    "node_to_segment",
+    "rigid_circle",
+    "rigid_polyline",
+    "centre",
+    "radius",
+    "side",
+    "points",
+    "focus",
+    "half_cylinder",
+]
 
 names = st.sampled_from(VOCABULARY) | st.text(min_size=1, max_size=8)
-scalars = (st.integers(min_value=-10**20, max_value=10**20)
-           | st.floats(allow_nan=True, allow_infinity=True)
-           | st.sampled_from([0.0, -0.0, 0.5, 0.499, 1.0, 1e-300, 1e300, -1.0, 2, 0])
-           | st.booleans()
-           | st.sampled_from(VOCABULARY)
-           | st.text(alphabet=st.characters(blacklist_categories=("Cs",)), max_size=12)
-           | st.dates())
-values = st.recursive(scalars, lambda inner: st.lists(inner, max_size=4)
-                      | st.dictionaries(names, inner, max_size=5), max_leaves=12)
+scalars = (
+    st.integers(min_value=-(10**20), max_value=10**20)
+    | st.floats(allow_nan=True, allow_infinity=True)
+    | st.sampled_from([0.0, -0.0, 0.5, 0.499, 1.0, 1e-300, 1e300, -1.0, 2, 0])
+    | st.booleans()
+    | st.sampled_from(VOCABULARY)
+    | st.text(alphabet=st.characters(blacklist_categories=("Cs",)), max_size=12)
+    | st.dates()
+)
+values = st.recursive(
+    scalars,
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(names, inner, max_size=5),
+    max_leaves=12,
+)
 
 
 def shipped_texts() -> list[tuple[str, str]]:
@@ -158,8 +249,10 @@ def check_parse(text: str, overrides=()) -> None:
 
 
 @budget(300)
-@given(doc=st.dictionaries(names, values, max_size=8),
-       overrides=st.lists(st.text(max_size=30), max_size=2))
+@given(
+    doc=st.dictionaries(names, values, max_size=8),
+    overrides=st.lists(st.text(max_size=30), max_size=2),
+)
 def test_fuzz_case_parser_random_documents(doc, overrides):
     check_parse(toml_document(doc), overrides)
 
@@ -181,7 +274,7 @@ def test_fuzz_case_parser_mutated_shipped_cases(data):
         elif op == "double":
             lines.insert(i, lines[i])
         elif op == "cut":
-            lines[i] = lines[i][:data.draw(st.integers(0, max(len(lines[i]) - 1, 0)))]
+            lines[i] = lines[i][: data.draw(st.integers(0, max(len(lines[i]) - 1, 0)))]
         elif op == "value" and "=" in lines[i]:
             key = lines[i].split("=", 1)[0]
             lines[i] = f"{key}= {toml_value(data.draw(values, label='value'))}"
@@ -209,6 +302,7 @@ def test_fuzz_case_parser_structured_mutations(data):
     """A parsed shipped case with one value replaced, one key deleted or one key added, then
     serialized again; plus random well-formed --set overrides of real keys."""
     import copy
+
     name, doc = data.draw(st.sampled_from(PARSEABLE), label="case")
     doc = copy.deepcopy(doc)
     paths = list(key_paths(doc))
@@ -228,8 +322,10 @@ def test_fuzz_case_parser_structured_mutations(data):
             parent[data.draw(names, label="new key")] = data.draw(values, label="value")
         paths = list(key_paths(doc))
     dotted = [".".join(str(p) for p in path) for path in paths]
-    overrides = [f"{data.draw(st.sampled_from(dotted or ['x']))}={toml_value(data.draw(values))}"
-                 for _ in range(data.draw(st.integers(0, 2), label="n_overrides"))]
+    overrides = [
+        f"{data.draw(st.sampled_from(dotted or ['x']))}={toml_value(data.draw(values))}"
+        for _ in range(data.draw(st.integers(0, 2), label="n_overrides"))
+    ]
     check_parse(toml_document(doc), overrides)
 
 
@@ -259,9 +355,14 @@ def _good_mesh_files(folder: Path) -> dict[str, bytes]:
         gmsh.option.setNumber("Mesh.Binary", 1)
         gmsh.write(str(folder / "v41b.msh"))
     pts = np.array([[0, 0], [1, 0], [2, 0], [0, 1], [1, 1], [2, 1]], float)
-    mesh = meshio.Mesh(pts, [("triangle", np.array([[0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4]])),
-                             ("line", np.array([[0, 1], [1, 2], [5, 4], [4, 3]]))],
-                       cell_data={"tags": [np.zeros(4, int), np.array([1, 1, 2, 2])]})
+    mesh = meshio.Mesh(
+        pts,
+        [
+            ("triangle", np.array([[0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4]])),
+            ("line", np.array([[0, 1], [1, 2], [5, 4], [4, 3]])),
+        ],
+        cell_data={"tags": [np.zeros(4, int), np.array([1, 1, 2, 2])]},
+    )
     meshio.xdmf.write(folder / "xml.xdmf", mesh, data_format="XML")
     meshio.xdmf.write(folder / "hdf.xdmf", mesh)
     for name in ("v41.msh", "v41b.msh", "xml.xdmf", "hdf.xdmf", "hdf.h5"):
@@ -279,8 +380,28 @@ def good_meshes(tmp_path_factory):
     return files
 
 
-TOKENS = [b"nan", b"inf", b"-1", b"0", b"1e308", b"99999", b"-99999", b"3.5", b" ", b"\n",
-          b"$EndNodes", b"$Elements", b"<", b">", b'"', b"/>", b"2", b"3", b"\x00", b"\xff"]
+TOKENS = [
+    b"nan",
+    b"inf",
+    b"-1",
+    b"0",
+    b"1e308",
+    b"99999",
+    b"-99999",
+    b"3.5",
+    b" ",
+    b"\n",
+    b"$EndNodes",
+    b"$Elements",
+    b"<",
+    b">",
+    b'"',
+    b"/>",
+    b"2",
+    b"3",
+    b"\x00",
+    b"\xff",
+]
 
 
 @st.composite
@@ -300,11 +421,11 @@ def mutated(draw, data: bytes) -> bytes:
         elif op == "token":
             b[i:i] = draw(st.sampled_from(TOKENS))
         elif op == "delete":
-            del b[i:i + draw(st.integers(1, 40))]
+            del b[i : i + draw(st.integers(1, 40))]
         else:
             m = re.compile(rb"-?\d+(\.\d+)?(e[-+]?\d+)?").search(bytes(b), i)
             if m:
-                b[m.start():m.end()] = draw(st.sampled_from(TOKENS[:8]))
+                b[m.start() : m.end()] = draw(st.sampled_from(TOKENS[:8]))
     return bytes(b)
 
 
@@ -392,8 +513,9 @@ def engine_models(draw, solvable: bool = False) -> dict:
     the initial stiffness; in plane strain: see the plane-stress reproducer below), the
     default solver options (drift control on: see the reproducer without it), no bound on the
     number of increments, nothing corrupted."""
-    choose = (lambda every, solvable_ones, label: draw(st.sampled_from(
-        solvable_ones if solvable else every), label=label))
+    choose = lambda every, solvable_ones, label: draw(
+        st.sampled_from(solvable_ones if solvable else every), label=label
+    )
     nx, ny = draw(st.integers(1, 5), label="nx"), draw(st.integers(1, 4), label="ny")
     jitter = choose([0.0, 0.0, 0.05, 0.3, 3.0], [0.0, 0.0, 0.05], "jitter")
     seed = draw(st.integers(0, 2**32 - 1), label="seed")
@@ -402,9 +524,12 @@ def engine_models(draw, solvable: bool = False) -> dict:
     bottom, top = np.arange(nx + 1), np.arange(ny * (nx + 1), (nx + 1) * (ny + 1))
     left = np.arange(ny + 1) * (nx + 1)
     gap = draw(st.sampled_from(["zero", "equal", "random", "mixed"]), label="gaps")
-    g = {"zero": np.zeros(nx + 1), "equal": np.full(nx + 1, 0.01),
-         "random": rng.uniform(0, 0.05, nx + 1),
-         "mixed": np.where(rng.random(nx + 1) < 0.5, 0.0, rng.uniform(0, 0.05, nx + 1))}[gap]
+    g = {
+        "zero": np.zeros(nx + 1),
+        "equal": np.full(nx + 1, 0.01),
+        "random": rng.uniform(0, 0.05, nx + 1),
+        "mixed": np.where(rng.random(nx + 1) < 0.5, 0.0, rng.uniform(0, 0.05, nx + 1)),
+    }[gap]
     if solvable:
         g[0] = 0.0
     fixed = []
@@ -426,8 +551,9 @@ def engine_models(draw, solvable: bool = False) -> dict:
     elif draw(st.booleans(), label="symmetry at x = 0"):
         fixed += [2 * int(k) for k in np.flatnonzero(np.abs(nodes[:, 0]) < 1e-12)]
     load = np.zeros(2 * n)
-    kind = choose(["press", "press+shear", "point", "pull"], ["press", "press+shear", "point"],
-                  "load")
+    kind = choose(
+        ["press", "press+shear", "point", "pull"], ["press", "press+shear", "point"], "load"
+    )
     q = choose([1.0, 10.0, 1e3], [1.0, 10.0], "load size")
     if kind == "press":
         load[2 * top + 1] = -q
@@ -440,8 +566,10 @@ def engine_models(draw, solvable: bool = False) -> dict:
         load[draw(st.integers(0, 2 * n - 1))] = q * draw(st.sampled_from([-1.0, 1.0]))
     else:
         load[2 * top + 1] = q
-    material = {"E": 1000.0, "nu": choose([0.0, 0.3, 0.45, 0.49, 0.499, -0.5],
-                                          [0.0, 0.3, 0.45, 0.49], "nu")}
+    material = {
+        "E": 1000.0,
+        "nu": choose([0.0, 0.3, 0.45, 0.49, 0.499, -0.5], [0.0, 0.3, 0.45, 0.49], "nu"),
+    }
     if draw(st.booleans(), label="plastic") and not (solvable and material["nu"] > 0.45):
         material["Sy"] = choose([0.5, 2.0, 20.0], [2.0, 20.0], "Sy")
         material["H"] = choose([0.0, 10.0, 1000.0], [100.0, 1000.0], "H")
@@ -449,16 +577,27 @@ def engine_models(draw, solvable: bool = False) -> dict:
     output = draw(st.sampled_from(["events", "fractions"]))
     plane = draw(st.sampled_from(["strain", "stress"]), label="plane")
     model = {
-        "nodes": nodes, "triangles": tris,
-        "element_material": np.zeros(len(tris), dtype=np.int64), "materials": [material],
-        "plane": plane, "thickness": 1.0,
-        "fixed_dofs": np.unique(np.asarray(fixed, dtype=np.int64)), "load": load,
-        "pairs": {"node_a": node_a.astype(np.int64), "node_b": node_b.astype(np.int64),
-                  "normal": np.tile([0.0, 1.0], (nx + 1, 1)), "gap": g.astype(np.float64),
-                  "mu": np.full(nx + 1, mu)},
-        "options": {"output": output, "fractions": np.array([0.25, 0.5, 1.0]),
-                    "tie_tol": draw(st.sampled_from([1e-9, 0.0, 1e-3])),
-                    "drift_control": draw(st.booleans())},
+        "nodes": nodes,
+        "triangles": tris,
+        "element_material": np.zeros(len(tris), dtype=np.int64),
+        "materials": [material],
+        "plane": plane,
+        "thickness": 1.0,
+        "fixed_dofs": np.unique(np.asarray(fixed, dtype=np.int64)),
+        "load": load,
+        "pairs": {
+            "node_a": node_a.astype(np.int64),
+            "node_b": node_b.astype(np.int64),
+            "normal": np.tile([0.0, 1.0], (nx + 1, 1)),
+            "gap": g.astype(np.float64),
+            "mu": np.full(nx + 1, mu),
+        },
+        "options": {
+            "output": output,
+            "fractions": np.array([0.25, 0.5, 1.0]),
+            "tie_tol": draw(st.sampled_from([1e-9, 0.0, 1e-3])),
+            "drift_control": draw(st.booleans()),
+        },
     }
     if solvable:  # the default solver; loaded up to 40 x first yield: increments may be many
         del model["options"]["drift_control"]
@@ -472,11 +611,34 @@ def corrupt(model: dict, draw, rng) -> None:
     """One value of the model replaced by something degenerate."""
     v = draw(st.sampled_from(SPECIAL), label="special")
     bad_index = draw(st.sampled_from([-1, -7, 10**6, 2**62, len(model["nodes"])]))
-    field = draw(st.sampled_from(["node", "load", "normal", "gap", "mu", "E", "nu", "Sy", "H",
-                                  "thickness", "triangle", "fixed", "node_a", "node_b",
-                                  "element_material", "duplicate pair", "no triangles",
-                                  "clockwise", "collapsed node", "fractions", "tie_tol"]),
-                 label="corrupt")
+    field = draw(
+        st.sampled_from(
+            [
+                "node",
+                "load",
+                "normal",
+                "gap",
+                "mu",
+                "E",
+                "nu",
+                "Sy",
+                "H",
+                "thickness",
+                "triangle",
+                "fixed",
+                "node_a",
+                "node_b",
+                "element_material",
+                "duplicate pair",
+                "no triangles",
+                "clockwise",
+                "collapsed node",
+                "fractions",
+                "tie_tol",
+            ]
+        ),
+        label="corrupt",
+    )
     pairs = model["pairs"]
     pick = lambda a: int(rng.integers(len(a)))  # noqa: E731
     if field == "node":
@@ -597,13 +759,22 @@ def test_a_hardening_block_in_plane_stress_completes_within_the_automatic_bound(
     order load/E = 0.02), and plastic flow only softens the cell."""
     from slipstep import _engine
 
-    model = {"nodes": np.array([[0.0, 0.0], [1.0, 0.01], [0.0, 1.0], [1.0, 1.0]]),
-             "triangles": np.array([[0, 1, 3], [0, 3, 2]]), "element_material": np.zeros(2, int),
-             "materials": [{"E": 1000.0, "nu": 0.0, "Sy": 0.5, "H": 1000.0}], "thickness": 1.0,
-             "fixed_dofs": np.array([0, 4]), "load": np.array([0, 0, 0, 0, 0, -10.0, 0, -10.0]),
-             "pairs": {"node_a": np.array([0, 1]), "node_b": np.array([-1, -1]),
-                       "normal": np.array([[0.0, 1.0], [0.0, 1.0]]), "gap": np.array([0.0, 0.01]),
-                       "mu": np.zeros(2)}}
+    model = {
+        "nodes": np.array([[0.0, 0.0], [1.0, 0.01], [0.0, 1.0], [1.0, 1.0]]),
+        "triangles": np.array([[0, 1, 3], [0, 3, 2]]),
+        "element_material": np.zeros(2, int),
+        "materials": [{"E": 1000.0, "nu": 0.0, "Sy": 0.5, "H": 1000.0}],
+        "thickness": 1.0,
+        "fixed_dofs": np.array([0, 4]),
+        "load": np.array([0, 0, 0, 0, 0, -10.0, 0, -10.0]),
+        "pairs": {
+            "node_a": np.array([0, 1]),
+            "node_b": np.array([-1, -1]),
+            "normal": np.array([[0.0, 1.0], [0.0, 1.0]]),
+            "gap": np.array([0.0, 0.01]),
+            "mu": np.zeros(2),
+        },
+    }
     for plane in ("strain", "stress"):
         scene = {**model, "plane": plane}
         result = _engine.solve(scene, False)
@@ -633,15 +804,24 @@ def test_a_hardening_block_on_a_block_without_drift_control_completes():
     tris = [[0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6]]
     load = np.zeros(32)
     load[24::2], load[25::2] = 20.0, -10.0
-    model = {"nodes": np.column_stack([x, y]),
-             "triangles": np.array(tris + [[a + 8, b + 8, c + 8] for a, b, c in tris]),
-             "element_material": np.zeros(12, int), "plane": "strain", "thickness": 1.0,
-             "materials": [{"E": 1000.0, "nu": 0.49, "Sy": 20.0, "H": 100.0}],
-             "fixed_dofs": np.array([0, 1, 2, 3, 4, 5, 6, 7, 16, 24]), "load": load,
-             "pairs": {"node_a": np.arange(8, 12), "node_b": np.arange(4, 8),
-                       "normal": np.tile([0.0, 1.0], (4, 1)),
-                       "gap": np.array([0.0, 0.01, 0.01, 0.01]), "mu": np.ones(4)},
-             "options": {"output": "fractions", "fractions": np.array([0.25, 0.5, 1.0])}}
+    model = {
+        "nodes": np.column_stack([x, y]),
+        "triangles": np.array(tris + [[a + 8, b + 8, c + 8] for a, b, c in tris]),
+        "element_material": np.zeros(12, int),
+        "plane": "strain",
+        "thickness": 1.0,
+        "materials": [{"E": 1000.0, "nu": 0.49, "Sy": 20.0, "H": 100.0}],
+        "fixed_dofs": np.array([0, 1, 2, 3, 4, 5, 6, 7, 16, 24]),
+        "load": load,
+        "pairs": {
+            "node_a": np.arange(8, 12),
+            "node_b": np.arange(4, 8),
+            "normal": np.tile([0.0, 1.0], (4, 1)),
+            "gap": np.array([0.0, 0.01, 0.01, 0.01]),
+            "mu": np.ones(4),
+        },
+        "options": {"output": "fractions", "fractions": np.array([0.25, 0.5, 1.0])},
+    }
     for drift_control in (True, False):
         model["options"]["drift_control"] = drift_control
         result = _engine.solve(model, False)
@@ -668,21 +848,38 @@ def test_a_hardening_block_held_in_x_by_friction_alone_completes_without_drift_c
     (round-off as in the fuzz above)."""
     from slipstep import _engine
 
-    nodes = np.array([[0.014190750494522187, 0.0], [0.2585063312322589, 0.0],
-                      [0.506402736691352, 0.0], [0.7664579398207183, 0.0],
-                      [1.004041309993055, 0.0], [0.007219257651766952, 0.9937439460877943],
-                      [0.24395134957696288, 0.9987008063836676],
-                      [0.496070567142536, 0.9819696511888898],
-                      [0.7567461263360208, 0.990424623738192],
-                      [1.002678452093274, 1.00895647093158]])
-    model = {"nodes": nodes, "triangles": _grid(4, 1, np.zeros((10, 2)))[1],
-             "element_material": np.zeros(8, int), "plane": "strain", "thickness": 1.0,
-             "materials": [{"E": 1000.0, "nu": 0.499, "Sy": 0.5, "H": 10.0}],
-             "fixed_dofs": np.zeros(0, int), "load": np.r_[np.zeros(10), [0.0, -1.0] * 5],
-             "pairs": {"node_a": np.arange(5), "node_b": np.full(5, -1),
-                       "normal": np.tile([0.0, 1.0], (5, 1)), "gap": np.zeros(5),
-                       "mu": np.ones(5)},
-             "options": {"drift_control": False, "tie_tol": 1e-3}}
+    nodes = np.array(
+        [
+            [0.014190750494522187, 0.0],
+            [0.2585063312322589, 0.0],
+            [0.506402736691352, 0.0],
+            [0.7664579398207183, 0.0],
+            [1.004041309993055, 0.0],
+            [0.007219257651766952, 0.9937439460877943],
+            [0.24395134957696288, 0.9987008063836676],
+            [0.496070567142536, 0.9819696511888898],
+            [0.7567461263360208, 0.990424623738192],
+            [1.002678452093274, 1.00895647093158],
+        ]
+    )
+    model = {
+        "nodes": nodes,
+        "triangles": _grid(4, 1, np.zeros((10, 2)))[1],
+        "element_material": np.zeros(8, int),
+        "plane": "strain",
+        "thickness": 1.0,
+        "materials": [{"E": 1000.0, "nu": 0.499, "Sy": 0.5, "H": 10.0}],
+        "fixed_dofs": np.zeros(0, int),
+        "load": np.r_[np.zeros(10), [0.0, -1.0] * 5],
+        "pairs": {
+            "node_a": np.arange(5),
+            "node_b": np.full(5, -1),
+            "normal": np.tile([0.0, 1.0], (5, 1)),
+            "gap": np.zeros(5),
+            "mu": np.ones(5),
+        },
+        "options": {"drift_control": False, "tie_tol": 1e-3},
+    }
     for output in ("events", "fractions"):
         model["options"].update(output=output, fractions=np.array([0.25, 0.5, 1.0]))
         result = _engine.solve(model, False)
@@ -712,15 +909,29 @@ def test_a_separation_taken_with_a_tie_is_rebalanced():
     tris = _grid(4, 1, np.zeros((10, 2)))[1]
     load = np.zeros(40)
     load[31::2] = -10.0
-    model = {"nodes": np.column_stack([x, y]), "triangles": np.vstack([tris, tris + 10]),
-             "element_material": np.zeros(16, int), "plane": "stress", "thickness": 1.0,
-             "materials": [{"E": 1000.0, "nu": 0.3, "Sy": 2.0, "H": 100.0}],
-             "fixed_dofs": np.array([0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 20, 30]), "load": load,
-             "pairs": {"node_a": np.arange(10, 15), "node_b": np.arange(5, 10),
-                       "normal": np.tile([0.0, 1.0], (5, 1)), "gap": y[10:15] - y[5:10],
-                       "mu": np.full(5, 2.0)},
-             "options": {"output": "fractions", "fractions": np.array([0.25, 0.5, 1.0]),
-                         "tie_tol": 1e-3, "drift_control": False}}
+    model = {
+        "nodes": np.column_stack([x, y]),
+        "triangles": np.vstack([tris, tris + 10]),
+        "element_material": np.zeros(16, int),
+        "plane": "stress",
+        "thickness": 1.0,
+        "materials": [{"E": 1000.0, "nu": 0.3, "Sy": 2.0, "H": 100.0}],
+        "fixed_dofs": np.array([0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 20, 30]),
+        "load": load,
+        "pairs": {
+            "node_a": np.arange(10, 15),
+            "node_b": np.arange(5, 10),
+            "normal": np.tile([0.0, 1.0], (5, 1)),
+            "gap": y[10:15] - y[5:10],
+            "mu": np.full(5, 2.0),
+        },
+        "options": {
+            "output": "fractions",
+            "fractions": np.array([0.25, 0.5, 1.0]),
+            "tie_tol": 1e-3,
+            "drift_control": False,
+        },
+    }
     result = _engine.solve(model, False)
     assert result["stop"]["kind"] == "completed", result["stop"]["message"]
     worst, k, f = worst_equilibrium(model, result["snapshots"])
@@ -744,13 +955,23 @@ def test_a_hardening_block_reaches_no_limit_load():
     x, y = np.meshgrid([0.0, 0.5, 1.0], [0.0, 0.5, 1.0])
     nodes = np.column_stack([x.ravel(), y.ravel()])
     nodes[1:3, 1] = [0.02087828499121349, 0.02327785993001651]
-    model = {"nodes": nodes, "triangles": _grid(2, 2, np.zeros((9, 2)))[1],
-             "element_material": np.zeros(8, int), "plane": "strain", "thickness": 1.0,
-             "materials": [{"E": 1000.0, "nu": 0.45, "Sy": 2.0, "H": 1000.0}],
-             "fixed_dofs": np.array([0, 6, 12]), "load": np.r_[np.zeros(12), [0, -10.0] * 3],
-             "pairs": {"node_a": np.arange(3), "node_b": np.full(3, -1),
-                       "normal": np.tile([0.0, 1.0], (3, 1)), "gap": nodes[:3, 1].copy(),
-                       "mu": np.full(3, 2.0)}}
+    model = {
+        "nodes": nodes,
+        "triangles": _grid(2, 2, np.zeros((9, 2)))[1],
+        "element_material": np.zeros(8, int),
+        "plane": "strain",
+        "thickness": 1.0,
+        "materials": [{"E": 1000.0, "nu": 0.45, "Sy": 2.0, "H": 1000.0}],
+        "fixed_dofs": np.array([0, 6, 12]),
+        "load": np.r_[np.zeros(12), [0, -10.0] * 3],
+        "pairs": {
+            "node_a": np.arange(3),
+            "node_b": np.full(3, -1),
+            "normal": np.tile([0.0, 1.0], (3, 1)),
+            "gap": nodes[:3, 1].copy(),
+            "mu": np.full(3, 2.0),
+        },
+    }
     result = _engine.solve(model, False)
     assert result["stop"]["kind"] == "completed", result["stop"]["message"]
     worst, k, f = worst_equilibrium(model, result["snapshots"])
@@ -758,21 +979,36 @@ def test_a_hardening_block_reaches_no_limit_load():
 
 
 @budget(1000)
-@given(n=st.integers(3, 12), m=st.integers(1, 12), seed=st.integers(0, 2**32 - 1),
-       n_pairs=st.integers(0, 6))
+@given(
+    n=st.integers(3, 12),
+    m=st.integers(1, 12),
+    seed=st.integers(0, 2**32 - 1),
+    n_pairs=st.integers(0, 6),
+)
 def test_fuzz_engine_random_triangle_soup(n, m, seed, n_pairs):
     """Nodes anywhere, triangles of random nodes (overlapping, inverted, degenerate, isolated),
     random supports, loads and pairs: nearly always an error, never a crash."""
     rng = np.random.default_rng(seed)
     nodes = rng.uniform(-1, 1, (n, 2))
     tris = rng.integers(0, n, (m, 3)).astype(np.int64)
-    pairs = {"node_a": rng.integers(0, n, n_pairs).astype(np.int64),
-             "node_b": np.where(rng.random(n_pairs) < 0.5, -1,
-                                rng.integers(0, n, n_pairs)).astype(np.int64),
-             "normal": np.tile([0.0, 1.0], (n_pairs, 1)), "gap": rng.uniform(0, 0.1, n_pairs),
-             "mu": rng.choice([0.0, 0.5], n_pairs)}
-    model = {"nodes": nodes, "triangles": tris, "element_material": np.zeros(m, np.int64),
-             "materials": [{"E": 1.0, "nu": 0.25}], "plane": "strain", "thickness": 1.0,
-             "fixed_dofs": np.unique(rng.integers(0, 2 * n, rng.integers(0, 2 * n))).astype(np.int64),
-             "load": rng.standard_normal(2 * n), "pairs": pairs}
+    pairs = {
+        "node_a": rng.integers(0, n, n_pairs).astype(np.int64),
+        "node_b": np.where(rng.random(n_pairs) < 0.5, -1, rng.integers(0, n, n_pairs)).astype(
+            np.int64
+        ),
+        "normal": np.tile([0.0, 1.0], (n_pairs, 1)),
+        "gap": rng.uniform(0, 0.1, n_pairs),
+        "mu": rng.choice([0.0, 0.5], n_pairs),
+    }
+    model = {
+        "nodes": nodes,
+        "triangles": tris,
+        "element_material": np.zeros(m, np.int64),
+        "materials": [{"E": 1.0, "nu": 0.25}],
+        "plane": "strain",
+        "thickness": 1.0,
+        "fixed_dofs": np.unique(rng.integers(0, 2 * n, rng.integers(0, 2 * n))).astype(np.int64),
+        "load": rng.standard_normal(2 * n),
+        "pairs": pairs,
+    }
     check_solve(model)

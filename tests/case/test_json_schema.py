@@ -27,9 +27,15 @@ def validator():
 
 def test_the_committed_file_is_the_schema_the_code_makes():
     committed = (ROOT / "docs" / "case.schema.json").read_text()
-    assert committed == json_schema.text(), "regenerate: slipstep keys --json-schema > docs/case.schema.json"
-    out = subprocess.run([sys.executable, "-m", "slipstep", "keys", "--json-schema"],
-                         capture_output=True, text=True, check=True)
+    assert (
+        committed == json_schema.text()
+    ), "regenerate: slipstep keys --json-schema > docs/case.schema.json"
+    out = subprocess.run(
+        [sys.executable, "-m", "slipstep", "keys", "--json-schema"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     assert out.stdout == committed
     jsonschema.Draft202012Validator.check_schema(json.loads(committed))
 
@@ -46,14 +52,17 @@ def _broken(change) -> dict:
     return data
 
 
-@pytest.mark.parametrize("what, change", [
-    ("misspelt solver key", lambda d: d.setdefault("solver", {}).update(group_tl=0.1)),
-    ("string for a number", lambda d: d["body"][0]["material"].update(E="stiff")),
-    ("unknown top-level table", lambda d: d.update(solvr={})),
-    ("unknown contact kind", lambda d: d["contact"][0].update(kind="glue")),
-    ("misspelt mesh key", lambda d: d["body"][0]["mesh"].update(hh=1.0)),
-    ("boolean for a count", lambda d: d.setdefault("solver", {}).update(max_events=True)),
-])
+@pytest.mark.parametrize(
+    "what, change",
+    [
+        ("misspelt solver key", lambda d: d.setdefault("solver", {}).update(group_tl=0.1)),
+        ("string for a number", lambda d: d["body"][0]["material"].update(E="stiff")),
+        ("unknown top-level table", lambda d: d.update(solvr={})),
+        ("unknown contact kind", lambda d: d["contact"][0].update(kind="glue")),
+        ("misspelt mesh key", lambda d: d["body"][0]["mesh"].update(hh=1.0)),
+        ("boolean for a count", lambda d: d.setdefault("solver", {}).update(max_events=True)),
+    ],
+)
 def test_what_the_validator_refuses_by_key_or_type_the_schema_flags(validator, what, change):
     assert list(validator.iter_errors(_broken(change))), what
 
@@ -64,15 +73,20 @@ def _broken_3d(change) -> dict:
     return data
 
 
-@pytest.mark.parametrize("what, change", [
-    ("a plane in space", lambda d: d["analysis"].update(plane="strain")),
-    ("a thickness in space", lambda d: d["analysis"].update(thickness=1.0)),
-    ("an edge in space", lambda d: d["bc"][0].update(edge="bottom")),
-    ("a 2D generator in space", lambda d: d["body"][1]["mesh"].update(generator="block")),
-    ("a 2D contact kind in space", lambda d: d["contact"][0].update(kind="node_to_segment")),
-    ("a point of two numbers in space",
-     lambda d: d["body"][1]["mesh"].update(focus=[0.0, 0.0])),
-])
+@pytest.mark.parametrize(
+    "what, change",
+    [
+        ("a plane in space", lambda d: d["analysis"].update(plane="strain")),
+        ("a thickness in space", lambda d: d["analysis"].update(thickness=1.0)),
+        ("an edge in space", lambda d: d["bc"][0].update(edge="bottom")),
+        ("a 2D generator in space", lambda d: d["body"][1]["mesh"].update(generator="block")),
+        ("a 2D contact kind in space", lambda d: d["contact"][0].update(kind="node_to_segment")),
+        (
+            "a point of two numbers in space",
+            lambda d: d["body"][1]["mesh"].update(focus=[0.0, 0.0]),
+        ),
+    ],
+)
 def test_the_keys_of_the_plane_are_flagged_in_a_3d_case(validator, what, change):
     """Issue 38: the schema accepted 2D keys in a 3D case; the validator refuses each of them
     (tests/case/test_case_validation.py), and so does an editor now."""
@@ -80,10 +94,13 @@ def test_the_keys_of_the_plane_are_flagged_in_a_3d_case(validator, what, change)
     assert list(validator.iter_errors(_broken_3d(change))), what
 
 
-@pytest.mark.parametrize("what, change", [
-    ("a face in the plane", lambda d: d["bc"][0].update(face="bottom")),
-    ("a 3D contact kind in the plane", lambda d: d["contact"][0].update(kind="rigid_plane")),
-])
+@pytest.mark.parametrize(
+    "what, change",
+    [
+        ("a face in the plane", lambda d: d["bc"][0].update(face="bottom")),
+        ("a 3D contact kind in the plane", lambda d: d["contact"][0].update(kind="rigid_plane")),
+    ],
+)
 def test_the_keys_of_space_are_flagged_in_a_2d_case(validator, what, change):
     assert list(validator.iter_errors(_broken(change))), what
 

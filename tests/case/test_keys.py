@@ -96,8 +96,10 @@ def test_every_schema_table_has_its_readme_table_with_the_same_keys():
         if not want:
             continue  # generator = "given": no key but the generator
         assert got is not None, f"cases/README.md has no key table for [{section}] {variant}"
-        assert set(got) == want, (f"[{section}] {variant}: README only {sorted(set(got) - want)}, "
-                                  f"schema only {sorted(want - set(got))}")
+        assert set(got) == want, (
+            f"[{section}] {variant}: README only {sorted(set(got) - want)}, "
+            f"schema only {sorted(want - set(got))}"
+        )
     stray = set(readme) - set(declared)
     assert not stray, f"README tables for sections the schema does not have: {sorted(stray)}"
 
@@ -147,9 +149,13 @@ def test_the_readme_states_the_schema_defaults():
 
 # --------------------------------------------------------------------------- slipstep keys
 def slipstep(*args):
-    return subprocess.run([sys.executable, "-m", "slipstep", *args], capture_output=True,
-                          text=True, timeout=120, env={"PYTHONPATH": str(ROOT / "py"),
-                                                       "PATH": "/usr/bin:/bin"})
+    return subprocess.run(
+        [sys.executable, "-m", "slipstep", *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={"PYTHONPATH": str(ROOT / "py"), "PATH": "/usr/bin:/bin"},
+    )
 
 
 def test_keys_prints_every_section_and_key():
@@ -161,11 +167,14 @@ def test_keys_prints_every_section_and_key():
             assert re.search(rf"^  {re.escape(key)} ", out.stdout, re.M), (s.title, key)
 
 
-@pytest.mark.parametrize("which, title, absent", [
-    ("solver", "[solver]", "[output]"),
-    ("material", "[body.material]", "[body.mesh]"),
-    ("contact.mu", '[contact] kind = "rigid_line" | "rigid_circle"', "radius"),
-])
+@pytest.mark.parametrize(
+    "which, title, absent",
+    [
+        ("solver", "[solver]", "[output]"),
+        ("material", "[body.material]", "[body.mesh]"),
+        ("contact.mu", '[contact] kind = "rigid_line" | "rigid_circle"', "radius"),
+    ],
+)
 def test_keys_of_one_section_or_key(which, title, absent):
     out = slipstep("keys", which)
     assert out.returncode == 0, out.stderr
@@ -178,4 +187,5 @@ def test_keys_of_an_unknown_section_suggests_one():
     assert out.stderr.strip().splitlines() == [
         "slipstep: error: keys solvr: no such section or key (did you mean solver?); sections: "
         "analysis, bc, body, body.material, body.mesh, case, contact, load, material, mesh, "
-        "output, point_load, solver, stage"]
+        "output, point_load, solver, stage"
+    ]

@@ -20,8 +20,14 @@ HERTZ = ROOT / "cases" / "hertz_cylinder.toml"
 
 def slipstep(*args, cwd=None):
     env = dict(os.environ, MPLBACKEND="Agg")
-    return subprocess.run([sys.executable, "-m", "slipstep", *map(str, args)], capture_output=True,
-                          text=True, cwd=cwd, env=env, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "slipstep", *map(str, args)],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        env=env,
+        timeout=300,
+    )
 
 
 def assert_clear_error(proc, *words):
@@ -70,7 +76,9 @@ def test_body_free_to_translate(tmp_path):
     # The cylinder without its flat: nothing holds it vertically.
     case = tmp_path / "c.toml"
     case.write_text(without_section(HERTZ.read_text(), "contact"))
-    assert_clear_error(slipstep("run", case, "--out", tmp_path / "o"), "free to move", "translation in y")
+    assert_clear_error(
+        slipstep("run", case, "--out", tmp_path / "o"), "free to move", "translation in y"
+    )
 
 
 def test_inverted_triangle_in_a_mesh_file(tmp_path):
@@ -79,8 +87,10 @@ def test_inverted_triangle_in_a_mesh_file(tmp_path):
     tris = np.array([[0, 1, 4], [0, 4, 3], [1, 5, 2], [1, 5, 4]])  # [1,5,2] is clockwise
     lines = np.array([[0, 1], [1, 2], [5, 4], [4, 3]])
     meshio.write(tmp_path / "m.xdmf", meshio.Mesh(pts, [("triangle", tris)]))
-    meshio.write(tmp_path / "e.xdmf", meshio.Mesh(pts, [("line", lines)],
-                                                   cell_data={"tags": [np.array([1, 1, 2, 2])]}))
+    meshio.write(
+        tmp_path / "e.xdmf",
+        meshio.Mesh(pts, [("line", lines)], cell_data={"tags": [np.array([1, 1, 2, 2])]}),
+    )
     case = tmp_path / "c.toml"
     case.write_text("""
 [analysis]
@@ -126,8 +136,9 @@ def test_a_slipstep_error_is_one_line_and_exit_2(monkeypatch, capsys):
     assert cli.main(["run", "--quiet"]) == 2
     err = capsys.readouterr().err
     # the newline inside the message is written as an escape: still one line
-    assert err == "slipstep: error: body 'b' is free to move (translation in x):\\nadd a " \
-                  "support\n"
+    assert (
+        err == "slipstep: error: body 'b' is free to move (translation in x):\\nadd a " "support\n"
+    )
 
 
 @pytest.mark.parametrize("error", [RuntimeError("a bug"), ValueError("a bug")])
@@ -161,19 +172,34 @@ def test_an_engine_bug_is_one_line(monkeypatch, capsys):
 
 def test_a_bug_in_a_subprocess_shows_its_traceback(tmp_path):
     # the same through the real entry point: an exception from inside run_case
-    code = ("import sys, slipstep.cli as c\n"
-            "def boom(*a, **k):\n    raise RuntimeError('a bug')\n"
-            "c.run_case = boom\nsys.exit(c.main(['run', '--quiet']))\n")
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          timeout=120, env=dict(os.environ, MPLBACKEND="Agg"))
+    code = (
+        "import sys, slipstep.cli as c\n"
+        "def boom(*a, **k):\n    raise RuntimeError('a bug')\n"
+        "c.run_case = boom\nsys.exit(c.main(['run', '--quiet']))\n"
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=dict(os.environ, MPLBACKEND="Agg"),
+    )
     assert proc.returncode == 1
     assert "Traceback" in proc.stderr and "RuntimeError: a bug" in proc.stderr
     assert "slipstep: error" not in proc.stderr
 
 
 # --------------------------------------------------------------------------- runs through run_case
-COARSE = ["--set", "mesh.h_contact=0.2", "--set", "output.xdmf=false", "--set",
-          "output.figures=false", "--set", "output.snapshots=[1.0]"]
+COARSE = [
+    "--set",
+    "mesh.h_contact=0.2",
+    "--set",
+    "output.xdmf=false",
+    "--set",
+    "output.figures=false",
+    "--set",
+    "output.snapshots=[1.0]",
+]
 
 
 def test_set_reaches_the_engine(tmp_path):
@@ -211,8 +237,9 @@ def test_ctrl_c_while_writing_keeps_the_old_results(tmp_path, monkeypatch, capsy
     out = tmp_path / "o"
     monkeypatch.setattr(runner, "write_results", interrupted)
     assert cli.main(["run", "--quiet", "--out", str(out), *COARSE]) == 130
-    assert capsys.readouterr().err == (f"slipstep: interrupted while writing results; nothing "
-                                       f"was replaced in {out}\n")
+    assert capsys.readouterr().err == (
+        f"slipstep: interrupted while writing results; nothing " f"was replaced in {out}\n"
+    )
 
 
 def test_ctrl_c_before_the_run_says_interrupted(monkeypatch, capsys):

@@ -21,8 +21,13 @@ OVERRIDES = ["--set", "contact.mu=0.35"]
 def _run(tmp_path, trigger: str):
     out = tmp_path / "o"
     env = dict(os.environ, MPLBACKEND="Agg", SLIPSTEP_TEST_INTERRUPT=trigger)
-    proc = subprocess.run([sys.executable, "-m", "slipstep", "run", *OVERRIDES, "--out", str(out)],
-                          capture_output=True, text=True, env=env, timeout=300)
+    proc = subprocess.run(
+        [sys.executable, "-m", "slipstep", "run", *OVERRIDES, "--out", str(out)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     return proc, out
 
 

@@ -31,9 +31,13 @@ def _case(tmp_path: Path) -> Path:
 
 def _run(tmp_path: Path, **env) -> tuple[subprocess.CompletedProcess, Path]:
     out = tmp_path / "o"
-    proc = subprocess.run([sys.executable, "-m", "slipstep", "run", str(_case(tmp_path)), "--out", str(out)],
-                          capture_output=True, text=True, timeout=300,
-                          env=dict(os.environ, MPLBACKEND="Agg", **env))
+    proc = subprocess.run(
+        [sys.executable, "-m", "slipstep", "run", str(_case(tmp_path)), "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=dict(os.environ, MPLBACKEND="Agg", **env),
+    )
     return proc, out
 
 
@@ -51,9 +55,13 @@ def test_a_panic_is_one_line_and_keeps_the_results(tmp_path):
     proc, out = _run(tmp_path, SLIPSTEP_TEST_PANIC="lcp_pivot:20")
     assert proc.returncode == 2, proc.stderr
     lines = [line for line in proc.stderr.splitlines() if "running" not in line]
-    assert len(lines) == 1 and "Traceback" not in proc.stderr and "panicked" not in proc.stderr, proc.stderr
+    assert (
+        len(lines) == 1 and "Traceback" not in proc.stderr and "panicked" not in proc.stderr
+    ), proc.stderr
     # the case, the path time and the bug are named, and where the results are
-    assert lines[0].startswith("slipstep: error: plate: an engine bug stopped the run at t = 0"), lines
+    assert lines[0].startswith(
+        "slipstep: error: plate: an engine bug stopped the run at t = 0"
+    ), lines
     assert f"in {out}" in lines[0]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["stop"]["kind"] == "failed" and summary["n_events"] > 0

@@ -23,8 +23,14 @@ CARGO_VERSION = tomllib.loads((ROOT / "Cargo.toml").read_text())["workspace"]["p
 
 def slipstep(*args, cwd=None):
     env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT / "py"))
-    return subprocess.run([sys.executable, "-m", "slipstep", *map(str, args)], cwd=cwd, env=env,
-                          capture_output=True, text=True, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "slipstep", *map(str, args)],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
 
 
 def one_error_line(proc) -> str:
@@ -46,14 +52,18 @@ def test_version_is_the_cargo_workspace_version():
 # --------------------------------------------------------------------------- names and --set
 def test_a_misspelt_case_name_gets_the_close_shipped_names():
     line = one_error_line(slipstep("run", "hertz_cylnder"))
-    assert line == ("hertz_cylnder: no such case file, and no shipped case of that name; did you "
-                    "mean hertz_cylinder? (`slipstep list` shows the shipped ones)")
+    assert line == (
+        "hertz_cylnder: no such case file, and no shipped case of that name; did you "
+        "mean hertz_cylinder? (`slipstep list` shows the shipped ones)"
+    )
 
 
 def test_a_name_like_no_shipped_case_points_to_the_list():
     line = one_error_line(slipstep("check", "zzz"))
-    assert line == ("zzz: no such case file, and no shipped case of that name (`slipstep list` "
-                    "shows the shipped ones)")
+    assert line == (
+        "zzz: no such case file, and no shipped case of that name (`slipstep list` "
+        "shows the shipped ones)"
+    )
 
 
 def test_a_misspelt_study_name_gets_the_close_shipped_names():
@@ -61,13 +71,19 @@ def test_a_misspelt_study_name_gets_the_close_shipped_names():
     assert "no such study file" in line and "did you mean fig10_onset_of_yield?" in line
 
 
-@pytest.mark.parametrize("argv, shown, fix", [
-    (["run", "--set", "contact.mu", "0.2"], "--set contact.mu 0.2", "--set contact.mu=0.2"),
-    (["run", "two_blocks", "--set", "contact.mu", "0.2", "--quiet"], "--set contact.mu 0.2",
-     "--set contact.mu=0.2"),
-    (["check", "--set", "contact.mu"], "--set contact.mu", "--set contact.mu=VALUE"),
-    (["run", "--set=contact.mu", "0.2"], "--set contact.mu 0.2", "--set contact.mu=0.2"),
-])
+@pytest.mark.parametrize(
+    "argv, shown, fix",
+    [
+        (["run", "--set", "contact.mu", "0.2"], "--set contact.mu 0.2", "--set contact.mu=0.2"),
+        (
+            ["run", "two_blocks", "--set", "contact.mu", "0.2", "--quiet"],
+            "--set contact.mu 0.2",
+            "--set contact.mu=0.2",
+        ),
+        (["check", "--set", "contact.mu"], "--set contact.mu", "--set contact.mu=VALUE"),
+        (["run", "--set=contact.mu", "0.2"], "--set contact.mu 0.2", "--set contact.mu=0.2"),
+    ],
+)
 def test_set_with_a_space_says_to_write_key_equals_value(argv, shown, fix):
     line = one_error_line(slipstep(*argv))
     assert line == f"{shown}: write KEY=VALUE as one word, {fix} (the keys: `slipstep keys`)"
@@ -91,8 +107,9 @@ def test_new_copies_a_shipped_case_under_its_new_name(tmp_path, source):
     copy, original = load_case(tmp_path / "mine.toml"), load_case(shipped.path(source))
     assert copy.name == "mine"
     assert {**copy.data, "case": {}} == {**original.data, "case": {}}
-    assert {k: v for k, v in copy.data["case"].items() if k != "name"} == \
-        {k: v for k, v in original.data["case"].items() if k != "name"}
+    assert {k: v for k, v in copy.data["case"].items() if k != "name"} == {
+        k: v for k, v in original.data["case"].items() if k != "name"
+    }
     text = (tmp_path / "mine.toml").read_text()
     assert text.count("#") == shipped.path(source).read_text().count("#")
     for rel in shipped.referenced_files(original.data):  # the meshes and surfaces it names
@@ -110,8 +127,7 @@ def test_a_new_case_that_names_a_surface_file_is_checked_where_it_was_written(tm
 
 def test_new_keeps_a_different_file_of_the_same_name_and_names_the_fix(tmp_path):
     (tmp_path / "flat_punch_3d.stl").write_text("mine")
-    line = one_error_line(slipstep("new", "vickers", "--from", "boussinesq_punch_3d",
-                                   cwd=tmp_path))
+    line = one_error_line(slipstep("new", "vickers", "--from", "boussinesq_punch_3d", cwd=tmp_path))
     assert line.startswith("flat_punch_3d.stl exists and differs from the file")
     assert not (tmp_path / "vickers.toml").exists()
     assert (tmp_path / "flat_punch_3d.stl").read_text() == "mine"
@@ -129,13 +145,20 @@ def test_new_from_a_misspelt_case_suggests_one(tmp_path):
     assert "did you mean hertz_sphere" in line and not (tmp_path / "mine.toml").exists()
 
 
-@pytest.mark.parametrize("text, want", [
-    ('[case]\nname = "old"\n[solver]\nname = "x"\n',
-     '[case]\nname = "new"\n[solver]\nname = "x"\n'),
-    ('# c\n[case]\ndescription = "d"\n\n[load]\nP = 1.0\n',
-     '# c\n[case]\nname = "new"\ndescription = "d"\n\n[load]\nP = 1.0\n'),
-    ('[load]\nP = 1.0\n', '[case]\nname = "new"\n\n[load]\nP = 1.0\n'),
-])
+@pytest.mark.parametrize(
+    "text, want",
+    [
+        (
+            '[case]\nname = "old"\n[solver]\nname = "x"\n',
+            '[case]\nname = "new"\n[solver]\nname = "x"\n',
+        ),
+        (
+            '# c\n[case]\ndescription = "d"\n\n[load]\nP = 1.0\n',
+            '# c\n[case]\nname = "new"\ndescription = "d"\n\n[load]\nP = 1.0\n',
+        ),
+        ('[load]\nP = 1.0\n', '[case]\nname = "new"\n\n[load]\nP = 1.0\n'),
+    ],
+)
 def test_renamed_sets_only_the_case_name(text, want):
     assert shipped.renamed(text, "new") == want
     assert tomllib.loads(shipped.renamed(text, "new"))["case"]["name"] == "new"
@@ -144,21 +167,28 @@ def test_renamed_sets_only_the_case_name(text, want):
 # --------------------------------------------------------------------------- early stops
 def _stopped(kind: str, message):
     """run_case's answer for a run that stopped with ``kind`` (the engine's stop record)."""
+
     def run_case(case, out, overrides=(), progress=False):
         return {"stop": {"kind": kind, "message": message, "t": 0.5}}, {"final_t": 0.5}
+
     return run_case
 
 
-@pytest.mark.parametrize("kind, message, code", [
-    ("completed", None, 0),
-    ("first_yield", None, 0),  # asked for by solver.stop_at_first_yield: not an error
-    ("limit_load", "limit load reached at load fraction 0.5: ...", 2),
-    ("support_lost", "the body lifts off at t = 0.5 about (1, 0): ...", 2),  # a new kind
-])
-def test_an_early_stop_is_reported_by_its_message_whatever_its_kind(monkeypatch, capsys, tmp_path,
-                                                                     kind, message, code):
+@pytest.mark.parametrize(
+    "kind, message, code",
+    [
+        ("completed", None, 0),
+        ("first_yield", None, 0),  # asked for by solver.stop_at_first_yield: not an error
+        ("limit_load", "limit load reached at load fraction 0.5: ...", 2),
+        ("support_lost", "the body lifts off at t = 0.5 about (1, 0): ...", 2),  # a new kind
+    ],
+)
+def test_an_early_stop_is_reported_by_its_message_whatever_its_kind(
+    monkeypatch, capsys, tmp_path, kind, message, code
+):
     monkeypatch.setattr(cli, "run_case", _stopped(kind, message))
     assert cli.main(["run", "--quiet", "--out", str(tmp_path)]) == code
     err = capsys.readouterr().err
-    assert err == (f"slipstep: error: {message} (partial results in {tmp_path})\n" if message
-                   else "")
+    assert err == (
+        f"slipstep: error: {message} (partial results in {tmp_path})\n" if message else ""
+    )

@@ -74,8 +74,9 @@ CONE_TIE, ROUND_OFF = 1e-6, 1e-9
 
 
 def run(tmp_path, *overrides, meshes=None, text=BLOCK):
-    return slipstep.run(write_case(tmp_path, text), None, list(overrides), progress=False,
-                        meshes=meshes)
+    return slipstep.run(
+        write_case(tmp_path, text), None, list(overrides), progress=False, meshes=meshes
+    )
 
 
 def contact_arrays(result):
@@ -84,8 +85,13 @@ def contact_arrays(result):
     snap = result.raw["snapshots"][-1]
     node_a = np.asarray(result.scene.model["pairs"]["node_a"])
     u = np.asarray(snap["u"]).reshape(-1, 2)
-    return (result.nodes[node_a, 0], np.asarray(snap["lambda_n"]), -np.asarray(snap["lambda_t"]),
-            u[node_a, 0], u)
+    return (
+        result.nodes[node_a, 0],
+        np.asarray(snap["lambda_n"]),
+        -np.asarray(snap["lambda_t"]),
+        u[node_a, 0],
+        u,
+    )
 
 
 def element_areas(result) -> np.ndarray:
@@ -119,8 +125,9 @@ def test_the_mirror_image_gives_the_mirror_image(tmp_path):
     nodes = mesh.nodes * [-1.0, 1.0] + [W, 0.0]
     mirror = slipstep.from_arrays(nodes, mesh.triangles, mesh.edges)  # flipped counter-clockwise
     given = BLOCK.replace('generator = "block"', 'generator = "given"')
-    given = "\n".join(line for line in given.splitlines()
-                      if not line.startswith(("width", "height", "nx", "ny")))
+    given = "\n".join(
+        line for line in given.splitlines() if not line.startswith(("width", "height", "nx", "ny"))
+    )
     mirrored = run(tmp_path, meshes={"block": mirror}, text=given)
     assert mirrored.stop["kind"] == "completed"
     x, ln, fx, _, _ = contact_arrays(result)
@@ -143,8 +150,12 @@ def test_the_settlement_converges_whatever_the_parity(tmp_path):
         u = np.asarray(result.raw["snapshots"][-1]["u"]).reshape(-1, 2)
         return u[np.isclose(result.nodes[:, 1], H), 1].mean()
 
-    odd, even, finer, finest = settlement(19, 5), settlement(20, 5), settlement(39, 10), \
-        settlement(79, 20)
+    odd, even, finer, finest = (
+        settlement(19, 5),
+        settlement(20, 5),
+        settlement(39, 10),
+        settlement(79, 20),
+    )
     # Frictionless, the stress is uniform and CST exact: -q h (1 - nu^2)/E; friction restrains
     # the base's expansion and stiffens the block, by a few per cent at mu = 0.1.
     frictionless = -Q * H * (1 - NU**2) / E

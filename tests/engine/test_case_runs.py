@@ -21,8 +21,15 @@ def hertz_frictionless(tmp_path_factory):
 
 def test_hertz_output_files(hertz_frictionless):
     out, _, s = hertz_frictionless
-    for name in ("summary.json", "events.csv", "contact_profile.csv", "results.xdmf",
-                 "results.h5", "contact_interface.png", "contact_growth.png"):
+    for name in (
+        "summary.json",
+        "events.csv",
+        "contact_profile.csv",
+        "results.xdmf",
+        "results.h5",
+        "contact_interface.png",
+        "contact_growth.png",
+    ):
         assert (out / name).stat().st_size > 0, name
     assert json.loads((out / "summary.json").read_text())["n_events"] == s["n_events"]
 

@@ -23,12 +23,20 @@ import slipstep
 #: See the module's docstring: kappa(K) eps < 2e-10 for both meshes.
 ROUND_OFF = 1e-9
 
-HERTZ = (CASES / "hertz_cylinder.toml",
-         ["contact.mu=0.35", "material.Sy=200", "material.H=700", "mesh.h_contact=0.15",
-          "output.snapshots=[0.25, 0.5, 0.75, 1.0]"])
-SPHERE = (CASES / "sphere_on_flat_plastic_3d.toml",
-          ["mesh.h_contact=0.04", "contact.motion=[0.0, 0.0, 0.0008]",
-           "output.snapshots=[0.5, 1.0]"])
+HERTZ = (
+    CASES / "hertz_cylinder.toml",
+    [
+        "contact.mu=0.35",
+        "material.Sy=200",
+        "material.H=700",
+        "mesh.h_contact=0.15",
+        "output.snapshots=[0.25, 0.5, 0.75, 1.0]",
+    ],
+)
+SPHERE = (
+    CASES / "sphere_on_flat_plastic_3d.toml",
+    ["mesh.h_contact=0.04", "contact.motion=[0.0, 0.0, 0.0008]", "output.snapshots=[0.5, 1.0]"],
+)
 
 
 def run(scene, *extra):
@@ -42,7 +50,10 @@ def assert_same_history(plain, condensed):
     ev_p, ev_c = plain.raw["events"], condensed.raw["events"]
     assert len(ev_p["kind"]) > 10
     assert list(zip(ev_c["kind"], ev_c["entity"])) == list(zip(ev_p["kind"], ev_p["entity"]))
-    assert np.abs(np.asarray(ev_c["load_fraction"]) - np.asarray(ev_p["load_fraction"])).max() <= ROUND_OFF
+    assert (
+        np.abs(np.asarray(ev_c["load_fraction"]) - np.asarray(ev_p["load_fraction"])).max()
+        <= ROUND_OFF
+    )
     u_p = np.array([s["u"] for s in plain.raw["snapshots"]])
     u_c = np.array([s["u"] for s in condensed.raw["snapshots"]])
     assert u_c.shape == u_p.shape

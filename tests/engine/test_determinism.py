@@ -30,8 +30,12 @@ SCENES = {
 
 def flatten(scene, result: dict) -> dict[str, np.ndarray]:
     """Every array of a run (the mesh and model included), keyed by a path."""
-    out = {"model.nodes": scene.model["nodes"], "model.triangles": scene.model["triangles"],
-           "model.load": scene.model["load"], "model.fixed_dofs": scene.model["fixed_dofs"]}
+    out = {
+        "model.nodes": scene.model["nodes"],
+        "model.triangles": scene.model["triangles"],
+        "model.load": scene.model["load"],
+        "model.fixed_dofs": scene.model["fixed_dofs"],
+    }
     for k, v in scene.model["pairs"].items():
         out[f"model.pairs.{k}"] = np.asarray(v)
     ev = result["events"]
@@ -59,8 +63,9 @@ def assert_bit_identical(a: dict, b: dict, what: str) -> None:
     assert a.keys() == b.keys(), f"{what}: different outputs {set(a) ^ set(b)}"
     for k in a:
         x, y = a[k], b[k]
-        assert x.dtype == y.dtype and x.shape == y.shape, f"{what}: {k} {x.dtype}{x.shape} vs " \
-                                                          f"{y.dtype}{y.shape}"
+        assert x.dtype == y.dtype and x.shape == y.shape, (
+            f"{what}: {k} {x.dtype}{x.shape} vs " f"{y.dtype}{y.shape}"
+        )
         assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), f"{what}: {k} differs"
         assert x.tobytes() == y.tobytes(), f"{what}: {k} differs in its bits"
 
@@ -80,8 +85,9 @@ def run_in_subprocess(name: str, out: Path, threads: str | None = None) -> dict:
         env["RAYON_NUM_THREADS"] = threads
     here = Path(__file__).resolve().parent
     code = CHILD.format(here=str(here), tests=str(here.parent), out=str(out), name=name)
-    proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
-                          timeout=600)
+    proc = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600
+    )
     assert proc.returncode == 0, proc.stderr
     with np.load(out) as data:
         return {k: data[k] for k in data.files}
@@ -97,7 +103,11 @@ def test_runs_are_bit_identical(name, tmp_path):
     else:
         assert {"stick_to_slip"} & set(first["events.kind"]), "the friction scene should slip"
     assert_bit_identical(first, run(name), f"{name}: second run in the same process")
-    assert_bit_identical(first, run_in_subprocess(name, tmp_path / "fresh.npz"),
-                         f"{name}: run in a fresh process")
-    assert_bit_identical(first, run_in_subprocess(name, tmp_path / "one_thread.npz", "1"),
-                         f"{name}: run in a fresh process with RAYON_NUM_THREADS=1")
+    assert_bit_identical(
+        first, run_in_subprocess(name, tmp_path / "fresh.npz"), f"{name}: run in a fresh process"
+    )
+    assert_bit_identical(
+        first,
+        run_in_subprocess(name, tmp_path / "one_thread.npz", "1"),
+        f"{name}: run in a fresh process with RAYON_NUM_THREADS=1",
+    )

@@ -10,7 +10,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from physics import EQUILIBRIUM_TOL, contact_force, equilibrium_residual, tangent_basis, tet_internal_force
+from physics import (
+    EQUILIBRIUM_TOL,
+    contact_force,
+    equilibrium_residual,
+    tangent_basis,
+    tet_internal_force,
+)
 from space3d import BOX
 
 from slipstep.build import build_scene
@@ -30,16 +36,27 @@ def box_scene():
 
 
 def no_pairs(model):
-    model["pairs"] = {"node_a": np.zeros(0, np.int64), "node_b": np.zeros(0, np.int64),
-                      "normal": np.zeros((0, 3)), "gap": np.zeros(0), "mu": np.zeros(0)}
+    model["pairs"] = {
+        "node_a": np.zeros(0, np.int64),
+        "node_b": np.zeros(0, np.int64),
+        "normal": np.zeros((0, 3)),
+        "gap": np.zeros(0),
+        "mu": np.zeros(0),
+    }
     return model
 
 
 def faces_of(scene):
     """Every boundary triangle of the box with its outward normal: the six face tags."""
     out = []
-    for face, normal in (("bottom", (0, 0, -1)), ("top", (0, 0, 1)), ("left", (-1, 0, 0)),
-                         ("right", (1, 0, 0)), ("front", (0, -1, 0)), ("back", (0, 1, 0))):
+    for face, normal in (
+        ("bottom", (0, 0, -1)),
+        ("top", (0, 0, 1)),
+        ("left", (-1, 0, 0)),
+        ("right", (1, 0, 0)),
+        ("front", (0, -1, 0)),
+        ("back", (0, 1, 0)),
+    ):
         out.append((scene.global_boundary("b", face), np.array(normal, dtype=float)))
     return out
 
@@ -102,10 +119,14 @@ def pressed_box(rotation=np.eye(3)):
     model["nodes"] = nodes @ rotation.T
     model["load"] = (load @ rotation.T).ravel()
     normal = np.array([0.0, 0.0, -1.0]) @ rotation.T  # from the plane towards the body
-    model["pairs"] = {"node_a": top.astype(np.int64), "node_b": -np.ones(len(top), np.int64),
-                      "normal": np.tile(normal, (len(top), 1)),
-                      "gap": 1e-3 * (1.0 + 0.1 * nodes[top, 0]), "mu": np.zeros(len(top)),
-                      "contact": np.zeros(len(top), np.int64)}
+    model["pairs"] = {
+        "node_a": top.astype(np.int64),
+        "node_b": -np.ones(len(top), np.int64),
+        "normal": np.tile(normal, (len(top), 1)),
+        "gap": 1e-3 * (1.0 + 0.1 * nodes[top, 0]),
+        "mu": np.zeros(len(top)),
+        "contact": np.zeros(len(top), np.int64),
+    }
     model["contact_names"] = ["lid"]
     return model
 
@@ -121,7 +142,9 @@ def test_a_rotated_scene_gives_the_rotated_solution():
     plain, turned = engine().solve(pressed_box()), engine().solve(pressed_box(rotation))
     assert list(plain["events"]["kind"]) == list(turned["events"]["kind"])
     assert (plain["events"]["entity"] == turned["events"]["entity"]).all()
-    assert np.allclose(plain["events"]["load_fraction"], turned["events"]["load_fraction"], rtol=1e-9)
+    assert np.allclose(
+        plain["events"]["load_fraction"], turned["events"]["load_fraction"], rtol=1e-9
+    )
     a, b = plain["snapshots"][-1], turned["snapshots"][-1]
     assert np.count_nonzero(a["status"]) > 0, "the plane carries load"
     scale_u = np.abs(a["u"]).max()
@@ -142,18 +165,26 @@ def test_equilibrium_recomputed_from_the_arrays_holds_at_every_snapshot(rotated)
         c, s = np.cos(0.4), np.sin(0.4)
         rotation = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
     model = pressed_box(rotation)
-    model["options"] = {**model.get("options", {}), "output": "fractions",
-                        "fractions": np.array([0.3, 0.6, 1.0])}
+    model["options"] = {
+        **model.get("options", {}),
+        "output": "fractions",
+        "fractions": np.array([0.3, 0.6, 1.0]),
+    }
     result = engine().solve(model)
     assert len(result["snapshots"]) >= 3
     for snap in result["snapshots"]:
         assert equilibrium_residual(model, snap) <= EQUILIBRIUM_TOL
         internal = tet_internal_force(model["nodes"], model["tetrahedra"], snap["stress"])
         load = snap["t"] * model["load"]
-        contact = contact_force(len(model["nodes"]), model["pairs"], snap["lambda_n"], snap["lambda_t"])
+        contact = contact_force(
+            len(model["nodes"]), model["pairs"], snap["lambda_n"], snap["lambda_t"]
+        )
         held = model["fixed_dofs"]
         recomputed = (internal - load - contact)[held]
-        assert np.abs(recomputed - snap["reaction"].ravel()[held]).max() <= EQUILIBRIUM_TOL * np.abs(load).sum()
+        assert (
+            np.abs(recomputed - snap["reaction"].ravel()[held]).max()
+            <= EQUILIBRIUM_TOL * np.abs(load).sum()
+        )
         assert snap["lambda_t"].shape == (len(model["pairs"]["node_a"]), 2)
         assert snap["rtd"].shape == (len(model["pairs"]["node_a"]), 2)
 
@@ -169,7 +200,10 @@ def test_the_node_to_surface_patch_test_carries_a_uniform_pressure_exactly():
         result = engine().solve(scene.model)
         snap = result["snapshots"][-1]
         assert (snap["status"] > 0).all()
-        assert np.abs(snap["lambda_n"] - p * scene.pair_area).max() <= ROUND_OFF * p * scene.pair_area.max()
+        assert (
+            np.abs(snap["lambda_n"] - p * scene.pair_area).max()
+            <= ROUND_OFF * p * scene.pair_area.max()
+        )
         expected = np.zeros(6)
         expected[2] = -p
         assert np.abs(snap["stress"] - expected).max() <= ROUND_OFF * p
@@ -185,7 +219,10 @@ def test_node_to_node_pairs_between_matching_faces_carry_a_uniform_pressure_exac
     scene = build_scene(parse_case(text.replace("mu = 0.0", "mu = 0.3"), "lid.toml"))
     snap = engine().solve(scene.model)["snapshots"][-1]
     assert (snap["status"] == 1).all()
-    assert np.abs(snap["lambda_n"] - p * scene.pair_area).max() <= ROUND_OFF * p * scene.pair_area.max()
+    assert (
+        np.abs(snap["lambda_n"] - p * scene.pair_area).max()
+        <= ROUND_OFF * p * scene.pair_area.max()
+    )
     assert abs(snap["lambda_n"].sum() - p * 2.0 * 1.0) <= ROUND_OFF * p * 2.0
     assert np.abs(snap["lambda_t"]).max() <= ROUND_OFF * p * scene.pair_area.max()
     expected = np.zeros(6)
@@ -204,7 +241,8 @@ face = "front"
 fix = ["y"]
 """
 
-LID = """
+LID = (
+    """
 [case]
 name = "lid"
 [analysis]
@@ -251,7 +289,10 @@ face_a = "bottom"
 body_b = "b"
 face_b = "top"
 mu = 0.0
-""" + ROLLERS.format(body="b") + ROLLERS.format(body="lid")
+"""
+    + ROLLERS.format(body="b")
+    + ROLLERS.format(body="lid")
+)
 
 
 def lid_scene(nx, ny, p):
@@ -261,21 +302,35 @@ def lid_scene(nx, ny, p):
 
 
 def tetrahedron_model(**change):
-    model = {"dimension": 3, "nodes": np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]),
-             "tetrahedra": np.array([[0, 1, 2, 3]], dtype=np.int64),
-             "element_material": np.zeros(1, dtype=np.int64), "materials": [{"E": 1.0, "nu": 0.3}],
-             "fixed_dofs": np.arange(9, dtype=np.int64), "load": np.array([0.0] * 11 + [1e-3])}
+    model = {
+        "dimension": 3,
+        "nodes": np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]),
+        "tetrahedra": np.array([[0, 1, 2, 3]], dtype=np.int64),
+        "element_material": np.zeros(1, dtype=np.int64),
+        "materials": [{"E": 1.0, "nu": 0.3}],
+        "fixed_dofs": np.arange(9, dtype=np.int64),
+        "load": np.array([0.0] * 11 + [1e-3]),
+    }
     return no_pairs(model) | change
 
 
-@pytest.mark.parametrize("change, words", [
-    ({"tetrahedra": np.array([[0, 2, 1, 3]], dtype=np.int64)}, "element 0 is an inverted tetrahedron"),
-    ({"nodes": np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0.3, 0.3, 0]])}, "element 0 is a flat tetrahedron"),
-    ({"plane": "strain"}, "'plane' is a key of 2D models"),
-    ({"thickness": 1.0}, "'thickness' is a key of 2D models"),
-    ({"triangles": np.array([[0, 1, 2]], dtype=np.int64)}, "'triangles' is a key of 2D models"),
-    ({"dimension": 4}, "dimension = 4: use 2 or 3"),
-])
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        (
+            {"tetrahedra": np.array([[0, 2, 1, 3]], dtype=np.int64)},
+            "element 0 is an inverted tetrahedron",
+        ),
+        (
+            {"nodes": np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0.3, 0.3, 0]])},
+            "element 0 is a flat tetrahedron",
+        ),
+        ({"plane": "strain"}, "'plane' is a key of 2D models"),
+        ({"thickness": 1.0}, "'thickness' is a key of 2D models"),
+        ({"triangles": np.array([[0, 1, 2]], dtype=np.int64)}, "'triangles' is a key of 2D models"),
+        ({"dimension": 4}, "dimension = 4: use 2 or 3"),
+    ],
+)
 def test_bad_3d_input_is_one_line_naming_the_place(change, words):
     with pytest.raises(InputError) as err:
         engine().solve(tetrahedron_model(**change))
@@ -284,10 +339,17 @@ def test_bad_3d_input_is_one_line_naming_the_place(change, words):
 
 
 def test_a_3d_key_in_a_2d_model_is_named():
-    model = {"nodes": np.array([[0.0, 0], [1, 0], [0, 1]]), "triangles": np.array([[0, 1, 2]], dtype=np.int64),
-             "tetrahedra": np.array([[0, 1, 2, 0]], dtype=np.int64), "plane": "strain", "thickness": 1.0,
-             "element_material": np.zeros(1, dtype=np.int64), "materials": [{"E": 1.0, "nu": 0.3}],
-             "fixed_dofs": np.arange(4, dtype=np.int64), "load": np.zeros(6)}
+    model = {
+        "nodes": np.array([[0.0, 0], [1, 0], [0, 1]]),
+        "triangles": np.array([[0, 1, 2]], dtype=np.int64),
+        "tetrahedra": np.array([[0, 1, 2, 0]], dtype=np.int64),
+        "plane": "strain",
+        "thickness": 1.0,
+        "element_material": np.zeros(1, dtype=np.int64),
+        "materials": [{"E": 1.0, "nu": 0.3}],
+        "fixed_dofs": np.arange(4, dtype=np.int64),
+        "load": np.zeros(6),
+    }
     with pytest.raises(InputError) as err:
         engine().solve(model)
     assert "'tetrahedra' is a key of 3D models" in str(err.value)
@@ -313,9 +375,14 @@ def block_on_a_frictional_plane(ratio, mu=0.3, p=2.0):
         np.add.at(tributary, cells[:, corner], area / 3.0)
     model["load"] = consistent_load(scene, sigma) - consistent_load_on(scene, sigma, "bottom")
     n = len(bottom)
-    model["pairs"] = {"node_a": bottom.astype(np.int64), "node_b": -np.ones(n, np.int64),
-                      "normal": np.tile([0.0, 0.0, 1.0], (n, 1)), "gap": np.zeros(n),
-                      "mu": np.full(n, mu), "contact": np.zeros(n, np.int64)}
+    model["pairs"] = {
+        "node_a": bottom.astype(np.int64),
+        "node_b": -np.ones(n, np.int64),
+        "normal": np.tile([0.0, 0.0, 1.0], (n, 1)),
+        "gap": np.zeros(n),
+        "mu": np.full(n, mu),
+        "contact": np.zeros(n, np.int64),
+    }
     model["contact_names"] = ["plane"]
     return model, sigma, tributary[bottom]
 
@@ -362,5 +429,7 @@ def test_a_shear_beyond_the_round_cone_slides_the_block():
     with pytest.raises(GrossSlidingError) as err:
         engine().solve(model)
     message = str(err.value)
-    assert "body 'b'" in message and "translation in x" in message and "translation in y" in message, message
+    assert (
+        "body 'b'" in message and "translation in x" in message and "translation in y" in message
+    ), message
     assert "slip" in message and "\n" not in message, message

@@ -131,7 +131,10 @@ def test_a_slip_that_turns_through_a_right_angle_stays_on_its_facets():
     seen = assert_facets_hold(model, result, SLIP_TURN)
     assert seen["slipping_steps"] > 0
     for k, s in enumerate(result["snapshots"]):
-        assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (k, equilibrium_residual(model, s))
+        assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (
+            k,
+            equilibrium_residual(model, s),
+        )
     # the top moved along x beyond what friction holds: at the end the whole bottom slips
     last = result["snapshots"][-1]
     assert (last["status"] == 2).all(), last["status"]
@@ -152,7 +155,9 @@ def loaded_contact_node(pull: float):
     nothing else: the pair is closed and stuck, carrying nothing."""
     clamped_top = BOX.replace('face = "bottom"\nfix', 'face = "top"\nfix')
     assert clamped_top != BOX
-    model = model_of(clamped_top + f"""
+    model = model_of(
+        clamped_top
+        + f"""
 [output]
 snapshots = "events"
 [[point_load]]
@@ -167,7 +172,8 @@ x_min = 0.9
 x_max = 1.1
 y_min = 0.4
 y_max = 0.6
-""")
+"""
+    )
     assert len(model["pairs"]["node_a"]) == 1
     return model
 
@@ -187,7 +193,10 @@ def test_a_tangential_load_on_a_contact_node_without_normal_force_slips_it(pull)
     assert kinds["stick_to_slip"] + kinds["separate"] >= 1, kinds
     assert_facets_hold(model, result, SLIP_TURN)
     for k, s in enumerate(result["snapshots"]):
-        assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (k, equilibrium_residual(model, s))
+        assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (
+            k,
+            equilibrium_residual(model, s),
+        )
     last = result["snapshots"][-1]
     node = int(model["pairs"]["node_a"][0])
     force = np.array([2.0, 1.0, 0.0])
@@ -268,7 +277,9 @@ PYRAMID_E, PYRAMID_DEPTH = 200000.0, 0.05
 ENGINE_FORCE_NOISE = 1e-12
 
 
-def assert_indented_admissibly(model: dict, result: dict, young: float, depth: float, every_event: bool):
+def assert_indented_admissibly(
+    model: dict, result: dict, young: float, depth: float, every_event: bool
+):
     """An indentation by an obstacle's motion (its material's E `young`, the motion's length
     `depth`), completed, checked at every snapshot from the result arrays: Coulomb (stuck pairs
     on or inside the round cone, or their polygon once they slipped, slipping ones on their
@@ -281,7 +292,9 @@ def assert_indented_admissibly(model: dict, result: dict, young: float, depth: f
     noise = ENGINE_FORCE_NOISE * len(model["pairs"]["mu"]) * young * diameter * depth
     umax = max(np.abs(s["u"]).max() for s in snaps)
     worst = friction_in_space(model, snaps, slip_turn, (LENGTH_TOL * umax, noise), result["events"])
-    assert worst["outside_round"] <= (1 + mu) * noise and worst["outside_polygon"] <= (1 + mu) * noise, worst
+    assert (
+        worst["outside_round"] <= (1 + mu) * noise and worst["outside_polygon"] <= (1 + mu) * noise
+    ), worst
     assert worst["beyond_facet"] <= (1 + mu) * noise, worst
     # on its facet λ_t·e = μ λ_n holds exactly (a row of the solve), so a slipping pair is short
     # of μ λ_n only by the round-off of its forces; a pair slipping with no direction carries
@@ -325,7 +338,9 @@ def test_a_pair_that_slips_as_it_closes_carries_its_friction_once_loaded(mu):
     λ_t = 0)."""
     model = model_of(PYRAMID.format(E=PYRAMID_E, depth=PYRAMID_DEPTH, mu=mu, snapshots='"events"'))
     result = _engine.solve(model, False)
-    slipping = sum(int(((s["status"] == 2) & (s["lambda_n"] > 0)).sum()) for s in result["snapshots"])
+    slipping = sum(
+        int(((s["status"] == 2) & (s["lambda_n"] > 0)).sum()) for s in result["snapshots"]
+    )
     assert slipping > 0  # pressed pairs do slip
     assert_indented_admissibly(model, result, PYRAMID_E, PYRAMID_DEPTH, every_event=True)
 

@@ -78,8 +78,8 @@ mu = {mu}
 """
 
 AREA_PUSHED, N = 0.5, 1.0  # a pushed face's area, the pressure's resultant
-T_TOL = 1e-9               # the engine's tie tolerance on the stage fraction
-SLIP_TURN = 0.1            # the engine's default facet angle (rad)
+T_TOL = 1e-9  # the engine's tie tolerance on the stage fraction
+SLIP_TURN = 0.1  # the engine's default facet angle (rad)
 # Coulomb: a slipping pair's force lies on its facet, up to 1/cos(slip_turn) of the round cone
 # (rust/src/contact.rs), plus the engine's contact check's round-off (1e-9 of the load).
 FACET = 1.0 / math.cos(SLIP_TURN)
@@ -105,8 +105,9 @@ def run(mu: float, tau: float, angle_deg: float = 0.0):
     return scene, solve(scene)
 
 
-@pytest.mark.parametrize("mu, tau, angle", [(0.3, 1.0, 0.0), (0.2, 1.0, 0.0), (0.1, 1.0, 0.0),
-                                            (0.3, 0.8, 30.0)])
+@pytest.mark.parametrize(
+    "mu, tau, angle", [(0.3, 1.0, 0.0), (0.2, 1.0, 0.0), (0.1, 1.0, 0.0), (0.3, 0.8, 30.0)]
+)
 def test_the_block_slides_where_the_push_reaches_mu_n(mu, tau, angle):
     scene, result = run(mu, tau, angle)
     stop = result["stop"]
@@ -118,7 +119,10 @@ def test_the_block_slides_where_the_push_reaches_mu_n(mu, tau, angle):
     assert equilibrium_residual(scene.model, snaps[-1]) <= EQUILIBRIUM_TOL
     assert_coulomb(scene.model, result)
     # at the stop the pairs carry the whole push: their friction forces sum to T = mu N
-    assert abs(np.linalg.norm(snaps[-1]["lambda_t"].sum(axis=0)) - mu * N) <= FORCE_TOL + (FACET - 1) * mu * N
+    assert (
+        abs(np.linalg.norm(snaps[-1]["lambda_t"].sum(axis=0)) - mu * N)
+        <= FORCE_TOL + (FACET - 1) * mu * N
+    )
 
 
 def assert_coulomb(model: dict, result: dict) -> None:
@@ -140,14 +144,16 @@ def test_a_push_below_the_capacity_is_held():
 
 # ---------------------------------------------------------------- force and moment: turning
 
-K_GON = 256      # facets of the LP's polygons: they bracket the disk's limit within 1/cos(pi/K) - 1 = 7.5e-5
+K_GON = 256  # facets of the LP's polygons: they bracket the disk's limit within 1/cos(pi/K) - 1 = 7.5e-5
 LIMIT_TOL = 1e-9  # the engine's tie tolerance on the limit, with the arrays' round-off
 
 
 def slanted(mu: float, tau: float, angle_deg: float):
     """The block pushed by tau at angle_deg to x on its left face alone: a moment about z."""
     a = math.radians(angle_deg)
-    text = BLOCK.format(mu=mu, tx=tau * math.cos(a), ty_left=tau * math.sin(a), front="", factors="push = 1.0")
+    text = BLOCK.format(
+        mu=mu, tx=tau * math.cos(a), ty_left=tau * math.sin(a), front="", factors="push = 1.0"
+    )
     scene = build_scene(parse_case(text, "slanted.toml"))
     # the push's resultant at t = 2 and its moment about z through the origin: it acts on the
     # left face (x = 0) at its mid-line y = 0.5
@@ -168,7 +174,9 @@ TWIST_FACES = {"right": (0.0, 1.0), "front": (1.0, 0.0), "back": (-1.0, 0.0)}
 
 def twisted(mu: float, tau: float):
     """The block twisted about z by tau: no force, the moment tau at t = 2."""
-    front = "".join(TWIST.format(face=f, tx=tau * x, ty=tau * y) for f, (x, y) in TWIST_FACES.items())
+    front = "".join(
+        TWIST.format(face=f, tx=tau * x, ty=tau * y) for f, (x, y) in TWIST_FACES.items()
+    )
     factors = ", ".join(f"t_{f} = 1.0" for f in TWIST_FACES)
     text = BLOCK.format(mu=mu, tx=0.0, ty_left=-tau, front=front, factors=factors + ", push = 1.0")
     scene = build_scene(parse_case(text, "twisted.toml"))
@@ -179,26 +187,41 @@ def pair_points(model: dict) -> np.ndarray:
     return np.asarray(model["nodes"], dtype=float)[np.asarray(model["pairs"]["node_a"])][:, :2]
 
 
-def carried_factor(points: np.ndarray, capacity: np.ndarray, force: np.ndarray, moment: float,
-                   inscribed: bool) -> float:
+def carried_factor(
+    points: np.ndarray, capacity: np.ndarray, force: np.ndarray, moment: float, inscribed: bool
+) -> float:
     """The largest k for which friction forces f_i in regular K-gons inscribed in the disks
     |f_i| <= capacity_i (circumscribed about them: inscribed False) balance k (force, moment
     about z through the origin): a lower (upper) bound of the disks' own k."""
     n = len(points)
-    d = np.stack([np.cos(2 * np.pi * np.arange(K_GON) / K_GON), np.sin(2 * np.pi * np.arange(K_GON) / K_GON)], 1)
+    d = np.stack(
+        [
+            np.cos(2 * np.pi * np.arange(K_GON) / K_GON),
+            np.sin(2 * np.pi * np.arange(K_GON) / K_GON),
+        ],
+        1,
+    )
     shrink = math.cos(math.pi / K_GON) if inscribed else 1.0
     a_eq = np.zeros((3, 2 * n + 1))
-    a_eq[0, 0:2 * n:2] = 1.0
-    a_eq[1, 1:2 * n:2] = 1.0
-    a_eq[2, 0:2 * n:2], a_eq[2, 1:2 * n:2] = -points[:, 1], points[:, 0]
+    a_eq[0, 0 : 2 * n : 2] = 1.0
+    a_eq[1, 1 : 2 * n : 2] = 1.0
+    a_eq[2, 0 : 2 * n : 2], a_eq[2, 1 : 2 * n : 2] = -points[:, 1], points[:, 0]
     a_eq[:, -1] = [force[0], force[1], moment]
     a_ub = np.zeros((n * K_GON, 2 * n + 1))
     for i in range(n):
-        a_ub[i * K_GON:(i + 1) * K_GON, 2 * i:2 * i + 2] = d
+        a_ub[i * K_GON : (i + 1) * K_GON, 2 * i : 2 * i + 2] = d
     b_ub = shrink * np.repeat(np.maximum(capacity, 0.0), K_GON)
     cost = np.zeros(2 * n + 1)
     cost[-1] = -1.0
-    out = linprog(cost, A_ub=a_ub, b_ub=b_ub, A_eq=a_eq, b_eq=np.zeros(3), bounds=[(None, None)] * (2 * n + 1), method="highs")
+    out = linprog(
+        cost,
+        A_ub=a_ub,
+        b_ub=b_ub,
+        A_eq=a_eq,
+        b_eq=np.zeros(3),
+        bounds=[(None, None)] * (2 * n + 1),
+        method="highs",
+    )
     assert out.status == 0, out.message
     return float(out.x[-1])
 
@@ -217,11 +240,16 @@ def assert_stops_at_the_limit(scene, result, force_end, moment_end, mu):
     high = carried_factor(points, capacity, force, moment, inscribed=False)
     assert low <= 1.0 + LIMIT_TOL and high >= 1.0 - LIMIT_TOL, (low, high)
     # the body's balance from the arrays: the pairs' forces carry the push (force and moment)
-    f = contact_force(len(scene.model["nodes"]), scene.model["pairs"], last["lambda_n"], last["lambda_t"]).reshape(-1, 3)
+    f = contact_force(
+        len(scene.model["nodes"]), scene.model["pairs"], last["lambda_n"], last["lambda_t"]
+    ).reshape(-1, 3)
     nodes = np.asarray(scene.model["nodes"], dtype=float)
     friction = f[:, :2].sum(axis=0)
     turning = float((nodes[:, 0] * f[:, 1] - nodes[:, 1] * f[:, 0]).sum())
-    assert np.abs(friction + force).max() <= FORCE_TOL and abs(turning + moment) <= FORCE_TOL, (friction, turning)
+    assert np.abs(friction + force).max() <= FORCE_TOL and abs(turning + moment) <= FORCE_TOL, (
+        friction,
+        turning,
+    )
     assert equilibrium_residual(scene.model, last) <= EQUILIBRIUM_TOL
     assert_coulomb(scene.model, result)
 
@@ -246,4 +274,7 @@ def test_a_twist_turns_the_block_about_its_centre():
     mirror = [int(np.argmin(np.linalg.norm(points - (2 * centre - p), axis=1))) for p in points]
     assert np.abs(ln - ln[mirror]).max() <= FORCE_TOL
     capacity = mu * float((ln * np.linalg.norm(points - centre, axis=1)).sum())
-    assert abs(moment * (result["stop"]["t"] - 1.0) - capacity) <= LIMIT_TOL * capacity, (result["stop"]["t"], capacity)
+    assert abs(moment * (result["stop"]["t"] - 1.0) - capacity) <= LIMIT_TOL * capacity, (
+        result["stop"]["t"],
+        capacity,
+    )

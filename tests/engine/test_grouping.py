@@ -37,8 +37,9 @@ P_HALF = 500.0  # the default case carries P = 1000 N/mm on the half model: half
 
 
 def run(overrides, delta, snapshots="[1.0]"):
-    scene = prepare(None, overrides=[*overrides, f"solver.group_tol={delta}",
-                                     f"output.snapshots={snapshots}"])
+    scene = prepare(
+        None, overrides=[*overrides, f"solver.group_tol={delta}", f"output.snapshots={snapshots}"]
+    )
     result = solve(scene)
     return scene, result, summarize(scene, result)
 
@@ -141,7 +142,9 @@ def test_friction_events_inside_grouped_increments_keep_the_contact_history(plas
     exact = plastic[0.0][1]
     substeps = summary["n_contact_substeps"]
     assert substeps > 0
-    assert len(grouped["steps"]["load_fraction"]) - substeps < len(exact["steps"]["load_fraction"]) / 3
+    assert (
+        len(grouped["steps"]["load_fraction"]) - substeps < len(exact["steps"]["load_fraction"]) / 3
+    )
 
     def first(result, kind):
         ev, out = result["events"], {}

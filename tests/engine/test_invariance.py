@@ -44,9 +44,9 @@ def rel_diff(a, b, scale):
 
 
 # --------------------------------------------------------------------------- rotation
-W, HEIGHT, NX, NY = 20.0, 2.0, 40, 4   # beam, h = 0.5 mm
-GAP = 0.05                               # the flat lies GAP below the beam
-THETA = 0.5                              # rad
+W, HEIGHT, NX, NY = 20.0, 2.0, 40, 4  # beam, h = 0.5 mm
+GAP = 0.05  # the flat lies GAP below the beam
+THETA = 0.5  # rad
 TAGS = {"top": 3, "left": 4, "contact": 5}
 
 
@@ -59,15 +59,20 @@ def write_beam_case(folder, theta):
     c, s = math.cos(theta), math.sin(theta)
     Q = np.array([[c, -s], [s, c]])
     bottom = b.edges["bottom"]
-    edges = {"top": b.edges["top"], "left": b.edges["left"],
-             # the bottom without the clamped corner: its node cannot be a contact candidate
-             "contact": bottom[~np.any(np.isin(bottom, b.edges["left"]), axis=1)]}
+    edges = {
+        "top": b.edges["top"],
+        "left": b.edges["left"],
+        # the bottom without the clamped corner: its node cannot be a contact candidate
+        "contact": bottom[~np.any(np.isin(bottom, b.edges["left"]), axis=1)],
+    }
     segments = np.concatenate([edges[k] for k in TAGS])
     tags = np.concatenate([np.full(len(edges[k]), v, dtype=np.int64) for k, v in TAGS.items()])
     points = b.nodes @ Q.T
-    mesh = meshio.Mesh(np.column_stack([points, np.zeros(len(points))]),
-                       [("triangle", b.triangles), ("line", segments)],
-                       cell_data={"tag": [np.zeros(len(b.triangles), np.int64), tags]})
+    mesh = meshio.Mesh(
+        np.column_stack([points, np.zeros(len(points))]),
+        [("triangle", b.triangles), ("line", segments)],
+        cell_data={"tag": [np.zeros(len(b.triangles), np.int64), tags]},
+    )
     name = f"beam_{theta:.3f}"
     meshio.xdmf.write(str(folder / f"{name}.xdmf"), mesh)
     normal, point = Q @ [0.0, 1.0], Q @ [0.0, -GAP]
@@ -123,8 +128,9 @@ def test_rotated_scene_is_the_same_scene(beams):
     assert np.allclose(np.asarray(p0["normal"]) @ Q.T, p1["normal"], rtol=0, atol=1e-15)
     assert np.array_equal(np.sort(s0.model["fixed_dofs"]), np.sort(s1.model["fixed_dofs"]))
     load0 = np.asarray(s0.model["load"]).reshape(-1, 2) @ Q.T
-    assert np.allclose(load0, np.asarray(s1.model["load"]).reshape(-1, 2), rtol=0,
-                       atol=1e-13 * np.abs(load0).max())
+    assert np.allclose(
+        load0, np.asarray(s1.model["load"]).reshape(-1, 2), rtol=0, atol=1e-13 * np.abs(load0).max()
+    )
 
 
 def test_the_scene_exercises_contact_friction_and_plasticity(beams):
@@ -162,9 +168,13 @@ def test_rotation_gives_the_rotated_answer(beams):
         tensor[:, 0, 0], tensor[:, 1, 1] = sa[:, 0], sa[:, 1]
         tensor[:, 0, 1] = tensor[:, 1, 0] = sa[:, 3]
         rotated = Q @ tensor @ Q.T
-        for got, want in ((sb[:, 0], rotated[:, 0, 0]), (sb[:, 1], rotated[:, 1, 1]),
-                          (sb[:, 3], rotated[:, 0, 1]), (sb[:, 2], sa[:, 2]),
-                          (von_mises(sb), von_mises(sa))):
+        for got, want in (
+            (sb[:, 0], rotated[:, 0, 0]),
+            (sb[:, 1], rotated[:, 1, 1]),
+            (sb[:, 3], rotated[:, 0, 1]),
+            (sb[:, 2], sa[:, 2]),
+            (von_mises(sb), von_mises(sa)),
+        ):
             assert rel_diff(got, want, s_scale) <= ROUND_OFF, k
     assert r0["snapshots"][-1]["plastic_strain"].max() > 0
 
@@ -203,28 +213,37 @@ def full_model(half: dict):
     top = int(np.flatnonzero(on_axis & (nodes[:, 1] == nodes[:, 1].max()))[0])
     axis = np.flatnonzero(on_axis)
     middle = int(axis[np.argmin(np.abs(nodes[axis, 1] - 0.5 * nodes[:, 1].max()))])
-    model = copy.deepcopy({k: v for k, v in half.items() if k not in ("body_names", "element_body",
-                                                                      "contact_names")})
-    model.update({
-        "nodes": full_nodes,
-        "triangles": full_triangles.astype(np.int64),
-        "element_material": np.concatenate([half["element_material"]] * 2).astype(np.int64),
-        "fixed_dofs": np.array(sorted([2 * top, 2 * middle]), dtype=np.int64),
-        "load": full_load.ravel(),
-        "pairs": {"node_a": np.concatenate([a, mirror[a[off]]]).astype(np.int64),
-                  "node_b": -np.ones(len(a) + np.count_nonzero(off), dtype=np.int64),
-                  "normal": np.vstack([pairs["normal"], np.asarray(pairs["normal"])[off] * [-1.0, 1.0]]),
-                  "gap": np.concatenate([pairs["gap"], np.asarray(pairs["gap"])[off]]),
-                  "mu": np.concatenate([pairs["mu"], np.asarray(pairs["mu"])[off]])},
-    })
+    model = copy.deepcopy(
+        {k: v for k, v in half.items() if k not in ("body_names", "element_body", "contact_names")}
+    )
+    model.update(
+        {
+            "nodes": full_nodes,
+            "triangles": full_triangles.astype(np.int64),
+            "element_material": np.concatenate([half["element_material"]] * 2).astype(np.int64),
+            "fixed_dofs": np.array(sorted([2 * top, 2 * middle]), dtype=np.int64),
+            "load": full_load.ravel(),
+            "pairs": {
+                "node_a": np.concatenate([a, mirror[a[off]]]).astype(np.int64),
+                "node_b": -np.ones(len(a) + np.count_nonzero(off), dtype=np.int64),
+                "normal": np.vstack(
+                    [pairs["normal"], np.asarray(pairs["normal"])[off] * [-1.0, 1.0]]
+                ),
+                "gap": np.concatenate([pairs["gap"], np.asarray(pairs["gap"])[off]]),
+                "mu": np.concatenate([pairs["mu"], np.asarray(pairs["mu"])[off]]),
+            },
+        }
+    )
     return model, mirror, len(a)
 
 
 @pytest.fixture(scope="module", params=[0.0, 0.3])
 def halves(request):
     mu = request.param
-    scene = prepare(None, overrides=[f"contact.mu={mu}", f"mesh.h_contact={H_CONTACT}",
-                                     "output.snapshots=events"])
+    scene = prepare(
+        None,
+        overrides=[f"contact.mu={mu}", f"mesh.h_contact={H_CONTACT}", "output.snapshots=events"],
+    )
     model, mirror, n_half = full_model(scene.model)
     return mu, scene, solve(scene), model, _engine.solve(model, False), mirror, n_half
 
@@ -233,7 +252,7 @@ def test_full_model_is_the_half_model_built_right(halves):
     _, scene, _, model, _, mirror, n_half = halves
     p = model["nodes"][model["triangles"]]
     d1, d2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-    assert np.all(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0] > 0)   # all counter-clockwise
+    assert np.all(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0] > 0)  # all counter-clockwise
     load = model["load"].reshape(-1, 2).sum(axis=0)
     # the full cylinder carries the whole P = 1000 N/mm; the x-loads cancel pairwise
     assert load[1] == pytest.approx(-1000.0, rel=1e-12) and abs(load[0]) <= 1e-12 * 1000.0
@@ -244,11 +263,12 @@ def test_full_model_equals_mirrored_half_model(halves):
     mu, scene, rh, model, rf, mirror, n_half = halves
     assert rh["stop"]["kind"] == rf["stop"]["kind"] == "completed"
     # the same increments: mirror-image events fall at the same load and are applied together
-    np.testing.assert_allclose(rf["steps"]["load_fraction"], rh["steps"]["load_fraction"],
-                               rtol=ROUND_OFF, atol=0)
+    np.testing.assert_allclose(
+        rf["steps"]["load_fraction"], rh["steps"]["load_fraction"], rtol=ROUND_OFF, atol=0
+    )
     a = np.asarray(scene.model["pairs"]["node_a"])
     axis = scene.nodes[a, 0] == 0.0
-    twin = n_half + np.cumsum(~axis) - 1           # full-model pair of each half pair's mirror
+    twin = n_half + np.cumsum(~axis) - 1  # full-model pair of each half pair's mirror
     f_scale = max(np.abs(s["lambda_n"]).max() for s in rh["snapshots"]) * 2
     u_scale = max(np.abs(s["u"]).max() for s in rh["snapshots"])
     n = len(scene.nodes)
@@ -259,7 +279,9 @@ def test_full_model_equals_mirrored_half_model(halves):
         assert rel_diff(ln[:n_half], ln_half, f_scale) <= ROUND_OFF, k
         assert rel_diff(ln[twin[~axis]], sh["lambda_n"][~axis], f_scale) <= ROUND_OFF, k
         assert rel_diff(lt[:n_half][~axis], sh["lambda_t"][~axis], f_scale) <= ROUND_OFF, k
-        assert rel_diff(lt[twin[~axis]], -np.asarray(sh["lambda_t"])[~axis], f_scale) <= ROUND_OFF, k
+        assert (
+            rel_diff(lt[twin[~axis]], -np.asarray(sh["lambda_t"])[~axis], f_scale) <= ROUND_OFF
+        ), k
         assert np.all(np.abs(lt[:n_half][axis]) <= ROUND_OFF * f_scale), k  # no shear on the axis
         # statuses: the closed (contact) and stick extents are symmetric and the half model's
         assert np.array_equal(st[:n_half], sh["status"]), k

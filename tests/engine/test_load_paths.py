@@ -33,16 +33,18 @@ SETS = [f"mesh.h_contact={H_CONTACT}", 'output.snapshots="events"', "output.figu
 def hertz_case(extra: str = "", sets=()):
     """The shipped Hertz case on the coarser mesh, snapshots at every event, with `extra`
     TOML appended (stages, bcs)."""
-    return parse_case(HERTZ + extra, source="hertz+path", base_dir=CASES,
-                      overrides=[*SETS, *sets])
+    return parse_case(HERTZ + extra, source="hertz+path", base_dir=CASES, overrides=[*SETS, *sets])
 
 
 def cylinder_case(extra: str, sets=(), mu: float = 0.0, half: bool = False):
     """The Hertz cylinder without [load] (driven by `extra`: displacements, motions, stages):
     the quarter with its symmetry edge, or (half = True) free in x with candidates on both
     sides of x = 0 (the mesh then comes from `half_cylinder`)."""
-    symmetry = "" if half else \
-        '[[bc]]\nname = "symmetry"\nbody = "cylinder"\nedge = "symmetry"\nsymmetry = true\n'
+    symmetry = (
+        ""
+        if half
+        else '[[bc]]\nname = "symmetry"\nbody = "cylinder"\nedge = "symmetry"\nsymmetry = true\n'
+    )
     text = f"""
 [case]
 name = "cylinder_path"
@@ -139,8 +141,9 @@ def test_every_closure_has_its_separation_at_the_same_load(hertz_unloaded):
     for k in closes:
         sep = np.flatnonzero((kinds == "separate") & (ent == ent[k]))
         t_sep = t[sep[-1]] if len(sep) else 2.0  # the last to close may open exactly at t = 2
-        assert abs(t_sep - (2.0 - t[k])) < 1e-9, f"pair {ent[k]}: closes at t = {t[k]}, " \
-                                                 f"separates at {t_sep}"
+        assert abs(t_sep - (2.0 - t[k])) < 1e-9, (
+            f"pair {ent[k]}: closes at t = {t[k]}, " f"separates at {t_sep}"
+        )
     assert (result["events"]["stage"][kinds == "separate"] == 1).all()
 
 
@@ -167,8 +170,10 @@ def test_prescribed_cut_displacement_equals_the_moving_flat():
     (1e-9 of the largest force: two runs whose trials differ by the rigid translation only),
     displacements that differ by the rigid translation δ (1e-9 δ)."""
     drop = cylinder_case(PRESS)
-    lift = cylinder_case('[[bc]]\nname = "hold"\nbody = "cylinder"\nedge = "top"\n'
-                         'fix = ["y"]\n', sets=[f"contact.motion=[0.0, {APPROACH}]"])
+    lift = cylinder_case(
+        '[[bc]]\nname = "hold"\nbody = "cylinder"\nedge = "top"\n' 'fix = ["y"]\n',
+        sets=[f"contact.motion=[0.0, {APPROACH}]"],
+    )
     (sa, ra), (sb, rb) = run(drop), run(lift)
     kinds = lambda r: list(zip(r["events"]["kind"], r["events"]["entity"].tolist()))
     assert kinds(ra) == kinds(rb)
@@ -208,8 +213,10 @@ def half_cylinder(quarter: Mesh) -> Mesh:
     mirror[on_axis] = np.flatnonzero(on_axis)
     nodes = np.vstack([quarter.nodes, quarter.nodes[extra] * [-1.0, 1.0]])
     tri = np.vstack([quarter.triangles, mirror[quarter.triangles][:, ::-1]])
-    edges = {tag: np.vstack([quarter.edges[tag], mirror[quarter.edges[tag]][:, ::-1]])
-             for tag in ("arc", "top")}
+    edges = {
+        tag: np.vstack([quarter.edges[tag], mirror[quarter.edges[tag]][:, ::-1]])
+        for tag in ("arc", "top")
+    }
     return Mesh(nodes, tri, edges)
 
 
@@ -278,7 +285,9 @@ def test_tangential_stage_shrinks_the_stick_zone_with_slip_at_both_edges(normal_
     q = Q_RATIO * mu * normal_load / (2 * 125.0)
     case, meshes = tangential_case(
         "[[stage]]\nfactors = { approach = 1.0 }\n[[stage]]\nfactors = { shear = 1.0 }\n",
-        mu=mu, q_max=q)
+        mu=mu,
+        q_max=q,
+    )
     scene, result = run(case, meshes)
     assert result["stop"]["kind"] == "completed"
     ev = result["events"]
@@ -310,7 +319,10 @@ def test_tangential_load_beyond_friction_is_gross_sliding_at_mu_p(normal_load):
     q = 2.0 * mu * normal_load / (2 * 125.0)
     case, meshes = tangential_case(
         "[[stage]]\nfactors = { approach = 1.0 }\n[[stage]]\nname = \"shear\"\n"
-        "factors = { shear = 1.0 }\n", mu=mu, q_max=q)
+        "factors = { shear = 1.0 }\n",
+        mu=mu,
+        q_max=q,
+    )
     _, result = run(case, meshes)
     stop = result["stop"]
     assert stop["kind"] == "support_lost" and "slides as a whole" in stop["message"], stop
@@ -321,7 +333,8 @@ def test_tangential_load_beyond_friction_is_gross_sliding_at_mu_p(normal_load):
 SHEAR_FACTORS = [0.0, 0.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0, 1.0]  # at t = 0, 1, ..., 8
 CYCLE = "[[stage]]\nname = \"approach\"\nfactors = { approach = 1.0 }\n" + "".join(
     f"[[stage]]\nname = \"shear {k}\"\nfactors = {{ shear = {f} }}\n"
-    for k, f in enumerate(SHEAR_FACTORS[2:], start=2))
+    for k, f in enumerate(SHEAR_FACTORS[2:], start=2)
+)
 
 
 @pytest.fixture(scope="module")
@@ -373,8 +386,10 @@ def test_q_cycles_reverse_slip_and_dissipate_equally(q_cycles):
 # --------------------------------------------------------------------------- 6. plastic unload
 @pytest.fixture(scope="module")
 def plastic_hertz():
-    scene = prepare(CASES / "hertz_load_unload.toml", [f"mesh.h_contact={2 * H_CONTACT}",
-                                                       "output.figures=false"])
+    scene = prepare(
+        CASES / "hertz_load_unload.toml",
+        [f"mesh.h_contact={2 * H_CONTACT}", "output.figures=false"],
+    )
     return scene, solve(scene)
 
 

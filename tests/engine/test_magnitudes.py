@@ -98,7 +98,7 @@ def test_a_stage_factor_beyond_the_bound_is_one_input_error(tmp_path, load, fact
     message = input_error(tmp_path, f"stage.press.factors.{load}={factor!r}")
     head = f"stage 'press': load '{load}' at factor "
     assert message.startswith(head), message
-    assert float(message[len(head):].split()[0]) == factor, message
+    assert float(message[len(head) :].split()[0]) == factor, message
     assert " reaches a nominal strain of " in message, message
     if abs(factor) > 1:
         # The factor that would reach the bound: 1 minus the other loads' share, here < 1e-2.
@@ -121,8 +121,9 @@ def test_a_prescribed_displacement_beyond_the_bound_is_one_input_error(tmp_path,
 
 
 @pytest.mark.parametrize("value", ["nan", "inf", "-inf"])
-@pytest.mark.parametrize("key", ["stage.factors.push", "bc.push.displacement.y",
-                                 "bc.side.pressure"])
+@pytest.mark.parametrize(
+    "key", ["stage.factors.push", "bc.push.displacement.y", "bc.side.pressure"]
+)
 def test_nan_and_inf_are_refused_by_key(tmp_path, key, value):
     # (The only stage is spelled without its name, as --set may.)
     with pytest.raises(CaseError, match=rf"{key} = {value} is not allowed: expected a "):
@@ -139,8 +140,9 @@ def test_within_the_bound_the_results_scale_with_the_loads(tmp_path, factor):
     assert one.stop["kind"] == other.stop["kind"] == "completed"
     assert np.array_equal(one.events["kind"], other.events["kind"])
     assert np.array_equal(one.events["entity"], other.events["entity"])
-    assert np.allclose(one.events["load_fraction"], other.events["load_fraction"], rtol=0,
-                       atol=1e-12)
+    assert np.allclose(
+        one.events["load_fraction"], other.events["load_fraction"], rtol=0, atol=1e-12
+    )
     a, b = one.raw["snapshots"][-1], other.raw["snapshots"][-1]
     for key in ("u", "lambda_n", "lambda_t"):
         x, y = np.asarray(a[key]) * factor, np.asarray(b[key])
@@ -157,20 +159,29 @@ def test_a_change_of_stress_units_is_exact(tmp_path, units):
     # smaller made the contact system "singular: remove duplicate pairs".
     base = ["mesh.h_contact=0.4", "output.figures=false", "output.xdmf=false"]
     one = slipstep.run(CASES / "hertz_cylinder.toml", None, base, progress=False)
-    other = slipstep.run(CASES / "hertz_cylinder.toml", None,
-                         base + [f"load.P={1000.0 * units!r}", f"material.E={70000.0 * units!r}"],
-                         progress=False)
+    other = slipstep.run(
+        CASES / "hertz_cylinder.toml",
+        None,
+        base + [f"load.P={1000.0 * units!r}", f"material.E={70000.0 * units!r}"],
+        progress=False,
+    )
     assert np.array_equal(one.events["kind"], other.events["kind"])
     assert np.array_equal(one.events["entity"], other.events["entity"])
     a, b = one.raw["snapshots"][-1], other.raw["snapshots"][-1]
     # 1e-9: the event scales come from solves of systems scaled by 1e±45 (round-off ~1e-13
     # measured); u and the forces through them.
-    assert np.allclose(one.events["load_fraction"], other.events["load_fraction"], rtol=0,
-                       atol=1e-9)
-    assert np.allclose(np.asarray(b["u"]), np.asarray(a["u"]), rtol=0,
-                       atol=1e-9 * np.abs(a["u"]).max())
-    assert np.allclose(np.asarray(b["lambda_n"]) / units, np.asarray(a["lambda_n"]), rtol=0,
-                       atol=1e-9 * np.abs(a["lambda_n"]).max())
+    assert np.allclose(
+        one.events["load_fraction"], other.events["load_fraction"], rtol=0, atol=1e-9
+    )
+    assert np.allclose(
+        np.asarray(b["u"]), np.asarray(a["u"]), rtol=0, atol=1e-9 * np.abs(a["u"]).max()
+    )
+    assert np.allclose(
+        np.asarray(b["lambda_n"]) / units,
+        np.asarray(a["lambda_n"]),
+        rtol=0,
+        atol=1e-9 * np.abs(a["lambda_n"]).max(),
+    )
 
 
 @pytest.mark.parametrize("units", [1e-45, 1e45])
@@ -179,23 +190,39 @@ def test_a_change_of_stress_units_is_exact_where_every_pair_slips(tmp_path, unit
     # slip (mu = 0.1, no node on its axis) and the rate problem decides where one sticks.
     text = BLOCK.replace("nx = 8", "nx = 9").replace("mu = 0.3", "mu = 0.1")
     text = text.replace("motion = [0.0, 0.001]", "").split("[[stage]]")[0]
-    text = text.replace('[[bc]]\nname = "side"\nbody = "block"\nedge = "right"\npressure = 1.0\n', "")
+    text = text.replace(
+        '[[bc]]\nname = "side"\nbody = "block"\nedge = "right"\npressure = 1.0\n', ""
+    )
     overrides = ["bc.push.displacement.y=-0.001"]
     one = run(tmp_path, *overrides, text=text)
     other = run(tmp_path, *overrides, f"body.block.material.E={1000.0 * units!r}", text=text)
     assert one.raw["n_rate_problems"] == other.raw["n_rate_problems"] == 1
     assert np.array_equal(one.events["kind"], other.events["kind"])
     a, b = one.raw["snapshots"][-1], other.raw["snapshots"][-1]
-    assert np.allclose(np.asarray(b["lambda_n"]) / units, np.asarray(a["lambda_n"]), rtol=0,
-                       atol=1e-9 * np.abs(a["lambda_n"]).max())
+    assert np.allclose(
+        np.asarray(b["lambda_n"]) / units,
+        np.asarray(a["lambda_n"]),
+        rtol=0,
+        atol=1e-9 * np.abs(a["lambda_n"]).max(),
+    )
     assert np.array_equal(a["status"], b["status"]) and list(a["status"]).count(1) == 1
 
 
-@pytest.mark.parametrize("key, value, loads", [
-    ("E", 1e200, ["bc.push.displacement.y=-0.001"]), ("E", 1e-60, []), ("E", 1e51, []),
-    ("Sy", 1e60, []), ("Sy", 1e-300, []), ("H", 1e300, []), ("H", 1e-55, [])])
+@pytest.mark.parametrize(
+    "key, value, loads",
+    [
+        ("E", 1e200, ["bc.push.displacement.y=-0.001"]),
+        ("E", 1e-60, []),
+        ("E", 1e51, []),
+        ("Sy", 1e60, []),
+        ("Sy", 1e-300, []),
+        ("H", 1e300, []),
+        ("H", 1e-55, []),
+    ],
+)
 def test_material_magnitudes_whose_squared_stresses_leave_f64_are_one_input_error(
-        tmp_path, key, value, loads):
+    tmp_path, key, value, loads
+):
     # Stresses reach E x the nominal strain (up to 1) and are squared, and the yield check
     # multiplies squares: beyond 1e±50 (E = 1e200 with its loads scaled alike used to complete,
     # then the summary's von Mises overflowed) the case is refused by key, with the fix.

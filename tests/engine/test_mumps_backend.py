@@ -36,17 +36,21 @@ from conftest import CASES, needs_gmsh
 needs_mumps = pytest.mark.skipif(
     shutil.which("mpirun") is None or importlib.util.find_spec("petsc4py") is None,
     reason="mpirun or petsc4py (Debian: python3-petsc4py) is not installed: the MUMPS "
-           "factorization runs through PETSc under mpirun")
+    "factorization runs through PETSc under mpirun",
+)
 
 #: See the module's docstring: kappa(K) eps < 2e-10 for both meshes.
 ROUND_OFF = 1e-9
 
 SCENES = {
-    "hertz_plastic_friction": (CASES / "hertz_cylinder.toml",
-                               ["contact.mu=0.35", "material.Sy=200", "material.H=700",
-                                "mesh.h_contact=0.15"]),
-    "mindlin_sphere_3d": (CASES / "mindlin_sphere_3d.toml",
-                          ["body.sphere.mesh.h_contact=0.12", "body.block.mesh.h_contact=0.09"]),
+    "hertz_plastic_friction": (
+        CASES / "hertz_cylinder.toml",
+        ["contact.mu=0.35", "material.Sy=200", "material.H=700", "mesh.h_contact=0.15"],
+    ),
+    "mindlin_sphere_3d": (
+        CASES / "mindlin_sphere_3d.toml",
+        ["body.sphere.mesh.h_contact=0.12", "body.block.mesh.h_contact=0.09"],
+    ),
 }
 
 
@@ -55,8 +59,13 @@ def run(case, overrides, out, ranks: int | None):
     args = [sys.executable, "-m", "slipstep", "run", str(case), "--out", str(out)]
     for item in [*overrides, "output.figures=false"]:
         args += ["--set", item]
-    env = dict(os.environ, MPLBACKEND="Agg", OMPI_ALLOW_RUN_AS_ROOT="1",
-               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+    env = dict(
+        os.environ,
+        MPLBACKEND="Agg",
+        OMPI_ALLOW_RUN_AS_ROOT="1",
+        OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+        OMPI_MCA_rmaps_base_oversubscribe="1",
+    )
     if ranks is not None:
         args = ["mpirun", "-n", str(ranks), *args, "--set", "solver.factorization=mumps"]
     proc = subprocess.run(args, capture_output=True, text=True, env=env, timeout=300)
@@ -67,7 +76,9 @@ def run(case, overrides, out, ranks: int | None):
 def events(out):
     with open(out / "events.csv") as f:
         rows = list(csv.DictReader(f))
-    return [(r["kind"], r["entity"]) for r in rows], np.array([float(r["load_fraction"]) for r in rows])
+    return [(r["kind"], r["entity"]) for r in rows], np.array(
+        [float(r["load_fraction"]) for r in rows]
+    )
 
 
 def summary(out) -> dict:
@@ -112,9 +123,22 @@ def test_two_mumps_ranks_give_the_faer_history_to_round_off(name, tmp_path):
 
 
 def test_an_unknown_factorization_is_one_clear_line(tmp_path):
-    proc = subprocess.run([sys.executable, "-m", "slipstep", "run", str(CASES / "hertz_cylinder.toml"),
-                           "--out", str(tmp_path), "--set", "solver.factorization=cholmod"],
-                          capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "slipstep",
+            "run",
+            str(CASES / "hertz_cylinder.toml"),
+            "--out",
+            str(tmp_path),
+            "--set",
+            "solver.factorization=cholmod",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "factorization" in lines[0] and "mumps" in lines[0], proc.stderr
@@ -123,11 +147,18 @@ def test_an_unknown_factorization_is_one_clear_line(tmp_path):
 def test_mumps_without_petsc4py_is_one_clear_line(tmp_path):
     """Where petsc4py cannot be imported (hidden here), a MUMPS run stops before the engine with
     one line naming the key, what to install and the alternative; nothing is written."""
-    code = ("import sys; sys.modules['petsc4py'] = None; from slipstep.cli import main; "
-            f"raise SystemExit(main(['run', {str(CASES / 'hertz_cylinder.toml')!r}, '--out', "
-            f"{str(tmp_path / 'out')!r}, '--set', 'solver.factorization=mumps']))")
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
-                          env=dict(os.environ, MPLBACKEND="Agg"))
+    code = (
+        "import sys; sys.modules['petsc4py'] = None; from slipstep.cli import main; "
+        f"raise SystemExit(main(['run', {str(CASES / 'hertz_cylinder.toml')!r}, '--out', "
+        f"{str(tmp_path / 'out')!r}, '--set', 'solver.factorization=mumps']))"
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=dict(os.environ, MPLBACKEND="Agg"),
+    )
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1, proc.stderr

@@ -25,8 +25,8 @@ from test_engine_3d import block_on_a_frictional_plane
 
 from slipstep.runner import engine
 
-P, TOP_AREA = 2.0, 2.0   # block_on_a_frictional_plane's pressure and the box's top
-SLIP_TURN = 0.1          # the engine's default facet angle (rad)
+P, TOP_AREA = 2.0, 2.0  # block_on_a_frictional_plane's pressure and the box's top
+SLIP_TURN = 0.1  # the engine's default facet angle (rad)
 FACET = 1.0 / math.cos(SLIP_TURN)
 # forces are sums of a few hundred O(1) operations: round-off ~1e-13 of P x area; an error in
 # the statics or a mirrored force is of the order of the friction forces (1e-3 and up)
@@ -58,7 +58,9 @@ def test_a_pressed_block_runs_at_any_mu(mu):
     assert "frozen" not in set(result["events"]["kind"])
     for k, snap in enumerate(result["snapshots"]):
         assert equilibrium_residual(model, snap) <= EQUILIBRIUM_TOL, k
-        excess = np.linalg.norm(snap["lambda_t"], axis=1) - FACET * mu * np.asarray(snap["lambda_n"])
+        excess = np.linalg.norm(snap["lambda_t"], axis=1) - FACET * mu * np.asarray(
+            snap["lambda_n"]
+        )
         assert excess.max() <= FORCE_TOL * P, (k, excess.max())
     last = result["snapshots"][-1]
     points, u, friction = in_plane(model, last)
@@ -68,7 +70,9 @@ def test_a_pressed_block_runs_at_any_mu(mu):
     outward = points - centre
     rim = np.linalg.norm(outward, axis=1) > 0.0
     assert (np.asarray(last["status"])[rim] == 2).all(), last["status"]
-    assert ((u * outward).sum(axis=1)[rim] > 0.0).all() and ((friction * outward).sum(axis=1)[rim] < 0.0).all()
+    assert ((u * outward).sum(axis=1)[rim] > 0.0).all() and (
+        (friction * outward).sum(axis=1)[rim] < 0.0
+    ).all()
 
 
 @pytest.mark.parametrize("mu", [0.01, 0.05])
@@ -82,5 +86,7 @@ def test_its_pairs_slip_symmetrically_against_their_friction(mu):
     assert np.abs(ln - ln[mirror]).max() <= FORCE_TOL * P
     assert np.abs(friction + friction[mirror]).max() <= FORCE_TOL * P
     slipping = np.asarray(last["status"]) == 2
-    cos = -(friction * u).sum(axis=1) / (np.linalg.norm(friction, axis=1) * np.linalg.norm(u, axis=1))
+    cos = -(friction * u).sum(axis=1) / (
+        np.linalg.norm(friction, axis=1) * np.linalg.norm(u, axis=1)
+    )
     assert cos[slipping].min() >= math.cos(SLIP_TURN), cos[slipping].min()

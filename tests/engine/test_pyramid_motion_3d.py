@@ -40,7 +40,9 @@ def test_a_pyramid_pressed_by_its_motion_is_admissible_at_every_event():
     model["options"] = {**model.get("options", {}), "output": "events"}
     result = _engine.solve(model, False)
     assert result["stop"]["kind"] == "completed", result["stop"]
-    assert "frozen" not in Counter(result["events"]["kind"]), "the last resort fired on a well-posed press"
+    assert "frozen" not in Counter(
+        result["events"]["kind"]
+    ), "the last resort fired on a well-posed press"
     snaps = result["snapshots"]
     reaction = snaps[-1]["lambda_n"].sum()
     assert reaction > 0, "the pyramid presses the block"
@@ -49,8 +51,13 @@ def test_a_pyramid_pressed_by_its_motion_is_admissible_at_every_event():
         closed = s["status"] > 0
         assert (s["lambda_n"][closed] >= -force).all(), (k, "tension", s["lambda_n"].min())
         assert (s["gap"] >= -gap).all(), (k, "penetration", s["gap"].min())
-        assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (k, equilibrium_residual(model, s))
-    friction = friction_in_space(model, snaps, model["options"]["slip_turn"], (gap, force), result["events"])
+        assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (
+            k,
+            equilibrium_residual(model, s),
+        )
+    friction = friction_in_space(
+        model, snaps, model["options"]["slip_turn"], (gap, force), result["events"]
+    )
     assert friction["outside_round"] <= force and friction["outside_polygon"] <= force, friction
     assert friction["inside_facet"] <= force and friction["beyond_facet"] <= force, friction
     # friction opposes the slip: the work λ_t·Δrtd of a slipping pair is never positive beyond

@@ -94,7 +94,10 @@ def assert_contact_conditions(model: dict, result: dict) -> None:
         size = np.linalg.norm(lt, axis=1)
         assert (s["gap"] >= -gap).all(), (k, s["gap"].min())
         assert (np.abs(s["gap"][closed]) <= gap).all(), (k, "a closed pair does not touch")
-        assert (ln[~closed] == 0).all() and (lt[~closed] == 0).all(), (k, "an open pair carries force")
+        assert (ln[~closed] == 0).all() and (lt[~closed] == 0).all(), (
+            k,
+            "an open pair carries force",
+        )
         assert (ln[closed] >= -force).all(), (k, ln.min())
         # a stuck pair inside the round cone, or inside its polygon once it slipped (circumscribed
         # about the round cone, sides at most 2 slip_turn apart); a slipping one on the facet of
@@ -102,10 +105,22 @@ def assert_contact_conditions(model: dict, result: dict) -> None:
         # across it (rust/src/coulomb.rs), so mu lambda_n <= |lambda_t| <= mu lambda_n /
         # cos(slip_turn)
         polygon = slipped_since_closing(result["events"], len(mu), float(s["t"]))
-        capacity = mu * ln / np.where(slipping | polygon, np.cos(model["options"]["slip_turn"]), 1.0)
-        assert (size <= capacity + force).all(), (k, "outside Coulomb's cone", (size - capacity).max())
-        assert (size[slipping] >= (mu * ln)[slipping] - force).all(), (k, "a slipping pair inside the cone")
-        assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (k, equilibrium_residual(model, s))
+        capacity = (
+            mu * ln / np.where(slipping | polygon, np.cos(model["options"]["slip_turn"]), 1.0)
+        )
+        assert (size <= capacity + force).all(), (
+            k,
+            "outside Coulomb's cone",
+            (size - capacity).max(),
+        )
+        assert (size[slipping] >= (mu * ln)[slipping] - force).all(), (
+            k,
+            "a slipping pair inside the cone",
+        )
+        assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (
+            k,
+            equilibrium_residual(model, s),
+        )
         if k > 0:
             # Friction opposes the slip of a pair slipping at both ends of the step: the
             # dissipation −λ_t · Δrtd is never negative (to force × length round-off).
@@ -124,7 +139,9 @@ def test_receding_plate_in_space_completes_through_the_rate_problem(mu):
     assert "frozen" not in kinds, "the last resort fired on a scene with a solution"
     # (at mu = 3 the one-at-a-time rule settles the start alone since the polygon design of
     # rust/src/coulomb.rs: its onsets move no force)
-    assert result["n_rate_problems"] >= 1 or mu == 3.0, "the scene no longer exercises the rate problem"
+    assert (
+        result["n_rate_problems"] >= 1 or mu == 3.0
+    ), "the scene no longer exercises the rate problem"
     assert_contact_conditions(model, result)
     # The flat carries the whole load (the symmetry planes take no vertical force).
     last = result["snapshots"][-1]
@@ -152,11 +169,20 @@ SPHERE_H, SPHERE_MU, SPHERE_P = 0.03, 0.3, 30.0
 @needs_gmsh
 def test_frictional_hertz_sphere_in_space_completes_without_the_last_resort():
     snapshots = [round(0.025 * k, 3) for k in range(1, 41)]  # every 0.025 of the load
-    result = slipstep.run(CASES / "hertz_sphere_3d.toml", progress=False, overrides=[
-        f"mesh.h_contact={SPHERE_H}", f"contact.flat.mu={SPHERE_MU}", f"output.snapshots={snapshots}"])
+    result = slipstep.run(
+        CASES / "hertz_sphere_3d.toml",
+        progress=False,
+        overrides=[
+            f"mesh.h_contact={SPHERE_H}",
+            f"contact.flat.mu={SPHERE_MU}",
+            f"output.snapshots={snapshots}",
+        ],
+    )
     raw, model = result.raw, result.scene.model
     assert raw["stop"]["kind"] == "completed", raw["stop"]
-    assert "frozen" not in Counter(raw["events"]["kind"]), "the last resort fired on a scene with a solution"
+    assert "frozen" not in Counter(
+        raw["events"]["kind"]
+    ), "the last resort fired on a scene with a solution"
     assert len(raw["snapshots"]) == len(snapshots)
     assert_contact_conditions(model, raw)
     # the eighth carries P/4 on the flat, from the arrays (the symmetry planes take no force along z)

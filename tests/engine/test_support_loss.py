@@ -97,10 +97,15 @@ def contact_resultant(result) -> tuple[float, float]:
     return float(f[:, 0].sum()), float(f[:, 1].sum())
 
 
-@pytest.mark.parametrize("overrides", [[], ["material.Sy=30", "material.H=100"],
-                                       ["material.Sy=30", "material.H=100",
-                                        "output.snapshots=[1.0, 2.0]"]],
-                         ids=["elastic", "elastoplastic", "elastoplastic_grouped"])
+@pytest.mark.parametrize(
+    "overrides",
+    [
+        [],
+        ["material.Sy=30", "material.H=100"],
+        ["material.Sy=30", "material.H=100", "output.snapshots=[1.0, 2.0]"],
+    ],
+    ids=["elastic", "elastoplastic", "elastoplastic_grouped"],
+)
 def test_a_block_sheared_until_it_tips_stops_there_and_keeps_its_results(tmp_path, overrides):
     # Elastic, then yielding at the corners (every event a snapshot: increments event by event
     # in the contact space; with time snapshots: grouped increments with contact sub-steps). The
@@ -112,7 +117,8 @@ def test_a_block_sheared_until_it_tips_stops_there_and_keeps_its_results(tmp_pat
     assert abs(stop["t"] - T_TIP) < T_TOL, (stop["t"], T_TIP)
     assert stop["message"].startswith(
         f"support lost at t = {T_TIP:.6f} (stage 'shear'): body 'block' tips about contact "
-        f"'base' pair 0 (node 0 at (0.000000, 0.000000)), its last closed pair"), stop["message"]
+        f"'base' pair 0 (node 0 at (0.000000, 0.000000)), its last closed pair"
+    ), stop["message"]
     # The results up to there are written, the last snapshot at the stop.
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["stop"]["kind"] == "support_lost" and summary["final_t"] == stop["t"]
@@ -126,8 +132,9 @@ def test_a_block_sheared_until_it_tips_stops_there_and_keeps_its_results(tmp_pat
 
 def test_a_block_sheared_beyond_friction_slides_as_a_whole_at_the_friction_limit(tmp_path):
     mu = 0.3
-    result = slipstep.run(write_case(tmp_path, BLOCK), tmp_path / "out", [f"contact.mu={mu}"],
-                          progress=False)
+    result = slipstep.run(
+        write_case(tmp_path, BLOCK), tmp_path / "out", [f"contact.mu={mu}"], progress=False
+    )
     stop = result.stop
     assert stop["kind"] == "support_lost", stop
     assert abs(stop["t"] - (1.0 + mu * Q / TAU)) < T_TOL, stop["t"]
@@ -139,19 +146,23 @@ def test_a_block_sheared_beyond_friction_slides_as_a_whole_at_the_friction_limit
 
 def test_a_block_pressed_then_pulled_lifts_off_where_the_pressure_changes_sign(tmp_path):
     # press to q, then to -q: every contact force is (1 - 2s) times its value at t = 1.
-    result = slipstep.run(write_case(tmp_path, BLOCK), None,
-                          ["stage.shear.factors={press = -1.0}"], progress=False)
+    result = slipstep.run(
+        write_case(tmp_path, BLOCK), None, ["stage.shear.factors={press = -1.0}"], progress=False
+    )
     assert result.stop["kind"] == "support_lost"
     assert abs(result.stop["t"] - 1.5) < T_TOL
-    assert "body 'block' lifts off: its last closed pair (contact 'base' pair" in \
-        result.stop["message"], result.stop["message"]
+    assert (
+        "body 'block' lifts off: its last closed pair (contact 'base' pair"
+        in result.stop["message"]
+    ), result.stop["message"]
 
 
 def test_a_body_held_by_nothing_before_any_load_is_still_an_error(tmp_path):
     # The flat 0.1 below the block: no pair starts closed, nothing holds the block at t = 0.
     with pytest.raises(FreeBodyError, match="body 'block' is free to move"):
-        slipstep.run(write_case(tmp_path, BLOCK), None, ["contact.point=[0.0, -0.1]"],
-                     progress=False)
+        slipstep.run(
+            write_case(tmp_path, BLOCK), None, ["contact.point=[0.0, -0.1]"], progress=False
+        )
 
 
 def test_a_body_pulled_off_its_contact_at_the_first_instant_is_told_so(tmp_path):
@@ -159,10 +170,14 @@ def test_a_body_pulled_off_its_contact_at_the_first_instant_is_told_so(tmp_path)
     # before any load is applied, an input error that names the contact and the pull (the
     # load's resultant, (0, q w), along +y), not a suggestion to start a contact closed.
     with pytest.raises(FreeBodyError) as err:
-        slipstep.run(write_case(tmp_path, BLOCK), None, ["stage.press.factors={press = -1.0}"],
-                     progress=False)
+        slipstep.run(
+            write_case(tmp_path, BLOCK),
+            None,
+            ["stage.press.factors={press = -1.0}"],
+            progress=False,
+        )
     assert str(err.value).startswith(
         "body 'block' lifts off at the first instant (t = 0): contact 'base' starts closed "
-        "(gap 0), but the load pulls the body away from it along (0.000, 1.000)"), \
-        str(err.value)
+        "(gap 0), but the load pulls the body away from it along (0.000, 1.000)"
+    ), str(err.value)
     assert "start a contact closed" not in str(err.value)

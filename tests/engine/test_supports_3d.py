@@ -33,13 +33,19 @@ FORCE_TOL = 1e-9
 
 
 def run(tip: str):
-    scene = build_scene(parse_case(VICKERS_QUARTER.format(tip=tip, h_contact=0.1, motion=-0.12), "vickers.toml"))
+    scene = build_scene(
+        parse_case(VICKERS_QUARTER.format(tip=tip, h_contact=0.1, motion=-0.12), "vickers.toml")
+    )
     return scene, solve(scene)
 
 
 @needs_gmsh
 def test_the_normal_under_a_pyramid_tip_is_its_axis():
-    scene = build_scene(parse_case(VICKERS_QUARTER.format(tip="[0.0, 0.0, 0.0]", h_contact=0.1, motion=-0.12), "v.toml"))
+    scene = build_scene(
+        parse_case(
+            VICKERS_QUARTER.format(tip="[0.0, 0.0, 0.0]", h_contact=0.1, motion=-0.12), "v.toml"
+        )
+    )
     pairs = scene.model["pairs"]
     corner = np.flatnonzero(np.linalg.norm(scene.nodes[pairs["node_a"]], axis=1) == 0.0)
     assert len(corner) == 1
@@ -48,8 +54,11 @@ def test_the_normal_under_a_pyramid_tip_is_its_axis():
 
 
 @needs_gmsh
-@pytest.mark.parametrize("tip", ["[0.0, 0.0, 0.0]", "[0.01, 0.013, 0.0]"],
-                         ids=["tip_on_the_corner", "tip_off_the_corner"])
+@pytest.mark.parametrize(
+    "tip",
+    ["[0.0, 0.0, 0.0]", "[0.01, 0.013, 0.0]"],
+    ids=["tip_on_the_corner", "tip_off_the_corner"],
+)
 def test_a_pyramid_on_a_corner_node_of_two_symmetry_planes_runs_in_balance(tip):
     scene, result = run(tip)
     assert result["stop"]["kind"] == "completed", result["stop"]
@@ -63,11 +72,17 @@ def test_a_pyramid_on_a_corner_node_of_two_symmetry_planes_runs_in_balance(tip):
     node_held = held[pairs["node_a"]]
     # a tangent is the support's when its free part has nothing across the normal's free part
     free_n = np.where(node_held, 0.0, pairs["normal"])
-    free_side = [np.linalg.norm(np.where(node_held, 0.0, tangent[:, j])
-                                - np.einsum("pk,pk->p", np.where(node_held, 0.0, tangent[:, j]),
-                                            free_n)[:, None] * free_n
-                                / np.einsum("pk,pk->p", free_n, free_n)[:, None], axis=1)
-                 > 1e-9 for j in (0, 1)]
+    free_side = [
+        np.linalg.norm(
+            np.where(node_held, 0.0, tangent[:, j])
+            - np.einsum("pk,pk->p", np.where(node_held, 0.0, tangent[:, j]), free_n)[:, None]
+            * free_n
+            / np.einsum("pk,pk->p", free_n, free_n)[:, None],
+            axis=1,
+        )
+        > 1e-9
+        for j in (0, 1)
+    ]
     last = snaps[-1]
     ln = np.asarray(last["lambda_n"])
     lt = np.asarray(last["lambda_t"]).reshape(-1, 2)

@@ -33,8 +33,8 @@ from slipstep.errors import GrossSlidingError
 from slipstep.build import build_scene
 
 MAX_ZERO_LENGTH_SWITCHES = 4  # Options::default() in rust/src/model.rs
-MAX_RATE_PROBLEMS = 3         # rust/src/driver/anticycling.rs
-ZERO_SCALE = 1e-12            # rust/src/driver/selection.rs: zero-length increments
+MAX_RATE_PROBLEMS = 3  # rust/src/driver/anticycling.rs
+ZERO_SCALE = 1e-12  # rust/src/driver/selection.rs: zero-length increments
 # Round-off tolerances, relative to the scene's scales: forces to Σ|load| (the engine's noise
 # floor is 1e-12 of it; the checks allow 1e-9, the engine's own contact check), gaps to the
 # largest displacement (1e-8: the triangular solves' round-off on these small meshes is ~1e-12).
@@ -63,10 +63,16 @@ def assert_contact_conditions(model: dict, result: dict) -> None:
         ln, lt = s["lambda_n"], s["lambda_t"]
         assert (s["gap"] >= -gap).all(), (k, s["gap"].min())
         assert (np.abs(s["gap"][closed]) <= gap).all(), (k, "a closed pair does not touch")
-        assert (ln[~closed] == 0).all() and (lt[~closed] == 0).all(), (k, "an open pair carries force")
+        assert (ln[~closed] == 0).all() and (lt[~closed] == 0).all(), (
+            k,
+            "an open pair carries force",
+        )
         assert (ln[closed] >= -force).all(), (k, ln.min())
         assert (np.abs(lt) <= mu * ln + force).all(), (k, "outside Coulomb's cone")
-        assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (k, equilibrium_residual(model, s))
+        assert equilibrium_residual(model, s) <= EQUILIBRIUM_TOL, (
+            k,
+            equilibrium_residual(model, s),
+        )
         if k > 0:
             # Friction opposes the slip: λ_t · Δrtd ≤ 0 for pairs slipping at both ends of the
             # step (the dissipation −λ_t Δrtd is never negative).
@@ -89,8 +95,13 @@ def run_complete(model: dict) -> dict:
     steps = result["steps"]
     assert steps["load_fraction"][-1] == 1.0
     assert len(steps["scale"]) <= 50 * (entities + 1) + 1000
-    assert longest_zero_length_run(steps["scale"]) <= (MAX_ZERO_LENGTH_SWITCHES + 1) * entities + MAX_RATE_PROBLEMS
-    assert "frozen" not in set(result["events"]["kind"]), "the last resort fired on a scene with a solution"
+    assert (
+        longest_zero_length_run(steps["scale"])
+        <= (MAX_ZERO_LENGTH_SWITCHES + 1) * entities + MAX_RATE_PROBLEMS
+    )
+    assert "frozen" not in set(
+        result["events"]["kind"]
+    ), "the last resort fired on a scene with a solution"
     assert_contact_conditions(model, result)
     return result
 
@@ -120,8 +131,7 @@ mu = {mu}
 
 
 def block_model(extra: str, **kw) -> dict:
-    p = {"x0": 0.0, "y0": 0.0, "width": 2.0, "height": 1.0, "nx": 8, "ny": 4, "nu": 0.3,
-         "mu": 0.3}
+    p = {"x0": 0.0, "y0": 0.0, "width": 2.0, "height": 1.0, "nx": 8, "ny": 4, "nu": 0.3, "mu": 0.3}
     p.update(kw)
     return build_scene(parse_case(BLOCK.format(**p) + extra)).model
 
@@ -158,8 +168,7 @@ def test_a_flat_face_closes_all_at_once_in_one_increment(nu):
     assert set(ev["step"].tolist()) == {0}
     assert sorted(ev["entity"].tolist()) == list(range(n_pairs))
     # closes at u = 0.01 = f * 50 (1 - nu^2) / 1000 (plane strain, uniaxial stress, height 1)
-    assert np.allclose(ev["load_fraction"], 0.01 * 1000 / (50 * (1 - nu ** 2)), rtol=1e-9,
-                       atol=0)
+    assert np.allclose(ev["load_fraction"], 0.01 * 1000 / (50 * (1 - nu**2)), rtol=1e-9, atol=0)
     assert len(result["steps"]["scale"]) == 2
 
 
@@ -169,10 +178,13 @@ def test_a_flat_punch_closes_on_its_foundation_in_one_increment():
     `tolerance` and counts gaps within `tolerance` as 0; so the scene is built touching and
     the punch is lifted in the engine model.)"""
     text = BLOCK.format(x0=0.0, y0=1.0, width=5.0, height=1.0, nx=50, ny=2, nu=0.3, mu=0.5)
-    text = text.replace('kind = "rigid_line"\nbody = "b"\nedge = "bottom"',
-                        'kind = "node_to_node"\nbody_a = "b"\nedge_a = "bottom"\n'
-                        'body_b = "f"\nedge_b = "top"')
-    text += HANGING + """
+    text = text.replace(
+        'kind = "rigid_line"\nbody = "b"\nedge = "bottom"',
+        'kind = "node_to_node"\nbody_a = "b"\nedge_a = "bottom"\n' 'body_b = "f"\nedge_b = "top"',
+    )
+    text += (
+        HANGING
+        + """
 [[body]]
 name = "f"
 [body.mesh]
@@ -189,6 +201,7 @@ body = "f"
 edge = "bottom"
 fix = ["x", "y"]
 """
+    )
     scene = build_scene(parse_case(text))
     model = scene.model
     punch = np.arange(scene.meshes["b"].n_nodes) + scene.offsets["b"]
@@ -207,7 +220,8 @@ fix = ["x", "y"]
 def shear_model(mu: float, ratio: float) -> dict:
     """A block on the flat (all pairs closed, gap 0), pressed and sheared on its top by a
     traction at ``ratio`` x mu of the pressure; held in x at one top corner only."""
-    return block_model(f"""
+    return block_model(
+        f"""
 [[bc]]
 body = "b"
 edge = "top"
@@ -216,7 +230,9 @@ traction = [{ratio * mu}, -1.0]
 body = "b"
 nodes = "corner_top_left"
 fix = ["x"]
-""", mu=mu)
+""",
+        mu=mu,
+    )
 
 
 @pytest.mark.parametrize("mu", [0.5, 1.0, 2.0])
@@ -228,7 +244,9 @@ def test_shear_at_and_beyond_the_friction_limit_completes(mu, ratio):
     result = run_complete(shear_model(mu, ratio))
     if ratio > 1.0:
         last = result["snapshots"][-1]
-        assert (last["status"] != 1).any() or (last["status"] == 0).any(), "beyond the limit some pair slips or opens"
+        assert (last["status"] != 1).any() or (
+            last["status"] == 0
+        ).any(), "beyond the limit some pair slips or opens"
 
 
 RECEDING = """
@@ -290,7 +308,8 @@ def test_a_tangential_push_without_normal_load_completes():
     rule cycles stick/slip/separate at zero load (it used to freeze). The block touches the
     flat with zero force wherever it does not lift: nothing holds it vertically but contact,
     and no vertical load acts, so Σλ_n = 0 at the end."""
-    model = block_model("""
+    model = block_model(
+        """
 [[bc]]
 body = "b"
 edge = "left"
@@ -298,7 +317,14 @@ symmetry = true
 [[point_load]]
 at = [1.0, 0.0]
 force = [-0.5, 0.0]
-""", width=3.0, height=3.0, nx=3, ny=3, nu=0.49, mu=1.0)
+""",
+        width=3.0,
+        height=3.0,
+        nx=3,
+        ny=3,
+        nu=0.49,
+        mu=1.0,
+    )
     result = run_complete(model)
     assert abs(result["snapshots"][-1]["lambda_n"].sum()) <= 1e-9
     assert result["n_rate_problems"] >= 1
@@ -309,17 +335,22 @@ def test_gross_sliding_is_its_own_error_with_the_friction_capacity():
     with mu = 0.5: τ/q > mu at every load level, so friction cannot hold it (gross sliding).
     The error names the body and the direction, and under the full load (width 2) the
     tangential load T = 2τ = 1.5 against the capacity μN = 0.5 × 2q = 1 (printed to 4 digits)."""
-    model = block_model("""
+    model = block_model(
+        """
 [[bc]]
 body = "b"
 edge = "top"
 traction = [0.75, -1.0]
-""", mu=0.5)
+""",
+        mu=0.5,
+    )
     with pytest.raises(GrossSlidingError) as info:
         _engine.solve(model, False)
     msg = str(info.value)
     assert msg.startswith("body 'b' slides as a whole") and "translation in x" in msg, msg
-    load, capacity = (float(msg.split(word)[1].split()[0]) for word in ("tangential load T = ", "μN = "))
+    load, capacity = (
+        float(msg.split(word)[1].split()[0]) for word in ("tangential load T = ", "μN = ")
+    )
     assert abs(load - 1.5) <= 1e-3 and abs(capacity - 1.0) <= 1e-3, msg
     assert "\n" not in msg
 
@@ -336,13 +367,17 @@ def test_perfect_plasticity_beyond_collapse_reaches_the_last_resort():
         "triangles": np.array([[0, 1, 3], [0, 3, 2]], dtype=np.int64),
         "element_material": np.zeros(2, dtype=np.int64),
         "materials": [{"E": 1000.0, "nu": 0.499, "Sy": 5.0, "H": 0.0}],
-        "plane": "strain", "thickness": 1.0,
+        "plane": "strain",
+        "thickness": 1.0,
         "fixed_dofs": np.array([0, 4], dtype=np.int64),
         "load": np.array([0, 0, 0, 0, 0, -10.0, 0, -10.0]),
-        "pairs": {"node_a": np.array([0, 1], dtype=np.int64),
-                  "node_b": np.array([-1, -1], dtype=np.int64),
-                  "normal": np.array([[0.0, 1.0], [0.0, 1.0]]), "gap": np.zeros(2),
-                  "mu": np.full(2, 0.1)},
+        "pairs": {
+            "node_a": np.array([0, 1], dtype=np.int64),
+            "node_b": np.array([-1, -1], dtype=np.int64),
+            "normal": np.array([[0.0, 1.0], [0.0, 1.0]]),
+            "gap": np.zeros(2),
+            "mu": np.full(2, 0.1),
+        },
         "options": {"output": "events", "tie_tol": 1e-3, "drift_control": False},
     }
     with time_limit(60):
@@ -354,4 +389,7 @@ def test_perfect_plasticity_beyond_collapse_reaches_the_last_resort():
     kinds = Counter(result["events"]["kind"])
     assert kinds["frozen"] >= 1 and kinds["frozen_element"] >= 1, kinds
     assert result["stop"]["kind"] == "completed"
-    assert longest_zero_length_run(result["steps"]["scale"]) <= (MAX_ZERO_LENGTH_SWITCHES + 1) * 4 + MAX_RATE_PROBLEMS
+    assert (
+        longest_zero_length_run(result["steps"]["scale"])
+        <= (MAX_ZERO_LENGTH_SWITCHES + 1) * 4 + MAX_RATE_PROBLEMS
+    )

@@ -57,12 +57,15 @@ def test_ring_supports_and_loads_are_slipsteps(thick_elastic):
 def test_ring_point_load_is_a_ring_total():
     """A [[point_load]] in axisymmetry is the total force on its ring (no thickness, no
     2 pi): the same vector as slipstep's."""
-    text = (CASES / "thick_sphere.toml").read_text() + """
+    text = (
+        (CASES / "thick_sphere.toml").read_text()
+        + """
 [[point_load]]
 body = "sphere"
 at = [0.0, 20.0]
 force = [0.0, -500.0]
 """
+    )
     scene = build_scene(parse_case(text))
     bulk = BulkProblem(scene)
     f = scene.model["load"]
@@ -94,8 +97,9 @@ def test_higher_quadrature_is_another_consistent_ring():
     (element values, largest difference at the bore) decreasing."""
     rows = []
     for k in (2.0, 1.0, 0.5):
-        scene = build_scene(load_case(THICK, ELASTIC + [f"mesh.h={0.25 * k}",
-                                                        f"mesh.h_outer={0.8 * k}"]))
+        scene = build_scene(
+            load_case(THICK, ELASTIC + [f"mesh.h={0.25 * k}", f"mesh.h_outer={0.8 * k}"])
+        )
         snap = engine_result(scene)[0]["snapshots"][-1]
         d = bulk_differences(snap, BulkProblem(scene, quadrature_degree=2).solve_elastic())
         rows.append((d["u"], d["stress"]))
@@ -134,9 +138,12 @@ def test_hertz_sphere_elastoplastic_replay_within_path_tolerance():
     (bulk.ROUND_OFF_STEP): their relative residual floors at ~1e-10."""
     from slipstep.fenicsx.crosscheck import contact_replay
 
-    scene = build_scene(load_case(CASES / "hertz_sphere.toml",
-                                  ["material.Sy=130", "load.P=45", "mesh.h_contact=0.03",
-                                   "solver.group_tol=0"]))  # the replay steps through its events
+    scene = build_scene(
+        load_case(
+            CASES / "hertz_sphere.toml",
+            ["material.Sy=130", "load.P=45", "mesh.h_contact=0.03", "solver.group_tol=0"],
+        )
+    )  # the replay steps through its events
     rows = contact_replay(scene)["rows"]
     elastic = [r for r in rows if "plastic_strain" not in r]
     plastic = [r for r in rows if "plastic_strain" in r]
@@ -196,7 +203,7 @@ def test_thick_sphere_both_codes_against_hill(thick_plastic):
     volume = math.pi * pts[:, :, 0].mean(axis=1) * (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
     for plastic_strain in (out["snapshot"]["plastic_strain"], out["dolfinx"].plastic_strain):
         yielded = np.asarray(plastic_strain) > 0
-        c_fe = (a ** 3 + 1.5 * volume[yielded].sum() / math.pi) ** (1 / 3)
+        c_fe = (a**3 + 1.5 * volume[yielded].sum() / math.pi) ** (1 / 3)
         assert abs(c_fe - c) <= h_at_c / 4, (c_fe, c)
 
 

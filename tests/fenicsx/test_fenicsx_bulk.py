@@ -9,8 +9,12 @@ import pytest
 
 from conftest import CASES, needs_gmsh
 from slipstep import build_scene, load_case, parse_case
-from slipstep.fenicsx.crosscheck import (bulk_differences, engine_result, hill_differences,
-                                         plastic_bulk)
+from slipstep.fenicsx.crosscheck import (
+    bulk_differences,
+    engine_result,
+    hill_differences,
+    plastic_bulk,
+)
 
 pytest.importorskip("dolfinx")
 from slipstep.fenicsx.bulk import BulkProblem  # noqa: E402
@@ -121,8 +125,11 @@ def thick_cylinder():
     """cases/thick_cylinder.toml on a coarser mesh (707 elements), slipstep event by event
     (group_tol = 0): dolfinx's load-stepped path converges to that one (the default grouped
     increments are within 0.5 % of it)."""
-    scene = build_scene(load_case(CASES / "thick_cylinder.toml",
-                                  ["mesh.h=0.5", "mesh.h_outer=1.5", "solver.group_tol=0"]))
+    scene = build_scene(
+        load_case(
+            CASES / "thick_cylinder.toml", ["mesh.h=0.5", "mesh.h_outer=1.5", "solver.group_tol=0"]
+        )
+    )
     return scene, plastic_bulk(scene, steps=(10, 40))
 
 

@@ -19,11 +19,32 @@ def _files(out):
 @needs_gmsh
 def test_crosscheck_elastoplastic_bulk_with_hill(tmp_path):
     out = tmp_path / "tc"
-    code = main(["crosscheck", str(CASES / "thick_cylinder.toml"), "--out", str(out),
-                 "--set", "mesh.h=1.0", "--set", "mesh.h_outer=2.0", "--steps", "5,20"])
+    code = main(
+        [
+            "crosscheck",
+            str(CASES / "thick_cylinder.toml"),
+            "--out",
+            str(out),
+            "--set",
+            "mesh.h=1.0",
+            "--set",
+            "mesh.h_outer=2.0",
+            "--steps",
+            "5,20",
+        ]
+    )
     assert code == 0
-    assert {"crosscheck.md", "crosscheck.json", "crosscheck.png", "mesh.xdmf", "mesh.h5",
-            "mesh_edges.xdmf", "mesh_edges.h5", "dolfinx.xdmf", "dolfinx.h5"} <= _files(out)
+    assert {
+        "crosscheck.md",
+        "crosscheck.json",
+        "crosscheck.png",
+        "mesh.xdmf",
+        "mesh.h5",
+        "mesh_edges.xdmf",
+        "mesh_edges.h5",
+        "dolfinx.xdmf",
+        "dolfinx.h5",
+    } <= _files(out)
     report = json.loads((out / "crosscheck.json").read_text())
     assert report["mode"] == "elastoplastic bulk (no contact)"
     assert [r["steps"] for r in report["rows"]] == [5, 20]
@@ -36,8 +57,9 @@ def test_crosscheck_elastoplastic_bulk_with_hill(tmp_path):
 @needs_gmsh
 def test_crosscheck_contact_replay(tmp_path, capsys):
     out = tmp_path / "hz"
-    code = main(["crosscheck", "--out", str(out), "--set", "contact.mu=0.2",
-                 "--set", "mesh.h_contact=0.3"])
+    code = main(
+        ["crosscheck", "--out", str(out), "--set", "contact.mu=0.2", "--set", "mesh.h_contact=0.3"]
+    )
     assert code == 0
     assert "contact replay" in capsys.readouterr().out
     report = json.loads((out / "crosscheck.json").read_text())
@@ -47,7 +69,9 @@ def test_crosscheck_contact_replay(tmp_path, capsys):
 
 
 def test_crosscheck_elastic_bulk(tmp_path):
-    case = write_case(tmp_path, """
+    case = write_case(
+        tmp_path,
+        """
 [case]
 name = "plate"
 [[body]]
@@ -68,7 +92,8 @@ fix = ["x", "y"]
 body = "p"
 edge = "right"
 traction = [1.0, 0.5]
-""")
+""",
+    )
     out = tmp_path / "out"
     assert main(["crosscheck", str(case), "--out", str(out)]) == 0
     report = json.loads((out / "crosscheck.json").read_text())
@@ -78,8 +103,18 @@ traction = [1.0, 0.5]
 
 @needs_gmsh
 def test_node_to_node_contact_is_an_error_naming_the_limit(tmp_path, capsys):
-    code = main(["crosscheck", str(CASES / "two_blocks.toml"), "--out", str(tmp_path / "tb"),
-                 "--set", "body.punch.mesh.h=1.0", "--set", "body.foundation.mesh.h=1.0"])
+    code = main(
+        [
+            "crosscheck",
+            str(CASES / "two_blocks.toml"),
+            "--out",
+            str(tmp_path / "tb"),
+            "--set",
+            "body.punch.mesh.h=1.0",
+            "--set",
+            "body.foundation.mesh.h=1.0",
+        ]
+    )
     assert code == 2
     assert "node-to-node" in capsys.readouterr().err
     assert not (tmp_path / "tb").exists()  # issue 38: the exchanged mesh was left behind
@@ -89,8 +124,18 @@ def test_a_refused_case_leaves_an_existing_folder_as_it_was(tmp_path, capsys):
     out = tmp_path / "tb"
     out.mkdir()
     (out / "mine.txt").write_text("kept")
-    code = main(["crosscheck", str(CASES / "two_blocks.toml"), "--out", str(out),
-                 "--set", "body.punch.mesh.h=1.0", "--set", "body.foundation.mesh.h=1.0"])
+    code = main(
+        [
+            "crosscheck",
+            str(CASES / "two_blocks.toml"),
+            "--out",
+            str(out),
+            "--set",
+            "body.punch.mesh.h=1.0",
+            "--set",
+            "body.foundation.mesh.h=1.0",
+        ]
+    )
     assert code == 2 and sorted(p.name for p in out.iterdir()) == ["mine.txt"]
 
 

@@ -18,19 +18,57 @@ from slipstep.fenicsx import dolfinx_api as api
 #: slipstep.fenicsx (slipstep.sweep uses it for its process pool, which is no dolfinx call).
 STACK = {"dolfinx", "ufl", "petsc4py", "basix", "ffcx"}
 
-POINTS = ("function_space", "compiled_form", "scalar_type", "dofmap_list", "geometry_dofmap",
-          "coordinate_element", "petsc_vector", "interpolation_points", "write_meshtags",
-          "gmsh_io")
-OLD = ("VectorFunctionSpace", "FormMetaClass", "PETSc.ScalarType", "AdjacencyList",
-       "AdjacencyList", "cmap", "Function.vector", "method", "tags", "gmshio")
-V07 = ("functionspace", "Form", "default_scalar_type", "array", "dofmap", "cmaps[0]",
-       "Function.vector", "method", "tags, geometry", "gmshio")
+POINTS = (
+    "function_space",
+    "compiled_form",
+    "scalar_type",
+    "dofmap_list",
+    "geometry_dofmap",
+    "coordinate_element",
+    "petsc_vector",
+    "interpolation_points",
+    "write_meshtags",
+    "gmsh_io",
+)
+OLD = (
+    "VectorFunctionSpace",
+    "FormMetaClass",
+    "PETSc.ScalarType",
+    "AdjacencyList",
+    "AdjacencyList",
+    "cmap",
+    "Function.vector",
+    "method",
+    "tags",
+    "gmshio",
+)
+V07 = (
+    "functionspace",
+    "Form",
+    "default_scalar_type",
+    "array",
+    "dofmap",
+    "cmaps[0]",
+    "Function.vector",
+    "method",
+    "tags, geometry",
+    "gmshio",
+)
 V08 = V07[:5] + ("cmap", "x.petsc_vec") + V07[7:]
 V10 = V08[:7] + ("property", "tags, geometry", "io.gmsh MeshData")
 V11 = V10[:4] + ("dofmaps[0]", "cmaps[0]") + V10[6:]
 #: version string -> the spelling of each of POINTS in that release (from its release notes)
-EXPECTED = {"0.5.2": OLD, "0.6.0": OLD, "0.7.3": V07, "0.8.0": V08, "0.9.0": V08,
-            "0.9.0.post1": V08, "0.10.0": V10, "0.10.0.post5": V10, "0.11.0": V11}
+EXPECTED = {
+    "0.5.2": OLD,
+    "0.6.0": OLD,
+    "0.7.3": V07,
+    "0.8.0": V08,
+    "0.9.0": V08,
+    "0.9.0.post1": V08,
+    "0.10.0": V10,
+    "0.10.0.post5": V10,
+    "0.11.0": V11,
+}
 
 
 def _imported_modules(path):
@@ -44,11 +82,16 @@ def _imported_modules(path):
 def test_only_the_adapter_imports_the_dolfinx_stack():
     bridge = [*(ROOT / "py/slipstep/fenicsx").glob("*.py"), ROOT / "examples/hybrid_hertz.py"]
     forbidden = {path: STACK | {"mpi4py"} for path in bridge}
-    forbidden.update({path: STACK for path in (ROOT / "py/slipstep").rglob("*.py")
-                      if path not in forbidden})
-    offenders = {f"{path.relative_to(ROOT)}: {name}"
-                 for path, stack in forbidden.items() if path.name != "dolfinx_api.py"
-                 for name in _imported_modules(path) if name.split(".")[0] in stack}
+    forbidden.update(
+        {path: STACK for path in (ROOT / "py/slipstep").rglob("*.py") if path not in forbidden}
+    )
+    offenders = {
+        f"{path.relative_to(ROOT)}: {name}"
+        for path, stack in forbidden.items()
+        if path.name != "dolfinx_api.py"
+        for name in _imported_modules(path)
+        if name.split(".")[0] in stack
+    }
     assert not offenders, sorted(offenders)
     adapter = set(_imported_modules(ROOT / "py/slipstep/fenicsx/dolfinx_api.py"))
     assert {"dolfinx", "ufl", "petsc4py", "mpi4py"} <= {n.split(".")[0] for n in adapter}
@@ -70,9 +113,17 @@ def test_the_table_covers_every_dispatched_point_and_cites_each_change():
             assert re.search(r"#\d{4}", s.note), (point, s.note)
 
 
-@pytest.mark.parametrize("text, parsed", [("0.5.2", (0, 5)), ("0.10.0.post5", (0, 10)),
-                                          ("0.9.0.dev0", (0, 9)), ("v0.8.0", (0, 8)),
-                                          ("0.11.0rc1", (0, 11)), ("1.0.0", (1, 0))])
+@pytest.mark.parametrize(
+    "text, parsed",
+    [
+        ("0.5.2", (0, 5)),
+        ("0.10.0.post5", (0, 10)),
+        ("0.9.0.dev0", (0, 9)),
+        ("v0.8.0", (0, 8)),
+        ("0.11.0rc1", (0, 11)),
+        ("1.0.0", (1, 0)),
+    ],
+)
 def test_versions_parse_to_major_minor(text, parsed):
     assert api.parse_version(text) == parsed
 
@@ -95,8 +146,12 @@ def test_the_spellings_chosen_exist_in_the_installed_dolfinx():
     d = api.require_dolfinx()
     fem, v = d.fem, d.version
     use = {point: api.branch(point, v) for point in POINTS}
-    assert hasattr(fem, {"functionspace": "functionspace",
-                         "VectorFunctionSpace": "VectorFunctionSpace"}[use["function_space"]])
+    assert hasattr(
+        fem,
+        {"functionspace": "functionspace", "VectorFunctionSpace": "VectorFunctionSpace"}[
+            use["function_space"]
+        ],
+    )
     assert hasattr(fem, use["compiled_form"])
     if use["scalar_type"] == "default_scalar_type":
         assert hasattr(d.dolfinx, "default_scalar_type")

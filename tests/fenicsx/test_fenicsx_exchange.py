@@ -19,8 +19,11 @@ COARSE_HERTZ = ["mesh.h_contact=0.4", "mesh.h_max=12.0", "mesh.contact_zone=3.0"
 def scene(request):
     if request.param == "hertz":
         return build_scene(load_case(None, COARSE_HERTZ))
-    return build_scene(load_case(CASES / "two_blocks.toml", ["body.punch.mesh.h=1.0",
-                                                             "body.foundation.mesh.h=1.0"]))
+    return build_scene(
+        load_case(
+            CASES / "two_blocks.toml", ["body.punch.mesh.h=1.0", "body.foundation.mesh.h=1.0"]
+        )
+    )
 
 
 def _edge_sets(segments, tags, names):
@@ -83,9 +86,13 @@ def test_dolfinx_reads_the_mesh_and_the_maps_are_explicit(scene, tmp_path):
     tag[indices] = values
     assert np.array_equal(tag[dm.cell_of_element] - 1, scene.model["element_material"])
     # facet tags: every tagged segment arrives, on the right nodes
-    got = {name: {tuple(sorted(pair)) for pair in
-                  dm.node_of_geom[api.facet_nodes(msh, api.tagged(dm.facet_tags, value))]}
-           for value, name in dm.edge_names.items()}
+    got = {
+        name: {
+            tuple(sorted(pair))
+            for pair in dm.node_of_geom[api.facet_nodes(msh, api.tagged(dm.facet_tags, value))]
+        }
+        for value, name in dm.edge_names.items()
+    }
     assert got == _scene_edge_sets(scene)
     # dof maps: P1 vector blocks and DG0 dofs sit at the slipstep nodes / centroids (the dof
     # coordinates are computed by dolfinx from its element: 1e-12 is round-off on mm scales)
@@ -94,8 +101,9 @@ def test_dolfinx_reads_the_mesh_and_the_maps_are_explicit(scene, tmp_path):
     assert np.allclose(api.dof_coordinates(V)[block, :2], scene.nodes, rtol=0, atol=1e-12)
     W = api.function_space(msh, "DG", 0)
     centroid = scene.nodes[scene.triangles].mean(axis=1)
-    assert np.allclose(api.dof_coordinates(W)[dm.dg0_dof_of_element(W), :2], centroid,
-                       rtol=0, atol=1e-12)
+    assert np.allclose(
+        api.dof_coordinates(W)[dm.dg0_dof_of_element(W), :2], centroid, rtol=0, atol=1e-12
+    )
     # Function <-> slipstep arrays
     u = api.function(V)
     values = np.random.default_rng(0).normal(size=(N, 2))
@@ -123,9 +131,13 @@ def test_a_dolfinx_written_mesh_reads_back_and_maps_to_slipstep(scene, tmp_path)
 
 
 def test_overlapping_edge_tags_are_refused(tmp_path):
-    data = ex.MeshData(nodes=np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
-                       triangles=np.array([[0, 1, 2]]), cell_tags=np.array([1], np.int32),
-                       segments=np.array([[0, 1], [1, 0]]), edge_tags=np.array([1, 2], np.int32),
-                       edge_names={1: "a", 2: "b"})
+    data = ex.MeshData(
+        nodes=np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
+        triangles=np.array([[0, 1, 2]]),
+        cell_tags=np.array([1], np.int32),
+        segments=np.array([[0, 1], [1, 0]]),
+        edge_tags=np.array([1, 2], np.int32),
+        edge_names={1: "a", 2: "b"},
+    )
     with pytest.raises(ValueError, match="several edge tags"):
         ex.write_mesh_xdmf(tmp_path / "x.xdmf", data)

@@ -66,8 +66,12 @@ def test_hybrid_on_the_exchanged_mesh_equals_slipstep(hertz):
     order = np.argsort(out.contact_nodes)
     k = order[np.searchsorted(out.contact_nodes[order], geom)]
     p_engine = snap["lambda_n"] / scene.pair_length
-    assert np.abs(out.result["snapshots"][-1]["lambda_n"][k] / out.tributary_length[k]
-                  - p_engine).max() < 1e-8 * p_engine.max()
+    assert (
+        np.abs(
+            out.result["snapshots"][-1]["lambda_n"][k] / out.tributary_length[k] - p_engine
+        ).max()
+        < 1e-8 * p_engine.max()
+    )
 
 
 @needs_gmsh
@@ -95,8 +99,9 @@ def test_inhomogeneous_dirichlet_is_refused(hertz):
 
 @needs_gmsh
 def test_the_example_runs(tmp_path):
-    spec = importlib.util.spec_from_file_location("hybrid_hertz",
-                                                  ROOT / "examples" / "hybrid_hertz.py")
+    spec = importlib.util.spec_from_file_location(
+        "hybrid_hertz", ROOT / "examples" / "hybrid_hertz.py"
+    )
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     s = mod.main(["--h-contact", "0.2", "--out", str(tmp_path)])

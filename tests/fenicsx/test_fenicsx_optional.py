@@ -18,7 +18,9 @@ sys.meta_path.insert(0, Block())
 sys.path.insert(0, {py!r})
 """
 
-SCRIPT = BLOCK_DOLFINX + """
+SCRIPT = (
+    BLOCK_DOLFINX
+    + """
 import numpy as np
 import slipstep
 from slipstep import build_scene, parse_case
@@ -54,12 +56,14 @@ code = main(["crosscheck", "--out", {tmp!r} + "/cc"])
 assert code == 2, code
 print("OK")
 """
+)
 
 
 def test_core_and_writer_work_without_dolfinx(tmp_path):
     script = SCRIPT.format(py=str(ROOT / "py"), tmp=str(tmp_path))
-    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                         timeout=300)
+    out = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=300
+    )
     assert out.returncode == 0, out.stderr[-3000:]
     assert out.stdout.strip().endswith("OK")
     assert "dolfinx is not available" in out.stderr

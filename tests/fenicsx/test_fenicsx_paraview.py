@@ -15,8 +15,10 @@ from conftest import ROOT, needs_gmsh
 from slipstep import build_scene, parse_case, run_case
 
 PVPYTHON = shutil.which("pvpython")
-needs_pvpython = pytest.mark.skipif(PVPYTHON is None, reason="pvpython is not installed "
-                                    "(Debian: apt-get install python3-paraview)")
+needs_pvpython = pytest.mark.skipif(
+    PVPYTHON is None,
+    reason="pvpython is not installed " "(Debian: apt-get install python3-paraview)",
+)
 
 CASE = """
 [case]
@@ -68,8 +70,12 @@ pressure = 1.0
 
 def _pvread(*paths):
     script = ROOT / "py" / "slipstep" / "fenicsx" / "pvread.py"
-    out = subprocess.run([PVPYTHON, "--force-offscreen-rendering", str(script),
-                          *map(str, paths)], capture_output=True, text=True, timeout=300)
+    out = subprocess.run(
+        [PVPYTHON, "--force-offscreen-rendering", str(script), *map(str, paths)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert out.returncode == 0, out.stderr[-2000:]
     return json.loads(out.stdout.strip().splitlines()[-1])
 

@@ -21,8 +21,9 @@ def _state(rng, M, scale=150.0, plane="strain"):
 def test_elastic_steps_use_the_elastic_stiffness(plane):
     rng = np.random.default_rng(0)
     deps = rng.normal(size=(5, 3)) * 1e-5
-    sig, alpha, C3, plastic, _ = pl.integrate(np.zeros((5, 4)), np.zeros(5), deps, E, NU,
-                                              np.inf, 0.0, plane)
+    sig, alpha, C3, plastic, _ = pl.integrate(
+        np.zeros((5, 4)), np.zeros(5), deps, E, NU, np.inf, 0.0, plane
+    )
     D = pl.in_plane_d(np.full(5, E), np.full(5, NU), plane)
     assert not plastic.any()
     assert np.allclose(C3, D, rtol=1e-12, atol=0)
@@ -39,8 +40,9 @@ def test_return_lands_on_the_hardened_surface(plane, H):
     rng = np.random.default_rng(1)
     M = 40
     deps = rng.normal(size=(M, 3)) * 4e-3  # far beyond yield
-    sig, alpha, _, plastic, _ = pl.integrate(np.zeros((M, 4)), np.zeros(M), deps, E, NU, SY,
-                                             H, plane)
+    sig, alpha, _, plastic, _ = pl.integrate(
+        np.zeros((M, 4)), np.zeros(M), deps, E, NU, SY, H, plane
+    )
     assert plastic.all()
     assert np.allclose(pl.von_mises(sig), SY + H * alpha, rtol=1e-10)
     if plane == "stress":
@@ -86,8 +88,9 @@ def test_plane_stress_uniaxial_hardening_curve():
         dex = 1e-4
         dey = -NU * dex
         for _ in range(30):  # find dey with sigma_y = 0
-            s, a, C3, _, _ = pl.integrate(sig, alpha, np.array([[dex, dey, 0.0]]), E, NU, SY,
-                                          H, "stress")
+            s, a, C3, _, _ = pl.integrate(
+                sig, alpha, np.array([[dex, dey, 0.0]]), E, NU, SY, H, "stress"
+            )
             if abs(s[0, 1]) < 1e-10:
                 break
             dey -= s[0, 1] / C3[0, 1, 1]

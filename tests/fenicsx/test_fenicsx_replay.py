@@ -39,8 +39,10 @@ def test_elastoplastic_replay_within_path_tolerance():
     1.5e-4, plastic strain 1.4e-3 relative (shrinking with dolfinx substeps: 1.3e-5, 1.6e-4,
     9.7e-5 with 3).  Before first yield the replay is exact.  The engine runs event by event
     (group_tol = 0): the replay steps through its events."""
-    scene = prepare(None, [*HERTZ, "mesh.h_contact=0.3", "material.Sy=200",
-                           "material.H=700", "solver.group_tol=0"])
+    scene = prepare(
+        None,
+        [*HERTZ, "mesh.h_contact=0.3", "material.Sy=200", "material.H=700", "solver.group_tol=0"],
+    )
     rep = contact_replay(scene)
     rows = rep["rows"]
     elastic = [r for r in rows if "plastic_strain" not in r]
@@ -56,8 +58,11 @@ def test_elastoplastic_replay_within_path_tolerance():
 
 @needs_gmsh
 def test_node_to_node_pairs_are_refused_by_name():
-    scene = build_scene(load_case(CASES / "two_blocks.toml", ["body.punch.mesh.h=1.0",
-                                                              "body.foundation.mesh.h=1.0"]))
+    scene = build_scene(
+        load_case(
+            CASES / "two_blocks.toml", ["body.punch.mesh.h=1.0", "body.foundation.mesh.h=1.0"]
+        )
+    )
     snap = {"status": np.ones(len(scene.model["pairs"]["node_a"]), np.int8)}
     with pytest.raises(NotImplementedError, match="node-to-node"):
         replay_conditions(scene, snap)
@@ -70,9 +75,12 @@ def test_replay_conditions_follow_the_sign_conventions():
     P = len(pairs["node_a"])
     status = np.zeros(P, np.int8)
     status[:3] = [1, 2, 2]
-    snap = {"status": status, "rtd": np.full(P, 0.01), "lambda_t": np.array([5.0, -3.0, 2.0]
-                                                                            + [0.0] * (P - 3)),
-            "lambda_n": np.full(P, 10.0)}
+    snap = {
+        "status": status,
+        "rtd": np.full(P, 0.01),
+        "lambda_t": np.array([5.0, -3.0, 2.0] + [0.0] * (P - 3)),
+        "lambda_n": np.full(P, 10.0),
+    }
     presc, extra, info = replay_conditions(scene, snap)
     a = pairs["node_a"][:3]
     # flat y = 0, n = (0, 1): u_y = -gap0; t = (-1, 0): u_x = -rtd for stick

@@ -59,8 +59,9 @@ symmetry = true
 
 
 def shell(h: float, p: float, plastic: str = ""):
-    return build_scene(parse_case(SHELL.format(h=h, h_outer=2 * h, p=p, plastic=plastic),
-                                  "shell.toml"))
+    return build_scene(
+        parse_case(SHELL.format(h=h, h_outer=2 * h, p=p, plastic=plastic), "shell.toml")
+    )
 
 
 # --------------------------------------------------------------------------- numpy, no dolfinx
@@ -135,7 +136,7 @@ def test_lame_sphere_displacement_converges_at_second_order():
         # the state is radial: no tangential displacement beyond the discretisation's
         tangential = res.u - ur[:, None] * scene.nodes / rho[:, None]
         assert np.abs(tangential).max() <= 0.1 * np.abs(exact).max()
-    assert errors[0] / errors[1] >= 2 ** 1.5, errors
+    assert errors[0] / errors[1] >= 2**1.5, errors
     assert errors[1] <= 0.05, errors
 
 
@@ -155,18 +156,20 @@ def hill_band_check(scene, p_full: float, h: float, surface_tol: float):
         if q < 1.05 * p_e:
             return
         c_hill = float(references.thick_sphere_radius(q, A, B, Y))
-        c_volume = (A ** 3 + 6 * volume[plastic].sum() / math.pi) ** (1 / 3)
+        c_volume = (A**3 + 6 * volume[plastic].sum() / math.pi) ** (1 / 3)
         local_h = h * (1 + (c_hill - A) / (B - A))  # the shell's grading h .. 2h
         assert abs(c_volume - c_hill) <= local_h / 4, (q, c_volume, c_hill)
         assert np.allclose(pl.von_mises(stress)[plastic], Y, rtol=surface_tol)
         checked.append(q)
+
     return check, checked
 
 
 def halfway_to_the_limit() -> float:
     """Halfway between Hill's elastic limit and limit pressures of the shell."""
-    return 0.5 * (references.thick_sphere_pressure(A, A, B, Y)
-                  + references.thick_sphere_pressure(B, A, B, Y))
+    return 0.5 * (
+        references.thick_sphere_pressure(A, A, B, Y) + references.thick_sphere_pressure(B, A, B, Y)
+    )
 
 
 @needs_gmsh
@@ -179,7 +182,8 @@ def test_hill_plastic_zone_of_the_thick_sphere():
     check, checked = hill_band_check(scene, p, h, 1e-9)
     BulkProblem(scene).solve_plastic(
         fractions=np.linspace(0.5, 1.0, 6),
-        callback=lambda res: check(res.load_fraction, res.plastic_strain > 0, res.stress))
+        callback=lambda res: check(res.load_fraction, res.plastic_strain > 0, res.stress),
+    )
     assert len(checked) >= 3, checked
 
 
@@ -229,11 +233,14 @@ def test_slipstep_plastic_zone_of_the_thick_sphere():
 
     p, h = halfway_to_the_limit(), 0.125
     scene = shell(h, p, "Sy = 250.0\nH = 0.0")
-    check, checked = hill_band_check(scene, p, h, 0.05 ** 2)
+    check, checked = hill_band_check(scene, p, h, 0.05**2)
     result, _ = engine_result(scene, fractions=np.linspace(0.55, 1.0, 10))
     for snap in result["snapshots"]:
-        check(snap["load_fraction"], np.asarray(snap["plastic_strain"]) > 0,
-              np.asarray(snap["stress"]))
+        check(
+            snap["load_fraction"],
+            np.asarray(snap["plastic_strain"]) > 0,
+            np.asarray(snap["stress"]),
+        )
     assert len(checked) >= 8, checked
 
 

@@ -27,8 +27,11 @@ def half_space():
 def side_counts(mesh: M.Mesh) -> tuple[np.ndarray, np.ndarray]:
     """Every triangle side once (node pairs, sorted) and how many triangles share it."""
     t = mesh.triangles
-    return np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]),
-                             axis=1), axis=0, return_counts=True)
+    return np.unique(
+        np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1),
+        axis=0,
+        return_counts=True,
+    )
 
 
 def sides(mesh: M.Mesh) -> tuple[np.ndarray, np.ndarray]:
@@ -62,8 +65,10 @@ def size_law(d, h_contact=HC, zone=ZONE, h_max=HMAX, growth=0.1):
 def test_node_count_of_the_half_space_block(half_space):
     """The point of the graded block: the structured block at h = 0.25 has 401^2 = 160 801
     nodes; the graded one must stay below 20 000 (measured: 5 468, gmsh 4.15)."""
-    print(f"graded 100 x 100 block, h_contact = 0.25: {half_space.n_nodes} nodes, "
-          f"{half_space.n_elements} triangles")
+    print(
+        f"graded 100 x 100 block, h_contact = 0.25: {half_space.n_nodes} nodes, "
+        f"{half_space.n_elements} triangles"
+    )
     assert half_space.n_nodes < 20_000, half_space.n_nodes
 
 
@@ -104,11 +109,16 @@ def test_element_size_near_focus_and_far_away(half_space):
 
 
 @needs_gmsh
-@pytest.mark.parametrize("focus, on", [((50.0, 100.0), ("top",)),
-                                       ((100.0, 30.0), ("right",)),
-                                       ((12.5, 0.0), ("bottom",)),
-                                       ((0.0, 100.0), ("top", "left")),
-                                       ((30.0, 40.0), ())])
+@pytest.mark.parametrize(
+    "focus, on",
+    [
+        ((50.0, 100.0), ("top",)),
+        ((100.0, 30.0), ("right",)),
+        ((12.5, 0.0), ("bottom",)),
+        ((0.0, 100.0), ("top", "left")),
+        ((30.0, 40.0), ()),
+    ],
+)
 def test_a_node_sits_exactly_at_focus(focus, on):
     """On an edge (it is split there), at a corner, and inside (an embedded point)."""
     m = generators.graded_block(W, H, 1.0, 5.0, 20.0, focus=focus)
@@ -135,15 +145,23 @@ def test_edge_tags_cover_the_boundary(half_space):
     # the tagged segments are exactly the boundary sides of the triangulation
     assert_edges_are_the_boundary(m)
     # the nodes of a side lie exactly on its line; outward normals (body on the left)
-    expected = {"bottom": (1, 0.0, [0, -1]), "right": (0, W, [1, 0]), "top": (1, H, [0, 1]),
-                "left": (0, 0.0, [-1, 0])}
+    expected = {
+        "bottom": (1, 0.0, [0, -1]),
+        "right": (0, W, [1, 0]),
+        "top": (1, H, [0, 1]),
+        "left": (0, 0.0, [-1, 0]),
+    }
     for tag, (axis, value, n) in expected.items():
         assert np.all(m.nodes[m.edge_nodes(tag), axis] == value), tag
         assert np.allclose(M.outward_normals(m.nodes, m.edges[tag]), n, atol=1e-12), tag
         s = m.edges[tag]
         assert np.array_equal(s[1:, 0], s[:-1, 1]), tag  # one chain, in order
-    corners = {"corner_bottom_left": [0.0, 0.0], "corner_bottom_right": [W, 0.0],
-               "corner_top_right": [W, H], "corner_top_left": [0.0, H]}
+    corners = {
+        "corner_bottom_left": [0.0, 0.0],
+        "corner_bottom_right": [W, 0.0],
+        "corner_top_right": [W, H],
+        "corner_top_left": [0.0, H],
+    }
     for name, xy in corners.items():
         assert m.nodes[m.node_sets[name]].tolist() == [xy], name
 
@@ -214,10 +232,18 @@ def digest(mesh: M.Mesh) -> str:
     return h.hexdigest()
 
 
-@pytest.mark.parametrize("size, nx, ny, expected", [
-    ("nx = 7\nny = 3", 7, 3,
-     "c42b2bf555994e0e8c7b0f81ea65715508e8e37387feb38e3b4c4d32e281032f"),
-    ("h = 0.3", 10, 6, "93c0cd95f77a57c39670a857e29eb747b48d292adfd49a4209ddb34ac2b38559")])
+@pytest.mark.parametrize(
+    "size, nx, ny, expected",
+    [
+        (
+            "nx = 7\nny = 3",
+            7,
+            3,
+            "c42b2bf555994e0e8c7b0f81ea65715508e8e37387feb38e3b4c4d32e281032f",
+        ),
+        ("h = 0.3", 10, 6, "93c0cd95f77a57c39670a857e29eb747b48d292adfd49a4209ddb34ac2b38559"),
+    ],
+)
 def test_structured_block_is_unchanged_without_h_contact(size, nx, ny, expected):
     """Shipped block cases must not change: the digests were taken with the code before the
     graded block existed (commit e32158a); the arrays are compared bit for bit."""
@@ -239,8 +265,11 @@ def test_case_with_a_graded_block():
     assert set(m.edges) == {"bottom", "right", "top", "left"}
     assert (M.signed_areas(m.nodes, m.triangles) > 0).all()
     # a focus on the left edge, through the case file
-    case = parse_case(CASE.format(mesh="h_contact = 0.05\ncontact_zone = 0.4\nh_max = 0.5\n"
-                                       "focus = [-1.5, 3.0]"))
+    case = parse_case(
+        CASE.format(
+            mesh="h_contact = 0.05\ncontact_zone = 0.4\nh_max = 0.5\n" "focus = [-1.5, 3.0]"
+        )
+    )
     m = mesh_body(case, 0)
     at = m.node_sets["focus"]
     assert m.nodes[at].tolist() == [[-1.5, 3.0]] and at[0] in m.edge_nodes("left")
@@ -257,50 +286,86 @@ def error_of(mesh: str, overrides=()) -> str:
     return message
 
 
-@pytest.mark.parametrize("mesh, words", [
-    ("h_contact = 0.6\ncontact_zone = 0.4\nh_max = 0.5",
-     "x.toml: mesh.h_contact = 0.6 is not allowed: it must not exceed h_max = 0.5"),
-    (GRADED.replace("0.4", "0.0"),
-     "x.toml: mesh.contact_zone = 0.0 is not allowed: contact_zone must be > 0"),
-    (GRADED.replace("0.4", "-1.0"),
-     "x.toml: mesh.contact_zone = -1.0 is not allowed: contact_zone must be > 0"),
-    ("h_contact = 0.05\nh_max = 0.5",
-     "x.toml: mesh.contact_zone is missing: the graded block (h_contact = 0.05) needs the "
-     "radius of the fine zone around focus [length]; add `contact_zone = ...` to [body.mesh]"),
-    ("h_contact = 0.05\ncontact_zone = 0.4",
-     "x.toml: mesh.h_max is missing: the graded block (h_contact = 0.05) needs the largest "
-     "element size [length]"),
-    (GRADED + "\nfocus = [1.6, 3.0]",
-     "x.toml: mesh.focus = [1.6, 3.0] is not allowed: it lies outside the block [-1.5, 1.5] x "
-     "[2.25, 3.95]; move it inside or onto the boundary"),
-    (GRADED + "\nfocus = [0.0, 4.0]", "mesh.focus = [0.0, 4.0] is not allowed: it lies outside"),
-    (GRADED + "\nnx = 10",
-     "x.toml: mesh.nx = 10 is not allowed together with h_contact = 0.05: nx/ny/h make the "
-     "structured block, h_contact the graded one; drop nx (or h_contact)"),
-    (GRADED + "\nny = 4", "mesh.ny = 4 is not allowed together with h_contact = 0.05"),
-    (GRADED + "\nh = 0.1", "mesh.h = 0.1 is not allowed together with h_contact = 0.05"),
-    ("h = 0.1\ncontact_zone = 0.4",
-     "x.toml: mesh.contact_zone = 0.4 is not allowed without h_contact: it shapes the graded "
-     "block (h_contact > 0); add h_contact or drop contact_zone"),
-    ("h = 0.1\nfocus = [0.0, 3.0]", "mesh.focus = [0.0, 3.0] is not allowed without h_contact"),
-    ("h = 0.1\ngrowth = 0.2", "mesh.growth = 0.2 is not allowed without h_contact"),
-    ("nx = 4", "x.toml: mesh.ny is missing: give ny (divisions along height) or h (element "
-               "size), or h_contact (a graded gmsh mesh)"),
-    (GRADED.replace("0.05", "-0.05"), "mesh.h_contact = -0.05 is not allowed: h_contact must "
-                                      "be >= 0"),
-])
+@pytest.mark.parametrize(
+    "mesh, words",
+    [
+        (
+            "h_contact = 0.6\ncontact_zone = 0.4\nh_max = 0.5",
+            "x.toml: mesh.h_contact = 0.6 is not allowed: it must not exceed h_max = 0.5",
+        ),
+        (
+            GRADED.replace("0.4", "0.0"),
+            "x.toml: mesh.contact_zone = 0.0 is not allowed: contact_zone must be > 0",
+        ),
+        (
+            GRADED.replace("0.4", "-1.0"),
+            "x.toml: mesh.contact_zone = -1.0 is not allowed: contact_zone must be > 0",
+        ),
+        (
+            "h_contact = 0.05\nh_max = 0.5",
+            "x.toml: mesh.contact_zone is missing: the graded block (h_contact = 0.05) needs the "
+            "radius of the fine zone around focus [length]; add `contact_zone = ...` to [body.mesh]",
+        ),
+        (
+            "h_contact = 0.05\ncontact_zone = 0.4",
+            "x.toml: mesh.h_max is missing: the graded block (h_contact = 0.05) needs the largest "
+            "element size [length]",
+        ),
+        (
+            GRADED + "\nfocus = [1.6, 3.0]",
+            "x.toml: mesh.focus = [1.6, 3.0] is not allowed: it lies outside the block [-1.5, 1.5] x "
+            "[2.25, 3.95]; move it inside or onto the boundary",
+        ),
+        (
+            GRADED + "\nfocus = [0.0, 4.0]",
+            "mesh.focus = [0.0, 4.0] is not allowed: it lies outside",
+        ),
+        (
+            GRADED + "\nnx = 10",
+            "x.toml: mesh.nx = 10 is not allowed together with h_contact = 0.05: nx/ny/h make the "
+            "structured block, h_contact the graded one; drop nx (or h_contact)",
+        ),
+        (GRADED + "\nny = 4", "mesh.ny = 4 is not allowed together with h_contact = 0.05"),
+        (GRADED + "\nh = 0.1", "mesh.h = 0.1 is not allowed together with h_contact = 0.05"),
+        (
+            "h = 0.1\ncontact_zone = 0.4",
+            "x.toml: mesh.contact_zone = 0.4 is not allowed without h_contact: it shapes the graded "
+            "block (h_contact > 0); add h_contact or drop contact_zone",
+        ),
+        ("h = 0.1\nfocus = [0.0, 3.0]", "mesh.focus = [0.0, 3.0] is not allowed without h_contact"),
+        ("h = 0.1\ngrowth = 0.2", "mesh.growth = 0.2 is not allowed without h_contact"),
+        (
+            "nx = 4",
+            "x.toml: mesh.ny is missing: give ny (divisions along height) or h (element "
+            "size), or h_contact (a graded gmsh mesh)",
+        ),
+        (
+            GRADED.replace("0.05", "-0.05"),
+            "mesh.h_contact = -0.05 is not allowed: h_contact must " "be >= 0",
+        ),
+    ],
+)
 def test_validation_errors_name_the_key_and_the_fix(mesh, words):
     assert words in error_of(mesh)
 
 
 def test_override_to_graded_says_which_key_to_drop():
-    message = error_of("nx = 7\nny = 3", overrides=["mesh.h_contact=0.05",
-                                                    "mesh.contact_zone=0.4", "mesh.h_max=0.5"])
+    message = error_of(
+        "nx = 7\nny = 3",
+        overrides=["mesh.h_contact=0.05", "mesh.contact_zone=0.4", "mesh.h_max=0.5"],
+    )
     assert "mesh.nx = 7 is not allowed together with h_contact = 0.05" in message
     # setting nx and ny to 0 drops them: the override then gives a graded block
-    case = parse_case(CASE.format(mesh="nx = 7\nny = 3"),
-                      overrides=["mesh.h_contact=0.05", "mesh.contact_zone=0.4",
-                                 "mesh.h_max=0.5", "mesh.nx=0", "mesh.ny=0"])
+    case = parse_case(
+        CASE.format(mesh="nx = 7\nny = 3"),
+        overrides=[
+            "mesh.h_contact=0.05",
+            "mesh.contact_zone=0.4",
+            "mesh.h_max=0.5",
+            "mesh.nx=0",
+            "mesh.ny=0",
+        ],
+    )
     assert case.data["body"][0]["mesh"]["h_contact"] == 0.05
 
 
@@ -315,8 +380,18 @@ def test_uniform_edges_put_nodes_where_a_structured_body_has_them():
     """A 100 x 100 half-space graded around the punch corner (10, 0) with uniform_edges: its top
     nodes on [0, 10] are exactly the structured punch's (x = 0, 1, ..., 10, to round-off of the
     coordinates, 1e-12 of the block size), so node_to_node contact can pair them."""
-    mesh = generators.graded_block(100.0, 100.0, 1.0, 10.0, 10.0, 0.12, focus=(10.0, 0.0), x0=0.0,
-                          y0=-100.0, uniform_edges=True)
+    mesh = generators.graded_block(
+        100.0,
+        100.0,
+        1.0,
+        10.0,
+        10.0,
+        0.12,
+        focus=(10.0, 0.0),
+        x0=0.0,
+        y0=-100.0,
+        uniform_edges=True,
+    )
     top = np.unique(mesh.edges["top"])
     x = np.sort(mesh.nodes[top, 0])
     near = x[x <= 10.0 + 1e-9]
@@ -371,15 +446,23 @@ def test_refined_block_is_a_valid_mesh_with_side_chains(refined):
     M.check_triangles(m.nodes, m.triangles)
     assert abs(m.area() - W * H) <= 1e-10 * W * H  # straight sides, exact corner nodes
     assert_edges_are_the_boundary(m)  # the box joins the gmsh part without hanging nodes
-    expected = {"bottom": (1, -100.0, [0, -1]), "right": (0, W, [1, 0]), "top": (1, 0.0, [0, 1]),
-                "left": (0, 0.0, [-1, 0])}
+    expected = {
+        "bottom": (1, -100.0, [0, -1]),
+        "right": (0, W, [1, 0]),
+        "top": (1, 0.0, [0, 1]),
+        "left": (0, 0.0, [-1, 0]),
+    }
     for tag, (axis, value, n) in expected.items():
         s = m.edges[tag]
         assert np.all(m.nodes[m.edge_nodes(tag), axis] == value), tag
         assert np.allclose(M.outward_normals(m.nodes, s), n, atol=1e-12), tag
         assert np.array_equal(s[1:, 0], s[:-1, 1]), tag  # one chain, in order
-    for name, xy in {"corner_bottom_left": [0.0, -100.0], "corner_bottom_right": [W, -100.0],
-                     "corner_top_right": [W, 0.0], "corner_top_left": [0.0, 0.0]}.items():
+    for name, xy in {
+        "corner_bottom_left": [0.0, -100.0],
+        "corner_bottom_right": [W, -100.0],
+        "corner_top_right": [W, 0.0],
+        "corner_top_left": [0.0, 0.0],
+    }.items():
         assert m.nodes[m.node_sets[name]].tolist() == [xy], name
     # the top inside the box: the structured nodes x = 0, 1, ..., 15 exactly (a structured
     # punch's nodes match them: node_to_node)
@@ -402,7 +485,7 @@ def test_refined_block_coarsens_away_from_the_box(refined):
         assert band.sum() > 50
         assert abs((L[band] / law[band]).mean() - 1.0) < 0.15, (lo, hi)
     # the point of it: ~9 % of the structured block's 10 201 nodes
-    assert refined.n_nodes < 0.1 * 101 ** 2
+    assert refined.n_nodes < 0.1 * 101**2
 
 
 @needs_gmsh
@@ -437,48 +520,74 @@ def test_refined_block_refuses_bad_arguments():
 
 @needs_gmsh
 def test_case_with_a_refined_block():
-    case = parse_case(CASE.format(mesh="h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 3.95]\n"
-                                       "h_max = 0.5\ngrowth = 0.3"))
+    case = parse_case(
+        CASE.format(
+            mesh="h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 3.95]\n" "h_max = 0.5\ngrowth = 0.3"
+        )
+    )
     spec = case.data["body"][0]["mesh"]
     assert spec["refine_box"] == [-0.5, 3.0, 0.5, 3.95] and spec["growth"] == 0.3
     m = mesh_body(case, 0)
     assert m.n_nodes < 30 * 17 + 1  # coarser than the structured 30 x 17 cells
     mine = triangles_by_position(m, lambda x, y: -0.5 < x < 0.5 and y > 3.0)
-    assert mine == triangles_by_position(generators.block(3.0, 1.7, 30, 17, -1.5, 2.25),
-                                         lambda x, y: -0.5 < x < 0.5 and y > 3.0)
+    assert mine == triangles_by_position(
+        generators.block(3.0, 1.7, 30, 17, -1.5, 2.25), lambda x, y: -0.5 < x < 0.5 and y > 3.0
+    )
 
 
 REFINED = "h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 3.95]\nh_max = 0.5"
 
 
-@pytest.mark.parametrize("mesh, words", [
-    ("h = 0.1\nrefine_box = [0.5, 3.0, -0.5, 3.95]\nh_max = 0.5",
-     "x.toml: mesh.refine_box = [0.5, 3.0, -0.5, 3.95] is not allowed: write it [x0, y0, x1, "
-     "y1] with x0 < x1 and y0 < y1"),
-    ("h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 4.0]\nh_max = 0.5",
-     "x.toml: mesh.refine_box = [-0.5, 3.0, 0.5, 4.0] is not allowed: it reaches outside the "
-     "block [-1.5, 1.5] x [2.25, 3.95]; keep it inside"),
-    ("h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 3.95]",
-     "x.toml: mesh.h_max is missing: the refined block (refine_box) needs the largest element "
-     "size [length]; add `h_max = ...` to [body.mesh]"),
-    ("h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 3.95]\nh_max = 0.05",
-     "x.toml: mesh.h_max = 0.05 is not allowed: it must not be smaller than the grid spacing "
-     "0.1 that the refined block grows from"),
-    ("h_contact = 0.05\ncontact_zone = 0.4\nh_max = 0.5\nrefine_box = [-0.5, 3.0, 0.5, 3.95]",
-     "x.toml: mesh.refine_box = [-0.5, 3.0, 0.5, 3.95] is not allowed together with h_contact "
-     "= 0.05: refine_box keeps the structured block (nx/ny or h) inside it, h_contact grades "
-     "around focus; drop refine_box (or h_contact)"),
-    (REFINED + "\ncontact_zone = 0.4",
-     "x.toml: mesh.contact_zone = 0.4 is not allowed with refine_box: it shapes the graded "
-     "block (h_contact > 0), fine around focus; drop contact_zone"),
-    (REFINED + "\nfocus = [0.0, 3.95]", "mesh.focus = [0.0, 3.95] is not allowed with refine_box"),
-    ("h = 0.1\nh_max = 0.5",
-     "x.toml: mesh.h_max = 0.5 is not allowed without h_contact or refine_box: it shapes the "
-     "graded block (h_contact > 0) or the refined one (refine_box); add one of them or drop "
-     "h_max"),
-    ("h = 0.1\nrefine_box = [0.0, 1.0, 2.0]\nh_max = 0.5",
-     "x.toml: mesh.refine_box = [0.0, 1.0, 2.0] is not allowed: expected four numbers [x0, y0, "
-     "x1, y1]"),
-])
+@pytest.mark.parametrize(
+    "mesh, words",
+    [
+        (
+            "h = 0.1\nrefine_box = [0.5, 3.0, -0.5, 3.95]\nh_max = 0.5",
+            "x.toml: mesh.refine_box = [0.5, 3.0, -0.5, 3.95] is not allowed: write it [x0, y0, x1, "
+            "y1] with x0 < x1 and y0 < y1",
+        ),
+        (
+            "h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 4.0]\nh_max = 0.5",
+            "x.toml: mesh.refine_box = [-0.5, 3.0, 0.5, 4.0] is not allowed: it reaches outside the "
+            "block [-1.5, 1.5] x [2.25, 3.95]; keep it inside",
+        ),
+        (
+            "h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 3.95]",
+            "x.toml: mesh.h_max is missing: the refined block (refine_box) needs the largest element "
+            "size [length]; add `h_max = ...` to [body.mesh]",
+        ),
+        (
+            "h = 0.1\nrefine_box = [-0.5, 3.0, 0.5, 3.95]\nh_max = 0.05",
+            "x.toml: mesh.h_max = 0.05 is not allowed: it must not be smaller than the grid spacing "
+            "0.1 that the refined block grows from",
+        ),
+        (
+            "h_contact = 0.05\ncontact_zone = 0.4\nh_max = 0.5\nrefine_box = [-0.5, 3.0, 0.5, 3.95]",
+            "x.toml: mesh.refine_box = [-0.5, 3.0, 0.5, 3.95] is not allowed together with h_contact "
+            "= 0.05: refine_box keeps the structured block (nx/ny or h) inside it, h_contact grades "
+            "around focus; drop refine_box (or h_contact)",
+        ),
+        (
+            REFINED + "\ncontact_zone = 0.4",
+            "x.toml: mesh.contact_zone = 0.4 is not allowed with refine_box: it shapes the graded "
+            "block (h_contact > 0), fine around focus; drop contact_zone",
+        ),
+        (
+            REFINED + "\nfocus = [0.0, 3.95]",
+            "mesh.focus = [0.0, 3.95] is not allowed with refine_box",
+        ),
+        (
+            "h = 0.1\nh_max = 0.5",
+            "x.toml: mesh.h_max = 0.5 is not allowed without h_contact or refine_box: it shapes the "
+            "graded block (h_contact > 0) or the refined one (refine_box); add one of them or drop "
+            "h_max",
+        ),
+        (
+            "h = 0.1\nrefine_box = [0.0, 1.0, 2.0]\nh_max = 0.5",
+            "x.toml: mesh.refine_box = [0.0, 1.0, 2.0] is not allowed: expected four numbers [x0, y0, "
+            "x1, y1]",
+        ),
+    ],
+)
 def test_refined_block_validation_names_the_key_and_the_fix(mesh, words):
     assert words in error_of(mesh)

@@ -14,8 +14,7 @@ from conftest import needs_gmsh
 from slipstep.mesh import MeshError
 from slipstep.space import generators
 from slipstep.space.indenters import pyramid, write_stl
-from slipstep.space.mesh import (boundary_faces, from_tetrahedra, signed_volumes,
-                                 triangle_normals)
+from slipstep.space.mesh import boundary_faces, from_tetrahedra, signed_volumes, triangle_normals
 from slipstep.space.mesh_files import read_surface, read_tet_mesh
 
 
@@ -43,8 +42,14 @@ def test_structured_box_is_the_box_conforming_and_positive():
     assert len(mesh.tetrahedra) == 6 * 4 * 3 * 2
     # a conforming mesh's boundary is the box's surface only: 2 triangles per cell face
     assert len(boundary_faces(mesh.tetrahedra)) == 2 * 2 * (4 * 3 + 3 * 2 + 4 * 2)
-    for tag, area in (("bottom", 2.0), ("top", 2.0), ("left", 0.5), ("right", 0.5),
-                      ("front", 1.0), ("back", 1.0)):
+    for tag, area in (
+        ("bottom", 2.0),
+        ("top", 2.0),
+        ("left", 0.5),
+        ("right", 0.5),
+        ("front", 1.0),
+        ("back", 1.0),
+    ):
         assert abs(face_area(mesh, tag) - area) <= 1e-14, tag
     assert_outward(mesh)
     # node coordinates on the grid, so boxes of the same spacing match on a common face
@@ -81,8 +86,8 @@ def test_sphere_nodes_faces_and_symmetry(portion, mirrors):
         axis = "xy".index(tag[-1])
         assert (mesh.nodes[mesh.face_nodes(tag), axis] == 0.0).all()
     # the cut is its share of the disc (polygon inscribed in the circle: within h^2/R)
-    share = (0.25, 0.5, 1.0)[mirrors] * math.pi * R ** 2
-    assert -3.0 ** 2 / R * 2 * math.pi * R <= face_area(mesh, "top") - share <= 0.0
+    share = (0.25, 0.5, 1.0)[mirrors] * math.pi * R**2
+    assert -(3.0**2) / R * 2 * math.pi * R <= face_area(mesh, "top") - share <= 0.0
     assert_outward(mesh)
     if mirrors:  # mirrored: every node's image across x = 0 is a node
         image = mesh.nodes * [-1.0, 1.0, 1.0]
@@ -94,8 +99,9 @@ def test_sphere_nodes_faces_and_symmetry(portion, mirrors):
 def test_sphere_is_graded_towards_the_contact_point():
     mesh = generators.sphere(10.0, 0.2, 1.0, 3.0, 0.5)
     p = mesh.nodes[mesh.tetrahedra]
-    longest = np.max([np.linalg.norm(p[:, i] - p[:, j], axis=1)
-                      for i in range(4) for j in range(i)], axis=0)
+    longest = np.max(
+        [np.linalg.norm(p[:, i] - p[:, j], axis=1) for i in range(4) for j in range(i)], axis=0
+    )
     d = np.linalg.norm(p.mean(axis=1), axis=1)
     # gmsh aims at the size field within a factor ~1.5-2 (its edges, not its elements)
     assert np.median(longest[d < 0.5]) <= 2.0 * 0.2
@@ -105,7 +111,7 @@ def test_sphere_is_graded_towards_the_contact_point():
 @needs_gmsh
 def test_sphere_volume_converges_to_the_hemisphere_quarter():
     """Inscribed polyhedra: the deficit falls with h (second order: chord sag h^2/(8R))."""
-    exact = 2.0 / 3.0 * math.pi * 10.0 ** 3 / 4
+    exact = 2.0 / 3.0 * math.pi * 10.0**3 / 4
     deficits = [exact - generators.sphere(10.0, h, 1.0, h, 0.5).volume() for h in (4.0, 2.0)]
     assert 0 < deficits[1] < deficits[0] / 2.5
 
@@ -118,7 +124,7 @@ def test_shell_and_its_faces():
     for tag, radius in (("inner", a), ("outer", b)):
         r = np.linalg.norm(mesh.nodes[mesh.face_nodes(tag)], axis=1)
         assert np.abs(r - radius).max() <= 1e-9
-    exact = (b ** 3 - a ** 3) * math.pi / 6
+    exact = (b**3 - a**3) * math.pi / 6
     assert 0 < exact - mesh.volume() < 0.03 * exact  # inscribed faces
     assert_outward(mesh)
 
@@ -143,8 +149,9 @@ def test_roller_and_punch_faces():
 @needs_gmsh
 @pytest.mark.parametrize("focus", [None, [0.0, 0.0, 0.0], [0.0, 2.0, -2.0]])
 def test_graded_box_has_a_node_at_focus(focus):
-    mesh = generators.graded_box(10.0, 5.0, 4.0, 0.4, 1.0, 2.0, 0.5, focus=focus,
-                                 corner=(-5.0, 0.0, -4.0))
+    mesh = generators.graded_box(
+        10.0, 5.0, 4.0, 0.4, 1.0, 2.0, 0.5, focus=focus, corner=(-5.0, 0.0, -4.0)
+    )
     want = [0.0, 2.5, 0.0] if focus is None else focus
     assert (mesh.nodes[mesh.node_sets["focus"]] == want).all()
     assert abs(mesh.volume() - 200.0) <= 1e-9
@@ -179,8 +186,7 @@ def test_an_all_inverted_mesh_is_flipped_and_faces_turn_outwards():
 
 def test_a_tag_on_no_face_or_an_inner_face_is_refused():
     tets = [[0, 1, 2, 3], [1, 2, 3, 4]]
-    tets = [t if signed_volumes(UNIT, np.array([t]))[0] > 0 else [t[1], t[0], *t[2:]]
-            for t in tets]
+    tets = [t if signed_volumes(UNIT, np.array([t]))[0] > 0 else [t[1], t[0], *t[2:]] for t in tets]
     with pytest.raises(MeshError, match="is not a face of any tetrahedron"):
         from_tetrahedra(UNIT, tets, {"x": [[0, 1, 4]]})
     with pytest.raises(MeshError, match="inside the mesh"):
@@ -214,9 +220,13 @@ def test_xdmf_tetrahedra_with_tagged_triangles_are_read(tmp_path):
     meshio = pytest.importorskip("meshio")
     box = generators.box(1.0, 1.0, 1.0, 2, 2, 2)
     tris = box.faces["top"][:, [0, 2, 1]]  # written inwards: the reader turns them out
-    m = meshio.Mesh(box.nodes, [("tetra", box.tetrahedra), ("triangle", tris)],
-                    cell_data={"tag": [np.zeros(len(box.tetrahedra), np.int32),
-                                       np.full(len(tris), 7, np.int32)]})
+    m = meshio.Mesh(
+        box.nodes,
+        [("tetra", box.tetrahedra), ("triangle", tris)],
+        cell_data={
+            "tag": [np.zeros(len(box.tetrahedra), np.int32), np.full(len(tris), 7, np.int32)]
+        },
+    )
     meshio.write(tmp_path / "box.xdmf", m)
     mesh = read_tet_mesh(tmp_path / "box.xdmf")
     assert set(mesh.faces) == {"7"}  # meshio's xdmf keeps no field_data: named by number

@@ -21,6 +21,7 @@ CYLINDER = (10.0, 0.5, 1.0, 3.0, 0.3)
 def gmsh_sessions(monkeypatch, tmp_path):
     """A fresh cache folder for the test, and a list that grows by one per gmsh session."""
     import gmsh
+
     monkeypatch.setenv("SLIPSTEP_CACHE", str(tmp_path / "cache"))
     sessions = []
     initialize = gmsh.initialize
@@ -39,11 +40,17 @@ def entries(tmp_path):
 
 def same_mesh(a, b) -> bool:
     """Equal arrays, tags and node sets (exactly: the cache stores the arrays bit for bit)."""
+
     def equal(x: dict, y: dict) -> bool:
         return x.keys() == y.keys() and all(np.array_equal(x[k], y[k]) for k in x)
-    return (type(a) is type(b) and np.array_equal(a.nodes, b.nodes)
-            and np.array_equal(a.elements, b.elements) and equal(a.tags, b.tags)
-            and equal(a.node_sets, b.node_sets))
+
+    return (
+        type(a) is type(b)
+        and np.array_equal(a.nodes, b.nodes)
+        and np.array_equal(a.elements, b.elements)
+        and equal(a.tags, b.tags)
+        and equal(a.node_sets, b.node_sets)
+    )
 
 
 @needs_gmsh
@@ -127,7 +134,9 @@ def test_a_case_rerun_builds_its_scene_without_gmsh(gmsh_sessions):
     first = prepare(None, overrides=["mesh.h_contact=0.2"])
     again = prepare(None, overrides=["mesh.h_contact=0.2"])
     assert len(gmsh_sessions) == 1
-    assert np.array_equal(first.nodes, again.nodes) and np.array_equal(first.triangles, again.triangles)
+    assert np.array_equal(first.nodes, again.nodes) and np.array_equal(
+        first.triangles, again.triangles
+    )
     prepare(None, overrides=["mesh.h_contact=0.25"])
     assert len(gmsh_sessions) == 2
     # a key that is not the mesh's reuses the mesh

@@ -19,8 +19,9 @@ from slipstep.build import build_scene
 def default_cylinder():
     """The mesh of the default Hertz case (R = 125, h_contact = 0.03 over 2.5 mm)."""
     spec = load_case(None).data["body"][0]["mesh"]
-    return spec, generators.quarter_cylinder(spec["R"], spec["h_contact"], spec["contact_zone"],
-                                     spec["h_max"], spec["growth"])
+    return spec, generators.quarter_cylinder(
+        spec["R"], spec["h_contact"], spec["contact_zone"], spec["h_max"], spec["growth"]
+    )
 
 
 @needs_gmsh
@@ -59,8 +60,8 @@ def test_area_is_the_quarter_disc_minus_the_circular_segments(default_cylinder):
     L = np.linalg.norm(mesh.nodes[segs[:, 1]] - mesh.nodes[segs[:, 0]], axis=1)
     theta = 2.0 * np.arcsin(L / (2.0 * R))
     assert abs(theta.sum() - math.pi / 2) <= 1e-9  # the chords span the quarter circle
-    deficit = np.sum(0.5 * R ** 2 * (theta - np.sin(theta)))
-    exact = math.pi * R ** 2 / 4
+    deficit = np.sum(0.5 * R**2 * (theta - np.sin(theta)))
+    exact = math.pi * R**2 / 4
     assert deficit > 0 and deficit < 1e-3 * exact
     assert abs(mesh.area() + deficit - exact) <= 1e-9 * exact
 
@@ -117,8 +118,11 @@ def test_disc_tags_points_and_orientation(disc):
     circle, every segment's outward normal pointing away from the centre."""
     R = DISC["R"]
     assert (M.signed_areas(disc.nodes, disc.triangles) > 0).all()
-    for name, xy in (("bottom_point", (0.0, 0.0)), ("top_point", (0.0, 2 * R)),
-                     ("centre_point", (0.0, R))):
+    for name, xy in (
+        ("bottom_point", (0.0, 0.0)),
+        ("top_point", (0.0, 2 * R)),
+        ("centre_point", (0.0, R)),
+    ):
         (k,) = disc.node_sets[name]
         assert disc.nodes[k].tolist() == list(xy), name
     ring = disc.edge_nodes("circle")
@@ -126,7 +130,8 @@ def test_disc_tags_points_and_orientation(disc):
     lower, upper = disc.edge_nodes("lower_arc"), disc.edge_nodes("upper_arc")
     assert (disc.nodes[lower, 1] <= R).all() and (disc.nodes[upper, 1] >= R).all()
     assert sorted(np.intersect1d(lower, upper).tolist()) == sorted(
-        ring[np.abs(disc.nodes[ring, 1] - R) <= 1e-12 * R].tolist())  # (-R, R) and (R, R)
+        ring[np.abs(disc.nodes[ring, 1] - R) <= 1e-12 * R].tolist()
+    )  # (-R, R) and (R, R)
     assert len(disc.edges["circle"]) == len(disc.edges["lower_arc"]) + len(disc.edges["upper_arc"])
     segs = disc.edges["circle"]
     mid = 0.5 * (disc.nodes[segs[:, 0]] + disc.nodes[segs[:, 1]]) - [0.0, R]
@@ -137,8 +142,8 @@ def test_disc_tags_points_and_orientation(disc):
     L = np.linalg.norm(disc.nodes[segs[:, 1]] - disc.nodes[segs[:, 0]], axis=1)
     theta = 2.0 * np.arcsin(L / (2.0 * R))
     assert abs(theta.sum() - 2 * math.pi) <= 1e-9
-    deficit = np.sum(0.5 * R ** 2 * (theta - np.sin(theta)))
-    assert abs(disc.area() + deficit - math.pi * R ** 2) <= 1e-9 * math.pi * R ** 2
+    deficit = np.sum(0.5 * R**2 * (theta - np.sin(theta)))
+    assert abs(disc.area() + deficit - math.pi * R**2) <= 1e-9 * math.pi * R**2
 
 
 @needs_gmsh
@@ -213,15 +218,14 @@ def test_a_disc_compressed_between_its_top_and_a_flat():
     at least 1.7 times smaller at R/20 (2 for exactly first order; gmsh's sizes are targets)."""
     from slipstep import Case, run
 
-    P, R, E_star = 100.0, 10.0, 70000.0 / (1 - 0.3 ** 2)
+    P, R, E_star = 100.0, 10.0, 70000.0 / (1 - 0.3**2)
     errors = []
     for h_max in (1.0, 0.5):
         r = run(Case.from_toml(DISC_CASE.format(h_max=h_max, P=P)), progress=False)
         s, f = r.summary, r.fields()
         assert s["total_normal_force"] == pytest.approx(P, rel=1e-9)
         assert all(abs(rx) <= 1e-9 * P for rx, _ in s["reactions"].values())
-        assert s["peak_pressure"] == pytest.approx(math.sqrt(P * E_star / (math.pi * R)),
-                                                   rel=0.01)
+        assert s["peak_pressure"] == pytest.approx(math.sqrt(P * E_star / (math.pi * R)), rel=0.01)
         lo, hi = s["contacts"]["flat"]["closed_extent"]
         a = math.sqrt(4 * P * R / (math.pi * E_star))
         assert abs(hi - a) <= 0.02 and lo == pytest.approx(-hi, rel=1e-12)
@@ -251,13 +255,16 @@ def test_quarter_annulus_geometry_tags_and_grading():
         segs = m.edges[tag]
         mid = 0.5 * (m.nodes[segs[:, 0]] + m.nodes[segs[:, 1]])
         radial = mid / np.linalg.norm(mid, axis=1, keepdims=True)
-        assert np.all(sign * np.einsum("ij,ij->i", M.outward_normals(m.nodes, segs), radial)
-                      > 0.999)
+        assert np.all(
+            sign * np.einsum("ij,ij->i", M.outward_normals(m.nodes, segs), radial) > 0.999
+        )
     # area = quarter ring minus the segments cut by the chords of both arcs (inner ones add)
     assert abs(m.area() - math.pi / 4 * (b * b - a * a)) <= 1e-3 * m.area()
     # grading: boundary segments are about h at the bore and h_outer at r = b
-    lengths = {t: np.linalg.norm(np.diff(m.nodes[m.edges[t]], axis=1)[:, 0], axis=1).mean()
-               for t in ("inner", "outer")}
+    lengths = {
+        t: np.linalg.norm(np.diff(m.nodes[m.edges[t]], axis=1)[:, 0], axis=1).mean()
+        for t in ("inner", "outer")
+    }
     assert lengths["inner"] == pytest.approx(h, rel=0.1)
     assert lengths["outer"] == pytest.approx(h_outer, rel=0.1)
     with pytest.raises(M.MeshError, match="need 0 < a < b"):
@@ -321,10 +328,14 @@ def _square_triangles():
 
 def test_xdmf_mesh_with_line_tags(tmp_path):
     import meshio
+
     nodes, tris = _square_triangles()
     lines = np.array([[1, 0], [3, 2]])  # bottom (reversed on purpose), top
-    m = meshio.Mesh(nodes, [("triangle", tris), ("line", lines)],
-                    cell_data={"tags": [np.zeros(4, np.int32), np.array([1, 3], np.int32)]})
+    m = meshio.Mesh(
+        nodes,
+        [("triangle", tris), ("line", lines)],
+        cell_data={"tags": [np.zeros(4, np.int32), np.array([1, 3], np.int32)]},
+    )
     path = tmp_path / "sq.xdmf"
     meshio.write(path, m)
     mesh = mesh_files.read_mesh(path)
@@ -335,11 +346,16 @@ def test_xdmf_mesh_with_line_tags(tmp_path):
 
 def test_clockwise_file_mesh_is_flipped_and_mixed_one_rejected(tmp_path):
     import meshio
+
     nodes, tris = _square_triangles()
     cw = tris[:, [0, 2, 1]]
     meshio.write(tmp_path / "cw.xdmf", meshio.Mesh(nodes, [("triangle", cw)]))
-    assert (M.signed_areas(*(lambda m: (m.nodes, m.triangles))(
-        mesh_files.read_mesh(tmp_path / "cw.xdmf"))) > 0).all()
+    assert (
+        M.signed_areas(
+            *(lambda m: (m.nodes, m.triangles))(mesh_files.read_mesh(tmp_path / "cw.xdmf"))
+        )
+        > 0
+    ).all()
     mixed = tris.copy()
     mixed[2] = mixed[2, [0, 2, 1]]
     meshio.write(tmp_path / "mixed.xdmf", meshio.Mesh(nodes, [("triangle", mixed)]))
@@ -349,9 +365,11 @@ def test_clockwise_file_mesh_is_flipped_and_mixed_one_rejected(tmp_path):
 
 def test_multi_grid_xdmf_is_an_error_not_an_exit(tmp_path):
     import meshio
+
     nodes, tris = _square_triangles()
     path = tmp_path / "series.xdmf"
     import os
+
     cwd = os.getcwd()
     os.chdir(tmp_path)  # meshio's TimeSeriesWriter puts the .h5 in the working directory
     try:
@@ -368,13 +386,17 @@ def test_multi_grid_xdmf_is_an_error_not_an_exit(tmp_path):
 @needs_gmsh
 def test_msh_file_with_physical_names(tmp_path):
     import gmsh
+
     gmsh.initialize(["", "-v", "0"], interruptible=False)
     try:
         gmsh.model.add("sq")
         r = gmsh.model.occ.addRectangle(0, 0, 0, 2.0, 1.0)
         gmsh.model.occ.synchronize()
-        bottom = [c for _, c in gmsh.model.getBoundary([(2, r)], oriented=False)
-                  if abs(gmsh.model.occ.getCenterOfMass(1, c)[1]) < 1e-9]
+        bottom = [
+            c
+            for _, c in gmsh.model.getBoundary([(2, r)], oriented=False)
+            if abs(gmsh.model.occ.getCenterOfMass(1, c)[1]) < 1e-9
+        ]
         gmsh.model.setPhysicalName(1, gmsh.model.addPhysicalGroup(1, bottom), "base")
         gmsh.model.addPhysicalGroup(2, [r])
         gmsh.option.setNumber("Mesh.MeshSizeMax", 0.25)

@@ -32,8 +32,11 @@ from slipstep.summary import one_line
 @pytest.fixture(scope="module")
 def vickers():
     pytest.importorskip("gmsh")
-    return slipstep.run(CASES / "vickers_indentation_3d.toml", progress=False,
-                        overrides=["output.snapshots=[0.5, 1.0, 2.0]"])
+    return slipstep.run(
+        CASES / "vickers_indentation_3d.toml",
+        progress=False,
+        overrides=["output.snapshots=[0.5, 1.0, 2.0]"],
+    )
 
 
 def _grid(h: float, inside) -> np.ndarray:
@@ -136,8 +139,10 @@ def test_the_result_s_views_in_3d(vickers):
     ev = vickers.events
     assert ev.dtype.names[-3:] == ("x", "y", "z")
     pair = ev["entity_kind"] == "pair"
-    assert np.array_equal(np.column_stack([ev["x"], ev["y"], ev["z"]])[pair],
-                          vickers.scene.pair_xy[ev["entity"][pair]])
+    assert np.array_equal(
+        np.column_stack([ev["x"], ev["y"], ev["z"]])[pair],
+        vickers.scene.pair_xy[ev["entity"][pair]],
+    )
     prof = vickers.profile(1.0, stage=1)
     assert np.array_equal(np.column_stack([prof["x"], prof["y"], prof["z"]]), prof["position"])
     assert vickers.elements is vickers.tetrahedra and vickers.tetrahedra.shape[1] == 4
@@ -159,6 +164,9 @@ def test_a_contact_of_one_node_has_its_peak_without_a_warning(vickers):
     from slipstep.space.contact_measures import recovered_peak
 
     prof = vickers.profile(1.0, stage=1)
-    one = {**prof, "status": np.where(np.arange(len(prof["status"])) == 0, 2, 0),
-           "x": prof["position"]}
+    one = {
+        **prof,
+        "status": np.where(np.arange(len(prof["status"])) == 0, 2, 0),
+        "x": prof["position"],
+    }
     assert recovered_peak(vickers.scene, one, 0, 0.01) == prof["pressure"][0]

@@ -43,11 +43,15 @@ ROUND_OFF = 1e-12
 # two elastic bodies pressed then sheared (node to segment, a prescribed displacement and a
 # traction); 3D: the Vickers quarter (plastic, full space), the Mindlin sphere coarsened
 # (reduced space, two bodies, friction in space).
-CASES_2D = {"paper_block_plastic": [], "hertz_load_unload": ["mesh.h_contact=0.05"],
-            "cattaneo_mindlin": ["body.roller.mesh.h_contact=0.2", "body.block.mesh.h_contact=0.2"]}
-CASES_3D = {"vickers_indentation_3d": [],
-            "mindlin_sphere_3d": ["body.sphere.mesh.h_contact=0.09",
-                                  "body.block.mesh.h_contact=0.12"]}
+CASES_2D = {
+    "paper_block_plastic": [],
+    "hertz_load_unload": ["mesh.h_contact=0.05"],
+    "cattaneo_mindlin": ["body.roller.mesh.h_contact=0.2", "body.block.mesh.h_contact=0.2"],
+}
+CASES_3D = {
+    "vickers_indentation_3d": [],
+    "mindlin_sphere_3d": ["body.sphere.mesh.h_contact=0.09", "body.block.mesh.h_contact=0.12"],
+}
 
 
 @pytest.fixture(scope="module", params=[*CASES_2D, *CASES_3D])
@@ -56,8 +60,9 @@ def run_events(request):
     pytest.importorskip("gmsh")
     name = request.param
     extra = CASES_2D.get(name, CASES_3D.get(name))
-    scene = prepare(CASES / f"{name}.toml", ["output.figures=false", "output.snapshots=events",
-                                             *extra])
+    scene = prepare(
+        CASES / f"{name}.toml", ["output.figures=false", "output.snapshots=events", *extra]
+    )
     result = solve(scene)
     assert result["stop"]["kind"] == "completed", result["stop"]
     return scene, result
@@ -83,8 +88,8 @@ def contactor_points(model: dict) -> np.ndarray:
     out = x[np.asarray(pairs["node_a"])].copy()
     ptr = np.asarray(pairs.get("weight_ptr", np.zeros(len(out) + 1, np.int64)))
     for k in np.flatnonzero(np.diff(ptr) > 0):
-        nodes = np.asarray(pairs["weight_node"])[ptr[k]:ptr[k + 1]]
-        c = np.asarray(pairs["weight_value"])[ptr[k]:ptr[k + 1]]
+        nodes = np.asarray(pairs["weight_node"])[ptr[k] : ptr[k + 1]]
+        c = np.asarray(pairs["weight_value"])[ptr[k] : ptr[k + 1]]
         out[k] = (c[c > 0, None] * x[nodes[c > 0]]).sum(axis=0) / c[c > 0].sum()
     return out
 
@@ -100,8 +105,9 @@ def test_the_history_is_the_snapshots_arrays_summed(run_events):
     contact = np.asarray(model["pairs"]["contact"])
     points = contactor_points(model)
     groups = support_groups(scene)
-    forces = [np.asarray(model["load"], float)] + [np.asarray(p.get("force", 0.0), float)
-                                                   for p in model.get("patterns", [])]
+    forces = [np.asarray(model["load"], float)] + [
+        np.asarray(p.get("force", 0.0), float) for p in model.get("patterns", [])
+    ]
     checked = 0
     for snap in snaps[1:]:
         rows = np.flatnonzero(np.abs(h["t"] - snap["t"]) <= 1e-14 * max(1.0, snap["t"]))
@@ -114,8 +120,12 @@ def test_the_history_is_the_snapshots_arrays_summed(run_events):
             assert np.abs(h["contact_force"][k, c] - f[mine].sum(axis=0)).max() <= ROUND_OFF * size
             moment = np.cross(points[mine], f[mine]).sum(axis=0)
             arm = np.abs(points).max()
-            assert np.abs(h["contact_moment"][k, c] - (moment if dim == 3 else [0, 0, moment[2]])
-                          ).max() <= ROUND_OFF * size * arm
+            assert (
+                np.abs(
+                    h["contact_moment"][k, c] - (moment if dim == 3 else [0, 0, moment[2]])
+                ).max()
+                <= ROUND_OFF * size * arm
+            )
         reaction = np.asarray(snap["reaction"], dtype=float).reshape(-1)
         scale = np.abs(reaction).sum() + 1e-300
         for g, dofs in enumerate(groups.values()):
@@ -148,8 +158,8 @@ def balance(scene, h: dict) -> tuple[np.ndarray, np.ndarray]:
         for k in mine:
             side[c, body[a[k]]] = 1.0
             if ptr[k + 1] > ptr[k]:
-                nodes = np.asarray(pairs["weight_node"])[ptr[k]:ptr[k + 1]]
-                c_i = np.asarray(pairs["weight_value"])[ptr[k]:ptr[k + 1]]
+                nodes = np.asarray(pairs["weight_node"])[ptr[k] : ptr[k + 1]]
+                c_i = np.asarray(pairs["weight_value"])[ptr[k] : ptr[k + 1]]
                 for i in nodes[c_i < 0]:
                     side[c, body[i]] = -1.0
             elif b[k] >= 0:
@@ -163,8 +173,11 @@ def balance(scene, h: dict) -> tuple[np.ndarray, np.ndarray]:
         for B in range(n_b):
             applied = np.zeros(3)
             applied[:dim] = load[body == B].sum(axis=0)
-            terms = [applied, *(side[c, B] * h["contact_force"][k, c] for c in range(len(side))),
-                     *(h["reaction"][k, g] for g in range(len(groups)) if group_body[g] == B)]
+            terms = [
+                applied,
+                *(side[c, B] * h["contact_force"][k, c] for c in range(len(side))),
+                *(h["reaction"][k, g] for g in range(len(groups)) if group_body[g] == B),
+            ]
             total[k, B] = np.sum(terms, axis=0)
             scale[k, B] = np.abs(terms).sum(axis=0) + np.abs(load[body == B]).sum(axis=0).max()
     return total, np.nanmax(scale, axis=0)
@@ -187,8 +200,9 @@ def test_grouped_plastic_increments_balance_where_their_reactions_are_known(tmp_
     """sphere_on_flat_plastic at its default output (requested times): its grouped increments
     take contact sub-steps, whose stresses are integrated only at the increment's end: their
     reactions are NaN; every other increment balances."""
-    scene = prepare(CASES / "sphere_on_flat_plastic.toml", ["output.figures=false",
-                                                            "mesh.h_contact=0.02"])
+    scene = prepare(
+        CASES / "sphere_on_flat_plastic.toml", ["output.figures=false", "mesh.h_contact=0.02"]
+    )
     result = solve(scene)
     h = step_history(scene, result)
     known = ~np.isnan(h["reaction"]).any(axis=(1, 2))
@@ -237,10 +251,12 @@ def test_the_vickers_force_is_the_resultant_along_z(tmp_path):
     h = step_history(scene, result)
     assert np.array_equal(col["contact.pyramid.F_z [N]"], h["contact_force"][:, 0, 2])
     assert np.array_equal(col["t"], h["t"]) and np.array_equal(col["stage"], h["stage"] + 1)
-    assert np.allclose(col["driver.pyramid.force [N]"], -4 * h["contact_force"][:, 0, 2],
-                       rtol=1e-14, atol=0)
-    assert np.allclose(col["contact.pyramid.u_z [mm]"], -col["driver.pyramid.displacement [mm]"],
-                       rtol=0, atol=0)
+    assert np.allclose(
+        col["driver.pyramid.force [N]"], -4 * h["contact_force"][:, 0, 2], rtol=1e-14, atol=0
+    )
+    assert np.allclose(
+        col["contact.pyramid.u_z [mm]"], -col["driver.pyramid.displacement [mm]"], rtol=0, atol=0
+    )
     assert "bc.symmetry_x.R_x [N]" in header and "bc.symmetry_x.R_z [N]" not in header
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["driving_force"]["name"] == "pyramid"
@@ -306,10 +322,14 @@ def test_a_tangential_load_gets_its_q_delta_curve(tmp_path):
     assert s["driving_forces"]["press"]["force"] == pytest.approx(20.0, rel=1e-12)
     top = np.unique(scene.global_edge("block", "top"))
     u = np.asarray(result["snapshots"][-1]["u"]).reshape(-1, 2)
-    f = np.asarray(scene.model["patterns"][[p["name"] for p in scene.model["patterns"]]
-                                            .index("shear")]["force"]).reshape(-1, 2)
+    f = np.asarray(
+        scene.model["patterns"][[p["name"] for p in scene.model["patterns"]].index("shear")][
+            "force"
+        ]
+    ).reshape(-1, 2)
     assert s["driving_force"]["displacement"] == pytest.approx(
-        (f[top, 0] @ u[top, 0]) / f[:, 0].sum(), rel=1e-10)
+        (f[top, 0] @ u[top, 0]) / f[:, 0].sum(), rel=1e-10
+    )
     names = {p.name for p in write_results(tmp_path / "out", scene, result, s)}
     assert "q_delta.png" in names and "load_depth.png" not in names
     with open(tmp_path / "out" / "history.csv") as fh:

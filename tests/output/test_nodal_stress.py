@@ -22,7 +22,7 @@ from slipstep import Case, run
 from slipstep.fields import centroids, stress_tensor
 
 E, NU = 1000.0, 0.3
-SX, SY, TXY = 2.0, -1.0, 0.5   # the uniform in-plane stress of the plane patches
+SX, SY, TXY = 2.0, -1.0, 0.5  # the uniform in-plane stress of the plane patches
 ROUND_OFF = 1e-11
 
 PLANE_PATCH = """
@@ -70,8 +70,9 @@ traction = [{mTXY}, {mSY}]
 
 
 def plane_patch(plane: str):
-    text = PLANE_PATCH.format(plane=plane, E=E, NU=NU, SX=SX, SY=SY, TXY=TXY, mSX=-SX,
-                              mSY=-SY, mTXY=-TXY)
+    text = PLANE_PATCH.format(
+        plane=plane, E=E, NU=NU, SX=SX, SY=SY, TXY=TXY, mSX=-SX, mSY=-SY, mTXY=-TXY
+    )
     return run(Case.from_toml(text), progress=False)
 
 
@@ -88,15 +89,15 @@ def test_a_uniform_plane_stress_state_as_tensor_and_at_the_nodes(plane, sigma_z)
     assert np.abs(nodal - [SX, SY, sigma_z, TXY]).max() <= ROUND_OFF
     on_nodes = r.to_meshio().point_data["nodal_stress"].reshape(-1, 3, 3)
     assert np.abs(on_nodes - exact).max() <= ROUND_OFF
-    vm = math.sqrt(0.5 * ((SX - SY) ** 2 + (SY - sigma_z) ** 2 + (sigma_z - SX) ** 2)
-                   + 3 * TXY ** 2)
+    vm = math.sqrt(0.5 * ((SX - SY) ** 2 + (SY - sigma_z) ** 2 + (sigma_z - SX) ** 2) + 3 * TXY**2)
     assert np.abs(f["nodal_von_mises"] - vm).max() <= ROUND_OFF
 
 
 def test_the_tensor_layout():
     """Row by row xx xy xz / yx yy yz / zx zy zz from the columns x, y, z, xy."""
     assert stress_tensor(np.array([1.0, 2.0, 3.0, 4.0])).tolist() == [
-        [1.0, 4.0, 0.0, 4.0, 2.0, 0.0, 0.0, 0.0, 3.0]]
+        [1.0, 4.0, 0.0, 4.0, 2.0, 0.0, 0.0, 0.0, 3.0]
+    ]
 
 
 # --------------------------------------------------------------------------- convergence
@@ -108,9 +109,17 @@ def lame_errors(h: float) -> tuple[float, float, float]:
     a, b, p = 10.0, 20.0, 100.0
     A = p * a * a / (b * b - a * a)
     B = A * b * b
-    r = run(CASES / "thick_cylinder.toml", progress=False,
-            overrides=[f"mesh.h={h}", f"mesh.h_outer={h}", f"bc.bore.pressure={p}",
-                       "output.snapshots=[1.0]", "output.figures=false"])
+    r = run(
+        CASES / "thick_cylinder.toml",
+        progress=False,
+        overrides=[
+            f"mesh.h={h}",
+            f"mesh.h_outer={h}",
+            f"bc.bore.pressure={p}",
+            "output.snapshots=[1.0]",
+            "output.figures=false",
+        ],
+    )
     f = r.fields()
 
     def polar_error(xy, s):
@@ -118,11 +127,11 @@ def lame_errors(h: float) -> tuple[float, float, float]:
         c, n = xy[:, 0] / rad, xy[:, 1] / rad
         srr = c * c * s[:, 0] + n * n * s[:, 1] + 2 * c * n * s[:, 3]
         stt = n * n * s[:, 0] + c * c * s[:, 1] - 2 * c * n * s[:, 3]
-        return np.maximum(np.abs(srr - (A - B / rad ** 2)), np.abs(stt - (A + B / rad ** 2)))
+        return np.maximum(np.abs(srr - (A - B / rad**2)), np.abs(stt - (A + B / rad**2)))
 
     nodal = polar_error(r.nodes, f["nodal_stress"])
     element = polar_error(centroids(r.nodes, r.triangles), f["stress"])
-    return nodal.max(), math.sqrt((nodal ** 2).mean()), math.sqrt((element ** 2).mean())
+    return nodal.max(), math.sqrt((nodal**2).mean()), math.sqrt((element**2).mean())
 
 
 @needs_gmsh

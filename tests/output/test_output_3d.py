@@ -55,34 +55,36 @@ def test_the_summary_reports_the_full_contact(quarter):
     # the quarter is half the contact (mirror y = 0): areas and forces double, Fy cancels
     assert s["contacts"]["contact 0"]["symmetry_planes"] == ["y = 0"]
     assert math.isclose(s["contact_area"], 2 * area[r < A].sum(), rel_tol=1e-12)
-    assert math.isclose(s["contact_radius"], math.sqrt(2 * area[r < A].sum() / math.pi),
-                        rel_tol=1e-12)
-    assert math.isclose(s["stick_radius"], math.sqrt(2 * area[r < C].sum() / math.pi),
-                        rel_tol=1e-12)
+    assert math.isclose(
+        s["contact_radius"], math.sqrt(2 * area[r < A].sum() / math.pi), rel_tol=1e-12
+    )
+    assert math.isclose(
+        s["stick_radius"], math.sqrt(2 * area[r < C].sum() / math.pi), rel_tol=1e-12
+    )
     assert math.isclose(s["total_normal_force"], 2 * snap["lambda_n"].sum(), rel_tol=1e-12)
-    q = MU * snap["lambda_n"] - MU * P0 * (C / A) * np.sqrt(
-        np.clip(1 - (r / C) ** 2, 0, None)) * area
+    q = (
+        MU * snap["lambda_n"]
+        - MU * P0 * (C / A) * np.sqrt(np.clip(1 - (r / C) ** 2, 0, None)) * area
+    )
     assert np.allclose(s["tangential_force"], [2 * q.sum(), 0.0, 0.0], rtol=1e-12, atol=1e-9)
     assert math.isclose(s["total_tangential_force"], 2 * q.sum(), rel_tol=1e-12)
     # against the closed forms, within what the mesh resolves: the discs' radii within a
     # node spacing (h_contact = 0.3), and the resultants within the nodal rule's error
     assert abs(s["contact_radius"] - A) <= 0.3 and abs(s["stick_radius"] - C) <= 0.3
-    full_p = 2 * math.pi * P0 * A ** 2 / 3  # int p dA of the Hertz profile
+    full_p = 2 * math.pi * P0 * A**2 / 3  # int p dA of the Hertz profile
     assert abs(s["total_normal_force"] / full_p - 1) <= 0.2
     assert math.isclose(s["peak_pressure"], P0, rel_tol=1e-12)  # the node at r = 0
     assert s["n_stick"] == int((r < C).sum()) and s["n_slip"] == int(((r >= C) & (r < A)).sum())
     # the stand-in's case is frictionless (mu = 0, the default): its line names no stick zone
     assert "contact radius" in one_line(s) and "stick" not in one_line(s)
     assert "stick radius" in one_line(dict(s, frictionless=False))
-    assert math.isclose(s["max_von_mises"], math.sqrt(50.0 ** 2 + 3 * 10.0 ** 2), rel_tol=1e-12)
+    assert math.isclose(s["max_von_mises"], math.sqrt(50.0**2 + 3 * 10.0**2), rel_tol=1e-12)
 
 
 @needs_gmsh
-def test_the_contact_csv_has_both_tangential_components_and_the_slip_direction(quarter,
-                                                                                tmp_path):
+def test_the_contact_csv_has_both_tangential_components_and_the_slip_direction(quarter, tmp_path):
     scene, result = quarter
-    write_results(tmp_path, scene, result, summarize(scene, result, 0.0), figures=False,
-                  xdmf=False)
+    write_results(tmp_path, scene, result, summarize(scene, result, 0.0), figures=False, xdmf=False)
     with open(tmp_path / "contact_profile.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert len(rows) == len(scene.pair_xy)
@@ -99,16 +101,19 @@ def test_the_contact_csv_has_both_tangential_components_and_the_slip_direction(q
         assert row["status"] == ("stick" if r < C else "slip" if r < A else "open")
         direction = [float(row[f"slip_direction_{c}"]) for c in "xyz"]
         # a slipping pair slips against its friction force: -x here; the others 0
-        assert direction == ([-1.0, 0.0, 0.0] if row["status"] == "slip" and q > 0 else
-                             [0.0, 0.0, 0.0])
+        assert direction == (
+            [-1.0, 0.0, 0.0] if row["status"] == "slip" and q > 0 else [0.0, 0.0, 0.0]
+        )
 
 
 #: The quarter sphere on a block of its own (the half y >= 0), node_to_surface: mortar rows
-ON_BLOCK = QUARTER.replace("""[[contact]]
+ON_BLOCK = QUARTER.replace(
+    """[[contact]]
 kind = "rigid_plane"
 body = "sphere"
 face = "surface"
-z_max = 0.1""", """[[body]]
+z_max = 0.1""",
+    """[[body]]
 name = "block"
 [body.mesh]
 generator = "box"
@@ -140,7 +145,8 @@ body_a = "sphere"
 face_a = "surface"
 body_b = "block"
 face_b = "top"
-z_max = 0.1""")
+z_max = 0.1""",
+)
 
 
 @needs_gmsh
@@ -161,8 +167,9 @@ def test_a_node_to_surface_contact_covers_its_closed_rows_supports():
     for key, inside in (("contact", r < A), ("stick", r < C)):
         touched = np.isin(face, node_a[inside]).any(axis=1)
         assert math.isclose(s[f"{key}_area"], 2 * area[touched].sum(), rel_tol=1e-12)
-        assert math.isclose(s[f"{key}_radius"], math.sqrt(s[f"{key}_area"] / math.pi),
-                            rel_tol=1e-12)
+        assert math.isclose(
+            s[f"{key}_radius"], math.sqrt(s[f"{key}_area"] / math.pi), rel_tol=1e-12
+        )
         # the rows' own tributary areas end short of them, by less than a spacing (0.3)
         tributary = math.sqrt(2 * areas_by_node(scene)[node_a[inside]].sum() / math.pi)
         assert 0 < s[f"{key}_radius"] - tributary <= 0.3, (key, s[f"{key}_radius"], tributary)
@@ -181,7 +188,7 @@ def test_the_xdmf_holds_tetrahedra_stress_tensors_and_contact_fields(quarter, tm
     tensor = cell_data["stress"][0]
     assert tensor.shape == (len(scene.tetrahedra), 9)
     assert np.allclose(tensor[0].reshape(3, 3), [[50, 0, 0], [0, 0, 10], [0, 10, 0]])
-    assert np.allclose(cell_data["von_mises"][0], math.sqrt(50.0 ** 2 + 3 * 10.0 ** 2))
+    assert np.allclose(cell_data["von_mises"][0], math.sqrt(50.0**2 + 3 * 10.0**2))
     pressure = point_data["contact_pressure"]
     node_a = scene.model["pairs"]["node_a"]
     r = np.hypot(*scene.nodes[node_a, :2].T)
@@ -197,8 +204,14 @@ def test_the_figures_are_written(quarter, tmp_path):
     scene, result = quarter
     written = write_results(tmp_path, scene, result, summarize(scene, result, 0.0), xdmf=False)
     names = {p.name for p in written}
-    assert {"contact_area.png", "contact_pressure_line.png", "summary.json",
-            "events.csv", "contact_profile.csv", "case.toml"} <= names
+    assert {
+        "contact_area.png",
+        "contact_pressure_line.png",
+        "summary.json",
+        "events.csv",
+        "contact_profile.csv",
+        "case.toml",
+    } <= names
     for name in ("contact_area.png", "contact_pressure_line.png"):
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     summary = json.loads((tmp_path / "summary.json").read_text())
@@ -270,21 +283,30 @@ def test_the_peak_pressure_is_recovered_from_scattered_nodal_pressures():
     from slipstep.space.contact_measures import recovered_peak
 
     fine = SPHERE.replace("h_contact = 0.3", "h_contact = 0.1").replace(
-        "contact_zone = 1.0", "contact_zone = 1.5")
+        "contact_zone = 1.0", "contact_zone = 1.5"
+    )
     scene = build_scene(parse_case(fine, "s.toml"))
     r = np.hypot(*scene.pair_xy[:, :2].T)
     a = 1.4  # the candidates reach r = sqrt(2 R z_max) = 1.41
     closed = r < a
     hertz = np.where(closed, P0 * np.sqrt(np.clip(1 - (r / a) ** 2, 0, None)), 0.0)
-    profile = {"contact": np.zeros(len(r), dtype=int), "status": np.where(closed, 2, 0),
-               "x": scene.pair_xy, "pressure": hertz}
+    profile = {
+        "contact": np.zeros(len(r), dtype=int),
+        "status": np.where(closed, 2, 0),
+        "x": scene.pair_xy,
+        "pressure": hertz,
+    }
     assert abs(recovered_peak(scene, profile, 0, a) / P0 - 1) <= 0.01
     rng = np.random.default_rng(7)
     errors = []
     for _ in range(20):
         scattered = hertz * rng.uniform(0.95, 1.05, len(r))
-        errors.append((recovered_peak(scene, {**profile, "pressure": scattered}, 0, a) / P0 - 1,
-                       scattered.max() / P0 - 1))
+        errors.append(
+            (
+                recovered_peak(scene, {**profile, "pressure": scattered}, 0, a) / P0 - 1,
+                scattered.max() / P0 - 1,
+            )
+        )
     recovered, raw = np.sqrt(np.mean(np.square(errors), axis=0))
     assert recovered <= 0.5 * raw, (recovered, raw)
     punch = np.where(closed, P0 / np.sqrt(np.clip(1 - (r / a) ** 2, 0.01, None)), 0.0)

@@ -24,8 +24,13 @@ from slipstep.build import build_scene
 from slipstep.results import write_results
 
 
-CONTACT_FIELDS = ("contact_pressure", "contact_tangential_stress", "contact_gap",
-                  "contact_status", "contact_slip")
+CONTACT_FIELDS = (
+    "contact_pressure",
+    "contact_tangential_stress",
+    "contact_gap",
+    "contact_status",
+    "contact_slip",
+)
 
 
 @pytest.fixture(scope="module")
@@ -41,8 +46,9 @@ def test_contact_half_width_interpolates_in_load_fraction():
     closure = np.array([0.0, 0.4, np.nan, np.nan])
     predicted = np.array([np.nan, np.nan, 1.6, 3.0])
     # a = x_c + (x_o - x_c)(f - f_c)/(f_o - f_c) = 1 + (1 - 0.4)/(1.6 - 0.4)
-    assert contact_measures.contact_half_width(x, status, closure, predicted, 1.0) == pytest.approx(1.5,
-                                                                                          abs=1e-15)
+    assert contact_measures.contact_half_width(x, status, closure, predicted, 1.0) == pytest.approx(
+        1.5, abs=1e-15
+    )
     assert contact_measures.contact_half_width(x, status, closure, predicted, 0.4) == 1.0
     predicted[2] = np.inf  # not closing: the edge stays at the last closed node
     assert contact_measures.contact_half_width(x, status, closure, predicted, 1.0) == 1.0
@@ -52,8 +58,12 @@ def test_contact_half_width_interpolates_in_load_fraction():
 def test_stick_half_width():
     x = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
     assert contact_measures.stick_half_width(x, np.array([1, 1, 2, 2, 0]), 3.5) == 1.5
-    assert contact_measures.stick_half_width(x, np.array([1, 1, 1, 0, 0]), 2.5) == 2.5  # all closed stick
-    assert contact_measures.stick_half_width(x, np.array([2, 2, 2, 0, 0]), 2.5) == 0.0  # nothing sticks
+    assert (
+        contact_measures.stick_half_width(x, np.array([1, 1, 1, 0, 0]), 2.5) == 2.5
+    )  # all closed stick
+    assert (
+        contact_measures.stick_half_width(x, np.array([2, 2, 2, 0, 0]), 2.5) == 0.0
+    )  # nothing sticks
 
 
 def test_von_mises():
@@ -89,10 +99,12 @@ def test_the_summary_line_names_and_units_its_quantities(hertz):
     line = one_line(s)
     a, c, p0 = s["contact_half_width"], s["stick_half_width"], s["peak_pressure"]
     h = s["hertz"]
-    for part in ("f = 1 load fraction", f"a = {a:.4g} mm contact half-width",
-                 f"p0 = {p0:.4g} MPa peak pressure",
-                 f"(Hertz a = {h['a_hertz_at_final']:.4g} mm, p0 = "
-                 f"{h['p0_hertz_at_final']:.4g} MPa)"):
+    for part in (
+        "f = 1 load fraction",
+        f"a = {a:.4g} mm contact half-width",
+        f"p0 = {p0:.4g} MPa peak pressure",
+        f"(Hertz a = {h['a_hertz_at_final']:.4g} mm, p0 = " f"{h['p0_hertz_at_final']:.4g} MPa)",
+    ):
         assert part in line, (part, line)
     assert s["frictionless"] and "stick" not in line  # mu = 0: no stick zone to name
     assert f"c = {c:.4g} mm stick half-width" in one_line(dict(s, frictionless=False))
@@ -102,8 +114,7 @@ def test_the_summary_line_names_and_units_its_quantities(hertz):
 
 def test_a_case_without_units_has_none_in_its_summary(hertz):
     scene, result = hertz
-    for note, units in (("", {}), ("m, kN, kPa", {"length": "m", "force": "kN",
-                                                   "stress": "kPa"})):
+    for note, units in (("", {}), ("m, kN, kPa", {"length": "m", "force": "kN", "stress": "kPa"})):
         case = load_case(None, [f'case.units="{note}"'])
         s = summarize(dataclasses.replace(scene, case=case), result)
         assert s["units"] == units
@@ -122,13 +133,22 @@ def test_growth_curve_replays_the_events(hertz):
 # --------------------------------------------------------------------------- files
 def test_write_results(hertz, tmp_path):
     import meshio
+
     scene, result = hertz
     summary = summarize(scene, result, 1.0)
     written = write_results(tmp_path, scene, result, summary)
     names = sorted(p.name for p in written)
-    assert names == ["case.toml", "contact_growth.png", "contact_interface.png",
-                     "contact_profile.csv", "events.csv", "history.csv", "results.h5",
-                     "results.xdmf", "summary.json"]
+    assert names == [
+        "case.toml",
+        "contact_growth.png",
+        "contact_interface.png",
+        "contact_profile.csv",
+        "events.csv",
+        "history.csv",
+        "results.h5",
+        "results.xdmf",
+        "summary.json",
+    ]
     assert not list(tmp_path.glob(".partial-*"))
 
     with open(tmp_path / "events.csv") as fh:
@@ -147,10 +167,21 @@ def test_write_results(hertz, tmp_path):
     assert float(prof[0]["pressure"]) == pytest.approx(summary["peak_pressure"], rel=1e-12)
 
     data = json.loads((tmp_path / "summary.json").read_text())
-    for key in ("n_events", "final_load_fraction", "contact_half_width", "stick_half_width",
-                "peak_pressure", "total_normal_force", "max_equilibrium_residual",
-                "wall_time_s", "n_nodes", "n_elements", "n_dofs", "n_factorizations",
-                "interrupted"):
+    for key in (
+        "n_events",
+        "final_load_fraction",
+        "contact_half_width",
+        "stick_half_width",
+        "peak_pressure",
+        "total_normal_force",
+        "max_equilibrium_residual",
+        "wall_time_s",
+        "n_nodes",
+        "n_elements",
+        "n_dofs",
+        "n_factorizations",
+        "interrupted",
+    ):
         assert key in data, key
 
     with meshio.xdmf.TimeSeriesReader(str(tmp_path / "results.xdmf")) as reader:
@@ -177,8 +208,16 @@ def test_xdmf_reads_back_every_step_of_an_elastoplastic_run(tmp_path):
     from slipstep import prepare, solve
 
     sy, hp = 200.0, 700.0
-    scene = prepare(None, [f"material.Sy={sy}", f"material.H={hp}", "mesh.h_contact=0.15",
-                           "contact.mu=0.3", "output.snapshots=[0.6, 0.7, 0.8, 0.9, 1.0]"])
+    scene = prepare(
+        None,
+        [
+            f"material.Sy={sy}",
+            f"material.H={hp}",
+            "mesh.h_contact=0.15",
+            "contact.mu=0.3",
+            "output.snapshots=[0.6, 0.7, 0.8, 0.9, 1.0]",
+        ],
+    )
     result = solve(scene)
     snaps = result["snapshots"]
     assert len(snaps) >= 5 and max(s["plastic_strain"].max() for s in snaps) > 0
@@ -196,8 +235,17 @@ def test_xdmf_reads_back_every_step_of_an_elastoplastic_run(tmp_path):
             u = point_data["u"]
             assert u.shape == (len(scene.nodes), 3)
             assert np.array_equal(u[:, :2], snap["u"]) and np.all(u[:, 2] == 0.0), k
-            assert set(cell_data) == {"sigma_x", "sigma_y", "sigma_z", "tau_xy", "stress",
-                                      "von_mises", "plastic_strain", "plastic", "yield_drift"}, k
+            assert set(cell_data) == {
+                "sigma_x",
+                "sigma_y",
+                "sigma_z",
+                "tau_xy",
+                "stress",
+                "von_mises",
+                "plastic_strain",
+                "plastic",
+                "yield_drift",
+            }, k
             stress = np.asarray(snap["stress"])
             for col, key in enumerate(("sigma_x", "sigma_y", "sigma_z", "tau_xy")):
                 assert np.array_equal(cell_data[key][0], stress[:, col]), (k, key)
@@ -208,9 +256,13 @@ def test_xdmf_reads_back_every_step_of_an_elastoplastic_run(tmp_path):
             assert not tensor[:, [0, 1], 2].any(), k
             # contact fields on node a of each pair (contact_profile.csv's numbers), 0 elsewhere
             prof = contact_profile(scene, snap)
-            for name, column in (("contact_pressure", "pressure"), ("contact_gap", "gap"),
-                                 ("contact_tangential_stress", "tangential_stress"),
-                                 ("contact_status", "status"), ("contact_slip", "rtd")):
+            for name, column in (
+                ("contact_pressure", "pressure"),
+                ("contact_gap", "gap"),
+                ("contact_tangential_stress", "tangential_stress"),
+                ("contact_status", "status"),
+                ("contact_slip", "rtd"),
+            ):
                 values = point_data[name]
                 assert np.array_equal(values[prof["node_a"]], prof[column]), (k, name)
                 others = np.setdiff1d(np.arange(len(scene.nodes)), prof["node_a"])
@@ -260,9 +312,10 @@ def test_a_result_writes_a_vtu_with_3d_points(hertz, tmp_path, capsys):
     m = meshio.read(tmp_path / "m.vtu")
     assert np.array_equal(m.points[:, :2], scene.nodes) and not m.points[:, 2].any()
     f = r.fields()
-    assert np.array_equal(m.point_data["nodal_stress"].reshape(-1, 3, 3)[:, [0, 1, 2, 0],
-                                                                         [0, 1, 2, 1]],
-                          f["nodal_stress"])
+    assert np.array_equal(
+        m.point_data["nodal_stress"].reshape(-1, 3, 3)[:, [0, 1, 2, 0], [0, 1, 2, 1]],
+        f["nodal_stress"],
+    )
     assert np.array_equal(m.cell_data["von_mises"][0], f["von_mises"])
 
 
@@ -322,19 +375,27 @@ def test_cli_run_with_a_stand_in_engine(hertz, tmp_path, monkeypatch, capsys):
     # the prepared mesh, with the case as loaded by the CLI (so its --set applies); the CLI
     # runs through runner.run_case, which meshes with runner.build_scene and solves with
     # runner.engine().solve
-    monkeypatch.setattr(runner, "build_scene",
-                        lambda case, meshes=None: dataclasses.replace(scene, case=case))
+    monkeypatch.setattr(
+        runner, "build_scene", lambda case, meshes=None: dataclasses.replace(scene, case=case)
+    )
     answer = {"result": result}
-    monkeypatch.setattr(runner, "engine", lambda: types.SimpleNamespace(
-        solve=lambda model, progress, report_interval: answer["result"]))
+    monkeypatch.setattr(
+        runner,
+        "engine",
+        lambda: types.SimpleNamespace(
+            solve=lambda model, progress, report_interval: answer["result"]
+        ),
+    )
     assert cli.main(["run", "--out", str(tmp_path / "a"), "--set", "output.xdmf=false"]) == 0
     line = capsys.readouterr().out
     assert line.startswith("hertz_cylinder: ") and line.count("\n") == 1
     assert (tmp_path / "a" / "summary.json").exists()
 
     answer["result"] = synthetic_hertz_result(scene, final_fraction=0.3, interrupted=True)
-    assert cli.main(["run", "--out", str(tmp_path / "b"), "--quiet", "--set",
-                     "output.xdmf=false"]) == 130
+    assert (
+        cli.main(["run", "--out", str(tmp_path / "b"), "--quiet", "--set", "output.xdmf=false"])
+        == 130
+    )
     captured = capsys.readouterr()
     assert captured.out == "" and "interrupted at load fraction 0.3" in captured.err
     assert json.loads((tmp_path / "b" / "summary.json").read_text())["interrupted"] is True
@@ -354,14 +415,19 @@ def test_run_case_api_with_a_stand_in_engine(hertz, tmp_path, monkeypatch):
         return result
 
     monkeypatch.setattr(runner, "engine", lambda: types.SimpleNamespace(solve=solve))
-    got, summary = runner.run_case(None, out=tmp_path, overrides=["output.xdmf=false",
-                                                                  "output.figures=false"])
+    got, summary = runner.run_case(
+        None, out=tmp_path, overrides=["output.xdmf=false", "output.figures=false"]
+    )
     assert got is result and seen["progress"] is False
     assert seen["model"]["load"].shape == (2 * len(scene.nodes),)
     assert summary["case"] == "hertz_cylinder" and summary["wall_time_s"] > 0
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["case.toml", "contact_profile.csv",
-                                                          "events.csv", "history.csv",
-                                                          "summary.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "case.toml",
+        "contact_profile.csv",
+        "events.csv",
+        "history.csv",
+        "summary.json",
+    ]
 
 
 def test_reached_last_candidate_only_for_a_cut_candidate_window(hertz):

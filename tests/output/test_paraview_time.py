@@ -27,9 +27,12 @@ PVPYTHON = shutil.which("pvpython")
 #: The shipped cases of several stages, planar, axisymmetric and 3D; mindlin_sphere_45_3d
 #: writes what mindlin_sphere_3d writes (the same bodies and stages, 24k DOFs and 363 event
 #: steps even coarsened: 90 s), so the 3D series is read once.
-STAGED = [name for name in shipped.names()
-          if len(load_case(shipped.path(name)).data.get("stage") or []) > 1
-          and name != "mindlin_sphere_45_3d"]
+STAGED = [
+    name
+    for name in shipped.names()
+    if len(load_case(shipped.path(name)).data.get("stage") or []) > 1
+    and name != "mindlin_sphere_45_3d"
+]
 #: Element-size keys of the generators, coarsened by :data:`COARSER` (capped at h_max).
 SIZE_KEYS = ("h_contact", "h", "h_outer")
 COARSER = 4.0
@@ -52,9 +55,19 @@ def paraview_reads(xdmf, cwd=None) -> dict:
     the example's own RESULT path, relative to ``cwd``)."""
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # ParaView's own Python
     args = [] if xdmf is None else [str(xdmf)]
-    proc = subprocess.run([PVPYTHON, "--force-offscreen-rendering",
-                           str(ROOT / "examples" / "paraview_time.py"), *args],
-                          capture_output=True, text=True, timeout=600, env=env, cwd=cwd)
+    proc = subprocess.run(
+        [
+            PVPYTHON,
+            "--force-offscreen-rendering",
+            str(ROOT / "examples" / "paraview_time.py"),
+            *args,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env=env,
+        cwd=cwd,
+    )
     assert proc.returncode == 0, proc.stderr[-2000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
@@ -64,8 +77,10 @@ def test_the_shipped_cases_with_stages_are_found():
     assert {"autofrettage", "cattaneo_mindlin", "hertz_load_unload"} <= set(STAGED)
 
 
-@pytest.mark.skipif(PVPYTHON is None, reason="pvpython is not installed (Debian: apt-get "
-                                             "install python3-paraview)")
+@pytest.mark.skipif(
+    PVPYTHON is None,
+    reason="pvpython is not installed (Debian: apt-get " "install python3-paraview)",
+)
 @pytest.mark.parametrize("name", STAGED)
 def test_paraview_reads_every_time_step(name, tmp_path):
     """One XDMF step per distinct t, none empty in ParaView, and ParaView's largest |u|, von
@@ -86,28 +101,37 @@ def test_paraview_reads_every_time_step(name, tmp_path):
         assert step["max_u"] == pytest.approx(np.linalg.norm(f["u"], axis=1).max(), rel=1e-12)
         assert step["max_von_mises"] == pytest.approx(f["von_mises"].max(), rel=1e-12)
         if len(f["pressure"]):  # the contact fields are point data of the time series
-            assert step["max_contact_pressure"] == pytest.approx(np.abs(f["pressure"]).max(),
-                                                                 rel=1e-12)
+            assert step["max_contact_pressure"] == pytest.approx(
+                np.abs(f["pressure"]).max(), rel=1e-12
+            )
 
 
 def test_a_load_unload_has_several_events_at_one_time():
     """The case that showed the empty frames: with a snapshot at every event, some path times
     hold several snapshots (the stage end t = 1 with the unloading switches after it), so the
     check above covers the repeated times."""
-    r = slipstep.run("hertz_load_unload", overrides=coarse("hertz_load_unload"),
-                     progress=False)
+    r = slipstep.run("hertz_load_unload", overrides=coarse("hertz_load_unload"), progress=False)
     assert len(np.unique(r.times)) < len(r.times)
     assert list(r.times).count(1.0) >= 2
 
 
-@pytest.mark.skipif(PVPYTHON is None, reason="pvpython is not installed (Debian: apt-get "
-                                             "install python3-paraview)")
+@pytest.mark.skipif(
+    PVPYTHON is None,
+    reason="pvpython is not installed (Debian: apt-get " "install python3-paraview)",
+)
 def test_without_a_command_line_it_opens_its_own_result_path(tmp_path):
     """As a notebook cell runs it (no .xdmf argument): the example opens the path it names,
     results/hertz_load_unload/results.xdmf, and reads a step at every snapshot time."""
     out = tmp_path / "results" / "hertz_load_unload"
-    r = slipstep.run("hertz_load_unload", out=out, progress=False,
-                     overrides=["mesh.h_contact=0.4", "output.snapshots=[0.5, 1.0, 2.0]",
-                                "output.figures=false"])
+    r = slipstep.run(
+        "hertz_load_unload",
+        out=out,
+        progress=False,
+        overrides=[
+            "mesh.h_contact=0.4",
+            "output.snapshots=[0.5, 1.0, 2.0]",
+            "output.figures=false",
+        ],
+    )
     seen = paraview_reads(None, cwd=tmp_path)
     assert seen["times"] == list(r.times) and not seen["empty"]

@@ -42,17 +42,33 @@ def read_events(out):
 @pytest.fixture(scope="module")
 def cylinder(tmp_path_factory):
     out = tmp_path_factory.mktemp("cylinder")
-    return (out, *run_and_write(CASES / "thick_cylinder.toml",
-                                ["mesh.h=1.0", "mesh.h_outer=1.0",
-                                 "output.snapshots=[0.7, 1.0]"], out))
+    return (
+        out,
+        *run_and_write(
+            CASES / "thick_cylinder.toml",
+            ["mesh.h=1.0", "mesh.h_outer=1.0", "output.snapshots=[0.7, 1.0]"],
+            out,
+        ),
+    )
 
 
 @pytest.fixture(scope="module")
 def hertz(tmp_path_factory):
     out = tmp_path_factory.mktemp("hertz")
-    return (out, *run_and_write(None, [f"material.Sy={SY}", f"material.H={H}",
-                                       "mesh.h_contact=0.2", "output.snapshots=[1.0]",
-                                       "solver.stop_at_first_yield=true"], out))
+    return (
+        out,
+        *run_and_write(
+            None,
+            [
+                f"material.Sy={SY}",
+                f"material.H={H}",
+                "mesh.h_contact=0.2",
+                "output.snapshots=[1.0]",
+                "solver.stop_at_first_yield=true",
+            ],
+            out,
+        ),
+    )
 
 
 # --------------------------------------------------------------------------- bulk-only
@@ -83,9 +99,11 @@ def test_a_load_unload_counts_the_plastic_zone_and_the_yielding_elements_apart(t
     plastic strain never decreases, so the elements with plastic strain > 0 at the end are
     those of the peak.  The summary and its line count both, recomputed here from the
     snapshots; the record of the loading stage is its own end, where elements still yield."""
-    scene, result, summary = run_and_write(CASES / "hertz_load_unload.toml",
-                                           ["mesh.h_contact=0.4", "output.figures=false",
-                                            "output.xdmf=false"], tmp_path)
+    scene, result, summary = run_and_write(
+        CASES / "hertz_load_unload.toml",
+        ["mesh.h_contact=0.4", "output.figures=false", "output.xdmf=false"],
+        tmp_path,
+    )
     peak = next(s for s in result["snapshots"] if s["stage"] == 0 and s["load_fraction"] == 1)
     last = result["snapshots"][-1]
     yielded = int(np.count_nonzero(np.asarray(last["plastic_strain"]) > 0))
@@ -95,16 +113,22 @@ def test_a_load_unload_counts_the_plastic_zone_and_the_yielding_elements_apart(t
     assert loading["n_plastic_elements"] == int(np.count_nonzero(peak["plastic"])) > 0
     assert loading["n_yielded_elements"] == unloading["n_yielded_elements"] == yielded
     assert unloading["n_plastic_elements"] == 0
-    assert (f"{yielded} elements yielded (plastic strain > 0), 0 yielding now"
-            in one_line(summary))
+    assert f"{yielded} elements yielded (plastic strain > 0), 0 yielding now" in one_line(summary)
 
 
 @needs_gmsh
 def test_cylinder_files(cylinder):
     out, *_ = cylinder
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["case.toml", "events.csv", "history.csv", "results.h5", "results.xdmf",
-                     "summary.json", "von_mises.png"]
+    assert names == [
+        "case.toml",
+        "events.csv",
+        "history.csv",
+        "results.h5",
+        "results.xdmf",
+        "summary.json",
+        "von_mises.png",
+    ]
     assert (out / "von_mises.png").stat().st_size > 10_000
 
 
@@ -197,10 +221,12 @@ def test_hertz_map_is_zoomed_to_the_contact(hertz):
 
 # --------------------------------------------------------------------------- pieces
 def test_zoom_window_for_a_flat_above_the_body_and_without_a():
-    case = types.SimpleNamespace(data={"contact": [{"kind": "rigid_line", "point": [0.0, 2.0],
-                                                    "normal": [0.0, -1.0]}]})
-    scene = types.SimpleNamespace(case=case, nodes=np.array([[-5.0, -9.0], [1.0, 2.0]]),
-                                  reference={})
+    case = types.SimpleNamespace(
+        data={"contact": [{"kind": "rigid_line", "point": [0.0, 2.0], "normal": [0.0, -1.0]}]}
+    )
+    scene = types.SimpleNamespace(
+        case=case, nodes=np.array([[-5.0, -9.0], [1.0, 2.0]]), reference={}
+    )
     (x0, x1), (y0, y1) = zoom_window(scene, {"contact_half_width": 0.4})
     assert (x0, x1) == (pytest.approx(-1.2), 1.0) and (y0, y1) == (1.0, 2.0)
     assert zoom_window(scene, {}) is None  # no half-width known: the whole body
@@ -234,12 +260,15 @@ def test_elastic_cases_have_no_plastic_outputs(tmp_path, monkeypatch):
     for name in ("interface_figure", "growth_figure"):  # not drawn: only the choice matters
         monkeypatch.setattr(figures, name, lambda path, *args: path)
     assert [p.name for p in figures.write_figures(tmp_path, scene, result, summary)] == [
-        "contact_interface.png", "contact_growth.png"]
+        "contact_interface.png",
+        "contact_growth.png",
+    ]
 
 
-@pytest.mark.parametrize("override, key", [("mesh.b=10.0", "mesh.b"),
-                                           ("mesh.h=11.0", "mesh.h"),
-                                           ("mesh.h_outer=-1.0", "mesh.h_outer")])
+@pytest.mark.parametrize(
+    "override, key",
+    [("mesh.b=10.0", "mesh.b"), ("mesh.h=11.0", "mesh.h"), ("mesh.h_outer=-1.0", "mesh.h_outer")],
+)
 def test_quarter_annulus_keys_are_checked(override, key):
     with pytest.raises(CaseError, match=rf"thick_cylinder.toml: {key} = .* is not allowed"):
         load_case(CASES / "thick_cylinder.toml", [override])
@@ -247,8 +276,20 @@ def test_quarter_annulus_keys_are_checked(override, key):
 
 def test_readme_lists_the_plastic_summary_fields():
     readme = (CASES / "README.md").read_text()
-    for key in ("first_yield_load_fraction", "first_yield_element", "first_yield_x",
-                "first_yield_depth", "n_plastic_elements", "n_yielded_elements", "max_drift",
-                "stop_reason", "f_yield_johnson", "first_yield_rel_error", "entity_kind", "von_mises.png",
-                "thick_cylinder.toml", "stop_at_first_yield"):
+    for key in (
+        "first_yield_load_fraction",
+        "first_yield_element",
+        "first_yield_x",
+        "first_yield_depth",
+        "n_plastic_elements",
+        "n_yielded_elements",
+        "max_drift",
+        "stop_reason",
+        "f_yield_johnson",
+        "first_yield_rel_error",
+        "entity_kind",
+        "von_mises.png",
+        "thick_cylinder.toml",
+        "stop_at_first_yield",
+    ):
         assert key in readme, key

@@ -12,8 +12,11 @@ import pytest
 
 from slipstep.progress import Bar, Notes, Reporter, display, in_kernel
 
-RESULT = {"events": {"step": [0] * 548}, "steps": {"load_fraction": [0.0] * 120},
-          "stop": {"kind": "interrupted", "t": 0.2}}
+RESULT = {
+    "events": {"step": [0] * 548},
+    "steps": {"load_fraction": [0.0] * 120},
+    "stop": {"kind": "interrupted", "t": 0.2},
+}
 
 
 class Terminal(io.StringIO):
@@ -35,8 +38,9 @@ def test_a_log_gets_a_start_and_an_end_line(monkeypatch):
     assert "\r" not in text
     start, end = text.splitlines()
     assert start == "hertz: running, t = 0.1 of 1 after 100 events"
-    assert re.fullmatch(r"hertz: interrupted at t = 0.2 of 1: 548 events, 120 increments, "
-                        r"\d+\.\d s", end), end
+    assert re.fullmatch(
+        r"hertz: interrupted at t = 0.2 of 1: 548 events, 120 increments, " r"\d+\.\d s", end
+    ), end
 
 
 def test_a_terminal_gets_the_bar(monkeypatch):

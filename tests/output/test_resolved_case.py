@@ -35,19 +35,30 @@ COARSE = "mesh.h_contact=0.2"  # the Hertz cylinder coarse enough for a 1-2 s ru
 def cli(*args: str) -> None:
     """``slipstep ARGS`` in a fresh process, as a user runs it."""
     env = dict(os.environ, PYTHONPATH=str(ROOT / "py"), MPLBACKEND="Agg")
-    proc = subprocess.run([sys.executable, "-m", "slipstep", *args], env=env,
-                          capture_output=True, text=True, timeout=600)
+    proc = subprocess.run(
+        [sys.executable, "-m", "slipstep", *args],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert proc.returncode == 0, proc.stderr
 
 
 def exactly_equal(a, b) -> bool:
     """Equal values of equal types all the way down (a float 1.0 is not the int 1)."""
     if isinstance(a, dict):
-        return isinstance(b, dict) and a.keys() == b.keys() and all(
-            exactly_equal(a[k], b[k]) for k in a)
+        return (
+            isinstance(b, dict)
+            and a.keys() == b.keys()
+            and all(exactly_equal(a[k], b[k]) for k in a)
+        )
     if isinstance(a, (list, tuple)):
-        return type(a) is type(b) and len(a) == len(b) and all(
-            exactly_equal(x, y) for x, y in zip(a, b))
+        return (
+            type(a) is type(b)
+            and len(a) == len(b)
+            and all(exactly_equal(x, y) for x, y in zip(a, b))
+        )
     return type(a) is type(b) and a == b
 
 
@@ -66,23 +77,47 @@ def test_every_shipped_case_reads_back_as_it_was_validated(path):
     assert exactly_equal(again.data, want)
 
 
-@pytest.mark.parametrize("text, overrides", [
-    # overrides of every kind of value: a float, a string, a list, an inline-table entry
-    (MINIMAL, ["contact.mu=0.45", "analysis.plane=stress", "bc.fix=[\"y\"]",
-               "output.snapshots=[0.5, 1.0]"]),
-    # names TOML must quote and escape; a displacement (inline table) and stages
-    (MINIMAL.replace('name = "mini"', 'name = "a \\"quoted\\" \\\\ näme\\ttab"')
-     .replace('fix = ["x", "y"]', 'fix = ["x"]\nname = "push up"\ndisplacement = {y = 0.1}')
-     + '\n[[stage]]\nname = "out"\nfactors = {"push up" = 1.0}\n'
-       '\n[[stage]]\nname = "back"\nfactors = {"push up" = 0.0}\n', []),
-    # axisymmetric: thickness is filled in, inert and refused when given
-    (MINIMAL.replace('[[body]]', '[analysis]\nplane = "axisymmetric"\n\n[[body]]'), []),
-    # a refined block keeps h_max and growth, a graded one its focus
-    (MINIMAL.replace("nx = 4\nny = 2", "h = 0.25\nrefine_box = [0.0, 0.5, 1.0, 1.0]\n"
-                                       "h_max = 0.5"), ["mesh.growth=0.2"]),
-    (MINIMAL.replace("nx = 4\nny = 2", "h_contact = 0.1\ncontact_zone = 0.3\nh_max = 0.5\n"
-                                       "focus = [1.0, 1.0]"), []),
-], ids=["overrides", "quoted_names_and_stages", "axisymmetric", "refined_block", "graded_block"])
+@pytest.mark.parametrize(
+    "text, overrides",
+    [
+        # overrides of every kind of value: a float, a string, a list, an inline-table entry
+        (
+            MINIMAL,
+            [
+                "contact.mu=0.45",
+                "analysis.plane=stress",
+                "bc.fix=[\"y\"]",
+                "output.snapshots=[0.5, 1.0]",
+            ],
+        ),
+        # names TOML must quote and escape; a displacement (inline table) and stages
+        (
+            MINIMAL.replace('name = "mini"', 'name = "a \\"quoted\\" \\\\ näme\\ttab"').replace(
+                'fix = ["x", "y"]', 'fix = ["x"]\nname = "push up"\ndisplacement = {y = 0.1}'
+            )
+            + '\n[[stage]]\nname = "out"\nfactors = {"push up" = 1.0}\n'
+            '\n[[stage]]\nname = "back"\nfactors = {"push up" = 0.0}\n',
+            [],
+        ),
+        # axisymmetric: thickness is filled in, inert and refused when given
+        (MINIMAL.replace('[[body]]', '[analysis]\nplane = "axisymmetric"\n\n[[body]]'), []),
+        # a refined block keeps h_max and growth, a graded one its focus
+        (
+            MINIMAL.replace(
+                "nx = 4\nny = 2", "h = 0.25\nrefine_box = [0.0, 0.5, 1.0, 1.0]\n" "h_max = 0.5"
+            ),
+            ["mesh.growth=0.2"],
+        ),
+        (
+            MINIMAL.replace(
+                "nx = 4\nny = 2",
+                "h_contact = 0.1\ncontact_zone = 0.3\nh_max = 0.5\n" "focus = [1.0, 1.0]",
+            ),
+            [],
+        ),
+    ],
+    ids=["overrides", "quoted_names_and_stages", "axisymmetric", "refined_block", "graded_block"],
+)
 def test_the_resolved_case_validates_to_the_same_data(text, overrides):
     case = parse_case(text, overrides=overrides)
     again = parse_case(resolved_case_text(case), "case.toml")
@@ -92,11 +127,16 @@ def test_the_resolved_case_validates_to_the_same_data(text, overrides):
 def test_a_mesh_file_is_written_by_its_absolute_path(tmp_path):
     """A relative ``file`` resolves against the case's folder; the result folder is another."""
     (tmp_path / "meshes").mkdir()
-    mesh = slipstep.from_arrays([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1, 2], [0, 2, 3]],
-                                {"bottom": [[0, 1]], "top": [[2, 3]]})
+    mesh = slipstep.from_arrays(
+        [[0, 0], [1, 0], [1, 1], [0, 1]],
+        [[0, 1, 2], [0, 2, 3]],
+        {"bottom": [[0, 1]], "top": [[2, 3]]},
+    )
     write_msh(mesh, tmp_path / "meshes" / "block.msh")
-    text = MINIMAL.replace('generator = "block"\nwidth = 2.0\nheight = 1.0\nnx = 4\nny = 2',
-                           'file = "meshes/block.msh"')
+    text = MINIMAL.replace(
+        'generator = "block"\nwidth = 2.0\nheight = 1.0\nnx = 4\nny = 2',
+        'file = "meshes/block.msh"',
+    )
     case = parse_case(text, base_dir=tmp_path)
     written = resolved_case_text(case)
     assert f'file = "{(tmp_path / "meshes" / "block.msh").resolve()}"' in written
@@ -110,15 +150,34 @@ def test_a_mesh_file_is_written_by_its_absolute_path(tmp_path):
 
 # --------------------------------------------------------------------------- reruns
 def test_a_run_with_overrides_reruns_from_its_case_toml(tmp_path):
-    cli("run", "hertz_cylinder", "--set", COARSE, "--set", "contact.mu=0.3",
-        "--set", "solver.group_tol=0", "--out", str(tmp_path / "first"), "--quiet")
-    cli("run", str(tmp_path / "first" / "case.toml"), "--out", str(tmp_path / "again"),
-        "--quiet")
+    cli(
+        "run",
+        "hertz_cylinder",
+        "--set",
+        COARSE,
+        "--set",
+        "contact.mu=0.3",
+        "--set",
+        "solver.group_tol=0",
+        "--out",
+        str(tmp_path / "first"),
+        "--quiet",
+    )
+    cli("run", str(tmp_path / "first" / "case.toml"), "--out", str(tmp_path / "again"), "--quiet")
     first = (tmp_path / "first" / "events.csv").read_bytes()
     assert (tmp_path / "again" / "events.csv").read_bytes() == first
     # negative control: without the friction override the events differ (no stick/slip)
-    cli("run", "hertz_cylinder", "--set", COARSE, "--set", "solver.group_tol=0",
-        "--out", str(tmp_path / "frictionless"), "--quiet")
+    cli(
+        "run",
+        "hertz_cylinder",
+        "--set",
+        COARSE,
+        "--set",
+        "solver.group_tol=0",
+        "--out",
+        str(tmp_path / "frictionless"),
+        "--quiet",
+    )
     assert (tmp_path / "frictionless" / "events.csv").read_bytes() != first
     text = (tmp_path / "first" / "case.toml").read_text()
     assert "--set contact.mu=0.3" in text.splitlines()[1]  # the header says where it came from
@@ -126,11 +185,20 @@ def test_a_run_with_overrides_reruns_from_its_case_toml(tmp_path):
 
 
 def test_a_staged_case_reruns_from_its_case_toml(tmp_path):
-    cli("run", str(CASES / "hertz_load_unload.toml"), "--set", COARSE, "--set",
-        "output.xdmf=false", "--set", "output.figures=false", "--out", str(tmp_path / "first"),
-        "--quiet")
-    cli("run", str(tmp_path / "first" / "case.toml"), "--out", str(tmp_path / "again"),
-        "--quiet")
+    cli(
+        "run",
+        str(CASES / "hertz_load_unload.toml"),
+        "--set",
+        COARSE,
+        "--set",
+        "output.xdmf=false",
+        "--set",
+        "output.figures=false",
+        "--out",
+        str(tmp_path / "first"),
+        "--quiet",
+    )
+    cli("run", str(tmp_path / "first" / "case.toml"), "--out", str(tmp_path / "again"), "--quiet")
     events = (tmp_path / "first" / "events.csv").read_text()
     assert (tmp_path / "again" / "events.csv").read_text() == events
     assert len({row.split(",")[-1] for row in events.splitlines()[1:]}) > 1, "several stages"
@@ -161,8 +229,11 @@ results = true
     assert (tmp_path / "again" / "events.csv").read_text() == events
     assert events.splitlines()[-1].split(",")[2] == "yield", "the run stops at first yield"
     # negative control: the same case without the study's option runs past first yield
-    (tmp_path / "free.toml").write_text((folder / "case.toml").read_text().replace(
-        "stop_at_first_yield = true", "stop_at_first_yield = false"))
+    (tmp_path / "free.toml").write_text(
+        (folder / "case.toml")
+        .read_text()
+        .replace("stop_at_first_yield = true", "stop_at_first_yield = false")
+    )
     cli("run", str(tmp_path / "free.toml"), "--out", str(tmp_path / "free"), "--quiet")
     assert (tmp_path / "free" / "events.csv").read_text() != events
 
@@ -187,5 +258,6 @@ def test_a_mesh_from_python_is_named_as_given(tmp_path):
     with pytest.raises(CaseError, match='generator = "given": pass its mesh from Python'):
         slipstep.build_scene(load_case(tmp_path / "case.toml"))
     rerun = slipstep.run(load_case(tmp_path / "case.toml"), meshes={"b": mesh}, progress=False)
-    assert np.array_equal(rerun.raw["events"]["load_fraction"],
-                          result.raw["events"]["load_fraction"])
+    assert np.array_equal(
+        rerun.raw["events"]["load_fraction"], result.raw["events"]["load_fraction"]
+    )

@@ -24,12 +24,15 @@ from slipstep.build import build_scene
 from slipstep.case import Case, load_case
 
 
-@pytest.mark.parametrize("n_stages, step, per_stage", [
-    (1, 1e6, 10),            # small steps: the most per stage
-    (2, 7.3e6, 6),           # the Mindlin sphere: 100 MB // (2 x 7.3 MB) = 6
-    (2, 46e6, 1),            # 138k DOFs: the stage ends alone
-    (3, 400e6, 1),           # larger than the budget: still each stage end
-])
+@pytest.mark.parametrize(
+    "n_stages, step, per_stage",
+    [
+        (1, 1e6, 10),  # small steps: the most per stage
+        (2, 7.3e6, 6),  # the Mindlin sphere: 100 MB // (2 x 7.3 MB) = 6
+        (2, 46e6, 1),  # 138k DOFs: the stage ends alone
+        (3, 400e6, 1),  # larger than the budget: still each stage end
+    ],
+)
 def test_auto_keeps_evenly_spaced_times_within_the_budget(n_stages, step, per_stage):
     times = snapshot_plan.auto_times(n_stages, step)
     assert len(times) == n_stages * per_stage
@@ -48,9 +51,13 @@ def test_auto_is_every_event_in_2d():
 def test_the_predicted_size_is_the_size_of_results_h5(tmp_path):
     """A coarse 3D run with the default snapshots: results.h5 holds the mesh and one step per
     snapshot time, the prediction's count and bytes."""
-    r = slipstep.run(CASES / "boussinesq_punch_3d.toml", progress=False, out=tmp_path,
-                     overrides=["mesh.h_contact=0.3", "mesh.growth=0.5",
-                                "output.snapshots=\"auto\""], figures=False)
+    r = slipstep.run(
+        CASES / "boussinesq_punch_3d.toml",
+        progress=False,
+        out=tmp_path,
+        overrides=["mesh.h_contact=0.3", "mesh.growth=0.5", "output.snapshots=\"auto\""],
+        figures=False,
+    )
     scene = r.scene
     per_step = snapshot_plan.step_bytes(scene)
     n = len(snapshot_plan.requested(r.case, per_step))

@@ -63,9 +63,9 @@ mu = 0.5
 """
 
 OLD_COLUMNS = ["step", "load_fraction", "kind", "entity", "entity_kind", "x", "y"]
-T = [0.5, 1.0, 1.5, 2.0]          # snapshot path times
-PRESS = [10.0, 20.0, 8.0, 0.0]    # force of the press at them: unloading below loading
-U_TOP = -0.01                     # prescribed y displacement of the top at factor 1
+T = [0.5, 1.0, 1.5, 2.0]  # snapshot path times
+PRESS = [10.0, 20.0, 8.0, 0.0]  # force of the press at them: unloading below loading
+U_TOP = -0.01  # prescribed y displacement of the top at factor 1
 
 
 def nodes_of(scene, tag: str) -> np.ndarray:
@@ -110,33 +110,61 @@ def staged_result(scene) -> dict:
         reaction[top, 1] = -force / len(top)
         reaction[left, 0] = rng.normal(size=len(left))
         stage = 0 if t <= 1.0 else 1
-        snaps.append({"t": t, "stage": stage, "load_fraction": t - stage,
-                      "u": rng.normal(size=(n, 2)), "stress": np.zeros((m, 4)),
-                      "plastic_strain": np.zeros(m), "plastic": np.zeros(m, np.int8),
-                      "lambda_n": lam, "lambda_t": 0.1 * lam, "status": status,
-                      "gap": np.zeros(p), "rtd": np.zeros(p), "reaction": reaction})
-    events = {"step": np.array([1, 2, 2, 3, 3, 3]),
-              "t": np.array([0.5, 1.2, 1.2, 2.0, 2.0, 2.0]),
-              "stage": np.array([0, 1, 1, 1, 1, 1]),
-              "kind": ["stick_to_slip"] + ["separate"] * 5,
-              "entity": np.array([0, 0, 4, 1, 2, 3])}
+        snaps.append(
+            {
+                "t": t,
+                "stage": stage,
+                "load_fraction": t - stage,
+                "u": rng.normal(size=(n, 2)),
+                "stress": np.zeros((m, 4)),
+                "plastic_strain": np.zeros(m),
+                "plastic": np.zeros(m, np.int8),
+                "lambda_n": lam,
+                "lambda_t": 0.1 * lam,
+                "status": status,
+                "gap": np.zeros(p),
+                "rtd": np.zeros(p),
+                "reaction": reaction,
+            }
+        )
+    events = {
+        "step": np.array([1, 2, 2, 3, 3, 3]),
+        "t": np.array([0.5, 1.2, 1.2, 2.0, 2.0, 2.0]),
+        "stage": np.array([0, 1, 1, 1, 1, 1]),
+        "kind": ["stick_to_slip"] + ["separate"] * 5,
+        "entity": np.array([0, 0, 4, 1, 2, 3]),
+    }
     events["load_fraction"] = events["t"] - events["stage"]
-    steps = {"t": np.array(T), "stage": np.array([0, 0, 1, 1]),
-             "load_fraction": np.array([0.5, 1.0, 0.5, 1.0])}
-    return {"events": events, "steps": steps, "snapshots": snaps,
-            "closure_fraction": np.zeros(p), "predicted_closure": np.full(p, np.inf),
-            "n_stages": 2, "stage_names": ["press", "release"],
-            "stop": {"kind": "completed", "message": None, "load_fraction": 1.0, "t": 2.0},
-            "interrupted": False, "stop_reason": None, "max_equilibrium_residual": 1e-13,
-            "timings": {}}
+    steps = {
+        "t": np.array(T),
+        "stage": np.array([0, 0, 1, 1]),
+        "load_fraction": np.array([0.5, 1.0, 0.5, 1.0]),
+    }
+    return {
+        "events": events,
+        "steps": steps,
+        "snapshots": snaps,
+        "closure_fraction": np.zeros(p),
+        "predicted_closure": np.full(p, np.inf),
+        "n_stages": 2,
+        "stage_names": ["press", "release"],
+        "stop": {"kind": "completed", "message": None, "load_fraction": 1.0, "t": 2.0},
+        "interrupted": False,
+        "stop_reason": None,
+        "max_equilibrium_residual": 1e-13,
+        "timings": {},
+    }
 
 
 def old_result(scene, final: float = 1.0) -> dict:
     """The press stage alone in today's layout: no t, stage, reaction, n_stages, stop.t."""
     r = copy.deepcopy(staged_result(scene))
     keep = r["events"]["stage"] == 0
-    r["events"] = {k: (np.asarray(v)[keep] if k != "kind" else [x for x, y in zip(v, keep) if y])
-                   for k, v in r["events"].items() if k not in ("t", "stage")}
+    r["events"] = {
+        k: (np.asarray(v)[keep] if k != "kind" else [x for x, y in zip(v, keep) if y])
+        for k, v in r["events"].items()
+        if k not in ("t", "stage")
+    }
     r["snapshots"] = [s for s in r["snapshots"] if s["t"] <= final]
     for s in r["snapshots"]:
         for key in ("t", "stage", "reaction"):
@@ -144,8 +172,11 @@ def old_result(scene, final: float = 1.0) -> dict:
     r["steps"] = {"load_fraction": np.array([s["load_fraction"] for s in r["snapshots"]])}
     for key in ("n_stages", "stage_names"):
         del r[key]
-    r["stop"] = {"kind": "completed" if final == 1.0 else "interrupted", "message": None,
-                 "load_fraction": final}
+    r["stop"] = {
+        "kind": "completed" if final == 1.0 else "interrupted",
+        "message": None,
+        "load_fraction": final,
+    }
     return r
 
 
@@ -177,6 +208,7 @@ def test_events_csv_of_a_result_without_stages(bare, tmp_path):
 # --------------------------------------------------------------------------- XDMF
 def read_xdmf(folder):
     import meshio
+
     with meshio.xdmf.TimeSeriesReader(str(folder / "results.xdmf")) as reader:
         reader.read_points_cells()
         return [reader.read_data(k) for k in range(reader.num_steps)]
@@ -213,16 +245,27 @@ def test_xdmf_has_one_step_per_time_the_last_state_there(scene, tmp_path):
 def test_contact_point_data_sits_on_the_contactor_nodes():
     """Each pair's numbers on its node a, 0 on the other nodes; a node in two contacts (the
     bottom edge against two flats) shows the pair with the larger pressure."""
-    scene = build_scene(parse_case(BLOCK + BLOCK[BLOCK.index("[[contact]]"):].replace(
-        '"flat"', '"far"').replace("mu = 0.5", "mu = 0.5\npoint = [0.0, -1.0]")))
+    scene = build_scene(
+        parse_case(
+            BLOCK
+            + BLOCK[BLOCK.index("[[contact]]") :]
+            .replace('"flat"', '"far"')
+            .replace("mu = 0.5", "mu = 0.5\npoint = [0.0, -1.0]")
+        )
+    )
     bottom = np.unique(scene.global_edge("block", "bottom"))
     p = len(scene.pair_xy)
     assert p == 2 * len(bottom)  # every bottom node is node a of one pair per flat
     near = scene.pair_contact == 0
     lam = np.where(near, 1.0, 0.0) * (1.0 + np.arange(p))
-    snap = {"lambda_n": lam, "lambda_t": 0.1 * lam, "status": (lam > 0).astype(np.int8),
-            "gap": np.where(near, 0.0, 1.0), "rtd": np.zeros(p),
-            "u": np.zeros((len(scene.nodes), 2))}
+    snap = {
+        "lambda_n": lam,
+        "lambda_t": 0.1 * lam,
+        "status": (lam > 0).astype(np.int8),
+        "gap": np.where(near, 0.0, 1.0),
+        "rtd": np.zeros(p),
+        "u": np.zeros((len(scene.nodes), 2)),
+    }
     fields = output.contact_point_data(scene, snap)
     prof = contact_measures.contact_profile(scene, snap)
     mine = prof["contact"] == 0
@@ -233,8 +276,10 @@ def test_contact_point_data_sits_on_the_contactor_nodes():
     snap["lambda_n"] = lam[::-1].copy() * np.where(near, 0.0, 1.0)  # now the far flat presses
     fields = output.contact_point_data(scene, snap)
     far = prof["contact"] == 1
-    assert np.array_equal(fields["contact_pressure"][prof["node_a"][far]],
-                          contact_measures.contact_profile(scene, snap)["pressure"][far])
+    assert np.array_equal(
+        fields["contact_pressure"][prof["node_a"][far]],
+        contact_measures.contact_profile(scene, snap)["pressure"][far],
+    )
 
 
 def test_xdmf_of_a_result_without_stages(bare, tmp_path):
@@ -242,8 +287,7 @@ def test_xdmf_of_a_result_without_stages(bare, tmp_path):
     output.write_xdmf(tmp_path, bare, result)
     steps = read_xdmf(tmp_path)
     assert [t for t, _, _ in steps] == [0.5, 1.0]
-    assert all("u" in point_data and "reaction" not in point_data
-               for _, point_data, _ in steps)
+    assert all("u" in point_data and "reaction" not in point_data for _, point_data, _ in steps)
 
 
 # --------------------------------------------------------------------------- reactions
@@ -270,10 +314,18 @@ def test_summary_has_one_record_per_stage(scene, tmp_path):
     assert s["n_stages"] == 2 and s["stage_names"] == ["press", "release"]
     assert s["final_t"] == 2.0 and s["stop"]["t"] == 2.0 and s["stop"]["load_fraction"] == 1.0
     press, release = s["stages"]
-    assert (press["stage"], press["name"], press["t_end"], press["n_events"]) == (1, "press",
-                                                                                  1.0, 1)
+    assert (press["stage"], press["name"], press["t_end"], press["n_events"]) == (
+        1,
+        "press",
+        1.0,
+        1,
+    )
     assert (release["stage"], release["name"], release["t_end"], release["n_events"]) == (
-        2, "release", 2.0, 5)
+        2,
+        "release",
+        2.0,
+        5,
+    )
     assert press["total_normal_force"] == pytest.approx(20.0, rel=1e-14)
     assert press["total_tangential_force"] == pytest.approx(2.0, rel=1e-14)
     assert press["reactions"]["top"] == [0.0, pytest.approx(-20.0, rel=1e-14)]
@@ -317,8 +369,12 @@ def test_the_end_of_a_stage_is_found_by_t_too(scene):
 
 # --------------------------------------------------------------------------- history, curves
 def test_load_factor_interpolates_the_stage_factors(scene, bare):
-    assert np.allclose(history.load_factor(scene, "press", [0.0, 0.5, 1.0, 1.25, 2.0]),
-                       [0.0, 0.5, 1.0, 0.75, 0.0], rtol=0, atol=1e-15)
+    assert np.allclose(
+        history.load_factor(scene, "press", [0.0, 0.5, 1.0, 1.25, 2.0]),
+        [0.0, 0.5, 1.0, 0.75, 0.0],
+        rtol=0,
+        atol=1e-15,
+    )
     assert history.load_factor(bare, "load", 0.3) == 0.3
 
 
@@ -356,18 +412,33 @@ def test_force_displacement_of_a_prescribed_displacement_and_a_motion(scene):
 # --------------------------------------------------------------------------- files
 def test_write_results_of_a_load_path(scene, tmp_path):
     result = staged_result(scene)
-    written = write_results(tmp_path, scene, result, summarize(scene, result, 0.0),
-                            figures=True, xdmf=False)
-    assert sorted(p.name for p in written) == ["case.toml", "contact_extent.png",
-                                               "contact_interface.png", "contact_profile.csv",
-                                               "events.csv", "force_displacement.png",
-                                               "history.csv", "load_depth.png", "summary.json"]
+    written = write_results(
+        tmp_path, scene, result, summarize(scene, result, 0.0), figures=True, xdmf=False
+    )
+    assert sorted(p.name for p in written) == [
+        "case.toml",
+        "contact_extent.png",
+        "contact_interface.png",
+        "contact_profile.csv",
+        "events.csv",
+        "force_displacement.png",
+        "history.csv",
+        "load_depth.png",
+        "summary.json",
+    ]
 
 
 def test_write_results_without_stages_keeps_the_figures(bare, tmp_path):
     result = old_result(bare)
-    written = write_results(tmp_path, bare, result, summarize(bare, result, 0.0),
-                            figures=True, xdmf=False)
-    assert sorted(p.name for p in written) == ["case.toml", "contact_growth.png",
-                                               "contact_interface.png", "contact_profile.csv",
-                                               "events.csv", "history.csv", "summary.json"]
+    written = write_results(
+        tmp_path, bare, result, summarize(bare, result, 0.0), figures=True, xdmf=False
+    )
+    assert sorted(p.name for p in written) == [
+        "case.toml",
+        "contact_growth.png",
+        "contact_interface.png",
+        "contact_profile.csv",
+        "events.csv",
+        "history.csv",
+        "summary.json",
+    ]

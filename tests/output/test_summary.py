@@ -69,8 +69,10 @@ def block_case(x0=2.0, width=10.0, shear=0.2, bcs="", point=0.0) -> str:
 
 def read_profile(path) -> list[dict]:
     with open(path) as fh:
-        return [{k: (v if k in ("status", "contact") else float(v)) for k, v in row.items()}
-                for row in csv.DictReader(fh)]
+        return [
+            {k: (v if k in ("status", "contact") else float(v)) for k, v in row.items()}
+            for row in csv.DictReader(fh)
+        ]
 
 
 # --------------------------------------------------------------------------- extents by hand
@@ -116,14 +118,17 @@ def test_the_hertz_quarter_cylinder_is_a_half_model():
     assert half_model_side(build_scene(load_case(None)), 0) == 1
 
 
-@pytest.mark.parametrize("x0, edge, point, side", [
-    (2.0, None, 0.0, 0),        # no symmetry bc: a full model
-    (2.0, "left", 0.0, 0),      # the mirror x = 2 is not through s = 0 (x = 0)
-    (2.0, "left", 2.0, 1),      # the line's point on the mirror: s = x - 2 >= 0
-    (-10.0, "right", 0.0, -1),  # the body on the negative side of its mirror x = 0
-    (-5.0, "right", 5.0, -1),   # mirror x = 5 through s = 0 (point (5, 0)): s = x - 5 <= 0
-    (-5.0, "right", 0.0, 0),    # mirror x = 5, but s = 0 at x = 0, inside the block
-])
+@pytest.mark.parametrize(
+    "x0, edge, point, side",
+    [
+        (2.0, None, 0.0, 0),  # no symmetry bc: a full model
+        (2.0, "left", 0.0, 0),  # the mirror x = 2 is not through s = 0 (x = 0)
+        (2.0, "left", 2.0, 1),  # the line's point on the mirror: s = x - 2 >= 0
+        (-10.0, "right", 0.0, -1),  # the body on the negative side of its mirror x = 0
+        (-5.0, "right", 5.0, -1),  # mirror x = 5 through s = 0 (point (5, 0)): s = x - 5 <= 0
+        (-5.0, "right", 0.0, 0),  # mirror x = 5, but s = 0 at x = 0, inside the block
+    ],
+)
 def test_half_model_from_the_symmetry_bc_and_the_geometry(x0, edge, point, side):
     text = block_case(x0, 10.0, bcs=symmetry(edge) if edge else "", point=point)
     assert half_model_side(build_scene(parse_case(text)), 0) == side
@@ -140,10 +145,17 @@ def test_a_mirror_parallel_to_the_contact_does_not_make_a_half_model():
 def hertz(tmp_path_factory):
     """The Hertz quarter cylinder with friction (mu = 0.2) on a coarse mesh (h_contact = 0.1)."""
     out = tmp_path_factory.mktemp("hertz")
-    result, summary = run_case(None, out=out, overrides=["mesh.h_contact=0.1", "contact.mu=0.2",
-                                                         "output.snapshots=[1.0]",
-                                                         "output.xdmf=false",
-                                                         "output.figures=false"])
+    result, summary = run_case(
+        None,
+        out=out,
+        overrides=[
+            "mesh.h_contact=0.1",
+            "contact.mu=0.2",
+            "output.snapshots=[1.0]",
+            "output.xdmf=false",
+            "output.figures=false",
+        ],
+    )
     return out, result, summary
 
 
@@ -168,25 +180,29 @@ def test_hertz_half_model_has_a_and_c_at_the_far_ends_of_the_extents(hertz):
     assert max(closed_x) <= s["contact_half_width"] <= min(open_beyond)
     stick_x = [r["x"] for r in prof if r["status"] == "stick"]
     slip_beyond = [r["x"] for r in prof if r["status"] == "slip" and r["x"] > max(stick_x)]
-    assert s["stick_half_width"] == pytest.approx(0.5 * (max(stick_x) + min(slip_beyond)),
-                                                  abs=1e-15)
+    assert s["stick_half_width"] == pytest.approx(
+        0.5 * (max(stick_x) + min(slip_beyond)), abs=1e-15
+    )
     assert contact["n_closed"] == len(closed_x) and contact["n_stick"] == len(stick_x)
     # Hertz: a = sqrt(4 P R / (pi E*)), E* = E / (1 - nu^2); friction (mu = 0.2) moves it by
     # far less than the node spacing h_contact = 0.1, the resolution of the contact edge
-    E_star = 70000.0 / (1 - 0.3 ** 2)
+    E_star = 70000.0 / (1 - 0.3**2)
     assert abs(s["contact_half_width"] - math.sqrt(4 * 1000.0 * 125.0 / (math.pi * E_star))) < 0.1
     # the quarter model carries P/2 = 500 N/mm; equilibrium to the engine's 1e-9
     assert contact["total_normal_force"] == pytest.approx(500.0, rel=1e-9)
     assert s["hertz"]["a_rel_error"] == pytest.approx(
-        s["contact_half_width"] / s["hertz"]["a_hertz_at_final"] - 1, rel=1e-12)
+        s["contact_half_width"] / s["hertz"]["a_hertz_at_final"] - 1, rel=1e-12
+    )
 
 
 @needs_gmsh
 def test_summary_json_holds_the_contacts_by_name(hertz):
     out, _, s = hertz
     data = json.loads((out / "summary.json").read_text())
-    assert data["contacts"]["contact 0"]["closed_extent"] == s["contacts"]["contact 0"][
-        "closed_extent"]
+    assert (
+        data["contacts"]["contact 0"]["closed_extent"]
+        == s["contacts"]["contact 0"]["closed_extent"]
+    )
     assert data["stop"]["kind"] == "completed"
     assert data["contact_half_width"] == s["contact_half_width"]
 
@@ -254,12 +270,12 @@ def test_the_extent_midway_equals_the_final_extent_of_a_run_to_there():
 
     common = ["mesh.h_contact=0.2", "contact.mu=0.0", "output.figures=false"]
     full = run(None, overrides=common + ["output.snapshots=[0.5, 1.0]"], progress=False)
-    half = run(None, overrides=common + ["load.P=500.0", "output.snapshots=[1.0]"],
-               progress=False)
+    half = run(None, overrides=common + ["load.P=500.0", "output.snapshots=[1.0]"], progress=False)
     history = contact_measures.path_history(full.scene, full.raw)
     assert list(history["t"]) == [0.5, 1.0]
-    assert history["extent"][0, 0, 1] == pytest.approx(half.summary["contact_half_width"],
-                                                       rel=1e-12)
+    assert history["extent"][0, 0, 1] == pytest.approx(
+        half.summary["contact_half_width"], rel=1e-12
+    )
     assert history["extent"][1, 0, 1] == full.summary["contact_half_width"]
     # the edge lies between nodes here, not on the outermost closed one
     closed = full.profile(0.5)["status"] > 0
@@ -275,8 +291,11 @@ def test_one_contact_state_has_one_extent_at_a_stage_end_and_the_run_end():
     [-1.784, 1.784] at the stage end on this mesh."""
     from slipstep import run
 
-    coarse = ["body.roller.mesh.h_contact=0.2", "body.block.mesh.h_contact=0.2",
-              "output.figures=false"]
+    coarse = [
+        "body.roller.mesh.h_contact=0.2",
+        "body.block.mesh.h_contact=0.2",
+        "output.figures=false",
+    ]
     r = run("cattaneo_mindlin", overrides=coarse, progress=False)
     approach, shear = (st["contacts"]["interface"] for st in r.summary["stages"])
     final = r.summary["contacts"]["interface"]

@@ -24,7 +24,7 @@ from slipstep.references import thick_cylinder_stresses, thick_sphere_stresses
 sys.path.insert(0, str(ROOT / "bench"))
 from dolfinx_side_by_side import SCENES, HillNorms  # noqa: E402
 
-A, B = 10.0, 20.0            # mm, both cases' bore and outer radius
+A, B = 10.0, 20.0  # mm, both cases' bore and outer radius
 # (mesh.h at the bore, mesh.h_outer): each case's own mesh, a few thousand DOFs
 MESH = {"cylinder": (0.25, 0.8), "sphere": (1.0, 2.0)}
 
@@ -49,16 +49,24 @@ def hill_field(scene, offset: float = 0.0) -> np.ndarray:
     d = scene.dimension
     sigma = st[:, None, None] * np.eye(d) + (sr - st)[:, None, None] * e[:, :, None] * e[:, None, :]
     if d == 3:  # Voigt: xx, yy, zz, yz, xz, xy
-        return np.column_stack([sigma[:, 0, 0], sigma[:, 1, 1], sigma[:, 2, 2], sigma[:, 1, 2],
-                                sigma[:, 0, 2], sigma[:, 0, 1]])
+        return np.column_stack(
+            [
+                sigma[:, 0, 0],
+                sigma[:, 1, 1],
+                sigma[:, 2, 2],
+                sigma[:, 1, 2],
+                sigma[:, 0, 2],
+                sigma[:, 0, 1],
+            ]
+        )
     return np.column_stack([sigma[:, 0, 0], sigma[:, 1, 1], np.zeros(len(rho)), sigma[:, 0, 1]])
 
 
 def body_measure(dimension: int) -> float:
     """The quarter annulus's area or the eighth shell's volume."""
     if dimension == 3:
-        return math.pi / 6 * (B ** 3 - A ** 3)
-    return math.pi / 4 * (B ** 2 - A ** 2)
+        return math.pi / 6 * (B**3 - A**3)
+    return math.pi / 4 * (B**2 - A**2)
 
 
 @needs_gmsh

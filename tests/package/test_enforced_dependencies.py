@@ -30,8 +30,11 @@ def listed(path) -> set[str]:
 
 
 def test_every_enforced_dependency_comes_from_a_list_make_test_installs():
-    lists = {"pip": listed("ci/requirements.txt"), "apt": listed("ci/apt-packages.txt"),
-             "make": {"build"}}
+    lists = {
+        "pip": listed("ci/requirements.txt"),
+        "apt": listed("ci/apt-packages.txt"),
+        "make": {"build"},
+    }
     for name, (kind, (where, package)) in ENFORCED.items():
         assert kind in ("module", "program"), name
         assert package in lists[where], f"{name}: {package} is not in the {where} list"
@@ -50,7 +53,7 @@ REASONS = {  # the reasons the suite's skips give, by the dependency they name
     "gmsh": "gmsh is not installed",
     "pvpython": "pvpython is not installed (Debian: apt-get install python3-paraview)",
     "petsc4py": "mpirun or petsc4py (Debian: python3-petsc4py) is not installed: the MUMPS "
-                "factorization runs through PETSc under mpirun",
+    "factorization runs through PETSc under mpirun",
     "mpirun": "mpirun is not installed (Debian's openmpi-bin comes with dolfinx)",
     "mpi4py": "could not import 'mpi4py.futures': No module named 'mpi4py'",
     "dolfinx": "Debian's python3-dolfinx is not installed",
@@ -59,9 +62,14 @@ REASONS = {  # the reasons the suite's skips give, by the dependency they name
 
 
 def report(reason: str, when: str = "setup", **extra) -> pytest.TestReport:
-    rep = pytest.TestReport(nodeid="t.py::t", location=("t.py", 0, "t"), keywords={},
-                            outcome="skipped", longrepr=("t.py", 1, f"Skipped: {reason}"),
-                            when=when)
+    rep = pytest.TestReport(
+        nodeid="t.py::t",
+        location=("t.py", 0, "t"),
+        keywords={},
+        outcome="skipped",
+        longrepr=("t.py", 1, f"Skipped: {reason}"),
+        when=when,
+    )
     for key, value in extra.items():
         setattr(rep, key, value)
     return rep
@@ -87,10 +95,13 @@ def test_a_skip_for_a_missing_enforced_dependency_fails(name, monkeypatch):
     assert rep.skipped
 
 
-@pytest.mark.parametrize("reason", [
-    "pip's package index (PyPI) is unreachable, the wheel's venvs cannot be built",
-    "needs 4 MPI ranks, run under mpirun -n 4",   # names mpirun, which is there
-])
+@pytest.mark.parametrize(
+    "reason",
+    [
+        "pip's package index (PyPI) is unreachable, the wheel's venvs cannot be built",
+        "needs 4 MPI ranks, run under mpirun -n 4",  # names mpirun, which is there
+    ],
+)
 def test_other_skips_stay_skips(reason, monkeypatch):
     monkeypatch.delenv(ALLOW_MISSING, raising=False)
     rep = report(reason)

@@ -21,7 +21,7 @@ import pytest
 from conftest import ROOT
 
 EXAMPLES = ROOT / "examples"
-A_HERTZ = math.sqrt(4 * 1000.0 * 125.0 / (math.pi * 70000.0 / (1 - 0.3 ** 2)))
+A_HERTZ = math.sqrt(4 * 1000.0 * 125.0 / (math.pi * 70000.0 / (1 - 0.3**2)))
 P0_HERTZ = 2 * 1000.0 / (math.pi * A_HERTZ)
 WIDGET = "application/vnd.jupyter.widget-view+json"
 
@@ -29,8 +29,14 @@ WIDGET = "application/vnd.jupyter.widget-view+json"
 def run_example(name: str, cwd, *args, python=sys.executable) -> str:
     """The example as a script (stdout)."""
     env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT / "py"))
-    proc = subprocess.run([python, str(EXAMPLES / name), *map(str, args)], cwd=cwd, env=env,
-                          capture_output=True, text=True, timeout=600)
+    proc = subprocess.run(
+        [python, str(EXAMPLES / name), *map(str, args)],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert proc.returncode == 0, proc.stderr[-3000:]
     return proc.stdout
 
@@ -43,8 +49,9 @@ def run_notebook(nb, cwd) -> dict:
     nbclient = pytest.importorskip("nbclient")
     env = {k: v for k, v in os.environ.items() if k != "MPLBACKEND"}
     env["PYTHONPATH"] = str(ROOT / "py")
-    client = nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
-                                     resources={"metadata": {"path": str(cwd)}})
+    client = nbclient.NotebookClient(
+        nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(cwd)}}
+    )
     client.execute(env=env)
     shown = {"stdout": "", "stderr": "", "displays": []}
     for cell in nb.cells:
@@ -76,8 +83,14 @@ def number(pattern: str, text: str) -> float:
 def test_every_example_is_percent_format_and_tested():
     """Each example opens as a notebook (jupytext's percent format: `# %%` cells) and has a
     test here."""
-    tested = {"hertz_in_ten_lines.py", "own_gmsh_mesh.py", "load_unload.py",
-              "dolfinx_crosscheck.py", "hybrid_hertz.py", "paraview_time.py"}
+    tested = {
+        "hertz_in_ten_lines.py",
+        "own_gmsh_mesh.py",
+        "load_unload.py",
+        "dolfinx_crosscheck.py",
+        "hybrid_hertz.py",
+        "paraview_time.py",
+    }
     assert {p.name for p in EXAMPLES.glob("*.py")} == tested
     for path in EXAMPLES.glob("*.py"):
         assert path.read_text().startswith("# %% [markdown]\n"), path
@@ -96,8 +109,11 @@ def test_hertz_in_ten_lines(tmp_path):
     # the contact force carries the load on the quarter model, P/2 x t (printed to 1e-3)
     assert "t = 0.5: total normal force 250.000 N/mm" in out
     assert "t = 1.0: total normal force 500.000 N/mm" in out
-    code = [line for line in (EXAMPLES / "hertz_in_ten_lines.py").read_text().splitlines()
-            if line.strip() and not line.startswith("#")]
+    code = [
+        line
+        for line in (EXAMPLES / "hertz_in_ten_lines.py").read_text().splitlines()
+        if line.strip() and not line.startswith("#")
+    ]
     assert len(code) <= 10, code
 
 
@@ -109,10 +125,16 @@ def test_own_gmsh_mesh(tmp_path):
 
 def test_load_unload(tmp_path):
     out = run_example_notebook("load_unload.py", tmp_path)
-    peak = re.search(r"t = 1.0: total normal force ([\d.-]+) N/mm, (\d+) elements on the yield "
-                     r"surface, (\d+) with plastic strain", out)
-    end = re.search(r"t = 2.0: total normal force ([\d.-]+) N/mm, (\d+) elements on the yield "
-                    r"surface, (\d+) with plastic strain", out)
+    peak = re.search(
+        r"t = 1.0: total normal force ([\d.-]+) N/mm, (\d+) elements on the yield "
+        r"surface, (\d+) with plastic strain",
+        out,
+    )
+    end = re.search(
+        r"t = 2.0: total normal force ([\d.-]+) N/mm, (\d+) elements on the yield "
+        r"surface, (\d+) with plastic strain",
+        out,
+    )
     assert peak and end, out
     assert float(peak.group(1)) == pytest.approx(500.0, abs=1e-3)  # P/2 at the peak
     assert abs(float(end.group(1))) <= 1e-3  # no load, no contact force (printed to 1e-3)
@@ -130,15 +152,18 @@ def test_dolfinx_crosscheck(tmp_path):
     rows = [float(x) for x in re.findall(r"N = \d+: relative difference u ([\d.e+-]+)", out)]
     # dolfinx's load steps converge to slipstep's exact path: 10 steps closer than 5
     assert len(rows) == 2 and rows[1] < rows[0]
-    radius = re.search(r"plastic radius: slipstep ([\d.]+) mm, dolfinx ([\d.]+) mm, "
-                       r"Hill ([\d.]+) mm", out)
+    radius = re.search(
+        r"plastic radius: slipstep ([\d.]+) mm, dolfinx ([\d.]+) mm, " r"Hill ([\d.]+) mm", out
+    )
     # Hill's c within one element (h = 1 mm at the bore, the mesh of the example)
     assert abs(float(radius.group(1)) - float(radius.group(3))) <= 1.0
     assert (tmp_path / "results" / "thick_cylinder_crosscheck" / "crosscheck.md").exists()
 
 
-HYBRID = re.compile(r"outermost closed node x = ([\d.]+) mm \(Hertz a = ([\d.]+)\), .*"
-                    r"integral of the pressure ([\d.]+) N/mm \(P/2 = 500\)")
+HYBRID = re.compile(
+    r"outermost closed node x = ([\d.]+) mm \(Hertz a = ([\d.]+)\), .*"
+    r"integral of the pressure ([\d.]+) N/mm \(P/2 = 500\)"
+)
 
 
 def _hybrid_checks(out: str, h: float) -> None:
@@ -182,8 +207,9 @@ reporter.finish({{"events": {{"step": [0] * 12}}, "steps": {{"load_fraction": [0
 
 def _progress_notebook(setup: str = ""):
     nbformat = pytest.importorskip("nbformat")
-    return nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(
-        PROGRESS_CELL.format(setup=setup))])
+    return nbformat.v4.new_notebook(
+        cells=[nbformat.v4.new_code_cell(PROGRESS_CELL.format(setup=setup))]
+    )
 
 
 def test_progress_in_a_kernel_is_a_widget(tmp_path):
@@ -202,6 +228,8 @@ def test_progress_in_a_kernel_without_ipywidgets_is_two_lines(tmp_path):
     shown = run_notebook(_progress_notebook('sys.modules["ipywidgets"] = None'), tmp_path)
     assert not any(WIDGET in d for d in shown["displays"])
     start, end = shown["stderr"].splitlines()
-    assert start == ("demo: running, t = 0.5 of 2 after 10 events (a progress bar needs "
-                     "ipywidgets: pip install ipywidgets)")
+    assert start == (
+        "demo: running, t = 0.5 of 2 after 10 events (a progress bar needs "
+        "ipywidgets: pip install ipywidgets)"
+    )
     assert re.fullmatch(r"demo: completed at t = 2 of 2: 12 events, 6 increments, [\d.]+ s", end)

@@ -36,17 +36,21 @@ pytest.importorskip("getfem")
 sys.path.insert(0, str(ROOT / "bench"))
 import getfem_hertz  # noqa: E402
 
-H = 0.1                      # h_contact, mm: ~4k DOFs, a/h ≈ 14 nodes in contact
+H = 0.1  # h_contact, mm: ~4k DOFs, a/h ≈ 14 nodes in contact
 
 
 def run_both(tmp_path, overrides, steps):
     """slipstep and GetFEM on the same mesh: (slipstep summary, its profile, GetFEM record)."""
-    scene = prepare(getfem_hertz.CASE, overrides=[*overrides, f"mesh.h_contact={H}",
-                                                  "output.snapshots=[1.0]"])
+    scene = prepare(
+        getfem_hertz.CASE, overrides=[*overrides, f"mesh.h_contact={H}", "output.snapshots=[1.0]"]
+    )
     result = solve(scene)
     spec = getfem_hertz.scene_spec(H, steps, overrides, msh=tmp_path / "scene.msh")
-    return summarize(scene, result), contact_profile(scene, result["snapshots"][-1]), \
-        getfem_hertz.one(spec)
+    return (
+        summarize(scene, result),
+        contact_profile(scene, result["snapshots"][-1]),
+        getfem_hertz.one(spec),
+    )
 
 
 @needs_gmsh

@@ -35,8 +35,11 @@ def imported_modules(path: Path) -> set[str]:
             base = package
             for _ in range(node.level - 1):
                 base = base.rpartition(".")[0]
-            module = f"{base}.{node.module}" if node.level and node.module else (
-                base if node.level else node.module)
+            module = (
+                f"{base}.{node.module}"
+                if node.level and node.module
+                else (base if node.level else node.module)
+            )
             found.add(module)
             # `from . import x` / `from .pkg import mod`: x may be a module itself
             found |= {f"{module}.{a.name}" for a in node.names}
@@ -48,8 +51,10 @@ def graph() -> dict[str, set[str]]:
     """Module -> the slipstep modules it imports.  The root package is left out: every
     submodule imports it implicitly, and it re-exports the public API."""
     files = {module_name(p): p for p in PACKAGE.rglob("*.py")}
-    return {name: imported_modules(path) & set(files) - {name, "slipstep"}
-            for name, path in files.items()}
+    return {
+        name: imported_modules(path) & set(files) - {name, "slipstep"}
+        for name, path in files.items()
+    }
 
 
 def reachable(graph: dict, start: str) -> set[str]:
@@ -85,8 +90,11 @@ MAX_LINES = 600
 
 
 def test_no_module_outgrows_one_concept():
-    long = {str(p.relative_to(PACKAGE)): n for p in PACKAGE.rglob("*.py")
-            if (n := len(p.read_text().splitlines())) > MAX_LINES}
+    long = {
+        str(p.relative_to(PACKAGE)): n
+        for p in PACKAGE.rglob("*.py")
+        if (n := len(p.read_text().splitlines())) > MAX_LINES
+    }
     assert not long, f"modules over {MAX_LINES} lines: {long}"
 
 
@@ -94,24 +102,34 @@ def private_uses(path: Path) -> list[str]:
     """The private names of other slipstep modules a file uses: ``from .x import _name`` and
     ``x._name`` on an imported slipstep module (dunders are public; the compiled engine
     ``slipstep._engine`` is a module, not a helper)."""
+
     def private(name: str) -> bool:
         return name.startswith("_") and not name.startswith("__") and name != "_engine"
 
     tree = ast.parse(path.read_text(), str(path))
     found, modules = [], set()  # modules: local names bound to slipstep modules
     for node in ast.walk(tree):
-        if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith(
-                "slipstep")):
-            found += [f"{path.name}:{node.lineno} imports {a.name}" for a in node.names
-                      if private(a.name)]
+        if isinstance(node, ast.ImportFrom) and (
+            node.level or (node.module or "").startswith("slipstep")
+        ):
+            found += [
+                f"{path.name}:{node.lineno} imports {a.name}" for a in node.names if private(a.name)
+            ]
             modules |= {a.asname or a.name for a in node.names}
         elif isinstance(node, ast.Import):
-            modules |= {(a.asname or a.name).split(".")[0] for a in node.names
-                        if a.name.startswith("slipstep")}
-    return found + [f"{path.name}:{node.lineno} uses {node.value.id}.{node.attr}"
-                    for node in ast.walk(tree)
-                    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
-                    and node.value.id in modules and private(node.attr)]
+            modules |= {
+                (a.asname or a.name).split(".")[0]
+                for a in node.names
+                if a.name.startswith("slipstep")
+            }
+    return found + [
+        f"{path.name}:{node.lineno} uses {node.value.id}.{node.attr}"
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.value.id in modules
+        and private(node.attr)
+    ]
 
 
 def test_no_private_name_is_used_across_modules():
@@ -122,16 +140,22 @@ def test_no_private_name_is_used_across_modules():
 def test_the_private_name_check_sees_a_violation(tmp_path):
     """The check reads what it should (guards against a vacuous pass)."""
     path = tmp_path / "stability.py"
-    path.write_text("from .mesh import _finish, Mesh\nfrom . import mesh as meshing\n"
-                    "from . import _engine\nmeshing._planar(1)\nmeshing.__doc__\n")
-    assert private_uses(path) == ["stability.py:1 imports _finish",
-                                  "stability.py:4 uses meshing._planar"]
+    path.write_text(
+        "from .mesh import _finish, Mesh\nfrom . import mesh as meshing\n"
+        "from . import _engine\nmeshing._planar(1)\nmeshing.__doc__\n"
+    )
+    assert private_uses(path) == [
+        "stability.py:1 imports _finish",
+        "stability.py:4 uses meshing._planar",
+    ]
 
 
 def test_no_unittest_mock_in_library_code():
-    users = [str(p.relative_to(PACKAGE)) for p in PACKAGE.rglob("*.py")
-             if any(m == "unittest" or m.startswith("unittest.") for m in
-                    _all_imports(p))]
+    users = [
+        str(p.relative_to(PACKAGE))
+        for p in PACKAGE.rglob("*.py")
+        if any(m == "unittest" or m.startswith("unittest.") for m in _all_imports(p))
+    ]
     assert not users, users
 
 
@@ -167,8 +191,13 @@ def test_the_error_hierarchy_of_the_contract():
         assert issubclass(cls, errors.InputError)
     assert issubclass(errors.InputError, errors.SlipstepError)
     assert issubclass(errors.InputError, ValueError)
-    for name in ("FreeBodyError", "GrossSlidingError", "SingularSystemError",
-                 "EquilibriumError", "IllPosedError"):
+    for name in (
+        "FreeBodyError",
+        "GrossSlidingError",
+        "SingularSystemError",
+        "EquilibriumError",
+        "IllPosedError",
+    ):
         assert issubclass(getattr(errors, name), errors.SlipstepError), name
     assert runner.EngineMissing is errors.EngineMissing
     assert issubclass(errors.EngineMissing, errors.SlipstepError)

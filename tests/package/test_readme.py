@@ -27,8 +27,9 @@ def _section(title: str) -> str:
 
 def test_the_speed_figures_are_the_bench_measurements():
     """Every 'N.NN s' and signed percentage in the comparison section is in a bench report."""
-    bench = "".join((ROOT / "bench" / name).read_text()
-                    for name in ("results.md", "dolfinx_side_by_side.md"))
+    bench = "".join(
+        (ROOT / "bench" / name).read_text() for name in ("results.md", "dolfinx_side_by_side.md")
+    )
     text = _section("When to choose it, and when not")
     quoted = re.findall(r"(\d+\.\d+) s\b", text) + re.findall(r"([+-]?\d+\.\d+) %", text)
     assert len(quoted) >= 8, quoted
@@ -45,8 +46,17 @@ def test_the_license_file_is_cargos_license():
 
 def test_the_limits_and_the_reference_are_stated():
     limits = _section("Limits")
-    for fact in ("3D", "Small strain", "Quasi-static", "3-node triangles", "4-node tetrahedra",
-                 "von Mises", "isotropic hardening", "axisymmetric", "slip_turn"):
+    for fact in (
+        "3D",
+        "Small strain",
+        "Quasi-static",
+        "3-node triangles",
+        "4-node tetrahedra",
+        "von Mises",
+        "isotropic hardening",
+        "axisymmetric",
+        "slip_turn",
+    ):
         assert fact in limits, fact
     reference = _section("Reference")
     assert "Abdalla" in reference and "A numerical incremental procedure" in reference

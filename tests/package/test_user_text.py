@@ -20,15 +20,24 @@ INTERNAL = re.compile(r"\bissues?\b", re.I)
 def _strings(path: Path) -> str:
     """Every string constant of a Python module (comments are for maintainers)."""
     tree = ast.parse(path.read_text(), str(path))
-    return "\n".join(node.value for node in ast.walk(tree)
-                     if isinstance(node, ast.Constant) and isinstance(node.value, str))
+    return "\n".join(
+        node.value
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Constant) and isinstance(node.value, str)
+    )
 
 
 PACKAGE = sorted((ROOT / "py" / "slipstep").rglob("*.py"))
-TEXTS = sorted([*(ROOT / "cases").glob("*.toml"), *(ROOT / "studies").glob("*.toml"),
-                *(p for p in (ROOT / "examples").iterdir() if p.is_file()), ROOT / "README.md",
-                ROOT / "cases" / "README.md",
-                *(ROOT / "docs").glob("*.md")])
+TEXTS = sorted(
+    [
+        *(ROOT / "cases").glob("*.toml"),
+        *(ROOT / "studies").glob("*.toml"),
+        *(p for p in (ROOT / "examples").iterdir() if p.is_file()),
+        ROOT / "README.md",
+        ROOT / "cases" / "README.md",
+        *(ROOT / "docs").glob("*.md"),
+    ]
+)
 
 
 def _where(path: Path, text: str) -> list[str]:

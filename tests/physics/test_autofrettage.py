@@ -49,21 +49,23 @@ H_BORE = 0.25  # the case's element size at the bore
 
 
 C = thick_cylinder_radius(P, A_IN, B_OUT, K)
-LAME_A = P * A_IN ** 2 / (B_OUT ** 2 - A_IN ** 2)
-LAME_B = P * A_IN ** 2 * B_OUT ** 2 / (B_OUT ** 2 - A_IN ** 2)
+LAME_A = P * A_IN**2 / (B_OUT**2 - A_IN**2)
+LAME_B = P * A_IN**2 * B_OUT**2 / (B_OUT**2 - A_IN**2)
 
 
 def loading_stress(r):
     r = np.asarray(r, dtype=float)
     plastic = r <= C
-    s_r = np.where(plastic, -P + 2 * K * np.log(r / A_IN), -K * C ** 2 / B_OUT ** 2 * (B_OUT ** 2 / r ** 2 - 1))
-    s_t = np.where(plastic, s_r + 2 * K, K * C ** 2 / B_OUT ** 2 * (B_OUT ** 2 / r ** 2 + 1))
+    s_r = np.where(
+        plastic, -P + 2 * K * np.log(r / A_IN), -K * C**2 / B_OUT**2 * (B_OUT**2 / r**2 - 1)
+    )
+    s_t = np.where(plastic, s_r + 2 * K, K * C**2 / B_OUT**2 * (B_OUT**2 / r**2 + 1))
     return s_r, s_t
 
 
 def lame_stress(r):
     r = np.asarray(r, dtype=float)
-    return LAME_A - LAME_B / r ** 2, LAME_A + LAME_B / r ** 2
+    return LAME_A - LAME_B / r**2, LAME_A + LAME_B / r**2
 
 
 def residual_stress(r):
@@ -73,9 +75,9 @@ def residual_stress(r):
 
 def residual_bore_displacement():
     compress = (1 + NU) * (1 - 2 * NU) / E
-    u_c = (1 + NU) / E * ((1 - 2 * NU) * K * C ** 3 / B_OUT ** 2 + K * C)
-    s_r_c = -K * (1 - C ** 2 / B_OUT ** 2)
-    u_a = (C * u_c - compress * (C ** 2 * s_r_c + A_IN ** 2 * P)) / A_IN
+    u_c = (1 + NU) / E * ((1 - 2 * NU) * K * C**3 / B_OUT**2 + K * C)
+    s_r_c = -K * (1 - C**2 / B_OUT**2)
+    u_a = (C * u_c - compress * (C**2 * s_r_c + A_IN**2 * P)) / A_IN
     u_lame = (1 + NU) / E * ((1 - 2 * NU) * LAME_A * A_IN + LAME_B / A_IN)
     return u_a - u_lame
 
@@ -109,7 +111,7 @@ def autofrettage():
 def test_closed_form_assumptions():
     """Unloading is elastic (p below twice the elastic limit; the Lame bore von Mises stress
     for p is sqrt(3) B/a^2 (1 + small), p_e = 108.07 MPa) and the zone is inside the wall."""
-    p_e = SY / math.sqrt(3 * LAME_B ** 2 / A_IN ** 4 + (1 - 2 * NU) ** 2 * LAME_A ** 2) * P
+    p_e = SY / math.sqrt(3 * LAME_B**2 / A_IN**4 + (1 - 2 * NU) ** 2 * LAME_A**2) * P
     assert P < 2 * p_e and A_IN < C < B_OUT
     assert abs(C - 14.42) < 0.01
 
@@ -117,7 +119,10 @@ def test_closed_form_assumptions():
 def test_path_runs_in_three_stages_in_equilibrium(autofrettage):
     scene, result = autofrettage
     assert result["stop"]["kind"] == "completed" and result["stage_names"] == [
-        "pressurize", "release", "repressurize"]
+        "pressurize",
+        "release",
+        "repressurize",
+    ]
     worst, k, t = worst_equilibrium(scene.model, result["snapshots"])
     assert worst <= EQUILIBRIUM_TOL, f"recomputed residual {worst:.2e} at t = {t}"
 
@@ -143,8 +148,12 @@ def test_release_equals_minus_the_elastic_solution(autofrettage):
     mesh (linear unloading): 1e-8 of Sy, as above."""
     scene, result = autofrettage
     text = re.sub(r"\[\[stage\]\][^\[]*", "", CASE.read_text())
-    text = re.sub(r"\nSy = .*\n", "\n", text).replace("snapshots = [0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0]", "snapshots = [1.0]")
-    escene = build_scene(parse_case(text, "elastic", CASES, ["output.figures=false"]), meshes=scene.meshes)
+    text = re.sub(r"\nSy = .*\n", "\n", text).replace(
+        "snapshots = [0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0]", "snapshots = [1.0]"
+    )
+    escene = build_scene(
+        parse_case(text, "elastic", CASES, ["output.figures=false"]), meshes=scene.meshes
+    )
     e_snap = solve(escene)["snapshots"][-1]
     assert not e_snap["plastic"].any()
     change = np.asarray(stage_end(result, 2.0)["stress"]) - stage_end(result, 1.0)["stress"]
@@ -164,7 +173,7 @@ def test_residual_stresses_match_the_closed_form(autofrettage):
     for fe, ref in ((s_r, ref_r), (s_t, ref_t)):
         err = np.abs(fe - ref) / two_k
         assert err.max() <= 0.045, f"max error {err.max():.4f} of 2k at r = {r[np.argmax(err)]:.3f}"
-        assert math.sqrt(np.mean(err ** 2)) <= 0.015
+        assert math.sqrt(np.mean(err**2)) <= 0.015
     # the bore is left in compression: the point of autofrettage
     bore = r < A_IN + H_BORE
     assert (s_t[bore] < -0.5 * K).all()

@@ -38,16 +38,20 @@ def read_csv_header(path):
 # --------------------------------------------------------------------------- the cases
 @needs_gmsh
 def test_hertz_sphere_case_reports_the_hertz_sphere(tmp_path):
-    assert cli.main(["run", str(CASES / "hertz_sphere.toml"), "--out", str(tmp_path),
-                     "--quiet"]) == 0
+    assert (
+        cli.main(["run", str(CASES / "hertz_sphere.toml"), "--out", str(tmp_path), "--quiet"]) == 0
+    )
     s = json.loads((tmp_path / "summary.json").read_text())
     data = load_case(CASES / "hertz_sphere.toml").data
     body = data["body"][0]
-    a, p0, delta = references.hertz_sphere(data["load"]["P"], body["mesh"]["R"],
-                                        body["material"]["E"], body["material"]["nu"])
+    a, p0, delta = references.hertz_sphere(
+        data["load"]["P"], body["mesh"]["R"], body["material"]["E"], body["material"]["nu"]
+    )
     h = s["hertz"]
     assert h["contact"] == "sphere"
-    assert (h["a_hertz"], h["p0_hertz"], h["delta_hertz"]) == pytest.approx((a, p0, delta), rel=1e-12)
+    assert (h["a_hertz"], h["p0_hertz"], h["delta_hertz"]) == pytest.approx(
+        (a, p0, delta), rel=1e-12
+    )
     # the half width is the contact radius (the axis mirrors the section); errors within half
     # a node spacing of the contact zone (test_axisymmetric_hertz.py)
     ratio = body["mesh"]["h_contact"] / a
@@ -64,8 +68,20 @@ def test_hertz_sphere_case_reports_the_hertz_sphere(tmp_path):
 
 @needs_gmsh
 def test_thick_sphere_case_reports_first_yield_and_the_plastic_zone(tmp_path):
-    assert cli.main(["run", str(CASES / "thick_sphere.toml"), "--out", str(tmp_path),
-                     "--quiet", "--set", "output.xdmf=false"]) == 0
+    assert (
+        cli.main(
+            [
+                "run",
+                str(CASES / "thick_sphere.toml"),
+                "--out",
+                str(tmp_path),
+                "--quiet",
+                "--set",
+                "output.xdmf=false",
+            ]
+        )
+        == 0
+    )
     s = json.loads((tmp_path / "summary.json").read_text())
     a, b, Y, p = 10.0, 20.0, 250.0, 280.0
     p_e = references.thick_sphere_pressure(a, a, b, Y)
@@ -191,7 +207,13 @@ def rigid_sphere_run(tmp_path, h: float, mu: float):
     P = -float(last["lambda_n"] @ n[:, 1] + last["lambda_t"] @ n[:, 0])  # t_y = n_x
     axis = int(np.argmin(scene.pair_xy[:, 0]))
     assert scene.pair_xy[axis, 0] == 0.0
-    return scene, result, summarize(scene, result), P, last["lambda_n"][axis] / (math.pi * h * h / 3)
+    return (
+        scene,
+        result,
+        summarize(scene, result),
+        P,
+        last["lambda_n"][axis] / (math.pi * h * h / 3),
+    )
 
 
 @needs_gmsh
@@ -245,7 +267,9 @@ def test_elastoplastic_sphere_loaded_and_unloaded_with_friction(tmp_path):
     then unload to 10 % of it.  Every snapshot is in equilibrium (ring forces recomputed),
     Coulomb holds, plastic strain is left below the surface after unloading, and the plastic
     elements stay on their yield surface (drift <= 1e-4)."""
-    text = (CASES / "hertz_sphere.toml").read_text() + '''
+    text = (
+        (CASES / "hertz_sphere.toml").read_text()
+        + '''
 [[stage]]
 name = "load"
 factors = {load = 1.0}
@@ -253,9 +277,18 @@ factors = {load = 1.0}
 name = "unload"
 factors = {load = 0.1}
 '''
+    )
     path = write_case(tmp_path, text)
-    scene = prepare(path, ["material.Sy=130", "contact.mu=0.3", "mesh.h_contact=0.024",
-                           "output.snapshots=events", "output.figures=false"])
+    scene = prepare(
+        path,
+        [
+            "material.Sy=130",
+            "contact.mu=0.3",
+            "mesh.h_contact=0.024",
+            "output.snapshots=events",
+            "output.figures=false",
+        ],
+    )
     result = solve(scene)
     assert result["stop"]["kind"] == "completed" and result["n_stages"] == 2
     worst, k, f = worst_equilibrium(scene.model, result["snapshots"])
@@ -268,15 +301,21 @@ factors = {load = 0.1}
     assert {"yield", "close", "separate"} <= set(result["events"]["kind"])
     assert np.count_nonzero(np.asarray(last["plastic_strain"]) > 0) > 0
     # within max_stress_step² of the yield surfaces (see tests/physics/test_thick_sphere.py)
-    assert result["max_drift"] <= 0.05 ** 2
+    assert result["max_drift"] <= 0.05**2
 
 
 # --------------------------------------------------------------------------- case errors
 def test_thickness_is_refused_with_axisymmetric(tmp_path):
-    text = (CASES / "hertz_sphere.toml").read_text().replace(
-        'plane = "axisymmetric"', 'plane = "axisymmetric"\nthickness = 2.0')
-    with pytest.raises(CaseError, match=r"analysis\.thickness = 2\.0 is not allowed with "
-                                        r"plane = \"axisymmetric\".*remove analysis\.thickness"):
+    text = (
+        (CASES / "hertz_sphere.toml")
+        .read_text()
+        .replace('plane = "axisymmetric"', 'plane = "axisymmetric"\nthickness = 2.0')
+    )
+    with pytest.raises(
+        CaseError,
+        match=r"analysis\.thickness = 2\.0 is not allowed with "
+        r"plane = \"axisymmetric\".*remove analysis\.thickness",
+    ):
         load_case(write_case(tmp_path, text))
     with pytest.raises(CaseError, match="analysis.thickness"):  # --set counts as given
         load_case(CASES / "hertz_sphere.toml", ["analysis.thickness=1.0"])
@@ -284,19 +323,28 @@ def test_thickness_is_refused_with_axisymmetric(tmp_path):
 
 def test_a_body_left_of_the_axis_is_named(tmp_path):
     text = punch_on_foundation("node_to_node", 1.0, 0.0).replace(
-        'width = 20.0', 'x0 = -2.0\nwidth = 20.0')
-    with pytest.raises(CaseError, match=r"body 'foundation': element \d+ has node \d+ at "
-                                        r"\(-2, .*x < 0.*move the body to x >= 0"):
+        'width = 20.0', 'x0 = -2.0\nwidth = 20.0'
+    )
+    with pytest.raises(
+        CaseError,
+        match=r"body 'foundation': element \d+ has node \d+ at "
+        r"\(-2, .*x < 0.*move the body to x >= 0",
+    ):
         prepare(write_case(tmp_path, text))
 
 
 def test_radial_displacement_on_the_axis_is_refused(tmp_path):
-    text = punch_on_foundation("node_to_node", 1.0, 0.0) + '''
+    text = (
+        punch_on_foundation("node_to_node", 1.0, 0.0)
+        + '''
 [[bc]]
 body = "punch"
 edge = "left"
 displacement = {x = 0.01}
 '''
-    with pytest.raises(CaseError, match=r"bc\.\d\.displacement\.x.*lies on the axis x = 0.*"
-                                        r"drop x from displacement"):
+    )
+    with pytest.raises(
+        CaseError,
+        match=r"bc\.\d\.displacement\.x.*lies on the axis x = 0.*" r"drop x from displacement",
+    ):
         prepare(write_case(tmp_path, text))

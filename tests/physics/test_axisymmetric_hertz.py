@@ -76,9 +76,13 @@ def errors(scene, result) -> dict:
     a_fe = r_edge + (r_open - r_edge) * min(max((1 - f_edge) / (f_open - f_edge), 0), 1)
     r, p = (prof[key][prof["x"] < 0.9 * A] for key in ("x", "pressure"))
     dev = (p - P0 * np.sqrt(1 - (r / A) ** 2)) / P0
-    return {"a": a_fe / A - 1, "p0": prof["pressure"].max() / P0 - 1,
-            "rms": float(np.sqrt(np.mean(dev ** 2))), "max": float(np.abs(dev).max()),
-            "delta": [measured_approach(scene, snap, d) / DELTA - 1 for d in DEPTHS]}
+    return {
+        "a": a_fe / A - 1,
+        "p0": prof["pressure"].max() / P0 - 1,
+        "rms": float(np.sqrt(np.mean(dev**2))),
+        "max": float(np.abs(dev).max()),
+        "delta": [measured_approach(scene, snap, d) / DELTA - 1 for d in DEPTHS],
+    }
 
 
 @pytest.fixture(scope="module")
@@ -91,15 +95,19 @@ def test_closed_forms():
     assert (A, P0, DELTA) == pytest.approx((0.24455, 239.51, 1.1961e-3), rel=1e-4)
     # Huber's axial shortening from the surface to infinity is the approach (Hertz's delta is
     # pi a p0/(2 E*)); and it is the integral of his axial strain (quadrature, 1e-9).
-    assert references.sphere_axis_compression(0.0, NU) * P0 * A / E == pytest.approx(DELTA, rel=1e-12)
+    assert references.sphere_axis_compression(0.0, NU) * P0 * A / E == pytest.approx(
+        DELTA, rel=1e-12
+    )
     from scipy.integrate import quad
 
     def strain(zeta):
         sr, sz = references.sphere_axis_stresses(zeta, NU)
         return -(sz - 2 * NU * sr)
+
     for zeta in (0.5, 3.0):
         assert references.sphere_axis_compression(zeta, NU) == pytest.approx(
-            quad(strain, zeta, np.inf, epsabs=1e-13)[0], rel=1e-9)
+            quad(strain, zeta, np.inf, epsabs=1e-13)[0], rel=1e-9
+        )
 
 
 @needs_gmsh
@@ -114,7 +122,7 @@ def test_sphere_on_the_case_mesh(sphere):
     assert abs(err["a"]) <= ratio / 2, err
     assert abs(err["p0"]) <= ratio / 2, err
     assert err["rms"] <= ratio / 2 and err["max"] <= ratio, err
-    assert all(abs(e) <= ratio ** 2 for e in err["delta"]), err
+    assert all(abs(e) <= ratio**2 for e in err["delta"]), err
 
 
 def fitted_order(h, e) -> float:
@@ -133,8 +141,14 @@ def test_refinement_series_converges_at_the_expected_orders():
     ks = np.array([4.0, 2.0, 1.0, 0.5])
     rows = []
     for k in ks:
-        scene = prepare(CASE, [f"mesh.h_contact={mesh['h_contact'] * k}",
-                               f"mesh.growth={mesh['growth'] * k}", f"mesh.h_max={mesh['h_max'] * k}"])
+        scene = prepare(
+            CASE,
+            [
+                f"mesh.h_contact={mesh['h_contact'] * k}",
+                f"mesh.growth={mesh['growth'] * k}",
+                f"mesh.h_max={mesh['h_max'] * k}",
+            ],
+        )
         rows.append(errors(scene, solve(scene)))
     h = ks * H
     order = {key: fitted_order(h, [r[key] for r in rows]) for key in ("a", "p0", "rms")}
@@ -151,8 +165,12 @@ SY = 130.0  # MPa: first yield at about two thirds of the load
 def huber_first_yield(nu: float) -> tuple[float, float]:
     """(m, zeta): the largest von Mises stress on the axis over p0 and its depth z/a.  On the
     axis sigma_r = sigma_theta and tau_rz = 0, so sigma_e = |sigma_z - sigma_r| (Huber)."""
-    best = minimize_scalar(lambda z: -np.subtract(*references.sphere_axis_stresses(z, nu)),
-                           bounds=(0.05, 2.0), method="bounded", options={"xatol": 1e-10})
+    best = minimize_scalar(
+        lambda z: -np.subtract(*references.sphere_axis_stresses(z, nu)),
+        bounds=(0.05, 2.0),
+        method="bounded",
+        options={"xatol": 1e-10},
+    )
     return float(-best.fun), float(best.x)
 
 

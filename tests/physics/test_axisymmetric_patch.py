@@ -42,8 +42,11 @@ SIGMA_Z = 2 * LAME * A + (LAME + 2 * G) * B
 
 
 def patch_case(r_in: float, extra: str = "") -> str:
-    inner = (f'[[bc]]\nbody = "patch"\nedge = "left"\ntraction = [{-SIGMA_R!r}, 0.0]\n'
-             if r_in > 0 else "")
+    inner = (
+        f'[[bc]]\nbody = "patch"\nedge = "left"\ntraction = [{-SIGMA_R!r}, 0.0]\n'
+        if r_in > 0
+        else ""
+    )
     return f'''
 [analysis]
 plane = "axisymmetric"
@@ -107,12 +110,15 @@ def test_axial_rigid_translation_is_free_of_strain_and_force(tmp_path):
     """u_z = 0.01 prescribed on the bottom edge, nothing else: the ring translates along the
     axis as a rigid body (a zero-energy mode: no radial support needed, u_r = 0), no stress,
     no reaction (round-off of a solve with displacements 0.01)."""
-    text = patch_case(0.5).split("[[bc]]")[0] + '''
+    text = (
+        patch_case(0.5).split("[[bc]]")[0]
+        + '''
 [[bc]]
 body = "patch"
 edge = "bottom"
 displacement = {y = 0.01}
 '''
+    )
     scene = prepare(write_case(tmp_path, text))
     snap = solve(scene)["snapshots"][-1]
     u = np.asarray(snap["u"]).reshape(-1, 2)
@@ -127,7 +133,9 @@ def test_uniform_pressure_on_a_flat_is_read_at_every_ring(tmp_path):
     of q, and the pressure profile (lambda_n over the consistent ring area) reads q at every
     node to round-off, the axis node too (a lumped disc pi (L/2)^2 there would read 4/3 q)."""
     q = 7.0
-    text = patch_case(0.0).split("[[bc]]")[0] + f'''
+    text = (
+        patch_case(0.0).split("[[bc]]")[0]
+        + f'''
 [[bc]]
 body = "patch"
 edge = "top"
@@ -137,6 +145,7 @@ kind = "rigid_line"
 body = "patch"
 edge = "bottom"
 '''
+    )
     scene = prepare(write_case(tmp_path, text))
     snap = solve(scene)["snapshots"][-1]
     prof = contact_profile(scene, snap)
@@ -154,5 +163,4 @@ def test_the_hoop_stress_is_the_out_of_plane_component_in_axisymmetry():
     exact = np.diag([SIGMA_R, SIGMA_Z, SIGMA_R])
     tensor = r.to_meshio().cell_data["stress"][0].reshape(-1, 3, 3)
     assert np.abs(tensor - exact).max() <= 1e-11
-    assert np.abs(r.fields()["nodal_stress"] - [SIGMA_R, SIGMA_Z, SIGMA_R, 0.0]).max() \
-        <= 1e-11
+    assert np.abs(r.fields()["nodal_stress"] - [SIGMA_R, SIGMA_Z, SIGMA_R, 0.0]).max() <= 1e-11

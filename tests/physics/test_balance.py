@@ -32,8 +32,15 @@ import re
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh, shipped_cases
-from physics import (EQUILIBRIUM_TOL, balance_terms, body_sums, contact_force, node_body,
-                     obstacle_force, recomputed_reaction)
+from physics import (
+    EQUILIBRIUM_TOL,
+    balance_terms,
+    body_sums,
+    contact_force,
+    node_body,
+    obstacle_force,
+    recomputed_reaction,
+)
 
 from slipstep import build_scene, parse_case, prepare, solve
 
@@ -42,8 +49,10 @@ ROUND_OFF = 1e-12
 # The shipped cases, coarsened where a shipped mesh takes seconds (the balance holds on any
 # mesh), every event a snapshot. The 3D cases' balance is the 3D physics tests' (their meshes
 # need coarsening of their own).
-COARSE = {"cattaneo_mindlin": ["body.roller.mesh.h_contact=0.2", "body.block.mesh.h_contact=0.2"],
-          "sphere_on_flat_plastic": ["mesh.h_contact=0.02"]}
+COARSE = {
+    "cattaneo_mindlin": ["body.roller.mesh.h_contact=0.2", "body.block.mesh.h_contact=0.2"],
+    "sphere_on_flat_plastic": ["mesh.h_contact=0.02"],
+}
 SHIPPED = [p.stem for p in shipped_cases(2)]
 
 
@@ -52,14 +61,15 @@ def assert_balanced(scene, result) -> None:
     model, snaps = scene.model, result["snapshots"]
     assert snaps and "reaction" in snaps[0]
     terms = [balance_terms(model, s) for s in snaps]
-    scale = np.max([t["scale"] for t in terms], axis=0)          # (B, 2) over the run
+    scale = np.max([t["scale"] for t in terms], axis=0)  # (B, 2) over the run
     axes = [1] if model["plane"] == "axisymmetric" else [0, 1]
     for k, (snap, t) in enumerate(zip(snaps, terms)):
         where = f"snapshot {k} (t = {snap.get('t', snap['load_fraction']):.6g})"
         total = t["contact"] + t["load"] + t["reaction"]
         bad = np.abs(total[:, axes]) > EQUILIBRIUM_TOL * scale[:, axes]
-        assert not bad.any(), (f"{where}: body balance {total[:, axes]} against the forces' "
-                               f"scale {scale[:, axes]}")
+        assert not bad.any(), (
+            f"{where}: body balance {total[:, axes]} against the forces' " f"scale {scale[:, axes]}"
+        )
         _assert_obstacles(model, snap, t, scale, axes, where)
         reaction = np.asarray(snap["reaction"], dtype=float).reshape(-1)
         size = max(np.abs(reaction).max(), np.abs(t["load"]).max(), np.abs(t["contact"]).max())
@@ -75,15 +85,17 @@ def _assert_obstacles(model, snap, terms, scale, axes, where) -> None:
     for k in np.unique(contact[np.asarray(pairs["node_b"]) < 0]):
         mine = contact == k
         touched = np.unique(body[np.asarray(pairs["node_a"])[mine]])
-        others = contact_force(len(body), pairs, _zeroed(snap["lambda_n"], mine),
-                               _zeroed(snap["lambda_t"], mine))
+        others = contact_force(
+            len(body), pairs, _zeroed(snap["lambda_n"], mine), _zeroed(snap["lambda_t"], mine)
+        )
         rest = terms["load"] + terms["reaction"] + body_sums(model, others)
         f = obstacle_force(model, snap, int(k))
         gap = f + rest[touched].sum(axis=0)
         tol = EQUILIBRIUM_TOL * scale[touched].sum(axis=0)
         assert (np.abs(gap[axes]) <= tol[axes]).all(), (
             f"{where}: contact {k}'s force {f} against minus the reactions and loads of the "
-            f"bodies it touches {-rest[touched].sum(axis=0)}")
+            f"bodies it touches {-rest[touched].sum(axis=0)}"
+        )
 
 
 def _zeroed(values, mask) -> np.ndarray:
@@ -97,8 +109,10 @@ def _zeroed(values, mask) -> np.ndarray:
 @needs_gmsh
 @pytest.mark.parametrize("name", SHIPPED)
 def test_shipped_case_is_in_balance(name):
-    scene = prepare(CASES / f"{name}.toml", ["output.figures=false", "output.snapshots=events",
-                                             *COARSE.get(name, [])])
+    scene = prepare(
+        CASES / f"{name}.toml",
+        ["output.figures=false", "output.snapshots=events", *COARSE.get(name, [])],
+    )
     result = solve(scene)
     assert result["stop"]["kind"] == "completed", result["stop"]
     assert_balanced(scene, result)
@@ -152,21 +166,38 @@ TOOLS = {
     "circle": 'kind = "rigid_circle"\ncentre = [0.0, 5.0]\nradius = 5.0',
     # convex corners at (-1, 0) and (1, 0): nodes sitting on them
     "trapezoid": 'kind = "rigid_polyline"\nside = "right"\n'
-                 'points = [[-3.0, 1.0], [-1.0, 0.0], [1.0, 0.0], [3.0, 1.0]]',
+    'points = [[-3.0, 1.0], [-1.0, 0.0], [1.0, 0.0], [3.0, 1.0]]',
     "punch with sides": 'kind = "rigid_polyline"\nside = "right"\n'
-                        'points = [[-1.0, 1.0], [-1.0, 0.0], [1.0, 0.0], [1.0, 1.0]]',
+    'points = [[-1.0, 1.0], [-1.0, 0.0], [1.0, 0.0], [1.0, 1.0]]',
     # a closed square standing on a corner, walked counter-clockwise, the body outside
     "closed, body outside": 'kind = "rigid_polyline"\nside = "right"\n'
-                            'points = [[0.0, 0.0], [1.0, 1.0], [0.0, 2.0], [-1.0, 1.0], '
-                            '[0.0, 0.0]]',
+    'points = [[0.0, 0.0], [1.0, 1.0], [0.0, 2.0], [-1.0, 1.0], '
+    '[0.0, 0.0]]',
 }
 
 
-def block_scene(name: str, shape: str, plane: str = "strain", motion: str = "[0.01, -0.05]",
-                x0: float = -4.0, width: float = 8.0, extra: str = "", sets=()):
+def block_scene(
+    name: str,
+    shape: str,
+    plane: str = "strain",
+    motion: str = "[0.01, -0.05]",
+    x0: float = -4.0,
+    width: float = 8.0,
+    extra: str = "",
+    sets=(),
+):
     """The block (x0, width; 0.25 elements) under a tool of ``shape``; ``extra`` TOML added."""
-    text = BLOCK.format(name=re.sub(r"\W+", "_", name), plane=plane, x0=x0, width=width,
-                        motion=motion, shape=shape) + extra
+    text = (
+        BLOCK.format(
+            name=re.sub(r"\W+", "_", name),
+            plane=plane,
+            x0=x0,
+            width=width,
+            motion=motion,
+            shape=shape,
+        )
+        + extra
+    )
     return build_scene(parse_case(text, source=name, overrides=list(sets)))
 
 
@@ -182,9 +213,14 @@ def test_rigid_obstacle_scene_is_in_balance(name):
 
 def test_axisymmetric_punch_with_its_side_is_in_balance():
     """A flat punch of radius 1 with its side, on the axis (only the axial balance)."""
-    scene = block_scene("axisymmetric punch", 'kind = "rigid_polyline"\nside = "right"\n'
-                        'points = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]',
-                        plane="axisymmetric", motion="[0.0, -0.05]", x0=0.0, width=4.0)
+    scene = block_scene(
+        "axisymmetric punch",
+        'kind = "rigid_polyline"\nside = "right"\n' 'points = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]',
+        plane="axisymmetric",
+        motion="[0.0, -0.05]",
+        x0=0.0,
+        width=4.0,
+    )
     result = solve(scene)
     assert result["stop"]["kind"] == "completed", result["stop"]
     assert_balanced(scene, result)
@@ -205,17 +241,29 @@ def test_a_punch_posed_with_its_sides_presses_like_the_open_punch(plane, mu):
     x0, width = (0.0, 4.0) if plane == "axisymmetric" else (-4.0, 8.0)
     runs = {}
     for name, points in (("open", face), ("sides", sides)):
-        scene = block_scene(name, f'kind = "rigid_polyline"\nside = "right"\npoints = {points}',
-                            plane=plane, motion="[0.0, -0.05]", x0=x0, width=width,
-                            sets=[f"contact.mu={mu}"])
+        scene = block_scene(
+            name,
+            f'kind = "rigid_polyline"\nside = "right"\npoints = {points}',
+            plane=plane,
+            motion="[0.0, -0.05]",
+            x0=x0,
+            width=width,
+            sets=[f"contact.mu={mu}"],
+        )
         result = solve(scene)
         assert result["stop"]["kind"] == "completed"
         base = scene.support_dofs["base"]
-        runs[name] = [({tuple(xy): (ln, lt) for xy, ln, lt in
-                        zip(scene.pair_xy.round(9), s["lambda_n"], s["lambda_t"])},
-                       float(np.sum(s["lambda_n"])),
-                       float(np.asarray(s["reaction"]).reshape(-1)[base[base % 2 == 1]].sum()))
-                      for s in result["snapshots"]]
+        runs[name] = [
+            (
+                {
+                    tuple(xy): (ln, lt)
+                    for xy, ln, lt in zip(scene.pair_xy.round(9), s["lambda_n"], s["lambda_t"])
+                },
+                float(np.sum(s["lambda_n"])),
+                float(np.asarray(s["reaction"]).reshape(-1)[base[base % 2 == 1]].sum()),
+            )
+            for s in result["snapshots"]
+        ]
     assert len(runs["open"]) == len(runs["sides"])
     scale = max(force for _, force, _ in runs["open"])
     for (open_pairs, open_force, _), (side_pairs, side_force, side_base) in zip(*runs.values()):
@@ -227,7 +275,9 @@ def test_a_punch_posed_with_its_sides_presses_like_the_open_punch(plane, mu):
         assert beyond and not any(beyond), "the sides touch nothing"
 
 
-BOX = BLOCK.split("[[bc]]")[0] + """
+BOX = (
+    BLOCK.split("[[bc]]")[0]
+    + """
 [[bc]]
 name = "hold"
 body = "block"
@@ -258,6 +308,7 @@ factors = {{press = 1.0}}
 name = "push"
 factors = {{press = 1.0, push = 1.0}}
 """
+)
 
 
 def test_closed_polyline_around_the_body_is_in_balance():
@@ -265,12 +316,13 @@ def test_closed_polyline_around_the_body_is_in_balance():
     right wall meet at the block's bottom right corner, a concave corner of the box (the
     averaged normal); pressed, then pushed against the wall.  (The box's left wall stands off:
     the left side is held in x, and a corner there would stick on one free component.)"""
-    scene = build_scene(parse_case(BOX.format(name="box", plane="strain", x0=-4.0, width=8.0),
-                                   source="box"))
+    scene = build_scene(
+        parse_case(BOX.format(name="box", plane="strain", x0=-4.0, width=8.0), source="box")
+    )
     result = solve(scene)
     assert result["stop"]["kind"] == "completed", result["stop"]
     corner = np.flatnonzero(np.all(scene.pair_xy == [4.0, -4.0], axis=1))
-    assert np.allclose(scene.model["pairs"]["normal"][corner], [[-0.5 ** 0.5, 0.5 ** 0.5]])
+    assert np.allclose(scene.model["pairs"]["normal"][corner], [[-(0.5**0.5), 0.5**0.5]])
     assert result["snapshots"][-1]["lambda_n"][corner] > 0, "the corner must carry force"
     assert_balanced(scene, result)
 
@@ -279,9 +331,15 @@ def test_contact_force_on_a_held_dof_is_not_a_reaction():
     """A frictionless polyline sloping across the symmetry line x = 0 of a half block: node
     (0, 0) is held in x and pushed along the oblique normal (0.0995, -0.995)."""
     sym = '[[bc]]\nname = "symmetry"\nbody = "block"\nedge = "left"\nsymmetry = true\n'
-    scene = block_scene("oblique", 'kind = "rigid_polyline"\nside = "right"\n'
-                        'points = [[0.0, 0.0], [4.0, 0.4]]', motion="[0.0, -0.05]", x0=0.0,
-                        width=4.0, extra=sym, sets=["contact.mu=0"])
+    scene = block_scene(
+        "oblique",
+        'kind = "rigid_polyline"\nside = "right"\n' 'points = [[0.0, 0.0], [4.0, 0.4]]',
+        motion="[0.0, -0.05]",
+        x0=0.0,
+        width=4.0,
+        extra=sym,
+        sets=["contact.mu=0"],
+    )
     result = solve(scene)
     assert result["stop"]["kind"] == "completed", result["stop"]
     assert_balanced(scene, result)
@@ -290,8 +348,7 @@ def test_contact_force_on_a_held_dof_is_not_a_reaction():
 TWO_BLOCKS = (CASES / "two_blocks.toml").read_text()
 
 
-@pytest.mark.parametrize("kind, h_punch", [
-    ("node_to_node", "0.5"), ("node_to_segment", "0.4")])
+@pytest.mark.parametrize("kind, h_punch", [("node_to_node", "0.5"), ("node_to_segment", "0.4")])
 def test_deformable_pairs_are_in_balance(kind, h_punch):
     """two_blocks with matching meshes (node_to_node) and a punch meshed on its own
     (node_to_segment, 0.4 on the foundation's 0.5), friction 0.5 so that pairs stick."""
@@ -299,8 +356,9 @@ def test_deformable_pairs_are_in_balance(kind, h_punch):
     if kind == "node_to_segment":
         text = re.sub(r"\ntolerance = [^\n]*", "", text)
     text = text.replace("height = 5.0\nh = 0.5", f"height = 5.0\nh = {h_punch}")
-    scene = build_scene(parse_case(text, "two_blocks", CASES, ["output.figures=false",
-                                                               "contact.mu=0.5"]))
+    scene = build_scene(
+        parse_case(text, "two_blocks", CASES, ["output.figures=false", "contact.mu=0.5"])
+    )
     result = solve(scene)
     assert result["stop"]["kind"] == "completed", result["stop"]
     assert_balanced(scene, result)

@@ -34,7 +34,7 @@ from slipstep import build_scene, parse_case, solve
 pytestmark = needs_gmsh
 
 R, E, NU = 125.0, 70000.0, 0.3
-E_STAR = E / (2.0 * (1.0 - NU ** 2))   # two equal bodies: 1/E* = 2 (1 - nu^2)/E
+E_STAR = E / (2.0 * (1.0 - NU**2))  # two equal bodies: 1/E* = 2 (1 - nu^2)/E
 CYCLE = """
 [[stage]]
 name = "reverse"
@@ -52,8 +52,11 @@ def runs():
     text = (CASES / "cattaneo_mindlin.toml").read_text() + CYCLE
     out = {}
     for h in MESHES:
-        sets = [f"body.roller.mesh.h_contact={h}", f"body.block.mesh.h_contact={h}",
-                "output.figures=false"]
+        sets = [
+            f"body.roller.mesh.h_contact={h}",
+            f"body.block.mesh.h_contact={h}",
+            "output.figures=false",
+        ]
         scene = build_scene(parse_case(text, "cattaneo_mindlin", CASES, sets))
         result = solve(scene)
         assert result["stop"]["kind"] == "completed", result["stop"]
@@ -167,8 +170,12 @@ def cycle_energies(scene, result) -> dict:
         work += float(force @ (np.asarray(s1["u"]) - np.asarray(s0["u"])).reshape(-1))
         for lam, rel in (("lambda_t", "rtd"), ("lambda_n", "gap")):
             dissipated -= float(0.5 * (s0[lam] + s1[lam]) @ (np.asarray(s1[rel]) - s0[rel]))
-    energy = [strain_energy(scene.nodes, scene.triangles, s["stress"], body["E"], body["nu"],
-                            model["thickness"]) for s in (snaps[0], snaps[-1])]
+    energy = [
+        strain_energy(
+            scene.nodes, scene.triangles, s["stress"], body["E"], body["nu"], model["thickness"]
+        )
+        for s in (snaps[0], snaps[-1])
+    ]
     return {"work": work, "dissipated": dissipated, "elastic": energy[1] - energy[0]}
 
 

@@ -88,7 +88,11 @@ def test_every_closure_follows_hertz_growth(frictionless):
     xs = x[order]
     spacing[order] = np.maximum(np.diff(xs, prepend=xs[0]), np.diff(xs, append=xs[-1]))
     ev = result["events"]
-    closes = [(int(e), f) for k, e, f in zip(ev["kind"], ev["entity"], ev["load_fraction"]) if k == "close"]
+    closes = [
+        (int(e), f)
+        for k, e, f in zip(ev["kind"], ev["entity"], ev["load_fraction"])
+        if k == "close"
+    ]
     assert len(closes) >= 40, "the default mesh closes ~48 nodes"
     for pair, f in closes:
         assert abs(x[pair] - A_HERTZ * math.sqrt(f)) <= spacing[pair], (pair, x[pair], f)
@@ -99,8 +103,9 @@ def test_normal_force_equals_applied_load_at_every_event(frictionless):
     # contract); every event state is in equilibrium, recomputed from its stresses.
     result, _, scene = frictionless
     for snap in result["snapshots"]:
-        assert np.sum(snap["lambda_n"]) == pytest.approx(snap["load_fraction"] * P / 2,
-                                                         rel=1e-9, abs=1e-9 * P)
+        assert np.sum(snap["lambda_n"]) == pytest.approx(
+            snap["load_fraction"] * P / 2, rel=1e-9, abs=1e-9 * P
+        )
     worst, k, f = worst_equilibrium(scene.model, result["snapshots"])
     assert worst <= EQUILIBRIUM_TOL, (k, f, worst)
 

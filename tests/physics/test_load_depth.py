@@ -31,7 +31,7 @@ from slipstep.indentation import oliver_pharr
 from slipstep.resultants import drivers, step_history
 
 E, NU, R, DELTA = 70000.0, 0.3, 50.0, 1.2e-3
-E_STAR = E / (1.0 - NU ** 2)
+E_STAR = E / (1.0 - NU**2)
 
 SPHERE = f"""
 [case]
@@ -127,14 +127,18 @@ def test_oliver_pharr_of_the_closed_forms():
     assert op["E_r"] == pytest.approx(E_STAR, rel=1e-3) and op["m"] == pytest.approx(1.5, abs=1e-9)
     unload = np.linspace(0.03, 0.02, 40)
     curve = np.concatenate([np.linspace(0.0, 0.03, 20), unload[1:]])
-    P = np.concatenate([2e3 * np.linspace(0.0, 0.03, 20) ** 1.2,
-                        7e3 * (unload[1:] - 0.021).clip(0) ** 1.4 * (2e3 * 0.03 ** 1.2)
-                        / (7e3 * 0.009 ** 1.4)])
+    P = np.concatenate(
+        [
+            2e3 * np.linspace(0.0, 0.03, 20) ** 1.2,
+            7e3 * (unload[1:] - 0.021).clip(0) ** 1.4 * (2e3 * 0.03**1.2) / (7e3 * 0.009**1.4),
+        ]
+    )
     op = oliver_pharr(curve, P, "vickers")
     assert op["h_f"] == pytest.approx(0.021, rel=1e-6) and op["m"] == pytest.approx(1.4, rel=1e-6)
     S = P[19] * 1.4 / (0.03 - 0.021)
     assert op["S"] == pytest.approx(S, rel=1e-6)
     h_c = 0.03 - 0.72 * P[19] / S
-    assert op["A"] == pytest.approx(4 * math.tan(math.radians(68)) ** 2 * h_c ** 2, rel=1e-6)
-    assert op["E_r"] == pytest.approx(math.sqrt(math.pi) * S / (2 * 1.012 * math.sqrt(op["A"])),
-                                      rel=1e-12)
+    assert op["A"] == pytest.approx(4 * math.tan(math.radians(68)) ** 2 * h_c**2, rel=1e-6)
+    assert op["E_r"] == pytest.approx(
+        math.sqrt(math.pi) * S / (2 * 1.012 * math.sqrt(op["A"])), rel=1e-12
+    )

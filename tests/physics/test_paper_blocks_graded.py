@@ -59,7 +59,7 @@ def compare(case: str, h: float, common=()) -> tuple[float, dict]:
             assert np.abs(b[k]).max() == 0, k
             continue
         d = np.abs(b[k] - a[k]) / peak
-        diff[k] = (float(np.sqrt(np.mean(d ** 2))), float(d.max()))
+        diff[k] = (float(np.sqrt(np.mean(d**2))), float(d.max()))
     return len(s0.nodes) / len(s1.nodes), diff
 
 

@@ -50,14 +50,14 @@ K = SY / math.sqrt(3.0)
 # --------------------------------------------------------------------------- closed forms
 def lame_von_mises(r, p=1.0):
     """Von Mises stress of the elastic (Lame) state at radius r under pressure p."""
-    A = p * A_IN ** 2 / (B_OUT ** 2 - A_IN ** 2)
-    B = p * A_IN ** 2 * B_OUT ** 2 / (B_OUT ** 2 - A_IN ** 2)
-    return np.sqrt(3.0 * B ** 2 / np.asarray(r) ** 4 + (1.0 - 2.0 * NU) ** 2 * A ** 2)
+    A = p * A_IN**2 / (B_OUT**2 - A_IN**2)
+    B = p * A_IN**2 * B_OUT**2 / (B_OUT**2 - A_IN**2)
+    return np.sqrt(3.0 * B**2 / np.asarray(r) ** 4 + (1.0 - 2.0 * NU) ** 2 * A**2)
 
 
-P_ELASTIC = SY / lame_von_mises(A_IN)            # exact elastic limit, 108.07 MPa
-P_ELASTIC_HILL = K * (1.0 - A_IN ** 2 / B_OUT ** 2)  # Hill's (incompressible) value
-P_LIMIT = 2.0 * K * math.log(B_OUT / A_IN)       # fully plastic
+P_ELASTIC = SY / lame_von_mises(A_IN)  # exact elastic limit, 108.07 MPa
+P_ELASTIC_HILL = K * (1.0 - A_IN**2 / B_OUT**2)  # Hill's (incompressible) value
+P_LIMIT = 2.0 * K * math.log(B_OUT / A_IN)  # fully plastic
 
 
 def hill_pressure(c):
@@ -87,7 +87,7 @@ def areas(scene):
 
 def area_radius(scene, plastic):
     """c such that the quarter ring a..c has the area of the plastic elements."""
-    return math.sqrt(A_IN ** 2 + 4.0 * areas(scene)[plastic].sum() / math.pi)
+    return math.sqrt(A_IN**2 + 4.0 * areas(scene)[plastic].sum() / math.pi)
 
 
 def separating_radius(r, plastic):
@@ -150,7 +150,7 @@ def test_run_completes_in_equilibrium_with_yield_events_only(cylinder):
     # an equilibrium correction moves them along a tangent K has not renewed yet (grouped
     # increments, the default): at most max_stress_step² = 0.05² (the drift that makes the
     # engine settle on the surfaces); event by event it is ~1e-5.
-    assert result["max_drift"] <= 0.05 ** 2
+    assert result["max_drift"] <= 0.05**2
 
 
 @needs_gmsh
@@ -170,8 +170,9 @@ def test_elastic_limit_on_the_case_mesh(cylinder):
 @needs_gmsh
 def test_elastic_limit_on_a_fine_mesh():
     """h = 0.0625 mm at the bore, stopped at the first yield event (0.3 s): within 0.5 %."""
-    scene = prepare(CASE, ["mesh.h=0.0625", "solver.stop_at_first_yield=true",
-                           "output.snapshots=[1.0]"])
+    scene = prepare(
+        CASE, ["mesh.h=0.0625", "solver.stop_at_first_yield=true", "output.snapshots=[1.0]"]
+    )
     result = solve(scene)
     f, element = first_yield(result)
     assert len(result["events"]["step"]) == 1 and result["steps"]["load_fraction"][-1] == f
@@ -212,13 +213,14 @@ def test_radial_reference_against_lame_and_hill():
     p_el = 0.9 * P_ELASTIC
     elastic = radial.solve(A_IN, B_OUT, E, NU, SY, [p_el])
     assert elastic.c[0] == A_IN
-    lame_ub = (1 + NU) / E * p_el * A_IN ** 2 / (B_OUT ** 2 - A_IN ** 2) * ((1 - 2 * NU) * B_OUT + B_OUT)
+    lame_ub = (1 + NU) / E * p_el * A_IN**2 / (B_OUT**2 - A_IN**2) * ((1 - 2 * NU) * B_OUT + B_OUT)
     assert elastic.u_outer[0] == pytest.approx(lame_ub, rel=1e-6)
     near_incompressible = radial.solve(A_IN, B_OUT, E, 0.49, SY, [P])
     assert near_incompressible.c[0] == pytest.approx(hill_radius(P), rel=1e-4)
     at_nu = radial.solve(A_IN, B_OUT, E, NU, SY, [P])
-    fine = radial.solve(A_IN, B_OUT, E, NU, SY, [P], n_elements=4 * radial.N_ELEMENTS,
-                        n_steps=4 * radial.N_STEPS)
+    fine = radial.solve(
+        A_IN, B_OUT, E, NU, SY, [P], n_elements=4 * radial.N_ELEMENTS, n_steps=4 * radial.N_STEPS
+    )
     assert at_nu.c[0] == pytest.approx(fine.c[0], rel=1e-5)
     assert 0.003 < at_nu.c[0] / hill_radius(P) - 1 < 0.006
 
@@ -233,7 +235,7 @@ def test_hill_yield_condition_in_the_plastic_zone(cylinder):
     centre = scene.nodes[scene.triangles].mean(axis=1)
     c, s = (centre / np.linalg.norm(centre, axis=1, keepdims=True)).T
     sx, sy, _, txy = np.asarray(snap["stress"]).T
-    diff = (sy - sx) * (c ** 2 - s ** 2) - 4.0 * txy * c * s  # sigma_theta - sigma_r
+    diff = (sy - sx) * (c**2 - s**2) - 4.0 * txy * c * s  # sigma_theta - sigma_r
     ratio = diff[plastic] / (2.0 * K)
     assert ratio.max() <= 1.0 + 1e-6 and ratio.min() >= 0.99
 

@@ -54,7 +54,15 @@ def plastic_runs():
     each), a snapshot after every event."""
     runs = {}
     for mu in (0.0, 0.1, 0.35):
-        scene = prepare(None, overrides=[*PLASTIC, "mesh.h_contact=0.15", f"contact.mu={mu}", "output.snapshots=events"])
+        scene = prepare(
+            None,
+            overrides=[
+                *PLASTIC,
+                "mesh.h_contact=0.15",
+                f"contact.mu={mu}",
+                "output.snapshots=events",
+            ],
+        )
         runs[mu] = scene, solve(scene)
     return runs
 
@@ -63,9 +71,13 @@ def plastic_zone(scene, result):
     last = result["snapshots"][-1]
     ever = np.flatnonzero(np.asarray(last["plastic_strain"]) > 0)
     tri = scene.nodes[scene.triangles[ever]]
-    area = 0.5 * np.abs((tri[:, 1, 0] - tri[:, 0, 0]) * (tri[:, 2, 1] - tri[:, 0, 1])
-                        - (tri[:, 2, 0] - tri[:, 0, 0]) * (tri[:, 1, 1] - tri[:, 0, 1]))
-    closed = set(np.asarray(scene.model["pairs"]["node_a"])[np.asarray(last["status"]) > 0].tolist())
+    area = 0.5 * np.abs(
+        (tri[:, 1, 0] - tri[:, 0, 0]) * (tri[:, 2, 1] - tri[:, 0, 1])
+        - (tri[:, 2, 0] - tri[:, 0, 0]) * (tri[:, 1, 1] - tri[:, 0, 1])
+    )
+    closed = set(
+        np.asarray(scene.model["pairs"]["node_a"])[np.asarray(last["status"]) > 0].tolist()
+    )
     touches_surface = any(closed & set(scene.triangles[e].tolist()) for e in ever)
     return area.sum(), touches_surface
 
@@ -81,10 +93,14 @@ def test_runs_complete_in_equilibrium(plastic_runs):
             r = equilibrium_residual(scene.model, snap)
             if r > EQUILIBRIUM_TOL:
                 failures.append((mu, k, float(snap["load_fraction"]), r))
-        np.testing.assert_allclose(steps["normal_force"], np.asarray(steps["load_fraction"]) * 500.0, rtol=1e-9)
+        np.testing.assert_allclose(
+            steps["normal_force"], np.asarray(steps["load_fraction"]) * 500.0, rtol=1e-9
+        )
         assert "yield" in result["events"]["kind"]
         last = result["snapshots"][-1]
-        assert np.all(np.abs(last["lambda_t"]) <= mu * np.asarray(last["lambda_n"]) * (1 + 1e-9) + 1e-12)
+        assert np.all(
+            np.abs(last["lambda_t"]) <= mu * np.asarray(last["lambda_n"]) * (1 + 1e-9) + 1e-12
+        )
     assert not failures, f"(mu, snapshot, load fraction, residual) out of equilibrium: {failures}"
 
 
@@ -100,13 +116,13 @@ def test_drift_bounded_and_smaller_than_paper_exact(plastic_runs):
     # yield surface is second order in that step: bound 0.05^2 = 2.5e-3. The paper's procedure
     # (frozen tangent, no bound, no return) drifts more on the same scene.
     scene, result = plastic_runs[0.35]
-    assert result["max_drift"] <= 0.05 ** 2
+    assert result["max_drift"] <= 0.05**2
     scene.model["options"]["drift_control"] = False
     exact = solve(scene)
     assert exact["max_drift"] > result["max_drift"]
 
 
-@pytest.mark.parametrize("turn, tolerance", [(0.0, 1e-9), (None, 0.05 * 0.05 ** 2)])
+@pytest.mark.parametrize("turn, tolerance", [(0.0, 1e-9), (None, 0.05 * 0.05**2)])
 def test_unloading_is_elastic(turn, tolerance):
     # mu = 0.35 redistributes stress near the surface: some plastic elements unload. After its
     # `unload` event an element's plastic strain must stay frozen (elastic response) until it
@@ -120,20 +136,38 @@ def test_unloading_is_elastic(turn, tolerance):
     # Event by event (group_tol = 0): the unload events and their states are the subject here
     # (grouped increments integrate unloading and re-yield inside an increment).
     extra = [] if turn is None else [f"solver.tangent_turn={turn}"]
-    scene = prepare(None, overrides=[*PLASTIC, "mesh.h_contact=0.15", "contact.mu=0.35", "output.snapshots=events", "solver.group_tol=0", *extra])
+    scene = prepare(
+        None,
+        overrides=[
+            *PLASTIC,
+            "mesh.h_contact=0.15",
+            "contact.mu=0.35",
+            "output.snapshots=events",
+            "solver.group_tol=0",
+            *extra,
+        ],
+    )
     result = solve(scene)
     ev = result["events"]
-    unloads = [(int(s), int(e)) for s, k, e in zip(ev["step"], ev["kind"], ev["entity"]) if k == "unload"]
+    unloads = [
+        (int(s), int(e)) for s, k, e in zip(ev["step"], ev["kind"], ev["entity"]) if k == "unload"
+    ]
     assert unloads, "this scene has unloading elements"
     snaps = result["snapshots"]  # snapshot k + 1 is the state after step k
     for step, e in unloads:
-        later_yield = [int(s) for s, k, x in zip(ev["step"], ev["kind"], ev["entity"]) if k == "yield" and x == e and s > step]
+        later_yield = [
+            int(s)
+            for s, k, x in zip(ev["step"], ev["kind"], ev["entity"])
+            if k == "yield" and x == e and s > step
+        ]
         end = later_yield[0] if later_yield else len(snaps) - 2
         ep = [snaps[k + 1]["plastic_strain"][e] for k in range(step, end + 1)]
         assert max(ep) - min(ep) <= 1e-12 * max(ep[0], 1e-12), (e, ep[:3])
         for k in range(step, end + 1):
             s = np.asarray(snaps[k + 1]["stress"][e])
-            se = np.sqrt(0.5 * ((s[0] - s[1]) ** 2 + (s[1] - s[2]) ** 2 + (s[2] - s[0]) ** 2) + 3 * s[3] ** 2)
+            se = np.sqrt(
+                0.5 * ((s[0] - s[1]) ** 2 + (s[1] - s[2]) ** 2 + (s[2] - s[0]) ** 2) + 3 * s[3] ** 2
+            )
             assert se <= (SY + H * ep[0]) * (1 + tolerance)
 
 
@@ -144,7 +178,9 @@ def test_yield_drift_field_matches_the_engine_measure(tmp_path):
 
     from slipstep import output
 
-    scene = prepare(None, overrides=[*PLASTIC, "mesh.h_contact=0.15", "output.snapshots=[0.8, 1.0]"])
+    scene = prepare(
+        None, overrides=[*PLASTIC, "mesh.h_contact=0.15", "output.snapshots=[0.8, 1.0]"]
+    )
     result = solve(scene)
     output.write_xdmf(tmp_path, scene, result)
     with h5py.File(tmp_path / "results.h5") as h5:

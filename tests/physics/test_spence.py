@@ -42,10 +42,15 @@ from slipstep.summary import summarize
 
 NU = 0.3
 BETA = dundurs_beta(NU)
-H = 0.02                      # h_contact, mm: the node spacing at the contact
-PANELS = 500                  # collocation panels on 0 < x < a for the reference
-SCENE = ["load.P=10", "mesh.R=12500", "mesh.h_max=400", f"mesh.h_contact={H}",
-         "output.snapshots=events"]
+H = 0.02  # h_contact, mm: the node spacing at the contact
+PANELS = 500  # collocation panels on 0 < x < a for the reference
+SCENE = [
+    "load.P=10",
+    "mesh.R=12500",
+    "mesh.h_max=400",
+    f"mesh.h_contact={H}",
+    "output.snapshots=events",
+]
 
 
 @pytest.fixture(scope="module")
@@ -77,7 +82,9 @@ def test_goodman_closed_form_and_its_limits():
     # c(β/μ)² + c(μ/β)² = 1.  Round-off of the root finder (xtol 1e-15): 1e-12.
     assert goodman_stick_ratio(1.0) == pytest.approx(1 / math.sqrt(2), abs=1e-12)
     for b in (0.3, 1.7, 5.0):
-        assert goodman_stick_ratio(b) ** 2 + goodman_stick_ratio(1 / b) ** 2 == pytest.approx(1.0, abs=1e-12)
+        assert goodman_stick_ratio(b) ** 2 + goodman_stick_ratio(1 / b) ** 2 == pytest.approx(
+            1.0, abs=1e-12
+        )
     # Asymptotes (K'(k) = ln(4/k) + O(k² ln k), K(k) = π/2 + O(k²)): c/a ≈ 4 exp(−πβ/(2μ)) for
     # small μ/β, with a relative error O((c/a)²); and √(1 − (c/a)²) the same with μ/β (taken
     # where 1 − (c/a)² is still far above round-off).
@@ -155,7 +162,12 @@ def test_stick_zone_is_self_similar_over_the_loading(engine_run, reference):
         stick_edge = (x[last_stick], x[last_stick + 1])
         scaled_edge = (k * x[last_closed], k * x[last_closed + 1])
         apart = max(0.0, scaled_edge[0] - stick_edge[1], stick_edge[0] - scaled_edge[1])
-        assert apart <= H + x[last_closed + 1] / PANELS, (mu, snap["load_fraction"], stick_edge, scaled_edge)
+        assert apart <= H + x[last_closed + 1] / PANELS, (
+            mu,
+            snap["load_fraction"],
+            stick_edge,
+            scaled_edge,
+        )
         checked += 1
     assert checked >= 30
 

@@ -53,14 +53,18 @@ from conftest import CASES, needs_gmsh
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 from slipstep import prepare, solve
 from slipstep.case import load_case
-from slipstep.references import (jackson_green, jackson_green_critical, kogut_etsion,
-                                  kogut_etsion_critical)
+from slipstep.references import (
+    jackson_green,
+    jackson_green_critical,
+    kogut_etsion,
+    kogut_etsion_critical,
+)
 
 CASE = CASES / "sphere_on_flat_plastic.toml"
 _data = load_case(CASE).data
 _mesh, _mat = _data["body"][0]["mesh"], _data["body"][0]["material"]
 R, E, NU, Y = _mesh["R"], _mat["E"], _mat["nu"], _mat["Sy"]
-E_STAR = E / (1 - NU ** 2)
+E_STAR = E / (1 - NU**2)
 OMEGA_MAX = _data["contact"][0]["motion"][1]
 KE = kogut_etsion_critical(R, E_STAR, Y, NU)
 JG = jackson_green_critical(R, E_STAR, Y, NU)
@@ -95,8 +99,7 @@ def compared(curve, crit, w_lo=W_RANGE[0]):
     omega, a, P, h = curve
     w = omega / crit.interference
     keep = w >= w_lo
-    return (w[keep], P[keep] / crit.force, math.pi * a[keep] ** 2 / crit.area,
-            h[keep] / a[keep])
+    return (w[keep], P[keep] / crit.force, math.pi * a[keep] ** 2 / crit.area, h[keep] / a[keep])
 
 
 @pytest.fixture(scope="module")
@@ -113,26 +116,31 @@ def test_fit_formulas_at_hand_worked_values():
     """The fits at values worked out by hand from the papers' constants (nu = 0.3):
     K = 0.454 + 0.41 nu = 0.577, KH = 2.8 K Y = 1.6156 Y; C = 1.295 e^(0.2208) = 1.61496;
     B = 0.14 exp(23 Y/E*) = 0.14 e^(0.041860) = 0.14598."""
-    assert KE.interference == pytest.approx((math.pi * 1.6156 * Y / (2 * E_STAR)) ** 2 * R,
-                                            rel=1e-12)
-    assert JG.interference == pytest.approx((math.pi * 1.614961 * Y / (2 * E_STAR)) ** 2 * R,
-                                            rel=1e-6)
+    assert KE.interference == pytest.approx(
+        (math.pi * 1.6156 * Y / (2 * E_STAR)) ** 2 * R, rel=1e-12
+    )
+    assert JG.interference == pytest.approx(
+        (math.pi * 1.614961 * Y / (2 * E_STAR)) ** 2 * R, rel=1e-6
+    )
     for crit in (KE, JG):  # P_c and A_c are Hertz's values at omega_c
-        assert crit.force == pytest.approx(4 / 3 * E_STAR * math.sqrt(R) * crit.interference
-                                           ** 1.5, rel=1e-12)
+        assert crit.force == pytest.approx(
+            4 / 3 * E_STAR * math.sqrt(R) * crit.interference**1.5, rel=1e-12
+        )
         assert crit.area == pytest.approx(math.pi * R * crit.interference, rel=1e-12)
     P, A = kogut_etsion([0.5, 2.0, 20.0])
-    assert P == pytest.approx([0.5 ** 1.5, 1.03 * 2 ** 1.425, 1.40 * 20 ** 1.263], rel=1e-12)
-    assert A == pytest.approx([0.5, 0.93 * 2 ** 1.136, 0.94 * 20 ** 1.146], rel=1e-12)
+    assert P == pytest.approx([0.5**1.5, 1.03 * 2**1.425, 1.40 * 20**1.263], rel=1e-12)
+    assert A == pytest.approx([0.5, 0.93 * 2**1.136, 0.94 * 20**1.146], rel=1e-12)
     P, A = jackson_green([1.0, 20.0], R, E_STAR, Y, NU)
     B = 0.14 * math.exp(23 * Y / E_STAR)
     assert B == pytest.approx(0.14598, abs=1e-5)
     assert A == pytest.approx([1.0, 20 * (20 / 1.9) ** B], rel=1e-12)
-    a = math.sqrt(A[1] * JG.area / math.pi)   # 0.246 mm: H_G = 2.84 Y to 4e-6
+    a = math.sqrt(A[1] * JG.area / math.pi)  # 0.246 mm: H_G = 2.84 Y to 4e-6
     h_g = 2.84 * (1 - math.exp(-0.82 * (a / R) ** -0.7))
-    assert P[1] == pytest.approx(math.exp(-20 ** (5 / 12) / 4) * 20 ** 1.5
-                                 + 4 * h_g / 1.614961 * (1 - math.exp(-20 ** (5 / 9) / 25)) * 20,
-                                 rel=1e-6)
+    assert P[1] == pytest.approx(
+        math.exp(-(20 ** (5 / 12)) / 4) * 20**1.5
+        + 4 * h_g / 1.614961 * (1 - math.exp(-(20 ** (5 / 9)) / 25)) * 20,
+        rel=1e-6,
+    )
 
 
 def fit_spread(w):
@@ -140,8 +148,10 @@ def fit_spread(w):
     fit normalised by its own critical values, compared in absolute terms)."""
     Pk, Ak = kogut_etsion(w)
     Pj, Aj = jackson_green(w * KE.interference / JG.interference, R, E_STAR, Y, NU)
-    return (float(np.abs(Pk * KE.force / (Pj * JG.force) - 1).max()),
-            float(np.abs(Ak * KE.area / (Aj * JG.area) - 1).max()))
+    return (
+        float(np.abs(Pk * KE.force / (Pj * JG.force) - 1).max()),
+        float(np.abs(Ak * KE.area / (Aj * JG.area) - 1).max()),
+    )
 
 
 #: The two fits, fitted to two independent finite-element studies of the same problem, differ
@@ -222,8 +232,11 @@ def test_force_and_area_against_the_fits(runs, fit):
     -4.8 % .. +0.3 % (JG); A +2.3 % .. +10.9 % (KE: its fit starts 7 % below Hertz at
     omega_c), +3.6 % .. +7.7 % (JG)."""
     scene, result, curve = runs["case"]
-    crit, formula = ((KE, lambda w: kogut_etsion(w)) if fit == "KE" else
-                     (JG, lambda w: jackson_green(w, R, E_STAR, Y, NU)))
+    crit, formula = (
+        (KE, lambda w: kogut_etsion(w))
+        if fit == "KE"
+        else (JG, lambda w: jackson_green(w, R, E_STAR, Y, NU))
+    )
     w, P, A, h_over_a = compared(curve, crit)
     assert len(w) >= 25 and w[-1] >= 40
     P_fit, A_fit = formula(w)
@@ -244,11 +257,11 @@ def test_refinement(runs):
     result = runs["case"][1]
     omega, _, P_coarse, _ = coarse
     keep = omega >= KE.interference
-    P = np.interp(omega[keep] / OMEGA_MAX, result["steps"]["load_fraction"],
-                  result["steps"]["normal_force"])
+    P = np.interp(
+        omega[keep] / OMEGA_MAX, result["steps"]["load_fraction"], result["steps"]["normal_force"]
+    )
     assert np.abs(P_coarse[keep] / P - 1).max() <= MESH_P
-    for crit, formula in ((KE, kogut_etsion),
-                          (JG, lambda w: jackson_green(w, R, E_STAR, Y, NU))):
+    for crit, formula in ((KE, kogut_etsion), (JG, lambda w: jackson_green(w, R, E_STAR, Y, NU))):
         err = []
         for curve in (coarse, fine):
             w, _, A, _ = compared(curve, crit, w_lo=2.0)

@@ -57,8 +57,8 @@ def spherical(scene, stress):
     rho = np.linalg.norm(centre, axis=1)
     c, s = (centre / rho[:, None]).T  # c = r/rho, s = z/rho
     sr, sz, st, trz = np.asarray(stress, dtype=float).T
-    radial = sr * c ** 2 + sz * s ** 2 + 2 * trz * c * s
-    meridional = sr * s ** 2 + sz * c ** 2 - 2 * trz * c * s
+    radial = sr * c**2 + sz * s**2 + 2 * trz * c * s
+    meridional = sr * s**2 + sz * c**2 - 2 * trz * c * s
     return rho, radial, st, meridional
 
 
@@ -95,15 +95,24 @@ def test_elastic_lame_field_converges():
     ring forces)."""
     rows = []
     for k in (2.0, 1.0, 0.5):
-        scene = prepare(CASE, ["material.Sy=1e9", "output.snapshots=[0.5]",
-                               f"mesh.h={H_BORE * k}", f"mesh.h_outer={H_OUTER * k}"])
+        scene = prepare(
+            CASE,
+            [
+                "material.Sy=1e9",
+                "output.snapshots=[0.5]",
+                f"mesh.h={H_BORE * k}",
+                f"mesh.h_outer={H_OUTER * k}",
+            ],
+        )
         snap = solve(scene)["snapshots"][0]
         assert physics.equilibrium_residual(scene.model, snap) < EQUILIBRIUM_TOL
         p = P * snap["load_fraction"]
         rho, radial, hoop, meridional = spherical(scene, snap["stress"])
         sr, st = references.thick_sphere_lame(rho, p, A_IN, B_OUT)
-        rms = [float(np.sqrt(np.mean(((fe - ref) / p) ** 2)))
-               for fe, ref in ((radial, sr), (hoop, st), (meridional, st))]
+        rms = [
+            float(np.sqrt(np.mean(((fe - ref) / p) ** 2)))
+            for fe, ref in ((radial, sr), (hoop, st), (meridional, st))
+        ]
         u = np.asarray(snap["u"]).reshape(-1, 2)
         rn = np.linalg.norm(scene.nodes, axis=1)
         ur = np.einsum("ij,ij->i", u, scene.nodes) / rn
@@ -130,7 +139,7 @@ def test_run_completes_in_equilibrium_with_yield_events_only(sphere):
     # an equilibrium correction moves them along a tangent K has not renewed yet (grouped
     # increments, the default): at most max_stress_step² = 0.05² (the drift that makes the
     # engine settle on the surfaces); event by event it is ~1e-5.
-    assert result["max_drift"] <= 0.05 ** 2
+    assert result["max_drift"] <= 0.05**2
 
 
 @needs_gmsh
@@ -166,7 +175,7 @@ def test_plastic_radius_follows_hill(sphere):
             continue
         plastic = np.asarray(snap["plastic"]).astype(bool)
         c_hill = references.thick_sphere_radius(p, A_IN, B_OUT, Y)
-        c_vol = (A_IN ** 3 + 1.5 * vol[plastic].sum() / math.pi) ** (1 / 3)
+        c_vol = (A_IN**3 + 1.5 * vol[plastic].sum() / math.pi) ** (1 / 3)
         inside, outside = rho[plastic].max(), rho[~plastic].min()
         assert abs(c_vol - c_hill) <= element_size(c_hill) / 4, (p, c_vol, c_hill)
         assert inside - outside <= 2 * element_size(c_hill)  # a shell, up to a ragged front
@@ -202,6 +211,6 @@ def test_run_beyond_the_limit_load_stops_at_hills_limit():
     assert result["stop"]["kind"] == "limit_load", result["stop"]
     p_stop = result["steps"]["load_fraction"][-1] * 1.1 * P_LIMIT
     assert p_stop == pytest.approx(P_LIMIT, rel=0.02)
-    assert physics.von_mises(result["snapshots"][-1]["stress"]).max() <= Y * (1 + 0.05 ** 2)
+    assert physics.von_mises(result["snapshots"][-1]["stress"]).max() <= Y * (1 + 0.05**2)
     worst, k, f = worst_equilibrium(scene.model, result["snapshots"])
     assert worst <= EQUILIBRIUM_TOL, (k, f, worst)

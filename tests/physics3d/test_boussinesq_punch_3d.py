@@ -38,7 +38,7 @@ import slipstep
 
 CASE = CASES / "boussinesq_punch_3d.toml"
 A, E, NU, DELTA, L, H, GROWTH = 1.0, 70000.0, 0.3, 0.001, 30.0, 0.1, 0.2
-P = 2 * A * E / (1 - NU ** 2) * DELTA
+P = 2 * A * E / (1 - NU**2) * DELTA
 
 
 @pytest.fixture(scope="module")
@@ -58,7 +58,7 @@ def punch_force(run, snap) -> float:
 def test_force_against_boussinesq(run):
     assert run.completed
     force = punch_force(run, run.raw["snapshots"][-1])
-    assert -H / A <= force / P - 1 <= H / A + GROWTH ** 2 + 2 * A / (math.pi * L), (force, P)
+    assert -H / A <= force / P - 1 <= H / A + GROWTH**2 + 2 * A / (math.pi * L), (force, P)
 
 
 @needs_gmsh

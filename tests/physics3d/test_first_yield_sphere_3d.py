@@ -32,12 +32,16 @@ from slipstep.references import sphere_axis_stresses
 
 H, SY = 0.03, 130.0
 P, R, E, NU = 30.0, 50.0, 70000.0, 0.3
-A = (3 * P * R * (1 - NU ** 2) / (4 * E)) ** (1 / 3)
-P0 = 3 * P / (2 * math.pi * A ** 2)
-HUBER_P0_OVER_SY = 1.61     # p0 / Sy at first yield (Johnson §6.2, nu = 0.3)
-HUBER_DEPTH = 0.48          # z / a of the axis maximum of von Mises (nu = 0.3)
-OVERRIDES = [f"mesh.h_contact={H}", f"material.Sy={SY}", "solver.stop_at_first_yield=true",
-             "output.snapshots=[1.0]"]
+A = (3 * P * R * (1 - NU**2) / (4 * E)) ** (1 / 3)
+P0 = 3 * P / (2 * math.pi * A**2)
+HUBER_P0_OVER_SY = 1.61  # p0 / Sy at first yield (Johnson §6.2, nu = 0.3)
+HUBER_DEPTH = 0.48  # z / a of the axis maximum of von Mises (nu = 0.3)
+OVERRIDES = [
+    f"mesh.h_contact={H}",
+    f"material.Sy={SY}",
+    "solver.stop_at_first_yield=true",
+    "output.snapshots=[1.0]",
+]
 
 
 def axis_band(tol: float) -> tuple[float, float]:

@@ -33,9 +33,11 @@ H = 0.05
 
 @needs_gmsh
 def test_frictionless_contact_forces_are_those_of_slipstep(tmp_path):
-    result = slipstep.run(getfem_hertz_3d.CASE, overrides=[f"mesh.h_contact={H}",
-                                                           "output.snapshots=[1.0]"],
-                          progress=False)
+    result = slipstep.run(
+        getfem_hertz_3d.CASE,
+        overrides=[f"mesh.h_contact={H}", "output.snapshots=[1.0]"],
+        progress=False,
+    )
     spec = getfem_hertz_3d.scene_spec(H, "tuned", tmp_path / "scene.msh")
     # the same candidates, in the same order: slipstep's pairs
     assert np.array_equal(np.asarray(spec["candidates"]), result.scene.pair_xy)

@@ -42,7 +42,10 @@ def test_the_half_sphere_is_the_eighth_mirrored(mu):
     eighth, half = run(mu, half=False), run(mu, half=True)
     assert eighth.completed and half.completed, (eighth.stop, half.stop)
     a, b = eighth.summary, half.summary
-    assert abs(b["contact_radius"] - a["contact_radius"]) <= 0.5 * H, (b["contact_radius"], a["contact_radius"])
+    assert abs(b["contact_radius"] - a["contact_radius"]) <= 0.5 * H, (
+        b["contact_radius"],
+        a["contact_radius"],
+    )
     assert abs(b["stick_radius"] - a["stick_radius"]) <= H, (b["stick_radius"], a["stick_radius"])
     assert b["peak_pressure"] == pytest.approx(a["peak_pressure"], rel=0.02)
     assert b["n_events"] <= 6 * a["n_events"], (b["n_events"], a["n_events"])

@@ -44,12 +44,12 @@ CASE = CASES / "hertz_sphere_3d.toml"
 AXI = CASES / "hertz_sphere.toml"
 H = 0.02
 P, R, E, NU = 30.0, 50.0, 70000.0, 0.3
-E_STAR = E / (1 - NU ** 2)
+E_STAR = E / (1 - NU**2)
 A = (3 * P * R / (4 * E_STAR)) ** (1 / 3)
-P0 = 3 * P / (2 * math.pi * A ** 2)
+P0 = 3 * P / (2 * math.pi * A**2)
 OUT = ["output.snapshots=[1.0]"]
-DEPTHS = (1.0, 1.5)          # z/a where the approach is measured: inside the fine zone (1.6 a)
-MUTANTS = (1.05, 0.95)       # E x these: runs the approach check must reject
+DEPTHS = (1.0, 1.5)  # z/a where the approach is measured: inside the fine zone (1.6 a)
+MUTANTS = (1.05, 0.95)  # E x these: runs the approach check must reject
 
 
 @pytest.fixture(scope="module")
@@ -61,16 +61,29 @@ def run3d():
 @pytest.fixture(scope="module")
 def mutants():
     pytest.importorskip("gmsh")
-    return {k: slipstep.run(CASE, overrides=[f"mesh.h_contact={H}", f"material.E={E * k}", *OUT],
-                            progress=False) for k in MUTANTS}
+    return {
+        k: slipstep.run(
+            CASE, overrides=[f"mesh.h_contact={H}", f"material.E={E * k}", *OUT], progress=False
+        )
+        for k in MUTANTS
+    }
 
 
 def approach_errors(result) -> list[float]:
     """The approach's relative errors at DEPTHS against Hertz for the nominal E (P = 30 N)."""
     snap = result.raw["snapshots"][-1]
-    return hertz_approach_errors(result.scene.nodes, result.scene.tetrahedra, snap["u"], P, R, E,
-                                 NU, origin=[0.0, 0.0, 0.0], inward=[0.0, 0.0, 1.0],
-                                 depths=DEPTHS)
+    return hertz_approach_errors(
+        result.scene.nodes,
+        result.scene.tetrahedra,
+        snap["u"],
+        P,
+        R,
+        E,
+        NU,
+        origin=[0.0, 0.0, 0.0],
+        inward=[0.0, 0.0, 1.0],
+        depths=DEPTHS,
+    )
 
 
 def approach_within_bound(result) -> bool:
@@ -119,7 +132,7 @@ def test_pressure_profile_against_hertz(run3d):
     inside = r < 0.8 * A
     assert inside.sum() >= 10  # nodes enough for an rms
     dev = (prof["pressure"][inside] - P0 * np.sqrt(1 - (r[inside] / A) ** 2)) / P0
-    assert math.sqrt(np.mean(dev ** 2)) <= H / (2 * A)
+    assert math.sqrt(np.mean(dev**2)) <= H / (2 * A)
     # outside the contact (beyond a + h) every candidate is open
     assert (prof["status"][r > A + H] == 0).all()
 

@@ -92,7 +92,7 @@ def test_the_block_yields_under_the_pyramid(indented):
     _, result, mirror = indented
     numbers = result.summary["stages"][0]["contacts"]["pyramid"]
     mean = force(result, mirror, 1.0, 1) / numbers["contact_area"]
-    elastic = E / (1 - NU ** 2) * math.tan(math.radians(22.0)) / 2
+    elastic = E / (1 - NU**2) * math.tan(math.radians(22.0)) / 2
     assert 2 * SY <= mean <= elastic / 5, (mean / SY, elastic / SY)
     assert result.summary["n_yielded_elements"] > 0
 

@@ -71,10 +71,10 @@ from slipstep.space.contact_geometry import tributary_areas
 from slipstep.space.contact_measures import contact_numbers_3d, row_forces
 
 R, E, NU, MU = 50.0, 70000.0, 0.3, 0.3
-E_STAR, G = E / (2 * (1 - NU ** 2)), E / (2 * (1 + NU))
-COARSE, FINE = (0.06, 0.045), (0.04, 0.03)   # the sphere's and the block's contact spacings
-TRACTION = 7.153e-4          # MPa on the cut: Q* = 0.6 mu P at the measured P (~31.5 N)
-PER_STAGE = 12               # snapshots in the shear and in its reversal
+E_STAR, G = E / (2 * (1 - NU**2)), E / (2 * (1 + NU))
+COARSE, FINE = (0.06, 0.045), (0.04, 0.03)  # the sphere's and the block's contact spacings
+TRACTION = 7.153e-4  # MPa on the cut: Q* = 0.6 mu P at the measured P (~31.5 N)
+PER_STAGE = 12  # snapshots in the shear and in its reversal
 REVERSE = """
 [[stage]]
 name = "reverse"
@@ -84,13 +84,24 @@ factors = { shear = -1.0 }
 
 def run(spacings: tuple[float, float]):
     h, hb = spacings
-    times = sorted({1.0, *(1 + k / PER_STAGE for k in range(1, PER_STAGE + 1)),
-                    *(2 + k / PER_STAGE for k in range(1, PER_STAGE + 1))})
-    sets = [f"body.sphere.mesh.h_contact={h}", f"body.block.mesh.h_contact={hb}",
-            "body.sphere.mesh.growth=0.5", "body.block.mesh.growth=0.5",
-            f"bc.shear.traction=[{TRACTION}, 0.0, 0.0]", f"output.snapshots={times}"]
-    case = parse_case((CASES / "mindlin_sphere_3d.toml").read_text() + REVERSE,
-                      "mindlin_reversed", CASES, sets)
+    times = sorted(
+        {
+            1.0,
+            *(1 + k / PER_STAGE for k in range(1, PER_STAGE + 1)),
+            *(2 + k / PER_STAGE for k in range(1, PER_STAGE + 1)),
+        }
+    )
+    sets = [
+        f"body.sphere.mesh.h_contact={h}",
+        f"body.block.mesh.h_contact={hb}",
+        "body.sphere.mesh.growth=0.5",
+        "body.block.mesh.growth=0.5",
+        f"bc.shear.traction=[{TRACTION}, 0.0, 0.0]",
+        f"output.snapshots={times}",
+    ]
+    case = parse_case(
+        (CASES / "mindlin_sphere_3d.toml").read_text() + REVERSE, "mindlin_reversed", CASES, sets
+    )
     result = slipstep.run(case, progress=False)
     assert result.completed
     return h, result, numbers(result)
@@ -98,8 +109,9 @@ def run(spacings: tuple[float, float]):
 
 def cut_weights(scene) -> np.ndarray:
     """Each node's share of a uniform traction on the sphere's cut: its tributary area there."""
-    return tributary_areas(scene.nodes, scene.global_boundary("sphere", "top"),
-                           np.arange(len(scene.nodes)))
+    return tributary_areas(
+        scene.nodes, scene.global_boundary("sphere", "top"), np.arange(len(scene.nodes))
+    )
 
 
 def numbers(result) -> dict:
@@ -115,11 +127,22 @@ def numbers(result) -> dict:
     path = []
     for t in sorted(x for x in snaps if x >= 1.0):
         Q = q_star * (t - 1 if t <= 2 else 5 - 2 * t)
-        ref = a * (1 - Q / (MU * P)) ** (1 / 3) if t <= 2 else \
-            a * (1 - (q_star - Q) / (2 * MU * P)) ** (1 / 3)
+        ref = (
+            a * (1 - Q / (MU * P)) ** (1 / 3)
+            if t <= 2
+            else a * (1 - (q_star - Q) / (2 * MU * P)) ** (1 / 3)
+        )
         u = np.asarray(snaps[t]["u"]).reshape(-1, 3)
-        path.append({"t": t, "Q": Q, "ref": ref, "snap": snaps[t],
-                     "m": contact_numbers_3d(scene, snaps[t], 0), "delta": w @ u[:, 0] / w.sum()})
+        path.append(
+            {
+                "t": t,
+                "Q": Q,
+                "ref": ref,
+                "snap": snaps[t],
+                "m": contact_numbers_3d(scene, snaps[t], 0),
+                "delta": w @ u[:, 0] / w.sum(),
+            }
+        )
     return {"P": P, "a": a, "q_star": q_star, "s": q_star / (MU * P), "path": path}
 
 
@@ -127,7 +150,7 @@ def loop_energy(P: float, s: float) -> float:
     """Mindlin-Deresiewicz's W per cycle +-Q*, s = Q*/(mu P) (module doc)."""
     a = (3 * P * R / (4 * E_STAR)) ** (1 / 3)
     f = 1 - (1 - s) ** (5 / 3) - 5 * s / 6 * (1 + (1 - s) ** (2 / 3))
-    return 9 * MU ** 2 * P ** 2 * 2 * (2 - NU) / G / (10 * a) * f
+    return 9 * MU**2 * P**2 * 2 * (2 - NU) / G / (10 * a) * f
 
 
 @pytest.fixture(scope="module")
@@ -156,8 +179,10 @@ def test_balanced_and_on_coulombs_cone_at_the_stage_ends(coarse, fine):
             ln = np.asarray(snap["lambda_n"])
             lt = np.linalg.norm(np.asarray(snap["lambda_t"]), axis=1)
             stick, slip = snap["status"] == 1, snap["status"] == 2
-            worst = max((lt - MU * ln / math.cos(turn))[stick | slip].max(initial=0.0),
-                        (MU * ln - lt)[slip].max(initial=0.0))
+            worst = max(
+                (lt - MU * ln / math.cos(turn))[stick | slip].max(initial=0.0),
+                (MU * ln - lt)[slip].max(initial=0.0),
+            )
             assert worst <= 1e-9 * n["P"], (t, worst)
 
 
@@ -173,7 +198,11 @@ def test_the_stick_radius_converges_to_mindlins(coarse, fine):
     # the loading's intermediate shears too, on the fine mesh
     h, _, n = fine
     for p in (p for p in n["path"] if 1.0 < p["t"] < 2.0):
-        assert abs(p["m"]["stick_radius"] - p["ref"]) <= h, (p["t"], p["m"]["stick_radius"], p["ref"])
+        assert abs(p["m"]["stick_radius"] - p["ref"]) <= h, (
+            p["t"],
+            p["m"]["stick_radius"],
+            p["ref"],
+        )
 
 
 @needs_gmsh
@@ -184,8 +213,12 @@ def test_the_unloading_stick_radius_is_mindlin_deresiewiczs(coarse, fine):
         back = [p for p in n["path"] if p["t"] > 2.0]
         assert len(back) == PER_STAGE
         for p in back:
-            assert abs(p["m"]["stick_radius"] - p["ref"]) <= h, (h, p["t"], p["m"]["stick_radius"],
-                                                                 p["ref"])
+            assert abs(p["m"]["stick_radius"] - p["ref"]) <= h, (
+                h,
+                p["t"],
+                p["m"]["stick_radius"],
+                p["ref"],
+            )
 
 
 @needs_gmsh
@@ -201,8 +234,8 @@ def test_the_annulus_beyond_c_prime_slips_back(fine):
         _, force = row_forces(scene, p["snap"])
         annulus = (status > 0) & (r > p["ref"] + h)
         assert (status[annulus] == 2).all(), p["t"]
-        assert (force[annulus, 0] > 0).all(), p["t"]          # on the sphere: along +x now
-        assert (before[annulus, 0] < 0).all(), p["t"]         # along -x at Q*
+        assert (force[annulus, 0] > 0).all(), p["t"]  # on the sphere: along +x now
+        assert (before[annulus, 0] < 0).all(), p["t"]  # along -x at Q*
         seen += int(annulus.sum())
     assert seen > 0
 
@@ -211,9 +244,11 @@ def test_the_annulus_beyond_c_prime_slips_back(fine):
 def test_the_loop_is_mindlin_deresiewiczs(fine):
     h, _, n = fine
     back = [p for p in n["path"] if p["t"] >= 2.0]
-    work = sum(0.5 * (p0["Q"] + p1["Q"]) * (p1["delta"] - p0["delta"])
-               for p0, p1 in zip(back[:-1], back[1:]))
+    work = sum(
+        0.5 * (p0["Q"] + p1["Q"]) * (p1["delta"] - p0["delta"])
+        for p0, p1 in zip(back[:-1], back[1:])
+    )
     W = loop_energy(n["P"], n["s"])
-    k = (1 - n["s"]) ** (1 / 3)   # c/a at Q*; the band: c moved by +-h/2
+    k = (1 - n["s"]) ** (1 / 3)  # c/a at Q*; the band: c moved by +-h/2
     low, high = (loop_energy(n["P"], 1 - (k + d * h / (2 * n["a"])) ** 3) / W for d in (1, -1))
     assert low <= 2 * work / W <= high, (2 * work / W, low, high)

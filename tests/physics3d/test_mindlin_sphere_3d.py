@@ -57,10 +57,10 @@ from physics import EQUILIBRIUM_TOL, equilibrium_residual, friction_in_space
 
 import slipstep
 
-HS, HB = 0.04, 0.06          # the run along x: the sphere's and the block's contact spacings
-HS45, HB45 = 0.06, 0.08      # the run at 45 degrees: whole bodies, coarser (15k DOFs)
+HS, HB = 0.04, 0.06  # the run along x: the sphere's and the block's contact spacings
+HS45, HB45 = 0.06, 0.08  # the run at 45 degrees: whole bodies, coarser (15k DOFs)
 R, E, NU, MU = 50.0, 70000.0, 0.3, 0.3
-E_STAR = E / (2 * (1 - NU ** 2))
+E_STAR = E / (2 * (1 - NU**2))
 
 
 #: The shears, raised from the cases' Q = 0.5 mu P: the traction along x by 1.33 (Q = 5.98 N, Q/(mu
@@ -70,9 +70,13 @@ SHEAR_45 = "bc.shear.displacement={x = 2.533e-4, y = 2.533e-4}"
 
 
 def coarse(hs: float, hb: float, snapshots: str = "[1.0, 2.0]") -> list[str]:
-    return [f"body.sphere.mesh.h_contact={hs}", f"body.block.mesh.h_contact={hb}",
-            "body.sphere.mesh.growth=0.5", "body.block.mesh.growth=0.5",
-            f"output.snapshots={snapshots}"]
+    return [
+        f"body.sphere.mesh.h_contact={hs}",
+        f"body.block.mesh.h_contact={hb}",
+        "body.sphere.mesh.growth=0.5",
+        "body.block.mesh.growth=0.5",
+        f"output.snapshots={snapshots}",
+    ]
 
 
 def coulomb_violation(result, mu: float) -> float:
@@ -87,9 +91,12 @@ def coulomb_violation(result, mu: float) -> float:
         ln = np.asarray(snap["lambda_n"])
         lt = np.linalg.norm(np.asarray(snap["lambda_t"]), axis=1)
         stick, slip = snap["status"] == 1, snap["status"] == 2
-        worst = max(worst, (lt - mu * ln)[stick].max(initial=0.0),
-                    (mu * ln - lt)[slip].max(initial=0.0),
-                    (lt - mu * ln / math.cos(turn))[slip].max(initial=0.0))
+        worst = max(
+            worst,
+            (lt - mu * ln)[stick].max(initial=0.0),
+            (mu * ln - lt)[slip].max(initial=0.0),
+            (lt - mu * ln / math.cos(turn))[slip].max(initial=0.0),
+        )
     return worst
 
 
@@ -125,23 +132,36 @@ def mindlin(result, Q: np.ndarray) -> dict:
     P = s["total_normal_force"]
     a = (3 * P * R / (4 * E_STAR)) ** (1 / 3)
     ratio = np.linalg.norm(Q) / (MU * P)
-    return {"P": P, "Q": Q, "a": a, "c": a * (1 - ratio) ** (1 / 3), "ratio": ratio,
-            "summary": s, "profile": result.profile()}
+    return {
+        "P": P,
+        "Q": Q,
+        "a": a,
+        "c": a * (1 - ratio) ** (1 / 3),
+        "ratio": ratio,
+        "summary": s,
+        "profile": result.profile(),
+    }
 
 
 @pytest.fixture(scope="module")
 def along_x():
     pytest.importorskip("gmsh")
-    result = slipstep.run(CASES / "mindlin_sphere_3d.toml",
-                          overrides=[*coarse(HS, HB, "events"), SHEAR_X], progress=False)
+    result = slipstep.run(
+        CASES / "mindlin_sphere_3d.toml",
+        overrides=[*coarse(HS, HB, "events"), SHEAR_X],
+        progress=False,
+    )
     return result, mindlin(result, applied_shear(result))
 
 
 @pytest.fixture(scope="module")
 def diagonal():
     pytest.importorskip("gmsh")
-    result = slipstep.run(CASES / "mindlin_sphere_45_3d.toml",
-                          overrides=[*coarse(HS45, HB45), SHEAR_45], progress=False)
+    result = slipstep.run(
+        CASES / "mindlin_sphere_45_3d.toml",
+        overrides=[*coarse(HS45, HB45), SHEAR_45],
+        progress=False,
+    )
     return result, mindlin(result, cut_reaction(result) * [1.0, 1.0, 0.0])
 
 
@@ -150,8 +170,9 @@ def test_forces_balance_the_shear_and_the_cut(along_x):
     result, m = along_x
     assert result.completed
     s = m["summary"]
-    assert math.isclose(s["total_tangential_force"], np.linalg.norm(m["Q"]),
-                        rel_tol=EQUILIBRIUM_TOL)
+    assert math.isclose(
+        s["total_tangential_force"], np.linalg.norm(m["Q"]), rel_tol=EQUILIBRIUM_TOL
+    )
     # the cut's reaction (the prescribed approach, both halves) carries P
     assert math.isclose(-2 * cut_reaction(result)[2], m["P"], rel_tol=EQUILIBRIUM_TOL)
     # at the stage ends: against the early press's small loads a force jump below the engine's
@@ -211,6 +232,8 @@ def test_slipping_pairs_produce_no_work(along_x):
     force = 1e-9 * m["P"]
     umax = max(np.abs(s["u"]).max() for s in snaps)
     length = 1e-9 * umax
-    worst = friction_in_space(result.scene.model, snaps, slip_turn, (length, force), result.raw["events"])
+    worst = friction_in_space(
+        result.scene.model, snaps, slip_turn, (length, force), result.raw["events"]
+    )
     assert worst["slipping_steps"] > 0, worst
     assert worst["work"] <= m["P"] * length + force * umax, worst

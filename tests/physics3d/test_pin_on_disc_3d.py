@@ -31,7 +31,7 @@ import slipstep
 from slipstep.space.mesh_files import read_tet_mesh
 
 R, E, NU, H = 3.0, 70000.0, 0.3, 0.03
-E_STAR = E / (2 * (1 - NU ** 2))
+E_STAR = E / (2 * (1 - NU**2))
 
 
 @pytest.fixture(scope="module")
@@ -52,8 +52,9 @@ def test_the_contact_carries_the_applied_force(pressed):
     assert pressed.completed
     numbers = pressed.summary["contacts"]["tip"]
     assert numbers["symmetry_planes"] == ["x = 0", "y = 0"]
-    assert math.isclose(numbers["total_normal_force"], applied_force(pressed),
-                        rel_tol=EQUILIBRIUM_TOL)
+    assert math.isclose(
+        numbers["total_normal_force"], applied_force(pressed), rel_tol=EQUILIBRIUM_TOL
+    )
 
 
 @needs_gmsh

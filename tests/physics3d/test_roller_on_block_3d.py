@@ -29,7 +29,7 @@ from physics import EQUILIBRIUM_TOL
 import slipstep
 
 R, L, E, NU, HR = 10.0, 4.0, 210000.0, 0.3, 0.04
-E_STAR = E / (2 * (1 - NU ** 2))
+E_STAR = E / (2 * (1 - NU**2))
 
 
 @pytest.fixture(scope="module")

@@ -45,8 +45,9 @@ def coarsened(path: Path) -> list[str]:
 @needs_gmsh
 @pytest.mark.parametrize("case", CASES_3D, ids=[p.stem for p in CASES_3D])
 def test_every_shipped_3d_case_runs_balanced_and_admissible(case):
-    result = slipstep.run(case, overrides=coarsened(case), progress=False, figures=False,
-                          xdmf=False)
+    result = slipstep.run(
+        case, overrides=coarsened(case), progress=False, figures=False, xdmf=False
+    )
     assert result.completed, result.stop
     model = result.scene.model
     turn = result.case.data["solver"]["slip_turn"]
@@ -74,8 +75,11 @@ def code_strings(path: Path) -> set[str]:
             body = node.body
             if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
                 docstrings.add(id(body[0].value))
-    return {n.value for n in ast.walk(tree)
-            if isinstance(n, ast.Constant) and isinstance(n.value, str) and id(n) not in docstrings}
+    return {
+        n.value
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Constant) and isinstance(n.value, str) and id(n) not in docstrings
+    }
 
 
 def test_every_shipped_3d_case_has_a_closed_form_test_that_runs_it(tmp_path):
@@ -85,5 +89,7 @@ def test_every_shipped_3d_case_has_a_closed_form_test_that_runs_it(tmp_path):
     assert not untested, f"3D cases no test in {here.parent} runs: {untested}"
     # a name in a comment or a docstring is not a test that runs the case; in code it is
     probe = tmp_path / "test_probe.py"
-    probe.write_text('"""Runs a.toml."""\n# b.toml\ndef test():\n    """c.toml"""\n    run("d.toml")\n')
+    probe.write_text(
+        '"""Runs a.toml."""\n# b.toml\ndef test():\n    """c.toml"""\n    run("d.toml")\n'
+    )
     assert code_strings(probe) == {"d.toml"}

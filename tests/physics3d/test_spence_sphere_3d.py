@@ -44,13 +44,16 @@ import slipstep
 
 H, H_AXI, MU = 0.03, 0.006, 0.3
 P, R, E, NU = 30.0, 50.0, 70000.0, 0.3
-A = (3 * P * R * (1 - NU ** 2) / (4 * E)) ** (1 / 3)
+A = (3 * P * R * (1 - NU**2) / (4 * E)) ** (1 / 3)
 FORCE_ROUND_OFF = 1e-9
 
 
 def run_3d(mu: float):
-    return slipstep.run(CASES / "hertz_sphere_3d.toml", progress=False, overrides=[
-        f"mesh.h_contact={H}", f"contact.mu={mu}", "output.snapshots=[1.0]"])
+    return slipstep.run(
+        CASES / "hertz_sphere_3d.toml",
+        progress=False,
+        overrides=[f"mesh.h_contact={H}", f"contact.mu={mu}", "output.snapshots=[1.0]"],
+    )
 
 
 @pytest.fixture(scope="module")
@@ -67,8 +70,11 @@ def mutant():
 
 @pytest.fixture(scope="module")
 def axi():
-    return slipstep.run(CASES / "hertz_sphere.toml", progress=False, overrides=[
-        f"mesh.h_contact={H_AXI}", f"contact.mu={MU}", "output.snapshots=[1.0]"])
+    return slipstep.run(
+        CASES / "hertz_sphere.toml",
+        progress=False,
+        overrides=[f"mesh.h_contact={H_AXI}", f"contact.mu={MU}", "output.snapshots=[1.0]"],
+    )
 
 
 def stick_radius_as_axisymmetric(space, axi) -> bool:
@@ -83,8 +89,11 @@ def coulomb_violation(result, mu: float) -> float:
     lt = np.linalg.norm(np.asarray(snap["lambda_t"]), axis=1)
     stick, slip = snap["status"] == 1, snap["status"] == 2
     turn = result.case.data["solver"]["slip_turn"]
-    worst = max((lt - mu * ln)[stick].max(initial=0.0), (mu * ln - lt)[slip].max(initial=0.0),
-                (lt - mu * ln / math.cos(turn))[slip].max(initial=0.0))
+    worst = max(
+        (lt - mu * ln)[stick].max(initial=0.0),
+        (mu * ln - lt)[slip].max(initial=0.0),
+        (lt - mu * ln / math.cos(turn))[slip].max(initial=0.0),
+    )
     return worst / ln.max()
 
 
@@ -93,22 +102,26 @@ def test_stick_radius_as_in_the_axisymmetric_run(space, axi):
     assert space.completed and axi.completed
     s = space.summary
     assert 0 < s["stick_radius"] < s["contact_radius"]
-    assert stick_radius_as_axisymmetric(space, axi), (s["stick_radius"],
-                                                      axi.summary["stick_half_width"])
+    assert stick_radius_as_axisymmetric(space, axi), (
+        s["stick_radius"],
+        axi.summary["stick_half_width"],
+    )
 
 
 @needs_gmsh
 def test_the_stick_radius_check_rejects_mu_off_by_a_third(mutant, axi):
     assert mutant.completed
-    assert not stick_radius_as_axisymmetric(mutant, axi), (mutant.summary["stick_radius"],
-                                                          axi.summary["stick_half_width"])
+    assert not stick_radius_as_axisymmetric(mutant, axi), (
+        mutant.summary["stick_radius"],
+        axi.summary["stick_half_width"],
+    )
 
 
 @needs_gmsh
 def test_coulomb_at_the_cases_mu(space, mutant):
     assert (space.raw["snapshots"][-1]["status"] == 2).sum() > 0  # a slip annulus
     assert coulomb_violation(space, MU) <= FORCE_ROUND_OFF
-    assert coulomb_violation(mutant, MU) > FORCE_ROUND_OFF       # mu off by a third: rejected
+    assert coulomb_violation(mutant, MU) > FORCE_ROUND_OFF  # mu off by a third: rejected
 
 
 @needs_gmsh

@@ -30,23 +30,32 @@ import slipstep
 
 H, R, OMEGA = 0.02, 10.0, 0.00213
 TIMES = [0.5, 0.75, 1.0]
-MESH = [f"mesh.h_contact={H}", "mesh.contact_zone=0.2", "mesh.growth=0.3", "mesh.h_max=2.0",
-        f"output.snapshots={TIMES}"]
+MESH = [
+    f"mesh.h_contact={H}",
+    "mesh.contact_zone=0.2",
+    "mesh.growth=0.3",
+    "mesh.h_max=2.0",
+    f"output.snapshots={TIMES}",
+]
 
 
 def forces(result, factor: float) -> dict:
     """{load fraction: total normal force} at the snapshots, from the lambda_n arrays."""
-    return {round(float(s["load_fraction"]), 9): factor * float(np.sum(s["lambda_n"]))
-            for s in result.raw["snapshots"]}
+    return {
+        round(float(s["load_fraction"]), 9): factor * float(np.sum(s["lambda_n"]))
+        for s in result.raw["snapshots"]
+    }
 
 
 @pytest.fixture(scope="module")
 def runs():
     pytest.importorskip("gmsh")
-    space = slipstep.run(CASES / "sphere_on_flat_plastic_3d.toml", overrides=MESH,
-                         progress=False)
-    axi = slipstep.run(CASES / "sphere_on_flat_plastic.toml", overrides=[
-        *MESH, f"contact.motion=[0.0, {OMEGA}]", "contact.x_max=0.3"], progress=False)
+    space = slipstep.run(CASES / "sphere_on_flat_plastic_3d.toml", overrides=MESH, progress=False)
+    axi = slipstep.run(
+        CASES / "sphere_on_flat_plastic.toml",
+        overrides=[*MESH, f"contact.motion=[0.0, {OMEGA}]", "contact.x_max=0.3"],
+        progress=False,
+    )
     return space, axi
 
 

@@ -56,8 +56,14 @@ ANGLES = (0.3, 0.7, -0.4)
 
 
 def rotation(a: float, b: float, c: float) -> np.ndarray:
-    ca, sa, cb, sb, cc, sc = math.cos(a), math.sin(a), math.cos(b), math.sin(b), math.cos(c), \
-        math.sin(c)
+    ca, sa, cb, sb, cc, sc = (
+        math.cos(a),
+        math.sin(a),
+        math.cos(b),
+        math.sin(b),
+        math.cos(c),
+        math.sin(c),
+    )
     rz = np.array([[ca, -sa, 0], [sa, ca, 0], [0, 0, 1]])
     ry = np.array([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
     rx = np.array([[1, 0, 0], [0, cc, -sc], [0, sc, cc]])
@@ -73,8 +79,9 @@ def hemisphere(h: float, Q: np.ndarray):
     mesh = generators.sphere(R, h, 0.4, 10.0, 0.5, portion="half")
     surface = mesh.faces["surface"]
     cap = surface[(mesh.nodes[surface, 2] <= 5.0).all(axis=1)]
-    return TetMesh(mesh.nodes @ Q.T, mesh.tetrahedra.copy(),
-                   {"top": mesh.faces["top"].copy(), "cap": cap})
+    return TetMesh(
+        mesh.nodes @ Q.T, mesh.tetrahedra.copy(), {"top": mesh.faces["top"].copy(), "cap": cap}
+    )
 
 
 def run(h: float, Q: np.ndarray, mu: float = 0.0, snapshots=(0.5, 1.0)):
@@ -84,9 +91,18 @@ def run(h: float, Q: np.ndarray, mu: float = 0.0, snapshots=(0.5, 1.0)):
         "output": {"snapshots": snapshots if snapshots == "events" else list(snapshots)},
         "body": [{"name": "sphere", "material": {"E": E, "nu": NU}}],
         "bc": [{"name": "cut", "body": "sphere", "face": "top", "fix": ["x", "y", "z"]}],
-        "contact": [{"name": "flat", "kind": "rigid_plane", "body": "sphere", "face": "cap",
-                     "point": [0.0, 0.0, 0.0], "normal": (Q @ [0.0, 0.0, 1.0]).tolist(),
-                     "motion": (Q @ [0.0, 0.0, MOTION]).tolist(), "mu": mu}],
+        "contact": [
+            {
+                "name": "flat",
+                "kind": "rigid_plane",
+                "body": "sphere",
+                "face": "cap",
+                "point": [0.0, 0.0, 0.0],
+                "normal": (Q @ [0.0, 0.0, 1.0]).tolist(),
+                "motion": (Q @ [0.0, 0.0, MOTION]).tolist(),
+                "mu": mu,
+            }
+        ],
     }
     return slipstep.run(case, meshes={"sphere": hemisphere(h, Q)}, progress=False)
 
@@ -128,9 +144,18 @@ def test_approach_radius_and_peak_pressure_against_hertz(plain):
     P = contact_force(plain)
     a, p0, _ = references.hertz_sphere(P, R, E, NU)
     snap = plain.raw["snapshots"][-1]
-    errors = hertz_approach_errors(plain.scene.nodes, plain.scene.tetrahedra, snap["u"], P, R,
-                                   E, NU, origin=[0.0, 0.0, 0.0], inward=[0.0, 0.0, 1.0],
-                                   depths=DEPTHS)
+    errors = hertz_approach_errors(
+        plain.scene.nodes,
+        plain.scene.tetrahedra,
+        snap["u"],
+        P,
+        R,
+        E,
+        NU,
+        origin=[0.0, 0.0, 0.0],
+        inward=[0.0, 0.0, 1.0],
+        depths=DEPTHS,
+    )
     assert all(abs(e) <= (H / a) ** 2 for e in errors), (errors, (H / a) ** 2)
     s = plain.summary
     assert abs(s["contact_radius"] - a) <= H, (s["contact_radius"], a)
@@ -171,8 +196,16 @@ def test_with_friction_the_stick_radius_of_the_axisymmetric_run():
     space = run(H_FRICTION, np.eye(3), mu=0.3, snapshots=(1.0,))
     assert space.completed, space.stop
     P = contact_force(space)
-    axi = slipstep.run(CASES / "hertz_sphere.toml", progress=False, overrides=[
-        f"mesh.h_contact={H_AXI}", "contact.mu=0.3", f"load.P={P}", "output.snapshots=[1.0]"])
+    axi = slipstep.run(
+        CASES / "hertz_sphere.toml",
+        progress=False,
+        overrides=[
+            f"mesh.h_contact={H_AXI}",
+            "contact.mu=0.3",
+            f"load.P={P}",
+            "output.snapshots=[1.0]",
+        ],
+    )
     c3, c_axi = space.summary["stick_radius"], axi.summary["stick_half_width"]
     assert 0 < c3 and abs(c3 - c_axi) <= H_FRICTION + H_AXI, (c3, c_axi)
     worst, k, t = worst_equilibrium(space.scene.model, space.raw["snapshots"])

@@ -35,8 +35,11 @@ A, B, Y, P, H = 10.0, 20.0, 250.0, 280.0, 1.0
 @pytest.fixture(scope="module")
 def run():
     pytest.importorskip("gmsh")
-    return slipstep.run(CASES / "thick_sphere_3d.toml", progress=False,
-                        overrides=["output.figures=false", "output.xdmf=false"])
+    return slipstep.run(
+        CASES / "thick_sphere_3d.toml",
+        progress=False,
+        overrides=["output.figures=false", "output.xdmf=false"],
+    )
 
 
 @needs_gmsh
@@ -58,11 +61,11 @@ def test_plastic_zone_follows_hills_radius(run):
             continue
         plastic = np.asarray(snap["plastic_strain"]) > 0
         c_hill = float(references.thick_sphere_radius(q, A, B, Y))
-        c_volume = (A ** 3 + 6 * volume[plastic].sum() / math.pi) ** (1 / 3)
+        c_volume = (A**3 + 6 * volume[plastic].sum() / math.pi) ** (1 / 3)
         local_h = H * (1 + (c_hill - A) / (B - A))  # graded h .. 2h from a to b
         assert abs(c_volume - c_hill) <= local_h / 2, (q, c_volume, c_hill)
         vm = von_mises_3d(np.asarray(snap["stress"]))[plastic]
-        assert np.abs(vm / Y - 1).max() <= 0.05 ** 2, q
+        assert np.abs(vm / Y - 1).max() <= 0.05**2, q
         checked += 1
     assert checked >= 4
 

@@ -53,11 +53,15 @@ def longest_halving_chain(events) -> int:
 @pytest.fixture(scope="module")
 def pressed():
     pytest.importorskip("gmsh")
-    overrides = ["body.sphere.mesh.h_contact=0.08", "body.block.mesh.h_contact=0.12",
-                 "output.snapshots=[1.0]"]
+    overrides = [
+        "body.sphere.mesh.h_contact=0.08",
+        "body.block.mesh.h_contact=0.12",
+        "output.snapshots=[1.0]",
+    ]
     # the pressing stage is the scene: stop once the shear stage has begun
-    return slipstep.run(CASES / "mindlin_sphere_45_3d.toml", overrides=overrides,
-                        progress=lambda p: p.t <= 1.0)
+    return slipstep.run(
+        CASES / "mindlin_sphere_45_3d.toml", overrides=overrides, progress=lambda p: p.t <= 1.0
+    )
 
 
 @needs_gmsh
@@ -75,11 +79,16 @@ def test_the_pressed_sphere_is_balanced_and_admissible(pressed):
     ln, lt = np.asarray(snap["lambda_n"]), np.asarray(snap["lambda_t"])
     force = FORCE_TOL * ln.max()
     gap = GAP_TOL * np.abs(snap["u"]).max()
-    assert closed.any() and (snap["gap"] >= -gap).all() and (np.abs(snap["gap"][closed]) <= gap).all()
+    assert (
+        closed.any() and (snap["gap"] >= -gap).all() and (np.abs(snap["gap"][closed]) <= gap).all()
+    )
     assert (ln[~closed] == 0).all() and (ln[closed] >= -force).all()
     # Coulomb: a stuck pair inside the round cone, a slipping pair on the facet of the cone at
     # its direction, up to mu lambda_n / cos(slip_turn) (rust/src/contact.rs)
     slip_turn = pressed.case.data["solver"]["slip_turn"]
-    capacity = np.asarray(model["pairs"]["mu"]) * ln / np.where(snap["status"] == 2,
-                                                                np.cos(slip_turn), 1.0)
+    capacity = (
+        np.asarray(model["pairs"]["mu"])
+        * ln
+        / np.where(snap["status"] == 2, np.cos(slip_turn), 1.0)
+    )
     assert (np.linalg.norm(lt, axis=1) <= capacity + force).all()

@@ -62,8 +62,9 @@ def test_ring_rows_weigh_by_the_radius():
     axis_node = int(np.unique(upper)[np.argmin(scene.nodes[np.unique(upper), 0])])
     h = 10.0 / 5
     for radial in (False, True):
-        rows = node_to_segment_pairs(scene.nodes, upper, lower, np.array([axis_node]), 1e-12,
-                                     radial=radial)
+        rows = node_to_segment_pairs(
+            scene.nodes, upper, lower, np.array([axis_node]), 1e-12, radial=radial
+        )
         (weights,) = rows["weights"]
         assert rows["length"] == [pytest.approx(h / 2, rel=1e-12)]
         assert sum(c for _, c in weights) == pytest.approx(0.0, abs=1e-14)

@@ -68,8 +68,10 @@ def test_hertz_load_is_P_over_2R_on_the_cut(hertz):
 
 
 def test_point_load_goes_to_the_nearest_node(tmp_path):
-    text = MINIMAL + "\n[[point_load]]\nat = [1.02, 0.49]\nforce = [0.0, -3.0]\n" \
-                     "\n[analysis]\nthickness = 2.0\n"
+    text = (
+        MINIMAL + "\n[[point_load]]\nat = [1.02, 0.49]\nforce = [0.0, -3.0]\n"
+        "\n[analysis]\nthickness = 2.0\n"
+    )
     scene = build_scene(parse_case(text))
     f = scene.model["load"]
     node = np.flatnonzero(f != 0.0)
@@ -101,13 +103,21 @@ def test_fix_and_symmetry_in_blocks(blocks):
 
 def test_symmetry_on_an_inclined_edge_is_refused(tmp_path):
     import meshio
+
     nodes = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
-    m = meshio.Mesh(nodes, [("triangle", np.array([[0, 1, 2]])), ("line", np.array([[1, 2]]))],
-                    cell_data={"tag": [np.array([0]), np.array([7])]})
+    m = meshio.Mesh(
+        nodes,
+        [("triangle", np.array([[0, 1, 2]])), ("line", np.array([[1, 2]]))],
+        cell_data={"tag": [np.array([0]), np.array([7])]},
+    )
     meshio.write(tmp_path / "tri.xdmf", m)
-    text = MINIMAL.split("[body.mesh]")[0] + '[body.mesh]\nfile = "tri.xdmf"\n' + \
-        "[body.material]" + MINIMAL.split("[body.material]")[1].split("[[bc]]")[0] + \
-        '[[bc]]\nbody = "b"\nedge = "7"\nsymmetry = true\n'
+    text = (
+        MINIMAL.split("[body.mesh]")[0]
+        + '[body.mesh]\nfile = "tri.xdmf"\n'
+        + "[body.material]"
+        + MINIMAL.split("[body.material]")[1].split("[[bc]]")[0]
+        + '[[bc]]\nbody = "b"\nedge = "7"\nsymmetry = true\n'
+    )
     path = write_case(tmp_path, text)
     with pytest.raises(CaseError, match=r"bc.symmetry: edge '7' is not a straight line parallel"):
         build_scene(load_case(path))
@@ -115,14 +125,18 @@ def test_symmetry_on_an_inclined_edge_is_refused(tmp_path):
 
 def test_unknown_tag_of_a_file_mesh_is_found_after_reading(tmp_path):
     import meshio
+
     nodes = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
     meshio.write(tmp_path / "tri.xdmf", meshio.Mesh(nodes, [("triangle", np.array([[0, 1, 2]]))]))
-    text = MINIMAL.replace('generator = "block"\nwidth = 2.0\nheight = 1.0\nnx = 4\nny = 2',
-                           'file = "tri.xdmf"')
+    text = MINIMAL.replace(
+        'generator = "block"\nwidth = 2.0\nheight = 1.0\nnx = 4\nny = 2', 'file = "tri.xdmf"'
+    )
     path = write_case(tmp_path, text)
     with pytest.raises(CaseError) as info:
         build_scene(load_case(path))
-    assert 'bc.edge = "bottom" is not allowed: body "b" has no edge with that tag' in str(info.value)
+    assert 'bc.edge = "bottom" is not allowed: body "b" has no edge with that tag' in str(
+        info.value
+    )
 
 
 # --------------------------------------------------------------------------- contact
@@ -219,8 +233,12 @@ def test_model_names_bodies_and_contacts_for_the_engine(blocks):
     assert eb.dtype == np.int64 and eb.shape == (len(m["triangles"]),)
     # the punch's elements come first: as many as its own mesh has
     assert np.count_nonzero(eb == 0) == blocks.meshes["punch"].n_elements
-    assert np.array_equal(eb, np.repeat([0, 1], [blocks.meshes["punch"].n_elements,
-                                                 blocks.meshes["foundation"].n_elements]))
+    assert np.array_equal(
+        eb,
+        np.repeat(
+            [0, 1], [blocks.meshes["punch"].n_elements, blocks.meshes["foundation"].n_elements]
+        ),
+    )
     assert m["contact_names"] == ["contact 0"]  # two_blocks' contact has no name
     contact = m["pairs"]["contact"]
     assert contact.dtype == np.int64 and np.all(contact == 0)
@@ -228,10 +246,13 @@ def test_model_names_bodies_and_contacts_for_the_engine(blocks):
 
 
 def test_contact_names_come_from_the_case():
-    text = MINIMAL.replace('[[contact]]\nkind = "rigid_line"',
-                           '[[contact]]\nname = "lid"\nkind = "rigid_line"')
-    text += ('\n[[contact]]\nkind = "rigid_line"\nbody = "b"\nedge = "right"\n'
-             'point = [2.0, 0.0]\nnormal = [-1.0, 0.0]\ny_min = 0.5\n')
+    text = MINIMAL.replace(
+        '[[contact]]\nkind = "rigid_line"', '[[contact]]\nname = "lid"\nkind = "rigid_line"'
+    )
+    text += (
+        '\n[[contact]]\nkind = "rigid_line"\nbody = "b"\nedge = "right"\n'
+        'point = [2.0, 0.0]\nnormal = [-1.0, 0.0]\ny_min = 0.5\n'
+    )
     m = build_scene(parse_case(text)).model
     assert m["contact_names"] == ["lid", "contact 1"]
     top, right = 4 + 1, 2  # nx = 4, ny = 2: the top nodes, the right ones at y >= 0.5

@@ -27,14 +27,18 @@ R, P, NU = 125.0, 1000.0, 0.3
 
 
 def hertz(E1, E2):
-    e_star = 1.0 / ((1 - NU ** 2) / E1 + (1 - NU ** 2) / E2)
+    e_star = 1.0 / ((1 - NU**2) / E1 + (1 - NU**2) / E2)
     a = math.sqrt(4 * P * R / (math.pi * e_star))
     return a, 2 * P / (math.pi * a)
 
 
 def cylinder_on_block(h, E_roller=70000.0):
-    sets = [f"body.roller.mesh.h_contact={h}", f"body.block.mesh.h_contact={h}",
-            f"body.roller.material.E={E_roller}", "output.figures=false"]
+    sets = [
+        f"body.roller.mesh.h_contact={h}",
+        f"body.block.mesh.h_contact={h}",
+        f"body.roller.material.E={E_roller}",
+        "output.figures=false",
+    ]
     scene = prepare(CASES / "cylinder_on_block.toml", sets)
     result = solve(scene)
     return scene, result, summarize(scene, result)
@@ -104,7 +108,7 @@ def test_non_matching_two_blocks_agree_within_the_discretization_error(h_punch):
     x < 9 (away from the punch corner's singularity at x = 10) is within the discretization
     error of the matching mesh, estimated as the rms change of that pressure when the matching
     mesh is coarsened to 1.0."""
-    rms = lambda d: float(np.sqrt(np.mean(d ** 2)))
+    rms = lambda d: float(np.sqrt(np.mean(d**2)))
     x5, p5 = interface_pressure(TWO_BLOCKS)
     x1, p1 = interface_pressure(TWO_BLOCKS.replace("h = 0.5", "h = 1.0"))
     xn, pn = interface_pressure(non_matching(h_punch))

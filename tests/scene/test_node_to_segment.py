@@ -15,8 +15,14 @@ from slipstep.mortar import node_to_segment_pairs
 P = 10.0
 
 
-def two_blocks(n_lower: int, n_upper: int, mu: float = 0.0, lift: float = 0.0,
-               upper_x0: float = 0.0, upper_width: float = 10.0) -> str:
+def two_blocks(
+    n_lower: int,
+    n_upper: int,
+    mu: float = 0.0,
+    lift: float = 0.0,
+    upper_x0: float = 0.0,
+    upper_width: float = 10.0,
+) -> str:
     """A 10 x 4 block below a block of height 3 (x0, width given), each meshed on its own
     (n divisions along x), pressed together by p = 10 on the top; bottom held in y, left
     edges held in x (a symmetry line), the upper block held by the contact only in y."""
@@ -110,7 +116,7 @@ def test_row_weights_cancel_and_span_both_surfaces():
     ptr, node, value = pairs["weight_ptr"], pairs["weight_node"], pairs["weight_value"]
     upper = np.arange(scene.meshes["upper"].n_nodes) + scene.offsets["upper"]
     for k in range(len(ptr) - 1):
-        n, v = node[ptr[k]:ptr[k + 1]], value[ptr[k]:ptr[k + 1]]
+        n, v = node[ptr[k] : ptr[k + 1]], value[ptr[k] : ptr[k + 1]]
         mine = np.isin(n, upper)
         assert abs(v[mine].sum() - 1.0) < 1e-14 and abs(v[~mine].sum() + 1.0) < 1e-14
         assert (v[mine] > 0).all() and (v[~mine] < 0).all()
@@ -133,9 +139,15 @@ def test_contactor_nodes_projecting_nowhere_get_no_row():
     """An upper block overhanging the lower one (x in [6, 14] over [0, 10]): contactor nodes
     whose surface lies entirely beyond x = 10 project nowhere and get no row; the node at the
     edge keeps a row over its covered half (S_j = half its tributary length)."""
-    scene = build_scene(parse_case(two_blocks(10, 8, upper_x0=6.0, upper_width=8.0)
-                                   .replace('[[bc]]\nbody = "upper"\nedge = "left"\nfix = ["x"]\n', ""),
-                                   "two blocks", "."))
+    scene = build_scene(
+        parse_case(
+            two_blocks(10, 8, upper_x0=6.0, upper_width=8.0).replace(
+                '[[bc]]\nbody = "upper"\nedge = "left"\nfix = ["x"]\n', ""
+            ),
+            "two blocks",
+            ".",
+        )
+    )
     x = scene.pair_xy[:, 0]
     assert x.max() <= 10.0 + 1e-12 and np.isclose(x.min(), 6.0)
     assert abs(scene.pair_length.sum() - 4.0) < 1e-12
@@ -146,8 +158,8 @@ def test_mortar_rows_of_matching_straight_meshes_are_node_to_node_like():
     """On matching straight meshes the target weights mirror the contactor weights node by
     node (M = D): the mortar row is the consistent average of node-to-node rows."""
     nodes = np.array([[0, 0], [1, 0], [2, 0], [0, 0], [1, 0], [2, 0]], dtype=float)
-    contactor = np.array([[0, 1], [1, 2]])       # upper surface, body above: walk +x... any
-    target = np.array([[5, 4], [4, 3]])          # lower surface, body below (on the left)
+    contactor = np.array([[0, 1], [1, 2]])  # upper surface, body above: walk +x... any
+    target = np.array([[5, 4], [4, 3]])  # lower surface, body below (on the left)
     rows = node_to_segment_pairs(nodes, contactor, target, np.array([0, 1, 2]), 1e-12)
     for w in rows["weights"]:
         w = dict(w)
@@ -167,9 +179,13 @@ def test_plain_node_to_segment_fails_the_same_patch_test():
     weights = []
     for j in pairs["node_a"]:
         a, b = nodes[target[:, 0]], nodes[target[:, 1]]
-        eta = np.clip(np.einsum("sk,sk->s", nodes[j] - a, b - a) / np.einsum("sk,sk->s", b - a, b - a), 0, 1)
+        eta = np.clip(
+            np.einsum("sk,sk->s", nodes[j] - a, b - a) / np.einsum("sk,sk->s", b - a, b - a), 0, 1
+        )
         s = int(np.argmin(np.linalg.norm(a + eta[:, None] * (b - a) - nodes[j], axis=1)))
-        weights.append([(int(j), 1.0), (int(target[s, 0]), -(1 - eta[s])), (int(target[s, 1]), -eta[s])])
+        weights.append(
+            [(int(j), 1.0), (int(target[s, 0]), -(1 - eta[s])), (int(target[s, 1]), -eta[s])]
+        )
     ptr = np.cumsum([0] + [len(w) for w in weights])
     pairs["weight_ptr"] = ptr.astype(np.int64)
     pairs["weight_node"] = np.array([i for w in weights for i, _ in w], dtype=np.int64)
@@ -190,7 +206,8 @@ def test_outputs_measure_node_by_node_like_node_to_node():
 
     text = (CASES / "two_blocks.toml").read_text()
     nts = text.replace('kind = "node_to_node"', 'kind = "node_to_segment"').replace(
-        "\ntolerance = 1e-6", "")
+        "\ntolerance = 1e-6", ""
+    )
     out = []
     for t in (text, nts):
         scene = build_scene(parse_case(t, "two_blocks", CASES, ["output.figures=false"]))

@@ -18,7 +18,9 @@ from slipstep.errors import CaseError
 from slipstep.space.loads import face_load
 from slipstep.space.mesh import triangle_normals
 
-LID = BOX + """
+LID = (
+    BOX
+    + """
 [[body]]
 name = "lid"
 [body.mesh]
@@ -41,12 +43,15 @@ body_b = "b"
 face_b = "top"
 mu = 0.3
 """
+)
 
 
 def rows(pairs):
     ptr = pairs["weight_ptr"]
-    return [(pairs["weight_node"][ptr[k]:ptr[k + 1]], pairs["weight_value"][ptr[k]:ptr[k + 1]])
-            for k in range(len(ptr) - 1)]
+    return [
+        (pairs["weight_node"][ptr[k] : ptr[k + 1]], pairs["weight_value"][ptr[k] : ptr[k + 1]])
+        for k in range(len(ptr) - 1)
+    ]
 
 
 @pytest.mark.parametrize("nx, ny", [(3, 5), (5, 3), (7, 1)])
@@ -88,9 +93,13 @@ def test_a_uniform_pressure_gives_both_faces_their_consistent_loads():
 
 @needs_gmsh
 def test_a_sphere_on_a_box_gets_its_mean_gaps():
-    text = BOX.replace('width = 2.0\ndepth = 1.0\nheight = 1.0\nnx = 4\nny = 2\nnz = 2',
-                       'x0 = -3.0\ny0 = -3.0\nz0 = -1.0\nwidth = 6.0\ndepth = 6.0\nheight = 1.0\n'
-                       'nx = 5\nny = 5\nnz = 1') + """
+    text = (
+        BOX.replace(
+            'width = 2.0\ndepth = 1.0\nheight = 1.0\nnx = 4\nny = 2\nnz = 2',
+            'x0 = -3.0\ny0 = -3.0\nz0 = -1.0\nwidth = 6.0\ndepth = 6.0\nheight = 1.0\n'
+            'nx = 5\nny = 5\nnz = 1',
+        )
+        + """
 [[body]]
 name = "ball"
 [body.mesh]
@@ -112,6 +121,7 @@ body_b = "b"
 face_b = "top"
 z_max = 0.3
 """
+    )
     scene = build_scene(parse_case(text, "ball.toml"))
     assert_contract(scene.model)
     pairs = scene.model["pairs"]
@@ -125,8 +135,11 @@ z_max = 0.3
         # int N_j z dA = A (2 z_j + z_k + z_l) / 12 over each triangle (z linear on it)
         first = sum(area[t] * (z[face[t]].sum() + z[j]) / 12.0 for t in around)
         mean = first / (area[around].sum() / 3.0)
-        expected = 0.0 if j == scene.offsets["ball"] + scene.meshes["ball"].node_sets[
-            "bottom_point"][0] else mean
+        expected = (
+            0.0
+            if j == scene.offsets["ball"] + scene.meshes["ball"].node_sets["bottom_point"][0]
+            else mean
+        )
         assert abs(pairs["gap"][k] - expected) <= 1e-12 * 5.0, j
     assert np.allclose(pairs["normal"], [0.0, 0.0, 1.0])
     assert (pairs["gap"] == 0.0).sum() == 1  # the lowest point touches: its row starts closed
@@ -134,10 +147,20 @@ z_max = 0.3
 
 def test_no_projection_and_penetration_are_one_line_errors():
     text = LID.format(nx=3, ny=3)
-    with pytest.raises(CaseError, match=r"lid.toml: contact.face_b: no node of lid:bottom in "
-                                        r"the candidate window projects onto b:top"):
-        build_scene(parse_case(text.replace("z0 = 1.0\nwidth = 2.0", "z0 = 1.0\nx0 = 5.0\n"
-                                                                     "width = 2.0"), "lid.toml"))
-    with pytest.raises(CaseError, match=r"lid.toml: contact: initial penetration at node \d+ "
-                                        r"\(.*\) by 0.1: move body 'lid' away from body 'b'"):
+    with pytest.raises(
+        CaseError,
+        match=r"lid.toml: contact.face_b: no node of lid:bottom in "
+        r"the candidate window projects onto b:top",
+    ):
+        build_scene(
+            parse_case(
+                text.replace("z0 = 1.0\nwidth = 2.0", "z0 = 1.0\nx0 = 5.0\n" "width = 2.0"),
+                "lid.toml",
+            )
+        )
+    with pytest.raises(
+        CaseError,
+        match=r"lid.toml: contact: initial penetration at node \d+ "
+        r"\(.*\) by 0.1: move body 'lid' away from body 'b'",
+    ):
         build_scene(parse_case(text.replace("z0 = 1.0", "z0 = 0.9"), "lid.toml"))

@@ -88,8 +88,10 @@ def error_of(contact: str, sets=(), build: bool = False) -> str:
 def pairs_by_x(scene) -> dict:
     """{x of node a: (normal, gap)} of a scene's pairs."""
     p = scene.model["pairs"]
-    return {round(float(x), 9): (np.asarray(n), float(g))
-            for (x, _), n, g in zip(scene.pair_xy, p["normal"], p["gap"])}
+    return {
+        round(float(x), 9): (np.asarray(n), float(g))
+        for (x, _), n, g in zip(scene.pair_xy, p["normal"], p["gap"])
+    }
 
 
 CIRCLE_OUT = 'kind = "rigid_circle"\ncentre = [2.0, 3.0]\nradius = 1.5\n'
@@ -172,11 +174,13 @@ def test_node_on_a_convex_corner_is_pressed_along_its_own_normal_clamped_to_the_
     Sitting means within ``touch``; a node off the corner in its cone gets the direction
     from the corner."""
     at = np.array([[1.0, 0.0]])
-    for outward, force in (([0.0, 1.0], [0.0, -1.0]),    # a block's top under the punch
-                           ([-1.0, 0.0], [1.0, 0.0]),    # a body against the punch's side
-                           ([1.0, 4.0], [0.0, -1.0]),    # tilted past the face: the face
-                           ([-1.0, 3.0], [1.0, -3.0]),   # tilted into the cone: itself
-                           ([0.0, 0.0], [1.0, -1.0])):   # none: the middle
+    for outward, force in (
+        ([0.0, 1.0], [0.0, -1.0]),  # a block's top under the punch
+        ([-1.0, 0.0], [1.0, 0.0]),  # a body against the punch's side
+        ([1.0, 4.0], [0.0, -1.0]),  # tilted past the face: the face
+        ([-1.0, 3.0], [1.0, -3.0]),  # tilted into the cone: itself
+        ([0.0, 0.0], [1.0, -1.0]),
+    ):  # none: the middle
         near = polyline_closest(PUNCH, "right", at, np.array([outward]))
         expected = np.array(force) / np.linalg.norm(force)
         assert np.allclose(near["normal"][0], expected, atol=ROUND_OFF), outward
@@ -186,8 +190,9 @@ def test_node_on_a_convex_corner_is_pressed_along_its_own_normal_clamped_to_the_
     assert np.allclose(near["normal"][0], [0.0, -1.0], atol=ROUND_OFF)
     off = np.array([[1.0 + 5e-10, 0.0], [1.1, 0.0], [1.1, -0.1]])
     near = polyline_closest(PUNCH, "right", off, np.tile([0.0, 1.0], (3, 1)), touch=1e-9)
-    assert np.allclose(near["normal"], [[0.0, -1.0], [1.0, 0.0],
-                                        [math.sqrt(0.5), -math.sqrt(0.5)]], atol=ROUND_OFF)
+    assert np.allclose(
+        near["normal"], [[0.0, -1.0], [1.0, 0.0], [math.sqrt(0.5), -math.sqrt(0.5)]], atol=ROUND_OFF
+    )
     # the sitting node's gap along its face normal: 0 (it lies on the face's line)
     assert near["gap"] == pytest.approx([0.0, 0.1, 0.1 * math.sqrt(2.0)], abs=ROUND_OFF)
 
@@ -196,29 +201,33 @@ def test_concave_vertex_keeps_the_average_of_its_faces():
     """A concave vertex (the body in the obstacle's corner, pressed by both faces): the
     normalised average of the two segments' normals; a closed polygon with the body outside
     has convex corners (the direction from the corner), with the body inside concave ones."""
-    groove = np.array([[-1.0, 1.0], [0.0, 0.0], [1.0, 1.0]])   # a V, the body inside it
+    groove = np.array([[-1.0, 1.0], [0.0, 0.0], [1.0, 1.0]])  # a V, the body inside it
     near = polyline_closest(groove, "left", np.array([[0.0, 0.0]]), np.array([[0.0, -1.0]]))
     assert np.allclose(near["normal"][0], [0.0, 1.0], atol=ROUND_OFF)
     square = np.array([[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0], [1.0, 1.0]])
     outside = polyline_closest(square, "right", np.array([[2.0, 3.0]]))  # walked ccw
-    assert np.allclose(outside["normal"][0], np.array([1.0, 2.0]) / math.sqrt(5.0),
-                       atol=ROUND_OFF)
+    assert np.allclose(outside["normal"][0], np.array([1.0, 2.0]) / math.sqrt(5.0), atol=ROUND_OFF)
     assert outside["gap"][0] == pytest.approx(math.sqrt(5.0), abs=ROUND_OFF)
 
 
 def test_polyline_nodes_that_project_nowhere_are_not_candidates():
     """A polyline over 1 <= x <= 3: the nodes x = 0 and 4 lie beyond its end points; x = 1
     and 3 project exactly onto them and stay."""
-    scene = scene_of('kind = "rigid_polyline"\npoints = [[1.0, 1.5], [3.0, 1.5]]\n'
-                     'side = "right"\n')
+    scene = scene_of(
+        'kind = "rigid_polyline"\npoints = [[1.0, 1.5], [3.0, 1.5]]\n' 'side = "right"\n'
+    )
     assert sorted(pairs_by_x(scene)) == [1.0, 2.0, 3.0]
     assert scene.contact_truncated == [True]
-    msg = error_of('kind = "rigid_polyline"\npoints = [[10.0, 1.5], [12.0, 1.5]]\n'
-                   'side = "right"\n', build=True)
-    assert msg == (f"{SOURCE}: contact.points: no candidate node of edge 'top' of body 'b' "
-                   f"projects onto the rigid polyline (a contactor node that projects nowhere "
-                   f"is not a candidate): extend the polyline (points) or widen the window "
-                   f"(x_min/x_max/y_min/y_max)")
+    msg = error_of(
+        'kind = "rigid_polyline"\npoints = [[10.0, 1.5], [12.0, 1.5]]\n' 'side = "right"\n',
+        build=True,
+    )
+    assert msg == (
+        f"{SOURCE}: contact.points: no candidate node of edge 'top' of body 'b' "
+        f"projects onto the rigid polyline (a contactor node that projects nowhere "
+        f"is not a candidate): extend the polyline (points) or widen the window "
+        f"(x_min/x_max/y_min/y_max)"
+    )
 
 
 def test_closed_polyline_has_no_free_ends():
@@ -241,17 +250,18 @@ def test_huge_circle_approximates_the_rigid_line():
     (x - 2)^2/(2R), and the same coordinate s (along the same tau) within O(|x - 2|/R)."""
     R = 1.0e6
     line = scene_of('kind = "rigid_line"\npoint = [2.0, 1.1]\nnormal = [0.0, -1.0]\n', nx=8)
-    circle = scene_of(f'kind = "rigid_circle"\ncentre = [2.0, {1.1 + R!r}]\nradius = {R!r}\n',
-                      nx=8)
+    circle = scene_of(f'kind = "rigid_circle"\ncentre = [2.0, {1.1 + R!r}]\nradius = {R!r}\n', nx=8)
     pl, pc = line.model["pairs"], circle.model["pairs"]
     assert np.array_equal(pl["node_a"], pc["node_a"])
     dx = np.abs(line.pair_xy[:, 0] - 2.0)
     assert (np.linalg.norm(pl["normal"] - pc["normal"], axis=1) <= dx / R + 1e-9).all()
-    assert (np.abs(pl["gap"] - pc["gap"]) <= dx ** 2 / (2 * R) + 1e-9).all()
+    assert (np.abs(pl["gap"] - pc["gap"]) <= dx**2 / (2 * R) + 1e-9).all()
     # s on the circle is -R atan(dx/(R + 0.1)) (the nodes are 0.1 off it), on the line -dx:
     # apart by 0.1 dx/R plus the arc-against-tangent term dx^3/(3 R^2)
-    assert (np.abs(pair_coordinate(line) - pair_coordinate(circle)) <=
-            0.1 * dx / R + dx ** 3 / R ** 2 + 1e-9).all()
+    assert (
+        np.abs(pair_coordinate(line) - pair_coordinate(circle))
+        <= 0.1 * dx / R + dx**3 / R**2 + 1e-9
+    ).all()
     assert np.allclose(contact_axis(circle, 0)[1], contact_axis(line, 0)[1])
 
 
@@ -275,58 +285,95 @@ def test_contact_coordinate_follows_tau_for_every_kind():
 # --------------------------------------------------------------------------- errors
 def test_initial_penetration_names_node_position_and_depth():
     msg = error_of('kind = "rigid_circle"\ncentre = [2.0, 2.2]\nradius = 1.5\n', build=True)
-    assert re.fullmatch(rf"{SOURCE}: contact: initial penetration at node \d+ \(2, 1\) by 0\.3: "
-                        r"move the body or the circle \(contact\.centre, contact\.radius\) so "
-                        r"that they do not overlap", msg), msg
-    msg = error_of('kind = "rigid_polyline"\npoints = [[0.0, 1.5], [2.0, 0.8], [4.0, 1.5]]\n'
-                   'side = "right"\n', build=True)
+    assert re.fullmatch(
+        rf"{SOURCE}: contact: initial penetration at node \d+ \(2, 1\) by 0\.3: "
+        r"move the body or the circle \(contact\.centre, contact\.radius\) so "
+        r"that they do not overlap",
+        msg,
+    ), msg
+    msg = error_of(
+        'kind = "rigid_polyline"\npoints = [[0.0, 1.5], [2.0, 0.8], [4.0, 1.5]]\n'
+        'side = "right"\n',
+        build=True,
+    )
     # inside the V the closest point is on a segment: depth 0.2 cos(atan(0.35)) = 0.189
-    assert re.search(r"initial penetration at node \d+ \(2, 1\) by 0\.189: move the body or "
-                     r"the polyline \(contact\.points\)", msg), msg
+    assert re.search(
+        r"initial penetration at node \d+ \(2, 1\) by 0\.189: move the body or "
+        r"the polyline \(contact\.points\)",
+        msg,
+    ), msg
 
 
 def test_node_at_the_centre_is_an_error_naming_it():
     msg = error_of('kind = "rigid_circle"\ncentre = [2.0, 1.0]\nradius = 0.5\n', build=True)
-    assert re.fullmatch(rf"{SOURCE}: contact\.centre: node \d+ \(2, 1\) lies at the centre of "
-                        r"the rigid circle, where the normal .* is undefined: move the centre, "
-                        r"or leave the node out of the candidates \(x_min/x_max/y_min/y_max\)",
-                        msg), msg
+    assert re.fullmatch(
+        rf"{SOURCE}: contact\.centre: node \d+ \(2, 1\) lies at the centre of "
+        r"the rigid circle, where the normal .* is undefined: move the centre, "
+        r"or leave the node out of the candidates \(x_min/x_max/y_min/y_max\)",
+        msg,
+    ), msg
 
 
 def test_wrong_side_is_caught():
     """The polyline along the block's top, walked right to left: the body is on its left, so
     side = "right" puts the normals upwards, out of the touching body: the facing check."""
-    msg = error_of('kind = "rigid_polyline"\npoints = [[4.0, 1.0], [0.0, 1.0]]\nside = "right"\n',
-                   build=True)
+    msg = error_of(
+        'kind = "rigid_polyline"\npoints = [[4.0, 1.0], [0.0, 1.0]]\nside = "right"\n', build=True
+    )
     assert "points the wrong way" in msg and "check contact.side" in msg, msg
     scene_of('kind = "rigid_polyline"\npoints = [[4.0, 1.0], [0.0, 1.0]]\nside = "left"\n')
 
 
-@pytest.mark.parametrize("contact, expected", [
-    ('kind = "rigid_circle"\ncentre = [2.0, 3.0]\nradius = 0.0\n',
-     "contact.radius = 0.0 is not allowed: the radius must be > 0"),
-    ('kind = "rigid_circle"\ncentre = [2.0, 3.0]\nradius = -1\n',
-     "contact.radius = -1 is not allowed: the radius must be > 0"),
-    ('kind = "rigid_circle"\nradius = 1.0\n',
-     "contact.centre is missing: centre [x, y] of the rigid circle [length]"),
-    ('kind = "rigid_circle"\ncentre = [2.0, 3.0]\nradius = 1.0\nside = "left"\n',
-     'contact.side = "left" is not allowed: use "outside" or "inside"'),
-    ('kind = "rigid_polyline"\npoints = [[0.0, 2.0]]\nside = "right"\n',
-     "contact.points = [[0.0, 2.0]] is not allowed: a polyline needs at least 2 points, got 1"),
-    ('kind = "rigid_polyline"\npoints = [[0.0, 2.0], [1.0, 2.0], [1.0, 2.0]]\nside = "right"\n',
-     "contact.points = [[0.0, 2.0], [1.0, 2.0], [1.0, 2.0]] is not allowed: points 1 and 2 are "
-     "both [1.0, 2.0]: a zero-length segment; remove one of them"),
-    ('kind = "rigid_polyline"\npoints = [[0.0, 2.0], [2.0, 2.0], [1.0, 2.0]]\nside = "right"\n',
-     "is not allowed: the segments before and after point 1 fold back onto each other"),
-    ('kind = "rigid_polyline"\npoints = [0.0, 2.0]\nside = "right"\n',
-     "contact.points = [0.0, 2.0] is not allowed: expected a list of [x, y] points"),
-    ('kind = "rigid_polyline"\npoints = [[0.0, 2.0], [4.0, 2.0]]\nside = "below"\n',
-     'contact.side = "below" is not allowed: use "left" or "right"'),
-    ('kind = "rigid_polyline"\npoints = [[0.0, 2.0], [4.0, 2.0]]\n',
-     "contact.side is missing: the side the body lies on"),
-    ('kind = "rigid_circle"\ncentre = [2.0, 3.0]\nradius = 1.0\npoints = [[0.0, 2.0]]\n',
-     'unknown key contact.points in [[contact]] of kind "rigid_circle"'),
-])
+@pytest.mark.parametrize(
+    "contact, expected",
+    [
+        (
+            'kind = "rigid_circle"\ncentre = [2.0, 3.0]\nradius = 0.0\n',
+            "contact.radius = 0.0 is not allowed: the radius must be > 0",
+        ),
+        (
+            'kind = "rigid_circle"\ncentre = [2.0, 3.0]\nradius = -1\n',
+            "contact.radius = -1 is not allowed: the radius must be > 0",
+        ),
+        (
+            'kind = "rigid_circle"\nradius = 1.0\n',
+            "contact.centre is missing: centre [x, y] of the rigid circle [length]",
+        ),
+        (
+            'kind = "rigid_circle"\ncentre = [2.0, 3.0]\nradius = 1.0\nside = "left"\n',
+            'contact.side = "left" is not allowed: use "outside" or "inside"',
+        ),
+        (
+            'kind = "rigid_polyline"\npoints = [[0.0, 2.0]]\nside = "right"\n',
+            "contact.points = [[0.0, 2.0]] is not allowed: a polyline needs at least 2 points, got 1",
+        ),
+        (
+            'kind = "rigid_polyline"\npoints = [[0.0, 2.0], [1.0, 2.0], [1.0, 2.0]]\nside = "right"\n',
+            "contact.points = [[0.0, 2.0], [1.0, 2.0], [1.0, 2.0]] is not allowed: points 1 and 2 are "
+            "both [1.0, 2.0]: a zero-length segment; remove one of them",
+        ),
+        (
+            'kind = "rigid_polyline"\npoints = [[0.0, 2.0], [2.0, 2.0], [1.0, 2.0]]\nside = "right"\n',
+            "is not allowed: the segments before and after point 1 fold back onto each other",
+        ),
+        (
+            'kind = "rigid_polyline"\npoints = [0.0, 2.0]\nside = "right"\n',
+            "contact.points = [0.0, 2.0] is not allowed: expected a list of [x, y] points",
+        ),
+        (
+            'kind = "rigid_polyline"\npoints = [[0.0, 2.0], [4.0, 2.0]]\nside = "below"\n',
+            'contact.side = "below" is not allowed: use "left" or "right"',
+        ),
+        (
+            'kind = "rigid_polyline"\npoints = [[0.0, 2.0], [4.0, 2.0]]\n',
+            "contact.side is missing: the side the body lies on",
+        ),
+        (
+            'kind = "rigid_circle"\ncentre = [2.0, 3.0]\nradius = 1.0\npoints = [[0.0, 2.0]]\n',
+            'unknown key contact.points in [[contact]] of kind "rigid_circle"',
+        ),
+    ],
+)
 def test_bad_values_are_one_line_errors(contact, expected):
     msg = error_of(contact)
     assert expected in msg and "\n" not in msg, msg
@@ -335,14 +382,22 @@ def test_bad_values_are_one_line_errors(contact, expected):
 
 def test_motion_stays_refused_on_node_to_node():
     text = (CASES / "two_blocks.toml").read_text()
-    with pytest.raises(CaseError, match=r"contact.motion is not allowed: motion on a "
-                                        r"deformable-pair contact"):
+    with pytest.raises(
+        CaseError, match=r"contact.motion is not allowed: motion on a " r"deformable-pair contact"
+    ):
         parse_case(text, source=SOURCE, overrides=["contact.motion=[0.0, 0.1]"])
 
 
 def test_set_reaches_the_new_keys():
-    c = case(CIRCLE_OUT, ["contact.radius=1.0", "contact.centre=[2, 2.5]",
-                          "contact.side=outside", "contact.motion=[0.0, -0.1]"])
+    c = case(
+        CIRCLE_OUT,
+        [
+            "contact.radius=1.0",
+            "contact.centre=[2, 2.5]",
+            "contact.side=outside",
+            "contact.motion=[0.0, -0.1]",
+        ],
+    )
     die = c.data["contact"][0]
     assert (die["radius"], die["centre"], die["motion"]) == (1.0, [2.0, 2.5], [0.0, -0.1])
     assert [x.label for x in c.path.patterns] == ["die"]  # the motion is a load
@@ -350,8 +405,11 @@ def test_set_reaches_the_new_keys():
     assert c.data["contact"][0]["points"] == [[0.0, 3.0], [4.0, 3.0]]
     with pytest.raises(CaseError, match=r"contact.side = \"up\" is not allowed"):
         case(POLY_V, ["contact.side=up"])
-    with pytest.raises(CaseError, match=r"unknown key 'point' in \[\[contact\]\]; valid keys: "
-                                        r"kind, name, mu, body, edge, centre, radius, side"):
+    with pytest.raises(
+        CaseError,
+        match=r"unknown key 'point' in \[\[contact\]\]; valid keys: "
+        r"kind, name, mu, body, edge, centre, radius, side",
+    ):
         case(CIRCLE_OUT, ["contact.point=[0, 1]"])
 
 
@@ -367,14 +425,19 @@ def test_oblique_normal_on_a_symmetry_node_is_refused():
     """With mu > 0 a node on a symmetry line (u_x held) whose normal is not along y would stick
     with both conditions on u_y alone; a polyline starting there with a slope is refused with
     the fix, one starting flat is fine."""
+
     def contact(points: str) -> str:
-        return (f'kind = "rigid_polyline"\nside = "right"\nmu = 0.2\npoints = {points}\n'
-                f'[[bc]]\nbody = "b"\nedge = "left"\nsymmetry = true\n')
+        return (
+            f'kind = "rigid_polyline"\nside = "right"\nmu = 0.2\npoints = {points}\n'
+            f'[[bc]]\nbody = "b"\nedge = "left"\nsymmetry = true\n'
+        )
 
     msg = error_of(contact("[[0.0, 1.0], [4.0, 1.2]]"), build=True)
-    assert re.search(r"contact: node \d+ \(0, 1\) is held in x by supports and its contact "
-                     r"normal \(0\.0499376, -0\.998752\) is oblique to y, its free component",
-                     msg), msg
+    assert re.search(
+        r"contact: node \d+ \(0, 1\) is held in x by supports and its contact "
+        r"normal \(0\.0499376, -0\.998752\) is oblique to y, its free component",
+        msg,
+    ), msg
     scene_of(contact("[[0.0, 1.0], [1.0, 1.0], [4.0, 1.2]]"))
 
 
@@ -420,9 +483,13 @@ factors = {{press = 0.3}}
 CYLINDER = 'kind = "rigid_circle"\ncentre = [0.0, 55.0]\nradius = 50.0'
 # a flat-bottomed die, y = 5 + max(x - 0.5, 0)^2 / 100 sampled: flat where it crosses the
 # symmetry line x = 0 (its normal there along y, as a frictional symmetry node needs)
-PARABOLA = ('kind = "rigid_polyline"\nside = "right"\npoints = ['
-            + ", ".join(f"[{x}, {5.0 + max(x - 0.5, 0.0) ** 2 / 100.0!r}]"
-                        for x in (0.0, 0.5, 1.0, 2.0, 3.0, 4.0)) + "]")
+PARABOLA = (
+    'kind = "rigid_polyline"\nside = "right"\npoints = ['
+    + ", ".join(
+        f"[{x}, {5.0 + max(x - 0.5, 0.0) ** 2 / 100.0!r}]" for x in (0.0, 0.5, 1.0, 2.0, 3.0, 4.0)
+    )
+    + "]"
+)
 
 
 @pytest.mark.parametrize("name, shape", [("cylinder", CYLINDER), ("parabola", PARABOLA)])
@@ -435,8 +502,15 @@ def test_end_to_end_with_a_moving_obstacle(tmp_path, name, shape):
     out = tmp_path / "out"
     result, summary = run_case(path, out=out)
     assert summary["stop"]["kind"] == "completed"
-    for f in ("summary.json", "events.csv", "contact_profile.csv", "results.xdmf",
-              "contact_interface.png", "contact_extent.png", "force_displacement.png"):
+    for f in (
+        "summary.json",
+        "events.csv",
+        "contact_profile.csv",
+        "results.xdmf",
+        "contact_interface.png",
+        "contact_extent.png",
+        "force_displacement.png",
+    ):
         assert (out / f).is_file(), f
     press = json.loads((out / "summary.json").read_text())["contacts"]["press"]
     assert press["kind"] == ("rigid_circle" if name == "cylinder" else "rigid_polyline")
@@ -543,4 +617,3 @@ def test_rigid_cylinder_indenting_a_block_follows_hertz():
     assert a_hertz >= 10 * 0.05 and abs(0.5 * (hi - lo) - a_hertz) <= 0.05, (lo, hi, a_hertz)
     assert not summary["contact_reached_last_candidate"]
     assert "hertz" not in summary  # the Hertz block is the quarter-cylinder case's only
-

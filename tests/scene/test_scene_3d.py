@@ -19,6 +19,7 @@ from slipstep.errors import CaseError
 from slipstep.space.mesh import triangle_normals
 from space3d import BOX, SPHERE, assert_contract
 
+
 def box_scene(extra: str = "", sets=()):
     return build_scene(parse_case(BOX + extra, "box3.toml", overrides=list(sets)))
 
@@ -34,7 +35,9 @@ def test_the_box_model_meets_the_contract():
 def test_pressure_and_traction_on_a_face_are_consistent_nodal_loads():
     """Resultant p A and first moment int x p dA of the nodal forces, against the box's top
     face computed here (2 x 1 at z = 1): consistent, not lumped, loads reproduce both."""
-    scene = box_scene('[[bc]]\nbody = "b"\nface = "top"\npressure = 3.0\ntraction = [0.5, 0.0, 0.0]\n')
+    scene = box_scene(
+        '[[bc]]\nbody = "b"\nface = "top"\npressure = 3.0\ntraction = [0.5, 0.0, 0.0]\n'
+    )
     f = scene.model["load"].reshape(-1, 3)
     assert np.allclose(f.sum(axis=0), [0.5 * 2.0, 0.0, -3.0 * 2.0], rtol=1e-14, atol=1e-13)
     # moment about the y axis of the pressure: int x (-p) dA = -p * 2 * 1 (centroid x = 1)
@@ -52,8 +55,10 @@ def test_a_pressure_on_a_curved_face_sums_to_minus_p_times_its_vector_area():
     """int n dA over a closed boundary vanishes, so the sphere's face carries -p times minus the
     vector area of the flat faces closing it: -p (-A_top e_z + A_x e_x + A_y e_y), each flat
     area recomputed here from its triangles."""
-    text = SPHERE.replace("[load]\nP = 30.0\n", "") + \
-        '[[bc]]\nbody = "sphere"\nface = "surface"\npressure = 2.0\n'
+    text = (
+        SPHERE.replace("[load]\nP = 30.0\n", "")
+        + '[[bc]]\nbody = "sphere"\nface = "surface"\npressure = 2.0\n'
+    )
     scene = build_scene(parse_case(text, "s.toml"))
     vector = np.zeros(3)
     for tag in ("top", "symmetry_x", "symmetry_y"):
@@ -82,7 +87,7 @@ def test_load_P_gives_each_portion_its_share(portion, share):
     ref = scene.reference
     a = (3 * 30.0 * 10.0 / (4 * 70000.0 / (1 - 0.09))) ** (1 / 3)
     assert math.isclose(ref["a_hertz"], a, rel_tol=1e-12)
-    assert math.isclose(ref["p0_hertz"], 3 * 30.0 / (2 * math.pi * a ** 2), rel_tol=1e-12)
+    assert math.isclose(ref["p0_hertz"], 3 * 30.0 / (2 * math.pi * a**2), rel_tol=1e-12)
 
 
 @needs_gmsh
@@ -93,14 +98,17 @@ def test_symmetry_planes_hold_their_normal_component():
         ids = np.unique(scene.global_boundary("sphere", tag))
         assert {3 * i + c for i in ids} <= fixed
         assert not any(3 * i + 2 in fixed for i in ids)  # z stays free
-    assert len(fixed) == sum(len(np.unique(scene.global_boundary("sphere", t)))
-                             for t in ("symmetry_x", "symmetry_y"))
+    assert len(fixed) == sum(
+        len(np.unique(scene.global_boundary("sphere", t))) for t in ("symmetry_x", "symmetry_y")
+    )
 
 
 @needs_gmsh
 def test_symmetry_on_a_curved_face_is_refused():
-    with pytest.raises(CaseError, match=r"bc.0.symmetry: face 'surface' is not a plane parallel "
-                                        r"to a coordinate plane"):
+    with pytest.raises(
+        CaseError,
+        match=r"bc.0.symmetry: face 'surface' is not a plane parallel " r"to a coordinate plane",
+    ):
         build_scene(parse_case(SPHERE, "s.toml", overrides=["bc.0.face=surface"]))
 
 
@@ -136,14 +144,18 @@ def test_the_case_keys_of_the_other_dimension_are_one_line_each():
     assert error(sets=["analysis.thickness=2"]) == (
         "box3.toml: analysis.thickness = 2 is not allowed in a 3D case (analysis.dimension = 3)"
         ": a body in space has no out-of-plane thickness (forces are forces); remove "
-        "analysis.thickness")
+        "analysis.thickness"
+    )
     assert "bc.edge = \"top\" is not allowed in a 3D case" in error(sets=["bc.edge=top"])
     assert "use face = \"top\"" in error(sets=["bc.edge=top"])
     line = error(sets=["bc.fix=[\"x\", \"y\"]", "analysis.dimension=2", "bc.face=bottom"])
-    assert line.startswith("box3.toml: mesh.generator = \"box\" is not allowed in a 2D case: it "
-                           "is a 3D generator; set analysis.dimension = 3, or use \"block\"")
-    assert "give three components [x, y, z]" in error('[[point_load]]\nat = [0.0, 0.0]\n'
-                                                      'force = [1.0, 0.0]\n')
+    assert line.startswith(
+        "box3.toml: mesh.generator = \"box\" is not allowed in a 2D case: it "
+        "is a 3D generator; set analysis.dimension = 3, or use \"block\""
+    )
+    assert "give three components [x, y, z]" in error(
+        '[[point_load]]\nat = [0.0, 0.0]\n' 'force = [1.0, 0.0]\n'
+    )
 
 
 def test_a_given_tetrahedron_mesh_from_python():
@@ -152,8 +164,10 @@ def test_a_given_tetrahedron_mesh_from_python():
     import slipstep
     from slipstep.space.generators import box
 
-    text = BOX.replace('generator = "box"\nwidth = 2.0\ndepth = 1.0\nheight = 1.0\nnx = 4\n'
-                       'ny = 2\nnz = 2', 'generator = "given"')
+    text = BOX.replace(
+        'generator = "box"\nwidth = 2.0\ndepth = 1.0\nheight = 1.0\nnx = 4\n' 'ny = 2\nnz = 2',
+        'generator = "given"',
+    )
     grid = box(2.0, 1.0, 1.0, 2, 1, 1)
     mesh = slipstep.from_tetrahedra(grid.nodes, grid.tetrahedra, grid.faces)
     scene = build_scene(parse_case(text, "g.toml"), {"b": mesh})

@@ -43,8 +43,10 @@ def test_foundation_passes_the_load_to_its_base(run):
     layer = [e for e in found if on_rows[scene.triangles[e]].all()]
     assert layer, "the foundation mesh has node rows"
     tri = nodes[scene.triangles[layer]]
-    area = 0.5 * np.abs((tri[:, 1, 0] - tri[:, 0, 0]) * (tri[:, 2, 1] - tri[:, 0, 1])
-                        - (tri[:, 2, 0] - tri[:, 0, 0]) * (tri[:, 1, 1] - tri[:, 0, 1]))
+    area = 0.5 * np.abs(
+        (tri[:, 1, 0] - tri[:, 0, 0]) * (tri[:, 2, 1] - tri[:, 0, 1])
+        - (tri[:, 2, 0] - tri[:, 0, 0]) * (tri[:, 1, 1] - tri[:, 0, 1])
+    )
     # Only exact when every layer element spans the full row height: the case's foundation is
     # a structured block mesh, so it must (a skip here would let the check pass unchecked).
     assert np.allclose(np.ptp(tri[:, :, 1], axis=1), y1 - y0), "foundation mesh is not layered"

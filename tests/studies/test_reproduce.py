@@ -36,7 +36,9 @@ def test_reference_values():
     assert scenes.F_JOHNSON == pytest.approx(0.6543, abs=1e-4)
     # the paper's "analytical" a = 1.036 mm at the threshold is not Hertz's: 2R p0/E* = 1.1635
     assert scenes.A_JOHNSON == pytest.approx(1.1635, abs=1e-4)
-    assert scenes.A_JOHNSON == pytest.approx(scenes.A_HERTZ * math.sqrt(scenes.F_JOHNSON), rel=1e-12)
+    assert scenes.A_JOHNSON == pytest.approx(
+        scenes.A_HERTZ * math.sqrt(scenes.F_JOHNSON), rel=1e-12
+    )
     assert scenes.A_JOHNSON / scenes.PAPER_TABLE1["yield_a"][0] - 1 > 0.10
 
 
@@ -136,8 +138,11 @@ def first_yield(d: dict) -> tuple[float, float, float]:
     node) at the first yield event of a run that stops there."""
     k = list(d["events_kind"]).index("yield")
     x, status = d["profile_x"], d["profile_status"][-1]
-    return (float(d["events_load_fraction"][k]), float(d["events_xy"][k, 1]),
-            float(x[status > 0].max()))
+    return (
+        float(d["events_load_fraction"][k]),
+        float(d["events_xy"][k, 1]),
+        float(x[status > 0].max()),
+    )
 
 
 def test_onset_of_yield_falls_as_mu_grows(quick):
@@ -182,11 +187,21 @@ def test_block_scenes_are_substantially_plastic_below_collapse(quick):
 
 
 # --------------------------------------------------------------------------- files
-FIGURES = ["table1.png", "fig05_von_mises.png", "fig06_pressure.png", "fig07_rtd.png",
-           "fig08_tangential.png", "fig09_contact_growth.png", "fig10_onset_of_yield.png",
-           "fig12_block_elastic_stresses.png", "fig13_block_elastic_rtd.png",
-           "fig14_block_plastic_pressure.png", "fig15_block_plastic_rtd.png",
-           "fig16_block_plastic_tangential.png", "events_timeline.png"]
+FIGURES = [
+    "table1.png",
+    "fig05_von_mises.png",
+    "fig06_pressure.png",
+    "fig07_rtd.png",
+    "fig08_tangential.png",
+    "fig09_contact_growth.png",
+    "fig10_onset_of_yield.png",
+    "fig12_block_elastic_stresses.png",
+    "fig13_block_elastic_rtd.png",
+    "fig14_block_plastic_pressure.png",
+    "fig15_block_plastic_rtd.png",
+    "fig16_block_plastic_tangential.png",
+    "events_timeline.png",
+]
 
 
 def test_figures_report_and_xdmf(quick):
@@ -199,9 +214,13 @@ def test_figures_report_and_xdmf(quick):
         assert word in report, word
     saved = json.loads((out / "reproduce.json").read_text())
     assert saved["table1"]["elastic_a"] == pytest.approx(numbers["table1"]["elastic_a"])
-    scenes = [p for p in (out / "runs").iterdir() if p.is_dir()
-              and not p.name.startswith(("check_", "probe_"))
-              and p.name != "block_plastic_elastic_reference"]
+    scenes = [
+        p
+        for p in (out / "runs").iterdir()
+        if p.is_dir()
+        and not p.name.startswith(("check_", "probe_"))
+        and p.name != "block_plastic_elastic_reference"
+    ]
     assert len(scenes) == 11
     for scene in scenes:
         assert (scene / "results.xdmf").exists() and (scene / "results.h5").exists(), scene
@@ -217,7 +236,7 @@ def test_block_case_files_validate():
     assert el.data["contact"][0]["mu"] == 0.2 and pl.data["contact"][0]["mu"] == 0.0
     punch, half = pl.body("punch")["material"], pl.body("halfspace")["material"]
     assert punch["H"] == 0.0 and punch["Sy"] > 36.0  # elastic-perfectly plastic, Sy above q
-    assert half["H"] > 0.0 and half["Sy"] < 36.0     # elastic-linear hardening, softer
+    assert half["H"] > 0.0 and half["Sy"] < 36.0  # elastic-linear hardening, softer
     # the lower block is 10x the punch half-width each way, and the meshes match at y = 0:
     # the half-space's structured grid (refine_box) spans the interface under the punch
     for case in (el, pl):

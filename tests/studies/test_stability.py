@@ -27,7 +27,7 @@ from slipstep import stability  # noqa: E402
 from slipstep.cli import main  # noqa: E402
 
 A, B, SY = 10.0, 20.0, 250.0
-P_LIM = 2 * SY / math.sqrt(3.0) * math.log(B / A)   # Hill's limit pressure 2k ln(b/a)
+P_LIM = 2 * SY / math.sqrt(3.0) * math.log(B / A)  # Hill's limit pressure 2k ln(b/a)
 
 
 @pytest.fixture(scope="module")
@@ -38,8 +38,9 @@ def study(tmp_path_factory):
     reports = []
     original = stability.run
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(stability, "run", lambda *a, **k: reports.append(original(*a, **k))
-                   or reports[-1])
+        mp.setattr(
+            stability, "run", lambda *a, **k: reports.append(original(*a, **k)) or reports[-1]
+        )
         assert main(["study", "stability", "--quick", "--out", str(out)]) == 0
     rows = {r["scenario"]: r for r in reports[0]["rows"]}
     return out, rows
@@ -112,7 +113,9 @@ def test_perfect_plasticity(study):
     centroid = scene.nodes[scene.triangles].mean(axis=1)
     plastic = np.asarray(last["plastic_strain"]) > 0
     c = float(np.linalg.norm(centroid[plastic], axis=1).max())
-    assert c / thick_cylinder_radius(175.0, A, B, SY / math.sqrt(3.0)) == pytest.approx(1.0, abs=0.02)
+    assert c / thick_cylinder_radius(175.0, A, B, SY / math.sqrt(3.0)) == pytest.approx(
+        1.0, abs=0.02
+    )
     scene, result = run_of(rows["H'=0 Hertz Sy=200 h_c=0.15"])
     assert len(result["events"]["kind"]) > 100
     assert (np.asarray(result["snapshots"][-1]["plastic_strain"]) > 0).any()
@@ -175,6 +178,7 @@ def test_locking_and_crossed_mesh(study):
 
 def stability_limit():
     import math
+
     return 2 * 250.0 / math.sqrt(3.0) * math.log(2.0)
 
 

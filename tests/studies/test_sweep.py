@@ -42,30 +42,43 @@ def write(tmp_path: Path, text: str = TINY, name: str = "tiny.toml") -> Path:
 
 # --------------------------------------------------------------------------- study files
 def test_cartesian_product_first_key_slowest(tmp_path):
-    study = sweep.parse_study({"study": {"base": "default"},
-                               "vary": {"contact.mu": [0.0, 0.1], "load.P": [500.0, 1000.0, 2000.0]}})
+    study = sweep.parse_study(
+        {
+            "study": {"base": "default"},
+            "vary": {"contact.mu": [0.0, 0.1], "load.P": [500.0, 1000.0, 2000.0]},
+        }
+    )
     tasks = study.tasks()
-    assert [t["params"] for t in tasks][:3] == [{"contact.mu": 0.0, "load.P": p}
-                                                 for p in (500.0, 1000.0, 2000.0)]
+    assert [t["params"] for t in tasks][:3] == [
+        {"contact.mu": 0.0, "load.P": p} for p in (500.0, 1000.0, 2000.0)
+    ]
     assert len(tasks) == 6 and len({t["case_id"] for t in tasks}) == 6
     assert tasks[4]["case_id"] == "004-contact.mu=0.1_load.P=1000.0"
     assert tasks[4]["overrides"] == ["contact.mu=0.1", "load.P=1000.0"]
 
 
 def test_toml_literals():
-    assert [sweep.toml_literal(v) for v in (0.1, 3, True, "stress", [0.5, 1.0])] == \
-        ["0.1", "3", "true", '"stress"', "[0.5, 1.0]"]
+    assert [sweep.toml_literal(v) for v in (0.1, 3, True, "stress", [0.5, 1.0])] == [
+        "0.1",
+        "3",
+        "true",
+        '"stress"',
+        "[0.5, 1.0]",
+    ]
 
 
-@pytest.mark.parametrize("text, message", [
-    ("[study]\nbase = 'nope.toml'\n", "no such case file"),
-    ("[study]\nbogus = 1\n", "study.bogus is not a study key"),
-    ("[vary]\n'contact.mu' = 0.1\n", "vary.contact.mu must be a non-empty list"),
-    ("[output]\nfields = 'yes'\n", "output.fields must be true or false"),
-    ("[output]\nsnapshots = true\n", "output.snapshots is not an output option"),
-    ("[vary]\n'contact.nu' = [0.1]\n", "contact.nu"),
-    ("[whatever]\n", "unknown table [whatever]"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("[study]\nbase = 'nope.toml'\n", "no such case file"),
+        ("[study]\nbogus = 1\n", "study.bogus is not a study key"),
+        ("[vary]\n'contact.mu' = 0.1\n", "vary.contact.mu must be a non-empty list"),
+        ("[output]\nfields = 'yes'\n", "output.fields must be true or false"),
+        ("[output]\nsnapshots = true\n", "output.snapshots is not an output option"),
+        ("[vary]\n'contact.nu' = [0.1]\n", "contact.nu"),
+        ("[whatever]\n", "unknown table [whatever]"),
+    ],
+)
 def test_bad_study_is_one_line_error(tmp_path, text, message):
     with pytest.raises(sweep.StudyError, match=message.replace("[", r"\[").replace(".", r"\.")):
         sweep.load_study(write(tmp_path, text, "bad.toml"))
@@ -108,8 +121,10 @@ def test_sweep_writes_each_case_and_resumes(tmp_path):
     assert len(table) == 4 and table[0].startswith("case_id,contact.mu,")
 
     # resume: nothing to do
-    stamp = {t["case_id"]: (out / t["case_id"] / "summary.json").stat().st_mtime_ns
-             for t in study.tasks()}
+    stamp = {
+        t["case_id"]: (out / t["case_id"] / "summary.json").stat().st_mtime_ns
+        for t in study.tasks()
+    }
     rep = sweep.run_sweep(study, out, workers=2, log=None)
     assert rep.done == [] and len(rep.skipped) == 3
     # an interrupted sweep: only the missing case runs again
@@ -153,18 +168,39 @@ def _comparable(summary: dict) -> dict:
 
 
 @needs_gmsh
-@pytest.mark.skipif(shutil.which("mpirun") is None,
-                    reason="mpirun is not installed (Debian's openmpi-bin comes with dolfinx)")
+@pytest.mark.skipif(
+    shutil.which("mpirun") is None,
+    reason="mpirun is not installed (Debian's openmpi-bin comes with dolfinx)",
+)
 def test_mpi_sweep_matches_local(tmp_path):
     pytest.importorskip("mpi4py.futures")
     path = write(tmp_path)
     local, mpi = tmp_path / "local", tmp_path / "mpi"
     assert cli_main(["sweep", str(path), "--out", str(local), "--quiet"]) == 0
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1", MPLBACKEND="Agg",
-               PYTHONPATH=os.pathsep.join([str(ROOT / "py"), os.environ.get("PYTHONPATH", "")]))
-    cmd = ["mpirun", "-n", "2", "--oversubscribe", sys.executable, "-m", "mpi4py.futures", "-m",
-           "slipstep", "sweep", str(path), "--out", str(mpi), "--mpi"]
+    env = dict(
+        os.environ,
+        OMPI_ALLOW_RUN_AS_ROOT="1",
+        OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+        OMPI_MCA_rmaps_base_oversubscribe="1",
+        MPLBACKEND="Agg",
+        PYTHONPATH=os.pathsep.join([str(ROOT / "py"), os.environ.get("PYTHONPATH", "")]),
+    )
+    cmd = [
+        "mpirun",
+        "-n",
+        "2",
+        "--oversubscribe",
+        sys.executable,
+        "-m",
+        "mpi4py.futures",
+        "-m",
+        "slipstep",
+        "sweep",
+        str(path),
+        "--out",
+        str(mpi),
+        "--mpi",
+    ]
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert "(MPI)" in proc.stdout
@@ -172,13 +208,16 @@ def test_mpi_sweep_matches_local(tmp_path):
     for t in study.tasks():
         cid = t["case_id"]
         assert _comparable(sweep.load_summary(mpi, cid)) == _comparable(
-            sweep.load_summary(local, cid)), cid
+            sweep.load_summary(local, cid)
+        ), cid
         a, b = sweep.load_arrays(mpi, cid), sweep.load_arrays(local, cid)
         assert sorted(a) == sorted(b)
         for key in a:
             np.testing.assert_array_equal(a[key], b[key], err_msg=f"{cid}: {key}")
-    assert json.loads((mpi / "study.json").read_text())["tasks"] == \
-        json.loads((local / "study.json").read_text())["tasks"]
+    assert (
+        json.loads((mpi / "study.json").read_text())["tasks"]
+        == json.loads((local / "study.json").read_text())["tasks"]
+    )
 
 
 @needs_gmsh
@@ -191,9 +230,13 @@ def test_ctrl_c_keeps_finished_cases_and_the_rerun_resumes(tmp_path):
     path = write(tmp_path, text)
     out = tmp_path / "out"
     env = dict(os.environ, MPLBACKEND="Agg", SLIPSTEP_TEST_INTERRUPT="case=2")
-    proc = subprocess.run([sys.executable, "-m", "slipstep", "sweep", str(path), "--out",
-                           str(out), "--workers", "1"], capture_output=True, env=env, text=True,
-                          timeout=300)
+    proc = subprocess.run(
+        [sys.executable, "-m", "slipstep", "sweep", str(path), "--out", str(out), "--workers", "1"],
+        capture_output=True,
+        env=env,
+        text=True,
+        timeout=300,
+    )
     assert proc.returncode == 130, proc.stderr
     assert "run the same command again to resume" in proc.stderr
     done = sorted(p.name for p in out.iterdir() if p.is_dir())

@@ -53,11 +53,11 @@ class BulkResult:
     """A dolfinx solution in slipstep numbering."""
 
     load_fraction: float
-    u: np.ndarray                 # (N, 2); 3D: (N, 3)
-    stress: np.ndarray            # (M, 4) sigma_x, sigma_y, sigma_z, tau_xy; 3D: (M, 6) Voigt
-    plastic_strain: np.ndarray    # (M,) equivalent plastic strain
-    plastic: np.ndarray           # (M,) bool, yielded in the last step
-    reaction: np.ndarray          # (2N,) (3D: (3N,)) K u - f_ext: support and contact reactions
+    u: np.ndarray  # (N, 2); 3D: (N, 3)
+    stress: np.ndarray  # (M, 4) sigma_x, sigma_y, sigma_z, tau_xy; 3D: (M, 6) Voigt
+    plastic_strain: np.ndarray  # (M,) equivalent plastic strain
+    plastic: np.ndarray  # (M,) bool, yielded in the last step
+    reaction: np.ndarray  # (2N,) (3D: (3N,)) K u - f_ext: support and contact reactions
     newton: list = field(default_factory=list)  # per load step: iterations, final residual
 
 
@@ -66,9 +66,11 @@ def _refuse_unmodelled_loads(scene) -> None:
     displacements and obstacle motions (model patterns) would silently be dropped."""
     for pattern in scene.model.get("patterns", []):
         if "displacement_dofs" in pattern or "motion" in pattern:
-            raise InputError(f"{scene.case.source}: load '{pattern['name']}' prescribes a "
-                             f"displacement or moves an obstacle, which the dolfinx bulk "
-                             f"cross-check does not model: cross-check a force-driven variant")
+            raise InputError(
+                f"{scene.case.source}: load '{pattern['name']}' prescribes a "
+                f"displacement or moves an obstacle, which the dolfinx bulk "
+                f"cross-check does not model: cross-check a force-driven variant"
+            )
 
 
 STRESS_NAMES = ("sigma_x", "sigma_y", "sigma_z", "tau_xy")
@@ -86,8 +88,13 @@ def _edge_name(scene, body: str, tag: str) -> str:
 class BulkProblem:
     """The scene's bulk problem in dolfinx (contact removed).  See the module doc."""
 
-    def __init__(self, scene, dm: DolfinxMesh | None = None, workdir: str | Path | None = None,
-                 quadrature_degree: int = CENTROID_RULE):
+    def __init__(
+        self,
+        scene,
+        dm: DolfinxMesh | None = None,
+        workdir: str | Path | None = None,
+        quadrature_degree: int = CENTROID_RULE,
+    ):
         """``quadrature_degree``: of the ring's bulk integrals (axisymmetry only; the default
         one-point rule is slipstep's ring element, see :mod:`.forms`)."""
         api.require_dolfinx()
@@ -103,8 +110,9 @@ class BulkProblem:
         self.dim = scene.dimension
         self.plane = scene.model.get("plane", "space")  # a 3D model has no plane
         self.n_nodes, self.n_elements = dm.n_nodes, dm.n_cells
-        self.section = section(dm.mesh, self.plane, scene.model.get("thickness", 1.0),
-                               dm.facet_tags, quadrature_degree)
+        self.section = section(
+            dm.mesh, self.plane, scene.model.get("thickness", 1.0), dm.facet_tags, quadrature_degree
+        )
         self.V = api.function_space(dm.mesh, "Lagrange", 1, (self.dim,))
         block = dm.block_of_node(self.V)
         # perm[slipstep dof] = dolfinx (unrolled) dof
@@ -112,8 +120,8 @@ class BulkProblem:
         self.n_stress = plasticity.stress_size(self.plane)
         self._materials(scene.model["materials"])
         self._forms()
-        self.fixed_dofs = self._case_fixed_dofs()       # slipstep numbering
-        self.load = self._case_load()                   # slipstep numbering, fraction 1
+        self.fixed_dofs = self._case_fixed_dofs()  # slipstep numbering
+        self.load = self._case_load()  # slipstep numbering, fraction 1
         self.timings = {"setup": time.perf_counter() - t0}
 
     def _materials(self, materials: list) -> None:
@@ -134,8 +142,8 @@ class BulkProblem:
         strain, dOmega = self.section.strain, self.section.dOmega
         n = len(self.section.STRAIN)
         W_strain = api.function_space(mesh, "DG", 0, (n,))
-        self.stress_fn = api.function(W_strain)                                      # s
-        self.tangent_fn = api.function(api.function_space(mesh, "DG", 0, (n, n)))    # C
+        self.stress_fn = api.function(W_strain)  # s
+        self.tangent_fn = api.function(api.function_space(mesh, "DG", 0, (n, n)))  # C
         s, C = self.stress_fn, self.tangent_fn
         u, v = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
         self.residual = api.compile_form(ufl.inner(s, strain(v)) * dOmega)
@@ -162,8 +170,10 @@ class BulkProblem:
                 for c in sorted(comps):
                     out.append(inv[api.locate_dofs(self.V, facets, component=c)])
             elif bc["nodes"]:
-                nodes = np.asarray(scene.meshes[bc["body"]].node_sets[bc["nodes"]]) \
+                nodes = (
+                    np.asarray(scene.meshes[bc["body"]].node_sets[bc["nodes"]])
                     + scene.offsets[bc["body"]]
+                )
                 for c in sorted(comps):
                     out.append(self.dim * nodes + c)
         if self.plane == "axisymmetric":
@@ -203,11 +213,13 @@ class BulkProblem:
             f = api.assemble_vector(sum(terms[1:], terms[0]))[self.perm]
         for pl in data["point_load"]:  # per unit thickness (axisymmetry: the ring's total)
             bodies = [pl["body"]] if pl["body"] else scene.bodies
-            ids = np.concatenate([np.arange(scene.meshes[b].n_nodes) + scene.offsets[b]
-                                  for b in bodies])
+            ids = np.concatenate(
+                [np.arange(scene.meshes[b].n_nodes) + scene.offsets[b] for b in bodies]
+            )
             node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1))]
-            f[self.dim * node:self.dim * (node + 1)] += \
-                self.section.point_force(np.asarray(pl["force"]))
+            f[self.dim * node : self.dim * (node + 1)] += self.section.point_force(
+                np.asarray(pl["force"])
+            )
         return f
 
     # ------------------------------------------------------------------ numbering, constraints
@@ -234,32 +246,59 @@ class BulkProblem:
         return self.dm.cell_function_values(self.strain_fn)
 
     # ------------------------------------------------------------------ elastic
-    def solve_elastic(self, fraction: float = 1.0, prescribed: dict | None = None,
-                      extra_load: np.ndarray | None = None) -> BulkResult:
+    def solve_elastic(
+        self,
+        fraction: float = 1.0,
+        prescribed: dict | None = None,
+        extra_load: np.ndarray | None = None,
+    ) -> BulkResult:
         """Linear elasticity under the case load x ``fraction`` plus ``extra_load`` (slipstep
         dofs, as given), with the supports and the ``prescribed`` displacements
         (slipstep dof -> value, as given)."""
         t0 = time.perf_counter()
         M = self.n_elements
-        self.dm.set_cell_function(self.tangent_fn,
-                                  plasticity.section_d(self.E, self.nu, self.plane).reshape(M, -1))
+        self.dm.set_cell_function(
+            self.tangent_fn, plasticity.section_d(self.E, self.nu, self.plane).reshape(M, -1)
+        )
         A = api.assemble_matrix(self.jacobian)
         f = self.load * fraction + (extra_load if extra_load is not None else 0.0)
         dofs, vals = self._constraints(prescribed)
         x = api.solve_constrained(A, self._to_dolfinx(f), dofs, vals)
         reaction = api.matvec(A, x)[self.perm] - f
         api.destroy(A)
-        stress = plasticity.integrate(np.zeros((M, self.n_stress)), np.zeros(M),
-                                      self._cell_strain(x), self.E, self.nu, np.inf, 0.0,
-                                      self.plane)[0]
+        stress = plasticity.integrate(
+            np.zeros((M, self.n_stress)),
+            np.zeros(M),
+            self._cell_strain(x),
+            self.E,
+            self.nu,
+            np.inf,
+            0.0,
+            self.plane,
+        )[0]
         self.timings["elastic"] = time.perf_counter() - t0
-        return BulkResult(fraction, x[self.perm].reshape(-1, self.dim), stress,
-                          np.zeros(M), np.zeros(M, bool), reaction)
+        return BulkResult(
+            fraction,
+            x[self.perm].reshape(-1, self.dim),
+            stress,
+            np.zeros(M),
+            np.zeros(M, bool),
+            reaction,
+        )
 
     # ------------------------------------------------------------------ elastoplastic
-    def solve_plastic(self, n_steps: int = 10, fractions=None, prescribed: dict | None = None,
-                      extra_load=None, schedule=None, substeps: int = 1, tol: float = 1e-10,
-                      max_iter: int = 40, callback=None) -> BulkResult:
+    def solve_plastic(
+        self,
+        n_steps: int = 10,
+        fractions=None,
+        prescribed: dict | None = None,
+        extra_load=None,
+        schedule=None,
+        substeps: int = 1,
+        tol: float = 1e-10,
+        max_iter: int = 40,
+        callback=None,
+    ) -> BulkResult:
         """Elastoplastic solution by load steps.
 
         Proportional loading: the case load, ``extra_load`` and the ``prescribed`` values
@@ -278,11 +317,17 @@ class BulkProblem:
         if schedule is None:
             if fractions is None:
                 fractions = np.arange(1, n_steps + 1) / n_steps
-            schedule = [(float(lf), {d: v * lf for d, v in (prescribed or {}).items()},
-                         None if extra_load is None else extra_load * lf) for lf in fractions]
+            schedule = [
+                (
+                    float(lf),
+                    {d: v * lf for d, v in (prescribed or {}).items()},
+                    None if extra_load is None else extra_load * lf,
+                )
+                for lf in fractions
+            ]
         M, n_strain = self.n_elements, len(self.section.STRAIN)
         state = (np.zeros((M, self.n_stress)), np.zeros(M), np.zeros((M, n_strain)))
-        x = np.zeros(len(self.perm))          # dolfinx order
+        x = np.zeros(len(self.perm))  # dolfinx order
         newton_log, result = [], None
         lf_prev, f_prev = 0.0, np.zeros(len(self.perm))
         f_scale = 0.0  # the largest load so far: residuals of an unloaded state are relative to it
@@ -296,18 +341,32 @@ class BulkProblem:
                 f_d = f_prev + s * (f_end - f_prev)
                 fnorm = max(np.linalg.norm(f_d), f_scale, 1e-300)
                 x, state, plastic, r, it, res, done = self._equilibrate(
-                    x, state, f_d, dofs, start + s * (target_end - start), fnorm, tol, max_iter)
+                    x, state, f_d, dofs, start + s * (target_end - start), fnorm, tol, max_iter
+                )
                 if not done:
-                    raise RuntimeError(f"dolfinx Newton did not converge at load fraction "
-                                       f"{lf_prev + s * (lf - lf_prev):.4g}: residual {res:.3g} "
-                                       f"after {it} iterations (use more steps)")
-                newton_log.append({"load_fraction": lf_prev + s * (lf - lf_prev),
-                                   "iterations": it, "residual": res})
+                    raise RuntimeError(
+                        f"dolfinx Newton did not converge at load fraction "
+                        f"{lf_prev + s * (lf - lf_prev):.4g}: residual {res:.3g} "
+                        f"after {it} iterations (use more steps)"
+                    )
+                newton_log.append(
+                    {
+                        "load_fraction": lf_prev + s * (lf - lf_prev),
+                        "iterations": it,
+                        "residual": res,
+                    }
+                )
             lf_prev, f_prev = lf, f_end
             # reaction = internal - external forces at the solution (slipstep numbering)
-            result = BulkResult(float(lf), x[self.perm].reshape(-1, self.dim), state[0].copy(),
-                                state[1].copy(), plastic.copy(), (r + f_d - f_end)[self.perm],
-                                list(newton_log))
+            result = BulkResult(
+                float(lf),
+                x[self.perm].reshape(-1, self.dim),
+                state[0].copy(),
+                state[1].copy(),
+                plastic.copy(),
+                (r + f_d - f_end)[self.perm],
+                list(newton_log),
+            )
             if callback is not None:
                 callback(result)
         self.timings["plastic"] = time.perf_counter() - t0
@@ -325,9 +384,11 @@ class BulkProblem:
         while True:
             strain = self._cell_strain(x)
             s_new, a_new, C, plastic, _ = plasticity.integrate(
-                sig, alpha, strain - eps_prev, self.E, self.nu, self.Sy, self.H, self.plane)
-            self.dm.set_cell_function(self.stress_fn,
-                                      s_new[:, plasticity.section_columns(self.plane)])
+                sig, alpha, strain - eps_prev, self.E, self.nu, self.Sy, self.H, self.plane
+            )
+            self.dm.set_cell_function(
+                self.stress_fn, s_new[:, plasticity.section_columns(self.plane)]
+            )
             self.dm.set_cell_function(self.tangent_fn, C.reshape(len(C), -1))
             r = api.assemble_vector(self.residual) - f_ext
             res = np.linalg.norm(r[free]) / fnorm
@@ -376,8 +437,8 @@ class BulkProblem:
                     arr = ds[()]
                     t = float(key.replace("_", "."))
                     if name == "u":  # geometry order, padded to 3 components
-                        val = arr[self.dm.geom_of_node, :self.dim]
-                    else:            # DG0: topology (cell) order
+                        val = arr[self.dm.geom_of_node, : self.dim]
+                    else:  # DG0: topology (cell) order
                         val = arr.reshape(-1)[self.dm.cell_of_element]
                     out.setdefault(t, {})[name] = val
         return out
@@ -406,8 +467,13 @@ def _cut_pressure(scene) -> float:
         return hertz_cut_pressure(scene.case)
     load = scene.case.data["load"]
     mesh = scene.case.body(load["body"])["mesh"]
-    return sphere_cut_pressure(load["P"], mesh["R"], mesh["portion"], scene.nodes,
-                               scene.global_boundary(load["body"], "top"))
+    return sphere_cut_pressure(
+        load["P"],
+        mesh["R"],
+        mesh["portion"],
+        scene.nodes,
+        scene.global_boundary(load["body"], "top"),
+    )
 
 
 def relative_difference(a: np.ndarray, b: np.ndarray) -> float:

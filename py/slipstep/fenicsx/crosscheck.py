@@ -27,9 +27,14 @@ from pathlib import Path
 import numpy as np
 
 from ..fields import polar
-from ..references import thick_cylinder_displacement, thick_cylinder_radius, \
-    thick_cylinder_stresses, thick_sphere_outer_displacement, thick_sphere_plastic_radius, \
-    thick_sphere_stresses
+from ..references import (
+    thick_cylinder_displacement,
+    thick_cylinder_radius,
+    thick_cylinder_stresses,
+    thick_sphere_outer_displacement,
+    thick_sphere_plastic_radius,
+    thick_sphere_stresses,
+)
 from ..space.fields import spherical
 from .bulk import BulkProblem, relative_difference
 
@@ -62,8 +67,10 @@ def engine_result(scene, events: bool = False, fractions=(1.0,)) -> tuple[dict, 
 
 
 def bulk_differences(snapshot: dict, res) -> dict:
-    out = {"u": relative_difference(res.u, snapshot["u"]),
-           "stress": relative_difference(res.stress, snapshot["stress"])}
+    out = {
+        "u": relative_difference(res.u, snapshot["u"]),
+        "stress": relative_difference(res.stress, snapshot["stress"]),
+    }
     ep = np.asarray(snapshot.get("plastic_strain", np.zeros(1)))
     if np.abs(ep).max(initial=0.0) > 0:
         out["plastic_strain"] = relative_difference(res.plastic_strain, ep)
@@ -82,17 +89,33 @@ def hill_setup(scene) -> dict | None:
         return None
     body = data["body"][0]
     mesh, mat = body["mesh"], body["material"]
-    shape = ("sphere" if scene.dimension == 3 and mesh.get("generator") == "shell" else
-             "cylinder" if scene.dimension == 2 and mesh.get("generator") == "quarter_annulus"
-             and data["analysis"]["plane"] == "strain" else None)
+    shape = (
+        "sphere"
+        if scene.dimension == 3 and mesh.get("generator") == "shell"
+        else "cylinder"
+        if scene.dimension == 2
+        and mesh.get("generator") == "quarter_annulus"
+        and data["analysis"]["plane"] == "strain"
+        else None
+    )
     if shape is None or mat["Sy"] is None or (mat["H"] or 0) != 0:
         return None
     loads = [bc for bc in data["bc"] if bc["pressure"] != 0 or any(bc["traction"])]
-    if len(loads) != 1 or (loads[0].get("face") or loads[0].get("edge")) != "inner" \
-            or any(loads[0]["traction"]):
+    if (
+        len(loads) != 1
+        or (loads[0].get("face") or loads[0].get("edge")) != "inner"
+        or any(loads[0]["traction"])
+    ):
         return None
-    return {"shape": shape, "a": mesh["a"], "b": mesh["b"], "p": loads[0]["pressure"],
-            "E": mat["E"], "nu": mat["nu"], "Sy": mat["Sy"]}
+    return {
+        "shape": shape,
+        "a": mesh["a"],
+        "b": mesh["b"],
+        "p": loads[0]["pressure"],
+        "E": mat["E"],
+        "nu": mat["nu"],
+        "Sy": mat["Sy"],
+    }
 
 
 def hill_differences(scene, u, stress, plastic_strain) -> dict | None:
@@ -111,29 +134,38 @@ def hill_differences(scene, u, stress, plastic_strain) -> dict | None:
         c, ub, (hr, ht) = hill_cylinder(rc, h)
     outer = np.abs(np.linalg.norm(scene.nodes, axis=1) - b) <= 1e-9 * b
     plastic = plastic_strain > 0
-    return {"u_outer": float(ur[outer].mean() / ub - 1.0),
-            "sigma_r_max": float(np.abs(sr - hr).max() / Sy),
-            "sigma_t_max": float(np.abs(st - ht).max() / Sy),
-            "sigma_r_rms": float(np.sqrt(np.mean((sr - hr) ** 2)) / Sy),
-            "sigma_t_rms": float(np.sqrt(np.mean((st - ht) ** 2)) / Sy),
-            "plastic_radius": float(rc[plastic].max()) if plastic.any() else a,
-            "hill_c": c, "hill_u_outer": float(ub), "shape": h["shape"]}
+    return {
+        "u_outer": float(ur[outer].mean() / ub - 1.0),
+        "sigma_r_max": float(np.abs(sr - hr).max() / Sy),
+        "sigma_t_max": float(np.abs(st - ht).max() / Sy),
+        "sigma_r_rms": float(np.sqrt(np.mean((sr - hr) ** 2)) / Sy),
+        "sigma_t_rms": float(np.sqrt(np.mean((st - ht) ** 2)) / Sy),
+        "plastic_radius": float(rc[plastic].max()) if plastic.any() else a,
+        "hill_c": c,
+        "hill_u_outer": float(ub),
+        "shape": h["shape"],
+    }
 
 
 def hill_cylinder(r, h: dict):
     """Hill's thick cylinder (plane strain, k = Sy/sqrt 3): c, u(b), (sigma_r, sigma_theta)(r)."""
     k = h["Sy"] / math.sqrt(3.0)
     a, b, p = h["a"], h["b"], h["p"]
-    return (float(thick_cylinder_radius(p, a, b, k)),
-            thick_cylinder_displacement(b, p, a, b, h["E"], h["nu"], h["Sy"]),
-            thick_cylinder_stresses(r, p, a, b, h["Sy"]))
+    return (
+        float(thick_cylinder_radius(p, a, b, k)),
+        thick_cylinder_displacement(b, p, a, b, h["E"], h["nu"], h["Sy"]),
+        thick_cylinder_stresses(r, p, a, b, h["Sy"]),
+    )
 
 
 def hill_sphere(rho, h: dict):
     """Hill's thick sphere (Y = Sy): c, u(b), (sigma_R, sigma_t)(rho)."""
     a, b, p, Y = h["a"], h["b"], h["p"], h["Sy"]
-    return (thick_sphere_plastic_radius(p, a, b, Y), thick_sphere_outer_displacement(p, a, b, h["E"], h["nu"], Y),
-            thick_sphere_stresses(rho, p, a, b, Y))
+    return (
+        thick_sphere_plastic_radius(p, a, b, Y),
+        thick_sphere_outer_displacement(p, a, b, h["E"], h["nu"], Y),
+        thick_sphere_stresses(rho, p, a, b, Y),
+    )
 
 
 # --------------------------------------------------------------------------- drivers
@@ -142,8 +174,12 @@ def elastic_bulk(scene, bulk: BulkProblem | None = None) -> dict:
     result, t_engine = engine_result(scene)
     t0 = time.perf_counter()
     res = bulk.solve_elastic()
-    row = {"what": "elastic, no contact", "t_slipstep": t_engine,
-           "t_dolfinx": time.perf_counter() - t0, **bulk_differences(result["snapshots"][-1], res)}
+    row = {
+        "what": "elastic, no contact",
+        "t_slipstep": t_engine,
+        "t_dolfinx": time.perf_counter() - t0,
+        **bulk_differences(result["snapshots"][-1], res),
+    }
     return {"rows": [row], "snapshot": result["snapshots"][-1], "dolfinx": res}
 
 
@@ -155,18 +191,29 @@ def plastic_bulk(scene, steps=DEFAULT_STEPS, bulk: BulkProblem | None = None) ->
     for n in steps:
         t0 = time.perf_counter()
         res = bulk.solve_plastic(n_steps=n)
-        rows.append({"what": f"elastoplastic, dolfinx N = {n}", "steps": n,
-                     "newton_iterations": sum(x["iterations"] for x in res.newton),
-                     "t_slipstep": t_engine, "t_dolfinx": time.perf_counter() - t0,
-                     **bulk_differences(snap, res)})
+        rows.append(
+            {
+                "what": f"elastoplastic, dolfinx N = {n}",
+                "steps": n,
+                "newton_iterations": sum(x["iterations"] for x in res.newton),
+                "t_slipstep": t_engine,
+                "t_dolfinx": time.perf_counter() - t0,
+                **bulk_differences(snap, res),
+            }
+        )
         last = res
-    out = {"rows": rows, "snapshot": snap, "dolfinx": last,
-           "n_events": int(len(result["events"]["kind"]))}
+    out = {
+        "rows": rows,
+        "snapshot": snap,
+        "dolfinx": last,
+        "n_events": int(len(result["events"]["kind"])),
+    }
     hs = hill_differences(scene, snap["u"], snap["stress"], snap["plastic_strain"])
     if hs is not None:
-        out["hill"] = {"slipstep": hs,
-                       "dolfinx": hill_differences(scene, last.u, last.stress,
-                                                   last.plastic_strain)}
+        out["hill"] = {
+            "slipstep": hs,
+            "dolfinx": hill_differences(scene, last.u, last.stress, last.plastic_strain),
+        }
     return out
 
 
@@ -177,12 +224,21 @@ def contact_replay(scene, bulk: BulkProblem | None = None, substeps: int = 1) ->
     result, t_engine = engine_result(scene, events=True)
     t0 = time.perf_counter()
     plastic = is_plastic(scene)
-    rows, last = (replay_plastic(scene, result, bulk, substeps) if plastic
-                  else replay_elastic(scene, result, bulk))
+    rows, last = (
+        replay_plastic(scene, result, bulk, substeps)
+        if plastic
+        else replay_elastic(scene, result, bulk)
+    )
     t_dolfinx = time.perf_counter() - t0
-    return {"rows": rows, "snapshot": result["snapshots"][-1], "dolfinx": last,
-            "plastic": plastic, "t_slipstep": t_engine, "t_dolfinx": t_dolfinx,
-            "result": result}
+    return {
+        "rows": rows,
+        "snapshot": result["snapshots"][-1],
+        "dolfinx": last,
+        "plastic": plastic,
+        "t_slipstep": t_engine,
+        "t_dolfinx": t_dolfinx,
+        "result": result,
+    }
 
 
 def summarize_rows(rows: list[dict], keys) -> dict:
@@ -208,7 +264,8 @@ def run(case_path, out: str | Path, overrides=(), steps=DEFAULT_STEPS, substeps:
         raise NotImplementedError(
             f"{scene.case.name}: the 3D cross-check compares the bulk (no [[contact]]); the "
             f"contact replay is planar and axisymmetric: remove the contacts (and load the body "
-            f"by [[bc]]) to cross-check its bulk")
+            f"by [[bc]]) to cross-check its bulk"
+        )
     with _removed_on_failure(Path(out)) as out:
         return _compared(scene, out, steps, substeps, t0)
 
@@ -237,10 +294,15 @@ def _compared(scene, out: Path, steps, substeps: int, t0: float) -> dict:
     write_scene_xdmf(scene, out / "mesh.xdmf")
     dm = read_dolfinx(out / "mesh.xdmf")
     bulk = BulkProblem(scene, dm)
-    report = {"case": scene.case.name, "source": scene.case.source,
-              "n_nodes": len(scene.nodes), "n_elements": len(scene.elements),
-              "n_pairs": int(len(scene.model["pairs"]["node_a"])),
-              "plane": scene.model.get("plane", "none (3D)"), "plastic": is_plastic(scene)}
+    report = {
+        "case": scene.case.name,
+        "source": scene.case.source,
+        "n_nodes": len(scene.nodes),
+        "n_elements": len(scene.elements),
+        "n_pairs": int(len(scene.model["pairs"]["node_a"])),
+        "plane": scene.model.get("plane", "none (3D)"),
+        "plastic": is_plastic(scene),
+    }
     if report["n_pairs"]:
         rep = contact_replay(scene, bulk, substeps)
         report["mode"] = "contact replay" + (" (elastoplastic)" if rep["plastic"] else "")
@@ -286,52 +348,96 @@ def _fmt(v) -> str:
 
 
 def markdown(report: dict) -> str:
-    lines = [f"# slipstep vs dolfinx: {report['case']}", "",
-             f"{report['source']}: {report['n_nodes']} nodes, {report['n_elements']} elements, "
-             f"{report['n_pairs']} contact pairs, plane {report['plane']}; mode: "
-             f"**{report['mode']}**.", "",
-             "Differences are max |dolfinx - slipstep| / max |slipstep| over the nodes "
-             "(displacement) or elements (stress, plastic strain); contact forces are relative "
-             "to the largest lambda_n.", ""]
+    lines = [
+        f"# slipstep vs dolfinx: {report['case']}",
+        "",
+        f"{report['source']}: {report['n_nodes']} nodes, {report['n_elements']} elements, "
+        f"{report['n_pairs']} contact pairs, plane {report['plane']}; mode: "
+        f"**{report['mode']}**.",
+        "",
+        "Differences are max |dolfinx - slipstep| / max |slipstep| over the nodes "
+        "(displacement) or elements (stress, plastic strain); contact forces are relative "
+        "to the largest lambda_n.",
+        "",
+    ]
     if "rows" in report:
-        keys = [k for k in ("steps", "newton_iterations", "u", "stress", "plastic_strain",
-                            "n_plastic_slipstep", "n_plastic_dolfinx", "t_slipstep",
-                            "t_dolfinx") if any(k in r for r in report["rows"])]
-        lines += ["| what | " + " | ".join(keys) + " |",
-                  "|---|" + "---|" * len(keys)]
+        keys = [
+            k
+            for k in (
+                "steps",
+                "newton_iterations",
+                "u",
+                "stress",
+                "plastic_strain",
+                "n_plastic_slipstep",
+                "n_plastic_dolfinx",
+                "t_slipstep",
+                "t_dolfinx",
+            )
+            if any(k in r for r in report["rows"])
+        ]
+        lines += ["| what | " + " | ".join(keys) + " |", "|---|" + "---|" * len(keys)]
         for r in report["rows"]:
             lines.append(f"| {r['what']} | " + " | ".join(_fmt(r.get(k, "")) for k in keys) + " |")
         lines.append("")
     if "replay" in report:
         rows = report["replay"]
-        keys = [k for k in ("n_closed", "n_stick", "n_slip", *REPLAY_KEYS)
-                if any(k in r for r in rows)]
-        lines += [f"Contact replay at {len(rows)} snapshots (every event); max over them: "
-                  + ", ".join(f"{k} {v:.3g}" for k, v in report["max"].items()), "",
-                  "| load fraction | " + " | ".join(keys) + " |",
-                  "|---|" + "---|" * len(keys)]
+        keys = [
+            k for k in ("n_closed", "n_stick", "n_slip", *REPLAY_KEYS) if any(k in r for r in rows)
+        ]
+        lines += [
+            f"Contact replay at {len(rows)} snapshots (every event); max over them: "
+            + ", ".join(f"{k} {v:.3g}" for k, v in report["max"].items()),
+            "",
+            "| load fraction | " + " | ".join(keys) + " |",
+            "|---|" + "---|" * len(keys),
+        ]
         pick = rows if len(rows) <= 30 else rows[:: max(1, len(rows) // 25)] + [rows[-1]]
         for r in pick:
-            lines.append(f"| {r['load_fraction']:.4g} | "
-                         + " | ".join(_fmt(r.get(k, "")) for k in keys) + " |")
+            lines.append(
+                f"| {r['load_fraction']:.4g} | "
+                + " | ".join(_fmt(r.get(k, "")) for k in keys)
+                + " |"
+            )
         lines.append("")
-        lines.append(f"Time: slipstep {report['timings']['slipstep']:.3g} s, dolfinx replay "
-                     f"{report['timings']['dolfinx']:.3g} s.")
+        lines.append(
+            f"Time: slipstep {report['timings']['slipstep']:.3g} s, dolfinx replay "
+            f"{report['timings']['dolfinx']:.3g} s."
+        )
         lines.append("")
     if "hill" in report:
-        lines += [f"Against Hill's closed form (perfectly plastic thick "
-                  f"{report['hill']['slipstep']['shape']}):", "",
-                  "| quantity | slipstep | dolfinx (largest N) |", "|---|---|---|"]
-        for k in ("u_outer", "sigma_r_rms", "sigma_t_rms", "sigma_r_max", "sigma_t_max",
-                  "plastic_radius"):
-            lines.append(f"| {k} | {_fmt(report['hill']['slipstep'][k])} | "
-                         f"{_fmt(report['hill']['dolfinx'][k])} |")
-        lines += ["", f"(u_outer: relative difference of the mean outer radial displacement; "
-                      f"sigma_*: / Sy at element centroids; Hill's c = "
-                      f"{report['hill']['slipstep']['hill_c']:.4g})", ""]
-    lines += [f"Total {report['timings_total_s']:.3g} s (dolfinx set-up and JIT "
-              f"{report['timings_dolfinx_setup_s']:.3g} s). Figure: crosscheck.png; dolfinx "
-              f"fields: dolfinx.xdmf; exchanged mesh: mesh.xdmf + mesh_edges.xdmf.", ""]
+        lines += [
+            f"Against Hill's closed form (perfectly plastic thick "
+            f"{report['hill']['slipstep']['shape']}):",
+            "",
+            "| quantity | slipstep | dolfinx (largest N) |",
+            "|---|---|---|",
+        ]
+        for k in (
+            "u_outer",
+            "sigma_r_rms",
+            "sigma_t_rms",
+            "sigma_r_max",
+            "sigma_t_max",
+            "plastic_radius",
+        ):
+            lines.append(
+                f"| {k} | {_fmt(report['hill']['slipstep'][k])} | "
+                f"{_fmt(report['hill']['dolfinx'][k])} |"
+            )
+        lines += [
+            "",
+            f"(u_outer: relative difference of the mean outer radial displacement; "
+            f"sigma_*: / Sy at element centroids; Hill's c = "
+            f"{report['hill']['slipstep']['hill_c']:.4g})",
+            "",
+        ]
+    lines += [
+        f"Total {report['timings_total_s']:.3g} s (dolfinx set-up and JIT "
+        f"{report['timings_dolfinx_setup_s']:.3g} s). Figure: crosscheck.png; dolfinx "
+        f"fields: dolfinx.xdmf; exchanged mesh: mesh.xdmf + mesh_edges.xdmf.",
+        "",
+    ]
     return "\n".join(lines)
 
 
@@ -382,20 +488,32 @@ def _field_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
     from matplotlib.tri import Triangulation
 
     from ..fields import von_mises
+
     if scene.dimension == 3:
         return _von_mises_panel(ax, snap, last)
     tri = Triangulation(scene.nodes[:, 0], scene.nodes[:, 1], scene.triangles)
     if "replay" in report and last is not None:
         from .replay import replay_conditions
+
         _, _, info = replay_conditions(scene, snap)
         area, x = scene.pair_area, scene.pair_xy[:, 0]
         order = np.argsort(x)
-        ax.plot(x[order], (np.asarray(snap["lambda_n"]) / area)[order], "-", lw=3, alpha=0.4,
-                label="slipstep (engine)")
+        ax.plot(
+            x[order],
+            (np.asarray(snap["lambda_n"]) / area)[order],
+            "-",
+            lw=3,
+            alpha=0.4,
+            label="slipstep (engine)",
+        )
         if len(info["closed"]):
             got = last.reaction[info["normal_dof"]] * info["normal_sign"]
-            ax.plot(x[info["closed"]], got / area[info["closed"]], "k.",
-                    label="dolfinx reaction (replay)")
+            ax.plot(
+                x[info["closed"]],
+                got / area[info["closed"]],
+                "k.",
+                label="dolfinx reaction (replay)",
+            )
         ax.set_xlabel("x of the contactor node")
         ax.set_ylabel("contact pressure")
         ax.set_title(f"final contact pressure ({len(x)} candidates)")
@@ -404,8 +522,9 @@ def _field_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
         return
     if last is not None:
         d = von_mises(last.stress) - von_mises(np.asarray(snap["stress"]))
-        pc = ax.tripcolor(tri, facecolors=d, cmap="coolwarm",
-                          vmin=-np.abs(d).max(), vmax=np.abs(d).max() or 1.0)
+        pc = ax.tripcolor(
+            tri, facecolors=d, cmap="coolwarm", vmin=-np.abs(d).max(), vmax=np.abs(d).max() or 1.0
+        )
         ax.set_title("von Mises: dolfinx - slipstep")
     else:
         pc = ax.tripcolor(tri, facecolors=von_mises(np.asarray(snap["stress"])), cmap="viridis")
@@ -418,6 +537,7 @@ def _von_mises_panel(ax, snap: dict, last) -> None:
     """3D: each element's von Mises stress, dolfinx's against slipstep's (on the diagonal when
     they agree), or slipstep's sorted when dolfinx has no final state."""
     from ..space.fields import von_mises_3d
+
     ours = von_mises_3d(np.asarray(snap["stress"]))
     if last is None:
         ax.plot(np.sort(ours), ".", ms=2)

@@ -29,8 +29,8 @@ import numpy as np
 
 from ..errors import SlipstepError
 
-OLDEST = (0, 5)     # the oldest release the branches below start from
-NEWEST = (0, 11)    # the newest release whose notes were read for them
+OLDEST = (0, 5)  # the oldest release the branches below start from
+NEWEST = (0, 11)  # the newest release whose notes were read for them
 
 
 class DolfinxMissing(SlipstepError, ImportError):
@@ -44,56 +44,89 @@ class Spelling:
 
     since: tuple[int, int]
     branch: str
-    note: str   # the release note / changelog entry this branch follows
+    note: str  # the release note / changelog entry this branch follows
 
 
 SPELLINGS: dict[str, tuple[Spelling, ...]] = {
     "function_space": (
-        Spelling((0, 5), "VectorFunctionSpace",
-                 "0.5/0.6: FunctionSpace(mesh, (family, k)), VectorFunctionSpace(..., dim=n), "
-                 "TensorFunctionSpace(..., shape=(n, m))"),
-        Spelling((0, 7), "functionspace",
-                 "v0.7.0, #2766: functionspace(mesh, (family, k, shape)); the capitalised "
-                 "constructors removed in v0.8.0 (release notes: #2818)")),
+        Spelling(
+            (0, 5),
+            "VectorFunctionSpace",
+            "0.5/0.6: FunctionSpace(mesh, (family, k)), VectorFunctionSpace(..., dim=n), "
+            "TensorFunctionSpace(..., shape=(n, m))",
+        ),
+        Spelling(
+            (0, 7),
+            "functionspace",
+            "v0.7.0, #2766: functionspace(mesh, (family, k, shape)); the capitalised "
+            "constructors removed in v0.8.0 (release notes: #2818)",
+        ),
+    ),
     "compiled_form": (
         Spelling((0, 5), "FormMetaClass", "0.5/0.6: fem.form returns a fem.FormMetaClass"),
-        Spelling((0, 7), "Form", "v0.7.0, #2683 'Remove Python meta classes': fem.Form")),
+        Spelling((0, 7), "Form", "v0.7.0, #2683 'Remove Python meta classes': fem.Form"),
+    ),
     "scalar_type": (
         Spelling((0, 5), "PETSc.ScalarType", "0.5/0.6: petsc4py's PETSc.ScalarType"),
-        Spelling((0, 7), "default_scalar_type", "v0.7.0, #2610: dolfinx.default_scalar_type")),
+        Spelling((0, 7), "default_scalar_type", "v0.7.0, #2610: dolfinx.default_scalar_type"),
+    ),
     "dofmap_list": (
         Spelling((0, 5), "AdjacencyList", "0.5/0.6: V.dofmap.list is an AdjacencyList (.array)"),
-        Spelling((0, 7), "array", "v0.7.0, #2632 'Flatten dofmap storage': (cells, dofs) array")),
+        Spelling((0, 7), "array", "v0.7.0, #2632 'Flatten dofmap storage': (cells, dofs) array"),
+    ),
     "geometry_dofmap": (
         Spelling((0, 5), "AdjacencyList", "0.5/0.6: mesh.geometry.dofmap is an AdjacencyList"),
         Spelling((0, 7), "dofmap", "v0.7.0, #2632: mesh.geometry.dofmap is a (cells, nodes) array"),
-        Spelling((0, 11), "dofmaps[0]",
-                 "v0.11.0, #4227: geometry.dofmaps, one per cell type; dofmap deprecated")),
+        Spelling(
+            (0, 11),
+            "dofmaps[0]",
+            "v0.11.0, #4227: geometry.dofmaps, one per cell type; dofmap deprecated",
+        ),
+    ),
     "coordinate_element": (
         Spelling((0, 5), "cmap", "0.5/0.6: mesh.geometry.cmap"),
         Spelling((0, 7), "cmaps[0]", "v0.7.0, #2597 'Mixed topology': mesh.geometry.cmaps list"),
         Spelling((0, 8), "cmap", "v0.8.0, #2954: mesh.geometry.cmap again"),
-        Spelling((0, 11), "cmaps[0]", "v0.11.0, #4227: geometry.cmaps; cmap deprecated")),
+        Spelling((0, 11), "cmaps[0]", "v0.11.0, #4227: geometry.cmaps; cmap deprecated"),
+    ),
     "petsc_vector": (
-        Spelling((0, 5), "Function.vector",
-                 "0.5-0.7: Function.vector wraps the dofs in a PETSc Vec"),
-        Spelling((0, 8), "x.petsc_vec",
-                 "v0.8.0, #3092: Function.x.petsc_vec; Function.vector deprecated, removed in "
-                 "v0.9.0 (#3435)")),
+        Spelling(
+            (0, 5), "Function.vector", "0.5-0.7: Function.vector wraps the dofs in a PETSc Vec"
+        ),
+        Spelling(
+            (0, 8),
+            "x.petsc_vec",
+            "v0.8.0, #3092: Function.x.petsc_vec; Function.vector deprecated, removed in "
+            "v0.9.0 (#3435)",
+        ),
+    ),
     "interpolation_points": (
         Spelling((0, 5), "method", "0.5-0.9: V.element.interpolation_points()"),
-        Spelling((0, 10), "property",
-                 "v0.10.0, #3542 'Add FiniteElement python wrapper': a property")),
+        Spelling(
+            (0, 10), "property", "v0.10.0, #3542 'Add FiniteElement python wrapper': a property"
+        ),
+    ),
     "write_meshtags": (
         Spelling((0, 5), "tags", "0.5/0.6: XDMFFile.write_meshtags(tags)"),
-        Spelling((0, 7), "tags, geometry",
-                 "v0.7.0, #2522 'Wrap mesh tags from Python': write_meshtags(tags, geometry)")),
+        Spelling(
+            (0, 7),
+            "tags, geometry",
+            "v0.7.0, #2522 'Wrap mesh tags from Python': write_meshtags(tags, geometry)",
+        ),
+    ),
     "gmsh_io": (
-        Spelling((0, 5), "gmshio", "0.5-0.9: dolfinx.io.gmshio.model_to_mesh -> (mesh, cell "
-                                   "tags, facet tags)"),
-        Spelling((0, 10), "io.gmsh MeshData",
-                 "v0.10.0 release notes, IO/GMSH (#3547, #3881): gmshio renamed dolfinx.io.gmsh, "
-                 "model_to_mesh returns a MeshData")),
+        Spelling(
+            (0, 5),
+            "gmshio",
+            "0.5-0.9: dolfinx.io.gmshio.model_to_mesh -> (mesh, cell " "tags, facet tags)",
+        ),
+        Spelling(
+            (0, 10),
+            "io.gmsh MeshData",
+            "v0.10.0 release notes, IO/GMSH (#3547, #3881): gmshio renamed dolfinx.io.gmsh, "
+            "model_to_mesh returns a MeshData",
+        ),
+    ),
 }
 
 
@@ -109,8 +142,10 @@ def branch(point: str, version: str | tuple[int, int]) -> str:
     """The spelling of API ``point`` in dolfinx ``version``: the newest one released by then."""
     v = parse_version(version) if isinstance(version, str) else tuple(version)
     if v < OLDEST:
-        raise DolfinxMissing(f"dolfinx {v[0]}.{v[1]} is older than {OLDEST[0]}.{OLDEST[1]}, "
-                             f"the oldest slipstep.fenicsx supports: install a newer dolfinx")
+        raise DolfinxMissing(
+            f"dolfinx {v[0]}.{v[1]} is older than {OLDEST[0]}.{OLDEST[1]}, "
+            f"the oldest slipstep.fenicsx supports: install a newer dolfinx"
+        )
     chosen = [s.branch for s in SPELLINGS[point] if s.since <= v]
     return chosen[-1]
 
@@ -132,10 +167,12 @@ def hdf5_clash() -> str | None:
     bundled = Path(h5py.origin).parent.with_name("h5py.libs")
     if not (dolfinx.origin.startswith("/usr/lib/") and bundled.is_dir()):
         return None
-    return (f"h5py in {Path(h5py.origin).parent.parent} brings its own HDF5 (from PyPI), which "
-            f"clashes with the one Debian's dolfinx uses: use Debian's python3-h5py in this "
-            f"venv (`pip uninstall h5py`, or ci/debian-h5py.sh VENV from a slipstep checkout, "
-            f"which also keeps pip from installing it again)")
+    return (
+        f"h5py in {Path(h5py.origin).parent.parent} brings its own HDF5 (from PyPI), which "
+        f"clashes with the one Debian's dolfinx uses: use Debian's python3-h5py in this "
+        f"venv (`pip uninstall h5py`, or ci/debian-h5py.sh VENV from a slipstep checkout, "
+        f"which also keeps pip from installing it again)"
+    )
 
 
 _LOADED: SimpleNamespace | None = None
@@ -164,19 +201,33 @@ def _import() -> SimpleNamespace:
         import ufl as ufl_module
         from petsc4py import PETSc
     except ImportError as exc:
-        raise DolfinxMissing(f"dolfinx is not available ({exc}): install Debian's "
-                             f"python3-dolfinx (make setup does) and use a venv made with "
-                             f"--system-site-packages") from None
+        raise DolfinxMissing(
+            f"dolfinx is not available ({exc}): install Debian's "
+            f"python3-dolfinx (make setup does) and use a venv made with "
+            f"--system-site-packages"
+        ) from None
     version = parse_version(dolfinx.__version__)
     branch("function_space", version)  # refuses < 0.5
     if version > NEWEST:
-        warnings.warn(f"dolfinx {dolfinx.__version__} is newer than {NEWEST[0]}.{NEWEST[1]}, "
-                      f"the newest release slipstep.fenicsx was written for: its "
-                      f"{NEWEST[0]}.{NEWEST[1]} spellings are used", RuntimeWarning, stacklevel=3)
+        warnings.warn(
+            f"dolfinx {dolfinx.__version__} is newer than {NEWEST[0]}.{NEWEST[1]}, "
+            f"the newest release slipstep.fenicsx was written for: its "
+            f"{NEWEST[0]}.{NEWEST[1]} spellings are used",
+            RuntimeWarning,
+            stacklevel=3,
+        )
     if MPI.COMM_WORLD.size != 1:
         raise RuntimeError("slipstep.fenicsx runs in serial only (one MPI process)")
-    return SimpleNamespace(dolfinx=dolfinx, fem=dolfinx.fem, petsc=dolfinx.fem.petsc,
-                           io=dolfinx.io, ufl=ufl_module, PETSc=PETSc, MPI=MPI, version=version)
+    return SimpleNamespace(
+        dolfinx=dolfinx,
+        fem=dolfinx.fem,
+        petsc=dolfinx.fem.petsc,
+        io=dolfinx.io,
+        ufl=ufl_module,
+        PETSc=PETSc,
+        MPI=MPI,
+        version=version,
+    )
 
 
 def start_petsc():
@@ -184,8 +235,10 @@ def start_petsc():
     :mod:`slipstep.ranks`): petsc4py started (MPI with it), dolfinx not imported.  Raises
     ImportError when petsc4py is missing."""
     import petsc4py
+
     petsc4py.init()
     from petsc4py import PETSc
+
     return PETSc
 
 
@@ -411,7 +464,7 @@ def destroy(*objects) -> None:
 # --------------------------------------------------------------------------- mesh
 def node_coordinates(mesh) -> np.ndarray:
     """(N, gdim) coordinates of the geometry nodes."""
-    return mesh.geometry.x[:, :mesh.geometry.dim]
+    return mesh.geometry.x[:, : mesh.geometry.dim]
 
 
 def cell_nodes(mesh) -> np.ndarray:
@@ -522,7 +575,9 @@ def mesh_from_gmsh(model, gdim: int = 2):
     d = require_dolfinx()
     if _uses("gmsh_io") == "io.gmsh MeshData":
         from dolfinx.io import gmsh as gmsh_io
+
         data = gmsh_io.model_to_mesh(model, d.MPI.COMM_WORLD, 0, gdim=gdim)
         return data.mesh, data.cell_tags, data.facet_tags
     from dolfinx.io import gmshio
+
     return gmshio.model_to_mesh(model, d.MPI.COMM_WORLD, 0, gdim=gdim)

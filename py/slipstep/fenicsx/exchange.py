@@ -122,17 +122,26 @@ def _check_unique_edges(data: MeshData) -> None:
     if (counts > 1).any():
         i = index[np.argmax(counts > 1)]
         dup = np.flatnonzero((key == key[i]).all(1))
-        names = sorted({data.edge_names.get(int(data.edge_tags[j]), str(data.edge_tags[j]))
-                        for j in dup})
-        raise ValueError(f"segment {key[i].tolist()} carries several edge tags ({', '.join(names)}):"
-                         f" dolfinx facet tags hold one value per facet; tag it once")
+        names = sorted(
+            {data.edge_names.get(int(data.edge_tags[j]), str(data.edge_tags[j])) for j in dup}
+        )
+        raise ValueError(
+            f"segment {key[i].tolist()} carries several edge tags ({', '.join(names)}):"
+            f" dolfinx facet tags hold one value per facet; tag it once"
+        )
 
 
 def _data_item(parent, h5name: str, dataset: str, array: np.ndarray):
     kind = "Float" if np.issubdtype(array.dtype, np.floating) else "Int"
     shape = " ".join(str(s) for s in array.shape)
-    item = ET.SubElement(parent, "DataItem", DataType=kind, Dimensions=shape,
-                         Format="HDF", Precision=str(array.dtype.itemsize))
+    item = ET.SubElement(
+        parent,
+        "DataItem",
+        DataType=kind,
+        Dimensions=shape,
+        Format="HDF",
+        Precision=str(array.dtype.itemsize),
+    )
     item.text = f"{h5name}:/{dataset}"
 
 
@@ -148,16 +157,33 @@ def _information(grid, names: dict, dim: int):
     info.text = ET.tostring(main, encoding="unicode")
 
 
-def _grid_xml(h5name: str, name: str, topology: str, n_per: int, cells_ds: str, cells,
-              attr_name: str, attr_ds: str, attr, names: dict, dim: int, points) -> ET.Element:
+def _grid_xml(
+    h5name: str,
+    name: str,
+    topology: str,
+    n_per: int,
+    cells_ds: str,
+    cells,
+    attr_name: str,
+    attr_ds: str,
+    attr,
+    names: dict,
+    dim: int,
+    points,
+) -> ET.Element:
     root = ET.Element("Xdmf", Version="3.0")
     domain = ET.SubElement(root, "Domain")
     grid = ET.SubElement(domain, "Grid", Name=name, GridType="Uniform")
     _information(grid, names, dim)
     geo = ET.SubElement(grid, "Geometry", GeometryType="XYZ" if points.shape[1] == 3 else "XY")
     _data_item(geo, h5name, "mesh/geometry", points)
-    topo = ET.SubElement(grid, "Topology", TopologyType=topology,
-                         NumberOfElements=str(len(cells)), NodesPerElement=str(n_per))
+    topo = ET.SubElement(
+        grid,
+        "Topology",
+        TopologyType=topology,
+        NumberOfElements=str(len(cells)),
+        NodesPerElement=str(n_per),
+    )
     _data_item(topo, h5name, cells_ds, cells)
     att = ET.SubElement(grid, "Attribute", Name=attr_name, AttributeType="Scalar", Center="Cell")
     _data_item(att, h5name, attr_ds, attr)
@@ -181,8 +207,10 @@ def write_mesh_xdmf(path: str | Path, data: MeshData) -> tuple[Path, Path, Path]
     segs = np.ascontiguousarray(data.segments, dtype=np.int64).reshape(-1, gdim)
     ctags = np.ascontiguousarray(data.cell_tags, dtype=np.int32)
     etags = np.ascontiguousarray(data.edge_tags, dtype=np.int32)
-    meta = {"cell_tags": {str(k): v for k, v in data.cell_names.items()},
-            "edge_tags": {str(k): v for k, v in data.edge_names.items()}}
+    meta = {
+        "cell_tags": {str(k): v for k, v in data.cell_names.items()},
+        "edge_tags": {str(k): v for k, v in data.edge_names.items()},
+    }
     edges_h5 = edges_xdmf.with_suffix(".h5")
     with h5py.File(h5, "w") as f:
         f["mesh/geometry"] = nodes
@@ -196,10 +224,34 @@ def write_mesh_xdmf(path: str | Path, data: MeshData) -> tuple[Path, Path, Path]
         f["edges/topology"] = segs
         f["edges/edge"] = etags
     cell, facet = ("Triangle", "Polyline") if gdim == 2 else ("Tetrahedron", "Triangle")
-    mesh_xml = _grid_xml(h5.name, MESH_GRID, cell, gdim + 1, "mesh/topology", tris, "body",
-                         "mesh/body", ctags, data.cell_names, gdim, nodes)
-    edge_xml = _grid_xml(edges_h5.name, EDGE_GRID, facet, gdim, "edges/topology", segs,
-                         "edge", "edges/edge", etags, data.edge_names, gdim - 1, nodes)
+    mesh_xml = _grid_xml(
+        h5.name,
+        MESH_GRID,
+        cell,
+        gdim + 1,
+        "mesh/topology",
+        tris,
+        "body",
+        "mesh/body",
+        ctags,
+        data.cell_names,
+        gdim,
+        nodes,
+    )
+    edge_xml = _grid_xml(
+        edges_h5.name,
+        EDGE_GRID,
+        facet,
+        gdim,
+        "edges/topology",
+        segs,
+        "edge",
+        "edges/edge",
+        etags,
+        data.edge_names,
+        gdim - 1,
+        nodes,
+    )
     for root, p in ((mesh_xml, xdmf), (edge_xml, edges_xdmf)):
         ET.indent(root)
         p.write_text('<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
@@ -219,8 +271,11 @@ def _h5_array(xdmf: Path, item: ET.Element) -> np.ndarray:
     fmt = item.get("Format", "XML")
     if fmt == "XML":
         shape = [int(s) for s in item.get("Dimensions").split()]
-        dtype = np.float64 if item.get("DataType", item.get("NumberType", "Float")) == "Float" \
+        dtype = (
+            np.float64
+            if item.get("DataType", item.get("NumberType", "Float")) == "Float"
             else np.int64
+        )
         return np.array(text.split(), dtype=dtype).reshape(shape)
     fname, _, dataset = text.partition(":")
     with h5py.File(xdmf.parent / fname, "r") as f:
@@ -281,8 +336,9 @@ def read_xdmf_h5(path: str | Path, edges_path: str | Path | None = None) -> Mesh
         elif k.lower() == "polyline":
             segs, etags = cells, vals
     default_edges = xdmf.with_name(xdmf.stem + "_edges.xdmf")
-    edges_path = Path(edges_path) if edges_path else (default_edges if default_edges.exists()
-                                                     else None)
+    edges_path = (
+        Path(edges_path) if edges_path else (default_edges if default_edges.exists() else None)
+    )
     if edges_path is not None:
         eg = _grids(edges_path)
         _, _, segs, etags, enames = _read_grid(edges_path, next(iter(eg.values())), nodes)
@@ -290,6 +346,7 @@ def read_xdmf_h5(path: str | Path, edges_path: str | Path | None = None) -> Mesh
     h5 = xdmf.with_suffix(".h5")
     if h5.exists():
         import h5py
+
         with h5py.File(h5, "r") as f:
             if "slipstep" in f.attrs:
                 meta = json.loads(f.attrs["slipstep"])
@@ -314,13 +371,13 @@ def _match_tags(cells: np.ndarray, tagged: np.ndarray, values: np.ndarray, n: in
 class DolfinxMesh:
     """A dolfinx mesh read from the exchange files, its tags, and the maps to slipstep."""
 
-    mesh: object                 # dolfinx.mesh.Mesh
-    cell_tags: object            # dolfinx MeshTags, dim 2 (body index + 1)
-    facet_tags: object           # dolfinx MeshTags, dim 1 (edge tag values)
+    mesh: object  # dolfinx.mesh.Mesh
+    cell_tags: object  # dolfinx MeshTags, dim 2 (body index + 1)
+    facet_tags: object  # dolfinx MeshTags, dim 1 (edge tag values)
     cell_names: dict
     edge_names: dict
-    node_of_geom: np.ndarray     # (N,) slipstep node of each dolfinx geometry node
-    geom_of_node: np.ndarray     # (N,) inverse
+    node_of_geom: np.ndarray  # (N,) slipstep node of each dolfinx geometry node
+    geom_of_node: np.ndarray  # (N,) inverse
     element_of_cell: np.ndarray  # (M,) slipstep element of each dolfinx cell
     cell_of_element: np.ndarray  # (M,) inverse
 
@@ -350,8 +407,9 @@ class DolfinxMesh:
         Built cell by cell: local vertex j of cell c has geometry node geometry.dofmap[c][j]
         and dof block V.dofmap[c][j] (P1 on an affine P1 mesh: same local layout)."""
         if api.dofs_per_cell(V) != self.gdim + 1:
-            raise ValueError("block_of_node needs a P1 space (a dof per vertex of a triangle "
-                             "or tetrahedron)")
+            raise ValueError(
+                "block_of_node needs a P1 space (a dof per vertex of a triangle " "or tetrahedron)"
+            )
         block_of_geom = np.full(self.n_nodes, -1, dtype=np.int64)
         block_of_geom[api.cell_nodes(self.mesh).ravel()] = api.cell_dofs(V).ravel()
         return block_of_geom[self.geom_of_node]
@@ -382,8 +440,9 @@ class DolfinxMesh:
         """Set a DG0 Function (any value size) from a slipstep (M, k) per-element array."""
         W = api.space_of(func)
         bs = api.block_size(W)
-        api.dof_values(func).reshape(-1, bs)[self.dg0_dof_of_element(W)] = \
-            np.asarray(values).reshape(self.n_cells, bs)
+        api.dof_values(func).reshape(-1, bs)[self.dg0_dof_of_element(W)] = np.asarray(
+            values
+        ).reshape(self.n_cells, bs)
         api.scatter(func)
 
     def slipstep_triangles(self) -> np.ndarray:
@@ -398,25 +457,33 @@ def read_dolfinx(path: str | Path, edges_path: str | Path | None = None) -> Dolf
     msh, ct, ft = api.read_tagged_mesh(xdmf, MESH_GRID, edges_xdmf, EDGE_GRID)
     meta = {}
     import h5py
+
     with h5py.File(h5, "r") as f:
         if "slipstep" in f.attrs:
             meta = json.loads(f.attrs["slipstep"])
     node_of_geom = api.input_node_index(msh)
     element_of_cell = api.input_cell_index(msh)
     return DolfinxMesh(
-        mesh=msh, cell_tags=ct, facet_tags=ft,
+        mesh=msh,
+        cell_tags=ct,
+        facet_tags=ft,
         cell_names={int(k): v for k, v in meta.get("cell_tags", {}).items()},
         edge_names={int(k): v for k, v in meta.get("edge_tags", {}).items()},
-        node_of_geom=node_of_geom, geom_of_node=_inverse(node_of_geom),
-        element_of_cell=element_of_cell, cell_of_element=_inverse(element_of_cell))
+        node_of_geom=node_of_geom,
+        geom_of_node=_inverse(node_of_geom),
+        element_of_cell=element_of_cell,
+        cell_of_element=_inverse(element_of_cell),
+    )
 
 
 def _inverse(perm: np.ndarray) -> np.ndarray:
     inv = np.full(len(perm), -1, dtype=np.int64)
     inv[perm] = np.arange(len(perm))
     if (inv < 0).any():
-        raise ValueError("the dolfinx numbering is not a permutation of the input "
-                         "(ghosts or several processes?): slipstep.fenicsx runs in serial")
+        raise ValueError(
+            "the dolfinx numbering is not a permutation of the input "
+            "(ghosts or several processes?): slipstep.fenicsx runs in serial"
+        )
     return inv
 
 
@@ -432,8 +499,7 @@ def write_dolfinx_xdmf(dm: DolfinxMesh, path: str | Path) -> Path:
     "mesh", "cell_tags", "facet_tags" (read back with :func:`read_xdmf_h5`)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    api.write_tagged_mesh(path, dm.mesh, {"cell_tags": dm.cell_tags,
-                                          "facet_tags": dm.facet_tags})
+    api.write_tagged_mesh(path, dm.mesh, {"cell_tags": dm.cell_tags, "facet_tags": dm.facet_tags})
     return path
 
 
@@ -444,7 +510,8 @@ def map_by_coordinates(reference: np.ndarray, other: np.ndarray) -> np.ndarray:
     if len(ref) != len(reference):
         raise ValueError("the reference mesh has coincident nodes: map them by index instead")
     try:
-        return np.array([ref[tuple(p)] for p in np.asarray(other, np.float64).tolist()],
-                        dtype=np.int64)
+        return np.array(
+            [ref[tuple(p)] for p in np.asarray(other, np.float64).tolist()], dtype=np.int64
+        )
     except KeyError as exc:
         raise ValueError(f"node {exc.args[0]} has no exact twin in the reference mesh") from None

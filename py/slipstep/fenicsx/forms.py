@@ -60,8 +60,9 @@ class Section:
         self.thickness = float(thickness)
         weight = api.constant(mesh, self.thickness)
         self.dOmega = WeightedMeasure(weight, ufl.dx)
-        self.dGamma = WeightedMeasure(weight, ufl.Measure("ds", domain=mesh,
-                                                         subdomain_data=facet_tags))
+        self.dGamma = WeightedMeasure(
+            weight, ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+        )
 
     def strain(self, w):
         """(eps_x, eps_y, gamma_xy) of a displacement w."""
@@ -82,15 +83,17 @@ class RingSection:
         self.r = ufl.SpatialCoordinate(mesh)[0]
         weight = 2.0 * math.pi * self.r
         self.quadrature_degree = int(quadrature_degree)
-        self.dOmega = WeightedMeasure(weight, ufl.Measure(
-            "dx", domain=mesh, metadata={"quadrature_degree": self.quadrature_degree}))
-        self.dGamma = WeightedMeasure(weight, ufl.Measure("ds", domain=mesh,
-                                                         subdomain_data=facet_tags))
+        self.dOmega = WeightedMeasure(
+            weight,
+            ufl.Measure("dx", domain=mesh, metadata={"quadrature_degree": self.quadrature_degree}),
+        )
+        self.dGamma = WeightedMeasure(
+            weight, ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+        )
 
     def strain(self, w):
         """(eps_r, eps_z, eps_theta = u_r / r, gamma_rz) of a displacement w."""
-        return api.ufl().as_vector([w[0].dx(0), w[1].dx(1), w[0] / self.r,
-                                    w[0].dx(1) + w[1].dx(0)])
+        return api.ufl().as_vector([w[0].dx(0), w[1].dx(1), w[0] / self.r, w[0].dx(1) + w[1].dx(0)])
 
     @staticmethod
     def point_force(force):
@@ -107,13 +110,22 @@ class SpaceSection:
         ufl = api.ufl()
         weight = api.constant(mesh, 1.0)
         self.dOmega = WeightedMeasure(weight, ufl.dx)
-        self.dGamma = WeightedMeasure(weight, ufl.Measure("ds", domain=mesh,
-                                                         subdomain_data=facet_tags))
+        self.dGamma = WeightedMeasure(
+            weight, ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+        )
 
     def strain(self, w):
         """(eps_x, eps_y, eps_z, gamma_yz, gamma_xz, gamma_xy) of a displacement w."""
-        return api.ufl().as_vector([w[0].dx(0), w[1].dx(1), w[2].dx(2), w[1].dx(2) + w[2].dx(1),
-                                    w[0].dx(2) + w[2].dx(0), w[0].dx(1) + w[1].dx(0)])
+        return api.ufl().as_vector(
+            [
+                w[0].dx(0),
+                w[1].dx(1),
+                w[2].dx(2),
+                w[1].dx(2) + w[2].dx(1),
+                w[0].dx(2) + w[2].dx(0),
+                w[0].dx(1) + w[1].dx(0),
+            ]
+        )
 
     @staticmethod
     def point_force(force):
@@ -121,8 +133,9 @@ class SpaceSection:
         return force
 
 
-def section(mesh, plane: str, thickness: float, facet_tags=None,
-            quadrature_degree: int = CENTROID_RULE):
+def section(
+    mesh, plane: str, thickness: float, facet_tags=None, quadrature_degree: int = CENTROID_RULE
+):
     """The section of the engine's ``plane`` ('strain', 'stress' or 'axisymmetric'; 'space'
     for a 3D scene); ``quadrature_degree`` applies to the ring's bulk integrals only."""
     if plane == "space":

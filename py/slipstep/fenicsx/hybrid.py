@@ -41,11 +41,11 @@ from . import dolfinx_api as api
 
 @dataclass
 class HybridResult:
-    u: object                 # dolfinx Function on V
-    pressure: object          # dolfinx Function, P1 scalar
-    traction: object          # dolfinx Function, P1 scalar (tangential, direction t = (-n_y, n_x))
-    result: dict              # engine result
-    model: dict               # engine model built from the dolfinx objects
+    u: object  # dolfinx Function on V
+    pressure: object  # dolfinx Function, P1 scalar
+    traction: object  # dolfinx Function, P1 scalar (tangential, direction t = (-n_y, n_x))
+    result: dict  # engine result
+    model: dict  # engine model built from the dolfinx objects
     contact_nodes: np.ndarray  # geometry nodes of the candidate pairs
     tributary_length: np.ndarray
     operator_difference: float = float("nan")
@@ -63,8 +63,14 @@ def cst_matvec(nodes, triangles, E, nu, plane: str, thickness: float, x: np.ndar
     p = nodes[triangles]
     b = np.stack([p[:, 1, 1] - p[:, 2, 1], p[:, 2, 1] - p[:, 0, 1], p[:, 0, 1] - p[:, 1, 1]], 1)
     c = np.stack([p[:, 2, 0] - p[:, 1, 0], p[:, 0, 0] - p[:, 2, 0], p[:, 1, 0] - p[:, 0, 0]], 1)
-    area2 = p[:, 1, 0] * p[:, 2, 1] - p[:, 2, 0] * p[:, 1, 1] - p[:, 0, 0] * p[:, 2, 1] \
-        + p[:, 2, 0] * p[:, 0, 1] + p[:, 0, 0] * p[:, 1, 1] - p[:, 1, 0] * p[:, 0, 1]
+    area2 = (
+        p[:, 1, 0] * p[:, 2, 1]
+        - p[:, 2, 0] * p[:, 1, 1]
+        - p[:, 0, 0] * p[:, 2, 1]
+        + p[:, 2, 0] * p[:, 0, 1]
+        + p[:, 0, 0] * p[:, 1, 1]
+        - p[:, 1, 0] * p[:, 0, 1]
+    )
     M = len(triangles)
     B = np.zeros((M, 3, 6))
     B[:, 0, 0::2] = b
@@ -103,8 +109,10 @@ def _mesh_arrays(V):
     block_of_geom = np.empty(len(nodes), dtype=np.int64)
     block_of_geom[tris.ravel()] = api.cell_dofs(V).ravel()
     p = nodes[tris]
-    area = 0.5 * ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
-                  - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
+    area = 0.5 * (
+        (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+        - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0])
+    )
     tris = np.where((area < 0)[:, None], tris[:, [0, 2, 1]], tris)
     return nodes, tris, block_of_geom
 
@@ -131,8 +139,10 @@ def _fixed_dofs(V, bcs, perm: np.ndarray) -> np.ndarray:
         return np.zeros(0, dtype=np.int64)
     dofs, values = api.dirichlet_values(V, bcs)
     if np.abs(values).max(initial=0.0) != 0.0:
-        raise ValueError("hybrid mode: the Dirichlet conditions must be homogeneous (u = 0):"
-                         " slipstep's engine holds fixed dofs at zero")
+        raise ValueError(
+            "hybrid mode: the Dirichlet conditions must be homogeneous (u = 0):"
+            " slipstep's engine holds fixed dofs at zero"
+        )
     inv = np.empty(len(perm), dtype=np.int64)
     inv[perm] = np.arange(len(perm))
     return np.unique(inv[dofs])
@@ -175,16 +185,34 @@ def _initial_gap(nodes, cand, flat_point, n, tolerance: float) -> np.ndarray:
     gap = (nodes[cand] - np.asarray(flat_point, dtype=float)) @ n
     if (gap < -tolerance).any():
         k = int(np.argmin(gap))
-        raise ValueError(f"hybrid mode: initial penetration at node {int(cand[k])} "
-                         f"({nodes[cand[k], 0]:.6g}, {nodes[cand[k], 1]:.6g}) by {-gap[k]:.3g}")
+        raise ValueError(
+            f"hybrid mode: initial penetration at node {int(cand[k])} "
+            f"({nodes[cand[k], 0]:.6g}, {nodes[cand[k], 1]:.6g}) by {-gap[k]:.3g}"
+        )
     return np.where(np.abs(gap) <= tolerance, 0.0, gap)
 
 
-def solve_contact(V, a, L, facet_tags, contact_tag: int, *, E, nu, plane: str = "strain",
-                  thickness: float = 1.0, bcs=(), flat_point=(0.0, 0.0), flat_normal=(0.0, 1.0),
-                  mu: float = 0.0, tolerance: float = 1e-9, fractions=None,
-                  options: dict | None = None, check_operator: bool = True,
-                  progress: bool = False) -> HybridResult:
+def solve_contact(
+    V,
+    a,
+    L,
+    facet_tags,
+    contact_tag: int,
+    *,
+    E,
+    nu,
+    plane: str = "strain",
+    thickness: float = 1.0,
+    bcs=(),
+    flat_point=(0.0, 0.0),
+    flat_normal=(0.0, 1.0),
+    mu: float = 0.0,
+    tolerance: float = 1e-9,
+    fractions=None,
+    options: dict | None = None,
+    check_operator: bool = True,
+    progress: bool = False,
+) -> HybridResult:
     """Run slipstep's event loop on a dolfinx elastic model in contact with a rigid line.
 
     ``a``, ``L``: UFL forms (or compiled dolfinx forms) on V; ``facet_tags``: dolfinx MeshTags
@@ -194,10 +222,12 @@ def solve_contact(V, a, L, facet_tags, contact_tag: int, *, E, nu, plane: str = 
     from ..runner import engine
 
     if plane not in ("strain", "stress"):
-        raise ValueError(f"hybrid mode: plane = {plane!r} is not supported; the hybrid mode checks "
-                         f"and solves plane CST models only ('strain' or 'stress'); for an "
-                         f"axisymmetric scene run slipstep itself and cross-check with "
-                         f"slipstep.fenicsx.bulk")
+        raise ValueError(
+            f"hybrid mode: plane = {plane!r} is not supported; the hybrid mode checks "
+            f"and solves plane CST models only ('strain' or 'stress'); for an "
+            f"axisymmetric scene run slipstep itself and cross-check with "
+            f"slipstep.fenicsx.bulk"
+        )
     api.require_dolfinx()
     nodes, tris, block_of_geom = _mesh_arrays(V)
     M = len(tris)
@@ -211,27 +241,38 @@ def solve_contact(V, a, L, facet_tags, contact_tag: int, *, E, nu, plane: str = 
     if check_operator:
         op_diff = _operator_difference(a, perm, nodes, tris, E_c, nu_c, plane, thickness)
         if op_diff > 1e-10:
-            raise ValueError(f"hybrid mode: the bilinear form is not the plane-{plane} CST "
-                             f"elasticity operator of the E, nu and thickness given "
-                             f"(relative difference {op_diff:.3g}): slipstep's engine takes the "
-                             f"mesh and an isotropic elastic material, not a matrix; pass the "
-                             f"E, nu, plane, thickness your form uses")
+            raise ValueError(
+                f"hybrid mode: the bilinear form is not the plane-{plane} CST "
+                f"elasticity operator of the E, nu and thickness given "
+                f"(relative difference {op_diff:.3g}): slipstep's engine takes the "
+                f"mesh and an isotropic elastic material, not a matrix; pass the "
+                f"E, nu, plane, thickness your form uses"
+            )
     mesh = api.mesh_of(V)
     cand, trib = _candidates(mesh, facet_tags, contact_tag, nodes)
     n = np.asarray(flat_normal, dtype=float)
     n = n / np.linalg.norm(n)
-    opts = {"output": "fractions",
-            "fractions": np.asarray(sorted(set(fractions or ()) | {1.0}), dtype=float)}
+    opts = {
+        "output": "fractions",
+        "fractions": np.asarray(sorted(set(fractions or ()) | {1.0}), dtype=float),
+    }
     opts.update(options or {})
     model = {
-        "nodes": nodes, "triangles": tris, "element_material": element_material.astype(np.int64),
+        "nodes": nodes,
+        "triangles": tris,
+        "element_material": element_material.astype(np.int64),
         "materials": [{"E": float(e), "nu": float(v)} for e, v in mats],
-        "plane": plane, "thickness": float(thickness), "fixed_dofs": fixed,
+        "plane": plane,
+        "thickness": float(thickness),
+        "fixed_dofs": fixed,
         "load": load,
-        "pairs": {"node_a": cand.astype(np.int64), "node_b": np.full(len(cand), -1, np.int64),
-                  "normal": np.tile(n, (len(cand), 1)),
-                  "gap": _initial_gap(nodes, cand, flat_point, n, tolerance),
-                  "mu": np.full(len(cand), float(mu))},
+        "pairs": {
+            "node_a": cand.astype(np.int64),
+            "node_b": np.full(len(cand), -1, np.int64),
+            "normal": np.tile(n, (len(cand), 1)),
+            "gap": _initial_gap(nodes, cand, flat_point, n, tolerance),
+            "mu": np.full(len(cand), float(mu)),
+        },
         "options": opts,
     }
     result = engine().solve(model, progress)
@@ -239,9 +280,16 @@ def solve_contact(V, a, L, facet_tags, contact_tag: int, *, E, nu, plane: str = 
     Q = api.function_space(mesh, "Lagrange", 1)
     q_of_geom = np.empty(len(nodes), dtype=np.int64)
     q_of_geom[api.cell_nodes(mesh)] = api.cell_dofs(Q)
-    out = HybridResult(u=api.function(V), pressure=api.function(Q), traction=api.function(Q),
-                       result=result, model=model, contact_nodes=cand,
-                       tributary_length=trib, operator_difference=op_diff,
-                       info={"block_of_geom": block_of_geom, "q_of_geom": q_of_geom})
+    out = HybridResult(
+        u=api.function(V),
+        pressure=api.function(Q),
+        traction=api.function(Q),
+        result=result,
+        model=model,
+        contact_nodes=cand,
+        tributary_length=trib,
+        operator_difference=op_diff,
+        info={"block_of_geom": block_of_geom, "q_of_geom": q_of_geom},
+    )
     out.u, out.pressure, out.traction = _functions(out, result["snapshots"][-1])
     return out

@@ -29,7 +29,7 @@ import numpy as np
 
 VOIGT_ONE = np.array([1.0, 1.0, 1.0, 0.0])
 IN_PLANE = [0, 1, 3]  # x, y, xy rows/columns of the 4x4 (x, y, z, xy) matrices
-ALL = [0, 1, 2, 3]    # the ring's r, z, theta, rz: every row and column
+ALL = [0, 1, 2, 3]  # the ring's r, z, theta, rz: every row and column
 SPACE = [0, 1, 2, 3, 4, 5]  # in 3D: x, y, z, yz, xz, xy
 
 
@@ -94,8 +94,9 @@ def von_mises(s4: np.ndarray) -> np.ndarray:
     s4 = np.asarray(s4)
     normal, shear = s4[:, :3].T, s4[:, 3:]
     sx, sy, sz = normal
-    return np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2)
-                   + 3.0 * (shear ** 2).sum(axis=1))
+    return np.sqrt(
+        0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2) + 3.0 * (shear**2).sum(axis=1)
+    )
 
 
 def radial_return(sig_n, alpha_n, deps4, E, nu, Sy, H):
@@ -130,15 +131,17 @@ def radial_return(sig_n, alpha_n, deps4, E, nu, Sy, H):
         n = s[i] / norm_s[i, None]
         # deviatoric identity in Voigt form (stress <- engineering strain)
         Idev = np.diag([1.0, 1.0, 1.0] + [0.5] * (size - 3)) - np.outer(one, one) / 3.0
-        C[i] = (K[i, None, None] * np.outer(one, one)
-                + 2.0 * Gi[:, None, None] * theta[:, None, None] * Idev
-                - 2.0 * Gi[:, None, None] * theta_bar[:, None, None]
-                * n[:, :, None] * n[:, None, :])
+        C[i] = (
+            K[i, None, None] * np.outer(one, one)
+            + 2.0 * Gi[:, None, None] * theta[:, None, None] * Idev
+            - 2.0 * Gi[:, None, None] * theta_bar[:, None, None] * n[:, :, None] * n[:, None, :]
+        )
     return sig, alpha, C, plastic
 
 
-def integrate(sig_n, alpha_n, deps3, E, nu, Sy, H, plane: str, tol: float = 1e-13,
-              max_iter: int = 30):
+def integrate(
+    sig_n, alpha_n, deps3, E, nu, Sy, H, plane: str, tol: float = 1e-13, max_iter: int = 30
+):
     """Stress update for the section's strain increments: in-plane ``deps3`` (M, 3) =
     (dex, dey, dgxy), or (M, 4) = (der, dez, detheta, dgrz) in axisymmetry, or the six Voigt
     components (M, 6) in space (``plane = "space"``).
@@ -153,8 +156,9 @@ def integrate(sig_n, alpha_n, deps3, E, nu, Sy, H, plane: str, tol: float = 1e-1
     Sy = np.broadcast_to(np.asarray(Sy, float), (M,))
     H = np.broadcast_to(np.asarray(H, float), (M,))
     if plane in ("axisymmetric", "space"):  # the section's strain is all of it
-        sig, alpha, C4, plastic = radial_return(sig_n, alpha_n, np.asarray(deps3, float), E,
-                                                nu, Sy, H)
+        sig, alpha, C4, plastic = radial_return(
+            sig_n, alpha_n, np.asarray(deps3, float), E, nu, Sy, H
+        )
         return sig, alpha, C4, plastic, np.asarray(deps3, float)[:, 2]
     deps4 = np.zeros((M, 4))
     deps4[:, IN_PLANE] = deps3

@@ -44,10 +44,15 @@ def describe(path):
             point.add(b.GetPointData().GetArrayName(i))
         for i in range(b.GetCellData().GetNumberOfArrays()):
             cell.add(b.GetCellData().GetArrayName(i))
-    return {"type": data.GetClassName(), "blocks": len(blocks),
-            "points": [b.GetNumberOfPoints() for b in blocks],
-            "cells": [b.GetNumberOfCells() for b in blocks],
-            "point_data": sorted(point), "cell_data": sorted(cell), "times": times}
+    return {
+        "type": data.GetClassName(),
+        "blocks": len(blocks),
+        "points": [b.GetNumberOfPoints() for b in blocks],
+        "cells": [b.GetNumberOfCells() for b in blocks],
+        "point_data": sorted(point),
+        "cell_data": sorted(cell),
+        "times": times,
+    }
 
 
 if __name__ == "__main__":

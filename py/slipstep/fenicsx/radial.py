@@ -43,6 +43,7 @@ _GAUSS = np.array([-1.0, 1.0]) / math.sqrt(3.0)
 @dataclass
 class RadialSolution:
     """At each requested pressure: the plastic radius c (a while elastic) and u at r = a, b."""
+
     pressures: np.ndarray
     c: np.ndarray
     u_bore: np.ndarray
@@ -53,8 +54,16 @@ class RadialSolution:
         return f"RadialSolution({rows})"
 
 
-def solve(a: float, b: float, E: float, nu: float, Sy: float, pressures,
-          n_elements: int = N_ELEMENTS, n_steps: int = N_STEPS) -> RadialSolution:
+def solve(
+    a: float,
+    b: float,
+    E: float,
+    nu: float,
+    Sy: float,
+    pressures,
+    n_elements: int = N_ELEMENTS,
+    n_steps: int = N_STEPS,
+) -> RadialSolution:
     """Load monotonically to max(pressures) in ``n_steps`` equal steps (each requested
     pressure is hit exactly: the steps are refined to pass through them)."""
     pressures = np.sort(np.asarray(pressures, dtype=float))
@@ -78,12 +87,12 @@ class _Model:
     def __init__(self, a, b, E, nu, Sy, n):
         self.a, self.r_outer, self.E, self.nu, self.Sy = a, b, E, nu, Sy
         self.G, self.K = E / (2 * (1 + nu)), E / (3 * (1 - 2 * nu))
-        r = a + (b - a) * np.linspace(0.0, 1.0, n + 1) ** 2     # graded: fine at the bore
+        r = a + (b - a) * np.linspace(0.0, 1.0, n + 1) ** 2  # graded: fine at the bore
         length = np.diff(r)
         xi = (_GAUSS[None, :] + 1) / 2
-        self.r = r[:-1, None] + length[:, None] * xi             # Gauss radii (n, 2)
-        self.w = length[:, None] / 2 * self.r                    # r dr weights
-        self.B = np.zeros((n, 2, 3, 2))                          # eps (r, theta, z) per node
+        self.r = r[:-1, None] + length[:, None] * xi  # Gauss radii (n, 2)
+        self.w = length[:, None] / 2 * self.r  # r dr weights
+        self.B = np.zeros((n, 2, 3, 2))  # eps (r, theta, z) per node
         self.B[..., 0, 0], self.B[..., 0, 1] = -1 / length[:, None], 1 / length[:, None]
         self.B[..., 1, 0], self.B[..., 1, 1] = (1 - xi) / self.r, xi / self.r
         self.u = np.zeros(n + 1)
@@ -114,12 +123,15 @@ class _Model:
         trial = self.stress + self.K * strain.sum(-1, keepdims=True) + 2 * self.G * (strain @ dev)
         mean = trial.mean(-1, keepdims=True)
         s = trial - mean
-        q = np.sqrt(1.5 * (s ** 2).sum(-1))
+        q = np.sqrt(1.5 * (s**2).sum(-1))
         plastic = q > self.Sy
         theta = np.where(plastic, self.Sy / np.maximum(q, 1e-300), 1.0)
-        n = s / np.maximum(np.sqrt((s ** 2).sum(-1)), 1e-300)[..., None]
-        tangent = (self.K * np.outer(one, one) + 2 * self.G * theta[..., None, None] * dev
-                   - (2 * self.G * theta * plastic)[..., None, None] * n[..., :, None] * n[..., None, :])
+        n = s / np.maximum(np.sqrt((s**2).sum(-1)), 1e-300)[..., None]
+        tangent = (
+            self.K * np.outer(one, one)
+            + 2 * self.G * theta[..., None, None] * dev
+            - (2 * self.G * theta * plastic)[..., None, None] * n[..., :, None] * n[..., None, :]
+        )
         return mean + s * theta[..., None], tangent, plastic
 
     def plastic_radius(self) -> float:
@@ -133,7 +145,7 @@ class _Model:
             return self.a
         b, nu = self.r_outer, self.nu
         B = self.E * self.u[-1] * b / (2 * (1 + nu) * (1 - nu))
-        return float((3 * B * B / (self.Sy ** 2 - ((1 - 2 * nu) * B / b ** 2) ** 2)) ** 0.25)
+        return float((3 * B * B / (self.Sy**2 - ((1 - 2 * nu) * B / b**2) ** 2)) ** 0.25)
 
 
 def _pairs(u: np.ndarray) -> np.ndarray:

@@ -32,8 +32,10 @@ def _axis(n: np.ndarray, where: str) -> int:
     for c in (0, 1):
         if abs(abs(n[c]) - 1.0) <= 1e-12 and abs(n[1 - c]) <= 1e-12:
             return c
-    raise NotImplementedError(f"{where}: the contact normal ({n[0]:.6g}, {n[1]:.6g}) is not along "
-                              f"x or y: the replay prescribes one Cartesian dof per constraint")
+    raise NotImplementedError(
+        f"{where}: the contact normal ({n[0]:.6g}, {n[1]:.6g}) is not along "
+        f"x or y: the replay prescribes one Cartesian dof per constraint"
+    )
 
 
 def replay_conditions(scene, snapshot: dict):
@@ -42,12 +44,20 @@ def replay_conditions(scene, snapshot: dict):
     status = np.asarray(snapshot["status"])
     prescribed: dict[int, float] = {}
     extra = np.zeros(2 * len(scene.nodes))
-    info = {"closed": [], "stick": [], "slip": [], "normal_dof": [], "tangent_dof": [],
-            "tangent_sign": []}
+    info = {
+        "closed": [],
+        "stick": [],
+        "slip": [],
+        "normal_dof": [],
+        "tangent_dof": [],
+        "tangent_sign": [],
+    }
     for p in np.flatnonzero(status > 0):
         if pairs["node_b"][p] != -1:
-            raise NotImplementedError(f"pair {p}: node-to-node pairs are multi-point constraints;"
-                                      f" the replay handles rigid targets only")
+            raise NotImplementedError(
+                f"pair {p}: node-to-node pairs are multi-point constraints;"
+                f" the replay handles rigid targets only"
+            )
         n = np.asarray(pairs["normal"][p], dtype=float)
         cn = _axis(n, f"pair {p}")
         ct = 1 - cn
@@ -67,28 +77,34 @@ def replay_conditions(scene, snapshot: dict):
             extra[dt] += lam_t * tvec[ct]
             info["slip"].append(p)
     info = {k: np.asarray(v) for k, v in info.items()}
-    info["normal_sign"] = np.array([pairs["normal"][p][_axis(pairs["normal"][p], "")]
-                                    for p in info["closed"]])
+    info["normal_sign"] = np.array(
+        [pairs["normal"][p][_axis(pairs["normal"][p], "")] for p in info["closed"]]
+    )
     return prescribed, extra, info
 
 
 def compare(scene, snapshot: dict, res, info: dict, fixed_dofs: np.ndarray) -> dict:
     """Differences between a dolfinx replay result and the slipstep snapshot."""
-    out = {"load_fraction": float(snapshot["load_fraction"]),
-           "n_closed": int(len(info["closed"])), "n_stick": int(len(info["stick"])),
-           "n_slip": int(len(info["slip"])),
-           "u": relative_difference(res.u, snapshot["u"]),
-           "stress": relative_difference(res.stress, snapshot["stress"])}
+    out = {
+        "load_fraction": float(snapshot["load_fraction"]),
+        "n_closed": int(len(info["closed"])),
+        "n_stick": int(len(info["stick"])),
+        "n_slip": int(len(info["slip"])),
+        "u": relative_difference(res.u, snapshot["u"]),
+        "stress": relative_difference(res.stress, snapshot["stress"]),
+    }
     if "plastic_strain" in snapshot and np.abs(snapshot["plastic_strain"]).max(initial=0) > 0:
-        out["plastic_strain"] = relative_difference(res.plastic_strain,
-                                                    snapshot["plastic_strain"])
+        out["plastic_strain"] = relative_difference(res.plastic_strain, snapshot["plastic_strain"])
     lam_n = np.asarray(snapshot["lambda_n"])
     if len(info["closed"]):
         got = res.reaction[info["normal_dof"]] * info["normal_sign"]
         out["lambda_n"] = relative_difference(got, lam_n[info["closed"]])
     fixed = set(int(d) for d in fixed_dofs)
-    stick_rows = [i for i, p in enumerate(info["closed"])
-                  if p in set(info["stick"].tolist()) and int(info["tangent_dof"][i]) not in fixed]
+    stick_rows = [
+        i
+        for i, p in enumerate(info["closed"])
+        if p in set(info["stick"].tolist()) and int(info["tangent_dof"][i]) not in fixed
+    ]
     if stick_rows:
         got = res.reaction[info["tangent_dof"][stick_rows]] * info["tangent_sign"][stick_rows]
         want = np.asarray(snapshot["lambda_t"])[info["closed"][stick_rows]]
@@ -96,19 +112,19 @@ def compare(scene, snapshot: dict, res, info: dict, fixed_dofs: np.ndarray) -> d
     if len(info["slip"]):
         mu = scene.model["pairs"]["mu"][info["slip"]]
         lt = np.abs(np.asarray(snapshot["lambda_t"])[info["slip"]])
-        out["coulomb_slip"] = float(np.abs(lt - mu * lam_n[info["slip"]]).max()
-                                    / max(lam_n.max(), 1e-300))
+        out["coulomb_slip"] = float(
+            np.abs(lt - mu * lam_n[info["slip"]]).max() / max(lam_n.max(), 1e-300)
+        )
     return out
 
 
-def replay_elastic(scene, result: dict, bulk: BulkProblem | None = None,
-                   snapshots=None):
+def replay_elastic(scene, result: dict, bulk: BulkProblem | None = None, snapshots=None):
     """Replay every snapshot (or the given indices) of an elastic slipstep run.
     Returns (rows of differences, the dolfinx result of the last one)."""
     bulk = bulk or BulkProblem(scene)
     snaps = result["snapshots"]
     rows, res = [], None
-    for i in (range(len(snaps)) if snapshots is None else snapshots):
+    for i in range(len(snaps)) if snapshots is None else snapshots:
         s = snaps[i]
         presc, extra, info = replay_conditions(scene, s)
         res = bulk.solve_elastic(float(s["load_fraction"]), presc, extra)

@@ -51,8 +51,14 @@ traction = [{traction}, 0.0]
 """
 
 
-def plate_with_hole_mesh(path: str | Path, width: float = 20.0, height: float = 20.0,
-                         radius: float = 5.0, h_hole: float = 0.5, h_far: float = 2.0) -> Path:
+def plate_with_hole_mesh(
+    path: str | Path,
+    width: float = 20.0,
+    height: float = 20.0,
+    radius: float = 5.0,
+    h_hole: float = 0.5,
+    h_far: float = 2.0,
+) -> Path:
     """Quarter plate [0, width] x [0, height] minus the disc r < radius at the origin, as a
     gmsh .msh with physical lines ``hole``, ``bottom`` (y = 0), ``right``, ``top``, ``left``
     (x = 0).  Element size h_hole at the hole growing linearly to h_far."""
@@ -71,9 +77,13 @@ def plate_with_hole_mesh(path: str | Path, width: float = 20.0, height: float = 
         p1, p2 = geo.addPoint(radius, 0, 0), geo.addPoint(width, 0, 0)
         p3, p4 = geo.addPoint(width, height, 0), geo.addPoint(0, height, 0)
         p5 = geo.addPoint(0, radius, 0)
-        lines = {"bottom": geo.addLine(p1, p2), "right": geo.addLine(p2, p3),
-                 "top": geo.addLine(p3, p4), "left": geo.addLine(p4, p5),
-                 "hole": geo.addCircleArc(p5, o, p1)}
+        lines = {
+            "bottom": geo.addLine(p1, p2),
+            "right": geo.addLine(p2, p3),
+            "top": geo.addLine(p3, p4),
+            "left": geo.addLine(p4, p5),
+            "hole": geo.addCircleArc(p5, o, p1),
+        }
         loop = geo.addCurveLoop([lines[k] for k in ("bottom", "right", "top", "left", "hole")])
         surface = geo.addPlaneSurface([loop])
         geo.synchronize()
@@ -94,14 +104,24 @@ def plate_with_hole_mesh(path: str | Path, width: float = 20.0, height: float = 
     return path
 
 
-def plate_with_hole(folder: str | Path, plane: str = "stress", traction: float = 160.0,
-                    E: float = 70000.0, nu: float = 0.3, Sy: float = 250.0, H: float = 5000.0,
-                    **mesh) -> Path:
+def plate_with_hole(
+    folder: str | Path,
+    plane: str = "stress",
+    traction: float = 160.0,
+    E: float = 70000.0,
+    nu: float = 0.3,
+    Sy: float = 250.0,
+    H: float = 5000.0,
+    **mesh,
+) -> Path:
     """Write ``plate.msh`` and ``plate_with_hole.toml`` into ``folder``; returns the case path."""
     folder = Path(folder)
     msh = plate_with_hole_mesh(folder / "plate.msh", **mesh)
     dims = {k: mesh.get(k, d) for k, d in (("width", 20.0), ("height", 20.0), ("radius", 5.0))}
     case = folder / "plate_with_hole.toml"
-    case.write_text(PLATE_CASE.format(mesh=msh.name, plane=plane, traction=traction, E=E, nu=nu,
-                                      Sy=Sy, H=H, **dims))
+    case.write_text(
+        PLATE_CASE.format(
+            mesh=msh.name, plane=plane, traction=traction, E=E, nu=nu, Sy=Sy, H=H, **dims
+        )
+    )
     return case

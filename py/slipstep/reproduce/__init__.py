@@ -45,8 +45,7 @@ from .report import write_report
 from .scenes import FULL, QUICK, Run, fig10_study, scene_tasks
 
 
-def reproduce(out: str | Path, quick: bool = False, workers: int | None = None,
-              log=print) -> dict:
+def reproduce(out: str | Path, quick: bool = False, workers: int | None = None, log=print) -> dict:
     """Run every scene, draw every figure, write report.md and reproduce.json; returns the
     numbers (also in reproduce.json)."""
     start = time.perf_counter()
@@ -58,14 +57,21 @@ def reproduce(out: str | Path, quick: bool = False, workers: int | None = None,
     fig10_rows = onset_rows(study, out / "fig10")
     numbers = collect(settings, runs, probe_failed, fig10_rows, out / "runs")
     figures, timeline = draw(out, runs, numbers)
-    numbers["events"] = {label: {k: int(v) for k, v in zip(*np.unique(r.data["events_kind"],
-                                                                       return_counts=True))}
-                         for label, r in timeline}
+    numbers["events"] = {
+        label: {k: int(v) for k, v in zip(*np.unique(r.data["events_kind"], return_counts=True))}
+        for label, r in timeline
+    }
     numbers["wall_time_s"] = {
-        "runs": t_runs, "total": time.perf_counter() - start,
-        "solver_sum": float(sum(r["wall_time_s"] for r in numbers["runs"].values()) + sum(
-            sweep.load_summary(out / "fig10", t["case_id"])["wall_time_s"]
-            for t in study.tasks()))}
+        "runs": t_runs,
+        "total": time.perf_counter() - start,
+        "solver_sum": float(
+            sum(r["wall_time_s"] for r in numbers["runs"].values())
+            + sum(
+                sweep.load_summary(out / "fig10", t["case_id"])["wall_time_s"]
+                for t in study.tasks()
+            )
+        ),
+    }
     numbers["figures"] = {k: p.name for k, p in figures.items()}
     numbers["axisymmetric"] = axisymmetric.page(out, quick, workers, log)
     write_report(out / "report.md", numbers)
@@ -75,8 +81,10 @@ def reproduce(out: str | Path, quick: bool = False, workers: int | None = None,
         fh.write("\n")
     (out / ".reproduce.json.partial").replace(out / "reproduce.json")
     if log:
-        log(f"reproduce: {len(figures)} figures, report.md in {out} "
-            f"({numbers['wall_time_s']['total']:.1f} s)")
+        log(
+            f"reproduce: {len(figures)} figures, report.md in {out} "
+            f"({numbers['wall_time_s']['total']:.1f} s)"
+        )
     return numbers
 
 
@@ -90,8 +98,11 @@ def run_scenes(settings, out: Path, workers, log) -> tuple[dict, dict, sweep.Stu
     probe_failed = {cid: msg for cid, msg in rep.failed.items() if cid.startswith("probe_")}
     study = fig10_study(settings)
     _raise_failures(sweep.run_sweep(study, out / "fig10", workers=workers, log=log))
-    runs = {t["case_id"]: Run(out / "runs", t["case_id"]) for t in tasks
-            if t["case_id"] not in probe_failed}
+    runs = {
+        t["case_id"]: Run(out / "runs", t["case_id"])
+        for t in tasks
+        if t["case_id"] not in probe_failed
+    }
     return runs, probe_failed, study
 
 
@@ -106,8 +117,9 @@ def _raise_failures(rep) -> None:
 
 def main(args) -> int:
     try:
-        reproduce(args.out, quick=args.quick, workers=args.workers,
-                  log=lambda m: print(m, flush=True))
+        reproduce(
+            args.out, quick=args.quick, workers=args.workers, log=lambda m: print(m, flush=True)
+        )
     except FileNotFoundError as exc:
         print(f"slipstep: error: {exc}", file=sys.stderr)
         return 2
@@ -115,7 +127,10 @@ def main(args) -> int:
         print(f"slipstep: error: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
-        print(f"slipstep: reproduce interrupted; rerun the same command to resume "
-              f"(finished runs in {args.out} are kept)", file=sys.stderr)
+        print(
+            f"slipstep: reproduce interrupted; rerun the same command to resume "
+            f"(finished runs in {args.out} are kept)",
+            file=sys.stderr,
+        )
         return 130
     return 0

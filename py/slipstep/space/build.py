@@ -48,14 +48,22 @@ def _meshed(case, spec: dict) -> TetMesh:
     if gen == "roller":
         return generators.roller(spec["R"], spec["length"], **graded, portion=spec["portion"])
     if gen == "punch":
-        return generators.punch(spec["a"], spec["height"], **graded, shape=spec["shape"],
-                                portion=spec["portion"])
+        return generators.punch(
+            spec["a"], spec["height"], **graded, shape=spec["shape"], portion=spec["portion"]
+        )
     corner = (spec["x0"], spec["y0"], spec["z0"])
     if spec["h_contact"] > 0:
-        return generators.graded_box(spec["width"], spec["depth"], spec["height"], **graded,
-                                     focus=spec["focus"], corner=corner)
-    return generators.box(spec["width"], spec["depth"], spec["height"], *box_divisions(spec),
-                          corner=corner)
+        return generators.graded_box(
+            spec["width"],
+            spec["depth"],
+            spec["height"],
+            **graded,
+            focus=spec["focus"],
+            corner=corner,
+        )
+    return generators.box(
+        spec["width"], spec["depth"], spec["height"], *box_divisions(spec), corner=corner
+    )
 
 
 def build_space_scene(case, body_meshes: dict[str, TetMesh], given=()) -> Scene:
@@ -63,11 +71,21 @@ def build_space_scene(case, body_meshes: dict[str, TetMesh], given=()) -> Scene:
     from Python)."""
     bodies = [b["name"] for b in case.data["body"]]
     offsets, nodes, tets, element_body = merged_bodies(bodies, body_meshes)
-    scene = Scene(case=case, bodies=bodies, meshes=body_meshes, offsets=offsets, nodes=nodes,
-                  triangles=np.zeros((0, 3), dtype=np.int64), element_body=element_body,
-                  model={}, pair_xy=np.zeros((0, 3)), pair_length=np.zeros(0),
-                  pair_contact=np.zeros(0, dtype=np.int64), given_meshes=tuple(given),
-                  tetrahedra=tets)
+    scene = Scene(
+        case=case,
+        bodies=bodies,
+        meshes=body_meshes,
+        offsets=offsets,
+        nodes=nodes,
+        triangles=np.zeros((0, 3), dtype=np.int64),
+        element_body=element_body,
+        model={},
+        pair_xy=np.zeros((0, 3)),
+        pair_length=np.zeros(0),
+        pair_contact=np.zeros(0, dtype=np.int64),
+        given_meshes=tuple(given),
+        tetrahedra=tets,
+    )
     pairs = contact_pairs_3d(scene)
     check_duplicate_nodes(scene, pairs)
     path = case.path
@@ -75,7 +93,8 @@ def build_space_scene(case, body_meshes: dict[str, TetMesh], given=()) -> Scene:
     held = np.zeros((len(nodes), 3), dtype=bool)
     held.reshape(-1)[np.asarray(fixed, dtype=np.int64)] = True
     pairs["tangent"] = scene.pair_tangent = align_to_supports(
-        pairs["normal"], pairs["tangent"], held[pairs["node_a"]])
+        pairs["normal"], pairs["tangent"], held[pairs["node_a"]]
+    )
     scene.model = {
         "dimension": 3,
         "nodes": nodes,
@@ -104,11 +123,20 @@ def hertz_sphere_reference(scene) -> dict:
     of the full sphere under P, with E* = E/(1 - nu^2)."""
     data = scene.case.data
     load = data["load"]
-    if load is None or not any(c["kind"] == "rigid_plane" and c["body"] == load["body"]
-                               for c in data["contact"]):
+    if load is None or not any(
+        c["kind"] == "rigid_plane" and c["body"] == load["body"] for c in data["contact"]
+    ):
         return {}
     body = scene.case.body(load["body"])
     E, nu, P, R = body["material"]["E"], body["material"]["nu"], load["P"], body["mesh"]["R"]
     a, p0, delta = hertz_sphere(P, R, E, nu)
-    return {"contact": "sphere", "a_hertz": a, "p0_hertz": p0, "delta_hertz": delta, "P": P,
-            "R": R, "E_star": effective_modulus(E, nu, "strain"), "load_exponent": 1.0 / 3.0}
+    return {
+        "contact": "sphere",
+        "a_hertz": a,
+        "p0_hertz": p0,
+        "delta_hertz": delta,
+        "P": P,
+        "R": R,
+        "E_star": effective_modulus(E, nu, "strain"),
+        "load_exponent": 1.0 / 3.0,
+    }

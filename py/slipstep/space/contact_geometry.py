@@ -17,8 +17,13 @@ from . import mortar
 from .indenters import pyramid
 from .mesh import node_normals, triangle_normals
 from .mesh_files import read_surface
-from .surfaces import (closest_points, consistently_oriented, enclosed_volume, open_edge,
-                       pseudo_normals)
+from .surfaces import (
+    closest_points,
+    consistently_oriented,
+    enclosed_volume,
+    open_edge,
+    pseudo_normals,
+)
 
 
 def tangent_basis(normal: np.ndarray) -> np.ndarray:
@@ -71,8 +76,21 @@ def contact_pairs_3d(scene) -> dict:
     """Candidate pairs of every 3D ``[[contact]]`` (docs/engine_api.md, "3D models"); fills the
     scene's pair positions, areas, tangent bases, feet and contact indices."""
     contacts = scene.case.data["contact"]
-    cols = {k: [] for k in ("node_a", "node_b", "normal", "gap", "mu", "area", "weights",
-                            "foot", "point_gap", "contact")}
+    cols = {
+        k: []
+        for k in (
+            "node_a",
+            "node_b",
+            "normal",
+            "gap",
+            "mu",
+            "area",
+            "weights",
+            "foot",
+            "point_gap",
+            "contact",
+        )
+    }
     for i, c in enumerate(contacts):
         key = "contact" if len(contacts) == 1 else f"contact.{i}"
         if c["kind"] == "node_to_surface":
@@ -82,8 +100,7 @@ def contact_pairs_3d(scene) -> dict:
         else:
             rows = _rigid_pairs(scene, c, key)
         face = scene.global_boundary(*contactor_face(c))
-        scene.contact_truncated.append(bool(len(np.unique(rows["node_a"])) <
-                                            len(np.unique(face))))
+        scene.contact_truncated.append(bool(len(np.unique(rows["node_a"])) < len(np.unique(face))))
         rows["contact"] = np.full(len(rows["node_a"]), i, dtype=np.int64)
         rows["mu"] = np.full(len(rows["node_a"]), float(c["mu"]))
         for k in cols:
@@ -95,10 +112,10 @@ def contact_pairs_3d(scene) -> dict:
     scene.pair_xy = scene.nodes[pairs["node_a"]]
     scene.pair_area = np.concatenate(cols["area"]) if cols["area"] else np.zeros(0)
     scene.pair_length = np.full(len(scene.pair_area), np.nan)  # 2D only
-    scene.pair_foot = np.concatenate(cols["foot"]).reshape(-1, 6) if cols["foot"] else \
-        np.zeros((0, 6))
-    scene.pair_point_gap = np.concatenate(cols["point_gap"]) if cols["point_gap"] else \
-        np.zeros(0)
+    scene.pair_foot = (
+        np.concatenate(cols["foot"]).reshape(-1, 6) if cols["foot"] else np.zeros((0, 6))
+    )
+    scene.pair_point_gap = np.concatenate(cols["point_gap"]) if cols["point_gap"] else np.zeros(0)
     scene.pair_contact = pairs["contact"]
     scene.pair_tangent = pairs["tangent"]
     return pairs
@@ -108,19 +125,29 @@ def _pair_arrays(cols: dict) -> dict:
     """The engine's ``pairs`` of the gathered columns (mortar rows compressed), with the
     tangent basis of each normal."""
     if not cols["node_a"]:
-        return {"node_a": np.zeros(0, np.int64), "node_b": np.zeros(0, np.int64),
-                "normal": np.zeros((0, 3)), "tangent": np.zeros((0, 2, 3)), "gap": np.zeros(0),
-                "mu": np.zeros(0), "contact": np.zeros(0, np.int64)}
+        return {
+            "node_a": np.zeros(0, np.int64),
+            "node_b": np.zeros(0, np.int64),
+            "normal": np.zeros((0, 3)),
+            "tangent": np.zeros((0, 2, 3)),
+            "gap": np.zeros(0),
+            "mu": np.zeros(0),
+            "contact": np.zeros(0, np.int64),
+        }
     normal = np.concatenate(cols["normal"]).reshape(-1, 3)
-    pairs = {"node_a": np.concatenate(cols["node_a"]).astype(np.int64),
-             "node_b": np.concatenate(cols["node_b"]).astype(np.int64),
-             "normal": normal, "tangent": tangent_basis(normal),
-             "gap": np.concatenate(cols["gap"]).astype(float),
-             "mu": np.concatenate(cols["mu"]).astype(float),
-             "contact": np.concatenate(cols["contact"]).astype(np.int64)}
+    pairs = {
+        "node_a": np.concatenate(cols["node_a"]).astype(np.int64),
+        "node_b": np.concatenate(cols["node_b"]).astype(np.int64),
+        "normal": normal,
+        "tangent": tangent_basis(normal),
+        "gap": np.concatenate(cols["gap"]).astype(float),
+        "mu": np.concatenate(cols["mu"]).astype(float),
+        "contact": np.concatenate(cols["contact"]).astype(np.int64),
+    }
     if any(cols["weights"]):
-        pairs["weight_ptr"], pairs["weight_node"], pairs["weight_value"] = \
-            compressed_weights(cols["weights"])
+        pairs["weight_ptr"], pairs["weight_node"], pairs["weight_value"] = compressed_weights(
+            cols["weights"]
+        )
     return pairs
 
 
@@ -139,9 +166,12 @@ def _window(scene, c: dict, key: str, body: str, face: str) -> np.ndarray:
     for axis, name in enumerate("xyz"):
         inside &= (x[:, axis] >= c[f"{name}_min"]) & (x[:, axis] <= c[f"{name}_max"])
     if not inside.any():
-        raise scene.case.error(f"{key}.x_max", f"no node of face '{face}' of body '{body}' lies "
-                               f"in the candidate window: widen x_min/x_max/y_min/y_max/z_min/"
-                               f"z_max")
+        raise scene.case.error(
+            f"{key}.x_max",
+            f"no node of face '{face}' of body '{body}' lies "
+            f"in the candidate window: widen x_min/x_max/y_min/y_max/z_min/"
+            f"z_max",
+        )
     return candidates[inside]
 
 
@@ -152,17 +182,32 @@ def _rigid_pairs(scene, c: dict, key: str) -> dict:
     a = _window(scene, c, key, c["body"], c["face"])
     n, gap, what, fix = SHAPES[c["kind"]](scene, c, key, a)
     face = scene.global_boundary(c["body"], c["face"])
-    check_facing(scene, a, n, gap, c["tolerance"], face, None, None, key,
-                 f"check the obstacle's side or normal ({what})")
+    check_facing(
+        scene,
+        a,
+        n,
+        gap,
+        c["tolerance"],
+        face,
+        None,
+        None,
+        key,
+        f"check the obstacle's side or normal ({what})",
+    )
     check_gaps(scene, a, gap, c["tolerance"], key, fix)
     check_outside(scene, a, n, gap, c["tolerance"], key, what)
     if c["kind"] == "rigid_surface" and c["indenter"]:
         check_indenter_size(scene, c, key, float(gap.min()))
     gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
-    return {"node_a": a, "node_b": np.full(len(a), -1, dtype=np.int64), "normal": n,
-            "gap": gap, "area": tributary_areas(scene.nodes, face, a),
-            "foot": np.tile([-1.0, -1.0, -1.0, 0.0, 0.0, 0.0], (len(a), 1)),
-            "point_gap": np.full(len(a), np.nan)}
+    return {
+        "node_a": a,
+        "node_b": np.full(len(a), -1, dtype=np.int64),
+        "normal": n,
+        "gap": gap,
+        "area": tributary_areas(scene.nodes, face, a),
+        "foot": np.tile([-1.0, -1.0, -1.0, 0.0, 0.0, 0.0], (len(a), 1)),
+        "point_gap": np.full(len(a), np.nan),
+    }
 
 
 def check_indenter_size(scene, c: dict, key: str, gap: float) -> None:
@@ -177,18 +222,25 @@ def check_indenter_size(scene, c: dict, key: str, gap: float) -> None:
     column = path.names.index(load.label)
     depth = max(-row[column] * c["motion"][2] for row in path.factors) - max(gap, 0.0)
     if depth >= c["size"]:
-        raise scene.case.error(f"{key}.size", f"= {c['size']:g} is not allowed: the "
-                               f"{c['indenter']} pyramid is pressed {depth:.4g} deep, deeper "
-                               f"than its height above the tip: its base would enter the body; "
-                               f"give size > {depth:.4g} (e.g. {2 * depth:.3g})")
+        raise scene.case.error(
+            f"{key}.size",
+            f"= {c['size']:g} is not allowed: the "
+            f"{c['indenter']} pyramid is pressed {depth:.4g} deep, deeper "
+            f"than its height above the tip: its base would enter the body; "
+            f"give size > {depth:.4g} (e.g. {2 * depth:.3g})",
+        )
 
 
 def _plane(scene, c, key, a):
     n = np.asarray(c["normal"], dtype=float)
     n = n / np.linalg.norm(n)
     gap = (scene.nodes[a] - np.asarray(c["point"])) @ n
-    return np.tile(n, (len(a), 1)), gap, "rigid plane", \
-        "move the body or the plane (contact.point) so that they do not overlap"
+    return (
+        np.tile(n, (len(a), 1)),
+        gap,
+        "rigid plane",
+        "move the body or the plane (contact.point) so that they do not overlap",
+    )
 
 
 def _radial(scene, c, key, a, d: np.ndarray, where: str):
@@ -198,18 +250,25 @@ def _radial(scene, c, key, a, d: np.ndarray, where: str):
     at_centre = r <= 1e-9 * c["radius"]
     if at_centre.any():
         k = int(np.argmax(at_centre))
-        raise scene.case.error(f"{key}.radius", f"node {int(a[k])} lies on the {where} of the "
-                               f"rigid obstacle, where the normal (the direction to its nearest "
-                               f"point) is undefined: move the obstacle, or leave the node out "
-                               f"of the candidates (x_min ... z_max)")
+        raise scene.case.error(
+            f"{key}.radius",
+            f"node {int(a[k])} lies on the {where} of the "
+            f"rigid obstacle, where the normal (the direction to its nearest "
+            f"point) is undefined: move the obstacle, or leave the node out "
+            f"of the candidates (x_min ... z_max)",
+        )
     sign = 1.0 if c["side"] == "outside" else -1.0
     return sign * d / r[:, None], sign * (r - c["radius"])
 
 
 def _sphere(scene, c, key, a):
     n, gap = _radial(scene, c, key, a, scene.nodes[a] - np.asarray(c["centre"]), "centre")
-    return n, gap, "rigid sphere", "move the body or the sphere (contact.centre, radius) so " \
-                                   "that they do not overlap"
+    return (
+        n,
+        gap,
+        "rigid sphere",
+        "move the body or the sphere (contact.centre, radius) so " "that they do not overlap",
+    )
 
 
 def _cylinder(scene, c, key, a):
@@ -217,8 +276,12 @@ def _cylinder(scene, c, key, a):
     e = e / np.linalg.norm(e)
     d = scene.nodes[a] - np.asarray(c["point"])
     n, gap = _radial(scene, c, key, a, d - np.outer(d @ e, e), "axis")
-    return n, gap, "rigid cylinder", "move the body or the cylinder (contact.point, radius) " \
-                                     "so that they do not overlap"
+    return (
+        n,
+        gap,
+        "rigid cylinder",
+        "move the body or the cylinder (contact.point, radius) " "so that they do not overlap",
+    )
 
 
 def rigid_surface(case, c: dict, key: str) -> tuple[np.ndarray, np.ndarray]:
@@ -234,11 +297,14 @@ def rigid_surface(case, c: dict, key: str) -> tuple[np.ndarray, np.ndarray]:
         hole = open_edge(tris)
         if hole is not None:
             i, j, count = hole
-            raise case.error(f"{key}.file", f"the surface is not closed: its edge between "
-                                            f"vertices {i} and {j} belongs to {count} "
-                                            f"triangle(s), not 2; side = \"{c['side']}\" needs a "
-                                            f"closed surface: close it, or use side = \"front\" "
-                                            f"or \"back\" (the side its triangles face)")
+            raise case.error(
+                f"{key}.file",
+                f"the surface is not closed: its edge between "
+                f"vertices {i} and {j} belongs to {count} "
+                f"triangle(s), not 2; side = \"{c['side']}\" needs a "
+                f"closed surface: close it, or use side = \"front\" "
+                f"or \"back\" (the side its triangles face)",
+            )
     tris = consistently_oriented(tris, where)
     if c["side"] in ("outside", "inside") and enclosed_volume(points, tris) < 0:
         tris = tris[:, [0, 2, 1]]  # outwards
@@ -275,8 +341,12 @@ def _surface(scene, c, key, a):
         else:
             n[p] = nearest_in_cone(face_n[mine], -outward[p])
             gap[p] = (x[p] - near["foot"][p]) @ n[p]
-    return n, gap, "rigid surface", "move the body or the surface (its file, or tip) so that " \
-                                    "they do not overlap"
+    return (
+        n,
+        gap,
+        "rigid surface",
+        "move the body or the surface (its file, or tip) so that " "they do not overlap",
+    )
 
 
 def nearest_in_cone(normals: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -292,8 +362,12 @@ def nearest_in_cone(normals: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 #: Each rigid obstacle's normals and gaps.
-SHAPES = {"rigid_plane": _plane, "rigid_sphere": _sphere, "rigid_cylinder": _cylinder,
-          "rigid_surface": _surface}
+SHAPES = {
+    "rigid_plane": _plane,
+    "rigid_sphere": _sphere,
+    "rigid_cylinder": _cylinder,
+    "rigid_surface": _surface,
+}
 
 
 def _node_to_node_pairs(scene, c: dict, key: str) -> dict:
@@ -301,10 +375,15 @@ def _node_to_node_pairs(scene, c: dict, key: str) -> dict:
     contactor nodes' areas."""
     a, b, n, gap = node_to_node_pairs(scene, c, key)
     face_a = scene.global_boundary(c["body_a"], c["face_a"])
-    return {"node_a": a, "node_b": b, "normal": n, "gap": gap,
-            "area": tributary_areas(scene.nodes, face_a, a),
-            "foot": np.tile([-1.0, -1.0, -1.0, 0.0, 0.0, 0.0], (len(a), 1)),
-            "point_gap": np.full(len(a), np.nan)}
+    return {
+        "node_a": a,
+        "node_b": b,
+        "normal": n,
+        "gap": gap,
+        "area": tributary_areas(scene.nodes, face_a, a),
+        "foot": np.tile([-1.0, -1.0, -1.0, 0.0, 0.0, 0.0], (len(a), 1)),
+        "point_gap": np.full(len(a), np.nan),
+    }
 
 
 def _node_to_surface_pairs(scene, c: dict, key: str) -> dict:
@@ -314,16 +393,27 @@ def _node_to_surface_pairs(scene, c: dict, key: str) -> dict:
     face_b = scene.global_boundary(c["body_b"], c["face_b"])
     candidates = _window(scene, c, key, c["body_a"], c["face_a"])
     _, areas = triangle_normals(scene.nodes, face_a)
-    rows = mortar.node_to_surface_rows(scene.nodes, face_a, face_b, candidates,
-                                       1e-9 * float(areas.min()))
+    rows = mortar.node_to_surface_rows(
+        scene.nodes, face_a, face_b, candidates, 1e-9 * float(areas.min())
+    )
     if not len(rows["node_a"]):
-        raise scene.case.error(f"{key}.face_b", f"no node of {c['body_a']}:{c['face_a']} in "
-                               f"the candidate window projects onto {c['body_b']}:"
-                               f"{c['face_b']}: check the faces, or widen the window")
+        raise scene.case.error(
+            f"{key}.face_b",
+            f"no node of {c['body_a']}:{c['face_a']} in "
+            f"the candidate window projects onto {c['body_b']}:"
+            f"{c['face_b']}: check the faces, or widen the window",
+        )
     a = rows["node_a"]
-    check_gaps(scene, a, np.minimum(rows["gap"], rows["point_gap"]), c["tolerance"], key,
-               f"move body '{c['body_a']}' away from body '{c['body_b']}'")
-    touching = (np.abs(rows["gap"]) <= c["tolerance"]) | \
-        (np.abs(rows["point_gap"]) <= c["tolerance"])
+    check_gaps(
+        scene,
+        a,
+        np.minimum(rows["gap"], rows["point_gap"]),
+        c["tolerance"],
+        key,
+        f"move body '{c['body_a']}' away from body '{c['body_b']}'",
+    )
+    touching = (np.abs(rows["gap"]) <= c["tolerance"]) | (
+        np.abs(rows["point_gap"]) <= c["tolerance"]
+    )
     rows["gap"] = np.where(touching, 0.0, rows["gap"])  # first point of contact: closed
     return rows

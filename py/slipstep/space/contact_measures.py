@@ -92,19 +92,30 @@ def contact_profile_3d(scene, snapshot: dict) -> dict:
     direction = np.zeros_like(tangential)
     direction[slipping] = -tangential[slipping] / size[slipping, None]
     rtd = pointwise(scene, snapshot, "rtd")
-    out = {"pair": order, "node_a": scene.model["pairs"]["node_a"], "x": x,
-           "contact": scene.pair_contact, "pressure": normal / area,
-           "tau": np.einsum("pd,ptd->pt", tangential, t), "tangential_stress": tangential,
-           "slip": rtd, "slip_xyz": np.einsum("pt,ptd->pd", rtd, t),
-           "slip_direction": direction, "status": status,
-           "gap": pointwise(scene, snapshot, "gap")}
+    out = {
+        "pair": order,
+        "node_a": scene.model["pairs"]["node_a"],
+        "x": x,
+        "contact": scene.pair_contact,
+        "pressure": normal / area,
+        "tau": np.einsum("pd,ptd->pt", tangential, t),
+        "tangential_stress": tangential,
+        "slip": rtd,
+        "slip_xyz": np.einsum("pt,ptd->pd", rtd, t),
+        "slip_direction": direction,
+        "status": status,
+        "gap": pointwise(scene, snapshot, "gap"),
+    }
     return {k: (v if k == "pair" else np.asarray(v)[order]) for k, v in out.items()}
 
 
 def contact_bodies_3d(contact: dict) -> list[str]:
     """The bodies a 3D [[contact]] touches, contactor first."""
-    return [contact["body_a"], contact["body_b"]] if "body_a" in contact and \
-        contact.get("face_a") else [contact["body"]]
+    return (
+        [contact["body_a"], contact["body_b"]]
+        if "body_a" in contact and contact.get("face_a")
+        else [contact["body"]]
+    )
 
 
 def mirror_planes(scene, index: int) -> list[tuple[int, float]]:
@@ -177,17 +188,24 @@ def contact_numbers_3d(scene, snapshot: dict, index: int) -> dict:
         force[axis] = 0.0
     profile = contact_profile_3d(scene, snapshot)
     peak = profile["pressure"][profile["contact"] == index]
-    return {"n_pairs": int(mine.sum()), "n_closed": int((status > 0).sum()),
-            "n_stick": int((status == 1).sum()), "n_slip": int((status == 2).sum()),
-            "symmetry_planes": [f"{'xyz'[a]} = {v:g}" for a, v in planes],
-            "contact_area": closed, "contact_radius": math.sqrt(closed / math.pi),
-            "stick_area": stick, "stick_radius": math.sqrt(stick / math.pi),
-            "total_normal_force": factor * float(np.asarray(snapshot["lambda_n"])[mine].sum()),
-            "force": force.tolist(), "force_model": part.tolist(),
-            "tangential_force": resultant.tolist(),
-            "total_tangential_force": float(np.linalg.norm(resultant)),
-            "peak_pressure": recovered_peak(scene, profile, index, math.sqrt(closed / math.pi)),
-            "max_nodal_pressure": float(peak.max()) if len(peak) else 0.0}
+    return {
+        "n_pairs": int(mine.sum()),
+        "n_closed": int((status > 0).sum()),
+        "n_stick": int((status == 1).sum()),
+        "n_slip": int((status == 2).sum()),
+        "symmetry_planes": [f"{'xyz'[a]} = {v:g}" for a, v in planes],
+        "contact_area": closed,
+        "contact_radius": math.sqrt(closed / math.pi),
+        "stick_area": stick,
+        "stick_radius": math.sqrt(stick / math.pi),
+        "total_normal_force": factor * float(np.asarray(snapshot["lambda_n"])[mine].sum()),
+        "force": force.tolist(),
+        "force_model": part.tolist(),
+        "tangential_force": resultant.tolist(),
+        "total_tangential_force": float(np.linalg.norm(resultant)),
+        "peak_pressure": recovered_peak(scene, profile, index, math.sqrt(closed / math.pi)),
+        "max_nodal_pressure": float(peak.max()) if len(peak) else 0.0,
+    }
 
 
 def zone_area(scene, index: int, chosen: np.ndarray) -> float:
@@ -297,10 +315,14 @@ def pressure_line(scene, snapshot: dict, index: int, samples: int = 201) -> dict
         a, b, c = corners[:, 0], corners[:, 1], corners[:, 2]
         det = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (c[:, 0] - a[:, 0]) * (b[:, 1] - a[:, 1])
         with np.errstate(divide="ignore", invalid="ignore"):
-            v = ((point[0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (c[:, 0] - a[:, 0]) *
-                 (point[1] - a[:, 1])) / det
-            w = ((b[:, 0] - a[:, 0]) * (point[1] - a[:, 1]) - (point[0] - a[:, 0]) *
-                 (b[:, 1] - a[:, 1])) / det
+            v = (
+                (point[0] - a[:, 0]) * (c[:, 1] - a[:, 1])
+                - (c[:, 0] - a[:, 0]) * (point[1] - a[:, 1])
+            ) / det
+            w = (
+                (b[:, 0] - a[:, 0]) * (point[1] - a[:, 1])
+                - (point[0] - a[:, 0]) * (b[:, 1] - a[:, 1])
+            ) / det
         inside = np.flatnonzero((v >= -1e-12) & (w >= -1e-12) & (v + w <= 1 + 1e-12))
         if len(inside):
             t = inside[0]
@@ -318,7 +340,8 @@ def reached_window_edge(scene, snapshot: dict) -> bool:
         face = scene.global_boundary(*contactor_face(c))
         inside = np.isin(face, node_a[mine])
         border = face[inside.any(axis=1) & ~inside.all(axis=1)][
-            inside[inside.any(axis=1) & ~inside.all(axis=1)]]
+            inside[inside.any(axis=1) & ~inside.all(axis=1)]
+        ]
         if (status[mine[np.isin(node_a[mine], border)]] > 0).any():
             return True
     return False

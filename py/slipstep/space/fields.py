@@ -14,8 +14,10 @@ def von_mises_3d(stress: np.ndarray) -> np.ndarray:
     """Equivalent stress of (M, 6) Voigt rows: sqrt(((sxx - syy)^2 + (syy - szz)^2 +
     (szz - sxx)^2) / 2 + 3 (syz^2 + sxz^2 + sxy^2))."""
     sxx, syy, szz, syz, sxz, sxy = np.asarray(stress, dtype=float).reshape(-1, 6).T
-    return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2)
-                   + 3.0 * (syz ** 2 + sxz ** 2 + sxy ** 2))
+    return np.sqrt(
+        0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2)
+        + 3.0 * (syz**2 + sxz**2 + sxy**2)
+    )
 
 
 def stress_tensor_3d(stress: np.ndarray) -> np.ndarray:
@@ -53,7 +55,12 @@ def nodal_stress_3d(nodes: np.ndarray, tetrahedra: np.ndarray, stress: np.ndarra
     stress = np.asarray(stress, dtype=float).reshape(-1, 6)
     weight = np.repeat(tetrahedron_volumes(nodes, tetrahedra), 4)
     corner = np.asarray(tetrahedra).ravel()
-    total = np.stack([np.bincount(corner, weight * np.repeat(column, 4), minlength=len(nodes))
-                      for column in stress.T], axis=1)
+    total = np.stack(
+        [
+            np.bincount(corner, weight * np.repeat(column, 4), minlength=len(nodes))
+            for column in stress.T
+        ],
+        axis=1,
+    )
     volume = np.bincount(corner, weight, minlength=len(nodes))
     return total / np.where(volume > 0, volume, 1.0)[:, None]

@@ -17,9 +17,16 @@ from ..fields import is_elastoplastic
 from ..figure_frame import STATUS_COLOURS, STATUS_LABELS, finish, given_axes, label, new_figure
 from ..references import hertz_pressure
 from .contact_geometry import contactor_face
-from .contact_measures import (contact_frame, contact_numbers_3d, contact_profile_3d,
-                               mirrored_points, pressure_centre, pressure_line)
+from .contact_measures import (
+    contact_frame,
+    contact_numbers_3d,
+    contact_profile_3d,
+    mirrored_points,
+    pressure_centre,
+    pressure_line,
+)
 from .fields import von_mises_3d
+
 
 def chosen(scene, result) -> list[tuple[str, object]]:
     """(file stem, builder) of the figures that apply: the contact area and the pressure line
@@ -41,8 +48,10 @@ def chosen(scene, result) -> list[tuple[str, object]]:
 
 def write_figures_3d(folder: Path, scene, result, summary: dict) -> list[Path]:
     """Write every figure of :func:`chosen` as ``folder/<stem>.png``; returns the paths."""
-    return [draw(Path(folder) / f"{stem}.png", scene, result, summary)
-            for stem, draw in chosen(scene, result)]
+    return [
+        draw(Path(folder) / f"{stem}.png", scene, result, summary)
+        for stem, draw in chosen(scene, result)
+    ]
 
 
 def figures_3d(scene, result, summary: dict) -> dict:
@@ -56,8 +65,7 @@ def _panels(n: int, ax, what: str, width: float = 5.0):
     if ax is not None:
         axes = given_axes(ax, n, what)
         return axes[0].figure, axes
-    fig = new_figure(width * n, 4.8, left=0.16 / n, right=1 - 0.04 / n, bottom=0.12,
-                     wspace=0.45)
+    fig = new_figure(width * n, 4.8, left=0.16 / n, right=1 - 0.04 / n, bottom=0.12, wspace=0.45)
     return fig, list(np.atleast_1d(fig.subplots(1, n)))
 
 
@@ -128,10 +136,19 @@ def contact_area_figure(path: Path | None, scene, result, summary: dict, *, ax=N
             here = status == s
             text = "closed" if frictionless and s == 2 else STATUS_LABELS[s]
             if here.any() or not (frictionless and s == 1):
-                ax_i.plot(xy[here, 0], xy[here, 1], "o", ms=3, color=colour,
-                          label=f"{text} ({int(here.sum())})")
-        numbers = summary.get("contacts", {}).get(name, {}) if snap is result["snapshots"][-1] \
+                ax_i.plot(
+                    xy[here, 0],
+                    xy[here, 1],
+                    "o",
+                    ms=3,
+                    color=colour,
+                    label=f"{text} ({int(here.sum())})",
+                )
+        numbers = (
+            summary.get("contacts", {}).get(name, {})
+            if snap is result["snapshots"][-1]
             else contact_numbers_3d(scene, snap, i)
+        )
         _radii(ax_i, scene, prof, i, numbers, centre, frictionless)
         shown = xy[status > 0] if (status > 0).any() else xy
         pad = 0.25 * float(np.ptp(shown, axis=0).max()) + _spacing(xy)
@@ -151,15 +168,22 @@ def _radii(ax, scene, prof: dict, index: int, numbers: dict, centre, frictionles
     _, e1, e2 = view_axes(scene, index)
     mine = prof["contact"] == index
     circle = np.linspace(0, 2 * np.pi, 181)
-    zones = (("contact_radius", "k--", prof["status"] > 0),
-             ("stick_radius", "b:", prof["status"] == 1))
-    for key, style, zone in zones[:1 if frictionless else 2]:
+    zones = (
+        ("contact_radius", "k--", prof["status"] > 0),
+        ("stick_radius", "b:", prof["status"] == 1),
+    )
+    for key, style, zone in zones[: 1 if frictionless else 2]:
         radius = numbers.get(key, 0.0)
         x, _ = mirrored_points(scene, index, prof["x"][mine & zone], np.zeros((mine & zone).sum()))
         plane = (x - centre) @ np.stack([e1, e2]).T
         if radius > 0 and is_round(plane, radius, _spacing(plane)):
-            ax.plot(radius * np.cos(circle), radius * np.sin(circle), style, lw=0.8,
-                    label=f"{key.replace('_', ' ')} {radius:.4g}")
+            ax.plot(
+                radius * np.cos(circle),
+                radius * np.sin(circle),
+                style,
+                lw=0.8,
+                label=f"{key.replace('_', ' ')} {radius:.4g}",
+            )
 
 
 def pressure_figure(path: Path | None, scene, result, summary: dict, *, ax=None):
@@ -175,13 +199,16 @@ def pressure_figure(path: Path | None, scene, result, summary: dict, *, ax=None)
         ax_i.plot(line["s"], line["pressure"], "-", color="tab:blue", label="slipstep")
         if ref.get("a_hertz_at_final"):
             s = np.linspace(line["s"].min(), line["s"].max(), 400)
-            ax_i.plot(s, hertz_pressure(s, ref["a_hertz_at_final"], ref["p0_hertz_at_final"]),
-                      "k--", lw=0.8, label="Hertz")
-        ax_i.set_xlabel(label(f"distance along {_axis_text(line['direction'])}", scene,
-                              "length"))
+            ax_i.plot(
+                s,
+                hertz_pressure(s, ref["a_hertz_at_final"], ref["p0_hertz_at_final"]),
+                "k--",
+                lw=0.8,
+                label="Hertz",
+            )
+        ax_i.set_xlabel(label(f"distance along {_axis_text(line['direction'])}", scene, "length"))
         ax_i.set_ylabel(label("contact pressure", scene, "stress"))
-        ax_i.set_title(f"{name}: pressure along a line through the contact{_at(snap)}",
-                       fontsize=9)
+        ax_i.set_title(f"{name}: pressure along a line through the contact{_at(snap)}", fontsize=9)
         ax_i.legend(fontsize=7)
     return finish(fig, path)
 
@@ -200,14 +227,16 @@ def plastic_zone_figure(path: Path | None, scene, result, summary: dict, *, ax=N
     stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 6)
     strain = np.asarray(snap.get("plastic_strain", np.zeros(len(stress))), dtype=float)
     fig, axes = _panels(2, ax, "plastic zone", width=5.5)
-    values = ((von_mises_3d(stress), "von Mises stress", "viridis", "stress"),
-              (strain, "equivalent plastic strain", "magma", None))
+    values = (
+        (von_mises_3d(stress), "von Mises stress", "viridis", "stress"),
+        (strain, "equivalent plastic strain", "magma", None),
+    )
     for ax_i, (value, text, cmap, kind) in zip(axes, values):
-        art = PolyCollection(polygons, array=value[cells], cmap=cmap, edgecolors="face",
-                             linewidths=0.2)
+        art = PolyCollection(
+            polygons, array=value[cells], cmap=cmap, edgecolors="face", linewidths=0.2
+        )
         ax_i.add_collection(art)
-        fig.colorbar(art, ax=ax_i, label=label(text, scene, kind) if kind else text,
-                     shrink=0.85)
+        fig.colorbar(art, ax=ax_i, label=label(text, scene, kind) if kind else text, shrink=0.85)
         ax_i.set_aspect("equal")
         ax_i.set_xlabel(label(f"along {_axis_text(e1)}", scene, "length"))
         ax_i.set_ylabel(label(f"along {_axis_text(up)}", scene, "length"))
@@ -236,15 +265,19 @@ def section(nodes: np.ndarray, tets: np.ndarray, point, e1, up):
     size = float(np.ptp(nodes, axis=0).max())
     d = np.where(np.abs(d) <= 1e-12 * size, 0.0, d)
     ds = d[tets]
-    cut = np.flatnonzero((ds.min(axis=1) <= 0) & (ds.max(axis=1) >= 0) &
-                         (np.count_nonzero(ds == 0, axis=1) != 4))
+    cut = np.flatnonzero(
+        (ds.min(axis=1) <= 0) & (ds.max(axis=1) >= 0) & (np.count_nonzero(ds == 0, axis=1) != 4)
+    )
     edges = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
     cells, polygons = [], []
     for e in cut:
         corner, dist = nodes[tets[e]], ds[e]
         found = [corner[k] for k in range(4) if dist[k] == 0]
-        found += [corner[i] + dist[i] / (dist[i] - dist[j]) * (corner[j] - corner[i])
-                  for i, j in edges if dist[i] * dist[j] < 0]
+        found += [
+            corner[i] + dist[i] / (dist[i] - dist[j]) * (corner[j] - corner[i])
+            for i, j in edges
+            if dist[i] * dist[j] < 0
+        ]
         if len(found) < 3:
             continue  # the plane touches an edge or a corner only
         flat = (np.array(found) - point) @ np.stack([e1, up]).T
@@ -258,8 +291,9 @@ def section(nodes: np.ndarray, tets: np.ndarray, point, e1, up):
 def _zoom(axes, polygons, yielded: np.ndarray) -> None:
     """The axes' limits: around the yielded cells' polygons, grown by half their extent; the
     polygons near the section's point (a tenth of the section) without yielding."""
-    corners = [p for p, y in zip(polygons, yielded) if y] or \
-        [p for p in polygons if np.abs(p).max() <= 0.1 * max(np.abs(q).max() for q in polygons)]
+    corners = [p for p, y in zip(polygons, yielded) if y] or [
+        p for p in polygons if np.abs(p).max() <= 0.1 * max(np.abs(q).max() for q in polygons)
+    ]
     box, whole = np.vstack(corners or polygons), np.vstack(polygons)
     pad = 0.5 * float(np.ptp(box, axis=0).max())
     low = np.maximum(box.min(axis=0) - pad, whole.min(axis=0))  # not beyond the section

@@ -48,8 +48,14 @@ def _tag_planes(gmsh, volume: int, planes: dict, curved: str) -> None:
         centre = gmsh.model.occ.getCenterOfMass(2, surface)
         name = curved
         if gmsh.model.getType(2, surface) == "Plane":
-            name = next((n for n, (axis, value) in planes.items()
-                         if abs(centre[axis] - value) <= 1e-7 * size), curved)
+            name = next(
+                (
+                    n
+                    for n, (axis, value) in planes.items()
+                    if abs(centre[axis] - value) <= 1e-7 * size
+                ),
+                curved,
+            )
         groups.setdefault(name, []).append(surface)
     for name, surfaces in groups.items():
         gmsh.model.setPhysicalName(2, gmsh.model.addPhysicalGroup(2, surfaces), name)
@@ -59,11 +65,13 @@ def _tag_planes(gmsh, volume: int, planes: dict, curved: str) -> None:
 def _vertex_at(gmsh, point, size: float) -> int:
     """The geometry vertex at ``point`` (within 1e-9 size)."""
     eps = 1e-9 * size
-    found = gmsh.model.getEntitiesInBoundingBox(*(np.subtract(point, eps)),
-                                                *(np.add(point, eps)), 0)
+    found = gmsh.model.getEntitiesInBoundingBox(
+        *(np.subtract(point, eps)), *(np.add(point, eps)), 0
+    )
     if not found:
-        raise MeshError(f"mesh generator: no geometry vertex at {tuple(point)}: report this "
-                        f"(gmsh version)")
+        raise MeshError(
+            f"mesh generator: no geometry vertex at {tuple(point)}: report this " f"(gmsh version)"
+        )
     return found[0][1]
 
 
@@ -84,8 +92,11 @@ def mirrored(mesh: TetMesh, axis: int) -> TetMesh:
     flipped[:, axis] *= -1.0
     nodes = np.vstack([mesh.nodes, flipped])
     tets = np.vstack([mesh.tetrahedra, image[mesh.tetrahedra][:, [0, 2, 1, 3]]])
-    faces = {tag: np.vstack([tris, image[tris][:, [0, 2, 1]]])
-             for tag, tris in mesh.faces.items() if tag != f"symmetry_{'xyz'[axis]}"}
+    faces = {
+        tag: np.vstack([tris, image[tris][:, [0, 2, 1]]])
+        for tag, tris in mesh.faces.items()
+        if tag != f"symmetry_{'xyz'[axis]}"
+    }
     sets = {k: v for k, v in mesh.node_sets.items() if k not in mesh.faces}
     return checked_tet_mesh(nodes, tets, faces, sets, where="mirrored mesh")
 
@@ -98,8 +109,14 @@ def _mirrored_into(part: TetMesh, mirrors: int) -> TetMesh:
 
 
 @cached
-def sphere(R: float, h_contact: float, contact_zone: float, h_max: float, growth: float = 0.1,
-           portion: str = "eighth") -> TetMesh:
+def sphere(
+    R: float,
+    h_contact: float,
+    contact_zone: float,
+    h_max: float,
+    growth: float = 0.1,
+    portion: str = "eighth",
+) -> TetMesh:
     """A sphere of radius R, centre (0, 0, R), below its cut z = R: the eighth x, y >= 0, the
     quarter y >= 0 or the half.  Faces ``surface``, ``top`` and the symmetry planes of the
     portion (``symmetry_x``: x = 0, ``symmetry_y``: y = 0); node set ``bottom_point``, the
@@ -113,16 +130,27 @@ def sphere(R: float, h_contact: float, contact_zone: float, h_max: float, growth
         occ.synchronize()
         bottom = _vertex_at(gmsh, (0.0, 0.0, 0.0), R)
         gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [bottom]), "bottom_point")
-        _tag_planes(gmsh, volume[1], {"top": (2, R), "symmetry_x": (0, 0.0),
-                                      "symmetry_y": (1, 0.0)}, "surface")
+        _tag_planes(
+            gmsh,
+            volume[1],
+            {"top": (2, R), "symmetry_x": (0, 0.0), "symmetry_y": (1, 0.0)},
+            "surface",
+        )
         size = threshold_field(gmsh, h_contact, contact_zone, h_max, growth, points=[bottom])
         eighth = _mesh_volume(gmsh, size, "sphere mesh", snap=((0, 0.0), (1, 0.0), (2, R)))
     return _mirrored_into(eighth, ("eighth", "quarter", "half").index(portion))
 
 
 @cached
-def roller(R: float, length: float, h_contact: float, contact_zone: float, h_max: float,
-           growth: float = 0.1, portion: str = "eighth") -> TetMesh:
+def roller(
+    R: float,
+    length: float,
+    h_contact: float,
+    contact_zone: float,
+    h_max: float,
+    growth: float = 0.1,
+    portion: str = "eighth",
+) -> TetMesh:
     """A roller: the cylinder of radius R along y, y in [-length/2, length/2], axis at height
     z = R, below its cut z = R; the eighth x, y >= 0, the quarter y >= 0 or the half.  Faces
     ``surface``, ``end`` (y = +-length/2), ``top`` and the symmetry planes of the portion; fine
@@ -137,17 +165,30 @@ def roller(R: float, length: float, h_contact: float, contact_zone: float, h_max
         occ.synchronize()
         eps = 1e-6 * R
         line = _curves_near(gmsh, (-eps, -eps, -eps), (eps, half + eps, eps))
-        _tag_planes(gmsh, volume[1], {"top": (2, R), "end": (1, half), "symmetry_x": (0, 0.0),
-                                      "symmetry_y": (1, 0.0)}, "surface")
+        _tag_planes(
+            gmsh,
+            volume[1],
+            {"top": (2, R), "end": (1, half), "symmetry_x": (0, 0.0), "symmetry_y": (1, 0.0)},
+            "surface",
+        )
         size = threshold_field(gmsh, h_contact, contact_zone, h_max, growth, curves=line)
-        eighth = _mesh_volume(gmsh, size, "roller mesh",
-                              snap=((0, 0.0), (1, 0.0), (1, half), (2, R)))
+        eighth = _mesh_volume(
+            gmsh, size, "roller mesh", snap=((0, 0.0), (1, 0.0), (1, half), (2, R))
+        )
     return _mirrored_into(eighth, ("eighth", "quarter", "half").index(portion))
 
 
 @cached
-def punch(a: float, height: float, h_contact: float, contact_zone: float, h_max: float,
-          growth: float = 0.1, shape: str = "round", portion: str = "quarter") -> TetMesh:
+def punch(
+    a: float,
+    height: float,
+    h_contact: float,
+    contact_zone: float,
+    h_max: float,
+    growth: float = 0.1,
+    shape: str = "round",
+    portion: str = "quarter",
+) -> TetMesh:
     """A flat-ended punch along z: a cylinder of radius a (``round``) or a square prism of side
     2a, z in [0, height]; the quarter x, y >= 0, the half y >= 0 or the whole.  Faces
     ``bottom`` (z = 0, the flat end), ``side``, ``top`` (z = height) and the symmetry planes
@@ -163,14 +204,22 @@ def punch(a: float, height: float, h_contact: float, contact_zone: float, h_max:
             volume = (3, occ.addBox(0.0, 0.0, 0.0, a, a, height))
         occ.synchronize()
         eps = 1e-6 * a
-        rim = [c for c in _curves_near(gmsh, (-eps, -eps, -eps), (a + eps, a + eps, eps))
-               if not _on_symmetry_plane(gmsh, c, eps)]
-        planes = {"bottom": (2, 0.0), "top": (2, height), "symmetry_x": (0, 0.0),
-                  "symmetry_y": (1, 0.0)}
+        rim = [
+            c
+            for c in _curves_near(gmsh, (-eps, -eps, -eps), (a + eps, a + eps, eps))
+            if not _on_symmetry_plane(gmsh, c, eps)
+        ]
+        planes = {
+            "bottom": (2, 0.0),
+            "top": (2, height),
+            "symmetry_x": (0, 0.0),
+            "symmetry_y": (1, 0.0),
+        }
         _tag_planes(gmsh, volume[1], planes, "side")  # a square's planes x, y = a: side
         size = threshold_field(gmsh, h_contact, contact_zone, h_max, growth, curves=rim)
-        snap = ((0, 0.0), (1, 0.0), (2, 0.0), (2, height)) + \
-            (((0, a), (1, a)) if shape == "square" else ())
+        snap = ((0, 0.0), (1, 0.0), (2, 0.0), (2, height)) + (
+            ((0, a), (1, a)) if shape == "square" else ()
+        )
         quarter = _mesh_volume(gmsh, size, "punch mesh", snap=snap)
     return _mirrored_into(quarter, ("quarter", "half", "whole").index(portion))
 
@@ -178,8 +227,9 @@ def punch(a: float, height: float, h_contact: float, contact_zone: float, h_max:
 def _on_symmetry_plane(gmsh, curve: int, eps: float) -> bool:
     """True for a curve lying in the plane x = 0 or y = 0."""
     low = gmsh.model.getBoundingBox(1, curve)
-    return (abs(low[0]) <= eps and abs(low[3]) <= eps) or (abs(low[1]) <= eps and
-                                                           abs(low[4]) <= eps)
+    return (abs(low[0]) <= eps and abs(low[3]) <= eps) or (
+        abs(low[1]) <= eps and abs(low[4]) <= eps
+    )
 
 
 @cached
@@ -212,30 +262,42 @@ def shell(a: float, b: float, h: float, h_outer: float = 0.0) -> TetMesh:
         gmsh.model.addPhysicalGroup(3, [volume[1]])
         size = gmsh.model.mesh.field.add("MathEval")
         slope = (h_outer - h) / (b - a)
-        gmsh.model.mesh.field.setString(size, "F", f"{h!r} + ({slope!r}) * "
-                                                   f"(sqrt(x*x + y*y + z*z) - {a!r})")
+        gmsh.model.mesh.field.setString(
+            size, "F", f"{h!r} + ({slope!r}) * " f"(sqrt(x*x + y*y + z*z) - {a!r})"
+        )
         return _mesh_volume(gmsh, size, "shell mesh", snap=((0, 0.0), (1, 0.0), (2, 0.0)))
 
 
 @cached
-def graded_box(width: float, depth: float, height: float, h_contact: float,
-               contact_zone: float, h_max: float, growth: float = 0.1, focus=None,
-               corner=(0.0, 0.0, 0.0)) -> TetMesh:
+def graded_box(
+    width: float,
+    depth: float,
+    height: float,
+    h_contact: float,
+    contact_zone: float,
+    h_max: float,
+    growth: float = 0.1,
+    focus=None,
+    corner=(0.0, 0.0, 0.0),
+) -> TetMesh:
     """The box [x0, x0+width] x [y0, y0+depth] x [z0, z0+height] meshed by gmsh, fine around
     ``focus`` (default: the middle of the top face), a node.  Faces ``bottom`` (z = z0),
     ``top``, ``left`` (x = x0), ``right``, ``front`` (y = y0), ``back``; node set ``focus``."""
     x0, y0, z0 = (float(c) for c in corner)
     high = (x0 + width, y0 + depth, z0 + height)
     size_ = max(width, depth, height)
-    focus = np.array([x0 + 0.5 * width, y0 + 0.5 * depth, high[2]] if focus is None else focus,
-                     dtype=float)
+    focus = np.array(
+        [x0 + 0.5 * width, y0 + 0.5 * depth, high[2]] if focus is None else focus, dtype=float
+    )
     low = np.array([x0, y0, z0])
     tol = 1e-9 * size_
     focus = np.where(np.abs(focus - low) <= tol, low, focus)
     focus = np.where(np.abs(focus - high) <= tol, high, focus)
     if np.any(focus < low) or np.any(focus > np.array(high)):
-        raise MeshError(f"box mesh: focus {focus.tolist()} lies outside the box: move it inside "
-                        f"or onto its boundary")
+        raise MeshError(
+            f"box mesh: focus {focus.tolist()} lies outside the box: move it inside "
+            f"or onto its boundary"
+        )
     with gmsh_session() as gmsh:
         gmsh.model.add("box")
         occ = gmsh.model.occ
@@ -246,16 +308,27 @@ def graded_box(width: float, depth: float, height: float, h_contact: float,
         vertex = _vertex_at(gmsh, focus, size_)
         gmsh.model.setPhysicalName(0, gmsh.model.addPhysicalGroup(0, [vertex]), "focus")
         volume = gmsh.model.getEntities(3)[0][1]
-        _tag_planes(gmsh, volume, {"bottom": (2, z0), "top": (2, high[2]), "left": (0, x0),
-                                   "right": (0, high[0]), "front": (1, y0),
-                                   "back": (1, high[1])}, "side")
+        _tag_planes(
+            gmsh,
+            volume,
+            {
+                "bottom": (2, z0),
+                "top": (2, high[2]),
+                "left": (0, x0),
+                "right": (0, high[0]),
+                "front": (1, y0),
+                "back": (1, high[1]),
+            },
+            "side",
+        )
         size = threshold_field(gmsh, h_contact, contact_zone, h_max, growth, points=[vertex])
         snap = [(c, v) for c in range(3) for v in (low[c], high[c])]
         return _mesh_volume(gmsh, size, "box mesh", snap=snap)
 
 
-def box(width: float, depth: float, height: float, nx: int, ny: int, nz: int,
-        corner=(0.0, 0.0, 0.0)) -> TetMesh:
+def box(
+    width: float, depth: float, height: float, nx: int, ny: int, nz: int, corner=(0.0, 0.0, 0.0)
+) -> TetMesh:
     """A structured box, nx x ny x nz cells, each cut into six tetrahedra around one of its
     diagonals (Kuhn's), the cell mirrored by the parity of each of its indices, so the diagonal
     alternates and neighbours' faces match (no preferred direction).  Node coordinates are
@@ -263,19 +336,23 @@ def box(width: float, depth: float, height: float, nx: int, ny: int, nz: int,
     Faces ``bottom`` (z = z0), ``top``, ``left`` (x = x0), ``right``, ``front`` (y = y0),
     ``back``."""
     if min(nx, ny, nz) < 1:
-        raise MeshError(f"box: nx = {nx}, ny = {ny}, nz = {nz}: need at least one division "
-                        f"each way")
+        raise MeshError(
+            f"box: nx = {nx}, ny = {ny}, nz = {nz}: need at least one division " f"each way"
+        )
     x0, y0, z0 = (float(c) for c in corner)
-    axes = [lo + size * np.arange(n + 1) / n for lo, size, n in
-            ((x0, width, nx), (y0, depth, ny), (z0, height, nz))]
+    axes = [
+        lo + size * np.arange(n + 1) / n
+        for lo, size, n in ((x0, width, nx), (y0, depth, ny), (z0, height, nz))
+    ]
     X, Y, Z = np.meshgrid(*axes, indexing="ij")
     nodes = np.column_stack([X.ravel(), Y.ravel(), Z.ravel()])
 
     def nid(i, j, k):
         return (i * (ny + 1) + j) * (nz + 1) + k
 
-    i, j, k = (a.ravel() for a in np.meshgrid(np.arange(nx), np.arange(ny), np.arange(nz),
-                                              indexing="ij"))
+    i, j, k = (
+        a.ravel() for a in np.meshgrid(np.arange(nx), np.arange(ny), np.arange(nz), indexing="ij")
+    )
     tets = []
     # Kuhn's six tetrahedra of the unit cube: the paths from corner 000 to 111 one axis at a time
     for order in ((0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)):
@@ -308,9 +385,14 @@ def _box_faces(nodes, tets, low, high) -> dict:
     """The boundary triangles of a box's mesh, by the plane they lie on."""
     tris = boundary_faces(tets)
     out = {}
-    for name, axis, value in (("bottom", 2, low[2]), ("top", 2, high[2]), ("left", 0, low[0]),
-                              ("right", 0, high[0]), ("front", 1, low[1]),
-                              ("back", 1, high[1])):
+    for name, axis, value in (
+        ("bottom", 2, low[2]),
+        ("top", 2, high[2]),
+        ("left", 0, low[0]),
+        ("right", 0, high[0]),
+        ("front", 1, low[1]),
+        ("back", 1, high[1]),
+    ):
         # all three corners on the plane: a mean of three equal coordinates is not always the
         # coordinate ((h + h + h)/3 != h for some h), which left a face tag empty
         out[name] = tris[(nodes[tris][:, :, axis] == value).all(axis=1)]

@@ -30,8 +30,9 @@ def pyramid(kind: str, tip, size: float) -> tuple[np.ndarray, np.ndarray]:
     circumradius = inradius / math.cos(math.pi / sides)
     first = math.pi / 4 if sides == 4 else math.pi / 2
     angles = first + 2 * math.pi * np.arange(sides) / sides
-    base = np.column_stack([circumradius * np.cos(angles), circumradius * np.sin(angles),
-                            np.full(sides, size)])
+    base = np.column_stack(
+        [circumradius * np.cos(angles), circumradius * np.sin(angles), np.full(sides, size)]
+    )
     points = np.vstack([[0.0, 0.0, 0.0], base]) + np.asarray(tip, dtype=float)
     ring = np.arange(1, sides + 1)
     # sides: tip, next, this (outward: the base runs counter-clockwise seen from above)
@@ -41,8 +42,9 @@ def pyramid(kind: str, tip, size: float) -> tuple[np.ndarray, np.ndarray]:
     return points, np.vstack([faces, lid]).astype(np.int64)
 
 
-def write_stl(path: str | Path, points: np.ndarray, triangles: np.ndarray,
-              name: str = "surface") -> Path:
+def write_stl(
+    path: str | Path, points: np.ndarray, triangles: np.ndarray, name: str = "surface"
+) -> Path:
     """Write a triangulated surface as an ASCII STL (facet normals by the right-hand rule)."""
     path = Path(path)
     lines = [f"solid {name}"]
@@ -50,9 +52,13 @@ def write_stl(path: str | Path, points: np.ndarray, triangles: np.ndarray,
         a, b, c = points[tri]
         n = np.cross(b - a, c - a)
         n = n / (np.linalg.norm(n) or 1.0)
-        lines += [f"  facet normal {n[0]!r} {n[1]!r} {n[2]!r}", "    outer loop",
-                  *(f"      vertex {p[0]!r} {p[1]!r} {p[2]!r}" for p in (a, b, c)),
-                  "    endloop", "  endfacet"]
+        lines += [
+            f"  facet normal {n[0]!r} {n[1]!r} {n[2]!r}",
+            "    outer loop",
+            *(f"      vertex {p[0]!r} {p[1]!r} {p[2]!r}" for p in (a, b, c)),
+            "    endloop",
+            "  endfacet",
+        ]
     lines.append(f"endsolid {name}")
     path.write_text("\n".join(lines) + "\n")
     return path

@@ -8,8 +8,13 @@ import numpy as np
 from .mesh import triangle_normals
 
 
-def face_load(nodes: np.ndarray, triangles: np.ndarray, n_nodes: int, pressure: float = 0.0,
-              traction=(0.0, 0.0, 0.0)) -> np.ndarray:
+def face_load(
+    nodes: np.ndarray,
+    triangles: np.ndarray,
+    n_nodes: int,
+    pressure: float = 0.0,
+    traction=(0.0, 0.0, 0.0),
+) -> np.ndarray:
     """Consistent nodal loads of a uniform pressure and/or traction on linear triangles
     (outward, body behind them): the traction t = traction - pressure * n on a triangle of area
     A gives each corner t A / 3 (int N_i dA = A/3, exact for linear N), so the forces sum to
@@ -30,8 +35,9 @@ def face_load(nodes: np.ndarray, triangles: np.ndarray, n_nodes: int, pressure: 
 DISC_SHARE = {"eighth": 0.25, "quarter": 0.5, "half": 1.0}
 
 
-def sphere_cut_pressure(P: float, R: float, portion: str, nodes: np.ndarray,
-                        top: np.ndarray) -> float:
+def sphere_cut_pressure(
+    P: float, R: float, portion: str, nodes: np.ndarray, top: np.ndarray
+) -> float:
     """The pressure on a sphere's cut face ``top`` under ``[load] P``: its share of P (a quarter
     for the eighth, a half for the quarter, all of it for the half) over the face's meshed area,
     so the portion carries exactly its share (q = P / (pi R^2) up to the polygon's area deficit,

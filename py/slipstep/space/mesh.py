@@ -40,8 +40,9 @@ class TetMesh:
     def __post_init__(self):
         self.nodes = np.ascontiguousarray(self.nodes, dtype=np.float64)
         self.tetrahedra = np.ascontiguousarray(self.tetrahedra, dtype=np.int64)
-        self.faces = {k: np.asarray(v, dtype=np.int64).reshape(-1, 3)
-                      for k, v in self.faces.items()}
+        self.faces = {
+            k: np.asarray(v, dtype=np.int64).reshape(-1, 3) for k, v in self.faces.items()
+        }
         for tag, tris in self.faces.items():
             self.node_sets.setdefault(tag, np.unique(tris))
         self.node_sets = {k: np.asarray(v, dtype=np.int64) for k, v in self.node_sets.items()}
@@ -115,18 +116,24 @@ def check_tetrahedra(nodes: np.ndarray, tetrahedra: np.ndarray, where: str = "")
         longest = np.sqrt(np.max([((p[:, i] - p[:, j]) ** 2).sum(-1) for i, j in pairs], axis=0))
     if not (np.isfinite(det).all() and np.isfinite(longest).all()):
         e = int(np.argmin(np.isfinite(det) & np.isfinite(longest)))
-        raise MeshError(f"{prefix}element {e}: its size overflows (coordinates up to "
-                        f"{np.abs(nodes).max():.3g}): rescale the mesh (mesh.scale)")
-    flat = np.abs(det) <= FLAT * longest ** 3
+        raise MeshError(
+            f"{prefix}element {e}: its size overflows (coordinates up to "
+            f"{np.abs(nodes).max():.3g}): rescale the mesh (mesh.scale)"
+        )
+    flat = np.abs(det) <= FLAT * longest**3
     if flat.any():
         e = int(np.flatnonzero(flat)[0])
-        raise MeshError(f"{prefix}element {e} is flat (volume {det[e] / 6:.3g}, nodes "
-                        f"{tetrahedra[e].tolist()}, its four nodes in one plane): remove it or "
-                        f"fix its nodes")
+        raise MeshError(
+            f"{prefix}element {e} is flat (volume {det[e] / 6:.3g}, nodes "
+            f"{tetrahedra[e].tolist()}, its four nodes in one plane): remove it or "
+            f"fix its nodes"
+        )
     if (det < 0).any():
         e = int(np.flatnonzero(det < 0)[0])
-        raise MeshError(f"{prefix}element {e} is inverted (signed volume {det[e] / 6:.3g}): "
-                        f"swap two of its nodes so that det[x1 - x0, x2 - x0, x3 - x0] > 0")
+        raise MeshError(
+            f"{prefix}element {e} is inverted (signed volume {det[e] / 6:.3g}): "
+            f"swap two of its nodes so that det[x1 - x0, x2 - x0, x3 - x0] > 0"
+        )
 
 
 def _face_keys(triangles: np.ndarray, n: int) -> np.ndarray:
@@ -167,16 +174,20 @@ def orient_faces(tetrahedra: np.ndarray, faces: dict[str, np.ndarray], where: st
         if len(bad):
             t = tris[bad[0]].tolist()
             if not found[bad[0]]:
-                raise MeshError(f"{prefix}face '{tag}' triangle {t} is not a face of any "
-                                f"tetrahedron")
-            raise MeshError(f"{prefix}face '{tag}' triangle {t} is inside the mesh (shared by 2 "
-                            f"tetrahedra): tag boundary faces only")
+                raise MeshError(
+                    f"{prefix}face '{tag}' triangle {t} is not a face of any " f"tetrahedron"
+                )
+            raise MeshError(
+                f"{prefix}face '{tag}' triangle {t} is inside the mesh (shared by 2 "
+                f"tetrahedra): tag boundary faces only"
+            )
         out[tag] = every[first[k]]
     return out
 
 
-def checked_tet_mesh(nodes, tetrahedra, faces, node_sets=None, where="",
-                     flip_inverted=False) -> TetMesh:
+def checked_tet_mesh(
+    nodes, tetrahedra, faces, node_sets=None, where="", flip_inverted=False
+) -> TetMesh:
     """The :class:`TetMesh` of raw arrays, as every 3D mesh is made: unused nodes dropped, a
     consistently inverted mesh flipped if asked, checked, faces oriented outwards."""
     nodes = np.asarray(nodes, dtype=np.float64)
@@ -185,18 +196,24 @@ def checked_tet_mesh(nodes, tetrahedra, faces, node_sets=None, where="",
     node_sets = {k: np.asarray(v, dtype=np.int64) for k, v in (node_sets or {}).items()}
     prefix = f"{where}: " if where else ""
     if nodes.ndim != 2 or nodes.shape[1] != 3:
-        raise MeshError(f"{prefix}the node coordinates have shape {nodes.shape}: a 3D mesh "
-                        f"needs three columns x, y, z")
+        raise MeshError(
+            f"{prefix}the node coordinates have shape {nodes.shape}: a 3D mesh "
+            f"needs three columns x, y, z"
+        )
     if len(tets) == 0:
-        raise MeshError(f"{prefix}the mesh has no tetrahedra: a 3D case (analysis.dimension = "
-                        f"3) needs a volume mesh of 4-node tetrahedra")
+        raise MeshError(
+            f"{prefix}the mesh has no tetrahedra: a 3D case (analysis.dimension = "
+            f"3) needs a volume mesh of 4-node tetrahedra"
+        )
     check_tetrahedra_indices(nodes, tets, faces, node_sets, prefix)
     used = np.unique(tets)
     finite = np.isfinite(nodes[used]).all(axis=1)
     if not finite.all():
         k = int(used[np.argmin(finite)])
-        raise MeshError(f"{prefix}node {k} has a non-finite coordinate "
-                        f"({', '.join(str(c) for c in nodes[k])}): fix the mesh")
+        raise MeshError(
+            f"{prefix}node {k} has a non-finite coordinate "
+            f"({', '.join(str(c) for c in nodes[k])}): fix the mesh"
+        )
     if len(used) != len(nodes):
         new = np.full(len(nodes), -1, dtype=np.int64)
         new[used] = np.arange(len(used))
@@ -218,19 +235,28 @@ def check_tetrahedra_indices(nodes, tets, faces, node_sets, prefix: str) -> None
     """Connectivity and tags within the node range."""
     if tets.min() < 0 or tets.max() >= len(nodes):
         bad = int(np.flatnonzero((tets < 0).any(1) | (tets >= len(nodes)).any(1))[0])
-        raise MeshError(f"{prefix}element {bad} refers to a node outside 0..{len(nodes) - 1}: "
-                        f"fix the connectivity")
+        raise MeshError(
+            f"{prefix}element {bad} refers to a node outside 0..{len(nodes) - 1}: "
+            f"fix the connectivity"
+        )
     for k, v in [*faces.items(), *node_sets.items()]:
         if v.size and (v.min() < 0 or v.max() >= len(nodes)):
-            raise MeshError(f"{prefix}tag '{k}' refers to a node that is not in the mesh: fix "
-                            f"the file")
+            raise MeshError(
+                f"{prefix}tag '{k}' refers to a node that is not in the mesh: fix " f"the file"
+            )
 
 
-def from_tetrahedra(nodes, tetrahedra, faces: dict | None = None, node_sets: dict | None = None,
-                    where: str = "mesh from arrays") -> TetMesh:
+def from_tetrahedra(
+    nodes,
+    tetrahedra,
+    faces: dict | None = None,
+    node_sets: dict | None = None,
+    where: str = "mesh from arrays",
+) -> TetMesh:
     """A body's 3D mesh from numpy arrays, without files: ``nodes`` (N, 3), ``tetrahedra``
     (M, 4), ``faces`` tag -> (K, 3) boundary triangles (the tags [[bc]] and [[contact]] name),
     ``node_sets`` name -> node ids.  Checked and cleaned like a file mesh: unused nodes dropped,
     an all-inverted mesh flipped, faces oriented outwards."""
-    return checked_tet_mesh(nodes, tetrahedra, dict(faces or {}), node_sets, where=where,
-                            flip_inverted=True)
+    return checked_tet_mesh(
+        nodes, tetrahedra, dict(faces or {}), node_sets, where=where, flip_inverted=True
+    )

@@ -16,8 +16,9 @@ from ..mesh_files import mesh_file, read_msh_isolated, tagged_cells, xdmf_mesh
 from .mesh import TetMesh, checked_tet_mesh
 
 
-def read_tet_mesh(path: str | Path, face_file: str | Path | None = None,
-                  scale: float = 1.0) -> TetMesh:
+def read_tet_mesh(
+    path: str | Path, face_file: str | Path | None = None, scale: float = 1.0
+) -> TetMesh:
     """Read a tetrahedron mesh (``.msh`` or ``.xdmf``).  A mesh whose tetrahedra are ALL
     negatively oriented is flipped; a mix is an error naming the first inverted one, as is a
     flat one."""
@@ -30,25 +31,32 @@ def read_tet_mesh(path: str | Path, face_file: str | Path | None = None,
         if face_file:
             extra = xdmf_mesh(Path(face_file))
             if any(b.type == "tetra" for b in extra.cells):
-                raise MeshError(f"{face_file}: holds tetrahedra too: keep only the triangle "
-                                f"cells (the faces)")
+                raise MeshError(
+                    f"{face_file}: holds tetrahedra too: keep only the triangle "
+                    f"cells (the faces)"
+                )
             faces.update(tagged_cells(extra, "triangle", str(face_file)))
     else:
         raise MeshError(f"{where}: unknown mesh format '{suffix}': use .msh or .xdmf")
     xyz = np.asarray(xyz, dtype=np.float64)
     if xyz.ndim != 2 or xyz.shape[1] != 3:
-        raise MeshError(f"{where}: the node coordinates have {xyz.shape[-1]} columns: a 3D mesh "
-                        f"needs x, y, z")
+        raise MeshError(
+            f"{where}: the node coordinates have {xyz.shape[-1]} columns: a 3D mesh "
+            f"needs x, y, z"
+        )
     if len(tets) == 0:
-        raise MeshError(f"{where}: no tetrahedra: a 3D case (analysis.dimension = 3) needs a "
-                        f"volume mesh of 4-node tetrahedra (a surface mesh or a 2D mesh is "
-                        f"not one)")
+        raise MeshError(
+            f"{where}: no tetrahedra: a 3D case (analysis.dimension = 3) needs a "
+            f"volume mesh of 4-node tetrahedra (a surface mesh or a 2D mesh is "
+            f"not one)"
+        )
     if not np.isfinite(xyz[np.unique(tets)]).all():
         k = int(np.flatnonzero(~np.isfinite(xyz).all(axis=1))[0])
-        raise MeshError(f"{where}: node {k} has a non-finite coordinate "
-                        f"({', '.join(str(c) for c in xyz[k])}): fix the mesh file")
-    return checked_tet_mesh(xyz * scale, tets, faces, node_sets, where=where,
-                            flip_inverted=True)
+        raise MeshError(
+            f"{where}: node {k} has a non-finite coordinate "
+            f"({', '.join(str(c) for c in xyz[k])}): fix the mesh file"
+        )
+    return checked_tet_mesh(xyz * scale, tets, faces, node_sets, where=where, flip_inverted=True)
 
 
 def _xdmf_tetrahedra(path: Path):
@@ -56,8 +64,10 @@ def _xdmf_tetrahedra(path: Path):
     m = xdmf_mesh(path)
     for b in m.cells:
         if b.type not in ("tetra", "triangle", "vertex"):
-            raise MeshError(f"{path}: cells of type '{b.type}': a 3D mesh has tetrahedra (and "
-                            f"tagged triangles) only")
+            raise MeshError(
+                f"{path}: cells of type '{b.type}': a 3D mesh has tetrahedra (and "
+                f"tagged triangles) only"
+            )
     tets = [b.data for b in m.cells if b.type == "tetra"]
     if not tets:  # a surface or 2D mesh: read_tet_mesh says why it is none
         return m.points, np.zeros((0, 4), np.int64), {}
@@ -99,18 +109,22 @@ def merged_surface(points: np.ndarray, triangles: np.ndarray, where: str):
     key = np.round(points / (1e-12 * size)).astype(np.int64)
     _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
     tris = inverse.reshape(-1)[triangles]
-    degenerate = (tris[:, 0] == tris[:, 1]) | (tris[:, 1] == tris[:, 2]) | \
-        (tris[:, 0] == tris[:, 2])
+    degenerate = (
+        (tris[:, 0] == tris[:, 1]) | (tris[:, 1] == tris[:, 2]) | (tris[:, 0] == tris[:, 2])
+    )
     if degenerate.any():
         k = int(np.argmax(degenerate))
         raise MeshError(f"{where}: triangle {k} has two equal corners: remove it")
     corners = points[first][tris]
-    twice_area = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0],
-                                         corners[:, 2] - corners[:, 0]), axis=1)
+    twice_area = np.linalg.norm(
+        np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
+    )
     flat = twice_area <= 1e-12 * size * size  # three distinct corners on one line
     if flat.any():
         k = int(np.argmax(flat))
-        raise MeshError(f"{where}: triangle {k} has no area (its corners lie on one line, so "
-                        f"it has no normal): remove it")
+        raise MeshError(
+            f"{where}: triangle {k} has no area (its corners lie on one line, so "
+            f"it has no normal): remove it"
+        )
     used, tris = np.unique(tris, return_inverse=True)
     return points[first][used], tris.reshape(-1, 3)

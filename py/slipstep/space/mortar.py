@@ -96,8 +96,9 @@ class _Rows:
 
 def _cross(u, v):
     """u x v of two 3-vectors (numpy's cross costs 50 us a call)."""
-    return np.array([u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                     u[0] * v[1] - u[1] * v[0]])
+    return np.array(
+        [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+    )
 
 
 def _pieces(nodes, tc, tt, n_c, n_t):
@@ -110,8 +111,9 @@ def _pieces(nodes, tc, tt, n_c, n_t):
     e1 = (p1 - p0) / np.linalg.norm(p1 - p0)
     frame = np.stack([e1, _cross(n_t, e1)])
     subject, target = (nodes[tc] - p0) @ frame.T, (nodes[tt] - p0) @ frame.T
-    if (subject.max(axis=0) < target.min(axis=0)).any() or \
-            (subject.min(axis=0) > target.max(axis=0)).any():
+    if (subject.max(axis=0) < target.min(axis=0)).any() or (
+        subject.min(axis=0) > target.max(axis=0)
+    ).any():
         return None  # their boxes do not overlap
     polygon = clip(subject, target)
     if len(polygon) < 3:
@@ -123,8 +125,9 @@ def _pieces(nodes, tc, tt, n_c, n_t):
     xs, ys, ws = [], [], []
     for k in range(1, len(polygon) - 1):  # a fan of triangles
         fan = [0, k, k + 1]
-        area = 0.5 * np.linalg.norm(_cross(on_contactor[k] - on_contactor[0],
-                                           on_contactor[k + 1] - on_contactor[0]))
+        area = 0.5 * np.linalg.norm(
+            _cross(on_contactor[k] - on_contactor[0], on_contactor[k + 1] - on_contactor[0])
+        )
         if area <= 0.0:
             continue
         xs.append(RULE @ on_contactor[fan])
@@ -141,8 +144,9 @@ def _overlapping(nodes, tc, targets, normal) -> np.ndarray:
     e1 = _cross(normal, np.eye(3)[int(np.argmin(np.abs(normal)))])
     frame = np.stack([e1, _cross(normal, e1)]) / np.linalg.norm(e1)
     mine, theirs = nodes[tc] @ frame.T, nodes[targets] @ frame.T
-    return ((theirs.max(axis=1) >= mine.min(axis=0)) &
-            (theirs.min(axis=1) <= mine.max(axis=0))).all(axis=1)
+    return (
+        (theirs.max(axis=1) >= mine.min(axis=0)) & (theirs.min(axis=1) <= mine.max(axis=0))
+    ).all(axis=1)
 
 
 def _within_reach(nodes, contactor, target) -> np.ndarray:
@@ -152,8 +156,9 @@ def _within_reach(nodes, contactor, target) -> np.ndarray:
     low, high = points.min(axis=0), points.max(axis=0)
     reach = float(np.linalg.norm(high - low))
     corners = nodes[target]
-    near = (corners.max(axis=1) >= low - reach).all(axis=1) & \
-        (corners.min(axis=1) <= high + reach).all(axis=1)
+    near = (corners.max(axis=1) >= low - reach).all(axis=1) & (
+        corners.min(axis=1) <= high + reach
+    ).all(axis=1)
     return target[near]
 
 
@@ -171,8 +176,11 @@ def node_to_surface_rows(nodes, contactor, target, candidates, min_area) -> dict
     n_c, _ = triangle_normals(nodes, contactor)
     n_t, _ = triangle_normals(nodes, target)
     reach = _reach(nodes[contactor].mean(axis=1), nodes[np.unique(target)])
-    boxes = (nodes[target].min(axis=1), nodes[target].max(axis=1),
-             float(np.ptp(nodes[target].reshape(-1, 3), axis=0).max()))
+    boxes = (
+        nodes[target].min(axis=1),
+        nodes[target].max(axis=1),
+        float(np.ptp(nodes[target].reshape(-1, 3), axis=0).max()),
+    )
     for i, tc in enumerate(contactor):
         _project(rows, nodes, tc, n_c[i], target, n_t, reach[i], boxes)
     return _assembled(rows, nodes, target, n_t, candidates, min_area)
@@ -184,9 +192,9 @@ def _reach(points: np.ndarray, corners: np.ndarray, block: int = 512) -> np.ndar
     out = np.empty(len(points))
     squared = np.einsum("vk,vk->v", corners, corners)
     for start in range(0, len(points), block):
-        p = points[start:start + block]
+        p = points[start : start + block]
         d2 = np.einsum("pk,pk->p", p, p)[:, None] - 2.0 * p @ corners.T + squared[None]
-        out[start:start + block] = np.sqrt(np.maximum(d2.min(axis=1), 0.0))
+        out[start : start + block] = np.sqrt(np.maximum(d2.min(axis=1), 0.0))
     return out
 
 
@@ -202,8 +210,10 @@ def _project(rows: _Rows, nodes, tc, n_c, target, n_t, reach: float, boxes) -> N
         return
     # target triangles in one plane: their projections tile it, no point is claimed twice
     offset = np.einsum("tk,tk->t", n_t[near], nodes[target[near, 0]])
-    flat = np.abs(n_t[near] - n_t[near[0]]).max() <= 1e-12 and \
-        np.abs(offset - offset[0]).max() <= 1e-12 * size
+    flat = (
+        np.abs(n_t[near] - n_t[near[0]]).max() <= 1e-12
+        and np.abs(offset - offset[0]).max() <= 1e-12 * size
+    )
     if flat:  # seen along that plane's normal, keep the triangles whose boxes overlap
         near = near[_overlapping(nodes, tc, target[near], n_t[near[0]])]
     for t in near:
@@ -214,14 +224,22 @@ def _project(rows: _Rows, nodes, tc, n_c, target, n_t, reach: float, boxes) -> N
         if len(near) > 1 and not flat:  # keep the points closest to this triangle
             d = closest_points(x, nodes, target[near])["near"]
             w = np.where(d[:, list(near).index(t)] <= d.min(axis=1) + 1e-12 * size, w, 0.0)
-        rows.add(tc, target[t], w, _barycentric(x, nodes[tc]), _barycentric(y, nodes[target[t]]),
-                 (x - y) @ n_t[t], n_t[t])
+        rows.add(
+            tc,
+            target[t],
+            w,
+            _barycentric(x, nodes[tc]),
+            _barycentric(y, nodes[target[t]]),
+            (x - y) @ n_t[t],
+            n_t[t],
+        )
 
 
 def _assembled(rows: _Rows, nodes, target, n_t, candidates, min_area) -> dict:
     """The row arrays of the integrals (:func:`node_to_surface_rows`)."""
-    out = {k: [] for k in ("node_a", "node_b", "normal", "gap", "area", "weights", "foot",
-                           "point_gap")}
+    out = {
+        k: [] for k in ("node_a", "node_b", "normal", "gap", "area", "weights", "foot", "point_gap")
+    }
     if len(candidates):
         own = closest_points(nodes[np.asarray(candidates, dtype=np.int64)], nodes, target)
     for i, j in enumerate(int(c) for c in candidates):
@@ -234,13 +252,19 @@ def _assembled(rows: _Rows, nodes, target, n_t, candidates, min_area) -> dict:
         out["normal"].append(rows.NS[j] / np.linalg.norm(rows.NS[j]))
         out["gap"].append(rows.G[j] / S)
         out["area"].append(S)
-        out["weights"].append([(k, v / S) for k, v in rows.D[j].items() if v != 0.0] +
-                              [(l, -v / S) for l, v in rows.M[j].items() if v != 0.0])
+        out["weights"].append(
+            [(k, v / S) for k, v in rows.D[j].items() if v != 0.0]
+            + [(l, -v / S) for l, v in rows.M[j].items() if v != 0.0]
+        )
         out["foot"].append([*target[t].astype(float), *own["bary"][i]])
         out["point_gap"].append(float((nodes[j] - own["foot"][i]) @ n_t[t]))
-    return {"node_a": np.asarray(out["node_a"], dtype=np.int64),
-            "node_b": np.asarray(out["node_b"], dtype=np.int64),
-            "normal": np.asarray(out["normal"], dtype=float).reshape(-1, 3),
-            "gap": np.asarray(out["gap"], dtype=float), "area": np.asarray(out["area"]),
-            "weights": out["weights"], "foot": np.asarray(out["foot"]).reshape(-1, 6),
-            "point_gap": np.asarray(out["point_gap"], dtype=float)}
+    return {
+        "node_a": np.asarray(out["node_a"], dtype=np.int64),
+        "node_b": np.asarray(out["node_b"], dtype=np.int64),
+        "normal": np.asarray(out["normal"], dtype=float).reshape(-1, 3),
+        "gap": np.asarray(out["gap"], dtype=float),
+        "area": np.asarray(out["area"]),
+        "weights": out["weights"],
+        "foot": np.asarray(out["foot"]).reshape(-1, 6),
+        "point_gap": np.asarray(out["point_gap"], dtype=float),
+    }

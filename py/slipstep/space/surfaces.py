@@ -23,8 +23,14 @@ def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndar
     def dot(u, v):
         return np.einsum("ptk,ptk->pt", np.broadcast_to(u, v.shape), v)
 
-    d1, d2, d3, d4, d5, d6 = dot(ab, ap), dot(ac, ap), dot(ab, bp), dot(ac, bp), dot(ab, cp), \
-        dot(ac, cp)
+    d1, d2, d3, d4, d5, d6 = (
+        dot(ab, ap),
+        dot(ac, ap),
+        dot(ab, bp),
+        dot(ac, bp),
+        dot(ab, cp),
+        dot(ac, cp),
+    )
     va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
     with np.errstate(divide="ignore", invalid="ignore"):
         total = va + vb + vc
@@ -35,16 +41,17 @@ def closest_on_triangles(x: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndar
     one, zero = np.ones_like(d1), np.zeros_like(d1)
     # the regions, first match wins (Ericson's order)
     regions = [
-        ((d1 <= 0) & (d2 <= 0), (one, zero, zero)),                       # vertex a
-        ((d3 >= 0) & (d4 <= d3), (zero, one, zero)),                      # vertex b
-        ((vc <= 0) & (d1 >= 0) & (d3 <= 0), (1 - v_ab, v_ab, zero)),      # edge ab
-        ((d6 >= 0) & (d5 <= d6), (zero, zero, one)),                      # vertex c
-        ((vb <= 0) & (d2 >= 0) & (d6 <= 0), (1 - w_ac, zero, w_ac)),      # edge ac
+        ((d1 <= 0) & (d2 <= 0), (one, zero, zero)),  # vertex a
+        ((d3 >= 0) & (d4 <= d3), (zero, one, zero)),  # vertex b
+        ((vc <= 0) & (d1 >= 0) & (d3 <= 0), (1 - v_ab, v_ab, zero)),  # edge ab
+        ((d6 >= 0) & (d5 <= d6), (zero, zero, one)),  # vertex c
+        ((vb <= 0) & (d2 >= 0) & (d6 <= 0), (1 - w_ac, zero, w_ac)),  # edge ac
         ((va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0), (zero, 1 - w_bc, w_bc)),  # edge bc
     ]
     face = (1 - v_face - w_face, v_face, w_face)
-    out = [np.select([m for m, _ in regions], [r[k] for _, r in regions], face[k])
-           for k in range(3)]
+    out = [
+        np.select([m for m, _ in regions], [r[k] for _, r in regions], face[k]) for k in range(3)
+    ]
     return np.stack(out, axis=-1)
 
 
@@ -58,23 +65,27 @@ def closest_points(x: np.ndarray, points: np.ndarray, triangles: np.ndarray) -> 
     tri = np.zeros(len(x), dtype=np.int64)
     bary, near = np.zeros((len(x), 3)), np.zeros((len(x), len(triangles)))
     for start in range(0, len(x), BLOCK):
-        xs = x[start:start + BLOCK]
+        xs = x[start : start + BLOCK]
         w = closest_on_triangles(xs, a, b, c)
         feet = w[..., 0, None] * a[None] + w[..., 1, None] * b[None] + w[..., 2, None] * c[None]
         dist = np.linalg.norm(xs[:, None] - feet, axis=2)
         k = np.argmin(dist, axis=1)
         rows = np.arange(len(xs))
-        tri[start:start + BLOCK], bary[start:start + BLOCK] = k, w[rows, k]
-        near[start:start + BLOCK] = dist
+        tri[start : start + BLOCK], bary[start : start + BLOCK] = k, w[rows, k]
+        near[start : start + BLOCK] = dist
     foot = np.einsum("pk,pkd->pd", bary, points[triangles[tri]])
-    return {"triangle": tri, "bary": bary, "foot": foot,
-            "distance": np.linalg.norm(x - foot, axis=1), "near": near}
+    return {
+        "triangle": tri,
+        "bary": bary,
+        "foot": foot,
+        "distance": np.linalg.norm(x - foot, axis=1),
+        "near": near,
+    }
 
 
 def edges_of(triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(undirected edges (E, 2) sorted, the number of triangles sharing each)."""
-    directed = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]],
-                               triangles[:, [2, 0]]])
+    directed = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
     return np.unique(np.sort(directed, axis=1), axis=0, return_counts=True)
 
 
@@ -114,9 +125,11 @@ def consistently_oriented(triangles: np.ndarray, where: str) -> np.ndarray:
                     runs_same = _runs(tris[u], p, q)
                     if done[u]:
                         if runs_same:
-                            raise MeshError(f"{where}: the surface cannot be oriented (triangles "
-                                            f"{t} and {u} disagree across edge {p}-{q}, a "
-                                            f"Moebius strip): fix the surface")
+                            raise MeshError(
+                                f"{where}: the surface cannot be oriented (triangles "
+                                f"{t} and {u} disagree across edge {p}-{q}, a "
+                                f"Moebius strip): fix the surface"
+                            )
                         continue
                     if runs_same:  # a neighbour runs the shared edge the same way: flip it
                         tris[u] = tris[u][[0, 2, 1]]
@@ -137,8 +150,9 @@ def enclosed_volume(points: np.ndarray, triangles: np.ndarray) -> float:
     return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
 
 
-def containing_tetrahedra(x: np.ndarray, nodes: np.ndarray, tets: np.ndarray,
-                          tol: float = 1e-9) -> np.ndarray:
+def containing_tetrahedra(
+    x: np.ndarray, nodes: np.ndarray, tets: np.ndarray, tol: float = 1e-9
+) -> np.ndarray:
     """For each point of x (P, 3): a tetrahedron that holds it (every barycentric coordinate
     >= -tol: on its faces too), else -1."""
     out = np.full(len(x), -1, dtype=np.int64)
@@ -147,15 +161,17 @@ def containing_tetrahedra(x: np.ndarray, nodes: np.ndarray, tets: np.ndarray,
     p = nodes[tets]
     low, high = p.min(axis=1), p.max(axis=1)
     pad = tol * float(np.ptp(nodes, axis=0).max())
-    near = np.flatnonzero((high + pad >= x.min(axis=0)).all(axis=1)
-                          & (low - pad <= x.max(axis=0)).all(axis=1))
+    near = np.flatnonzero(
+        (high + pad >= x.min(axis=0)).all(axis=1) & (low - pad <= x.max(axis=0)).all(axis=1)
+    )
     if len(near) == 0:
         return out
     inverse = np.linalg.inv(np.transpose(p[near, 1:] - p[near, :1], (0, 2, 1)))
     for start in range(0, len(x), BLOCK):
-        xs = x[start:start + BLOCK]
-        in_box = ((xs[:, None] >= low[near][None] - pad) &
-                  (xs[:, None] <= high[near][None] + pad)).all(-1)
+        xs = x[start : start + BLOCK]
+        in_box = (
+            (xs[:, None] >= low[near][None] - pad) & (xs[:, None] <= high[near][None] + pad)
+        ).all(-1)
         for i, t in zip(*np.nonzero(in_box)):
             lam = inverse[t] @ (xs[i] - p[near[t], 0])
             if min(lam.min(), 1.0 - lam.sum()) >= -tol and out[start + i] < 0:
@@ -163,8 +179,13 @@ def containing_tetrahedra(x: np.ndarray, nodes: np.ndarray, tets: np.ndarray,
     return out
 
 
-def pseudo_normals(points: np.ndarray, triangles: np.ndarray, triangle: np.ndarray,
-                   bary: np.ndarray, tol: float = 1e-9) -> np.ndarray:
+def pseudo_normals(
+    points: np.ndarray,
+    triangles: np.ndarray,
+    triangle: np.ndarray,
+    bary: np.ndarray,
+    tol: float = 1e-9,
+) -> np.ndarray:
     """The pseudo-normal of the surface at closest points given by their triangle and
     barycentric coordinates (Baerentzen and Aanaes, 2005): the triangle's normal inside it, the
     sum of the normals of the two triangles sharing an edge, the angle-weighted sum of the
@@ -178,8 +199,9 @@ def pseudo_normals(points: np.ndarray, triangles: np.ndarray, triangle: np.ndarr
     for k in range(3):
         u = corners[:, (k + 1) % 3] - corners[:, k]
         v = corners[:, (k + 2) % 3] - corners[:, k]
-        cosine = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) *
-                                                np.linalg.norm(v, axis=1))
+        cosine = np.einsum("ij,ij->i", u, v) / (
+            np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1)
+        )
         angle[:, k] = np.arccos(np.clip(cosine, -1.0, 1.0))
     at_vertex = np.zeros((len(points), 3))
     for k in range(3):

@@ -11,17 +11,38 @@ import math
 from ..errors import CaseError
 from ..loadpath import load_path
 from ..overrides import element_prefix
-from ..schema import (ANALYSIS_KEYS, ARRAYS, BC_KEYS, BODY_KEYS, CONTACT_VARIANTS,
-                      FILE_MESH_KEYS, LOAD_KEYS, MATERIAL_KEYS, MESH_VARIANTS, POINT_LOAD_KEYS,
-                      REQUIRED, STAGE_KEYS, TABLES, Key, block_divisions, check_snapshot_times,
-                      contact_tags, generator_dimension, generator_tags, kind_dimension)
+from ..schema import (
+    ANALYSIS_KEYS,
+    ARRAYS,
+    BC_KEYS,
+    BODY_KEYS,
+    CONTACT_VARIANTS,
+    FILE_MESH_KEYS,
+    LOAD_KEYS,
+    MATERIAL_KEYS,
+    MESH_VARIANTS,
+    POINT_LOAD_KEYS,
+    REQUIRED,
+    STAGE_KEYS,
+    TABLES,
+    Key,
+    block_divisions,
+    check_snapshot_times,
+    contact_tags,
+    generator_dimension,
+    generator_tags,
+    kind_dimension,
+)
 from ..toml_writing import toml_text
 from . import space
 
 
 _TYPE_HELP = {
-    "float": "a number", "int": "an integer", "str": "a string in quotes",
-    "bool": "true or false", "vec2": "two numbers, e.g. [0.0, 1.0]",
+    "float": "a number",
+    "int": "an integer",
+    "str": "a string in quotes",
+    "bool": "true or false",
+    "vec2": "two numbers, e.g. [0.0, 1.0]",
     "vec3": "three numbers, e.g. [0.0, 0.0, 1.0]",
     "box": "four numbers [x0, y0, x1, y1], e.g. [0.0, -15.0, 15.0, 0.0]",
     "axes": 'a list of "x"/"y", e.g. ["x", "y"]',
@@ -82,20 +103,26 @@ class Validator:
         unknown = [k for k in raw if k not in keys and k not in skip]
         if unknown:
             valid = ", ".join([*keys, *skip])
-            raise CaseError(f"{self.source}: unknown key {prefix}{unknown[0]} in {label}; "
-                            f"valid keys: {valid}")
+            raise CaseError(
+                f"{self.source}: unknown key {prefix}{unknown[0]} in {label}; "
+                f"valid keys: {valid}"
+            )
         for name in raw:
             if name in keys and self.dimension not in keys[name].dims:
-                raise self.fail(prefix + name, space.wrong_dimension(prefix + name, raw[name],
-                                                                     self.dimension))
+                raise self.fail(
+                    prefix + name, space.wrong_dimension(prefix + name, raw[name], self.dimension)
+                )
         out = {}
         for name, spec in keys.items():
             full = prefix + name
             if name not in raw:
                 if spec.default is REQUIRED or self.dimension in spec.required_in:
-                    raise self.fail(full, f"is missing: {spec.doc}" +
-                                    (f" [{spec.unit}]" if spec.unit else "") +
-                                    f"; add `{name} = ...` to {label}")
+                    raise self.fail(
+                        full,
+                        f"is missing: {spec.doc}"
+                        + (f" [{spec.unit}]" if spec.unit else "")
+                        + f"; add `{name} = ...` to {label}",
+                    )
                 out[name] = copy.deepcopy(spec.default)
                 if spec.type == "vec" and isinstance(spec.default, list):  # zeros, one a component
                     out[name] = [0.0] * self.dimension
@@ -129,19 +156,29 @@ class Validator:
                 raise bad
         elif t in ("vec2", "vec3", "box"):
             size, count = {"vec2": (2, "two"), "vec3": (3, "three"), "box": (4, "four")}[t]
-            if (not isinstance(v, list) or len(v) != size or
-                    any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in v)):
+            if (
+                not isinstance(v, list)
+                or len(v) != size
+                or any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in v)
+            ):
                 raise bad
             v = [float(c) for c in v]
             if not all(math.isfinite(c) for c in v):
-                raise self.fail(full, f"= {shown} is not allowed: expected {count} finite "
-                                      f"numbers")
+                raise self.fail(
+                    full, f"= {shown} is not allowed: expected {count} finite " f"numbers"
+                )
         elif t == "axes":
             if isinstance(v, list) and "z" in v and self.dimension == 2:
-                raise self.fail(full, f"= {shown} is not allowed in a 2D case: z is the third "
-                                      f"component (set analysis.dimension = 3, or hold x and y)")
-            if (not isinstance(v, list) or any(c not in ("x", "y", "z")[:self.dimension]
-                                               for c in v) or len(set(v)) != len(v)):
+                raise self.fail(
+                    full,
+                    f"= {shown} is not allowed in a 2D case: z is the third "
+                    f"component (set analysis.dimension = 3, or hold x and y)",
+                )
+            if (
+                not isinstance(v, list)
+                or any(c not in ("x", "y", "z")[: self.dimension] for c in v)
+                or len(set(v)) != len(v)
+            ):
                 raise bad
         elif t == "snapshots":
             if isinstance(v, list):
@@ -151,10 +188,12 @@ class Validator:
             elif not isinstance(v, str):
                 raise bad
         elif t == "points":
-            if (not isinstance(v, list) or
-                    any(not isinstance(p, list) or len(p) != 2 or
-                        any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in p)
-                        for p in v)):
+            if not isinstance(v, list) or any(
+                not isinstance(p, list)
+                or len(p) != 2
+                or any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in p)
+                for p in v
+            ):
                 raise bad
             v = [[float(c) for c in p] for p in v]
             if not all(math.isfinite(c) for p in v for c in p):
@@ -175,27 +214,37 @@ class Validator:
     def inline_numbers(self, v: dict, t: str, full: str) -> dict:
         """An inline table of finite numbers: x/y of a displacement, or load factors."""
         if t == "xy":
-            other = [k for k in v if k not in ("x", "y", "z")[:self.dimension]]
+            other = [k for k in v if k not in ("x", "y", "z")[: self.dimension]]
             if other and other[0] == "z":
-                raise self.fail(f"{full}.z", "is not allowed in a 2D case: z is the third "
-                                "component (set analysis.dimension = 3, or prescribe x and y)")
+                raise self.fail(
+                    f"{full}.z",
+                    "is not allowed in a 2D case: z is the third "
+                    "component (set analysis.dimension = 3, or prescribe x and y)",
+                )
             if other:
                 names = "x and y" if self.dimension == 2 else "x, y and z"
-                raise self.fail(f"{full}.{other[0]}", f"is not allowed: a displacement has "
-                                f"components {names} only, e.g. displacement = "
-                                "{x = 0.0, y = -0.1}")
+                raise self.fail(
+                    f"{full}.{other[0]}",
+                    f"is not allowed: a displacement has "
+                    f"components {names} only, e.g. displacement = "
+                    "{x = 0.0, y = -0.1}",
+                )
             if not v:
-                raise self.fail(full, "= {} is not allowed: give x and/or y, e.g. "
-                                      "displacement = {y = -0.1}")
+                raise self.fail(
+                    full, "= {} is not allowed: give x and/or y, e.g. " "displacement = {y = -0.1}"
+                )
         what = "the displacement component" if t == "xy" else "the factor that load reaches"
         out = {}
         for k, c in v.items():
             if isinstance(c, bool) or not isinstance(c, (int, float)):
-                raise self.fail(f"{full}.{k}", f"= {toml_text(c)} is not allowed: expected a number "
-                                               f"({what})")
+                raise self.fail(
+                    f"{full}.{k}",
+                    f"= {toml_text(c)} is not allowed: expected a number " f"({what})",
+                )
             if not math.isfinite(c):
-                raise self.fail(f"{full}.{k}", f"= {toml_text(c)} is not allowed: expected a finite "
-                                               f"number")
+                raise self.fail(
+                    f"{full}.{k}", f"= {toml_text(c)} is not allowed: expected a finite " f"number"
+                )
             out[k] = float(c)
         return out
 
@@ -203,8 +252,9 @@ class Validator:
     def array(self, raw: dict, array: str) -> list:
         elements = raw.get(array, [])
         if not isinstance(elements, list) or any(not isinstance(e, dict) for e in elements):
-            raise CaseError(f"{self.source}: {array} must be an array of tables, "
-                            f"written [[{array}]]")
+            raise CaseError(
+                f"{self.source}: {array} must be an array of tables, " f"written [[{array}]]"
+            )
         return elements
 
     # ---- the whole document
@@ -212,33 +262,44 @@ class Validator:
         known = [*TABLES, *ARRAYS]
         for k in raw:
             if k not in known:
-                raise CaseError(f"{self.source}: unknown key {k}; valid top-level tables: "
-                                f"{', '.join(known)}")
+                raise CaseError(
+                    f"{self.source}: unknown key {k}; valid top-level tables: "
+                    f"{', '.join(known)}"
+                )
         self.dimension = self.case_dimension(raw.get("analysis", {}))
         data = {}
         for name, keys in TABLES.items():
             if name == "load":
                 continue
             data[name] = self.table(raw.get(name, {}), keys, f"[{name}]", f"{name}.")
-        data["load"] = (self.table(raw["load"], LOAD_KEYS, "[load]", "load.")
-                        if "load" in raw else None)
+        data["load"] = (
+            self.table(raw["load"], LOAD_KEYS, "[load]", "load.") if "load" in raw else None
+        )
         self.axisymmetric_thickness(data, raw)
 
         bodies = self.array(raw, "body")
         if not bodies:
-            raise CaseError(f"{self.source}: no [[body]]: a case needs at least one body "
-                            f"with a mesh and a material")
-        data["body"] = [self.body(b, element_prefix("body", bodies, i), len(bodies))
-                        for i, b in enumerate(bodies)]
+            raise CaseError(
+                f"{self.source}: no [[body]]: a case needs at least one body "
+                f"with a mesh and a material"
+            )
+        data["body"] = [
+            self.body(b, element_prefix("body", bodies, i), len(bodies))
+            for i, b in enumerate(bodies)
+        ]
         names = [b["name"] for b in data["body"]]
         for n in names:
             if names.count(n) > 1:
-                raise CaseError(f"{self.source}: body.name = {toml_text(n)} is used twice: body "
-                                f"names must be unique")
+                raise CaseError(
+                    f"{self.source}: body.name = {toml_text(n)} is used twice: body "
+                    f"names must be unique"
+                )
         edges = {b["name"]: b["mesh"]["edges"] for b in data["body"]}  # 3D: the face tags
 
-        data["bc"] = [self.bc(e, element_prefix("bc", raw.get("bc", []), i), edges)
-                      for i, e in enumerate(self.array(raw, "bc"))]
+        data["bc"] = [
+            self.bc(e, element_prefix("bc", raw.get("bc", []), i), edges)
+            for i, e in enumerate(self.array(raw, "bc"))
+        ]
         pls = self.array(raw, "point_load")
         data["point_load"] = []
         for i, e in enumerate(pls):
@@ -248,17 +309,23 @@ class Validator:
                 self.need_body(pl["body"], prefix + "body", edges)
             data["point_load"].append(pl)
         contacts = self.array(raw, "contact")
-        data["contact"] = [self.contact(c, element_prefix("contact", contacts, i), edges)
-                           for i, c in enumerate(contacts)]
+        data["contact"] = [
+            self.contact(c, element_prefix("contact", contacts, i), edges)
+            for i, c in enumerate(contacts)
+        ]
         self.load(data, edges)
         stages = self.array(raw, "stage")
         if "stage" in raw and not stages:
-            raise self.fail("stage", "= [] is not allowed: an empty load path; give one or more "
-                                     "[[stage]] tables with factors = {...}, or remove the key "
-                                     "(one stage with every load at factor 1)")
-        data["stage"] = [self.table(s, STAGE_KEYS, "[[stage]]",
-                                    element_prefix("stage", stages, i))
-                         for i, s in enumerate(stages)]
+            raise self.fail(
+                "stage",
+                "= [] is not allowed: an empty load path; give one or more "
+                "[[stage]] tables with factors = {...}, or remove the key "
+                "(one stage with every load at factor 1)",
+            )
+        data["stage"] = [
+            self.table(s, STAGE_KEYS, "[[stage]]", element_prefix("stage", stages, i))
+            for i, s in enumerate(stages)
+        ]
         self.stage_names(data["stage"])
         n_stages = load_path(data, self.source).n_stages  # checks loads, names and factors
         snaps = data["output"]["snapshots"]
@@ -278,34 +345,46 @@ class Validator:
         """``thickness`` does not apply to rings (every force is a total over the ring)."""
         given = raw.get("analysis", {})
         if data["analysis"]["plane"] == "axisymmetric" and "thickness" in given:
-            raise self.fail("analysis.thickness", f"= {toml_text(given['thickness'])} is not allowed "
-                                                  f'with plane = "axisymmetric": forces are '
-                                                  f"totals over the full ring (2 pi r), there is "
-                                                  f"no thickness; remove analysis.thickness")
+            raise self.fail(
+                "analysis.thickness",
+                f"= {toml_text(given['thickness'])} is not allowed "
+                f'with plane = "axisymmetric": forces are '
+                f"totals over the full ring (2 pi r), there is "
+                f"no thickness; remove analysis.thickness",
+            )
 
     def stage_names(self, stages: list) -> None:
         """Stage names must be unique (--set and the outputs address stages by name)."""
         names = [s["name"] for s in stages]
         for k, n in enumerate(names):
             if n and n in names[:k]:  # by index: --set finds the first of a shared name
-                raise self.fail(f"stage.{k}.name", f"= {toml_text(n)} is used twice (also by stage."
-                                                   f"{names.index(n)}): stage names must be "
-                                                   f"unique; rename one")
+                raise self.fail(
+                    f"stage.{k}.name",
+                    f"= {toml_text(n)} is used twice (also by stage."
+                    f"{names.index(n)}): stage names must be "
+                    f"unique; rename one",
+                )
 
     def body(self, raw: dict, prefix: str, n_bodies: int) -> dict:
         body = self.table(raw, BODY_KEYS, "[[body]]", prefix, skip=("mesh", "material"))
         sub = "" if n_bodies == 1 else prefix  # messages: material.nu for a single body
         if "material" not in raw:
-            raise self.fail(f"{sub}material", "is missing: add a [body.material] table with "
-                                              "E and nu")
-        body["material"] = self.table(raw["material"], MATERIAL_KEYS, "[body.material]",
-                                      f"{sub}material.")
+            raise self.fail(
+                f"{sub}material", "is missing: add a [body.material] table with " "E and nu"
+            )
+        body["material"] = self.table(
+            raw["material"], MATERIAL_KEYS, "[body.material]", f"{sub}material."
+        )
         self.yield_strain(body["material"], f"{sub}material.")
         if "mesh" not in raw:
-            choices = " or ".join(toml_text(g) for g in MESH_VARIANTS
-                                  if generator_dimension(g) == self.dimension)
-            raise self.fail(f"{sub}mesh", f"is missing: add a [body.mesh] table with generator = "
-                                          f'{choices}, or file = "..."')
+            choices = " or ".join(
+                toml_text(g) for g in MESH_VARIANTS if generator_dimension(g) == self.dimension
+            )
+            raise self.fail(
+                f"{sub}mesh",
+                f"is missing: add a [body.mesh] table with generator = "
+                f'{choices}, or file = "..."',
+            )
         body["mesh"] = self.mesh(raw["mesh"], f"{sub}mesh.")
         return body
 
@@ -318,11 +397,14 @@ class Validator:
         if material["Sy"] is None or not all(low <= material[k] <= high for k in ("E", "Sy")):
             return
         if material["Sy"] < LEAST_YIELD_STRAIN * material["E"]:
-            raise self.fail(prefix + "Sy", f"= {material['Sy']:g} is not allowed: it is "
-                                           f"{material['Sy'] / material['E']:.3g} of E = "
-                                           f"{material['E']:g}, a yield strain Sy/E below "
-                                           f"{LEAST_YIELD_STRAIN:g} that no material has: give E "
-                                           f"and Sy in the same units (e.g. both in MPa)")
+            raise self.fail(
+                prefix + "Sy",
+                f"= {material['Sy']:g} is not allowed: it is "
+                f"{material['Sy'] / material['E']:.3g} of E = "
+                f"{material['E']:g}, a yield strain Sy/E below "
+                f"{LEAST_YIELD_STRAIN:g} that no material has: give E "
+                f"and Sy in the same units (e.g. both in MPa)",
+            )
 
     def mesh(self, raw, prefix: str) -> dict:
         if not isinstance(raw, dict):
@@ -335,17 +417,26 @@ class Validator:
             return mesh
         gen = raw.get("generator")
         if not isinstance(gen, str) or gen not in MESH_VARIANTS:
-            choices = " or ".join(toml_text(g) for g in MESH_VARIANTS
-                                  if generator_dimension(g) in (None, self.dimension))
+            choices = " or ".join(
+                toml_text(g)
+                for g in MESH_VARIANTS
+                if generator_dimension(g) in (None, self.dimension)
+            )
             what = "is missing" if gen is None else f"= {toml_text(gen)} is not allowed"
-            raise self.fail(prefix + "generator", f"{what}: use {choices}, or give "
-                                                  f'file = "mesh.msh"')
+            raise self.fail(
+                prefix + "generator", f"{what}: use {choices}, or give " f'file = "mesh.msh"'
+            )
         if generator_dimension(gen) not in (None, self.dimension):
-            raise self.fail(prefix + "generator", space.wrong_variant("generator", gen,
-                                                                      self.dimension))
+            raise self.fail(
+                prefix + "generator", space.wrong_variant("generator", gen, self.dimension)
+            )
         mesh = self.table(raw, MESH_VARIANTS[gen], "[body.mesh]", prefix)
-        check = {"quarter_cylinder": self.cylinder_mesh, "half_cylinder": self.cylinder_mesh,
-                 "disc": self.cylinder_mesh, "quarter_annulus": self.annulus_mesh}
+        check = {
+            "quarter_cylinder": self.cylinder_mesh,
+            "half_cylinder": self.cylinder_mesh,
+            "disc": self.cylinder_mesh,
+            "quarter_annulus": self.annulus_mesh,
+        }
         if gen == "block":
             self.block_mesh(mesh, raw, prefix)
         elif gen in check:
@@ -358,22 +449,34 @@ class Validator:
     def cylinder_mesh(self, mesh: dict, prefix: str) -> None:
         """quarter_cylinder / half_cylinder / disc: h_contact <= h_max, contact_zone < R."""
         if mesh["h_contact"] > mesh["h_max"]:
-            raise self.fail(prefix + "h_contact", f"= {toml_text(mesh['h_contact'])} is not "
-                            f"allowed: it must not exceed h_max = {toml_text(mesh['h_max'])}")
+            raise self.fail(
+                prefix + "h_contact",
+                f"= {toml_text(mesh['h_contact'])} is not "
+                f"allowed: it must not exceed h_max = {toml_text(mesh['h_max'])}",
+            )
         if mesh["contact_zone"] >= mesh["R"]:
-            raise self.fail(prefix + "contact_zone", f"= {toml_text(mesh['contact_zone'])} is not"
-                            f" allowed: it must be smaller than R = {toml_text(mesh['R'])}")
+            raise self.fail(
+                prefix + "contact_zone",
+                f"= {toml_text(mesh['contact_zone'])} is not"
+                f" allowed: it must be smaller than R = {toml_text(mesh['R'])}",
+            )
 
     def annulus_mesh(self, mesh: dict, prefix: str) -> None:
         """quarter_annulus: b > a, element sizes within the wall."""
         if mesh["b"] <= mesh["a"]:
-            raise self.fail(prefix + "b", f"= {toml_text(mesh['b'])} is not allowed: the outer "
-                            f"radius must exceed the inner radius a = {toml_text(mesh['a'])}")
+            raise self.fail(
+                prefix + "b",
+                f"= {toml_text(mesh['b'])} is not allowed: the outer "
+                f"radius must exceed the inner radius a = {toml_text(mesh['a'])}",
+            )
         for key in ("h", "h_outer"):
             if mesh[key] > mesh["b"] - mesh["a"]:
-                raise self.fail(prefix + key, f"= {toml_text(mesh[key])} is not allowed: it must "
-                                f"not exceed the wall thickness b - a = "
-                                f"{toml_text(mesh['b'] - mesh['a'])}")
+                raise self.fail(
+                    prefix + key,
+                    f"= {toml_text(mesh[key])} is not allowed: it must "
+                    f"not exceed the wall thickness b - a = "
+                    f"{toml_text(mesh['b'] - mesh['a'])}",
+                )
 
     def block_mesh(self, mesh: dict, raw: dict, prefix: str) -> None:
         """block: structured (nx/ny or h; refined with refine_box) or graded (h_contact around
@@ -388,23 +491,35 @@ class Validator:
         the refined block too)."""
         for n, size in (("nx", "width"), ("ny", "height")):
             if mesh[n] == 0 and mesh["h"] == 0:
-                raise self.fail(prefix + n, f"is missing: give {n} (divisions along "
-                                f"{size}) or h (element size), or h_contact (a graded "
-                                f"gmsh mesh)")
+                raise self.fail(
+                    prefix + n,
+                    f"is missing: give {n} (divisions along "
+                    f"{size}) or h (element size), or h_contact (a graded "
+                    f"gmsh mesh)",
+                )
         refined = mesh["refine_box"] is not None
         for key in GRADED_ONLY + GRADED_OR_REFINED:
             if key not in raw or (refined and key in GRADED_OR_REFINED):
                 continue
             shown = f"= {toml_text(mesh[key])} is not allowed"
             if refined:
-                raise self.fail(prefix + key, f"{shown} with refine_box: it shapes the graded "
-                                f"block (h_contact > 0), fine around focus; drop {key}")
+                raise self.fail(
+                    prefix + key,
+                    f"{shown} with refine_box: it shapes the graded "
+                    f"block (h_contact > 0), fine around focus; drop {key}",
+                )
             if key in GRADED_OR_REFINED:
-                raise self.fail(prefix + key, f"{shown} without h_contact or refine_box: it "
-                                f"shapes the graded block (h_contact > 0) or the refined one "
-                                f"(refine_box); add one of them or drop {key}")
-            raise self.fail(prefix + key, f"{shown} without h_contact: it shapes the graded "
-                            f"block (h_contact > 0); add h_contact or drop {key}")
+                raise self.fail(
+                    prefix + key,
+                    f"{shown} without h_contact or refine_box: it "
+                    f"shapes the graded block (h_contact > 0) or the refined one "
+                    f"(refine_box); add one of them or drop {key}",
+                )
+            raise self.fail(
+                prefix + key,
+                f"{shown} without h_contact: it shapes the graded "
+                f"block (h_contact > 0); add h_contact or drop {key}",
+            )
         if refined:
             self.refine_box(mesh, prefix)
 
@@ -412,95 +527,143 @@ class Validator:
         """The refined block: a box [x0, y0, x1, y1] inside the block, h_max >= the grid
         spacing."""
         bx0, by0, bx1, by1 = mesh["refine_box"]
-        x0, y0, x1, y1 = mesh["x0"], mesh["y0"], mesh["x0"] + mesh["width"], \
-            mesh["y0"] + mesh["height"]
+        x0, y0, x1, y1 = (
+            mesh["x0"],
+            mesh["y0"],
+            mesh["x0"] + mesh["width"],
+            mesh["y0"] + mesh["height"],
+        )
         shown = f"= {toml_text(mesh['refine_box'])} is not allowed"
         if not (bx0 < bx1 and by0 < by1):
-            raise self.fail(prefix + "refine_box", f"{shown}: write it [x0, y0, x1, y1] with "
-                            f"x0 < x1 and y0 < y1")
+            raise self.fail(
+                prefix + "refine_box",
+                f"{shown}: write it [x0, y0, x1, y1] with " f"x0 < x1 and y0 < y1",
+            )
         tol = 1e-9 * max(mesh["width"], mesh["height"])  # as mesh.refined_block
         if not (x0 - tol <= bx0 and bx1 <= x1 + tol and y0 - tol <= by0 and by1 <= y1 + tol):
-            raise self.fail(prefix + "refine_box", f"{shown}: it reaches outside the block "
-                            f"[{toml_text(x0)}, {toml_text(x1)}] x [{toml_text(y0)}, {toml_text(y1)}]; keep it "
-                            f"inside")
+            raise self.fail(
+                prefix + "refine_box",
+                f"{shown}: it reaches outside the block "
+                f"[{toml_text(x0)}, {toml_text(x1)}] x [{toml_text(y0)}, {toml_text(y1)}]; keep it "
+                f"inside",
+            )
         if mesh["h_max"] == 0:
-            raise self.fail(prefix + "h_max", "is missing: the refined block (refine_box) "
-                            "needs the largest element size [length]; add `h_max = ...` to "
-                            "[body.mesh]")
+            raise self.fail(
+                prefix + "h_max",
+                "is missing: the refined block (refine_box) "
+                "needs the largest element size [length]; add `h_max = ...` to "
+                "[body.mesh]",
+            )
         nx, ny = block_divisions(mesh)
         spacing = min(mesh["width"] / nx, mesh["height"] / ny)
         if mesh["h_max"] < spacing:
-            raise self.fail(prefix + "h_max", f"= {toml_text(mesh['h_max'])} is not allowed: it "
-                            f"must not be smaller than the grid spacing {spacing:g} that the "
-                            f"refined block grows from")
+            raise self.fail(
+                prefix + "h_max",
+                f"= {toml_text(mesh['h_max'])} is not allowed: it "
+                f"must not be smaller than the grid spacing {spacing:g} that the "
+                f"refined block grows from",
+            )
 
     def graded_block_mesh(self, mesh: dict, prefix: str) -> None:
         """h_contact around focus: contact_zone and h_max given, no structured keys."""
         hc = toml_text(mesh["h_contact"])
         for key in ("nx", "ny", "h"):
             if mesh[key] > 0:
-                raise self.fail(prefix + key, f"= {toml_text(mesh[key])} is not allowed "
-                                f"together with h_contact = {hc}: nx/ny/h make the "
-                                f"structured block, h_contact the graded one; drop "
-                                f"{key} (or h_contact)")
+                raise self.fail(
+                    prefix + key,
+                    f"= {toml_text(mesh[key])} is not allowed "
+                    f"together with h_contact = {hc}: nx/ny/h make the "
+                    f"structured block, h_contact the graded one; drop "
+                    f"{key} (or h_contact)",
+                )
         if mesh["refine_box"] is not None:
-            raise self.fail(prefix + "refine_box", f"= {toml_text(mesh['refine_box'])} is not "
-                            f"allowed together with h_contact = {hc}: refine_box keeps the "
-                            f"structured block (nx/ny or h) inside it, h_contact grades around "
-                            f"focus; drop refine_box (or h_contact)")
-        for key, what in (("contact_zone", "the radius of the fine zone around focus"),
-                          ("h_max", "the largest element size")):
+            raise self.fail(
+                prefix + "refine_box",
+                f"= {toml_text(mesh['refine_box'])} is not "
+                f"allowed together with h_contact = {hc}: refine_box keeps the "
+                f"structured block (nx/ny or h) inside it, h_contact grades around "
+                f"focus; drop refine_box (or h_contact)",
+            )
+        for key, what in (
+            ("contact_zone", "the radius of the fine zone around focus"),
+            ("h_max", "the largest element size"),
+        ):
             if mesh[key] == 0:
-                raise self.fail(prefix + key, f"is missing: the graded block "
-                                f"(h_contact = {hc}) needs {what} [length]; add "
-                                f"`{key} = ...` to [body.mesh]")
+                raise self.fail(
+                    prefix + key,
+                    f"is missing: the graded block "
+                    f"(h_contact = {hc}) needs {what} [length]; add "
+                    f"`{key} = ...` to [body.mesh]",
+                )
         if mesh["h_contact"] > mesh["h_max"]:
-            raise self.fail(prefix + "h_contact", f"= {hc} is not allowed: it must not "
-                            f"exceed h_max = {toml_text(mesh['h_max'])}")
+            raise self.fail(
+                prefix + "h_contact",
+                f"= {hc} is not allowed: it must not " f"exceed h_max = {toml_text(mesh['h_max'])}",
+            )
         if mesh["focus"] is not None:
             (fx, fy), x0, y0 = mesh["focus"], mesh["x0"], mesh["y0"]
             x1, y1 = x0 + mesh["width"], y0 + mesh["height"]
             tol = 1e-9 * max(mesh["width"], mesh["height"])  # as mesh.graded_block
             if not (x0 - tol <= fx <= x1 + tol and y0 - tol <= fy <= y1 + tol):
-                raise self.fail(prefix + "focus", f"= {toml_text(mesh['focus'])} is not "
-                                f"allowed: it lies outside the block [{toml_text(x0)}, "
-                                f"{toml_text(x1)}] x [{toml_text(y0)}, {toml_text(y1)}]; move it "
-                                f"inside or onto the boundary")
+                raise self.fail(
+                    prefix + "focus",
+                    f"= {toml_text(mesh['focus'])} is not "
+                    f"allowed: it lies outside the block [{toml_text(x0)}, "
+                    f"{toml_text(x1)}] x [{toml_text(y0)}, {toml_text(y1)}]; move it "
+                    f"inside or onto the boundary",
+                )
 
     def need_body(self, name: str, key: str, edges: dict) -> None:
         if name not in edges:
-            raise self.fail(key, f"= {toml_text(name)} is not allowed: no body has that name "
-                                 f"(bodies: {', '.join(edges)})")
+            raise self.fail(
+                key,
+                f"= {toml_text(name)} is not allowed: no body has that name "
+                f"(bodies: {', '.join(edges)})",
+            )
 
     def need_edge(self, body: str, tag: str, key: str, edges: dict) -> None:
         """A body's edge tag (3D: face tag) must exist (when its generator tells them)."""
         known = edges[body]
         what = "edge" if self.dimension == 2 else "face"
         if known is not None and tag not in known:
-            raise self.fail(key, f"= {toml_text(tag)} is not allowed: body {toml_text(body)} has no "
-                                 f"{what} with that tag (its {what}s: {', '.join(known)})")
+            raise self.fail(
+                key,
+                f"= {toml_text(tag)} is not allowed: body {toml_text(body)} has no "
+                f"{what} with that tag (its {what}s: {', '.join(known)})",
+            )
 
     def bc(self, raw: dict, prefix: str, edges: dict) -> dict:
         bc = self.table(raw, BC_KEYS, "[[bc]]", prefix)
         self.need_body(bc["body"], prefix + "body", edges)
         surface = "edge" if self.dimension == 2 else "face"
         if bool(bc[surface]) == bool(bc["nodes"]):
-            raise self.fail(prefix + surface, f"is missing: give exactly one of {surface} (an "
-                                              f"{surface} tag) or nodes (a node set)")
+            raise self.fail(
+                prefix + surface,
+                f"is missing: give exactly one of {surface} (an "
+                f"{surface} tag) or nodes (a node set)",
+            )
         if bc[surface]:
             self.need_edge(bc["body"], bc[surface], prefix + surface, edges)
         loads = bc["pressure"] != 0.0 or any(c != 0.0 for c in bc["traction"])
         if not (bc["fix"] or bc["symmetry"] or loads or bc["displacement"]):
-            raise CaseError(f"{self.source}: {prefix[:-1]} does nothing: give fix, symmetry, "
-                            f"pressure, traction or displacement")
+            raise CaseError(
+                f"{self.source}: {prefix[:-1]} does nothing: give fix, symmetry, "
+                f"pressure, traction or displacement"
+            )
         if bc["nodes"] and (loads or bc["symmetry"]):
-            raise self.fail(prefix + "nodes", f"supports fix and displacement only: put "
-                                              f"pressure, traction and symmetry on an {surface}")
+            raise self.fail(
+                prefix + "nodes",
+                f"supports fix and displacement only: put "
+                f"pressure, traction and symmetry on an {surface}",
+            )
         for c in bc["displacement"]:
             if c in bc["fix"]:
-                raise self.fail(f"{prefix}displacement.{c}", f"is not allowed: fix also holds "
-                                f"{c} (at zero): a component is fixed or prescribed, not both; "
-                                f'remove "{c}" from fix or {c} from displacement')
+                raise self.fail(
+                    f"{prefix}displacement.{c}",
+                    f"is not allowed: fix also holds "
+                    f"{c} (at zero): a component is fixed or prescribed, not both; "
+                    f'remove "{c}" from fix or {c} from displacement',
+                )
         return bc
 
     def contact(self, raw: dict, prefix: str, edges: dict) -> dict:
@@ -512,9 +675,12 @@ class Validator:
         if kind_dimension(kind) not in (None, self.dimension):
             raise self.fail(prefix + "kind", space.wrong_variant("kind", kind, self.dimension))
         if kind in ("node_to_node", "node_to_segment", "node_to_surface") and "motion" in raw:
-            raise self.fail(prefix + "motion", "is not allowed: motion on a deformable-pair "
-                            f'contact (kind "{kind}"): motion moves a rigid obstacle; '
-                            "prescribe a displacement [[bc]] on one of the bodies instead")
+            raise self.fail(
+                prefix + "motion",
+                "is not allowed: motion on a deformable-pair "
+                f'contact (kind "{kind}"): motion moves a rigid obstacle; '
+                "prescribe a displacement [[bc]] on one of the bodies instead",
+            )
         c = self.table(raw, CONTACT_VARIANTS[kind], f'[[contact]] of kind "{kind}"', prefix)
         for key, body, tag in contact_tags(c):
             body_key = "body" if key in ("edge", "face") else f"body_{key[-1]}"
@@ -534,11 +700,17 @@ class Validator:
         if load["body"]:
             self.need_body(load["body"], "load.body", edges)
             if load["body"] not in cylinders:
-                raise self.fail("load.body", f"= {toml_text(load['body'])} is not allowed: [load] P "
-                                             f"acts on a {generator} body")
+                raise self.fail(
+                    "load.body",
+                    f"= {toml_text(load['body'])} is not allowed: [load] P "
+                    f"acts on a {generator} body",
+                )
         elif len(cylinders) == 1:
             load["body"] = cylinders[0]
         else:
-            raise self.fail("load.P", f"is not allowed here: [load] P is the Hertz convenience "
-                                      f"for one {generator} body (give load.body, or use "
-                                      f"[[bc]] pressure)")
+            raise self.fail(
+                "load.P",
+                f"is not allowed here: [load] P is the Hertz convenience "
+                f"for one {generator} body (give load.body, or use "
+                f"[[bc]] pressure)",
+            )

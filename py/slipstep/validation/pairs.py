@@ -16,8 +16,7 @@ from ..toml_writing import point_text
 FLIP = "flip contact.normal (or swap the contactor and target edges)"
 
 
-def check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str,
-                  fix: str = FLIP) -> None:
+def check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str, fix: str = FLIP) -> None:
     """Pairs that start closed (or penetrating) must face each other: body a's surface faces
     the target (its outward normal against n) and, node to node, body b's surface faces body a
     (its outward normal along n).  Otherwise the normal points the wrong way and the pairing
@@ -27,16 +26,21 @@ def check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str,
     away_a = touching & (np.einsum("ij,ij->i", surface_normals(scene, seg_a, a), n) > 1e-6)
     away_b = np.zeros_like(away_a)
     if b is not None:
-        away_b = touching & (np.einsum("ij,ij->i", surface_normals(scene, seg_b, b), n)
-                             < -1e-6)
+        away_b = touching & (np.einsum("ij,ij->i", surface_normals(scene, seg_b, b), n) < -1e-6)
     if (away_a | away_b).any():
         k = int(np.argmax(away_a | away_b))
-        side = "the contactor surface faces away from the target" if away_a[k] else \
-            "the target surface faces away from the contactor"
-        raise scene.case.error(key, f"the contact normal {point_text(n[k])} at node "
-                               f"{int(a[k])} {point_text(scene.nodes[a[k]])} points the wrong way "
-                               f"({side}): the normal must point from the target into the "
-                               f"contactor body; {fix}")
+        side = (
+            "the contactor surface faces away from the target"
+            if away_a[k]
+            else "the target surface faces away from the contactor"
+        )
+        raise scene.case.error(
+            key,
+            f"the contact normal {point_text(n[k])} at node "
+            f"{int(a[k])} {point_text(scene.nodes[a[k]])} points the wrong way "
+            f"({side}): the normal must point from the target into the "
+            f"contactor body; {fix}",
+        )
 
 
 def surface_normals(scene: Scene, cells, ids) -> np.ndarray:
@@ -49,8 +53,9 @@ def surface_normals(scene: Scene, cells, ids) -> np.ndarray:
     return m / np.maximum(np.linalg.norm(m, axis=1), 1e-300)[:, None]
 
 
-def check_matching(scene: Scene, unpaired, seg_other, tol: float, label: str, other: str,
-                    key: str) -> None:
+def check_matching(
+    scene: Scene, unpaired, seg_other, tol: float, label: str, other: str, key: str
+) -> None:
     """Node to node needs matching meshes: an unpaired node of one side that lies on the other
     side's edge (within tolerance of one of its segments) would be free to pass through it."""
     if len(unpaired) == 0 or len(seg_other) == 0:
@@ -68,23 +73,37 @@ def check_matching(scene: Scene, unpaired, seg_other, tol: float, label: str, ot
         on = ((dist <= tol) & (t > 1e-9) & (t < 1.0 - 1e-9)).any(axis=1)
     if on.any():
         k = int(unpaired[np.argmax(on)])
-        raise scene.case.error(f"{key}.tolerance", f"non-matching interface: node {k} "
-                               f"{point_text(scene.nodes[k])} of {label} lies on {other} but is paired "
-                               f"with no node of it within {tol:g}: node_to_node contact needs "
-                               f"matching interface nodes (same spacing and aligned origins "
-                               f"on both sides)")
+        raise scene.case.error(
+            f"{key}.tolerance",
+            f"non-matching interface: node {k} "
+            f"{point_text(scene.nodes[k])} of {label} lies on {other} but is paired "
+            f"with no node of it within {tol:g}: node_to_node contact needs "
+            f"matching interface nodes (same spacing and aligned origins "
+            f"on both sides)",
+        )
 
 
-def check_gaps(scene: Scene, a: np.ndarray, gap: np.ndarray, tol: float, key: str,
-                fix: str) -> None:
+def check_gaps(
+    scene: Scene, a: np.ndarray, gap: np.ndarray, tol: float, key: str, fix: str
+) -> None:
     if (gap < -tol).any():
         k = int(np.argmin(gap))
-        raise scene.case.error(key, f"initial penetration at node {int(a[k])} "
-                               f"{point_text(scene.nodes[a[k]])} by {-gap[k]:.3g}: {fix}")
+        raise scene.case.error(
+            key,
+            f"initial penetration at node {int(a[k])} "
+            f"{point_text(scene.nodes[a[k]])} by {-gap[k]:.3g}: {fix}",
+        )
 
 
-def check_outside(scene: Scene, a: np.ndarray, normal: np.ndarray, gap: np.ndarray,
-                  tol: float, key: str, what: str) -> None:
+def check_outside(
+    scene: Scene,
+    a: np.ndarray,
+    normal: np.ndarray,
+    gap: np.ndarray,
+    tol: float,
+    key: str,
+    what: str,
+) -> None:
     """3D: a rigid obstacle must start outside every body.  The obstacle's point closest to a
     candidate that does not touch it (x_a - gap n, gap > tol) must not lie inside a body's
     volume (in one of its tetrahedra, not on the body's boundary): else the obstacle is beneath
@@ -101,7 +120,10 @@ def check_outside(scene: Scene, a: np.ndarray, normal: np.ndarray, gap: np.ndarr
     if (inside >= 0).any():
         k = int(np.argmax(inside >= 0))
         body = scene.bodies[int(scene.element_body[inside[k]])]
-        raise scene.case.error(key, f"the {what} starts inside body '{body}': its point "
-                               f"{point_text(feet[k])} closest to node {int(a[apart[k]])} lies "
-                               f"inside the body (element {int(inside[k])}): move the {what} "
-                               f"out of the body, in front of the contact face")
+        raise scene.case.error(
+            key,
+            f"the {what} starts inside body '{body}': its point "
+            f"{point_text(feet[k])} closest to node {int(a[apart[k]])} lies "
+            f"inside the body (element {int(inside[k])}): move the {what} "
+            f"out of the body, in front of the contact face",
+        )

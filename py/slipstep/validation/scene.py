@@ -33,8 +33,10 @@ def check_file_mesh_tags(case: Case, body_meshes: dict) -> None:
         known = getattr(body_meshes[body], kind)
         if tag not in known:
             what = surface if kind == "tags" else "node set"
-            raise CaseError(f'{case.source}: {key} = "{tag}" is not allowed: body "{body}" has '
-                            f"no {what} with that tag (its {what}s: {', '.join(known) or 'none'})")
+            raise CaseError(
+                f'{case.source}: {key} = "{tag}" is not allowed: body "{body}" has '
+                f"no {what} with that tag (its {what}s: {', '.join(known) or 'none'})"
+            )
 
 
 def check_radii(scene: Scene) -> None:
@@ -50,17 +52,22 @@ def check_radii(scene: Scene) -> None:
             e = int(np.argmax(left))
             node = int(mesh.triangles[e][np.argmin(mesh.nodes[mesh.triangles[e], 0])])
             x, y = mesh.nodes[node]
-            raise CaseError(f"{scene.case.source}: body '{name}': element {e} has node {node} at "
-                            f'({x:.6g}, {y:.6g}), x < 0: with analysis.plane = "axisymmetric" '
-                            f"x is the radius r >= 0 (the axis is x = 0); move the body to "
-                            f'x >= 0, or use plane = "strain"')
+            raise CaseError(
+                f"{scene.case.source}: body '{name}': element {e} has node {node} at "
+                f'({x:.6g}, {y:.6g}), x < 0: with analysis.plane = "axisymmetric" '
+                f"x is the radius r >= 0 (the axis is x = 0); move the body to "
+                f'x >= 0, or use plane = "strain"'
+            )
 
 
 def check_duplicate_nodes(scene: Scene, pairs: dict) -> None:
     """Two nodes of one body at the same point cut the mesh there (a crack, or parts that are
     not connected): allowed only when a node_to_node contact pairs them."""
-    joined = {(min(a, b), max(a, b)) for a, b in zip(pairs["node_a"].tolist(),
-                                                      pairs["node_b"].tolist()) if b >= 0}
+    joined = {
+        (min(a, b), max(a, b))
+        for a, b in zip(pairs["node_a"].tolist(), pairs["node_b"].tolist())
+        if b >= 0
+    }
     for name in scene.bodies:
         xy = scene.meshes[name].nodes
         if len(xy) < 2:
@@ -79,7 +86,8 @@ def check_duplicate_nodes(scene: Scene, pairs: dict) -> None:
                         f"{point_text(scene.nodes[i])} but "
                         f"are not joined: duplicate nodes cut the mesh there (a crack or "
                         f"unconnected parts); merge them (gmsh: Coherence), or pair the two "
-                        f"sides with a node_to_node [[contact]]")
+                        f"sides with a node_to_node [[contact]]"
+                    )
 
 
 def check_pairs_not_held(scene: Scene) -> None:
@@ -102,11 +110,14 @@ def check_pairs_not_held(scene: Scene) -> None:
         i = int(pairs["node_a"][k])
         c = int(scene.pair_contact[k])
         key = "contact" if len(scene.case.data["contact"]) == 1 else f"contact.{c}"
-        raise scene.case.error(key, f"node {i} {point_text(scene.nodes[i])} is held by supports "
-                               f"in the contact normal direction, so its pair can carry no "
-                               f"contact force: remove the support ([[bc]] fix/symmetry/"
-                               f"displacement) there or the node from the candidates (x_min/"
-                               f"x_max/y_min/y_max)")
+        raise scene.case.error(
+            key,
+            f"node {i} {point_text(scene.nodes[i])} is held by supports "
+            f"in the contact normal direction, so its pair can carry no "
+            f"contact force: remove the support ([[bc]] fix/symmetry/"
+            f"displacement) there or the node from the candidates (x_min/"
+            f"x_max/y_min/y_max)",
+        )
 
 
 def check_stick_on_half_held(scene: Scene) -> None:
@@ -122,26 +133,36 @@ def check_stick_on_half_held(scene: Scene) -> None:
     for p in scene.prescribed.values():
         fixed[p["dofs"]] = True
     a, n = np.asarray(pairs["node_a"]), np.asarray(pairs["normal"])
-    curved = np.isin(np.array([c["kind"] for c in contacts] or [""])[scene.pair_contact],
-                     ("rigid_circle", "rigid_polyline"))
+    curved = np.isin(
+        np.array([c["kind"] for c in contacts] or [""])[scene.pair_contact],
+        ("rigid_circle", "rigid_polyline"),
+    )
     held_x, held_y = fixed[2 * a], fixed[2 * a + 1]
     free = np.where(held_x, 1, 0)  # the one free component when exactly one is held
     n_free = np.abs(n[np.arange(len(a)), free])
     t_free = np.abs(n[np.arange(len(a)), 1 - free])  # t = (-n_y, n_x): t_x = -n_y, t_y = n_x
-    bad = (curved & (held_x != held_y) & (np.asarray(pairs["mu"]) > 0.0)
-           & (n_free >= 1e-12) & (t_free >= 1e-12))
+    bad = (
+        curved
+        & (held_x != held_y)
+        & (np.asarray(pairs["mu"]) > 0.0)
+        & (n_free >= 1e-12)
+        & (t_free >= 1e-12)
+    )
     if bad.any():
         k = int(np.argmax(bad))
         i, c = int(a[k]), int(scene.pair_contact[k])
         key = "contact" if len(contacts) == 1 else f"contact.{c}"
         x, y = scene.nodes[i]
         held, other = ("x", "y") if held_x[k] else ("y", "x")
-        raise scene.case.error(key, f"node {i} ({x:.6g}, {y:.6g}) is held in {held} by "
-                               f"supports and its contact normal ({n[k, 0]:.6g}, {n[k, 1]:.6g}) "
-                               f"is oblique to {other}, its free component: with mu > 0 it would "
-                               f"stick with both contact conditions on that one component (a "
-                               f"singular system); make the obstacle's normal there along "
-                               f"{other} (on a symmetry line: the circle's centre, or a polyline "
-                               f"vertex between mirrored segments or a segment across it at a "
-                               f"right angle), or leave the node out of the candidates "
-                               f"(x_min/x_max/y_min/y_max)")
+        raise scene.case.error(
+            key,
+            f"node {i} ({x:.6g}, {y:.6g}) is held in {held} by "
+            f"supports and its contact normal ({n[k, 0]:.6g}, {n[k, 1]:.6g}) "
+            f"is oblique to {other}, its free component: with mu > 0 it would "
+            f"stick with both contact conditions on that one component (a "
+            f"singular system); make the obstacle's normal there along "
+            f"{other} (on a symmetry line: the circle's centre, or a polyline "
+            f"vertex between mirrored segments or a segment across it at a "
+            f"right angle), or leave the node out of the candidates "
+            f"(x_min/x_max/y_min/y_max)",
+        )

@@ -14,7 +14,12 @@ use crate::model::EventKind;
 /// window, of those that yield inside) integrated (`plasticity`); slipping pairs on the
 /// Coulomb cone (eq. 62). Returns the increment's start when stresses were integrated: it then
 /// needs an equilibrium correction, and tells what yielded inside.
-pub(super) fn to_event(eng: &Engine, state: &mut State, trial: &TrialIncrement, sel: &Selection) -> Option<IncrementStart> {
+pub(super) fn to_event(
+    eng: &Engine,
+    state: &mut State,
+    trial: &TrialIncrement,
+    sel: &Selection,
+) -> Option<IncrementStart> {
     let integrated = {
         let _t = eng.clock.time(Phase::Integration);
         integrate_stresses(&eng.problem, state, trial, sel)
@@ -81,12 +86,20 @@ mod tests {
         let (mut eng, mut state) = start(&m, &clock);
         let cycles = AntiCycling::new(1, 0, 4);
         let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
-        let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+        let sel =
+            select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
         assert!(to_event(&eng, &mut state, &trial, &sel).is_none());
         let s = g * E / (NU * q);
-        assert!(eng.problem.gap(&state, 0).abs() < ROUND_OFF * g, "gap {}", eng.problem.gap(&state, 0));
+        assert!(
+            eng.problem.gap(&state, 0).abs() < ROUND_OFF * g,
+            "gap {}",
+            eng.problem.gap(&state, 0)
+        );
         // reduced space: u over the pair's DOFs (node 2: x, y)
-        assert!((state.u[0] - s * NU * q / E).abs() < ROUND_OFF * g && (state.u[1] + s * q / E).abs() < ROUND_OFF * g);
+        assert!(
+            (state.u[0] - s * NU * q / E).abs() < ROUND_OFF * g
+                && (state.u[1] + s * q / E).abs() < ROUND_OFF * g
+        );
         assert!((state.load_fraction - s).abs() < ROUND_OFF && state.lambda_n[0] == 0.0);
         switch(&eng.problem, &mut state, &sel.group[0]);
         assert!(state.status[0].is_closed());
@@ -106,14 +119,21 @@ mod tests {
         state.advance(&press, 1.0);
         eng.begin_stage(1, &mut state);
         let (shear, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
-        let sel = select(&eng.problem, &state, &shear, &cycles, f64::INFINITY, Stepping::EventByEvent);
+        let sel =
+            select(&eng.problem, &state, &shear, &cycles, f64::INFINITY, Stepping::EventByEvent);
         to_event(&eng, &mut state, &shear, &sel);
-        assert!((state.lambda_n[0] - n).abs() < ROUND_OFF * n && (state.lambda_t[0] - mu * n).abs() < ROUND_OFF * n);
+        assert!(
+            (state.lambda_n[0] - n).abs() < ROUND_OFF * n
+                && (state.lambda_t[0] - mu * n).abs() < ROUND_OFF * n
+        );
         switch(&eng.problem, &mut state, &sel.group[0]);
         assert_eq!(state.status[0], Status::Slip { direction: -1 });
         assert!((state.lambda_t[0] - mu * n).abs() < ROUND_OFF * n);
         state.lambda_t[0] = 0.9 * mu * n;
         let jump = project_onto_cone(&eng.problem, &mut state);
-        assert!((jump - 0.1 * mu * n).abs() < ROUND_OFF * n && (state.lambda_t[0] - mu * n).abs() < ROUND_OFF * n);
+        assert!(
+            (jump - 0.1 * mu * n).abs() < ROUND_OFF * n
+                && (state.lambda_t[0] - mu * n).abs() < ROUND_OFF * n
+        );
     }
 }

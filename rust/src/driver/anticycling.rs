@@ -46,7 +46,17 @@ pub(super) enum Admission {
 impl AntiCycling {
     pub fn new(n_pairs: usize, n_elements: usize, max_switches: usize) -> Self {
         let n = n_pairs + n_elements;
-        AntiCycling { n_pairs, max_switches, zero_switches: vec![0; n], zero_turns: vec![0; n_pairs], frozen: vec![false; n], selected_frozen: vec![false; n], switch_count: vec![0; n], rate_problems_in_run: 0, rate_problems: 0 }
+        AntiCycling {
+            n_pairs,
+            max_switches,
+            zero_switches: vec![0; n],
+            zero_turns: vec![0; n_pairs],
+            frozen: vec![false; n],
+            selected_frozen: vec![false; n],
+            switch_count: vec![0; n],
+            rate_problems_in_run: 0,
+            rate_problems: 0,
+        }
     }
 
     /// Frozen pairs and elements.
@@ -55,7 +65,11 @@ impl AntiCycling {
     }
 
     fn key(&self, c: &Candidate) -> usize {
-        if c.kind.is_element_event() { self.n_pairs + c.entity } else { c.entity }
+        if c.kind.is_element_event() {
+            self.n_pairs + c.entity
+        } else {
+            c.entity
+        }
     }
 
     /// Pairs frozen while the current increment was selected or since: a contact condition
@@ -80,7 +94,10 @@ impl AntiCycling {
     /// The one-at-a-time rule is cycling (a pair would exceed its switches) and the rate
     /// problem may still be tried in this run.
     pub fn wants_rate_problem(&self, group: &[Candidate]) -> bool {
-        self.may_solve_rate_problem() && group.iter().any(|c| !c.kind.is_element_event() && self.zero_switches[c.entity] >= self.max_switches)
+        self.may_solve_rate_problem()
+            && group.iter().any(|c| {
+                !c.kind.is_element_event() && self.zero_switches[c.entity] >= self.max_switches
+            })
     }
 
     /// The rate problem may still be tried in this zero-length run.

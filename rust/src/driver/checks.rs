@@ -33,7 +33,9 @@ impl Correction {
     pub fn include(&mut self, c: &TrialIncrement, s: f64) {
         let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         self.displacement = self.displacement.max(s * largest(&c.du));
-        self.force = self.force.max(s * largest(&c.dlambda_n).max(largest(&c.dlambda_t)).max(largest(&c.dlambda_t2)));
+        self.force = self
+            .force
+            .max(s * largest(&c.dlambda_n).max(largest(&c.dlambda_t)).max(largest(&c.dlambda_t2)));
     }
 }
 
@@ -57,7 +59,12 @@ pub(super) fn equilibrium_residual(eng: &Engine, state: &State) -> (f64, Option<
         let (r, internal) = full_residual(eng, state);
         return (r, Some(internal));
     }
-    let r2: f64 = (0..problem.bodies.mode_vectors.len()).map(|k| (eng.loads.mode_force_at(k, state.load_fraction) + problem.mode_contact_force(state, k)).powi(2)).sum();
+    let r2: f64 = (0..problem.bodies.mode_vectors.len())
+        .map(|k| {
+            (eng.loads.mode_force_at(k, state.load_fraction) + problem.mode_contact_force(state, k))
+                .powi(2)
+        })
+        .sum();
     (r2.sqrt() / problem.scales.load_norm, None)
 }
 
@@ -73,11 +80,19 @@ pub(super) fn check_equilibrium(eng: &Engine, residual: f64, phi: f64, step: usi
 /// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb's cone (for a slipping 3D
 /// pair that has slipped its polygon: `Problem::friction_excess`). A violation by a pair the
 /// last-resort anti-cycling rule froze is reported as an ill-posed scene.
-pub(super) fn check_contact(eng: &Engine, state: &State, frozen: &[bool], correction: Correction) -> Result<()> {
+pub(super) fn check_contact(
+    eng: &Engine,
+    state: &State,
+    frozen: &[bool],
+    correction: Correction,
+) -> Result<()> {
     let problem = &eng.problem;
     let umax = eng.loads.largest_displacement(problem, &state.u, state.load_fraction);
-    let gap_tol = GAP_ROUND_OFF * umax + GAP_COORDINATE * problem.scales.length + CORRECTION_GAP_ALLOWANCE * correction.displacement;
-    let force_tol = FORCE_ROUND_OFF * problem.scales.force + CORRECTION_FORCE_ALLOWANCE * correction.force;
+    let gap_tol = GAP_ROUND_OFF * umax
+        + GAP_COORDINATE * problem.scales.length
+        + CORRECTION_GAP_ALLOWANCE * correction.displacement;
+    let force_tol =
+        FORCE_ROUND_OFF * problem.scales.force + CORRECTION_FORCE_ALLOWANCE * correction.force;
     let phi = state.load_fraction;
     for (p, pair) in problem.pairs.iter().enumerate() {
         let g = problem.gap(state, p);
@@ -122,13 +137,26 @@ pub(super) struct LimitLoad {
 }
 
 impl LimitLoad {
-    pub fn check(&mut self, eng: &Engine, state: &State, trial: &TrialIncrement, sel: &Selection) -> Option<StopReason> {
+    pub fn check(
+        &mut self,
+        eng: &Engine,
+        state: &State,
+        trial: &TrialIncrement,
+        sel: &Selection,
+    ) -> Option<StopReason> {
         let problem = &eng.problem;
         if problem.is_reduced() || sel.zero_length() {
             return None;
         }
         let fixed = &problem.dofs.fixed;
-        let remaining: Vec<f64> = eng.loads.load.force_change().iter().enumerate().map(|(d, v)| if fixed[d] { 0.0 } else { v * (1.0 - state.load_fraction) }).collect();
+        let remaining: Vec<f64> = eng
+            .loads
+            .load
+            .force_change()
+            .iter()
+            .enumerate()
+            .map(|(d, v)| if fixed[d] { 0.0 } else { v * (1.0 - state.load_fraction) })
+            .collect();
         let r2: f64 = remaining.iter().map(|v| v * v).sum();
         let work: f64 = remaining.iter().zip(&trial.du).map(|(a, b)| a * b).sum();
         if r2 <= 0.0 {
@@ -139,6 +167,8 @@ impl LimitLoad {
         let stiffness = if work > 0.0 { r2 / work } else { 0.0 };
         let first = *self.initial_stiffness.get_or_insert(stiffness);
         let ratio = stiffness / first;
-        (stiffness < problem.model.options.limit_stiffness * first).then_some(StopReason::LimitLoad { load_fraction: state.time(), stiffness_ratio: ratio })
+        (stiffness < problem.model.options.limit_stiffness * first).then_some(
+            StopReason::LimitLoad { load_fraction: state.time(), stiffness_ratio: ratio },
+        )
     }
 }

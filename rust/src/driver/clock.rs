@@ -50,7 +50,11 @@ pub(super) struct Timer<'c> {
 
 impl Clock {
     pub fn new() -> Self {
-        Clock { own: Default::default(), running: RefCell::new(Vec::new()), since: Cell::new(Instant::now()) }
+        Clock {
+            own: Default::default(),
+            running: RefCell::new(Vec::new()),
+            since: Cell::new(Instant::now()),
+        }
     }
 
     /// Time `phase` (pausing the phase it runs in) until the returned timer drops.
@@ -132,7 +136,10 @@ mod tests {
         });
         let (events, dense) = (clock.seconds(Phase::Events), clock.seconds(Phase::Dense));
         assert!(dense >= 0.003 && events >= 0.003, "dense {dense}, events' own {events}");
-        assert!(events + dense <= total, "the parts exceed the whole: {events} + {dense} > {total}");
+        assert!(
+            events + dense <= total,
+            "the parts exceed the whole: {events} + {dense} > {total}"
+        );
         let t = clock.timings(0.0);
         assert_eq!((t.dense, t.events), (dense, events + dense));
     }

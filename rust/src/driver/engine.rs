@@ -35,7 +35,13 @@ impl<'m, 'c> Engine<'m, 'c> {
     /// The state at the start of the path.
     pub fn initial_state(&self) -> State {
         let p = &self.problem;
-        State::initial(&p.pairs, p.loop_dofs(), p.loop_elements(), p.bodies.modes.len(), p.scales.touching())
+        State::initial(
+            &p.pairs,
+            p.loop_dofs(),
+            p.loop_elements(),
+            p.bodies.modes.len(),
+            p.scales.touching(),
+        )
     }
 
     /// Start stage k (0-based) at s = 0, from the state the previous stage left.

@@ -37,7 +37,13 @@ impl StageLoads {
     /// The loads of stage k (0-based): its forces, the free rigid modes' share of them, and in
     /// the reduced space K# of its effective load (one solve per stage), with the completed
     /// stages' (`done`) accumulated.
-    pub fn begin(problem: &Problem, stiffness: &mut Stiffness, k: usize, done: ReducedLoad, clock: &Clock) -> Self {
+    pub fn begin(
+        problem: &Problem,
+        stiffness: &mut Stiffness,
+        k: usize,
+        done: ReducedLoad,
+        clock: &Clock,
+    ) -> Self {
         let load = problem.stage_load(k);
         let fixed = &problem.dofs.fixed;
         let free = |f: &[f64], d: usize| if fixed[d] { 0.0 } else { f[d] };
@@ -47,7 +53,9 @@ impl StageLoads {
             .modes
             .iter()
             .map(|m| {
-                let dot = |f: &[f64]| m.vector.iter().enumerate().map(|(d, a)| a * free(f, d)).sum::<f64>();
+                let dot = |f: &[f64]| {
+                    m.vector.iter().enumerate().map(|(d, a)| a * free(f, d)).sum::<f64>()
+                };
                 [dot(start), dot(change)]
             })
             .collect();
@@ -55,7 +63,10 @@ impl StageLoads {
         if let Space::Reduced(r) = &problem.space {
             let (effective, _) = problem.effective_load(&load, &stiffness.tangents.held);
             let _t = clock.time(Phase::Solves);
-            let u_stage = stiffness.apply_ginv(&problem.dofs.map, std::slice::from_ref(&effective)).pop().unwrap_or_default();
+            let u_stage = stiffness
+                .apply_ginv(&problem.dofs.map, std::slice::from_ref(&effective))
+                .pop()
+                .unwrap_or_default();
             if !reduced.u_load.is_empty() {
                 reduced.u_done.resize(reduced.u_load.len(), 0.0);
                 reduced.u_done.iter_mut().zip(&reduced.u_load).for_each(|(a, b)| *a += b);
@@ -74,7 +85,12 @@ impl StageLoads {
     }
 
     /// ū(target) − u at every prescribed DOF (full space; residual form, so no drift).
-    pub fn prescribed_increment(&self, problem: &Problem, state: &State, target: f64) -> Vec<(usize, f64)> {
+    pub fn prescribed_increment(
+        &self,
+        problem: &Problem,
+        state: &State,
+        target: f64,
+    ) -> Vec<(usize, f64)> {
         if problem.is_reduced() {
             return vec![];
         }
@@ -95,12 +111,24 @@ impl StageLoads {
     /// `Stiffness::forward_sweep`).
     pub fn change_on_equations(&self, problem: &Problem) -> Vec<f64> {
         let change = self.load.force_change();
-        problem.dofs.map.dof_of_equation.iter().map(|&d| if problem.dofs.fixed[d] { 0.0 } else { change[d] }).collect()
+        problem
+            .dofs
+            .map
+            .dof_of_equation
+            .iter()
+            .map(|&d| if problem.dofs.fixed[d] { 0.0 } else { change[d] })
+            .collect()
     }
 
     /// Out-of-balance force at stage fraction `phi`: P(φ) − P_σ + contact forces over the free
     /// DOFs (the right-hand side of eq. 43), from the internal force P_σ of the stresses.
-    pub fn residual_from(&self, problem: &Problem, internal: &[f64], state: &State, phi: f64) -> Vec<f64> {
+    pub fn residual_from(
+        &self,
+        problem: &Problem,
+        internal: &[f64],
+        state: &State,
+        phi: f64,
+    ) -> Vec<f64> {
         let mut r = internal.to_vec();
         for (d, v) in r.iter_mut().enumerate() {
             *v = if problem.dofs.fixed[d] { 0.0 } else { self.load.force(d, phi) - *v };
@@ -119,7 +147,9 @@ impl StageLoads {
     pub fn largest_displacement(&self, problem: &Problem, u: &[f64], s: f64) -> f64 {
         let carried = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         match problem.space {
-            Space::Reduced(_) => carried.max(self.reduced.u_done_max + s.abs() * self.reduced.u_load_max),
+            Space::Reduced(_) => {
+                carried.max(self.reduced.u_done_max + s.abs() * self.reduced.u_load_max)
+            }
             Space::Full => carried,
         }
     }

@@ -68,9 +68,9 @@ mod plasticity;
 mod problem;
 mod rate_problem;
 mod recording;
+mod restraint;
 #[cfg(test)]
 mod scenes;
-mod restraint;
 mod selection;
 mod slip_direction;
 mod slip_turn;
@@ -114,8 +114,14 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
     let mut eng = Engine::new(model, &clock)?;
     let mut state = eng.initial_state();
     let mut rec = Recorder::new(&mut eng, &state)?;
-    let mut cycles = AntiCycling::new(eng.problem.pairs.len(), eng.problem.loop_elements(), model.options.max_zero_length_switches);
-    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_path(&mut eng, &mut state, &mut rec, &mut cycles, &mut progress)));
+    let mut cycles = AntiCycling::new(
+        eng.problem.pairs.len(),
+        eng.problem.loop_elements(),
+        model.options.max_zero_length_switches,
+    );
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        run_path(&mut eng, &mut state, &mut rec, &mut cycles, &mut progress)
+    }));
     let t = state.time();
     if let Ok(Err(e)) = &outcome {
         if t == 0.0 && e.kind != ErrorKind::Interrupted && !crate::interrupt::requested() {
@@ -126,15 +132,25 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
         Ok(Ok(stop)) => (stop, true),
         // (a failure after a stop was requested is the request's doing: a rate problem cut
         // short freezes pairs)
-        Ok(Err(e)) if e.kind == ErrorKind::Interrupted || crate::interrupt::requested() => (StopReason::Interrupted { load_fraction: t }, false),
+        Ok(Err(e)) if e.kind == ErrorKind::Interrupted || crate::interrupt::requested() => {
+            (StopReason::Interrupted { load_fraction: t }, false)
+        }
         Ok(Err(error)) => (StopReason::Failed { load_fraction: t, error }, false),
-        Err(panic) => (StopReason::Failed { load_fraction: t, error: engine_bug(panic.as_ref(), t) }, false),
+        Err(panic) => {
+            (StopReason::Failed { load_fraction: t, error: engine_bug(panic.as_ref(), t) }, false)
+        }
     };
     rec.finish(eng, &state, stop, settled, cycles.rate_problems)
 }
 
 /// The stages of the load path in turn (`path`), each from the state the last one left.
-fn run_path(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &mut AntiCycling, progress: &mut impl FnMut(Progress) -> bool) -> Result<StopReason> {
+fn run_path(
+    eng: &mut Engine,
+    state: &mut State,
+    rec: &mut Recorder,
+    cycles: &mut AntiCycling,
+    progress: &mut impl FnMut(Progress) -> bool,
+) -> Result<StopReason> {
     // The internal force of the state's stresses, from its equilibrium check, for the next trial.
     let mut internal = None;
     for k in 0..eng.problem.path.n_stages() {
@@ -153,8 +169,17 @@ fn run_path(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &mu
 
 /// A panic inside the loop as the failure it is: a broken invariant of the engine.
 fn engine_bug(payload: &(dyn std::any::Any + Send), t: f64) -> Error {
-    let what = payload.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| payload.downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown".into());
-    Error::new(ErrorKind::Internal, format!("an engine bug stopped the run at t = {t:.6} ({what}); please report it with the case"))
+    let what = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown".into());
+    Error::new(
+        ErrorKind::Internal,
+        format!(
+            "an engine bug stopped the run at t = {t:.6} ({what}); please report it with the case"
+        ),
+    )
 }
 
 /// What the loop carries from one increment of a stage to the next.
@@ -183,8 +208,19 @@ enum Outcome {
 
 /// The procedure of §4 over one stage, s from 0 to 1: returns `Completed` at S = 1, or why it
 /// stopped before.
-fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &mut AntiCycling, internal: &mut Option<Vec<f64>>, progress: &mut impl FnMut(Progress) -> bool) -> Result<StopReason> {
-    let mut stage = StageLoop { stepping: Stepping::new(&eng.problem.model.options, eng.problem.is_reduced()), limit: LimitLoad::default(), correction: Correction::default() };
+fn run_stage(
+    eng: &mut Engine,
+    state: &mut State,
+    rec: &mut Recorder,
+    cycles: &mut AntiCycling,
+    internal: &mut Option<Vec<f64>>,
+    progress: &mut impl FnMut(Progress) -> bool,
+) -> Result<StopReason> {
+    let mut stage = StageLoop {
+        stepping: Stepping::new(&eng.problem.model.options, eng.problem.is_reduced()),
+        limit: LimitLoad::default(),
+        correction: Correction::default(),
+    };
     if let Some(stop) = support_lost(eng, state, rec, 0) {
         return Ok(stop); // the last stage's end let a body go
     }
@@ -197,14 +233,22 @@ fn run_stage(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
             Outcome::Retaken => continue,
             Outcome::Advanced => {}
         }
-        if !progress(Progress { steps: rec.steps.len(), events: rec.events.len(), t: state.time() }) {
+        if !progress(Progress { steps: rec.steps.len(), events: rec.events.len(), t: state.time() })
+        {
             return Ok(StopReason::Interrupted { load_fraction: state.time() });
         }
     }
 }
 
 /// One increment of §4: trial → select → window → advance → switch → settle → record.
-fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &mut AntiCycling, stage: &mut StageLoop, internal: &mut Option<Vec<f64>>) -> Result<Outcome> {
+fn increment(
+    eng: &mut Engine,
+    state: &mut State,
+    rec: &mut Recorder,
+    cycles: &mut AntiCycling,
+    stage: &mut StageLoop,
+    internal: &mut Option<Vec<f64>>,
+) -> Result<Outcome> {
     stage.stepping = stage.stepping.at(state.time()); // a retaken window behind: grouped again
     let renewal = stage.renewal(&eng.problem.model.options);
     eng.stiffness.update(&eng.problem, state, renewal, eng.clock)?; // D or D_ep at the increment's start (eq. 11)
@@ -212,10 +256,12 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
         let _t = eng.clock.time(Phase::Solves);
         trial::remaining_load(eng, state, internal.take(), stage.stepping)? // eq. 44
     };
-    while slip_turn::direct_unloaded_slips(eng, state, &trial, cycles, rec, &mut stage.correction)? {
+    while slip_turn::direct_unloaded_slips(eng, state, &trial, cycles, rec, &mut stage.correction)?
+    {
         crate::interrupt::checkpoint(crate::interrupt::Checkpoint::UnloadedTurn)?;
         let _t = eng.clock.time(Phase::Solves);
-        (trial, base) = trial::remaining_load(eng, state, None, stage.stepping)?; // 3D: a slip at zero force took its direction
+        (trial, base) = trial::remaining_load(eng, state, None, stage.stepping)?;
+        // 3D: a slip at zero force took its direction
     }
     let _events = eng.clock.time(Phase::Events);
     let cut = rec.snapshot_cut(eng, state).min(friction_cut(eng, state, &trial)); // (3D: a body held by friction alone meets its limit)
@@ -228,18 +274,22 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
     let window = Window::open(&sel, state, rec, stage.correction);
     let (trial, sel, sub_jump) = window::contact_events(eng, state, trial, sel, base, cycles, rec)?;
     let start = advance::to_event(eng, state, &trial, &sel); // eqs. 58–62
-    let jump = switch_statuses(eng, state, &sel, cycles, rec, Solve::RemainingLoad).max(sub_jump).max(unbalanced_jump(state)); // step 6
+    let jump = switch_statuses(eng, state, &sel, cycles, rec, Solve::RemainingLoad)
+        .max(sub_jump)
+        .max(unbalanced_jump(state)); // step 6
     let lost = support_lost(eng, state, rec, first_event);
     if lost.is_some() && (start.is_some() || jump > eng.problem.scales.force_noise) {
         restore_hold(eng, state, rec, first_event); // the correction needs what held it
     }
-    let (residual, start) = match settle(eng, state, &sel, cycles, rec, stage, start, window, jump)? {
+    let (residual, start) = match settle(eng, state, &sel, cycles, rec, stage, start, window, jump)?
+    {
         Settled::Balanced { residual, internal: balanced, start } => {
             *internal = balanced;
             (residual, start)
         }
         Settled::Unbalanced(window, start) => {
-            stage.stepping = window.retake(state, start, rec, &mut stage.correction, stage.stepping);
+            stage.stepping =
+                window.retake(state, start, rec, &mut stage.correction, stage.stepping);
             return Ok(Outcome::Retaken);
         }
     };
@@ -250,10 +300,15 @@ fn increment(eng: &mut Engine, state: &mut State, rec: &mut Recorder, cycles: &m
     if sel.last {
         return Ok(Outcome::Stop(StopReason::Completed)); // S = 1 (step 8)
     }
-    if let Some(stop) = lost.or_else(|| support_lost(eng, state, rec, first_event)).or_else(|| restraint::friction_stop(&eng.problem, &eng.loads, state)) {
+    if let Some(stop) = lost
+        .or_else(|| support_lost(eng, state, rec, first_event))
+        .or_else(|| restraint::friction_stop(&eng.problem, &eng.loads, state))
+    {
         return Ok(Outcome::Stop(stop)); // (or a separation of the correction's)
     }
-    if eng.problem.model.options.stop_at_first_yield && sel.group.iter().any(|c| c.kind == EventKind::Yield) {
+    if eng.problem.model.options.stop_at_first_yield
+        && sel.group.iter().any(|c| c.kind == EventKind::Yield)
+    {
         return Ok(Outcome::Stop(StopReason::FirstYield));
     }
     Ok(Outcome::Advanced)
@@ -279,11 +334,18 @@ fn friction_cut(eng: &Engine, state: &State, trial: &TrialIncrement) -> f64 {
 /// event `first_event` (it lifts off, tips or slides as a whole: `restraint`), stops the run
 /// there with its results; one unheld before any load is applied (t = 0) is the trial's error
 /// (a missing support, a load beyond friction from the start).
-fn support_lost(eng: &Engine, state: &State, rec: &Recorder, first_event: usize) -> Option<StopReason> {
+fn support_lost(
+    eng: &Engine,
+    state: &State,
+    rec: &Recorder,
+    first_event: usize,
+) -> Option<StopReason> {
     if state.time() == 0.0 {
         return None;
     }
-    let loosened = rec.events[first_event..].iter().any(|e| matches!(e.kind, EventKind::Separate | EventKind::StickToSlip));
+    let loosened = rec.events[first_event..]
+        .iter()
+        .any(|e| matches!(e.kind, EventKind::Separate | EventKind::StickToSlip));
     match loosened.then(|| hold(&eng.problem, &eng.loads, state, &rec.events)) {
         Some(Hold::Lost(stop)) => Some(stop),
         _ => None,
@@ -300,7 +362,11 @@ fn restore_hold(eng: &Engine, state: &mut State, rec: &Recorder, first_event: us
             (EventKind::StickToSlip, Status::Slip { .. }) => EventKind::SlipToStick,
             _ => continue,
         };
-        switch_keeping(eng, state, &Candidate { scale: 0.0, entity: e.entity, kind: back, direction: 0, toward: [0.0; 2] });
+        switch_keeping(
+            eng,
+            state,
+            &Candidate { scale: 0.0, entity: e.entity, kind: back, direction: 0, toward: [0.0; 2] },
+        );
     }
 }
 
@@ -319,12 +385,24 @@ enum Settled {
 /// the Coulomb cone that now slips is put back on it), taken event by event
 /// (`correct_at_fixed_load`); then the checks at the event (equilibrium, contact conditions).
 #[allow(clippy::too_many_arguments)]
-fn settle(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &AntiCycling, rec: &mut Recorder, stage: &mut StageLoop, start: Option<IncrementStart>, window: Option<Window>, jump: f64) -> Result<Settled> {
+fn settle(
+    eng: &mut Engine,
+    state: &mut State,
+    sel: &Selection,
+    cycles: &AntiCycling,
+    rec: &mut Recorder,
+    stage: &mut StageLoop,
+    start: Option<IncrementStart>,
+    window: Option<Window>,
+    jump: f64,
+) -> Result<Settled> {
     let renewal = stage.renewal(&eng.problem.model.options);
     let (corrected, start) = match restore_equilibrium(eng, state, sel, start, window, renewal)? {
         Restored::Unbalanced(window, start) => return Ok(Settled::Unbalanced(window, start)),
         Restored::Corrected(c, start) => (Some(c), Some(start)),
-        Restored::Linear if jump > eng.problem.scales.force_noise => (Some(correct_at_fixed_load(eng, state, sel.phi, None)?), None),
+        Restored::Linear if jump > eng.problem.scales.force_noise => {
+            (Some(correct_at_fixed_load(eng, state, sel.phi, None)?), None)
+        }
         Restored::Linear => (None, None),
     };
     if let Some(c) = corrected {

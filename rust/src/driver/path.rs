@@ -77,10 +77,22 @@ impl LoadPath {
         if model.stages.is_empty() {
             factors.push(vec![1.0; n_patterns]);
         }
-        let stage_names = match model.stages.is_empty() {
-            true => vec![String::from("stage 1")],
-            false => model.stages.iter().enumerate().map(|(k, s)| if s.name.is_empty() { format!("stage {}", k + 1) } else { s.name.clone() }).collect(),
-        };
+        let stage_names =
+            match model.stages.is_empty() {
+                true => vec![String::from("stage 1")],
+                false => model
+                    .stages
+                    .iter()
+                    .enumerate()
+                    .map(|(k, s)| {
+                        if s.name.is_empty() {
+                            format!("stage {}", k + 1)
+                        } else {
+                            s.name.clone()
+                        }
+                    })
+                    .collect(),
+            };
         let mut forces = vec![model.load.clone()];
         let mut displacements = vec![vec![]];
         let mut shifts = vec![vec![]];
@@ -117,7 +129,8 @@ impl LoadPath {
         }
         let mut prescribed: Vec<(usize, f64, f64)> = vec![];
         for (j, disp) in self.displacements.iter().enumerate() {
-            prescribed.extend(disp.iter().map(|&(d, v)| (d, start[j] * v, (end[j] - start[j]) * v)));
+            prescribed
+                .extend(disp.iter().map(|&(d, v)| (d, start[j] * v, (end[j] - start[j]) * v)));
         }
         let mut shift_start = vec![[0.0; 3]; n_pairs];
         let mut shift_change = vec![[0.0; 3]; n_pairs];

@@ -82,9 +82,17 @@ impl Limit {
 /// or up to where a capacity falls to zero (a separation, which ends the increment first):
 /// then at every S between (the carried S are an interval); or when it is zero there.
 pub(super) fn first_reach(contact: &Contact, start: Wrench, rate: Wrench) -> Option<Limit> {
-    let last = contact.capacity.iter().filter(|c| c[1] < 0.0).map(|c| (c[0] / -c[1]).max(0.0)).fold(1.0, f64::min);
+    let last = contact
+        .capacity
+        .iter()
+        .filter(|c| c[1] < 0.0)
+        .map(|c| (c[0] / -c[1]).max(0.0))
+        .fold(1.0, f64::min);
     let end = add(start, rate, last);
-    let at_end = Contact { at: contact.at.clone(), capacity: contact.capacity.iter().map(|c| [c[0] + last * c[1], 0.0]).collect() };
+    let at_end = Contact {
+        at: contact.at.clone(),
+        capacity: contact.capacity.iter().map(|c| [c[0] + last * c[1], 0.0]).collect(),
+    };
     let end_limit = proportional(&at_end, end)?;
     if end_limit.scale > 1.0 {
         return None;
@@ -98,7 +106,8 @@ pub(super) fn first_reach(contact: &Contact, start: Wrench, rate: Wrench) -> Opt
 /// 1/k is the load's share of what the pairs carry (its gauge). None for a zero load.
 pub(super) fn proportional(contact: &Contact, load: Wrench) -> Option<Limit> {
     let size = norm(load);
-    (size > 0.0).then(|| Path { contact, start: [0.0; 3], rate: load }.descend(load.map(|x| x / size)))
+    (size > 0.0)
+        .then(|| Path { contact, start: [0.0; 3], rate: load }.descend(load.map(|x| x / size)))
 }
 
 /// A load linear in S on a contact whose capacities are.
@@ -185,7 +194,9 @@ impl Path<'_> {
         if r2.norm() <= STATIONARY * total {
             return None;
         }
-        let quad = |x: [f64; 3], y: [f64; 3]| (0..3).map(|r| x[r] * (0..3).map(|k| hessian[r][k] * y[k]).sum::<f64>()).sum::<f64>();
+        let quad = |x: [f64; 3], y: [f64; 3]| {
+            (0..3).map(|r| x[r] * (0..3).map(|k| hessian[r][k] * y[k]).sum::<f64>()).sum::<f64>()
+        };
         let h2 = Matrix2::new(quad(e1, e1), quad(e1, e2), quad(e2, e1), quad(e2, e2));
         let d = h2.cholesky().map_or(r2 / total.max(f64::MIN_POSITIVE), |ch| ch.solve(&r2));
         Some(add(e1.map(|x| d[0] * x), e2, d[1]))
@@ -213,7 +224,9 @@ impl Contact {
         if q[2] == 0.0 {
             return vec![];
         }
-        let mut by_speed: Vec<(f64, usize)> = (0..self.at.len()).map(|i| (self.velocity(i, q).map(f64::abs).iter().sum(), i)).collect();
+        let mut by_speed: Vec<(f64, usize)> = (0..self.at.len())
+            .map(|i| (self.velocity(i, q).map(f64::abs).iter().sum(), i))
+            .collect();
         by_speed.sort_by(|a, b| a.0.total_cmp(&b.0));
         by_speed.into_iter().take(NEAREST).map(|(_, i)| i).collect()
     }
@@ -288,7 +301,8 @@ mod tests {
     fn a_centre_on_a_pair_is_found_exactly() {
         let mut points = SQUARE.to_vec();
         points.push([0.0, 0.0]);
-        let l = proportional(&contact(&points, &[0.3, 0.3, 0.3, 0.3, 5.0]), [0.0, 0.0, -2.0]).unwrap();
+        let l =
+            proportional(&contact(&points, &[0.3, 0.3, 0.3, 0.3, 5.0]), [0.0, 0.0, -2.0]).unwrap();
         assert!(close(l.scale, 4.0 * 0.3 * 2f64.sqrt() / 2.0), "{l:?}");
     }
 
@@ -328,7 +342,8 @@ mod tests {
         };
         for _ in 0..20 {
             let n = 3 + (8.0 * next()) as usize;
-            let at: Vec<[f64; 2]> = (0..n).map(|_| [2.0 * next() - 1.0, 2.0 * next() - 1.0]).collect();
+            let at: Vec<[f64; 2]> =
+                (0..n).map(|_| [2.0 * next() - 1.0, 2.0 * next() - 1.0]).collect();
             let capacity: Vec<f64> = (0..n).map(|_| next()).collect();
             let k = contact(&at, &capacity);
             let load = [2.0 * next() - 1.0, 2.0 * next() - 1.0, 2.0 * next() - 1.0];
@@ -336,9 +351,16 @@ mod tests {
             let path = Path { contact: &k, start: [0.0; 3], rate: load };
             for i in 0..200 {
                 for j in 0..100 {
-                    let (theta, phi) = (std::f64::consts::PI * (i as f64 + 0.5) / 200.0, std::f64::consts::TAU * j as f64 / 100.0);
+                    let (theta, phi) = (
+                        std::f64::consts::PI * (i as f64 + 0.5) / 200.0,
+                        std::f64::consts::TAU * j as f64 / 100.0,
+                    );
                     let q = [theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()];
-                    assert!(l.scale <= path.reach(q) * (1.0 + ROUND_OFF), "{l:?} above S = {} at {q:?}", path.reach(q));
+                    assert!(
+                        l.scale <= path.reach(q) * (1.0 + ROUND_OFF),
+                        "{l:?} above S = {} at {q:?}",
+                        path.reach(q)
+                    );
                 }
             }
         }

@@ -20,8 +20,8 @@ use super::clock::Phase;
 use super::engine::Engine;
 use super::problem::{Problem, PARALLEL_CHUNK};
 use super::selection::{pair_state, trial_of, Selection, STAGE_END, ZERO_SCALE};
-use super::state::{IncrementStart, State, TrialIncrement};
 use super::slip_direction::direct_new_slips;
+use super::state::{IncrementStart, State, TrialIncrement};
 use super::switching::switch_keeping;
 use super::tangents::Renewal;
 use super::trial::{self, Solve};
@@ -110,16 +110,22 @@ pub(super) fn drift(problem: &Problem, state: &State) -> f64 {
 /// increment's strain from `state` (before the advance). An elastic path that meets the
 /// surface within `STAGE_END` of the stage's end ties with the end, as a yield event does
 /// (`selection`): it belongs to the next stage.
-pub(super) fn integrate_stresses(problem: &Problem, state: &State, trial: &TrialIncrement, sel: &Selection) -> Vec<(usize, Integrated)> {
+pub(super) fn integrate_stresses(
+    problem: &Problem,
+    state: &State,
+    trial: &TrialIncrement,
+    sel: &Selection,
+) -> Vec<(usize, Integrated)> {
     let scale = sel.scale;
     if !problem.model.options.drift_control || scale <= ZERO_SCALE {
         return vec![]; // a zero-length increment changes no stress (and gets no correction)
     }
     let (phi0, phi1) = (state.load_fraction, sel.phi);
-    let crosses = |e: usize, sy: f64| match yield_scale(&state.stress[e], &(trial.dstress[e] * scale), sy) {
-        Some(r) => r < 1.0 && phi0 + r * (phi1 - phi0) < 1.0 - STAGE_END,
-        None => false,
-    };
+    let crosses =
+        |e: usize, sy: f64| match yield_scale(&state.stress[e], &(trial.dstress[e] * scale), sy) {
+            Some(r) => r < 1.0 && phi0 + r * (phi1 - phi0) < 1.0 - STAGE_END,
+            None => false,
+        };
     (0..state.stress.len())
         .into_par_iter()
         .with_min_len(PARALLEL_CHUNK)
@@ -131,7 +137,11 @@ pub(super) fn integrate_stresses(problem: &Problem, state: &State, trial: &Trial
                 return None;
             }
             // back onto the surface first if the last correction left it beyond
-            let stress = if plastic { section.not_beyond_surface(&state.stress[e], sy) } else { state.stress[e] };
+            let stress = if plastic {
+                section.not_beyond_surface(&state.stress[e], sy)
+            } else {
+                state.stress[e]
+            };
             let start = PointState { stress, plastic_strain: state.plastic_strain[e], plastic };
             Some((e, integrate(section, &start, &(problem.elements.strain(e, &trial.du) * scale))))
         })
@@ -139,7 +149,11 @@ pub(super) fn integrate_stresses(problem: &Problem, state: &State, trial: &Trial
 }
 
 /// Put the integrated states in place and note where elements crossed their surfaces.
-pub(super) fn place_integrated(state: &mut State, integrated: &[(usize, Integrated)], start: &mut IncrementStart) {
+pub(super) fn place_integrated(
+    state: &mut State,
+    integrated: &[(usize, Integrated)],
+    start: &mut IncrementStart,
+) {
     for (e, out) in integrated {
         state.stress[*e] = out.end.stress;
         state.plastic_strain[*e] = out.end.plastic_strain;
@@ -157,7 +171,14 @@ pub(super) fn place_integrated(state: &mut State, integrated: &[(usize, Integrat
 /// their yield surfaces (the second-order drift of a fresh tangent over a bounded stress step:
 /// only waiting yields, `tangents`, do that), and every stage's end, then settle on the
 /// surfaces (`settle_on_surfaces`).
-pub(super) fn restore_equilibrium<W>(eng: &mut Engine, state: &mut State, sel: &Selection, start: Option<IncrementStart>, window: Option<W>, renewal: Renewal) -> Result<Restored<W>> {
+pub(super) fn restore_equilibrium<W>(
+    eng: &mut Engine,
+    state: &mut State,
+    sel: &Selection,
+    start: Option<IncrementStart>,
+    window: Option<W>,
+    renewal: Renewal,
+) -> Result<Restored<W>> {
     let Some(mut start) = start else { return Ok(Restored::Linear) };
     let _t = eng.clock.time(Phase::Corrections);
     eng.stiffness.update(&eng.problem, state, renewal, eng.clock)?;
@@ -179,12 +200,19 @@ pub(super) fn restore_equilibrium<W>(eng: &mut Engine, state: &mut State, sel: &
 /// are kept (in equilibrium to round-off), with their plastic strains and flags; an elastic
 /// element they leave beyond its surface has yielded. Err(window) for a window whose rounds
 /// stall (`stalls`).
-fn converge<W>(eng: &mut Engine, state: &mut State, phi: f64, start: &mut IncrementStart, window: Option<W>) -> Result<std::result::Result<Corrected, W>> {
+fn converge<W>(
+    eng: &mut Engine,
+    state: &mut State,
+    phi: f64,
+    start: &mut IncrementStart,
+    window: Option<W>,
+) -> Result<std::result::Result<Corrected, W>> {
     let mut corrected = correct_at_fixed_load(eng, state, phi, None)?;
     if let Some(window) = window {
         let mut previous = None;
         for round in 1..=MAX_ROUNDS {
-            let linear = (state.stress.clone(), state.plastic_strain.clone(), state.plastic.clone());
+            let linear =
+                (state.stress.clone(), state.plastic_strain.clone(), state.plastic.clone());
             reintegrate(&eng.problem, state, start);
             let (residual, internal) = full_residual(eng, state);
             if residual <= REINTEGRATION_TOL {
@@ -221,7 +249,10 @@ fn stalls(residual: f64, previous: Option<f64>, rounds_left: usize) -> bool {
 fn flag_beyond_surfaces(problem: &Problem, state: &mut State, start: &mut IncrementStart) {
     for e in 0..state.plastic.len() {
         let m = &problem.sections[e].material;
-        if m.is_plastic() && !state.plastic[e] && von_mises(&state.stress[e]) > m.current_yield(state.plastic_strain[e]) {
+        if m.is_plastic()
+            && !state.plastic[e]
+            && von_mises(&state.stress[e]) > m.current_yield(state.plastic_strain[e])
+        {
             state.plastic[e] = true;
             start.yielded_at.entry(e).or_insert(1.0);
         }
@@ -244,8 +275,16 @@ fn reintegrate(problem: &Problem, state: &mut State, start: &mut IncrementStart)
                 return None;
             }
             let sy = m.current_yield(start.plastic_strain[e]);
-            let stress = if start.plastic[e] { section.not_beyond_surface(&start.stress[e], sy) } else { start.stress[e] };
-            let point = PointState { stress, plastic_strain: start.plastic_strain[e], plastic: start.plastic[e] };
+            let stress = if start.plastic[e] {
+                section.not_beyond_surface(&start.stress[e], sy)
+            } else {
+                start.stress[e]
+            };
+            let point = PointState {
+                stress,
+                plastic_strain: start.plastic_strain[e],
+                plastic: start.plastic[e],
+            };
             Some((e, integrate(section, &point, &problem.elements.strain(e, &du))))
         })
         .collect();
@@ -265,7 +304,12 @@ fn reintegrate(problem: &Problem, state: &mut State, start: &mut IncrementStart)
 /// then retraces the stage's end (elastic shakedown stays elastic), and an unload starts on the
 /// surface. Repeated (at most `SETTLE_ROUNDS` times) until the drift is round-off at a stage's
 /// end.
-fn settle_on_surfaces(eng: &mut Engine, state: &mut State, phi: f64, stage_end: bool) -> Result<Corrected> {
+fn settle_on_surfaces(
+    eng: &mut Engine,
+    state: &mut State,
+    phi: f64,
+    stage_end: bool,
+) -> Result<Corrected> {
     let mut corrected = Corrected::default();
     for _ in 0..SETTLE_ROUNDS {
         for e in (0..state.plastic.len()).filter(|&e| state.plastic[e]) {
@@ -302,7 +346,8 @@ fn reverses(eng: &Engine, state: &State, c: &TrialIncrement, p: usize, phi: f64)
     }
     let e = state.slip_dir[p];
     let rate = events::slip_rate(&problem.pairs[p], &trial_of(c), p);
-    e[0] * rate[0] + e[1] * rate[1] > GAP_ROUND_OFF * eng.loads.largest_displacement(problem, &state.u, phi)
+    e[0] * rate[0] + e[1] * rate[1]
+        > GAP_ROUND_OFF * eng.loads.largest_displacement(problem, &state.u, phi)
 }
 
 /// Whether pair p's friction force stays within the contact checks' round-off of a force
@@ -329,7 +374,12 @@ fn within_round_off(eng: &Engine, state: &State, c: &TrialIncrement, p: usize) -
 /// reaching its cone: eqs. 48–53), switch that, and solve the rest again, so that the
 /// corrected state is admissible. Returns the correction's size and its events, in order.
 /// `internal`: the internal force of the state's stresses if the caller has it.
-pub(super) fn correct_at_fixed_load(eng: &mut Engine, state: &mut State, phi: f64, mut internal: Option<Vec<f64>>) -> Result<Corrected> {
+pub(super) fn correct_at_fixed_load(
+    eng: &mut Engine,
+    state: &mut State,
+    phi: f64,
+    mut internal: Option<Vec<f64>>,
+) -> Result<Corrected> {
     let mut corrected = Corrected::default();
     let unfrozen = vec![false; eng.problem.pairs.len()];
     for step in 0..MAX_CORRECTION_EVENTS {
@@ -338,14 +388,20 @@ pub(super) fn correct_at_fixed_load(eng: &mut Engine, state: &mut State, phi: f6
         if direct_new_slips(eng, state, &c).0 {
             c = trial::solve(eng, state, Solve::Balance(phi), None)?; // 3D: a slip begun at zero force took its direction
         }
-        let mut cands = events::candidates(&pair_state(&eng.problem, state, &unfrozen), &trial_of(&c), c.noise);
+        let mut cands =
+            events::candidates(&pair_state(&eng.problem, state, &unfrozen), &trial_of(&c), c.noise);
         // A slip that reverses inside the correction leaves its force on the cone: the state
         // stays admissible, and sticking it would only cycle with the next increment; but in 3D,
         // where a facet's turn makes corrections frequent, it would move the pair along its
         // friction force (work produced: 0.035 % of the dissipated on the coarse Mindlin sphere),
         // so there it sticks, unless its reversal is round-off of the state (`reverses`).
-        cands.retain(|x| x.kind != EventKind::SlipToStick || reverses(eng, state, &c, x.entity, phi));
-        cands.retain(|x| !matches!(x.kind, EventKind::StickToSlip | EventKind::SlipTurn) || !within_round_off(eng, state, &c, x.entity));
+        cands.retain(|x| {
+            x.kind != EventKind::SlipToStick || reverses(eng, state, &c, x.entity, phi)
+        });
+        cands.retain(|x| {
+            !matches!(x.kind, EventKind::StickToSlip | EventKind::SlipTurn)
+                || !within_round_off(eng, state, &c, x.entity)
+        });
         let first = cands.iter().map(|x| x.scale).fold(f64::INFINITY, f64::min);
         // The last allowed step takes the rest whatever it violates (the contact checks then
         // allow for the correction's size).

@@ -102,19 +102,25 @@ impl<'m> Problem<'m> {
         let (body_of_node, n_bodies) = mesh.bodies();
         let (modes, pinned) = free_modes(mesh, &body_of_node, n_bodies, &fixed, model.plane);
         let (contact_slot, slot_dofs) = contact_slots(&pairs, &fixed, &pinned);
-        let stress_state: &'static dyn StressState = if dim == 3 { &Solid } else { model.plane.stress_state() };
+        let stress_state: &'static dyn StressState =
+            if dim == 3 { &Solid } else { model.plane.stress_state() };
         let elements = Elements::of_mesh(mesh, model.plane, model.thickness);
         let map = on_elements!(&elements, els => DofMap::ordered_by(els, n_dofs, &fixed, &pinned, &slot_dofs, NodeOrder::of_mesh(mesh)))?;
-        let sections: Vec<Section> = model.element_material.iter().map(|&m| Section::new(model.materials[m], stress_state)).collect();
+        let sections: Vec<Section> = model
+            .element_material
+            .iter()
+            .map(|&m| Section::new(model.materials[m], stress_state))
+            .collect();
         let prescribed_elements = elements_touching(&elements, &path.prescribed_dofs());
         let full_modes: Vec<Vec<f64>> = modes.iter().map(|m| m.vector.clone()).collect();
         let reducible = !model.has_plastic_material();
-        let (space, pairs, contact_slot, mode_vectors) = if model.options.reduced_elastic && reducible {
-            let (reduced, view) = Reduced::new(pairs, &slot_dofs, &contact_slot, &full_modes);
-            (Space::Reduced(reduced), view.pairs, view.contact_slot, view.mode_vectors)
-        } else {
-            (Space::Full, pairs, contact_slot, full_modes)
-        };
+        let (space, pairs, contact_slot, mode_vectors) =
+            if model.options.reduced_elastic && reducible {
+                let (reduced, view) = Reduced::new(pairs, &slot_dofs, &contact_slot, &full_modes);
+                (Space::Reduced(reduced), view.pairs, view.contact_slot, view.mode_vectors)
+            } else {
+                (Space::Full, pairs, contact_slot, full_modes)
+            };
         let mut problem = Problem {
             model,
             node_elements: node_elements(&elements, mesh.n_nodes()),
@@ -124,10 +130,20 @@ impl<'m> Problem<'m> {
             prescribed_elements,
             pairs,
             space,
-            bodies: Bodies { first_element: first_elements(model, &body_of_node, n_bodies), of_node: body_of_node, modes, mode_vectors },
+            bodies: Bodies {
+                first_element: first_elements(model, &body_of_node, n_bodies),
+                of_node: body_of_node,
+                modes,
+                mode_vectors,
+            },
             dofs: Dofs { map, fixed, contact_slot, slot_dofs },
             path,
-            scales: Scales { load_norm: 1.0, force: 1.0, length: mesh.diameter(), force_noise: 0.0 },
+            scales: Scales {
+                load_norm: 1.0,
+                force: 1.0,
+                length: mesh.diameter(),
+                force_noise: 0.0,
+            },
         };
         let (load_norm, force) = problem.path_force_scales();
         let force = force.max(f64::MIN_POSITIVE);
@@ -159,7 +175,11 @@ impl<'m> Problem<'m> {
 
     /// Number of element arrays the loop carries (none in the reduced space).
     pub fn loop_elements(&self) -> usize {
-        if self.is_reduced() { 0 } else { self.elements.len() }
+        if self.is_reduced() {
+            0
+        } else {
+            self.elements.len()
+        }
     }
 
     /// The gap of pair p with its obstacle's motion: gap₀ + w_nᵀu + c_n.
@@ -184,7 +204,9 @@ impl<'m> Problem<'m> {
         let pair = &self.pairs[p];
         match state.status[p] {
             _ if self.dim == 2 => [pair.slip_ratio(state.status[p]), 0.0],
-            Status::Slip { direction } if direction != 0 && state.vertex[p] => state.slip_dir[p].map(|m| pair.mu / self.coulomb(p).turn.cos() * m),
+            Status::Slip { direction } if direction != 0 && state.vertex[p] => {
+                state.slip_dir[p].map(|m| pair.mu / self.coulomb(p).turn.cos() * m)
+            }
             Status::Slip { direction } if direction != 0 => state.slip_dir[p].map(|e| pair.mu * e),
             _ => [0.0; 2],
         }
@@ -195,7 +217,8 @@ impl<'m> Problem<'m> {
     /// a normal force to bound its cross force by (a pair slipping at zero force has none yet:
     /// `slip_turn`). None for every other pair.
     pub fn cross_direction(&self, state: &State, p: usize) -> Option<[f64; 2]> {
-        self.facet_cross(state, p).filter(|_| state.lambda_n[p] > self.scales.force_noise || state.facet_laid[p])
+        self.facet_cross(state, p)
+            .filter(|_| state.lambda_n[p] > self.scales.force_noise || state.facet_laid[p])
     }
 
     /// 3D: e⊥ of a slipping pair that could slip on a facet, whatever its normal force: both
@@ -203,7 +226,13 @@ impl<'m> Problem<'m> {
     pub fn facet_cross(&self, state: &State, p: usize) -> Option<[f64; 2]> {
         let (pair, e) = (&self.pairs[p], state.slip_dir[p]);
         let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
-        let directed = self.dim == 3 && slipping && !state.vertex[p] && pair.mu > 0.0 && !pair.held[0] && !pair.held[1] && e != [0.0; 2];
+        let directed = self.dim == 3
+            && slipping
+            && !state.vertex[p]
+            && pair.mu > 0.0
+            && !pair.held[0]
+            && !pair.held[1]
+            && e != [0.0; 2];
         directed.then_some([-e[1], e[0]])
     }
 
@@ -219,14 +248,23 @@ impl<'m> Problem<'m> {
     pub fn polygon_of(&self, state: &State, p: usize) -> Option<([f64; 2], bool)> {
         let pair = &self.pairs[p];
         let pressed = state.lambda_n[p] > self.scales.force_noise;
-        let laid = self.dim == 3 && pair.mu > 0.0 && !pair.held[0] && !pair.held[1] && state.slip_dir[p] != [0.0; 2] && pressed;
+        let laid = self.dim == 3
+            && pair.mu > 0.0
+            && !pair.held[0]
+            && !pair.held[1]
+            && state.slip_dir[p] != [0.0; 2]
+            && pressed;
         laid.then_some((state.slip_dir[p], state.vertex[p]))
     }
 
     /// How far pair p's friction force is beyond its cone (round, or its polygon): > 0 violates
     /// Coulomb's law.
     pub fn friction_excess(&self, state: &State, p: usize) -> f64 {
-        self.coulomb(p).excess(self.polygon_of(state, p), state.lambda_n[p], [state.lambda_t[p], state.lambda_t2[p]])
+        self.coulomb(p).excess(
+            self.polygon_of(state, p),
+            state.lambda_n[p],
+            [state.lambda_t[p], state.lambda_t2[p]],
+        )
     }
 
     /// The friction force (along t1, t2) of a slipping pair: −d μ λ_n in the plane (eq. 41), on
@@ -235,9 +273,18 @@ impl<'m> Problem<'m> {
     pub fn slip_force(&self, state: &State, p: usize, lambda_t: [f64; 2]) -> [f64; 2] {
         let law = self.coulomb(p);
         match state.status[p] {
-            Status::Slip { direction } if self.dim == 2 => [-(direction as f64) * law.capacity(state.lambda_n[p]), 0.0],
-            Status::Slip { direction } if direction != 0 && state.vertex[p] => law.vertex_force(state.lambda_n[p], state.slip_dir[p]),
-            Status::Slip { direction } if direction != 0 => law.on_facet(state.lambda_n[p], state.slip_dir[p], lambda_t, self.cross_direction(state, p).is_some()),
+            Status::Slip { direction } if self.dim == 2 => {
+                [-(direction as f64) * law.capacity(state.lambda_n[p]), 0.0]
+            }
+            Status::Slip { direction } if direction != 0 && state.vertex[p] => {
+                law.vertex_force(state.lambda_n[p], state.slip_dir[p])
+            }
+            Status::Slip { direction } if direction != 0 => law.on_facet(
+                state.lambda_n[p],
+                state.slip_dir[p],
+                lambda_t,
+                self.cross_direction(state, p).is_some(),
+            ),
             _ => [0.0; 2],
         }
     }
@@ -245,7 +292,15 @@ impl<'m> Problem<'m> {
     /// Nᵀ W λ: the contact forces' share of free rigid mode k (over the loop's DOFs).
     pub fn mode_contact_force(&self, state: &State, k: usize) -> f64 {
         let mode = &self.bodies.mode_vectors[k];
-        self.pairs.iter().enumerate().map(|(p, pair)| state.lambda_n[p] * pair.w_n.dot(mode) + state.lambda_t[p] * pair.w_t.dot(mode) + state.lambda_t2[p] * pair.w_t2.dot(mode)).sum()
+        self.pairs
+            .iter()
+            .enumerate()
+            .map(|(p, pair)| {
+                state.lambda_n[p] * pair.w_n.dot(mode)
+                    + state.lambda_t[p] * pair.w_t.dot(mode)
+                    + state.lambda_t2[p] * pair.w_t2.dot(mode)
+            })
+            .sum()
     }
 
     pub fn body_of_pair(&self, p: usize) -> usize {
@@ -285,7 +340,11 @@ impl<'m> Problem<'m> {
 
     /// −K_fp Δū over all DOFs (zero at held ones): the force on the free DOFs of the elements
     /// that touch prescribed increments Δū, with the `tangents` K holds. None when Δū = 0.
-    pub fn prescribed_force(&self, tangents: &[Tangent], increments: &[(usize, f64)]) -> Option<Vec<f64>> {
+    pub fn prescribed_force(
+        &self,
+        tangents: &[Tangent],
+        increments: &[(usize, f64)],
+    ) -> Option<Vec<f64>> {
         if increments.iter().all(|&(_, v)| v == 0.0) {
             return None;
         }
@@ -300,8 +359,17 @@ impl<'m> Problem<'m> {
     }
 
     /// A stage's effective load over the free DOFs, ΔP − K_fp Δū, and its part −K_fp Δū.
-    pub fn effective_load(&self, stage: &StageLoad, tangents: &[Tangent]) -> (Vec<f64>, Option<Vec<f64>>) {
-        let mut load: Vec<f64> = stage.force_change().iter().enumerate().map(|(d, v)| if self.dofs.fixed[d] { 0.0 } else { *v }).collect();
+    pub fn effective_load(
+        &self,
+        stage: &StageLoad,
+        tangents: &[Tangent],
+    ) -> (Vec<f64>, Option<Vec<f64>>) {
+        let mut load: Vec<f64> = stage
+            .force_change()
+            .iter()
+            .enumerate()
+            .map(|(d, v)| if self.dofs.fixed[d] { 0.0 } else { *v })
+            .collect();
         let held = self.prescribed_force(tangents, &stage.prescribed_changes());
         if let Some(f) = &held {
             load.iter_mut().zip(f).for_each(|(l, x)| *l += x);
@@ -319,7 +387,8 @@ impl<'m> Problem<'m> {
     /// force it takes to press its contact surface by its largest |Δc| (`motion_forces`).
     /// (norm, sum)
     fn path_force_scales(&self) -> (f64, f64) {
-        let elastic: Vec<Tangent> = self.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
+        let elastic: Vec<Tangent> =
+            self.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
         let young = self.sections.iter().map(|s| s.material.young).fold(0.0f64, f64::max);
         let surfaces = if self.dim == 3 { self.contact_surface_lengths() } else { vec![] };
         let (mut norm, mut sum) = (0.0f64, 0.0f64);
@@ -353,7 +422,10 @@ impl<'m> Problem<'m> {
     fn motion_forces(&self, stage: &StageLoad, young: f64, surfaces: &[f64]) -> Vec<f64> {
         if self.dim == 2 {
             let pairs = 0..self.global_pairs().len();
-            return pairs.map(|p| (stage.shift(p, 1.0), stage.shift(p, 0.0))).map(|(c, c0)| young * self.model.depth() * (c[0] - c0[0]).hypot(c[1] - c0[1])).collect();
+            return pairs
+                .map(|p| (stage.shift(p, 1.0), stage.shift(p, 0.0)))
+                .map(|(c, c0)| young * self.model.depth() * (c[0] - c0[0]).hypot(c[1] - c0[1]))
+                .collect();
         }
         let mut largest = vec![0.0f64; surfaces.len()];
         for (p, input) in self.model.pairs.iter().enumerate() {
@@ -370,15 +442,27 @@ impl<'m> Problem<'m> {
     fn contact_surface_lengths(&self) -> Vec<f64> {
         let n_contacts = self.model.pairs.iter().map(|p| p.contact + 1).max().unwrap_or(0);
         let mesh = &self.model.mesh;
-        let (mut low, mut high, mut edge) = (vec![[f64::MAX; 3]; n_contacts], vec![[f64::MIN; 3]; n_contacts], vec![0.0f64; n_contacts]);
+        let (mut low, mut high, mut edge) = (
+            vec![[f64::MAX; 3]; n_contacts],
+            vec![[f64::MIN; 3]; n_contacts],
+            vec![0.0f64; n_contacts],
+        );
         for p in &self.model.pairs {
             let (a, c) = (mesh.point(p.node_a), p.contact);
-            (0..3).for_each(|k| (low[c][k], high[c][k]) = (low[c][k].min(a[k]), high[c][k].max(a[k])));
+            (0..3).for_each(|k| {
+                (low[c][k], high[c][k]) = (low[c][k].min(a[k]), high[c][k].max(a[k]))
+            });
             for &e in &self.node_elements[p.node_a] {
-                edge[c] = mesh.element_nodes(e).iter().map(|&b| distance(a, mesh.point(b))).fold(edge[c], f64::max);
+                edge[c] = mesh
+                    .element_nodes(e)
+                    .iter()
+                    .map(|&b| distance(a, mesh.point(b)))
+                    .fold(edge[c], f64::max);
             }
         }
-        (0..n_contacts).map(|c| if edge[c] > 0.0 { distance(low[c], high[c]).max(edge[c]) } else { 0.0 }).collect()
+        (0..n_contacts)
+            .map(|c| if edge[c] > 0.0 { distance(low[c], high[c]).max(edge[c]) } else { 0.0 })
+            .collect()
     }
 }
 
@@ -394,7 +478,12 @@ fn contact_pairs(model: &Model, fixed: &[bool]) -> Result<Vec<Pair>> {
         let nn = (p.normal[0].powi(2) + p.normal[1].powi(2) + p.normal[2].powi(2)).sqrt();
         let normal = p.normal.map(|v| v / nn);
         let frame = Frame::of_pair(dim, normal, p.tangents);
-        let pair = Pair::build(PairGeometry { node_a: p.node_a, node_b: p.node_b, weights: &p.weights, dim, frame }, p.gap.max(0.0), p.mu, fixed);
+        let pair = Pair::build(
+            PairGeometry { node_a: p.node_a, node_b: p.node_b, weights: &p.weights, dim, frame },
+            p.gap.max(0.0),
+            p.mu,
+            fixed,
+        );
         if pair.w_n.norm() < HELD_BY_SUPPORTS {
             bail!(Input, "{}: its normal direction is held by supports, so it can carry no contact force; remove the pair or the support", model.pair_name(k));
         }
@@ -467,11 +556,26 @@ mod tests {
         let node = |i: usize, j: usize, k: usize| i + (n[0] + 1) * (j + (n[1] + 1) * k);
         let grid = |k: usize| (0..=n[1]).flat_map(move |j| (0..=n[0]).map(move |i| node(i, j, k)));
         let fixed = grid(n[2]).flat_map(|v| (0..3).map(move |c| 3 * v + c)).collect();
-        let pairs = grid(0).map(|a| PairInput { node_a: a, node_b: None, normal: [0.0, 0.0, 1.0], tangents: None, gap: 0.0, mu: 0.0, contact: 0, weights: vec![] }).collect();
+        let pairs = grid(0)
+            .map(|a| PairInput {
+                node_a: a,
+                node_b: None,
+                normal: [0.0, 0.0, 1.0],
+                tangents: None,
+                gap: 0.0,
+                mu: 0.0,
+                contact: 0,
+                weights: vec![],
+            })
+            .collect();
         let (n_dofs, n_tets) = (3 * mesh.points.len(), mesh.tetrahedra.len());
         let mut m = model(mesh, fixed, vec![0.0; n_dofs], pairs, Material::elastic(E, 0.0));
         m.element_material = vec![0; n_tets];
-        m.patterns = vec![LoadPattern { name: "press".into(), motion: vec![(0, [0.0, 0.0, delta])], ..Default::default() }];
+        m.patterns = vec![LoadPattern {
+            name: "press".into(),
+            motion: vec![(0, [0.0, 0.0, delta])],
+            ..Default::default()
+        }];
         m
     }
 
@@ -489,7 +593,11 @@ mod tests {
             let problem = Problem::new(&m).expect("a problem");
             let expected = E * delta * 8f64.sqrt();
             // a few operations on O(1) numbers: round-off of 1e-15 each
-            assert!((problem.scales.force - expected).abs() <= 1e-12 * expected, "{cells} cells: {} vs {expected}", problem.scales.force);
+            assert!(
+                (problem.scales.force - expected).abs() <= 1e-12 * expected,
+                "{cells} cells: {} vs {expected}",
+                problem.scales.force
+            );
             assert!((problem.scales.load_norm - expected).abs() <= 1e-12 * expected);
         }
     }

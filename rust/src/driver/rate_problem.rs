@@ -150,20 +150,13 @@ struct Affine {
 
 impl Affine {
     fn constant(c: f64) -> Self {
-        Affine {
-            coef: vec![],
-            constant: c,
-        }
+        Affine { coef: vec![], constant: c }
     }
     fn var(i: usize) -> Self {
-        Affine {
-            coef: vec![(i, 1.0)],
-            constant: 0.0,
-        }
+        Affine { coef: vec![(i, 1.0)], constant: 0.0 }
     }
     fn scaled_add(mut self, s: f64, other: &Affine) -> Self {
-        self.coef
-            .extend(other.coef.iter().map(|&(i, c)| (i, s * c)));
+        self.coef.extend(other.coef.iter().map(|&(i, c)| (i, s * c)));
         self.constant += s * other.constant;
         self
     }
@@ -232,14 +225,25 @@ impl Unknowns {
 /// The statuses that satisfy every contact condition at the current load, or None when Lemke
 /// finds no solution (the caller falls back to freezing). `what`: the remaining load, or a
 /// contact sub-step's (`trial::Solve`).
-pub(super) fn solve_rate_problem(eng: &mut Engine, state: &State, what: Solve) -> Option<RateSolution> {
+pub(super) fn solve_rate_problem(
+    eng: &mut Engine,
+    state: &State,
+    what: Solve,
+) -> Option<RateSolution> {
     let oob = trial::out_of_balance(eng, state, what, None);
     // Facets laid about stray slips (`stray_slips`), pass after pass, until none is left.
     let mut laid = vec![vec![]; eng.problem.pairs.len()];
     let (mut presumed, mut compliance) = (None, std::cell::OnceCell::new());
     for pass in 1.. {
         crate::interrupt::checkpoint(crate::interrupt::Checkpoint::RateProblem).ok()?;
-        let mut rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads, laid, presumed: vec![], compliance };
+        let mut rp = RateProblem {
+            p: &eng.problem,
+            stiffness: &eng.stiffness,
+            loads: &eng.loads,
+            laid,
+            presumed: vec![],
+            compliance,
+        };
         rp.presumed = presumed.take().unwrap_or_else(|| rp.zero_force_pairs(state));
         let solved = rp.solve(state, &oob)?;
         let sol = rp.statuses(state, &solved);
@@ -272,7 +276,11 @@ fn facets_about(e: [f64; 2], turn: f64) -> [[f64; 2]; 3] {
 /// cross row from zero normal force on (`State::facet_laid`), as on the rate problem's polygon
 /// side; its force goes onto it (a pair on its polygon already is there: no jump). Returns the
 /// largest change of λ_t it made (a force jump the caller rebalances).
-pub(super) fn hold_slip_directions(problem: &Problem, state: &mut State, sol: &RateSolution) -> f64 {
+pub(super) fn hold_slip_directions(
+    problem: &Problem,
+    state: &mut State,
+    sol: &RateSolution,
+) -> f64 {
     let mut jump: f64 = 0.0;
     for (p, placed) in sol.slip_dir.iter().enumerate() {
         if let (Some((e, vertex)), Status::Slip { .. }) = (placed, state.status[p]) {
@@ -339,45 +347,82 @@ impl RateProblem<'_> {
     /// 3D: the pairs of the problem at zero force (the working set's first guess); none in 2D.
     fn zero_force_pairs(&self, state: &State) -> Vec<bool> {
         let tol = CRITICAL_FORCE * self.p.scales.force;
-        (0..self.p.pairs.len()).map(|p| self.p.dim == 3 && self.in_rate_problem(state, p) && state.lambda_n[p].abs() <= tol && state.lambda_t[p].hypot(state.lambda_t2[p]) <= tol).collect()
+        (0..self.p.pairs.len())
+            .map(|p| {
+                self.p.dim == 3
+                    && self.in_rate_problem(state, p)
+                    && state.lambda_n[p].abs() <= tol
+                    && state.lambda_t[p].hypot(state.lambda_t2[p]) <= tol
+            })
+            .collect()
     }
 
     /// The presumed pairs whose solved forces are not a stuck pair's: Λn < 0, or beyond the
     /// round cone |Λt| ≤ μ Λn (to the force noise).
     fn wrongly_presumed(&self, solved: &Solved) -> Vec<usize> {
         let tol = CRITICAL_FORCE * self.p.scales.force;
-        solved.q.iter().enumerate().filter(|&(_, &p)| self.presumed[p]).filter(|&(i, &p)| {
-            let f = &solved.forces[i];
-            let ln = f.normal.eval(&solved.y);
-            let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
-            ln < -tol || norm(&lt) > self.p.pairs[p].mu * ln + tol
-        }).map(|(_, &p)| p).collect()
+        solved
+            .q
+            .iter()
+            .enumerate()
+            .filter(|&(_, &p)| self.presumed[p])
+            .filter(|&(i, &p)| {
+                let f = &solved.forces[i];
+                let ln = f.normal.eval(&solved.y);
+                let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
+                ln < -tol || norm(&lt) > self.p.pairs[p].mu * ln + tol
+            })
+            .map(|(_, &p)| p)
+            .collect()
     }
 
     fn solve_presuming(&self, state: &State, oob: &trial::OutOfBalance) -> Option<Solved> {
-        let q: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| self.in_rate_problem(state, p)).collect();
+        let q: Vec<usize> =
+            (0..self.p.pairs.len()).filter(|&p| self.in_rate_problem(state, p)).collect();
         let roles: Vec<Role> = q.iter().map(|&p| self.role(state, p)).collect();
         let mut prob = Unknowns::default();
         // Λn, Λt of every pair in q, and α, as affine forms of the unknowns.
-        let forces: Vec<PairForces> = q.iter().zip(&roles).map(|(&p, role)| self.force_unknowns(&mut prob, p, role)).collect();
-        let alpha: Vec<usize> = (0..self.p.bodies.modes.len()).map(|_| prob.length_unknown(true)).collect();
+        let forces: Vec<PairForces> = q
+            .iter()
+            .zip(&roles)
+            .map(|(&p, role)| self.force_unknowns(&mut prob, p, role))
+            .collect();
+        let alpha: Vec<usize> =
+            (0..self.p.bodies.modes.len()).map(|_| prob.length_unknown(true)).collect();
         let (kin_n, kin_t) = self.kinematics(state, &q, &forces, &alpha, &oob.z0);
         for (i, (&p, role)) in q.iter().zip(&roles).enumerate() {
-            let g = kin_n[i].clone().scaled_add(1.0, &Affine::constant(self.p.gap(state, p) + oob.dshift[p][0]));
-            let v: Vec<Affine> = self.tangents(p).iter().zip(&kin_t[i]).map(|(&k, kin)| {
-                let h_t = if state.status[p] == Status::Stick {
-                    self.stuck_rtd(state, p, k) - self.rtd(state, p, k) - oob.dshift[p][k + 1]
-                } else {
-                    -oob.dshift[p][k + 1]
-                };
-                kin.clone().scaled_add(-1.0, &Affine::constant(h_t))
-            }).collect();
+            let g = kin_n[i]
+                .clone()
+                .scaled_add(1.0, &Affine::constant(self.p.gap(state, p) + oob.dshift[p][0]));
+            let v: Vec<Affine> = self
+                .tangents(p)
+                .iter()
+                .zip(&kin_t[i])
+                .map(|(&k, kin)| {
+                    let h_t = if state.status[p] == Status::Stick {
+                        self.stuck_rtd(state, p, k) - self.rtd(state, p, k) - oob.dshift[p][k + 1]
+                    } else {
+                        -oob.dshift[p][k + 1]
+                    };
+                    kin.clone().scaled_add(-1.0, &Affine::constant(h_t))
+                })
+                .collect();
             self.pair_rows(&mut prob, p, role, &forces[i], g, v);
         }
         self.equilibrium_rows(&mut prob, state, &q, &forces, &alpha, oob);
         let y = solve(&prob)?;
-        let scale = kin_n.iter().chain(kin_t.iter().flatten()).map(|a| a.eval(&y).abs()).fold(self.loads.largest_displacement(self.p, &state.u, state.load_fraction), f64::max);
-        let touching = q.iter().zip(&kin_n).map(|(&p, g)| self.p.gap(state, p) + oob.dshift[p][0] + g.eval(&y) <= CRITICAL_GAP * scale).collect();
+        let scale = kin_n
+            .iter()
+            .chain(kin_t.iter().flatten())
+            .map(|a| a.eval(&y).abs())
+            .fold(self.loads.largest_displacement(self.p, &state.u, state.load_fraction), f64::max);
+        let touching = q
+            .iter()
+            .zip(&kin_n)
+            .map(|(&p, g)| {
+                self.p.gap(state, p) + oob.dshift[p][0] + g.eval(&y) <= CRITICAL_GAP * scale
+            })
+            .collect();
         Some(Solved { q, roles, forces, touching, y, scale })
     }
 
@@ -390,7 +435,10 @@ impl RateProblem<'_> {
         let tol = CRITICAL_FORCE * self.p.scales.force;
         let mut stray = vec![];
         for (i, (&p, role)) in solved.q.iter().zip(&solved.roles).enumerate() {
-            let (Some((e, _)), Role::Friction { closed: false, .. }) = (sol.slip_dir[p], role) else { continue };
+            let (Some((e, _)), Role::Friction { closed: false, .. }) = (sol.slip_dir[p], role)
+            else {
+                continue;
+            };
             if self.tangents(p).len() == 1 {
                 continue; // one free tangent: its two sides are exact
             }
@@ -412,7 +460,11 @@ impl RateProblem<'_> {
     /// cycle into the last resort (the frictional Hertz sphere: a pair stuck at 1.011 μΛn).
     /// Facets laid about d cut that corner, so the next pass sticks it inside the round cone
     /// or slips it on the facet at d.
-    fn stuck_beyond_round_cone(&self, solved: &Solved, sol: &RateSolution) -> Vec<(usize, [f64; 2])> {
+    fn stuck_beyond_round_cone(
+        &self,
+        solved: &Solved,
+        sol: &RateSolution,
+    ) -> Vec<(usize, [f64; 2])> {
         let tol = CRITICAL_FORCE * self.p.scales.force;
         let mut beyond = vec![];
         for (i, (&p, role)) in solved.q.iter().zip(&solved.roles).enumerate() {
@@ -423,7 +475,8 @@ impl RateProblem<'_> {
             let f = &solved.forces[i];
             let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
             let size = norm(&lt);
-            if size > self.p.pairs[p].mu * f.normal.eval(&solved.y) * (1.0 + FACET_AGREEMENT) + tol {
+            if size > self.p.pairs[p].mu * f.normal.eval(&solved.y) * (1.0 + FACET_AGREEMENT) + tol
+            {
                 beyond.push((p, [lt[0] / size, lt[1] / size]));
             }
         }
@@ -449,7 +502,11 @@ impl RateProblem<'_> {
         [state.lambda_t[p], state.lambda_t2[p]][k]
     }
     fn rtd(&self, state: &State, p: usize, k: usize) -> f64 {
-        if k == 0 { self.p.rtd(state, p) } else { self.p.rtd2(state, p) }
+        if k == 0 {
+            self.p.rtd(state, p)
+        } else {
+            self.p.rtd2(state, p)
+        }
     }
     fn stuck_rtd(&self, state: &State, p: usize, k: usize) -> f64 {
         [state.rtd_stick[p], state.rtd_stick2[p]][k]
@@ -457,16 +514,28 @@ impl RateProblem<'_> {
 
     /// The row of each free rigid mode k: its body's equilibrium −e_k = 0 with
     /// e_k = Σ (Nᵀw) ΔΛ + Nᵀ r over the pairs `q` (−Nᵀ r = mode_rhs), paired with α_k.
-    fn equilibrium_rows(&self, prob: &mut Unknowns, state: &State, q: &[usize], forces: &[PairForces], alpha: &[usize], oob: &trial::OutOfBalance) {
+    fn equilibrium_rows(
+        &self,
+        prob: &mut Unknowns,
+        state: &State,
+        q: &[usize],
+        forces: &[PairForces],
+        alpha: &[usize],
+        oob: &trial::OutOfBalance,
+    ) {
         for (k, &a) in alpha.iter().enumerate() {
             let mode = &self.p.bodies.mode_vectors[k];
             let mut e = Affine::constant(-oob.mode_rhs[k]);
             for (i, &p) in q.iter().enumerate() {
                 let wn = self.p.pairs[p].w_n.dot(mode);
-                e = e.scaled_add(wn, &forces[i].normal).scaled_add(-wn, &Affine::constant(state.lambda_n[p]));
+                e = e
+                    .scaled_add(wn, &forces[i].normal)
+                    .scaled_add(-wn, &Affine::constant(state.lambda_n[p]));
                 for (&t, force) in self.tangents(p).iter().zip(&forces[i].tangential) {
                     let wt = self.tangent_vec(p, t).dot(mode);
-                    e = e.scaled_add(wt, force).scaled_add(-wt, &Affine::constant(self.lambda_t(state, p, t)));
+                    e = e
+                        .scaled_add(wt, force)
+                        .scaled_add(-wt, &Affine::constant(self.lambda_t(state, p, t)));
                 }
             }
             prob.rows[a] = Some(Affine::constant(0.0).scaled_add(-1.0, &e));
@@ -477,8 +546,7 @@ impl RateProblem<'_> {
     fn in_rate_problem(&self, state: &State, p: usize) -> bool {
         let umax = self.loads.largest_displacement(self.p, &state.u, state.load_fraction);
         state.status[p].is_closed()
-            || self.p.gap(state, p)
-                <= CRITICAL_GAP * umax + GAP_ROUND_OFF * self.p.scales.length
+            || self.p.gap(state, p) <= CRITICAL_GAP * umax + GAP_ROUND_OFF * self.p.scales.length
     }
 
     fn role(&self, state: &State, p: usize) -> Role {
@@ -508,7 +576,12 @@ impl RateProblem<'_> {
                     Facet { dir, off: (slack > tol).then_some(slack) }
                 };
                 let space = lt.len() == 2;
-                let facets = self.facet_directions(state, p, &lt, polygon).into_iter().map(facet).filter(|f| !space || f.off.is_none()).collect();
+                let facets = self
+                    .facet_directions(state, p, &lt, polygon)
+                    .into_iter()
+                    .map(facet)
+                    .filter(|f| !space || f.off.is_none())
+                    .collect();
                 Role::Friction { closed, facets, polygon: polygon.is_some() }
             }
         }
@@ -520,7 +593,13 @@ impl RateProblem<'_> {
     /// polygon circumscribed about it, the first along its friction force (or held slip
     /// direction; t1 at zero force), so that a pair on the cone is on it, and the facets laid
     /// about its stray slips.
-    fn facet_directions(&self, state: &State, p: usize, lt: &[f64], polygon: Option<([f64; 2], bool)>) -> Vec<Vec<f64>> {
+    fn facet_directions(
+        &self,
+        state: &State,
+        p: usize,
+        lt: &[f64],
+        polygon: Option<([f64; 2], bool)>,
+    ) -> Vec<Vec<f64>> {
         if lt.len() == 1 {
             return vec![vec![-1.0], vec![1.0]];
         }
@@ -548,13 +627,16 @@ impl RateProblem<'_> {
     /// each tangential coordinate, then one slip rate per facet.
     fn force_unknowns(&self, prob: &mut Unknowns, p: usize, role: &Role) -> PairForces {
         let n_t = self.tangents(p).len();
-        let n = prob.unknown(!matches!(role, Role::Critical | Role::Friction { closed: false, .. }));
+        let n =
+            prob.unknown(!matches!(role, Role::Critical | Role::Friction { closed: false, .. }));
         let t: Vec<usize> = match role {
             Role::Normal | Role::Critical => vec![],
             Role::Stick | Role::Friction { .. } => (0..n_t).map(|_| prob.unknown(true)).collect(),
         };
         let slips = match role {
-            Role::Friction { facets, .. } => facets.iter().map(|_| prob.length_unknown(false)).collect(),
+            Role::Friction { facets, .. } => {
+                facets.iter().map(|_| prob.length_unknown(false)).collect()
+            }
             _ => vec![],
         };
         let tangential = match role {
@@ -566,16 +648,41 @@ impl RateProblem<'_> {
 
     /// w_nᵀΔu and w_tᵀΔu (per tangential coordinate) of every pair in q as affine forms: the
     /// flexibility (Cᵀ K# E) applied to ΔΛ = Λ − λ, plus K# r and the rigid modes.
-    fn kinematics(&self, state: &State, q: &[usize], forces: &[PairForces], alpha: &[usize], z0: &[f64]) -> (Vec<Affine>, Vec<Vec<Affine>>) {
-        let vecs: Vec<_> = q.iter().flat_map(|&p| std::iter::once(&self.p.pairs[p].w_n).chain(self.tangents(p).into_iter().map(move |k| self.tangent_vec(p, k)))).collect();
+    fn kinematics(
+        &self,
+        state: &State,
+        q: &[usize],
+        forces: &[PairForces],
+        alpha: &[usize],
+        z0: &[f64],
+    ) -> (Vec<Affine>, Vec<Vec<Affine>>) {
+        let vecs: Vec<_> = q
+            .iter()
+            .flat_map(|&p| {
+                std::iter::once(&self.p.pairs[p].w_n)
+                    .chain(self.tangents(p).into_iter().map(move |k| self.tangent_vec(p, k)))
+            })
+            .collect();
         let change = |f: &Affine, now: f64| f.clone().scaled_add(-1.0, &Affine::constant(now));
         let deltas: Vec<Affine> = q
             .iter()
             .zip(forces)
-            .flat_map(|(&p, f)| std::iter::once(change(&f.normal, state.lambda_n[p])).chain(self.tangents(p).into_iter().zip(&f.tangential).map(|(k, t)| change(t, self.lambda_t(state, p, k)))).collect::<Vec<_>>())
+            .flat_map(|(&p, f)| {
+                std::iter::once(change(&f.normal, state.lambda_n[p]))
+                    .chain(
+                        self.tangents(p)
+                            .into_iter()
+                            .zip(&f.tangential)
+                            .map(|(k, t)| change(t, self.lambda_t(state, p, k))),
+                    )
+                    .collect::<Vec<_>>()
+            })
             .collect();
         let compliance = self.compliance.get_or_init(|| {
-            let flex: Vec<Vec<f64>> = vecs.iter().map(|w| self.stiffness.flexibility_times(&self.p.dofs.contact_slot, &w.entries)).collect();
+            let flex: Vec<Vec<f64>> = vecs
+                .iter()
+                .map(|w| self.stiffness.flexibility_times(&self.p.dofs.contact_slot, &w.entries))
+                .collect();
             DMatrix::from_fn(vecs.len(), vecs.len(), |a, b| self.p.dot_slots(vecs[a], &flex[b]))
         });
         let mut forms = vecs.iter().enumerate().map(|(i, a)| {
@@ -588,14 +695,29 @@ impl RateProblem<'_> {
             }
             f
         });
-        q.iter().map(|&p| (forms.next().expect("a normal form"), forms.by_ref().take(self.tangents(p).len()).collect())).unzip()
+        q.iter()
+            .map(|&p| {
+                (
+                    forms.next().expect("a normal form"),
+                    forms.by_ref().take(self.tangents(p).len()).collect(),
+                )
+            })
+            .unzip()
     }
 
     /// The complementary rows of one pair's unknowns (see the module documentation): g' for Λn;
     /// for Λt the slip rate v = 0 (stick) or v + Σ v_j d_j = 0 (slip against the facets'
     /// normals); for each facet's slip rate v_j its facet μΛn − d_jᵀΛt, or its present slack
     /// when the pair is not on it.
-    fn pair_rows(&self, prob: &mut Unknowns, p: usize, role: &Role, forces: &PairForces, g: Affine, v: Vec<Affine>) {
+    fn pair_rows(
+        &self,
+        prob: &mut Unknowns,
+        p: usize,
+        role: &Role,
+        forces: &PairForces,
+        g: Affine,
+        v: Vec<Affine>,
+    ) {
         prob.rows[forces.n] = Some(g);
         match role {
             Role::Normal | Role::Critical => {}
@@ -603,7 +725,12 @@ impl RateProblem<'_> {
             Role::Friction { facets, .. } => {
                 let mu = self.p.pairs[p].mu;
                 for (k, (&t, v)) in forces.t.iter().zip(v).enumerate() {
-                    prob.rows[t] = Some(facets.iter().zip(&forces.slips).fold(v, |row, (f, &s)| row.scaled_add(f.dir[k], &Affine::var(s))));
+                    prob.rows[t] = Some(
+                        facets
+                            .iter()
+                            .zip(&forces.slips)
+                            .fold(v, |row, (f, &s)| row.scaled_add(f.dir[k], &Affine::var(s))),
+                    );
                 }
                 // A facet the pair is not on cannot be reached at the increment's start: its
                 // slip rate is 0 (its row the present slack), whatever the forces would be
@@ -611,7 +738,12 @@ impl RateProblem<'_> {
                 for (f, &s) in facets.iter().zip(&forces.slips) {
                     prob.rows[s] = Some(match f.off {
                         Some(slack) => Affine::constant(slack),
-                        None => Affine { coef: std::iter::once((forces.n, mu)).chain(forces.t.iter().zip(&f.dir).map(|(&t, &d)| (t, -d))).collect(), constant: 0.0 },
+                        None => Affine {
+                            coef: std::iter::once((forces.n, mu))
+                                .chain(forces.t.iter().zip(&f.dir).map(|(&t, &d)| (t, -d)))
+                                .collect(),
+                            constant: 0.0,
+                        },
                     });
                 }
             }
@@ -642,7 +774,8 @@ impl RateProblem<'_> {
                     } else if self.p.dim == 2 {
                         Status::Slip { direction: if rates[0] >= rates[1] { 1 } else { -1 } }
                     } else {
-                        slip_dir[p] = Some(self.placement(p, facets, &rates, SLIP_RATE * scale, *polygon));
+                        slip_dir[p] =
+                            Some(self.placement(p, facets, &rates, SLIP_RATE * scale, *polygon));
                         Status::Slip { direction: 1 }
                     }
                 }
@@ -655,12 +788,26 @@ impl RateProblem<'_> {
     /// the one side with a slip rate above `noise`, or at the vertex of two adjacent sides of a
     /// polygon (its own, `polygon`, or laid about a stray slip: 2θ apart); else (a corner of
     /// the rate problem's wider polygon) on the facet at its slip direction (`held_direction`).
-    fn placement(&self, p: usize, facets: &[Facet], rates: &[f64], noise: f64, polygon: bool) -> ([f64; 2], bool) {
+    fn placement(
+        &self,
+        p: usize,
+        facets: &[Facet],
+        rates: &[f64],
+        noise: f64,
+        polygon: bool,
+    ) -> ([f64; 2], bool) {
         if self.tangents(p).len() == 1 {
             return (self.held_direction(p, facets, rates), false); // along its one free tangent
         }
-        let slipping: Vec<[f64; 2]> = facets.iter().zip(rates).filter(|(_, &r)| r > noise).map(|(f, _)| [f.dir[0], f.dir[1]]).collect();
-        let adjacent = |a: [f64; 2], b: [f64; 2]| (a[0] * b[0] + a[1] * b[1] - (2.0 * self.p.coulomb(p).turn).cos()).abs() < SAME_SIDE;
+        let slipping: Vec<[f64; 2]> = facets
+            .iter()
+            .zip(rates)
+            .filter(|(_, &r)| r > noise)
+            .map(|(f, _)| [f.dir[0], f.dir[1]])
+            .collect();
+        let adjacent = |a: [f64; 2], b: [f64; 2]| {
+            (a[0] * b[0] + a[1] * b[1] - (2.0 * self.p.coulomb(p).turn).cos()).abs() < SAME_SIDE
+        };
         match slipping[..] {
             [a] => (a, false),
             [a, b] if polygon || adjacent(a, b) => {
@@ -701,24 +848,35 @@ fn norm(v: &[f64]) -> f64 {
 fn solve(prob: &Unknowns) -> Option<Vec<f64>> {
     let (mut m, mut q, split, col) = split_saddles(prob)?;
     let d = unit_free(prob, &split, &col, &mut m, &mut q);
-    let free: Vec<usize> = (0..prob.free.len())
-        .filter(|&i| prob.free[i] && !split[i])
-        .map(|i| col[i])
-        .collect();
+    let free: Vec<usize> =
+        (0..prob.free.len()).filter(|&i| prob.free[i] && !split[i]).map(|i| col[i]).collect();
     let bounded: Vec<usize> = (0..q.len()).filter(|r| !free.contains(r)).collect();
     let pick = |rows: &[usize], cols: &[usize]| {
         DMatrix::from_fn(rows.len(), cols.len(), |i, j| m[(rows[i], cols[j])])
     };
     let m_cf = pick(&bounded, &free);
     // [M_ff⁻¹ M_fc | M_ff⁻¹ q_f] in one solve
-    let rhs = DMatrix::from_fn(free.len(), bounded.len() + 1, |i, j| if j < bounded.len() { m[(free[i], bounded[j])] } else { q[free[i]] });
+    let rhs = DMatrix::from_fn(free.len(), bounded.len() + 1, |i, j| {
+        if j < bounded.len() {
+            m[(free[i], bounded[j])]
+        } else {
+            q[free[i]]
+        }
+    });
     let x = trial::lu_solve(&pick(&free, &free), rhs, 0.0)?; // singular: an exact zero pivot
-    let (x_fc, x_q) = (x.columns(0, bounded.len()).into_owned(), x.column(bounded.len()).into_owned());
+    let (x_fc, x_q) =
+        (x.columns(0, bounded.len()).into_owned(), x.column(bounded.len()).into_owned());
     let m_c = pick(&bounded, &bounded) - &m_cf * &x_fc;
     let q_c = DVector::from_fn(bounded.len(), |i, _| q[bounded[i]]) - &m_cf * &x_q;
     let started = std::time::Instant::now();
     let lemke = lemke_restarted(&m_c, &q_c);
-    crate::trace!("rate problem: LCP of {} unknowns ({} free eliminated): {} in {:.2} s", q_c.len(), free.len(), lemke.as_ref().map_or("no solution".to_string(), |s| format!("{} pivots", s.pivots)), started.elapsed().as_secs_f64());
+    crate::trace!(
+        "rate problem: LCP of {} unknowns ({} free eliminated): {} in {:.2} s",
+        q_c.len(),
+        free.len(),
+        lemke.as_ref().map_or("no solution".to_string(), |s| format!("{} pivots", s.pivots)),
+        started.elapsed().as_secs_f64()
+    );
     let z_c = lemke?.z;
     let x_f = -(&x_fc * &z_c + &x_q);
     let mut z = DVector::<f64>::zeros(q.len());
@@ -727,13 +885,7 @@ fn solve(prob: &Unknowns) -> Option<Vec<f64>> {
     z.component_mul_assign(&d);
     Some(
         (0..prob.free.len())
-            .map(|i| {
-                if split[i] {
-                    z[col[i]] - z[col[i] + 1]
-                } else {
-                    z[col[i]]
-                }
-            })
+            .map(|i| if split[i] { z[col[i]] - z[col[i] + 1] } else { z[col[i]] })
             .collect(),
     )
 }
@@ -743,9 +895,20 @@ fn solve(prob: &Unknowns) -> Option<Vec<f64>> {
 /// or ratios; of length unknowns forces, coefficients ratios. Scaled, every entry is a
 /// compliance and every constant a length, so Lemke's pivots do not depend on the unit system
 /// (a congruence D M D: positive semidefiniteness kept). Returns D's diagonal: z = D z̃.
-fn unit_free(prob: &Unknowns, split: &[bool], col: &[usize], m: &mut DMatrix<f64>, q: &mut DVector<f64>) -> DVector<f64> {
+fn unit_free(
+    prob: &Unknowns,
+    split: &[bool],
+    col: &[usize],
+    m: &mut DMatrix<f64>,
+    q: &mut DVector<f64>,
+) -> DVector<f64> {
     let n = q.len();
-    let s = (0..prob.free.len()).filter(|&i| !prob.length[i]).fold(0.0f64, |x, i| x.max(m[(col[i], col[i])].abs())).log2().round().exp2();
+    let s = (0..prob.free.len())
+        .filter(|&i| !prob.length[i])
+        .fold(0.0f64, |x, i| x.max(m[(col[i], col[i])].abs()))
+        .log2()
+        .round()
+        .exp2();
     let mut d = DVector::<f64>::from_element(n, 1.0);
     if !(s > 0.0 && s.is_finite()) {
         return d;
@@ -772,14 +935,18 @@ fn lemke_restarted(m: &DMatrix<f64>, q: &DVector<f64>) -> Option<LcpSolution> {
     let n = q.len();
     let max_pivots = PIVOTS_PER_VARIABLE * n + 100;
     let mut seed = COVERING_SEED;
-    (0..=COVERING_RESTARTS).find_map(|attempt| {
-        let d = DVector::from_fn(n, |_, _| if attempt == 0 { 1.0 } else { covering_entry(&mut seed) });
-        match lemke_with_covering(m, q, &d, max_pivots) {
-            Err(LcpFailure::Interrupted { .. }) => Some(None), // no restart: the run stops
-            attempt => attempt.ok().map(Some),
-        }
-    })
-    .flatten()
+    (0..=COVERING_RESTARTS)
+        .find_map(|attempt| {
+            let d = DVector::from_fn(
+                n,
+                |_, _| if attempt == 0 { 1.0 } else { covering_entry(&mut seed) },
+            );
+            match lemke_with_covering(m, q, &d, max_pivots) {
+                Err(LcpFailure::Interrupted { .. }) => Some(None), // no restart: the run stops
+                attempt => attempt.ok().map(Some),
+            }
+        })
+        .flatten()
 }
 
 /// Covering vectors tried after d = 1, their seed and the range of their entries.
@@ -804,8 +971,13 @@ fn covering_entry(seed: &mut u64) -> f64 {
 /// body's node that K# pins, turned off the axes: M_ff singular to round-off, its Schur
 /// complement 10^33, Lemke's first pivot a ray).
 fn independent_free(prob: &Unknowns) -> Option<Vec<bool>> {
-    let diagonal = |i: usize| prob.rows[i].as_ref().map_or(0.0, |r| r.coef.iter().filter(|&&(j, _)| j == i).map(|&(_, v)| v).sum());
-    let free: Vec<usize> = (0..prob.free.len()).filter(|&i| prob.free[i] && diagonal(i) != 0.0).collect();
+    let diagonal = |i: usize| {
+        prob.rows[i]
+            .as_ref()
+            .map_or(0.0, |r| r.coef.iter().filter(|&&(j, _)| j == i).map(|&(_, v)| v).sum())
+    };
+    let free: Vec<usize> =
+        (0..prob.free.len()).filter(|&i| prob.free[i] && diagonal(i) != 0.0).collect();
     let mut slot = vec![usize::MAX; prob.free.len()];
     free.iter().enumerate().for_each(|(k, &i)| slot[i] = k);
     let n = free.len();
@@ -829,7 +1001,10 @@ fn independent_free(prob: &Unknowns) -> Option<Vec<bool>> {
         (a.swap_rows(k, j), a.swap_columns(k, j), order.swap(k, j));
         chosen[free[order[k]]] = true;
         let m = n - k - 1;
-        let (column, row) = (a.view((k + 1, k), (m, 1)).column(0).clone_owned(), a.view((k, k + 1), (1, m)).row(0).transpose());
+        let (column, row) = (
+            a.view((k + 1, k), (m, 1)).column(0).clone_owned(),
+            a.view((k, k + 1), (1, m)).row(0).transpose(),
+        );
         a.view_mut((k + 1, k + 1), (m, m)).ger(-1.0 / pivot, &column, &row, 1.0);
     }
     Some(chosen)
@@ -891,9 +1066,21 @@ mod tests {
         let initial = state.status.clone();
         let mut seen = vec![initial.clone()];
         for _ in 0..4 {
-            let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
-            let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
-            assert!(sel.zero_length() && !sel.group.is_empty(), "a zero-length switch, S = {}", sel.scale);
+            let (trial, _) =
+                remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+            let sel = select(
+                &eng.problem,
+                &state,
+                &trial,
+                &cycles,
+                f64::INFINITY,
+                Stepping::EventByEvent,
+            );
+            assert!(
+                sel.zero_length() && !sel.group.is_empty(),
+                "a zero-length switch, S = {}",
+                sel.scale
+            );
             let mut switched = vec![false; 2];
             for c in &sel.group {
                 if let Admission::Apply = cycles.admit(c, true, &mut switched) {
@@ -915,7 +1102,9 @@ mod tests {
         let m = pushed_strip(0.5);
         let clock = Clock::new();
         let (mut eng, mut state) = start(&m, &clock);
-        state.status = solve_rate_problem(&mut eng, &state, Solve::RemainingLoad).expect("the rate problem has a solution").status;
+        state.status = solve_rate_problem(&mut eng, &state, Solve::RemainingLoad)
+            .expect("the rate problem has a solution")
+            .status;
         let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
         // Round-off: forces against the load (0.5), rates against the largest displacement rate;
         // ~1e-15 per operation on a six-node scene.
@@ -924,18 +1113,28 @@ mod tests {
         for (p, pair) in eng.problem.pairs.iter().enumerate() {
             let (gap_rate, slip_rate) = (pair.w_n.dot(&trial.du), pair.w_t.dot(&trial.du));
             match state.status[p] {
-                Status::Open => assert!(gap_rate >= -rate, "pair {p} open but closing at {gap_rate}"),
+                Status::Open => {
+                    assert!(gap_rate >= -rate, "pair {p} open but closing at {gap_rate}")
+                }
                 status => {
-                    assert!(trial.dlambda_n[p] >= -force, "pair {p} {status:?} pulled: {}", trial.dlambda_n[p]);
+                    assert!(
+                        trial.dlambda_n[p] >= -force,
+                        "pair {p} {status:?} pulled: {}",
+                        trial.dlambda_n[p]
+                    );
                     if let Status::Slip { direction } = status {
-                        assert!(direction as f64 * slip_rate >= -rate, "pair {p} slips against its friction: {slip_rate}");
+                        assert!(
+                            direction as f64 * slip_rate >= -rate,
+                            "pair {p} slips against its friction: {slip_rate}"
+                        );
                     }
                 }
             }
         }
         assert!(state.status.iter().any(|s| s.is_closed()), "the strip rests on the flat");
         let cycles = AntiCycling::new(2, 0, 4);
-        let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+        let sel =
+            select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
         assert!(!sel.zero_length(), "the load advances: S = {}", sel.scale);
     }
 
@@ -943,12 +1142,18 @@ mod tests {
     /// rigid flat z = 0 with its bottom nodes at x < n (gap 0, friction μ), held in x on its
     /// left face (`planar`: and in y everywhere), pushed towards it by `push` (x, y) at the
     /// bottom nodes of its right face.
-    pub(super) fn pushed_strip_3d(n: usize, mu: f64, push: [f64; 3], planar: bool) -> crate::model::Model {
+    pub(super) fn pushed_strip_3d(
+        n: usize,
+        mu: f64,
+        push: [f64; 3],
+        planar: bool,
+    ) -> crate::model::Model {
         use crate::material::Material;
         let id = |i: usize, j: usize, k: usize| i + (n + 1) * (j + 2 * k);
         let mesh = cube_block([n, 1, 1], 1.0);
         let (n_points, n_tets) = (mesh.points.len(), mesh.tetrahedra.len());
-        let mut fixed: Vec<usize> = (0..2).flat_map(|j| (0..2).map(move |k| 3 * id(0, j, k))).collect();
+        let mut fixed: Vec<usize> =
+            (0..2).flat_map(|j| (0..2).map(move |k| 3 * id(0, j, k))).collect();
         if planar {
             fixed.extend((0..n_points).map(|v| 3 * v + 1));
         }
@@ -959,7 +1164,19 @@ mod tests {
             load[3 * id(n, j, 0) + 1] = push[1] / 2.0;
             load[3 * id(n, j, 0) + 2] = push[2] / 2.0;
         }
-        let pairs = (0..n).flat_map(|i| (0..2).map(move |j| (i, j))).map(|(i, j)| crate::model::PairInput { node_a: id(i, j, 0), node_b: None, normal: [0.0, 0.0, 1.0], tangents: None, gap: 0.0, mu, contact: 0, weights: vec![] }).collect();
+        let pairs = (0..n)
+            .flat_map(|i| (0..2).map(move |j| (i, j)))
+            .map(|(i, j)| crate::model::PairInput {
+                node_a: id(i, j, 0),
+                node_b: None,
+                normal: [0.0, 0.0, 1.0],
+                tangents: None,
+                gap: 0.0,
+                mu,
+                contact: 0,
+                weights: vec![],
+            })
+            .collect();
         let mut m = model(mesh, fixed, load, pairs, Material::elastic(E, 0.0));
         m.element_material = vec![0; n_tets];
         m
@@ -974,8 +1191,18 @@ mod tests {
         let mut cycles = AntiCycling::new(n, 0, usize::MAX);
         let mut seen = vec![state.status.clone()];
         for _ in 0..switches {
-            let Ok((trial, _)) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent) else { break };
-            let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+            let Ok((trial, _)) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent)
+            else {
+                break;
+            };
+            let sel = select(
+                &eng.problem,
+                &state,
+                &trial,
+                &cycles,
+                f64::INFINITY,
+                Stepping::EventByEvent,
+            );
             if !sel.zero_length() || sel.group.is_empty() {
                 break;
             }
@@ -1025,7 +1252,8 @@ mod tests {
     fn settles(m: &crate::model::Model) {
         let clock = Clock::new();
         let (mut eng, mut state) = start(m, &clock);
-        let sol = solve_rate_problem(&mut eng, &state, Solve::RemainingLoad).expect("the rate problem has a solution");
+        let sol = solve_rate_problem(&mut eng, &state, Solve::RemainingLoad)
+            .expect("the rate problem has a solution");
         state.status.clone_from(&sol.status);
         hold_slip_directions(&eng.problem, &mut state, &sol);
         let (trial, _) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
@@ -1036,21 +1264,38 @@ mod tests {
         for (p, pair) in eng.problem.pairs.iter().enumerate() {
             let gap_rate = pair.w_n.dot(&trial.du);
             match state.status[p] {
-                Status::Open => assert!(gap_rate >= -rate, "pair {p} open but closing at {gap_rate}"),
+                Status::Open => {
+                    assert!(gap_rate >= -rate, "pair {p} open but closing at {gap_rate}")
+                }
                 status => {
-                    assert!(trial.dlambda_n[p] >= -force, "pair {p} {status:?} pulled: {}", trial.dlambda_n[p]);
+                    assert!(
+                        trial.dlambda_n[p] >= -force,
+                        "pair {p} {status:?} pulled: {}",
+                        trial.dlambda_n[p]
+                    );
                     if let Some((e, _)) = sol.slip_dir[p] {
                         slipping += 1;
-                        assert!((e[0].hypot(e[1]) - 1.0).abs() <= 1e-15 && state.slip_dir[p] == e, "pair {p} holds the rate problem's unit direction");
-                        let v = crate::events::slip_rate(pair, &super::super::selection::trial_of(&trial), p);
-                        assert!(-(e[0] * v[0] + e[1] * v[1]) >= -rate, "pair {p} slips against its friction: {v:?} along {e:?}");
+                        assert!(
+                            (e[0].hypot(e[1]) - 1.0).abs() <= 1e-15 && state.slip_dir[p] == e,
+                            "pair {p} holds the rate problem's unit direction"
+                        );
+                        let v = crate::events::slip_rate(
+                            pair,
+                            &super::super::selection::trial_of(&trial),
+                            p,
+                        );
+                        assert!(
+                            -(e[0] * v[0] + e[1] * v[1]) >= -rate,
+                            "pair {p} slips against its friction: {v:?} along {e:?}"
+                        );
                     }
                 }
             }
         }
         assert!(slipping > 0 && state.status.iter().any(|s| s.is_closed()), "{:?}", state.status);
         let cycles = AntiCycling::new(4, 0, 4);
-        let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
+        let sel =
+            select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, Stepping::EventByEvent);
         assert!(!sel.zero_length(), "the load advances: S = {}", sel.scale);
     }
 
@@ -1067,35 +1312,71 @@ mod tests {
         let m = pushed_strip_3d(2, mu, [-0.5, 0.0, 0.0], false);
         let clock = Clock::new();
         let (eng, mut state) = start(&m, &clock);
-        let rp = RateProblem { p: &eng.problem, stiffness: &eng.stiffness, loads: &eng.loads, laid: vec![vec![]; eng.problem.pairs.len()], presumed: vec![false; eng.problem.pairs.len()], compliance: Default::default() };
+        let rp = RateProblem {
+            p: &eng.problem,
+            stiffness: &eng.stiffness,
+            loads: &eng.loads,
+            laid: vec![vec![]; eng.problem.pairs.len()],
+            presumed: vec![false; eng.problem.pairs.len()],
+            compliance: Default::default(),
+        };
         let (free, held) = (2, 0); // at x = 1, and on the face x = 0 held in x (t2 = x there)
         assert!(eng.problem.pairs[held].held[1] && !eng.problem.pairs[free].held.contains(&true));
         state.lambda_n[free] = ln;
-        (state.lambda_t[free], state.lambda_t2[free]) = (mu * ln * angle.cos(), mu * ln * angle.sin());
-        let Role::Friction { closed: true, facets, polygon: false } = rp.role(&state, free) else { panic!("a closed pair on the cone") };
+        (state.lambda_t[free], state.lambda_t2[free]) =
+            (mu * ln * angle.cos(), mu * ln * angle.sin());
+        let Role::Friction { closed: true, facets, polygon: false } = rp.role(&state, free) else {
+            panic!("a closed pair on the cone")
+        };
         // Round-off of a sine and cosine sum: a few ulps of the unit normal and of μλn.
         let tol = 1e-14;
         assert!(facets.len() == 1 && facets[0].off.is_none(), "only the first facet is reachable");
-        assert!((facets[0].dir[0] - angle.cos()).abs() <= tol && (facets[0].dir[1] - angle.sin()).abs() <= tol, "{:?}", facets[0].dir);
+        assert!(
+            (facets[0].dir[0] - angle.cos()).abs() <= tol
+                && (facets[0].dir[1] - angle.sin()).abs() <= tol,
+            "{:?}",
+            facets[0].dir
+        );
         // on its own polygon, at the vertex m: the two sides m ± θ
         let law = eng.problem.coulomb(free);
         let m = [angle.cos(), angle.sin()];
-        (state.status[free], state.slip_dir[free], state.vertex[free]) = (Status::Slip { direction: 1 }, m, true);
+        (state.status[free], state.slip_dir[free], state.vertex[free]) =
+            (Status::Slip { direction: 1 }, m, true);
         [state.lambda_t[free], state.lambda_t2[free]] = law.vertex_force(ln, m);
-        let Role::Friction { closed: true, facets, polygon: true } = rp.role(&state, free) else { panic!("a pair at its polygon's vertex") };
+        let Role::Friction { closed: true, facets, polygon: true } = rp.role(&state, free) else {
+            panic!("a pair at its polygon's vertex")
+        };
         let mut sides: Vec<f64> = facets.iter().map(|f| f.dir[1].atan2(f.dir[0]) - angle).collect();
         sides.sort_by(f64::total_cmp);
-        assert!(sides.len() == 2 && (sides[0] + law.turn).abs() <= 1e-12 && (sides[1] - law.turn).abs() <= 1e-12, "{sides:?}");
-        (state.status[free], state.slip_dir[free], state.vertex[free]) = (Status::Stick, [0.0; 2], false);
-        (state.lambda_t[free], state.lambda_t2[free]) = (mu * ln * angle.cos(), mu * ln * angle.sin());
-        (state.lambda_t[free], state.lambda_t2[free]) = (0.9 * state.lambda_t[free], 0.9 * state.lambda_t2[free]);
+        assert!(
+            sides.len() == 2
+                && (sides[0] + law.turn).abs() <= 1e-12
+                && (sides[1] - law.turn).abs() <= 1e-12,
+            "{sides:?}"
+        );
+        (state.status[free], state.slip_dir[free], state.vertex[free]) =
+            (Status::Stick, [0.0; 2], false);
+        (state.lambda_t[free], state.lambda_t2[free]) =
+            (mu * ln * angle.cos(), mu * ln * angle.sin());
+        (state.lambda_t[free], state.lambda_t2[free]) =
+            (0.9 * state.lambda_t[free], 0.9 * state.lambda_t2[free]);
         assert!(rp.role(&state, free) == Role::Stick);
         (state.lambda_n[free], state.lambda_t[free], state.lambda_t2[free]) = (0.0, 0.0, 0.0);
-        let Role::Friction { closed: false, facets, .. } = rp.role(&state, free) else { panic!("a pair at zero force") };
+        let Role::Friction { closed: false, facets, .. } = rp.role(&state, free) else {
+            panic!("a pair at zero force")
+        };
         assert!(facets.iter().all(|f| f.off.is_none()) && facets[0].dir == [1.0, 0.0]);
         (state.lambda_n[held], state.lambda_t[held]) = (ln, mu * ln);
-        let Role::Friction { facets, .. } = rp.role(&state, held) else { panic!("a pair on the cone") };
-        assert!(facets == [Facet { dir: vec![-1.0], off: Some(2.0 * mu * ln) }, Facet { dir: vec![1.0], off: None }]);
+        let Role::Friction { facets, .. } = rp.role(&state, held) else {
+            panic!("a pair on the cone")
+        };
+        assert!(
+            facets
+                == [
+                    Facet { dir: vec![-1.0], off: Some(2.0 * mu * ln) },
+                    Facet { dir: vec![1.0], off: None }
+                ]
+        );
     }
 
     /// Three free forces whose flexibilities are dependent to round-off (the second a multiple
@@ -1109,10 +1390,16 @@ mod tests {
         let (k, eps) = (0.06, 1e-19);
         let flex = [[1.0, k, 0.3], [k, k * k + eps, 0.3 * k], [0.3, 0.3 * k, 2.0]];
         for (i, &u) in ids.iter().enumerate() {
-            let coef = ids.iter().zip(flex[i]).map(|(&j, v)| (j, v)).chain(std::iter::once((alpha, 1.0))).collect();
+            let coef = ids
+                .iter()
+                .zip(flex[i])
+                .map(|(&j, v)| (j, v))
+                .chain(std::iter::once((alpha, 1.0)))
+                .collect();
             prob.rows[u] = Some(Affine { coef, constant: 0.1 });
         }
-        prob.rows[alpha] = Some(Affine { coef: ids.iter().map(|&j| (j, -1.0)).collect(), constant: 1.0 });
+        prob.rows[alpha] =
+            Some(Affine { coef: ids.iter().map(|&j| (j, -1.0)).collect(), constant: 1.0 });
         let chosen = independent_free(&prob).expect("every row given");
         assert_eq!(chosen, vec![true, false, true, false]);
     }

@@ -13,7 +13,9 @@ use crate::bail;
 use crate::contact::Pair;
 use crate::error::Result;
 use crate::events::Candidate;
-use crate::model::{EventKind, EventRecord, RunResult, Snapshot, SnapshotRequest, StepRecord, StopReason};
+use crate::model::{
+    EventKind, EventRecord, RunResult, Snapshot, SnapshotRequest, StepRecord, StopReason,
+};
 use crate::rigid_modes::RigidMode;
 
 /// A requested snapshot time this close past the increment's end still falls inside it.
@@ -69,7 +71,8 @@ impl Recorder {
     pub fn new(eng: &mut Engine, state: &State) -> Result<Self> {
         let opts = &eng.problem.model.options;
         let n_pairs = eng.problem.pairs.len();
-        let plastic_capable = eng.problem.sections.iter().filter(|s| s.material.is_plastic()).count();
+        let plastic_capable =
+            eng.problem.sections.iter().filter(|s| s.material.is_plastic()).count();
         let mut rec = Recorder {
             events: vec![],
             steps: vec![],
@@ -77,12 +80,20 @@ impl Recorder {
             pending: vec![],
             stage: 0,
             every_event: matches!(opts.snapshots, SnapshotRequest::EveryEvent),
-            closure_fraction: state.status.iter().map(|s| if s.is_closed() { 0.0 } else { f64::NAN }).collect(),
+            closure_fraction: state
+                .status
+                .iter()
+                .map(|s| if s.is_closed() { 0.0 } else { f64::NAN })
+                .collect(),
             predicted_closure: vec![f64::INFINITY; n_pairs],
             balance: Balance::default(),
             n_substeps: 0,
             n_retaken: 0,
-            max_steps: if opts.max_events > 0 { opts.max_events } else { 50 * (n_pairs + plastic_capable + 1) + 1000 },
+            max_steps: if opts.max_events > 0 {
+                opts.max_events
+            } else {
+                50 * (n_pairs + plastic_capable + 1) + 1000
+            },
             resultants: Resultants::new(eng),
         };
         match &opts.snapshots {
@@ -104,7 +115,12 @@ impl Recorder {
     }
 
     /// The event bound's stop, naming the entities that switched most.
-    pub fn event_bound(&self, eng: &Engine, state: &State, cycles: &AntiCycling) -> Option<StopReason> {
+    pub fn event_bound(
+        &self,
+        eng: &Engine,
+        state: &State,
+        cycles: &AntiCycling,
+    ) -> Option<StopReason> {
         if !self.at_event_bound() {
             return None;
         }
@@ -112,9 +128,20 @@ impl Recorder {
         let count = &cycles.switch_count;
         let mut worst: Vec<usize> = (0..cycles.n_entities()).collect();
         worst.sort_by_key(|&k| std::cmp::Reverse(count[k]));
-        let name = |k: usize| if k < n_pairs { format!("{}, {} switches", eng.problem.model.pair_name(k), count[k]) } else { format!("element {} ({} switches)", k - n_pairs, count[k]) };
-        let busiest: Vec<String> = worst.iter().take(BUSIEST_NAMED).filter(|&&k| count[k] > 0).map(|&k| name(k)).collect();
-        Some(StopReason::EventBound { load_fraction: state.time(), max_steps: self.max_steps, busiest: busiest.join("; ") })
+        let name = |k: usize| {
+            if k < n_pairs {
+                format!("{}, {} switches", eng.problem.model.pair_name(k), count[k])
+            } else {
+                format!("element {} ({} switches)", k - n_pairs, count[k])
+            }
+        };
+        let busiest: Vec<String> =
+            worst.iter().take(BUSIEST_NAMED).filter(|&&k| count[k] > 0).map(|&k| name(k)).collect();
+        Some(StopReason::EventBound {
+            load_fraction: state.time(),
+            max_steps: self.max_steps,
+            busiest: busiest.join("; "),
+        })
     }
 
     /// Every event a snapshot (the default output).
@@ -128,14 +155,25 @@ impl Recorder {
     pub fn snapshot_cut(&self, eng: &Engine, state: &State) -> f64 {
         let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
         match self.pending.first() {
-            Some(&t) if !eng.problem.is_reduced() && remaining > 0.0 && t - (state.stage as f64) <= 1.0 => ((t - state.stage as f64 - phi0) / remaining).max(0.0),
+            Some(&t)
+                if !eng.problem.is_reduced()
+                    && remaining > 0.0
+                    && t - (state.stage as f64) <= 1.0 =>
+            {
+                ((t - state.stage as f64 - phi0) / remaining).max(0.0)
+            }
             _ => f64::INFINITY,
         }
     }
 
     /// Full space: the requested snapshots at the state's path time (where an increment was
     /// cut); `internal`: the internal force of its stresses if the caller has it.
-    fn snapshots_at_end(&mut self, eng: &mut Engine, state: &State, internal: Option<&[f64]>) -> Result<()> {
+    fn snapshots_at_end(
+        &mut self,
+        eng: &mut Engine,
+        state: &State,
+        internal: Option<&[f64]>,
+    ) -> Result<()> {
         while let Some(&t) = self.pending.first() {
             if eng.problem.is_reduced() || t > state.time() + FRACTION_SLACK {
                 break;
@@ -148,7 +186,13 @@ impl Recorder {
     }
 
     /// Snapshots requested inside this increment (the path is linear in between; reduced space).
-    pub fn snapshots_inside(&mut self, eng: &mut Engine, state: &State, trial: &TrialIncrement, sel: &Selection) -> Result<()> {
+    pub fn snapshots_inside(
+        &mut self,
+        eng: &mut Engine,
+        state: &State,
+        trial: &TrialIncrement,
+        sel: &Selection,
+    ) -> Result<()> {
         let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
         let stage = state.stage as f64;
         while let Some(&t) = self.pending.first() {
@@ -159,7 +203,8 @@ impl Recorder {
             if f > sel.phi + FRACTION_SLACK {
                 break;
             }
-            let s = if remaining > 0.0 { ((f - phi0) / remaining).clamp(0.0, sel.scale) } else { 0.0 };
+            let s =
+                if remaining > 0.0 { ((f - phi0) / remaining).clamp(0.0, sel.scale) } else { 0.0 };
             let mut st = state.clone();
             st.advance(trial, s);
             st.load_fraction = f;
@@ -182,7 +227,14 @@ impl Recorder {
     /// element earlier; without the bound the straight strain path of an increment that flowed
     /// plastically puts them early: the thick cylinder's first yield by 0.7 % at δ = 0.01, 2.1 % at
     /// 0.03).
-    pub fn events_inside(&mut self, inside: &[InsideEvent], (phi0, phi1): (f64, f64), first_yield: Option<(usize, f64)>, first_event: usize, first_step: usize) {
+    pub fn events_inside(
+        &mut self,
+        inside: &[InsideEvent],
+        (phi0, phi1): (f64, f64),
+        first_yield: Option<(usize, f64)>,
+        first_event: usize,
+        first_step: usize,
+    ) {
         let ends: Vec<f64> = self.steps[first_step..].iter().map(|s| s.load_fraction).collect();
         let onset = first_yield.map(|(element, phi)| (element, phi.min(phi1)));
         let records = inside.iter().map(|ev| {
@@ -191,9 +243,19 @@ impl Recorder {
                 phi = if ev.element == element { onset } else { phi.max(onset) };
             }
             let step = first_step + ends.iter().filter(|&&end| end < phi).count();
-            EventRecord { step, stage: self.stage, load_fraction: phi, time: self.stage as f64 + phi, kind: ev.kind, entity: ev.element }
+            EventRecord {
+                step,
+                stage: self.stage,
+                load_fraction: phi,
+                time: self.stage as f64 + phi,
+                kind: ev.kind,
+                entity: ev.element,
+            }
         });
-        let mut merged: Vec<(bool, EventRecord)> = records.map(|r| (false, r)).chain(self.events.drain(first_event..).map(|r| (true, r))).collect();
+        let mut merged: Vec<(bool, EventRecord)> = records
+            .map(|r| (false, r))
+            .chain(self.events.drain(first_event..).map(|r| (true, r)))
+            .collect();
         merged.sort_by(|a, b| a.1.load_fraction.total_cmp(&b.1.load_fraction).then(a.0.cmp(&b.0)));
         self.events.extend(merged.into_iter().map(|(_, r)| r));
     }
@@ -206,7 +268,23 @@ impl Recorder {
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
         let (contact_force, contact_moment) = self.resultants.contacts(state);
         let (reaction, load_work) = self.resultants.unknown();
-        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift: self.balance.drift, contact_force, contact_moment, reaction, load_work });
+        self.steps.push(StepRecord {
+            stage: state.stage,
+            load_fraction: state.load_fraction,
+            time: state.time(),
+            scale,
+            residual,
+            n_closed,
+            n_stick,
+            n_slip: n_closed - n_stick,
+            normal_force: state.lambda_n.iter().sum(),
+            n_plastic: state.n_plastic(),
+            drift: self.balance.drift,
+            contact_force,
+            contact_moment,
+            reaction,
+            load_work,
+        });
     }
 
     /// An event of the equilibrium correction at φ. A pair the correction separates that closed
@@ -215,7 +293,11 @@ impl Recorder {
     pub fn correction_event(&mut self, c: &Candidate, phi: f64) {
         let step = self.steps.len();
         if c.kind == EventKind::Separate {
-            if let Some(i) = self.events.iter().rposition(|e| e.step == step && e.kind == EventKind::Close && e.entity == c.entity) {
+            if let Some(i) = self
+                .events
+                .iter()
+                .rposition(|e| e.step == step && e.kind == EventKind::Close && e.entity == c.entity)
+            {
                 self.events.remove(i);
                 self.closure_fraction[c.entity] = f64::NAN;
                 return;
@@ -229,17 +311,47 @@ impl Recorder {
         if kind == EventKind::Close {
             self.closure_fraction[c.entity] = time;
         }
-        self.events.push(EventRecord { step: self.steps.len(), stage: self.stage, load_fraction: phi, time, kind, entity: c.entity });
+        self.events.push(EventRecord {
+            step: self.steps.len(),
+            stage: self.stage,
+            load_fraction: phi,
+            time,
+            kind,
+            entity: c.entity,
+        });
     }
 
     /// One record per increment, and its snapshot when every event is requested; `internal`:
     /// the internal force of the state's stresses (from the equilibrium check).
-    pub fn step(&mut self, eng: &mut Engine, state: &State, scale: f64, residual: f64, internal: Option<&[f64]>) -> Result<()> {
+    pub fn step(
+        &mut self,
+        eng: &mut Engine,
+        state: &State,
+        scale: f64,
+        residual: f64,
+        internal: Option<&[f64]>,
+    ) -> Result<()> {
         let drift = self.balance.drift;
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
         let (contact_force, contact_moment) = self.resultants.contacts(state);
         let (reaction, load_work) = self.resultants.supports_and_loads(eng, state, internal);
-        self.steps.push(StepRecord { stage: state.stage, load_fraction: state.load_fraction, time: state.time(), scale, residual, n_closed, n_stick, n_slip: n_closed - n_stick, normal_force: state.lambda_n.iter().sum(), n_plastic: state.n_plastic(), drift, contact_force, contact_moment, reaction, load_work });
+        self.steps.push(StepRecord {
+            stage: state.stage,
+            load_fraction: state.load_fraction,
+            time: state.time(),
+            scale,
+            residual,
+            n_closed,
+            n_stick,
+            n_slip: n_closed - n_stick,
+            normal_force: state.lambda_n.iter().sum(),
+            n_plastic: state.n_plastic(),
+            drift,
+            contact_force,
+            contact_moment,
+            reaction,
+            load_work,
+        });
         if self.every_event {
             let snapshot = self.snapshot(eng, state, internal)?;
             self.snapshots.push(snapshot);
@@ -250,10 +362,18 @@ impl Recorder {
     /// The final snapshot (for requested fractions, and for runs that stopped early) and the
     /// result; `settled`: the state is an increment's end (not one a failure or an interrupt
     /// inside an increment left), whose fields make that snapshot.
-    pub fn finish(mut self, mut eng: Engine, state: &State, stop: StopReason, settled: bool, rate_problems: usize) -> Result<RunResult> {
+    pub fn finish(
+        mut self,
+        mut eng: Engine,
+        state: &State,
+        stop: StopReason,
+        settled: bool,
+        rate_problems: usize,
+    ) -> Result<RunResult> {
         let early = !matches!(stop, StopReason::Completed | StopReason::FirstYield);
         if settled && (early || !self.every_event) {
-            if self.snapshots.last().map_or(true, |s| (s.time - state.time()).abs() > SAME_FRACTION) {
+            if self.snapshots.last().map_or(true, |s| (s.time - state.time()).abs() > SAME_FRACTION)
+            {
                 let last = self.snapshot(&mut eng, state, None)?;
                 self.snapshots.push(last);
             }
@@ -266,7 +386,10 @@ impl Recorder {
             snapshots: self.snapshots,
             closure_fraction: self.closure_fraction,
             predicted_closure: self.predicted_closure,
-            max_equilibrium_residual: self.balance.max_residual.max(self.balance.max_snapshot_residual),
+            max_equilibrium_residual: self
+                .balance
+                .max_residual
+                .max(self.balance.max_snapshot_residual),
             max_drift: self.balance.max_drift,
             n_factorizations: eng.stiffness.solver.n_factorizations,
             n_factor_builds: eng.stiffness.solver.n_builds(),
@@ -283,7 +406,12 @@ impl Recorder {
     /// The full fields of a state and its support reactions; in the reduced space they are
     /// rebuilt (one solve) and their equilibrium is checked in full. `internal`: the internal
     /// force of the state's stresses when the caller has it (full space).
-    fn snapshot(&mut self, eng: &mut Engine, state: &State, internal: Option<&[f64]>) -> Result<Snapshot> {
+    fn snapshot(
+        &mut self,
+        eng: &mut Engine,
+        state: &State,
+        internal: Option<&[f64]>,
+    ) -> Result<Snapshot> {
         let full;
         let (state, internal) = if eng.problem.is_reduced() {
             let (s, internal, residual) = reconstruct(eng, state)?;
@@ -291,16 +419,31 @@ impl Recorder {
             full = s;
             (&full, internal)
         } else {
-            (state, internal.map_or_else(|| eng.problem.internal_force(&state.stress), <[f64]>::to_vec))
+            (
+                state,
+                internal.map_or_else(|| eng.problem.internal_force(&state.stress), <[f64]>::to_vec),
+            )
         };
         let (problem, loads) = (&eng.problem, &eng.loads);
         let pairs = problem.global_pairs();
         // P_σ − P − the contact forces at the held DOFs: the supports' force
         let mut contact = vec![0.0; internal.len()];
         for (p, pair) in pairs.iter().enumerate() {
-            pair.add_support_force(state.lambda_n[p], [state.lambda_t[p], state.lambda_t2[p]], &mut contact);
+            pair.add_support_force(
+                state.lambda_n[p],
+                [state.lambda_t[p], state.lambda_t2[p]],
+                &mut contact,
+            );
         }
-        let reaction = (0..internal.len()).map(|d| if problem.dofs.fixed[d] { internal[d] - loads.load.force(d, state.load_fraction) - contact[d] } else { 0.0 }).collect();
+        let reaction = (0..internal.len())
+            .map(|d| {
+                if problem.dofs.fixed[d] {
+                    internal[d] - loads.load.force(d, state.load_fraction) - contact[d]
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         Ok(Snapshot {
             stage: state.stage,
             load_fraction: state.load_fraction,
@@ -309,18 +452,25 @@ impl Recorder {
             u: state.u.clone(),
             stress: state.stress.iter().map(|s| std::array::from_fn(|k| s[k])).collect(),
             plastic_strain: state.plastic_strain.clone(),
-            plastic: if state.plastic.is_empty() { vec![0; problem.elements.len()] } else { state.plastic.iter().map(|&p| p as i8).collect() },
+            plastic: if state.plastic.is_empty() {
+                vec![0; problem.elements.len()]
+            } else {
+                state.plastic.iter().map(|&p| p as i8).collect()
+            },
             lambda_n: state.lambda_n.clone(),
             lambda_t: state.lambda_t.clone(),
             status: state.status.iter().map(|s| s.code()).collect(),
             gap: pairs.iter().zip(&state.shift).map(|(p, c)| p.gap(&state.u) + c[0]).collect(),
             rtd: pairs.iter().zip(&state.shift).map(|(p, c)| p.rtd(&state.u) + c[1]).collect(),
             lambda_t2: if problem.dim == 3 { state.lambda_t2.clone() } else { vec![] },
-            rtd2: if problem.dim == 3 { pairs.iter().zip(&state.shift).map(|(p, c)| p.w_t2.dot(&state.u) + c[2]).collect() } else { vec![] },
+            rtd2: if problem.dim == 3 {
+                pairs.iter().zip(&state.shift).map(|(p, c)| p.w_t2.dot(&state.u) + c[2]).collect()
+            } else {
+                vec![]
+            },
             reaction,
         })
     }
-
 }
 
 /// What every increment records beside its counts (issue 38): each contact's resultant force
@@ -374,7 +524,12 @@ struct Functional {
 
 impl Functional {
     fn new(a: &[f64]) -> Self {
-        Functional { a: a.iter().enumerate().filter(|&(_, &v)| v != 0.0).map(|(d, &v)| (d, v)).collect(), pairs: vec![], modes: vec![], stage: None }
+        Functional {
+            a: a.iter().enumerate().filter(|&(_, &v)| v != 0.0).map(|(d, &v)| (d, v)).collect(),
+            pairs: vec![],
+            modes: vec![],
+            stage: None,
+        }
     }
 
     fn dot(&self, u: &[f64]) -> f64 {
@@ -401,13 +556,24 @@ impl Functional {
                 let mut start = vec![0.0; eng.problem.dofs.fixed.len()];
                 let mut change = start.clone();
                 load.prescribed.iter().for_each(|&(d, s0, ds)| (start[d], change[d]) = (s0, ds));
-                let c = (self.dot(&reduced.u_done) + self.dot(&start), self.dot(&reduced.u_load) + self.dot(&change));
+                let c = (
+                    self.dot(&reduced.u_done) + self.dot(&start),
+                    self.dot(&reduced.u_load) + self.dot(&change),
+                );
                 self.stage = Some((state.stage, c.0, c.1));
                 c
             }
         };
-        let lambda = (0..self.pairs.len()).filter(|&p| state.lambda_n[p] != 0.0 || state.lambda_t[p] != 0.0 || state.lambda_t2[p] != 0.0);
-        let contacts: f64 = lambda.map(|p| self.pairs[p][0] * state.lambda_n[p] + self.pairs[p][1] * state.lambda_t[p] + self.pairs[p][2] * state.lambda_t2[p]).sum();
+        let lambda = (0..self.pairs.len()).filter(|&p| {
+            state.lambda_n[p] != 0.0 || state.lambda_t[p] != 0.0 || state.lambda_t2[p] != 0.0
+        });
+        let contacts: f64 = lambda
+            .map(|p| {
+                self.pairs[p][0] * state.lambda_n[p]
+                    + self.pairs[p][1] * state.lambda_t[p]
+                    + self.pairs[p][2] * state.lambda_t2[p]
+            })
+            .sum();
         let modes: f64 = self.modes.iter().zip(&state.alpha).map(|(a, b)| a * b).sum();
         c0 + state.load_fraction * c1 + contacts + modes
     }
@@ -419,32 +585,77 @@ impl Resultants {
         let (model, dim) = (problem.model, problem.dim);
         let pairs = problem.global_pairs();
         let contact: Vec<usize> = model.pairs.iter().map(|p| p.contact).collect();
-        let n_contacts = model.names.contacts.len().max(contact.iter().map(|&c| c + 1).max().unwrap_or(0));
-        let point = model.pairs.iter().map(|p| {
-            let contactor: Vec<(usize, f64)> = p.weights.iter().copied().filter(|&(_, c)| c > 0.0).collect();
-            let total: f64 = contactor.iter().map(|&(_, c)| c).sum();
-            match contactor.is_empty() {
-                true => model.mesh.point(p.node_a),
-                false => {
-                    let mut x = [0.0; 3];
-                    contactor.iter().for_each(|&(i, c)| x.iter_mut().zip(model.mesh.point(i)).for_each(|(a, b)| *a += c / total * b));
-                    x
+        let n_contacts =
+            model.names.contacts.len().max(contact.iter().map(|&c| c + 1).max().unwrap_or(0));
+        let point = model
+            .pairs
+            .iter()
+            .map(|p| {
+                let contactor: Vec<(usize, f64)> =
+                    p.weights.iter().copied().filter(|&(_, c)| c > 0.0).collect();
+                let total: f64 = contactor.iter().map(|&(_, c)| c).sum();
+                match contactor.is_empty() {
+                    true => model.mesh.point(p.node_a),
+                    false => {
+                        let mut x = [0.0; 3];
+                        contactor.iter().for_each(|&(i, c)| {
+                            x.iter_mut()
+                                .zip(model.mesh.point(i))
+                                .for_each(|(a, b)| *a += c / total * b)
+                        });
+                        x
+                    }
                 }
-            }
-        }).collect();
+            })
+            .collect();
         let fixed = &problem.dofs.fixed;
-        let supports: Vec<Vec<Held>> = model.names.supports.iter().map(|(_, dofs)| {
-            (0..dim).filter_map(|c| {
-                let dofs: Vec<usize> = dofs.iter().copied().filter(|&d| d % dim == c && fixed[d]).collect();
-                let mut mask = vec![false; fixed.len()];
-                dofs.iter().for_each(|&d| mask[d] = true);
-                let on = |w: &crate::contact::SparseVec| w.entries.iter().filter(|e| mask[e.0]).map(|e| e.1).sum::<f64>();
-                let direct = pairs.iter().enumerate().map(|(p, pair)| (p, [on(&pair.on_supports[0]), on(&pair.on_supports[1]), on(&pair.on_supports[2])])).filter(|(_, v)| *v != [0.0; 3]).collect();
-                (!dofs.is_empty()).then_some(Held { component: c, dofs, direct, internal: None })
-            }).collect()
-        }).collect();
-        let loads: Vec<Functional> = std::iter::once(&model.load).chain(model.patterns.iter().map(|p| &p.force)).map(|f| Functional::new(f)).collect();
-        let frame = pairs.iter().map(|p| [p.frame.normal, p.frame.tangents[0], p.frame.tangents[1]]).collect();
+        let supports: Vec<Vec<Held>> = model
+            .names
+            .supports
+            .iter()
+            .map(|(_, dofs)| {
+                (0..dim)
+                    .filter_map(|c| {
+                        let dofs: Vec<usize> =
+                            dofs.iter().copied().filter(|&d| d % dim == c && fixed[d]).collect();
+                        let mut mask = vec![false; fixed.len()];
+                        dofs.iter().for_each(|&d| mask[d] = true);
+                        let on = |w: &crate::contact::SparseVec| {
+                            w.entries.iter().filter(|e| mask[e.0]).map(|e| e.1).sum::<f64>()
+                        };
+                        let direct = pairs
+                            .iter()
+                            .enumerate()
+                            .map(|(p, pair)| {
+                                (
+                                    p,
+                                    [
+                                        on(&pair.on_supports[0]),
+                                        on(&pair.on_supports[1]),
+                                        on(&pair.on_supports[2]),
+                                    ],
+                                )
+                            })
+                            .filter(|(_, v)| *v != [0.0; 3])
+                            .collect();
+                        (!dofs.is_empty()).then_some(Held {
+                            component: c,
+                            dofs,
+                            direct,
+                            internal: None,
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        let loads: Vec<Functional> = std::iter::once(&model.load)
+            .chain(model.patterns.iter().map(|p| &p.force))
+            .map(|f| Functional::new(f))
+            .collect();
+        let frame = pairs
+            .iter()
+            .map(|p| [p.frame.normal, p.frame.tangents[0], p.frame.tangents[1]])
+            .collect();
         let mut out = Resultants { contact, point, frame, dim, n_contacts, supports, loads };
         if eng.problem.is_reduced() {
             out.reduce(eng);
@@ -462,12 +673,22 @@ impl Resultants {
             let (stress, _) = eng.stiffness.tangents.stress_increment(&eng.problem, &s);
             held.internal = Some(Functional::new(&eng.problem.internal_force(&stress)));
         }
-        let mut functionals: Vec<&mut Functional> = self.supports.iter_mut().flatten().filter_map(|h| h.internal.as_mut()).chain(self.loads.iter_mut()).filter(|f| !f.a.is_empty()).collect();
-        let ys: Vec<Vec<f64>> = functionals.iter().map(|f| {
-            let mut y = vec![0.0; n];
-            f.a.iter().for_each(|&(d, v)| y[d] = v);
-            y
-        }).collect();
+        let mut functionals: Vec<&mut Functional> = self
+            .supports
+            .iter_mut()
+            .flatten()
+            .filter_map(|h| h.internal.as_mut())
+            .chain(self.loads.iter_mut())
+            .filter(|f| !f.a.is_empty())
+            .collect();
+        let ys: Vec<Vec<f64>> = functionals
+            .iter()
+            .map(|f| {
+                let mut y = vec![0.0; n];
+                f.a.iter().for_each(|&(d, v)| y[d] = v);
+                y
+            })
+            .collect();
         let zs = eng.stiffness.apply_ginv(&eng.problem.dofs.map, &ys);
         for (f, z) in functionals.iter_mut().zip(&zs) {
             f.reduce(z, eng.problem.global_pairs(), &eng.problem.bodies.modes);
@@ -480,40 +701,68 @@ impl Resultants {
         let mut force = vec![[0.0; 3]; self.n_contacts];
         let mut moment = vec![[0.0; 3]; self.n_contacts];
         for (p, [n, t1, t2]) in self.frame.iter().enumerate() {
-            let lambda = [state.lambda_n[p], state.lambda_t[p], if self.dim == 3 { state.lambda_t2[p] } else { 0.0 }];
+            let lambda = [
+                state.lambda_n[p],
+                state.lambda_t[p],
+                if self.dim == 3 { state.lambda_t2[p] } else { 0.0 },
+            ];
             if lambda == [0.0; 3] {
                 continue;
             }
-            let f: [f64; 3] = std::array::from_fn(|k| n[k] * lambda[0] + t1[k] * lambda[1] + t2[k] * lambda[2]);
+            let f: [f64; 3] =
+                std::array::from_fn(|k| n[k] * lambda[0] + t1[k] * lambda[1] + t2[k] * lambda[2]);
             let x = self.point[p];
-            let m = [x[1] * f[2] - x[2] * f[1], x[2] * f[0] - x[0] * f[2], x[0] * f[1] - x[1] * f[0]];
+            let m =
+                [x[1] * f[2] - x[2] * f[1], x[2] * f[0] - x[0] * f[2], x[0] * f[1] - x[1] * f[0]];
             let c = self.contact[p];
-            (0..3).for_each(|k| (force[c][k], moment[c][k]) = (force[c][k] + f[k], moment[c][k] + m[k]));
+            (0..3).for_each(|k| {
+                (force[c][k], moment[c][k]) = (force[c][k] + f[k], moment[c][k] + m[k])
+            });
         }
         (force, moment)
     }
 
     /// Per support group its reaction and per force pattern its work at the state
     /// (`StepRecord::reaction`, `load_work`); `internal`: the state's internal force (full space).
-    fn supports_and_loads(&mut self, eng: &Engine, state: &State, internal: Option<&[f64]>) -> (Vec<[f64; 3]>, Vec<f64>) {
+    fn supports_and_loads(
+        &mut self,
+        eng: &Engine,
+        state: &State,
+        internal: Option<&[f64]>,
+    ) -> (Vec<[f64; 3]>, Vec<f64>) {
         let reduced = eng.problem.is_reduced();
         let phi = state.load_fraction;
         let lambda = |p: usize| [state.lambda_n[p], state.lambda_t[p], state.lambda_t2[p]];
-        let reaction = self.supports.iter_mut().map(|group| {
-            let mut r = [0.0; 3];
-            for held in group.iter_mut() {
-                let inner = match (internal, held.internal.as_mut()) {
-                    (Some(f), _) if !reduced => held.dofs.iter().map(|&d| f[d]).sum(),
-                    (_, Some(functional)) if reduced => functional.value(eng, state),
-                    _ => f64::NAN,
-                };
-                let load: f64 = held.dofs.iter().map(|&d| eng.loads.load.force(d, phi)).sum();
-                let direct: f64 = held.direct.iter().map(|&(p, c)| { let l = lambda(p); c[0] * l[0] + c[1] * l[1] + c[2] * l[2] }).sum();
-                r[held.component] = inner - load - direct;
-            }
-            r
-        }).collect();
-        let work = self.loads.iter_mut().map(|f| if f.a.is_empty() { 0.0 } else { f.value(eng, state) }).collect();
+        let reaction = self
+            .supports
+            .iter_mut()
+            .map(|group| {
+                let mut r = [0.0; 3];
+                for held in group.iter_mut() {
+                    let inner = match (internal, held.internal.as_mut()) {
+                        (Some(f), _) if !reduced => held.dofs.iter().map(|&d| f[d]).sum(),
+                        (_, Some(functional)) if reduced => functional.value(eng, state),
+                        _ => f64::NAN,
+                    };
+                    let load: f64 = held.dofs.iter().map(|&d| eng.loads.load.force(d, phi)).sum();
+                    let direct: f64 = held
+                        .direct
+                        .iter()
+                        .map(|&(p, c)| {
+                            let l = lambda(p);
+                            c[0] * l[0] + c[1] * l[1] + c[2] * l[2]
+                        })
+                        .sum();
+                    r[held.component] = inner - load - direct;
+                }
+                r
+            })
+            .collect();
+        let work = self
+            .loads
+            .iter_mut()
+            .map(|f| if f.a.is_empty() { 0.0 } else { f.value(eng, state) })
+            .collect();
         (reaction, work)
     }
 
@@ -534,7 +783,8 @@ fn reconstruct(eng: &mut Engine, state: &State) -> Result<(State, Vec<f64>, f64)
         pair.w_t.add_to(state.lambda_t[p], &mut y);
         pair.w_t2.add_to(state.lambda_t2[p], &mut y);
     }
-    let mut u = stiffness.apply_ginv(&problem.dofs.map, std::slice::from_ref(&y)).pop().unwrap_or_default();
+    let mut u =
+        stiffness.apply_ginv(&problem.dofs.map, std::slice::from_ref(&y)).pop().unwrap_or_default();
     if let Space::Reduced(_) = &problem.space {
         u.iter_mut().zip(&loads.reduced.u_load).for_each(|(a, b)| *a += state.load_fraction * b);
         u.iter_mut().zip(&loads.reduced.u_done).for_each(|(a, b)| *a += b);
@@ -586,29 +836,55 @@ mod tests {
             m.names.supports = vec![("left".into(), vec![0, 6]), ("bottom".into(), vec![1, 3])];
             let r = run_in(m, reduced);
             let last = r.steps.last().expect("steps");
-            let (lambda, force, moment) = (r.snapshots.last().unwrap().lambda_n[0], last.contact_force[0], last.contact_moment[0]);
+            let (lambda, force, moment) = (
+                r.snapshots.last().unwrap().lambda_n[0],
+                last.contact_force[0],
+                last.contact_moment[0],
+            );
             assert!(lambda > 0.0, "the wall is reached");
-            assert!((force[0] + lambda).abs() <= ROUND_OFF * q && force[1] == 0.0 && force[2] == 0.0, "{force:?}");
-            assert!((moment[2] - lambda).abs() <= ROUND_OFF * q && moment[0] == 0.0 && moment[1] == 0.0, "{moment:?}");
+            assert!(
+                (force[0] + lambda).abs() <= ROUND_OFF * q && force[1] == 0.0 && force[2] == 0.0,
+                "{force:?}"
+            );
+            assert!(
+                (moment[2] - lambda).abs() <= ROUND_OFF * q && moment[0] == 0.0 && moment[1] == 0.0,
+                "{moment:?}"
+            );
             for s in &r.steps {
                 let applied_y = -q * s.load_fraction;
                 let [left, bottom] = [s.reaction[0], s.reaction[1]];
-                assert!((left[0] + s.contact_force[0][0]).abs() <= ROUND_OFF * q, "left {left:?} against the wall {:?}", s.contact_force[0]);
+                assert!(
+                    (left[0] + s.contact_force[0][0]).abs() <= ROUND_OFF * q,
+                    "left {left:?} against the wall {:?}",
+                    s.contact_force[0]
+                );
                 assert!((bottom[1] + applied_y).abs() <= ROUND_OFF * q, "bottom {bottom:?}");
-                assert!(left[1] == 0.0 && bottom[0] == 0.0, "a group reacts only along what it holds");
+                assert!(
+                    left[1] == 0.0 && bottom[0] == 0.0,
+                    "a group reacts only along what it holds"
+                );
             }
             let u = &r.snapshots.last().unwrap().u;
             let work = -q / 2.0 * (u[5] + u[7]);
-            assert!((last.load_work[0] - work).abs() <= ROUND_OFF * work.abs(), "P·u {} against {work}", last.load_work[0]);
+            assert!(
+                (last.load_work[0] - work).abs() <= ROUND_OFF * work.abs(),
+                "P·u {} against {work}",
+                last.load_work[0]
+            );
             records.push(r.steps);
         }
         let (reduced, full) = (&records[0], &records[1]);
         assert_eq!(reduced.len(), full.len());
         for (a, b) in reduced.iter().zip(full) {
             for g in 0..2 {
-                (0..3).for_each(|c| assert!((a.reaction[g][c] - b.reaction[g][c]).abs() <= ROUND_OFF * q));
+                (0..3).for_each(|c| {
+                    assert!((a.reaction[g][c] - b.reaction[g][c]).abs() <= ROUND_OFF * q)
+                });
             }
-            assert!((a.load_work[0] - b.load_work[0]).abs() <= ROUND_OFF * b.load_work[0].abs().max(1e-300));
+            assert!(
+                (a.load_work[0] - b.load_work[0]).abs()
+                    <= ROUND_OFF * b.load_work[0].abs().max(1e-300)
+            );
         }
     }
 
@@ -621,15 +897,34 @@ mod tests {
         let d = 1e-3;
         for reduced in [true, false] {
             let mut m = square_on_rollers(0.0, 0.0, crate::material::Material::elastic(E, NU));
-            m.patterns = vec![LoadPattern { name: "pull".into(), displacement: vec![(2, d), (4, d)], ..Default::default() }];
-            m.stages = vec![Stage { name: "out".into(), factors: vec![0.0, 1.0] }, Stage { name: "back".into(), factors: vec![0.0, 0.5] }];
-            m.names.supports = vec![("left".into(), vec![0, 6]), ("pulled".into(), vec![2, 4]), ("bottom".into(), vec![1, 3])];
+            m.patterns = vec![LoadPattern {
+                name: "pull".into(),
+                displacement: vec![(2, d), (4, d)],
+                ..Default::default()
+            }];
+            m.stages = vec![
+                Stage { name: "out".into(), factors: vec![0.0, 1.0] },
+                Stage { name: "back".into(), factors: vec![0.0, 0.5] },
+            ];
+            m.names.supports = vec![
+                ("left".into(), vec![0, 6]),
+                ("pulled".into(), vec![2, 4]),
+                ("bottom".into(), vec![1, 3]),
+            ];
             let r = run_in(m, reduced);
             assert_eq!(r.steps.len(), 2);
             for (s, factor) in r.steps.iter().zip([1.0, 0.5]) {
                 let pull = E * d * factor;
-                assert!((s.reaction[1][0] - pull).abs() <= ROUND_OFF * pull, "pulled {:?} against {pull}", s.reaction[1]);
-                assert!((s.reaction[0][0] + pull).abs() <= ROUND_OFF * pull, "left {:?}", s.reaction[0]);
+                assert!(
+                    (s.reaction[1][0] - pull).abs() <= ROUND_OFF * pull,
+                    "pulled {:?} against {pull}",
+                    s.reaction[1]
+                );
+                assert!(
+                    (s.reaction[0][0] + pull).abs() <= ROUND_OFF * pull,
+                    "left {:?}",
+                    s.reaction[0]
+                );
                 assert!(s.reaction[2][1].abs() <= ROUND_OFF * pull, "bottom {:?}", s.reaction[2]);
             }
         }

@@ -13,12 +13,12 @@
 //! system; the rate problem, which has it, decides the statuses (`switch_statuses`).
 
 use super::loads::StageLoads;
-use super::problem::Problem;
 use super::planar_sliding;
+use super::problem::Problem;
 use super::state::{State, TrialIncrement};
 use crate::bail;
-use crate::contact::Status;
 use crate::contact::SparseVec;
+use crate::contact::Status;
 use crate::error::Result;
 use crate::model::{EventKind, EventRecord, StopReason};
 use crate::rigid_modes::{describe, elementary_modes};
@@ -46,7 +46,12 @@ pub(super) enum Hold {
 
 /// How the closed pairs hold the bodies at a state; `events`: the history so far (to name the
 /// last pair that separated from a body that lifts off).
-pub(super) fn hold(problem: &Problem, loads: &StageLoads, state: &State, events: &[EventRecord]) -> Hold {
+pub(super) fn hold(
+    problem: &Problem,
+    loads: &StageLoads,
+    state: &State,
+    events: &[EventRecord],
+) -> Hold {
     Restraint { p: problem, loads }.hold(state, events)
 }
 
@@ -59,7 +64,15 @@ pub(super) fn hold(problem: &Problem, loads: &StageLoads, state: &State, events:
 /// moved by any force of the system (a pressed body turning about the normal while its pairs,
 /// all slipping at zero force, have no direction yet to hold it by): the caller holds them
 /// still (α along them = 0), as nothing drives them.
-pub(super) fn check_restrained(problem: &Problem, loads: &StageLoads, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<Vec<Vec<f64>>> {
+pub(super) fn check_restrained(
+    problem: &Problem,
+    loads: &StageLoads,
+    state: &State,
+    a: &DMatrix<f64>,
+    m: usize,
+    mode_rhs: &[f64],
+    closed_normals: impl Fn() -> Vec<usize>,
+) -> Result<Vec<Vec<f64>>> {
     Restraint { p: problem, loads }.check_restrained(state, a, m, mode_rhs, closed_normals)
 }
 
@@ -70,22 +83,36 @@ pub(super) fn check_restrained(problem: &Problem, loads: &StageLoads, state: &St
 /// pairs' statuses and slip directions; no equilibrium exists beyond (the increment is cut
 /// there, `friction_stop` stops the run). With no moment this is |T| = μN. None when no body
 /// is so held or its load stays inside.
-pub(super) fn friction_limit(problem: &Problem, loads: &StageLoads, state: &State, trial: &TrialIncrement) -> Option<f64> {
+pub(super) fn friction_limit(
+    problem: &Problem,
+    loads: &StageLoads,
+    state: &State,
+    trial: &TrialIncrement,
+) -> Option<f64> {
     let r = Restraint { p: problem, loads };
     let phi = state.load_fraction;
-    let limit = r.friction_held(state).filter_map(|plane| {
-        let contact = plane.contact(problem, |p| [state.lambda_n[p], trial.dlambda_n[p]]);
-        let (start, end) = (r.wrench(&plane, phi), r.wrench(&plane, 1.0));
-        let change = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
-        planar_sliding::first_reach(&contact, start, change).map(|l| phi + l.scale * (1.0 - phi))
-    }).filter(|&s| s > phi && s <= 1.0).reduce(f64::min);
+    let limit = r
+        .friction_held(state)
+        .filter_map(|plane| {
+            let contact = plane.contact(problem, |p| [state.lambda_n[p], trial.dlambda_n[p]]);
+            let (start, end) = (r.wrench(&plane, phi), r.wrench(&plane, 1.0));
+            let change = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
+            planar_sliding::first_reach(&contact, start, change)
+                .map(|l| phi + l.scale * (1.0 - phi))
+        })
+        .filter(|&s| s > phi && s <= 1.0)
+        .reduce(f64::min);
     limit
 }
 
 /// The run's stop where the load of a body held by friction alone has reached the limit of
 /// its pairs (`friction_limit`'s fraction reached): it slides as a whole, turning about a
 /// centre in the contact plane when the load has a moment about it.
-pub(super) fn friction_stop(problem: &Problem, loads: &StageLoads, state: &State) -> Option<StopReason> {
+pub(super) fn friction_stop(
+    problem: &Problem,
+    loads: &StageLoads,
+    state: &State,
+) -> Option<StopReason> {
     let r = Restraint { p: problem, loads };
     let stop = r.friction_held(state).find_map(|plane| {
         let contact = plane.contact(problem, |p| [state.lambda_n[p], 0.0]);
@@ -117,9 +144,22 @@ impl FrictionPlane {
     fn new(problem: &Problem, body: usize, pairs: Vec<usize>, normal: [f64; 3]) -> Self {
         let basis = crate::contact::Frame::of_pair(3, normal, None).tangents;
         let points: Vec<[f64; 3]> = pairs.iter().map(|&p| contact_point(problem, p)).collect();
-        let centre = points.iter().fold([0.0; 3], |c, x| [c[0] + x[0], c[1] + x[1], c[2] + x[2]]).map(|c| c / points.len() as f64);
-        let size = points.iter().map(|x| norm(&[x[0] - centre[0], x[1] - centre[1], x[2] - centre[2]])).fold(0.0, f64::max);
-        FrictionPlane { body, pairs, normal, basis, centre, size: if size > 0.0 { size } else { 1.0 } }
+        let centre = points
+            .iter()
+            .fold([0.0; 3], |c, x| [c[0] + x[0], c[1] + x[1], c[2] + x[2]])
+            .map(|c| c / points.len() as f64);
+        let size = points
+            .iter()
+            .map(|x| norm(&[x[0] - centre[0], x[1] - centre[1], x[2] - centre[2]]))
+            .fold(0.0, f64::max);
+        FrictionPlane {
+            body,
+            pairs,
+            normal,
+            basis,
+            centre,
+            size: if size > 0.0 { size } else { 1.0 },
+        }
     }
 
     /// In-plane coordinates of a point about the centre, in units of `size`.
@@ -136,9 +176,14 @@ impl FrictionPlane {
 
     /// The pairs' positions and capacities μ λ_n (at S = 0 and its rate) from `normal_force`
     /// (λ_n and Δλ_n of a pair).
-    fn contact(&self, problem: &Problem, normal_force: impl Fn(usize) -> [f64; 2]) -> planar_sliding::Contact {
+    fn contact(
+        &self,
+        problem: &Problem,
+        normal_force: impl Fn(usize) -> [f64; 2],
+    ) -> planar_sliding::Contact {
         let at = self.pairs.iter().map(|&p| self.coordinates(contact_point(problem, p))).collect();
-        let capacity = self.pairs.iter().map(|&p| normal_force(p).map(|f| problem.pairs[p].mu * f)).collect();
+        let capacity =
+            self.pairs.iter().map(|&p| normal_force(p).map(|f| problem.pairs[p].mu * f)).collect();
         planar_sliding::Contact { at, capacity }
     }
 }
@@ -147,7 +192,8 @@ impl FrictionPlane {
 fn contact_point(problem: &Problem, p: usize) -> [f64; 3] {
     let input = &problem.model.pairs[p];
     let mesh = &problem.model.mesh;
-    let contactor: Vec<(usize, f64)> = input.weights.iter().copied().filter(|&(_, c)| c > 0.0).collect();
+    let contactor: Vec<(usize, f64)> =
+        input.weights.iter().copied().filter(|&(_, c)| c > 0.0).collect();
     if contactor.is_empty() {
         return mesh.point(input.node_a);
     }
@@ -175,15 +221,30 @@ impl Restraint<'_> {
             let name = self.p.model.body_name(self.p.bodies.first_element[body]);
             let free = free_motions(&self.closed_rows(state, &idx, true), idx.len());
             let (what, fix) = if !free.is_empty() {
-                (self.lifted_or_tipped(&name, state, body, &idx, &free, events), "lower the load, or add a support (fix/symmetry) that holds the body")
+                (
+                    self.lifted_or_tipped(&name, state, body, &idx, &free, events),
+                    "lower the load, or add a support (fix/symmetry) that holds the body",
+                )
             } else if let Some(capacity) = self.beyond_capacity(body, state, &idx, &slides[0]) {
-                let push: f64 = idx.iter().zip(&slides[0]).map(|(&k, c)| c * self.loads.mode_force[k][1]).sum();
-                (format!("{name} slides as a whole {}", self.sliding(Some(push), &self.describe_motion(&idx, &slides[0]), capacity)), "lower the tangential load, raise mu, or add a support (fix/symmetry)")
+                let push: f64 =
+                    idx.iter().zip(&slides[0]).map(|(&k, c)| c * self.loads.mode_force[k][1]).sum();
+                (
+                    format!(
+                        "{name} slides as a whole {}",
+                        self.sliding(Some(push), &self.describe_motion(&idx, &slides[0]), capacity)
+                    ),
+                    "lower the tangential load, raise mu, or add a support (fix/symmetry)",
+                )
             } else {
                 hold = Hold::OnFriction;
                 continue;
             };
-            return Hold::Lost(StopReason::SupportLost { load_fraction: state.time(), stage: self.p.model.stage_label(state.stage), what, fix: fix.into() });
+            return Hold::Lost(StopReason::SupportLost {
+                load_fraction: state.time(),
+                stage: self.p.model.stage_label(state.stage),
+                what,
+                fix: fix.into(),
+            });
         }
         hold
     }
@@ -192,15 +253,29 @@ impl Restraint<'_> {
     fn bodies_with_modes(&self) -> Vec<(usize, Vec<usize>)> {
         let mut bodies: Vec<usize> = self.p.bodies.modes.iter().map(|md| md.body).collect();
         bodies.dedup();
-        bodies.into_iter().map(|b| (b, (0..self.p.bodies.modes.len()).filter(|&k| self.p.bodies.modes[k].body == b).collect())).collect()
+        bodies
+            .into_iter()
+            .map(|b| {
+                (
+                    b,
+                    (0..self.p.bodies.modes.len())
+                        .filter(|&k| self.p.bodies.modes[k].body == b)
+                        .collect(),
+                )
+            })
+            .collect()
     }
 
     /// The rows w·N_k (k in `idx`) of the closed pairs' constraints: their normals and the
     /// tangents of the sticking frictional pairs (`if_stuck`: of every frictional one).
     fn closed_rows(&self, state: &State, idx: &[usize], if_stuck: bool) -> Vec<Vec<f64>> {
-        let row = |w: &SparseVec| idx.iter().map(|&k| w.dot(&self.p.bodies.mode_vectors[k])).collect::<Vec<f64>>();
+        let row = |w: &SparseVec| {
+            idx.iter().map(|&k| w.dot(&self.p.bodies.mode_vectors[k])).collect::<Vec<f64>>()
+        };
         let mut rows = vec![];
-        for (p, pair) in self.p.pairs.iter().enumerate().filter(|(p, _)| state.status[*p].is_closed()) {
+        for (p, pair) in
+            self.p.pairs.iter().enumerate().filter(|(p, _)| state.status[*p].is_closed())
+        {
             rows.push(row(&pair.w_n));
             if pair.frictional() && (if_stuck || state.status[p] == Status::Stick) {
                 if self.p.dim == 2 || !pair.held[0] {
@@ -218,9 +293,22 @@ impl Restraint<'_> {
 
     /// How a body no closed pair would hold even sticking left its support: lifted off (the
     /// last pair it left named), tipped about its one closed pair, or free along `free`.
-    fn lifted_or_tipped(&self, name: &str, state: &State, body: usize, idx: &[usize], free: &[Vec<f64>], events: &[EventRecord]) -> String {
-        let closed: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body).collect();
-        let last_left = events.iter().rev().find(|e| e.kind == EventKind::Separate && self.p.body_of_pair(e.entity) == body);
+    fn lifted_or_tipped(
+        &self,
+        name: &str,
+        state: &State,
+        body: usize,
+        idx: &[usize],
+        free: &[Vec<f64>],
+        events: &[EventRecord],
+    ) -> String {
+        let closed: Vec<usize> = (0..self.p.pairs.len())
+            .filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body)
+            .collect();
+        let last_left = events
+            .iter()
+            .rev()
+            .find(|e| e.kind == EventKind::Separate && self.p.body_of_pair(e.entity) == body);
         match closed.as_slice() {
             [] => format!("{name} lifts off: its last closed pair{} separated, and the load moves it away from the contact", last_left.map_or(String::new(), |e| format!(" ({})", self.p.model.pair_name(e.entity)))),
             [p] => format!("{name} tips about {}, its last closed pair: the other pairs separated, and the load turns the body about that point", self.p.model.pair_name(*p)),
@@ -231,10 +319,18 @@ impl Restraint<'_> {
         }
     }
 
-    fn check_restrained(&self, state: &State, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], closed_normals: impl Fn() -> Vec<usize>) -> Result<Vec<Vec<f64>>> {
+    fn check_restrained(
+        &self,
+        state: &State,
+        a: &DMatrix<f64>,
+        m: usize,
+        mode_rhs: &[f64],
+        closed_normals: impl Fn() -> Vec<usize>,
+    ) -> Result<Vec<Vec<f64>>> {
         let mut idle = vec![];
         for (body, idx) in self.bodies_with_modes() {
-            let rows_n: Vec<Vec<f64>> = (0..m).map(|i| idx.iter().map(|&k| a[(i, m + k)]).collect()).collect();
+            let rows_n: Vec<Vec<f64>> =
+                (0..m).map(|i| idx.iter().map(|&k| a[(i, m + k)]).collect()).collect();
             let free = free_motions(&rows_n, idx.len());
             if free.is_empty() {
                 continue;
@@ -251,19 +347,33 @@ impl Restraint<'_> {
             let tangents = |p: usize| {
                 let pair = &self.p.pairs[p];
                 match self.p.dim {
-                    3 => [(&pair.w_t, pair.held[0]), (&pair.w_t2, pair.held[1])].into_iter().filter(|(_, held)| !held).map(|(w, _)| w).collect(),
+                    3 => [(&pair.w_t, pair.held[0]), (&pair.w_t2, pair.held[1])]
+                        .into_iter()
+                        .filter(|(_, held)| !held)
+                        .map(|(w, _)| w)
+                        .collect(),
                     _ => vec![&pair.w_t],
                 }
             };
-            let slip_rows: Vec<Vec<f64>> = self.slipping_pairs_of(body, state).flat_map(tangents).map(|w| idx.iter().map(|&k| w.dot(&self.p.bodies.mode_vectors[k])).collect()).collect();
-            let held_if_stuck = !slip_rows.is_empty() && free_motions(&[rows_n.as_slice(), slip_rows.as_slice()].concat(), idx.len()).is_empty();
+            let slip_rows: Vec<Vec<f64>> = self
+                .slipping_pairs_of(body, state)
+                .flat_map(tangents)
+                .map(|w| idx.iter().map(|&k| w.dot(&self.p.bodies.mode_vectors[k])).collect())
+                .collect();
+            let held_if_stuck = !slip_rows.is_empty()
+                && free_motions(&[rows_n.as_slice(), slip_rows.as_slice()].concat(), idx.len())
+                    .is_empty();
             let name = self.p.model.body_name(self.p.bodies.first_element[body]);
             if held_if_stuck {
                 if let Some(capacity) = self.beyond_capacity(body, state, &idx, &free[0]) {
                     // −Nᵀ r along the motion is the out-of-balance force nothing holds.
                     let push: f64 = idx.iter().zip(&free[0]).map(|(&k, c)| -c * mode_rhs[k]).sum();
                     // 3D: the free motions together (the load in the plane picks its direction)
-                    let (push, motion) = if self.p.dim == 3 && free.len() > 1 { (None, words.join("; ")) } else { (Some(push), words[0].clone()) };
+                    let (push, motion) = if self.p.dim == 3 && free.len() > 1 {
+                        (None, words.join("; "))
+                    } else {
+                        (Some(push), words[0].clone())
+                    };
                     bail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} {}: lower the tangential load, raise mu, or add a support", state.load_fraction, self.p.path.stage_names[state.stage], self.sliding(push, &motion, capacity));
                 }
                 bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
@@ -271,7 +381,8 @@ impl Restraint<'_> {
             if let Some(what) = self.left_at_once(state, body, &words) {
                 bail!(FreeBody, "{name} {what}, and nothing else holds it; add a support (fix/symmetry) that does, or change the load");
             }
-            let closed = closed_normals().into_iter().filter(|&p| self.p.body_of_pair(p) == body).count();
+            let closed =
+                closed_normals().into_iter().filter(|&p| self.p.body_of_pair(p) == body).count();
             bail!(FreeBody, "{name} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", words.join("; "));
         }
         Ok(idle)
@@ -279,8 +390,16 @@ impl Restraint<'_> {
 
     /// Whether a free motion `v` of the body's modes `idx` is idle: no load along it (−Nᵀ r
     /// at round-off) and no force column of the small system with a share along it (Nᵀ E).
-    fn is_idle(&self, a: &DMatrix<f64>, m: usize, mode_rhs: &[f64], idx: &[usize], v: &[f64]) -> bool {
-        let along = |row: &dyn Fn(usize) -> f64| idx.iter().zip(v).map(|(&k, c)| c * row(k)).sum::<f64>();
+    fn is_idle(
+        &self,
+        a: &DMatrix<f64>,
+        m: usize,
+        mode_rhs: &[f64],
+        idx: &[usize],
+        v: &[f64],
+    ) -> bool {
+        let along =
+            |row: &dyn Fn(usize) -> f64| idx.iter().zip(v).map(|(&k, c)| c * row(k)).sum::<f64>();
         let loaded = along(&|k| mode_rhs[k]).abs() > LOAD_ROUND_OFF * self.p.scales.force;
         let moved = (0..m).any(|j| {
             let size = idx.iter().map(|&k| a[(m + k, j)].abs()).fold(0.0, f64::max);
@@ -297,13 +416,29 @@ impl Restraint<'_> {
             return None;
         }
         let touching = self.p.scales.touching();
-        let of_body: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| self.p.body_of_pair(p) == body).collect();
-        let mut left: Vec<usize> = of_body.iter().filter(|&&p| self.p.pairs[p].gap0 <= touching && !state.status[p].is_closed()).map(|&p| self.p.model.pairs[p].contact).collect();
+        let of_body: Vec<usize> =
+            (0..self.p.pairs.len()).filter(|&p| self.p.body_of_pair(p) == body).collect();
+        let mut left: Vec<usize> = of_body
+            .iter()
+            .filter(|&&p| self.p.pairs[p].gap0 <= touching && !state.status[p].is_closed())
+            .map(|&p| self.p.model.pairs[p].contact)
+            .collect();
         left.sort_unstable();
         left.dedup();
-        let names: Vec<String> = left.iter().map(|&c| self.p.model.names.contacts.get(c).map_or_else(|| "the contact".to_string(), |n| format!("contact '{n}'"))).collect();
+        let names: Vec<String> = left
+            .iter()
+            .map(|&c| {
+                self.p
+                    .model
+                    .names
+                    .contacts
+                    .get(c)
+                    .map_or_else(|| "the contact".to_string(), |n| format!("contact '{n}'"))
+            })
+            .collect();
         let contacts = names.join(" and ");
-        let closed: Vec<usize> = of_body.into_iter().filter(|&p| state.status[p].is_closed()).collect();
+        let closed: Vec<usize> =
+            of_body.into_iter().filter(|&p| state.status[p].is_closed()).collect();
         let at = "at the first instant (t = 0)";
         match closed.as_slice() {
             _ if names.is_empty() => None,
@@ -319,9 +454,17 @@ impl Restraint<'_> {
         }
     }
 
-    fn slipping_pairs_of<'a>(&'a self, body: usize, state: &'a State) -> impl Iterator<Item = usize> + 'a {
+    fn slipping_pairs_of<'a>(
+        &'a self,
+        body: usize,
+        state: &'a State,
+    ) -> impl Iterator<Item = usize> + 'a {
         // Frictionless closed pairs (Slip with μ = 0) slip too: they hold no tangential load.
-        (0..self.p.pairs.len()).filter(move |&p| matches!(state.status[p], Status::Slip { .. }) && !self.p.pairs[p].tangent_held && self.p.body_of_pair(p) == body)
+        (0..self.p.pairs.len()).filter(move |&p| {
+            matches!(state.status[p], Status::Slip { .. })
+                && !self.p.pairs[p].tangent_held
+                && self.p.body_of_pair(p) == body
+        })
     }
 
     /// Words for a combination `v` of the body's modes `idx`.
@@ -344,9 +487,20 @@ impl Restraint<'_> {
     /// The body's load T along the sliding translation (3D: its part in the contact plane, at the
     /// fraction checked), N along the mean normal of its closed pairs, and their mean μ; in 2D
     /// under the stage's end load.
-    fn tangential_and_normal_load(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> (f64, f64, f64) {
-        let closed: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body).collect();
-        let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| closed.iter().map(|&p| f(&self.p.global_pairs()[p])).sum::<f64>() / closed.len().max(1) as f64;
+    fn tangential_and_normal_load(
+        &self,
+        body: usize,
+        state: &State,
+        idx: &[usize],
+        v: &[f64],
+    ) -> (f64, f64, f64) {
+        let closed: Vec<usize> = (0..self.p.pairs.len())
+            .filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body)
+            .collect();
+        let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| {
+            closed.iter().map(|&p| f(&self.p.global_pairs()[p])).sum::<f64>()
+                / closed.len().max(1) as f64
+        };
         let dim = self.p.dim;
         let normal: Vec<f64> = (0..dim).map(|k| mean(&|p| p.frame.normal[k])).collect();
         let mu = mean(&|p| p.mu);
@@ -355,9 +509,16 @@ impl Restraint<'_> {
             // as before any load: the ratio of T to N is what friction holds or not), resolved
             // on the contact plane: a turn about the normal has no translation to read T along
             let now = self.body_load_at(body, state.load_fraction);
-            let force = if norm(&now) > LOAD_ROUND_OFF * self.p.scales.force { now } else { self.body_load(body).iter().zip(&now).map(|(e, s)| e - s).collect() };
+            let force = if norm(&now) > LOAD_ROUND_OFF * self.p.scales.force {
+                now
+            } else {
+                self.body_load(body).iter().zip(&now).map(|(e, s)| e - s).collect()
+            };
             let n = along(&force, &normal);
-            let unit = normal.iter().map(|c| c / norm(&normal).max(f64::MIN_POSITIVE)).collect::<Vec<f64>>();
+            let unit = normal
+                .iter()
+                .map(|c| c / norm(&normal).max(f64::MIN_POSITIVE))
+                .collect::<Vec<f64>>();
             let tangential: Vec<f64> = force.iter().zip(&unit).map(|(f, u)| f - n * u).collect();
             return (norm(&tangential), n.abs(), mu);
         }
@@ -372,39 +533,60 @@ impl Restraint<'_> {
     /// so a load in the plane beyond what such forces balance (`planar_sliding`; without a
     /// moment: T beyond μN) has no equilibrium.
     fn friction_held<'s>(&'s self, state: &'s State) -> impl Iterator<Item = FrictionPlane> + 's {
-        self.bodies_with_modes().into_iter().filter(|(_, idx)| self.p.dim == 3 && idx.len() == 6).filter_map(move |(body, _)| {
-            let closed: Vec<usize> = (0..self.p.pairs.len()).filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body).collect();
-            let normal = |p: usize| self.p.global_pairs()[p].frame.normal;
-            let n = normal(*closed.first()?);
-            let on_plane = |p: &usize| {
-                let m = normal(*p);
-                n[0] * m[0] + n[1] * m[1] + n[2] * m[2] >= 1.0 - PARALLEL
-            };
-            if !closed.iter().all(|&p| self.p.pairs[p].frictional()) || !closed.iter().all(on_plane) {
-                return None;
-            }
-            Some(FrictionPlane::new(self.p, body, closed, n))
-        })
+        self.bodies_with_modes()
+            .into_iter()
+            .filter(|(_, idx)| self.p.dim == 3 && idx.len() == 6)
+            .filter_map(move |(body, _)| {
+                let closed: Vec<usize> = (0..self.p.pairs.len())
+                    .filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body)
+                    .collect();
+                let normal = |p: usize| self.p.global_pairs()[p].frame.normal;
+                let n = normal(*closed.first()?);
+                let on_plane = |p: &usize| {
+                    let m = normal(*p);
+                    n[0] * m[0] + n[1] * m[1] + n[2] * m[2] >= 1.0 - PARALLEL
+                };
+                if !closed.iter().all(|&p| self.p.pairs[p].frictional())
+                    || !closed.iter().all(on_plane)
+                {
+                    return None;
+                }
+                Some(FrictionPlane::new(self.p, body, closed, n))
+            })
     }
 
     /// A body's load at stage fraction s on its friction plane: the force along the plane's
     /// basis and the moment about the normal through its centre, over its size.
     fn wrench(&self, plane: &FrictionPlane, s: f64) -> planar_sliding::Wrench {
-        let nodes = (0..self.p.bodies.of_node.len()).filter(|&i| self.p.bodies.of_node[i] == plane.body);
+        let nodes =
+            (0..self.p.bodies.of_node.len()).filter(|&i| self.p.bodies.of_node[i] == plane.body);
         let n = plane.normal;
         nodes.fold([0.0; 3], |w, i| {
             let f: Vec<f64> = (0..3).map(|k| self.loads.load.force(3 * i + k, s)).collect();
             let x = self.p.model.mesh.point(i);
             let r = [0, 1, 2].map(|k| x[k] - plane.centre[k]);
-            let moment = n[0] * (r[1] * f[2] - r[2] * f[1]) + n[1] * (r[2] * f[0] - r[0] * f[2]) + n[2] * (r[0] * f[1] - r[1] * f[0]);
-            [w[0] + along(&f, &plane.basis[0]), w[1] + along(&f, &plane.basis[1]), w[2] + moment / plane.size]
+            let moment = n[0] * (r[1] * f[2] - r[2] * f[1])
+                + n[1] * (r[2] * f[0] - r[0] * f[2])
+                + n[2] * (r[0] * f[1] - r[1] * f[0]);
+            [
+                w[0] + along(&f, &plane.basis[0]),
+                w[1] + along(&f, &plane.basis[1]),
+                w[2] + moment / plane.size,
+            ]
         })
     }
 
     /// ": …" of a body at the limit of its friction plane: the centre it turns about and the
     /// load's moment there against the pairs' friction moment, or (a translation) its
     /// tangential load against μN.
-    fn limit_words(&self, plane: &FrictionPlane, contact: &planar_sliding::Contact, load: planar_sliding::Wrench, limit: &planar_sliding::Limit, state: &State) -> String {
+    fn limit_words(
+        &self,
+        plane: &FrictionPlane,
+        contact: &planar_sliding::Contact,
+        load: planar_sliding::Wrench,
+        limit: &planar_sliding::Limit,
+        state: &State,
+    ) -> String {
         let (t, n_load) = self.resultants(plane.body, &plane.normal, state.load_fraction);
         let t = t[0].hypot(t[1]);
         let capacity: f64 = contact.capacity.iter().map(|c| c[0]).sum();
@@ -413,7 +595,13 @@ impl Restraint<'_> {
         };
         // moments about the centre: the load's, and the pairs' friction against their velocities
         let moment = (load[2] - (c[0] * load[1] - c[1] * load[0])) * plane.size;
-        let resisted: f64 = contact.at.iter().zip(&contact.capacity).map(|(r, k)| k[0] * (r[0] - c[0]).hypot(r[1] - c[1])).sum::<f64>() * plane.size;
+        let resisted: f64 = contact
+            .at
+            .iter()
+            .zip(&contact.capacity)
+            .map(|(r, k)| k[0] * (r[0] - c[0]).hypot(r[1] - c[1]))
+            .sum::<f64>()
+            * plane.size;
         let x = plane.point(c);
         format!(", turning about ({:.4}, {:.4}, {:.4}) in the contact plane: its load there, the tangential force T = {t:.4e} and the moment {moment:.4e} about that point along the contact normal, has reached the limit of its closed pairs' friction, all slipping about that point (their moment there Σ μλ_n r = {resisted:.4e}; μN = {capacity:.4e}, N = {n_load:.4e})", x[0], x[1], x[2])
     }
@@ -435,13 +623,22 @@ impl Restraint<'_> {
     fn body_load_at(&self, body: usize, s: f64) -> Vec<f64> {
         let dim = self.p.dim;
         let nodes = (0..self.p.bodies.of_node.len()).filter(|&i| self.p.bodies.of_node[i] == body);
-        nodes.fold(vec![0.0; dim], |f, i| (0..dim).map(|k| f[k] + self.loads.load.force(dim * i + k, s)).collect())
+        nodes.fold(vec![0.0; dim], |f, i| {
+            (0..dim).map(|k| f[k] + self.loads.load.force(dim * i + k, s)).collect()
+        })
     }
 
     /// (T, N, μ) of `tangential_and_normal_load` when T exceeds the capacity μN: gross sliding.
-    fn beyond_capacity(&self, body: usize, state: &State, idx: &[usize], v: &[f64]) -> Option<(f64, f64, f64)> {
+    fn beyond_capacity(
+        &self,
+        body: usize,
+        state: &State,
+        idx: &[usize],
+        v: &[f64],
+    ) -> Option<(f64, f64, f64)> {
         let (t, n, mu) = self.tangential_and_normal_load(body, state, idx, v);
-        (t > mu * n * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.p.scales.force).then_some((t, n, mu))
+        (t > mu * n * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.p.scales.force)
+            .then_some((t, n, mu))
     }
 
     /// "(±motion): …" of gross sliding, the sense that of `push`, the load along the motion
@@ -452,7 +649,11 @@ impl Restraint<'_> {
             Some(_) => "−",
             None => "",
         };
-        let load = if self.p.dim == 3 { "under the load at that fraction (the stage's, where none is applied yet)" } else { "under the stage's full load" };
+        let load = if self.p.dim == 3 {
+            "under the load at that fraction (the stage's, where none is applied yet)"
+        } else {
+            "under the stage's full load"
+        };
         format!("({sense}{words}): its closed pairs all slip; {load} the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal)", mu * n)
     }
 

@@ -25,7 +25,9 @@ pub fn cube_block(n: [usize; 3], h: f64) -> Mesh {
         }
     }
     let mut tets = vec![];
-    for (i, j, k) in (0..n[2]).flat_map(|k| (0..n[1]).flat_map(move |j| (0..n[0]).map(move |i| (i, j, k)))) {
+    for (i, j, k) in
+        (0..n[2]).flat_map(|k| (0..n[1]).flat_map(move |j| (0..n[0]).map(move |i| (i, j, k))))
+    {
         for perm in [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]] {
             let mut at = [0usize; 3];
             let mut t = vec![id(i, j, k)];
@@ -35,7 +37,8 @@ pub fn cube_block(n: [usize; 3], h: f64) -> Mesh {
             }
             let d = |a: usize| [0, 1, 2].map(|c| points[t[a]][c] - points[t[0]][c]);
             let (a, b, c) = (d(1), d(2), d(3));
-            let det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+            let det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]);
             if det < 0.0 {
                 t.swap(2, 3);
             }
@@ -51,7 +54,13 @@ pub fn unit_square() -> Mesh {
 }
 
 /// A one-material model in plane stress of thickness 1.
-pub fn model(mesh: Mesh, fixed_dofs: Vec<usize>, load: Vec<f64>, pairs: Vec<PairInput>, material: Material) -> Model {
+pub fn model(
+    mesh: Mesh,
+    fixed_dofs: Vec<usize>,
+    load: Vec<f64>,
+    pairs: Vec<PairInput>,
+    material: Material,
+) -> Model {
     let n_el = mesh.triangles.len();
     Model {
         mesh,
@@ -71,7 +80,16 @@ pub fn model(mesh: Mesh, fixed_dofs: Vec<usize>, load: Vec<f64>, pairs: Vec<Pair
 
 /// A pair of node `a` with a rigid obstacle of normal `normal` (towards the node) at `gap`.
 pub fn against_obstacle(a: usize, normal: [f64; 2], gap: f64, mu: f64) -> PairInput {
-    PairInput { node_a: a, node_b: None, normal: [normal[0], normal[1], 0.0], tangents: None, gap, mu, contact: 0, weights: vec![] }
+    PairInput {
+        node_a: a,
+        node_b: None,
+        normal: [normal[0], normal[1], 0.0],
+        tangents: None,
+        gap,
+        mu,
+        contact: 0,
+        weights: vec![],
+    }
 }
 
 /// The unit square on rollers (u_x = 0 on x = 0, u_y = 0 on y = 0): a traction `right` on its
@@ -109,9 +127,22 @@ pub fn poisson_wall(q: f64, gap: f64) -> Model {
 /// carries the load: λ_n = N, λ_t = T (t = (−1, 0), the force on the node w_t λ_t = −T e_x).
 pub fn pressed_then_sheared(n: f64, t: f64, mu: f64) -> Model {
     let mesh = Mesh::plane(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], vec![[0, 1, 2]]);
-    let mut m = model(mesh, vec![2, 3, 4, 5], vec![0.0, -n, 0.0, 0.0, 0.0, 0.0], vec![against_obstacle(0, [0.0, 1.0], 0.0, mu)], Material::elastic(E, NU));
-    m.patterns = vec![LoadPattern { name: "shear".into(), force: vec![t, 0.0, 0.0, 0.0, 0.0, 0.0], ..Default::default() }];
-    m.stages = vec![Stage { name: "press".into(), factors: vec![1.0, 0.0] }, Stage { name: "shear".into(), factors: vec![1.0, 1.0] }];
+    let mut m = model(
+        mesh,
+        vec![2, 3, 4, 5],
+        vec![0.0, -n, 0.0, 0.0, 0.0, 0.0],
+        vec![against_obstacle(0, [0.0, 1.0], 0.0, mu)],
+        Material::elastic(E, NU),
+    );
+    m.patterns = vec![LoadPattern {
+        name: "shear".into(),
+        force: vec![t, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ..Default::default()
+    }];
+    m.stages = vec![
+        Stage { name: "press".into(), factors: vec![1.0, 0.0] },
+        Stage { name: "shear".into(), factors: vec![1.0, 1.0] },
+    ];
     m
 }
 
@@ -126,7 +157,8 @@ pub fn pushed_strip(mu: f64) -> Model {
     let triangles = vec![[0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4]];
     let mut load = vec![0.0; 12];
     load[4] = -0.5;
-    let pairs = vec![against_obstacle(0, [0.0, 1.0], 0.0, mu), against_obstacle(1, [0.0, 1.0], 0.0, mu)];
+    let pairs =
+        vec![against_obstacle(0, [0.0, 1.0], 0.0, mu), against_obstacle(1, [0.0, 1.0], 0.0, mu)];
     model(Mesh::plane(nodes, triangles), vec![0, 6], load, pairs, Material::elastic(E, 0.0))
 }
 
@@ -134,8 +166,15 @@ pub fn pushed_strip(mu: f64) -> Model {
 /// presses its top to σy = −`b` (σx held).
 pub fn pulled_then_pressed(a: f64, b: f64, material: Material) -> Model {
     let mut m = square_on_rollers(a, 0.0, material);
-    m.patterns = vec![LoadPattern { name: "press".into(), force: edge_loads(0.0, -b), ..Default::default() }];
-    m.stages = vec![Stage { name: "pull".into(), factors: vec![1.0, 0.0] }, Stage { name: "press".into(), factors: vec![1.0, 1.0] }];
+    m.patterns = vec![LoadPattern {
+        name: "press".into(),
+        force: edge_loads(0.0, -b),
+        ..Default::default()
+    }];
+    m.stages = vec![
+        Stage { name: "pull".into(), factors: vec![1.0, 0.0] },
+        Stage { name: "press".into(), factors: vec![1.0, 1.0] },
+    ];
     m
 }
 

@@ -57,26 +57,58 @@ impl Selection {
 /// S = min(S_c, S_p, S_f, S_r, S_A) (eq. 57) and the events that switch with it. `cut`: a scale
 /// the increment must not pass (a requested snapshot time; ∞ for none); `stepping`: a plastic
 /// window runs past the first predicted yield (`plastic_window`).
-pub(super) fn select(problem: &Problem, state: &State, trial: &TrialIncrement, cycles: &AntiCycling, cut: f64, stepping: Stepping) -> Selection {
+pub(super) fn select(
+    problem: &Problem,
+    state: &State,
+    trial: &TrialIncrement,
+    cycles: &AntiCycling,
+    cut: f64,
+    stepping: Stepping,
+) -> Selection {
     let (mut cands, drift_scale) = candidates(problem, state, trial, cycles);
     let (window, first_yield) = match stepping.window() {
-        Some(delta) => plastic_window(&mut cands, state.load_fraction, 1.0 - state.load_fraction, delta),
+        Some(delta) => {
+            plastic_window(&mut cands, state.load_fraction, 1.0 - state.load_fraction, delta)
+        }
         None => (f64::INFINITY, None),
     };
     let plastic_inside = stepping.window().is_some();
-    Selection { first_yield, ..choose(&problem.model.options, state, cands, drift_scale.min(window).min(cut), plastic_inside) }
+    Selection {
+        first_yield,
+        ..choose(
+            &problem.model.options,
+            state,
+            cands,
+            drift_scale.min(window).min(cut),
+            plastic_inside,
+        )
+    }
 }
 
 /// A contact sub-step (`substeps`): the next contact events of a contact-space trial, up to
 /// `bound` (the scale where the increment ends for plasticity, a snapshot or the stage).
-pub(super) fn select_contact(problem: &Problem, state: &State, trial: &TrialIncrement, cycles: &AntiCycling, bound: f64) -> Selection {
-    let cands = events::candidates(&pair_state(problem, state, cycles.frozen().0), &trial_of(trial), trial.noise);
+pub(super) fn select_contact(
+    problem: &Problem,
+    state: &State,
+    trial: &TrialIncrement,
+    cycles: &AntiCycling,
+    bound: f64,
+) -> Selection {
+    let cands = events::candidates(
+        &pair_state(problem, state, cycles.frozen().0),
+        &trial_of(trial),
+        trial.noise,
+    );
     choose(&problem.model.options, state, cands, bound, true)
 }
 
 /// The pairs' part of the state as `events` reads it; `frozen`: pairs the anti-cycling rule
 /// holds.
-pub(super) fn pair_state<'a>(problem: &'a Problem, state: &'a State, frozen: &'a [bool]) -> PairState<'a> {
+pub(super) fn pair_state<'a>(
+    problem: &'a Problem,
+    state: &'a State,
+    frozen: &'a [bool],
+) -> PairState<'a> {
     let space = (problem.dim == 3).then(|| SpacePairs {
         lambda_t2: &state.lambda_t2,
         slip_dir: &state.slip_dir,
@@ -84,39 +116,90 @@ pub(super) fn pair_state<'a>(problem: &'a Problem, state: &'a State, frozen: &'a
         cross: (0..problem.pairs.len()).map(|p| problem.cross_direction(state, p)).collect(),
         turn: problem.model.options.slip_turn,
     });
-    PairState { pairs: &problem.pairs, status: &state.status, lambda_n: &state.lambda_n, lambda_t: &state.lambda_t, u: &state.u, shift: &state.shift, frozen, space }
+    PairState {
+        pairs: &problem.pairs,
+        status: &state.status,
+        lambda_n: &state.lambda_n,
+        lambda_t: &state.lambda_t,
+        u: &state.u,
+        shift: &state.shift,
+        frozen,
+        space,
+    }
 }
 
 /// A trial's rates as `events` reads them.
 pub(super) fn trial_of(trial: &TrialIncrement) -> Trial<'_> {
-    Trial { du: &trial.du, dlambda_n: &trial.dlambda_n, dlambda_t: &trial.dlambda_t, dshift: &trial.dshift, dlambda_t2: &trial.dlambda_t2 }
+    Trial {
+        du: &trial.du,
+        dlambda_n: &trial.dlambda_n,
+        dlambda_t: &trial.dlambda_t,
+        dshift: &trial.dshift,
+        dlambda_t2: &trial.dlambda_t2,
+    }
 }
 
 /// Every candidate event of the trial (contacts, yields, unloads) and the drift bound.
-fn candidates(problem: &Problem, state: &State, trial: &TrialIncrement, cycles: &AntiCycling) -> (Vec<Candidate>, f64) {
+fn candidates(
+    problem: &Problem,
+    state: &State,
+    trial: &TrialIncrement,
+    cycles: &AntiCycling,
+) -> (Vec<Candidate>, f64) {
     let (frozen_pairs, frozen_elements) = cycles.frozen();
-    let mut cands = events::candidates(&pair_state(problem, state, frozen_pairs), &trial_of(trial), trial.noise);
-    let elements = ElementState { sections: &problem.sections, stress: &state.stress, plastic_strain: &state.plastic_strain, plastic: &state.plastic, frozen: frozen_elements };
+    let mut cands = events::candidates(
+        &pair_state(problem, state, frozen_pairs),
+        &trial_of(trial),
+        trial.noise,
+    );
+    let elements = ElementState {
+        sections: &problem.sections,
+        stress: &state.stress,
+        plastic_strain: &state.plastic_strain,
+        plastic: &state.plastic,
+        frozen: frozen_elements,
+    };
     let opts = &problem.model.options;
     let max_step = opts.drift_control.then_some(opts.max_stress_step);
-    let (element_cands, drift_scale) = events::element_candidates(&elements, &trial.dstress, &trial.dplastic, max_step);
+    let (element_cands, drift_scale) =
+        events::element_candidates(&elements, &trial.dstress, &trial.dplastic, max_step);
     cands.extend(element_cands);
     (cands, drift_scale)
 }
 
 /// The smallest scale among the candidates and `bound`, the events tied with it, and the
 /// order of zero-length ones.
-fn choose(opts: &Options, state: &State, mut cands: Vec<Candidate>, bound: f64, plastic_inside: bool) -> Selection {
+fn choose(
+    opts: &Options,
+    state: &State,
+    mut cands: Vec<Candidate>,
+    bound: f64,
+    plastic_inside: bool,
+) -> Selection {
     let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
-    for c in cands.iter_mut().filter(|c| c.scale < 1.0 && phi0 + c.scale * remaining >= 1.0 - STAGE_END) {
+    for c in
+        cands.iter_mut().filter(|c| c.scale < 1.0 && phi0 + c.scale * remaining >= 1.0 - STAGE_END)
+    {
         c.scale = 1.0; // ties with the stage's end (see STAGE_END)
     }
     let s_min = cands.iter().map(|c| c.scale).fold(f64::INFINITY, f64::min);
     let scale = s_min.min(bound).min(1.0);
     let last = s_min >= 1.0 && bound >= 1.0;
-    let predicted_closures = if last { cands.iter().filter(|c| c.kind == EventKind::Close).map(|c| (c.entity, phi0 + c.scale * remaining)).collect() } else { vec![] };
+    let predicted_closures = if last {
+        cands
+            .iter()
+            .filter(|c| c.kind == EventKind::Close)
+            .map(|c| (c.entity, phi0 + c.scale * remaining))
+            .collect()
+    } else {
+        vec![]
+    };
     let tie_limit = s_min * (1.0 + opts.tie_tol) + TIE_SLACK;
-    let mut group: Vec<Candidate> = if scale < s_min || last { vec![] } else { cands.iter().copied().filter(|c| c.scale <= tie_limit).collect() };
+    let mut group: Vec<Candidate> = if scale < s_min || last {
+        vec![]
+    } else {
+        cands.iter().copied().filter(|c| c.scale <= tie_limit).collect()
+    };
     if s_min <= ZERO_SCALE {
         // Zero-length events come from a trial that is itself inadmissible; apply first
         // the ones that release a violated constraint, and only then those that add one.
@@ -125,7 +208,16 @@ fn choose(opts: &Options, state: &State, mut cands: Vec<Candidate>, bound: f64, 
     }
     let phi = if last { 1.0 } else { phi0 + scale * remaining };
     let bound_phi = if bound >= 1.0 { 1.0 } else { phi0 + bound * remaining };
-    Selection { scale, last, phi, group, predicted_closures, plastic_inside, bound_phi, first_yield: None }
+    Selection {
+        scale,
+        last,
+        phi,
+        group,
+        predicted_closures,
+        plastic_inside,
+        bound_phi,
+        first_yield: None,
+    }
 }
 
 /// Order in which simultaneous zero-length events are applied (lowest first, one class per
@@ -137,7 +229,10 @@ fn zero_length_priority(kind: EventKind) -> u8 {
     match kind {
         EventKind::StickToSlip | EventKind::Separate | EventKind::SlipTurn => 0,
         EventKind::Close | EventKind::Yield => 1,
-        EventKind::SlipToStick | EventKind::Unload | EventKind::Frozen | EventKind::FrozenElement => 2,
+        EventKind::SlipToStick
+        | EventKind::Unload
+        | EventKind::Frozen
+        | EventKind::FrozenElement => 2,
     }
 }
 
@@ -145,10 +240,21 @@ fn zero_length_priority(kind: EventKind) -> u8 {
 /// increment ends for them: the first one's load fraction φ_p, then δ max(φ_p, floor) more; and
 /// that first yield (element, φ_p). (Unloads stay events: they come at zero scale, and K must
 /// hold the elastic tangent of an element that unloads.)
-fn plastic_window(cands: &mut Vec<Candidate>, phi0: f64, remaining: f64, delta: f64) -> (f64, Option<(usize, f64)>) {
-    let first = cands.iter().filter(|c| c.kind == EventKind::Yield && c.scale.is_finite()).min_by(|a, b| a.scale.total_cmp(&b.scale)).map(|c| (c.entity, c.scale));
+fn plastic_window(
+    cands: &mut Vec<Candidate>,
+    phi0: f64,
+    remaining: f64,
+    delta: f64,
+) -> (f64, Option<(usize, f64)>) {
+    let first = cands
+        .iter()
+        .filter(|c| c.kind == EventKind::Yield && c.scale.is_finite())
+        .min_by(|a, b| a.scale.total_cmp(&b.scale))
+        .map(|c| (c.entity, c.scale));
     cands.retain(|c| c.kind != EventKind::Yield);
-    let Some((element, scale)) = first.filter(|_| remaining > 0.0) else { return (f64::INFINITY, None) };
+    let Some((element, scale)) = first.filter(|_| remaining > 0.0) else {
+        return (f64::INFINITY, None);
+    };
     let phi = phi0 + scale * remaining;
     ((phi + delta * phi.max(WINDOW_FLOOR) - phi0) / remaining, Some((element, phi)))
 }
@@ -182,8 +288,15 @@ mod tests {
         let (mut eng, state) = start(&m, &clock);
         let sel = next(&mut eng, &state, Stepping::EventByEvent);
         let s_c = g * E / (NU * q);
-        assert!((sel.scale - s_c).abs() < ROUND_OFF * s_c && !sel.last, "S = {} vs {s_c}", sel.scale);
-        assert_eq!(sel.group.iter().map(|c| (c.kind, c.entity)).collect::<Vec<_>>(), [(EventKind::Close, 0)]);
+        assert!(
+            (sel.scale - s_c).abs() < ROUND_OFF * s_c && !sel.last,
+            "S = {} vs {s_c}",
+            sel.scale
+        );
+        assert_eq!(
+            sel.group.iter().map(|c| (c.kind, c.entity)).collect::<Vec<_>>(),
+            [(EventKind::Close, 0)]
+        );
         assert!((sel.phi - s_c).abs() < ROUND_OFF);
     }
 
@@ -201,7 +314,10 @@ mod tests {
         let sel = next(&mut eng, &state, Stepping::EventByEvent);
         let s_f = mu * n / t;
         assert!((sel.scale - s_f).abs() < ROUND_OFF * s_f, "S = {} vs {s_f}", sel.scale);
-        assert_eq!(sel.group.iter().map(|c| (c.kind, c.entity, c.direction)).collect::<Vec<_>>(), [(EventKind::StickToSlip, 0, -1)]);
+        assert_eq!(
+            sel.group.iter().map(|c| (c.kind, c.entity, c.direction)).collect::<Vec<_>>(),
+            [(EventKind::StickToSlip, 0, -1)]
+        );
     }
 
     /// Pulled to σx = a, then pressed by σy = −b s: plane stress σe² = a² + a b s + b² s², so
@@ -217,9 +333,11 @@ mod tests {
         state.advance(&pull, 1.0);
         eng.begin_stage(1, &mut state);
         let sel = next(&mut eng, &state, Stepping::EventByEvent);
-        let root = (-a * b + (a * a * b * b - 4.0 * b * b * (a * a - sy * sy)).sqrt()) / (2.0 * b * b);
+        let root =
+            (-a * b + (a * a * b * b - 4.0 * b * b * (a * a - sy * sy)).sqrt()) / (2.0 * b * b);
         assert!((sel.scale - root).abs() < ROUND_OFF * root, "S = {} vs {root}", sel.scale);
-        let mut yielded: Vec<(EventKind, usize)> = sel.group.iter().map(|c| (c.kind, c.entity)).collect();
+        let mut yielded: Vec<(EventKind, usize)> =
+            sel.group.iter().map(|c| (c.kind, c.entity)).collect();
         yielded.sort_by_key(|&(_, e)| e);
         assert_eq!(yielded, [(EventKind::Yield, 0), (EventKind::Yield, 1)]);
     }
@@ -238,6 +356,10 @@ mod tests {
         let (_, onset) = sel.first_yield.expect("the window's first yield");
         assert!((onset - s_p).abs() < ROUND_OFF, "onset {onset} vs {s_p}");
         assert!((sel.phi - s_p * (1.0 + delta)).abs() < ROUND_OFF && sel.plastic_inside);
-        assert!(sel.group.is_empty(), "the window ends at its bound: {:?}", sel.group.iter().map(|c| c.kind).collect::<Vec<_>>());
+        assert!(
+            sel.group.is_empty(),
+            "the window ends at its bound: {:?}",
+            sel.group.iter().map(|c| c.kind).collect::<Vec<_>>()
+        );
     }
 }

@@ -28,7 +28,11 @@ use crate::events::slip_rate;
 /// takes its direction once, so it needs no anti-cycling turn. Returns whether any did (the
 /// caller solves `inc` again) and the force that moved (μ λ_n of a pair already loaded), kept
 /// as a switch's jump is (`keep_jumps`).
-pub(super) fn direct_new_slips(eng: &Engine, state: &mut State, inc: &TrialIncrement) -> (bool, f64) {
+pub(super) fn direct_new_slips(
+    eng: &Engine,
+    state: &mut State,
+    inc: &TrialIncrement,
+) -> (bool, f64) {
     let problem = &eng.problem;
     if problem.dim != 3 {
         return (false, 0.0);
@@ -57,7 +61,11 @@ pub(super) fn slipping(state: &State, p: usize) -> bool {
 }
 
 /// Pair p's slip rate in `inc` and its size; None while that is round-off.
-pub(super) fn slip_of(problem: &Problem, inc: &TrialIncrement, p: usize) -> Option<([f64; 2], f64)> {
+pub(super) fn slip_of(
+    problem: &Problem,
+    inc: &TrialIncrement,
+    p: usize,
+) -> Option<([f64; 2], f64)> {
     let rate = slip_rate(&problem.pairs[p], &trial_of(inc), p);
     let size = rate[0].hypot(rate[1]);
     (size > inc.noise.displacement).then_some((rate, size))

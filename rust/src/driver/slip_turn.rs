@@ -37,7 +37,14 @@ use crate::error::Result;
 /// normal force but no direction (a slip rate at round-off when it began) gets its whole
 /// friction force here, a jump rebalanced at its load; `correction`: the size of the last
 /// equilibrium correction, which the contact checks allow for.
-pub(super) fn direct_unloaded_slips(eng: &mut Engine, state: &mut State, trial: &TrialIncrement, cycles: &mut AntiCycling, rec: &mut Recorder, correction: &mut Correction) -> Result<bool> {
+pub(super) fn direct_unloaded_slips(
+    eng: &mut Engine,
+    state: &mut State,
+    trial: &TrialIncrement,
+    cycles: &mut AntiCycling,
+    rec: &mut Recorder,
+    correction: &mut Correction,
+) -> Result<bool> {
     let problem = &eng.problem;
     if problem.dim != 3 {
         return Ok(false);

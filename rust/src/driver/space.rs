@@ -35,7 +35,12 @@ pub(super) struct ReducedView {
 impl Reduced {
     /// The reduced DOFs: the `slot_dofs` (contact DOFs that are equations), then the pinned
     /// contact DOFs; the pairs and rigid modes re-indexed over them.
-    pub fn new(pairs: Vec<Pair>, slot_dofs: &[usize], contact_slot: &[usize], modes: &[Vec<f64>]) -> (Self, ReducedView) {
+    pub fn new(
+        pairs: Vec<Pair>,
+        slot_dofs: &[usize],
+        contact_slot: &[usize],
+        modes: &[Vec<f64>],
+    ) -> (Self, ReducedView) {
         let mut index = contact_slot.to_vec();
         let mut dofs = slot_dofs.to_vec();
         for pair in &pairs {
@@ -47,10 +52,27 @@ impl Reduced {
             }
         }
         // (a frictionless 3D pair's tangential DOFs are not among them: its λ_t is 0)
-        let remap = |w: &SparseVec| SparseVec { entries: w.entries.iter().filter(|&&(d, _)| index[d] != usize::MAX).map(|&(d, v)| (index[d], v)).collect() };
+        let remap = |w: &SparseVec| SparseVec {
+            entries: w
+                .entries
+                .iter()
+                .filter(|&&(d, _)| index[d] != usize::MAX)
+                .map(|&(d, v)| (index[d], v))
+                .collect(),
+        };
         let view = ReducedView {
-            pairs: pairs.iter().map(|p| Pair { w_n: remap(&p.w_n), w_t: remap(&p.w_t), w_t2: remap(&p.w_t2), ..p.clone() }).collect(),
-            contact_slot: (0..dofs.len()).map(|r| if r < slot_dofs.len() { r } else { usize::MAX }).collect(),
+            pairs: pairs
+                .iter()
+                .map(|p| Pair {
+                    w_n: remap(&p.w_n),
+                    w_t: remap(&p.w_t),
+                    w_t2: remap(&p.w_t2),
+                    ..p.clone()
+                })
+                .collect(),
+            contact_slot: (0..dofs.len())
+                .map(|r| if r < slot_dofs.len() { r } else { usize::MAX })
+                .collect(),
             mode_vectors: modes.iter().map(|m| dofs.iter().map(|&d| m[d]).collect()).collect(),
         };
         (Reduced { global_pairs: pairs, dofs }, view)

@@ -53,7 +53,13 @@ pub(super) struct State {
 impl State {
     /// The start of the path (paper §4): zero load; pairs with zero initial gap (receding or
     /// conforming contact) start closed, in stick when frictional.
-    pub fn initial(pairs: &[Pair], n_dofs: usize, n_elements: usize, n_modes: usize, gap_tol: f64) -> Self {
+    pub fn initial(
+        pairs: &[Pair],
+        n_dofs: usize,
+        n_elements: usize,
+        n_modes: usize,
+        gap_tol: f64,
+    ) -> Self {
         let n_pairs = pairs.len();
         State {
             stage: 0,
@@ -64,7 +70,10 @@ impl State {
             lambda_n: vec![0.0; n_pairs],
             lambda_t: vec![0.0; n_pairs],
             alpha: vec![0.0; n_modes],
-            status: pairs.iter().map(|p| if p.gap0 <= gap_tol { p.closed_status() } else { Status::Open }).collect(),
+            status: pairs
+                .iter()
+                .map(|p| if p.gap0 <= gap_tol { p.closed_status() } else { Status::Open })
+                .collect(),
             rtd_stick: vec![0.0; n_pairs],
             lambda_t2: vec![0.0; n_pairs],
             rtd_stick2: vec![0.0; n_pairs],
@@ -162,6 +171,12 @@ pub(super) struct IncrementStart {
 impl IncrementStart {
     /// The element arrays and displacement of `state`, before its increment.
     pub fn of(state: &State) -> Self {
-        IncrementStart { stress: state.stress.clone(), plastic_strain: state.plastic_strain.clone(), plastic: state.plastic.clone(), u: state.u.clone(), yielded_at: Default::default() }
+        IncrementStart {
+            stress: state.stress.clone(),
+            plastic_strain: state.plastic_strain.clone(),
+            plastic: state.plastic.clone(),
+            u: state.u.clone(),
+            yielded_at: Default::default(),
+        }
     }
 }

@@ -49,7 +49,9 @@ impl Stepping {
     /// A window that ended at path time t is taken back: event by event up to there.
     pub fn retake_until(self, t: f64) -> Self {
         match self {
-            Stepping::Grouped { delta } | Stepping::Retaking { delta, .. } => Stepping::Retaking { until: t, delta },
+            Stepping::Grouped { delta } | Stepping::Retaking { delta, .. } => {
+                Stepping::Retaking { until: t, delta }
+            }
             Stepping::EventByEvent => Stepping::EventByEvent,
         }
     }
@@ -69,9 +71,18 @@ mod tests {
         assert_eq!(retaking.at(0.39).window(), None);
         assert_eq!(retaking.at(0.4), grouped);
         // the paper's settings and the reduced space never group
-        assert_eq!(Stepping::new(&Options { group_tol: 0.0, ..options.clone() }, false), Stepping::EventByEvent);
-        assert_eq!(Stepping::new(&Options { drift_control: false, ..options.clone() }, false), Stepping::EventByEvent);
-        assert_eq!(Stepping::new(&Options { stop_at_first_yield: true, ..options.clone() }, false), Stepping::EventByEvent);
+        assert_eq!(
+            Stepping::new(&Options { group_tol: 0.0, ..options.clone() }, false),
+            Stepping::EventByEvent
+        );
+        assert_eq!(
+            Stepping::new(&Options { drift_control: false, ..options.clone() }, false),
+            Stepping::EventByEvent
+        );
+        assert_eq!(
+            Stepping::new(&Options { stop_at_first_yield: true, ..options.clone() }, false),
+            Stepping::EventByEvent
+        );
         assert_eq!(Stepping::new(&options, true), Stepping::EventByEvent);
     }
 }

@@ -13,11 +13,11 @@ use super::problem::Problem;
 use super::state::State;
 use super::tangents::{Renewal, Tangents};
 use crate::element::Element;
-use crate::on_elements;
 use crate::error::Result;
 use crate::factor::Factor;
 use crate::linalg::{DofMap, ElementScatter, StiffnessPattern};
 use crate::low_rank::{Column, Cost, LowRank};
+use crate::on_elements;
 use faer::sparse::SparseColMat;
 
 /// Measurements of one solve pair taken for the timing unit (the best is kept).
@@ -77,10 +77,18 @@ impl Stiffness {
         let (pattern, k, elastic) = {
             let _t = clock.time(Phase::Assembly);
             let pattern = on_elements!(&problem.elements, els => StiffnessPattern::new(els, map))?;
-            let d: Vec<_> = tangents.held.iter().zip(&problem.sections).map(|(t, s)| s.element_matrix(t)).collect();
+            let d: Vec<_> = tangents
+                .held
+                .iter()
+                .zip(&problem.sections)
+                .map(|(t, s)| s.element_matrix(t))
+                .collect();
             let k = on_elements!(&problem.elements, els => pattern.assemble(els, &d, map))?;
             let plastic_run = problem.sections.iter().any(|s| s.material.is_plastic());
-            let elastic = (plastic_run && !problem.is_reduced()).then(|| ElasticK { values: k.val().to_vec(), scatter: on_elements!(&problem.elements, els => pattern.element_scatter(els, map)) });
+            let elastic = (plastic_run && !problem.is_reduced()).then(|| ElasticK {
+                values: k.val().to_vec(),
+                scatter: on_elements!(&problem.elements, els => pattern.element_scatter(els, map)),
+            });
             (pattern, k, elastic)
         };
         let solver = {
@@ -149,7 +157,13 @@ impl Stiffness {
             }
             return Ok(self.pattern.with_values(values));
         }
-        let d: Vec<_> = self.tangents.held.iter().zip(&problem.sections).map(|(t, s)| s.element_matrix(t)).collect();
+        let d: Vec<_> = self
+            .tangents
+            .held
+            .iter()
+            .zip(&problem.sections)
+            .map(|(t, s)| s.element_matrix(t))
+            .collect();
         on_elements!(&problem.elements, els => self.pattern.assemble(els, &d, &problem.dofs.map))
     }
 
@@ -169,7 +183,13 @@ impl Stiffness {
     /// Bring every element's tangent in K up to date with the state (full space; `renewal`
     /// says which, `tangents`), then K follows: low-rank terms on the last factor, or a
     /// refactorization once those would cost more.
-    pub fn update(&mut self, problem: &Problem, state: &State, renewal: Renewal, clock: &Clock) -> Result<()> {
+    pub fn update(
+        &mut self,
+        problem: &Problem,
+        state: &State,
+        renewal: Renewal,
+        clock: &Clock,
+    ) -> Result<()> {
         if problem.is_reduced() {
             return Ok(());
         }
@@ -178,7 +198,8 @@ impl Stiffness {
             return Ok(());
         }
         let map = &problem.dofs.map;
-        let columns: Vec<Column> = changed.iter().flat_map(|&e| self.tangents.columns(problem, e, map)).collect();
+        let columns: Vec<Column> =
+            changed.iter().flat_map(|&e| self.tangents.columns(problem, e, map)).collect();
         let extra = self.cost.update(self.low_rank.rank(), columns.len());
         if self.low_rank_spent + extra > self.cost.factorization {
             return self.factor(problem, clock);
@@ -226,7 +247,13 @@ impl Stiffness {
     /// (one forward sweep per factor instead of one per trial), the rest is dropped (it would
     /// leave L⁻¹ r as it is), and the trial costs one backward sweep. A rest above `BALANCED` ×
     /// c‖ΔP‖ (an integrated increment not yet corrected, prescribed displacements) is swept whole.
-    pub fn forward_sweep(&mut self, r_eq: &[f64], c: f64, stage: usize, stage_load: impl FnOnce() -> Vec<f64>) -> Vec<f64> {
+    pub fn forward_sweep(
+        &mut self,
+        r_eq: &[f64],
+        c: f64,
+        stage: usize,
+        stage_load: impl FnOnce() -> Vec<f64>,
+    ) -> Vec<f64> {
         if c > 0.0 {
             let ls = self.stage_sweep(stage, stage_load);
             let (mut rest, mut load) = (0.0, 0.0);
@@ -245,7 +272,11 @@ impl Stiffness {
     /// factor.
     fn stage_sweep(&mut self, stage: usize, stage_load: impl FnOnce() -> Vec<f64>) -> &LoadSweep {
         let factorization = self.solver.n_factorizations;
-        if !self.load_sweep.as_ref().is_some_and(|ls| ls.stage == stage && ls.factorization == factorization) {
+        if !self
+            .load_sweep
+            .as_ref()
+            .is_some_and(|ls| ls.stage == stage && ls.factorization == factorization)
+        {
             self.load_sweep = None;
         }
         let solver = &mut self.solver;
@@ -259,7 +290,12 @@ impl Stiffness {
     /// K⁻¹(r + f) over the equations from the forward sweep `w` of r and a force f at the
     /// contact slots (`force_slots`): w_t += T⁻¹ f, one backward sweep, and with low-rank terms
     /// K⁻¹ y = K_f⁻¹ y − Z C⁻¹ Zᵀ y, whose coefficients for r are `r_coefficients`.
-    pub fn backward_with_forces(&mut self, mut w: Vec<f64>, force_slots: &[f64], r_coefficients: impl FnOnce() -> Vec<f64>) -> Vec<f64> {
+    pub fn backward_with_forces(
+        &mut self,
+        mut w: Vec<f64>,
+        force_slots: &[f64],
+        r_coefficients: impl FnOnce() -> Vec<f64>,
+    ) -> Vec<f64> {
         self.solver.add_trailing_force(&mut w, force_slots);
         let mut x = self.solver.backward(w);
         if !self.low_rank.is_empty() {

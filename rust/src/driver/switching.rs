@@ -21,7 +21,14 @@ use crate::model::EventKind;
 /// alone, every closed pair slipping (`restraint`: where its slip changes sense, a pair
 /// sticks). Returns the largest force jump a switch made (see `switch`; in the reduced space
 /// it is kept to be rebalanced: `keep_jumps`).
-pub(super) fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &mut AntiCycling, rec: &mut Recorder, what: Solve) -> f64 {
+pub(super) fn switch_statuses(
+    eng: &mut Engine,
+    state: &mut State,
+    sel: &Selection,
+    cycles: &mut AntiCycling,
+    rec: &mut Recorder,
+    what: Solve,
+) -> f64 {
     let before = jumps_kept(eng).then(|| contact_forces(state));
     let jump = switch_group(eng, state, sel, cycles, rec, what);
     if let Some(before) = before {
@@ -30,7 +37,14 @@ pub(super) fn switch_statuses(eng: &mut Engine, state: &mut State, sel: &Selecti
     jump
 }
 
-fn switch_group(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &mut AntiCycling, rec: &mut Recorder, what: Solve) -> f64 {
+fn switch_group(
+    eng: &mut Engine,
+    state: &mut State,
+    sel: &Selection,
+    cycles: &mut AntiCycling,
+    rec: &mut Recorder,
+    what: Solve,
+) -> f64 {
     let mut jump: f64 = 0.0;
     let zero_length = sel.zero_length();
     cycles.increment_selected();
@@ -38,7 +52,11 @@ fn switch_group(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &m
         cycles.load_advanced();
     }
     if zero_length && cycles.wants_rate_problem(&sel.group) {
-        crate::trace!("rate problem at phi {}: cycling one at a time ({} events in the group)", sel.phi, sel.group.len());
+        crate::trace!(
+            "rate problem at phi {}: cycling one at a time ({} events in the group)",
+            sel.phi,
+            sel.group.len()
+        );
         if let Some(jump) = switch_by_rate_problem(eng, state, cycles, rec, sel.phi, what) {
             return jump;
         }
@@ -47,17 +65,30 @@ fn switch_group(eng: &mut Engine, state: &mut State, sel: &Selection, cycles: &m
     for c in &sel.group {
         match cycles.admit(c, zero_length, &mut seen) {
             Admission::Skip => {}
-            Admission::Freeze => rec.event(c, if c.kind.is_element_event() { EventKind::FrozenElement } else { EventKind::Frozen }, sel.phi),
+            Admission::Freeze => rec.event(
+                c,
+                if c.kind.is_element_event() {
+                    EventKind::FrozenElement
+                } else {
+                    EventKind::Frozen
+                },
+                sel.phi,
+            ),
             Admission::Apply => {
                 jump = jump.max(switch(&eng.problem, state, c));
                 rec.event(c, c.kind, sel.phi);
             }
         }
     }
-    let slip_or_separation = sel.group.iter().any(|c| matches!(c.kind, EventKind::StickToSlip | EventKind::Separate));
-    if slip_or_separation && cycles.may_solve_rate_problem() && matches!(hold(&eng.problem, &eng.loads, state, &rec.events), Hold::OnFriction) {
+    let slip_or_separation =
+        sel.group.iter().any(|c| matches!(c.kind, EventKind::StickToSlip | EventKind::Separate));
+    if slip_or_separation
+        && cycles.may_solve_rate_problem()
+        && matches!(hold(&eng.problem, &eng.loads, state, &rec.events), Hold::OnFriction)
+    {
         crate::trace!("rate problem at phi {}: a body rests on friction alone", sel.phi);
-        jump = jump.max(switch_by_rate_problem(eng, state, cycles, rec, sel.phi, what).unwrap_or(0.0));
+        jump =
+            jump.max(switch_by_rate_problem(eng, state, cycles, rec, sel.phi, what).unwrap_or(0.0));
     }
     jump
 }
@@ -68,13 +99,37 @@ const SAME_DIRECTION: f64 = 1e-9;
 
 /// The statuses of the rate problem's solution, switched and recorded at φ; None when it has
 /// none or changes nothing.
-fn switch_by_rate_problem(eng: &mut Engine, state: &mut State, cycles: &mut AntiCycling, rec: &mut Recorder, phi: f64, what: Solve) -> Option<f64> {
+fn switch_by_rate_problem(
+    eng: &mut Engine,
+    state: &mut State,
+    cycles: &mut AntiCycling,
+    rec: &mut Recorder,
+    phi: f64,
+    what: Solve,
+) -> Option<f64> {
     let sol = solve_rate_problem(eng, state, what)?;
-    let mut changes: Vec<_> = (0..sol.status.len()).flat_map(|p| transitions(p, state.status[p], sol.status[p])).collect();
+    let mut changes: Vec<_> = (0..sol.status.len())
+        .flat_map(|p| transitions(p, state.status[p], sol.status[p]))
+        .collect();
     // a pair that keeps slipping, elsewhere than on its own facet or vertex, turns to the rate
     // problem's (one that keeps its own is no event)
-    let moved = |p: usize| sol.slip_dir[p].is_some_and(|(e, vertex)| vertex != state.vertex[p] || e[0] * state.slip_dir[p][0] + e[1] * state.slip_dir[p][1] < 1.0 - SAME_DIRECTION);
-    changes.extend((0..sol.status.len()).filter(|&p| state.status[p] == sol.status[p] && moved(p)).map(|p| Candidate { scale: 0.0, entity: p, kind: EventKind::SlipTurn, direction: 0, toward: [0.0; 2] }));
+    let moved = |p: usize| {
+        sol.slip_dir[p].is_some_and(|(e, vertex)| {
+            vertex != state.vertex[p]
+                || e[0] * state.slip_dir[p][0] + e[1] * state.slip_dir[p][1] < 1.0 - SAME_DIRECTION
+        })
+    };
+    changes.extend(
+        (0..sol.status.len()).filter(|&p| state.status[p] == sol.status[p] && moved(p)).map(|p| {
+            Candidate {
+                scale: 0.0,
+                entity: p,
+                kind: EventKind::SlipTurn,
+                direction: 0,
+                toward: [0.0; 2],
+            }
+        }),
+    );
     if changes.is_empty() {
         return None;
     }
@@ -100,8 +155,13 @@ pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64
     if !c.kind.is_element_event() && c.kind != EventKind::SlipTurn {
         state.facet_laid[p] = false;
     }
-    let before = if c.kind.is_element_event() { [0.0; 2] } else { [state.lambda_t[p], state.lambda_t2[p]] };
-    let dropped = if c.kind == EventKind::Separate { state.lambda_n[p].abs().max(state.lambda_t[p].abs()).max(state.lambda_t2[p].abs()) } else { 0.0 };
+    let before =
+        if c.kind.is_element_event() { [0.0; 2] } else { [state.lambda_t[p], state.lambda_t2[p]] };
+    let dropped = if c.kind == EventKind::Separate {
+        state.lambda_n[p].abs().max(state.lambda_t[p].abs()).max(state.lambda_t2[p].abs())
+    } else {
+        0.0
+    };
     match c.kind {
         EventKind::Close => {
             state.status[p] = problem.pairs[p].closed_status();
@@ -120,7 +180,8 @@ pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64
             state.status[p] = Status::Slip { direction: c.direction };
             let now = [state.lambda_t[p], state.lambda_t2[p]];
             if problem.dim == 3 {
-                (state.slip_dir[p], state.vertex[p]) = onset_facet(problem, state, p, now, c.toward);
+                (state.slip_dir[p], state.vertex[p]) =
+                    onset_facet(problem, state, p, now, c.toward);
             }
             [state.lambda_t[p], state.lambda_t2[p]] = problem.slip_force(state, p, now);
         }
@@ -136,7 +197,11 @@ pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64
         EventKind::Frozen | EventKind::FrozenElement => {}
     }
     match c.kind {
-        EventKind::StickToSlip | EventKind::SlipTurn | EventKind::SlipToStick if problem.dim == 3 => (state.lambda_t[p] - before[0]).hypot(state.lambda_t2[p] - before[1]),
+        EventKind::StickToSlip | EventKind::SlipTurn | EventKind::SlipToStick
+            if problem.dim == 3 =>
+        {
+            (state.lambda_t[p] - before[0]).hypot(state.lambda_t2[p] - before[1])
+        }
         EventKind::StickToSlip => (state.lambda_t[p] - before[0]).abs(),
         _ => dropped,
     }
@@ -146,7 +211,13 @@ pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64
 /// polygon it reached (`coulomb`), or on the round cone the facet tangent at its force's direction,
 /// which lays its polygon; at zero force the direction its stuck force was growing in
 /// (`toward`; if none either, the next trial's slip rate sets it: `slip_turn`).
-fn onset_facet(problem: &Problem, state: &State, p: usize, force: [f64; 2], toward: [f64; 2]) -> ([f64; 2], bool) {
+fn onset_facet(
+    problem: &Problem,
+    state: &State,
+    p: usize,
+    force: [f64; 2],
+    toward: [f64; 2],
+) -> ([f64; 2], bool) {
     let ln = state.lambda_n[p];
     if let Some((e, vertex)) = problem.polygon_of(state, p) {
         let law = problem.coulomb(p);
@@ -164,7 +235,8 @@ const PLACE_TOL: f64 = 1e-9;
 /// force); one at a vertex whose slip left its normal cone on side `side` goes onto that side's
 /// facet. Either way the force does not move (round-off aside): the band's edge is the vertex.
 fn turn_facet(problem: &Problem, state: &mut State, p: usize, side: i8) {
-    let (law, now, e) = (problem.coulomb(p), [state.lambda_t[p], state.lambda_t2[p]], state.slip_dir[p]);
+    let (law, now, e) =
+        (problem.coulomb(p), [state.lambda_t[p], state.lambda_t2[p]], state.slip_dir[p]);
     if state.vertex[p] {
         state.slip_dir[p] = law.facet_of(e, side as f64);
         state.vertex[p] = false;
@@ -195,7 +267,9 @@ pub(super) fn jumps_kept(eng: &Engine) -> bool {
 
 /// Every pair's contact forces (λ_n, λ_t1, λ_t2), to tell what switches change.
 pub(super) fn contact_forces(state: &State) -> Vec<[f64; 3]> {
-    (0..state.lambda_n.len()).map(|p| [state.lambda_n[p], state.lambda_t[p], state.lambda_t2[p]]).collect()
+    (0..state.lambda_n.len())
+        .map(|p| [state.lambda_n[p], state.lambda_t[p], state.lambda_t2[p]])
+        .collect()
 }
 
 /// The force jumps switches made since `before`, added to the state's unbalanced ones
@@ -209,15 +283,22 @@ pub(super) fn keep_jumps(state: &mut State, before: &[[f64; 3]]) {
 
 /// The events that take pair p from status `from` to `to` (for the rate problem's statuses).
 pub(super) fn transitions(p: usize, from: Status, to: Status) -> Vec<Candidate> {
-    let event = |kind, direction| Candidate { scale: 0.0, entity: p, kind, direction, toward: [0.0; 2] };
+    let event =
+        |kind, direction| Candidate { scale: 0.0, entity: p, kind, direction, toward: [0.0; 2] };
     match (from, to) {
         (a, b) if a == b => vec![],
         (_, Status::Open) => vec![event(EventKind::Separate, 0)],
-        (Status::Open, Status::Slip { direction }) if direction != 0 => vec![event(EventKind::Close, 0), event(EventKind::StickToSlip, direction)],
+        (Status::Open, Status::Slip { direction }) if direction != 0 => {
+            vec![event(EventKind::Close, 0), event(EventKind::StickToSlip, direction)]
+        }
         (Status::Open, _) => vec![event(EventKind::Close, 0)],
         (Status::Slip { .. }, Status::Stick) => vec![event(EventKind::SlipToStick, 0)],
-        (Status::Stick, Status::Slip { direction }) => vec![event(EventKind::StickToSlip, direction)],
-        (Status::Slip { .. }, Status::Slip { direction }) => vec![event(EventKind::SlipToStick, 0), event(EventKind::StickToSlip, direction)],
+        (Status::Stick, Status::Slip { direction }) => {
+            vec![event(EventKind::StickToSlip, direction)]
+        }
+        (Status::Slip { .. }, Status::Slip { direction }) => {
+            vec![event(EventKind::SlipToStick, 0), event(EventKind::StickToSlip, direction)]
+        }
         (Status::Stick, Status::Stick) => vec![],
     }
 }

@@ -8,9 +8,8 @@
 //! trial's displacement, which the equilibrium correction completes. (How K follows a change,
 //! by low-rank terms or a refactorization: `stiffness`.)
 
-
-use super::state::State;
 use super::problem::{Problem, PARALLEL_CHUNK};
+use super::state::State;
 use crate::element::{Cst, Element, Elements, Tet4};
 use crate::linalg::DofMap;
 use crate::low_rank::Column;
@@ -66,8 +65,10 @@ pub(super) struct Tangents {
 impl Tangents {
     /// Every element elastic.
     pub fn elastic(problem: &Problem) -> Self {
-        let held: Vec<Tangent> = problem.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
-        let elastic = problem.model.materials.iter().map(|m| m.tangent(&Voigt::zeros(), false)).collect();
+        let held: Vec<Tangent> =
+            problem.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
+        let elastic =
+            problem.model.materials.iter().map(|m| m.tangent(&Voigt::zeros(), false)).collect();
         Tangents { flowing: vec![false; held.len()], held, replaced: HashMap::new(), elastic }
     }
 
@@ -83,13 +84,24 @@ impl Tangents {
 
     /// The elements whose tangent changed with the state (now renewed in `held`), or None when
     /// the update waits (`yields_can_wait`).
-    pub fn renew(&mut self, problem: &Problem, state: &State, renewal: Renewal) -> Option<Vec<usize>> {
+    pub fn renew(
+        &mut self,
+        problem: &Problem,
+        state: &State,
+        renewal: Renewal,
+    ) -> Option<Vec<usize>> {
         let turn = match renewal {
-            Renewal::Changed { yields_may_wait: true, .. } if self.yields_can_wait(state) => return None,
+            Renewal::Changed { yields_may_wait: true, .. } if self.yields_can_wait(state) => {
+                return None
+            }
             Renewal::Changed { turn, .. } => turn,
             Renewal::All => 0.0,
         };
-        Some((0..problem.elements.len()).filter(|&e| self.refresh(problem, e, state, turn)).collect())
+        Some(
+            (0..problem.elements.len())
+                .filter(|&e| self.refresh(problem, e, state, turn))
+                .collect(),
+        )
     }
 
     /// Grouped increments with drift control and held tangents (tangent_turn > 0): K is left as
@@ -117,7 +129,9 @@ impl Tangents {
         let change = match (self.flowing[e], state.plastic[e]) {
             (false, false) => false,
             (true, false) | (false, true) => true,
-            (true, true) => self.held[e].flow.is_some_and(|f| turned(&f.da, &state.stress[e]) > turn),
+            (true, true) => {
+                self.held[e].flow.is_some_and(|f| turned(&f.da, &state.stress[e]) > turn)
+            }
         };
         if change {
             let renewed = problem.sections[e].tangent(&state.stress[e], state.plastic[e]);
@@ -132,16 +146,29 @@ impl Tangents {
     /// c = √(w |λ|) Bᵀ v (w the element's volume).
     pub fn columns(&self, problem: &Problem, e: usize, map: &DofMap) -> Vec<Column> {
         let section = &problem.sections[e];
-        let delta: Matrix6<f64> = section.element_matrix(&self.held[e]) - section.element_matrix(self.factored_tangent(e));
+        let delta: Matrix6<f64> = section.element_matrix(&self.held[e])
+            - section.element_matrix(self.factored_tangent(e));
         // (the eigen decomposition at the element's own size: nalgebra's needs a concrete one)
         match &problem.elements {
             Elements::Plane(els) => {
                 let eig = SymmetricEigen::new(Cst::rows_of(&delta));
-                rank_one_terms(&els[e], e, eig.eigenvalues.as_slice(), |i| eig.eigenvectors.column(i).into_owned(), map)
+                rank_one_terms(
+                    &els[e],
+                    e,
+                    eig.eigenvalues.as_slice(),
+                    |i| eig.eigenvectors.column(i).into_owned(),
+                    map,
+                )
             }
             Elements::Space(els) => {
                 let eig = SymmetricEigen::new(Tet4::rows_of(&delta));
-                rank_one_terms(&els[e], e, eig.eigenvalues.as_slice(), |i| eig.eigenvectors.column(i).into_owned(), map)
+                rank_one_terms(
+                    &els[e],
+                    e,
+                    eig.eigenvalues.as_slice(),
+                    |i| eig.eigenvectors.column(i).into_owned(),
+                    map,
+                )
             }
         }
     }
@@ -151,19 +178,34 @@ impl Tangents {
     /// integration takes the few it needs from Δu.)
     pub fn stress_increment(&self, problem: &Problem, du: &[f64]) -> (Vec<Voigt>, Vec<f64>) {
         let material = &problem.model.element_material;
-        (0..self.held.len()).into_par_iter().with_min_len(PARALLEL_CHUNK).zip(&self.flowing).zip(&problem.sections).map(|((el, &flowing), section)| {
-            let e = problem.elements.strain(el, du);
-            match flowing {
-                false => (section.stress_increment(&self.elastic[material[el]], &e), 0.0),
-                true => (section.stress_increment(&self.held[el], &e), section.plastic_multiplier(&self.held[el], &e)),
-            }
-        }).unzip()
+        (0..self.held.len())
+            .into_par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .zip(&self.flowing)
+            .zip(&problem.sections)
+            .map(|((el, &flowing), section)| {
+                let e = problem.elements.strain(el, du);
+                match flowing {
+                    false => (section.stress_increment(&self.elastic[material[el]], &e), 0.0),
+                    true => (
+                        section.stress_increment(&self.held[el], &e),
+                        section.plastic_multiplier(&self.held[el], &e),
+                    ),
+                }
+            })
+            .unzip()
     }
 }
 
 /// w Bᵀ ΔD B of one element as signed rank-one terms over the equations (`columns`), from the
 /// eigenvalues λ_i and eigenvectors v_i of ΔD restricted to the element's rows.
-fn rank_one_terms<const S: usize, const N: usize>(el: &impl Element<S, N>, e: usize, eigenvalues: &[f64], eigenvector: impl Fn(usize) -> SVector<f64, S>, map: &DofMap) -> Vec<Column> {
+fn rank_one_terms<const S: usize, const N: usize>(
+    el: &impl Element<S, N>,
+    e: usize,
+    eigenvalues: &[f64],
+    eigenvector: impl Fn(usize) -> SVector<f64, S>,
+    map: &DofMap,
+) -> Vec<Column> {
     let largest = eigenvalues.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let weight = el.measure();
     (0..S)
@@ -171,7 +213,12 @@ fn rank_one_terms<const S: usize, const N: usize>(el: &impl Element<S, N>, e: us
         .map(|i| {
             let lambda = eigenvalues[i];
             let w = el.b().transpose() * eigenvector(i) * (weight * lambda.abs()).sqrt();
-            let entries = el.dofs().iter().zip(w.iter()).filter_map(|(&g, &v)| map.equation(g).map(|q| (q, v))).collect();
+            let entries = el
+                .dofs()
+                .iter()
+                .zip(w.iter())
+                .filter_map(|(&g, &v)| map.equation(g).map(|q| (q, v)))
+                .collect();
             Column { entries, sign: lambda.signum(), owner: e }
         })
         .collect()
@@ -183,7 +230,9 @@ fn rank_one_terms<const S: usize, const N: usize>(el: &impl Element<S, N>, e: us
 /// without building a tangent.
 fn turned(held_da: &Voigt, stress: &Voigt) -> f64 {
     let now = deviator(stress);
-    let inner = |a: &Voigt, b: &Voigt| SHEARS.fold(a[0] * b[0] + a[1] * b[1] + a[2] * b[2], |s, k| s + 2.0 * a[k] * b[k]);
+    let inner = |a: &Voigt, b: &Voigt| {
+        SHEARS.fold(a[0] * b[0] + a[1] * b[1] + a[2] * b[2], |s, k| s + 2.0 * a[k] * b[k])
+    };
     let cos = inner(held_da, &now) / (inner(held_da, held_da) * inner(&now, &now)).sqrt();
     cos.clamp(-1.0, 1.0).acos()
 }
@@ -204,7 +253,9 @@ mod tests {
     fn low_rank_matrix(eng: &Engine, e: usize) -> SMatrix<f64, 6, 6> {
         let map = &eng.problem.dofs.map;
         let dofs = eng.problem.elements.dofs(e);
-        let local = |q: usize| dofs.iter().position(|&d| d == map.dof_of_equation[q]).expect("a DOF of the element");
+        let local = |q: usize| {
+            dofs.iter().position(|&d| d == map.dof_of_equation[q]).expect("a DOF of the element")
+        };
         let mut k = SMatrix::<f64, 6, 6>::zeros();
         for c in eng.stiffness.tangents.columns(&eng.problem, e, map) {
             for &(qi, vi) in &c.entries {
@@ -228,37 +279,59 @@ mod tests {
         let m = square_on_rollers(0.0, -sy, plastic(sy, 500.0));
         let clock = Clock::new();
         let (mut eng, mut state) = start(&m, &clock);
-        let (s1, s2) = (from_planar([sy, 0.0, 0.0, 0.0]), from_planar([0.0, 0.0, 0.0, sy / 3f64.sqrt()]));
-        let renew = |eng: &mut Engine, state: &State| eng.stiffness.tangents.renew(&eng.problem, state, Renewal::All).expect("a renewal of all never waits");
+        let (s1, s2) =
+            (from_planar([sy, 0.0, 0.0, 0.0]), from_planar([0.0, 0.0, 0.0, sy / 3f64.sqrt()]));
+        let renew = |eng: &mut Engine, state: &State| {
+            eng.stiffness
+                .tangents
+                .renew(&eng.problem, state, Renewal::All)
+                .expect("a renewal of all never waits")
+        };
         (state.plastic[0], state.stress[0]) = (true, s1);
         assert_eq!(renew(&mut eng, &state), vec![0]);
         state.stress[0] = s2;
         assert_eq!(renew(&mut eng, &state), vec![0], "a flow turned by 90 degrees is renewed");
 
         let section = eng.problem.sections[0];
-        let (elastic, at_s2) = (section.tangent(&Voigt::zeros(), false), section.tangent(&s2, true));
+        let (elastic, at_s2) =
+            (section.tangent(&Voigt::zeros(), false), section.tangent(&s2, true));
         let Elements::Plane(els) = &eng.problem.elements else { panic!("a plane scene") };
-        let expected = els[0].stiffness(&(section.element_matrix(&at_s2) - section.element_matrix(&elastic)));
+        let expected =
+            els[0].stiffness(&(section.element_matrix(&at_s2) - section.element_matrix(&elastic)));
         let got = low_rank_matrix(&eng, 0);
         let dofs = eng.problem.elements.dofs(0);
         let scale = expected.amax();
         for i in 0..6 {
             for j in 0..6 {
-                let free = eng.problem.dofs.map.equation(dofs[i]).is_some() && eng.problem.dofs.map.equation(dofs[j]).is_some();
+                let free = eng.problem.dofs.map.equation(dofs[i]).is_some()
+                    && eng.problem.dofs.map.equation(dofs[j]).is_some();
                 let want = if free { expected[(i, j)] } else { 0.0 };
-                assert!((got[(i, j)] - want).abs() < ROUND_OFF * scale, "K - K_f [{i},{j}] = {} vs {want}", got[(i, j)]);
+                assert!(
+                    (got[(i, j)] - want).abs() < ROUND_OFF * scale,
+                    "K - K_f [{i},{j}] = {} vs {want}",
+                    got[(i, j)]
+                );
             }
         }
 
         let du: Vec<f64> = (0..8).map(|k| 1e-3 * (k as f64 - 3.5)).collect();
         let (dstress, dplastic) = eng.stiffness.tangents.stress_increment(&eng.problem, &du);
         let (e0, e1) = (eng.problem.elements.strain(0, &du), eng.problem.elements.strain(1, &du));
-        assert_eq!((dstress[0], dplastic[0]), (section.stress_increment(&at_s2, &e0), section.plastic_multiplier(&at_s2, &e0)));
-        assert_eq!((dstress[1], dplastic[1]), (eng.problem.sections[1].stress_increment(&elastic, &e1), 0.0));
+        assert_eq!(
+            (dstress[0], dplastic[0]),
+            (section.stress_increment(&at_s2, &e0), section.plastic_multiplier(&at_s2, &e0))
+        );
+        assert_eq!(
+            (dstress[1], dplastic[1]),
+            (eng.problem.sections[1].stress_increment(&elastic, &e1), 0.0)
+        );
 
         state.plastic[0] = false;
         assert_eq!(renew(&mut eng, &state), vec![0], "an unload is renewed");
-        assert!(eng.stiffness.tangents.columns(&eng.problem, 0, &eng.problem.dofs.map).is_empty(), "elastic again: K_f's own tangent");
+        assert!(
+            eng.stiffness.tangents.columns(&eng.problem, 0, &eng.problem.dofs.map).is_empty(),
+            "elastic again: K_f's own tangent"
+        );
         let (dstress, dplastic) = eng.stiffness.tangents.stress_increment(&eng.problem, &du);
         assert_eq!((dstress[0], dplastic[0]), (section.stress_increment(&elastic, &e0), 0.0));
     }

@@ -98,14 +98,28 @@ pub(super) struct TrialBase {
 impl TrialBase {
     fn of(oob: &OutOfBalance, c: f64) -> Self {
         let noise = Noise { displacement: 0.0, force: 0.0 };
-        TrialBase { c, z0: oob.z0.clone(), mode_rhs: oob.mode_rhs.clone(), forward_sweep: oob.forward_sweep.clone(), low_rank_coefficients: oob.low_rank_coefficients.clone(), noise }
+        TrialBase {
+            c,
+            z0: oob.z0.clone(),
+            mode_rhs: oob.mode_rhs.clone(),
+            forward_sweep: oob.forward_sweep.clone(),
+            low_rank_coefficients: oob.low_rank_coefficients.clone(),
+            noise,
+        }
     }
 
     /// The out-of-balance force of the remaining fraction c' (contact slots only).
     fn scaled(&self, c: f64, dshift: Vec<Shift>) -> OutOfBalance {
         let k = if self.c > 0.0 { c / self.c } else { 0.0 };
         let times = |v: &[f64]| v.iter().map(|x| k * x).collect();
-        OutOfBalance { z0: times(&self.z0), mode_rhs: times(&self.mode_rhs), forward_sweep: vec![], prescribed: vec![], dshift, low_rank_coefficients: vec![] }
+        OutOfBalance {
+            z0: times(&self.z0),
+            mode_rhs: times(&self.mode_rhs),
+            forward_sweep: vec![],
+            prescribed: vec![],
+            dshift,
+            low_rank_coefficients: vec![],
+        }
     }
 }
 
@@ -120,22 +134,41 @@ pub(super) struct ContactSystem {
 
 /// The trial increment for `what`. `internal`: the internal force P_σ of the state's stresses
 /// if the caller has it.
-pub(super) fn solve(eng: &mut Engine, state: &State, what: Solve, internal: Option<Vec<f64>>) -> Result<TrialIncrement> {
+pub(super) fn solve(
+    eng: &mut Engine,
+    state: &State,
+    what: Solve,
+    internal: Option<Vec<f64>>,
+) -> Result<TrialIncrement> {
     Ok(solve_keeping(eng, state, what, internal, false)?.0)
 }
 
 /// The trial for the stage's remaining load (eq. 44), and in a plastic window (`stepping`) what
 /// its contact sub-steps reuse (`TrialBase`).
-pub(super) fn remaining_load(eng: &mut Engine, state: &State, internal: Option<Vec<f64>>, stepping: Stepping) -> Result<(TrialIncrement, Option<TrialBase>)> {
+pub(super) fn remaining_load(
+    eng: &mut Engine,
+    state: &State,
+    internal: Option<Vec<f64>>,
+    stepping: Stepping,
+) -> Result<(TrialIncrement, Option<TrialBase>)> {
     solve_keeping(eng, state, Solve::RemainingLoad, internal, stepping.window().is_some())
 }
 
-fn solve_keeping(eng: &mut Engine, state: &State, what: Solve, internal: Option<Vec<f64>>, keep_base: bool) -> Result<(TrialIncrement, Option<TrialBase>)> {
+fn solve_keeping(
+    eng: &mut Engine,
+    state: &State,
+    what: Solve,
+    internal: Option<Vec<f64>>,
+    keep_base: bool,
+) -> Result<(TrialIncrement, Option<TrialBase>)> {
     let oob = out_of_balance(eng, state, what, internal);
     let mut base = keep_base.then(|| TrialBase::of(&oob, 1.0 - state.load_fraction));
     let mut sys = contact_system(eng, state, &oob.dshift, false);
     let sol = match solve_small_system(eng, state, &sys, &oob) {
-        Err(e) if matches!(e.kind, ErrorKind::FreeBody | ErrorKind::GrossSliding) && unloaded_facets(&eng.problem, state).next().is_some() => {
+        Err(e)
+            if matches!(e.kind, ErrorKind::FreeBody | ErrorKind::GrossSliding)
+                && unloaded_facets(&eng.problem, state).next().is_some() =>
+        {
             sys = contact_system(eng, state, &oob.dshift, true);
             solve_small_system(eng, state, &sys, &oob).map_err(|_| e)?
         }
@@ -150,7 +183,12 @@ fn solve_keeping(eng: &mut Engine, state: &State, what: Solve, internal: Option<
 
 /// The stage's remaining load from the state to `what`'s target (forces, prescribed
 /// displacement increments and obstacle motion), in residual form.
-pub(super) fn out_of_balance(eng: &mut Engine, state: &State, what: Solve, internal: Option<Vec<f64>>) -> OutOfBalance {
+pub(super) fn out_of_balance(
+    eng: &mut Engine,
+    state: &State,
+    what: Solve,
+    internal: Option<Vec<f64>>,
+) -> OutOfBalance {
     let target = what.target();
     let Engine { problem, stiffness, loads, .. } = eng;
     let dshift = loads.shift_increment(state, target);
@@ -167,8 +205,20 @@ pub(super) fn out_of_balance(eng: &mut Engine, state: &State, what: Solve, inter
             let dz = stiffness.flexibility_times(&problem.dofs.contact_slot, &jumps);
             z0.iter_mut().zip(&dz).for_each(|(z, d)| *z += d); // reduced index = slot
         }
-        let mode_rhs = (0..loads.mode_force.len()).map(|k| -c * loads.mode_force[k][1] - jumps.iter().map(|&(d, v)| v * problem.bodies.mode_vectors[k][d]).sum::<f64>()).collect();
-        return OutOfBalance { z0, mode_rhs, forward_sweep: vec![], prescribed: vec![], dshift, low_rank_coefficients: vec![] };
+        let mode_rhs = (0..loads.mode_force.len())
+            .map(|k| {
+                -c * loads.mode_force[k][1]
+                    - jumps.iter().map(|&(d, v)| v * problem.bodies.mode_vectors[k][d]).sum::<f64>()
+            })
+            .collect();
+        return OutOfBalance {
+            z0,
+            mode_rhs,
+            forward_sweep: vec![],
+            prescribed: vec![],
+            dshift,
+            low_rank_coefficients: vec![],
+        };
     }
     let internal = internal.unwrap_or_else(|| problem.internal_force(&state.stress));
     let mut r = loads.residual_from(problem, &internal, state, target);
@@ -177,7 +227,9 @@ pub(super) fn out_of_balance(eng: &mut Engine, state: &State, what: Solve, inter
         r.iter_mut().zip(&f).for_each(|(a, b)| *a += b);
     }
     let r_eq = problem.dofs.map.to_equations(&r);
-    let w = stiffness.forward_sweep(&r_eq, target - state.load_fraction, state.stage, || loads.change_on_equations(problem));
+    let w = stiffness.forward_sweep(&r_eq, target - state.load_fraction, state.stage, || {
+        loads.change_on_equations(problem)
+    });
     let mut z0 = stiffness.solver.trailing_solution(&w);
     let mut low_rank_coefficients = vec![];
     if !stiffness.low_rank.is_empty() {
@@ -185,7 +237,12 @@ pub(super) fn out_of_balance(eng: &mut Engine, state: &State, what: Solve, inter
         low_rank_coefficients = stiffness.low_rank.coefficients(&r_eq);
         stiffness.low_rank.subtract_trailing(&mut z0, &low_rank_coefficients);
     }
-    let mode_rhs = problem.bodies.mode_vectors.iter().map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>()).collect();
+    let mode_rhs = problem
+        .bodies
+        .mode_vectors
+        .iter()
+        .map(|m| -m.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>())
+        .collect();
     OutOfBalance { z0, mode_rhs, forward_sweep: w, prescribed, dshift, low_rank_coefficients }
 }
 
@@ -202,9 +259,14 @@ fn jump_force(problem: &Problem, state: &State) -> Vec<(usize, f64)> {
 
 /// 3D: the slipping pairs at zero normal force that hold a direction e but no facet yet
 /// (`Problem::cross_direction`), with their cross directions e⊥.
-fn unloaded_facets<'a>(problem: &'a Problem, state: &'a State) -> impl Iterator<Item = (usize, [f64; 2])> + 'a {
+fn unloaded_facets<'a>(
+    problem: &'a Problem,
+    state: &'a State,
+) -> impl Iterator<Item = (usize, [f64; 2])> + 'a {
     let unloaded = move |p: usize| (0.0..=problem.scales.force_noise).contains(&state.lambda_n[p]);
-    (0..problem.pairs.len()).filter(move |&p| unloaded(p)).filter_map(move |p| problem.facet_cross(state, p).map(|cross| (p, cross)))
+    (0..problem.pairs.len())
+        .filter(move |&p| unloaded(p))
+        .filter_map(move |p| problem.facet_cross(state, p).map(|cross| (p, cross)))
 }
 
 /// Rows of the closed pairs: normal (h = −gap − Δc_n); for frictional stick, tangential
@@ -244,8 +306,12 @@ fn contact_system(eng: &Engine, state: &State, dshift: &[Shift], unloaded: bool)
             h.push(-(cross[0] * dshift[p][1] + cross[1] * dshift[p][2]));
         }
     }
-    let columns: Vec<Vec<(usize, f64)>> = rows.iter().map(|row| force_direction(problem, state, *row)).collect();
-    let flex_columns = columns.iter().map(|e| eng.stiffness.flexibility_times(&problem.dofs.contact_slot, e)).collect();
+    let columns: Vec<Vec<(usize, f64)>> =
+        rows.iter().map(|row| force_direction(problem, state, *row)).collect();
+    let flex_columns = columns
+        .iter()
+        .map(|e| eng.stiffness.flexibility_times(&problem.dofs.contact_slot, e))
+        .collect();
     ContactSystem { rows, h, columns, flex_columns }
 }
 
@@ -281,13 +347,19 @@ fn constraint<'a>(problem: &'a Problem, row: Row) -> Cow<'a, SparseVec> {
 }
 
 /// Assemble and solve the small system for (Δλ, α).
-fn solve_small_system(eng: &Engine, state: &State, sys: &ContactSystem, oob: &OutOfBalance) -> Result<DVector<f64>> {
+fn solve_small_system(
+    eng: &Engine,
+    state: &State,
+    sys: &ContactSystem,
+    oob: &OutOfBalance,
+) -> Result<DVector<f64>> {
     let problem = &eng.problem;
     let modes = &problem.bodies.mode_vectors;
     let (m, nm) = (sys.rows.len(), problem.bodies.modes.len());
     let mut a = DMatrix::<f64>::zeros(m + nm, m + nm);
     let mut rhs = DVector::<f64>::zeros(m + nm);
-    let constraints: Vec<Cow<SparseVec>> = sys.rows.iter().map(|&row| constraint(problem, row)).collect();
+    let constraints: Vec<Cow<SparseVec>> =
+        sys.rows.iter().map(|&row| constraint(problem, row)).collect();
     for j in 0..m {
         for i in 0..m {
             a[(i, j)] = problem.dot_slots(&constraints[i], &sys.flex_columns[j]);
@@ -305,8 +377,21 @@ fn solve_small_system(eng: &Engine, state: &State, sys: &ContactSystem, oob: &Ou
     for i in 0..m {
         rhs[i] = sys.h[i] - problem.dot_slots(&constraints[i], &oob.z0);
     }
-    let closed_normals = || sys.rows.iter().filter_map(|r| if let Row::Normal(p) = r { Some(*p) } else { None }).collect::<Vec<usize>>();
-    let idle = restraint::check_restrained(problem, &eng.loads, state, &a, m, &oob.mode_rhs, closed_normals)?;
+    let closed_normals = || {
+        sys.rows
+            .iter()
+            .filter_map(|r| if let Row::Normal(p) = r { Some(*p) } else { None })
+            .collect::<Vec<usize>>()
+    };
+    let idle = restraint::check_restrained(
+        problem,
+        &eng.loads,
+        state,
+        &a,
+        m,
+        &oob.mode_rhs,
+        closed_normals,
+    )?;
     let (s, sol) = {
         let _t = eng.clock.time(Phase::Dense);
         let s = unit_free(&mut a, &mut rhs, m);
@@ -335,7 +420,14 @@ fn solve_small_system(eng: &Engine, state: &State, sys: &ContactSystem, oob: &Ou
 
 /// Δλ, Δu = K#(r + E Δλ) + N α, and the element stress increments (not for a sub-step, nor in
 /// the reduced space).
-fn increment(eng: &mut Engine, state: &State, what: Solve, sys: &ContactSystem, mut oob: OutOfBalance, sol: &DVector<f64>) -> TrialIncrement {
+fn increment(
+    eng: &mut Engine,
+    state: &State,
+    what: Solve,
+    sys: &ContactSystem,
+    mut oob: OutOfBalance,
+    sol: &DVector<f64>,
+) -> TrialIncrement {
     let problem = &eng.problem;
     let (m, n_pairs) = (sys.rows.len(), problem.pairs.len());
     let (mut dlambda_n, mut dlambda_t) = (vec![0.0; n_pairs], vec![0.0; n_pairs]);
@@ -371,21 +463,48 @@ fn increment(eng: &mut Engine, state: &State, what: Solve, sys: &ContactSystem, 
     let noise = match what {
         Solve::SubStep(base) => base.noise,
         Solve::RemainingLoad | Solve::Balance(_) => {
-            let largest = eng.loads.largest_increment(problem, &du, what.target() - state.load_fraction);
+            let largest =
+                eng.loads.largest_increment(problem, &du, what.target() - state.load_fraction);
             Noise { displacement: DISPLACEMENT_NOISE * largest, force: problem.scales.force_noise }
         }
     };
     if problem.is_reduced() || sub_step {
-        return TrialIncrement { du, dstress: vec![], dplastic: vec![], dlambda_n, dlambda_t, dlambda_t2, dalpha, dshift, noise };
+        return TrialIncrement {
+            du,
+            dstress: vec![],
+            dplastic: vec![],
+            dlambda_n,
+            dlambda_t,
+            dlambda_t2,
+            dalpha,
+            dshift,
+            noise,
+        };
     }
     let (dstress, dplastic) = eng.stiffness.tangents.stress_increment(problem, &du);
-    TrialIncrement { du, dstress, dplastic, dlambda_n, dlambda_t, dlambda_t2, dalpha, dshift, noise }
+    TrialIncrement {
+        du,
+        dstress,
+        dplastic,
+        dlambda_n,
+        dlambda_t,
+        dlambda_t2,
+        dalpha,
+        dshift,
+        noise,
+    }
 }
 
 /// K#(r + E Δλ): in the reduced space and for a sub-step only at the contact DOFs,
 /// Σ_j Δλ_j K# e_j (reduced index = slot); in the full space the forces E Δλ on contact DOFs
 /// touch only the trailing rows of the forward sweep, then one backward sweep.
-fn displacement(eng: &mut Engine, sys: &ContactSystem, oob: OutOfBalance, sol: &DVector<f64>, sub_step: bool) -> Vec<f64> {
+fn displacement(
+    eng: &mut Engine,
+    sys: &ContactSystem,
+    oob: OutOfBalance,
+    sol: &DVector<f64>,
+    sub_step: bool,
+) -> Vec<f64> {
     let m = sys.rows.len();
     let Engine { problem, stiffness, .. } = eng;
     if problem.is_reduced() || sub_step {
@@ -404,15 +523,23 @@ fn displacement(eng: &mut Engine, sys: &ContactSystem, oob: OutOfBalance, sol: &
             }
         }
     }
-    let x = stiffness.backward_with_forces(oob.forward_sweep, &force_slots, || oob.low_rank_coefficients);
+    let x = stiffness
+        .backward_with_forces(oob.forward_sweep, &force_slots, || oob.low_rank_coefficients);
     problem.dofs.map.from_equations(&x)
 }
 
 /// Δu = K⁻¹(f r + E Δλ) over all DOFs, from a trial's kept out-of-balance force r (its
 /// forward sweep) and the forces `force_slots` at the contact slots: one backward sweep.
-pub(super) fn displacement_from(eng: &mut Engine, base: &TrialBase, f: f64, force_slots: &[f64]) -> Vec<f64> {
+pub(super) fn displacement_from(
+    eng: &mut Engine,
+    base: &TrialBase,
+    f: f64,
+    force_slots: &[f64],
+) -> Vec<f64> {
     let w: Vec<f64> = base.forward_sweep.iter().map(|v| f * v).collect();
-    let x = eng.stiffness.backward_with_forces(w, force_slots, || base.low_rank_coefficients.iter().map(|v| f * v).collect());
+    let x = eng.stiffness.backward_with_forces(w, force_slots, || {
+        base.low_rank_coefficients.iter().map(|v| f * v).collect()
+    });
     eng.problem.dofs.map.from_equations(&x)
 }
 
@@ -451,7 +578,11 @@ pub(super) fn lu_solve(a: &DMatrix<f64>, b: DMatrix<f64>, singular: f64) -> Opti
     if n == 0 {
         return Some(b);
     }
-    let lu = faer::linalg::solvers::PartialPivLu::new(faer::MatRef::from_column_major_slice(a.as_slice(), n, n));
+    let lu = faer::linalg::solvers::PartialPivLu::new(faer::MatRef::from_column_major_slice(
+        a.as_slice(),
+        n,
+        n,
+    ));
     let pivots: Vec<f64> = (0..n).map(|i| lu.U()[(i, i)].abs()).collect();
     let largest = pivots.iter().fold(0.0f64, |m, v| m.max(*v));
     if !(largest > 0.0) || pivots.iter().any(|&p| p <= singular * largest) {
@@ -459,10 +590,12 @@ pub(super) fn lu_solve(a: &DMatrix<f64>, b: DMatrix<f64>, singular: f64) -> Opti
     }
     let mut x = b;
     use faer::linalg::solvers::SolveCore;
-    lu.solve_in_place_with_conj(faer::Conj::No, faer::MatMut::from_column_major_slice_mut(x.as_mut_slice(), n, k));
+    lu.solve_in_place_with_conj(
+        faer::Conj::No,
+        faer::MatMut::from_column_major_slice_mut(x.as_mut_slice(), n, k),
+    );
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
-
 
 #[cfg(test)]
 mod tests {
@@ -497,7 +630,8 @@ mod tests {
             let clock = Clock::new();
             let (mut eng, state) = start(&m, &clock);
             assert_eq!(eng.problem.is_reduced(), reduced);
-            let (trial, base) = remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
+            let (trial, base) =
+                remaining_load(&mut eng, &state, None, Stepping::EventByEvent).unwrap();
             assert!(base.is_none(), "no window, no base kept");
             let (ux, uy) = (at(&eng, &trial.du, 4), at(&eng, &trial.du, 5));
             assert!((ux - NU * q / E).abs() < ROUND_OFF * q / E, "u_x = {ux}");
@@ -516,12 +650,18 @@ mod tests {
         let clock = Clock::new();
         let (mut eng, mut state) = start(&m, &clock);
         let press = solve(&mut eng, &state, Solve::RemainingLoad, None).unwrap();
-        assert!((press.dlambda_n[0] - n).abs() < ROUND_OFF * n && press.dlambda_t[0].abs() < ROUND_OFF * n);
+        assert!(
+            (press.dlambda_n[0] - n).abs() < ROUND_OFF * n
+                && press.dlambda_t[0].abs() < ROUND_OFF * n
+        );
         assert!(press.du.iter().all(|v| v.abs() < ROUND_OFF * n / E));
         state.advance(&press, 1.0);
         eng.begin_stage(1, &mut state);
         let shear = solve(&mut eng, &state, Solve::RemainingLoad, None).unwrap();
-        assert!(shear.dlambda_n[0].abs() < ROUND_OFF * n && (shear.dlambda_t[0] - t).abs() < ROUND_OFF * t);
+        assert!(
+            shear.dlambda_n[0].abs() < ROUND_OFF * n
+                && (shear.dlambda_t[0] - t).abs() < ROUND_OFF * t
+        );
         assert!(shear.du.iter().all(|v| v.abs() < ROUND_OFF * n / E));
     }
 
@@ -536,7 +676,8 @@ mod tests {
         m.options.group_tol = 0.1;
         let clock = Clock::new();
         let (mut eng, mut state) = start(&m, &clock);
-        let (trial, base) = remaining_load(&mut eng, &state, None, Stepping::Grouped { delta: 0.1 }).unwrap();
+        let (trial, base) =
+            remaining_load(&mut eng, &state, None, Stepping::Grouped { delta: 0.1 }).unwrap();
         let base = base.expect("a window keeps its trial's base");
         let s = 0.3;
         state.u.iter_mut().zip(&trial.du).for_each(|(u, d)| *u += s * d);

@@ -89,8 +89,19 @@ struct Recorded {
 impl Window {
     /// The window of a selection that groups plastic events inside (`Selection::plastic_inside`);
     /// None for an increment taken event by event.
-    pub fn open(sel: &Selection, state: &State, rec: &Recorder, correction: Correction) -> Option<Self> {
-        let recorded = || Recorded { events: rec.events.len(), steps: rec.steps.len(), substeps: rec.n_substeps, closure_fraction: rec.closure_fraction.clone(), balance: rec.balance };
+    pub fn open(
+        sel: &Selection,
+        state: &State,
+        rec: &Recorder,
+        correction: Correction,
+    ) -> Option<Self> {
+        let recorded = || Recorded {
+            events: rec.events.len(),
+            steps: rec.steps.len(),
+            substeps: rec.n_substeps,
+            closure_fraction: rec.closure_fraction.clone(),
+            balance: rec.balance,
+        };
         sel.plastic_inside.then(|| Window {
             stage: state.stage,
             load_fraction: state.load_fraction,
@@ -99,7 +110,12 @@ impl Window {
             alpha: state.alpha.clone(),
             status: state.status.clone(),
             rtd_stick: state.rtd_stick.clone(),
-            space: (state.lambda_t2.clone(), state.rtd_stick2.clone(), state.slip_dir.clone(), state.vertex.clone()),
+            space: (
+                state.lambda_t2.clone(),
+                state.rtd_stick2.clone(),
+                state.slip_dir.clone(),
+                state.vertex.clone(),
+            ),
             shift: state.shift.clone(),
             recorded: recorded(),
             correction,
@@ -110,9 +126,17 @@ impl Window {
     /// the path time where it ended (the returned stepping). (The anti-cycling switch counts
     /// keep the window's switches: they only name the busiest entities when the event bound
     /// stops a run.)
-    pub fn retake(self, state: &mut State, start: IncrementStart, rec: &mut Recorder, correction: &mut Correction, stepping: Stepping) -> Stepping {
+    pub fn retake(
+        self,
+        state: &mut State,
+        start: IncrementStart,
+        rec: &mut Recorder,
+        correction: &mut Correction,
+        stepping: Stepping,
+    ) -> Stepping {
         let ended = state.time();
-        (state.stress, state.plastic_strain, state.plastic, state.u) = (start.stress, start.plastic_strain, start.plastic, start.u);
+        (state.stress, state.plastic_strain, state.plastic, state.u) =
+            (start.stress, start.plastic_strain, start.plastic, start.u);
         (state.stage, state.load_fraction) = (self.stage, self.load_fraction);
         (state.lambda_n, state.lambda_t, state.alpha) = (self.lambda_n, self.lambda_t, self.alpha);
         (state.status, state.rtd_stick, state.shift) = (self.status, self.rtd_stick, self.shift);
@@ -132,7 +156,15 @@ impl Window {
 /// `takes_substeps`, with the trial's `base`): the increment from `state` as one trial
 /// increment (scaled to the remaining load) and its selection, for `advance`, and the largest
 /// force jump of a switch. Otherwise the trial and selection as they are.
-pub(super) fn contact_events(eng: &mut Engine, state: &mut State, trial: TrialIncrement, sel: Selection, base: Option<TrialBase>, cycles: &mut AntiCycling, rec: &mut Recorder) -> Result<(TrialIncrement, Selection, f64)> {
+pub(super) fn contact_events(
+    eng: &mut Engine,
+    state: &mut State,
+    trial: TrialIncrement,
+    sel: Selection,
+    base: Option<TrialBase>,
+    cycles: &mut AntiCycling,
+    rec: &mut Recorder,
+) -> Result<(TrialIncrement, Selection, f64)> {
     match base.filter(|_| takes_substeps(eng, &sel, rec.every_event(), state)) {
         Some(base) => contact_substeps(eng, state, trial, sel, &base, cycles, rec),
         None => Ok((trial, sel, 0.0)),
@@ -141,13 +173,22 @@ pub(super) fn contact_events(eng: &mut Engine, state: &mut State, trial: TrialIn
 
 /// The yields and unloads inside the increment just settled, in order: the elements whose
 /// status differs from the increment's `start`, but for the events that ended it (`group`).
-pub(super) fn inside_events(state: &State, sel: &Selection, start: Option<IncrementStart>) -> Vec<InsideEvent> {
+pub(super) fn inside_events(
+    state: &State,
+    sel: &Selection,
+    start: Option<IncrementStart>,
+) -> Vec<InsideEvent> {
     let Some(start) = start else { return vec![] };
-    let ended: std::collections::HashSet<usize> = sel.group.iter().filter(|c| c.kind.is_element_event()).map(|c| c.entity).collect();
+    let ended: std::collections::HashSet<usize> =
+        sel.group.iter().filter(|c| c.kind.is_element_event()).map(|c| c.entity).collect();
     let mut inside: Vec<InsideEvent> = (0..state.plastic.len())
         .filter(|&e| state.plastic[e] != start.plastic[e] && !ended.contains(&e))
         .map(|e| match state.plastic[e] {
-            true => InsideEvent { element: e, kind: EventKind::Yield, at: start.yielded_at.get(&e).copied().unwrap_or(1.0) },
+            true => InsideEvent {
+                element: e,
+                kind: EventKind::Yield,
+                at: start.yielded_at.get(&e).copied().unwrap_or(1.0),
+            },
             false => InsideEvent { element: e, kind: EventKind::Unload, at: 0.0 },
         })
         .collect();
@@ -158,7 +199,11 @@ pub(super) fn inside_events(state: &State, sel: &Selection, start: Option<Increm
 /// Whether the selection's events are taken as contact sub-steps: a plastic window ended early
 /// by contact events only.
 fn takes_substeps(eng: &Engine, sel: &Selection, every_event: bool, state: &State) -> bool {
-    sel.plastic_inside && !sel.last && !every_event && !sel.group.is_empty() && sel.phi < sel.bound_phi
+    sel.plastic_inside
+        && !sel.last
+        && !every_event
+        && !sel.group.is_empty()
+        && sel.phi < sel.bound_phi
         && sel.group.iter().all(|c| inside_substeps(&eng.problem, c, state))
         && eng.loads.load.prescribed_changes().iter().all(|&(_, v)| v == 0.0)
 }
@@ -174,7 +219,9 @@ fn takes_substeps(eng: &Engine, sel: &Selection, every_event: bool, state: &Stat
 fn inside_substeps(problem: &Problem, c: &Candidate, state: &State) -> bool {
     match c.kind {
         EventKind::StickToSlip | EventKind::SlipToStick | EventKind::Separate => true,
-        EventKind::Close => problem.pairs[c.entity].w_n.entries.iter().all(|&(d, _)| problem.node_elements[d / problem.dim].iter().all(|&e| !state.plastic[e])),
+        EventKind::Close => problem.pairs[c.entity].w_n.entries.iter().all(|&(d, _)| {
+            problem.node_elements[d / problem.dim].iter().all(|&e| !state.plastic[e])
+        }),
         _ => false,
     }
 }
@@ -183,7 +230,15 @@ fn inside_substeps(problem: &Problem, c: &Candidate, state: &State) -> bool {
 /// the increment's bound; then the whole increment from `state` as one trial increment (scaled
 /// to the remaining load) and its selection, for `advance`, and the largest force jump of a
 /// switch (a jump ends the sub-steps: the correction must rebalance it).
-fn contact_substeps(eng: &mut Engine, state: &mut State, sub: TrialIncrement, sel: Selection, base: &TrialBase, cycles: &mut AntiCycling, rec: &mut Recorder) -> Result<(TrialIncrement, Selection, f64)> {
+fn contact_substeps(
+    eng: &mut Engine,
+    state: &mut State,
+    sub: TrialIncrement,
+    sel: Selection,
+    base: &TrialBase,
+    cycles: &mut AntiCycling,
+    rec: &mut Recorder,
+) -> Result<(TrialIncrement, Selection, f64)> {
     // The trial's first yield is the exact onset only if no contact event switches before
     // it (else the yields keep where the integration puts them).
     let first_yield = sel.first_yield.filter(|&(_, phi)| phi <= sel.phi);
@@ -194,14 +249,36 @@ fn contact_substeps(eng: &mut Engine, state: &mut State, sub: TrialIncrement, se
     check_contact_path(eng, &start, state, &whole, &jumped)?;
     let (phi, bound_phi) = (state.load_fraction, sel.bound_phi);
     let scale = scale_between(&start, state);
-    let (status, rtd_stick) = (std::mem::take(&mut state.status), std::mem::take(&mut state.rtd_stick));
-    let (rtd_stick2, slip_dir, vertex) = (std::mem::take(&mut state.rtd_stick2), std::mem::take(&mut state.slip_dir), std::mem::take(&mut state.vertex));
+    let (status, rtd_stick) =
+        (std::mem::take(&mut state.status), std::mem::take(&mut state.rtd_stick));
+    let (rtd_stick2, slip_dir, vertex) = (
+        std::mem::take(&mut state.rtd_stick2),
+        std::mem::take(&mut state.slip_dir),
+        std::mem::take(&mut state.vertex),
+    );
     *state = State { status, rtd_stick, rtd_stick2, slip_dir, vertex, ..start };
     let rebalance = jump > eng.problem.scales.force_noise;
     let last = sel.last && !rebalance;
-    let ending = if rebalance || sel.group.iter().all(|c| inside_substeps(&eng.problem, c, state)) { vec![] } else { sel.group };
+    let ending = if rebalance || sel.group.iter().all(|c| inside_substeps(&eng.problem, c, state)) {
+        vec![]
+    } else {
+        sel.group
+    };
     let predicted_closures = if last { sel.predicted_closures } else { vec![] };
-    Ok((whole, Selection { scale, last, phi, group: ending, predicted_closures, plastic_inside: true, bound_phi, first_yield }, jump))
+    Ok((
+        whole,
+        Selection {
+            scale,
+            last,
+            phi,
+            group: ending,
+            predicted_closures,
+            plastic_inside: true,
+            bound_phi,
+            first_yield,
+        },
+        jump,
+    ))
 }
 
 /// The sub-steps themselves: the contact state advanced to each selection, its events switched
@@ -211,18 +288,30 @@ fn contact_substeps(eng: &mut Engine, state: &mut State, sub: TrialIncrement, se
 /// `jumped`: the contact forces the switches and projections moved with no sub-step of their
 /// own, added up per pair (λ_n, λ_t1, λ_t2).
 #[allow(clippy::too_many_arguments)]
-fn walk_contact_events(eng: &mut Engine, state: &mut State, mut sub: TrialIncrement, mut sel: Selection, base: &TrialBase, cycles: &mut AntiCycling, rec: &mut Recorder, jumped: &mut [[f64; 3]]) -> Result<(Selection, f64)> {
+fn walk_contact_events(
+    eng: &mut Engine,
+    state: &mut State,
+    mut sub: TrialIncrement,
+    mut sel: Selection,
+    base: &TrialBase,
+    cycles: &mut AntiCycling,
+    rec: &mut Recorder,
+    jumped: &mut [[f64; 3]],
+) -> Result<(Selection, f64)> {
     let bound_phi = sel.bound_phi;
     for _ in 0..MAX_SUBSTEPS {
         let projected = advance_contact(&eng.problem, state, &sub, &sel, jumped);
         let before = contact_forces(state);
-        let jump = switch_statuses(eng, state, &sel, cycles, rec, Solve::SubStep(base)).max(projected);
+        let jump =
+            switch_statuses(eng, state, &sel, cycles, rec, Solve::SubStep(base)).max(projected);
         add_moved(state, &before, jumped);
         if jump > eng.problem.scales.force_noise {
             return Ok((sel, jump));
         }
         rec.substep(state, sel.scale);
-        if rec.at_event_bound() || matches!(hold(&eng.problem, &eng.loads, state, &rec.events), Hold::Lost(_)) {
+        if rec.at_event_bound()
+            || matches!(hold(&eng.problem, &eng.loads, state, &rec.events), Hold::Lost(_))
+        {
             break; // the loop's event bound (or `support_lost`) stops the run at its next increment
         }
         let (next, jump) = substep_trial(eng, state, base, jumped)?;
@@ -231,9 +320,18 @@ fn walk_contact_events(eng: &mut Engine, state: &mut State, mut sub: TrialIncrem
         }
         sub = next;
         let remaining = 1.0 - state.load_fraction;
-        let bound = if bound_phi >= 1.0 { f64::INFINITY } else if remaining > 0.0 { ((bound_phi - state.load_fraction) / remaining).max(0.0) } else { 0.0 };
+        let bound = if bound_phi >= 1.0 {
+            f64::INFINITY
+        } else if remaining > 0.0 {
+            ((bound_phi - state.load_fraction) / remaining).max(0.0)
+        } else {
+            0.0
+        };
         sel = select_contact(&eng.problem, state, &sub, cycles, bound);
-        if sel.group.is_empty() || sel.last || !sel.group.iter().all(|c| inside_substeps(&eng.problem, c, state)) {
+        if sel.group.is_empty()
+            || sel.last
+            || !sel.group.iter().all(|c| inside_substeps(&eng.problem, c, state))
+        {
             let projected = advance_contact(&eng.problem, state, &sub, &sel, jumped);
             return Ok((sel, projected));
         }
@@ -244,7 +342,12 @@ fn walk_contact_events(eng: &mut Engine, state: &mut State, mut sub: TrialIncrem
 /// The next sub-step's trial; 3D: a slip begun at zero force that it presses takes its
 /// direction from it, and it is solved again (`slip_direction::direct_new_slips`). Returns the trial
 /// and the force that moved (added to `jumped`).
-fn substep_trial(eng: &mut Engine, state: &mut State, base: &TrialBase, jumped: &mut [[f64; 3]]) -> Result<(TrialIncrement, f64)> {
+fn substep_trial(
+    eng: &mut Engine,
+    state: &mut State,
+    base: &TrialBase,
+    jumped: &mut [[f64; 3]],
+) -> Result<(TrialIncrement, f64)> {
     let sub = trial::solve(eng, state, Solve::SubStep(base), None)?;
     let before = contact_forces(state);
     let (directed, jump) = direct_new_slips(eng, state, &sub);
@@ -264,24 +367,40 @@ fn substep_trial(eng: &mut Engine, state: &mut State, base: &TrialBase, jumped: 
 /// (no second solve: measured on the elastoplastic Hertz at 24.5k DOFs, every one of its 29
 /// windows with sub-steps had such forces, and a whole increment without them cost a backward
 /// sweep and the stress increments of every element each).
-fn check_contact_path(eng: &Engine, start: &State, end: &State, whole: &TrialIncrement, jumped: &[[f64; 3]]) -> Result<()> {
+fn check_contact_path(
+    eng: &Engine,
+    start: &State,
+    end: &State,
+    whole: &TrialIncrement,
+    jumped: &[[f64; 3]],
+) -> Result<()> {
     let problem = &eng.problem;
     let scale = scale_between(start, end);
     if scale <= 0.0 {
         return Ok(()); // sub-steps of zero length: no path, and the whole is zero (`whole_increment`)
     }
     let moved = match jumped.iter().any(|j| *j != [0.0; 3]) {
-        true => eng.stiffness.flexibility.as_ref() * faer::ColRef::from_slice(&slot_forces(problem, jumped, eng.stiffness.flexibility.nrows())),
+        true => {
+            eng.stiffness.flexibility.as_ref()
+                * faer::ColRef::from_slice(&slot_forces(
+                    problem,
+                    jumped,
+                    eng.stiffness.flexibility.nrows(),
+                ))
+        }
         false => faer::Col::zeros(eng.stiffness.flexibility.nrows()),
     };
     let mut worst = 0.0f64;
-    for (d, &slot) in problem.dofs.contact_slot.iter().enumerate().filter(|(_, &slot)| slot != usize::MAX) {
+    for (d, &slot) in
+        problem.dofs.contact_slot.iter().enumerate().filter(|(_, &slot)| slot != usize::MAX)
+    {
         worst = worst.max((scale * whole.du[d] - moved[slot] - (end.u[d] - start.u[d])).abs());
     }
     let largest = scale * whole.du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     // (an increment that moves nothing, 1e-15 of displacements of order one, is measured
     // against the round-off of the state's own displacements)
-    let state_round_off = super::checks::GAP_ROUND_OFF * end.u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let state_round_off =
+        super::checks::GAP_ROUND_OFF * end.u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     if worst > PATH_CHECK * largest + state_round_off {
         crate::bail!(Internal, "contact sub-steps: the increment's displacement differs from its sub-steps' by {:.1e} (of {largest:.1e}) at load fraction {:.6}", worst, end.load_fraction);
     }
@@ -308,7 +427,13 @@ fn slot_forces(problem: &Problem, dlambda: &[[f64; 3]], n_slots: usize) -> Vec<f
 /// increment lives), λ, α and the obstacle shifts; the rest follows at the increment's end.
 /// Returns the force jump of putting slipping pairs back on their cones (`project_onto_cone`):
 /// the sub-steps' scaled load does not hold it, so a jump ends them; it is added to `jumped`.
-fn advance_contact(problem: &Problem, state: &mut State, inc: &TrialIncrement, sel: &Selection, jumped: &mut [[f64; 3]]) -> f64 {
+fn advance_contact(
+    problem: &Problem,
+    state: &mut State,
+    inc: &TrialIncrement,
+    sel: &Selection,
+    jumped: &mut [[f64; 3]],
+) -> f64 {
     let s = sel.scale;
     state.u.iter_mut().zip(&inc.du).for_each(|(u, d)| *u += s * d);
     state.advance_forces(inc, s);
@@ -330,13 +455,22 @@ fn add_moved(state: &State, before: &[[f64; 3]], jumped: &mut [[f64; 3]]) {
 /// The increment from `start` to the contact state `end` over all DOFs, as a trial increment
 /// for the remaining load of `start` (so that its scale takes `start` to `end`):
 /// Δu = K⁻¹(f r + W Δλ) + N Δα with f = 1 − c_end / c, then the stresses with K's tangents.
-fn whole_increment(eng: &mut Engine, start: &State, end: &State, base: &TrialBase) -> TrialIncrement {
+fn whole_increment(
+    eng: &mut Engine,
+    start: &State,
+    end: &State,
+    base: &TrialBase,
+) -> TrialIncrement {
     let scale = scale_between(start, end);
     let per = |v: f64| if scale > 0.0 { v / scale } else { 0.0 };
-    let dlambda_n: Vec<f64> = end.lambda_n.iter().zip(&start.lambda_n).map(|(a, b)| a - b).collect();
-    let dlambda_t: Vec<f64> = end.lambda_t.iter().zip(&start.lambda_t).map(|(a, b)| a - b).collect();
-    let dlambda_t2: Vec<f64> = end.lambda_t2.iter().zip(&start.lambda_t2).map(|(a, b)| a - b).collect();
-    let dlambda: Vec<[f64; 3]> = (0..dlambda_n.len()).map(|p| [dlambda_n[p], dlambda_t[p], dlambda_t2[p]]).collect();
+    let dlambda_n: Vec<f64> =
+        end.lambda_n.iter().zip(&start.lambda_n).map(|(a, b)| a - b).collect();
+    let dlambda_t: Vec<f64> =
+        end.lambda_t.iter().zip(&start.lambda_t).map(|(a, b)| a - b).collect();
+    let dlambda_t2: Vec<f64> =
+        end.lambda_t2.iter().zip(&start.lambda_t2).map(|(a, b)| a - b).collect();
+    let dlambda: Vec<[f64; 3]> =
+        (0..dlambda_n.len()).map(|p| [dlambda_n[p], dlambda_t[p], dlambda_t2[p]]).collect();
     let force_slots = slot_forces(&eng.problem, &dlambda, eng.stiffness.flexibility.nrows());
     let mut du = trial::displacement_from(eng, base, scale, &force_slots);
     let dalpha: Vec<f64> = end.alpha.iter().zip(&start.alpha).map(|(a, b)| a - b).collect();
@@ -351,9 +485,18 @@ fn whole_increment(eng: &mut Engine, start: &State, end: &State, base: &TrialBas
         dplastic,
         dlambda_n: dlambda_n.into_iter().map(per).collect(),
         dlambda_t: dlambda_t.into_iter().map(per).collect(),
-        dlambda_t2: if eng.problem.dim == 3 { dlambda_t2.into_iter().map(per).collect() } else { vec![] },
+        dlambda_t2: if eng.problem.dim == 3 {
+            dlambda_t2.into_iter().map(per).collect()
+        } else {
+            vec![]
+        },
         dalpha: dalpha.into_iter().map(per).collect(),
-        dshift: end.shift.iter().zip(&start.shift).map(|(a, b)| [per(a[0] - b[0]), per(a[1] - b[1]), per(a[2] - b[2])]).collect(),
+        dshift: end
+            .shift
+            .iter()
+            .zip(&start.shift)
+            .map(|(a, b)| [per(a[0] - b[0]), per(a[1] - b[1]), per(a[2] - b[2])])
+            .collect(),
         noise: base.noise,
     }
 }
@@ -361,7 +504,11 @@ fn whole_increment(eng: &mut Engine, start: &State, end: &State, base: &TrialBas
 /// The scale of `start`'s trial for the remaining load that takes it to `end` (0 at a stage's end).
 fn scale_between(start: &State, end: &State) -> f64 {
     let c = 1.0 - start.load_fraction;
-    if c > 0.0 { (end.load_fraction - start.load_fraction) / c } else { 0.0 }
+    if c > 0.0 {
+        (end.load_fraction - start.load_fraction) / c
+    } else {
+        0.0
+    }
 }
 
 #[cfg(test)]
@@ -392,16 +539,27 @@ mod tests {
         let (trial, _) = remaining_load(&mut eng, &state, None, grouped).unwrap();
         let sel = select(&eng.problem, &state, &trial, &cycles, f64::INFINITY, grouped);
         let before = state.clone();
-        let window = Window::open(&sel, &state, &rec, Correction::default()).expect("a plastic window");
-        let start = advance::to_event(&eng, &mut state, &trial, &sel).expect("its yields are integrated");
+        let window =
+            Window::open(&sel, &state, &rec, Correction::default()).expect("a plastic window");
+        let start =
+            advance::to_event(&eng, &mut state, &trial, &sel).expect("its yields are integrated");
         assert!(state.plastic.iter().all(|&p| p) && state.plastic_strain.iter().all(|&e| e > 0.0));
         rec.substep(&state, sel.scale);
         let mut correction = Correction { displacement: 1.0, force: 1.0 };
         let retaking = window.retake(&mut state, start, &mut rec, &mut correction, grouped);
         assert_eq!(retaking, Stepping::Retaking { until: sel.phi, delta });
-        assert_eq!((retaking.at(sel.phi * (1.0 - 1e-9)).window(), retaking.at(sel.phi)), (None, grouped));
-        assert_eq!((&state.u, &state.stress, &state.plastic_strain, &state.plastic), (&before.u, &before.stress, &before.plastic_strain, &before.plastic));
-        assert_eq!((state.load_fraction, &state.lambda_n, &state.status), (before.load_fraction, &before.lambda_n, &before.status));
+        assert_eq!(
+            (retaking.at(sel.phi * (1.0 - 1e-9)).window(), retaking.at(sel.phi)),
+            (None, grouped)
+        );
+        assert_eq!(
+            (&state.u, &state.stress, &state.plastic_strain, &state.plastic),
+            (&before.u, &before.stress, &before.plastic_strain, &before.plastic)
+        );
+        assert_eq!(
+            (state.load_fraction, &state.lambda_n, &state.status),
+            (before.load_fraction, &before.lambda_n, &before.status)
+        );
         assert_eq!((rec.steps.len(), rec.n_substeps, rec.n_retaken), (0, 0, 1));
         assert_eq!((correction.displacement, correction.force), (0.0, 0.0));
     }
@@ -426,17 +584,31 @@ mod tests {
         let mut rec = Recorder::new(&mut eng, &state).unwrap();
         let mut cycles = AntiCycling::new(0, 2, 4);
         let stepping = Stepping::new(&m.options, eng.problem.is_reduced());
-        let mut stage = StageLoop { stepping, limit: LimitLoad::default(), correction: Correction::default() };
-        let outcome = increment(&mut eng, &mut state, &mut rec, &mut cycles, &mut stage, &mut None).unwrap();
+        let mut stage =
+            StageLoop { stepping, limit: LimitLoad::default(), correction: Correction::default() };
+        let outcome =
+            increment(&mut eng, &mut state, &mut rec, &mut cycles, &mut stage, &mut None).unwrap();
         assert!(matches!(outcome, Outcome::Advanced));
         let onset = 200.0 / b;
         let end = onset * (1.0 + delta);
         assert!((state.load_fraction - end).abs() < ROUND_OFF && rec.steps.len() == 1);
-        let yields: Vec<(usize, f64, usize)> = rec.events.iter().filter(|e| e.kind == EventKind::Yield).map(|e| (e.entity, e.load_fraction, e.step)).collect();
+        let yields: Vec<(usize, f64, usize)> = rec
+            .events
+            .iter()
+            .filter(|e| e.kind == EventKind::Yield)
+            .map(|e| (e.entity, e.load_fraction, e.step))
+            .collect();
         assert_eq!(yields.len(), 2, "{yields:?}");
         assert_eq!((yields[0].0, yields[1].0), (0, 1));
-        assert!((yields[0].1 - onset).abs() < ROUND_OFF, "first yield at {} vs {onset}", yields[0].1);
-        assert!(yields[1].1 > yields[0].1 && yields[1].1 <= end && (yields[1].1 - 0.8).abs() < 0.01, "{yields:?}");
+        assert!(
+            (yields[0].1 - onset).abs() < ROUND_OFF,
+            "first yield at {} vs {onset}",
+            yields[0].1
+        );
+        assert!(
+            yields[1].1 > yields[0].1 && yields[1].1 <= end && (yields[1].1 - 0.8).abs() < 0.01,
+            "{yields:?}"
+        );
         assert!(yields.iter().all(|y| y.2 == 0));
     }
 }

@@ -158,7 +158,12 @@ impl Graph {
 impl Condensed {
     /// The factor of `lower` whose last `n_trailing` equations are the contact DOFs, with the
     /// near region `hops` around them.
-    pub fn new(lower: &SparseColMat<usize, f64>, map: &DofMap, n_trailing: usize, hops: usize) -> Result<Self> {
+    pub fn new(
+        lower: &SparseColMat<usize, f64>,
+        map: &DofMap,
+        n_trailing: usize,
+        hops: usize,
+    ) -> Result<Self> {
         let n = lower.nrows();
         let graph = Graph::of(lower);
         // (Without contact DOFs the region is the whole body: a plain Cholesky.)
@@ -173,7 +178,8 @@ impl Condensed {
     fn changed_outside(&self, lower: &SparseColMat<usize, f64>) -> Vec<usize> {
         let Some(far) = &self.far else { return Vec::new() };
         let values = lower.val();
-        let changed: Vec<usize> = far.frozen.iter().filter(|&&(p, v)| values[p] != v).map(|&(p, _)| p).collect();
+        let changed: Vec<usize> =
+            far.frozen.iter().filter(|&&(p, v)| values[p] != v).map(|&(p, _)| p).collect();
         if changed.is_empty() {
             return changed;
         }
@@ -223,7 +229,9 @@ impl Condensed {
         let (m, n_i) = (split.far_eqs.len(), split.n_interface);
         let n_f = m - n_i;
         let n_near = split.near_eqs.len();
-        let x_i = Mat::<f64>::from_fn(n_i, columns, |a, col| x_near[col * n_near + split.interface_in_near[a]]);
+        let x_i = Mat::<f64>::from_fn(n_i, columns, |a, col| {
+            x_near[col * n_near + split.interface_in_near[a]]
+        });
         let mut t_x = Mat::<f64>::zeros(n_i, columns);
         matmul(t_x.as_mut(), Accum::Replace, far.block.transpose(), x_i.as_ref(), 1.0, Par::Seq);
         for col in 0..columns {
@@ -261,22 +269,49 @@ fn scatter(x: &mut [f64], n: usize, eqs: &[usize], part: &[f64], columns: usize)
 
 /// The split, the far factor (none when N is every equation) and the near factor of `lower`
 /// for the near equations `is_near`.
-fn build(lower: &SparseColMat<usize, f64>, map: &DofMap, graph: &Graph, is_near: &[bool], n_trailing: usize) -> Result<(Split, Option<Far>, FaerLlt)> {
+fn build(
+    lower: &SparseColMat<usize, f64>,
+    map: &DofMap,
+    graph: &Graph,
+    is_near: &[bool],
+    n_trailing: usize,
+) -> Result<(Split, Option<Far>, FaerLlt)> {
     let n = lower.nrows();
     let first_trailing = n - n_trailing;
     // I: near equations with a far neighbour, in the global order.
-    let interface: Vec<usize> = (0..n).filter(|&i| is_near[i] && graph.neighbours(i).iter().any(|&j| !is_near[j])).collect();
+    let interface: Vec<usize> = (0..n)
+        .filter(|&i| is_near[i] && graph.neighbours(i).iter().any(|&j| !is_near[j]))
+        .collect();
     let far_only: Vec<usize> = (0..n).filter(|&i| !is_near[i]).collect();
-    let far_eqs: Vec<usize> = fill_reducing(graph, &far_only, &interface, &[]).into_iter().chain(interface.iter().copied()).collect();
+    let far_eqs: Vec<usize> = fill_reducing(graph, &far_only, &interface, &[])
+        .into_iter()
+        .chain(interface.iter().copied())
+        .collect();
     let near_leading: Vec<usize> = (0..first_trailing).filter(|&i| is_near[i]).collect();
     let trailing: Vec<usize> = (first_trailing..n).collect();
-    let near_eqs: Vec<usize> = fill_reducing(graph, &near_leading, &trailing, &[&interface]).into_iter().chain(trailing.iter().copied()).collect();
+    let near_eqs: Vec<usize> = fill_reducing(graph, &near_leading, &trailing, &[&interface])
+        .into_iter()
+        .chain(trailing.iter().copied())
+        .collect();
     let near_local = local_of(&near_eqs, n);
     let interface_in_near: Vec<usize> = interface.iter().map(|&e| near_local[e]).collect();
-    let (near_pattern, near_of_k, clique_in_near) = restricted(lower, &near_local, near_eqs.len(), &interface_in_near);
-    let split = Split { far_eqs, n_interface: interface.len(), near_eqs, interface_in_near, near_pattern, near_of_k, clique_in_near };
+    let (near_pattern, near_of_k, clique_in_near) =
+        restricted(lower, &near_local, near_eqs.len(), &interface_in_near);
+    let split = Split {
+        far_eqs,
+        n_interface: interface.len(),
+        near_eqs,
+        interface_in_near,
+        near_pattern,
+        near_of_k,
+        clique_in_near,
+    };
     let far = (!far_only.is_empty()).then(|| build_far(lower, map, &split)).transpose()?;
-    let near = FaerLlt::new(&near_matrix(&split, far.as_ref(), lower), &sub_map(map, &split.near_eqs), n_trailing)?;
+    let near = FaerLlt::new(
+        &near_matrix(&split, far.as_ref(), lower),
+        &sub_map(map, &split.near_eqs),
+        n_trailing,
+    )?;
     Ok((split, far, near))
 }
 
@@ -296,7 +331,11 @@ fn build_far(lower: &SparseColMat<usize, f64>, map: &DofMap, split: &Split) -> R
             frozen.push((p, v));
         }
     }
-    let llt = FaerLlt::new(&SparseColMat::new(pattern.clone(), values.clone()), &sub_map(map, &split.far_eqs), split.n_interface)?;
+    let llt = FaerLlt::new(
+        &SparseColMat::new(pattern.clone(), values.clone()),
+        &sub_map(map, &split.far_eqs),
+        split.n_interface,
+    )?;
     let block = llt.trailing_block();
     let n_i = split.n_interface;
     let mut coupling = Mat::<f64>::zeros(n_i, n_i);
@@ -313,7 +352,11 @@ fn build_far(lower: &SparseColMat<usize, f64>, map: &DofMap, split: &Split) -> R
 }
 
 /// S = K_NN − C: K's entries in N × N, C's lower triangle subtracted on the I clique.
-fn near_matrix(split: &Split, far: Option<&Far>, lower: &SparseColMat<usize, f64>) -> SparseColMat<usize, f64> {
+fn near_matrix(
+    split: &Split,
+    far: Option<&Far>,
+    lower: &SparseColMat<usize, f64>,
+) -> SparseColMat<usize, f64> {
     let mut values = vec![0.0; split.near_pattern.row_idx().len()];
     for (p, &v) in lower.val().iter().enumerate() {
         if split.near_of_k[p] != NONE {
@@ -339,18 +382,29 @@ fn local_of(eqs: &[usize], n: usize) -> Vec<usize> {
 
 /// The map of a factor's own equations `eqs` (for its messages: which DOF each is).
 fn sub_map(map: &DofMap, eqs: &[usize]) -> DofMap {
-    DofMap { role: Vec::new(), n_equations: eqs.len(), dof_of_equation: eqs.iter().map(|&e| map.dof_of_equation[e]).collect(), dim: map.dim }
+    DofMap {
+        role: Vec::new(),
+        n_equations: eqs.len(),
+        dof_of_equation: eqs.iter().map(|&e| map.dof_of_equation[e]).collect(),
+        dim: map.dim,
+    }
 }
 
 /// The lower triangle of K restricted to m equations (K's equation e is local[e], NONE where
 /// left out), with every entry among the local equations `clique` added: its pattern, the
 /// position of each of K's values in it (NONE outside), and of each clique entry (a ≥ b by
 /// position in `clique`, at a(a+1)/2 + b).
-fn restricted(lower: &SparseColMat<usize, f64>, local: &[usize], m: usize, clique: &[usize]) -> (SymbolicSparseColMat<usize>, Vec<usize>, Vec<usize>) {
+fn restricted(
+    lower: &SparseColMat<usize, f64>,
+    local: &[usize],
+    m: usize,
+    clique: &[usize],
+) -> (SymbolicSparseColMat<usize>, Vec<usize>, Vec<usize>) {
     let (ptr, rows) = (lower.symbolic().col_ptr(), lower.symbolic().row_idx());
     let nnz = rows.len();
     // (column, row, source): a source below nnz is K's value, above it a clique entry.
-    let mut entries: Vec<(usize, usize, usize)> = Vec::with_capacity(nnz + clique.len() * (clique.len() + 1) / 2);
+    let mut entries: Vec<(usize, usize, usize)> =
+        Vec::with_capacity(nnz + clique.len() * (clique.len() + 1) / 2);
     for c in 0..lower.ncols() {
         for p in ptr[c]..ptr[c + 1] {
             let (lr, lc) = (local[rows[p]], local[c]);
@@ -392,7 +446,8 @@ fn restricted(lower: &SparseColMat<usize, f64>, local: &[usize], m: usize, cliqu
 /// clique (the dense blocks they become in the factor).
 fn fill_reducing(graph: &Graph, eqs: &[usize], last: &[usize], cliques: &[&[usize]]) -> Vec<usize> {
     // Local numbering: eqs, then the equations only in the cliques (ordered after, dropped).
-    let mut index: std::collections::HashMap<usize, usize> = eqs.iter().enumerate().map(|(i, &e)| (e, i)).collect();
+    let mut index: std::collections::HashMap<usize, usize> =
+        eqs.iter().enumerate().map(|(i, &e)| (e, i)).collect();
     let mut all = eqs.to_vec();
     for &e in last.iter().chain(cliques.iter().flat_map(|c| c.iter())) {
         index.entry(e).or_insert_with(|| {
@@ -413,10 +468,19 @@ fn fill_reducing(graph: &Graph, eqs: &[usize], last: &[usize], cliques: &[&[usiz
             ids[..k].iter().for_each(|&b| edges.push(Pair::new(a.max(b), a.min(b))));
         }
     }
-    let (pattern, _) = SymbolicSparseColMat::try_new_from_indices(m, m, &edges).expect("indices within the local numbering");
+    let (pattern, _) = SymbolicSparseColMat::try_new_from_indices(m, m, &edges)
+        .expect("indices within the local numbering");
     let (mut fwd, mut inv) = (vec![0usize; m], vec![0usize; m]);
-    let mut mem = MemBuffer::new(amd::order_maybe_unsorted_scratch::<usize>(m, pattern.compute_nnz()));
-    amd::order_maybe_unsorted(&mut fwd, &mut inv, pattern.as_ref(), amd::Control::default(), MemStack::new(&mut mem)).expect("AMD of a valid pattern");
+    let mut mem =
+        MemBuffer::new(amd::order_maybe_unsorted_scratch::<usize>(m, pattern.compute_nnz()));
+    amd::order_maybe_unsorted(
+        &mut fwd,
+        &mut inv,
+        pattern.as_ref(),
+        amd::Control::default(),
+        MemStack::new(&mut mem),
+    )
+    .expect("AMD of a valid pattern");
     fwd.into_iter().filter(|&i| i < eqs.len()).map(|i| eqs[i]).collect()
 }
 
@@ -427,8 +491,14 @@ impl Backend for Condensed {
         let changed = self.changed_outside(lower);
         if !changed.is_empty() {
             let size = self.is_near.iter().filter(|&&x| x).count();
-            self.graph.grow(&mut self.is_near, &changed, self.hops, (GROWTH * size as f64) as usize);
-            (self.split, self.far, self.near) = build(lower, map, &self.graph, &self.is_near, self.n_trailing)?;
+            self.graph.grow(
+                &mut self.is_near,
+                &changed,
+                self.hops,
+                (GROWTH * size as f64) as usize,
+            );
+            (self.split, self.far, self.near) =
+                build(lower, map, &self.graph, &self.is_near, self.n_trailing)?;
             self.n_far_builds += 1;
             return Ok(());
         }
@@ -442,7 +512,11 @@ impl Backend for Condensed {
         let near = self.near.work();
         let far = self.far.as_ref().map(|f| f.llt.work()).unwrap_or_default();
         let n_i = self.split.n_interface as f64;
-        FactorWork { factorization_flops: near.factorization_flops, solve_pair_flops: near.solve_pair_flops + far.solve_pair_flops + 4.0 * n_i * n_i, equations: self.is_near.len() as f64 }
+        FactorWork {
+            factorization_flops: near.factorization_flops,
+            solve_pair_flops: near.solve_pair_flops + far.solve_pair_flops + 4.0 * n_i * n_i,
+            equations: self.is_near.len() as f64,
+        }
     }
 
     fn solve_in_place(&mut self, b: &mut [f64], columns: usize) {
@@ -499,8 +573,12 @@ mod tests {
     fn the_condensed_backend_honours_the_contract() {
         let (k, map, t) = cantilever();
         let c = Condensed::new(&k, &map, t, 2).unwrap();
-        assert!(c.far.is_some() && c.split.n_interface > 0 && c.split.near_eqs.len() < map.n_equations);
-        check_contract_of("condensed", |k, map, t| Factor::of(Box::new(Condensed::new(k, map, t, 2).unwrap())));
+        assert!(
+            c.far.is_some() && c.split.n_interface > 0 && c.split.near_eqs.len() < map.n_equations
+        );
+        check_contract_of("condensed", |k, map, t| {
+            Factor::of(Box::new(Condensed::new(k, map, t, 2).unwrap()))
+        });
     }
 
     /// K + α w wᵀ with w = (1, −1) on the two equations of a node (both in the pattern; SPD kept).
@@ -509,7 +587,8 @@ mod tests {
         let mut out = k.clone();
         let (ptr, rows) = (k.symbolic().col_ptr().to_vec(), k.symbolic().row_idx().to_vec());
         for (r, c, v) in [(a, a, alpha), (b, b, alpha), (b, a, -alpha)] {
-            let p = (ptr[c]..ptr[c + 1]).find(|&p| rows[p] == r).expect("a node's equations couple");
+            let p =
+                (ptr[c]..ptr[c + 1]).find(|&p| rows[p] == r).expect("a node's equations couple");
             out.val_mut()[p] += v;
         }
         out
@@ -524,9 +603,20 @@ mod tests {
         let (k, map, t) = cantilever();
         let n = map.n_equations;
         let mut c = Condensed::new(&k, &map, t, 2).unwrap();
-        let interface: Vec<usize> = c.split.far_eqs[c.split.far_eqs.len() - c.split.n_interface..].to_vec();
+        let interface: Vec<usize> =
+            c.split.far_eqs[c.split.far_eqs.len() - c.split.n_interface..].to_vec();
         // A node's first equation (its x DOF) by whether it lies inside N off the interface, or in F.
-        let node_where = |inside: bool, c: &Condensed| (0..n - t - 1).find(|&e| map.dof_of_equation[e] % 2 == 0 && map.dof_of_equation[e + 1] == map.dof_of_equation[e] + 1 && [e, e + 1].iter().all(|&q| c.is_near[q] == inside && !interface.contains(&q))).unwrap();
+        let node_where = |inside: bool, c: &Condensed| {
+            (0..n - t - 1)
+                .find(|&e| {
+                    map.dof_of_equation[e] % 2 == 0
+                        && map.dof_of_equation[e + 1] == map.dof_of_equation[e] + 1
+                        && [e, e + 1]
+                            .iter()
+                            .all(|&q| c.is_near[q] == inside && !interface.contains(&q))
+                })
+                .unwrap()
+        };
         let b: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
         let big = b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let inside = stiffened(&k, node_where(true, &c), 300.0);
@@ -534,15 +624,24 @@ mod tests {
         for (kk, builds) in [(&inside, 1), (&outside, 2)] {
             c.factor(kk, &map).unwrap();
             assert_eq!(c.n_far_builds, builds);
-            let residual = |x: &[f64], b: &[f64]| times(kk, x).iter().zip(b).fold(0.0f64, |a, (kx, bi)| a.max((kx - bi).abs()));
+            let residual = |x: &[f64], b: &[f64]| {
+                times(kk, x).iter().zip(b).fold(0.0f64, |a, (kx, bi)| a.max((kx - bi).abs()))
+            };
             let mut x = b.clone();
             c.solve_in_place(&mut x, 1);
-            assert!(residual(&x, &b) < 1e-10 * big, "build {builds}: residual {}", residual(&x, &b));
+            assert!(
+                residual(&x, &b) < 1e-10 * big,
+                "build {builds}: residual {}",
+                residual(&x, &b)
+            );
             let g = c.trailing_inverse();
             let g_plain = FaerLlt::new(kk, &map, t).unwrap().trailing_inverse();
             for i in 0..t {
                 for j in 0..t {
-                    assert!((g[(i, j)] - g_plain[(i, j)]).abs() < 1e-10 * g_plain[(i, i)], "build {builds}: G[{i},{j}]");
+                    assert!(
+                        (g[(i, j)] - g_plain[(i, j)]).abs() < 1e-10 * g_plain[(i, i)],
+                        "build {builds}: G[{i},{j}]"
+                    );
                 }
             }
             let force: Vec<f64> = (0..t).map(|i| 1.0 - i as f64).collect();

@@ -9,7 +9,10 @@ use faer::linalg::cholesky::llt::factor::LltError;
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymbolicCholeskyRaw, SymmetricOrdering,
+};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::SparseColMat;
 use faer::{Accum, Conj, Mat, MatMut, Par, Side};
@@ -72,8 +75,10 @@ impl FaerLlt {
     pub fn new(lower: &SparseColMat<usize, f64>, map: &DofMap, n_trailing: usize) -> Result<Self> {
         let symbolic = symbolic_analysis(lower)?;
         let factor_par = factorization_par(&symbolic, map);
-        let factor_scratch = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(factor_par, Default::default()))
-            .map_err(|_| crate::fail!(Internal, "out of memory for the Cholesky factorization"))?;
+        let factor_scratch = MemBuffer::try_new(
+            symbolic.factorize_numeric_llt_scratch::<f64>(factor_par, Default::default()),
+        )
+        .map_err(|_| crate::fail!(Internal, "out of memory for the Cholesky factorization"))?;
         let mut solver = FaerLlt {
             values: vec![0.0; symbolic.len_val()],
             symbolic,
@@ -109,7 +114,8 @@ impl FaerLlt {
                 if start + ncols <= first {
                     break; // supernodes are contiguous column ranges in increasing order
                 }
-                let row_of = |i: usize| if i < ncols { start + i } else { node.pattern()[i - ncols] };
+                let row_of =
+                    |i: usize| if i < ncols { start + i } else { node.pattern()[i - ncols] };
                 for c in 0..ncols {
                     let j = start + c;
                     if j < first {
@@ -152,20 +158,28 @@ impl FaerLlt {
             self.solve_scratch = Some(mem);
         }
     }
-
 }
 
 impl Backend for FaerLlt {
     /// Factor `lower` again (same pattern, new values). A non-positive pivot means a
     /// mechanism: the message names the global DOF through `dof_of_equation`.
     fn factor(&mut self, lower: &SparseColMat<usize, f64>, map: &DofMap) -> Result<()> {
-        let result = self.symbolic.factorize_numeric_llt(&mut self.values, lower.as_ref(), Side::Lower, Default::default(), self.factor_par, MemStack::new(&mut self.factor_scratch), Default::default());
+        let result = self.symbolic.factorize_numeric_llt(
+            &mut self.values,
+            lower.as_ref(),
+            Side::Lower,
+            Default::default(),
+            self.factor_par,
+            MemStack::new(&mut self.factor_scratch),
+            Default::default(),
+        );
         match result {
             Ok(_) => Ok(()),
             Err(LltError::NonPositivePivot { index }) => {
                 // (The equations are in the factor's order: no permutation to undo.)
                 let dim = map.dim;
-                let hint = map.dof_of_equation
+                let hint = map
+                    .dof_of_equation
                     .get(index)
                     .map(|&d| format!(" near node {} ({})", d / dim, ["x", "y", "z"][d % dim]))
                     .unwrap_or_default();
@@ -184,7 +198,12 @@ impl Backend for FaerLlt {
     fn solve_in_place(&mut self, b: &mut [f64], columns: usize) {
         let n = b.len() / columns.max(1);
         let mut mem = self.scratch(columns);
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(b, n, columns), PAR, MemStack::new(&mut mem));
+        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(b, n, columns),
+            PAR,
+            MemStack::new(&mut mem),
+        );
         self.keep_scratch(mem);
     }
 
@@ -246,10 +265,17 @@ impl Backend for FaerLlt {
 /// numbered in the factor's order already, `DofMap::ordered`). Supernodal always: the trailing
 /// block is read from the supernodes.
 pub fn symbolic_analysis(lower: &SparseColMat<usize, f64>) -> Result<SymbolicCholesky<usize>> {
-    let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() };
+    let params = CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+        ..Default::default()
+    };
     // (Without a permutation faer's analysis reads the upper triangle: hand it Lᵀ's.)
-    let upper = lower.as_ref().transpose().to_col_major().map_err(|e| crate::fail!(Internal, "could not transpose the stiffness pattern: {e:?}"))?;
-    factorize_symbolic_cholesky(upper.symbolic(), Side::Upper, SymmetricOrdering::Identity, params).map_err(|e| crate::fail!(Internal, "symbolic factorization failed: {e:?}"))
+    let upper =
+        lower.as_ref().transpose().to_col_major().map_err(|e| {
+            crate::fail!(Internal, "could not transpose the stiffness pattern: {e:?}")
+        })?;
+    factorize_symbolic_cholesky(upper.symbolic(), Side::Upper, SymmetricOrdering::Identity, params)
+        .map_err(|e| crate::fail!(Internal, "symbolic factorization failed: {e:?}"))
 }
 
 /// The work of a factorization and of a solve pair, from the supernodal structure: a
@@ -267,5 +293,9 @@ pub fn work_of(symbolic: &SymbolicCholesky<usize>) -> FactorWork {
             entries += c * (c + 1.0) / 2.0 + c * r;
         }
     }
-    FactorWork { factorization_flops: factorization, solve_pair_flops: 4.0 * entries, equations: symbolic.nrows() as f64 }
+    FactorWork {
+        factorization_flops: factorization,
+        solve_pair_flops: 4.0 * entries,
+        equations: symbolic.nrows() as f64,
+    }
 }

@@ -84,19 +84,39 @@ impl Factor {
     /// The factor of `lower` by the chosen backend, whose last `n_trailing` equations form the
     /// trailing block (the symbolic analysis, kept for every refactorization, and the first
     /// numeric factorization).
-    pub fn new(kind: Factorization, lower: &SparseColMat<usize, f64>, map: &DofMap, n_trailing: usize) -> Result<Self> {
+    pub fn new(
+        kind: Factorization,
+        lower: &SparseColMat<usize, f64>,
+        map: &DofMap,
+        n_trailing: usize,
+    ) -> Result<Self> {
         let backend: Box<dyn Backend> = match kind {
             Factorization::Faer => Box::new(faer_llt::FaerLlt::new(lower, map, n_trailing)?),
             Factorization::Mumps => Box::new(mumps::Mumps::new(lower, map, n_trailing)?),
-            Factorization::Condensed => Box::new(condensed::Condensed::new(lower, map, n_trailing, crate::options::DEFAULT_NEAR_HOPS)?),
+            Factorization::Condensed => Box::new(condensed::Condensed::new(
+                lower,
+                map,
+                n_trailing,
+                crate::options::DEFAULT_NEAR_HOPS,
+            )?),
         };
         Ok(Factor::of(backend))
     }
 
     /// The factor of `lower` by the backend and settings of a run's options (`Factor::new`).
-    pub fn of_options(options: &Options, lower: &SparseColMat<usize, f64>, map: &DofMap, n_trailing: usize) -> Result<Self> {
+    pub fn of_options(
+        options: &Options,
+        lower: &SparseColMat<usize, f64>,
+        map: &DofMap,
+        n_trailing: usize,
+    ) -> Result<Self> {
         match options.factorization {
-            Factorization::Condensed => Ok(Factor::of(Box::new(condensed::Condensed::new(lower, map, n_trailing, options.near_hops)?))),
+            Factorization::Condensed => Ok(Factor::of(Box::new(condensed::Condensed::new(
+                lower,
+                map,
+                n_trailing,
+                options.near_hops,
+            )?))),
             kind => Factor::new(kind, lower, map, n_trailing),
         }
     }
@@ -169,12 +189,19 @@ mod tests {
         let (nx, ny) = (9, 6);
         let mesh = crate::mesh::test_grid(nx, ny, 0.5, 0.4);
         let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
-        let d = Section::new(Material::elastic(1000.0, 0.3), Plane::Strain.stress_state()).elastic_matrix();
+        let d = Section::new(Material::elastic(1000.0, 0.3), Plane::Strain.stress_state())
+            .elastic_matrix();
         let n_dofs = 2 * mesh.nodes.len();
         let fixed: Vec<bool> = (0..n_dofs).map(|g| (g / 2) % nx == 0).collect();
-        let trailing: Vec<usize> = [3, 0, 5, 2, 1, 4].iter().flat_map(|&j| [2 * (nx * j + nx - 1) + 1, 2 * (nx * j + nx - 1)]).collect();
+        let trailing: Vec<usize> = [3, 0, 5, 2, 1, 4]
+            .iter()
+            .flat_map(|&j| [2 * (nx * j + nx - 1) + 1, 2 * (nx * j + nx - 1)])
+            .collect();
         let map = DofMap::ordered(&els, n_dofs, &fixed, &[], &trailing).unwrap();
-        let k = StiffnessPattern::new(&els, &map).unwrap().assemble(&els, &vec![d; els.len()], &map).unwrap();
+        let k = StiffnessPattern::new(&els, &map)
+            .unwrap()
+            .assemble(&els, &vec![d; els.len()], &map)
+            .unwrap();
         (k, map, trailing.len())
     }
 
@@ -204,22 +231,36 @@ mod tests {
     }
 
     /// The contract for the factor `make` builds (`kind` names it in the messages).
-    pub(super) fn check_contract_of(kind: &str, make: impl Fn(&SparseColMat<usize, f64>, &DofMap, usize) -> Factor) {
+    pub(super) fn check_contract_of(
+        kind: &str,
+        make: impl Fn(&SparseColMat<usize, f64>, &DofMap, usize) -> Factor,
+    ) {
         let (k, map, t) = cantilever();
         let n = map.n_equations;
         let mut f = make(&k, &map, t);
         let b: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
         let big = b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let residual = |x: &[f64], b: &[f64]| times(&k, x).iter().zip(b).fold(0.0f64, |a, (kx, bi)| a.max((kx - bi).abs()));
+        let residual = |x: &[f64], b: &[f64]| {
+            times(&k, x).iter().zip(b).fold(0.0f64, |a, (kx, bi)| a.max((kx - bi).abs()))
+        };
         // One and several right-hand sides (the second column is 2b: its solution is 2x).
         let mut x = b.clone();
         f.solve_in_place(&mut x, 1);
         assert!(residual(&x, &b) < 1e-10 * big, "{kind}: residual {}", residual(&x, &b));
-        let mut two: Vec<f64> = b.iter().chain(b.iter()).enumerate().map(|(i, v)| if i < n { *v } else { 2.0 * v }).collect();
+        let mut two: Vec<f64> = b
+            .iter()
+            .chain(b.iter())
+            .enumerate()
+            .map(|(i, v)| if i < n { *v } else { 2.0 * v })
+            .collect();
         f.solve_in_place(&mut two, 2);
         let xbig = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         for i in 0..n {
-            assert!((two[i] - x[i]).abs() < 1e-12 * xbig && (two[n + i] - 2.0 * x[i]).abs() < 2e-12 * xbig, "{kind}: blocked solve, row {i}");
+            assert!(
+                (two[i] - x[i]).abs() < 1e-12 * xbig
+                    && (two[n + i] - 2.0 * x[i]).abs() < 2e-12 * xbig,
+                "{kind}: blocked solve, row {i}"
+            );
         }
         // G: column j is K⁻¹ e_j on the trailing equations, symmetric.
         let g = f.trailing_inverse();
@@ -232,7 +273,12 @@ mod tests {
             assert!(residual(&col, &e) < 1e-10);
             let scale = g[(j, j)];
             for i in 0..t {
-                assert!((g[(i, j)] - col[first + i]).abs() < 1e-10 * scale, "{kind}: G[{i},{j}] = {} vs {}", g[(i, j)], col[first + i]);
+                assert!(
+                    (g[(i, j)] - col[first + i]).abs() < 1e-10 * scale,
+                    "{kind}: G[{i},{j}] = {} vs {}",
+                    g[(i, j)],
+                    col[first + i]
+                );
                 assert!((g[(i, j)] - g[(j, i)]).abs() < 1e-12 * scale);
             }
         }
@@ -241,20 +287,29 @@ mod tests {
         let mut w = f.forward(&b);
         let at_trailing = f.trailing_solution(&w);
         for i in 0..t {
-            assert!((at_trailing[i] - x[first + i]).abs() < 1e-10 * xbig, "{kind}: trailing part {i}");
+            assert!(
+                (at_trailing[i] - x[first + i]).abs() < 1e-10 * xbig,
+                "{kind}: trailing part {i}"
+            );
         }
         f.add_trailing_force(&mut w, &force);
         let split = f.backward(w);
         let mut with_force = b.clone();
         (0..t).for_each(|i| with_force[first + i] += force[i]);
-        assert!(residual(&split, &with_force) < 1e-10 * big, "{kind}: split solve residual {}", residual(&split, &with_force));
+        assert!(
+            residual(&split, &with_force) < 1e-10 * big,
+            "{kind}: split solve residual {}",
+            residual(&split, &with_force)
+        );
         // Refactorized with K doubled: the solution halves.
         let mut doubled = k.clone();
         doubled.val_mut().iter_mut().for_each(|v| *v *= 2.0);
         f.factor(&doubled, &map).unwrap();
         let mut half = b.clone();
         f.solve_in_place(&mut half, 1);
-        (0..n).for_each(|i| assert!((2.0 * half[i] - x[i]).abs() < 1e-10 * xbig, "{kind}: refactorized, row {i}"));
+        (0..n).for_each(|i| {
+            assert!((2.0 * half[i] - x[i]).abs() < 1e-10 * xbig, "{kind}: refactorized, row {i}")
+        });
         assert_eq!(f.n_factorizations, 2);
         // Not positive definite (a diagonal entry negated): the mechanism error.
         let mut indefinite = k.clone();

@@ -62,7 +62,22 @@ impl Mumps {
         let (rank, size) = api.rank_and_size();
         let (first, end) = (n * rank / size, n * (rank + 1) / size);
         let work = work_of(&symbolic_analysis(lower)?);
-        let mut m = Mumps { api, matrix: null_mut(), factor: null_mut(), rhs: null_mut(), solution: null_mut(), gather: null_mut(), whole: null_mut(), info: [0.0; 11], first, end, several_ranks: size > 1, n, n_trailing, work };
+        let mut m = Mumps {
+            api,
+            matrix: null_mut(),
+            factor: null_mut(),
+            rhs: null_mut(),
+            solution: null_mut(),
+            gather: null_mut(),
+            whole: null_mut(),
+            info: [0.0; 11],
+            first,
+            end,
+            several_ranks: size > 1,
+            n,
+            n_trailing,
+            work,
+        };
         api.quietly(|| m.create(lower))?;
         m.factor(lower, map)?;
         Ok(m)
@@ -76,7 +91,8 @@ impl Mumps {
         // (the diagonal block) and beyond (the off-diagonal block).
         let col_ptr = lower.symbolic().col_ptr();
         let row_idx = lower.symbolic().row_idx();
-        let (mut diagonal, mut beyond) = (Vec::with_capacity(end - first), Vec::with_capacity(end - first));
+        let (mut diagonal, mut beyond) =
+            (Vec::with_capacity(end - first), Vec::with_capacity(end - first));
         for c in first..end {
             let in_block = row_idx[col_ptr[c]..col_ptr[c + 1]].iter().filter(|&&r| r < end).count();
             diagonal.push(in_block as PetscInt);
@@ -84,14 +100,49 @@ impl Mumps {
         }
         let local = (end - first) as PetscInt;
         unsafe {
-            api.check((api.MatCreateSBAIJ)(api.comm(), 1, local, local, n, n, 0, diagonal.as_ptr(), 0, beyond.as_ptr(), &mut self.matrix), "MatCreateSBAIJ")?;
+            api.check(
+                (api.MatCreateSBAIJ)(
+                    api.comm(),
+                    1,
+                    local,
+                    local,
+                    n,
+                    n,
+                    0,
+                    diagonal.as_ptr(),
+                    0,
+                    beyond.as_ptr(),
+                    &mut self.matrix,
+                ),
+                "MatCreateSBAIJ",
+            )?;
             self.set_values(lower)?;
-            api.check((api.MatSetOption)(self.matrix, petsc::MAT_SPD, petsc::PETSC_TRUE), "MatSetOption(MAT_SPD)")?;
-            api.check((api.MatGetFactor)(self.matrix, c"mumps".as_ptr(), petsc::MAT_FACTOR_CHOLESKY, &mut self.factor), "MatGetFactor(mumps, Cholesky)")?;
+            api.check(
+                (api.MatSetOption)(self.matrix, petsc::MAT_SPD, petsc::PETSC_TRUE),
+                "MatSetOption(MAT_SPD)",
+            )?;
+            api.check(
+                (api.MatGetFactor)(
+                    self.matrix,
+                    c"mumps".as_ptr(),
+                    petsc::MAT_FACTOR_CHOLESKY,
+                    &mut self.factor,
+                ),
+                "MatGetFactor(mumps, Cholesky)",
+            )?;
             api.check((api.MatFactorInfoInitialize)(&mut self.info), "MatFactorInfoInitialize")?;
-            api.check((api.MatCholeskyFactorSymbolic)(self.factor, self.matrix, null_mut(), &self.info), "MatCholeskyFactorSymbolic")?;
-            api.check((api.MatCreateVecs)(self.matrix, &mut self.solution, &mut self.rhs), "MatCreateVecs")?;
-            api.check((api.VecScatterCreateToAll)(self.solution, &mut self.gather, &mut self.whole), "VecScatterCreateToAll")?;
+            api.check(
+                (api.MatCholeskyFactorSymbolic)(self.factor, self.matrix, null_mut(), &self.info),
+                "MatCholeskyFactorSymbolic",
+            )?;
+            api.check(
+                (api.MatCreateVecs)(self.matrix, &mut self.solution, &mut self.rhs),
+                "MatCreateVecs",
+            )?;
+            api.check(
+                (api.VecScatterCreateToAll)(self.solution, &mut self.gather, &mut self.whole),
+                "VecScatterCreateToAll",
+            )?;
         }
         Ok(())
     }
@@ -99,24 +150,57 @@ impl Mumps {
     /// This rank's rows of the upper triangle from `lower`'s columns, assembled.
     unsafe fn set_values(&mut self, lower: &SparseColMat<usize, f64>) -> Result<()> {
         let api = self.api;
-        let (col_ptr, row_idx, values) = (lower.symbolic().col_ptr(), lower.symbolic().row_idx(), lower.val());
+        let (col_ptr, row_idx, values) =
+            (lower.symbolic().col_ptr(), lower.symbolic().row_idx(), lower.val());
         let mut columns: Vec<PetscInt> = Vec::new();
         for c in self.first..self.end {
             let range = col_ptr[c]..col_ptr[c + 1];
             columns.clear();
             columns.extend(row_idx[range.clone()].iter().map(|&r| r as PetscInt));
             let row = c as PetscInt;
-            api.check((api.MatSetValues)(self.matrix, 1, &row, columns.len() as PetscInt, columns.as_ptr(), values[range].as_ptr(), petsc::INSERT_VALUES), "MatSetValues")?;
+            api.check(
+                (api.MatSetValues)(
+                    self.matrix,
+                    1,
+                    &row,
+                    columns.len() as PetscInt,
+                    columns.as_ptr(),
+                    values[range].as_ptr(),
+                    petsc::INSERT_VALUES,
+                ),
+                "MatSetValues",
+            )?;
         }
-        api.check((api.MatAssemblyBegin)(self.matrix, petsc::MAT_FINAL_ASSEMBLY), "MatAssemblyBegin")?;
+        api.check(
+            (api.MatAssemblyBegin)(self.matrix, petsc::MAT_FINAL_ASSEMBLY),
+            "MatAssemblyBegin",
+        )?;
         api.check((api.MatAssemblyEnd)(self.matrix, petsc::MAT_FINAL_ASSEMBLY), "MatAssemblyEnd")
     }
 
     /// `whole` (every equation, on every rank) from the distributed vector `v`.
     unsafe fn gathered(&self, v: Handle, out: &mut [f64]) {
         let api = self.api;
-        api.must((api.VecScatterBegin)(self.gather, v, self.whole, petsc::INSERT_VALUES, petsc::SCATTER_FORWARD), "VecScatterBegin");
-        api.must((api.VecScatterEnd)(self.gather, v, self.whole, petsc::INSERT_VALUES, petsc::SCATTER_FORWARD), "VecScatterEnd");
+        api.must(
+            (api.VecScatterBegin)(
+                self.gather,
+                v,
+                self.whole,
+                petsc::INSERT_VALUES,
+                petsc::SCATTER_FORWARD,
+            ),
+            "VecScatterBegin",
+        );
+        api.must(
+            (api.VecScatterEnd)(
+                self.gather,
+                v,
+                self.whole,
+                petsc::INSERT_VALUES,
+                petsc::SCATTER_FORWARD,
+            ),
+            "VecScatterEnd",
+        );
         let mut p: *const f64 = std::ptr::null();
         api.must((api.VecGetArrayRead)(self.whole, &mut p), "VecGetArrayRead");
         out.copy_from_slice(std::slice::from_raw_parts(p, self.n));
@@ -127,15 +211,25 @@ impl Mumps {
     unsafe fn broadcast(&self, values: &mut [f64], rank0: bool) {
         let api = self.api;
         let own = if rank0 { values.len() } else { 0 };
-        let (mut v, mut to_all, mut all): (Handle, Handle, Handle) = (null_mut(), null_mut(), null_mut());
-        api.must((api.VecCreateMPI)(api.comm(), own as PetscInt, values.len() as PetscInt, &mut v), "VecCreateMPI");
+        let (mut v, mut to_all, mut all): (Handle, Handle, Handle) =
+            (null_mut(), null_mut(), null_mut());
+        api.must(
+            (api.VecCreateMPI)(api.comm(), own as PetscInt, values.len() as PetscInt, &mut v),
+            "VecCreateMPI",
+        );
         let mut p: *mut f64 = null_mut();
         api.must((api.VecGetArray)(v, &mut p), "VecGetArray");
         std::slice::from_raw_parts_mut(p, own).copy_from_slice(&values[..own]);
         api.must((api.VecRestoreArray)(v, &mut p), "VecRestoreArray");
         api.must((api.VecScatterCreateToAll)(v, &mut to_all, &mut all), "VecScatterCreateToAll");
-        api.must((api.VecScatterBegin)(to_all, v, all, petsc::INSERT_VALUES, petsc::SCATTER_FORWARD), "VecScatterBegin");
-        api.must((api.VecScatterEnd)(to_all, v, all, petsc::INSERT_VALUES, petsc::SCATTER_FORWARD), "VecScatterEnd");
+        api.must(
+            (api.VecScatterBegin)(to_all, v, all, petsc::INSERT_VALUES, petsc::SCATTER_FORWARD),
+            "VecScatterBegin",
+        );
+        api.must(
+            (api.VecScatterEnd)(to_all, v, all, petsc::INSERT_VALUES, petsc::SCATTER_FORWARD),
+            "VecScatterEnd",
+        );
         let mut q: *const f64 = std::ptr::null();
         api.must((api.VecGetArrayRead)(all, &mut q), "VecGetArrayRead");
         values.copy_from_slice(std::slice::from_raw_parts(q, values.len()));
@@ -151,7 +245,8 @@ impl Mumps {
         unsafe {
             let mut p: *mut f64 = null_mut();
             api.must((api.VecGetArray)(self.rhs, &mut p), "VecGetArray");
-            std::slice::from_raw_parts_mut(p, self.end - self.first).copy_from_slice(&b[self.first..self.end]);
+            std::slice::from_raw_parts_mut(p, self.end - self.first)
+                .copy_from_slice(&b[self.first..self.end]);
             api.must((api.VecRestoreArray)(self.rhs, &mut p), "VecRestoreArray");
             api.must((api.MatSolve)(self.factor, self.rhs, self.solution), "MatSolve");
             self.gathered(self.solution, b);
@@ -165,7 +260,18 @@ impl Mumps {
             // A dense n × columns matrix in this rank's rows, holding `data`'s when given.
             let dense = |data: Option<&[f64]>| {
                 let mut m: Handle = null_mut();
-                api.must((api.MatCreateDense)(api.comm(), local as PetscInt, petsc::PETSC_DECIDE, n as PetscInt, columns as PetscInt, null_mut(), &mut m), "MatCreateDense");
+                api.must(
+                    (api.MatCreateDense)(
+                        api.comm(),
+                        local as PetscInt,
+                        petsc::PETSC_DECIDE,
+                        n as PetscInt,
+                        columns as PetscInt,
+                        null_mut(),
+                        &mut m,
+                    ),
+                    "MatCreateDense",
+                );
                 if let Some(data) = data {
                     let mut p: *mut f64 = null_mut();
                     api.must((api.MatDenseGetArray)(m, &mut p), "MatDenseGetArray");
@@ -182,9 +288,15 @@ impl Mumps {
             api.must((api.MatMatSolve)(self.factor, rhs, x), "MatMatSolve");
             for (c, column) in b.chunks_exact_mut(n).enumerate() {
                 let mut v: Handle = null_mut();
-                api.must((api.MatDenseGetColumnVecRead)(x, c as PetscInt, &mut v), "MatDenseGetColumnVecRead");
+                api.must(
+                    (api.MatDenseGetColumnVecRead)(x, c as PetscInt, &mut v),
+                    "MatDenseGetColumnVecRead",
+                );
                 self.gathered(v, column);
-                api.must((api.MatDenseRestoreColumnVecRead)(x, c as PetscInt, &mut v), "MatDenseRestoreColumnVecRead");
+                api.must(
+                    (api.MatDenseRestoreColumnVecRead)(x, c as PetscInt, &mut v),
+                    "MatDenseRestoreColumnVecRead",
+                );
             }
             api.must((api.MatDestroy)(&mut rhs), "MatDestroy");
             api.must((api.MatDestroy)(&mut x), "MatDestroy");
@@ -209,7 +321,10 @@ impl Backend for Mumps {
             api.check((api.MatMumpsGetInfog)(self.factor, 12, &mut negative), "MatMumpsGetInfog")?;
             Ok(numeric)
         })?;
-        if failure == petsc::MAT_FACTOR_NUMERIC_ZEROPIVOT || status == MUMPS_NOT_POSITIVE_DEFINITE || negative > 0 {
+        if failure == petsc::MAT_FACTOR_NUMERIC_ZEROPIVOT
+            || status == MUMPS_NOT_POSITIVE_DEFINITE
+            || negative > 0
+        {
             bail!(FreeBody, "the stiffness matrix is singular: the model has a mechanism (a part held by nothing, or elements joined at a single node); add supports or check the mesh connectivity");
         }
         if failure != 0 || status < 0 || numeric != 0 {
@@ -245,27 +360,72 @@ impl Backend for Mumps {
             // The pattern of the wanted entries, as PETSc hands it to MUMPS: the transpose of
             // an n × n matrix whose row j lists the rows i of column j, all of it on rank 0.
             let local = if rank0 { n as PetscInt } else { 0 };
-            let row_entries: Vec<PetscInt> = (0..local as usize).map(|j| if j >= n - t { t as PetscInt } else { 0 }).collect();
+            let row_entries: Vec<PetscInt> =
+                (0..local as usize).map(|j| if j >= n - t { t as PetscInt } else { 0 }).collect();
             let mut pattern: Handle = null_mut();
-            api.must((api.MatCreateAIJ)(api.comm(), local, local, n as PetscInt, n as PetscInt, 0, row_entries.as_ptr(), 0, row_entries.as_ptr(), &mut pattern), "MatCreateAIJ");
+            api.must(
+                (api.MatCreateAIJ)(
+                    api.comm(),
+                    local,
+                    local,
+                    n as PetscInt,
+                    n as PetscInt,
+                    0,
+                    row_entries.as_ptr(),
+                    0,
+                    row_entries.as_ptr(),
+                    &mut pattern,
+                ),
+                "MatCreateAIJ",
+            );
             if rank0 {
                 let ones = vec![1.0; t * t];
-                api.must((api.MatSetValues)(pattern, t as PetscInt, trailing.as_ptr(), t as PetscInt, trailing.as_ptr(), ones.as_ptr(), petsc::INSERT_VALUES), "MatSetValues");
+                api.must(
+                    (api.MatSetValues)(
+                        pattern,
+                        t as PetscInt,
+                        trailing.as_ptr(),
+                        t as PetscInt,
+                        trailing.as_ptr(),
+                        ones.as_ptr(),
+                        petsc::INSERT_VALUES,
+                    ),
+                    "MatSetValues",
+                );
             }
-            api.must((api.MatAssemblyBegin)(pattern, petsc::MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+            api.must(
+                (api.MatAssemblyBegin)(pattern, petsc::MAT_FINAL_ASSEMBLY),
+                "MatAssemblyBegin",
+            );
             api.must((api.MatAssemblyEnd)(pattern, petsc::MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
             let mut wanted: Handle = null_mut();
             api.must((api.MatCreateTranspose)(pattern, &mut wanted), "MatCreateTranspose");
             api.must((api.MatMumpsGetInverse)(self.factor, wanted), "MatMumpsGetInverse");
             // Back to solving: no inverse entries, and (on several ranks) the solution left
             // distributed, as PETSc's solves expect it.
-            api.must((api.MatMumpsSetIcntl)(self.factor, ICNTL_INVERSE_ENTRIES, 0), "MatMumpsSetIcntl");
+            api.must(
+                (api.MatMumpsSetIcntl)(self.factor, ICNTL_INVERSE_ENTRIES, 0),
+                "MatMumpsSetIcntl",
+            );
             if self.several_ranks {
-                api.must((api.MatMumpsSetIcntl)(self.factor, ICNTL_SOLUTION_DISTRIBUTED, 1), "MatMumpsSetIcntl");
+                api.must(
+                    (api.MatMumpsSetIcntl)(self.factor, ICNTL_SOLUTION_DISTRIBUTED, 1),
+                    "MatMumpsSetIcntl",
+                );
             }
             if rank0 {
                 // Row j of `pattern`, column i: K⁻¹(i, j).
-                api.must((api.MatGetValues)(pattern, t as PetscInt, trailing.as_ptr(), t as PetscInt, trailing.as_ptr(), entries.as_mut_ptr()), "MatGetValues");
+                api.must(
+                    (api.MatGetValues)(
+                        pattern,
+                        t as PetscInt,
+                        trailing.as_ptr(),
+                        t as PetscInt,
+                        trailing.as_ptr(),
+                        entries.as_mut_ptr(),
+                    ),
+                    "MatGetValues",
+                );
             }
             api.must((api.MatDestroy)(&mut wanted), "MatDestroy");
             api.must((api.MatDestroy)(&mut pattern), "MatDestroy");

@@ -118,7 +118,11 @@ unsafe fn symbol(handle: *mut c_void, name: &str) -> std::result::Result<*mut c_
 /// its file name.
 fn library_path() -> String {
     let maps = std::fs::read_to_string("/proc/self/maps").unwrap_or_default();
-    maps.lines().filter_map(|l| l.split_whitespace().nth(5)).find(|p| p.contains("/libpetsc") && p.contains(".so")).unwrap_or(LIBRARY).to_string()
+    maps.lines()
+        .filter_map(|l| l.split_whitespace().nth(5))
+        .find(|p| p.contains("/libpetsc") && p.contains(".so"))
+        .unwrap_or(LIBRARY)
+        .to_string()
 }
 
 /// The API, loaded and PETSc initialised once per process (by petsc4py under `slipstep run`;
