@@ -85,8 +85,10 @@ def test_no_import_cycle_in_the_package(graph):
 
 
 #: The longest a module may grow: past it, it holds more than one concept (the README's module
-#: map names one per file).
-MAX_LINES = 600
+#: map names one per file). Set at 600 lines when lines ran to 200 columns; the formatter's 100
+#: columns (pyproject's [tool.ruff]) made the same package 1.21x longer (17,869 -> 21,593 lines,
+#: no content changed), so 600 then is about 730 now.
+MAX_LINES = 730
 
 
 def test_no_module_outgrows_one_concept():
