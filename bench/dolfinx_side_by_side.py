@@ -86,7 +86,7 @@ from slipstep.fenicsx.crosscheck import (
     hill_setup,
     hill_sphere,
 )
-from slipstep.mesh import signed_areas
+from slipstep.mesh.triangles import signed_areas
 from slipstep.space.fields import spherical, tetrahedron_volumes
 from slipstep.summary import summarize
 

@@ -2,7 +2,7 @@
 
 The scene is slipstep's cases/hertz_cylinder.toml with SCENE (μ = 0.3, Sy = 200, H' = 700) at
 mesh.h_contact = h: slipstep's generator meshes it and writes a gmsh file
-(slipstep.mesh_files.write_msh); GetFEM (Debian python3-getfem 5.4) reads that file, so both codes
+(slipstep.mesh.triangle_files.write_msh); GetFEM (Debian python3-getfem 5.4) reads that file, so both codes
 solve the same mesh.  The GetFEM model, one process per run (`one`):
 
 - P1 displacements (the CST), one-point integration, so the plastic state is one value per
@@ -100,7 +100,7 @@ def scene_spec(h: float, steps: int, overrides=SCENE, msh: Path | None = None) -
     return the run spec: the file, its region numbers, the material, load and contact data
     read from slipstep's case (so both codes solve the same scene by construction)."""
     from slipstep.case import load_case
-    from slipstep.mesh_files import write_msh
+    from slipstep.mesh.triangle_files import write_msh
     from slipstep.build import mesh_body
     from slipstep.loads import hertz_cut_pressure
 

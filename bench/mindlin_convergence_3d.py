@@ -290,7 +290,7 @@ def run_rigid(h: float) -> dict:
     status = np.asarray(r.raw["snapshots"][-1]["status"])
     # the supports' measure for comparison, as zone_area would take it for mortar rows
     from slipstep.space.contact_geometry import contactor_face
-    from slipstep.space.mesh import triangle_normals
+    from slipstep.mesh.tetrahedra import triangle_normals
 
     face = r.scene.global_boundary(*contactor_face(r.scene.case.data["contact"][0]))
     on = np.zeros(len(r.scene.nodes), dtype=bool)

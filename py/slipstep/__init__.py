@@ -19,9 +19,7 @@ classes of ``errors``; the shipped cases and studies are in ``shipped``.
 from .version import __version__
 from .case import Case, CaseError, load_case, parse_case
 from .errors import InputError, SlipstepError
-from .mesh import Mesh, MeshError, from_arrays
-from .mesh_files import from_meshio
-from .space.mesh import TetMesh, from_tetrahedra
+from .mesh import Mesh, MeshError, TetMesh, TriangleMesh, from_arrays, from_meshio, from_tetrahedra
 from .build import build_scene
 from .scene import Scene
 from .progress import Progress
@@ -41,6 +39,7 @@ __all__ = [
     "Scene",
     "SlipstepError",
     "TetMesh",
+    "TriangleMesh",
     "as_case",
     "build_scene",
     "from_arrays",

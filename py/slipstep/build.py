@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import generators
+from .mesh import triangle_generators as generators
 from .case import Case
 from .contact_geometry import contact_areas, contact_pairs
 from .errors import CaseError, InputError
-from .mesh import Mesh, MeshError
-from .mesh_files import read_mesh
+from .mesh.base import Mesh, MeshError
+from .mesh.triangle_files import read_mesh
 from .loads import load_force, load_vector, set_load_path
 from .options import solver_options
 from .references import effective_modulus, hertz_line, hertz_sphere

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import mesh as meshing
+from .mesh import triangles as meshing
 from . import mortar
 from .scene import Scene
 from .schema import RIGID_KINDS, contact_tags

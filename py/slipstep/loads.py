@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from . import mesh as meshing
+from .mesh import triangles as meshing
 from .case import Case
 from .loadpath import Load, LoadPath, case_loads
 from .scene import Scene

@@ -48,7 +48,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import mesh as meshing
+from .mesh import triangles as meshing
 
 #: Gauss–Legendre points and weights on [0, 1]: three points integrate the products of two
 #: linear shape functions (and a linear gap) exactly on every piece between breakpoints.

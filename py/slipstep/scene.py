@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .case import Case
-from .mesh import Mesh
+from .mesh.base import Mesh
 
 
 @dataclass

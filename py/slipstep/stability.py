@@ -35,7 +35,7 @@ from . import runner, shipped
 from .case import load_case
 from .fields import centroids
 from .references import thick_cylinder_radius
-from .mesh import checked_mesh
+from .mesh.triangles import checked_mesh
 from .summary import contact_text, summarize
 
 COLUMNS = [

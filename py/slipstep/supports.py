@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import mesh as meshing
+from .mesh import triangles as meshing
 from .loadpath import Load, case_loads
-from .space.mesh import triangle_normals
+from .mesh.tetrahedra import triangle_normals
 from .overrides import element_key
 from .scene import Scene
 from .section import AXIS_TOLERANCE, is_axisymmetric

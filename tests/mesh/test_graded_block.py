@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from conftest import needs_gmsh
 
-from slipstep import mesh as M
-from slipstep import generators
+from slipstep.mesh import triangles as M
+from slipstep.mesh import triangle_generators as generators
 from slipstep.case import CaseError, parse_case
 from slipstep.build import mesh_body
 

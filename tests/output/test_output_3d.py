@@ -19,7 +19,7 @@ from space3d import QUARTER, SPHERE, mindlin_stand_in
 from slipstep.build import build_scene
 from slipstep.case import parse_case
 from slipstep.results import write_results
-from slipstep.space.mesh import triangle_normals
+from slipstep.mesh.tetrahedra import triangle_normals
 from slipstep.summary import one_line, summarize
 
 A, C, P0, MU = 0.9, 0.55, 100.0, 0.3

@@ -17,7 +17,7 @@ from conftest import CASES, needs_gmsh, synthetic_hertz_result
 
 from slipstep import cli, output, prepare, solve
 from slipstep.summary import element_depth, one_line, summarize
-from slipstep import generators
+from slipstep.mesh import triangle_generators as generators
 from slipstep.case import CaseError, load_case
 from slipstep.figures import zone_boundary, zoom_window
 from slipstep.build import build_scene

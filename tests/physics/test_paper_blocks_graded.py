@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
 
-from slipstep import generators
+from slipstep.mesh import triangle_generators as generators
 from slipstep import prepare, solve
 from slipstep.contact_measures import contact_profile
 

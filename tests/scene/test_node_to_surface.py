@@ -16,7 +16,7 @@ from slipstep.build import build_scene
 from slipstep.case import parse_case
 from slipstep.errors import CaseError
 from slipstep.space.loads import face_load
-from slipstep.space.mesh import triangle_normals
+from slipstep.mesh.tetrahedra import triangle_normals
 
 LID = (
     BOX

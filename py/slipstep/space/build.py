@@ -10,17 +10,17 @@ import numpy as np
 
 from ..errors import CaseError
 from ..loads import load_force, load_vector, set_load_path
-from ..mesh import MeshError
+from ..mesh.base import MeshError
 from ..options import solver_options
 from ..references import effective_modulus, hertz_sphere
 from ..scene import Scene, contact_names, materials, merged_bodies
 from ..snapshot_plan import requested, step_bytes
 from ..supports import engine_support_groups, supports
 from ..validation.scene import check_duplicate_nodes, check_pairs_not_held
-from . import generators
+from ..mesh import tetrahedron_generators as generators
 from .contact_geometry import align_to_supports, contact_pairs_3d
-from .mesh import TetMesh
-from .mesh_files import read_tet_mesh
+from ..mesh.tetrahedra import TetMesh
+from ..mesh.tetrahedron_files import read_tet_mesh
 from .schema import box_divisions
 
 

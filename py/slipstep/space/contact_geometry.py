@@ -15,8 +15,8 @@ from ..mortar import compressed_weights
 from ..validation.pairs import check_facing, check_gaps, check_outside
 from . import mortar
 from .indenters import pyramid
-from .mesh import node_normals, triangle_normals
-from .mesh_files import read_surface
+from ..mesh.tetrahedra import node_normals, triangle_normals
+from ..mesh.tetrahedron_files import read_surface
 from .surfaces import (
     closest_points,
     consistently_oriented,

@@ -33,7 +33,7 @@ import numpy as np
 
 from ..contact_measures import contactor_forces
 from .contact_geometry import contactor_face
-from .mesh import triangle_normals
+from ..mesh.tetrahedra import triangle_normals
 
 
 def row_forces(scene, snapshot: dict) -> tuple[np.ndarray, np.ndarray]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mesh import triangle_normals
+from ..mesh.tetrahedra import triangle_normals
 
 
 def face_load(

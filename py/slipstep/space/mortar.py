@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mesh import triangle_normals
+from ..mesh.tetrahedra import triangle_normals
 from .surfaces import closest_points
 
 #: The interior three-point rule on a triangle, exact for quadratics: barycentric points

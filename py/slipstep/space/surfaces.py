@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..mesh import MeshError
+from ..mesh.base import MeshError
 
 #: Points are processed in blocks of this many against every triangle (memory ~ block x T).
 BLOCK = 256

@@ -1,8 +1,8 @@
-"""Triangle meshes: a :class:`Mesh` of linear (CST) triangles, counter-clockwise, with named
+"""Triangle meshes: a :class:`TriangleMesh` of linear (CST) triangles, counter-clockwise, with named
 edge tags whose segments are oriented with the body on their left (so the outward normal of a
 segment p -> q is the right-hand normal (t_y, -t_x) / |t|, t = q - p); the checks every mesh
 passes, and a mesh from Python arrays.  The built-in generators are
-:mod:`slipstep.generators`, the file readers and writer :mod:`slipstep.mesh_files`.
+:mod:`slipstep.mesh.triangle_generators`, the file readers and writer :mod:`slipstep.mesh.triangle_files`.
 """
 
 from __future__ import annotations
@@ -11,16 +11,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InputError
+from .base import Mesh, MeshError
 
 
-class MeshError(InputError):
-    """A mesh that cannot be used; one-line message naming the element/edge and the fix."""
-
-
-@dataclass
-class Mesh:
-    """A 2D triangle mesh of one body.
+@dataclass(repr=False)
+class TriangleMesh(Mesh):
+    """A 2D triangle mesh of one body (a plane or axisymmetric section).
 
     nodes     (N, 2) float64 coordinates
     triangles (M, 3) int64, counter-clockwise
@@ -44,10 +40,8 @@ class Mesh:
         self.node_sets = {k: np.asarray(v, dtype=np.int64) for k, v in self.node_sets.items()}
 
     dimension = 2
-
-    @property
-    def n_nodes(self) -> int:
-        return len(self.nodes)
+    element_name = "triangles"
+    boundary_name = "edge"
 
     @property
     def tags(self) -> dict[str, np.ndarray]:
@@ -59,16 +53,14 @@ class Mesh:
         """The element connectivity: the triangles."""
         return self.triangles
 
-    @property
-    def n_elements(self) -> int:
-        return len(self.triangles)
-
     def edge_nodes(self, tag: str) -> np.ndarray:
         """Sorted unique nodes of an edge tag."""
-        return np.unique(self.edges[tag])
+        return self.tag_nodes(tag)
 
     def area(self) -> float:
         return float(signed_areas(self.nodes, self.triangles).sum())
+
+    measure = area
 
 
 def signed_areas(nodes: np.ndarray, triangles: np.ndarray) -> np.ndarray:
@@ -191,8 +183,10 @@ def planar_coordinates(xyz, where: str) -> np.ndarray:
     return xyz[:, :2]
 
 
-def checked_mesh(nodes, triangles, edges, node_sets=None, where="", flip_clockwise=False) -> Mesh:
-    """The :class:`Mesh` of raw arrays, as every mesh is made: unused nodes dropped, a
+def checked_mesh(
+    nodes, triangles, edges, node_sets=None, where="", flip_clockwise=False
+) -> TriangleMesh:
+    """The :class:`TriangleMesh` of raw arrays, as every mesh is made: unused nodes dropped, a
     consistently clockwise mesh flipped if asked, checked, edges oriented."""
     nodes = np.asarray(nodes, dtype=np.float64)
     triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
@@ -237,7 +231,7 @@ def checked_mesh(nodes, triangles, edges, node_sets=None, where="", flip_clockwi
         triangles = triangles[:, [0, 2, 1]]
     check_triangles(nodes, triangles, where)
     edges = orient_edges(triangles, edges, where)
-    return Mesh(nodes, triangles, edges, node_sets)
+    return TriangleMesh(nodes, triangles, edges, node_sets)
 
 
 def from_arrays(
@@ -246,7 +240,7 @@ def from_arrays(
     edges: dict | None = None,
     node_sets: dict | None = None,
     where: str = "mesh from arrays",
-) -> Mesh:
+) -> TriangleMesh:
     """A body's mesh from numpy arrays, without files: ``nodes`` (N, 2) (or (N, 3) with z = 0),
     ``triangles`` (M, 3) node ids, ``edges`` tag -> (K, 2) boundary segments (the tags that
     [[bc]] and [[contact]] name), ``node_sets`` name -> node ids.  Checked and cleaned like a

@@ -1,8 +1,8 @@
 """The built-in tetrahedron meshes of 3D scenes (gmsh, OpenCASCADE geometry): the sphere, the
 roller, the graded box, the punch and the spherical shell, and the structured box (no gmsh).
-Each returns a checked :class:`slipstep.space.mesh.TetMesh` with the face tags of
+Each returns a checked :class:`slipstep.mesh.tetrahedra.TetMesh` with the face tags of
 :func:`slipstep.space.schema.generator_faces`; the gmsh ones through the mesh cache
-(:mod:`slipstep.mesh_cache`).
+(:mod:`slipstep.mesh.cache`).
 
 A body of revolution or a punch is meshed as its symmetric part (the eighth, or the quarter of
 a punch) and mirrored across the planes of its ``portion``: the quarter and the half are
@@ -16,10 +16,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..gmsh_api import gmsh_session, size_field_only, tetrahedra_and_faces, threshold_field
-from ..mesh import MeshError
-from ..mesh_cache import cached
-from .mesh import TetMesh, boundary_faces, checked_tet_mesh, signed_volumes
+from .gmsh_api import gmsh_session, size_field_only, tetrahedra_and_faces, threshold_field
+from .base import MeshError
+from .cache import cached
+from .tetrahedra import TetMesh, boundary_faces, checked_tet_mesh, signed_volumes
 
 #: A coordinate within SNAP x the body's size of a plane the geometry puts nodes on is that
 #: plane's (gmsh's round-off): snapped, so mirrored nodes coincide and symmetry faces are flat.

@@ -32,12 +32,13 @@ import numpy as np
 FORMAT = 1
 #: The modules whose source decides a generated mesh (the package's own files).
 MESHING_CODE = (
-    "generators.py",
+    "base.py",
+    "cache.py",
     "gmsh_api.py",
-    "mesh.py",
-    "mesh_cache.py",
-    "space/generators.py",
-    "space/mesh.py",
+    "tetrahedra.py",
+    "tetrahedron_generators.py",
+    "triangle_generators.py",
+    "triangles.py",
 )
 PACKAGE = Path(__file__).resolve().parent
 OFF = "off"
@@ -186,8 +187,8 @@ def store(path: Path, entry_key: str, mesh) -> None:
 def load(path: Path, entry_key: str):
     """The entry's mesh, or None when there is none or it is not sound (unreadable, another
     key, arrays that do not match their digest)."""
-    from .mesh import Mesh
-    from .space.mesh import TetMesh
+    from .tetrahedra import TetMesh
+    from .triangles import TriangleMesh
 
     try:
         with np.load(path, allow_pickle=False) as f:
@@ -208,5 +209,5 @@ def load(path: Path, entry_key: str):
     nodes, elements = arrays["nodes"], arrays["elements"]
     if nodes.ndim != 2 or elements.ndim != 2 or elements.shape[1] not in (3, 4):
         return None
-    make = Mesh if elements.shape[1] == 3 else TetMesh
+    make = TriangleMesh if elements.shape[1] == 3 else TetMesh
     return make(nodes, elements, tags, sets)

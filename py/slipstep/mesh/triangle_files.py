@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from .gmsh_api import gmsh_session, triangles_and_edges
-from .mesh import Mesh, MeshError, checked_mesh, from_arrays, planar_coordinates
+from .base import Mesh, MeshError
+from .triangles import checked_mesh, from_arrays, planar_coordinates
 
 
 def mesh_file(path) -> tuple[Path, str, str]:
@@ -84,7 +85,7 @@ def _msh_child(path: str, where: str, extract, conn) -> None:
 
 
 def read_msh_isolated(path: Path, where: str, extract):
-    """``extract(gmsh)`` of a .msh file (:func:`slipstep.gmsh_api.triangles_and_edges`, or
+    """``extract(gmsh)`` of a .msh file (:func:`slipstep.mesh.gmsh_api.triangles_and_edges`, or
     ``tetrahedra_and_faces`` in 3D) read in a forked child process: gmsh corrupts its memory on
     some damaged .msh files and crashes the whole process (segmentation fault, abort; found by
     tests/case/test_fuzz.py), so a crash there becomes a MeshError here."""

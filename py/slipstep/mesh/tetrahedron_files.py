@@ -1,7 +1,7 @@
 """3D mesh files: a body's tetrahedra from ``.msh`` (gmsh; physical surfaces are the face tags,
 physical points node sets) or ``.xdmf`` (meshio; triangle cells tagged by an integer cell-data
 array, in the file or in a ``face_file``), and the triangles of a rigid surface from ``.stl`` or
-``.msh``.  The 3D counterpart of :mod:`slipstep.mesh_files`, whose isolated gmsh reader and
+``.msh``.  The 3D counterpart of :mod:`slipstep.mesh.triangle_files`, whose isolated gmsh reader and
 meshio helpers it uses."""
 
 from __future__ import annotations
@@ -10,10 +10,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..gmsh_api import tetrahedra_and_faces
-from ..mesh import MeshError
-from ..mesh_files import mesh_file, read_msh_isolated, tagged_cells, xdmf_mesh
-from .mesh import TetMesh, checked_tet_mesh
+from .gmsh_api import tetrahedra_and_faces
+from .base import MeshError
+from .triangle_files import mesh_file, read_msh_isolated, tagged_cells, xdmf_mesh
+from .tetrahedra import TetMesh, checked_tet_mesh
 
 
 def read_tet_mesh(

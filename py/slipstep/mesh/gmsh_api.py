@@ -8,7 +8,7 @@ import contextlib
 
 import numpy as np
 
-from .mesh import MeshError
+from .base import MeshError
 
 
 @contextlib.contextmanager

@@ -2,7 +2,7 @@
 (det[x1 - x0, x2 - x0, x3 - x0] > 0, the engine contract), with named face tags whose
 triangles are oriented with the body behind them (counter-clockwise seen from outside, so the
 right-hand normal (x1 - x0) x (x2 - x0) points outwards); the checks every mesh passes, its
-boundary, and a mesh from Python arrays.  The 3D counterpart of :mod:`slipstep.mesh`.
+boundary, and a mesh from Python arrays.  The 3D implementation of :class:`slipstep.mesh.base.Mesh`.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..mesh import MeshError
+from .base import Mesh, MeshError
 
 #: A tetrahedron is flat when |det| <= FLAT * (its longest edge)^3 (the 2D threshold's analog:
 #: twice a triangle's area <= 1e-10 (longest side)^2).
@@ -22,9 +22,9 @@ FLAT = 1e-10
 TET_FACES = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
 
 
-@dataclass
-class TetMesh:
-    """A 3D tetrahedron mesh of one body.
+@dataclass(repr=False)
+class TetMesh(Mesh):
+    """A 3D tetrahedron mesh of one body (a solid).
 
     nodes      (N, 3) float64 coordinates
     tetrahedra (M, 4) int64, positively oriented
@@ -48,19 +48,13 @@ class TetMesh:
         self.node_sets = {k: np.asarray(v, dtype=np.int64) for k, v in self.node_sets.items()}
 
     dimension = 3
-
-    @property
-    def n_nodes(self) -> int:
-        return len(self.nodes)
+    element_name = "tetrahedra"
+    boundary_name = "face"
 
     @property
     def elements(self) -> np.ndarray:
         """The element connectivity: the tetrahedra."""
         return self.tetrahedra
-
-    @property
-    def n_elements(self) -> int:
-        return len(self.tetrahedra)
 
     @property
     def tags(self) -> dict[str, np.ndarray]:
@@ -69,10 +63,12 @@ class TetMesh:
 
     def face_nodes(self, tag: str) -> np.ndarray:
         """Sorted unique nodes of a face tag."""
-        return np.unique(self.faces[tag])
+        return self.tag_nodes(tag)
 
     def volume(self) -> float:
         return float(signed_volumes(self.nodes, self.tetrahedra).sum())
+
+    measure = volume
 
 
 def signed_volumes(nodes: np.ndarray, tetrahedra: np.ndarray) -> np.ndarray:

@@ -3,7 +3,7 @@ the contact point), the quarter annulus (gmsh), the structured block, the graded
 fine around a focus) and the refined block (structured inside a box, gmsh outside).  Each
 returns a checked :class:`slipstep.mesh.Mesh` with the edge tags of
 :data:`slipstep.schema.GENERATOR_EDGES`; the gmsh ones through the mesh cache
-(:mod:`slipstep.mesh_cache`).
+(:mod:`slipstep.mesh.cache`).
 """
 
 from __future__ import annotations
@@ -11,8 +11,9 @@ from __future__ import annotations
 import numpy as np
 
 from .gmsh_api import gmsh_session, size_field_only, threshold_field, triangles_and_edges
-from .mesh import Mesh, MeshError, checked_mesh, signed_areas
-from .mesh_cache import cached
+from .base import Mesh, MeshError
+from .triangles import checked_mesh, signed_areas
+from .cache import cached
 
 
 def _mesh_with_size_field(gmsh, size: int):
