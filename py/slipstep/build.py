@@ -1,6 +1,6 @@
 """Case + meshes -> :class:`slipstep.scene.Scene`: mesh every body, merge them, and build the
-engine's model from the supports (:mod:`slipstep.supports`), the loads (:mod:`slipstep.loads`),
-the contact pairs (:mod:`slipstep.contact_geometry`) and the options (:mod:`slipstep.options`),
+engine's model from the supports (:mod:`slipstep.loads.supports`), the loads (:mod:`slipstep.loads`),
+the contact pairs (:mod:`slipstep.contact.edges`) and the options (:mod:`slipstep.options`),
 checking the scene on the way (:mod:`slipstep.validation.scene`).
 
 Everything here is set up once, vectorised where it matters; the event loop itself is the
@@ -13,16 +13,17 @@ import numpy as np
 
 from .mesh import triangle_generators as generators
 from .case import Case
-from .contact_geometry import contact_areas, contact_pairs
+from .contact.edges import contact_areas, contactor_edge, pair_rows
+from .contact.pairs import contact_pairs
 from .errors import CaseError, InputError
 from .mesh.base import Mesh, MeshError
 from .mesh.triangle_files import read_mesh
-from .loads import load_force, load_vector, set_load_path
+from .loads.vectors import load_force, load_vector, set_load_path
 from .options import solver_options
-from .references import effective_modulus, hertz_line, hertz_sphere
+from .measures.references import effective_modulus, hertz_line, hertz_sphere
 from .scene import Scene, contact_names, materials, merged_bodies
 from .schema import block_divisions
-from .supports import engine_support_groups, supports
+from .loads.supports import engine_support_groups, supports
 from .validation.scene import (
     check_duplicate_nodes,
     check_file_mesh_tags,
@@ -97,7 +98,7 @@ def given_mesh_missing(case: Case, body: str) -> CaseError:
 
 def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
     """Mesh every body (except those whose mesh ``meshes`` gives, by body name), merge them,
-    and build the engine model (a 3D case: :func:`slipstep.space.build.build_space_scene`)."""
+    and build the engine model (a 3D case: :func:`slipstep.builders.solid.build_space_scene`)."""
     data = case.data
     bodies = [b["name"] for b in data["body"]]
     given = dict(meshes or {})
@@ -109,7 +110,7 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
         )
     mesher = mesh_body
     if case.dimension == 3:
-        from .space.build import build_space_scene, mesh_body_3d
+        from .builders.solid import build_space_scene, mesh_body_3d
 
         mesher = mesh_body_3d
     wrong = [name for name in given if given[name].dimension != case.dimension]
@@ -150,7 +151,7 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
         given_meshes=tuple(name for name in bodies if name in given),
     )
     check_radii(scene)
-    pairs = contact_pairs(scene)
+    pairs = contact_pairs(scene, pair_rows, contactor_edge, "length", foot_width=3)
     check_duplicate_nodes(scene, pairs)
     path = case.path
     fixed = supports(scene)
@@ -183,8 +184,8 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
 def hertz_reference(scene: Scene) -> dict:
     """Hertz contact on a rigid flat (§5.1 of the paper) for a case with ``[load] P`` and a
     rigid_line contact on that body: a cylinder in plane strain or stress
-    (:func:`slipstep.references.hertz_line`; a and p0 grow as P^(1/2), ``load_exponent``), a
-    sphere in axisymmetry (:func:`slipstep.references.hertz_sphere`; a and p0 as P^(1/3), the
+    (:func:`slipstep.measures.references.hertz_line`; a and p0 grow as P^(1/2), ``load_exponent``), a
+    sphere in axisymmetry (:func:`slipstep.measures.references.hertz_sphere`; a and p0 as P^(1/3), the
     approach delta as P^(2/3)).  ``contact`` says which ("line" or "sphere")."""
     data = scene.case.data
     load = data["load"]

@@ -49,7 +49,7 @@ class Scene:
     motions: dict = field(default_factory=dict)  # load name -> {"contact", "motion"}
     factors: np.ndarray = field(default_factory=lambda: np.array([[0.0], [1.0]]))
     given_meshes: tuple = ()  # the bodies whose mesh came from Python (build_scene's meshes)
-    # 3D scenes (slipstep.space.build): the elements, and each pair's tangent basis (t1, t2)
+    # 3D scenes (slipstep.builders.solid): the elements, and each pair's tangent basis (t1, t2)
     tetrahedra: np.ndarray = field(default_factory=lambda: np.zeros((0, 4), dtype=np.int64))
     pair_tangent: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 3)))
 

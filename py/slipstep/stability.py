@@ -33,10 +33,10 @@ import numpy as np
 
 from . import runner, shipped
 from .case import load_case
-from .fields import centroids
-from .references import thick_cylinder_radius
+from .output.fields import centroids
+from .measures.references import thick_cylinder_radius
 from .mesh.triangles import checked_mesh
-from .summary import contact_text, summarize
+from .output.summary import contact_text, summarize
 
 COLUMNS = [
     "scenario",
@@ -661,7 +661,7 @@ def markdown_table(rows: list[dict]) -> str:
 
 
 def figure(path: Path, rows: list[dict], inc: dict) -> None:
-    from .figure_frame import Plots  # pyplot's calls on the object API: notebook-safe
+    from .figures.frame import Plots  # pyplot's calls on the object API: notebook-safe
 
     plt = Plots()
 

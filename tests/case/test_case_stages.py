@@ -16,7 +16,7 @@ from slipstep.mesh import triangles as M
 from slipstep.mesh import triangle_generators as generators
 from slipstep.case import CaseError, load_case, parse_case
 from slipstep.build import build_scene
-from slipstep.loads import edge_load, hertz_cut_pressure
+from slipstep.loads.vectors import edge_load, hertz_cut_pressure
 
 SOURCE = "cases/x.toml"
 

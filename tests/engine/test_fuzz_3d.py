@@ -46,7 +46,7 @@ case file by ``write_case``), each in two stages, normal then tangential:
     its flat end on a rigid flat at zero gap, its top held by a prescribed displacement: the
     flat moved into it by δ, then the top moved tangentially by s <= μ δ.
 ``pyramid_into_block``
-    A rigid Vickers or Berkovich pyramid (``slipstep.space.indenters.pyramid``, turned about
+    A rigid Vickers or Berkovich pyramid (``slipstep.contact.indenters.pyramid``, turned about
     its axis by a random angle and tilted by up to 10°, written as an STL:
     ``kind = "rigid_surface"``) with its tip on a node of a distorted box's top face (zero
     gap), pressed in by δ, then the box's bottom moved tangentially by s <= μ δ.
@@ -462,7 +462,7 @@ def build(spec: dict, folder: Path):
         centre = tip + [0.0, 0.0, radius + spec["gap"] * delta]
         press.update(kind="rigid_sphere", centre=vec(centre), radius=radius)
     else:
-        from slipstep.space.indenters import pyramid, write_stl
+        from slipstep.contact.indenters import pyramid, write_stl
 
         points, triangles = pyramid(spec["pyramid"], [0.0, 0.0, 0.0], 4 * delta)
         c, s = math.cos(spec["spin"]), math.sin(spec["spin"])

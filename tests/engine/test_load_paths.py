@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
 from physics import EQUILIBRIUM_TOL, internal_force, worst_equilibrium
-from slipstep.references import hertz_line
+from slipstep.measures.references import hertz_line
 
 from slipstep import build_scene, parse_case, prepare, solve
 from slipstep.mesh import Mesh, TriangleMesh

@@ -1,4 +1,4 @@
-"""Tetrahedron meshes (slipstep.space): the generators of the 3D scenes, the element checks
+"""Tetrahedron meshes (slipstep.mesh.tetrahedra): the generators of the 3D scenes, the element checks
 (inverted and flat tetrahedra refused by index), face tags oriented outwards, and the .msh /
 .xdmf / .stl readers.  Checked against geometry computed here: exact volumes of polyhedral
 bodies, radii of nodes on curved faces, face areas, mirror symmetry."""
@@ -13,7 +13,7 @@ from conftest import needs_gmsh
 
 from slipstep.mesh import MeshError
 from slipstep.mesh import tetrahedron_generators as generators
-from slipstep.space.indenters import pyramid, write_stl
+from slipstep.contact.indenters import pyramid, write_stl
 from slipstep.mesh.tetrahedra import boundary_faces, signed_volumes, triangle_normals
 from slipstep.mesh import from_tetrahedra
 from slipstep.mesh.tetrahedron_files import read_surface, read_tet_mesh

@@ -25,7 +25,7 @@ from slipstep.build import mesh_body
 from slipstep.case import CaseError, load_case, parse_case
 from slipstep.mesh.triangle_generators import block
 from slipstep.mesh.triangle_files import write_msh
-from slipstep.resolved_case import resolved_case_text
+from slipstep.output.resolved_case import resolved_case_text
 
 pytestmark = needs_gmsh
 

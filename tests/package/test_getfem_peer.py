@@ -29,8 +29,8 @@ import pytest
 from conftest import ROOT, needs_gmsh
 
 from slipstep import prepare, solve
-from slipstep.contact_measures import contact_profile
-from slipstep.summary import summarize
+from slipstep.measures.contact_edges import contact_profile
+from slipstep.output.summary import summarize
 
 pytest.importorskip("getfem")
 sys.path.insert(0, str(ROOT / "bench"))

@@ -45,7 +45,7 @@ from physics import EQUILIBRIUM_TOL, worst_equilibrium
 from space3d import hertz_approach_errors
 
 import slipstep
-from slipstep import references
+from slipstep.measures import references
 
 R, E, NU, MOTION = 50.0, 70000.0, 0.3, 0.0012
 H, H_COARSE, H_FRICTION, H_AXI = 0.025, 0.1, 0.04, 0.006

@@ -1,7 +1,7 @@
 """The built-in tetrahedron meshes of 3D scenes (gmsh, OpenCASCADE geometry): the sphere, the
 roller, the graded box, the punch and the spherical shell, and the structured box (no gmsh).
 Each returns a checked :class:`slipstep.mesh.tetrahedra.TetMesh` with the face tags of
-:func:`slipstep.space.schema.generator_faces`; the gmsh ones through the mesh cache
+:func:`slipstep.schema.solid.generator_faces`; the gmsh ones through the mesh cache
 (:mod:`slipstep.mesh.cache`).
 
 A body of revolution or a punch is meshed as its symmetric part (the eighth, or the quarter of

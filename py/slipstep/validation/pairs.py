@@ -9,7 +9,7 @@ import numpy as np
 from ..mesh.triangles import node_normals
 from ..scene import Scene
 from ..mesh import tetrahedra as space_mesh
-from ..space.surfaces import closest_points, containing_tetrahedra
+from ..contact.surfaces import closest_points, containing_tetrahedra
 from ..toml_writing import point_text
 
 
