@@ -101,7 +101,7 @@ def scene_spec(h: float, steps: int, overrides=SCENE, msh: Path | None = None) -
     read from slipstep's case (so both codes solve the same scene by construction)."""
     from slipstep.case import load_case
     from slipstep.mesh.triangle_files import write_msh
-    from slipstep.build import mesh_body
+    from slipstep.builders.section import mesh_body
     from slipstep.loads.vectors import hertz_cut_pressure
 
     case = load_case(CASE, [*overrides, f"mesh.h_contact={h}"])

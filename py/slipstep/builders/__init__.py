@@ -1,2 +1,2 @@
-"""The scene builders of each dimension: ``solid`` builds a 3D scene (tetrahedra) for
-:func:`slipstep.build.build_scene`, which builds a 2D one itself."""
+"""The scene builders of each idealisation (:func:`slipstep.build.build_scene` chooses one):
+``section`` builds a 2D scene (triangles), ``solid`` a 3D one (tetrahedra)."""

@@ -1,8 +1,8 @@
-"""Case + meshes -> the 3D :class:`slipstep.scene.Scene` and its engine model (docs/engine_api.md,
-"3D models"): every body a tetrahedron mesh (:mod:`.generators`, :mod:`.mesh_files`), merged
-into one node numbering, with the supports and loads of :mod:`slipstep.loads.supports` and
-:mod:`slipstep.loads` (three components per node) and the pairs of :mod:`.contact_geometry`.
-:func:`slipstep.build.build_scene` comes here for a case with ``[analysis] dimension = 3``."""
+"""Case + meshes -> the 3D :class:`slipstep.scene.Scene` (a solid of tetrahedra) and its engine
+model (docs/engine_api.md, "3D models"): every body a tetrahedron mesh
+(:mod:`slipstep.mesh.tetrahedron_generators`, :mod:`slipstep.mesh.tetrahedron_files`), merged
+into one node numbering, with the supports and loads of :mod:`slipstep.loads` (three components
+per node) and the pairs of :mod:`slipstep.contact.faces`."""
 
 from __future__ import annotations
 
@@ -67,9 +67,9 @@ def _meshed(case, spec: dict) -> TetMesh:
     )
 
 
-def build_space_scene(case, body_meshes: dict[str, TetMesh], given=()) -> Scene:
+def build_solid_scene(case, body_meshes: dict[str, TetMesh], given: tuple, idealisation) -> Scene:
     """The 3D scene of a case whose bodies are meshed (``given``: the bodies whose mesh came
-    from Python)."""
+    from Python; ``idealisation``: the scene's, :class:`slipstep.idealisation.solid.Solid`)."""
     bodies = [b["name"] for b in case.data["body"]]
     offsets, nodes, tets, element_body = merged_bodies(bodies, body_meshes)
     scene = Scene(
@@ -86,6 +86,7 @@ def build_space_scene(case, body_meshes: dict[str, TetMesh], given=()) -> Scene:
         pair_contact=np.zeros(0, dtype=np.int64),
         given_meshes=tuple(given),
         tetrahedra=tets,
+        idealisation=idealisation,
     )
     pairs = contact_pairs(scene, pair_rows, contactor_face, "area", 6, tangent_basis)
     scene.pair_length = np.full(len(scene.pair_area), np.nan)  # 2D only

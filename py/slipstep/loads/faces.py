@@ -1,5 +1,5 @@
 """Loads on the faces of 3D bodies: the consistent nodal forces of a uniform pressure and
-traction on linear triangles (the face counterpart of :func:`slipstep.loads.edge_load`)."""
+traction on linear triangles (the face counterpart of :func:`slipstep.loads.vectors.edge_load`)."""
 
 from __future__ import annotations
 

@@ -132,7 +132,7 @@ def _symmetry_component(scene: Scene, bc: dict, key: str) -> int:
                 raise scene.case.error(
                     f"{key}.displacement.{'xyz'[c]}",
                     f"symmetry = true "
-                    f"holds {'xyz'[c]} on {_what(d)} '{tag}' (its normal "
+                    f"holds {'xyz'[c]} on {scene.idealisation.boundary} '{tag}' (its normal "
                     f"component): a component is held or prescribed, not "
                     f"both; remove symmetry or {'xyz'[c]} from displacement",
                 )
@@ -149,10 +149,6 @@ def _symmetry_component(scene: Scene, bc: dict, key: str) -> int:
         f"edge '{tag}' is not a straight line "
         f"parallel to the x or y axis: use fix = [...] instead",
     )
-
-
-def _what(dimension: int) -> str:
-    return "edge" if dimension == 2 else "face"
 
 
 def _prescribed(scene: Scene, load: Load, owner: np.ndarray, holder: np.ndarray):

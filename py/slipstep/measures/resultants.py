@@ -35,25 +35,17 @@ AXES = "xyz"
 def force_components(scene) -> list[int]:
     """The components a force of the scene has: x, y (2D), z of (r, z) in axisymmetry (a ring
     force has no radial resultant), x, y, z (3D)."""
-    if scene.dimension == 3:
-        return [0, 1, 2]
-    if scene.model.get("plane") == "axisymmetric":
-        return [1]
-    return [0, 1]
+    return list(scene.idealisation.force_components)
 
 
 def moment_components(scene) -> list[int]:
     """The moment components: x, y, z in 3D, z in 2D (none in axisymmetry)."""
-    if scene.dimension == 3:
-        return [0, 1, 2]
-    return [] if scene.model.get("plane") == "axisymmetric" else [2]
+    return list(scene.idealisation.moment_components)
 
 
 def component_name(scene, c: int) -> str:
     """x, y, z; r, z in axisymmetry."""
-    if scene.dimension == 2 and scene.model.get("plane") == "axisymmetric":
-        return "rz"[c]
-    return AXES[c]
+    return scene.idealisation.component_names[c]
 
 
 def _padded(a, dim: int) -> np.ndarray:

@@ -3,7 +3,7 @@
 A :class:`Result` holds the scene, the engine's result dict (``raw``, docs/engine_api.md) and
 the summary; it gives numpy views of them and writes the usual files (``write``, through
 :mod:`slipstep.output.results`).  Every derived quantity comes from :mod:`slipstep.output.fields`,
-:mod:`slipstep.output.history` and :mod:`slipstep.measures.contact_edges`, and the XDMF content from :func:`slipstep.output.xdmf_step`, the places the files take them from.
+:mod:`slipstep.output.history` and :mod:`slipstep.measures.contact_edges`, and the XDMF content from :func:`slipstep.output.writers.xdmf_step`, the places the files take them from.
 
     >>> r = slipstep.run("hertz_cylinder", overrides=["contact.mu=0.2"])
     >>> r.summary["peak_pressure"], r.times, r.events[:3]
@@ -75,7 +75,7 @@ class Result:
     def triangles(self) -> np.ndarray:
         """(M, 3) node ids of the elements (counter-clockwise); a 3D result has
         :attr:`tetrahedra`."""
-        if self.scene.dimension == 3:
+        if self.scene.idealisation.cell_type != "triangle":
             raise AttributeError(
                 "a 3D result has tetrahedra, not triangles: r.tetrahedra "
                 "(r.elements in either dimension)"
@@ -85,7 +85,7 @@ class Result:
     @property
     def tetrahedra(self) -> np.ndarray:
         """(M, 4) node ids of the elements of a 3D result."""
-        if self.scene.dimension != 3:
+        if self.scene.idealisation.cell_type != "tetra":
             raise AttributeError(
                 "a 2D result has triangles, not tetrahedra: r.triangles "
                 "(r.elements in either dimension)"
@@ -117,7 +117,7 @@ class Result:
         pair, the element's centroid).  ``r.events["t"][r.events["kind"] == "yield"]``, or
         ``pandas.DataFrame(r.events)``."""
         ev = self.raw["events"]
-        dtype = EVENT_DTYPE + ([("z", "f8")] if self.scene.dimension == 3 else [])
+        dtype = EVENT_DTYPE + [(c, "f8") for c in "xyz"[2 : self.scene.dimension]]
         out = np.zeros(len(ev["step"]), dtype=dtype)
         t, stage = event_times(self.raw)
         out["step"], out["t"], out["stage"] = ev["step"], t, stage + 1
@@ -171,69 +171,7 @@ class Result:
         sigma_xx, sigma_yy, sigma_zz, tau_yz, tau_xz, tau_xy), ``nodal_stress`` (N, 6),
         ``lambda_t`` and ``rtd`` (P, 2) in each pair's (t1, t2), ``tangential_stress`` (P, 3)
         in x, y, z."""
-        snap = self.snapshot(t, stage)
-        if self.scene.dimension == 3:
-            return self._fields_3d(snap)
-        stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
-        out = {
-            "t": snapshot_time(snap),
-            "stage": int(snap.get("stage", 0)) + 1,
-            "load_fraction": float(snap["load_fraction"]),
-            "u": np.asarray(snap["u"], dtype=float).reshape(-1, 2),
-            "stress": stress,
-            "von_mises": von_mises(stress),
-        }
-        out["nodal_stress"] = nodal_stress(self.scene, stress)
-        out["nodal_von_mises"] = von_mises(out["nodal_stress"])
-        if "reaction" in snap:
-            out["reaction"] = np.asarray(snap["reaction"], dtype=float).reshape(-1, 2)
-        if is_elastoplastic(self.scene):
-            out["plastic_strain"] = np.asarray(snap["plastic_strain"], dtype=float)
-            out["plastic"] = np.asarray(snap["plastic"]).astype(bool)
-            out["yield_drift"] = yield_drift(self.scene, snap)
-        out["lambda_n"] = np.asarray(snap["lambda_n"], dtype=float)
-        out["lambda_t"] = np.asarray(snap["lambda_t"], dtype=float)
-        out["status"] = np.asarray(snap["status"]).astype(np.int64)
-        prof = contact_profile(self.scene, snap)
-        for key in ("pressure", "tangential_stress", "gap", "rtd"):
-            out[key] = np.empty(len(prof["pair"]))
-            out[key][prof["pair"]] = prof[key]
-        return out
-
-    def _fields_3d(self, snap: dict) -> dict:
-        """:meth:`fields` of a 3D scene."""
-        scene = self.scene
-        stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 6)
-        nodal = nodal_stress_3d(scene.nodes, scene.tetrahedra, stress)
-        out = {
-            "t": snapshot_time(snap),
-            "stage": int(snap.get("stage", 0)) + 1,
-            "load_fraction": float(snap["load_fraction"]),
-            "u": np.asarray(snap["u"], dtype=float).reshape(-1, 3),
-            "stress": stress,
-            "von_mises": von_mises_3d(stress),
-            "nodal_stress": nodal,
-            "nodal_von_mises": von_mises_3d(nodal),
-        }
-        if "reaction" in snap:
-            out["reaction"] = np.asarray(snap["reaction"], dtype=float).reshape(-1, 3)
-        if is_elastoplastic(scene):
-            out["plastic_strain"] = np.asarray(snap["plastic_strain"], dtype=float)
-            out["plastic"] = np.asarray(snap["plastic"]).astype(bool)
-            out["yield_drift"] = yield_drift(scene, snap)
-        out["lambda_n"] = np.asarray(snap["lambda_n"], dtype=float)
-        out["lambda_t"] = np.asarray(snap["lambda_t"], dtype=float).reshape(-1, 2)
-        out["status"] = np.asarray(snap["status"]).astype(np.int64)
-        prof = contact_profile_3d(scene, snap)
-        for key, target in (
-            ("pressure", "pressure"),
-            ("tangential_stress", "tangential_stress"),
-            ("gap", "gap"),
-            ("slip", "rtd"),
-        ):
-            out[target] = np.empty_like(prof[key])
-            out[target][prof["pair"]] = prof[key]
-        return out
+        return self.scene.idealisation.fields(self.scene, self.snapshot(t, stage))
 
     def profile(self, t: float | None = None, stage: int | None = None) -> dict:
         """The contact profile at snapshot time ``t`` (None: the last), as in
@@ -242,17 +180,7 @@ class Result:
         contact_measures.contact_profile`; 3D: :func:`slipstep.measures.contact_faces.
         contact_profile_3d`, sorted by x, y, z, with node a's coordinates as the columns x, y,
         z as in contact_profile.csv, and together as ``position`` (P, 3))."""
-        if self.scene.dimension == 3:
-            prof = contact_profile_3d(self.scene, self.snapshot(t, stage))
-            position = prof.pop("x")
-            return {
-                "x": position[:, 0],
-                "y": position[:, 1],
-                "z": position[:, 2],
-                "position": position,
-                **prof,
-            }
-        return contact_profile(self.scene, self.snapshot(t, stage))
+        return self.scene.idealisation.profile(self.scene, self.snapshot(t, stage))
 
     def to_meshio(self, t: float | None = None, stage: int | None = None):
         """A ``meshio.Mesh`` at snapshot time ``t`` (None: the last): points with z = 0 (3D, so
@@ -261,42 +189,29 @@ class Result:
         as 9-component tensors, as ParaView wants them)."""
         import meshio
 
-        from .writers import xdmf_step, xdmf_step_3d
-
-        if self.scene.dimension == 3:  # tetrahedra, the fields of results.xdmf
-            point_data, cell_data = xdmf_step_3d(self.scene, self.snapshot(t, stage))
-            return meshio.Mesh(
-                self.nodes,
-                [("tetra", self.scene.tetrahedra)],
-                point_data=point_data,
-                cell_data=cell_data,
-            )
-        point_data, cell_data = xdmf_step(self.scene, self.snapshot(t, stage))
-        points = np.column_stack([self.nodes, np.zeros(len(self.nodes))])
+        idealisation = self.scene.idealisation
+        point_data, cell_data = idealisation.xdmf_step(self.scene, self.snapshot(t, stage))
+        n, d = self.nodes.shape
+        points = np.column_stack([self.nodes, np.zeros((n, 3 - d))])
         return meshio.Mesh(
-            points, [("triangle", self.triangles)], point_data=point_data, cell_data=cell_data
+            points,
+            [(idealisation.cell_type, self.elements)],
+            point_data=point_data,
+            cell_data=cell_data,
         )
 
     # ------------------------------------------------------------------ files and figures
     def figures(self) -> dict:
         """The run's figures as matplotlib Figures by name (contact_interface, von_mises, ...);
         built with the object API, so a notebook's pyplot state is untouched."""
-        from ..figures.section import figures
-        from ..figures.solid import figures_3d
-
-        draw = figures_3d if self.scene.dimension == 3 else figures
-        return draw(self.scene, self.raw, self.summary)
+        return self.scene.idealisation.figures(self.scene, self.raw, self.summary)
 
     def figure(self, name: str, ax=None):
         """One of :meth:`figures` by name, drawn on the caller's ``ax`` when given (an Axes, or
         a sequence of Axes for the figures of several panels: contact_interface 3,
         contact_extent 2, force_displacement one per prescribed load; in 3D contact_area and
         contact_pressure_line one per contact, plastic_zone two); returns its Figure."""
-        from ..figures.section import chosen
-        from ..figures import solid as space_figures
-
-        space = self.scene.dimension == 3
-        builders = dict((space_figures.chosen if space else chosen)(self.scene, self.raw))
+        builders = dict(self.scene.idealisation.chosen_figures(self.scene, self.raw))
         if name not in builders:
             raise ValueError(f"figure {name!r}: this run has {', '.join(builders) or 'none'}")
         return builders[name](None, self.scene, self.raw, self.summary, ax=ax)
@@ -368,3 +283,81 @@ def _listed(times: np.ndarray, most: int = 6) -> str:
     if len(shown) > most:
         shown = shown[: most // 2] + ["..."] + shown[-(most // 2) :]
     return ", ".join(shown)
+
+
+def section_fields(scene, snap: dict) -> dict:
+    """:meth:`Result.fields` of a snapshot of a 2D scene."""
+    stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
+    out = {
+        "t": snapshot_time(snap),
+        "stage": int(snap.get("stage", 0)) + 1,
+        "load_fraction": float(snap["load_fraction"]),
+        "u": np.asarray(snap["u"], dtype=float).reshape(-1, 2),
+        "stress": stress,
+        "von_mises": von_mises(stress),
+    }
+    out["nodal_stress"] = nodal_stress(scene, stress)
+    out["nodal_von_mises"] = von_mises(out["nodal_stress"])
+    if "reaction" in snap:
+        out["reaction"] = np.asarray(snap["reaction"], dtype=float).reshape(-1, 2)
+    if is_elastoplastic(scene):
+        out["plastic_strain"] = np.asarray(snap["plastic_strain"], dtype=float)
+        out["plastic"] = np.asarray(snap["plastic"]).astype(bool)
+        out["yield_drift"] = yield_drift(scene, snap)
+    out["lambda_n"] = np.asarray(snap["lambda_n"], dtype=float)
+    out["lambda_t"] = np.asarray(snap["lambda_t"], dtype=float)
+    out["status"] = np.asarray(snap["status"]).astype(np.int64)
+    prof = contact_profile(scene, snap)
+    for key in ("pressure", "tangential_stress", "gap", "rtd"):
+        out[key] = np.empty(len(prof["pair"]))
+        out[key][prof["pair"]] = prof[key]
+    return out
+
+
+def solid_fields(scene, snap: dict) -> dict:
+    """:meth:`Result.fields` of a snapshot of a 3D scene."""
+    stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 6)
+    nodal = nodal_stress_3d(scene.nodes, scene.tetrahedra, stress)
+    out = {
+        "t": snapshot_time(snap),
+        "stage": int(snap.get("stage", 0)) + 1,
+        "load_fraction": float(snap["load_fraction"]),
+        "u": np.asarray(snap["u"], dtype=float).reshape(-1, 3),
+        "stress": stress,
+        "von_mises": von_mises_3d(stress),
+        "nodal_stress": nodal,
+        "nodal_von_mises": von_mises_3d(nodal),
+    }
+    if "reaction" in snap:
+        out["reaction"] = np.asarray(snap["reaction"], dtype=float).reshape(-1, 3)
+    if is_elastoplastic(scene):
+        out["plastic_strain"] = np.asarray(snap["plastic_strain"], dtype=float)
+        out["plastic"] = np.asarray(snap["plastic"]).astype(bool)
+        out["yield_drift"] = yield_drift(scene, snap)
+    out["lambda_n"] = np.asarray(snap["lambda_n"], dtype=float)
+    out["lambda_t"] = np.asarray(snap["lambda_t"], dtype=float).reshape(-1, 2)
+    out["status"] = np.asarray(snap["status"]).astype(np.int64)
+    prof = contact_profile_3d(scene, snap)
+    for key, target in (
+        ("pressure", "pressure"),
+        ("tangential_stress", "tangential_stress"),
+        ("gap", "gap"),
+        ("slip", "rtd"),
+    ):
+        out[target] = np.empty_like(prof[key])
+        out[target][prof["pair"]] = prof[key]
+    return out
+
+
+def solid_profile(scene, snap: dict) -> dict:
+    """:meth:`Result.profile` of a snapshot of a 3D scene: node a's coordinates as the columns
+    x, y, z and together as ``position`` (P, 3)."""
+    prof = contact_profile_3d(scene, snap)
+    position = prof.pop("x")
+    return {
+        "x": position[:, 0],
+        "y": position[:, 1],
+        "z": position[:, 2],
+        "position": position,
+        **prof,
+    }

@@ -9,12 +9,10 @@ import os
 import shutil
 from pathlib import Path
 
-from ..figures import section as figs
 from . import writers as output
 from ..errors import InputError
 from .resolved_case import resolved_case_text
 from ..measures.resultants import write_history_csv
-from ..figures.solid import write_figures_3d
 
 
 def write_results(
@@ -54,8 +52,7 @@ def write_results(
         if xdmf and snaps:
             output.write_xdmf(stage, scene, result)
         if figures:
-            draw = write_figures_3d if scene.dimension == 3 else figs.write_figures
-            draw(stage, scene, result, summary)
+            scene.idealisation.write_figures(stage, scene, result, summary)
         output.write_summary_json(stage / "summary.json", summary)
         (stage / "case.toml").write_text(case_toml(scene, summary), encoding="utf-8")
         written = []

@@ -8,7 +8,7 @@ the run that wrote it, from its files alone.
 - the snapshots: one per time step of results.xdmf (the state after every event at that time,
   as the file keeps it): u, reaction, the stresses and plastic state from its fields, the
   place on the path and the per-pair arrays from the record beside them
-  (:func:`slipstep.output.snapshot_record`).  A folder written with ``output.xdmf = false``
+  (:func:`slipstep.output.writers.snapshot_record`).  A folder written with ``output.xdmf = false``
   has no snapshots.
 """
 

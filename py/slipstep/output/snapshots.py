@@ -9,8 +9,8 @@ per stage (at most :data:`AUTO_PER_STAGE`) as keep results.h5 within :data:`AUTO
 events themselves stay in events.csv either way.
 
 The size of a time step is that of the arrays the XDMF writer
-(:func:`slipstep.output.xdmf_step`, :func:`~slipstep.output.xdmf_step_3d`, and the record
-:func:`~slipstep.output.snapshot_record` beside them) writes for a
+(:func:`slipstep.output.writers.xdmf_step`, :func:`~slipstep.output.writers.xdmf_step_3d`, and the record
+:func:`~slipstep.output.writers.snapshot_record` beside them) writes for a
 snapshot of zeros of the engine's shapes: the same code that writes them, so the prediction
 follows the writer.
 """
@@ -29,7 +29,7 @@ AUTO_PER_STAGE = 10
 def _zero_snapshot(scene) -> dict:
     """A snapshot of zeros with the engine's shapes (docs/engine_api.md)."""
     n, m, p, d = len(scene.nodes), len(scene.elements), len(scene.pair_xy), scene.dimension
-    stress = 6 if d == 3 else 4
+    stress = scene.idealisation.stress_width
     return {
         "u": np.zeros(n * d),
         "reaction": np.zeros(n * d),
@@ -49,11 +49,10 @@ def _zero_snapshot(scene) -> dict:
 
 def step_bytes(scene) -> int:
     """The bytes of one time step of results.h5 (its point and cell data)."""
-    from .writers import snapshot_record, xdmf_step, xdmf_step_3d
+    from .writers import snapshot_record
 
-    step = xdmf_step_3d if scene.dimension == 3 else xdmf_step
     zero = _zero_snapshot(scene)
-    point_data, cell_data = step(scene, zero)
+    point_data, cell_data = scene.idealisation.xdmf_step(scene, zero)
     return int(
         sum(np.asarray(v).nbytes for v in point_data.values())
         + sum(np.asarray(block).nbytes for v in cell_data.values() for block in v)

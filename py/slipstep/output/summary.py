@@ -25,7 +25,7 @@ from ..measures.contact_edges import (
     stick_extent,
     target_points,
 )
-from .fields import centroids, is_elastoplastic, von_mises
+from .fields import centroids, is_elastoplastic
 from .history import (
     event_times,
     final_load_fraction,
@@ -46,7 +46,6 @@ from ..measures.resultants import (
 )
 from ..section import AXIS_TOLERANCE, is_axisymmetric
 from ..measures.contact_faces import contact_numbers_3d, reached_window_edge
-from .fields import von_mises_3d
 from ..version import versions
 
 
@@ -155,7 +154,7 @@ def circle_radii(widths: dict, axisymmetric: bool) -> dict:
     }
 
 
-def _space_contact_numbers(scene, result) -> dict:
+def solid_contact_numbers(scene, result) -> dict:
     """The contact part of a 3D summary at the final snapshot: per contact its numbers, and for
     one contact its area, radii and resultants at the top level; totals over every contact."""
     last = result["snapshots"][-1]
@@ -202,9 +201,12 @@ def _contact_numbers(scene, result) -> dict:
     snaps = result.get("snapshots", [])
     if not (snaps and len(scene.pair_xy)):
         return {}
-    if scene.dimension == 3:
-        return _space_contact_numbers(scene, result)
-    last = snaps[-1]
+    return scene.idealisation.contact_numbers(scene, result)
+
+
+def section_contact_numbers(scene, result) -> dict:
+    """:func:`_contact_numbers` of a 2D scene (with pairs and snapshots)."""
+    last = result["snapshots"][-1]
     status = np.asarray(last["status"])
     sides = [half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
     contacts = contact_summaries(scene, result, last, sides)
@@ -469,7 +471,7 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
     }
     if snaps:
         stress = np.asarray(snaps[-1]["stress"], dtype=float)
-        mises = von_mises_3d(stress) if scene.dimension == 3 else von_mises(stress.reshape(-1, 4))
+        mises = scene.idealisation.von_mises(stress)
         summary["max_von_mises"] = float(mises.max()) if len(mises) else 0.0
     if is_elastoplastic(scene):
         summary.update(first_yield(scene, result))

@@ -86,12 +86,15 @@ def write_events_csv(path: Path, scene, result) -> None:
 
 
 def write_profile_csv(path: Path, scene, snapshot: dict) -> None:
+    """contact_profile.csv of the scene's idealisation: :func:`write_profile_csv_2d`, or
+    :func:`write_profile_csv_3d`."""
+    scene.idealisation.write_profile_csv(path, scene, snapshot)
+
+
+def write_profile_csv_2d(path: Path, scene, snapshot: dict) -> None:
     """contact_profile.csv: the candidate pairs at the final snapshot, sorted by x; s is the
     position along the pair's contact (slipstep.measures.contact_edges) and contact its [[contact]] name; x, y
     are called r, z in axisymmetry.  3D: :func:`write_profile_csv_3d`."""
-    if scene.dimension == 3:
-        write_profile_csv_3d(path, scene, snapshot)
-        return
     prof = contact_profile(scene, snapshot)
     names = scene.model["contact_names"]
     with open(path, "w", newline="") as fh:
@@ -198,9 +201,9 @@ def write_xdmf(folder: Path, scene, result, name: str = "results") -> None:
     import h5py
     import meshio
 
-    space = scene.dimension == 3
-    cells = [("tetra", scene.tetrahedra)] if space else [("triangle", scene.triangles)]
-    step = xdmf_step_3d if space else xdmf_step
+    idealisation = scene.idealisation
+    cells = [(idealisation.cell_type, scene.elements)]
+    step = idealisation.xdmf_step
     kept = distinct_time_snapshots(result)
     with _working_directory(folder):
         with meshio.xdmf.TimeSeriesWriter(f"{name}.xdmf") as writer:
