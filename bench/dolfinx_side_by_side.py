@@ -13,7 +13,7 @@ through the XDMF exchange of slipstep.fenicsx, checked node for node here):
 - dolfinx 0.5: slipstep.fenicsx.bulk (Newton, consistent tangent, radial return) with the load
   in N equal steps, N in the scene's steps.
 
-Errors at the final pressure against Hill's closed form (slipstep.references):
+Errors at the final pressure against Hill's closed form (slipstep.measures.references):
   e_u   = mean radial displacement on r = b / Hill's u(b) - 1   (crosscheck.hill_differences)
   e_sig = ||sigma - sigma_Hill|| / ||sigma_Hill||, sigma = (sigma_r, sigma_theta) (the sphere:
           sigma_R and the mean tangential stress), ||s||^2 = sum_e V_e |s(x_e)|^2 (L2, one-point
@@ -75,7 +75,7 @@ from pathlib import Path
 import numpy as np
 
 import slipstep
-from slipstep.fields import polar
+from slipstep.output.fields import polar
 from slipstep.fenicsx import require_dolfinx
 from slipstep.fenicsx.bulk import BulkProblem
 from slipstep.fenicsx.crosscheck import (
@@ -86,9 +86,9 @@ from slipstep.fenicsx.crosscheck import (
     hill_setup,
     hill_sphere,
 )
-from slipstep.mesh import signed_areas
-from slipstep.space.fields import spherical, tetrahedron_volumes
-from slipstep.summary import summarize
+from slipstep.mesh.triangles import signed_areas
+from slipstep.output.fields import spherical, tetrahedron_volumes
+from slipstep.output.summary import summarize
 
 HERE = Path(__file__).resolve().parent
 CASES = HERE.parent / "cases"

@@ -60,8 +60,8 @@ STORE = HERE / "getfem_checks.json"
 def slipstep_run(h: float, overrides: list[str]) -> dict:
     """slipstep on the scene at h_contact = h: p0, a, forces, the contact profile, times."""
     from slipstep import prepare, solve
-    from slipstep.contact_measures import contact_profile
-    from slipstep.summary import summarize
+    from slipstep.measures.contact_edges import contact_profile
+    from slipstep.output.summary import summarize
 
     t0 = time.perf_counter()
     scene = prepare(

@@ -2,7 +2,7 @@
 
 The scene is slipstep's cases/hertz_cylinder.toml with SCENE (μ = 0.3, Sy = 200, H' = 700) at
 mesh.h_contact = h: slipstep's generator meshes it and writes a gmsh file
-(slipstep.mesh_files.write_msh); GetFEM (Debian python3-getfem 5.4) reads that file, so both codes
+(slipstep.mesh.triangle_files.write_msh); GetFEM (Debian python3-getfem 5.4) reads that file, so both codes
 solve the same mesh.  The GetFEM model, one process per run (`one`):
 
 - P1 displacements (the CST), one-point integration, so the plastic state is one value per
@@ -29,8 +29,8 @@ solve the same mesh.  The GetFEM model, one process per run (`one`):
   tangent is undefined (`start_off_zero`).
 
 Outputs at f = 1, defined as slipstep defines them: the contact pressure of a candidate is its
-nodal contact force over its tributary length (slipstep.contact_geometry.tributary_lengths), p0 its
-maximum; the contact half-width a is slipstep.contact_measures.contact_half_width, the far end of the
+nodal contact force over its tributary length (slipstep.contact.edges.tributary_lengths), p0 its
+maximum; the contact half-width a is slipstep.measures.contact_edges.contact_half_width, the far end of the
 closed zone interpolated linearly in the load fraction between the outermost closed node
 (closing at f_c) and the next open one (closing at f_o).  slipstep knows f_c from its events
 and f_o from the rate of its last increment; here f_c is where the line through the node's gap
@@ -100,9 +100,9 @@ def scene_spec(h: float, steps: int, overrides=SCENE, msh: Path | None = None) -
     return the run spec: the file, its region numbers, the material, load and contact data
     read from slipstep's case (so both codes solve the same scene by construction)."""
     from slipstep.case import load_case
-    from slipstep.mesh_files import write_msh
-    from slipstep.build import mesh_body
-    from slipstep.loads import hertz_cut_pressure
+    from slipstep.mesh.triangle_files import write_msh
+    from slipstep.builders.section import mesh_body
+    from slipstep.loads.vectors import hertz_cut_pressure
 
     case = load_case(CASE, [*overrides, f"mesh.h_contact={h}"])
     body, (contact,) = case.data["body"][0], case.data["contact"]
@@ -164,8 +164,8 @@ def rows_of_identity(gf, n: int, dofs: np.ndarray, sign: float = 1.0):
 
 def candidates(spec: dict, points: np.ndarray, segments: np.ndarray):
     """slipstep's candidates of the contact edge (inside the x/y window), sorted by x, with
-    their tributary lengths (slipstep.contact_geometry.tributary_lengths, over the whole edge)."""
-    from slipstep.contact_geometry import tributary_lengths
+    their tributary lengths (slipstep.contact.edges.tributary_lengths, over the whole edge)."""
+    from slipstep.contact.edges import tributary_lengths
 
     x0, x1, y0, y1 = spec["window"]
     ids = np.unique(segments)
@@ -358,7 +358,7 @@ def _secant_zero(f: np.ndarray, g: np.ndarray) -> float:
 
 def contact_numbers(spec: dict, book: dict, hist: dict) -> dict:
     """p0, a, total normal force at f = 1, as slipstep defines them (module docstring)."""
-    from slipstep.contact_measures import contact_half_width
+    from slipstep.measures.contact_edges import contact_half_width
 
     forces = hist["forces"]
     closed = forces > 1e-12 * max(forces[-1].sum(), 1e-300)

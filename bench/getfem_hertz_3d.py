@@ -25,7 +25,7 @@ Newton iterations for version 1 / 2 / 3 and r = E x (0.01, 0.05, 1) mm: 9, 9, 8 
 no convergence in 60 (all three r): r = E x 1 mm is the best of these, and version 2 the
 symmetric tangent.  From u = 0, without load steps: 8 to 11 iterations from 6.9k to 92.6k DOFs.
 
-Outputs, defined as slipstep defines them (slipstep.space.contact_measures): the contact force
+Outputs, defined as slipstep defines them (slipstep.measures.contact_faces): the contact force
 of a candidate is the z-row of the elastic internal force K u at its node (the load acts far
 from the contact and the symmetry multipliers only on x and y rows, so that row is the contact
 force alone; this does not depend on how the brick orders its multipliers); its pressure is
@@ -126,7 +126,7 @@ def scene_spec(h: float, setting: str, msh: Path) -> dict:
     data = scene.case.data
     mat = data["body"][0]["material"]
     top = mesh.faces["top"]
-    from slipstep.space.loads import sphere_cut_pressure
+    from slipstep.loads.faces import sphere_cut_pressure
 
     q = sphere_cut_pressure(
         data["load"]["P"], data["body"][0]["mesh"]["R"], "eighth", mesh.nodes, top

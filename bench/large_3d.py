@@ -127,7 +127,7 @@ def dump_mesh(size: str, prefix: str) -> None:
     """The size's mesh (through the mesh cache) as PREFIX.points (f64 x 3), PREFIX.tets (u64
     x 4) and PREFIX.contact (u64: the surface nodes within z_max of the flat, the candidates)."""
     import numpy as np
-    from slipstep.space.generators import sphere
+    from slipstep.mesh.tetrahedron_generators import sphere
 
     h, zone, growth, z_max = SIZES[size]
     mesh = sphere(

@@ -134,7 +134,7 @@ def loop_energy(P: float, Q_star: float, mu: float = MU) -> float:
 # --------------------------------------------------------------------------- measures
 def tributary_radius(scene, snap, chosen) -> float:
     """The former measure: sqrt(area / pi) of the chosen rows' tributary areas (full contact)."""
-    from slipstep.space.contact_measures import mirror_planes
+    from slipstep.measures.contact_faces import mirror_planes
 
     factor = 2.0 ** len(mirror_planes(scene, 0))
     return math.sqrt(factor * float(scene.pair_area[chosen].sum()) / math.pi)
@@ -142,7 +142,7 @@ def tributary_radius(scene, snap, chosen) -> float:
 
 def cut_weights(scene) -> np.ndarray:
     """Each node's share of a uniform traction on the sphere's cut: its tributary area there."""
-    from slipstep.space.contact_geometry import tributary_areas
+    from slipstep.contact.faces import tributary_areas
 
     return tributary_areas(
         scene.nodes, scene.global_boundary("sphere", "top"), np.arange(len(scene.nodes))
@@ -156,7 +156,7 @@ def run_path(
     """The case with the reversal stage on one mesh: its numbers along the path (``mu``: the
     run's friction instead of the case's; the references stay at the case's MU)."""
     from slipstep import build_scene, parse_case, solve
-    from slipstep.space.contact_measures import contact_numbers_3d
+    from slipstep.measures.contact_faces import contact_numbers_3d
 
     times = sorted(
         {
@@ -278,7 +278,7 @@ def run_pressed(hs: float) -> dict:
 def run_rigid(h: float) -> dict:
     """The sphere of hertz_sphere_3d.toml on its rigid plane (rows at the nodes)."""
     from slipstep import run
-    from slipstep.space.contact_measures import zone_area
+    from slipstep.measures.contact_faces import zone_area
 
     r = run(
         HERE.parent / "cases" / "hertz_sphere_3d.toml",
@@ -289,8 +289,8 @@ def run_rigid(h: float) -> dict:
     a = (3 * P * R * (1 - NU**2) / (4 * E)) ** (1 / 3)
     status = np.asarray(r.raw["snapshots"][-1]["status"])
     # the supports' measure for comparison, as zone_area would take it for mortar rows
-    from slipstep.space.contact_geometry import contactor_face
-    from slipstep.space.mesh import triangle_normals
+    from slipstep.contact.faces import contactor_face
+    from slipstep.mesh.tetrahedra import triangle_normals
 
     face = r.scene.global_boundary(*contactor_face(r.scene.case.data["contact"][0]))
     on = np.zeros(len(r.scene.nodes), dtype=bool)

@@ -144,7 +144,7 @@ def one(spec: dict) -> dict:
 
         return one_3d(spec)
     from slipstep import CaseError, prepare, solve
-    from slipstep.summary import summarize
+    from slipstep.output.summary import summarize
 
     overrides = [
         f"mesh.h_contact={spec['h']}",

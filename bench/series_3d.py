@@ -114,7 +114,7 @@ def one(spec: dict) -> dict:
     import numpy as np
 
     from slipstep import prepare, solve
-    from slipstep.summary import summarize
+    from slipstep.output.summary import summarize
 
     t0 = time.perf_counter()
     scene = prepare(CASES / f"{spec['case']}.toml", overrides=spec["overrides"])
@@ -163,7 +163,7 @@ def hertz_fit(scene, snapshot: dict, a) -> float | None:
     pressure the nodes carry together, where the largest nodal pressure is one node's."""
     import numpy as np
 
-    from slipstep.space.contact_measures import contact_profile_3d
+    from slipstep.measures.contact_faces import contact_profile_3d
 
     if not a:
         return None

@@ -74,7 +74,7 @@ mu = 0.3
 
 @pytest.fixture(scope="session", autouse=True)
 def mesh_cache_of_the_session(tmp_path_factory):
-    """The tests' generated meshes are cached in a folder of their own (slipstep.mesh_cache),
+    """The tests' generated meshes are cached in a folder of their own (slipstep.mesh.cache),
     which the processes they start inherit; the user's cache is left alone."""
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("SLIPSTEP_CACHE", str(tmp_path_factory.mktemp("mesh_cache")))

@@ -31,7 +31,8 @@ def mutated(case):
 
 
 def pytest_configure(config):
-    from slipstep import build, runner
+    from slipstep.build import section as build
+    from slipstep import runner
 
     original = build.build_scene
 

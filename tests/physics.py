@@ -43,7 +43,7 @@ Energy
 
 The closed-form references the checks compare with (Hertz, Johnson, Huber, Lamé, Hill,
 Cattaneo–Mindlin, Mindlin–Deresiewicz, Spence, Kogut–Etsion, Jackson–Green) are the package's
-own, in one module with their sources: :mod:`slipstep.references`.
+own, in one module with their sources: :mod:`slipstep.measures.references`.
 """
 
 from __future__ import annotations

@@ -263,7 +263,7 @@ def hertz_approach_errors(
     tetrahedra, plus Huber's half-space shortening below d a
     (``references.sphere_axis_compression``), against Hertz's delta = a^2/R, for each d in
     ``depths``.  The mesh need not have nodes on the axis."""
-    from slipstep import references
+    from slipstep.measures import references
 
     a, p0, delta = references.hertz_sphere(P, R, E, nu)
     origin, inward = np.asarray(origin, dtype=float), np.asarray(inward, dtype=float)

@@ -1,12 +1,13 @@
-"""slipstep: event-driven ("adaptive incremental") frictional contact in 2D (3D scenes:
-``slipstep.space``, built to the engine's 3D model).
+"""slipstep: event-driven ("adaptive incremental") frictional contact in 2D sections (plane or
+axisymmetric) and 3D solids.
 
 After Abdalla, Ali-Eldin & Ghazy: every increment is scaled to the next change of contact
 status (close, separate, stick -> slip, slip -> stick) or plastic state, so there are no load
 steps to tune and no penalty parameters.  The event loop is the compiled engine
 ``slipstep._engine``; this package describes scenes (``case``), meshes them (``mesh``), builds
-the engine model (``model``), runs it (``runner``, ``progress``), gives the result as an object
-(``result``) and writes files (``summary``, ``output``, ``figures``, ``results``); errors are the
+the engine model (``build``, from ``contact`` and ``loads``), runs it (``runner``,
+``progress``), gives the result as an object and writes its files (``output``, ``figures``),
+measures it (``measures``); errors are the
 classes of ``errors``; the shipped cases and studies are in ``shipped``.
 
     >>> import slipstep
@@ -19,15 +20,13 @@ classes of ``errors``; the shipped cases and studies are in ``shipped``.
 from .version import __version__
 from .case import Case, CaseError, load_case, parse_case
 from .errors import InputError, SlipstepError
-from .mesh import Mesh, MeshError, from_arrays
-from .mesh_files import from_meshio
-from .space.mesh import TetMesh, from_tetrahedra
+from .mesh import Mesh, MeshError, TetMesh, TriangleMesh, from_arrays, from_meshio, from_tetrahedra
 from .build import build_scene
 from .scene import Scene
 from .progress import Progress
-from .result import Result
+from .output.result import Result
 from .runner import as_case, prepare, run, run_case, solve
-from .saved import load
+from .output.saved import load
 
 __all__ = [
     "__version__",
@@ -41,6 +40,7 @@ __all__ = [
     "Scene",
     "SlipstepError",
     "TetMesh",
+    "TriangleMesh",
     "as_case",
     "build_scene",
     "from_arrays",

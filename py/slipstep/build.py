@@ -1,103 +1,28 @@
-"""Case + meshes -> :class:`slipstep.scene.Scene`: mesh every body, merge them, and build the
-engine's model from the supports (:mod:`slipstep.supports`), the loads (:mod:`slipstep.loads`),
-the contact pairs (:mod:`slipstep.contact_geometry`) and the options (:mod:`slipstep.options`),
-checking the scene on the way (:mod:`slipstep.validation.scene`).
+"""Case + meshes -> :class:`slipstep.scene.Scene` and its engine model.
 
-Everything here is set up once, vectorised where it matters; the event loop itself is the
-engine's.
+:func:`build_scene` chooses the scene's idealisation (:func:`slipstep.idealisation.of_case`:
+a 2D section or a 3D solid), meshes the bodies with it and lets it build the scene
+(:mod:`slipstep.builders.section`: 2D bodies, plane or axisymmetric sections of triangles;
+:mod:`slipstep.builders.solid`: 3D bodies, solids of tetrahedra).
 """
 
 from __future__ import annotations
 
-import numpy as np
-
-from . import generators
 from .case import Case
-from .contact_geometry import contact_areas, contact_pairs
 from .errors import CaseError, InputError
-from .mesh import Mesh, MeshError
-from .mesh_files import read_mesh
-from .loads import load_force, load_vector, set_load_path
-from .options import solver_options
-from .references import effective_modulus, hertz_line, hertz_sphere
-from .scene import Scene, contact_names, materials, merged_bodies
-from .schema import block_divisions
-from .supports import engine_support_groups, supports
-from .validation.scene import (
-    check_duplicate_nodes,
-    check_file_mesh_tags,
-    check_pairs_not_held,
-    check_radii,
-    check_stick_on_half_held,
-)
+from .idealisation import of_case
+from .mesh.base import Mesh
+from .scene import Scene
+from .validation.scene import check_file_mesh_tags
 
-
-def mesh_body(case: Case, index: int) -> Mesh:
-    """Mesh one body from its [body.mesh] table."""
-    body = case.data["body"][index]
-    spec = body["mesh"]
-    where = f"body {body['name']!r}"
-    if spec.get("generator") == "given":
-        raise given_mesh_missing(case, body["name"])
-    try:
-        if spec.get("file"):
-            path = case.base_dir / spec["file"]
-            edge_file = case.base_dir / spec["edge_file"] if spec["edge_file"] else None
-            return read_mesh(path, edge_file, spec["scale"])
-        if spec["generator"] in ("quarter_cylinder", "half_cylinder", "disc"):
-            make = getattr(generators, spec["generator"])
-            return make(
-                spec["R"], spec["h_contact"], spec["contact_zone"], spec["h_max"], spec["growth"]
-            )
-        if spec["generator"] == "quarter_annulus":
-            return generators.quarter_annulus(spec["a"], spec["b"], spec["h"], spec["h_outer"])
-        if spec["h_contact"] > 0:  # the graded block (gmsh); else the structured one
-            return generators.graded_block(
-                spec["width"],
-                spec["height"],
-                spec["h_contact"],
-                spec["contact_zone"],
-                spec["h_max"],
-                spec["growth"],
-                spec["focus"],
-                spec["x0"],
-                spec["y0"],
-                spec["uniform_edges"],
-            )
-        nx, ny = block_divisions(spec)
-        if spec["refine_box"] is not None:  # the structured grid inside it, coarse outside
-            return generators.refined_block(
-                spec["width"],
-                spec["height"],
-                nx,
-                ny,
-                spec["refine_box"],
-                spec["h_max"],
-                spec["growth"],
-                spec["x0"],
-                spec["y0"],
-            )
-        return generators.block(spec["width"], spec["height"], nx, ny, spec["x0"], spec["y0"])
-    except MeshError as exc:
-        raise CaseError(f"{case.source}: {where}: {exc}") from None
-
-
-def given_mesh_missing(case: Case, body: str) -> CaseError:
-    """The error of a body whose ``generator = "given"`` mesh was not passed from Python."""
-    how = (
-        "slipstep.mesh.from_arrays or from_meshio"
-        if case.dimension == 2
-        else "slipstep.from_tetrahedra"
-    )
-    return CaseError(
-        f'{case.source}: body.{body}.mesh.generator = "given": pass its mesh from '
-        f'Python, slipstep.run(case, meshes={{"{body}": mesh}}) ({how})'
-    )
+__all__ = ["build_scene"]
 
 
 def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
     """Mesh every body (except those whose mesh ``meshes`` gives, by body name), merge them,
-    and build the engine model (a 3D case: :func:`slipstep.space.build.build_space_scene`)."""
+    and build the engine model, as the case's idealisation does it (2D:
+    :func:`slipstep.builders.section.build_section_scene`, 3D:
+    :func:`slipstep.builders.solid.build_solid_scene`)."""
     data = case.data
     bodies = [b["name"] for b in data["body"]]
     given = dict(meshes or {})
@@ -107,12 +32,8 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
             f"build_scene: meshes given for {', '.join(map(repr, unknown))}, "
             f"which the case has no body of (its bodies: {', '.join(bodies)})"
         )
-    mesher = mesh_body
-    if case.dimension == 3:
-        from .space.build import build_space_scene, mesh_body_3d
-
-        mesher = mesh_body_3d
-    wrong = [name for name in given if given[name].dimension != case.dimension]
+    idealisation = of_case(case)
+    wrong = [name for name in given if given[name].dimension != idealisation.dimension]
     if wrong:
         raise InputError(
             f"build_scene: the mesh given for {wrong[0]!r} is "
@@ -125,97 +46,19 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
         if b["mesh"].get("generator") == "given" and b["name"] not in given
     ]
     if missing:
-        raise given_mesh_missing(case, missing[0])
+        raise given_mesh_missing(case, missing[0], idealisation.given_mesh_from)
     body_meshes = {
-        name: given[name] if name in given else mesher(case, i) for i, name in enumerate(bodies)
+        name: given[name] if name in given else idealisation.mesh_body(case, i)
+        for i, name in enumerate(bodies)
     }
-    check_file_mesh_tags(case, body_meshes)
-    if case.dimension == 3:
-        return build_space_scene(case, body_meshes, tuple(name for name in bodies if name in given))
+    check_file_mesh_tags(case, body_meshes, idealisation.boundary)
+    return idealisation.build(case, body_meshes, tuple(name for name in bodies if name in given))
 
-    offsets, nodes, triangles, element_body = merged_bodies(bodies, body_meshes)
 
-    scene = Scene(
-        case=case,
-        bodies=bodies,
-        meshes=body_meshes,
-        offsets=offsets,
-        nodes=nodes,
-        triangles=triangles,
-        element_body=element_body,
-        model={},
-        pair_xy=np.zeros((0, 2)),
-        pair_length=np.zeros(0),
-        pair_contact=np.zeros(0, dtype=np.int64),
-        given_meshes=tuple(name for name in bodies if name in given),
+def given_mesh_missing(case: Case, body: str, how: str) -> CaseError:
+    """The error of a body whose ``generator = "given"`` mesh was not passed from Python
+    (``how``: the functions that make one)."""
+    return CaseError(
+        f'{case.source}: body.{body}.mesh.generator = "given": pass its mesh from '
+        f'Python, slipstep.run(case, meshes={{"{body}": mesh}}) ({how})'
     )
-    check_radii(scene)
-    pairs = contact_pairs(scene)
-    check_duplicate_nodes(scene, pairs)
-    path = case.path
-    fixed = supports(scene)
-    scene.model = {
-        "nodes": nodes,
-        "triangles": triangles,
-        "element_material": element_body.copy(),
-        "materials": materials(case),
-        "plane": data["analysis"]["plane"],
-        "thickness": float(data["analysis"]["thickness"]),  # the engine ignores it for rings
-        "fixed_dofs": fixed,
-        "load": load_vector(scene) if not path.staged else load_force(scene, path.head),
-        "pairs": pairs,
-        "options": solver_options(case),
-        # names for the engine's messages (docs/engine_api.md)
-        "body_names": list(bodies),
-        "element_body": element_body,
-        "contact_names": contact_names(case),
-        # the reactions recorded at every increment, per [[bc]]
-        **engine_support_groups(scene),
-    }
-    scene.pair_area = contact_areas(scene)
-    set_load_path(scene, path)
-    check_pairs_not_held(scene)
-    check_stick_on_half_held(scene)
-    scene.reference = hertz_reference(scene)
-    return scene
-
-
-def hertz_reference(scene: Scene) -> dict:
-    """Hertz contact on a rigid flat (§5.1 of the paper) for a case with ``[load] P`` and a
-    rigid_line contact on that body: a cylinder in plane strain or stress
-    (:func:`slipstep.references.hertz_line`; a and p0 grow as P^(1/2), ``load_exponent``), a
-    sphere in axisymmetry (:func:`slipstep.references.hertz_sphere`; a and p0 as P^(1/3), the
-    approach delta as P^(2/3)).  ``contact`` says which ("line" or "sphere")."""
-    data = scene.case.data
-    load = data["load"]
-    if load is None:
-        return {}
-    if not any(c["kind"] == "rigid_line" and c["body"] == load["body"] for c in data["contact"]):
-        return {}
-    body = scene.case.body(load["body"])
-    E, nu = body["material"]["E"], body["material"]["nu"]
-    P, R = load["P"], body["mesh"]["R"]
-    plane = data["analysis"]["plane"]
-    E_star = effective_modulus(E, nu, plane)
-    if plane == "axisymmetric":
-        a, p0, delta = hertz_sphere(P, R, E, nu)
-        return {
-            "contact": "sphere",
-            "a_hertz": a,
-            "p0_hertz": p0,
-            "delta_hertz": delta,
-            "P": P,
-            "R": R,
-            "E_star": E_star,
-            "load_exponent": 1.0 / 3.0,
-        }
-    a, p0 = hertz_line(P, R, E, nu, plane)
-    return {
-        "contact": "line",
-        "a_hertz": a,
-        "p0_hertz": p0,
-        "P": P,
-        "R": R,
-        "E_star": E_star,
-        "load_exponent": 0.5,
-    }

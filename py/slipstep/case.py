@@ -32,7 +32,7 @@ from importlib import resources
 from pathlib import Path
 
 from .errors import CaseError
-from .loadpath import LoadPath, load_path
+from .loads.path import LoadPath, load_path
 from .overrides import apply_override
 from .validation.document import Validator
 

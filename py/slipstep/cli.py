@@ -32,8 +32,8 @@ from .case import load_case
 from .errors import InputError, InternalError, SlipstepError
 from .build import build_scene
 from .runner import run_case
-from .snapshot_plan import predicted_text
-from .summary import one_line
+from .output.snapshots import predicted_text
+from .output.summary import one_line
 from .version import __version__
 
 EXIT_ERROR = 2

@@ -1,7 +1,7 @@
 """One key of a case file: its declaration (:class:`Key`: type, default, unit, meaning, value
 check, the case dimensions it belongs to) and the value checks that keys of every table share.
 :mod:`slipstep.schema` declares the tables of 2D and shared keys with it,
-:mod:`slipstep.space.schema` those of 3D scenes."""
+:mod:`slipstep.schema.solid` those of 3D scenes."""
 
 from __future__ import annotations
 

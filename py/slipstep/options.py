@@ -6,7 +6,7 @@ import numpy as np
 
 from .case import Case
 from .schema import SOLVER_KEYS
-from .snapshot_plan import requested
+from .output.snapshots import requested
 
 
 def solver_options(case: Case, snapshots=None) -> dict:
@@ -14,7 +14,7 @@ def solver_options(case: Case, snapshots=None) -> dict:
     :data:`slipstep.schema.SOLVER_KEYS`), and snapshots at every event or at given path times,
     every stage end added (``"fractions"`` as always for a case without [[stage]], displacement and
     motion, ``"times"`` otherwise).  ``snapshots``: ``"events"`` or the times, as
-    :func:`slipstep.snapshot_plan.requested` resolves the case's ``[output] snapshots``
+    :func:`slipstep.output.snapshots.requested` resolves the case's ``[output] snapshots``
     (None: that of a 2D case, where ``"auto"`` is ``"events"``)."""
     snaps = requested(case) if snapshots is None else snapshots
     solver = case.data["solver"]

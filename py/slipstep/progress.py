@@ -20,7 +20,7 @@ import sys
 import time
 from dataclasses import dataclass
 
-from .history import final_time
+from .output.history import final_time
 
 # Seconds between two reports of a running engine (0: after every increment).
 REPORT_INTERVAL_S = 0.1

@@ -1,6 +1,6 @@
 """One run: case -> scene -> engine -> summary (and files).
 
-:func:`run` is the entry for scripts and notebooks (a :class:`~slipstep.result.Result`);
+:func:`run` is the entry for scripts and notebooks (a :class:`~slipstep.output.result.Result`);
 :func:`run_case` is the older form, returning the two dicts.
 """
 
@@ -19,9 +19,9 @@ from .build import build_scene
 from .scene import Scene
 from . import progress as reporting
 from .progress import Reporter
-from .result import Result
-from .results import write_results
-from .summary import summarize
+from .output.result import Result
+from .output.results import write_results
+from .output.summary import summarize
 
 __all__ = ["EngineMissing", "as_case", "engine", "prepare", "run", "run_case", "solve"]
 
@@ -97,7 +97,7 @@ def run(
     figures: bool | None = None,
     xdmf: bool | None = None,
 ) -> Result:
-    """Solve a case and return its :class:`~slipstep.result.Result`; write its files into
+    """Solve a case and return its :class:`~slipstep.output.result.Result`; write its files into
     ``out`` when given (``figures`` and ``xdmf`` default to the case's ``[output]``).
 
     ``case``: a Case, a dict, a case file, a shipped case name, None (the built-in Hertz
@@ -203,7 +203,7 @@ def _load_writers(scene: Scene, out, figures: bool | None, xdmf: bool | None):
     options = scene.case.data["output"]
     wanted = []
     if out is not None and (options["figures"] if figures is None else figures):
-        from .figure_frame import preload
+        from .figures.frame import preload
 
         wanted.append(preload)
     if out is not None and (options["xdmf"] if xdmf is None else xdmf):
@@ -228,6 +228,6 @@ def run_case(
     progress: bool = False,
 ) -> tuple[dict, dict]:
     """:func:`run` returning ``(result dict, summary)`` (docs/engine_api.md), no progress by
-    default: the form before :class:`~slipstep.result.Result`, kept for existing callers."""
+    default: the form before :class:`~slipstep.output.result.Result`, kept for existing callers."""
     result = run(case_or_path, out, overrides, progress)
     return result.raw, result.summary

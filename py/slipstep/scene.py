@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .case import Case
-from .mesh import Mesh
+from .mesh.base import Mesh
 
 
 @dataclass
@@ -49,14 +49,17 @@ class Scene:
     motions: dict = field(default_factory=dict)  # load name -> {"contact", "motion"}
     factors: np.ndarray = field(default_factory=lambda: np.array([[0.0], [1.0]]))
     given_meshes: tuple = ()  # the bodies whose mesh came from Python (build_scene's meshes)
-    # 3D scenes (slipstep.space.build): the elements, and each pair's tangent basis (t1, t2)
+    # 3D scenes (slipstep.builders.solid): the elements, and each pair's tangent basis (t1, t2)
     tetrahedra: np.ndarray = field(default_factory=lambda: np.zeros((0, 4), dtype=np.int64))
     pair_tangent: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 3)))
+    # how the bodies are modelled, chosen once by build_scene (slipstep.idealisation): a 2D
+    # Section or a 3D Solid, which the outputs ask instead of testing the dimension
+    idealisation: object = None
 
     @property
     def dimension(self) -> int:
         """2 (triangles, two DOFs per node) or 3 (tetrahedra, three)."""
-        return self.case.dimension
+        return self.idealisation.dimension
 
     @property
     def n_dofs(self) -> int:
@@ -65,7 +68,7 @@ class Scene:
     @property
     def elements(self) -> np.ndarray:
         """The element connectivity: (M, 3) triangles, or (M, 4) tetrahedra in 3D."""
-        return self.tetrahedra if self.dimension == 3 else self.triangles
+        return self.idealisation.elements(self)
 
     def global_edge(self, body: str, tag: str) -> np.ndarray:
         """Segments of a body's edge tag in global node numbers (body on the left)."""

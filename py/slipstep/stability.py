@@ -32,10 +32,10 @@ import numpy as np
 
 from . import runner, shipped
 from .case import load_case
-from .fields import centroids
-from .references import thick_cylinder_radius
-from .mesh import checked_mesh
-from .summary import contact_text, summarize
+from .output.fields import centroids
+from .measures.references import thick_cylinder_radius
+from .mesh.triangles import checked_mesh
+from .output.summary import contact_text, summarize
 from .stability_report import figure, markdown_table, write_csv
 
 

@@ -76,7 +76,7 @@ def markdown_table(rows: list[dict]) -> str:
 
 
 def figure(path: Path, rows: list[dict], inc: dict) -> None:
-    from .figure_frame import Plots  # pyplot's calls on the object API: notebook-safe
+    from .figures.frame import Plots  # pyplot's calls on the object API: notebook-safe
 
     plt = Plots()
 

@@ -57,8 +57,8 @@ import numpy as np
 
 from . import shipped
 from .errors import InputError
-from .output import json_safe, write_summary_json
-from .summary import contact_text
+from .output.writers import json_safe, write_summary_json
+from .output.summary import contact_text
 
 STUDY_KEYS = {"name", "description", "base", "set"}
 OUTPUT_KEYS = {"stop_at_first_yield": False, "results": False, "fields": False}
@@ -211,9 +211,9 @@ def check_study(study: Study) -> None:
 # --------------------------------------------------------------------------- one case
 def result_arrays(scene, result, fields: bool = False) -> dict[str, np.ndarray]:
     """The compact record of a run for result.npz (see the module docstring)."""
-    from .contact_measures import contact_growth, contact_profile
-    from .fields import centroids
-    from .history import ELEMENT_EVENTS
+    from .measures.contact_edges import contact_growth, contact_profile
+    from .output.fields import centroids
+    from .output.history import ELEMENT_EVENTS
 
     ev = result["events"]
     kinds = np.asarray(list(ev["kind"]), dtype="U16")
@@ -270,9 +270,9 @@ def result_arrays(scene, result, fields: bool = False) -> dict[str, np.ndarray]:
 def run_task(task: dict) -> dict:
     """Worker: solve one case and return its summary and arrays (the parent writes them).
     Never raises for a bad case: the error comes back as ``{"error": message}``."""
-    from .results import case_toml, write_results
+    from .output.results import case_toml, write_results
     from .runner import prepare, solve
-    from .summary import summarize
+    from .output.summary import summarize
 
     start = time.perf_counter()
     out = {"case_id": task["case_id"], "host": os.uname().nodename, "pid": os.getpid()}

@@ -1,5 +1,5 @@
 """TOML spelling: a value as a case file would write it (in messages), and tables written as
-TOML text (the resolved case of a run, :mod:`slipstep.resolved_case`)."""
+TOML text (the resolved case of a run, :mod:`slipstep.output.resolved_case`)."""
 
 from __future__ import annotations
 

@@ -450,7 +450,7 @@ def test_quarter_annulus_coarser_at_the_bore_meshes():
     gmsh ("+ -0.02" in the size formula): the mesh now follows h(r) from h at the bore to
     h_outer at r = b.  Mean edge length of the elements touching each circle within 30 % of
     its target (unstructured triangles scatter about the size field)."""
-    from slipstep.generators import quarter_annulus
+    from slipstep.mesh.triangle_generators import quarter_annulus
 
     m = quarter_annulus(10.0, 20.0, 1.0, 0.4)
     for tag, target in (("inner", 1.0), ("outer", 0.4)):

@@ -20,7 +20,7 @@ from conftest import CASES, needs_gmsh
 
 import slipstep
 from slipstep import InputError, Result
-from slipstep.output import json_safe
+from slipstep.output.writers import json_safe
 
 
 @pytest.fixture(scope="module", params=["2d", "3d"])

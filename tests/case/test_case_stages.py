@@ -12,11 +12,11 @@ import pytest
 from conftest import CASES, MINIMAL, needs_gmsh, shipped_cases
 
 from slipstep import schema
-from slipstep import mesh as M
-from slipstep import generators
+from slipstep.mesh import triangles as M
+from slipstep.mesh import triangle_generators as generators
 from slipstep.case import CaseError, load_case, parse_case
 from slipstep.build import build_scene
-from slipstep.loads import edge_load, hertz_cut_pressure
+from slipstep.loads.vectors import edge_load, hertz_cut_pressure
 
 SOURCE = "cases/x.toml"
 

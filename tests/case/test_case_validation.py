@@ -25,7 +25,7 @@ def test_minimal_case_fills_defaults():
     c = parse_case(MINIMAL)
     assert c.name == "mini"
     assert c.data["analysis"] == {"dimension": 2, "plane": "strain", "thickness": 1.0}
-    assert c.data["output"]["snapshots"] == "auto"  # "events" in 2D (slipstep.snapshot_plan)
+    assert c.data["output"]["snapshots"] == "auto"  # "events" in 2D (slipstep.output.snapshots)
     assert c.data["solver"]["tie_tol"] == 1e-9
     material = c.data["body"][0]["material"]
     assert material == {"E": 1000.0, "nu": 0.25, "Sy": None, "H": None}

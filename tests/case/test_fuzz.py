@@ -4,7 +4,7 @@ The only acceptable outcomes are a result or the module's own error with a one-l
 
 - ``slipstep.case.parse_case`` (random TOML documents, mutations of every shipped and
   catalogue case, random ``--set`` overrides): a Case or a ``CaseError``;
-- ``slipstep.mesh_files.read_mesh`` (random, truncated and mutated ``.msh`` / ``.xdmf`` / ``.h5``
+- ``slipstep.mesh.triangle_files.read_mesh`` (random, truncated and mutated ``.msh`` / ``.xdmf`` / ``.h5``
   bytes): a Mesh or a ``MeshError``;
 - ``slipstep._engine.solve`` (random small meshes, supports, loads and contact pairs, many of
   them degenerate): a result with no NaN in it, or a ``SlipstepError`` (the contract's classes,
@@ -43,7 +43,7 @@ from hypothesis import strategies as st  # noqa: E402
 from slipstep.case import CaseError, parse_case  # noqa: E402
 from slipstep.errors import SlipstepError  # noqa: E402
 from slipstep.mesh import MeshError  # noqa: E402
-from slipstep.mesh_files import read_mesh  # noqa: E402
+from slipstep.mesh.triangle_files import read_mesh  # noqa: E402
 
 # meshio parses damaged inline XML data with numpy.fromstring, which warns about it
 pytestmark = pytest.mark.filterwarnings(
@@ -335,7 +335,7 @@ def _good_mesh_files(folder: Path) -> dict[str, bytes]:
     (written by gmsh itself), XDMF with inline XML data and XDMF + HDF5."""
     import meshio
 
-    from slipstep.gmsh_api import gmsh_session
+    from slipstep.mesh.gmsh_api import gmsh_session
 
     files = {"v22.msh": (CATALOGUE / "mesh_unknown_node_set.msh").read_bytes()}
     (folder / "v22.msh").write_bytes(files["v22.msh"])

@@ -46,7 +46,7 @@ case file by ``write_case``), each in two stages, normal then tangential:
     its flat end on a rigid flat at zero gap, its top held by a prescribed displacement: the
     flat moved into it by δ, then the top moved tangentially by s <= μ δ.
 ``pyramid_into_block``
-    A rigid Vickers or Berkovich pyramid (``slipstep.space.indenters.pyramid``, turned about
+    A rigid Vickers or Berkovich pyramid (``slipstep.contact.indenters.pyramid``, turned about
     its axis by a random angle and tilted by up to 10°, written as an STL:
     ``kind = "rigid_surface"``) with its tip on a node of a distorted box's top face (zero
     gap), pressed in by δ, then the box's bottom moved tangentially by s <= μ δ.
@@ -160,7 +160,8 @@ def distorted(mesh, amount: float, seed: int, keep_planes=True):
     """``mesh`` with every node moved by up to ``amount`` × its shortest edge, each box face's
     nodes within their plane (``keep_planes``: a flat face stays flat, so zero gaps stay zero),
     halved until every tetrahedron keeps at least 30 % of its volume."""
-    from slipstep.space.mesh import TetMesh, signed_volumes
+    from slipstep.mesh import TetMesh
+    from slipstep.mesh.tetrahedra import signed_volumes
 
     nodes, tets = mesh.nodes, mesh.tetrahedra
     rng = np.random.default_rng(seed)
@@ -190,7 +191,7 @@ def distorted(mesh, amount: float, seed: int, keep_planes=True):
 
 def turned(mesh, Q: np.ndarray):
     """``mesh`` with every node turned by Q (a rotation: orientation and faces are kept)."""
-    from slipstep.space.mesh import TetMesh
+    from slipstep.mesh import TetMesh
 
     return TetMesh(
         mesh.nodes @ Q.T, mesh.tetrahedra.copy(), {k: v.copy() for k, v in mesh.faces.items()}
@@ -210,7 +211,7 @@ FAMILIES = (
     "punch_on_flat",
     "pyramid_into_block",
 )
-#: the families meshed by gmsh (cached per session: slipstep.mesh_cache)
+#: the families meshed by gmsh (cached per session: slipstep.mesh.cache)
 GMSH = ("sphere_on_flat", "punch_on_flat")
 
 unit = st.floats(0.0, 1.0)
@@ -286,7 +287,7 @@ def scene_specs(draw, family: str) -> dict:
 
 def build(spec: dict, folder: Path):
     """(case dict, meshes) of a spec; files it needs (an indenter's STL) go into ``folder``."""
-    from slipstep.space import generators
+    from slipstep.mesh import tetrahedron_generators as generators
 
     Q = np.eye(3) if spec["rotation"] is None else rotation_of(spec["rotation"])
     family, mu, seed = spec["family"], spec["mu"], spec["seed"]
@@ -367,7 +368,7 @@ def build(spec: dict, folder: Path):
         delta = radius - math.sqrt(radius**2 - reach**2) if radius else 0.4 * reach
     slide = in_plane(spec["direction"], spec["tangential"] * mu * delta)
     if family == "sphere_on_flat":
-        from slipstep.space.mesh import TetMesh
+        from slipstep.mesh import TetMesh
 
         R, h = 10.0, spec["h_contact"]
         mesh = generators.sphere(R, h, 1.0, 4.0, 0.5, portion="half")
@@ -461,7 +462,7 @@ def build(spec: dict, folder: Path):
         centre = tip + [0.0, 0.0, radius + spec["gap"] * delta]
         press.update(kind="rigid_sphere", centre=vec(centre), radius=radius)
     else:
-        from slipstep.space.indenters import pyramid, write_stl
+        from slipstep.contact.indenters import pyramid, write_stl
 
         points, triangles = pyramid(spec["pyramid"], [0.0, 0.0, 0.0], 4 * delta)
         c, s = math.cos(spec["spin"]), math.sin(spec["spin"])
@@ -670,9 +671,9 @@ def test_a_box_of_any_height_has_its_top_face():
     not h for h = 0.4657782158854201 (nor for 89 of 200 random sizes), so the face ``top`` of
     that box had no triangle, and a pressure on it was no load at all: the run "completed"
     unloaded, no error.  Found by the first draft of this fuzzer; the box now tags a triangle
-    by its three corners on the plane (py/slipstep/space/generators.py, ``_box_faces``)."""
+    by its three corners on the plane (py/slipstep/mesh/tetrahedron_generators.py, ``_box_faces``)."""
     import slipstep
-    from slipstep.space import generators
+    from slipstep.mesh import tetrahedron_generators as generators
 
     height = 0.4657782158854201
     mesh = generators.box(1.0, 1.0, height, 2, 2, 1)

@@ -30,7 +30,7 @@ from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 from slipstep import prepare, solve
 from slipstep.errors import InputError
-from slipstep.summary import summarize
+from slipstep.output.summary import summarize
 
 PLASTIC = ["material.Sy=200", "material.H=700", "contact.mu=0.3", "mesh.h_contact=0.1"]
 P_HALF = 500.0  # the default case carries P = 1000 N/mm on the half model: half of it here

@@ -34,7 +34,7 @@ import pytest
 from physics import EQUILIBRIUM_TOL, von_mises, worst_equilibrium
 
 from slipstep import _engine, prepare, solve
-from slipstep import generators
+from slipstep.mesh import triangle_generators as generators
 
 ROUND_OFF = 1e-8
 

@@ -18,10 +18,10 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
 from physics import EQUILIBRIUM_TOL, internal_force, worst_equilibrium
-from slipstep.references import hertz_line
+from slipstep.measures.references import hertz_line
 
 from slipstep import build_scene, parse_case, prepare, solve
-from slipstep.mesh import Mesh
+from slipstep.mesh import Mesh, TriangleMesh
 
 pytestmark = needs_gmsh
 
@@ -217,7 +217,7 @@ def half_cylinder(quarter: Mesh) -> Mesh:
         tag: np.vstack([quarter.edges[tag], mirror[quarter.edges[tag]][:, ::-1]])
         for tag in ("arc", "top")
     }
-    return Mesh(nodes, tri, edges)
+    return TriangleMesh(nodes, tri, edges)
 
 
 def tangential_case(stages: str, mu: float = 0.3, q_max: float = 0.0):

@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 
 from conftest import CASES, needs_gmsh
-from slipstep import build_scene, load_case, parse_case, references
+from slipstep import build_scene, load_case, parse_case
+from slipstep.measures import references
 from slipstep.fenicsx.crosscheck import bulk_differences, engine_result, plastic_bulk
 
 pytest.importorskip("dolfinx")

@@ -8,7 +8,7 @@ import pytest
 from conftest import CASES, needs_gmsh
 from slipstep import build_scene, load_case
 from slipstep.fenicsx import exchange as ex
-from slipstep.mesh_files import read_mesh
+from slipstep.mesh.triangle_files import read_mesh
 
 pytest.importorskip("dolfinx")
 

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from conftest import needs_gmsh
 
-from slipstep import references
+from slipstep.measures import references
 from slipstep.build import build_scene
 from slipstep.case import parse_case
 from slipstep.fenicsx import plasticity as pl

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 from conftest import needs_gmsh
 
-from slipstep import mesh as M
-from slipstep import generators
+from slipstep.mesh import triangles as M
+from slipstep.mesh import triangle_generators as generators
 from slipstep.case import CaseError, parse_case
-from slipstep.build import mesh_body
+from slipstep.builders.section import mesh_body
 
 #: the issue's scene: a 100 x 100 block standing for a half-space, fine at the top middle
 W, H, HC, ZONE, HMAX = 100.0, 100.0, 0.25, 10.0, 10.0

@@ -1,4 +1,4 @@
-"""Tetrahedron meshes (slipstep.space): the generators of the 3D scenes, the element checks
+"""Tetrahedron meshes (slipstep.mesh.tetrahedra): the generators of the 3D scenes, the element checks
 (inverted and flat tetrahedra refused by index), face tags oriented outwards, and the .msh /
 .xdmf / .stl readers.  Checked against geometry computed here: exact volumes of polyhedral
 bodies, radii of nodes on curved faces, face areas, mirror symmetry."""
@@ -12,10 +12,11 @@ import pytest
 from conftest import needs_gmsh
 
 from slipstep.mesh import MeshError
-from slipstep.space import generators
-from slipstep.space.indenters import pyramid, write_stl
-from slipstep.space.mesh import boundary_faces, from_tetrahedra, signed_volumes, triangle_normals
-from slipstep.space.mesh_files import read_surface, read_tet_mesh
+from slipstep.mesh import tetrahedron_generators as generators
+from slipstep.contact.indenters import pyramid, write_stl
+from slipstep.mesh.tetrahedra import boundary_faces, signed_volumes, triangle_normals
+from slipstep.mesh import from_tetrahedra
+from slipstep.mesh.tetrahedron_files import read_surface, read_tet_mesh
 
 
 def face_area(mesh, tag):
@@ -198,7 +199,7 @@ def test_a_tag_on_no_face_or_an_inner_face_is_refused():
 def test_msh_tetrahedra_and_physical_surfaces_are_read(tmp_path):
     import gmsh
 
-    from slipstep.gmsh_api import gmsh_session
+    from slipstep.mesh.gmsh_api import gmsh_session
 
     path = tmp_path / "cube.msh"
     with gmsh_session():

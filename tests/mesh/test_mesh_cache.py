@@ -1,4 +1,4 @@
-"""The cache of generated meshes (slipstep.mesh_cache): what meshes again and what does not.
+"""The cache of generated meshes (slipstep.mesh.cache): what meshes again and what does not.
 
 Every test counts gmsh's sessions (calls of ``gmsh.initialize``), not time: a cache hit opens
 none, a miss one per generated body.
@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 from conftest import needs_gmsh
 
-from slipstep import generators, mesh_cache, prepare
-from slipstep.space import generators as generators_3d
+from slipstep.mesh import triangle_generators as generators, cache as mesh_cache
+from slipstep import prepare
+from slipstep.mesh import tetrahedron_generators as generators_3d
 
 #: A coarse quarter cylinder (R, h_contact, contact_zone, h_max, growth): ~100 elements.
 CYLINDER = (10.0, 0.5, 1.0, 3.0, 0.3)

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
 
-from slipstep import mesh as M
-from slipstep import generators
-from slipstep import mesh_files
+from slipstep.mesh import triangles as M
+from slipstep.mesh import triangle_generators as generators
+from slipstep.mesh import triangle_files as mesh_files
 from slipstep.case import load_case
 from slipstep.build import build_scene
 

@@ -25,8 +25,8 @@ import pytest
 from conftest import CASES, needs_gmsh
 
 import slipstep
-from slipstep.space import figures as fig3d
-from slipstep.summary import one_line
+from slipstep.figures import solid as fig3d
+from slipstep.output.summary import one_line
 
 
 @pytest.fixture(scope="module")
@@ -161,7 +161,7 @@ def test_the_result_s_views_in_3d(vickers):
 def test_a_contact_of_one_node_has_its_peak_without_a_warning(vickers):
     """A pyramid touching with its tip alone closes one node: the peak fit has no spacing to
     measure (numpy's 'Mean of empty slice' leaked here) and gives that node's pressure."""
-    from slipstep.space.contact_measures import recovered_peak
+    from slipstep.measures.contact_faces import recovered_peak
 
     prof = vickers.profile(1.0, stage=1)
     one = {

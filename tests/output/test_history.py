@@ -31,10 +31,10 @@ from conftest import CASES, needs_gmsh, write_case
 from physics import EQUILIBRIUM_TOL, applied_load, node_body, tangent_basis
 
 from slipstep import prepare, solve
-from slipstep.results import write_results
-from slipstep.resultants import step_history
-from slipstep.summary import one_line, summarize
-from slipstep.supports import support_groups
+from slipstep.output.results import write_results
+from slipstep.measures.resultants import step_history
+from slipstep.output.summary import one_line, summarize
+from slipstep.loads.supports import support_groups
 
 ROUND_OFF = 1e-12
 

@@ -1,6 +1,6 @@
 """The stresses as results.xdmf and Result.fields give them besides the engine's four element
 columns: the full symmetric tensor (its out-of-plane component per idealisation) and the
-nodal stresses recovered by area-weighted averaging (slipstep.fields.nodal_stress).
+nodal stresses recovered by area-weighted averaging (slipstep.output.fields.nodal_stress).
 
 Patch tests: a uniform stress state, which linear triangles reproduce exactly, applied as the
 tractions sigma . n on every edge of a block (plane strain, plane stress) or of a ring section
@@ -19,7 +19,7 @@ import pytest
 from conftest import CASES, needs_gmsh
 
 from slipstep import Case, run
-from slipstep.fields import centroids, stress_tensor
+from slipstep.output.fields import centroids, stress_tensor
 
 E, NU = 1000.0, 0.3
 SX, SY, TXY = 2.0, -1.0, 0.5  # the uniform in-plane stress of the plane patches

@@ -18,9 +18,9 @@ from space3d import QUARTER, SPHERE, mindlin_stand_in
 
 from slipstep.build import build_scene
 from slipstep.case import parse_case
-from slipstep.results import write_results
-from slipstep.space.mesh import triangle_normals
-from slipstep.summary import one_line, summarize
+from slipstep.output.results import write_results
+from slipstep.mesh.tetrahedra import triangle_normals
+from slipstep.output.summary import one_line, summarize
 
 A, C, P0, MU = 0.9, 0.55, 100.0, 0.3
 
@@ -223,7 +223,7 @@ def test_the_pressure_line_interpolates_the_nodal_pressures(quarter):
     """Along x through the centre of pressure (the origin: the pressure is symmetric about x = 0
     and y = 0 is a mirror plane): the linear interpolant of the nodal pressures; at the nodes on
     that line it is their pressure exactly."""
-    from slipstep.space.contact_measures import pressure_line
+    from slipstep.measures.contact_faces import pressure_line
 
     scene, result = quarter
     line = pressure_line(scene, result["snapshots"][0], 0, samples=401)
@@ -280,7 +280,7 @@ def test_the_peak_pressure_is_recovered_from_scattered_nodal_pressures():
     20 draws: the raw maximum is off by nearly the scatter's bound every time, the fit averages
     ~50 nodes, so its rms error must be at most half the raw maximum's.  A pressure rising to the
     contact's edge (a flat punch's) has no smooth peak: its largest nodal value is kept."""
-    from slipstep.space.contact_measures import recovered_peak
+    from slipstep.measures.contact_faces import recovered_peak
 
     fine = SPHERE.replace("h_contact = 0.3", "h_contact = 0.1").replace(
         "contact_zone = 1.0", "contact_zone = 1.5"

@@ -16,12 +16,14 @@ import numpy as np
 import pytest
 from conftest import CASES, synthetic_hertz_result
 
-from slipstep import cli, contact_measures, output
-from slipstep.summary import one_line, summarize
+from slipstep import cli
+from slipstep.measures import contact_edges as contact_measures
+from slipstep.output import writers as output
+from slipstep.output.summary import one_line, summarize
 from slipstep.case import load_case
-from slipstep.contact_measures import contact_profile
+from slipstep.measures.contact_edges import contact_profile
 from slipstep.build import build_scene
-from slipstep.results import write_results
+from slipstep.output.results import write_results
 
 
 CONTACT_FIELDS = (

@@ -15,13 +15,14 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh, synthetic_hertz_result
 
-from slipstep import cli, output, prepare, solve
-from slipstep.summary import element_depth, one_line, summarize
-from slipstep import generators
+from slipstep import cli, prepare, solve
+from slipstep.output import writers as output
+from slipstep.output.summary import element_depth, one_line, summarize
+from slipstep.mesh import triangle_generators as generators
 from slipstep.case import CaseError, load_case
-from slipstep.figures import zone_boundary, zoom_window
+from slipstep.figures.section import zone_boundary, zoom_window
 from slipstep.build import build_scene
-from slipstep.results import write_results
+from slipstep.output.results import write_results
 
 SY, H = 200.0, 700.0
 
@@ -250,7 +251,7 @@ def test_element_depth_below_a_node_to_node_interface():
 
 
 def test_elastic_cases_have_no_plastic_outputs(tmp_path, monkeypatch):
-    from slipstep import figures
+    from slipstep.figures import section as figures
 
     scene = build_scene(load_case(None))
     result = synthetic_hertz_result(scene)

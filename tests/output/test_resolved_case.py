@@ -21,11 +21,11 @@ import pytest
 from conftest import CASES, MINIMAL, ROOT, needs_gmsh
 
 import slipstep
-from slipstep.build import mesh_body
+from slipstep.builders.section import mesh_body
 from slipstep.case import CaseError, load_case, parse_case
-from slipstep.generators import block
-from slipstep.mesh_files import write_msh
-from slipstep.resolved_case import resolved_case_text
+from slipstep.mesh.triangle_generators import block
+from slipstep.mesh.triangle_files import write_msh
+from slipstep.output.resolved_case import resolved_case_text
 
 pytestmark = needs_gmsh
 

@@ -1,7 +1,7 @@
 """The size of a run's results (issue 38: `slipstep run mindlin_sphere_3d` wrote 3.4 GB, a
 snapshot after each of its 667 events).  ``[output] snapshots = "auto"``, the default, keeps
 in 3D the stage ends and evenly spaced path times within a budget
-(:mod:`slipstep.snapshot_plan`); `slipstep check` predicts results.h5's size.
+(:mod:`slipstep.output.snapshots`); `slipstep check` predicts results.h5's size.
 
 - the times of "auto": per stage n evenly spaced, n = min(10, budget // (stages x step)) but at
   least 1, exact as fractions i/n (closed form);
@@ -19,7 +19,7 @@ import pytest
 from conftest import CASES, MINIMAL, needs_gmsh, shipped_cases
 
 import slipstep
-from slipstep import snapshot_plan
+from slipstep.output import snapshots as snapshot_plan
 from slipstep.build import build_scene
 from slipstep.case import Case, load_case
 

@@ -19,12 +19,13 @@ import types
 import numpy as np
 import pytest
 
-from slipstep import contact_measures, history, output
-from slipstep.summary import one_line
+from slipstep.measures import contact_edges as contact_measures
+from slipstep.output import history, writers as output
+from slipstep.output.summary import one_line
 from slipstep.case import parse_case
 from slipstep.build import build_scene
-from slipstep.results import write_results
-from slipstep.summary import summarize
+from slipstep.output.results import write_results
+from slipstep.output.summary import summarize
 
 BLOCK = """
 [case]

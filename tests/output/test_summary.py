@@ -1,4 +1,4 @@
-"""summary.json for any scene (slipstep.summary): per-contact extents along the contact's
+"""summary.json for any scene (slipstep.output.summary): per-contact extents along the contact's
 coordinate s, and the half-widths a, c only for a symmetric half model.
 
 Extents are checked against values worked out by hand (synthetic profiles) and against the
@@ -18,9 +18,9 @@ from conftest import needs_gmsh
 
 from slipstep import run_case
 from slipstep.case import load_case, parse_case
-from slipstep.contact_measures import closed_extent, stick_extent
+from slipstep.measures.contact_edges import closed_extent, stick_extent
 from slipstep.build import build_scene
-from slipstep.summary import half_model_side, one_line
+from slipstep.output.summary import half_model_side, one_line
 
 # A block x0 <= x <= x0 + width, 0 <= y <= 4, pressed and pushed sideways by a traction on its
 # top, on the rigid flat y = 0 (all bottom nodes start closed, in stick).  {bcs}: more [[bc]].
@@ -266,7 +266,8 @@ def test_the_extent_midway_equals_the_final_extent_of_a_run_to_there():
     closures of the run's events) equals the final extent of the same scene loaded to P/2 (its
     closure times twice as late), to round-off (1e-12).  At a snapshot other than the last the
     extent used to stop at the outermost closed node."""
-    from slipstep import contact_measures, run
+    from slipstep.measures import contact_edges as contact_measures
+    from slipstep import run
 
     common = ["mesh.h_contact=0.2", "contact.mu=0.0", "output.figures=false"]
     full = run(None, overrides=common + ["output.snapshots=[0.5, 1.0]"], progress=False)

@@ -19,7 +19,7 @@ import pytest
 from conftest import ROOT, needs_gmsh
 
 import slipstep
-from slipstep.references import thick_cylinder_stresses, thick_sphere_stresses
+from slipstep.measures.references import thick_cylinder_stresses, thick_sphere_stresses
 
 sys.path.insert(0, str(ROOT / "bench"))
 from dolfinx_side_by_side import SCENES, HillNorms  # noqa: E402

@@ -2,7 +2,7 @@
 
 GetFEM (Debian python3-getfem) is installed by `make test` (ci/apt-packages.txt): without it
 these tests skip, and the skip fails the run (tests/conftest.py, ENFORCED).
-Both codes read the same mesh (slipstep's generator, written by slipstep.mesh_files.write_msh), so:
+Both codes read the same mesh (slipstep's generator, written by slipstep.mesh.triangle_files.write_msh), so:
 
 * frictionless and elastic, the two solve the *same* discrete problem (CST stiffness, nodal
   contact of the same candidates with the flat, the same nodal load vector), which has one
@@ -29,8 +29,8 @@ import pytest
 from conftest import ROOT, needs_gmsh
 
 from slipstep import prepare, solve
-from slipstep.contact_measures import contact_profile
-from slipstep.summary import summarize
+from slipstep.measures.contact_edges import contact_profile
+from slipstep.output.summary import summarize
 
 pytest.importorskip("getfem")
 sys.path.insert(0, str(ROOT / "bench"))

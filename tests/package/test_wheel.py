@@ -155,7 +155,10 @@ def test_the_wheel_holds_the_cases_and_studies_as_files(wheel):
     for dep, extra in (("numpy==1.24.2", "debian-dolfinx"), ("ipywidgets", "notebook")):
         assert re.search(
             rf"^Requires-Dist: {re.escape(dep)} ?; extra == '{extra}'$", metadata, re.M
-        ), (dep, extra)
+        ), (
+            dep,
+            extra,
+        )
 
 
 def test_the_wheel_and_the_command_say_the_cargo_version(wheel, plain_venv, outside):

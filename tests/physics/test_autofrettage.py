@@ -36,7 +36,7 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
-from slipstep.references import thick_cylinder_radius
+from slipstep.measures.references import thick_cylinder_radius
 
 from slipstep import build_scene, parse_case, prepare, solve
 

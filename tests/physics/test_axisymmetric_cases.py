@@ -22,12 +22,12 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh, write_case
 import physics
-from slipstep import references
+from slipstep.measures import references
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 from slipstep import cli, prepare, solve
 from slipstep.case import CaseError, load_case
-from slipstep.summary import summarize
+from slipstep.output.summary import summarize
 
 
 def read_csv_header(path):

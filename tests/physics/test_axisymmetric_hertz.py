@@ -33,11 +33,11 @@ import pytest
 from conftest import CASES, needs_gmsh
 from scipy.optimize import minimize_scalar
 import physics
-from slipstep import references
+from slipstep.measures import references
 
 from slipstep import prepare, solve
 from slipstep.case import load_case
-from slipstep.contact_measures import contact_profile
+from slipstep.measures.contact_edges import contact_profile
 
 CASE = CASES / "hertz_sphere.toml"
 _data = load_case(CASE).data

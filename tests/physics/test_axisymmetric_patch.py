@@ -21,7 +21,7 @@ relative).
 Also: a rigid translation along the axis (the only zero-energy mode of a ring) prescribed on the
 bottom edge produces no strain, stress or force; and a uniform pressure on a block resting on a
 rigid flat gives the same pressure at every contact node, the axis node included (the
-consistent ring area of slipstep.contact_geometry.contact_areas).
+consistent ring area of slipstep.contact.edges.contact_areas).
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from conftest import write_case
 import physics
 
 from slipstep import Case, prepare, run, solve
-from slipstep.contact_measures import contact_profile
+from slipstep.measures.contact_edges import contact_profile
 
 E, NU = 1000.0, 0.3
 LAME, G = E * NU / ((1 + NU) * (1 - 2 * NU)), E / (2 * (1 + NU))

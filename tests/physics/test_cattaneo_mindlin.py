@@ -27,7 +27,7 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
 from physics import EQUILIBRIUM_TOL, applied_load, strain_energy, worst_equilibrium
-from slipstep.references import cattaneo_traction, line_contact_dissipation
+from slipstep.measures.references import cattaneo_traction, line_contact_dissipation
 
 from slipstep import build_scene, parse_case, solve
 

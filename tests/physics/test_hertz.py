@@ -12,10 +12,10 @@ import math
 import numpy as np
 import pytest
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
-from slipstep.references import hertz_line
+from slipstep.measures.references import hertz_line
 
 from slipstep import prepare, solve
-from slipstep.summary import summarize
+from slipstep.output.summary import summarize
 
 R, E, NU, P = 125.0, 70000.0, 0.3, 1000.0
 E_STAR = E / (1 - NU**2)

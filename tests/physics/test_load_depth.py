@@ -10,7 +10,7 @@ its opposite.
   displacement is Hertz's approach plus the hemisphere's own compression, O(a/R) = 0.5 % of it
   (a = 0.245 mm); the mesh (a/h = 20) measures a within 0.8 %.  Measured: P within +0.02 %
   (δ = 0.2 δ_max) to +0.37 % (δ_max) of Hertz's; tolerance 1 %.
-- Oliver–Pharr on the unloading (:mod:`slipstep.indentation`, the paraboloid's ε = 0.75, β = 1,
+- Oliver–Pharr on the unloading (:mod:`slipstep.measures.indentation`, the paraboloid's ε = 0.75, β = 1,
   A = π (2R h_c − h_c²)): elastic unloading retraces Hertz's curve, so the power law fits
   m = 3/2 with h_f = 0, S = 2 E* a, h_c = δ_max/2 and E_r = E*.  Measured: E_r +0.58 %,
   m = 1.521, h_f = −0.009 δ_max, h_c = 0.502 δ_max; tolerances 2 % on E_r, 0.05 on m, 2 % of
@@ -27,8 +27,8 @@ from conftest import needs_gmsh, write_case
 from physics import EQUILIBRIUM_TOL
 
 from slipstep import prepare, solve
-from slipstep.indentation import oliver_pharr
-from slipstep.resultants import drivers, step_history
+from slipstep.measures.indentation import oliver_pharr
+from slipstep.measures.resultants import drivers, step_history
 
 E, NU, R, DELTA = 70000.0, 0.3, 50.0, 1.2e-3
 E_STAR = E / (1.0 - NU**2)

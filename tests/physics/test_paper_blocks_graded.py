@@ -26,9 +26,9 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
 
-from slipstep import generators
+from slipstep.mesh import triangle_generators as generators
 from slipstep import prepare, solve
-from slipstep.contact_measures import contact_profile
+from slipstep.measures.contact_edges import contact_profile
 
 pytestmark = needs_gmsh
 

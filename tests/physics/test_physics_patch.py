@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 from physics import equilibrium_residual, von_mises
-from slipstep.references import hertz_line
+from slipstep.measures.references import hertz_line
 
 SIGMA = np.array([3.0, -2.0, 0.0, 1.5])  # σx, σy, σz (no work in plane), τxy
 T = 2.0  # thickness

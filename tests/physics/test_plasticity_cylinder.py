@@ -31,7 +31,7 @@ import math
 import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
-from slipstep import references
+from slipstep.measures import references
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 from slipstep import prepare, solve

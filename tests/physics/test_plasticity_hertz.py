@@ -176,7 +176,7 @@ def test_yield_drift_field_matches_the_engine_measure(tmp_path):
     # snapshot it must stay below the engine's max_drift (which is measured before the return).
     import h5py
 
-    from slipstep import output
+    from slipstep.output import writers as output
 
     scene = prepare(
         None, overrides=[*PLASTIC, "mesh.h_contact=0.15", "output.snapshots=[0.8, 1.0]"]

@@ -35,10 +35,10 @@ import math
 import numpy as np
 import pytest
 from physics import worst_equilibrium, EQUILIBRIUM_TOL
-from slipstep.references import dundurs_beta, goodman_stick_ratio, spence_stick_ratio
+from slipstep.measures.references import dundurs_beta, goodman_stick_ratio, spence_stick_ratio
 
 from slipstep import prepare, solve
-from slipstep.summary import summarize
+from slipstep.output.summary import summarize
 
 NU = 0.3
 BETA = dundurs_beta(NU)

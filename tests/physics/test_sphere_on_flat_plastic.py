@@ -7,7 +7,7 @@ interference omega = 50 omega_c), against the published finite-element fits of
 * R. L. Jackson, I. Green, "A finite element study of elasto-plastic hemispherical contact
   against a rigid flat", J. Tribol. 127 (2005) 343-354, DOI 10.1115/1.1866166 (JG),
 
-whose formulas are in ``slipstep.references`` (the first test pins them to values worked out
+whose formulas are in ``slipstep.measures.references`` (the first test pins them to values worked out
 by hand).  Both papers model what the case models: a deformable sphere (a hemisphere, its base
 held) pressed by a rigid flat, frictionless, von Mises; JG's abstract states
 elastic-perfectly plastic; the case takes H' = 0.  Both normalise by the first-yield
@@ -53,7 +53,7 @@ from conftest import CASES, needs_gmsh
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 from slipstep import prepare, solve
 from slipstep.case import load_case
-from slipstep.references import (
+from slipstep.measures.references import (
     jackson_green,
     jackson_green_critical,
     kogut_etsion,

@@ -29,7 +29,7 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh
 import physics
-from slipstep import references
+from slipstep.measures import references
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 from slipstep import prepare, solve

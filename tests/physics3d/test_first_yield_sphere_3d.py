@@ -27,8 +27,8 @@ import pytest
 from conftest import CASES, needs_gmsh
 
 import slipstep
-from slipstep.fields import centroids
-from slipstep.references import sphere_axis_stresses
+from slipstep.output.fields import centroids
+from slipstep.measures.references import sphere_axis_stresses
 
 H, SY = 0.03, 130.0
 P, R, E, NU = 30.0, 50.0, 70000.0, 0.3

@@ -38,7 +38,7 @@ from physics import EQUILIBRIUM_TOL, equilibrium_residual
 from space3d import hertz_approach_errors
 
 import slipstep
-from slipstep.contact_measures import contact_profile
+from slipstep.measures.contact_edges import contact_profile
 
 CASE = CASES / "hertz_sphere_3d.toml"
 AXI = CASES / "hertz_sphere.toml"

@@ -67,8 +67,8 @@ from physics import EQUILIBRIUM_TOL, equilibrium_residual
 
 import slipstep
 from slipstep.case import parse_case
-from slipstep.space.contact_geometry import tributary_areas
-from slipstep.space.contact_measures import contact_numbers_3d, row_forces
+from slipstep.contact.faces import tributary_areas
+from slipstep.measures.contact_faces import contact_numbers_3d, row_forces
 
 R, E, NU, MU = 50.0, 70000.0, 0.3, 0.3
 E_STAR, G = E / (2 * (1 - NU**2)), E / (2 * (1 + NU))

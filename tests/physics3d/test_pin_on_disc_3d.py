@@ -28,7 +28,7 @@ from conftest import CASES, needs_gmsh
 from physics import EQUILIBRIUM_TOL
 
 import slipstep
-from slipstep.space.mesh_files import read_tet_mesh
+from slipstep.mesh.tetrahedron_files import read_tet_mesh
 
 R, E, NU, H = 3.0, 70000.0, 0.3, 0.03
 E_STAR = E / (2 * (1 - NU**2))

@@ -45,7 +45,7 @@ from physics import EQUILIBRIUM_TOL, worst_equilibrium
 from space3d import hertz_approach_errors
 
 import slipstep
-from slipstep import references
+from slipstep.measures import references
 
 R, E, NU, MOTION = 50.0, 70000.0, 0.3, 0.0012
 H, H_COARSE, H_FRICTION, H_AXI = 0.025, 0.1, 0.04, 0.006
@@ -73,8 +73,8 @@ def rotation(a: float, b: float, c: float) -> np.ndarray:
 def hemisphere(h: float, Q: np.ndarray):
     """The half sphere's mesh (h_contact = h, fine within 0.4 mm), rotated by Q, with the
     face tags ``top`` (the cut) and ``cap`` (the surface triangles below z = 5 mm)."""
-    from slipstep.space import generators
-    from slipstep.space.mesh import TetMesh
+    from slipstep.mesh import tetrahedron_generators as generators
+    from slipstep.mesh import TetMesh
 
     mesh = generators.sphere(R, h, 0.4, 10.0, 0.5, portion="half")
     surface = mesh.faces["surface"]

@@ -26,8 +26,8 @@ from conftest import CASES, needs_gmsh
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 import slipstep
-from slipstep import references
-from slipstep.space.fields import tetrahedron_volumes, von_mises_3d
+from slipstep.measures import references
+from slipstep.output.fields import tetrahedron_volumes, von_mises_3d
 
 A, B, Y, P, H = 10.0, 20.0, 250.0, 280.0, 1.0
 

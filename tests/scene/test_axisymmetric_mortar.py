@@ -1,5 +1,5 @@
 """The ring contact patch test for node-to-segment (mortar) rows in axisymmetry
-(py/slipstep/mortar.py, ``radial``): two coaxial cylinders of the same material, meshed on
+(py/slipstep/contact/node_to_segment.py, ``radial``): two coaxial cylinders of the same material, meshed on
 their own, pressed together by p on the top.  The exact solution is uniform uniaxial stress
 sigma_z = -p, sigma_r = sigma_theta = tau_rz = 0 with the same radial expansion on both sides
 (no slip), and every row carries its ring share of p: lambda_j = p x 2 pi int N_j r ds.
@@ -17,7 +17,7 @@ from physics import EQUILIBRIUM_TOL, worst_equilibrium
 from test_node_to_segment import P, two_blocks
 
 from slipstep import build_scene, parse_case, solve
-from slipstep.mortar import node_to_segment_pairs
+from slipstep.contact.node_to_segment import node_to_segment_pairs
 
 
 def rings(n_lower: int, n_upper: int, mu: float) -> str:

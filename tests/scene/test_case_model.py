@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 from conftest import CASES, MINIMAL, needs_gmsh, write_case
 
-from slipstep import mesh as M
-from slipstep import generators
+from slipstep.mesh import triangles as M
+from slipstep.mesh import triangle_generators as generators
 from slipstep.case import CaseError, load_case, parse_case
 from slipstep.build import build_scene
-from slipstep.contact_geometry import tributary_lengths
-from slipstep.loads import edge_load
+from slipstep.contact.edges import tributary_lengths
+from slipstep.loads.vectors import edge_load
 
 
 @pytest.fixture(scope="module")

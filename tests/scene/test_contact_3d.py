@@ -1,4 +1,4 @@
-"""Contact pairs in space (slipstep.space.contact_geometry): a rigid plane, sphere, cylinder and
+"""Contact pairs in space (slipstep.contact.faces): a rigid plane, sphere, cylinder and
 triangulated surface (a Vickers pyramid, an STL file), node to node between matching boxes, and
 the one-line refusals (initial penetration, an open surface where closedness is needed, an
 obstacle that starts inside a body, a node on an obstacle's centre).  Normals and gaps are
@@ -16,7 +16,7 @@ from space3d import BOX, SPHERE, assert_contract
 from slipstep.build import build_scene
 from slipstep.case import parse_case
 from slipstep.errors import CaseError
-from slipstep.space.indenters import pyramid, write_stl
+from slipstep.contact.indenters import pyramid, write_stl
 
 
 def scene_of(text: str, sets=(), base_dir="."):

@@ -18,8 +18,8 @@ from conftest import CASES, needs_gmsh
 from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 from slipstep import parse_case, prepare, build_scene, solve
-from slipstep.contact_measures import contact_profile
-from slipstep.summary import summarize
+from slipstep.measures.contact_edges import contact_profile
+from slipstep.output.summary import summarize
 
 pytestmark = needs_gmsh
 

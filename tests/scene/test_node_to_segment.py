@@ -1,5 +1,5 @@
 """Node-to-segment contact between independently meshed bodies (mortar-style rows,
-py/slipstep/mortar.py): the contact patch test, the weights' invariants, initial gaps and
+py/slipstep/contact/node_to_segment.py): the contact patch test, the weights' invariants, initial gaps and
 penetration, contactor nodes that project nowhere."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from physics import EQUILIBRIUM_TOL, worst_equilibrium
 
 from slipstep import build_scene, parse_case, solve
 from slipstep.errors import InputError
-from slipstep.mortar import node_to_segment_pairs
+from slipstep.contact.node_to_segment import node_to_segment_pairs
 
 P = 10.0
 
@@ -202,7 +202,7 @@ def test_outputs_measure_node_by_node_like_node_to_node():
     The rows' own weighted RTD is off by several % near the slip zones (4.6 % rms on the plastic
     paper block), so a profile that reported it would fail here."""
     from conftest import CASES
-    from slipstep.contact_measures import contact_profile
+    from slipstep.measures.contact_edges import contact_profile
 
     text = (CASES / "two_blocks.toml").read_text()
     nts = text.replace('kind = "node_to_node"', 'kind = "node_to_segment"').replace(

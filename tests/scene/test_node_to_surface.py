@@ -1,4 +1,4 @@
-"""Node-to-surface contact in space (slipstep.space.mortar): mortar-weighted rows on triangles
+"""Node-to-surface contact in space (slipstep.contact.node_to_surface): mortar-weighted rows on triangles
 between independently meshed bodies.  The kinematic half of the 3D contact patch test on
 non-matching faces (the weights sum to 1 and -1, and a linear displacement field gives zero
 relative displacement in every row, to round-off), the static half's loads (lambda_j = p S_j
@@ -15,8 +15,8 @@ from space3d import BOX, assert_contract
 from slipstep.build import build_scene
 from slipstep.case import parse_case
 from slipstep.errors import CaseError
-from slipstep.space.loads import face_load
-from slipstep.space.mesh import triangle_normals
+from slipstep.loads.faces import face_load
+from slipstep.mesh.tetrahedra import triangle_normals
 
 LID = (
     BOX

@@ -28,15 +28,15 @@ import numpy as np
 import pytest
 from conftest import CASES, needs_gmsh, write_case
 from physics import EQUILIBRIUM_TOL, observed_order, richardson, worst_equilibrium
-from slipstep.references import hertz_line
+from slipstep.measures.references import hertz_line
 
 from slipstep import build_scene, parse_case, solve
 from slipstep import schema
 from slipstep.case import CaseError
-from slipstep.contact_measures import contact_axis, force_displacement, pair_coordinate
-from slipstep.contact_geometry import polyline_closest
+from slipstep.measures.contact_edges import contact_axis, force_displacement, pair_coordinate
+from slipstep.contact.edges import polyline_closest
 from slipstep.runner import run_case
-from slipstep.summary import summarize
+from slipstep.output.summary import summarize
 
 SOURCE = "rigid"
 ROUND_OFF = 1e-12

@@ -16,7 +16,7 @@ from conftest import needs_gmsh
 from slipstep.build import build_scene
 from slipstep.case import parse_case
 from slipstep.errors import CaseError
-from slipstep.space.mesh import triangle_normals
+from slipstep.mesh.tetrahedra import triangle_normals
 from space3d import BOX, SPHERE, assert_contract
 
 
@@ -162,7 +162,7 @@ def test_a_given_tetrahedron_mesh_from_python():
     """generator = "given" in 3D: the mesh comes from slipstep.from_tetrahedra (a 2D mesh is
     refused for a 3D case, and a missing one names the function)."""
     import slipstep
-    from slipstep.space.generators import box
+    from slipstep.mesh.tetrahedron_generators import box
 
     text = BOX.replace(
         'generator = "box"\nwidth = 2.0\ndepth = 1.0\nheight = 1.0\nnx = 4\n' 'ny = 2\nnz = 2',

@@ -21,7 +21,7 @@ import pytest
 pytest.importorskip("slipstep._engine")
 
 from physics import EQUILIBRIUM_TOL, worst_equilibrium  # noqa: E402
-from slipstep.references import thick_cylinder_radius  # noqa: E402
+from slipstep.measures.references import thick_cylinder_radius  # noqa: E402
 
 from slipstep import stability  # noqa: E402
 from slipstep.cli import main  # noqa: E402

@@ -19,7 +19,7 @@ Modules
 ``bulk``        dolfinx solvers on the exchanged mesh, driven by the same case with contact
                 removed: linear elasticity and elastoplasticity (Newton, load in steps).
 ``radial``      the thick-walled cylinder's exact von Mises answer at any nu (a converged 1D
-                radial model, numpy only): Hill's closed form (:mod:`slipstep.references`) is
+                radial model, numpy only): Hill's closed form (:mod:`slipstep.measures.references`) is
                 exact at nu = 1/2 only.
 ``replay``      a slipstep contact state replayed in dolfinx as boundary conditions.
 ``hybrid``      slipstep's event loop on a user's dolfinx model (P1, isotropic elastic, plane).

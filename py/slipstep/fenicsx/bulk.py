@@ -460,8 +460,8 @@ def _facet_normal_axis(x: np.ndarray, facets: np.ndarray) -> int:
 def _cut_pressure(scene) -> float:
     """The pressure of ``[load] P`` on the cut ``top`` (slipstep.loads: 2D, and the 3D
     sphere's share over its meshed cut)."""
-    from ..loads import hertz_cut_pressure
-    from ..space.loads import sphere_cut_pressure
+    from ..loads.vectors import hertz_cut_pressure
+    from ..loads.faces import sphere_cut_pressure
 
     if scene.dimension == 2:
         return hertz_cut_pressure(scene.case)

@@ -26,8 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fields import polar
-from ..references import (
+from ..output.fields import polar
+from ..measures.references import (
     thick_cylinder_displacement,
     thick_cylinder_radius,
     thick_cylinder_stresses,
@@ -35,7 +35,7 @@ from ..references import (
     thick_sphere_plastic_radius,
     thick_sphere_stresses,
 )
-from ..space.fields import spherical
+from ..output.fields import spherical
 from .bulk import BulkProblem, relative_difference
 
 DEFAULT_STEPS = (5, 10, 20, 50)
@@ -487,7 +487,7 @@ def _field_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
     area in axisymmetry), else the von Mises difference or slipstep's von Mises."""
     from matplotlib.tri import Triangulation
 
-    from ..fields import von_mises
+    from ..output.fields import von_mises
 
     if scene.dimension == 3:
         return _von_mises_panel(ax, snap, last)
@@ -536,7 +536,7 @@ def _field_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
 def _von_mises_panel(ax, snap: dict, last) -> None:
     """3D: each element's von Mises stress, dolfinx's against slipstep's (on the diagonal when
     they agree), or slipstep's sorted when dolfinx has no final state."""
-    from ..space.fields import von_mises_3d
+    from ..output.fields import von_mises_3d
 
     ours = von_mises_3d(np.asarray(snap["stress"]))
     if last is None:

@@ -13,7 +13,7 @@ meshio and ParaView; see examples/README.md)::
                      the DataItem says, so the two files cannot share one .h5)
 
 Tag names also go into an ``Information`` element in meshio's field_data layout, so
-``slipstep.mesh_files.read_mesh(NAME.xdmf, NAME_edges.xdmf)`` (and thus a case with ``file =`` /
+``slipstep.mesh.triangle_files.read_mesh(NAME.xdmf, NAME_edges.xdmf)`` (and thus a case with ``file =`` /
 ``edge_file =``) gets the edge tags back by name.  With one body the edge names are the
 body's own tags (``arc``); with several they are ``<body>.<tag>``.
 

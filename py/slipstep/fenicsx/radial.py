@@ -1,5 +1,5 @@
 """The thick-walled cylinder's exact von Mises answer at any Poisson ratio: a fine 1D radial
-model, the reference Hill's closed form (:mod:`slipstep.references`) approximates.
+model, the reference Hill's closed form (:mod:`slipstep.measures.references`) approximates.
 
 Hill's closed form takes sigma_z as the mean of sigma_r and sigma_theta in the plastic zone,
 which is exact only for an incompressible material (nu = 1/2).  With nu < 1/2 von Mises in

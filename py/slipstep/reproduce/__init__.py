@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import sweep
-from ..output import json_safe
+from ..output.writers import json_safe
 from . import axisymmetric
 from .figures import draw
 from .numbers import collect, onset_rows

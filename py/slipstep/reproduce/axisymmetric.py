@@ -13,7 +13,7 @@ Scenes (run by the sweep runner into ``DIR/axisymmetric/axi_*``, resumed like th
   load stop against 2Y ln(b/a);
 * the elastic-perfectly plastic sphere on a rigid flat, ``cases/sphere_on_flat_plastic.toml``,
   to 50 omega_c on two or three meshes: force and contact area against interference with the
-  fits of Kogut & Etsion (2002) and Jackson & Green (2005) (:mod:`slipstep.references`).
+  fits of Kogut & Etsion (2002) and Jackson & Green (2005) (:mod:`slipstep.measures.references`).
 
 Figures are drawn on :class:`matplotlib.figure.Figure` objects (no pyplot).
 """
@@ -27,8 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from .. import shipped, sweep
-from ..fields import centroids
-from ..references import (
+from ..output.fields import centroids
+from ..measures.references import (
     jackson_green,
     jackson_green_critical,
     kogut_etsion,

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fields import von_mises
-from ..references import flat_punch_pressure, hertz_pressure
+from ..output.fields import von_mises
+from ..measures.references import flat_punch_pressure, hertz_pressure
 from .numbers import scene_groups, snapshot_levels
 from .scenes import (
     A_HERTZ,
@@ -40,9 +40,9 @@ KIND_COLOURS = {
 
 
 def _plt():
-    """pyplot's figure calls on matplotlib's object API (:class:`slipstep.figure_frame.Plots`): no
+    """pyplot's figure calls on matplotlib's object API (:class:`slipstep.figures.frame.Plots`): no
     backend switch, no global figure state, so the figures are notebook-safe."""
-    from ..figure_frame import Plots
+    from ..figures.frame import Plots
 
     return Plots()
 
@@ -176,7 +176,7 @@ def fig05(path: Path, runs: dict) -> Path:
     """Von Mises maps at full load with the plastic zone outlined, mu = 0, 0.1, 0.35."""
     from matplotlib.collections import LineCollection
 
-    from ..figures import zone_boundary
+    from ..figures.section import zone_boundary
 
     plt = _plt()
     fig, axes = plt.subplots(1, len(MUS), figsize=(5 * len(MUS), 4.6), constrained_layout=True)

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..contact_measures import contact_half_width
-from ..fields import centroids
+from ..measures.contact_edges import contact_half_width
+from ..output.fields import centroids
 from .. import sweep
 from .scenes import (
     A_HERTZ,

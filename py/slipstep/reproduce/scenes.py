@@ -10,8 +10,13 @@ from pathlib import Path
 import numpy as np
 
 from .. import shipped, sweep
-from ..contact_measures import stick_half_width
-from ..references import JOHNSON_LINE_YIELD, JOHNSON_LINE_YIELD_DEPTH, effective_modulus, hertz_line
+from ..measures.contact_edges import stick_half_width
+from ..measures.references import (
+    JOHNSON_LINE_YIELD,
+    JOHNSON_LINE_YIELD_DEPTH,
+    effective_modulus,
+    hertz_line,
+)
 
 
 SY, H_PLASTIC = 200.0, 700.0  # Al-5%Mg yield stress (paper) and our hardening modulus

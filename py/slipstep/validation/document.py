@@ -9,7 +9,7 @@ import copy
 import math
 
 from ..errors import CaseError
-from ..loadpath import load_path
+from ..loads.path import load_path
 from ..overrides import element_prefix
 from ..schema import (
     ANALYSIS_KEYS,
@@ -34,7 +34,7 @@ from ..schema import (
     kind_dimension,
 )
 from ..toml_writing import toml_text
-from . import space
+from . import solid as space
 
 
 _TYPE_HELP = {

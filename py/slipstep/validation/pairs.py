@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..mesh import node_normals
+from ..mesh.triangles import node_normals
 from ..scene import Scene
-from ..space import mesh as space_mesh
-from ..space.surfaces import closest_points, containing_tetrahedra
+from ..mesh import tetrahedra as space_mesh
+from ..contact.surfaces import closest_points, containing_tetrahedra
 from ..toml_writing import point_text
 
 

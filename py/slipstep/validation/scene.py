@@ -14,11 +14,10 @@ from ..section import AXIS_TOLERANCE, is_axisymmetric
 from ..toml_writing import point_text
 
 
-def check_file_mesh_tags(case: Case, body_meshes: dict) -> None:
-    """Edge tags (3D: face tags) of file meshes are only known now: check the BCs and contacts
-    that use them."""
+def check_file_mesh_tags(case: Case, body_meshes: dict, surface: str) -> None:
+    """Edge tags (3D: face tags; ``surface``: "edge" or "face") of file meshes are only known
+    now: check the BCs and contacts that use them."""
     data = case.data
-    surface = "edge" if case.dimension == 2 else "face"
     uses = []  # (key, body, tag)
     for i, bc in enumerate(data["bc"]):
         k = "bc." if len(data["bc"]) == 1 else f"bc.{i}."
