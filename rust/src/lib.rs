@@ -33,6 +33,7 @@
 
 pub mod contact;
 pub mod coulomb;
+pub mod dim;
 pub mod driver;
 pub mod element;
 pub mod error;
