@@ -230,12 +230,10 @@ impl<'m, D: Dim> Problem<'m, D> {
     pub fn facet_cross(&self, state: &State, p: usize) -> Option<[f64; 2]> {
         let (pair, e) = (&self.pairs[p], state.slip_dir[p]);
         let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
-        let directed = self.dim == 3
-            && slipping
+        let directed = slipping
             && !state.vertex[p]
             && pair.mu > 0.0
-            && !pair.held[0]
-            && !pair.held[1]
+            && pair.has_tangent_plane()
             && e != [0.0; 2];
         directed.then_some([-e[1], e[0]])
     }
@@ -252,12 +250,8 @@ impl<'m, D: Dim> Problem<'m, D> {
     pub fn polygon_of(&self, state: &State, p: usize) -> Option<([f64; 2], bool)> {
         let pair = &self.pairs[p];
         let pressed = state.lambda_n[p] > self.scales.force_noise;
-        let laid = self.dim == 3
-            && pair.mu > 0.0
-            && !pair.held[0]
-            && !pair.held[1]
-            && state.slip_dir[p] != [0.0; 2]
-            && pressed;
+        let laid =
+            pair.mu > 0.0 && pair.has_tangent_plane() && state.slip_dir[p] != [0.0; 2] && pressed;
         laid.then_some((state.slip_dir[p], state.vertex[p]))
     }
 

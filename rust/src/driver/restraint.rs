@@ -279,10 +279,11 @@ impl<D: Dim> Restraint<'_, D> {
         {
             rows.push(row(&pair.w_n));
             if pair.frictional() && (if_stuck || state.status[p] == Status::Stick) {
-                if self.p.dim == 2 || !pair.held[0] {
+                // (a 2D pair's second tangent counts as held: no row)
+                if !pair.held[0] {
                     rows.push(row(&pair.w_t));
                 }
-                if self.p.dim == 3 && !pair.held[1] {
+                if !pair.held[1] {
                     rows.push(row(&pair.w_t2));
                 }
             } else if let Some(cross) = self.p.cross_direction(state, p) {

@@ -298,11 +298,12 @@ fn contact_system<D: Dim>(
         h.push(-problem.gap(state, p) - dshift[p][0]);
         let held = problem.pairs[p].held;
         if *st == Status::Stick && problem.pairs[p].frictional() {
-            if problem.dim == 2 || !held[0] {
+            // (a frictional pair has a free tangent: in 2D its one, whose row it always has)
+            if !held[0] {
                 rows.push(Row::Tangent(p));
                 h.push(state.rtd_stick[p] - problem.rtd(state, p) - dshift[p][1]);
             }
-            if problem.dim == 3 && !held[1] {
+            if !held[1] {
                 rows.push(Row::Tangent2(p));
                 h.push(state.rtd_stick2[p] - problem.rtd2(state, p) - dshift[p][2]);
             }
