@@ -8,6 +8,7 @@ use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
+use slipstep_core::dim::{Dim, Planar, PlaneSection, Spatial};
 use slipstep_core::error::ErrorKind;
 use slipstep_core::material::{Material, Plane, PLANAR};
 use slipstep_core::mesh::Mesh;
@@ -58,10 +59,16 @@ fn index_rows<const C: usize>(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Vec<
         .collect()
 }
 
-/// The mesh of the model's dimension (`dimension`: 2 when absent): nodes (N, 2) and triangles
-/// (M, 3), or nodes (N, 3) and tetrahedra (M, 4). A key of the other dimension is refused by
-/// name.
-fn read_mesh(d: &Bound<'_, PyDict>) -> PyResult<Mesh> {
+/// A model of the dimension the dict gives (`dimension`: 2 when absent), read once here: every
+/// later step is generic over it (`slipstep_core::dim`).
+enum Scene {
+    Plane(Model<Planar>),
+    Space(Model<Spatial>),
+}
+
+/// The model of the dict's dimension: nodes (N, 2), triangles (M, 3), `plane` and `thickness`;
+/// or nodes (N, 3) and tetrahedra (M, 4). A key of the other dimension is refused by name.
+fn read_scene(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
     let dimension: i64 = match d.get_item("dimension")? {
         Some(v) => v
             .extract()
@@ -80,14 +87,22 @@ fn read_mesh(d: &Bound<'_, PyDict>) -> PyResult<Mesh> {
         2 => {
             refuse(&["tetrahedra"], "3D models (dimension = 3), not of this 2D one")?;
             let nodes = f64_2d(d, "nodes", 2)?.into_iter().map(|p| [p[0], p[1]]).collect();
-            Ok(Mesh::plane(nodes, index_rows::<3>(d, "triangles")?))
+            let mesh = Mesh::new(nodes, index_rows::<3>(d, "triangles")?);
+            let section = || -> PyResult<PlaneSection> {
+                Ok(PlaneSection {
+                    plane: read_plane(d)?,
+                    thickness: get(d, "thickness")?.extract()?,
+                })
+            };
+            Ok(Scene::Plane(read_model(d, mesh, section)?))
         }
         3 => {
             refuse(
                 &["triangles", "plane", "thickness"],
                 "2D models, not of a 3D one (dimension = 3)",
             )?;
-            Ok(Mesh::space(f64_2d(d, "nodes", 3)?, index_rows::<4>(d, "tetrahedra")?))
+            let mesh = Mesh::new(f64_2d(d, "nodes", 3)?, index_rows::<4>(d, "tetrahedra")?);
+            Ok(Scene::Space(read_model(d, mesh, || Ok(()))?))
         }
         other => Err(input_error(format!("engine model: dimension = {other}: use 2 or 3"))),
     }
@@ -112,13 +127,8 @@ fn to_index(v: i64, what: &str) -> PyResult<usize> {
         .map_err(|_| input_error(format!("engine model: negative index {v} in {what}")))
 }
 
-fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
-    let mesh = read_mesh(d)?;
-    let dim = mesh.dim();
-    let element_material = i64_1d(d, "element_material")?
-        .into_iter()
-        .map(|v| to_index(v, "element_material"))
-        .collect::<PyResult<_>>()?;
+/// The materials E, nu and, when plastic, Sy and H.
+fn read_materials(d: &Bound<'_, PyDict>) -> PyResult<Vec<Material>> {
     let mut materials = Vec::new();
     for m in get(d, "materials")?.cast::<PyList>()?.iter() {
         let m = m.cast::<PyDict>()?;
@@ -137,10 +147,23 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
         }
         materials.push(mat);
     }
-    let (plane, thickness) = match dim {
-        3 => (Plane::Strain, 1.0), // (not used in 3D)
-        _ => (read_plane(d)?, get(d, "thickness")?.extract()?),
-    };
+    Ok(materials)
+}
+
+/// The model of `mesh`, with the `section` its dimension reads (after the materials): everything
+/// else a dict gives, the same in both dimensions.
+fn read_model<D: Dim>(
+    d: &Bound<'_, PyDict>,
+    mesh: Mesh<D>,
+    section: impl FnOnce() -> PyResult<D::Section>,
+) -> PyResult<Model<D>> {
+    let dim = D::N;
+    let element_material = i64_1d(d, "element_material")?
+        .into_iter()
+        .map(|v| to_index(v, "element_material"))
+        .collect::<PyResult<_>>()?;
+    let materials = read_materials(d)?;
+    let section = section()?;
     let fixed_dofs = i64_1d(d, "fixed_dofs")?
         .into_iter()
         .map(|v| to_index(v, "fixed_dofs"))
@@ -193,8 +216,7 @@ fn read_model(d: &Bound<'_, PyDict>) -> PyResult<Model> {
         mesh,
         element_material,
         materials,
-        plane,
-        thickness,
+        section,
         fixed_dofs,
         load,
         patterns,
@@ -657,7 +679,7 @@ fn solve<'py>(
         last: Mutex::new(None),
         failure: Mutex::new(None),
     });
-    let model = read_model(model).map_err(|e| malformed(py, e))?;
+    let scene = read_scene(model).map_err(|e| malformed(py, e))?;
     slipstep_core::interrupt::clear();
     let watch = interrupt::Watch::start(py);
     let mut trigger = interrupt::TestTrigger::from_env();
@@ -669,7 +691,7 @@ fn solve<'py>(
     let result = py.detach(|| {
         let mut last_report = Instant::now();
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            slipstep_core::run(&model, |p: Progress| {
+            let mut progress = |p: Progress| {
                 trigger.after_increment(p.events);
                 *lock(&reporting.last) = Some(p);
                 slipstep_core::interrupt::touch();
@@ -678,7 +700,11 @@ fn solve<'py>(
                 }
                 last_report = Instant::now();
                 reporting.report(&p)
-            })
+            };
+            match &scene {
+                Scene::Plane(model) => slipstep_core::run(model, &mut progress),
+                Scene::Space(model) => slipstep_core::run(model, &mut progress),
+            }
         }))
     });
     slipstep_core::interrupt::pulse(None);

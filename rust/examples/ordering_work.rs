@@ -17,6 +17,7 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::{Pair, SymbolicSparseColMat};
 use faer::Side;
+use slipstep_core::dim::Spatial;
 use slipstep_core::element::Tet4;
 use slipstep_core::factor::faer_llt::{symbolic_analysis, work_of, FaerLlt};
 use slipstep_core::linalg::{DofMap, NodeOrder, StiffnessPattern};
@@ -26,10 +27,10 @@ use std::time::Instant;
 
 /// The work of the scalar node graph's factor in each node order: the orderings compared
 /// without DOFs, supports or trailing block (METIS's from PREFIX.metis when it exists).
-fn node_graph_work(mesh: &Mesh, prefix: &str) {
+fn node_graph_work(mesh: &Mesh<Spatial>, prefix: &str) {
     let n = mesh.n_nodes();
     let edges: Vec<(usize, usize)> = mesh
-        .tetrahedra
+        .elements
         .iter()
         .flat_map(|t| (0..4).flat_map(move |i| (i + 1..4).map(move |j| (t[i], t[j]))))
         .collect();
@@ -41,7 +42,7 @@ fn node_graph_work(mesh: &Mesh, prefix: &str) {
     let (pattern, _) = SymbolicSparseColMat::try_new_from_indices(n, n, &upper).unwrap();
     let mut orders = vec![
         ("minimum degree", minimum_degree(&graph).unwrap()),
-        ("nested dissection", nested_dissection(&graph, &mesh.points).unwrap()),
+        ("nested dissection", nested_dissection(&graph, &mesh.nodes).unwrap()),
     ];
     if let Ok(bytes) = std::fs::read(format!("{prefix}.metis")) {
         orders.push((
@@ -118,11 +119,11 @@ fn main() {
         .collect();
     let points: Vec<[f64; 3]> = coords.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
     let tets: Vec<[usize; 4]> = ids.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]).collect();
-    let mesh = Mesh::space(points, tets);
+    let mesh = Mesh::<Spatial>::new(points, tets);
     let elements: Vec<Tet4> = (0..mesh.n_elements()).map(|e| Tet4::new(&mesh, e)).collect();
     let n_dofs = 3 * mesh.n_nodes();
     let mut fixed = vec![false; n_dofs];
-    for (i, p) in mesh.points.iter().enumerate() {
+    for (i, p) in mesh.nodes.iter().enumerate() {
         fixed[3 * i] |= p[0] == 0.0;
         fixed[3 * i + 1] |= p[1] == 0.0;
     }
@@ -139,7 +140,7 @@ fn main() {
     }
     for (name, how) in [
         ("minimum degree", NodeOrder::MinimumDegree),
-        ("nested dissection", NodeOrder::NestedDissection(&mesh.points)),
+        ("nested dissection", NodeOrder::NestedDissection(&mesh.nodes)),
     ] {
         let start = Instant::now();
         let map = DofMap::ordered_by(&elements, n_dofs, &fixed, &[], &trailing, how).unwrap();

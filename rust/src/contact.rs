@@ -349,6 +349,13 @@ impl Pair {
         }
     }
 
+    /// Both tangents free (neither held by the supports): friction acts in the whole tangent
+    /// plane, on the round cone and its facets. Never in 2D, whose frame has one tangent (the
+    /// second counts as held).
+    pub fn has_tangent_plane(&self) -> bool {
+        !self.held[0] && !self.held[1]
+    }
+
     pub fn frictional(&self) -> bool {
         self.mu > 0.0 && !self.tangent_held
     }

@@ -15,6 +15,7 @@
 //! the axis (r̄ > 0 for any element of positive area in r >= 0). The rows εr, εz, γrz are
 //! constant and r A r̄ = ∫ r dA, so w Bᵀ σ is the exact virtual work of a uniform stress.
 
+use crate::dim::{Dim, Planar, PlaneSection, Spatial};
 use crate::material::{Plane, Voigt, PLANAR};
 use crate::mesh::Mesh;
 use nalgebra::{Matrix6, SMatrix, SVector};
@@ -93,14 +94,14 @@ pub struct Cst {
 impl Cst {
     /// Element `e` of `mesh` in plane strain or plane stress, of out-of-plane `thickness`:
     /// the z row of B is zero (εz is 0, or follows from σz = 0 in the material).
-    pub fn planar(mesh: &Mesh, e: usize, thickness: f64) -> Self {
+    pub fn planar(mesh: &Mesh<Planar>, e: usize, thickness: f64) -> Self {
         let (nodes, area, b) = Cst::in_plane(mesh, e);
         Cst { nodes, volume: area * thickness, b }
     }
 
     /// Element `e` of `mesh` as a ring about the axis x = 0: the hoop row of B at the centroid
     /// and the volume 2π r̄ A.
-    pub fn ring(mesh: &Mesh, e: usize) -> Self {
+    pub fn ring(mesh: &Mesh<Planar>, e: usize) -> Self {
         let (nodes, area, mut b) = Cst::in_plane(mesh, e);
         let [p1, p2, p3] = nodes.map(|i| mesh.nodes[i]);
         let r = (p1[0] + p2[0] + p3[0]) / 3.0;
@@ -111,7 +112,7 @@ impl Cst {
     }
 
     /// Element `e` of `mesh` with the kinematics of `plane` (`thickness`: planar states only).
-    pub fn of_plane(mesh: &Mesh, e: usize, plane: Plane, thickness: f64) -> Self {
+    pub fn of_plane(mesh: &Mesh<Planar>, e: usize, plane: Plane, thickness: f64) -> Self {
         match plane {
             Plane::Axisymmetric => Cst::ring(mesh, e),
             Plane::Strain | Plane::Stress => Cst::planar(mesh, e, thickness),
@@ -119,8 +120,8 @@ impl Cst {
     }
 
     /// The nodes, the area and the in-plane rows of B (the z row zero).
-    fn in_plane(mesh: &Mesh, e: usize) -> ([usize; 3], f64, BMatrix) {
-        let nodes = mesh.triangles[e];
+    fn in_plane(mesh: &Mesh<Planar>, e: usize) -> ([usize; 3], f64, BMatrix) {
+        let nodes = mesh.elements[e];
         let [p1, p2, p3] = nodes.map(|i| mesh.nodes[i]);
         let area2 = mesh.signed_area2(e);
         let (b1, b2, b3) = (p2[1] - p3[1], p3[1] - p1[1], p1[1] - p2[1]);
@@ -171,9 +172,9 @@ pub struct Tet4 {
 impl Tet4 {
     /// Tetrahedron `e` of `mesh`: B from the gradients of its linear shape functions,
     /// ∇N_k = (row k of the inverse of [1 x y z] at the nodes), rows εx, εy, εz, γyz, γxz, γxy.
-    pub fn new(mesh: &Mesh, e: usize) -> Self {
-        let nodes = mesh.tetrahedra[e];
-        let p = nodes.map(|i| mesh.points[i]);
+    pub fn new(mesh: &Mesh<Spatial>, e: usize) -> Self {
+        let nodes = mesh.elements[e];
+        let p = nodes.map(|i| mesh.nodes[i]);
         let jac = nalgebra::Matrix3::from_fn(|r, c| p[c + 1][r] - p[0][r]); // columns x_k − x_0
         let det = jac.determinant();
         let inv = jac.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros); // validate refuses det ≤ 0
@@ -229,6 +230,28 @@ pub enum Elements {
     Space(Vec<Tet4>),
 }
 
+/// The elements of a dimension (`dim`): the constant-strain triangle in the plane, with the
+/// kinematics of its stress state, the linear tetrahedron in space.
+pub trait Discretization: Dim {
+    /// The elements of `mesh` under `section`.
+    fn elements(mesh: &Mesh<Self>, section: &Self::Section) -> Elements;
+}
+
+impl Discretization for Planar {
+    fn elements(mesh: &Mesh<Self>, section: &PlaneSection) -> Elements {
+        let (plane, thickness) = (section.plane, section.thickness);
+        Elements::Plane(
+            (0..mesh.n_elements()).map(|e| Cst::of_plane(mesh, e, plane, thickness)).collect(),
+        )
+    }
+}
+
+impl Discretization for Spatial {
+    fn elements(mesh: &Mesh<Self>, _: &()) -> Elements {
+        Elements::Space((0..mesh.n_elements()).map(|e| Tet4::new(mesh, e)).collect())
+    }
+}
+
 /// `on_elements!(elements, els => body)`: the body with `els` the `Elements`' vector, whichever
 /// kind it holds.
 #[macro_export]
@@ -242,18 +265,6 @@ macro_rules! on_elements {
 }
 
 impl Elements {
-    /// The elements of `mesh`: tetrahedra in 3D, else triangles with the kinematics of `plane`.
-    pub fn of_mesh(mesh: &Mesh, plane: Plane, thickness: f64) -> Self {
-        match mesh.dim() {
-            3 => Elements::Space((0..mesh.tetrahedra.len()).map(|e| Tet4::new(mesh, e)).collect()),
-            _ => Elements::Plane(
-                (0..mesh.triangles.len())
-                    .map(|e| Cst::of_plane(mesh, e, plane, thickness))
-                    .collect(),
-            ),
-        }
-    }
-
     pub fn len(&self) -> usize {
         on_elements!(self, els => els.len())
     }
@@ -300,11 +311,12 @@ impl Elements {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dim::{Planar, Spatial};
     use crate::material::{from_planar, Material};
     use crate::section::Section;
     use nalgebra::Matrix6;
 
-    fn element(m: &Mesh, e: usize, plane: Plane, thickness: f64) -> Cst {
+    fn element(m: &Mesh<Planar>, e: usize, plane: Plane, thickness: f64) -> Cst {
         Cst::of_plane(m, e, plane, thickness)
     }
 
@@ -314,15 +326,15 @@ mod tests {
     }
 
     /// One element away from the axis and one touching it (node 3 at r = 0).
-    fn mesh() -> Mesh {
-        Mesh::plane(
+    fn mesh() -> Mesh<Planar> {
+        Mesh::<Planar>::new(
             vec![[0.1, 0.2], [1.3, 0.1], [0.4, 0.9], [0.0, 0.6]],
             vec![[0, 1, 2], [0, 2, 3]],
         )
     }
 
     /// Nodal values of a linear field u = (a0 + a1 x + a2 y, b0 + b1 x + b2 y).
-    fn linear_field(m: &Mesh, a: [f64; 3], b: [f64; 3]) -> Vec<f64> {
+    fn linear_field(m: &Mesh<Planar>, a: [f64; 3], b: [f64; 3]) -> Vec<f64> {
         m.nodes
             .iter()
             .flat_map(|p| [a[0] + a[1] * p[0] + a[2] * p[1], b[0] + b[1] * p[0] + b[2] * p[1]])
@@ -367,7 +379,7 @@ mod tests {
         let u = linear_field(&m, [c, a, b], [0.0, 0.0, 0.0]);
         for k in 0..2 {
             let el = element(&m, k, Plane::Axisymmetric, 1.0);
-            let centre = m.triangles[k]
+            let centre = m.elements[k]
                 .map(|i| m.nodes[i])
                 .iter()
                 .fold([0.0; 2], |s, p| [s[0] + p[0] / 3.0, s[1] + p[1] / 3.0]);
@@ -391,8 +403,8 @@ mod tests {
     }
 
     /// Rigid modes of an element: translation x, translation y, rotation about the origin.
-    fn rigid_modes(m: &Mesh, e: usize) -> [ElementVector; 3] {
-        let p = m.triangles[e].map(|i| m.nodes[i]);
+    fn rigid_modes(m: &Mesh<Planar>, e: usize) -> [ElementVector; 3] {
+        let p = m.elements[e].map(|i| m.nodes[i]);
         let rot = |k: usize| [-p[k][1], p[k][0]];
         [
             ElementVector::from_row_slice(&[1., 0., 1., 0., 1., 0.]),
@@ -452,8 +464,8 @@ mod tests {
     }
 
     /// A tetrahedron of general shape (positively oriented) and one on the axes.
-    fn tets() -> Mesh {
-        Mesh::space(
+    fn tets() -> Mesh<Spatial> {
+        Mesh::<Spatial>::new(
             vec![
                 [0.1, 0.2, -0.1],
                 [1.3, 0.1, 0.2],
@@ -469,8 +481,8 @@ mod tests {
     }
 
     /// A linear field u = c + G x at every node of `m` (3 per node).
-    fn linear_field_3d(m: &Mesh, c: [f64; 3], g: [[f64; 3]; 3]) -> Vec<f64> {
-        m.points
+    fn linear_field_3d(m: &Mesh<Spatial>, c: [f64; 3], g: [[f64; 3]; 3]) -> Vec<f64> {
+        m.nodes
             .iter()
             .flat_map(|p| (0..3).map(move |i| c[i] + (0..3).map(|j| g[i][j] * p[j]).sum::<f64>()))
             .collect()
@@ -508,7 +520,7 @@ mod tests {
         for e in 0..2 {
             let el = Tet4::new(&m, e);
             let f = el.internal_force(&sigma);
-            let p = m.tetrahedra[e].map(|i| m.points[i]);
+            let p = m.elements[e].map(|i| m.nodes[i]);
             for k in 0..4 {
                 let face: Vec<[f64; 3]> = (0..4).filter(|&j| j != k).map(|j| p[j]).collect();
                 let (a, b) = (
@@ -548,7 +560,7 @@ mod tests {
             assert!((k - k.transpose()).norm() < 1e-12 * k.norm());
             for mode in 0..6 {
                 let u = m
-                    .points
+                    .nodes
                     .iter()
                     .flat_map(|p| {
                         let (t, w) = if mode < 3 { (mode, None) } else { (0, Some(mode - 3)) };
@@ -572,15 +584,15 @@ mod tests {
     #[test]
     fn flat_and_inverted_tetrahedra_are_named() {
         let mut m = tets();
-        m.tetrahedra[1] = [4, 6, 5, 7];
+        m.elements[1] = [4, 6, 5, 7];
         assert!(m
             .validate()
             .unwrap_err()
             .message
             .starts_with("element 1 is an inverted tetrahedron"));
-        m.tetrahedra[1] = [4, 5, 6, 7];
-        let (p0, p1, p2) = (m.points[0], m.points[1], m.points[2]);
-        m.points[3] = std::array::from_fn(|c| (p0[c] + p1[c] + p2[c]) / 3.0); // in the plane of the others
+        m.elements[1] = [4, 5, 6, 7];
+        let (p0, p1, p2) = (m.nodes[0], m.nodes[1], m.nodes[2]);
+        m.nodes[3] = std::array::from_fn(|c| (p0[c] + p1[c] + p2[c]) / 3.0); // in the plane of the others
         let err = m.validate().unwrap_err().message;
         assert!(err.starts_with("element 0 is a flat tetrahedron"), "{err}");
     }

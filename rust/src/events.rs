@@ -119,10 +119,7 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                             [dlt, trial.dlambda_t2[p]],
                         );
                         let e = space.slip_dir[p];
-                        let onset = if e != [0.0; 2]
-                            && !pair.held[0]
-                            && !pair.held[1]
-                            && ln > noise.force
+                        let onset = if e != [0.0; 2] && pair.has_tangent_plane() && ln > noise.force
                         {
                             law.polygon_exit_scale(
                                 e,

@@ -8,14 +8,18 @@
 //! its event history.
 //!
 //! One module per concept, in the order of the paper:
+//! - [`dim`]: the dimension as a type, chosen once by the front end: `Planar` (triangles, a
+//!   stress state and a thickness) or `Spatial` (tetrahedra); the mesh, the model and the
+//!   engine are generic over it, and what differs is its methods;
 //! - [`material`]: the 3D law: elasticity D (eqs. 9, 18), von Mises plasticity (eq. 11);
 //! - [`section`]: the stress state (plane strain, plane stress, axisymmetry, a solid) and a
 //!   material bound to it;
 //! - [`stress_integration`]: an element's stress along a strain increment (the elastic–plastic
 //!   split of eq. 16, Prandtl–Reuss integrated with error control);
 //! - [`element`]: element kinematics (the `Element` seam), the constant-strain triangle and
-//!   the linear tetrahedron (eq. 10, K of eq. 36, P_σ of eq. 42);
-//! - [`mesh`]: triangle and tetrahedron meshes, validation, bodies;
+//!   the linear tetrahedron (eq. 10, K of eq. 36, P_σ of eq. 42), and which a dimension has
+//!   (`Discretization`);
+//! - [`mesh`]: meshes of a dimension (`Mesh<D>`), validation, bodies;
 //! - [`contact`]: candidate pairs, their constraint vectors and statuses (eqs. 21–28, 41, 45–46);
 //! - [`coulomb`]: Coulomb's law on a pair: capacity, the facets of the round cone, their
 //!   turns, the stick → slip roots (eqs. 1–3, 41, 52–53);
@@ -33,6 +37,7 @@
 
 pub mod contact;
 pub mod coulomb;
+pub mod dim;
 pub mod driver;
 pub mod element;
 pub mod error;

@@ -9,6 +9,7 @@
 //! (see `driver`), so the big factor stays SPD and is never refactorized for a contact event.
 
 use crate::bail;
+use crate::dim::Dim;
 use crate::element::Element;
 use crate::error::Result;
 use crate::mesh::Mesh;
@@ -221,11 +222,10 @@ const DISSECTION_FROM: usize = 3000;
 
 impl<'a> NodeOrder<'a> {
     /// The order for `mesh` (`DISSECTION_FROM`; plane and axisymmetric meshes: minimum degree).
-    pub fn of_mesh(mesh: &'a Mesh) -> Self {
-        if mesh.dim() == 3 && mesh.n_nodes() >= DISSECTION_FROM {
-            NodeOrder::NestedDissection(&mesh.points)
-        } else {
-            NodeOrder::MinimumDegree
+    pub fn of_mesh<D: Dim>(mesh: &'a Mesh<D>) -> Self {
+        match D::in_space(&mesh.nodes) {
+            Some(points) if points.len() >= DISSECTION_FROM => NodeOrder::NestedDissection(points),
+            _ => NodeOrder::MinimumDegree,
         }
     }
 }
@@ -399,6 +399,7 @@ impl ElementScatter {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dim::{Planar, Spatial};
     use crate::element::Cst;
     use crate::factor::Factor;
     use crate::material::{Material, Plane};
@@ -429,8 +430,8 @@ mod tests {
                 triangles.push([a, a + 5, a + 4]);
             }
         }
-        let mesh = Mesh::plane(nodes, triangles);
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 2.0)).collect();
+        let mesh = Mesh::<Planar>::new(nodes, triangles);
+        let els: Vec<Cst> = (0..mesh.elements.len()).map(|e| Cst::planar(&mesh, e, 2.0)).collect();
         let d = elastic_d(Plane::Strain);
         let n = 2 * mesh.nodes.len();
         let mut k = nalgebra::DMatrix::<f64>::zeros(n, n);
@@ -486,8 +487,8 @@ mod tests {
                 triangles.push([a, a + 4, a + 3]);
             }
         }
-        let mesh = Mesh::plane(nodes, triangles);
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
+        let mesh = Mesh::<Planar>::new(nodes, triangles);
+        let els: Vec<Cst> = (0..mesh.elements.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
         let d = elastic_d(Plane::Stress);
         let tangents = vec![d; els.len()];
         let mut fixed = vec![false; 18];
@@ -518,7 +519,7 @@ mod tests {
         // computed by full solves with unit loads, to round-off.
         let (nx, ny) = (7, 5);
         let mesh = crate::mesh::test_grid(nx, ny, 0.5, 0.4);
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
+        let els: Vec<Cst> = (0..mesh.elements.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
         let d = elastic_d(Plane::Strain);
         let n_dofs = 2 * mesh.nodes.len();
         let mut fixed = vec![false; n_dofs];
@@ -559,19 +560,19 @@ mod tests {
                 tetrahedra.push(t);
             }
         }
-        let mut mesh = Mesh::space(points, tetrahedra);
+        let mut mesh = Mesh::<Spatial>::new(points, tetrahedra);
         // Orient every tetrahedron positively (Kuhn's paths alternate in sign).
-        for t in 0..mesh.tetrahedra.len() {
-            let [a, b, c, d] = mesh.tetrahedra[t].map(|n| nalgebra::Vector3::from(mesh.points[n]));
+        for t in 0..mesh.elements.len() {
+            let [a, b, c, d] = mesh.elements[t].map(|n| nalgebra::Vector3::from(mesh.nodes[n]));
             if (b - a).cross(&(c - a)).dot(&(d - a)) < 0.0 {
-                mesh.tetrahedra[t].swap(1, 2);
+                mesh.elements[t].swap(1, 2);
             }
         }
         let els: Vec<crate::element::Tet4> =
-            (0..mesh.tetrahedra.len()).map(|e| crate::element::Tet4::new(&mesh, e)).collect();
+            (0..mesh.elements.len()).map(|e| crate::element::Tet4::new(&mesh, e)).collect();
         let d =
             Section::new(Material::elastic(1000.0, 0.3), &crate::section::Solid).elastic_matrix();
-        let n_dofs = 3 * mesh.points.len();
+        let n_dofs = 3 * mesh.nodes.len();
         let fixed: Vec<bool> = (0..n_dofs).map(|g| g / 3 % nx == 0).collect();
         let chosen_dofs: Vec<usize> = [(1, 2), (0, 0), (2, 1), (1, 0), (0, 2)]
             .iter()

@@ -201,7 +201,7 @@ mod tests {
     fn woodbury_solves_like_a_refactorization() {
         let (nx, ny) = (7, 5);
         let mesh = crate::mesh::test_grid(nx, ny, 0.5, 0.4);
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
+        let els: Vec<Cst> = (0..mesh.elements.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
         let n_dofs = 2 * mesh.nodes.len();
         let mut fixed = vec![false; n_dofs];
         (0..nx).for_each(|i| (fixed[2 * i], fixed[2 * i + 1]) = (true, true));

@@ -3,8 +3,9 @@
 //! checks). The output records live in `records` (re-exported here).
 
 use crate::bail;
+use crate::dim::Dim;
 use crate::error::Result;
-use crate::material::{Material, Plane};
+use crate::material::Material;
 use crate::mesh::Mesh;
 pub use crate::options::{Options, SnapshotRequest, DEFAULT_GROUP_TOL, DEFAULT_TANGENT_TURN};
 pub use crate::records::*;
@@ -73,17 +74,17 @@ pub struct Stage {
     pub factors: Vec<f64>,
 }
 
+/// A scene in the plane (`Planar`) or in space (`Spatial`): the dimension is its type, read
+/// once by the front end.
 #[derive(Debug, Clone)]
-pub struct Model {
-    /// Triangles (2D) or tetrahedra (3D: `Mesh::dim` = 3, the dimension of the model).
-    pub mesh: Mesh,
+pub struct Model<D: Dim> {
+    /// Triangles or tetrahedra.
+    pub mesh: Mesh<D>,
     pub element_material: Vec<usize>,
     pub materials: Vec<Material>,
-    /// The 2D stress state (ignored in 3D).
-    pub plane: Plane,
-    /// Out-of-plane thickness t (plane strain and plane stress; ignored in axisymmetry, where
-    /// every force is a total over the full ring).
-    pub thickness: f64,
+    /// What only the plane has: the stress state and the out-of-plane thickness
+    /// (`dim::PlaneSection`); nothing in space.
+    pub section: D::Section,
     /// DOFs with u = 0 (dim·node + component).
     pub fixed_dofs: Vec<usize>,
     /// The force of the pattern named `load` at factor 1 (length dim·nodes).
@@ -97,7 +98,7 @@ pub struct Model {
     pub options: Options,
 }
 
-impl Model {
+impl<D: Dim> Model<D> {
     /// Whether any material can yield (a plastic run: no reduced elastic space, drift
     /// corrections are not round-off).
     pub fn has_plastic_material(&self) -> bool {
@@ -130,19 +131,19 @@ impl Model {
     pub fn supported_dofs(&self) -> Vec<usize> {
         let mut dofs = self.fixed_dofs.clone();
         if self.is_axisymmetric() {
-            dofs.extend(self.mesh.axis_nodes().iter().map(|&i| 2 * i));
+            dofs.extend(self.mesh.axis_nodes().iter().map(|&i| D::N * i));
         }
         dofs
     }
 
-    /// DOFs per node: 2, or 3 for a model of tetrahedra.
+    /// DOFs per node: 2 in the plane, 3 in space.
     pub fn dim(&self) -> usize {
-        self.mesh.dim()
+        D::N
     }
 
-    /// A 2D model of rings about the axis.
+    /// A model of rings about the axis.
     pub fn is_axisymmetric(&self) -> bool {
-        self.dim() == 2 && self.plane == Plane::Axisymmetric
+        D::is_axisymmetric(&self.section)
     }
 
     /// "node i (x)" of DOF d.
@@ -154,22 +155,16 @@ impl Model {
     /// stress, the largest circumference 2π r_max in axisymmetry (forces are ring totals), the
     /// mesh's diameter in 3D (a force over E × a length² is a strain).
     pub fn depth(&self) -> f64 {
-        if self.dim() == 3 {
-            return self.mesh.diameter();
+        if self.is_axisymmetric() {
+            let r_max = self.mesh.nodes.iter().fold(0.0f64, |m, p| m.max(p.as_ref()[0]));
+            return 2.0 * std::f64::consts::PI * r_max;
         }
-        match self.plane {
-            Plane::Axisymmetric => {
-                2.0 * std::f64::consts::PI * self.mesh.nodes.iter().fold(0.0f64, |m, p| m.max(p[0]))
-            }
-            Plane::Strain | Plane::Stress => self.thickness,
-        }
+        D::thickness(&self.section).unwrap_or_else(|| self.mesh.diameter())
     }
 
     fn validate_bulk(&self) -> Result<()> {
         let n_dofs = self.dim() * self.mesh.n_nodes();
-        if self.dim() == 3 {
-            // no plane, no thickness
-        } else if self.plane == Plane::Axisymmetric {
+        if self.is_axisymmetric() {
             if let Some((e, i)) = self.mesh.element_left_of_axis() {
                 let body = self
                     .names
@@ -178,14 +173,15 @@ impl Model {
                     .and_then(|&b| self.names.bodies.get(b))
                     .map(|b| format!(" of body '{b}'"))
                     .unwrap_or_default();
-                bail!(Input, "element {e}{body} has node {i} at r = x = {:.6} < 0: an axisymmetric mesh lies in x = r >= 0 (the axis is x = 0); move the body to x >= 0", self.mesh.nodes[i][0]);
+                bail!(Input, "element {e}{body} has node {i} at r = x = {:.6} < 0: an axisymmetric mesh lies in x = r >= 0 (the axis is x = 0); move the body to x >= 0", self.mesh.nodes[i].as_ref()[0]);
             }
-        } else if !(self.thickness.is_finite() && self.thickness > 0.0) {
-            bail!(
-                Input,
-                "thickness = {} is not allowed: give a positive out-of-plane thickness",
-                self.thickness
-            );
+        } else if let Some(t) = D::thickness(&self.section) {
+            if !(t.is_finite() && t > 0.0) {
+                bail!(
+                    Input,
+                    "thickness = {t} is not allowed: give a positive out-of-plane thickness"
+                );
+            }
         }
         if self.materials.is_empty() {
             bail!(Input, "no material given: every body needs a material with E and nu");
@@ -465,15 +461,10 @@ impl Model {
     /// "contact 'NAME' pair k (node n at (x, y))", or "contact pair k (node n)" without names.
     pub fn pair_name(&self, k: usize) -> String {
         let p = &self.pairs[k];
-        let at = match self.dim() {
-            2 => self.mesh.nodes.get(p.node_a).map(|x| format!(" at ({:.6}, {:.6})", x[0], x[1])),
-            _ => self
-                .mesh
-                .points
-                .get(p.node_a)
-                .map(|x| format!(" at ({:.6}, {:.6}, {:.6})", x[0], x[1], x[2])),
-        }
-        .unwrap_or_default();
+        let at = self.mesh.nodes.get(p.node_a).map_or_else(String::new, |x| {
+            let coordinates: Vec<String> = x.as_ref().iter().map(|v| format!("{v:.6}")).collect();
+            format!(" at ({})", coordinates.join(", "))
+        });
         match self.names.contacts.get(p.contact) {
             Some(c) => format!("contact '{c}' pair {k} (node {}{at})", p.node_a),
             None => format!("contact pair {k} (node {}{at})", p.node_a),

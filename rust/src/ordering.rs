@@ -345,6 +345,7 @@ impl Dissection<'_> {
 
 #[cfg(test)]
 mod tests {
+    use crate::dim::Spatial;
     use crate::element::Tet4;
     use crate::factor::faer_llt::{symbolic_analysis, work_of};
     use crate::linalg::{DofMap, DofRole, NodeOrder, StiffnessPattern};
@@ -352,7 +353,7 @@ mod tests {
 
     /// The unit cube cut into k³ cubes of 6 tetrahedra each (Freudenthal's split along the
     /// diagonal (0,0,0)-(1,1,1)): (k + 1)³ nodes.
-    fn cube(k: usize) -> Mesh {
+    fn cube(k: usize) -> Mesh<Spatial> {
         let id = |i: usize, j: usize, l: usize| (l * (k + 1) + j) * (k + 1) + i;
         let h = 1.0 / k as f64;
         let points = (0..(k + 1).pow(3))
@@ -380,11 +381,11 @@ mod tests {
                 tets.push(tet);
             }
         }
-        Mesh::space(points, tets)
+        Mesh::<Spatial>::new(points, tets)
     }
 
     fn map_of(
-        mesh: &Mesh,
+        mesh: &Mesh<Spatial>,
         fixed: &[bool],
         trailing: &[usize],
         how: NodeOrder,
@@ -410,15 +411,15 @@ mod tests {
         let n_dofs = 3 * mesh.n_nodes();
         // The face z = 0 held; the face z = 1 in contact: its normal DOFs trailing, listed
         // against the nodes' order, and the x DOFs of its first row too (a frictional pair's).
-        let fixed: Vec<bool> = (0..n_dofs).map(|d| mesh.points[d / 3][2] == 0.0).collect();
+        let fixed: Vec<bool> = (0..n_dofs).map(|d| mesh.nodes[d / 3][2] == 0.0).collect();
         let top: Vec<usize> =
-            (0..mesh.n_nodes()).rev().filter(|&n| mesh.points[n][2] == 1.0).collect();
+            (0..mesh.n_nodes()).rev().filter(|&n| mesh.nodes[n][2] == 1.0).collect();
         let trailing: Vec<usize> = top
             .iter()
             .map(|&n| 3 * n + 2)
-            .chain(top.iter().filter(|&&n| mesh.points[n][1] == 0.0).map(|&n| 3 * n))
+            .chain(top.iter().filter(|&&n| mesh.nodes[n][1] == 0.0).map(|&n| 3 * n))
             .collect();
-        let (_, map) = map_of(&mesh, &fixed, &trailing, NodeOrder::NestedDissection(&mesh.points));
+        let (_, map) = map_of(&mesh, &fixed, &trailing, NodeOrder::NestedDissection(&mesh.nodes));
         let n_free = fixed.iter().filter(|&&f| !f).count();
         assert_eq!(map.n_equations, n_free);
         let mut seen = vec![false; n_free];
@@ -449,13 +450,13 @@ mod tests {
     fn nested_dissection_factors_a_cube_with_fewer_flops_than_minimum_degree() {
         let mesh = cube(16);
         let n_dofs = 3 * mesh.n_nodes();
-        let fixed: Vec<bool> = (0..n_dofs).map(|d| mesh.points[d / 3][2] == 0.0).collect();
+        let fixed: Vec<bool> = (0..n_dofs).map(|d| mesh.nodes[d / 3][2] == 0.0).collect();
         let top: Vec<usize> =
-            (0..mesh.n_nodes()).filter(|&n| mesh.points[n][2] == 1.0).map(|n| 3 * n + 2).collect();
+            (0..mesh.n_nodes()).filter(|&n| mesh.nodes[n][2] == 1.0).map(|n| 3 * n + 2).collect();
         for trailing in [vec![], top] {
             let (elements, amd) = map_of(&mesh, &fixed, &trailing, NodeOrder::MinimumDegree);
             let (_, nd) =
-                map_of(&mesh, &fixed, &trailing, NodeOrder::NestedDissection(&mesh.points));
+                map_of(&mesh, &fixed, &trailing, NodeOrder::NestedDissection(&mesh.nodes));
             let ratio = flops(&elements, &nd) / flops(&elements, &amd);
             assert!(
                 ratio < 0.75,

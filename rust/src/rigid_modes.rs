@@ -9,7 +9,7 @@
 //! move is an error, not a singular factorization). For each mode one DOF is "pinned" so that
 //! the rest of K is SPD (see `linalg`).
 
-use crate::material::Plane;
+use crate::dim::Dim;
 use crate::mesh::Mesh;
 use nalgebra::{DMatrix, Matrix3, Matrix6};
 
@@ -31,25 +31,16 @@ pub struct RigidMode {
     pub weights: Vec<f64>,
 }
 
-/// The number of elementary rigid motions in `dim` dimensions: translations, then rotations.
-pub fn elementary_modes(dim: usize) -> usize {
-    if dim == 2 {
-        3
-    } else {
-        6
-    }
-}
-
-/// Free rigid modes of every body, plus the pinned DOFs (one per mode); `plane` is the 2D
-/// stress state (ignored in 3D).
-pub fn free_modes(
-    mesh: &Mesh,
+/// Free rigid modes of every body, plus the pinned DOFs (one per mode); `axisymmetric`: a
+/// model of rings about the axis, whose only rigid motion is the axial translation.
+pub fn free_modes<D: Dim>(
+    mesh: &Mesh<D>,
     body_of_node: &[usize],
     n_bodies: usize,
     fixed: &[bool],
-    plane: Plane,
+    axisymmetric: bool,
 ) -> (Vec<RigidMode>, Vec<usize>) {
-    let dim = mesh.dim();
+    let dim = D::N;
     let mut modes = Vec::new();
     let mut pinned = Vec::new();
     for body in 0..n_bodies {
@@ -57,7 +48,6 @@ pub fn free_modes(
             (0..mesh.n_nodes()).filter(|&i| body_of_node[i] == body).collect();
         let frame = BodyFrame::of(mesh, &members);
         let mut body_vectors: Vec<Vec<f64>> = Vec::new();
-        let axisymmetric = dim == 2 && plane == Plane::Axisymmetric;
         for coef in surviving_combinations(
             &frame.supports_gram(&members, fixed),
             frame.threshold(&members, fixed),
@@ -85,16 +75,16 @@ pub fn free_modes(
 }
 
 /// A body's centroid and size, so that its rotation modes have O(1) entries.
-struct BodyFrame<'n> {
-    mesh: &'n Mesh,
+struct BodyFrame<'n, D: Dim> {
+    mesh: &'n Mesh<D>,
     dim: usize,
     centre: [f64; 3],
     size: f64,
 }
 
-impl<'n> BodyFrame<'n> {
-    fn of(mesh: &'n Mesh, members: &[usize]) -> Self {
-        let (m, dim) = (members.len() as f64, mesh.dim());
+impl<'n, D: Dim> BodyFrame<'n, D> {
+    fn of(mesh: &'n Mesh<D>, members: &[usize]) -> Self {
+        let (m, dim) = (members.len() as f64, D::N);
         let centre = members.iter().fold([0.0; 3], |s, &i| {
             let p = mesh.point(i);
             std::array::from_fn(|k| s[k] + p[k] / m)
@@ -116,8 +106,8 @@ impl<'n> BodyFrame<'n> {
         }
         let p = self.mesh.point(i);
         let r: [f64; 3] = std::array::from_fn(|a| (p[a] - self.centre[a]) / self.size);
-        let axis = if self.dim == 2 { 2 } else { k - 3 };
-        // (e_axis × r)_c
+        let axis = k + 3 - D::RIGID_MODES; // 2D: about z; 3D: x, y, z
+                                           // (e_axis × r)_c
         let (a1, a2) = ((axis + 1) % 3, (axis + 2) % 3);
         match c {
             _ if c == a1 => -r[a2],
@@ -134,7 +124,7 @@ impl<'n> BodyFrame<'n> {
     /// AᵀA of the rigid modes' rows at the body's fixed DOFs: its null space is the
     /// combinations the supports leave free.
     fn supports_gram(&self, members: &[usize], fixed: &[bool]) -> DMatrix<f64> {
-        let n = elementary_modes(self.dim);
+        let n = D::RIGID_MODES;
         let mut ata = DMatrix::<f64>::zeros(n, n);
         for dof in self.dofs(members).filter(|&d| fixed[d]) {
             for k in 0..n {
@@ -159,15 +149,14 @@ impl<'n> BodyFrame<'n> {
 /// to round-off, a ring load on the largest ring only ~P/(2π r h). (Measured on the Hertz
 /// sphere: the relative residual of a snapshot 4e-10 pinned at the contact point, where the
 /// plane's greedy choice lands, against 1e-11 of the full path.)
-fn pin_on_the_largest_ring(mesh: &Mesh, members: &[usize], vectors: &[Vec<f64>]) -> Vec<usize> {
-    let nodes = &mesh.nodes;
-    let outer = members.iter().copied().fold(members[0], |best, i| {
-        if nodes[i][0] > nodes[best][0] {
-            i
-        } else {
-            best
-        }
-    });
+fn pin_on_the_largest_ring<D: Dim>(
+    mesh: &Mesh<D>,
+    members: &[usize],
+    vectors: &[Vec<f64>],
+) -> Vec<usize> {
+    let r = |i: usize| mesh.nodes[i].as_ref()[0];
+    let outer =
+        members.iter().copied().fold(members[0], |best, i| if r(i) > r(best) { i } else { best });
     vectors.iter().map(|_| 2 * outer + 1).collect()
 }
 
@@ -258,20 +247,21 @@ fn pick_pinned_dofs(members: &[usize], dim: usize, vectors: &[Vec<f64>]) -> Vec<
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dim::{Planar, Spatial};
 
-    fn square_nodes() -> Mesh {
-        Mesh::plane(
+    fn square_nodes() -> Mesh<Planar> {
+        Mesh::<Planar>::new(
             vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
             vec![[0, 1, 2], [0, 2, 3]],
         )
     }
 
     /// The unit cube's corners in 3D (five tetrahedra are not needed: modes read the nodes).
-    fn cube() -> Mesh {
+    fn cube() -> Mesh<Spatial> {
         let points = (0..8)
             .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
             .collect();
-        Mesh::space(points, vec![[0, 1, 2, 4]])
+        Mesh::<Spatial>::new(points, vec![[0, 1, 2, 4]])
     }
 
     #[test]
@@ -279,7 +269,7 @@ mod tests {
         // Free: 3 translations + 3 rotations. Held in x on the face x = 0 and in y on y = 0
         // (the eighth of a sphere's symmetry planes): only the translation in z survives.
         let m = cube();
-        let (modes, pinned) = free_modes(&m, &[0; 8], 1, &vec![false; 24], Plane::Strain);
+        let (modes, pinned) = free_modes(&m, &[0; 8], 1, &vec![false; 24], false);
         assert_eq!(modes.len(), 6);
         let mut p = pinned.clone();
         p.sort();
@@ -290,17 +280,17 @@ mod tests {
             fixed[3 * i] |= i & 1 == 0; // x = 0: u_x
             fixed[3 * i + 1] |= (i >> 1) & 1 == 0; // y = 0: u_y
         }
-        let (modes, pinned) = free_modes(&m, &[0; 8], 1, &fixed, Plane::Strain);
+        let (modes, pinned) = free_modes(&m, &[0; 8], 1, &fixed, false);
         assert_eq!(modes.len(), 1);
         assert_eq!(modes[0].description, "translation in z");
         assert_eq!(pinned[0] % 3, 2);
         // One face held in z as well: a body on rollers in z, x and y: no mode left.
         (0..4).for_each(|i| fixed[3 * i + 2] = true);
-        assert!(free_modes(&m, &[0; 8], 1, &fixed, Plane::Strain).0.is_empty());
+        assert!(free_modes(&m, &[0; 8], 1, &fixed, false).0.is_empty());
         // Held only in z on the face z = 0: x, y translations and the rotation about z remain.
         let mut z_only = vec![false; 24];
         (0..4).for_each(|i| z_only[3 * i + 2] = true);
-        let (modes, _) = free_modes(&m, &[0; 8], 1, &z_only, Plane::Strain);
+        let (modes, _) = free_modes(&m, &[0; 8], 1, &z_only, false);
         assert_eq!(modes.len(), 3);
         let words: Vec<&str> = modes.iter().map(|md| md.description.as_str()).collect();
         assert!(
@@ -318,7 +308,7 @@ mod tests {
         let mut fixed = vec![false; 8];
         fixed[0] = true;
         fixed[6] = true;
-        let (modes, pinned) = free_modes(&nodes, &[0; 4], 1, &fixed, Plane::Strain);
+        let (modes, pinned) = free_modes(&nodes, &[0; 4], 1, &fixed, false);
         assert_eq!(modes.len(), 1);
         assert_eq!(modes[0].description, "translation in y");
         assert_eq!(pinned.len(), 1);
@@ -328,7 +318,7 @@ mod tests {
     #[test]
     fn free_body_has_three_modes_and_three_pins() {
         let nodes = square_nodes();
-        let (modes, pinned) = free_modes(&nodes, &[0; 4], 1, &vec![false; 8], Plane::Strain);
+        let (modes, pinned) = free_modes(&nodes, &[0; 4], 1, &vec![false; 8], false);
         assert_eq!(modes.len(), 3);
         let mut p = pinned.clone();
         p.sort();
@@ -343,7 +333,7 @@ mod tests {
         fixed[0] = true;
         fixed[1] = true;
         fixed[3] = true;
-        let (modes, _) = free_modes(&nodes, &[0; 4], 1, &fixed, Plane::Strain);
+        let (modes, _) = free_modes(&nodes, &[0; 4], 1, &fixed, false);
         assert!(modes.is_empty());
     }
 
@@ -352,7 +342,7 @@ mod tests {
         // Rings: a free body has one zero-energy mode (translation along the axis y), pinned
         // at a y DOF; holding one y DOF removes it, holding x DOFs does not.
         let nodes = square_nodes();
-        let (modes, pinned) = free_modes(&nodes, &[0; 4], 1, &vec![false; 8], Plane::Axisymmetric);
+        let (modes, pinned) = free_modes(&nodes, &[0; 4], 1, &vec![false; 8], true);
         assert_eq!(modes.len(), 1);
         assert_eq!(modes[0].description, "translation in y");
         assert_eq!(modes[0].vector, vec![0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0]);
@@ -360,8 +350,8 @@ mod tests {
         let mut fixed = vec![false; 8];
         fixed[0] = true;
         fixed[6] = true;
-        assert_eq!(free_modes(&nodes, &[0; 4], 1, &fixed, Plane::Axisymmetric).0.len(), 1);
+        assert_eq!(free_modes(&nodes, &[0; 4], 1, &fixed, true).0.len(), 1);
         fixed[3] = true;
-        assert!(free_modes(&nodes, &[0; 4], 1, &fixed, Plane::Axisymmetric).0.is_empty());
+        assert!(free_modes(&nodes, &[0; 4], 1, &fixed, true).0.is_empty());
     }
 }

@@ -1,12 +1,13 @@
 //! Whole-engine tests on small structured meshes: patch tests, flat contact, rigid-body
 //! freedom. (Hertz, Spence and the event history on graded meshes are tested from Python.)
 
+use slipstep_core::dim::{Planar, PlaneSection};
 use slipstep_core::material::{Material, Plane};
 use slipstep_core::mesh::Mesh;
 use slipstep_core::model::*;
 
 /// nx × ny rectangle [x0, x0+w] × [y0, y0+h], two triangles per cell.
-fn rectangle(x0: f64, y0: f64, w: f64, h: f64, nx: usize, ny: usize) -> Mesh {
+fn rectangle(x0: f64, y0: f64, w: f64, h: f64, nx: usize, ny: usize) -> Mesh<Planar> {
     let mut nodes = vec![];
     for j in 0..=ny {
         for i in 0..=nx {
@@ -27,15 +28,15 @@ fn rectangle(x0: f64, y0: f64, w: f64, h: f64, nx: usize, ny: usize) -> Mesh {
             }
         }
     }
-    Mesh::plane(nodes, triangles)
+    Mesh::<Planar>::new(nodes, triangles)
 }
 
-fn nodes_where(mesh: &Mesh, f: impl Fn([f64; 2]) -> bool) -> Vec<usize> {
+fn nodes_where(mesh: &Mesh<Planar>, f: impl Fn([f64; 2]) -> bool) -> Vec<usize> {
     (0..mesh.nodes.len()).filter(|&i| f(mesh.nodes[i])).collect()
 }
 
 /// Consistent nodal loads of a uniform traction on the edge y = y_top (nodes sorted by x).
-fn top_traction(mesh: &Mesh, y_top: f64, traction: [f64; 2], load: &mut [f64]) {
+fn top_traction(mesh: &Mesh<Planar>, y_top: f64, traction: [f64; 2], load: &mut [f64]) {
     let mut top = nodes_where(mesh, |p| (p[1] - y_top).abs() < 1e-12);
     top.sort_by(|&a, &b| mesh.nodes[a][0].partial_cmp(&mesh.nodes[b][0]).unwrap());
     for w in top.windows(2) {
@@ -48,19 +49,18 @@ fn top_traction(mesh: &Mesh, y_top: f64, traction: [f64; 2], load: &mut [f64]) {
 }
 
 fn model(
-    mesh: Mesh,
+    mesh: Mesh<Planar>,
     fixed: Vec<usize>,
     load: Vec<f64>,
     pairs: Vec<PairInput>,
     plane: Plane,
-) -> Model {
-    let n_el = mesh.triangles.len();
+) -> Model<Planar> {
+    let n_el = mesh.elements.len();
     Model {
         mesh,
         element_material: vec![0; n_el],
         materials: vec![Material::elastic(1000.0, 0.3)],
-        plane,
-        thickness: 1.0,
+        section: PlaneSection { plane, thickness: 1.0 },
         fixed_dofs: fixed,
         load,
         patterns: vec![],
@@ -270,13 +270,13 @@ fn initial_penetration_and_negative_mu_are_named() {
 /// Upper block on a lower block (matching interface nodes, zero gaps, node-to-node pairs),
 /// lower block clamped at its base, symmetry on x = 0, pressure q on the upper top.
 /// Force is conserved across the interface: Σλ_n = q·w_upper.
-fn two_blocks(q: f64, wu: f64) -> Model {
+fn two_blocks(q: f64, wu: f64) -> Model<Planar> {
     let lower = rectangle(0.0, 0.0, 2.0, 1.0, 8, 4);
     let upper = rectangle(0.0, 1.0, wu, 0.5, 4, 2);
     let off = lower.nodes.len();
     let mut mesh = lower.clone();
     mesh.nodes.extend(upper.nodes.iter().copied());
-    mesh.triangles.extend(upper.triangles.iter().map(|t| t.map(|v| v + off)));
+    mesh.elements.extend(upper.elements.iter().map(|t| t.map(|v| v + off)));
     let n = mesh.nodes.len();
     let mut fixed = vec![];
     for i in 0..n {
@@ -353,7 +353,13 @@ fn tractionless_body_returns_zero_stress() {
 
 /// Unit square of two CSTs on rollers (u_x = 0 on x = 0, u_y = 0 on y = 0): a uniform stress
 /// state, loaded on the right edge (uniaxial) or on the top edge (compression).
-fn square_on_rollers(load_right: f64, load_top: f64, plane: Plane, sy: f64, h: f64) -> Model {
+fn square_on_rollers(
+    load_right: f64,
+    load_top: f64,
+    plane: Plane,
+    sy: f64,
+    h: f64,
+) -> Model<Planar> {
     let mesh = rectangle(0.0, 0.0, 1.0, 1.0, 1, 1);
     let mut fixed = vec![];
     for i in nodes_where(&mesh, |p| p[0].abs() < 1e-12) {
@@ -478,7 +484,7 @@ fn reduced_elastic_mode_reproduces_the_general_path() {
 /// A block of width 2 on the rigid flat y = 0 (all pairs closed, gap 0), pressed by q = 1 and
 /// sheared by a traction τ on its top, held by nothing else in x: by equilibrium of the whole
 /// block the pairs must carry Σλ_t = −2τ with Σλ_n = 2, so friction holds it iff τ ≤ μ q.
-fn sheared_block(mu: f64, tau: f64) -> Model {
+fn sheared_block(mu: f64, tau: f64) -> Model<Planar> {
     let mesh = rectangle(0.0, 0.0, 2.0, 1.0, 4, 2);
     let n = mesh.nodes.len();
     let mut load = vec![0.0; 2 * n];
@@ -499,7 +505,7 @@ fn sheared_block(mu: f64, tau: f64) -> Model {
     let mut m = model(mesh, vec![], load, pairs, Plane::Strain);
     m.names = Names {
         bodies: vec!["block".into()],
-        element_body: vec![0; m.mesh.triangles.len()],
+        element_body: vec![0; m.mesh.elements.len()],
         contacts: vec!["base".into()],
         ..Default::default()
     };
@@ -551,7 +557,7 @@ fn shear_beyond_the_friction_limit_is_gross_sliding_of_the_named_body() {
 
 /// A column [0, 1] × [0.01, 2.01] clamped at its top, hanging 0.01 above the rigid flat y = 0,
 /// with a candidate pair at every bottom node; `pull` is the downward force per bottom node.
-fn hanging_column(pull: f64, mu: f64) -> (Model, Vec<usize>) {
+fn hanging_column(pull: f64, mu: f64) -> (Model<Planar>, Vec<usize>) {
     let mesh = rectangle(0.0, 0.01, 1.0, 2.0, 2, 4);
     let n = mesh.nodes.len();
     let fixed: Vec<usize> = nodes_where(&mesh, |p| (p[1] - 2.01).abs() < 1e-12)
@@ -724,7 +730,7 @@ fn path_input_errors_name_the_load_or_stage() {
 /// Consistent ring loads 2π ∫ N_i r t ds of a uniform traction t on the straight boundary
 /// through the nodes `ids` (sorted along it): each segment gives its end i
 /// 2π L (2 r_i + r_j)/6 · t (N and r linear along it).
-fn ring_traction(mesh: &Mesh, mut ids: Vec<usize>, traction: [f64; 2], load: &mut [f64]) {
+fn ring_traction(mesh: &Mesh<Planar>, mut ids: Vec<usize>, traction: [f64; 2], load: &mut [f64]) {
     let key = |i: &usize| mesh.nodes[*i][0] + mesh.nodes[*i][1];
     ids.sort_by(|a, b| key(a).partial_cmp(&key(b)).unwrap());
     for w in ids.windows(2) {
@@ -828,7 +834,7 @@ fn ring_element_left_of_the_axis_is_named() {
     let mesh = rectangle(-0.25, 0.0, 1.0, 1.0, 2, 2);
     let n = mesh.nodes.len();
     let mut m = model(mesh, vec![1], vec![0.0; 2 * n], vec![], Plane::Axisymmetric);
-    m.thickness = f64::NAN; // thickness does not apply to rings: not what is refused here
+    m.section.thickness = f64::NAN; // thickness does not apply to rings: not what is refused here
     let err = slipstep_core::run(&m, |_| true).unwrap_err().message;
     assert!(
         err.starts_with("element 0 has node 0 at r = x = -0.25") && err.contains("x >= 0"),
@@ -839,7 +845,7 @@ fn ring_element_left_of_the_axis_is_named() {
 /// A block of height h resting on the rigid flat y = 0 (a pair of coefficient μ at gap 0
 /// on every bottom node), held by nothing else: the load q presses its top, pattern 1 is the
 /// traction `shear` on its top.
-fn block_on_flat(mesh: Mesh, h: f64, q: f64, shear: [f64; 2], mu: f64) -> Model {
+fn block_on_flat(mesh: Mesh<Planar>, h: f64, q: f64, shear: [f64; 2], mu: f64) -> Model<Planar> {
     let n = mesh.nodes.len();
     let (mut load, mut sheared) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
     top_traction(&mesh, h, [0.0, -q], &mut load);
@@ -861,7 +867,7 @@ fn block_on_flat(mesh: Mesh, h: f64, q: f64, shear: [f64; 2], mu: f64) -> Model 
     m.patterns = vec![LoadPattern { name: "shear".into(), force: sheared, ..Default::default() }];
     m.names = Names {
         bodies: vec!["block".into()],
-        element_body: vec![0; m.mesh.triangles.len()],
+        element_body: vec![0; m.mesh.elements.len()],
         contacts: vec!["base".into()],
         ..Default::default()
     };
@@ -950,7 +956,7 @@ fn a_block_pulled_off_the_flat_lifts_off_where_the_pressure_changes_sign() {
 
 /// [0, w] × [0, h], nx × ny cells each cut into four triangles at its centre node: mirror-
 /// symmetric about x = w/2, and with nx odd no node lies on that axis.
-fn crossed_rectangle(w: f64, h: f64, nx: usize, ny: usize) -> Mesh {
+fn crossed_rectangle(w: f64, h: f64, nx: usize, ny: usize) -> Mesh<Planar> {
     let mut nodes: Vec<[f64; 2]> = (0..=ny)
         .flat_map(|j| (0..=nx).map(move |i| [w * i as f64 / nx as f64, h * j as f64 / ny as f64]))
         .collect();
@@ -963,7 +969,7 @@ fn crossed_rectangle(w: f64, h: f64, nx: usize, ny: usize) -> Mesh {
             triangles.extend([[a, b, e], [b, c, e], [c, d, e], [d, a, e]]);
         }
     }
-    Mesh::plane(nodes, triangles)
+    Mesh::<Planar>::new(nodes, triangles)
 }
 
 #[test]

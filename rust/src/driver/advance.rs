@@ -8,14 +8,15 @@ use super::selection::Selection;
 use super::state::{IncrementStart, State, TrialIncrement};
 use super::switching::{contact_forces, jumps_kept, keep_jumps};
 use crate::contact::Status;
+use crate::dim::Dim;
 use crate::model::EventKind;
 
 /// u, σ, λ += S × trial (eqs. 58–61), the stresses of plastic elements (and, in a plastic
 /// window, of those that yield inside) integrated (`plasticity`); slipping pairs on the
 /// Coulomb cone (eq. 62). Returns the increment's start when stresses were integrated: it then
 /// needs an equilibrium correction, and tells what yielded inside.
-pub(super) fn to_event(
-    eng: &Engine,
+pub(super) fn to_event<D: Dim>(
+    eng: &Engine<D>,
     state: &mut State,
     trial: &TrialIncrement,
     sel: &Selection,
@@ -48,7 +49,7 @@ pub(super) fn to_event(
 /// Slipping pairs onto their friction force (eq. 62; `Problem::slip_force`: in space on their
 /// facet, the cross force kept within its band), round-off removed. Returns the largest change:
 /// more than round-off where the last correction left a slipping pair off its cone.
-pub(super) fn project_onto_cone(problem: &Problem, state: &mut State) -> f64 {
+pub(super) fn project_onto_cone<D: Dim>(problem: &Problem<D>, state: &mut State) -> f64 {
     let mut largest: f64 = 0.0;
     for p in 0..state.status.len() {
         if let Status::Slip { .. } = state.status[p] {

@@ -6,6 +6,7 @@ use super::selection::Selection;
 use super::space::Space;
 use super::state::{State, TrialIncrement};
 use crate::bail;
+use crate::dim::Dim;
 use crate::error::Result;
 use crate::model::StopReason;
 
@@ -41,7 +42,7 @@ impl Correction {
 
 /// |P(s) − P_σ + Wλ| / |P| over all DOFs, from the stresses of a full state, and the internal
 /// force P_σ it used (reused by the next trial from the same stresses).
-pub(super) fn full_residual(eng: &Engine, state: &State) -> (f64, Vec<f64>) {
+pub(super) fn full_residual<D: Dim>(eng: &Engine<D>, state: &State) -> (f64, Vec<f64>) {
     let problem = &eng.problem;
     let internal = problem.internal_force(&state.stress);
     let r = eng.loads.residual_from(problem, &internal, state, state.load_fraction);
@@ -53,7 +54,10 @@ pub(super) fn full_residual(eng: &Engine, state: &State) -> (f64, Vec<f64>) {
 /// is orthogonal to the free rigid modes (K K# y = y for y ⊥ N): only that part is measured
 /// here; snapshots check in full. (With stages, P(s) is the stage's load and K#P the sum of the
 /// stages' K# loads.)
-pub(super) fn equilibrium_residual(eng: &Engine, state: &State) -> (f64, Option<Vec<f64>>) {
+pub(super) fn equilibrium_residual<D: Dim>(
+    eng: &Engine<D>,
+    state: &State,
+) -> (f64, Option<Vec<f64>>) {
     let problem = &eng.problem;
     if let Space::Full = problem.space {
         let (r, internal) = full_residual(eng, state);
@@ -69,7 +73,12 @@ pub(super) fn equilibrium_residual(eng: &Engine, state: &State) -> (f64, Option<
 }
 
 /// An error unless the residual is within `equilibrium_tol`.
-pub(super) fn check_equilibrium(eng: &Engine, residual: f64, phi: f64, step: usize) -> Result<()> {
+pub(super) fn check_equilibrium<D: Dim>(
+    eng: &Engine<D>,
+    residual: f64,
+    phi: f64,
+    step: usize,
+) -> Result<()> {
     let tol = eng.problem.model.options.equilibrium_tol;
     if residual > tol {
         bail!(Equilibrium, "equilibrium residual {residual:.3e} exceeds {tol:.1e} at load fraction {phi:.6} (step {step}): the linear system is ill-conditioned; check for nearly unsupported bodies or extreme element size ratios");
@@ -80,8 +89,8 @@ pub(super) fn check_equilibrium(eng: &Engine, residual: f64, phi: f64, step: usi
 /// Contact conditions at an event: no penetration, λ_n ≥ 0, Coulomb's cone (for a slipping 3D
 /// pair that has slipped its polygon: `Problem::friction_excess`). A violation by a pair the
 /// last-resort anti-cycling rule froze is reported as an ill-posed scene.
-pub(super) fn check_contact(
-    eng: &Engine,
+pub(super) fn check_contact<D: Dim>(
+    eng: &Engine<D>,
     state: &State,
     frozen: &[bool],
     correction: Correction,
@@ -137,9 +146,9 @@ pub(super) struct LimitLoad {
 }
 
 impl LimitLoad {
-    pub fn check(
+    pub fn check<D: Dim>(
         &mut self,
-        eng: &Engine,
+        eng: &Engine<D>,
         state: &State,
         trial: &TrialIncrement,
         sel: &Selection,

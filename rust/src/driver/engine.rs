@@ -8,21 +8,26 @@ use super::loads::StageLoads;
 use super::problem::Problem;
 use super::state::State;
 use super::stiffness::Stiffness;
+use crate::dim::Dim;
+use crate::element::Discretization;
 use crate::error::Result;
 use crate::model::Model;
 
-pub(super) struct Engine<'m, 'c> {
-    pub problem: Problem<'m>,
+pub(super) struct Engine<'m, 'c, D: Dim> {
+    pub problem: Problem<'m, D>,
     pub stiffness: Stiffness,
     pub loads: StageLoads,
     /// Where the time goes (owned by `run`, so that a timer needs no borrow of the engine).
     pub clock: &'c Clock,
 }
 
-impl<'m, 'c> Engine<'m, 'c> {
+impl<'m, 'c, D: Dim> Engine<'m, 'c, D> {
     /// The problem, K factored, and the first stage's loads; `model` must have passed
     /// `Model::validate`.
-    pub fn new(model: &'m Model, clock: &'c Clock) -> Result<Self> {
+    pub fn new(model: &'m Model<D>, clock: &'c Clock) -> Result<Self>
+    where
+        D: Discretization,
+    {
         let problem = {
             let _t = clock.time(Phase::Assembly);
             Problem::new(model)?

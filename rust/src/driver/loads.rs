@@ -10,6 +10,7 @@ use super::space::Space;
 use super::state::State;
 use super::stiffness::Stiffness;
 use crate::contact::Shift;
+use crate::dim::Dim;
 
 /// The loads of the stage the loop is in.
 pub(super) struct StageLoads {
@@ -37,8 +38,8 @@ impl StageLoads {
     /// The loads of stage k (0-based): its forces, the free rigid modes' share of them, and in
     /// the reduced space K# of its effective load (one solve per stage), with the completed
     /// stages' (`done`) accumulated.
-    pub fn begin(
-        problem: &Problem,
+    pub fn begin<D: Dim>(
+        problem: &Problem<D>,
         stiffness: &mut Stiffness,
         k: usize,
         done: ReducedLoad,
@@ -85,9 +86,9 @@ impl StageLoads {
     }
 
     /// ū(target) − u at every prescribed DOF (full space; residual form, so no drift).
-    pub fn prescribed_increment(
+    pub fn prescribed_increment<D: Dim>(
         &self,
-        problem: &Problem,
+        problem: &Problem<D>,
         state: &State,
         target: f64,
     ) -> Vec<(usize, f64)> {
@@ -109,7 +110,7 @@ impl StageLoads {
 
     /// The stage's load change over the equations, zero at held DOFs (the cached sweep's load,
     /// `Stiffness::forward_sweep`).
-    pub fn change_on_equations(&self, problem: &Problem) -> Vec<f64> {
+    pub fn change_on_equations<D: Dim>(&self, problem: &Problem<D>) -> Vec<f64> {
         let change = self.load.force_change();
         problem
             .dofs
@@ -122,9 +123,9 @@ impl StageLoads {
 
     /// Out-of-balance force at stage fraction `phi`: P(φ) − P_σ + contact forces over the free
     /// DOFs (the right-hand side of eq. 43), from the internal force P_σ of the stresses.
-    pub fn residual_from(
+    pub fn residual_from<D: Dim>(
         &self,
-        problem: &Problem,
+        problem: &Problem<D>,
         internal: &[f64],
         state: &State,
         phi: f64,
@@ -144,7 +145,7 @@ impl StageLoads {
     /// max |u| of a state at stage fraction s (for round-off tolerances). The reduced space
     /// carries u at the contact DOFs only: the loads' share elsewhere is bounded by
     /// max |Σ u_stage of completed stages| + s × max |u_stage|.
-    pub fn largest_displacement(&self, problem: &Problem, u: &[f64], s: f64) -> f64 {
+    pub fn largest_displacement<D: Dim>(&self, problem: &Problem<D>, u: &[f64], s: f64) -> f64 {
         let carried = u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         match problem.space {
             Space::Reduced(_) => {
@@ -155,7 +156,7 @@ impl StageLoads {
     }
 
     /// max |Δu| of an increment over a stage fraction c (as `largest_displacement`).
-    pub fn largest_increment(&self, problem: &Problem, du: &[f64], c: f64) -> f64 {
+    pub fn largest_increment<D: Dim>(&self, problem: &Problem<D>, du: &[f64], c: f64) -> f64 {
         let carried = du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         match problem.space {
             Space::Reduced(_) => carried.max(c.abs() * self.reduced.u_load_max),

@@ -84,6 +84,8 @@ mod trial;
 mod window;
 
 use crate::contact::Status;
+use crate::dim::Dim;
+use crate::element::Discretization;
 use crate::error::{Error, ErrorKind, Result};
 use crate::events::Candidate;
 use crate::model::{EventKind, Model, Options, Progress, RunResult, StopReason};
@@ -108,7 +110,10 @@ use window::Window;
 /// refuses before any load is applied (a free body, a load beyond friction at t = 0) is an
 /// error; a later failure (and a panic: an engine bug) ends the run as a
 /// `StopReason::Failed` with the results of the increments completed.
-pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<RunResult> {
+pub fn run<D: Discretization>(
+    model: &Model<D>,
+    mut progress: impl FnMut(Progress) -> bool,
+) -> Result<RunResult> {
     model.validate()?;
     let clock = Clock::new();
     let mut eng = Engine::new(model, &clock)?;
@@ -144,8 +149,8 @@ pub fn run(model: &Model, mut progress: impl FnMut(Progress) -> bool) -> Result<
 }
 
 /// The stages of the load path in turn (`path`), each from the state the last one left.
-fn run_path(
-    eng: &mut Engine,
+fn run_path<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     rec: &mut Recorder,
     cycles: &mut AntiCycling,
@@ -208,8 +213,8 @@ enum Outcome {
 
 /// The procedure of §4 over one stage, s from 0 to 1: returns `Completed` at S = 1, or why it
 /// stopped before.
-fn run_stage(
-    eng: &mut Engine,
+fn run_stage<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     rec: &mut Recorder,
     cycles: &mut AntiCycling,
@@ -241,8 +246,8 @@ fn run_stage(
 }
 
 /// One increment of §4: trial → select → window → advance → switch → settle → record.
-fn increment(
-    eng: &mut Engine,
+fn increment<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     rec: &mut Recorder,
     cycles: &mut AntiCycling,
@@ -322,7 +327,7 @@ fn unbalanced_jump(state: &State) -> f64 {
 
 /// The trial's scale at which the load of a body held by friction alone meets the limit of its
 /// pairs (∞ if none).
-fn friction_cut(eng: &Engine, state: &State, trial: &TrialIncrement) -> f64 {
+fn friction_cut<D: Dim>(eng: &Engine<D>, state: &State, trial: &TrialIncrement) -> f64 {
     let remaining = 1.0 - state.load_fraction;
     match restraint::friction_limit(&eng.problem, &eng.loads, state, trial) {
         Some(s) if remaining > 0.0 => (s - state.load_fraction) / remaining,
@@ -334,8 +339,8 @@ fn friction_cut(eng: &Engine, state: &State, trial: &TrialIncrement) -> f64 {
 /// event `first_event` (it lifts off, tips or slides as a whole: `restraint`), stops the run
 /// there with its results; one unheld before any load is applied (t = 0) is the trial's error
 /// (a missing support, a load beyond friction from the start).
-fn support_lost(
-    eng: &Engine,
+fn support_lost<D: Dim>(
+    eng: &Engine<D>,
     state: &State,
     rec: &Recorder,
     first_event: usize,
@@ -355,7 +360,7 @@ fn support_lost(
 /// Close again the pairs that separated since `first_event` (at zero force) and stick those
 /// that began to slip (on the cone): where a body loses its hold the state is balanced (an
 /// equilibrium correction) with the contacts that held it there, since beyond none do.
-fn restore_hold(eng: &Engine, state: &mut State, rec: &Recorder, first_event: usize) {
+fn restore_hold<D: Dim>(eng: &Engine<D>, state: &mut State, rec: &Recorder, first_event: usize) {
     for e in &rec.events[first_event..] {
         let back = match (e.kind, state.status[e.entity]) {
             (EventKind::Separate, Status::Open) => EventKind::Close,
@@ -385,8 +390,8 @@ enum Settled {
 /// the Coulomb cone that now slips is put back on it), taken event by event
 /// (`correct_at_fixed_load`); then the checks at the event (equilibrium, contact conditions).
 #[allow(clippy::too_many_arguments)]
-fn settle(
-    eng: &mut Engine,
+fn settle<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     sel: &Selection,
     cycles: &AntiCycling,

@@ -12,6 +12,7 @@
 //! one stage with every factor 1: P(s) = 0 + s·P, today's proportional load, to the bit.
 
 use crate::contact::{Frame, Shift};
+use crate::dim::Dim;
 use crate::model::{Model, PairInput};
 
 /// The loads of one stage, linear in its fraction s ∈ [0, 1].
@@ -70,7 +71,7 @@ pub(super) struct LoadPath {
 }
 
 impl LoadPath {
-    pub fn new(model: &Model) -> Self {
+    pub fn new<D: Dim>(model: &Model<D>) -> Self {
         let n_patterns = 1 + model.patterns.len();
         let mut factors = vec![vec![0.0; n_patterns]];
         factors.extend(model.stages.iter().map(|s| s.factors.clone()));

@@ -25,6 +25,7 @@ use super::state::{IncrementStart, State, TrialIncrement};
 use super::switching::switch_keeping;
 use super::tangents::Renewal;
 use super::trial::{self, Solve};
+use crate::dim::Dim;
 use crate::error::Result;
 use crate::events::{self, Candidate};
 use crate::material::{von_mises, yield_scale};
@@ -95,7 +96,7 @@ impl Corrected {
 }
 
 /// Yield-surface drift: max |σe − σy(εp)| / σy(εp) over plastic elements.
-pub(super) fn drift(problem: &Problem, state: &State) -> f64 {
+pub(super) fn drift<D: Dim>(problem: &Problem<D>, state: &State) -> f64 {
     (0..state.plastic.len())
         .filter(|&e| state.plastic[e])
         .map(|e| {
@@ -110,8 +111,8 @@ pub(super) fn drift(problem: &Problem, state: &State) -> f64 {
 /// increment's strain from `state` (before the advance). An elastic path that meets the
 /// surface within `STAGE_END` of the stage's end ties with the end, as a yield event does
 /// (`selection`): it belongs to the next stage.
-pub(super) fn integrate_stresses(
-    problem: &Problem,
+pub(super) fn integrate_stresses<D: Dim>(
+    problem: &Problem<D>,
     state: &State,
     trial: &TrialIncrement,
     sel: &Selection,
@@ -171,8 +172,8 @@ pub(super) fn place_integrated(
 /// their yield surfaces (the second-order drift of a fresh tangent over a bounded stress step:
 /// only waiting yields, `tangents`, do that), and every stage's end, then settle on the
 /// surfaces (`settle_on_surfaces`).
-pub(super) fn restore_equilibrium<W>(
-    eng: &mut Engine,
+pub(super) fn restore_equilibrium<W, D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     sel: &Selection,
     start: Option<IncrementStart>,
@@ -200,8 +201,8 @@ pub(super) fn restore_equilibrium<W>(
 /// are kept (in equilibrium to round-off), with their plastic strains and flags; an elastic
 /// element they leave beyond its surface has yielded. Err(window) for a window whose rounds
 /// stall (`stalls`).
-fn converge<W>(
-    eng: &mut Engine,
+fn converge<W, D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     phi: f64,
     start: &mut IncrementStart,
@@ -246,7 +247,11 @@ fn stalls(residual: f64, previous: Option<f64>, rounds_left: usize) -> bool {
 /// An elastic element the last correction left beyond its yield surface yielded in this
 /// increment (where the integration put its crossing, else at the end): plastic from here
 /// (its next increment starts on the surface).
-fn flag_beyond_surfaces(problem: &Problem, state: &mut State, start: &mut IncrementStart) {
+fn flag_beyond_surfaces<D: Dim>(
+    problem: &Problem<D>,
+    state: &mut State,
+    start: &mut IncrementStart,
+) {
     for e in 0..state.plastic.len() {
         let m = &problem.sections[e].material;
         if m.is_plastic()
@@ -261,7 +266,7 @@ fn flag_beyond_surfaces(problem: &Problem, state: &mut State, start: &mut Increm
 
 /// Every element that was plastic at the increment's start, is plastic now or is beyond its
 /// yield surface now: its start state integrated over the increment's whole strain so far.
-fn reintegrate(problem: &Problem, state: &mut State, start: &mut IncrementStart) {
+fn reintegrate<D: Dim>(problem: &Problem<D>, state: &mut State, start: &mut IncrementStart) {
     let du: Vec<f64> = state.u.iter().zip(&start.u).map(|(a, b)| a - b).collect();
     let now: &State = state;
     let integrated: Vec<(usize, Integrated)> = (0..now.stress.len())
@@ -304,8 +309,8 @@ fn reintegrate(problem: &Problem, state: &mut State, start: &mut IncrementStart)
 /// then retraces the stage's end (elastic shakedown stays elastic), and an unload starts on the
 /// surface. Repeated (at most `SETTLE_ROUNDS` times) until the drift is round-off at a stage's
 /// end.
-fn settle_on_surfaces(
-    eng: &mut Engine,
+fn settle_on_surfaces<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     phi: f64,
     stage_end: bool,
@@ -334,7 +339,13 @@ fn settle_on_surfaces(
 /// rate problem's slips, the next trial slipped them again at once, and the zero-length run
 /// ended on the last resort (an elastic sphere pressed on a flat at μ = 0.3, 11.8k DOFs:
 /// pairs stuck by corrections of 5e-14 mm at displacements of 1e-3 mm).
-fn reverses(eng: &Engine, state: &State, c: &TrialIncrement, p: usize, phi: f64) -> bool {
+fn reverses<D: Dim>(
+    eng: &Engine<D>,
+    state: &State,
+    c: &TrialIncrement,
+    p: usize,
+    phi: f64,
+) -> bool {
     let problem = &eng.problem;
     if problem.dim != 3 {
         return false;
@@ -357,7 +368,7 @@ fn reverses(eng: &Engine, state: &State, c: &TrialIncrement, p: usize, phi: f64)
 /// the load) slipped at once the pairs the rate problem had stuck on their cones, and turned
 /// by whole radians the facets of pairs that had just closed (λ_n ~ 1e-9 of the load), and the
 /// next trial undid both (the frictional Hertz sphere at 22.6k and 15.4k DOFs).
-fn within_round_off(eng: &Engine, state: &State, c: &TrialIncrement, p: usize) -> bool {
+fn within_round_off<D: Dim>(eng: &Engine<D>, state: &State, c: &TrialIncrement, p: usize) -> bool {
     let problem = &eng.problem;
     if problem.dim != 3 || problem.model.has_plastic_material() {
         return false;
@@ -374,8 +385,8 @@ fn within_round_off(eng: &Engine, state: &State, c: &TrialIncrement, p: usize) -
 /// reaching its cone: eqs. 48–53), switch that, and solve the rest again, so that the
 /// corrected state is admissible. Returns the correction's size and its events, in order.
 /// `internal`: the internal force of the state's stresses if the caller has it.
-pub(super) fn correct_at_fixed_load(
-    eng: &mut Engine,
+pub(super) fn correct_at_fixed_load<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     phi: f64,
     mut internal: Option<Vec<f64>>,

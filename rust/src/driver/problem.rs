@@ -10,14 +10,15 @@ use super::state::State;
 use crate::bail;
 use crate::contact::{Frame, Pair, PairGeometry, SparseVec, Status, HELD_BY_SUPPORTS};
 use crate::coulomb::Coulomb;
-use crate::element::Elements;
+use crate::dim::Dim;
+use crate::element::{Discretization, Elements};
 use crate::error::Result;
 use crate::linalg::{DofMap, NodeOrder};
 use crate::material::{Tangent, Voigt};
 use crate::model::Model;
 use crate::on_elements;
 use crate::rigid_modes::{free_modes, RigidMode};
-use crate::section::{Section, Solid, StressState};
+use crate::section::Section;
 
 /// Zero-gap pairs start closed: a gap within this × the length scale counts as zero.
 const INITIAL_CONTACT: f64 = 1e-12;
@@ -69,8 +70,8 @@ pub(super) struct Bodies {
     pub mode_vectors: Vec<Vec<f64>>,
 }
 
-pub(super) struct Problem<'m> {
-    pub model: &'m Model,
+pub(super) struct Problem<'m, D: Dim> {
+    pub model: &'m Model<D>,
     pub elements: Elements,
     /// DOFs per node (the model's dimension).
     pub dim: usize,
@@ -89,22 +90,25 @@ pub(super) struct Problem<'m> {
     pub scales: Scales,
 }
 
-impl<'m> Problem<'m> {
+impl<'m, D: Dim> Problem<'m, D> {
     /// Everything the loop needs from `model`, which must have passed `Model::validate`.
-    pub fn new(model: &'m Model) -> Result<Self> {
+    pub fn new(model: &'m Model<D>) -> Result<Self>
+    where
+        D: Discretization,
+    {
         let mesh = &model.mesh;
-        let dim = mesh.dim();
+        let dim = D::N;
         let n_dofs = dim * mesh.n_nodes();
         let path = LoadPath::new(model);
         let mut fixed = vec![false; n_dofs];
         model.supported_dofs().iter().chain(&path.prescribed_dofs()).for_each(|&d| fixed[d] = true);
         let pairs = contact_pairs(model, &fixed)?;
         let (body_of_node, n_bodies) = mesh.bodies();
-        let (modes, pinned) = free_modes(mesh, &body_of_node, n_bodies, &fixed, model.plane);
+        let (modes, pinned) =
+            free_modes(mesh, &body_of_node, n_bodies, &fixed, model.is_axisymmetric());
         let (contact_slot, slot_dofs) = contact_slots(&pairs, &fixed, &pinned);
-        let stress_state: &'static dyn StressState =
-            if dim == 3 { &Solid } else { model.plane.stress_state() };
-        let elements = Elements::of_mesh(mesh, model.plane, model.thickness);
+        let stress_state = D::stress_state(&model.section);
+        let elements = D::elements(mesh, &model.section);
         let map = on_elements!(&elements, els => DofMap::ordered_by(els, n_dofs, &fixed, &pinned, &slot_dofs, NodeOrder::of_mesh(mesh)))?;
         let sections: Vec<Section> = model
             .element_material
@@ -226,12 +230,10 @@ impl<'m> Problem<'m> {
     pub fn facet_cross(&self, state: &State, p: usize) -> Option<[f64; 2]> {
         let (pair, e) = (&self.pairs[p], state.slip_dir[p]);
         let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
-        let directed = self.dim == 3
-            && slipping
+        let directed = slipping
             && !state.vertex[p]
             && pair.mu > 0.0
-            && !pair.held[0]
-            && !pair.held[1]
+            && pair.has_tangent_plane()
             && e != [0.0; 2];
         directed.then_some([-e[1], e[0]])
     }
@@ -248,12 +250,8 @@ impl<'m> Problem<'m> {
     pub fn polygon_of(&self, state: &State, p: usize) -> Option<([f64; 2], bool)> {
         let pair = &self.pairs[p];
         let pressed = state.lambda_n[p] > self.scales.force_noise;
-        let laid = self.dim == 3
-            && pair.mu > 0.0
-            && !pair.held[0]
-            && !pair.held[1]
-            && state.slip_dir[p] != [0.0; 2]
-            && pressed;
+        let laid =
+            pair.mu > 0.0 && pair.has_tangent_plane() && state.slip_dir[p] != [0.0; 2] && pressed;
         laid.then_some((state.slip_dir[p], state.vertex[p]))
     }
 
@@ -471,7 +469,7 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 /// The contact pairs over the global DOFs (eqs. 45–46), supports removed from their vectors.
-fn contact_pairs(model: &Model, fixed: &[bool]) -> Result<Vec<Pair>> {
+fn contact_pairs<D: Dim>(model: &Model<D>, fixed: &[bool]) -> Result<Vec<Pair>> {
     let mut pairs = Vec::with_capacity(model.pairs.len());
     let dim = model.dim();
     for (k, p) in model.pairs.iter().enumerate() {
@@ -521,7 +519,7 @@ fn elements_touching(elements: &Elements, dofs: &[usize]) -> Vec<usize> {
 }
 
 /// The first element of every body (connected component).
-fn first_elements(model: &Model, body_of_node: &[usize], n_bodies: usize) -> Vec<usize> {
+fn first_elements<D: Dim>(model: &Model<D>, body_of_node: &[usize], n_bodies: usize) -> Vec<usize> {
     let mut first = vec![usize::MAX; n_bodies];
     for e in 0..model.mesh.n_elements() {
         let b = body_of_node[model.mesh.element_nodes(e)[0]];
@@ -545,12 +543,13 @@ fn node_elements(elements: &Elements, n_nodes: usize) -> Vec<Vec<usize>> {
 mod tests {
     use super::super::scenes::{cube_block, model, E};
     use super::*;
+    use crate::dim::Spatial;
     use crate::material::Material;
     use crate::model::{LoadPattern, PairInput};
 
     /// The block [0, 2]² × [0, 1] of cubes of side 1/`cells` (ν = 0), its top face held, on a
     /// rigid flat z = 0 (a frictionless pair at every bottom node, gap 0) that is moved up by δ.
-    fn pressed_by_its_flat(cells: usize, delta: f64) -> Model {
+    fn pressed_by_its_flat(cells: usize, delta: f64) -> Model<Spatial> {
         let n = [2 * cells, 2 * cells, cells];
         let mesh = cube_block(n, 1.0 / cells as f64);
         let node = |i: usize, j: usize, k: usize| i + (n[0] + 1) * (j + (n[1] + 1) * k);
@@ -568,7 +567,7 @@ mod tests {
                 weights: vec![],
             })
             .collect();
-        let (n_dofs, n_tets) = (3 * mesh.points.len(), mesh.tetrahedra.len());
+        let (n_dofs, n_tets) = (3 * mesh.nodes.len(), mesh.elements.len());
         let mut m = model(mesh, fixed, vec![0.0; n_dofs], pairs, Material::elastic(E, 0.0));
         m.element_material = vec![0; n_tets];
         m.patterns = vec![LoadPattern {

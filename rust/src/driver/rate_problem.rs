@@ -91,6 +91,7 @@ use super::state::State;
 use super::stiffness::Stiffness;
 use super::trial::{self, Solve};
 use crate::contact::{SparseVec, Status};
+use crate::dim::Dim;
 use crate::lcp::{lemke_with_covering, LcpFailure, LcpSolution};
 use nalgebra::{DMatrix, DVector};
 
@@ -225,8 +226,8 @@ impl Unknowns {
 /// The statuses that satisfy every contact condition at the current load, or None when Lemke
 /// finds no solution (the caller falls back to freezing). `what`: the remaining load, or a
 /// contact sub-step's (`trial::Solve`).
-pub(super) fn solve_rate_problem(
-    eng: &mut Engine,
+pub(super) fn solve_rate_problem<D: Dim>(
+    eng: &mut Engine<D>,
     state: &State,
     what: Solve,
 ) -> Option<RateSolution> {
@@ -276,8 +277,8 @@ fn facets_about(e: [f64; 2], turn: f64) -> [[f64; 2]; 3] {
 /// cross row from zero normal force on (`State::facet_laid`), as on the rate problem's polygon
 /// side; its force goes onto it (a pair on its polygon already is there: no jump). Returns the
 /// largest change of λ_t it made (a force jump the caller rebalances).
-pub(super) fn hold_slip_directions(
-    problem: &Problem,
+pub(super) fn hold_slip_directions<D: Dim>(
+    problem: &Problem<D>,
     state: &mut State,
     sol: &RateSolution,
 ) -> f64 {
@@ -296,8 +297,8 @@ pub(super) fn hold_slip_directions(
 
 /// The problem's pairs, flexibility and stage loads the rate problem is built from, and per
 /// pair the facet normals laid about its slip directions of earlier passes.
-struct RateProblem<'a> {
-    p: &'a Problem<'a>,
+struct RateProblem<'a, D: Dim> {
+    p: &'a Problem<'a, D>,
     stiffness: &'a Stiffness,
     loads: &'a StageLoads,
     laid: Vec<Vec<[f64; 2]>>,
@@ -309,7 +310,7 @@ struct RateProblem<'a> {
     compliance: std::cell::OnceCell<DMatrix<f64>>,
 }
 
-impl RateProblem<'_> {
+impl<D: Dim> RateProblem<'_, D> {
     /// The problem solved on a working set (3D): the pairs at zero force are presumed to close
     /// and stick (`presumed`: their forces free unknowns, eliminated with g' = 0, v = 0, as a
     /// stuck pair's), and only the others are complementary unknowns of Lemke's. A presumed
@@ -1147,11 +1148,11 @@ mod tests {
         mu: f64,
         push: [f64; 3],
         planar: bool,
-    ) -> crate::model::Model {
+    ) -> crate::model::Model<crate::dim::Spatial> {
         use crate::material::Material;
         let id = |i: usize, j: usize, k: usize| i + (n + 1) * (j + 2 * k);
         let mesh = cube_block([n, 1, 1], 1.0);
-        let (n_points, n_tets) = (mesh.points.len(), mesh.tetrahedra.len());
+        let (n_points, n_tets) = (mesh.nodes.len(), mesh.elements.len());
         let mut fixed: Vec<usize> =
             (0..2).flat_map(|j| (0..2).map(move |k| 3 * id(0, j, k))).collect();
         if planar {
@@ -1184,7 +1185,10 @@ mod tests {
 
     /// Zero-length switches one at a time from the start: the statuses after each (None when
     /// the load advances first).
-    fn one_at_a_time(m: &crate::model::Model, switches: usize) -> Vec<Vec<Status>> {
+    fn one_at_a_time<D: crate::element::Discretization>(
+        m: &crate::model::Model<D>,
+        switches: usize,
+    ) -> Vec<Vec<Status>> {
         let clock = Clock::new();
         let (mut eng, mut state) = start(m, &clock);
         let n = eng.problem.pairs.len();
@@ -1249,7 +1253,7 @@ mod tests {
         settles(&pushed_strip_3d(2, 1.0, SPACE_PUSH, false));
     }
 
-    fn settles(m: &crate::model::Model) {
+    fn settles<D: crate::element::Discretization>(m: &crate::model::Model<D>) {
         let clock = Clock::new();
         let (mut eng, mut state) = start(m, &clock);
         let sol = solve_rate_problem(&mut eng, &state, Solve::RemainingLoad)

@@ -11,6 +11,7 @@ use super::space::Space;
 use super::state::{State, TrialIncrement};
 use crate::bail;
 use crate::contact::Pair;
+use crate::dim::Dim;
 use crate::error::Result;
 use crate::events::Candidate;
 use crate::model::{
@@ -68,7 +69,7 @@ pub(super) struct Recorder {
 }
 
 impl Recorder {
-    pub fn new(eng: &mut Engine, state: &State) -> Result<Self> {
+    pub fn new<D: Dim>(eng: &mut Engine<D>, state: &State) -> Result<Self> {
         let opts = &eng.problem.model.options;
         let n_pairs = eng.problem.pairs.len();
         let plastic_capable =
@@ -115,9 +116,9 @@ impl Recorder {
     }
 
     /// The event bound's stop, naming the entities that switched most.
-    pub fn event_bound(
+    pub fn event_bound<D: Dim>(
         &self,
-        eng: &Engine,
+        eng: &Engine<D>,
         state: &State,
         cycles: &AntiCycling,
     ) -> Option<StopReason> {
@@ -152,7 +153,7 @@ impl Recorder {
     /// The scale of the trial at which the next requested snapshot falls, in the full space:
     /// increments end there, so that the snapshot lies on the integrated path (∞ for none, or
     /// in the reduced space, where the path between events is linear and interpolated).
-    pub fn snapshot_cut(&self, eng: &Engine, state: &State) -> f64 {
+    pub fn snapshot_cut<D: Dim>(&self, eng: &Engine<D>, state: &State) -> f64 {
         let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
         match self.pending.first() {
             Some(&t)
@@ -168,9 +169,9 @@ impl Recorder {
 
     /// Full space: the requested snapshots at the state's path time (where an increment was
     /// cut); `internal`: the internal force of its stresses if the caller has it.
-    fn snapshots_at_end(
+    fn snapshots_at_end<D: Dim>(
         &mut self,
-        eng: &mut Engine,
+        eng: &mut Engine<D>,
         state: &State,
         internal: Option<&[f64]>,
     ) -> Result<()> {
@@ -186,9 +187,9 @@ impl Recorder {
     }
 
     /// Snapshots requested inside this increment (the path is linear in between; reduced space).
-    pub fn snapshots_inside(
+    pub fn snapshots_inside<D: Dim>(
         &mut self,
-        eng: &mut Engine,
+        eng: &mut Engine<D>,
         state: &State,
         trial: &TrialIncrement,
         sel: &Selection,
@@ -323,9 +324,9 @@ impl Recorder {
 
     /// One record per increment, and its snapshot when every event is requested; `internal`:
     /// the internal force of the state's stresses (from the equilibrium check).
-    pub fn step(
+    pub fn step<D: Dim>(
         &mut self,
-        eng: &mut Engine,
+        eng: &mut Engine<D>,
         state: &State,
         scale: f64,
         residual: f64,
@@ -362,9 +363,9 @@ impl Recorder {
     /// The final snapshot (for requested fractions, and for runs that stopped early) and the
     /// result; `settled`: the state is an increment's end (not one a failure or an interrupt
     /// inside an increment left), whose fields make that snapshot.
-    pub fn finish(
+    pub fn finish<D: Dim>(
         mut self,
-        mut eng: Engine,
+        mut eng: Engine<D>,
         state: &State,
         stop: StopReason,
         settled: bool,
@@ -406,9 +407,9 @@ impl Recorder {
     /// The full fields of a state and its support reactions; in the reduced space they are
     /// rebuilt (one solve) and their equilibrium is checked in full. `internal`: the internal
     /// force of the state's stresses when the caller has it (full space).
-    fn snapshot(
+    fn snapshot<D: Dim>(
         &mut self,
-        eng: &mut Engine,
+        eng: &mut Engine<D>,
         state: &State,
         internal: Option<&[f64]>,
     ) -> Result<Snapshot> {
@@ -545,7 +546,7 @@ impl Functional {
         self.modes = modes.iter().map(|m| self.dot(&m.vector)).collect();
     }
 
-    fn value(&mut self, eng: &Engine, state: &State) -> f64 {
+    fn value<D: Dim>(&mut self, eng: &Engine<D>, state: &State) -> f64 {
         if !eng.problem.is_reduced() {
             return self.dot(&state.u);
         }
@@ -580,7 +581,7 @@ impl Functional {
 }
 
 impl Resultants {
-    fn new(eng: &mut Engine) -> Self {
+    fn new<D: Dim>(eng: &mut Engine<D>) -> Self {
         let problem = &eng.problem;
         let (model, dim) = (problem.model, problem.dim);
         let pairs = problem.global_pairs();
@@ -664,7 +665,7 @@ impl Resultants {
     }
 
     /// Reduced space: every functional's z = K# a, in one solve of many right-hand sides.
-    fn reduce(&mut self, eng: &mut Engine) {
+    fn reduce<D: Dim>(&mut self, eng: &mut Engine<D>) {
         let _t = eng.clock.time(Phase::Solves);
         let n = eng.problem.dofs.fixed.len();
         for held in self.supports.iter_mut().flatten() {
@@ -724,9 +725,9 @@ impl Resultants {
 
     /// Per support group its reaction and per force pattern its work at the state
     /// (`StepRecord::reaction`, `load_work`); `internal`: the state's internal force (full space).
-    fn supports_and_loads(
+    fn supports_and_loads<D: Dim>(
         &mut self,
-        eng: &Engine,
+        eng: &Engine<D>,
         state: &State,
         internal: Option<&[f64]>,
     ) -> (Vec<[f64; 3]>, Vec<f64>) {
@@ -775,7 +776,7 @@ impl Resultants {
 /// u = Σ u_stage (completed) + s u_stage + K#(W λ) + N α, ū at the prescribed DOFs, and its
 /// stresses, for the reduced space; also the internal force P_σ and the fields' equilibrium
 /// residual, which must be within `equilibrium_tol`.
-fn reconstruct(eng: &mut Engine, state: &State) -> Result<(State, Vec<f64>, f64)> {
+fn reconstruct<D: Dim>(eng: &mut Engine<D>, state: &State) -> Result<(State, Vec<f64>, f64)> {
     let Engine { problem, stiffness, loads, .. } = eng;
     let mut y = vec![0.0; problem.dofs.map.role.len()];
     for (p, pair) in problem.global_pairs().iter().enumerate() {
@@ -815,7 +816,7 @@ mod tests {
     /// Round-off of the resultants relative to the load (a few sums of element forces).
     const ROUND_OFF: f64 = 1e-12;
 
-    fn run_in(mut m: Model, reduced: bool) -> RunResult {
+    fn run_in<D: crate::element::Discretization>(mut m: Model<D>, reduced: bool) -> RunResult {
         m.options.reduced_elastic = reduced;
         m.validate().expect("a valid scene");
         run(&m, |_| true).expect("it runs")

@@ -19,9 +19,10 @@ use super::state::{State, TrialIncrement};
 use crate::bail;
 use crate::contact::SparseVec;
 use crate::contact::Status;
+use crate::dim::Dim;
 use crate::error::Result;
 use crate::model::{EventKind, EventRecord, StopReason};
-use crate::rigid_modes::{describe, elementary_modes};
+use crate::rigid_modes::describe;
 use nalgebra::DMatrix;
 
 /// A singular value of Cᵀ N below this × the largest is a motion no closed pair resists.
@@ -46,8 +47,8 @@ pub(super) enum Hold {
 
 /// How the closed pairs hold the bodies at a state; `events`: the history so far (to name the
 /// last pair that separated from a body that lifts off).
-pub(super) fn hold(
-    problem: &Problem,
+pub(super) fn hold<D: Dim>(
+    problem: &Problem<D>,
     loads: &StageLoads,
     state: &State,
     events: &[EventRecord],
@@ -64,8 +65,8 @@ pub(super) fn hold(
 /// moved by any force of the system (a pressed body turning about the normal while its pairs,
 /// all slipping at zero force, have no direction yet to hold it by): the caller holds them
 /// still (α along them = 0), as nothing drives them.
-pub(super) fn check_restrained(
-    problem: &Problem,
+pub(super) fn check_restrained<D: Dim>(
+    problem: &Problem<D>,
     loads: &StageLoads,
     state: &State,
     a: &DMatrix<f64>,
@@ -83,8 +84,8 @@ pub(super) fn check_restrained(
 /// pairs' statuses and slip directions; no equilibrium exists beyond (the increment is cut
 /// there, `friction_stop` stops the run). With no moment this is |T| = μN. None when no body
 /// is so held or its load stays inside.
-pub(super) fn friction_limit(
-    problem: &Problem,
+pub(super) fn friction_limit<D: Dim>(
+    problem: &Problem<D>,
     loads: &StageLoads,
     state: &State,
     trial: &TrialIncrement,
@@ -108,8 +109,8 @@ pub(super) fn friction_limit(
 /// The run's stop where the load of a body held by friction alone has reached the limit of
 /// its pairs (`friction_limit`'s fraction reached): it slides as a whole, turning about a
 /// centre in the contact plane when the load has a moment about it.
-pub(super) fn friction_stop(
-    problem: &Problem,
+pub(super) fn friction_stop<D: Dim>(
+    problem: &Problem<D>,
     loads: &StageLoads,
     state: &State,
 ) -> Option<StopReason> {
@@ -141,7 +142,7 @@ struct FrictionPlane {
 }
 
 impl FrictionPlane {
-    fn new(problem: &Problem, body: usize, pairs: Vec<usize>, normal: [f64; 3]) -> Self {
+    fn new<D: Dim>(problem: &Problem<D>, body: usize, pairs: Vec<usize>, normal: [f64; 3]) -> Self {
         let basis = crate::contact::Frame::of_pair(3, normal, None).tangents;
         let points: Vec<[f64; 3]> = pairs.iter().map(|&p| contact_point(problem, p)).collect();
         let centre = points
@@ -176,9 +177,9 @@ impl FrictionPlane {
 
     /// The pairs' positions and capacities μ λ_n (at S = 0 and its rate) from `normal_force`
     /// (λ_n and Δλ_n of a pair).
-    fn contact(
+    fn contact<D: Dim>(
         &self,
-        problem: &Problem,
+        problem: &Problem<D>,
         normal_force: impl Fn(usize) -> [f64; 2],
     ) -> planar_sliding::Contact {
         let at = self.pairs.iter().map(|&p| self.coordinates(contact_point(problem, p))).collect();
@@ -189,7 +190,7 @@ impl FrictionPlane {
 }
 
 /// Where pair p acts on its contactor: its node, or the weighted mean of its contactor nodes.
-fn contact_point(problem: &Problem, p: usize) -> [f64; 3] {
+fn contact_point<D: Dim>(problem: &Problem<D>, p: usize) -> [f64; 3] {
     let input = &problem.model.pairs[p];
     let mesh = &problem.model.mesh;
     let contactor: Vec<(usize, f64)> =
@@ -205,12 +206,12 @@ fn contact_point(problem: &Problem, p: usize) -> [f64; 3] {
 }
 
 /// The bodies of a problem under the current stage's loads.
-struct Restraint<'a> {
-    p: &'a Problem<'a>,
+struct Restraint<'a, D: Dim> {
+    p: &'a Problem<'a, D>,
     loads: &'a StageLoads,
 }
 
-impl Restraint<'_> {
+impl<D: Dim> Restraint<'_, D> {
     fn hold(&self, state: &State, events: &[EventRecord]) -> Hold {
         let mut hold = Hold::Held;
         for (body, idx) in self.bodies_with_modes() {
@@ -278,10 +279,11 @@ impl Restraint<'_> {
         {
             rows.push(row(&pair.w_n));
             if pair.frictional() && (if_stuck || state.status[p] == Status::Stick) {
-                if self.p.dim == 2 || !pair.held[0] {
+                // (a 2D pair's second tangent counts as held: no row)
+                if !pair.held[0] {
                     rows.push(row(&pair.w_t));
                 }
-                if self.p.dim == 3 && !pair.held[1] {
+                if !pair.held[1] {
                     rows.push(row(&pair.w_t2));
                 }
             } else if let Some(cross) = self.p.cross_direction(state, p) {
@@ -475,7 +477,7 @@ impl Restraint<'_> {
     /// The weights of the elementary motions (translations, rotations: `rigid_modes`) of a
     /// combination `v` of the body's modes `idx`.
     fn motion_weights(&self, idx: &[usize], v: &[f64]) -> Vec<f64> {
-        let mut w = vec![0.0; elementary_modes(self.p.dim)];
+        let mut w = vec![0.0; D::RIGID_MODES];
         for (c, &k) in idx.iter().enumerate() {
             for (wl, ml) in w.iter_mut().zip(&self.p.bodies.modes[k].weights) {
                 *wl += v[c] * ml;

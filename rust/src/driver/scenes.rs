@@ -3,6 +3,8 @@
 use super::clock::Clock;
 use super::engine::Engine;
 use super::state::State;
+use crate::dim::{Dim, Planar, PlaneSection, Spatial};
+use crate::element::Discretization;
 use crate::material::{Material, Plane};
 use crate::mesh::Mesh;
 use crate::model::{LoadPattern, Model, Names, Options, PairInput, Stage};
@@ -14,7 +16,7 @@ pub const NU: f64 = 0.25;
 /// The box [0, nx h] × [0, ny h] × [0, nz h] of cubes of side h, each split into Kuhn's six
 /// tetrahedra along its diagonal (positively oriented); node (i, j, k) is i + (nx + 1)(j +
 /// (ny + 1) k).
-pub fn cube_block(n: [usize; 3], h: f64) -> Mesh {
+pub fn cube_block(n: [usize; 3], h: f64) -> Mesh<Spatial> {
     let id = |i: usize, j: usize, k: usize| i + (n[0] + 1) * (j + (n[1] + 1) * k);
     let mut points = vec![[0.0; 3]; (n[0] + 1) * (n[1] + 1) * (n[2] + 1)];
     for k in 0..=n[2] {
@@ -45,29 +47,46 @@ pub fn cube_block(n: [usize; 3], h: f64) -> Mesh {
             tets.push([t[0], t[1], t[2], t[3]]);
         }
     }
-    Mesh::space(points, tets)
+    Mesh::<Spatial>::new(points, tets)
 }
 
 /// The unit square [0, 1]² of two CSTs: nodes 0 (0, 0), 1 (1, 0), 2 (1, 1), 3 (0, 1).
-pub fn unit_square() -> Mesh {
-    Mesh::plane(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], vec![[0, 1, 2], [0, 2, 3]])
+pub fn unit_square() -> Mesh<Planar> {
+    Mesh::<Planar>::new(
+        vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        vec![[0, 1, 2], [0, 2, 3]],
+    )
 }
 
-/// A one-material model in plane stress of thickness 1.
-pub fn model(
-    mesh: Mesh,
+/// The section of the scenes: plane stress of thickness 1 in the plane.
+pub trait SceneDim: Dim {
+    fn section() -> Self::Section;
+}
+
+impl SceneDim for Planar {
+    fn section() -> PlaneSection {
+        PlaneSection { plane: Plane::Stress, thickness: 1.0 }
+    }
+}
+
+impl SceneDim for Spatial {
+    fn section() {}
+}
+
+/// A one-material model (in plane stress of thickness 1 in the plane).
+pub fn model<D: SceneDim>(
+    mesh: Mesh<D>,
     fixed_dofs: Vec<usize>,
     load: Vec<f64>,
     pairs: Vec<PairInput>,
     material: Material,
-) -> Model {
-    let n_el = mesh.triangles.len();
+) -> Model<D> {
+    let n_el = mesh.elements.len();
     Model {
         mesh,
         element_material: vec![0; n_el],
         materials: vec![material],
-        plane: Plane::Stress,
-        thickness: 1.0,
+        section: D::section(),
         fixed_dofs,
         load,
         patterns: vec![],
@@ -95,7 +114,7 @@ pub fn against_obstacle(a: usize, normal: [f64; 2], gap: f64, mu: f64) -> PairIn
 /// The unit square on rollers (u_x = 0 on x = 0, u_y = 0 on y = 0): a traction `right` on its
 /// right edge and `top` on its top edge (consistent nodal forces) give the uniform stress
 /// σx = right, σy = top, τ = 0 in every element (the CST's patch test).
-pub fn square_on_rollers(right: f64, top: f64, material: Material) -> Model {
+pub fn square_on_rollers(right: f64, top: f64, material: Material) -> Model<Planar> {
     let fixed = vec![0, 1, 3, 6]; // u_x, u_y of node 0; u_y of node 1; u_x of node 3
     model(unit_square(), fixed, edge_loads(right, top), vec![], material)
 }
@@ -115,7 +134,7 @@ pub fn edge_loads(right: f64, top: f64) -> Vec<f64> {
 /// The square on rollers pressed by q on its top (σy = −q): in plane stress its right edge
 /// moves out by ν q / E (Poisson), towards a rigid wall at `gap` to the right of node 2 (the
 /// wall's normal (−1, 0) points back at the node).
-pub fn poisson_wall(q: f64, gap: f64) -> Model {
+pub fn poisson_wall(q: f64, gap: f64) -> Model<Planar> {
     let mut m = square_on_rollers(0.0, -q, Material::elastic(E, NU));
     m.pairs = vec![against_obstacle(2, [-1.0, 0.0], gap, 0.0)];
     m
@@ -125,8 +144,8 @@ pub fn poisson_wall(q: f64, gap: f64) -> Model {
 /// 0, friction μ). Stage 1 presses node 0 into the flat by N, stage 2 adds a tangential force T
 /// (+x). The stuck pair holds node 0 in place, so the element carries nothing and the pair
 /// carries the load: λ_n = N, λ_t = T (t = (−1, 0), the force on the node w_t λ_t = −T e_x).
-pub fn pressed_then_sheared(n: f64, t: f64, mu: f64) -> Model {
-    let mesh = Mesh::plane(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], vec![[0, 1, 2]]);
+pub fn pressed_then_sheared(n: f64, t: f64, mu: f64) -> Model<Planar> {
+    let mesh = Mesh::<Planar>::new(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], vec![[0, 1, 2]]);
     let mut m = model(
         mesh,
         vec![2, 3, 4, 5],
@@ -152,19 +171,19 @@ pub fn pressed_then_sheared(n: f64, t: f64, mu: f64) -> Model {
 /// (ν = 0). Every pair starts at zero force, and nothing but contact holds the strip
 /// vertically: switched one at a time, pair 1 separates and closes again and again at zero
 /// load (found by a search over small strips; the rate problem settles it).
-pub fn pushed_strip(mu: f64) -> Model {
+pub fn pushed_strip(mu: f64) -> Model<Planar> {
     let nodes = vec![[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [0.0, 1.0], [1.0, 1.0], [2.0, 1.0]];
     let triangles = vec![[0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4]];
     let mut load = vec![0.0; 12];
     load[4] = -0.5;
     let pairs =
         vec![against_obstacle(0, [0.0, 1.0], 0.0, mu), against_obstacle(1, [0.0, 1.0], 0.0, mu)];
-    model(Mesh::plane(nodes, triangles), vec![0, 6], load, pairs, Material::elastic(E, 0.0))
+    model(Mesh::<Planar>::new(nodes, triangles), vec![0, 6], load, pairs, Material::elastic(E, 0.0))
 }
 
 /// The square on rollers in two stages: stage 1 pulls its right edge to σx = `a`, stage 2
 /// presses its top to σy = −`b` (σx held).
-pub fn pulled_then_pressed(a: f64, b: f64, material: Material) -> Model {
+pub fn pulled_then_pressed(a: f64, b: f64, material: Material) -> Model<Planar> {
     let mut m = square_on_rollers(a, 0.0, material);
     m.patterns = vec![LoadPattern {
         name: "press".into(),
@@ -184,7 +203,10 @@ pub fn plastic(sy: f64, h: f64) -> Material {
 }
 
 /// The engine of a model (which must be valid) and its initial state.
-pub fn start<'m, 'c>(model: &'m Model, clock: &'c Clock) -> (Engine<'m, 'c>, State) {
+pub fn start<'m, 'c, D: Discretization>(
+    model: &'m Model<D>,
+    clock: &'c Clock,
+) -> (Engine<'m, 'c, D>, State) {
     model.validate().expect("a valid scene");
     let eng = Engine::new(model, clock).expect("the scene assembles");
     let state = eng.initial_state();

@@ -6,6 +6,7 @@ use super::anticycling::AntiCycling;
 use super::problem::Problem;
 use super::state::{State, TrialIncrement};
 use super::stepping::Stepping;
+use crate::dim::Dim;
 use crate::events::{self, Candidate, ElementState, PairState, SpacePairs, Trial};
 use crate::model::{EventKind, Options};
 
@@ -57,8 +58,8 @@ impl Selection {
 /// S = min(S_c, S_p, S_f, S_r, S_A) (eq. 57) and the events that switch with it. `cut`: a scale
 /// the increment must not pass (a requested snapshot time; ∞ for none); `stepping`: a plastic
 /// window runs past the first predicted yield (`plastic_window`).
-pub(super) fn select(
-    problem: &Problem,
+pub(super) fn select<D: Dim>(
+    problem: &Problem<D>,
     state: &State,
     trial: &TrialIncrement,
     cycles: &AntiCycling,
@@ -87,8 +88,8 @@ pub(super) fn select(
 
 /// A contact sub-step (`substeps`): the next contact events of a contact-space trial, up to
 /// `bound` (the scale where the increment ends for plasticity, a snapshot or the stage).
-pub(super) fn select_contact(
-    problem: &Problem,
+pub(super) fn select_contact<D: Dim>(
+    problem: &Problem<D>,
     state: &State,
     trial: &TrialIncrement,
     cycles: &AntiCycling,
@@ -104,8 +105,8 @@ pub(super) fn select_contact(
 
 /// The pairs' part of the state as `events` reads it; `frozen`: pairs the anti-cycling rule
 /// holds.
-pub(super) fn pair_state<'a>(
-    problem: &'a Problem,
+pub(super) fn pair_state<'a, D: Dim>(
+    problem: &'a Problem<D>,
     state: &'a State,
     frozen: &'a [bool],
 ) -> PairState<'a> {
@@ -140,8 +141,8 @@ pub(super) fn trial_of(trial: &TrialIncrement) -> Trial<'_> {
 }
 
 /// Every candidate event of the trial (contacts, yields, unloads) and the drift bound.
-fn candidates(
-    problem: &Problem,
+fn candidates<D: Dim>(
+    problem: &Problem<D>,
     state: &State,
     trial: &TrialIncrement,
     cycles: &AntiCycling,
@@ -272,7 +273,7 @@ mod tests {
     const ROUND_OFF: f64 = 1e-12;
 
     /// The trial for the remaining load and its selection from `state`.
-    fn next(eng: &mut Engine, state: &State, stepping: Stepping) -> Selection {
+    fn next<D: Dim>(eng: &mut Engine<D>, state: &State, stepping: Stepping) -> Selection {
         let cycles = AntiCycling::new(eng.problem.pairs.len(), eng.problem.loop_elements(), 4);
         let (trial, _) = remaining_load(eng, state, None, stepping).unwrap();
         select(&eng.problem, state, &trial, &cycles, f64::INFINITY, stepping)

@@ -17,6 +17,7 @@ use super::selection::trial_of;
 use super::state::{State, TrialIncrement};
 use super::switching::{contact_forces, jumps_kept, keep_jumps};
 use crate::contact::Status;
+use crate::dim::Dim;
 use crate::events::slip_rate;
 
 /// Every slipping 3D pair that has no direction yet (it began to slip at zero force) and that
@@ -28,8 +29,8 @@ use crate::events::slip_rate;
 /// takes its direction once, so it needs no anti-cycling turn. Returns whether any did (the
 /// caller solves `inc` again) and the force that moved (μ λ_n of a pair already loaded), kept
 /// as a switch's jump is (`keep_jumps`).
-pub(super) fn direct_new_slips(
-    eng: &Engine,
+pub(super) fn direct_new_slips<D: Dim>(
+    eng: &Engine<D>,
     state: &mut State,
     inc: &TrialIncrement,
 ) -> (bool, f64) {
@@ -61,8 +62,8 @@ pub(super) fn slipping(state: &State, p: usize) -> bool {
 }
 
 /// Pair p's slip rate in `inc` and its size; None while that is round-off.
-pub(super) fn slip_of(
-    problem: &Problem,
+pub(super) fn slip_of<D: Dim>(
+    problem: &Problem<D>,
     inc: &TrialIncrement,
     p: usize,
 ) -> Option<([f64; 2], f64)> {
@@ -72,7 +73,12 @@ pub(super) fn slip_of(
 }
 
 /// Pair p slips along −e from here: its friction force is μ λ_n e. Returns how far it moved.
-pub(super) fn hold_direction(problem: &Problem, state: &mut State, p: usize, e: [f64; 2]) -> f64 {
+pub(super) fn hold_direction<D: Dim>(
+    problem: &Problem<D>,
+    state: &mut State,
+    p: usize,
+    e: [f64; 2],
+) -> f64 {
     state.slip_dir[p] = e;
     state.vertex[p] = false;
     let mu_ln = problem.coulomb(p).capacity(state.lambda_n[p]);

@@ -29,6 +29,7 @@ use super::recording::Recorder;
 use super::slip_direction::{hold_direction, slip_of, slipping};
 use super::state::{State, TrialIncrement};
 use super::switching::{contact_forces, jumps_kept, keep_jumps};
+use crate::dim::Dim;
 use crate::error::Result;
 
 /// Direct every slipping 3D pair that has no normal force to hold its direction by (or no
@@ -37,8 +38,8 @@ use crate::error::Result;
 /// normal force but no direction (a slip rate at round-off when it began) gets its whole
 /// friction force here, a jump rebalanced at its load; `correction`: the size of the last
 /// equilibrium correction, which the contact checks allow for.
-pub(super) fn direct_unloaded_slips(
-    eng: &mut Engine,
+pub(super) fn direct_unloaded_slips<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     trial: &TrialIncrement,
     cycles: &mut AntiCycling,

@@ -12,6 +12,7 @@ use super::clock::{seconds, Clock, Phase};
 use super::problem::Problem;
 use super::state::State;
 use super::tangents::{Renewal, Tangents};
+use crate::dim::Dim;
 use crate::element::Element;
 use crate::error::Result;
 use crate::factor::Factor;
@@ -71,7 +72,7 @@ pub(super) struct Stiffness {
 
 impl Stiffness {
     /// K with every element elastic, factored, and its flexibility.
-    pub fn new(problem: &Problem, clock: &Clock) -> Result<Self> {
+    pub fn new<D: Dim>(problem: &Problem<D>, clock: &Clock) -> Result<Self> {
         let tangents = Tangents::elastic(problem);
         let map = &problem.dofs.map;
         let (pattern, k, elastic) = {
@@ -115,7 +116,7 @@ impl Stiffness {
     }
 
     /// Assemble K with the current tangents and factor it.
-    fn factor(&mut self, problem: &Problem, clock: &Clock) -> Result<()> {
+    fn factor<D: Dim>(&mut self, problem: &Problem<D>, clock: &Clock) -> Result<()> {
         let k = {
             let _t = clock.time(Phase::Assembly);
             self.assemble(problem)?
@@ -145,7 +146,7 @@ impl Stiffness {
 
     /// K with the current tangents. Plastic runs keep the elastic K and re-add
     /// w Bᵀ (D_ep − D) B of the elements that are plastic now.
-    fn assemble(&self, problem: &Problem) -> Result<SparseColMat<usize, f64>> {
+    fn assemble<D: Dim>(&self, problem: &Problem<D>) -> Result<SparseColMat<usize, f64>> {
         if let Some(elastic) = &self.elastic {
             let mut values = elastic.values.clone();
             for (e, t) in self.tangents.held.iter().enumerate() {
@@ -183,9 +184,9 @@ impl Stiffness {
     /// Bring every element's tangent in K up to date with the state (full space; `renewal`
     /// says which, `tangents`), then K follows: low-rank terms on the last factor, or a
     /// refactorization once those would cost more.
-    pub fn update(
+    pub fn update<D: Dim>(
         &mut self,
-        problem: &Problem,
+        problem: &Problem<D>,
         state: &State,
         renewal: Renewal,
         clock: &Clock,

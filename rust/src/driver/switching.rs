@@ -12,6 +12,7 @@ use super::selection::Selection;
 use super::state::State;
 use super::trial::Solve;
 use crate::contact::Status;
+use crate::dim::Dim;
 use crate::events::Candidate;
 use crate::model::EventKind;
 
@@ -21,8 +22,8 @@ use crate::model::EventKind;
 /// alone, every closed pair slipping (`restraint`: where its slip changes sense, a pair
 /// sticks). Returns the largest force jump a switch made (see `switch`; in the reduced space
 /// it is kept to be rebalanced: `keep_jumps`).
-pub(super) fn switch_statuses(
-    eng: &mut Engine,
+pub(super) fn switch_statuses<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     sel: &Selection,
     cycles: &mut AntiCycling,
@@ -37,8 +38,8 @@ pub(super) fn switch_statuses(
     jump
 }
 
-fn switch_group(
-    eng: &mut Engine,
+fn switch_group<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     sel: &Selection,
     cycles: &mut AntiCycling,
@@ -99,8 +100,8 @@ const SAME_DIRECTION: f64 = 1e-9;
 
 /// The statuses of the rate problem's solution, switched and recorded at φ; None when it has
 /// none or changes nothing.
-fn switch_by_rate_problem(
-    eng: &mut Engine,
+fn switch_by_rate_problem<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     cycles: &mut AntiCycling,
     rec: &mut Recorder,
@@ -150,7 +151,7 @@ fn switch_by_rate_problem(
 /// on it) or of a facet's turn (its radial jump), the forces a separation drops (one applied
 /// with a tie, before its own scale, still carries λ_n up to tie_tol × its rate): a force jump
 /// that the caller rebalances.
-pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64 {
+pub(super) fn switch<D: Dim>(problem: &Problem<D>, state: &mut State, c: &Candidate) -> f64 {
     let p = c.entity;
     if !c.kind.is_element_event() && c.kind != EventKind::SlipTurn {
         state.facet_laid[p] = false;
@@ -211,8 +212,8 @@ pub(super) fn switch(problem: &Problem, state: &mut State, c: &Candidate) -> f64
 /// polygon it reached (`coulomb`), or on the round cone the facet tangent at its force's direction,
 /// which lays its polygon; at zero force the direction its stuck force was growing in
 /// (`toward`; if none either, the next trial's slip rate sets it: `slip_turn`).
-fn onset_facet(
-    problem: &Problem,
+fn onset_facet<D: Dim>(
+    problem: &Problem<D>,
     state: &State,
     p: usize,
     force: [f64; 2],
@@ -234,7 +235,7 @@ const PLACE_TOL: f64 = 1e-9;
 /// band goes to the vertex there, with the next facet (m = e turned by slip_turn towards the
 /// force); one at a vertex whose slip left its normal cone on side `side` goes onto that side's
 /// facet. Either way the force does not move (round-off aside): the band's edge is the vertex.
-fn turn_facet(problem: &Problem, state: &mut State, p: usize, side: i8) {
+fn turn_facet<D: Dim>(problem: &Problem<D>, state: &mut State, p: usize, side: i8) {
     let (law, now, e) =
         (problem.coulomb(p), [state.lambda_t[p], state.lambda_t2[p]], state.slip_dir[p]);
     if state.vertex[p] {
@@ -249,7 +250,7 @@ fn turn_facet(problem: &Problem, state: &mut State, p: usize, side: i8) {
 }
 
 /// `switch`, its force jump kept in the reduced space (`keep_jumps`).
-pub(super) fn switch_keeping(eng: &Engine, state: &mut State, c: &Candidate) -> f64 {
+pub(super) fn switch_keeping<D: Dim>(eng: &Engine<D>, state: &mut State, c: &Candidate) -> f64 {
     let before = jumps_kept(eng).then(|| contact_forces(state));
     let jump = switch(&eng.problem, state, c);
     if let Some(before) = before {
@@ -261,7 +262,7 @@ pub(super) fn switch_keeping(eng: &Engine, state: &mut State, c: &Candidate) -> 
 /// Whether force jumps are kept apart to be rebalanced (`State::jumps`): in the reduced space
 /// in 3D, where a facet's turn is one (in 2D the only jumps are ties', and its histories are
 /// kept as they were).
-pub(super) fn jumps_kept(eng: &Engine) -> bool {
+pub(super) fn jumps_kept<D: Dim>(eng: &Engine<D>) -> bool {
     eng.problem.is_reduced() && eng.problem.dim == 3
 }
 

@@ -10,6 +10,7 @@
 
 use super::problem::{Problem, PARALLEL_CHUNK};
 use super::state::State;
+use crate::dim::Dim;
 use crate::element::{Cst, Element, Elements, Tet4};
 use crate::linalg::DofMap;
 use crate::low_rank::Column;
@@ -64,7 +65,7 @@ pub(super) struct Tangents {
 
 impl Tangents {
     /// Every element elastic.
-    pub fn elastic(problem: &Problem) -> Self {
+    pub fn elastic<D: Dim>(problem: &Problem<D>) -> Self {
         let held: Vec<Tangent> =
             problem.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
         let elastic =
@@ -84,9 +85,9 @@ impl Tangents {
 
     /// The elements whose tangent changed with the state (now renewed in `held`), or None when
     /// the update waits (`yields_can_wait`).
-    pub fn renew(
+    pub fn renew<D: Dim>(
         &mut self,
-        problem: &Problem,
+        problem: &Problem<D>,
         state: &State,
         renewal: Renewal,
     ) -> Option<Vec<usize>> {
@@ -125,7 +126,13 @@ impl Tangents {
 
     /// Set element e's tangent from the state if it must change (yield, unload, or a flow
     /// direction turned by more than `turn`); true if it changed.
-    fn refresh(&mut self, problem: &Problem, e: usize, state: &State, turn: f64) -> bool {
+    fn refresh<D: Dim>(
+        &mut self,
+        problem: &Problem<D>,
+        e: usize,
+        state: &State,
+        turn: f64,
+    ) -> bool {
         let change = match (self.flowing[e], state.plastic[e]) {
             (false, false) => false,
             (true, false) | (false, true) => true,
@@ -144,7 +151,7 @@ impl Tangents {
     /// K_e(held) − K_e(factored) of element e as signed rank-one terms over the equations:
     /// w Bᵀ ΔD B with ΔD = Σ λ v vᵀ (its eigenvalues), so each term is s c cᵀ with
     /// c = √(w |λ|) Bᵀ v (w the element's volume).
-    pub fn columns(&self, problem: &Problem, e: usize, map: &DofMap) -> Vec<Column> {
+    pub fn columns<D: Dim>(&self, problem: &Problem<D>, e: usize, map: &DofMap) -> Vec<Column> {
         let section = &problem.sections[e];
         let delta: Matrix6<f64> = section.element_matrix(&self.held[e])
             - section.element_matrix(self.factored_tangent(e));
@@ -176,7 +183,11 @@ impl Tangents {
     /// Δσ and Δεp of every element for a displacement increment (eqs. 10, 11, 18), with the
     /// tangents K holds. (The strain increments themselves are not kept: the stress
     /// integration takes the few it needs from Δu.)
-    pub fn stress_increment(&self, problem: &Problem, du: &[f64]) -> (Vec<Voigt>, Vec<f64>) {
+    pub fn stress_increment<D: Dim>(
+        &self,
+        problem: &Problem<D>,
+        du: &[f64],
+    ) -> (Vec<Voigt>, Vec<f64>) {
         let material = &problem.model.element_material;
         (0..self.held.len())
             .into_par_iter()
@@ -243,6 +254,7 @@ mod tests {
     use super::super::engine::Engine;
     use super::super::scenes::*;
     use super::*;
+    use crate::dim::Planar;
     use crate::material::from_planar;
     use nalgebra::SMatrix;
 
@@ -250,7 +262,7 @@ mod tests {
     const ROUND_OFF: f64 = 1e-10;
 
     /// Σ s c cᵀ of element e's low-rank terms, over its own DOFs (rows of fixed DOFs stay 0).
-    fn low_rank_matrix(eng: &Engine, e: usize) -> SMatrix<f64, 6, 6> {
+    fn low_rank_matrix<D: Dim>(eng: &Engine<D>, e: usize) -> SMatrix<f64, 6, 6> {
         let map = &eng.problem.dofs.map;
         let dofs = eng.problem.elements.dofs(e);
         let local = |q: usize| {
@@ -281,7 +293,7 @@ mod tests {
         let (mut eng, mut state) = start(&m, &clock);
         let (s1, s2) =
             (from_planar([sy, 0.0, 0.0, 0.0]), from_planar([0.0, 0.0, 0.0, sy / 3f64.sqrt()]));
-        let renew = |eng: &mut Engine, state: &State| {
+        let renew = |eng: &mut Engine<Planar>, state: &State| {
             eng.stiffness
                 .tangents
                 .renew(&eng.problem, state, Renewal::All)

@@ -24,6 +24,7 @@ use super::state::{State, TrialIncrement};
 use super::stepping::Stepping;
 use crate::bail;
 use crate::contact::{Shift, SparseVec, Status};
+use crate::dim::Dim;
 use crate::error::{ErrorKind, Result};
 use crate::events::Noise;
 use nalgebra::{DMatrix, DVector};
@@ -134,8 +135,8 @@ pub(super) struct ContactSystem {
 
 /// The trial increment for `what`. `internal`: the internal force P_σ of the state's stresses
 /// if the caller has it.
-pub(super) fn solve(
-    eng: &mut Engine,
+pub(super) fn solve<D: Dim>(
+    eng: &mut Engine<D>,
     state: &State,
     what: Solve,
     internal: Option<Vec<f64>>,
@@ -145,8 +146,8 @@ pub(super) fn solve(
 
 /// The trial for the stage's remaining load (eq. 44), and in a plastic window (`stepping`) what
 /// its contact sub-steps reuse (`TrialBase`).
-pub(super) fn remaining_load(
-    eng: &mut Engine,
+pub(super) fn remaining_load<D: Dim>(
+    eng: &mut Engine<D>,
     state: &State,
     internal: Option<Vec<f64>>,
     stepping: Stepping,
@@ -154,8 +155,8 @@ pub(super) fn remaining_load(
     solve_keeping(eng, state, Solve::RemainingLoad, internal, stepping.window().is_some())
 }
 
-fn solve_keeping(
-    eng: &mut Engine,
+fn solve_keeping<D: Dim>(
+    eng: &mut Engine<D>,
     state: &State,
     what: Solve,
     internal: Option<Vec<f64>>,
@@ -183,8 +184,8 @@ fn solve_keeping(
 
 /// The stage's remaining load from the state to `what`'s target (forces, prescribed
 /// displacement increments and obstacle motion), in residual form.
-pub(super) fn out_of_balance(
-    eng: &mut Engine,
+pub(super) fn out_of_balance<D: Dim>(
+    eng: &mut Engine<D>,
     state: &State,
     what: Solve,
     internal: Option<Vec<f64>>,
@@ -247,7 +248,7 @@ pub(super) fn out_of_balance(
 }
 
 /// W Δλ of the state's unbalanced force jumps (`State::jumps`), as (DOF, force) entries.
-fn jump_force(problem: &Problem, state: &State) -> Vec<(usize, f64)> {
+fn jump_force<D: Dim>(problem: &Problem<D>, state: &State) -> Vec<(usize, f64)> {
     let mut force = vec![];
     for (pair, jump) in problem.pairs.iter().zip(&state.jumps).filter(|(_, j)| **j != [0.0; 3]) {
         for (w, v) in [(&pair.w_n, jump[0]), (&pair.w_t, jump[1]), (&pair.w_t2, jump[2])] {
@@ -259,8 +260,8 @@ fn jump_force(problem: &Problem, state: &State) -> Vec<(usize, f64)> {
 
 /// 3D: the slipping pairs at zero normal force that hold a direction e but no facet yet
 /// (`Problem::cross_direction`), with their cross directions e⊥.
-fn unloaded_facets<'a>(
-    problem: &'a Problem,
+fn unloaded_facets<'a, D: Dim>(
+    problem: &'a Problem<D>,
     state: &'a State,
 ) -> impl Iterator<Item = (usize, [f64; 2])> + 'a {
     let unloaded = move |p: usize| (0.0..=problem.scales.force_noise).contains(&state.lambda_n[p]);
@@ -277,7 +278,12 @@ fn unloaded_facets<'a>(
 /// slipping from the first instant, a turn about the normal unresisted:
 /// their normal forces grow with the trial; the advance bounds the cross forces they take,
 /// `advance::project_onto_cone`, and the jump is rebalanced).
-fn contact_system(eng: &Engine, state: &State, dshift: &[Shift], unloaded: bool) -> ContactSystem {
+fn contact_system<D: Dim>(
+    eng: &Engine<D>,
+    state: &State,
+    dshift: &[Shift],
+    unloaded: bool,
+) -> ContactSystem {
     let problem = &eng.problem;
     let (mut rows, mut h) = (Vec::new(), Vec::new());
     let mut extra_cross = vec![None; problem.pairs.len()];
@@ -292,11 +298,12 @@ fn contact_system(eng: &Engine, state: &State, dshift: &[Shift], unloaded: bool)
         h.push(-problem.gap(state, p) - dshift[p][0]);
         let held = problem.pairs[p].held;
         if *st == Status::Stick && problem.pairs[p].frictional() {
-            if problem.dim == 2 || !held[0] {
+            // (a frictional pair has a free tangent: in 2D its one, whose row it always has)
+            if !held[0] {
                 rows.push(Row::Tangent(p));
                 h.push(state.rtd_stick[p] - problem.rtd(state, p) - dshift[p][1]);
             }
-            if problem.dim == 3 && !held[1] {
+            if !held[1] {
                 rows.push(Row::Tangent2(p));
                 h.push(state.rtd_stick2[p] - problem.rtd2(state, p) - dshift[p][2]);
             }
@@ -317,7 +324,7 @@ fn contact_system(eng: &Engine, state: &State, dshift: &[Shift], unloaded: bool)
 
 /// Column e_j: w_n (+ τ w_t for a slipping pair, τ = −dμ, eq. 41; in 3D + τ1 w_t + τ2 w_t2,
 /// τ = μ e), or w_t (w_t2, the cross direction's e⊥₁ w_t + e⊥₂ w_t2).
-fn force_direction(problem: &Problem, state: &State, row: Row) -> Vec<(usize, f64)> {
+fn force_direction<D: Dim>(problem: &Problem<D>, state: &State, row: Row) -> Vec<(usize, f64)> {
     match row {
         Row::Normal(p) => {
             let pair = &problem.pairs[p];
@@ -337,7 +344,7 @@ fn force_direction(problem: &Problem, state: &State, row: Row) -> Vec<(usize, f6
     }
 }
 
-fn constraint<'a>(problem: &'a Problem, row: Row) -> Cow<'a, SparseVec> {
+fn constraint<'a, D: Dim>(problem: &'a Problem<D>, row: Row) -> Cow<'a, SparseVec> {
     match row {
         Row::Normal(p) => Cow::Borrowed(&problem.pairs[p].w_n),
         Row::Tangent(p) => Cow::Borrowed(&problem.pairs[p].w_t),
@@ -347,8 +354,8 @@ fn constraint<'a>(problem: &'a Problem, row: Row) -> Cow<'a, SparseVec> {
 }
 
 /// Assemble and solve the small system for (Δλ, α).
-fn solve_small_system(
-    eng: &Engine,
+fn solve_small_system<D: Dim>(
+    eng: &Engine<D>,
     state: &State,
     sys: &ContactSystem,
     oob: &OutOfBalance,
@@ -420,8 +427,8 @@ fn solve_small_system(
 
 /// Δλ, Δu = K#(r + E Δλ) + N α, and the element stress increments (not for a sub-step, nor in
 /// the reduced space).
-fn increment(
-    eng: &mut Engine,
+fn increment<D: Dim>(
+    eng: &mut Engine<D>,
     state: &State,
     what: Solve,
     sys: &ContactSystem,
@@ -498,8 +505,8 @@ fn increment(
 /// K#(r + E Δλ): in the reduced space and for a sub-step only at the contact DOFs,
 /// Σ_j Δλ_j K# e_j (reduced index = slot); in the full space the forces E Δλ on contact DOFs
 /// touch only the trailing rows of the forward sweep, then one backward sweep.
-fn displacement(
-    eng: &mut Engine,
+fn displacement<D: Dim>(
+    eng: &mut Engine<D>,
     sys: &ContactSystem,
     oob: OutOfBalance,
     sol: &DVector<f64>,
@@ -530,8 +537,8 @@ fn displacement(
 
 /// Δu = K⁻¹(f r + E Δλ) over all DOFs, from a trial's kept out-of-balance force r (its
 /// forward sweep) and the forces `force_slots` at the contact slots: one backward sweep.
-pub(super) fn displacement_from(
-    eng: &mut Engine,
+pub(super) fn displacement_from<D: Dim>(
+    eng: &mut Engine<D>,
     base: &TrialBase,
     f: f64,
     force_slots: &[f64],
@@ -611,7 +618,7 @@ mod tests {
     const ROUND_OFF: f64 = 1e-12;
 
     /// The entry of DOF `dof` of a vector over the DOFs the loop carries.
-    fn at(eng: &Engine, v: &[f64], dof: usize) -> f64 {
+    fn at<D: Dim>(eng: &Engine<D>, v: &[f64], dof: usize) -> f64 {
         match &eng.problem.space {
             Space::Reduced(r) => v[r.dofs.iter().position(|&d| d == dof).expect("a contact DOF")],
             Space::Full => v[dof],

@@ -42,6 +42,7 @@ use super::stepping::Stepping;
 use super::switching::{contact_forces, switch_statuses};
 use super::trial::{self, Solve, TrialBase};
 use crate::contact::{Shift, Status};
+use crate::dim::Dim;
 use crate::error::Result;
 use crate::events::Candidate;
 use crate::model::EventKind;
@@ -156,8 +157,8 @@ impl Window {
 /// `takes_substeps`, with the trial's `base`): the increment from `state` as one trial
 /// increment (scaled to the remaining load) and its selection, for `advance`, and the largest
 /// force jump of a switch. Otherwise the trial and selection as they are.
-pub(super) fn contact_events(
-    eng: &mut Engine,
+pub(super) fn contact_events<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     trial: TrialIncrement,
     sel: Selection,
@@ -198,7 +199,12 @@ pub(super) fn inside_events(
 
 /// Whether the selection's events are taken as contact sub-steps: a plastic window ended early
 /// by contact events only.
-fn takes_substeps(eng: &Engine, sel: &Selection, every_event: bool, state: &State) -> bool {
+fn takes_substeps<D: Dim>(
+    eng: &Engine<D>,
+    sel: &Selection,
+    every_event: bool,
+    state: &State,
+) -> bool {
     sel.plastic_inside
         && !sel.last
         && !every_event
@@ -216,7 +222,7 @@ fn takes_substeps(eng: &Engine, sel: &Selection, every_event: bool, state: &Stat
 /// 0.085 % to 1.5 % of the peak stress (with this rule: 0.086 %); on the elastoplastic
 /// Hertz at 24.5k DOFs, whose contact edge stays elastic, the rule takes every closure and
 /// the engine goes 2.77 → 2.61 s (δ = 0.01), 2.24 → 1.78 s (δ = 0.03).
-fn inside_substeps(problem: &Problem, c: &Candidate, state: &State) -> bool {
+fn inside_substeps<D: Dim>(problem: &Problem<D>, c: &Candidate, state: &State) -> bool {
     match c.kind {
         EventKind::StickToSlip | EventKind::SlipToStick | EventKind::Separate => true,
         EventKind::Close => problem.pairs[c.entity].w_n.entries.iter().all(|&(d, _)| {
@@ -230,8 +236,8 @@ fn inside_substeps(problem: &Problem, c: &Candidate, state: &State) -> bool {
 /// the increment's bound; then the whole increment from `state` as one trial increment (scaled
 /// to the remaining load) and its selection, for `advance`, and the largest force jump of a
 /// switch (a jump ends the sub-steps: the correction must rebalance it).
-fn contact_substeps(
-    eng: &mut Engine,
+fn contact_substeps<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     sub: TrialIncrement,
     sel: Selection,
@@ -288,8 +294,8 @@ fn contact_substeps(
 /// `jumped`: the contact forces the switches and projections moved with no sub-step of their
 /// own, added up per pair (λ_n, λ_t1, λ_t2).
 #[allow(clippy::too_many_arguments)]
-fn walk_contact_events(
-    eng: &mut Engine,
+fn walk_contact_events<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     mut sub: TrialIncrement,
     mut sel: Selection,
@@ -342,8 +348,8 @@ fn walk_contact_events(
 /// The next sub-step's trial; 3D: a slip begun at zero force that it presses takes its
 /// direction from it, and it is solved again (`slip_direction::direct_new_slips`). Returns the trial
 /// and the force that moved (added to `jumped`).
-fn substep_trial(
-    eng: &mut Engine,
+fn substep_trial<D: Dim>(
+    eng: &mut Engine<D>,
     state: &mut State,
     base: &TrialBase,
     jumped: &mut [[f64; 3]],
@@ -367,8 +373,8 @@ fn substep_trial(
 /// (no second solve: measured on the elastoplastic Hertz at 24.5k DOFs, every one of its 29
 /// windows with sub-steps had such forces, and a whole increment without them cost a backward
 /// sweep and the stress increments of every element each).
-fn check_contact_path(
-    eng: &Engine,
+fn check_contact_path<D: Dim>(
+    eng: &Engine<D>,
     start: &State,
     end: &State,
     whole: &TrialIncrement,
@@ -408,7 +414,7 @@ fn check_contact_path(
 }
 
 /// Σ_p W_p (Δλ_n, Δλ_t1, Δλ_t2)_p at the contact slots (`n_slots` long).
-fn slot_forces(problem: &Problem, dlambda: &[[f64; 3]], n_slots: usize) -> Vec<f64> {
+fn slot_forces<D: Dim>(problem: &Problem<D>, dlambda: &[[f64; 3]], n_slots: usize) -> Vec<f64> {
     let contact_slot = &problem.dofs.contact_slot;
     let mut force_slots = vec![0.0; n_slots];
     for (pair, dl) in problem.pairs.iter().zip(dlambda) {
@@ -427,8 +433,8 @@ fn slot_forces(problem: &Problem, dlambda: &[[f64; 3]], n_slots: usize) -> Vec<f
 /// increment lives), λ, α and the obstacle shifts; the rest follows at the increment's end.
 /// Returns the force jump of putting slipping pairs back on their cones (`project_onto_cone`):
 /// the sub-steps' scaled load does not hold it, so a jump ends them; it is added to `jumped`.
-fn advance_contact(
-    problem: &Problem,
+fn advance_contact<D: Dim>(
+    problem: &Problem<D>,
     state: &mut State,
     inc: &TrialIncrement,
     sel: &Selection,
@@ -455,8 +461,8 @@ fn add_moved(state: &State, before: &[[f64; 3]], jumped: &mut [[f64; 3]]) {
 /// The increment from `start` to the contact state `end` over all DOFs, as a trial increment
 /// for the remaining load of `start` (so that its scale takes `start` to `end`):
 /// Δu = K⁻¹(f r + W Δλ) + N Δα with f = 1 − c_end / c, then the stresses with K's tangents.
-fn whole_increment(
-    eng: &mut Engine,
+fn whole_increment<D: Dim>(
+    eng: &mut Engine<D>,
     start: &State,
     end: &State,
     base: &TrialBase,

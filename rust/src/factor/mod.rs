@@ -188,7 +188,7 @@ mod tests {
     pub(super) fn cantilever() -> (SparseColMat<usize, f64>, DofMap, usize) {
         let (nx, ny) = (9, 6);
         let mesh = crate::mesh::test_grid(nx, ny, 0.5, 0.4);
-        let els: Vec<Cst> = (0..mesh.triangles.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
+        let els: Vec<Cst> = (0..mesh.elements.len()).map(|e| Cst::planar(&mesh, e, 1.0)).collect();
         let d = Section::new(Material::elastic(1000.0, 0.3), Plane::Strain.stress_state())
             .elastic_matrix();
         let n_dofs = 2 * mesh.nodes.len();
