@@ -137,7 +137,7 @@ impl LoadPath {
         let mut shift_change = vec![[0.0; 3]; n_pairs];
         for (j, shift) in self.shifts.iter().enumerate() {
             for (p, c) in shift.iter().enumerate() {
-                for i in 0..2 {
+                for i in 0..3 {
                     shift_start[p][i] += start[j] * c[i];
                     shift_change[p][i] += (end[j] - start[j]) * c[i];
                 }
