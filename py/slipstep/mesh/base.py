@@ -53,6 +53,17 @@ class Mesh(ABC):
     def n_elements(self) -> int:
         return len(self.elements)
 
+    def _normalised(self, cells, tags: dict) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """For ``__post_init__``: the coordinates as float64; the connectivity and the tags
+        (tag -> (K, dimension)) as contiguous int64 arrays, returned; every tag a node set too."""
+        self.nodes = np.ascontiguousarray(self.nodes, dtype=np.float64)
+        width = self.dimension
+        tags = {k: np.asarray(v, dtype=np.int64).reshape(-1, width) for k, v in tags.items()}
+        for tag, parts in tags.items():
+            self.node_sets.setdefault(tag, np.unique(parts))
+        self.node_sets = {k: np.asarray(v, dtype=np.int64) for k, v in self.node_sets.items()}
+        return np.ascontiguousarray(cells, dtype=np.int64), tags
+
     def tag_nodes(self, tag: str) -> np.ndarray:
         """Sorted unique nodes of a boundary tag."""
         return np.unique(self.tags[tag])

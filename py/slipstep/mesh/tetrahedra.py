@@ -38,14 +38,7 @@ class TetMesh(Mesh):
     node_sets: dict[str, np.ndarray] = field(default_factory=dict)
 
     def __post_init__(self):
-        self.nodes = np.ascontiguousarray(self.nodes, dtype=np.float64)
-        self.tetrahedra = np.ascontiguousarray(self.tetrahedra, dtype=np.int64)
-        self.faces = {
-            k: np.asarray(v, dtype=np.int64).reshape(-1, 3) for k, v in self.faces.items()
-        }
-        for tag, tris in self.faces.items():
-            self.node_sets.setdefault(tag, np.unique(tris))
-        self.node_sets = {k: np.asarray(v, dtype=np.int64) for k, v in self.node_sets.items()}
+        self.tetrahedra, self.faces = self._normalised(self.tetrahedra, self.faces)
 
     dimension = 3
     element_name = "tetrahedra"

@@ -30,14 +30,7 @@ class TriangleMesh(Mesh):
     node_sets: dict[str, np.ndarray] = field(default_factory=dict)
 
     def __post_init__(self):
-        self.nodes = np.ascontiguousarray(self.nodes, dtype=np.float64)
-        self.triangles = np.ascontiguousarray(self.triangles, dtype=np.int64)
-        self.edges = {
-            k: np.asarray(v, dtype=np.int64).reshape(-1, 2) for k, v in self.edges.items()
-        }
-        for tag, segs in self.edges.items():
-            self.node_sets.setdefault(tag, np.unique(segs))
-        self.node_sets = {k: np.asarray(v, dtype=np.int64) for k, v in self.node_sets.items()}
+        self.triangles, self.edges = self._normalised(self.triangles, self.edges)
 
     dimension = 2
     element_name = "triangles"
