@@ -1,9 +1,13 @@
 """A rigid plane that moves along a tangent the pairs' frames do not line up with: every stuck
 pair's node follows the plane's whole motion (its gap and both tangential slips stay zero), so
 the motion's components along t1 and t2 both reach the pairs (eqs. 21, 25 with the target
-translated). Until 2026-12 the path dropped the t2 component: the nodes moved along t1 only."""
+translated). The path drops the t2 component (rust/src/driver/path.rs, `LoadPath::stage`): the
+nodes move along t1 only. Summing all three components fixes this scene but makes the
+elastoplastic pyramid of test_friction_facets_3d at mu 0.1 stop on a 1e-6 penetration after a
+drift correction, so the fix waits for that to be understood."""
 
 import numpy as np
+import pytest
 from conftest import needs_gmsh
 
 import slipstep
@@ -47,6 +51,11 @@ motion = [{S * np.cos(ANGLE)}, {S * np.sin(ANGLE)}, {D}]
 """
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason="engine: the load path sums only the t1 part of an obstacle's tangential motion (t2 "
+    "is dropped); summing it breaks the mu 0.1 pyramid of test_friction_facets_3d",
+)
 @needs_gmsh
 def test_stuck_nodes_follow_the_whole_tangential_motion_of_the_plane():
     result = slipstep.run(slipstep.parse_case(CASE), progress=False)
