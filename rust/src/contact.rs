@@ -88,6 +88,8 @@
 //! the coarse mesh) can be far from −Q; the design bounds the force's lag behind the pair's
 //! own slip (2 slip_turn over a step, tests/engine/test_friction_facets_3d.py).
 //!
+use crate::coulomb::Coulomb;
+
 /// A pair's contact frame: the unit normal n of its target (towards the contactor) and a basis
 /// of the tangent plane, `T` = `D` − 1 tangents in `D` dimensions: one in 2D, two in 3D. The
 /// pair's constraint vectors are the frame's directions at its nodes (eqs. 45–46).
@@ -238,7 +240,8 @@ pub struct Pair {
     /// Normal and tangents with three components (z = 0 in 2D).
     pub frame: Frame<3, 2>,
     pub gap0: f64,
-    pub mu: f64,
+    /// Coulomb's law on this pair: μ, and in space its polygon (`coulomb`).
+    pub friction: Coulomb,
     /// Normal constraint vector over free DOFs (supports removed).
     pub w_n: SparseVec,
     /// Tangential constraint vector over free DOFs (3D: along t1).
@@ -276,7 +279,13 @@ impl Pair {
         fixed: &[bool],
     ) -> Self {
         let frame = Frame::of_pair(2, [normal[0], normal[1], 0.0], None);
-        Self::build(PairGeometry { node_a, node_b, weights: &[], dim: 2, frame }, gap0, mu, fixed)
+        let friction = Coulomb::new(mu, 0.0);
+        Self::build(
+            PairGeometry { node_a, node_b, weights: &[], dim: 2, frame },
+            gap0,
+            friction,
+            fixed,
+        )
     }
 
     /// A 2D pair whose constraint column is Σ_i c_i (n or t) at the nodes of `weights` (c_i).
@@ -290,11 +299,13 @@ impl Pair {
         fixed: &[bool],
     ) -> Self {
         let frame = Frame::of_pair(2, [normal[0], normal[1], 0.0], None);
-        Self::build(PairGeometry { node_a, node_b, weights, dim: 2, frame }, gap0, mu, fixed)
+        let friction = Coulomb::new(mu, 0.0);
+        Self::build(PairGeometry { node_a, node_b, weights, dim: 2, frame }, gap0, friction, fixed)
     }
 
-    /// The pair of `g` (node to node, or weighted when `g.weights` is not empty).
-    pub fn build(g: PairGeometry, gap0: f64, mu: f64, fixed: &[bool]) -> Self {
+    /// The pair of `g` (node to node, or weighted when `g.weights` is not empty) under the
+    /// friction law `friction`.
+    pub fn build(g: PairGeometry, gap0: f64, friction: Coulomb, fixed: &[bool]) -> Self {
         let PairGeometry { node_a, node_b, dim, frame, .. } = g;
         let weighted = !g.weights.is_empty();
         let mut own_weights = vec![(node_a, 1.0)];
@@ -327,7 +338,7 @@ impl Pair {
             dim,
             frame,
             gap0,
-            mu,
+            friction,
             w_n,
             w_t,
             w_t2,
@@ -342,7 +353,7 @@ impl Pair {
     /// always has, so that 2D runs keep their DOF order; in 3D the tangential DOFs of
     /// frictionless pairs would triple the dense trailing block of the factor for nothing.)
     pub fn slot_vectors(&self) -> Vec<&SparseVec> {
-        match (self.dim, self.mu > 0.0) {
+        match (self.dim, self.friction.acts()) {
             (2, _) => vec![&self.w_n, &self.w_t],
             (_, true) => vec![&self.w_n, &self.w_t, &self.w_t2],
             (_, false) => vec![&self.w_n],
@@ -357,13 +368,13 @@ impl Pair {
     }
 
     pub fn frictional(&self) -> bool {
-        self.mu > 0.0 && !self.tangent_held
+        self.friction.acts() && !self.tangent_held
     }
 
     /// The status a pair takes when it closes: stick with friction (held tangentially by
     /// its own constraint, or by the supports when `tangent_held`), frictionless sliding (μ = 0).
     pub fn closed_status(&self) -> Status {
-        if self.mu > 0.0 {
+        if self.friction.acts() {
             Status::Stick
         } else {
             Status::Slip { direction: 0 }
@@ -393,10 +404,10 @@ impl Pair {
         self.on_supports[2].add_to(lambda_t[1], y);
     }
 
-    /// λ_t = τ λ_n for a slipping pair (eq. 41): τ = −d μ.
+    /// λ_t = τ λ_n for a pair slipping in the plane (eq. 41): τ = −d μ.
     pub fn slip_ratio(&self, status: Status) -> f64 {
         match status {
-            Status::Slip { direction } => -(direction as f64) * self.mu,
+            Status::Slip { direction } => self.friction.planar_slip_ratio(direction),
             _ => 0.0,
         }
     }

@@ -42,6 +42,11 @@ impl Coulomb {
         Coulomb { mu, turn: polygon_half_angle(slip_turn) }
     }
 
+    /// Whether there is friction at all (μ > 0); μ = 0 is frictionless sliding.
+    pub fn acts(&self) -> bool {
+        self.mu > 0.0
+    }
+
     /// μ λ_n: the largest friction force of the round cone (eq. 1); 0 without compression.
     pub fn capacity(&self, lambda_n: f64) -> f64 {
         self.mu * lambda_n.max(0.0)
@@ -81,6 +86,21 @@ impl Coulomb {
     pub fn vertex_force(&self, lambda_n: f64, m: [f64; 2]) -> [f64; 2] {
         let size = self.polygon_capacity(lambda_n);
         [size * m[0], size * m[1]]
+    }
+
+    /// τ = λ_t / λ_n of a pair slipping in the plane in direction d = ±1 (eq. 41): −d μ.
+    pub fn planar_slip_ratio(&self, direction: i8) -> f64 {
+        -(direction as f64) * self.mu
+    }
+
+    /// τ = λ_t / λ_n (along t1, t2) of a pair slipping on the facet at e (μ e, no cross force)
+    /// or, `vertex`, at the vertex e (μ e / cos θ).
+    pub fn slip_ratio(&self, e: [f64; 2], vertex: bool) -> [f64; 2] {
+        if vertex {
+            self.vertex_force(1.0, e)
+        } else {
+            self.on_facet(1.0, e, [0.0; 2], false)
+        }
     }
 
     /// The vertex a facet's band ends at on side `side` (±1): m = e turned by θ.
@@ -355,6 +375,52 @@ mod tests {
         }
         let on = law.on_facet(ln, e, [5.0, -3.0], false);
         assert!((on[0] - 2.0 * e[0]).abs() < ROUND_OFF && (on[1] - 2.0 * e[1]).abs() < ROUND_OFF);
+    }
+
+    /// The projection of a slipping pair's force onto its facet, for a force without compression
+    /// (λ_n ≤ 0: nothing), inside the round cone, on it and outside it, in every direction about
+    /// e: the result is on the facet (μ λ_n along e), within the polygon, beyond the round cone
+    /// by at most 1/cos θ − 1, and keeps a cross force already within the band.
+    #[test]
+    fn the_projection_onto_the_cone_holds_wherever_the_force_is() {
+        let (law, e) = (Coulomb::new(0.8, 0.1), [0.28, -0.96]);
+        let perp = [-e[1], e[0]];
+        for ln in [-1.0, -1e-14, 0.0, 2.5] {
+            let cap = law.capacity(ln);
+            for size in [0.0, 0.5, 1.0, 3.0] {
+                for k in 0..16 {
+                    // |λ_t| = size × the cone's radius at λ_n = 2.5, turned k π/8 from e
+                    let d = rotated(e, k as f64 * std::f64::consts::PI / 8.0);
+                    let f = d.map(|v| size * law.capacity(2.5) * v);
+                    let on = law.on_facet(ln, e, f, true);
+                    if ln <= 0.0 {
+                        assert_eq!(on, [0.0; 2], "λ_n = {ln}");
+                        continue;
+                    }
+                    assert!((dot(on, e) - cap).abs() < ROUND_OFF * cap);
+                    assert!(law.excess(Some((e, false)), ln, on) < ROUND_OFF * cap);
+                    assert!(dot(on, on).sqrt() <= cap / law.turn.cos() * (1.0 + ROUND_OFF));
+                    let across = dot(f, perp);
+                    if across.abs() <= law.cross_bound(ln) {
+                        assert!((dot(on, perp) - across).abs() < ROUND_OFF * cap);
+                    }
+                }
+            }
+        }
+    }
+
+    /// τ = λ_t / λ_n of a slipping pair: −d μ in the plane; μ e on a facet and μ e / cos θ at a
+    /// vertex in space, the forces `on_facet` and `vertex_force` give per unit λ_n.
+    #[test]
+    fn the_slip_ratio_is_the_force_per_unit_normal_force() {
+        let law = Coulomb::new(0.4, 0.1);
+        assert_eq!((law.planar_slip_ratio(1), law.planar_slip_ratio(-1)), (-0.4, 0.4));
+        let e = [0.6, 0.8];
+        let on = law.slip_ratio(e, false);
+        assert!((on[0] - 0.24).abs() < ROUND_OFF && (on[1] - 0.32).abs() < ROUND_OFF);
+        let at = law.slip_ratio(e, true);
+        let size = 0.4 / law.turn.cos();
+        assert!((at[0] - size * 0.6).abs() < ROUND_OFF && (at[1] - size * 0.8).abs() < ROUND_OFF);
     }
 
     /// A facet's band ends at a vertex: the force at the band's edge (θ off e) is the vertex's

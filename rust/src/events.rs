@@ -5,7 +5,7 @@
 //! the trial increment at which it happens. The smallest S (capped at 1) is taken.
 
 use crate::contact::{Pair, Shift, Status};
-use crate::coulomb::{Coulomb, VertexExit};
+use crate::coulomb::VertexExit;
 use crate::material::Voigt;
 use crate::material::{von_mises, yield_scale};
 use crate::model::EventKind;
@@ -57,8 +57,6 @@ pub struct SpacePairs<'a> {
     pub vertex: &'a [bool],
     /// Per pair: e⊥ of a pair slipping on a facet with its cross row, else None.
     pub cross: Vec<Option<[f64; 2]>>,
-    /// `slip_turn`: the facets' turn angle (`coulomb`).
-    pub turn: f64,
 }
 
 pub struct Trial<'a> {
@@ -113,11 +111,8 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                         // Stick → slip (3D, `coulomb`): on the round cone, or on its polygon for
                         // a pair that slipped since it closed; direction 1 marks a frictional
                         // slip, whose facet the switch takes from λ_t there.
-                        let (law, lt, dlt) = (
-                            Coulomb::new(pair.mu, space.turn),
-                            [lt, space.lambda_t2[p]],
-                            [dlt, trial.dlambda_t2[p]],
-                        );
+                        let (law, lt, dlt) =
+                            (pair.friction, [lt, space.lambda_t2[p]], [dlt, trial.dlambda_t2[p]]);
                         let e = space.slip_dir[p];
                         let onset = if e != [0.0; 2] && pair.has_tangent_plane() && ln > noise.force
                         {
@@ -150,7 +145,7 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                     {
                         // At a vertex: its slip leaves the vertex's normal cone onto a facet, or
                         // turns against the force (eq. 54): at S = 0.
-                        let law = Coulomb::new(pair.mu, space.turn);
+                        let law = pair.friction;
                         match law.vertex_exit(
                             space.slip_dir[p],
                             slip_rate(pair, trial, p),
@@ -174,7 +169,7 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                         }
                         if let Some(cross) = space.cross[p] {
                             let (lt, dlt) = ([lt, space.lambda_t2[p]], [dlt, trial.dlambda_t2[p]]);
-                            for (side, s) in Coulomb::new(pair.mu, space.turn).facet_turn_scales(
+                            for (side, s) in pair.friction.facet_turn_scales(
                                 cross,
                                 (ln, lt),
                                 (dln, dlt),
@@ -186,15 +181,13 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                     }
                     (Status::Stick, _) if pair.frictional() => {
                         // Stick → slip, eqs. 52–53, on either side of the Coulomb cone.
-                        for (direction, s) in Coulomb::new(pair.mu, 0.0).planar_onset_scales(
-                            (ln, lt),
-                            (dln, dlt),
-                            noise.force,
-                        ) {
+                        for (direction, s) in
+                            pair.friction.planar_onset_scales((ln, lt), (dln, dlt), noise.force)
+                        {
                             push(&mut out, s, EventKind::StickToSlip, direction);
                         }
                     }
-                    (Status::Slip { direction }, _) if pair.mu > 0.0 => {
+                    (Status::Slip { direction }, _) if pair.friction.acts() => {
                         // Slip → stick, eqs. 54–55: the slip rate turns against the friction
                         // force's direction; this happens at zero scale.
                         let dslip = pair.w_t.dot(trial.du) + trial.dshift[p][1];

@@ -115,13 +115,13 @@ pub(super) fn check_contact<D: Dim>(
         } else if closed && ln < -force_tol {
             format!("carries a tensile force {ln:.3e}")
         } else if closed && problem.friction_excess(state, p) > force_tol {
-            format!("violates Coulomb's law (|λ_t| = {lt:.3e} beyond its cone by {:.3e}, μλ_n = {:.3e})", problem.friction_excess(state, p), problem.coulomb(p).capacity(ln))
+            format!("violates Coulomb's law (|λ_t| = {lt:.3e} beyond its cone by {:.3e}, μλ_n = {:.3e})", problem.friction_excess(state, p), problem.pairs[p].friction.capacity(ln))
         } else {
             continue;
         };
         let name = problem.model.pair_name(p);
         if frozen[p] {
-            bail!(IllPosed, "{name} {violation} at load fraction {phi:.6}: its statuses cycled at zero load increment, the complementarity (rate) problem found no admissible set, and the last-resort anti-cycling rule froze it; the scene may be ill-posed for mu = {}: lower mu, or load it differently", pair.mu);
+            bail!(IllPosed, "{name} {violation} at load fraction {phi:.6}: its statuses cycled at zero load increment, the complementarity (rate) problem found no admissible set, and the last-resort anti-cycling rule froze it; the scene may be ill-posed for mu = {}: lower mu, or load it differently", pair.friction.mu);
         }
         if correction.displacement > 0.0 || correction.force > 0.0 {
             // The equilibrium correction after a plastic return moves contact forces with no

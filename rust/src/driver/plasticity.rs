@@ -373,9 +373,9 @@ fn within_round_off<D: Dim>(eng: &Engine<D>, state: &State, c: &TrialIncrement, 
     if problem.dim != 3 || problem.model.has_plastic_material() {
         return false;
     }
-    let mu = problem.pairs[p].mu / problem.coulomb(p).turn.cos();
+    let law = problem.pairs[p].friction;
     let excess = problem.friction_excess(state, p);
-    let change = c.dlambda_t[p].hypot(c.dlambda_t2[p]) + mu * c.dlambda_n[p].abs();
+    let change = c.dlambda_t[p].hypot(c.dlambda_t2[p]) + law.polygon_capacity(c.dlambda_n[p].abs());
     excess + change <= FORCE_ROUND_OFF * problem.scales.force
 }
 

@@ -208,10 +208,9 @@ impl<'m, D: Dim> Problem<'m, D> {
         let pair = &self.pairs[p];
         match state.status[p] {
             _ if self.dim == 2 => [pair.slip_ratio(state.status[p]), 0.0],
-            Status::Slip { direction } if direction != 0 && state.vertex[p] => {
-                state.slip_dir[p].map(|m| pair.mu / self.coulomb(p).turn.cos() * m)
+            Status::Slip { direction } if direction != 0 => {
+                pair.friction.slip_ratio(state.slip_dir[p], state.vertex[p])
             }
-            Status::Slip { direction } if direction != 0 => state.slip_dir[p].map(|e| pair.mu * e),
             _ => [0.0; 2],
         }
     }
@@ -232,15 +231,10 @@ impl<'m, D: Dim> Problem<'m, D> {
         let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
         let directed = slipping
             && !state.vertex[p]
-            && pair.mu > 0.0
+            && pair.friction.acts()
             && pair.has_tangent_plane()
             && e != [0.0; 2];
         directed.then_some([-e[1], e[0]])
-    }
-
-    /// Coulomb's law on pair p (`coulomb`): its μ and the facets' turn angle.
-    pub fn coulomb(&self, p: usize) -> Coulomb {
-        Coulomb::new(self.pairs[p].mu, self.model.options.slip_turn)
     }
 
     /// 3D: the polygon pair p's friction has been on since it last began to slip (its sides
@@ -250,15 +244,17 @@ impl<'m, D: Dim> Problem<'m, D> {
     pub fn polygon_of(&self, state: &State, p: usize) -> Option<([f64; 2], bool)> {
         let pair = &self.pairs[p];
         let pressed = state.lambda_n[p] > self.scales.force_noise;
-        let laid =
-            pair.mu > 0.0 && pair.has_tangent_plane() && state.slip_dir[p] != [0.0; 2] && pressed;
+        let laid = pair.friction.acts()
+            && pair.has_tangent_plane()
+            && state.slip_dir[p] != [0.0; 2]
+            && pressed;
         laid.then_some((state.slip_dir[p], state.vertex[p]))
     }
 
     /// How far pair p's friction force is beyond its cone (round, or its polygon): > 0 violates
     /// Coulomb's law.
     pub fn friction_excess(&self, state: &State, p: usize) -> f64 {
-        self.coulomb(p).excess(
+        self.pairs[p].friction.excess(
             self.polygon_of(state, p),
             state.lambda_n[p],
             [state.lambda_t[p], state.lambda_t2[p]],
@@ -269,7 +265,7 @@ impl<'m, D: Dim> Problem<'m, D> {
     /// its facet in space (eq. 62: μ λ_n along e, the cross force of `lambda_t` kept within the
     /// band where the pair has a cross row), or at its vertex; zero without compression.
     pub fn slip_force(&self, state: &State, p: usize, lambda_t: [f64; 2]) -> [f64; 2] {
-        let law = self.coulomb(p);
+        let law = self.pairs[p].friction;
         match state.status[p] {
             Status::Slip { direction } if self.dim == 2 => {
                 [-(direction as f64) * law.capacity(state.lambda_n[p]), 0.0]
@@ -479,7 +475,7 @@ fn contact_pairs<D: Dim>(model: &Model<D>, fixed: &[bool]) -> Result<Vec<Pair>> 
         let pair = Pair::build(
             PairGeometry { node_a: p.node_a, node_b: p.node_b, weights: &p.weights, dim, frame },
             p.gap.max(0.0),
-            p.mu,
+            Coulomb::new(p.mu, model.options.slip_turn),
             fixed,
         );
         if pair.w_n.norm() < HELD_BY_SUPPORTS {

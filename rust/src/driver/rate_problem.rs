@@ -255,7 +255,7 @@ pub(super) fn solve_rate_problem<D: Dim>(
         }
         (laid, presumed, compliance) = (rp.laid, Some(rp.presumed), rp.compliance);
         for (p, e) in stray {
-            laid[p].extend(facets_about(e, eng.problem.coulomb(p).turn));
+            laid[p].extend(facets_about(e, eng.problem.pairs[p].friction.turn));
         }
     }
     unreachable!("the passes end at FACET_PASSES")
@@ -371,7 +371,7 @@ impl<D: Dim> RateProblem<'_, D> {
                 let f = &solved.forces[i];
                 let ln = f.normal.eval(&solved.y);
                 let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
-                ln < -tol || norm(&lt) > self.p.pairs[p].mu * ln + tol
+                ln < -tol || norm(&lt) > self.p.pairs[p].friction.capacity(ln) + tol
             })
             .map(|(_, &p)| p)
             .collect()
@@ -445,7 +445,7 @@ impl<D: Dim> RateProblem<'_, D> {
             }
             let f = &solved.forces[i];
             let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
-            let band = self.p.coulomb(p).cross_bound(f.normal.eval(&solved.y));
+            let band = self.p.pairs[p].friction.cross_bound(f.normal.eval(&solved.y));
             let across = e[0] * lt[1] - e[1] * lt[0];
             if across.abs() > band * (1.0 - FACET_AGREEMENT) + tol {
                 stray.push((p, e));
@@ -476,7 +476,10 @@ impl<D: Dim> RateProblem<'_, D> {
             let f = &solved.forces[i];
             let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
             let size = norm(&lt);
-            if size > self.p.pairs[p].mu * f.normal.eval(&solved.y) * (1.0 + FACET_AGREEMENT) + tol
+            if size
+                > self.p.pairs[p].friction.capacity(f.normal.eval(&solved.y))
+                    * (1.0 + FACET_AGREEMENT)
+                    + tol
             {
                 beyond.push((p, [lt[0] / size, lt[1] / size]));
             }
@@ -563,7 +566,7 @@ impl<D: Dim> RateProblem<'_, D> {
         let polygon = self.p.polygon_of(state, p).filter(|_| closed);
         let margin = match polygon {
             Some(_) => -self.p.friction_excess(state, p),
-            None => self.p.coulomb(p).capacity(ln) - norm(&lt),
+            None => self.p.pairs[p].friction.capacity(ln) - norm(&lt),
         };
         match (pair.frictional(), closed) {
             (false, true) => Role::Normal,
@@ -573,7 +576,8 @@ impl<D: Dim> RateProblem<'_, D> {
                 // only the sides the force is on can slip at the increment's start (the others'
                 // slip rates are 0: their present slack is positive)
                 let facet = |dir: Vec<f64>| {
-                    let slack = pair.mu * ln - dir.iter().zip(&lt).map(|(d, l)| d * l).sum::<f64>();
+                    let slack = pair.friction.capacity(ln)
+                        - dir.iter().zip(&lt).map(|(d, l)| d * l).sum::<f64>();
                     Facet { dir, off: (slack > tol).then_some(slack) }
                 };
                 let space = lt.len() == 2;
@@ -605,7 +609,7 @@ impl<D: Dim> RateProblem<'_, D> {
             return vec![vec![-1.0], vec![1.0]];
         }
         if let Some((e, vertex)) = polygon {
-            return self.p.coulomb(p).polygon(e, vertex).map(|d| d.to_vec()).collect();
+            return self.p.pairs[p].friction.polygon(e, vertex).map(|d| d.to_vec()).collect();
         }
         let laid = self.laid[p].iter().map(|d| d.to_vec());
         let e = state.slip_dir[p];
@@ -724,7 +728,7 @@ impl<D: Dim> RateProblem<'_, D> {
             Role::Normal | Role::Critical => {}
             Role::Stick => forces.t.iter().zip(v).for_each(|(&t, v)| prob.rows[t] = Some(v)),
             Role::Friction { facets, .. } => {
-                let mu = self.p.pairs[p].mu;
+                let mu = self.p.pairs[p].friction.mu; // the slack row μ λ_n − e·λ_t
                 for (k, (&t, v)) in forces.t.iter().zip(v).enumerate() {
                     prob.rows[t] = Some(
                         facets
@@ -807,7 +811,8 @@ impl<D: Dim> RateProblem<'_, D> {
             .map(|(f, _)| [f.dir[0], f.dir[1]])
             .collect();
         let adjacent = |a: [f64; 2], b: [f64; 2]| {
-            (a[0] * b[0] + a[1] * b[1] - (2.0 * self.p.coulomb(p).turn).cos()).abs() < SAME_SIDE
+            (a[0] * b[0] + a[1] * b[1] - (2.0 * self.p.pairs[p].friction.turn).cos()).abs()
+                < SAME_SIDE
         };
         match slipping[..] {
             [a] => (a, false),
@@ -1342,7 +1347,7 @@ mod tests {
             facets[0].dir
         );
         // on its own polygon, at the vertex m: the two sides m ± θ
-        let law = eng.problem.coulomb(free);
+        let law = eng.problem.pairs[free].friction;
         let m = [angle.cos(), angle.sin()];
         (state.status[free], state.slip_dir[free], state.vertex[free]) =
             (Status::Slip { direction: 1 }, m, true);

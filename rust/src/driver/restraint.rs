@@ -183,8 +183,11 @@ impl FrictionPlane {
         normal_force: impl Fn(usize) -> [f64; 2],
     ) -> planar_sliding::Contact {
         let at = self.pairs.iter().map(|&p| self.coordinates(contact_point(problem, p))).collect();
-        let capacity =
-            self.pairs.iter().map(|&p| normal_force(p).map(|f| problem.pairs[p].mu * f)).collect();
+        let capacity = self
+            .pairs
+            .iter()
+            .map(|&p| normal_force(p).map(|f| problem.pairs[p].friction.capacity(f)))
+            .collect();
         planar_sliding::Contact { at, capacity }
     }
 }
@@ -505,7 +508,7 @@ impl<D: Dim> Restraint<'_, D> {
         };
         let dim = self.p.dim;
         let normal: Vec<f64> = (0..dim).map(|k| mean(&|p| p.frame.normal[k])).collect();
-        let mu = mean(&|p| p.mu);
+        let mu = mean(&|p| p.friction.mu);
         if dim == 3 {
             // the load at the fraction checked (its remaining change where it is zero there,
             // as before any load: the ratio of T to N is what friction holds or not), resolved

@@ -115,7 +115,6 @@ pub(super) fn pair_state<'a, D: Dim>(
         slip_dir: &state.slip_dir,
         vertex: &state.vertex,
         cross: (0..problem.pairs.len()).map(|p| problem.cross_direction(state, p)).collect(),
-        turn: problem.model.options.slip_turn,
     });
     PairState {
         pairs: &problem.pairs,

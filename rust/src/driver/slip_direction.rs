@@ -81,7 +81,7 @@ pub(super) fn hold_direction<D: Dim>(
 ) -> f64 {
     state.slip_dir[p] = e;
     state.vertex[p] = false;
-    let mu_ln = problem.coulomb(p).capacity(state.lambda_n[p]);
+    let mu_ln = problem.pairs[p].friction.capacity(state.lambda_n[p]);
     let moved = (mu_ln * e[0] - state.lambda_t[p]).hypot(mu_ln * e[1] - state.lambda_t2[p]);
     (state.lambda_t[p], state.lambda_t2[p]) = (mu_ln * e[0], mu_ln * e[1]);
     moved

@@ -221,7 +221,7 @@ fn onset_facet<D: Dim>(
 ) -> ([f64; 2], bool) {
     let ln = state.lambda_n[p];
     if let Some((e, vertex)) = problem.polygon_of(state, p) {
-        let law = problem.coulomb(p);
+        let law = problem.pairs[p].friction;
         return law.place_on_polygon(e, vertex, ln, force, PLACE_TOL * law.capacity(ln));
     }
     let size = force[0].hypot(force[1]);
@@ -237,7 +237,7 @@ const PLACE_TOL: f64 = 1e-9;
 /// facet. Either way the force does not move (round-off aside): the band's edge is the vertex.
 fn turn_facet<D: Dim>(problem: &Problem<D>, state: &mut State, p: usize, side: i8) {
     let (law, now, e) =
-        (problem.coulomb(p), [state.lambda_t[p], state.lambda_t2[p]], state.slip_dir[p]);
+        (problem.pairs[p].friction, [state.lambda_t[p], state.lambda_t2[p]], state.slip_dir[p]);
     if state.vertex[p] {
         state.slip_dir[p] = law.facet_of(e, side as f64);
         state.vertex[p] = false;
