@@ -231,31 +231,36 @@ impl Status {
     }
 }
 
+/// One tangent of a pair's frame and its row (eqs. 25, 45–46).
+#[derive(Debug, Clone)]
+pub struct Tangent {
+    /// The unit direction t (three components; z = 0 in the plane).
+    pub direction: [f64; 3],
+    /// The tangential constraint vector w_t over free DOFs (supports removed).
+    pub w: SparseVec,
+    /// The supports hold it (a node on a symmetry plane): no stick row along it, and its
+    /// friction force goes to the support (Coulomb's cone bounds the other tangent's).
+    pub held: bool,
+    /// The column's entries at held DOFs: the force the pair puts straight onto the supports.
+    pub on_supports: SparseVec,
+}
+
 #[derive(Debug, Clone)]
 pub struct Pair {
     pub node_a: usize,
     pub node_b: Option<usize>,
-    /// DOFs per node: 2 or 3.
-    pub dim: usize,
-    /// Normal and tangents with three components (z = 0 in 2D).
-    pub frame: Frame<3, 2>,
+    /// The unit normal n of the target, towards the contactor (three components; z = 0 in the
+    /// plane).
+    pub normal: [f64; 3],
     pub gap0: f64,
     /// Coulomb's law on this pair: μ, and in space its polygon (`coulomb`).
     pub friction: Coulomb,
     /// Normal constraint vector over free DOFs (supports removed).
     pub w_n: SparseVec,
-    /// Tangential constraint vector over free DOFs (3D: along t1).
-    pub w_t: SparseVec,
-    /// 3D: the tangential constraint vector along t2 (empty in 2D).
-    pub w_t2: SparseVec,
-    /// The tangential direction is held entirely by supports: no stick constraint.
-    pub tangent_held: bool,
-    /// 3D: which of t1, t2 the supports hold (a node on a symmetry plane): no stick row along
-    /// it, and its friction force goes to the support (Coulomb's cone bounds the other).
-    pub held: [bool; 2],
-    /// The columns' entries at held DOFs (normal, tangential, 3D: t2): the force the pair puts
-    /// straight onto the supports, which a reaction excludes (no constraint: they do not move).
-    pub on_supports: [SparseVec; 3],
+    /// The normal column's entries at held DOFs (which a reaction excludes: they do not move).
+    pub n_on_supports: SparseVec,
+    /// The frame's tangents: t in the plane, (t1, t2) in space.
+    pub tangents: Vec<Tangent>,
 }
 
 /// Where a pair is and what it is: its nodes, its frame, the space's dimension.
@@ -313,15 +318,7 @@ impl Pair {
         let weights = if weighted { g.weights } else { &own_weights };
         let vec_of = |dir: [f64; 3]| along(weights, dim, dir);
         let free = |d: usize| !fixed[d];
-        let [t, t2] = frame.tangents;
         let w_n = vec_of(frame.normal).restricted(free);
-        let w_t = vec_of(t).restricted(free);
-        let w_t2 = if dim == 3 { vec_of(t2).restricted(free) } else { SparseVec::default() };
-        let on_supports = [
-            vec_of(frame.normal).restricted(|d| fixed[d]),
-            vec_of(t).restricted(|d| fixed[d]),
-            if dim == 3 { vec_of(t2).restricted(|d| fixed[d]) } else { SparseVec::default() },
-        ];
         // A tangential row is held when, on the free DOFs, it adds nothing to the normal row:
         // zero (every tangential DOF held), or parallel to it (a node on two symmetry planes
         // under a tilted normal: both rows act on its one free DOF). Node to node: over all
@@ -329,23 +326,77 @@ impl Pair {
         // remaining entries would constrain the target only.
         let part =
             |w: &SparseVec| if weighted { w.restricted(|d| d / dim == node_a) } else { w.clone() };
-        let held = |w: &SparseVec| part(w).across(&part(&w_n)).norm() < HELD_BY_SUPPORTS;
-        let held = [held(&w_t), dim == 2 || held(&w_t2)];
-        let tangent_held = held[0] && held[1];
+        let tangents = frame.tangents[..dim - 1]
+            .iter()
+            .map(|&direction| {
+                let w = vec_of(direction).restricted(free);
+                Tangent {
+                    direction,
+                    held: part(&w).across(&part(&w_n)).norm() < HELD_BY_SUPPORTS,
+                    on_supports: vec_of(direction).restricted(|d| fixed[d]),
+                    w,
+                }
+            })
+            .collect();
         Pair {
             node_a,
             node_b,
-            dim,
-            frame,
+            normal: frame.normal,
             gap0,
             friction,
+            n_on_supports: vec_of(frame.normal).restricted(|d| fixed[d]),
             w_n,
-            w_t,
-            w_t2,
-            tangent_held,
-            held,
-            on_supports,
+            tangents,
         }
+    }
+
+    /// w_t: the constraint vector along the first tangent (t in the plane, t1 in space).
+    pub fn w_t(&self) -> &SparseVec {
+        &self.tangents[0].w
+    }
+
+    /// w_t2: the constraint vector along t2 (in space; None in the plane).
+    pub fn w_t2(&self) -> Option<&SparseVec> {
+        self.tangents.get(1).map(|t| &t.w)
+    }
+
+    /// Whether the supports hold tangent k (a tangent the frame does not have, the plane's
+    /// second, counts as held: nothing to constrain).
+    pub fn held(&self, k: usize) -> bool {
+        self.tangents.get(k).is_none_or(|t| t.held)
+    }
+
+    /// The tangents the supports leave free, with their indices (0: t / t1, 1: t2).
+    pub fn free_tangents(&self) -> impl Iterator<Item = (usize, &Tangent)> {
+        self.tangents.iter().enumerate().filter(|(_, t)| !t.held)
+    }
+
+    /// The pair's columns of W (eqs. 45–46): w_n, then w_t of each tangent.
+    pub fn columns(&self) -> impl Iterator<Item = &SparseVec> {
+        std::iter::once(&self.w_n).chain(self.tangents.iter().map(|t| &t.w))
+    }
+
+    /// Their entries at held DOFs, in the same order (`Tangent::on_supports`).
+    pub fn on_supports(&self) -> impl Iterator<Item = &SparseVec> {
+        std::iter::once(&self.n_on_supports).chain(self.tangents.iter().map(|t| &t.on_supports))
+    }
+
+    /// y += W λ, λ = (λ_n, λ_t1, λ_t2): the pair's force on the free DOFs (λ_t2 unused in the
+    /// plane).
+    pub fn add_force(&self, lambda: [f64; 3], y: &mut [f64]) {
+        self.columns().zip(lambda).for_each(|(w, l)| w.add_to(l, y));
+    }
+
+    /// (w_n·v, w_t1·v, w_t2·v): each column against v (0 for a tangent the frame lacks).
+    pub fn dots(&self, v: &[f64]) -> [f64; 3] {
+        let mut out = [0.0; 3];
+        self.columns().zip(&mut out).for_each(|(w, o)| *o = w.dot(v));
+        out
+    }
+
+    /// Every tangential DOF is held by supports: no stick constraint.
+    pub fn tangent_held(&self) -> bool {
+        self.tangents.iter().all(|t| t.held)
     }
 
     /// The constraint vectors whose DOFs the contact system reads (its slots): the normal, and
@@ -353,22 +404,20 @@ impl Pair {
     /// always has, so that 2D runs keep their DOF order; in 3D the tangential DOFs of
     /// frictionless pairs would triple the dense trailing block of the factor for nothing.)
     pub fn slot_vectors(&self) -> Vec<&SparseVec> {
-        match (self.dim, self.friction.acts()) {
-            (2, _) => vec![&self.w_n, &self.w_t],
-            (_, true) => vec![&self.w_n, &self.w_t, &self.w_t2],
-            (_, false) => vec![&self.w_n],
-        }
+        let one_tangent = self.tangents.len() == 1;
+        let rows = if one_tangent || self.friction.acts() { self.tangents.len() } else { 0 };
+        std::iter::once(&self.w_n).chain(self.tangents[..rows].iter().map(|t| &t.w)).collect()
     }
 
     /// Both tangents free (neither held by the supports): friction acts in the whole tangent
     /// plane, on the round cone and its facets. Never in 2D, whose frame has one tangent (the
     /// second counts as held).
     pub fn has_tangent_plane(&self) -> bool {
-        !self.held[0] && !self.held[1]
+        self.tangents.len() == 2 && self.free_tangents().count() == 2
     }
 
     pub fn frictional(&self) -> bool {
-        self.friction.acts() && !self.tangent_held
+        self.friction.acts() && !self.tangent_held()
     }
 
     /// The status a pair takes when it closes: stick with friction (held tangentially by
@@ -386,22 +435,25 @@ impl Pair {
     }
 
     pub fn rtd(&self, u: &[f64]) -> f64 {
-        self.w_t.dot(u)
+        self.w_t().dot(u)
     }
 
     /// 3D: the constraint vector along the tangent-plane direction `dir` (along t1, t2):
     /// dir₁ w_t1 + dir₂ w_t2.
     pub fn along_tangent(&self, dir: [f64; 2]) -> SparseVec {
-        let t1 = self.w_t.entries.iter().map(|&(d, v)| (d, dir[0] * v));
-        let t2 = self.w_t2.entries.iter().map(|&(d, v)| (d, dir[1] * v));
-        SparseVec { entries: t1.chain(t2).filter(|&(_, v)| v != 0.0).collect() }
+        let scaled = self
+            .tangents
+            .iter()
+            .zip(dir)
+            .flat_map(|(t, c)| t.w.entries.iter().map(move |&(d, v)| (d, c * v)));
+        SparseVec { entries: scaled.filter(|&(_, v)| v != 0.0).collect() }
     }
 
     /// y += the force λ_n, λ_t (along t1, t2) put on the held DOFs (global).
     pub fn add_support_force(&self, lambda_n: f64, lambda_t: [f64; 2], y: &mut [f64]) {
-        self.on_supports[0].add_to(lambda_n, y);
-        self.on_supports[1].add_to(lambda_t[0], y);
-        self.on_supports[2].add_to(lambda_t[1], y);
+        self.on_supports()
+            .zip([lambda_n, lambda_t[0], lambda_t[1]])
+            .for_each(|(w, l)| w.add_to(l, y));
     }
 
     /// λ_t = τ λ_n for a pair slipping in the plane (eq. 41): τ = −d μ.
@@ -456,7 +508,7 @@ mod tests {
             0.3,
             &[true, false, false, false, false, false],
         );
-        assert!(held.tangent_held && !p.tangent_held);
+        assert!(held.tangent_held() && !p.tangent_held());
     }
 
     #[test]
@@ -464,7 +516,7 @@ mod tests {
         // Node 0 with u_x fixed on a rigid flat of normal +y: its tangential DOF is a support.
         let fixed = vec![true, false];
         let p = Pair::new(0, None, [0.0, 1.0], 0.0, 0.3, &fixed);
-        assert!(p.tangent_held && !p.frictional());
+        assert!(p.tangent_held() && !p.frictional());
         assert_eq!(p.closed_status(), Status::Stick);
         // its tangential force goes straight to the support: x = 2 λ_t (t = (−1, 0)) at DOF 0
         let mut y = [0.0; 2];

@@ -47,6 +47,50 @@ pub trait Dim: Copy + Clone + Debug + Default + Send + Sync + 'static {
     /// The out-of-plane thickness, in plane strain and plane stress; None in axisymmetry (forces
     /// are ring totals) and in space.
     fn thickness(section: &Self::Section) -> Option<f64>;
+
+    /// Storage for what exists only in space (a pair's second tangent, its facets): the value
+    /// itself in space, nothing in the plane.
+    type OnlyInSpace<T: Clone + Debug + Send + Sync>: InSpace<T>;
+}
+
+/// A value that exists in space only (`Dim::OnlyInSpace`): `Present` there, `Absent` (zero-sized,
+/// no value) in the plane.
+pub trait InSpace<T>: Clone + Debug + Send + Sync {
+    fn new(value: impl FnOnce() -> T) -> Self;
+    fn get(&self) -> Option<&T>;
+    fn get_mut(&mut self) -> Option<&mut T>;
+}
+
+/// Nothing: the plane's `OnlyInSpace`.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Absent;
+
+/// The value: space's `OnlyInSpace`.
+#[derive(Debug, Clone)]
+pub struct Present<T>(pub T);
+
+impl<T> InSpace<T> for Absent {
+    fn new(_: impl FnOnce() -> T) -> Self {
+        Absent
+    }
+    fn get(&self) -> Option<&T> {
+        None
+    }
+    fn get_mut(&mut self) -> Option<&mut T> {
+        None
+    }
+}
+
+impl<T: Clone + Debug + Send + Sync> InSpace<T> for Present<T> {
+    fn new(value: impl FnOnce() -> T) -> Self {
+        Present(value())
+    }
+    fn get(&self) -> Option<&T> {
+        Some(&self.0)
+    }
+    fn get_mut(&mut self) -> Option<&mut T> {
+        Some(&mut self.0)
+    }
 }
 
 /// The plane: triangles (CST), two DOFs per node, in plane strain, plane stress or axisymmetry.
@@ -72,6 +116,7 @@ impl Dim for Planar {
     type Point = [f64; 2];
     type Cell = [usize; 3];
     type Section = PlaneSection;
+    type OnlyInSpace<T: Clone + Debug + Send + Sync> = Absent;
 
     fn coordinates(p: &[f64; 2]) -> [f64; 3] {
         [p[0], p[1], 0.0]
@@ -104,6 +149,7 @@ impl Dim for Spatial {
     type Point = [f64; 3];
     type Cell = [usize; 4];
     type Section = ();
+    type OnlyInSpace<T: Clone + Debug + Send + Sync> = Present<T>;
 
     fn coordinates(p: &[f64; 3]) -> [f64; 3] {
         *p

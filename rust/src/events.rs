@@ -190,7 +190,7 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
                     (Status::Slip { direction }, _) if pair.friction.acts() => {
                         // Slip → stick, eqs. 54–55: the slip rate turns against the friction
                         // force's direction; this happens at zero scale.
-                        let dslip = pair.w_t.dot(trial.du) + trial.dshift[p][1];
+                        let dslip = pair.w_t().dot(trial.du) + trial.dshift[p][1];
                         if (direction as f64) * dslip < -noise.displacement {
                             push(&mut out, 0.0, EventKind::SlipToStick, 0);
                         }
@@ -206,14 +206,11 @@ pub fn candidates(state: &PairState, trial: &Trial, noise: Noise) -> Vec<Candida
 /// 3D: a pair's relative tangential velocity (t1, t2) in a trial (0 along a direction the
 /// supports hold).
 pub fn slip_rate(pair: &Pair, trial: &Trial, p: usize) -> [f64; 2] {
-    let along = |w: &crate::contact::SparseVec, k: usize| {
-        if pair.held[k - 1] {
-            0.0
-        } else {
-            w.dot(trial.du) + trial.dshift[p][k]
-        }
-    };
-    [along(&pair.w_t, 1), along(&pair.w_t2, 2)]
+    let mut rate = [0.0; 2];
+    for (k, t) in pair.free_tangents() {
+        rate[k] = t.w.dot(trial.du) + trial.dshift[p][k + 1];
+    }
+    rate
 }
 
 /// A plastic multiplier below this × the largest of the trial counts as zero (no unloading).

@@ -17,7 +17,7 @@ use crate::model::EventKind;
 /// needs an equilibrium correction, and tells what yielded inside.
 pub(super) fn to_event<D: Dim>(
     eng: &Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     trial: &TrialIncrement,
     sel: &Selection,
 ) -> Option<IncrementStart> {
@@ -38,7 +38,7 @@ pub(super) fn to_event<D: Dim>(
     }
     // Put back on its facet, a pair a correction left beyond it has a force jump; in the
     // reduced space it is kept to be rebalanced (`State::jumps`), as a switch's is.
-    let before = jumps_kept(eng).then(|| contact_forces(state));
+    let before = jumps_kept(eng, state).then(|| contact_forces(state));
     project_onto_cone(&eng.problem, state);
     if let Some(before) = before {
         keep_jumps(state, &before);
@@ -49,14 +49,14 @@ pub(super) fn to_event<D: Dim>(
 /// Slipping pairs onto their friction force (eq. 62; `Problem::slip_force`: in space on their
 /// facet, the cross force kept within its band), round-off removed. Returns the largest change:
 /// more than round-off where the last correction left a slipping pair off its cone.
-pub(super) fn project_onto_cone<D: Dim>(problem: &Problem<D>, state: &mut State) -> f64 {
+pub(super) fn project_onto_cone<D: Dim>(problem: &Problem<D>, state: &mut State<D>) -> f64 {
     let mut largest: f64 = 0.0;
     for p in 0..state.status.len() {
         if let Status::Slip { .. } = state.status[p] {
-            let now = [state.lambda_t[p], state.lambda_t2[p]];
+            let now = state.lambda_t_of(p);
             let on_cone = problem.slip_force(state, p, now);
             largest = largest.max((on_cone[0] - now[0]).hypot(on_cone[1] - now[1]));
-            (state.lambda_t[p], state.lambda_t2[p]) = (on_cone[0], on_cone[1]);
+            state.set_lambda_t(p, on_cone);
         }
     }
     largest

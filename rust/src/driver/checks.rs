@@ -42,7 +42,7 @@ impl Correction {
 
 /// |P(s) − P_σ + Wλ| / |P| over all DOFs, from the stresses of a full state, and the internal
 /// force P_σ it used (reused by the next trial from the same stresses).
-pub(super) fn full_residual<D: Dim>(eng: &Engine<D>, state: &State) -> (f64, Vec<f64>) {
+pub(super) fn full_residual<D: Dim>(eng: &Engine<D>, state: &State<D>) -> (f64, Vec<f64>) {
     let problem = &eng.problem;
     let internal = problem.internal_force(&state.stress);
     let r = eng.loads.residual_from(problem, &internal, state, state.load_fraction);
@@ -56,7 +56,7 @@ pub(super) fn full_residual<D: Dim>(eng: &Engine<D>, state: &State) -> (f64, Vec
 /// stages' K# loads.)
 pub(super) fn equilibrium_residual<D: Dim>(
     eng: &Engine<D>,
-    state: &State,
+    state: &State<D>,
 ) -> (f64, Option<Vec<f64>>) {
     let problem = &eng.problem;
     if let Space::Full = problem.space {
@@ -91,7 +91,7 @@ pub(super) fn check_equilibrium<D: Dim>(
 /// last-resort anti-cycling rule froze is reported as an ill-posed scene.
 pub(super) fn check_contact<D: Dim>(
     eng: &Engine<D>,
-    state: &State,
+    state: &State<D>,
     frozen: &[bool],
     correction: Correction,
 ) -> Result<()> {
@@ -106,7 +106,7 @@ pub(super) fn check_contact<D: Dim>(
     for (p, pair) in problem.pairs.iter().enumerate() {
         let g = problem.gap(state, p);
         let ln = state.lambda_n[p];
-        let lt = state.lambda_t[p].hypot(state.lambda_t2[p]);
+        let lt = state.lambda_t[p].hypot(state.lambda_t_of(p)[1]);
         let closed = state.status[p].is_closed();
         // a frozen pair has no event to bring it back: held to round-off, not to a correction's allowance
         let force_tol = if frozen[p] { FORCE_ROUND_OFF * problem.scales.force } else { force_tol };
@@ -149,7 +149,7 @@ impl LimitLoad {
     pub fn check<D: Dim>(
         &mut self,
         eng: &Engine<D>,
-        state: &State,
+        state: &State<D>,
         trial: &TrialIncrement,
         sel: &Selection,
     ) -> Option<StopReason> {

@@ -38,7 +38,7 @@ impl<'m, 'c, D: Dim> Engine<'m, 'c, D> {
     }
 
     /// The state at the start of the path.
-    pub fn initial_state(&self) -> State {
+    pub fn initial_state(&self) -> State<D> {
         let p = &self.problem;
         State::initial(
             &p.pairs,
@@ -50,7 +50,7 @@ impl<'m, 'c, D: Dim> Engine<'m, 'c, D> {
     }
 
     /// Start stage k (0-based) at s = 0, from the state the previous stage left.
-    pub fn begin_stage(&mut self, k: usize, state: &mut State) {
+    pub fn begin_stage(&mut self, k: usize, state: &mut State<D>) {
         state.begin_stage(k);
         if k > 0 {
             let done = std::mem::take(&mut self.loads.reduced);

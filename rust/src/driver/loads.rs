@@ -89,7 +89,7 @@ impl StageLoads {
     pub fn prescribed_increment<D: Dim>(
         &self,
         problem: &Problem<D>,
-        state: &State,
+        state: &State<D>,
         target: f64,
     ) -> Vec<(usize, f64)> {
         if problem.is_reduced() {
@@ -99,7 +99,7 @@ impl StageLoads {
     }
 
     /// (c_n, c_t1, c_t2)(target) − (c_n, c_t1, c_t2) of every pair (residual form).
-    pub fn shift_increment(&self, state: &State, target: f64) -> Vec<Shift> {
+    pub fn shift_increment<D: Dim>(&self, state: &State<D>, target: f64) -> Vec<Shift> {
         (0..state.shift.len())
             .map(|p| {
                 let c = self.load.shift(p, target);
@@ -127,7 +127,7 @@ impl StageLoads {
         &self,
         problem: &Problem<D>,
         internal: &[f64],
-        state: &State,
+        state: &State<D>,
         phi: f64,
     ) -> Vec<f64> {
         let mut r = internal.to_vec();
@@ -135,9 +135,7 @@ impl StageLoads {
             *v = if problem.dofs.fixed[d] { 0.0 } else { self.load.force(d, phi) - *v };
         }
         for (p, pair) in problem.global_pairs().iter().enumerate() {
-            pair.w_n.add_to(state.lambda_n[p], &mut r);
-            pair.w_t.add_to(state.lambda_t[p], &mut r);
-            pair.w_t2.add_to(state.lambda_t2[p], &mut r);
+            pair.add_force(state.contact_force(p), &mut r);
         }
         r
     }

@@ -26,7 +26,8 @@
 //! | the limit of a body sliding on friction in one plane (force and moment) | [`planar_sliding`] | |
 //! | trial for the remaining load (small contact system) | [`trial`] | eqs. 43–44 |
 //! | scale factors, S_min, ties, zero-length order, a window's bound | [`selection`] | eqs. 48–57 |
-//! | termination of zero-length runs | [`anticycling`], [`rate_problem`] | |
+//! | termination of zero-length runs: the statuses at a fixed load | [`anticycling`], [`rate_problem`] | |
+//! | the rate problem as a mixed LCP, solved by Lemke's method | [`mixed_lcp`] | |
 //! | equilibrium, contact conditions, limit load | [`checks`] | eqs. 22–24, 1–2 |
 //! | event history, increments, snapshots | [`recording`] | |
 //! | status switches (step 6) | [`switching`] | eqs. 41, 50–55 |
@@ -62,6 +63,7 @@ mod checks;
 mod clock;
 mod engine;
 mod loads;
+mod mixed_lcp;
 mod path;
 mod planar_sliding;
 mod plasticity;
@@ -151,7 +153,7 @@ pub fn run<D: Discretization>(
 /// The stages of the load path in turn (`path`), each from the state the last one left.
 fn run_path<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     rec: &mut Recorder,
     cycles: &mut AntiCycling,
     progress: &mut impl FnMut(Progress) -> bool,
@@ -215,7 +217,7 @@ enum Outcome {
 /// stopped before.
 fn run_stage<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     rec: &mut Recorder,
     cycles: &mut AntiCycling,
     internal: &mut Option<Vec<f64>>,
@@ -248,7 +250,7 @@ fn run_stage<D: Dim>(
 /// One increment of §4: trial → select → window → advance → switch → settle → record.
 fn increment<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     rec: &mut Recorder,
     cycles: &mut AntiCycling,
     stage: &mut StageLoop,
@@ -321,13 +323,14 @@ fn increment<D: Dim>(
 
 /// The largest force jump the state keeps unbalanced (`State::jumps`; 0 outside the reduced 3D
 /// space): the advance's and the switches' alike, the correction at fixed load releases them.
-fn unbalanced_jump(state: &State) -> f64 {
-    state.jumps.iter().map(|j| j[0].abs().max(j[1].hypot(j[2]))).fold(0.0, f64::max)
+fn unbalanced_jump<D: Dim>(state: &State<D>) -> f64 {
+    let jumps = state.space().map_or(&[][..], |s| &s.jumps);
+    jumps.iter().map(|j| j[0].abs().max(j[1].hypot(j[2]))).fold(0.0, f64::max)
 }
 
 /// The trial's scale at which the load of a body held by friction alone meets the limit of its
 /// pairs (∞ if none).
-fn friction_cut<D: Dim>(eng: &Engine<D>, state: &State, trial: &TrialIncrement) -> f64 {
+fn friction_cut<D: Dim>(eng: &Engine<D>, state: &State<D>, trial: &TrialIncrement) -> f64 {
     let remaining = 1.0 - state.load_fraction;
     match restraint::friction_limit(&eng.problem, &eng.loads, state, trial) {
         Some(s) if remaining > 0.0 => (s - state.load_fraction) / remaining,
@@ -341,7 +344,7 @@ fn friction_cut<D: Dim>(eng: &Engine<D>, state: &State, trial: &TrialIncrement) 
 /// (a missing support, a load beyond friction from the start).
 fn support_lost<D: Dim>(
     eng: &Engine<D>,
-    state: &State,
+    state: &State<D>,
     rec: &Recorder,
     first_event: usize,
 ) -> Option<StopReason> {
@@ -360,7 +363,7 @@ fn support_lost<D: Dim>(
 /// Close again the pairs that separated since `first_event` (at zero force) and stick those
 /// that began to slip (on the cone): where a body loses its hold the state is balanced (an
 /// equilibrium correction) with the contacts that held it there, since beyond none do.
-fn restore_hold<D: Dim>(eng: &Engine<D>, state: &mut State, rec: &Recorder, first_event: usize) {
+fn restore_hold<D: Dim>(eng: &Engine<D>, state: &mut State<D>, rec: &Recorder, first_event: usize) {
     for e in &rec.events[first_event..] {
         let back = match (e.kind, state.status[e.entity]) {
             (EventKind::Separate, Status::Open) => EventKind::Close,
@@ -392,7 +395,7 @@ enum Settled {
 #[allow(clippy::too_many_arguments)]
 fn settle<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     sel: &Selection,
     cycles: &AntiCycling,
     rec: &mut Recorder,

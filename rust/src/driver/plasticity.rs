@@ -96,7 +96,7 @@ impl Corrected {
 }
 
 /// Yield-surface drift: max |σe − σy(εp)| / σy(εp) over plastic elements.
-pub(super) fn drift<D: Dim>(problem: &Problem<D>, state: &State) -> f64 {
+pub(super) fn drift<D: Dim>(problem: &Problem<D>, state: &State<D>) -> f64 {
     (0..state.plastic.len())
         .filter(|&e| state.plastic[e])
         .map(|e| {
@@ -113,7 +113,7 @@ pub(super) fn drift<D: Dim>(problem: &Problem<D>, state: &State) -> f64 {
 /// (`selection`): it belongs to the next stage.
 pub(super) fn integrate_stresses<D: Dim>(
     problem: &Problem<D>,
-    state: &State,
+    state: &State<D>,
     trial: &TrialIncrement,
     sel: &Selection,
 ) -> Vec<(usize, Integrated)> {
@@ -150,8 +150,8 @@ pub(super) fn integrate_stresses<D: Dim>(
 }
 
 /// Put the integrated states in place and note where elements crossed their surfaces.
-pub(super) fn place_integrated(
-    state: &mut State,
+pub(super) fn place_integrated<D: Dim>(
+    state: &mut State<D>,
     integrated: &[(usize, Integrated)],
     start: &mut IncrementStart,
 ) {
@@ -174,7 +174,7 @@ pub(super) fn place_integrated(
 /// surfaces (`settle_on_surfaces`).
 pub(super) fn restore_equilibrium<W, D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     sel: &Selection,
     start: Option<IncrementStart>,
     window: Option<W>,
@@ -203,7 +203,7 @@ pub(super) fn restore_equilibrium<W, D: Dim>(
 /// stall (`stalls`).
 fn converge<W, D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     phi: f64,
     start: &mut IncrementStart,
     window: Option<W>,
@@ -249,7 +249,7 @@ fn stalls(residual: f64, previous: Option<f64>, rounds_left: usize) -> bool {
 /// (its next increment starts on the surface).
 fn flag_beyond_surfaces<D: Dim>(
     problem: &Problem<D>,
-    state: &mut State,
+    state: &mut State<D>,
     start: &mut IncrementStart,
 ) {
     for e in 0..state.plastic.len() {
@@ -266,9 +266,9 @@ fn flag_beyond_surfaces<D: Dim>(
 
 /// Every element that was plastic at the increment's start, is plastic now or is beyond its
 /// yield surface now: its start state integrated over the increment's whole strain so far.
-fn reintegrate<D: Dim>(problem: &Problem<D>, state: &mut State, start: &mut IncrementStart) {
+fn reintegrate<D: Dim>(problem: &Problem<D>, state: &mut State<D>, start: &mut IncrementStart) {
     let du: Vec<f64> = state.u.iter().zip(&start.u).map(|(a, b)| a - b).collect();
-    let now: &State = state;
+    let now: &State<D> = state;
     let integrated: Vec<(usize, Integrated)> = (0..now.stress.len())
         .into_par_iter()
         .with_min_len(PARALLEL_CHUNK)
@@ -311,7 +311,7 @@ fn reintegrate<D: Dim>(problem: &Problem<D>, state: &mut State, start: &mut Incr
 /// end.
 fn settle_on_surfaces<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     phi: f64,
     stage_end: bool,
 ) -> Result<Corrected> {
@@ -341,13 +341,13 @@ fn settle_on_surfaces<D: Dim>(
 /// pairs stuck by corrections of 5e-14 mm at displacements of 1e-3 mm).
 fn reverses<D: Dim>(
     eng: &Engine<D>,
-    state: &State,
+    state: &State<D>,
     c: &TrialIncrement,
     p: usize,
     phi: f64,
 ) -> bool {
     let problem = &eng.problem;
-    if problem.dim != 3 {
+    if state.space().is_none() {
         return false;
     }
     // (Plastic runs: drift corrections are not round-off; holding these switches there left
@@ -355,7 +355,7 @@ fn reverses<D: Dim>(
     if problem.model.has_plastic_material() {
         return true;
     }
-    let e = state.slip_dir[p];
+    let e = state.slip_dir(p);
     let rate = events::slip_rate(&problem.pairs[p], &trial_of(c), p);
     e[0] * rate[0] + e[1] * rate[1]
         > GAP_ROUND_OFF * eng.loads.largest_displacement(problem, &state.u, phi)
@@ -368,9 +368,14 @@ fn reverses<D: Dim>(
 /// the load) slipped at once the pairs the rate problem had stuck on their cones, and turned
 /// by whole radians the facets of pairs that had just closed (λ_n ~ 1e-9 of the load), and the
 /// next trial undid both (the frictional Hertz sphere at 22.6k and 15.4k DOFs).
-fn within_round_off<D: Dim>(eng: &Engine<D>, state: &State, c: &TrialIncrement, p: usize) -> bool {
+fn within_round_off<D: Dim>(
+    eng: &Engine<D>,
+    state: &State<D>,
+    c: &TrialIncrement,
+    p: usize,
+) -> bool {
     let problem = &eng.problem;
-    if problem.dim != 3 || problem.model.has_plastic_material() {
+    if state.space().is_none() || problem.model.has_plastic_material() {
         return false;
     }
     let law = problem.pairs[p].friction;
@@ -387,7 +392,7 @@ fn within_round_off<D: Dim>(eng: &Engine<D>, state: &State, c: &TrialIncrement, 
 /// `internal`: the internal force of the state's stresses if the caller has it.
 pub(super) fn correct_at_fixed_load<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     phi: f64,
     mut internal: Option<Vec<f64>>,
 ) -> Result<Corrected> {

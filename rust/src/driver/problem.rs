@@ -73,8 +73,6 @@ pub(super) struct Bodies {
 pub(super) struct Problem<'m, D: Dim> {
     pub model: &'m Model<D>,
     pub elements: Elements,
-    /// DOFs per node (the model's dimension).
-    pub dim: usize,
     /// The material of every element under the model's stress state.
     pub sections: Vec<Section>,
     /// The elements around each node (whether a closure's neighbourhood is elastic).
@@ -129,7 +127,6 @@ impl<'m, D: Dim> Problem<'m, D> {
             model,
             node_elements: node_elements(&elements, mesh.n_nodes()),
             elements,
-            dim,
             sections,
             prescribed_elements,
             pairs,
@@ -187,29 +184,29 @@ impl<'m, D: Dim> Problem<'m, D> {
     }
 
     /// The gap of pair p with its obstacle's motion: gap₀ + w_nᵀu + c_n.
-    pub fn gap(&self, state: &State, p: usize) -> f64 {
+    pub fn gap(&self, state: &State<D>, p: usize) -> f64 {
         self.pairs[p].gap(&state.u) + state.shift[p][0]
     }
 
     /// The RTD of pair p with its obstacle's motion: w_tᵀu + c_t.
-    pub fn rtd(&self, state: &State, p: usize) -> f64 {
+    pub fn rtd(&self, state: &State<D>, p: usize) -> f64 {
         self.pairs[p].rtd(&state.u) + state.shift[p][1]
     }
 
     /// 3D: the RTD along t2 with its obstacle's motion: w_t2ᵀu + c_t2.
-    pub fn rtd2(&self, state: &State, p: usize) -> f64 {
-        self.pairs[p].w_t2.dot(&state.u) + state.shift[p][2]
+    pub fn rtd2(&self, state: &State<D>, p: usize) -> f64 {
+        self.pairs[p].w_t2().map_or(0.0, |w| w.dot(&state.u)) + state.shift[p][2]
     }
 
     /// λ_t = τ λ_n of a slipping pair (eq. 41), τ = (τ1, τ2) along (t1, t2): in 2D (−dμ, 0),
     /// in 3D μ e with e its held direction (`State::slip_dir`), μ / cos(slip_turn) m at a
     /// vertex m (`State::vertex`); 0 unless it slips with friction.
-    pub fn slip_ratios(&self, state: &State, p: usize) -> [f64; 2] {
+    pub fn slip_ratios(&self, state: &State<D>, p: usize) -> [f64; 2] {
         let pair = &self.pairs[p];
         match state.status[p] {
-            _ if self.dim == 2 => [pair.slip_ratio(state.status[p]), 0.0],
+            _ if pair.tangents.len() == 1 => [pair.slip_ratio(state.status[p]), 0.0],
             Status::Slip { direction } if direction != 0 => {
-                pair.friction.slip_ratio(state.slip_dir[p], state.vertex[p])
+                pair.friction.slip_ratio(state.slip_dir(p), state.at_vertex(p))
             }
             _ => [0.0; 2],
         }
@@ -219,18 +216,18 @@ impl<'m, D: Dim> Problem<'m, D> {
     /// facet's cross row (`contact`'s module text): both tangents free, a held direction e, and
     /// a normal force to bound its cross force by (a pair slipping at zero force has none yet:
     /// `slip_turn`). None for every other pair.
-    pub fn cross_direction(&self, state: &State, p: usize) -> Option<[f64; 2]> {
+    pub fn cross_direction(&self, state: &State<D>, p: usize) -> Option<[f64; 2]> {
         self.facet_cross(state, p)
-            .filter(|_| state.lambda_n[p] > self.scales.force_noise || state.facet_laid[p])
+            .filter(|_| state.lambda_n[p] > self.scales.force_noise || state.facet_laid(p))
     }
 
     /// 3D: e⊥ of a slipping pair that could slip on a facet, whatever its normal force: both
     /// tangents free, with friction and a held direction e.
-    pub fn facet_cross(&self, state: &State, p: usize) -> Option<[f64; 2]> {
-        let (pair, e) = (&self.pairs[p], state.slip_dir[p]);
+    pub fn facet_cross(&self, state: &State<D>, p: usize) -> Option<[f64; 2]> {
+        let (pair, e) = (&self.pairs[p], state.slip_dir(p));
         let slipping = matches!(state.status[p], Status::Slip { direction } if direction != 0);
         let directed = slipping
-            && !state.vertex[p]
+            && !state.at_vertex(p)
             && pair.friction.acts()
             && pair.has_tangent_plane()
             && e != [0.0; 2];
@@ -241,41 +238,41 @@ impl<'m, D: Dim> Problem<'m, D> {
     /// about `State::slip_dir`, a vertex there or a side: `coulomb`); None for a pair that has
     /// not slipped since it closed (the round cone), one at zero normal force (where every
     /// side holds at once), in the plane, or along one free tangent.
-    pub fn polygon_of(&self, state: &State, p: usize) -> Option<([f64; 2], bool)> {
+    pub fn polygon_of(&self, state: &State<D>, p: usize) -> Option<([f64; 2], bool)> {
         let pair = &self.pairs[p];
         let pressed = state.lambda_n[p] > self.scales.force_noise;
         let laid = pair.friction.acts()
             && pair.has_tangent_plane()
-            && state.slip_dir[p] != [0.0; 2]
+            && state.slip_dir(p) != [0.0; 2]
             && pressed;
-        laid.then_some((state.slip_dir[p], state.vertex[p]))
+        laid.then_some((state.slip_dir(p), state.at_vertex(p)))
     }
 
     /// How far pair p's friction force is beyond its cone (round, or its polygon): > 0 violates
     /// Coulomb's law.
-    pub fn friction_excess(&self, state: &State, p: usize) -> f64 {
+    pub fn friction_excess(&self, state: &State<D>, p: usize) -> f64 {
         self.pairs[p].friction.excess(
             self.polygon_of(state, p),
             state.lambda_n[p],
-            [state.lambda_t[p], state.lambda_t2[p]],
+            state.lambda_t_of(p),
         )
     }
 
     /// The friction force (along t1, t2) of a slipping pair: −d μ λ_n in the plane (eq. 41), on
     /// its facet in space (eq. 62: μ λ_n along e, the cross force of `lambda_t` kept within the
     /// band where the pair has a cross row), or at its vertex; zero without compression.
-    pub fn slip_force(&self, state: &State, p: usize, lambda_t: [f64; 2]) -> [f64; 2] {
+    pub fn slip_force(&self, state: &State<D>, p: usize, lambda_t: [f64; 2]) -> [f64; 2] {
         let law = self.pairs[p].friction;
         match state.status[p] {
-            Status::Slip { direction } if self.dim == 2 => {
+            Status::Slip { direction } if self.pairs[p].tangents.len() == 1 => {
                 [-(direction as f64) * law.capacity(state.lambda_n[p]), 0.0]
             }
-            Status::Slip { direction } if direction != 0 && state.vertex[p] => {
-                law.vertex_force(state.lambda_n[p], state.slip_dir[p])
+            Status::Slip { direction } if direction != 0 && state.at_vertex(p) => {
+                law.vertex_force(state.lambda_n[p], state.slip_dir(p))
             }
             Status::Slip { direction } if direction != 0 => law.on_facet(
                 state.lambda_n[p],
-                state.slip_dir[p],
+                state.slip_dir(p),
                 lambda_t,
                 self.cross_direction(state, p).is_some(),
             ),
@@ -284,15 +281,14 @@ impl<'m, D: Dim> Problem<'m, D> {
     }
 
     /// Nᵀ W λ: the contact forces' share of free rigid mode k (over the loop's DOFs).
-    pub fn mode_contact_force(&self, state: &State, k: usize) -> f64 {
+    pub fn mode_contact_force(&self, state: &State<D>, k: usize) -> f64 {
         let mode = &self.bodies.mode_vectors[k];
         self.pairs
             .iter()
             .enumerate()
             .map(|(p, pair)| {
-                state.lambda_n[p] * pair.w_n.dot(mode)
-                    + state.lambda_t[p] * pair.w_t.dot(mode)
-                    + state.lambda_t2[p] * pair.w_t2.dot(mode)
+                let [n, t1, t2] = pair.dots(mode);
+                state.lambda_n[p] * n + state.lambda_t[p] * t1 + state.lambda_t_of(p)[1] * t2
             })
             .sum()
     }
@@ -384,7 +380,7 @@ impl<'m, D: Dim> Problem<'m, D> {
         let elastic: Vec<Tangent> =
             self.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
         let young = self.sections.iter().map(|s| s.material.young).fold(0.0f64, f64::max);
-        let surfaces = if self.dim == 3 { self.contact_surface_lengths() } else { vec![] };
+        let surfaces = if D::N == 3 { self.contact_surface_lengths() } else { vec![] };
         let (mut norm, mut sum) = (0.0f64, 0.0f64);
         for k in 0..self.path.n_stages() {
             let stage = self.stage_load(k);
@@ -414,7 +410,7 @@ impl<'m, D: Dim> Problem<'m, D> {
     /// (t = `Model::depth`) as the 2D histories have always had it: the count there is ℓ/h,
     /// not its square.
     fn motion_forces(&self, stage: &StageLoad, young: f64, surfaces: &[f64]) -> Vec<f64> {
-        if self.dim == 2 {
+        if D::N == 2 {
             let pairs = 0..self.global_pairs().len();
             return pairs
                 .map(|p| (stage.shift(p, 1.0), stage.shift(p, 0.0)))

@@ -24,7 +24,7 @@
 //! `lcp`) solves the rest: without friction it is the KKT system of a convex QP, solved
 //! whenever a solution exists; with friction the condensed matrix is a P-matrix for small μ
 //! (Klarbring), where Lemke always succeeds; otherwise restarts with other covering vectors
-//! help (`lemke_restarted`). It terminates in every case. The statuses follow from the solution.
+//! help (`mixed_lcp`). It terminates in every case. The statuses follow from the solution.
 //!
 //! # In space (3D): the round cone faceted for this problem only
 //!
@@ -86,14 +86,14 @@
 
 use super::engine::Engine;
 use super::loads::StageLoads;
+use super::mixed_lcp::{self, Affine, Unknowns};
 use super::problem::Problem;
 use super::state::State;
 use super::stiffness::Stiffness;
 use super::trial::{self, Solve};
 use crate::contact::{SparseVec, Status};
 use crate::dim::Dim;
-use crate::lcp::{lemke_with_covering, LcpFailure, LcpSolution};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 /// A force below this × Σ|load| counts as zero: the pair is critical (or open, in a solution).
 const CRITICAL_FORCE: f64 = 1e-10;
@@ -102,8 +102,6 @@ const CRITICAL_GAP: f64 = 1e-8;
 const GAP_ROUND_OFF: f64 = 1e-12;
 /// A slip rate above this × max|kinematic term| is slip, not stick.
 const SLIP_RATE: f64 = 1e-9;
-/// Lemke's pivot bound: this × (LCP size) + 100.
-const PIVOTS_PER_VARIABLE: usize = 50;
 /// Sides of the polygon about the round Coulomb cone of a pair at zero force in the 3D rate
 /// problem (see the module documentation): a square, refined where the solution needs it.
 pub(super) const FACETS: usize = 4;
@@ -142,30 +140,6 @@ enum Role {
     Critical,
 }
 
-/// An affine form in the unknowns y: coef · y + constant.
-#[derive(Clone)]
-struct Affine {
-    coef: Vec<(usize, f64)>,
-    constant: f64,
-}
-
-impl Affine {
-    fn constant(c: f64) -> Self {
-        Affine { coef: vec![], constant: c }
-    }
-    fn var(i: usize) -> Self {
-        Affine { coef: vec![(i, 1.0)], constant: 0.0 }
-    }
-    fn scaled_add(mut self, s: f64, other: &Affine) -> Self {
-        self.coef.extend(other.coef.iter().map(|&(i, c)| (i, s * c)));
-        self.constant += s * other.constant;
-        self
-    }
-    fn eval(&self, y: &[f64]) -> f64 {
-        self.constant + self.coef.iter().map(|&(i, c)| c * y[i]).sum::<f64>()
-    }
-}
-
 /// One pair's forces as affine forms of the unknowns: Λn, Λt along its tangential
 /// coordinates (`RateProblem::tangents`), and the unknowns of its normal force, tangential
 /// forces and facets' slip rates.
@@ -196,39 +170,12 @@ pub(super) struct RateSolution {
     pub slip_dir: Vec<Option<([f64; 2], bool)>>,
 }
 
-/// The unknowns and their complementary rows, built up pair by pair.
-#[derive(Default)]
-struct Unknowns {
-    /// Per unknown: may it be negative?
-    free: Vec<bool>,
-    /// Per unknown: its complementary row (an equation R = 0 for a free unknown).
-    rows: Vec<Option<Affine>>,
-    /// Per unknown: a length (slip rate, rigid amplitude; its row a force), else a force (its
-    /// row a length).
-    length: Vec<bool>,
-}
-
-impl Unknowns {
-    fn unknown(&mut self, free: bool) -> usize {
-        self.free.push(free);
-        self.rows.push(None);
-        self.length.push(false);
-        self.free.len() - 1
-    }
-
-    fn length_unknown(&mut self, free: bool) -> usize {
-        let i = self.unknown(free);
-        self.length[i] = true;
-        i
-    }
-}
-
 /// The statuses that satisfy every contact condition at the current load, or None when Lemke
 /// finds no solution (the caller falls back to freezing). `what`: the remaining load, or a
 /// contact sub-step's (`trial::Solve`).
 pub(super) fn solve_rate_problem<D: Dim>(
     eng: &mut Engine<D>,
-    state: &State,
+    state: &State<D>,
     what: Solve,
 ) -> Option<RateSolution> {
     let oob = trial::out_of_balance(eng, state, what, None);
@@ -279,17 +226,18 @@ fn facets_about(e: [f64; 2], turn: f64) -> [[f64; 2]; 3] {
 /// largest change of λ_t it made (a force jump the caller rebalances).
 pub(super) fn hold_slip_directions<D: Dim>(
     problem: &Problem<D>,
-    state: &mut State,
+    state: &mut State<D>,
     sol: &RateSolution,
 ) -> f64 {
     let mut jump: f64 = 0.0;
     for (p, placed) in sol.slip_dir.iter().enumerate() {
         if let (Some((e, vertex)), Status::Slip { .. }) = (placed, state.status[p]) {
-            (state.slip_dir[p], state.vertex[p], state.facet_laid[p]) = (*e, *vertex, true);
-            let now = [state.lambda_t[p], state.lambda_t2[p]];
+            let space = state.space_mut().expect("a facet is laid in space only");
+            (space.slip_dir[p], space.vertex[p], space.facet_laid[p]) = (*e, *vertex, true);
+            let now = state.lambda_t_of(p);
             let [t1, t2] = problem.slip_force(state, p, now);
             jump = jump.max((t1 - now[0]).hypot(t2 - now[1]));
-            (state.lambda_t[p], state.lambda_t2[p]) = (t1, t2);
+            state.set_lambda_t(p, [t1, t2]);
         }
     }
     jump
@@ -321,7 +269,7 @@ impl<D: Dim> RateProblem<'_, D> {
     /// stuck one's. Lemke's work grows as the cube of its unknowns, and most pairs of a
     /// contact that closes at once stick (the pad of issue 37: 258 pairs at zero gap and force,
     /// 144 of them stuck).
-    fn solve(&mut self, state: &State, oob: &trial::OutOfBalance) -> Option<Solved> {
+    fn solve(&mut self, state: &State<D>, oob: &trial::OutOfBalance) -> Option<Solved> {
         for round in 0.. {
             let solved = self.solve_presuming(state, oob);
             let any = self.presumed.contains(&true);
@@ -346,14 +294,14 @@ impl<D: Dim> RateProblem<'_, D> {
     }
 
     /// 3D: the pairs of the problem at zero force (the working set's first guess); none in 2D.
-    fn zero_force_pairs(&self, state: &State) -> Vec<bool> {
+    fn zero_force_pairs(&self, state: &State<D>) -> Vec<bool> {
         let tol = CRITICAL_FORCE * self.p.scales.force;
         (0..self.p.pairs.len())
             .map(|p| {
-                self.p.dim == 3
+                state.space().is_some()
                     && self.in_rate_problem(state, p)
                     && state.lambda_n[p].abs() <= tol
-                    && state.lambda_t[p].hypot(state.lambda_t2[p]) <= tol
+                    && state.lambda_t[p].hypot(state.lambda_t_of(p)[1]) <= tol
             })
             .collect()
     }
@@ -377,7 +325,7 @@ impl<D: Dim> RateProblem<'_, D> {
             .collect()
     }
 
-    fn solve_presuming(&self, state: &State, oob: &trial::OutOfBalance) -> Option<Solved> {
+    fn solve_presuming(&self, state: &State<D>, oob: &trial::OutOfBalance) -> Option<Solved> {
         let q: Vec<usize> =
             (0..self.p.pairs.len()).filter(|&p| self.in_rate_problem(state, p)).collect();
         let roles: Vec<Role> = q.iter().map(|&p| self.role(state, p)).collect();
@@ -411,7 +359,7 @@ impl<D: Dim> RateProblem<'_, D> {
             self.pair_rows(&mut prob, p, role, &forces[i], g, v);
         }
         self.equilibrium_rows(&mut prob, state, &q, &forces, &alpha, oob);
-        let y = solve(&prob)?;
+        let y = mixed_lcp::solve(&prob)?;
         let scale = kin_n
             .iter()
             .chain(kin_t.iter().flatten())
@@ -491,29 +439,29 @@ impl<D: Dim> RateProblem<'_, D> {
     /// frictionless pair's Λt is 0); in 3D the tangents a frictional pair's supports leave free.
     fn tangents(&self, p: usize) -> Vec<usize> {
         let pair = &self.p.pairs[p];
-        match self.p.dim {
-            2 => vec![0],
+        match pair.tangents.len() {
+            1 => vec![0],
             _ if !pair.frictional() => vec![],
-            _ => (0..2).filter(|&k| !pair.held[k]).collect(),
+            _ => pair.free_tangents().map(|(k, _)| k).collect(),
         }
     }
 
     /// Tangent k's constraint vector, force, RTD and RTD at sticking of pair p.
     fn tangent_vec(&self, p: usize, k: usize) -> &SparseVec {
-        [&self.p.pairs[p].w_t, &self.p.pairs[p].w_t2][k]
+        &self.p.pairs[p].tangents[k].w
     }
-    fn lambda_t(&self, state: &State, p: usize, k: usize) -> f64 {
-        [state.lambda_t[p], state.lambda_t2[p]][k]
+    fn lambda_t(&self, state: &State<D>, p: usize, k: usize) -> f64 {
+        state.lambda_t_of(p)[k]
     }
-    fn rtd(&self, state: &State, p: usize, k: usize) -> f64 {
+    fn rtd(&self, state: &State<D>, p: usize, k: usize) -> f64 {
         if k == 0 {
             self.p.rtd(state, p)
         } else {
             self.p.rtd2(state, p)
         }
     }
-    fn stuck_rtd(&self, state: &State, p: usize, k: usize) -> f64 {
-        [state.rtd_stick[p], state.rtd_stick2[p]][k]
+    fn stuck_rtd(&self, state: &State<D>, p: usize, k: usize) -> f64 {
+        state.rtd_stick_of(p)[k]
     }
 
     /// The row of each free rigid mode k: its body's equilibrium −e_k = 0 with
@@ -521,7 +469,7 @@ impl<D: Dim> RateProblem<'_, D> {
     fn equilibrium_rows(
         &self,
         prob: &mut Unknowns,
-        state: &State,
+        state: &State<D>,
         q: &[usize],
         forces: &[PairForces],
         alpha: &[usize],
@@ -547,13 +495,13 @@ impl<D: Dim> RateProblem<'_, D> {
     }
 
     /// Closed pairs, and open ones at zero gap.
-    fn in_rate_problem(&self, state: &State, p: usize) -> bool {
+    fn in_rate_problem(&self, state: &State<D>, p: usize) -> bool {
         let umax = self.loads.largest_displacement(self.p, &state.u, state.load_fraction);
         state.status[p].is_closed()
             || self.p.gap(state, p) <= CRITICAL_GAP * umax + GAP_ROUND_OFF * self.p.scales.length
     }
 
-    fn role(&self, state: &State, p: usize) -> Role {
+    fn role(&self, state: &State<D>, p: usize) -> Role {
         let tol = CRITICAL_FORCE * self.p.scales.force;
         let (pair, ln) = (&self.p.pairs[p], state.lambda_n[p]);
         if self.presumed[p] {
@@ -600,7 +548,7 @@ impl<D: Dim> RateProblem<'_, D> {
     /// about its stray slips.
     fn facet_directions(
         &self,
-        state: &State,
+        state: &State<D>,
         p: usize,
         lt: &[f64],
         polygon: Option<([f64; 2], bool)>,
@@ -612,7 +560,7 @@ impl<D: Dim> RateProblem<'_, D> {
             return self.p.pairs[p].friction.polygon(e, vertex).map(|d| d.to_vec()).collect();
         }
         let laid = self.laid[p].iter().map(|d| d.to_vec());
-        let e = state.slip_dir[p];
+        let e = state.slip_dir(p);
         let tol = CRITICAL_FORCE * self.p.scales.force;
         let [c, s] = match norm(lt) {
             size if size > tol => [lt[0] / size, lt[1] / size],
@@ -655,7 +603,7 @@ impl<D: Dim> RateProblem<'_, D> {
     /// flexibility (Cᵀ K# E) applied to ΔΛ = Λ − λ, plus K# r and the rigid modes.
     fn kinematics(
         &self,
-        state: &State,
+        state: &State<D>,
         q: &[usize],
         forces: &[PairForces],
         alpha: &[usize],
@@ -758,7 +706,7 @@ impl<D: Dim> RateProblem<'_, D> {
     /// The status of every pair after the solution y (pairs outside q keep theirs), and the
     /// held direction of those it sets slipping in 3D. A pair with zero force that ends the
     /// trial touching (g' = 0) stays closed: it may be what holds a rigid mode.
-    fn statuses(&self, state: &State, sol: &Solved) -> RateSolution {
+    fn statuses(&self, state: &State<D>, sol: &Solved) -> RateSolution {
         let tol = CRITICAL_FORCE * self.p.scales.force;
         let (y, scale) = (&sol.y, sol.scale);
         let mut status = state.status.clone();
@@ -776,7 +724,8 @@ impl<D: Dim> RateProblem<'_, D> {
                     let rates: Vec<f64> = f.slips.iter().map(|&s| y[s]).collect();
                     if rates.iter().fold(0.0f64, |a, &r| a.max(r)) <= SLIP_RATE * scale {
                         Status::Stick
-                    } else if self.p.dim == 2 {
+                    } else if self.p.pairs[p].tangents.len() == 1 {
+                        // along its one tangent, in the sense of the faster of its two sides
                         Status::Slip { direction: if rates[0] >= rates[1] { 1 } else { -1 } }
                     } else {
                         slip_dir[p] =
@@ -844,209 +793,6 @@ fn norm(v: &[f64]) -> f64 {
         [x] => x.abs(),
         _ => v.iter().map(|x| x * x).sum::<f64>().sqrt(),
     }
-}
-
-/// The mixed problem as a standard LCP, solved by Lemke's method. A free unknown without a
-/// diagonal entry (a rigid amplitude: a saddle point) is split into x⁺ − x⁻ ≥ 0 with
-/// 0 ≤ x⁺ ⊥ R ≥ 0 and 0 ≤ x⁻ ⊥ −R ≥ 0 (R = −e pairs α with its equilibrium equation with the
-/// sign that keeps M positive semidefinite without friction); the other free unknowns are
-/// eliminated with their equations (Schur complement M_cc − M_cf M_ff⁻¹ M_fc).
-fn solve(prob: &Unknowns) -> Option<Vec<f64>> {
-    let (mut m, mut q, split, col) = split_saddles(prob)?;
-    let d = unit_free(prob, &split, &col, &mut m, &mut q);
-    let free: Vec<usize> =
-        (0..prob.free.len()).filter(|&i| prob.free[i] && !split[i]).map(|i| col[i]).collect();
-    let bounded: Vec<usize> = (0..q.len()).filter(|r| !free.contains(r)).collect();
-    let pick = |rows: &[usize], cols: &[usize]| {
-        DMatrix::from_fn(rows.len(), cols.len(), |i, j| m[(rows[i], cols[j])])
-    };
-    let m_cf = pick(&bounded, &free);
-    // [M_ff⁻¹ M_fc | M_ff⁻¹ q_f] in one solve
-    let rhs = DMatrix::from_fn(free.len(), bounded.len() + 1, |i, j| {
-        if j < bounded.len() {
-            m[(free[i], bounded[j])]
-        } else {
-            q[free[i]]
-        }
-    });
-    let x = trial::lu_solve(&pick(&free, &free), rhs, 0.0)?; // singular: an exact zero pivot
-    let (x_fc, x_q) =
-        (x.columns(0, bounded.len()).into_owned(), x.column(bounded.len()).into_owned());
-    let m_c = pick(&bounded, &bounded) - &m_cf * &x_fc;
-    let q_c = DVector::from_fn(bounded.len(), |i, _| q[bounded[i]]) - &m_cf * &x_q;
-    let started = std::time::Instant::now();
-    let lemke = lemke_restarted(&m_c, &q_c);
-    crate::trace!(
-        "rate problem: LCP of {} unknowns ({} free eliminated): {} in {:.2} s",
-        q_c.len(),
-        free.len(),
-        lemke.as_ref().map_or("no solution".to_string(), |s| format!("{} pivots", s.pivots)),
-        started.elapsed().as_secs_f64()
-    );
-    let z_c = lemke?.z;
-    let x_f = -(&x_fc * &z_c + &x_q);
-    let mut z = DVector::<f64>::zeros(q.len());
-    bounded.iter().zip(z_c.iter()).for_each(|(&r, &v)| z[r] = v);
-    free.iter().zip(x_f.iter()).for_each(|(&r, &v)| z[r] = v);
-    z.component_mul_assign(&d);
-    Some(
-        (0..prob.free.len())
-            .map(|i| if split[i] { z[col[i]] - z[col[i] + 1] } else { z[col[i]] })
-            .collect(),
-    )
-}
-
-/// The length unknowns' columns and rows × the flexibility's size s (the largest diagonal entry
-/// of a force unknown, rounded to a power of two: exact): the rows of force unknowns are lengths, their coefficients compliances
-/// or ratios; of length unknowns forces, coefficients ratios. Scaled, every entry is a
-/// compliance and every constant a length, so Lemke's pivots do not depend on the unit system
-/// (a congruence D M D: positive semidefiniteness kept). Returns D's diagonal: z = D z̃.
-fn unit_free(
-    prob: &Unknowns,
-    split: &[bool],
-    col: &[usize],
-    m: &mut DMatrix<f64>,
-    q: &mut DVector<f64>,
-) -> DVector<f64> {
-    let n = q.len();
-    let s = (0..prob.free.len())
-        .filter(|&i| !prob.length[i])
-        .fold(0.0f64, |x, i| x.max(m[(col[i], col[i])].abs()))
-        .log2()
-        .round()
-        .exp2();
-    let mut d = DVector::<f64>::from_element(n, 1.0);
-    if !(s > 0.0 && s.is_finite()) {
-        return d;
-    }
-    for i in (0..prob.free.len()).filter(|&i| prob.length[i]) {
-        d[col[i]] = s;
-        if split[i] {
-            d[col[i] + 1] = s;
-        }
-    }
-    for r in 0..n {
-        q[r] *= d[r];
-        for c in 0..n {
-            m[(r, c)] *= d[r] * d[c];
-        }
-    }
-    d
-}
-
-/// Lemke's method with d = 1, then with up to `COVERING_RESTARTS` seeded positive covering
-/// vectors: its path depends on d, and for M that is not copositive-plus (friction) a ray with
-/// one d proves nothing. Every attempt terminates, so this does.
-fn lemke_restarted(m: &DMatrix<f64>, q: &DVector<f64>) -> Option<LcpSolution> {
-    let n = q.len();
-    let max_pivots = PIVOTS_PER_VARIABLE * n + 100;
-    let mut seed = COVERING_SEED;
-    (0..=COVERING_RESTARTS)
-        .find_map(|attempt| {
-            let d = DVector::from_fn(
-                n,
-                |_, _| if attempt == 0 { 1.0 } else { covering_entry(&mut seed) },
-            );
-            match lemke_with_covering(m, q, &d, max_pivots) {
-                Err(LcpFailure::Interrupted { .. }) => Some(None), // no restart: the run stops
-                attempt => attempt.ok().map(Some),
-            }
-        })
-        .flatten()
-}
-
-/// Covering vectors tried after d = 1, their seed and the range of their entries.
-const COVERING_RESTARTS: usize = 32;
-const COVERING_SEED: u64 = 0x2545_f491_4f6c_dd1d;
-const COVERING_RANGE: (f64, f64) = (0.1, 10.0);
-
-/// A pseudo-random entry in COVERING_RANGE (xorshift: deterministic runs).
-fn covering_entry(seed: &mut u64) -> f64 {
-    *seed ^= *seed << 13;
-    *seed ^= *seed >> 7;
-    *seed ^= *seed << 17;
-    let u = (*seed >> 11) as f64 / (1u64 << 53) as f64;
-    COVERING_RANGE.0 + u * (COVERING_RANGE.1 - COVERING_RANGE.0)
-}
-
-/// The free unknowns whose equations can eliminate them: among those with a diagonal entry,
-/// a set on which M_ff is regular, picked by symmetric Gaussian elimination with diagonal
-/// pivoting (each unknown by its own equation), a pivot below `DEPENDENT` × the largest
-/// diagonal entry ending it. The others are split (saddles): a rigid amplitude (no diagonal
-/// entry), and a force whose flexibility depends on the others' (the tangents of a floating
-/// body's node that K# pins, turned off the axes: M_ff singular to round-off, its Schur
-/// complement 10^33, Lemke's first pivot a ray).
-fn independent_free(prob: &Unknowns) -> Option<Vec<bool>> {
-    let diagonal = |i: usize| {
-        prob.rows[i]
-            .as_ref()
-            .map_or(0.0, |r| r.coef.iter().filter(|&&(j, _)| j == i).map(|&(_, v)| v).sum())
-    };
-    let free: Vec<usize> =
-        (0..prob.free.len()).filter(|&i| prob.free[i] && diagonal(i) != 0.0).collect();
-    let mut slot = vec![usize::MAX; prob.free.len()];
-    free.iter().enumerate().for_each(|(k, &i)| slot[i] = k);
-    let n = free.len();
-    let mut a = DMatrix::<f64>::zeros(n, n);
-    for (r, &i) in free.iter().enumerate() {
-        for &(j, v) in &prob.rows[i].as_ref()?.coef {
-            if slot[j] != usize::MAX {
-                a[(r, slot[j])] += v;
-            }
-        }
-    }
-    let largest = (0..n).map(|k| a[(k, k)].abs()).fold(0.0, f64::max);
-    let mut chosen = vec![false; prob.free.len()];
-    let mut order: Vec<usize> = (0..n).collect();
-    for k in 0..n {
-        let j = (k..n).max_by(|&x, &y| a[(x, x)].abs().total_cmp(&a[(y, y)].abs())).expect("k < n");
-        let pivot = a[(j, j)];
-        if !(pivot.abs() > DEPENDENT * largest) {
-            break;
-        }
-        (a.swap_rows(k, j), a.swap_columns(k, j), order.swap(k, j));
-        chosen[free[order[k]]] = true;
-        let m = n - k - 1;
-        let (column, row) = (
-            a.view((k + 1, k), (m, 1)).column(0).clone_owned(),
-            a.view((k, k + 1), (1, m)).row(0).transpose(),
-        );
-        a.view_mut((k + 1, k + 1), (m, m)).ger(-1.0 / pivot, &column, &row, 1.0);
-    }
-    Some(chosen)
-}
-
-/// A pivot of M_ff below this × its largest diagonal entry is round-off: that unknown depends.
-const DEPENDENT: f64 = 1e-9;
-
-/// M y + q over the unknowns with every saddle unknown split in two; which were split, and the
-/// column of each unknown.
-#[allow(clippy::type_complexity)]
-fn split_saddles(prob: &Unknowns) -> Option<(DMatrix<f64>, DVector<f64>, Vec<bool>, Vec<usize>)> {
-    let eliminable = independent_free(prob)?;
-    let split: Vec<bool> = (0..prob.free.len()).map(|i| prob.free[i] && !eliminable[i]).collect();
-    let mut col = Vec::with_capacity(prob.free.len());
-    let mut n = 0;
-    for &sp in &split {
-        col.push(n);
-        n += if sp { 2 } else { 1 };
-    }
-    let (mut m, mut q) = (DMatrix::<f64>::zeros(n, n), DVector::<f64>::zeros(n));
-    for (i, row) in prob.rows.iter().enumerate() {
-        let row = row.as_ref()?;
-        let copies: &[f64] = if split[i] { &[1.0, -1.0] } else { &[1.0] };
-        for (c, &sign) in copies.iter().enumerate() {
-            let r = col[i] + c;
-            q[r] = sign * row.constant;
-            for &(j, a) in &row.coef {
-                m[(r, col[j])] += sign * a;
-                if split[j] {
-                    m[(r, col[j] + 1)] -= sign * a;
-                }
-            }
-        }
-    }
-    Some((m, q, split, col))
 }
 
 #[cfg(test)]
@@ -1117,7 +863,7 @@ mod tests {
         let force = 1e-12 * 0.5;
         let rate = 1e-12 * trial.du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         for (p, pair) in eng.problem.pairs.iter().enumerate() {
-            let (gap_rate, slip_rate) = (pair.w_n.dot(&trial.du), pair.w_t.dot(&trial.du));
+            let (gap_rate, slip_rate) = (pair.w_n.dot(&trial.du), pair.w_t().dot(&trial.du));
             match state.status[p] {
                 Status::Open => {
                     assert!(gap_rate >= -rate, "pair {p} open but closing at {gap_rate}")
@@ -1285,7 +1031,7 @@ mod tests {
                     if let Some((e, _)) = sol.slip_dir[p] {
                         slipping += 1;
                         assert!(
-                            (e[0].hypot(e[1]) - 1.0).abs() <= 1e-15 && state.slip_dir[p] == e,
+                            (e[0].hypot(e[1]) - 1.0).abs() <= 1e-15 && state.slip_dir(p) == e,
                             "pair {p} holds the rate problem's unit direction"
                         );
                         let v = crate::events::slip_rate(
@@ -1330,10 +1076,9 @@ mod tests {
             compliance: Default::default(),
         };
         let (free, held) = (2, 0); // at x = 1, and on the face x = 0 held in x (t2 = x there)
-        assert!(eng.problem.pairs[held].held[1] && !eng.problem.pairs[free].held.contains(&true));
+        assert!(eng.problem.pairs[held].held(1) && eng.problem.pairs[free].has_tangent_plane());
         state.lambda_n[free] = ln;
-        (state.lambda_t[free], state.lambda_t2[free]) =
-            (mu * ln * angle.cos(), mu * ln * angle.sin());
+        state.set_lambda_t(free, [mu * ln * angle.cos(), mu * ln * angle.sin()]);
         let Role::Friction { closed: true, facets, polygon: false } = rp.role(&state, free) else {
             panic!("a closed pair on the cone")
         };
@@ -1349,9 +1094,9 @@ mod tests {
         // on its own polygon, at the vertex m: the two sides m ± θ
         let law = eng.problem.pairs[free].friction;
         let m = [angle.cos(), angle.sin()];
-        (state.status[free], state.slip_dir[free], state.vertex[free]) =
-            (Status::Slip { direction: 1 }, m, true);
-        [state.lambda_t[free], state.lambda_t2[free]] = law.vertex_force(ln, m);
+        state.status[free] = Status::Slip { direction: 1 };
+        state.set_facet(free, m, true);
+        state.set_lambda_t(free, law.vertex_force(ln, m));
         let Role::Friction { closed: true, facets, polygon: true } = rp.role(&state, free) else {
             panic!("a pair at its polygon's vertex")
         };
@@ -1363,14 +1108,12 @@ mod tests {
                 && (sides[1] - law.turn).abs() <= 1e-12,
             "{sides:?}"
         );
-        (state.status[free], state.slip_dir[free], state.vertex[free]) =
-            (Status::Stick, [0.0; 2], false);
-        (state.lambda_t[free], state.lambda_t2[free]) =
-            (mu * ln * angle.cos(), mu * ln * angle.sin());
-        (state.lambda_t[free], state.lambda_t2[free]) =
-            (0.9 * state.lambda_t[free], 0.9 * state.lambda_t2[free]);
+        state.status[free] = Status::Stick;
+        state.set_facet(free, [0.0; 2], false);
+        state.set_lambda_t(free, [0.9 * mu * ln * angle.cos(), 0.9 * mu * ln * angle.sin()]);
         assert!(rp.role(&state, free) == Role::Stick);
-        (state.lambda_n[free], state.lambda_t[free], state.lambda_t2[free]) = (0.0, 0.0, 0.0);
+        state.lambda_n[free] = 0.0;
+        state.set_lambda_t(free, [0.0; 2]);
         let Role::Friction { closed: false, facets, .. } = rp.role(&state, free) else {
             panic!("a pair at zero force")
         };
@@ -1386,30 +1129,5 @@ mod tests {
                     Facet { dir: vec![1.0], off: None }
                 ]
         );
-    }
-
-    /// Three free forces whose flexibilities are dependent to round-off (the second a multiple
-    /// of the first, as a pinned node's two tangents turned off the axes) and a rigid
-    /// amplitude: the first and the third are eliminated, the second and the amplitude split.
-    #[test]
-    fn dependent_free_unknowns_are_split_not_eliminated() {
-        let mut prob = Unknowns::default();
-        let ids: Vec<usize> = (0..3).map(|_| prob.unknown(true)).collect();
-        let alpha = prob.length_unknown(true);
-        let (k, eps) = (0.06, 1e-19);
-        let flex = [[1.0, k, 0.3], [k, k * k + eps, 0.3 * k], [0.3, 0.3 * k, 2.0]];
-        for (i, &u) in ids.iter().enumerate() {
-            let coef = ids
-                .iter()
-                .zip(flex[i])
-                .map(|(&j, v)| (j, v))
-                .chain(std::iter::once((alpha, 1.0)))
-                .collect();
-            prob.rows[u] = Some(Affine { coef, constant: 0.1 });
-        }
-        prob.rows[alpha] =
-            Some(Affine { coef: ids.iter().map(|&j| (j, -1.0)).collect(), constant: 1.0 });
-        let chosen = independent_free(&prob).expect("every row given");
-        assert_eq!(chosen, vec![true, false, true, false]);
     }
 }

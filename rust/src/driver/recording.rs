@@ -69,7 +69,7 @@ pub(super) struct Recorder {
 }
 
 impl Recorder {
-    pub fn new<D: Dim>(eng: &mut Engine<D>, state: &State) -> Result<Self> {
+    pub fn new<D: Dim>(eng: &mut Engine<D>, state: &State<D>) -> Result<Self> {
         let opts = &eng.problem.model.options;
         let n_pairs = eng.problem.pairs.len();
         let plastic_capable =
@@ -119,7 +119,7 @@ impl Recorder {
     pub fn event_bound<D: Dim>(
         &self,
         eng: &Engine<D>,
-        state: &State,
+        state: &State<D>,
         cycles: &AntiCycling,
     ) -> Option<StopReason> {
         if !self.at_event_bound() {
@@ -153,7 +153,7 @@ impl Recorder {
     /// The scale of the trial at which the next requested snapshot falls, in the full space:
     /// increments end there, so that the snapshot lies on the integrated path (∞ for none, or
     /// in the reduced space, where the path between events is linear and interpolated).
-    pub fn snapshot_cut<D: Dim>(&self, eng: &Engine<D>, state: &State) -> f64 {
+    pub fn snapshot_cut<D: Dim>(&self, eng: &Engine<D>, state: &State<D>) -> f64 {
         let (phi0, remaining) = (state.load_fraction, 1.0 - state.load_fraction);
         match self.pending.first() {
             Some(&t)
@@ -172,7 +172,7 @@ impl Recorder {
     fn snapshots_at_end<D: Dim>(
         &mut self,
         eng: &mut Engine<D>,
-        state: &State,
+        state: &State<D>,
         internal: Option<&[f64]>,
     ) -> Result<()> {
         while let Some(&t) = self.pending.first() {
@@ -190,7 +190,7 @@ impl Recorder {
     pub fn snapshots_inside<D: Dim>(
         &mut self,
         eng: &mut Engine<D>,
-        state: &State,
+        state: &State<D>,
         trial: &TrialIncrement,
         sel: &Selection,
     ) -> Result<()> {
@@ -263,7 +263,7 @@ impl Recorder {
 
     /// A contact sub-step's record (`substeps`): the contact state after its events, with the
     /// residual and drift of the increment's start, which its linear path keeps.
-    pub fn substep(&mut self, state: &State, scale: f64) {
+    pub fn substep<D: Dim>(&mut self, state: &State<D>, scale: f64) {
         self.n_substeps += 1;
         let residual = self.steps.last().map_or(0.0, |s| s.residual);
         let (n_closed, n_stick) = (state.n_closed(), state.n_stick());
@@ -327,7 +327,7 @@ impl Recorder {
     pub fn step<D: Dim>(
         &mut self,
         eng: &mut Engine<D>,
-        state: &State,
+        state: &State<D>,
         scale: f64,
         residual: f64,
         internal: Option<&[f64]>,
@@ -366,7 +366,7 @@ impl Recorder {
     pub fn finish<D: Dim>(
         mut self,
         mut eng: Engine<D>,
-        state: &State,
+        state: &State<D>,
         stop: StopReason,
         settled: bool,
         rate_problems: usize,
@@ -380,7 +380,7 @@ impl Recorder {
             }
         }
         Ok(RunResult {
-            dim: eng.problem.dim,
+            dim: D::N,
             stage_names: eng.problem.path.stage_names.clone(),
             events: self.events,
             steps: self.steps,
@@ -410,7 +410,7 @@ impl Recorder {
     fn snapshot<D: Dim>(
         &mut self,
         eng: &mut Engine<D>,
-        state: &State,
+        state: &State<D>,
         internal: Option<&[f64]>,
     ) -> Result<Snapshot> {
         let full;
@@ -430,11 +430,7 @@ impl Recorder {
         // P_σ − P − the contact forces at the held DOFs: the supports' force
         let mut contact = vec![0.0; internal.len()];
         for (p, pair) in pairs.iter().enumerate() {
-            pair.add_support_force(
-                state.lambda_n[p],
-                [state.lambda_t[p], state.lambda_t2[p]],
-                &mut contact,
-            );
+            pair.add_support_force(state.lambda_n[p], state.lambda_t_of(p), &mut contact);
         }
         let reaction = (0..internal.len())
             .map(|d| {
@@ -449,7 +445,7 @@ impl Recorder {
             stage: state.stage,
             load_fraction: state.load_fraction,
             time: state.time(),
-            dim: problem.dim,
+            dim: D::N,
             u: state.u.clone(),
             stress: state.stress.iter().map(|s| std::array::from_fn(|k| s[k])).collect(),
             plastic_strain: state.plastic_strain.clone(),
@@ -463,11 +459,14 @@ impl Recorder {
             status: state.status.iter().map(|s| s.code()).collect(),
             gap: pairs.iter().zip(&state.shift).map(|(p, c)| p.gap(&state.u) + c[0]).collect(),
             rtd: pairs.iter().zip(&state.shift).map(|(p, c)| p.rtd(&state.u) + c[1]).collect(),
-            lambda_t2: if problem.dim == 3 { state.lambda_t2.clone() } else { vec![] },
-            rtd2: if problem.dim == 3 {
-                pairs.iter().zip(&state.shift).map(|(p, c)| p.w_t2.dot(&state.u) + c[2]).collect()
-            } else {
-                vec![]
+            lambda_t2: state.space().map_or(vec![], |s| s.lambda_t2.clone()),
+            rtd2: match state.space() {
+                Some(_) => pairs
+                    .iter()
+                    .zip(&state.shift)
+                    .map(|(p, c)| p.dots(&state.u)[2] + c[2])
+                    .collect(),
+                None => vec![],
             },
             reaction,
         })
@@ -492,7 +491,6 @@ struct Resultants {
     point: Vec<[f64; 3]>,
     /// Per pair: its frame (n, t1, t2; t2 unused in 2D).
     frame: Vec<[[f64; 3]; 3]>,
-    dim: usize,
     n_contacts: usize,
     /// Per support group: its held components.
     supports: Vec<Vec<Held>>,
@@ -542,11 +540,11 @@ impl Functional {
 
     /// Reduced space: the coefficients of λ and α from z = K# a.
     fn reduce(&mut self, z: &[f64], pairs: &[Pair], modes: &[RigidMode]) {
-        self.pairs = pairs.iter().map(|p| [p.w_n.dot(z), p.w_t.dot(z), p.w_t2.dot(z)]).collect();
+        self.pairs = pairs.iter().map(|p| p.dots(z)).collect();
         self.modes = modes.iter().map(|m| self.dot(&m.vector)).collect();
     }
 
-    fn value<D: Dim>(&mut self, eng: &Engine<D>, state: &State) -> f64 {
+    fn value<D: Dim>(&mut self, eng: &Engine<D>, state: &State<D>) -> f64 {
         if !eng.problem.is_reduced() {
             return self.dot(&state.u);
         }
@@ -566,13 +564,13 @@ impl Functional {
             }
         };
         let lambda = (0..self.pairs.len()).filter(|&p| {
-            state.lambda_n[p] != 0.0 || state.lambda_t[p] != 0.0 || state.lambda_t2[p] != 0.0
+            state.lambda_n[p] != 0.0 || state.lambda_t[p] != 0.0 || state.lambda_t_of(p)[1] != 0.0
         });
         let contacts: f64 = lambda
             .map(|p| {
                 self.pairs[p][0] * state.lambda_n[p]
                     + self.pairs[p][1] * state.lambda_t[p]
-                    + self.pairs[p][2] * state.lambda_t2[p]
+                    + self.pairs[p][2] * state.lambda_t_of(p)[1]
             })
             .sum();
         let modes: f64 = self.modes.iter().zip(&state.alpha).map(|(a, b)| a * b).sum();
@@ -583,7 +581,7 @@ impl Functional {
 impl Resultants {
     fn new<D: Dim>(eng: &mut Engine<D>) -> Self {
         let problem = &eng.problem;
-        let (model, dim) = (problem.model, problem.dim);
+        let (model, dim) = (problem.model, D::N);
         let pairs = problem.global_pairs();
         let contact: Vec<usize> = model.pairs.iter().map(|p| p.contact).collect();
         let n_contacts =
@@ -628,14 +626,9 @@ impl Resultants {
                             .iter()
                             .enumerate()
                             .map(|(p, pair)| {
-                                (
-                                    p,
-                                    [
-                                        on(&pair.on_supports[0]),
-                                        on(&pair.on_supports[1]),
-                                        on(&pair.on_supports[2]),
-                                    ],
-                                )
+                                let mut direct = [0.0; 3];
+                                pair.on_supports().zip(&mut direct).for_each(|(w, v)| *v = on(w));
+                                (p, direct)
                             })
                             .filter(|(_, v)| *v != [0.0; 3])
                             .collect();
@@ -655,9 +648,12 @@ impl Resultants {
             .collect();
         let frame = pairs
             .iter()
-            .map(|p| [p.frame.normal, p.frame.tangents[0], p.frame.tangents[1]])
+            .map(|p| {
+                let t2 = p.tangents.get(1).map_or([0.0; 3], |t| t.direction);
+                [p.normal, p.tangents[0].direction, t2]
+            })
             .collect();
-        let mut out = Resultants { contact, point, frame, dim, n_contacts, supports, loads };
+        let mut out = Resultants { contact, point, frame, n_contacts, supports, loads };
         if eng.problem.is_reduced() {
             out.reduce(eng);
         }
@@ -698,15 +694,11 @@ impl Resultants {
 
     /// Per contact its resultant force on the contactor side and that force's moment about the
     /// origin (`StepRecord::contact_force`, `contact_moment`).
-    fn contacts(&self, state: &State) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    fn contacts<D: Dim>(&self, state: &State<D>) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
         let mut force = vec![[0.0; 3]; self.n_contacts];
         let mut moment = vec![[0.0; 3]; self.n_contacts];
         for (p, [n, t1, t2]) in self.frame.iter().enumerate() {
-            let lambda = [
-                state.lambda_n[p],
-                state.lambda_t[p],
-                if self.dim == 3 { state.lambda_t2[p] } else { 0.0 },
-            ];
+            let lambda = [state.lambda_n[p], state.lambda_t[p], state.lambda_t_of(p)[1]];
             if lambda == [0.0; 3] {
                 continue;
             }
@@ -728,12 +720,12 @@ impl Resultants {
     fn supports_and_loads<D: Dim>(
         &mut self,
         eng: &Engine<D>,
-        state: &State,
+        state: &State<D>,
         internal: Option<&[f64]>,
     ) -> (Vec<[f64; 3]>, Vec<f64>) {
         let reduced = eng.problem.is_reduced();
         let phi = state.load_fraction;
-        let lambda = |p: usize| [state.lambda_n[p], state.lambda_t[p], state.lambda_t2[p]];
+        let lambda = |p: usize| state.contact_force(p);
         let reaction = self
             .supports
             .iter_mut()
@@ -776,13 +768,11 @@ impl Resultants {
 /// u = Σ u_stage (completed) + s u_stage + K#(W λ) + N α, ū at the prescribed DOFs, and its
 /// stresses, for the reduced space; also the internal force P_σ and the fields' equilibrium
 /// residual, which must be within `equilibrium_tol`.
-fn reconstruct<D: Dim>(eng: &mut Engine<D>, state: &State) -> Result<(State, Vec<f64>, f64)> {
+fn reconstruct<D: Dim>(eng: &mut Engine<D>, state: &State<D>) -> Result<(State<D>, Vec<f64>, f64)> {
     let Engine { problem, stiffness, loads, .. } = eng;
     let mut y = vec![0.0; problem.dofs.map.role.len()];
     for (p, pair) in problem.global_pairs().iter().enumerate() {
-        pair.w_n.add_to(state.lambda_n[p], &mut y);
-        pair.w_t.add_to(state.lambda_t[p], &mut y);
-        pair.w_t2.add_to(state.lambda_t2[p], &mut y);
+        pair.add_force(state.contact_force(p), &mut y);
     }
     let mut u =
         stiffness.apply_ginv(&problem.dofs.map, std::slice::from_ref(&y)).pop().unwrap_or_default();

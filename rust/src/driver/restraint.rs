@@ -50,7 +50,7 @@ pub(super) enum Hold {
 pub(super) fn hold<D: Dim>(
     problem: &Problem<D>,
     loads: &StageLoads,
-    state: &State,
+    state: &State<D>,
     events: &[EventRecord],
 ) -> Hold {
     Restraint { p: problem, loads }.hold(state, events)
@@ -68,7 +68,7 @@ pub(super) fn hold<D: Dim>(
 pub(super) fn check_restrained<D: Dim>(
     problem: &Problem<D>,
     loads: &StageLoads,
-    state: &State,
+    state: &State<D>,
     a: &DMatrix<f64>,
     m: usize,
     mode_rhs: &[f64],
@@ -87,7 +87,7 @@ pub(super) fn check_restrained<D: Dim>(
 pub(super) fn friction_limit<D: Dim>(
     problem: &Problem<D>,
     loads: &StageLoads,
-    state: &State,
+    state: &State<D>,
     trial: &TrialIncrement,
 ) -> Option<f64> {
     let r = Restraint { p: problem, loads };
@@ -112,7 +112,7 @@ pub(super) fn friction_limit<D: Dim>(
 pub(super) fn friction_stop<D: Dim>(
     problem: &Problem<D>,
     loads: &StageLoads,
-    state: &State,
+    state: &State<D>,
 ) -> Option<StopReason> {
     let r = Restraint { p: problem, loads };
     let stop = r.friction_held(state).find_map(|plane| {
@@ -215,7 +215,7 @@ struct Restraint<'a, D: Dim> {
 }
 
 impl<D: Dim> Restraint<'_, D> {
-    fn hold(&self, state: &State, events: &[EventRecord]) -> Hold {
+    fn hold(&self, state: &State<D>, events: &[EventRecord]) -> Hold {
         let mut hold = Hold::Held;
         for (body, idx) in self.bodies_with_modes() {
             let slides = free_motions(&self.closed_rows(state, &idx, false), idx.len());
@@ -272,7 +272,7 @@ impl<D: Dim> Restraint<'_, D> {
 
     /// The rows w·N_k (k in `idx`) of the closed pairs' constraints: their normals and the
     /// tangents of the sticking frictional pairs (`if_stuck`: of every frictional one).
-    fn closed_rows(&self, state: &State, idx: &[usize], if_stuck: bool) -> Vec<Vec<f64>> {
+    fn closed_rows(&self, state: &State<D>, idx: &[usize], if_stuck: bool) -> Vec<Vec<f64>> {
         let row = |w: &SparseVec| {
             idx.iter().map(|&k| w.dot(&self.p.bodies.mode_vectors[k])).collect::<Vec<f64>>()
         };
@@ -282,13 +282,7 @@ impl<D: Dim> Restraint<'_, D> {
         {
             rows.push(row(&pair.w_n));
             if pair.frictional() && (if_stuck || state.status[p] == Status::Stick) {
-                // (a 2D pair's second tangent counts as held: no row)
-                if !pair.held[0] {
-                    rows.push(row(&pair.w_t));
-                }
-                if !pair.held[1] {
-                    rows.push(row(&pair.w_t2));
-                }
+                rows.extend(pair.free_tangents().map(|(_, t)| row(&t.w)));
             } else if let Some(cross) = self.p.cross_direction(state, p) {
                 rows.push(row(&pair.along_tangent(cross))); // a 3D slip holds across its direction
             }
@@ -301,7 +295,7 @@ impl<D: Dim> Restraint<'_, D> {
     fn lifted_or_tipped(
         &self,
         name: &str,
-        state: &State,
+        state: &State<D>,
         body: usize,
         idx: &[usize],
         free: &[Vec<f64>],
@@ -326,7 +320,7 @@ impl<D: Dim> Restraint<'_, D> {
 
     fn check_restrained(
         &self,
-        state: &State,
+        state: &State<D>,
         a: &DMatrix<f64>,
         m: usize,
         mode_rhs: &[f64],
@@ -340,7 +334,7 @@ impl<D: Dim> Restraint<'_, D> {
             if free.is_empty() {
                 continue;
             }
-            if self.p.dim == 3 && free.iter().all(|v| self.is_idle(a, m, mode_rhs, &idx, v)) {
+            if D::N == 3 && free.iter().all(|v| self.is_idle(a, m, mode_rhs, &idx, v)) {
                 idle.extend(free.iter().map(|v| {
                     let mut all = vec![0.0; mode_rhs.len()];
                     idx.iter().zip(v).for_each(|(&k, c)| all[k] = *c);
@@ -349,15 +343,12 @@ impl<D: Dim> Restraint<'_, D> {
                 continue;
             }
             let words: Vec<String> = free.iter().map(|v| self.describe_motion(&idx, v)).collect();
+            // in the plane a slipping pair's one tangent, held or not; in space the free ones
             let tangents = |p: usize| {
                 let pair = &self.p.pairs[p];
-                match self.p.dim {
-                    3 => [(&pair.w_t, pair.held[0]), (&pair.w_t2, pair.held[1])]
-                        .into_iter()
-                        .filter(|(_, held)| !held)
-                        .map(|(w, _)| w)
-                        .collect(),
-                    _ => vec![&pair.w_t],
+                match pair.tangents.as_slice() {
+                    [t] => vec![&t.w],
+                    _ => pair.free_tangents().map(|(_, t)| &t.w).collect(),
                 }
             };
             let slip_rows: Vec<Vec<f64>> = self
@@ -374,7 +365,7 @@ impl<D: Dim> Restraint<'_, D> {
                     // −Nᵀ r along the motion is the out-of-balance force nothing holds.
                     let push: f64 = idx.iter().zip(&free[0]).map(|(&k, c)| -c * mode_rhs[k]).sum();
                     // 3D: the free motions together (the load in the plane picks its direction)
-                    let (push, motion) = if self.p.dim == 3 && free.len() > 1 {
+                    let (push, motion) = if D::N == 3 && free.len() > 1 {
                         (None, words.join("; "))
                     } else {
                         (Some(push), words[0].clone())
@@ -416,7 +407,7 @@ impl<D: Dim> Restraint<'_, D> {
     /// Before any load (t = 0), a body some of whose pairs started closed (gap 0) and separated
     /// at once: how it leaves its support (lifts off, along the load's direction; tips about its
     /// one closed pair; or moves along `words`), naming the contacts. None otherwise.
-    fn left_at_once(&self, state: &State, body: usize, words: &[String]) -> Option<String> {
+    fn left_at_once(&self, state: &State<D>, body: usize, words: &[String]) -> Option<String> {
         if state.time() != 0.0 {
             return None;
         }
@@ -462,12 +453,12 @@ impl<D: Dim> Restraint<'_, D> {
     fn slipping_pairs_of<'a>(
         &'a self,
         body: usize,
-        state: &'a State,
+        state: &'a State<D>,
     ) -> impl Iterator<Item = usize> + 'a {
         // Frictionless closed pairs (Slip with μ = 0) slip too: they hold no tangential load.
         (0..self.p.pairs.len()).filter(move |&p| {
             matches!(state.status[p], Status::Slip { .. })
-                && !self.p.pairs[p].tangent_held
+                && !self.p.pairs[p].tangent_held()
                 && self.p.body_of_pair(p) == body
         })
     }
@@ -495,7 +486,7 @@ impl<D: Dim> Restraint<'_, D> {
     fn tangential_and_normal_load(
         &self,
         body: usize,
-        state: &State,
+        state: &State<D>,
         idx: &[usize],
         v: &[f64],
     ) -> (f64, f64, f64) {
@@ -506,8 +497,8 @@ impl<D: Dim> Restraint<'_, D> {
             closed.iter().map(|&p| f(&self.p.global_pairs()[p])).sum::<f64>()
                 / closed.len().max(1) as f64
         };
-        let dim = self.p.dim;
-        let normal: Vec<f64> = (0..dim).map(|k| mean(&|p| p.frame.normal[k])).collect();
+        let dim = D::N;
+        let normal: Vec<f64> = (0..dim).map(|k| mean(&|p| p.normal[k])).collect();
         let mu = mean(&|p| p.friction.mu);
         if dim == 3 {
             // the load at the fraction checked (its remaining change where it is zero there,
@@ -537,15 +528,18 @@ impl<D: Dim> Restraint<'_, D> {
     /// friction forces lie in that plane and are bounded by μ λ_n each whatever their statuses,
     /// so a load in the plane beyond what such forces balance (`planar_sliding`; without a
     /// moment: T beyond μN) has no equilibrium.
-    fn friction_held<'s>(&'s self, state: &'s State) -> impl Iterator<Item = FrictionPlane> + 's {
+    fn friction_held<'s>(
+        &'s self,
+        state: &'s State<D>,
+    ) -> impl Iterator<Item = FrictionPlane> + 's {
         self.bodies_with_modes()
             .into_iter()
-            .filter(|(_, idx)| self.p.dim == 3 && idx.len() == 6)
+            .filter(|(_, idx)| D::N == 3 && idx.len() == 6)
             .filter_map(move |(body, _)| {
                 let closed: Vec<usize> = (0..self.p.pairs.len())
                     .filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body)
                     .collect();
-                let normal = |p: usize| self.p.global_pairs()[p].frame.normal;
+                let normal = |p: usize| self.p.global_pairs()[p].normal;
                 let n = normal(*closed.first()?);
                 let on_plane = |p: &usize| {
                     let m = normal(*p);
@@ -590,7 +584,7 @@ impl<D: Dim> Restraint<'_, D> {
         contact: &planar_sliding::Contact,
         load: planar_sliding::Wrench,
         limit: &planar_sliding::Limit,
-        state: &State,
+        state: &State<D>,
     ) -> String {
         let (t, n_load) = self.resultants(plane.body, &plane.normal, state.load_fraction);
         let t = t[0].hypot(t[1]);
@@ -626,7 +620,7 @@ impl<D: Dim> Restraint<'_, D> {
 
     /// The resultant (x, y[, z]) of the load on a body at stage fraction s.
     fn body_load_at(&self, body: usize, s: f64) -> Vec<f64> {
-        let dim = self.p.dim;
+        let dim = D::N;
         let nodes = (0..self.p.bodies.of_node.len()).filter(|&i| self.p.bodies.of_node[i] == body);
         nodes.fold(vec![0.0; dim], |f, i| {
             (0..dim).map(|k| f[k] + self.loads.load.force(dim * i + k, s)).collect()
@@ -637,7 +631,7 @@ impl<D: Dim> Restraint<'_, D> {
     fn beyond_capacity(
         &self,
         body: usize,
-        state: &State,
+        state: &State<D>,
         idx: &[usize],
         v: &[f64],
     ) -> Option<(f64, f64, f64)> {
@@ -654,7 +648,7 @@ impl<D: Dim> Restraint<'_, D> {
             Some(_) => "−",
             None => "",
         };
-        let load = if self.p.dim == 3 {
+        let load = if D::N == 3 {
             "under the load at that fraction (the stage's, where none is applied yet)"
         } else {
             "under the stage's full load"
@@ -665,7 +659,7 @@ impl<D: Dim> Restraint<'_, D> {
     /// The translation part (x, y[, z]) of a combination `v` of the body's modes `idx`.
     fn translation_of(&self, idx: &[usize], v: &[f64]) -> Vec<f64> {
         let mut w = self.motion_weights(idx, v);
-        w.truncate(self.p.dim);
+        w.truncate(D::N);
         w
     }
 }

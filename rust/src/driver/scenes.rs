@@ -206,7 +206,7 @@ pub fn plastic(sy: f64, h: f64) -> Material {
 pub fn start<'m, 'c, D: Discretization>(
     model: &'m Model<D>,
     clock: &'c Clock,
-) -> (Engine<'m, 'c, D>, State) {
+) -> (Engine<'m, 'c, D>, State<D>) {
     model.validate().expect("a valid scene");
     let eng = Engine::new(model, clock).expect("the scene assembles");
     let state = eng.initial_state();

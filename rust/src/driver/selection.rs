@@ -60,7 +60,7 @@ impl Selection {
 /// window runs past the first predicted yield (`plastic_window`).
 pub(super) fn select<D: Dim>(
     problem: &Problem<D>,
-    state: &State,
+    state: &State<D>,
     trial: &TrialIncrement,
     cycles: &AntiCycling,
     cut: f64,
@@ -90,7 +90,7 @@ pub(super) fn select<D: Dim>(
 /// `bound` (the scale where the increment ends for plasticity, a snapshot or the stage).
 pub(super) fn select_contact<D: Dim>(
     problem: &Problem<D>,
-    state: &State,
+    state: &State<D>,
     trial: &TrialIncrement,
     cycles: &AntiCycling,
     bound: f64,
@@ -107,13 +107,13 @@ pub(super) fn select_contact<D: Dim>(
 /// holds.
 pub(super) fn pair_state<'a, D: Dim>(
     problem: &'a Problem<D>,
-    state: &'a State,
+    state: &'a State<D>,
     frozen: &'a [bool],
 ) -> PairState<'a> {
-    let space = (problem.dim == 3).then(|| SpacePairs {
-        lambda_t2: &state.lambda_t2,
-        slip_dir: &state.slip_dir,
-        vertex: &state.vertex,
+    let space = state.space().map(|space| SpacePairs {
+        lambda_t2: &space.lambda_t2,
+        slip_dir: &space.slip_dir,
+        vertex: &space.vertex,
         cross: (0..problem.pairs.len()).map(|p| problem.cross_direction(state, p)).collect(),
     });
     PairState {
@@ -142,7 +142,7 @@ pub(super) fn trial_of(trial: &TrialIncrement) -> Trial<'_> {
 /// Every candidate event of the trial (contacts, yields, unloads) and the drift bound.
 fn candidates<D: Dim>(
     problem: &Problem<D>,
-    state: &State,
+    state: &State<D>,
     trial: &TrialIncrement,
     cycles: &AntiCycling,
 ) -> (Vec<Candidate>, f64) {
@@ -169,9 +169,9 @@ fn candidates<D: Dim>(
 
 /// The smallest scale among the candidates and `bound`, the events tied with it, and the
 /// order of zero-length ones.
-fn choose(
+fn choose<D: Dim>(
     opts: &Options,
-    state: &State,
+    state: &State<D>,
     mut cands: Vec<Candidate>,
     bound: f64,
     plastic_inside: bool,
@@ -272,7 +272,7 @@ mod tests {
     const ROUND_OFF: f64 = 1e-12;
 
     /// The trial for the remaining load and its selection from `state`.
-    fn next<D: Dim>(eng: &mut Engine<D>, state: &State, stepping: Stepping) -> Selection {
+    fn next<D: Dim>(eng: &mut Engine<D>, state: &State<D>, stepping: Stepping) -> Selection {
         let cycles = AntiCycling::new(eng.problem.pairs.len(), eng.problem.loop_elements(), 4);
         let (trial, _) = remaining_load(eng, state, None, stepping).unwrap();
         select(&eng.problem, state, &trial, &cycles, f64::INFINITY, stepping)

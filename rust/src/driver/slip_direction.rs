@@ -31,18 +31,18 @@ use crate::events::slip_rate;
 /// as a switch's jump is (`keep_jumps`).
 pub(super) fn direct_new_slips<D: Dim>(
     eng: &Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     inc: &TrialIncrement,
 ) -> (bool, f64) {
     let problem = &eng.problem;
-    if problem.dim != 3 {
-        return (false, 0.0);
+    if state.space().is_none() {
+        return (false, 0.0); // a slip along a line has its direction from its sense
     }
-    let before = jumps_kept(eng).then(|| contact_forces(state));
+    let before = jumps_kept(eng, state).then(|| contact_forces(state));
     let (mut directed, mut jump) = (false, 0.0f64);
     for p in 0..problem.pairs.len() {
         let pressed = state.lambda_n[p] + inc.dlambda_n[p] > problem.scales.force_noise;
-        if state.slip_dir[p] != [0.0; 2] || !slipping(state, p) || !pressed {
+        if state.slip_dir(p) != [0.0; 2] || !slipping(state, p) || !pressed {
             continue;
         }
         if let Some((rate, size)) = slip_of(problem, inc, p) {
@@ -57,7 +57,7 @@ pub(super) fn direct_new_slips<D: Dim>(
 }
 
 /// Whether pair p slips (with a sense: `Status::Slip`).
-pub(super) fn slipping(state: &State, p: usize) -> bool {
+pub(super) fn slipping<D: Dim>(state: &State<D>, p: usize) -> bool {
     matches!(state.status[p], Status::Slip { direction } if direction != 0)
 }
 
@@ -75,14 +75,13 @@ pub(super) fn slip_of<D: Dim>(
 /// Pair p slips along −e from here: its friction force is μ λ_n e. Returns how far it moved.
 pub(super) fn hold_direction<D: Dim>(
     problem: &Problem<D>,
-    state: &mut State,
+    state: &mut State<D>,
     p: usize,
     e: [f64; 2],
 ) -> f64 {
-    state.slip_dir[p] = e;
-    state.vertex[p] = false;
+    state.set_facet(p, e, false);
     let mu_ln = problem.pairs[p].friction.capacity(state.lambda_n[p]);
-    let moved = (mu_ln * e[0] - state.lambda_t[p]).hypot(mu_ln * e[1] - state.lambda_t2[p]);
-    (state.lambda_t[p], state.lambda_t2[p]) = (mu_ln * e[0], mu_ln * e[1]);
+    let moved = (mu_ln * e[0] - state.lambda_t[p]).hypot(mu_ln * e[1] - state.lambda_t_of(p)[1]);
+    state.set_lambda_t(p, [mu_ln * e[0], mu_ln * e[1]]);
     moved
 }

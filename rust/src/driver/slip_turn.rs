@@ -40,21 +40,21 @@ use crate::error::Result;
 /// equilibrium correction, which the contact checks allow for.
 pub(super) fn direct_unloaded_slips<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     trial: &TrialIncrement,
     cycles: &mut AntiCycling,
     rec: &mut Recorder,
     correction: &mut Correction,
 ) -> Result<bool> {
     let problem = &eng.problem;
-    if problem.dim != 3 {
-        return Ok(false);
+    if state.space().is_none() {
+        return Ok(false); // a slip along a line has no direction to turn
     }
     let cos_limit = problem.model.options.slip_turn.cos();
-    let before = jumps_kept(eng).then(|| contact_forces(state));
+    let before = jumps_kept(eng, state).then(|| contact_forces(state));
     let (mut turned, mut jump) = (false, 0.0f64);
     for p in 0..problem.pairs.len() {
-        let e = state.slip_dir[p];
+        let e = state.slip_dir(p);
         let unloaded = state.lambda_n[p] <= problem.scales.force_noise || e == [0.0; 2];
         if !unloaded || !slipping(state, p) {
             continue;

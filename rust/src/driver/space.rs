@@ -9,7 +9,7 @@
 //! costs O(contact DOFs²), independent of the mesh size. (K# of each stage's load over these
 //! DOFs: `loads::ReducedLoad`.)
 
-use crate::contact::{Pair, SparseVec};
+use crate::contact::{Pair, SparseVec, Tangent};
 
 pub(super) enum Space {
     Full,
@@ -65,8 +65,11 @@ impl Reduced {
                 .iter()
                 .map(|p| Pair {
                     w_n: remap(&p.w_n),
-                    w_t: remap(&p.w_t),
-                    w_t2: remap(&p.w_t2),
+                    tangents: p
+                        .tangents
+                        .iter()
+                        .map(|t| Tangent { w: remap(&t.w), ..t.clone() })
+                        .collect(),
                     ..p.clone()
                 })
                 .collect(),

@@ -187,7 +187,7 @@ impl Stiffness {
     pub fn update<D: Dim>(
         &mut self,
         problem: &Problem<D>,
-        state: &State,
+        state: &State<D>,
         renewal: Renewal,
         clock: &Clock,
     ) -> Result<()> {

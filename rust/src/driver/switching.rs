@@ -24,13 +24,13 @@ use crate::model::EventKind;
 /// it is kept to be rebalanced: `keep_jumps`).
 pub(super) fn switch_statuses<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     sel: &Selection,
     cycles: &mut AntiCycling,
     rec: &mut Recorder,
     what: Solve,
 ) -> f64 {
-    let before = jumps_kept(eng).then(|| contact_forces(state));
+    let before = jumps_kept(eng, state).then(|| contact_forces(state));
     let jump = switch_group(eng, state, sel, cycles, rec, what);
     if let Some(before) = before {
         keep_jumps(state, &before);
@@ -40,7 +40,7 @@ pub(super) fn switch_statuses<D: Dim>(
 
 fn switch_group<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     sel: &Selection,
     cycles: &mut AntiCycling,
     rec: &mut Recorder,
@@ -102,7 +102,7 @@ const SAME_DIRECTION: f64 = 1e-9;
 /// none or changes nothing.
 fn switch_by_rate_problem<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     cycles: &mut AntiCycling,
     rec: &mut Recorder,
     phi: f64,
@@ -116,8 +116,8 @@ fn switch_by_rate_problem<D: Dim>(
     // problem's (one that keeps its own is no event)
     let moved = |p: usize| {
         sol.slip_dir[p].is_some_and(|(e, vertex)| {
-            vertex != state.vertex[p]
-                || e[0] * state.slip_dir[p][0] + e[1] * state.slip_dir[p][1] < 1.0 - SAME_DIRECTION
+            vertex != state.at_vertex(p)
+                || e[0] * state.slip_dir(p)[0] + e[1] * state.slip_dir(p)[1] < 1.0 - SAME_DIRECTION
         })
     };
     changes.extend(
@@ -151,46 +151,44 @@ fn switch_by_rate_problem<D: Dim>(
 /// on it) or of a facet's turn (its radial jump), the forces a separation drops (one applied
 /// with a tie, before its own scale, still carries λ_n up to tie_tol × its rate): a force jump
 /// that the caller rebalances.
-pub(super) fn switch<D: Dim>(problem: &Problem<D>, state: &mut State, c: &Candidate) -> f64 {
+pub(super) fn switch<D: Dim>(problem: &Problem<D>, state: &mut State<D>, c: &Candidate) -> f64 {
     let p = c.entity;
-    if !c.kind.is_element_event() && c.kind != EventKind::SlipTurn {
-        state.facet_laid[p] = false;
+    if let Some(space) =
+        state.space_mut().filter(|_| !c.kind.is_element_event() && c.kind != EventKind::SlipTurn)
+    {
+        space.facet_laid[p] = false;
     }
-    let before =
-        if c.kind.is_element_event() { [0.0; 2] } else { [state.lambda_t[p], state.lambda_t2[p]] };
+    let before = if c.kind.is_element_event() { [0.0; 2] } else { state.lambda_t_of(p) };
     let dropped = if c.kind == EventKind::Separate {
-        state.lambda_n[p].abs().max(state.lambda_t[p].abs()).max(state.lambda_t2[p].abs())
+        state.lambda_n[p].abs().max(state.lambda_t[p].abs()).max(state.lambda_t_of(p)[1].abs())
     } else {
         0.0
     };
     match c.kind {
         EventKind::Close => {
             state.status[p] = problem.pairs[p].closed_status();
-            (state.slip_dir[p], state.vertex[p]) = ([0.0; 2], false); // the round cone until it slips
-            state.rtd_stick[p] = problem.rtd(state, p);
-            state.rtd_stick2[p] = problem.rtd2(state, p);
+            state.set_facet(p, [0.0; 2], false); // the round cone until it slips
+            state.stick_at(p, [problem.rtd(state, p), problem.rtd2(state, p)]);
         }
         EventKind::Separate => {
             state.status[p] = Status::Open;
-            (state.slip_dir[p], state.vertex[p]) = ([0.0; 2], false);
+            state.set_facet(p, [0.0; 2], false);
             state.lambda_n[p] = 0.0;
-            state.lambda_t[p] = 0.0;
-            state.lambda_t2[p] = 0.0;
+            state.set_lambda_t(p, [0.0; 2]);
         }
         EventKind::StickToSlip => {
             state.status[p] = Status::Slip { direction: c.direction };
-            let now = [state.lambda_t[p], state.lambda_t2[p]];
-            if problem.dim == 3 {
-                (state.slip_dir[p], state.vertex[p]) =
-                    onset_facet(problem, state, p, now, c.toward);
+            let now = state.lambda_t_of(p);
+            if state.space().is_some() {
+                let (e, vertex) = onset_facet(problem, state, p, now, c.toward);
+                state.set_facet(p, e, vertex);
             }
-            [state.lambda_t[p], state.lambda_t2[p]] = problem.slip_force(state, p, now);
+            state.set_lambda_t(p, problem.slip_force(state, p, now));
         }
         EventKind::SlipToStick => {
             // stuck where it is (in space, on its facet's band: no force jump)
             state.status[p] = Status::Stick;
-            state.rtd_stick[p] = problem.rtd(state, p);
-            state.rtd_stick2[p] = problem.rtd2(state, p);
+            state.stick_at(p, [problem.rtd(state, p), problem.rtd2(state, p)]);
         }
         EventKind::SlipTurn => turn_facet(problem, state, p, c.direction),
         EventKind::Yield => state.plastic[p] = true,
@@ -199,9 +197,9 @@ pub(super) fn switch<D: Dim>(problem: &Problem<D>, state: &mut State, c: &Candid
     }
     match c.kind {
         EventKind::StickToSlip | EventKind::SlipTurn | EventKind::SlipToStick
-            if problem.dim == 3 =>
+            if state.space().is_some() =>
         {
-            (state.lambda_t[p] - before[0]).hypot(state.lambda_t2[p] - before[1])
+            (state.lambda_t[p] - before[0]).hypot(state.lambda_t_of(p)[1] - before[1])
         }
         EventKind::StickToSlip => (state.lambda_t[p] - before[0]).abs(),
         _ => dropped,
@@ -214,7 +212,7 @@ pub(super) fn switch<D: Dim>(problem: &Problem<D>, state: &mut State, c: &Candid
 /// (`toward`; if none either, the next trial's slip rate sets it: `slip_turn`).
 fn onset_facet<D: Dim>(
     problem: &Problem<D>,
-    state: &State,
+    state: &State<D>,
     p: usize,
     force: [f64; 2],
     toward: [f64; 2],
@@ -235,23 +233,20 @@ const PLACE_TOL: f64 = 1e-9;
 /// band goes to the vertex there, with the next facet (m = e turned by slip_turn towards the
 /// force); one at a vertex whose slip left its normal cone on side `side` goes onto that side's
 /// facet. Either way the force does not move (round-off aside): the band's edge is the vertex.
-fn turn_facet<D: Dim>(problem: &Problem<D>, state: &mut State, p: usize, side: i8) {
-    let (law, now, e) =
-        (problem.pairs[p].friction, [state.lambda_t[p], state.lambda_t2[p]], state.slip_dir[p]);
-    if state.vertex[p] {
-        state.slip_dir[p] = law.facet_of(e, side as f64);
-        state.vertex[p] = false;
+fn turn_facet<D: Dim>(problem: &Problem<D>, state: &mut State<D>, p: usize, side: i8) {
+    let (law, now, e) = (problem.pairs[p].friction, state.lambda_t_of(p), state.slip_dir(p));
+    if state.at_vertex(p) {
+        state.set_facet(p, law.facet_of(e, side as f64), false);
     } else {
         let across = e[0] * now[1] - e[1] * now[0];
-        state.slip_dir[p] = law.vertex_of(e, across);
-        state.vertex[p] = true;
+        state.set_facet(p, law.vertex_of(e, across), true);
     }
-    [state.lambda_t[p], state.lambda_t2[p]] = problem.slip_force(state, p, now);
+    state.set_lambda_t(p, problem.slip_force(state, p, now));
 }
 
 /// `switch`, its force jump kept in the reduced space (`keep_jumps`).
-pub(super) fn switch_keeping<D: Dim>(eng: &Engine<D>, state: &mut State, c: &Candidate) -> f64 {
-    let before = jumps_kept(eng).then(|| contact_forces(state));
+pub(super) fn switch_keeping<D: Dim>(eng: &Engine<D>, state: &mut State<D>, c: &Candidate) -> f64 {
+    let before = jumps_kept(eng, state).then(|| contact_forces(state));
     let jump = switch(&eng.problem, state, c);
     if let Some(before) = before {
         keep_jumps(state, &before);
@@ -259,26 +254,26 @@ pub(super) fn switch_keeping<D: Dim>(eng: &Engine<D>, state: &mut State, c: &Can
     jump
 }
 
-/// Whether force jumps are kept apart to be rebalanced (`State::jumps`): in the reduced space
-/// in 3D, where a facet's turn is one (in 2D the only jumps are ties', and its histories are
-/// kept as they were).
-pub(super) fn jumps_kept<D: Dim>(eng: &Engine<D>) -> bool {
-    eng.problem.is_reduced() && eng.problem.dim == 3
+/// Whether force jumps are kept apart to be rebalanced (`PairsInSpace::jumps`): in the reduced
+/// space, for pairs in space, where a facet's turn is one (in the plane the only jumps are ties',
+/// and its histories are kept as they were).
+pub(super) fn jumps_kept<D: Dim>(eng: &Engine<D>, state: &State<D>) -> bool {
+    eng.problem.is_reduced() && state.space().is_some()
 }
 
 /// Every pair's contact forces (λ_n, λ_t1, λ_t2), to tell what switches change.
-pub(super) fn contact_forces(state: &State) -> Vec<[f64; 3]> {
-    (0..state.lambda_n.len())
-        .map(|p| [state.lambda_n[p], state.lambda_t[p], state.lambda_t2[p]])
-        .collect()
+pub(super) fn contact_forces<D: Dim>(state: &State<D>) -> Vec<[f64; 3]> {
+    (0..state.lambda_n.len()).map(|p| state.contact_force(p)).collect()
 }
 
 /// The force jumps switches made since `before`, added to the state's unbalanced ones
 /// (`State::jumps`), which the next trial rebalances.
-pub(super) fn keep_jumps(state: &mut State, before: &[[f64; 3]]) {
-    for (p, jump) in state.jumps.iter_mut().enumerate() {
-        let now = [state.lambda_n[p], state.lambda_t[p], state.lambda_t2[p]];
-        (0..3).for_each(|k| jump[k] += now[k] - before[p][k]);
+pub(super) fn keep_jumps<D: Dim>(state: &mut State<D>, before: &[[f64; 3]]) {
+    let now = contact_forces(state);
+    if let Some(space) = state.space_mut() {
+        for (p, jump) in space.jumps.iter_mut().enumerate() {
+            (0..3).for_each(|k| jump[k] += now[p][k] - before[p][k]);
+        }
     }
 }
 

@@ -88,7 +88,7 @@ impl Tangents {
     pub fn renew<D: Dim>(
         &mut self,
         problem: &Problem<D>,
-        state: &State,
+        state: &State<D>,
         renewal: Renewal,
     ) -> Option<Vec<usize>> {
         let turn = match renewal {
@@ -114,7 +114,7 @@ impl Tangents {
     /// δ = 0.05: 76 → 23 factorizations, p0 and a unchanged to 1e-5. (Event by event, without
     /// the re-integration, it would move plastic strains by up to 2.7 % on the dolfinx
     /// replays: not there.)
-    fn yields_can_wait(&self, state: &State) -> bool {
+    fn yields_can_wait<D: Dim>(&self, state: &State<D>) -> bool {
         let (mut plastic, mut waiting) = (0usize, 0usize);
         for (&f, &p) in self.flowing.iter().zip(&state.plastic) {
             plastic += p as usize;
@@ -130,7 +130,7 @@ impl Tangents {
         &mut self,
         problem: &Problem<D>,
         e: usize,
-        state: &State,
+        state: &State<D>,
         turn: f64,
     ) -> bool {
         let change = match (self.flowing[e], state.plastic[e]) {
@@ -293,7 +293,7 @@ mod tests {
         let (mut eng, mut state) = start(&m, &clock);
         let (s1, s2) =
             (from_planar([sy, 0.0, 0.0, 0.0]), from_planar([0.0, 0.0, 0.0, sy / 3f64.sqrt()]));
-        let renew = |eng: &mut Engine<Planar>, state: &State| {
+        let renew = |eng: &mut Engine<Planar>, state: &State<Planar>| {
             eng.stiffness
                 .tangents
                 .renew(&eng.problem, state, Renewal::All)

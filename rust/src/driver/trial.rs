@@ -137,7 +137,7 @@ pub(super) struct ContactSystem {
 /// if the caller has it.
 pub(super) fn solve<D: Dim>(
     eng: &mut Engine<D>,
-    state: &State,
+    state: &State<D>,
     what: Solve,
     internal: Option<Vec<f64>>,
 ) -> Result<TrialIncrement> {
@@ -148,7 +148,7 @@ pub(super) fn solve<D: Dim>(
 /// its contact sub-steps reuse (`TrialBase`).
 pub(super) fn remaining_load<D: Dim>(
     eng: &mut Engine<D>,
-    state: &State,
+    state: &State<D>,
     internal: Option<Vec<f64>>,
     stepping: Stepping,
 ) -> Result<(TrialIncrement, Option<TrialBase>)> {
@@ -157,7 +157,7 @@ pub(super) fn remaining_load<D: Dim>(
 
 fn solve_keeping<D: Dim>(
     eng: &mut Engine<D>,
-    state: &State,
+    state: &State<D>,
     what: Solve,
     internal: Option<Vec<f64>>,
     keep_base: bool,
@@ -186,7 +186,7 @@ fn solve_keeping<D: Dim>(
 /// displacement increments and obstacle motion), in residual form.
 pub(super) fn out_of_balance<D: Dim>(
     eng: &mut Engine<D>,
-    state: &State,
+    state: &State<D>,
     what: Solve,
     internal: Option<Vec<f64>>,
 ) -> OutOfBalance {
@@ -248,10 +248,11 @@ pub(super) fn out_of_balance<D: Dim>(
 }
 
 /// W Δλ of the state's unbalanced force jumps (`State::jumps`), as (DOF, force) entries.
-fn jump_force<D: Dim>(problem: &Problem<D>, state: &State) -> Vec<(usize, f64)> {
+fn jump_force<D: Dim>(problem: &Problem<D>, state: &State<D>) -> Vec<(usize, f64)> {
     let mut force = vec![];
-    for (pair, jump) in problem.pairs.iter().zip(&state.jumps).filter(|(_, j)| **j != [0.0; 3]) {
-        for (w, v) in [(&pair.w_n, jump[0]), (&pair.w_t, jump[1]), (&pair.w_t2, jump[2])] {
+    let jumps = state.space().map_or(&[][..], |s| &s.jumps);
+    for (pair, jump) in problem.pairs.iter().zip(jumps).filter(|(_, j)| **j != [0.0; 3]) {
+        for (w, v) in pair.columns().zip(jump) {
             force.extend(w.entries.iter().map(|&(d, c)| (d, v * c)));
         }
     }
@@ -262,7 +263,7 @@ fn jump_force<D: Dim>(problem: &Problem<D>, state: &State) -> Vec<(usize, f64)> 
 /// (`Problem::cross_direction`), with their cross directions e⊥.
 fn unloaded_facets<'a, D: Dim>(
     problem: &'a Problem<D>,
-    state: &'a State,
+    state: &'a State<D>,
 ) -> impl Iterator<Item = (usize, [f64; 2])> + 'a {
     let unloaded = move |p: usize| (0.0..=problem.scales.force_noise).contains(&state.lambda_n[p]);
     (0..problem.pairs.len())
@@ -280,7 +281,7 @@ fn unloaded_facets<'a, D: Dim>(
 /// `advance::project_onto_cone`, and the jump is rebalanced).
 fn contact_system<D: Dim>(
     eng: &Engine<D>,
-    state: &State,
+    state: &State<D>,
     dshift: &[Shift],
     unloaded: bool,
 ) -> ContactSystem {
@@ -296,16 +297,16 @@ fn contact_system<D: Dim>(
         }
         rows.push(Row::Normal(p));
         h.push(-problem.gap(state, p) - dshift[p][0]);
-        let held = problem.pairs[p].held;
-        if *st == Status::Stick && problem.pairs[p].frictional() {
+        let pair = &problem.pairs[p];
+        if *st == Status::Stick && pair.frictional() {
             // (a frictional pair has a free tangent: in 2D its one, whose row it always has)
-            if !held[0] {
+            if !pair.held(0) {
                 rows.push(Row::Tangent(p));
                 h.push(state.rtd_stick[p] - problem.rtd(state, p) - dshift[p][1]);
             }
-            if !held[1] {
+            if !pair.held(1) {
                 rows.push(Row::Tangent2(p));
-                h.push(state.rtd_stick2[p] - problem.rtd2(state, p) - dshift[p][2]);
+                h.push(state.rtd_stick_of(p)[1] - problem.rtd2(state, p) - dshift[p][2]);
             }
         }
         if let Some(cross) = problem.cross_direction(state, p).or(extra_cross[p]) {
@@ -324,22 +325,19 @@ fn contact_system<D: Dim>(
 
 /// Column e_j: w_n (+ τ w_t for a slipping pair, τ = −dμ, eq. 41; in 3D + τ1 w_t + τ2 w_t2,
 /// τ = μ e), or w_t (w_t2, the cross direction's e⊥₁ w_t + e⊥₂ w_t2).
-fn force_direction<D: Dim>(problem: &Problem<D>, state: &State, row: Row) -> Vec<(usize, f64)> {
+fn force_direction<D: Dim>(problem: &Problem<D>, state: &State<D>, row: Row) -> Vec<(usize, f64)> {
     match row {
         Row::Normal(p) => {
             let pair = &problem.pairs[p];
             let [tau, tau2] = problem.slip_ratios(state, p);
             let mut e = pair.w_n.entries.clone();
-            if tau != 0.0 {
-                e.extend(pair.w_t.entries.iter().map(|&(d, v)| (d, tau * v)));
-            }
-            if tau2 != 0.0 {
-                e.extend(pair.w_t2.entries.iter().map(|&(d, v)| (d, tau2 * v)));
+            for (t, tau) in pair.tangents.iter().zip([tau, tau2]).filter(|(_, tau)| *tau != 0.0) {
+                e.extend(t.w.entries.iter().map(|&(d, v)| (d, tau * v)));
             }
             e
         }
-        Row::Tangent(p) => problem.pairs[p].w_t.entries.clone(),
-        Row::Tangent2(p) => problem.pairs[p].w_t2.entries.clone(),
+        Row::Tangent(p) => problem.pairs[p].tangents[0].w.entries.clone(),
+        Row::Tangent2(p) => problem.pairs[p].tangents[1].w.entries.clone(),
         Row::Cross(p, cross) => problem.pairs[p].along_tangent(cross).entries,
     }
 }
@@ -347,8 +345,8 @@ fn force_direction<D: Dim>(problem: &Problem<D>, state: &State, row: Row) -> Vec
 fn constraint<'a, D: Dim>(problem: &'a Problem<D>, row: Row) -> Cow<'a, SparseVec> {
     match row {
         Row::Normal(p) => Cow::Borrowed(&problem.pairs[p].w_n),
-        Row::Tangent(p) => Cow::Borrowed(&problem.pairs[p].w_t),
-        Row::Tangent2(p) => Cow::Borrowed(&problem.pairs[p].w_t2),
+        Row::Tangent(p) => Cow::Borrowed(&problem.pairs[p].tangents[0].w),
+        Row::Tangent2(p) => Cow::Borrowed(&problem.pairs[p].tangents[1].w),
         Row::Cross(p, cross) => Cow::Owned(problem.pairs[p].along_tangent(cross)),
     }
 }
@@ -356,7 +354,7 @@ fn constraint<'a, D: Dim>(problem: &'a Problem<D>, row: Row) -> Cow<'a, SparseVe
 /// Assemble and solve the small system for (Δλ, α).
 fn solve_small_system<D: Dim>(
     eng: &Engine<D>,
-    state: &State,
+    state: &State<D>,
     sys: &ContactSystem,
     oob: &OutOfBalance,
 ) -> Result<DVector<f64>> {
@@ -429,7 +427,7 @@ fn solve_small_system<D: Dim>(
 /// the reduced space).
 fn increment<D: Dim>(
     eng: &mut Engine<D>,
-    state: &State,
+    state: &State<D>,
     what: Solve,
     sys: &ContactSystem,
     mut oob: OutOfBalance,
@@ -438,15 +436,15 @@ fn increment<D: Dim>(
     let problem = &eng.problem;
     let (m, n_pairs) = (sys.rows.len(), problem.pairs.len());
     let (mut dlambda_n, mut dlambda_t) = (vec![0.0; n_pairs], vec![0.0; n_pairs]);
-    let mut dlambda_t2 = vec![0.0; if problem.dim == 3 { n_pairs } else { 0 }];
+    let mut dlambda_t2 = vec![0.0; if state.space().is_some() { n_pairs } else { 0 }];
     for j in 0..m {
         match sys.rows[j] {
             Row::Normal(p) => {
                 dlambda_n[p] = sol[j];
                 let [tau, tau2] = problem.slip_ratios(state, p);
                 dlambda_t[p] = tau * sol[j];
-                if problem.dim == 3 {
-                    dlambda_t2[p] = tau2 * sol[j];
+                if let Some(d) = dlambda_t2.get_mut(p) {
+                    *d = tau2 * sol[j];
                 }
             }
             Row::Tangent(p) => dlambda_t[p] = sol[j],

@@ -37,7 +37,7 @@ use super::recording::{Balance, InsideEvent, Recorder};
 use super::restraint::{hold, Hold};
 use super::selection::{select_contact, Selection};
 use super::slip_direction::direct_new_slips;
-use super::state::{IncrementStart, State, TrialIncrement};
+use super::state::{IncrementStart, PairsInSpace, State, TrialIncrement};
 use super::stepping::Stepping;
 use super::switching::{contact_forces, switch_statuses};
 use super::trial::{self, Solve, TrialBase};
@@ -72,7 +72,7 @@ pub(super) struct Window {
     status: Vec<Status>,
     rtd_stick: Vec<f64>,
     /// 3D: λ_t2, the stuck RTD along t2 and the slip directions.
-    space: (Vec<f64>, Vec<f64>, Vec<[f64; 2]>, Vec<bool>),
+    space: Option<PairsInSpace>,
     shift: Vec<Shift>,
     recorded: Recorded,
     correction: Correction,
@@ -90,9 +90,9 @@ struct Recorded {
 impl Window {
     /// The window of a selection that groups plastic events inside (`Selection::plastic_inside`);
     /// None for an increment taken event by event.
-    pub fn open(
+    pub fn open<D: Dim>(
         sel: &Selection,
-        state: &State,
+        state: &State<D>,
         rec: &Recorder,
         correction: Correction,
     ) -> Option<Self> {
@@ -111,12 +111,7 @@ impl Window {
             alpha: state.alpha.clone(),
             status: state.status.clone(),
             rtd_stick: state.rtd_stick.clone(),
-            space: (
-                state.lambda_t2.clone(),
-                state.rtd_stick2.clone(),
-                state.slip_dir.clone(),
-                state.vertex.clone(),
-            ),
+            space: state.space().cloned(),
             shift: state.shift.clone(),
             recorded: recorded(),
             correction,
@@ -127,9 +122,9 @@ impl Window {
     /// the path time where it ended (the returned stepping). (The anti-cycling switch counts
     /// keep the window's switches: they only name the busiest entities when the event bound
     /// stops a run.)
-    pub fn retake(
+    pub fn retake<D: Dim>(
         self,
-        state: &mut State,
+        state: &mut State<D>,
         start: IncrementStart,
         rec: &mut Recorder,
         correction: &mut Correction,
@@ -141,7 +136,13 @@ impl Window {
         (state.stage, state.load_fraction) = (self.stage, self.load_fraction);
         (state.lambda_n, state.lambda_t, state.alpha) = (self.lambda_n, self.lambda_t, self.alpha);
         (state.status, state.rtd_stick, state.shift) = (self.status, self.rtd_stick, self.shift);
-        (state.lambda_t2, state.rtd_stick2, state.slip_dir, state.vertex) = self.space;
+        if let (Some(now), Some(then)) = (state.space_mut(), &self.space) {
+            // (the laid facets and the unbalanced jumps stay as they are)
+            now.lambda_t2.clone_from(&then.lambda_t2);
+            now.rtd_stick2.clone_from(&then.rtd_stick2);
+            now.slip_dir.clone_from(&then.slip_dir);
+            now.vertex.clone_from(&then.vertex);
+        }
         let recorded = self.recorded;
         rec.events.truncate(recorded.events);
         rec.steps.truncate(recorded.steps);
@@ -159,7 +160,7 @@ impl Window {
 /// force jump of a switch. Otherwise the trial and selection as they are.
 pub(super) fn contact_events<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     trial: TrialIncrement,
     sel: Selection,
     base: Option<TrialBase>,
@@ -174,8 +175,8 @@ pub(super) fn contact_events<D: Dim>(
 
 /// The yields and unloads inside the increment just settled, in order: the elements whose
 /// status differs from the increment's `start`, but for the events that ended it (`group`).
-pub(super) fn inside_events(
-    state: &State,
+pub(super) fn inside_events<D: Dim>(
+    state: &State<D>,
     sel: &Selection,
     start: Option<IncrementStart>,
 ) -> Vec<InsideEvent> {
@@ -203,7 +204,7 @@ fn takes_substeps<D: Dim>(
     eng: &Engine<D>,
     sel: &Selection,
     every_event: bool,
-    state: &State,
+    state: &State<D>,
 ) -> bool {
     sel.plastic_inside
         && !sel.last
@@ -222,12 +223,14 @@ fn takes_substeps<D: Dim>(
 /// 0.085 % to 1.5 % of the peak stress (with this rule: 0.086 %); on the elastoplastic
 /// Hertz at 24.5k DOFs, whose contact edge stays elastic, the rule takes every closure and
 /// the engine goes 2.77 → 2.61 s (δ = 0.01), 2.24 → 1.78 s (δ = 0.03).
-fn inside_substeps<D: Dim>(problem: &Problem<D>, c: &Candidate, state: &State) -> bool {
+fn inside_substeps<D: Dim>(problem: &Problem<D>, c: &Candidate, state: &State<D>) -> bool {
     match c.kind {
         EventKind::StickToSlip | EventKind::SlipToStick | EventKind::Separate => true,
-        EventKind::Close => problem.pairs[c.entity].w_n.entries.iter().all(|&(d, _)| {
-            problem.node_elements[d / problem.dim].iter().all(|&e| !state.plastic[e])
-        }),
+        EventKind::Close => problem.pairs[c.entity]
+            .w_n
+            .entries
+            .iter()
+            .all(|&(d, _)| problem.node_elements[d / D::N].iter().all(|&e| !state.plastic[e])),
         _ => false,
     }
 }
@@ -238,7 +241,7 @@ fn inside_substeps<D: Dim>(problem: &Problem<D>, c: &Candidate, state: &State) -
 /// switch (a jump ends the sub-steps: the correction must rebalance it).
 fn contact_substeps<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     sub: TrialIncrement,
     sel: Selection,
     base: &TrialBase,
@@ -257,12 +260,17 @@ fn contact_substeps<D: Dim>(
     let scale = scale_between(&start, state);
     let (status, rtd_stick) =
         (std::mem::take(&mut state.status), std::mem::take(&mut state.rtd_stick));
-    let (rtd_stick2, slip_dir, vertex) = (
-        std::mem::take(&mut state.rtd_stick2),
-        std::mem::take(&mut state.slip_dir),
-        std::mem::take(&mut state.vertex),
-    );
-    *state = State { status, rtd_stick, rtd_stick2, slip_dir, vertex, ..start };
+    let kept = state.space_mut().map(|s| {
+        (
+            std::mem::take(&mut s.rtd_stick2),
+            std::mem::take(&mut s.slip_dir),
+            std::mem::take(&mut s.vertex),
+        )
+    });
+    *state = State { status, rtd_stick, ..start };
+    if let (Some(s), Some(kept)) = (state.space_mut(), kept) {
+        (s.rtd_stick2, s.slip_dir, s.vertex) = kept;
+    }
     let rebalance = jump > eng.problem.scales.force_noise;
     let last = sel.last && !rebalance;
     let ending = if rebalance || sel.group.iter().all(|c| inside_substeps(&eng.problem, c, state)) {
@@ -296,7 +304,7 @@ fn contact_substeps<D: Dim>(
 #[allow(clippy::too_many_arguments)]
 fn walk_contact_events<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     mut sub: TrialIncrement,
     mut sel: Selection,
     base: &TrialBase,
@@ -350,7 +358,7 @@ fn walk_contact_events<D: Dim>(
 /// and the force that moved (added to `jumped`).
 fn substep_trial<D: Dim>(
     eng: &mut Engine<D>,
-    state: &mut State,
+    state: &mut State<D>,
     base: &TrialBase,
     jumped: &mut [[f64; 3]],
 ) -> Result<(TrialIncrement, f64)> {
@@ -375,8 +383,8 @@ fn substep_trial<D: Dim>(
 /// sweep and the stress increments of every element each).
 fn check_contact_path<D: Dim>(
     eng: &Engine<D>,
-    start: &State,
-    end: &State,
+    start: &State<D>,
+    end: &State<D>,
     whole: &TrialIncrement,
     jumped: &[[f64; 3]],
 ) -> Result<()> {
@@ -418,7 +426,7 @@ fn slot_forces<D: Dim>(problem: &Problem<D>, dlambda: &[[f64; 3]], n_slots: usiz
     let contact_slot = &problem.dofs.contact_slot;
     let mut force_slots = vec![0.0; n_slots];
     for (pair, dl) in problem.pairs.iter().zip(dlambda) {
-        for (w, v) in [(&pair.w_n, dl[0]), (&pair.w_t, dl[1]), (&pair.w_t2, dl[2])] {
+        for (w, v) in pair.columns().zip(*dl) {
             for &(d, c) in &w.entries {
                 if contact_slot[d] != usize::MAX {
                     force_slots[contact_slot[d]] += v * c;
@@ -435,7 +443,7 @@ fn slot_forces<D: Dim>(problem: &Problem<D>, dlambda: &[[f64; 3]], n_slots: usiz
 /// the sub-steps' scaled load does not hold it, so a jump ends them; it is added to `jumped`.
 fn advance_contact<D: Dim>(
     problem: &Problem<D>,
-    state: &mut State,
+    state: &mut State<D>,
     inc: &TrialIncrement,
     sel: &Selection,
     jumped: &mut [[f64; 3]],
@@ -451,9 +459,9 @@ fn advance_contact<D: Dim>(
 }
 
 /// The contact forces moved since `before`, added to `jumped`.
-fn add_moved(state: &State, before: &[[f64; 3]], jumped: &mut [[f64; 3]]) {
+fn add_moved<D: Dim>(state: &State<D>, before: &[[f64; 3]], jumped: &mut [[f64; 3]]) {
     for (p, (j, b)) in jumped.iter_mut().zip(before).enumerate() {
-        let now = [state.lambda_n[p], state.lambda_t[p], state.lambda_t2[p]];
+        let now = state.contact_force(p);
         (0..3).for_each(|k| j[k] += now[k] - b[k]);
     }
 }
@@ -463,8 +471,8 @@ fn add_moved(state: &State, before: &[[f64; 3]], jumped: &mut [[f64; 3]]) {
 /// Δu = K⁻¹(f r + W Δλ) + N Δα with f = 1 − c_end / c, then the stresses with K's tangents.
 fn whole_increment<D: Dim>(
     eng: &mut Engine<D>,
-    start: &State,
-    end: &State,
+    start: &State<D>,
+    end: &State<D>,
     base: &TrialBase,
 ) -> TrialIncrement {
     let scale = scale_between(start, end);
@@ -474,7 +482,7 @@ fn whole_increment<D: Dim>(
     let dlambda_t: Vec<f64> =
         end.lambda_t.iter().zip(&start.lambda_t).map(|(a, b)| a - b).collect();
     let dlambda_t2: Vec<f64> =
-        end.lambda_t2.iter().zip(&start.lambda_t2).map(|(a, b)| a - b).collect();
+        (0..dlambda_n.len()).map(|p| end.lambda_t_of(p)[1] - start.lambda_t_of(p)[1]).collect();
     let dlambda: Vec<[f64; 3]> =
         (0..dlambda_n.len()).map(|p| [dlambda_n[p], dlambda_t[p], dlambda_t2[p]]).collect();
     let force_slots = slot_forces(&eng.problem, &dlambda, eng.stiffness.flexibility.nrows());
@@ -491,7 +499,7 @@ fn whole_increment<D: Dim>(
         dplastic,
         dlambda_n: dlambda_n.into_iter().map(per).collect(),
         dlambda_t: dlambda_t.into_iter().map(per).collect(),
-        dlambda_t2: if eng.problem.dim == 3 {
+        dlambda_t2: if end.space().is_some() {
             dlambda_t2.into_iter().map(per).collect()
         } else {
             vec![]
@@ -508,7 +516,7 @@ fn whole_increment<D: Dim>(
 }
 
 /// The scale of `start`'s trial for the remaining load that takes it to `end` (0 at a stage's end).
-fn scale_between(start: &State, end: &State) -> f64 {
+fn scale_between<D: Dim>(start: &State<D>, end: &State<D>) -> f64 {
     let c = 1.0 - start.load_fraction;
     if c > 0.0 {
         (end.load_fraction - start.load_fraction) / c
