@@ -250,7 +250,7 @@ class Result:
 
     def _overview(self) -> list[tuple[str, str]]:
         """(label, text) rows of the HTML view."""
-        s, m = self.summary, self.scene.model
+        s, m = self.summary, self.scene.engine_model
         stop = self.stop["kind"] + (
             f" ({self.stop['message']})" if self.stop.get("message") else ""
         )
@@ -263,8 +263,8 @@ class Result:
             ),
             (
                 "mesh",
-                f"{len(m['nodes'])} nodes, {len(self.elements)} elements, "
-                f"{self.scene.n_dofs} DOFs, {len(m['pairs']['node_a'])} contact pairs",
+                f"{len(m.nodes)} nodes, {len(self.elements)} elements, "
+                f"{self.scene.n_dofs} DOFs, {len(m.pairs)} contact pairs",
             ),
             ("events", f"{s['n_events']}: " + ", ".join(f"{n} {k}" for k, n in kinds.items())),
             ("summary", one_line(s)),
