@@ -103,8 +103,7 @@ def yield_drift(scene, snap) -> np.ndarray:
     sy = np.array([m.Sy or np.inf for m in model.materials], dtype=float)[index]
     hp = np.array([m.H or 0.0 for m in model.materials], dtype=float)[index]
     current = sy + hp * np.asarray(snap["plastic_strain"], dtype=float)
-    stress = np.asarray(snap["stress"], dtype=float)
-    se = von_mises_3d(stress) if model.dimension == 3 else von_mises(stress.reshape(-1, 4))
+    se = scene.idealisation.von_mises(np.asarray(snap["stress"], dtype=float))
     plastic = (np.asarray(snap["plastic"]) > 0) & np.isfinite(current)  # elastic bodies: Sy = inf
     drift = np.zeros(len(se))
     drift[plastic] = np.abs(se[plastic] - current[plastic]) / current[plastic]
