@@ -290,11 +290,11 @@ def _new(args) -> int:
 
 def _check(args) -> int:
     scene = build_scene(_case(args))
-    m = scene.model
+    m = scene.engine_model
     print(
-        f"{scene.case.name}: {len(m['nodes'])} nodes, {len(scene.elements)} elements, "
-        f"{scene.n_dofs} dofs, {len(m['pairs']['node_a'])} contact pairs, "
-        f"{len(m['fixed_dofs'])} fixed dofs"
+        f"{scene.case.name}: {len(m.nodes)} nodes, {len(scene.elements)} elements, "
+        f"{scene.n_dofs} dofs, {len(m.pairs)} contact pairs, "
+        f"{len(m.fixed_dofs)} fixed dofs"
     )
     print(predicted_text(scene))
     return 0

@@ -1,4 +1,5 @@
-"""The scene: a case built into the engine's ``model`` dict (docs/engine_api.md) and what the
+"""The scene: a case built into the engine's model (:class:`slipstep.engine_model.EngineModel`,
+``engine_model``; ``model`` is the dict of it the engine reads, docs/engine_api.md) and what the
 outputs need besides it: which body each node belongs to, each candidate pair's node position,
 tributary length and contact area (contact pressure = lambda_n / area), the Hertz reference
 when it applies, and the load path (named loads, stages, factors, supports and prescribed
@@ -12,10 +13,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .case import Case
+from .engine_model import EngineModel
 from .mesh.base import Mesh
 
 
-@dataclass
+@dataclass(kw_only=True)
 class Scene:
     """The assembled problem: global mesh, the engine model, and per-pair bookkeeping."""
 
@@ -26,10 +28,20 @@ class Scene:
     nodes: np.ndarray  # (N, 2); 3D: (N, 3)
     triangles: np.ndarray  # (M, 3); 3D: (0, 3), the elements are ``tetrahedra``
     element_body: np.ndarray  # (M,) index into bodies
-    model: dict  # the engine model
-    pair_xy: np.ndarray  # (P, 2) position of node_a; 3D: (P, 3)
-    pair_length: np.ndarray  # (P,) tributary length of node_a on its candidate edge
-    pair_contact: np.ndarray  # (P,) index of the [[contact]] entry it came from
+    # how the bodies are modelled, chosen once by build_scene (slipstep.idealisation): a 2D
+    # Section or a 3D Solid, which the outputs ask instead of testing the dimension
+    idealisation: object
+    # the engine's model, and the dict of it the engine reads (a caller may edit the dict
+    # before solving: the runner hands it to the engine); set together by ``use_model``
+    engine_model: EngineModel | None = None
+    model: dict = field(default_factory=dict)
+    pair_xy: np.ndarray = field(
+        default_factory=lambda: np.zeros((0, 2))
+    )  # (P, 2) node a; 3D (P, 3)
+    pair_length: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (P,) tributary length
+    pair_contact: np.ndarray = field(
+        default_factory=lambda: np.zeros(0, dtype=np.int64)
+    )  # [[contact]]
     # (P,) the area its contact force acts on: L t, or its ring 2 pi int N_a r ds (contact_areas)
     pair_area: np.ndarray = field(default_factory=lambda: np.zeros(0))
     # node-to-segment rows: node a's closest target point (end nodes l1, l2 and parameter eta)
@@ -52,9 +64,34 @@ class Scene:
     # 3D scenes (slipstep.builders.solid): the elements, and each pair's tangent basis (t1, t2)
     tetrahedra: np.ndarray = field(default_factory=lambda: np.zeros((0, 4), dtype=np.int64))
     pair_tangent: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 3)))
-    # how the bodies are modelled, chosen once by build_scene (slipstep.idealisation): a 2D
-    # Section or a 3D Solid, which the outputs ask instead of testing the dimension
-    idealisation: object = None
+
+    @classmethod
+    def of_bodies(cls, case: Case, meshes: dict[str, Mesh], given: tuple, idealisation) -> Scene:
+        """The scene of a case's meshed bodies in one node numbering (:func:`merged_bodies`),
+        before its contact pairs and engine model: triangles in 2D, tetrahedra in 3D, as the
+        ``idealisation`` has them (``given``: the bodies whose mesh came from Python)."""
+        bodies = [b["name"] for b in case.data["body"]]
+        offsets, nodes, elements, element_body = merged_bodies(bodies, meshes)
+        if idealisation.dimension == 3:
+            cells = {"triangles": np.zeros((0, 3), dtype=np.int64), "tetrahedra": elements}
+        else:
+            cells = {"triangles": elements}
+        return cls(
+            case=case,
+            bodies=bodies,
+            meshes=meshes,
+            offsets=offsets,
+            nodes=nodes,
+            element_body=element_body,
+            idealisation=idealisation,
+            pair_xy=np.zeros((0, nodes.shape[1])),
+            given_meshes=tuple(given),
+            **cells,
+        )
+
+    def use_model(self, model: EngineModel) -> None:
+        """Take ``model`` as the scene's engine model, and its dict as ``model``."""
+        self.engine_model, self.model = model, model.to_engine()
 
     @property
     def dimension(self) -> int:
@@ -96,20 +133,3 @@ def merged_bodies(
         [np.full(meshes[b].n_elements, i, dtype=np.int64) for i, b in enumerate(bodies)]
     )
     return offsets, nodes, elements, element_body
-
-
-def materials(case: Case) -> list[dict]:
-    """The engine's material of each body, in body order (``Sy``, ``H`` only when plastic)."""
-    out = []
-    for b in case.data["body"]:
-        m = {"E": b["material"]["E"], "nu": b["material"]["nu"]}
-        if b["material"]["Sy"] is not None:
-            m["Sy"] = b["material"]["Sy"]
-            m["H"] = b["material"]["H"] if b["material"]["H"] is not None else 0.0
-        out.append(m)
-    return out
-
-
-def contact_names(case: Case) -> list[str]:
-    """The name of each [[contact]]: its ``name``, else ``contact <i>`` (0-based)."""
-    return [c["name"] or f"contact {i}" for i, c in enumerate(case.data["contact"])]

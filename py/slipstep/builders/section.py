@@ -10,8 +10,6 @@ engine's.
 
 from __future__ import annotations
 
-import numpy as np
-
 from ..mesh import triangle_generators as generators
 from ..case import Case
 from ..contact.edges import contact_areas, contactor_edge, pair_rows
@@ -19,12 +17,13 @@ from ..contact.pairs import contact_pairs
 from ..errors import CaseError
 from ..mesh.base import Mesh, MeshError
 from ..mesh.triangle_files import read_mesh
-from ..loads.vectors import load_force, load_vector, set_load_path
+from ..loads.vectors import load_force, load_vector
 from ..options import solver_options
 from ..measures.references import effective_modulus, hertz_line, hertz_sphere
-from ..scene import Scene, contact_names, materials, merged_bodies
+from ..scene import Scene
+from .model import engine_load_path, engine_model
 from ..schema import block_divisions
-from ..loads.supports import engine_support_groups, supports
+from ..loads.supports import supports
 from ..validation.scene import (
     check_duplicate_nodes,
     check_pairs_not_held,
@@ -89,50 +88,30 @@ def mesh_body(case: Case, index: int) -> Mesh:
 def build_section_scene(case: Case, body_meshes: dict, given: tuple, idealisation) -> Scene:
     """The 2D scene of a case whose bodies are meshed (``given``: the bodies whose mesh came
     from Python; ``idealisation``: the scene's, :class:`slipstep.idealisation.section.Section`)."""
-    data = case.data
-    bodies = [b["name"] for b in data["body"]]
-    offsets, nodes, triangles, element_body = merged_bodies(bodies, body_meshes)
-
-    scene = Scene(
-        case=case,
-        bodies=bodies,
-        meshes=body_meshes,
-        offsets=offsets,
-        nodes=nodes,
-        triangles=triangles,
-        element_body=element_body,
-        model={},
-        pair_xy=np.zeros((0, 2)),
-        pair_length=np.zeros(0),
-        pair_contact=np.zeros(0, dtype=np.int64),
-        given_meshes=tuple(given),
-        idealisation=idealisation,
-    )
+    scene = Scene.of_bodies(case, body_meshes, given, idealisation)
     check_radii(scene)
     pairs = contact_pairs(scene, pair_rows, contactor_edge, "length", foot_width=3)
-    check_duplicate_nodes(scene, pairs)
+    check_duplicate_nodes(scene, pairs.to_engine())
     path = case.path
     fixed = supports(scene)
-    scene.model = {
-        "nodes": nodes,
-        "triangles": triangles,
-        "element_material": element_body.copy(),
-        "materials": materials(case),
-        "plane": data["analysis"]["plane"],
-        "thickness": float(data["analysis"]["thickness"]),  # the engine ignores it for rings
-        "fixed_dofs": fixed,
-        "load": load_vector(scene) if not path.staged else load_force(scene, path.head),
-        "pairs": pairs,
-        "options": solver_options(case),
-        # names for the engine's messages (docs/engine_api.md)
-        "body_names": list(bodies),
-        "element_body": element_body,
-        "contact_names": contact_names(case),
-        # the reactions recorded at every increment, per [[bc]]
-        **engine_support_groups(scene),
-    }
-    scene.pair_area = contact_areas(scene)
-    set_load_path(scene, path)
+    load = load_vector(scene) if not path.staged else load_force(scene, path.head)
+    options = solver_options(case)
+    scene.pair_area = contact_areas(scene, pairs)
+    patterns, stages = engine_load_path(scene, path)
+    analysis = case.data["analysis"]
+    model = engine_model(
+        scene,
+        pairs=pairs,
+        fixed_dofs=fixed,
+        load=load,
+        options=options,
+        patterns=patterns,
+        stages=stages,
+        triangles=scene.triangles,
+        plane=analysis["plane"],
+        thickness=float(analysis["thickness"]),  # the engine ignores it for rings
+    )
+    scene.use_model(model)
     check_pairs_not_held(scene)
     check_stick_on_half_held(scene)
     scene.reference = hertz_reference(scene)

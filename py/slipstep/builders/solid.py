@@ -6,16 +6,19 @@ per node) and the pairs of :mod:`slipstep.contact.faces`."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ..errors import CaseError
-from ..loads.vectors import load_force, load_vector, set_load_path
+from ..loads.vectors import load_force, load_vector
 from ..mesh.base import MeshError
 from ..options import solver_options
 from ..measures.references import effective_modulus, hertz_sphere
-from ..scene import Scene, contact_names, materials, merged_bodies
+from ..scene import Scene
+from .model import engine_load_path, engine_model
 from ..output.snapshots import requested, step_bytes
-from ..loads.supports import engine_support_groups, supports
+from ..loads.supports import supports
 from ..validation.scene import check_duplicate_nodes, check_pairs_not_held
 from ..mesh import tetrahedron_generators as generators
 from ..contact.faces import align_to_supports, contactor_face, pair_rows, tangent_basis
@@ -70,53 +73,37 @@ def _meshed(case, spec: dict) -> TetMesh:
 def build_solid_scene(case, body_meshes: dict[str, TetMesh], given: tuple, idealisation) -> Scene:
     """The 3D scene of a case whose bodies are meshed (``given``: the bodies whose mesh came
     from Python; ``idealisation``: the scene's, :class:`slipstep.idealisation.solid.Solid`)."""
-    bodies = [b["name"] for b in case.data["body"]]
-    offsets, nodes, tets, element_body = merged_bodies(bodies, body_meshes)
-    scene = Scene(
-        case=case,
-        bodies=bodies,
-        meshes=body_meshes,
-        offsets=offsets,
-        nodes=nodes,
-        triangles=np.zeros((0, 3), dtype=np.int64),
-        element_body=element_body,
-        model={},
-        pair_xy=np.zeros((0, 3)),
-        pair_length=np.zeros(0),
-        pair_contact=np.zeros(0, dtype=np.int64),
-        given_meshes=tuple(given),
-        tetrahedra=tets,
-        idealisation=idealisation,
-    )
+    scene = Scene.of_bodies(case, body_meshes, given, idealisation)
     pairs = contact_pairs(scene, pair_rows, contactor_face, "area", 6, tangent_basis)
     scene.pair_length = np.full(len(scene.pair_area), np.nan)  # 2D only
-    check_duplicate_nodes(scene, pairs)
+    check_duplicate_nodes(scene, pairs.to_engine())
     path = case.path
     fixed = supports(scene)
-    held = np.zeros((len(nodes), 3), dtype=bool)
+    held = np.zeros((len(scene.nodes), 3), dtype=bool)
     held.reshape(-1)[np.asarray(fixed, dtype=np.int64)] = True
-    pairs["tangent"] = scene.pair_tangent = align_to_supports(
-        pairs["normal"], pairs["tangent"], held[pairs["node_a"]]
+    pairs = replace(
+        pairs, tangent=align_to_supports(pairs.normal, pairs.tangent, held[pairs.node_a])
     )
-    scene.model = {
-        "dimension": 3,
-        "nodes": nodes,
-        "tetrahedra": tets,
-        "element_material": element_body.copy(),
-        "materials": materials(case),
-        "fixed_dofs": fixed,
-        "load": load_vector(scene) if not path.staged else load_force(scene, path.head),
-        "pairs": pairs,
-        "body_names": list(bodies),
-        "element_body": element_body,
-        "contact_names": contact_names(case),
-        **engine_support_groups(scene),
-    }
-    set_load_path(scene, path)
+    scene.pair_tangent = pairs.tangent
+    load = load_vector(scene) if not path.staged else load_force(scene, path.head)
+    patterns, stages = engine_load_path(scene, path)
+    model = engine_model(
+        scene,
+        pairs=pairs,
+        fixed_dofs=fixed,
+        load=load,
+        options={},  # below: they need the model
+        patterns=patterns,
+        stages=stages,
+        dimension=3,
+        tetrahedra=scene.tetrahedra,
+    )
+    scene.use_model(model)
     check_pairs_not_held(scene)
     scene.reference = hertz_sphere_reference(scene)
     # "auto" snapshots are sized by the scene's time step in results.h5 (slipstep.output.snapshots)
-    scene.model["options"] = solver_options(case, requested(case, step_bytes(scene)))
+    options = solver_options(case, requested(case, step_bytes(scene)))
+    scene.use_model(replace(model, options=options))
     return scene
 
 

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..mesh import triangles as meshing
 from . import node_to_segment as mortar
+from ..engine_model import ContactPairs
 from ..scene import Scene
 from ..schema import RIGID_KINDS
 from ..section import is_axisymmetric, node_shares
@@ -62,7 +63,7 @@ def pair_rows(scene: Scene, c: dict, key: str) -> dict:
     }
 
 
-def contact_areas(scene: Scene) -> np.ndarray:
+def contact_areas(scene: Scene, pairs: ContactPairs) -> np.ndarray:
     """(P,) the area each candidate pair's contact force acts on (pressure = lambda_n / area):
     node a's tributary length L x the thickness in plane strain and plane stress; in
     axisymmetry its ring over the contactor edge, 2 pi int N_a r ds (:func:`node_shares`;
@@ -75,12 +76,11 @@ def contact_areas(scene: Scene) -> np.ndarray:
     plane, t = data["analysis"]["plane"], data["analysis"]["thickness"]
     if plane != "axisymmetric":
         return scene.pair_length * t
-    pairs = scene.model["pairs"]
     area = np.zeros(len(scene.pair_length))
     for i, c in enumerate(data["contact"]):
         mine = np.flatnonzero(scene.pair_contact == i)
         seg = scene.global_edge(*contactor_edge(c))
-        a = pairs["node_a"][mine]
+        a = pairs.node_a[mine]
         area[mine] = node_shares(scene.nodes, seg, plane, t, a)
         if c["kind"] == "node_to_segment":
             area[mine] *= scene.pair_length[mine] / tributary_lengths(scene.nodes, seg, a)

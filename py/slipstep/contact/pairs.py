@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..engine_model import ContactPairs
 from ..schema import contact_tags
 from ..validation.pairs import check_facing, check_gaps, check_matching, surface_normals
 
@@ -17,7 +18,9 @@ from ..validation.pairs import check_facing, check_gaps, check_matching, surface
 COLUMNS = ("node_a", "node_b", "normal", "gap", "weights", "foot", "point_gap")
 
 
-def contact_pairs(scene, rows_of, contactor, extent: str, foot_width: int, tangents=None) -> dict:
+def contact_pairs(
+    scene, rows_of, contactor, extent: str, foot_width: int, tangents=None
+) -> ContactPairs:
     """The engine's ``pairs`` of every ``[[contact]]`` of the scene.
 
     ``rows_of(scene, contact, key)`` gives one contact's rows (:data:`COLUMNS` and ``extent``,
@@ -43,52 +46,47 @@ def contact_pairs(scene, rows_of, contactor, extent: str, foot_width: int, tange
                 cols[k].append(rows[k])
     width = scene.nodes.shape[1]
     pairs = _pair_arrays(cols, width, tangents)
-    scene.pair_xy = scene.nodes[pairs["node_a"]]
+    scene.pair_xy = scene.nodes[pairs.node_a]
     scene.pair_foot = (
         np.concatenate(cols["foot"]).reshape(-1, foot_width)
         if cols["foot"]
         else np.zeros((0, foot_width))
     )
     scene.pair_point_gap = np.concatenate(cols["point_gap"]) if cols["point_gap"] else np.zeros(0)
-    scene.pair_contact = pairs["contact"]
+    scene.pair_contact = pairs.contact
     setattr(scene, f"pair_{extent}", np.concatenate(cols[extent]) if cols[extent] else np.zeros(0))
     if tangents is not None:
-        scene.pair_tangent = pairs["tangent"]
+        scene.pair_tangent = pairs.tangent
     return pairs
 
 
-def _pair_arrays(cols: dict, width: int, tangents) -> dict:
+def _pair_arrays(cols: dict, width: int, tangents) -> ContactPairs:
     """The engine's ``pairs`` of the gathered columns (mortar rows compressed)."""
     if not cols["node_a"]:
-        pairs = {
-            "node_a": np.zeros(0, np.int64),
-            "node_b": np.zeros(0, np.int64),
-            "normal": np.zeros((0, width)),
-        }
-        if tangents is not None:
-            pairs["tangent"] = np.zeros((0, 2, width))
-        return {
-            **pairs,
-            "gap": np.zeros(0),
-            "mu": np.zeros(0),
-            "contact": np.zeros(0, np.int64),
-        }
-    normal = np.concatenate(cols["normal"]).reshape(-1, width)
-    pairs = {
-        "node_a": np.concatenate(cols["node_a"]).astype(np.int64),
-        "node_b": np.concatenate(cols["node_b"]).astype(np.int64),
-        "normal": normal,
-    }
-    if tangents is not None:
-        pairs["tangent"] = tangents(normal)
-    pairs["gap"] = np.concatenate(cols["gap"]).astype(float)
-    pairs["mu"] = np.concatenate(cols["mu"]).astype(np.float64)
-    pairs["contact"] = np.concatenate(cols["contact"]).astype(np.int64)
-    if any(cols["weights"]):  # node-to-segment / node-to-surface rows (docs/engine_api.md)
-        pairs["weight_ptr"], pairs["weight_node"], pairs["weight_value"] = compressed_weights(
-            cols["weights"]
+        return ContactPairs(
+            node_a=np.zeros(0, np.int64),
+            node_b=np.zeros(0, np.int64),
+            normal=np.zeros((0, width)),
+            tangent=None if tangents is None else np.zeros((0, 2, width)),
+            gap=np.zeros(0),
+            mu=np.zeros(0),
+            contact=np.zeros(0, np.int64),
         )
-    return pairs
+    normal = np.concatenate(cols["normal"]).reshape(-1, width)
+    weights = {}
+    if any(cols["weights"]):  # node-to-segment / node-to-surface rows (docs/engine_api.md)
+        ptr, node, value = compressed_weights(cols["weights"])
+        weights = {"weight_ptr": ptr, "weight_node": node, "weight_value": value}
+    return ContactPairs(
+        node_a=np.concatenate(cols["node_a"]).astype(np.int64),
+        node_b=np.concatenate(cols["node_b"]).astype(np.int64),
+        normal=normal,
+        tangent=None if tangents is None else tangents(normal),
+        gap=np.concatenate(cols["gap"]).astype(float),
+        mu=np.concatenate(cols["mu"]).astype(np.float64),
+        contact=np.concatenate(cols["contact"]).astype(np.int64),
+        **weights,
+    )
 
 
 def compressed_weights(weights):

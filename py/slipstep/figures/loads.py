@@ -187,13 +187,13 @@ def q_delta_figure(path: Path | None, scene, result, summary: dict | None = None
 def _friction_limit(scene, hist: dict, d: dict, row: int) -> float | None:
     """μ P of the one frictional contact a tangential driver shears, P its normal force (the
     whole's, along its mean normal) at ``row``; None unless exactly one contact touches it."""
-    a = np.asarray(scene.model["pairs"]["node_a"], dtype=np.int64)
+    a = np.asarray(scene.engine_model.pairs.node_a, dtype=np.int64)
     ids = (
         np.concatenate([np.arange(scene.meshes[x].n_nodes) + scene.offsets[x] for x in d["bodies"]])
         if d["bodies"]
         else np.zeros(0, np.int64)
     )
-    b = np.asarray(scene.model["pairs"]["node_b"], dtype=np.int64)
+    b = np.asarray(scene.engine_model.pairs.node_b, dtype=np.int64)
     touching = np.unique(np.asarray(scene.pair_contact)[np.isin(a, ids) | np.isin(b, ids)])
     if d["kind"] == "motion":
         touching = np.array([d["contact"]])

@@ -256,7 +256,7 @@ def extent_figure(path: Path | None, scene, result, summary: dict | None = None,
     else:
         top, bottom = given_axes(ax, 2, "extent")
         fig = top.figure
-    for c, contact in enumerate(scene.model["contact_names"]):
+    for c, contact in enumerate(scene.engine_model.contact_names):
         colour = f"C{c % 10}"
         (x, lo), (_, hi) = (_steps(h["t"], h["extent"][:, c, j]) for j in (0, 1))
         top.fill_between(x, lo, hi, color=colour, alpha=0.3, label=contact)

@@ -120,8 +120,8 @@ def contact_area_figure(path: Path | None, scene, result, summary: dict, *, ax=N
     contact mirrored across its symmetry planes)."""
     snap = shown_snapshot(scene, result)
     prof = contact_profile_3d(scene, snap)
-    fig, axes = _panels(len(scene.model["contact_names"]), ax, "contact area")
-    for i, (ax_i, name) in enumerate(zip(axes, scene.model["contact_names"])):
+    fig, axes = _panels(len(scene.engine_model.contact_names), ax, "contact area")
+    for i, (ax_i, name) in enumerate(zip(axes, scene.engine_model.contact_names)):
         mine = prof["contact"] == i
         frictionless = scene.case.data["contact"][i]["mu"] == 0.0
         _, e1, e2 = view_axes(scene, i)
@@ -192,9 +192,9 @@ def pressure_figure(path: Path | None, scene, result, summary: dict, *, ax=None)
     Hertz's p0 sqrt(1 - s^2/a^2) at the reached load when the scene has the sphere's
     reference."""
     snap = shown_snapshot(scene, result)
-    fig, axes = _panels(len(scene.model["contact_names"]), ax, "pressure line")
+    fig, axes = _panels(len(scene.engine_model.contact_names), ax, "pressure line")
     ref = summary.get("hertz", {}) if snap is result["snapshots"][-1] else {}
-    for i, (ax_i, name) in enumerate(zip(axes, scene.model["contact_names"])):
+    for i, (ax_i, name) in enumerate(zip(axes, scene.engine_model.contact_names)):
         line = pressure_line(scene, snap, i)
         ax_i.plot(line["s"], line["pressure"], "-", color="tab:blue", label="slipstep")
         if ref.get("a_hertz_at_final"):

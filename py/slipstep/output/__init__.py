@@ -5,6 +5,7 @@
 ``history``        the event history: times, load factors, snapshots, event positions
 ``summary``        summary.json and the one-line summary
 ``writers``        events.csv, contact_profile.csv, results.xdmf / results.h5
+``snapshot``       one engine snapshot read in the scene's shapes (``Snapshot``)
 ``snapshots``      which snapshots are written and their size
 ``results``        the result folder written at once; ``saved``: a folder read back
 ``resolved_case``  case.resolved.toml, the case with every default filled in

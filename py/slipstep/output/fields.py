@@ -22,14 +22,15 @@ STRESS_NAMES = {
 
 def coordinate_names(scene) -> tuple[str, ...]:
     """("r", "z") for an axisymmetric scene, ("x", "y", "z") in 3D, else ("x", "y")."""
-    if scene.model.get("dimension", 2) == 3:
+    model = scene.engine_model
+    if model.dimension == 3:
         return ("x", "y", "z")
-    return ("r", "z") if scene.model["plane"] == "axisymmetric" else ("x", "y")
+    return ("r", "z") if model.plane == "axisymmetric" else ("x", "y")
 
 
 def stress_names(scene) -> tuple[str, str, str, str]:
     """The names of the four stress columns of ``scene`` (:data:`STRESS_NAMES`)."""
-    return STRESS_NAMES[scene.model["plane"]]
+    return STRESS_NAMES[scene.engine_model.plane]
 
 
 def von_mises(stress: np.ndarray) -> np.ndarray:
@@ -91,23 +92,18 @@ def polar(nodes: np.ndarray, u: np.ndarray, stress: np.ndarray, triangles: np.nd
 
 def is_elastoplastic(scene) -> bool:
     """True when some material has a yield stress (the run can have plasticity events)."""
-    return any(m.get("Sy") is not None for m in scene.model["materials"])
+    return any(m.Sy is not None for m in scene.engine_model.materials)
 
 
 def yield_drift(scene, snap) -> np.ndarray:
     """Per element |sigma_e - sigma_y(eps_p)| / sigma_y(eps_p) for plastic elements, 0 elsewhere:
     how far the stored stress sits off the hardening yield surface (the engine's drift measure)."""
-    mats = scene.model["materials"]
-    index = np.asarray(scene.model["element_material"])
-    sy = np.array([m.get("Sy") or np.inf for m in mats], dtype=float)[index]
-    hp = np.array([m.get("H") or 0.0 for m in mats], dtype=float)[index]
+    model = scene.engine_model
+    index = np.asarray(model.element_material)
+    sy = np.array([m.Sy or np.inf for m in model.materials], dtype=float)[index]
+    hp = np.array([m.H or 0.0 for m in model.materials], dtype=float)[index]
     current = sy + hp * np.asarray(snap["plastic_strain"], dtype=float)
-    stress = np.asarray(snap["stress"], dtype=float)
-    se = (
-        von_mises_3d(stress)
-        if scene.model.get("dimension", 2) == 3
-        else von_mises(stress.reshape(-1, 4))
-    )
+    se = scene.idealisation.von_mises(np.asarray(snap["stress"], dtype=float))
     plastic = (np.asarray(snap["plastic"]) > 0) & np.isfinite(current)  # elastic bodies: Sy = inf
     drift = np.zeros(len(se))
     drift[plastic] = np.abs(se[plastic] - current[plastic]) / current[plastic]

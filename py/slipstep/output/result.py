@@ -19,9 +19,10 @@ from pathlib import Path
 import numpy as np
 
 from ..measures.contact_edges import contact_profile
-from .fields import is_elastoplastic, nodal_stress, von_mises, yield_drift
+from .fields import is_elastoplastic, nodal_stress, yield_drift
 from ..measures.contact_faces import contact_profile_3d
-from .fields import nodal_stress_3d, von_mises_3d
+from .fields import nodal_stress_3d
+from .snapshot import Snapshot
 from .history import ELEMENT_EVENTS, event_positions, event_times, same_time, snapshot_time
 from ..errors import InputError
 from .summary import one_line
@@ -75,22 +76,20 @@ class Result:
     def triangles(self) -> np.ndarray:
         """(M, 3) node ids of the elements (counter-clockwise); a 3D result has
         :attr:`tetrahedra`."""
-        if self.scene.idealisation.cell_type != "triangle":
-            raise AttributeError(
-                "a 3D result has tetrahedra, not triangles: r.tetrahedra "
-                "(r.elements in either dimension)"
-            )
-        return self.scene.triangles
+        return self._elements_as(
+            "triangle", "a 3D result has tetrahedra, not triangles: r.tetrahedra"
+        )
 
     @property
     def tetrahedra(self) -> np.ndarray:
         """(M, 4) node ids of the elements of a 3D result."""
-        if self.scene.idealisation.cell_type != "tetra":
-            raise AttributeError(
-                "a 2D result has triangles, not tetrahedra: r.triangles "
-                "(r.elements in either dimension)"
-            )
-        return self.scene.tetrahedra
+        return self._elements_as("tetra", "a 2D result has triangles, not tetrahedra: r.triangles")
+
+    def _elements_as(self, cell_type: str, otherwise: str) -> np.ndarray:
+        """The elements when they are of ``cell_type``, else an AttributeError: ``otherwise``."""
+        if self.scene.idealisation.cell_type != cell_type:
+            raise AttributeError(f"{otherwise} (r.elements in either dimension)")
+        return self.elements
 
     # ------------------------------------------------------------------ history
     @property
@@ -250,7 +249,7 @@ class Result:
 
     def _overview(self) -> list[tuple[str, str]]:
         """(label, text) rows of the HTML view."""
-        s, m = self.summary, self.scene.model
+        s, m = self.summary, self.scene.engine_model
         stop = self.stop["kind"] + (
             f" ({self.stop['message']})" if self.stop.get("message") else ""
         )
@@ -263,8 +262,8 @@ class Result:
             ),
             (
                 "mesh",
-                f"{len(m['nodes'])} nodes, {len(self.elements)} elements, "
-                f"{self.scene.n_dofs} DOFs, {len(m['pairs']['node_a'])} contact pairs",
+                f"{len(m.nodes)} nodes, {len(self.elements)} elements, "
+                f"{self.scene.n_dofs} DOFs, {len(m.pairs)} contact pairs",
             ),
             ("events", f"{s['n_events']}: " + ", ".join(f"{n} {k}" for k, n in kinds.items())),
             ("summary", one_line(s)),
@@ -287,26 +286,7 @@ def _listed(times: np.ndarray, most: int = 6) -> str:
 
 def section_fields(scene, snap: dict) -> dict:
     """:meth:`Result.fields` of a snapshot of a 2D scene."""
-    stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 4)
-    out = {
-        "t": snapshot_time(snap),
-        "stage": int(snap.get("stage", 0)) + 1,
-        "load_fraction": float(snap["load_fraction"]),
-        "u": np.asarray(snap["u"], dtype=float).reshape(-1, 2),
-        "stress": stress,
-        "von_mises": von_mises(stress),
-    }
-    out["nodal_stress"] = nodal_stress(scene, stress)
-    out["nodal_von_mises"] = von_mises(out["nodal_stress"])
-    if "reaction" in snap:
-        out["reaction"] = np.asarray(snap["reaction"], dtype=float).reshape(-1, 2)
-    if is_elastoplastic(scene):
-        out["plastic_strain"] = np.asarray(snap["plastic_strain"], dtype=float)
-        out["plastic"] = np.asarray(snap["plastic"]).astype(bool)
-        out["yield_drift"] = yield_drift(scene, snap)
-    out["lambda_n"] = np.asarray(snap["lambda_n"], dtype=float)
-    out["lambda_t"] = np.asarray(snap["lambda_t"], dtype=float)
-    out["status"] = np.asarray(snap["status"]).astype(np.int64)
+    out = snapshot_fields(scene, snap, lambda stress: nodal_stress(scene, stress))
     prof = contact_profile(scene, snap)
     for key in ("pressure", "tangential_stress", "gap", "rtd"):
         out[key] = np.empty(len(prof["pair"]))
@@ -316,27 +296,9 @@ def section_fields(scene, snap: dict) -> dict:
 
 def solid_fields(scene, snap: dict) -> dict:
     """:meth:`Result.fields` of a snapshot of a 3D scene."""
-    stress = np.asarray(snap["stress"], dtype=float).reshape(-1, 6)
-    nodal = nodal_stress_3d(scene.nodes, scene.tetrahedra, stress)
-    out = {
-        "t": snapshot_time(snap),
-        "stage": int(snap.get("stage", 0)) + 1,
-        "load_fraction": float(snap["load_fraction"]),
-        "u": np.asarray(snap["u"], dtype=float).reshape(-1, 3),
-        "stress": stress,
-        "von_mises": von_mises_3d(stress),
-        "nodal_stress": nodal,
-        "nodal_von_mises": von_mises_3d(nodal),
-    }
-    if "reaction" in snap:
-        out["reaction"] = np.asarray(snap["reaction"], dtype=float).reshape(-1, 3)
-    if is_elastoplastic(scene):
-        out["plastic_strain"] = np.asarray(snap["plastic_strain"], dtype=float)
-        out["plastic"] = np.asarray(snap["plastic"]).astype(bool)
-        out["yield_drift"] = yield_drift(scene, snap)
-    out["lambda_n"] = np.asarray(snap["lambda_n"], dtype=float)
-    out["lambda_t"] = np.asarray(snap["lambda_t"], dtype=float).reshape(-1, 2)
-    out["status"] = np.asarray(snap["status"]).astype(np.int64)
+    out = snapshot_fields(
+        scene, snap, lambda stress: nodal_stress_3d(scene.nodes, scene.tetrahedra, stress)
+    )
     prof = contact_profile_3d(scene, snap)
     for key, target in (
         ("pressure", "pressure"),
@@ -346,6 +308,34 @@ def solid_fields(scene, snap: dict) -> dict:
     ):
         out[target] = np.empty_like(prof[key])
         out[target][prof["pair"]] = prof[key]
+    return out
+
+
+def snapshot_fields(scene, snap: dict, nodal_of) -> dict:
+    """The fields of :meth:`Result.fields` alike in every dimension (all but the contact
+    profile's) of the engine's snapshot ``snap``, with ``nodal_of(stress)`` the stresses at the
+    nodes."""
+    s, von_mises = Snapshot.of(scene, snap), scene.idealisation.von_mises
+    nodal = nodal_of(s.stress)
+    out = {
+        "t": s.t,
+        "stage": s.stage + 1,
+        "load_fraction": s.load_fraction,
+        "u": s.u,
+        "stress": s.stress,
+        "von_mises": von_mises(s.stress),
+        "nodal_stress": nodal,
+        "nodal_von_mises": von_mises(nodal),
+    }
+    if s.reaction is not None:
+        out["reaction"] = s.reaction
+    if is_elastoplastic(scene):
+        out["plastic_strain"] = s.plastic_strain
+        out["plastic"] = s.plastic.astype(bool)
+        out["yield_drift"] = yield_drift(scene, snap)
+    out["lambda_n"] = s.lambda_n
+    out["lambda_t"] = s.lambda_t
+    out["status"] = s.status.astype(np.int64)
     return out
 
 

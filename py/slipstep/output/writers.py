@@ -96,7 +96,7 @@ def write_profile_csv_2d(path: Path, scene, snapshot: dict) -> None:
     position along the pair's contact (slipstep.measures.contact_edges) and contact its [[contact]] name; x, y
     are called r, z in axisymmetry.  3D: :func:`write_profile_csv_3d`."""
     prof = contact_profile(scene, snapshot)
-    names = scene.model["contact_names"]
+    names = scene.engine_model.contact_names
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
@@ -170,7 +170,7 @@ def write_profile_csv_3d(path: Path, scene, snapshot: dict) -> None:
     otherwise), status, gap, pair, node_a and its [[contact]] name
     (:func:`slipstep.measures.contact_faces.contact_profile_3d`)."""
     prof = contact_profile_3d(scene, snapshot)
-    names = scene.model["contact_names"]
+    names = scene.engine_model.contact_names
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
