@@ -52,6 +52,12 @@ impl Coulomb {
         self.mu * lambda_n.max(0.0)
     }
 
+    /// μ Δλ_n: the rate of the capacity along an increment of normal force rate Δλ_n (that
+    /// keeps the pair pressed).
+    pub fn capacity_rate(&self, dlambda_n: f64) -> f64 {
+        self.mu * dlambda_n
+    }
+
     /// tan θ μ λ_n: the largest cross force on a facet.
     pub fn cross_bound(&self, lambda_n: f64) -> f64 {
         self.turn.tan() * self.capacity(lambda_n)
@@ -134,6 +140,12 @@ impl Coulomb {
         (0..sides).map(move |k| rotated(first, 2.0 * turn * k as f64))
     }
 
+    /// How fast a force moves out through the side with outward normal d at rates (Δλ_n, Δλ_t):
+    /// d·Δλ_t − μ Δλ_n (the rate of that side's excess; eq. 53's denominator).
+    pub fn outward_rate(&self, d: [f64; 2], (dln, dlt): (f64, [f64; 2])) -> f64 {
+        d[0] * dlt[0] + d[1] * dlt[1] - self.capacity_rate(dln)
+    }
+
     /// Where the force of a pair stuck inside its polygon (sides about e: `polygon`) reaches a
     /// side: the smallest S ≥ 0 with e_j·(λ_t0 + S Δλ_t) = μ (λ_n0 + S Δλ_n) crossed outwards
     /// (eq. 53 side by side). A force on a side (or beyond it by round-off) moving out leaves at
@@ -149,7 +161,7 @@ impl Coulomb {
         let mu = self.mu;
         self.polygon(e, vertex)
             .filter_map(|d| {
-                let rate = d[0] * dlt[0] + d[1] * dlt[1] - mu * dln;
+                let rate = self.outward_rate(d, (dln, dlt));
                 let slack = mu * ln - (d[0] * lt[0] + d[1] * lt[1]);
                 (rate > noise).then(|| (slack / rate).max(0.0))
             })

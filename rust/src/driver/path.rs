@@ -137,10 +137,7 @@ impl LoadPath {
         let mut shift_change = vec![[0.0; 3]; n_pairs];
         for (j, shift) in self.shifts.iter().enumerate() {
             for (p, c) in shift.iter().enumerate() {
-                // TODO(t2 motion): 0..3 makes the motion's t2 part reach the pairs, but then the
-                // elastoplastic pyramid of test_friction_facets_3d (mu 0.1) stops on a penetration
-                // of 1e-6 after a drift correction; tests/engine/test_obstacle_motion_3d.py xfails.
-                for i in 0..2 {
+                for i in 0..3 {
                     shift_start[p][i] += start[j] * c[i];
                     shift_change[p][i] += (end[j] - start[j]) * c[i];
                 }

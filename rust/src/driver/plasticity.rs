@@ -22,7 +22,7 @@ use super::problem::{Problem, PARALLEL_CHUNK};
 use super::selection::{pair_state, trial_of, Selection, STAGE_END, ZERO_SCALE};
 use super::slip_direction::direct_new_slips;
 use super::state::{IncrementStart, State, TrialIncrement};
-use super::switching::switch_keeping;
+use super::switching::{contact_forces, jumps_kept, keep_jumps, switch_keeping};
 use super::tangents::Renewal;
 use super::trial::{self, Solve};
 use crate::dim::Dim;
@@ -384,6 +384,36 @@ fn within_round_off<D: Dim>(
     excess + change <= FORCE_ROUND_OFF * problem.scales.force
 }
 
+/// 3D: a pair that begins to slip in the correction `c` at a vertex of its polygon (its force
+/// there, `switching::onset_facet`) while its stuck force leaves through one side of that
+/// vertex only slips on that side's facet: its force slides along that side, which at the
+/// vertex (its force held along m) it cannot. There its slip rate may point along its force
+/// (`Coulomb::vertex_exit`: it sticks), and stuck it leaves again at once: a cycle at zero
+/// scale that nothing in the correction broke (the trial's go to the rate problem), so it ran
+/// out of sub-steps and its last one stepped over the events left (the elastoplastic Vickers
+/// block of test_friction_facets_3d at μ = 0.1, once the pairs at the pyramid's edges followed
+/// its whole motion: one pair switched 31 times at φ = 0.031 of the unloading, and a gap that
+/// closed at scale 7e-12 was left penetrating by 1e-6).
+fn slide_off_vertex<D: Dim>(eng: &Engine<D>, state: &mut State<D>, c: &TrialIncrement, p: usize) {
+    let problem = &eng.problem;
+    if !state.at_vertex(p) {
+        return;
+    }
+    let law = problem.pairs[p].friction;
+    let rate = (c.dlambda_n[p], [c.dlambda_t[p], c.dlambda_t2[p]]);
+    let leaving = |d: &[f64; 2]| law.outward_rate(*d, rate) > c.noise.force;
+    let sides = [1.0, -1.0].map(|side| law.facet_of(state.slip_dir(p), side));
+    let [e] = sides.iter().filter(|d| leaving(d)).collect::<Vec<_>>()[..] else { return };
+    crate::trace!("correction: pair {p} slips off its vertex onto the facet {e:?}");
+    let before = jumps_kept(eng, state).then(|| contact_forces(state));
+    state.set_facet(p, *e, false);
+    let now = state.lambda_t_of(p);
+    state.set_lambda_t(p, problem.slip_force(state, p, now));
+    if let Some(before) = before {
+        keep_jumps(state, &before);
+    }
+}
+
 /// Equilibrium at fixed load φ by the procedure itself: solve the correction for the
 /// out-of-balance force (eq. 44 with no load change), advance it to the first contact event
 /// that would make the state inadmissible (a gap closing, a pair separating, a stuck pair
@@ -431,6 +461,9 @@ pub(super) fn correct_at_fixed_load<D: Dim>(
         let tie = first * (1.0 + CORRECTION_TIE) + CORRECTION_TIE_SLACK;
         for x in cands.into_iter().filter(|x| x.scale <= tie) {
             switch_keeping(eng, state, &x);
+            if x.kind == EventKind::StickToSlip {
+                slide_off_vertex(eng, state, &c, x.entity);
+            }
             corrected.events.push(x);
         }
     }

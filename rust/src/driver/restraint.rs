@@ -186,7 +186,10 @@ impl FrictionPlane {
         let capacity = self
             .pairs
             .iter()
-            .map(|&p| normal_force(p).map(|f| problem.pairs[p].friction.capacity(f)))
+            .map(|&p| {
+                let ([ln, dln], law) = (normal_force(p), problem.pairs[p].friction);
+                [law.capacity(ln), law.capacity_rate(dln)]
+            })
             .collect();
         planar_sliding::Contact { at, capacity }
     }
