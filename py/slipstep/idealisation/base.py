@@ -99,6 +99,10 @@ class Idealisation(Terms):
         return 1.0
 
     @abstractmethod
+    def facet_normals(self, nodes: np.ndarray, cells) -> np.ndarray:
+        """The outward unit normal of each boundary cell (edge segment or face triangle)."""
+
+    @abstractmethod
     def surface_normals(self, nodes: np.ndarray, cells, ids) -> np.ndarray:
         """The outward normal of a boundary (its ``cells``) at each node of ``ids``."""
 

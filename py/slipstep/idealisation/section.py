@@ -10,7 +10,7 @@ from ..builders.section import build_section_scene, mesh_body
 from ..figures import section as figures
 from ..loads.vectors import hertz_cut_pressure, section_boundary_load
 from ..measures.contact_edges import contact_profile, pair_forces
-from ..mesh.triangles import node_normals
+from ..mesh.triangles import node_normals, outward_normals
 from ..output import summary, writers
 from ..output.fields import STRESS_NAMES, von_mises
 from ..output.result import section_fields
@@ -61,6 +61,9 @@ class Section(SectionTerms, Idealisation):
 
     def cut_pressure(self, scene) -> float:
         return hertz_cut_pressure(scene.case)
+
+    def facet_normals(self, nodes: np.ndarray, cells) -> np.ndarray:
+        return outward_normals(nodes, cells)
 
     def surface_normals(self, nodes: np.ndarray, cells, ids) -> np.ndarray:
         """The sum of the segments' unit normals at each node (zero where they cancel)."""

@@ -9,6 +9,7 @@ import numpy as np
 from ..builders.solid import build_solid_scene, mesh_body_3d
 from ..figures import solid as figures
 from ..loads.faces import face_load, sphere_load_pressure
+from ..mesh.tetrahedra import triangle_normals
 from ..measures.contact_faces import mirror_planes, mirror_planes_of, pair_forces
 from ..output import summary, writers
 from ..output.fields import STRESS_NAMES_3D, von_mises_3d
@@ -71,6 +72,9 @@ class Solid(SolidTerms, Idealisation):
 
     def cut_pressure(self, scene) -> float:
         return sphere_load_pressure(scene)
+
+    def facet_normals(self, nodes: np.ndarray, cells) -> np.ndarray:
+        return triangle_normals(nodes, cells)[0]
 
     def surface_normals(self, nodes: np.ndarray, cells, ids) -> np.ndarray:
         """The unit area-weighted normal of the triangles at each node."""

@@ -21,10 +21,9 @@ STRESS_NAMES = {
 
 
 def coordinate_names(scene) -> tuple[str, ...]:
-    """("r", "z") for an axisymmetric scene, ("x", "y", "z") in 3D, else ("x", "y")."""
-    if scene.model.get("dimension", 2) == 3:
-        return ("x", "y", "z")
-    return ("r", "z") if scene.model["plane"] == "axisymmetric" else ("x", "y")
+    """("r", "z") for an axisymmetric scene, ("x", "y", "z") in 3D, else ("x", "y"): the first
+    of its idealisation's component names."""
+    return tuple(scene.idealisation.component_names[: scene.dimension])
 
 
 def stress_names(scene) -> tuple[str, str, str, str]:
@@ -103,11 +102,7 @@ def yield_drift(scene, snap) -> np.ndarray:
     hp = np.array([m.get("H") or 0.0 for m in mats], dtype=float)[index]
     current = sy + hp * np.asarray(snap["plastic_strain"], dtype=float)
     stress = np.asarray(snap["stress"], dtype=float)
-    se = (
-        von_mises_3d(stress)
-        if scene.model.get("dimension", 2) == 3
-        else von_mises(stress.reshape(-1, 4))
-    )
+    se = scene.idealisation.von_mises(stress)
     plastic = (np.asarray(snap["plastic"]) > 0) & np.isfinite(current)  # elastic bodies: Sy = inf
     drift = np.zeros(len(se))
     drift[plastic] = np.abs(se[plastic] - current[plastic]) / current[plastic]

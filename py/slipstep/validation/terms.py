@@ -35,6 +35,11 @@ class Terms(ABC):
     vector_type: str
     #: the generator of the body ``[load] P`` (the Hertz convenience) acts on
     hertz_generator: str
+    #: what a ``symmetry`` boundary is: straight or flat along the coordinate axes
+    axis_aligned: str
+    #: what ``[output] snapshots = "auto"`` keeps: every event ("events"), or evenly spaced
+    #: path times within a size budget ("times": a 3D snapshot is large)
+    auto_snapshots: str
 
     @abstractmethod
     def wrong_dimension(self, full: str, value) -> str:
@@ -59,6 +64,8 @@ class SectionTerms(Terms):
     axes = ("x", "y")
     vector_type = "vec2"
     hertz_generator = "quarter_cylinder"
+    axis_aligned = "a straight line parallel to the x or y axis"
+    auto_snapshots = "events"
 
     def wrong_dimension(self, full: str, value) -> str:
         name, shown = full.rpartition(".")[2], toml_text(value)
@@ -88,6 +95,8 @@ class SolidTerms(Terms):
     axes = ("x", "y", "z")
     vector_type = "vec3"
     hertz_generator = "sphere"
+    axis_aligned = "a plane parallel to a coordinate plane (x = const, y = const or z = const)"
+    auto_snapshots = "times"
 
     def wrong_dimension(self, full: str, value) -> str:
         name, shown = full.rpartition(".")[2], toml_text(value)
