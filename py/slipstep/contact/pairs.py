@@ -12,7 +12,7 @@ import numpy as np
 
 from ..engine_model import ContactPairs
 from ..schema import contact_tags
-from ..validation.pairs import check_facing, check_gaps, check_matching, surface_normals
+from ..validation.pairs import check_facing, check_gaps, check_matching
 
 #: The columns every contact's rows give (``weights``: per row a list of (node, weight)).
 COLUMNS = ("node_a", "node_b", "normal", "gap", "weights", "foot", "point_gap")
@@ -146,7 +146,7 @@ def node_to_node_pairs(scene, c: dict, key: str):
     if c["normal"] is not None:
         n = np.tile(np.asarray(c["normal"]) / np.linalg.norm(c["normal"]), (len(a), 1))
     else:
-        n = surface_normals(scene, seg_b, b)
+        n = scene.idealisation.surface_normals(scene.nodes, seg_b, b)
         n = n / np.linalg.norm(n, axis=1, keepdims=True)
     gap = np.einsum("ij,ij->i", scene.nodes[a] - scene.nodes[b], n)
     check_facing(scene, a, n, gap, c["tolerance"], seg_a, b, seg_b, key)

@@ -73,8 +73,6 @@ def _refuse_unmodelled_loads(scene) -> None:
             )
 
 
-STRESS_NAMES = ("sigma_x", "sigma_y", "sigma_z", "tau_xy")
-STRESS_NAMES_SPACE = ("sigma_xx", "sigma_yy", "sigma_zz", "tau_yz", "tau_xz", "tau_xy")
 #: A Newton correction below this fraction of the displacement is round-off: the residual has
 #: reached its floor (small loads on a stiff, nearly rigidly translating body, e.g. the Hertz
 #: sphere's first contact states, floor at ~1e-10 relative), and the step is converged.
@@ -207,7 +205,7 @@ class BulkProblem:
                 terms.append(ufl.dot(traction - float(bc["pressure"]) * n, v) * dGamma(tag))
         if data["load"] is not None:
             tag = dm.edge_id(_edge_name(scene, data["load"]["body"], "top"))
-            terms.append(ufl.dot(-_cut_pressure(scene) * n, v) * dGamma(tag))
+            terms.append(ufl.dot(-scene.idealisation.cut_pressure(scene) * n, v) * dGamma(tag))
         f = np.zeros(self.dim * self.n_nodes)
         if terms:
             f = api.assemble_vector(sum(terms[1:], terms[0]))[self.perm]
@@ -405,13 +403,14 @@ class BulkProblem:
 
     # ------------------------------------------------------------------ output
     def write_xdmf(self, path: str | Path, results: list[BulkResult]) -> Path:
-        """Write results with dolfinx's XDMFFile (time = load fraction): P1 ``u`` and DG0
-        ``sigma_x``, ``sigma_y``, ``sigma_z``, ``tau_xy``, ``plastic_strain``."""
+        """Write results with dolfinx's XDMFFile (time = load fraction): P1 ``u``, the DG0
+        stresses named as in results.xdmf (``sigma_x``, ``sigma_y``, ``sigma_z``, ``tau_xy`` in
+        the plane: the idealisation's ``stress_names``) and ``plastic_strain``."""
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
         W0 = api.function_space(self.dm.mesh, "DG", 0)
         u = api.function(self.V, "u")
-        names = STRESS_NAMES_SPACE if self.dim == 3 else STRESS_NAMES
+        names = self.scene.idealisation.stress_names
         cells = {n: api.function(W0, n) for n in (*names, "plastic_strain")}
 
         def frames():
@@ -455,25 +454,6 @@ def _facet_normal_axis(x: np.ndarray, facets: np.ndarray) -> int:
         n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     n = np.abs(n) / np.linalg.norm(n, axis=1, keepdims=True)
     return int(np.argmax(n.min(axis=0)))
-
-
-def _cut_pressure(scene) -> float:
-    """The pressure of ``[load] P`` on the cut ``top`` (slipstep.loads: 2D, and the 3D
-    sphere's share over its meshed cut)."""
-    from ..loads.vectors import hertz_cut_pressure
-    from ..loads.faces import sphere_cut_pressure
-
-    if scene.dimension == 2:
-        return hertz_cut_pressure(scene.case)
-    load = scene.case.data["load"]
-    mesh = scene.case.body(load["body"])["mesh"]
-    return sphere_cut_pressure(
-        load["P"],
-        mesh["R"],
-        mesh["portion"],
-        scene.nodes,
-        scene.global_boundary(load["body"], "top"),
-    )
 
 
 def relative_difference(a: np.ndarray, b: np.ndarray) -> float:

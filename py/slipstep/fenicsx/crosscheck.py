@@ -22,10 +22,13 @@ import json
 import math
 import shutil
 import time
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
+from ..idealisation import Axisymmetric, Plane, Solid
 from ..output.fields import polar
 from ..measures.references import (
     thick_cylinder_displacement,
@@ -89,16 +92,14 @@ def hill_setup(scene) -> dict | None:
         return None
     body = data["body"][0]
     mesh, mat = body["mesh"], body["material"]
-    shape = (
-        "sphere"
-        if scene.dimension == 3 and mesh.get("generator") == "shell"
-        else "cylinder"
-        if scene.dimension == 2
-        and mesh.get("generator") == "quarter_annulus"
-        and data["analysis"]["plane"] == "strain"
-        else None
-    )
-    if shape is None or mat["Sy"] is None or (mat["H"] or 0) != 0:
+    hill = comparisons(scene).hill
+    if (
+        hill is None
+        or mesh.get("generator") != hill[0]
+        or data["analysis"]["plane"] != "strain"  # (a 3D case keeps this default)
+        or mat["Sy"] is None
+        or (mat["H"] or 0) != 0
+    ):
         return None
     loads = [bc for bc in data["bc"] if bc["pressure"] != 0 or any(bc["traction"])]
     if (
@@ -108,7 +109,7 @@ def hill_setup(scene) -> dict | None:
     ):
         return None
     return {
-        "shape": shape,
+        "shape": hill[1],
         "a": mesh["a"],
         "b": mesh["b"],
         "p": loads[0]["pressure"],
@@ -260,7 +261,7 @@ def run(case_path, out: str | Path, overrides=(), steps=DEFAULT_STEPS, substeps:
     t0 = time.perf_counter()
     scene = build_scene(load_case(case_path, overrides))
     n_pairs = int(len(scene.model["pairs"]["node_a"]))
-    if n_pairs and scene.dimension == 3:
+    if n_pairs and not comparisons(scene).contact:
         raise NotImplementedError(
             f"{scene.case.name}: the 3D cross-check compares the bulk (no [[contact]]); the "
             f"contact replay is planar and axisymmetric: remove the contacts (and load the body "
@@ -449,7 +450,7 @@ def _figure(path: Path, scene, report: dict, snap: dict, last) -> None:
     fig = Figure(figsize=(11, 4.5))
     axes = fig.subplots(1, 2)
     _differences_panel(axes[0], report)
-    _field_panel(fig, axes[1], scene, report, snap, last)
+    comparisons(scene).field_panel(fig, axes[1], scene, report, snap, last)
     fig.suptitle(f"{report['case']}: {report['mode']}")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -481,16 +482,14 @@ def _differences_panel(ax, report: dict) -> None:
     ax.grid(True, which="both", alpha=0.3)
 
 
-def _field_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
-    """The final contact pressure (replay: slipstep's nodal lambda_n / area and dolfinx's
+def _section_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
+    """2D: the final contact pressure (replay: slipstep's nodal lambda_n / area and dolfinx's
     reactions over the same areas, scene.pair_area: t L in the plane, the ring's consistent
     area in axisymmetry), else the von Mises difference or slipstep's von Mises."""
     from matplotlib.tri import Triangulation
 
     from ..output.fields import von_mises
 
-    if scene.dimension == 3:
-        return _von_mises_panel(ax, snap, last)
     tri = Triangulation(scene.nodes[:, 0], scene.nodes[:, 1], scene.triangles)
     if "replay" in report and last is not None:
         from .replay import replay_conditions
@@ -533,7 +532,7 @@ def _field_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
     ax.set_aspect("equal")
 
 
-def _von_mises_panel(ax, snap: dict, last) -> None:
+def _von_mises_panel(fig, ax, scene, report: dict, snap: dict, last) -> None:
     """3D: each element's von Mises stress, dolfinx's against slipstep's (on the diagonal when
     they agree), or slipstep's sorted when dolfinx has no final state."""
     from ..output.fields import von_mises_3d
@@ -551,3 +550,27 @@ def _von_mises_panel(ax, snap: dict, last) -> None:
     ax.set_ylabel("dolfinx von Mises per element")
     ax.set_aspect("equal")
     ax.grid(True, alpha=0.3)
+
+
+# --------------------------------------------------------------------------- per idealisation
+@dataclass(frozen=True)
+class Comparisons:
+    """What the cross-check compares in one idealisation: Hill's problem, if any (the thick
+    wall's generator, and the closed form's shape), whether a contact state is replayed in
+    dolfinx (:mod:`.replay`: planar and axisymmetric), and crosscheck.png's field panel."""
+
+    hill: tuple[str, str] | None
+    contact: bool
+    field_panel: Callable
+
+
+COMPARISONS = {
+    Plane: Comparisons(("quarter_annulus", "cylinder"), True, _section_panel),
+    Axisymmetric: Comparisons(None, True, _section_panel),
+    Solid: Comparisons(("shell", "sphere"), False, _von_mises_panel),
+}
+
+
+def comparisons(scene) -> Comparisons:
+    """The :class:`Comparisons` of the scene's idealisation."""
+    return COMPARISONS[type(scene.idealisation)]

@@ -63,7 +63,8 @@ class MeshData:
     tetrahedra and ``segments`` the tagged face triangles (the facets of either dimension).
 
     cell_tags (M,) int, segments (K, 2) node pairs, edge_tags (K,) int; ``cell_names`` and
-    ``edge_names`` map tag value -> name; node_sets name -> node ids.
+    ``edge_names`` map tag value -> name; node_sets name -> node ids; ``topology`` the XDMF
+    names of the cells and facets (a scene's: its idealisation's ``xdmf_topology``).
     """
 
     nodes: np.ndarray
@@ -74,6 +75,7 @@ class MeshData:
     cell_names: dict = field(default_factory=dict)
     edge_names: dict = field(default_factory=dict)
     node_sets: dict = field(default_factory=dict)
+    topology: tuple[str, str] = ("Triangle", "Polyline")
 
     def edge_id(self, name: str) -> int:
         return edge_id(self.edge_names, name)
@@ -103,6 +105,7 @@ def scene_mesh_data(scene) -> MeshData:
         cell_names={i + 1: b for i, b in enumerate(scene.bodies)},
         edge_names=edge_names,
         node_sets=node_sets,
+        topology=scene.idealisation.xdmf_topology,
     )
 
 
@@ -223,7 +226,7 @@ def write_mesh_xdmf(path: str | Path, data: MeshData) -> tuple[Path, Path, Path]
         f["mesh/geometry"] = nodes
         f["edges/topology"] = segs
         f["edges/edge"] = etags
-    cell, facet = ("Triangle", "Polyline") if gdim == 2 else ("Tetrahedron", "Triangle")
+    cell, facet = data.topology
     mesh_xml = _grid_xml(
         h5.name,
         MESH_GRID,

@@ -10,6 +10,7 @@ of the package asks it instead of testing the dimension.
 
 from __future__ import annotations
 
+from ..validation.terms import SectionTerms, SolidTerms, terms_of
 from .base import Idealisation
 from .section import Axisymmetric, Plane, Section
 from .solid import Solid
@@ -18,9 +19,8 @@ __all__ = ["Axisymmetric", "Idealisation", "Plane", "Section", "Solid", "of_case
 
 
 def of_case(case) -> Idealisation:
-    """The idealisation a case's ``[analysis]`` table asks for (``dimension``, and in 2D
-    ``plane``): the one place they are read to choose an implementation."""
-    analysis = case.data["analysis"]
-    if case.dimension == 3:
-        return Solid()
-    return Axisymmetric() if analysis["plane"] == "axisymmetric" else Plane()
+    """The idealisation a case's ``[analysis]`` table asks for: the one of its dimension's terms
+    (:func:`slipstep.validation.terms.terms_of`, the validator's), in 2D by ``plane``."""
+    plane = case.data["analysis"]["plane"]
+    section = Axisymmetric if plane == "axisymmetric" else Plane
+    return {SectionTerms: section, SolidTerms: Solid}[type(terms_of(case.dimension))]()

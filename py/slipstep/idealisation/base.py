@@ -1,31 +1,36 @@
 """The interface of a scene's idealisation (:mod:`slipstep.idealisation`): what differs between
-a 2D section and a 3D solid, from meshing the bodies to drawing the result.  Each method
-forwards to its implementation's module; printing one names it."""
+a 2D section and a 3D solid, from meshing the bodies to drawing the result.  It extends the case
+document's terms of its dimension (:mod:`slipstep.validation.terms`: the boundary's word, the
+components of a vector...).  Each method forwards to its implementation's module; printing one
+names it."""
 
 from __future__ import annotations
 
-from abc import ABC, abstractmethod
+from abc import abstractmethod
 
 import numpy as np
 
+from ..validation.terms import Terms
 
-class Idealisation(ABC):
+
+class Idealisation(Terms):
     """How a scene's bodies are modelled; ``scene.idealisation``."""
 
-    #: coordinates and displacement components per node
-    dimension: int
-    #: the boundary a [[bc]] or [[contact]] names: "edge" (2D) or "face" (3D)
-    boundary: str
-    #: stress components per element in the engine's result
+    #: stress components per element in the engine's result, and their names in the outputs
     stress_width: int
-    #: the meshio cell type of the elements
+    stress_names: tuple[str, ...]
+    #: the meshio cell type of the elements; the XDMF topologies of the elements and of the
+    #: boundary facets (:mod:`slipstep.fenicsx.exchange`)
     cell_type: str
+    xdmf_topology: tuple[str, str]
     #: the functions that make a mesh given from Python
     given_mesh_from: str
     #: the components a resultant force and moment have, and the names of components
     force_components: tuple[int, ...]
     moment_components: tuple[int, ...]
     component_names: str
+    #: the axes of the engine's contact moments (about z in 2D: one number per contact)
+    engine_moment_axes: tuple[int, ...]
 
     def __repr__(self) -> str:
         return (
@@ -60,6 +65,50 @@ class Idealisation(ABC):
     @abstractmethod
     def contact_numbers(self, scene, result) -> dict:
         """The contact part of summary.json at the final snapshot (a scene with pairs)."""
+
+    @abstractmethod
+    def stage_contact_numbers(self, scene, result, snap: dict) -> dict:
+        """The contact part of a summary.json stage record (a scene with pairs)."""
+
+    @abstractmethod
+    def pair_forces(self, scene, snap: dict) -> np.ndarray:
+        """(P, 3) each contact pair's force on its contactor side in global axes."""
+
+    def mirror_planes(self, scene, index: int) -> list[tuple[int, float]]:
+        """The symmetry planes (axis, value) [[contact]] ``index``'s part is mirrored across
+        into the whole: none, a section's numbers are the model's."""
+        return []
+
+    def mirror_planes_of(self, scene, bodies, points) -> list[tuple[int, float]]:
+        """The symmetry planes a load or support on ``points`` of ``bodies`` is mirrored across
+        into the whole: none, a section's numbers are the model's."""
+        return []
+
+    # ------------------------------------------------------------------ loads and boundaries
+    @abstractmethod
+    def boundary_load(self, scene, cells: np.ndarray, pressure: float, traction) -> np.ndarray:
+        """The consistent nodal forces of a uniform pressure and traction on boundary ``cells``
+        (global ids; edge segments or face triangles)."""
+
+    @abstractmethod
+    def cut_pressure(self, scene) -> float:
+        """The pressure of ``[load] P`` (the Hertz convenience) on its body's cut ``top``."""
+
+    def point_force_scale(self, case) -> float:
+        """What a [[point_load]] force is multiplied by: 1 (a total force)."""
+        return 1.0
+
+    @abstractmethod
+    def facet_normals(self, nodes: np.ndarray, cells) -> np.ndarray:
+        """The outward unit normal of each boundary cell (edge segment or face triangle)."""
+
+    @abstractmethod
+    def surface_normals(self, nodes: np.ndarray, cells, ids) -> np.ndarray:
+        """The outward normal of a boundary (its ``cells``) at each node of ``ids``."""
+
+    @abstractmethod
+    def on_boundary(self, nodes: np.ndarray, points, cells, tol: float) -> np.ndarray:
+        """Whether each node of ``points`` lies on a boundary's ``cells``, off their corners."""
 
     @abstractmethod
     def xdmf_step(self, scene, snap: dict) -> tuple[dict, dict]:

@@ -8,23 +8,29 @@ import numpy as np
 
 from ..builders.solid import build_solid_scene, mesh_body_3d
 from ..figures import solid as figures
+from ..loads.faces import face_load, sphere_load_pressure
+from ..mesh.tetrahedra import triangle_normals
+from ..measures.contact_faces import mirror_planes, mirror_planes_of, pair_forces
 from ..output import summary, writers
-from ..output.fields import von_mises_3d
+from ..output.fields import STRESS_NAMES_3D, von_mises_3d
 from ..output.result import solid_fields, solid_profile
+from ..validation.pairs import on_triangles, unit_face_normals
+from ..validation.terms import SolidTerms
 from .base import Idealisation
 
 
-class Solid(Idealisation):
+class Solid(SolidTerms, Idealisation):
     """A solid of tetrahedra."""
 
-    dimension = 3
-    boundary = "face"
     stress_width = 6
+    stress_names = STRESS_NAMES_3D
     cell_type = "tetra"
+    xdmf_topology = ("Tetrahedron", "Triangle")
     given_mesh_from = "slipstep.from_tetrahedra"
     force_components = (0, 1, 2)
     moment_components = (0, 1, 2)
     component_names = "xyz"
+    engine_moment_axes = (0, 1, 2)
 
     def elements(self, scene) -> np.ndarray:
         return scene.tetrahedra
@@ -47,6 +53,35 @@ class Solid(Idealisation):
     def contact_numbers(self, scene, result) -> dict:
         """The contact part of summary.json (:func:`slipstep.output.summary.solid_contact_numbers`)."""
         return summary.solid_contact_numbers(scene, result)
+
+    def stage_contact_numbers(self, scene, result, snap: dict) -> dict:
+        return summary.solid_stage_contact(scene, snap)
+
+    def pair_forces(self, scene, snap: dict) -> np.ndarray:
+        return pair_forces(scene, snap)
+
+    def mirror_planes(self, scene, index: int) -> list[tuple[int, float]]:
+        """The body's ``symmetry`` faces the contact's candidates lie on one side of."""
+        return mirror_planes(scene, index)
+
+    def mirror_planes_of(self, scene, bodies, points) -> list[tuple[int, float]]:
+        return mirror_planes_of(scene, bodies, points)
+
+    def boundary_load(self, scene, cells: np.ndarray, pressure: float, traction) -> np.ndarray:
+        return face_load(scene.nodes, cells, len(scene.nodes), pressure, traction)
+
+    def cut_pressure(self, scene) -> float:
+        return sphere_load_pressure(scene)
+
+    def facet_normals(self, nodes: np.ndarray, cells) -> np.ndarray:
+        return triangle_normals(nodes, cells)[0]
+
+    def surface_normals(self, nodes: np.ndarray, cells, ids) -> np.ndarray:
+        """The unit area-weighted normal of the triangles at each node."""
+        return unit_face_normals(nodes, cells, ids)
+
+    def on_boundary(self, nodes: np.ndarray, points, cells, tol: float) -> np.ndarray:
+        return on_triangles(nodes, points, cells, tol)
 
     def xdmf_step(self, scene, snap: dict) -> tuple[dict, dict]:
         return writers.xdmf_step_3d(scene, snap)

@@ -44,3 +44,17 @@ def sphere_cut_pressure(
     0.4 % at 26 triangles on the quarter disc)."""
     _, area = triangle_normals(nodes, top)
     return P * DISC_SHARE[portion] / float(area.sum())
+
+
+def sphere_load_pressure(scene) -> float:
+    """The pressure of ``[load] P`` on the cut face ``top`` of its sphere body
+    (:func:`sphere_cut_pressure` over the face as meshed)."""
+    load = scene.case.data["load"]
+    mesh = scene.case.body(load["body"])["mesh"]
+    return sphere_cut_pressure(
+        load["P"],
+        mesh["R"],
+        mesh["portion"],
+        scene.nodes,
+        scene.global_boundary(load["body"], "top"),
+    )

@@ -7,9 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..mesh import triangles as meshing
 from .path import Load, case_loads
-from ..mesh.tetrahedra import triangle_normals
 from ..overrides import element_key
 from ..scene import Scene
 from ..section import AXIS_TOLERANCE, is_axisymmetric
@@ -119,14 +117,9 @@ def _symmetry_component(scene: Scene, bc: dict, key: str) -> int:
     """The component a ``symmetry`` edge holds: x for a vertical edge, y for a horizontal one
     (each segment normal within 1e-9 of the axis: straight up to round-off); in 3D the
     component normal to a plane face parallel to a coordinate plane."""
-    d, tag = scene.dimension, bc_surface(bc)
-    cells = scene.global_boundary(bc["body"], tag)
-    n = (
-        meshing.outward_normals(scene.nodes, cells)
-        if d == 2
-        else triangle_normals(scene.nodes, cells)[0]
-    )
-    for c in range(d):
+    tag = bc_surface(bc)
+    n = scene.idealisation.facet_normals(scene.nodes, scene.global_boundary(bc["body"], tag))
+    for c in range(scene.dimension):
         if np.all(np.abs(n[:, c]) > 1 - 1e-9):
             if "xyz"[c] in bc["displacement"]:
                 raise scene.case.error(
@@ -137,17 +130,10 @@ def _symmetry_component(scene: Scene, bc: dict, key: str) -> int:
                     f"both; remove symmetry or {'xyz'[c]} from displacement",
                 )
             return c
-    if d == 3:
-        raise scene.case.error(
-            f"{key}.symmetry",
-            f"face '{tag}' is not a plane parallel to a "
-            f"coordinate plane (x = const, y = const or z = const): use "
-            f"fix = [...] instead",
-        )
     raise scene.case.error(
         f"{key}.symmetry",
-        f"edge '{tag}' is not a straight line "
-        f"parallel to the x or y axis: use fix = [...] instead",
+        f"{scene.idealisation.boundary} '{tag}' is not {scene.idealisation.axis_aligned}: use "
+        f"fix = [...] instead",
     )
 
 

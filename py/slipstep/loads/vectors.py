@@ -14,7 +14,6 @@ from ..case import Case
 from .path import Load, LoadPath, case_loads
 from ..scene import Scene
 from ..section import boundary_shares, is_axisymmetric
-from .faces import face_load, sphere_cut_pressure
 from .supports import bc_surface
 
 
@@ -63,23 +62,13 @@ def load_force(scene: Scene, load: Load | None) -> np.ndarray:
     """The nodal force of one load at factor 1, thickness included (ring totals in
     axisymmetry; forces in 3D; zeros for None or a load without force)."""
     data, d = scene.case.data, scene.dimension
-    t, plane = data["analysis"]["thickness"], data["analysis"]["plane"]
     f = np.zeros(scene.n_dofs)
     if load is None or not load.force:
         return f
-    if load.array == "load" and d == 3:
-        body = data["load"]["body"]
-        mesh = scene.case.body(body)["mesh"]
-        q = sphere_cut_pressure(
-            data["load"]["P"],
-            mesh["R"],
-            mesh["portion"],
-            scene.nodes,
-            scene.global_boundary(body, "top"),
-        )
-        return boundary_load(scene, body, "top", q)
     if load.array == "load":
-        return boundary_load(scene, data["load"]["body"], "top", hertz_cut_pressure(scene.case))
+        return boundary_load(
+            scene, data["load"]["body"], "top", scene.idealisation.cut_pressure(scene)
+        )
     if load.array == "bc":
         bc = data["bc"][load.index]
         return boundary_load(scene, bc["body"], bc_surface(bc), bc["pressure"], bc["traction"])
@@ -89,7 +78,7 @@ def load_force(scene: Scene, load: Load | None) -> np.ndarray:
         [np.arange(scene.meshes[b].n_nodes) + scene.offsets[b] for b in candidates]
     )
     node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1))]
-    weight = 1.0 if plane == "axisymmetric" or d == 3 else t
+    weight = scene.idealisation.point_force_scale(scene.case)
     f[d * node : d * node + d] += np.asarray(pl["force"]) * weight
     return f
 
@@ -98,20 +87,26 @@ def boundary_load(
     scene: Scene, body: str, tag: str, pressure: float = 0.0, traction=None
 ) -> np.ndarray:
     """The consistent nodal forces of a uniform pressure and traction on a body's edge tag
-    (:func:`edge_load`), or in 3D on its face tag (:func:`slipstep.loads.faces.face_load`)."""
-    data, n = scene.case.data, len(scene.nodes)
+    (:func:`section_boundary_load`), or in 3D on its face tag
+    (:func:`slipstep.loads.faces.face_load`): the scene's idealisation's."""
     cells = scene.global_boundary(body, tag)
     traction = np.zeros(scene.dimension) if traction is None else traction
-    if scene.dimension == 3:
-        return face_load(scene.nodes, cells, n, pressure, traction)
+    return scene.idealisation.boundary_load(scene, cells, pressure, traction)
+
+
+def section_boundary_load(
+    scene: Scene, segments: np.ndarray, pressure: float, traction
+) -> np.ndarray:
+    """:func:`edge_load` on a 2D scene's edge segments, with its thickness and plane."""
+    analysis = scene.case.data["analysis"]
     return edge_load(
         scene.nodes,
-        cells,
-        n,
-        data["analysis"]["thickness"],
+        segments,
+        len(scene.nodes),
+        analysis["thickness"],
         pressure,
         traction,
-        plane=data["analysis"]["plane"],
+        plane=analysis["plane"],
     )
 
 

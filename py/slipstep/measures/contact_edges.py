@@ -112,6 +112,16 @@ def pair_coordinate(scene) -> np.ndarray:
     return s
 
 
+def pair_forces(scene, snap: dict) -> np.ndarray:
+    """(P, 3) each pair's force on its contactor side in global axes, λ_n n + λ_t t (t: n
+    turned a quarter counter-clockwise; z = 0), from a snapshot's arrays."""
+    n = np.asarray(scene.model["pairs"]["normal"], dtype=float).reshape(-1, 2)
+    lam_n = np.asarray(snap["lambda_n"], dtype=float)
+    tangent = np.stack([-n[:, 1], n[:, 0]], axis=1)
+    f = lam_n[:, None] * n + np.asarray(snap["lambda_t"], dtype=float)[:, None] * tangent
+    return np.column_stack([f, np.zeros(len(f))])
+
+
 def contactor_forces(scene, lam) -> np.ndarray:
     """The contact force each pair's node a receives: its own multiplier, except for
     node-to-segment rows, whose multipliers spread over the contactor nodes by their positive

@@ -46,6 +46,16 @@ def row_forces(scene, snapshot: dict) -> tuple[np.ndarray, np.ndarray]:
     return lam_n[:, None] * n, lam_t[:, :1] * t[:, 0] + lam_t[:, 1:] * t[:, 1]
 
 
+def pair_forces(scene, snap: dict) -> np.ndarray:
+    """(P, 3) each pair's force on its contactor side in global axes, λ_n n + λ_t1 t1 + λ_t2 t2,
+    from a snapshot's arrays."""
+    n = np.asarray(scene.model["pairs"]["normal"], dtype=float)
+    lam_n = np.asarray(snap["lambda_n"], dtype=float)
+    lam_t = np.asarray(snap["lambda_t"], dtype=float).reshape(-1, 2)
+    t = scene.pair_tangent
+    return lam_n[:, None] * n + lam_t[:, :1] * t[:, 0] + lam_t[:, 1:] * t[:, 1]
+
+
 def node_forces(scene, snapshot: dict) -> np.ndarray:
     """(P, 3) the contact force node a receives: its pair's own, except for node-to-surface rows
     whose forces spread over the contactor nodes by their positive weights

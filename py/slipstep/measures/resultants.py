@@ -119,10 +119,8 @@ def step_history(scene, result) -> dict:
         force[1:, : steps["contact_force"].shape[1]] = _padded(steps["contact_force"], dim)
         moment = np.zeros((n + 1, n_c, 3))
         m = np.asarray(steps["contact_moment"], dtype=float)
-        if dim == 3:
-            moment[1:, : m.shape[1]] = m
-        else:
-            moment[1:, : m.shape[1], 2] = m
+        axes = list(scene.idealisation.engine_moment_axes)
+        moment[1:, : m.shape[1], axes] = m.reshape(n, m.shape[1], len(axes))
         reaction = np.zeros((n + 1, len(groups), 3))
         r = np.asarray(steps["reaction"], dtype=float)
         if r.shape[1] == len(groups):
@@ -170,21 +168,6 @@ def step_history(scene, result) -> dict:
     }
 
 
-def pair_forces(scene, snap: dict) -> np.ndarray:
-    """(P, 3) each pair's force on its contactor side in global axes, λ_n n + λ_t t (3D: with
-    its (t1, t2)), from a snapshot's arrays."""
-    n = np.asarray(scene.model["pairs"]["normal"], dtype=float)
-    lam_n = np.asarray(snap["lambda_n"], dtype=float)
-    if scene.dimension == 3:
-        lam_t = np.asarray(snap["lambda_t"], dtype=float).reshape(-1, 2)
-        t = scene.pair_tangent
-        return lam_n[:, None] * n + lam_t[:, :1] * t[:, 0] + lam_t[:, 1:] * t[:, 1]
-    n = n.reshape(-1, 2)
-    tangent = np.stack([-n[:, 1], n[:, 0]], axis=1)
-    f = lam_n[:, None] * n + np.asarray(snap["lambda_t"], dtype=float)[:, None] * tangent
-    return _padded(f, 2)
-
-
 def contactor_points(scene) -> np.ndarray:
     """(P, 3) where each pair's force acts on its contactor side: node a, or Σ c_i x_i over the
     contactor nodes (weights c_i > 0) of a weighted row (the engine's moment arm)."""
@@ -203,7 +186,7 @@ def contactor_points(scene) -> np.ndarray:
 def snapshot_resultants(scene, snap: dict, n_contacts: int) -> tuple[np.ndarray, np.ndarray]:
     """(C, 3) force and (C, 3) moment about the origin of every contact at a snapshot, from its
     arrays (the engine's per-increment ``contact_force`` / ``contact_moment``)."""
-    f = pair_forces(scene, snap)
+    f = scene.idealisation.pair_forces(scene, snap)
     m = np.cross(contactor_points(scene), f)
     which = np.asarray(scene.pair_contact, dtype=np.int64)
     force = np.stack([np.bincount(which, f[:, c], n_contacts) for c in range(3)], axis=1)
@@ -240,21 +223,15 @@ def _from_snapshots(scene, result, groups: dict, forces: list, n_c: int):
             reaction[k] = np.nan
         u = np.asarray(s["u"], dtype=float).reshape(-1)
         work[k] = [0.0 if f is None else float(f @ u) for f in forces]
-    if scene.dimension == 2 and scene.model.get("plane") != "axisymmetric":
-        moment[..., :2] = 0.0
+    # the components the engine records: about z in 2D (x and y of a cross of planar vectors
+    # are zeros, or -0.0)
+    kept = np.zeros(3, dtype=bool)
+    kept[list(scene.idealisation.engine_moment_axes)] = True
+    moment[..., ~kept] = 0.0
     return out_t, stage, phi, force, moment, reaction, work, np.arange(n)
 
 
 # --------------------------------------------------------------------------- whole model
-def _mirror(scene, bodies, points) -> list[tuple[int, float]]:
-    """The symmetry planes a 3D part is mirrored across (none in 2D)."""
-    if scene.dimension != 3 or not len(points):
-        return []
-    from .contact_faces import mirror_planes_of
-
-    return mirror_planes_of(scene, bodies, _padded(points, 3))
-
-
 def whole(vectors: np.ndarray, planes) -> np.ndarray:
     """(..., 3) vectors of a part mirrored into the whole: × 2 per plane, the component along
     each plane's normal 0."""
@@ -277,11 +254,7 @@ def body_of_nodes(scene, nodes) -> list[str]:
 
 def contact_planes(scene, index: int) -> list[tuple[int, float]]:
     """The planes [[contact]] ``index``'s part is mirrored across (3D; the summary's)."""
-    if scene.dimension != 3:
-        return []
-    from .contact_faces import mirror_planes
-
-    return mirror_planes(scene, index)
+    return scene.idealisation.mirror_planes(scene, index)
 
 
 def drivers(scene, hist: dict) -> dict[str, dict]:
@@ -322,7 +295,9 @@ def drivers(scene, hist: dict) -> dict[str, dict]:
         e = d / np.linalg.norm(d)
         j = list(hist["load_names"]).index(name)
         nodes = np.unique(dofs // dim)
-        planes = _mirror(scene, body_of_nodes(scene, nodes), scene.nodes[nodes])
+        planes = scene.idealisation.mirror_planes_of(
+            scene, body_of_nodes(scene, nodes), scene.nodes[nodes]
+        )
         out[name] = {
             "kind": "displacement",
             "support": g,
@@ -337,7 +312,9 @@ def drivers(scene, hist: dict) -> dict[str, dict]:
             continue
         part = _padded(f.reshape(-1, dim).sum(axis=0), dim)
         loaded = np.flatnonzero(np.abs(f.reshape(-1, dim)).sum(axis=1) > 0)
-        planes = _mirror(scene, body_of_nodes(scene, loaded), scene.nodes[loaded])
+        planes = scene.idealisation.mirror_planes_of(
+            scene, body_of_nodes(scene, loaded), scene.nodes[loaded]
+        )
         full = whole(part, planes)
         if np.linalg.norm(full) <= 1e-12 * np.abs(f).sum():
             continue  # self-balanced (a pressure inside a ring): no resultant to follow

@@ -179,7 +179,7 @@ def tagged_cells(m, kind: str, where: str) -> dict[str, np.ndarray]:
         tags = None
         for arrays in m.cell_data.values():
             a = np.asarray(arrays[i])
-            if a.ndim == 1 or (a.ndim == 2 and a.shape[1] == 1):
+            if a.ndim >= 1 and a.shape[1:] in ((), (1,)):  # one value per cell
                 if np.issubdtype(a.dtype, np.integer) or np.all(a == np.round(a)):
                     tags = a.reshape(-1).astype(np.int64)
                     break

@@ -21,11 +21,9 @@ STRESS_NAMES = {
 
 
 def coordinate_names(scene) -> tuple[str, ...]:
-    """("r", "z") for an axisymmetric scene, ("x", "y", "z") in 3D, else ("x", "y")."""
-    model = scene.engine_model
-    if model.dimension == 3:
-        return ("x", "y", "z")
-    return ("r", "z") if model.plane == "axisymmetric" else ("x", "y")
+    """("r", "z") for an axisymmetric scene, ("x", "y", "z") in 3D, else ("x", "y"): the first
+    of its idealisation's component names."""
+    return tuple(scene.idealisation.component_names[: scene.dimension])
 
 
 def stress_names(scene) -> tuple[str, str, str, str]:

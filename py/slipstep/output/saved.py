@@ -23,10 +23,9 @@ import numpy as np
 from ..build import build_scene
 from ..case import load_case
 from ..errors import InputError
-from .fields import is_elastoplastic, stress_names
+from .fields import is_elastoplastic
 from .writers import RECORD_GROUP
 from .result import Result
-from .fields import STRESS_NAMES_3D
 
 #: The files a result folder must hold.
 REQUIRED = ("case.toml", "summary.json", "events.csv")
@@ -86,7 +85,7 @@ def read_snapshots(folder: Path, scene) -> list[dict]:
         )
     with h5py.File(folder / "results.h5", "r") as h5:
         record = {key: np.asarray(v) for key, v in h5[RECORD_GROUP].items()}
-    names = STRESS_NAMES_3D if d == 3 else stress_names(scene)
+    names = scene.idealisation.stress_names
     out = []
     for k in range(reader.num_steps):
         _, point_data, cell_data = reader.read_data(k)

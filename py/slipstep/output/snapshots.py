@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..validation.terms import terms_of
+
 #: The budget of results.h5 under ``snapshots = "auto"`` in 3D (bytes).
 AUTO_BYTES = 100e6
 #: At most this many evenly spaced snapshots per stage under ``"auto"`` in 3D (the stage end
@@ -81,7 +83,7 @@ def requested(case, bytes_per_step: float | None = None):
     snaps = case.data["output"]["snapshots"]
     if snaps != "auto":
         return snaps
-    if case.dimension != 3:
+    if terms_of(case.dimension).auto_snapshots == "events":
         return "events"
     return auto_times(case.path.n_stages, bytes_per_step)
 

@@ -79,6 +79,11 @@ def half_model_side(scene, index: int) -> int:
     return 0
 
 
+def half_model_sides(scene) -> list[int]:
+    """:func:`half_model_side` of every [[contact]]."""
+    return [half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
+
+
 def _axis_nodes(scene, body: str) -> np.ndarray:
     """Global ids of a body's nodes on the axis x = 0 (axisymmetry; the engine's tolerance)."""
     ids = np.arange(scene.meshes[body].n_nodes) + scene.offsets[body]
@@ -208,7 +213,7 @@ def section_contact_numbers(scene, result) -> dict:
     """:func:`_contact_numbers` of a 2D scene (with pairs and snapshots)."""
     last = result["snapshots"][-1]
     status = np.asarray(last["status"])
-    sides = [half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
+    sides = half_model_sides(scene)
     contacts = contact_summaries(scene, result, last, sides)
     return {
         "snapshot_load_fraction": float(last["load_fraction"]),
@@ -249,26 +254,33 @@ STAGE_CONTACT_KEYS = (
 )
 
 
-def _snapshot_numbers(scene, result, snap: dict, sides: list[int]) -> dict:
+def section_stage_contact(scene, result, snap: dict) -> dict:
+    """A 2D stage record's contact numbers: total forces, the peak pressure and each contact's
+    :data:`STAGE_CONTACT_KEYS`."""
+    sides = half_model_sides(scene)
+    contacts = contact_summaries(scene, result, snap, sides)
+    return {
+        "total_normal_force": float(np.sum(snap["lambda_n"])),
+        "total_tangential_force": float(np.sum(snap["lambda_t"])),
+        "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
+        "contacts": {name: {k: c[k] for k in STAGE_CONTACT_KEYS} for name, c in contacts.items()},
+    }
+
+
+def solid_stage_contact(scene, snap: dict) -> dict:
+    """A 3D stage record's contact numbers: :func:`space_contact_totals`, the tangential
+    resultant by its size only."""
+    totals = space_contact_totals(scene, snap)
+    del totals["tangential_force"]
+    return totals
+
+
+def _snapshot_numbers(scene, result, snap: dict) -> dict:
     """Contact forces, per-contact extents, plastic elements and support reactions at one
     snapshot (the parts that apply)."""
     out = {}
-    if len(scene.pair_xy) and scene.dimension == 3:
-        totals = space_contact_totals(scene, snap)
-        del totals["tangential_force"]  # a stage record gives its size only
-        out.update(totals)
-    elif len(scene.pair_xy):
-        contacts = contact_summaries(scene, result, snap, sides)
-        out.update(
-            {
-                "total_normal_force": float(np.sum(snap["lambda_n"])),
-                "total_tangential_force": float(np.sum(snap["lambda_t"])),
-                "peak_pressure": max(c["peak_pressure"] for c in contacts.values()),
-                "contacts": {
-                    name: {k: c[k] for k in STAGE_CONTACT_KEYS} for name, c in contacts.items()
-                },
-            }
-        )
+    if len(scene.pair_xy):
+        out.update(scene.idealisation.stage_contact_numbers(scene, result, snap))
     out.update(plastic_counts(snap))
     out["reactions"] = {name: list(r) for name, r in reactions(scene, snap).items()}
     return out
@@ -282,11 +294,6 @@ def stage_records(scene, result, hist: dict | None = None) -> list[dict]:
     snaps = result.get("snapshots", [])
     names = stage_names(scene, result)
     _, ev_stage = event_times(result)
-    sides = (
-        [half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
-        if len(scene.pair_xy) and scene.dimension == 2
-        else []
-    )
     hist = step_history(scene, result) if hist is None else hist
     forces = driving_forces_along(scene, hist)
     records = []
@@ -298,7 +305,7 @@ def stage_records(scene, result, hist: dict | None = None) -> list[dict]:
                 "name": names[k],
                 "t_end": t_end,
                 "n_events": int(np.count_nonzero(ev_stage == k)),
-                **_snapshot_numbers(scene, result, snaps[i], sides),
+                **_snapshot_numbers(scene, result, snaps[i]),
             }
         )
         row = np.flatnonzero(np.abs(hist["t"] - t_end) <= 1e-12 * max(1.0, t_end))

@@ -10,6 +10,7 @@ import math
 from typing import Any, Callable
 
 from ..key import REQUIRED, Key, check_unit_free_vector, non_negative, positive
+from .sizes import divisions, graded_keys
 from .solid import MESH_VARIANTS_3D, RIGID_KINDS_3D, contact_variants_3d, generator_faces
 from ..toml_writing import toml_text
 
@@ -195,30 +196,7 @@ QUARTER_CYLINDER_KEYS = {
         doc="cylinder radius; centre at (0, R), bottom " "point at (0, 0)",
         check=positive("R"),
     ),
-    "h_contact": Key(
-        "float",
-        REQUIRED,
-        unit="length",
-        doc="element size within contact_zone of the bottom point (0, 0)",
-        check=positive("h_contact"),
-    ),
-    "contact_zone": Key(
-        "float",
-        REQUIRED,
-        unit="length",
-        doc="radius of the fine zone around (0, 0)",
-        check=positive("contact_zone"),
-    ),
-    "h_max": Key(
-        "float", REQUIRED, unit="length", doc="largest element size", check=positive("h_max")
-    ),
-    "growth": Key(
-        "float",
-        0.1,
-        doc="size growth per unit distance outside the zone "
-        "(h = h_contact + growth * (d - contact_zone))",
-        check=positive("growth"),
-    ),
+    **graded_keys("the bottom point (0, 0)"),
 }
 
 BLOCK_KEYS = {
@@ -237,36 +215,7 @@ BLOCK_KEYS = {
         check=non_negative("h"),
     ),
     # the graded block (gmsh), when h_contact > 0; nx, ny and h are then not used
-    "h_contact": Key(
-        "float",
-        0.0,
-        unit="length",
-        doc="graded block (gmsh): element size within contact_zone of focus "
-        "(0 = the structured block of nx/ny or h)",
-        check=non_negative("h_contact"),
-    ),
-    "contact_zone": Key(
-        "float",
-        0.0,
-        unit="length",
-        doc="graded block: radius of the fine zone around focus",
-        check=positive("contact_zone"),
-    ),
-    "h_max": Key(
-        "float",
-        0.0,
-        unit="length",
-        doc="graded or refined block: largest element " "size",
-        check=positive("h_max"),
-    ),
-    "growth": Key(
-        "float",
-        0.1,
-        doc="graded or refined block: size growth per unit distance "
-        "outside the fine zone (graded: h = h_contact + growth * (d "
-        "- contact_zone); refined: h + growth * d from the box)",
-        check=positive("growth"),
-    ),
+    **graded_keys("focus", "block", refined="h + growth * d from the box"),
     "focus": Key(
         "vec2",
         None,
@@ -377,10 +326,7 @@ def generator_dimension(generator: str) -> int | None:
 
 def block_divisions(mesh: dict) -> tuple[int, int]:
     """The structured block's cells (nx, ny): as given, or round(size / h)."""
-    return (
-        mesh["nx"] or max(1, round(mesh["width"] / mesh["h"])),
-        mesh["ny"] or max(1, round(mesh["height"] / mesh["h"])),
-    )
+    return divisions(mesh)
 
 
 def generator_tags(mesh: dict) -> tuple[str, ...] | None:

@@ -12,40 +12,11 @@ from __future__ import annotations
 import math
 
 from ..key import REQUIRED, Key, check_unit_free_vector, non_negative, positive
+from .sizes import divisions, graded_keys
 
 #: The parts of a sphere or roller a generator meshes, below its cut z = R: symmetry planes
 #: x = 0 and y = 0 ("eighth"), y = 0 ("quarter"), none ("half").
 PORTIONS = ("eighth", "quarter", "half")
-
-
-def _graded(around: str) -> dict:
-    """The grading keys of a gmsh generator, fine around ``around`` (as the 2D cylinders)."""
-    return {
-        "h_contact": Key(
-            "float",
-            REQUIRED,
-            unit="length",
-            doc=f"element size within contact_zone of {around}",
-            check=positive("h_contact"),
-        ),
-        "contact_zone": Key(
-            "float",
-            REQUIRED,
-            unit="length",
-            doc=f"radius of the fine zone around {around}",
-            check=positive("contact_zone"),
-        ),
-        "h_max": Key(
-            "float", REQUIRED, unit="length", doc="largest element size", check=positive("h_max")
-        ),
-        "growth": Key(
-            "float",
-            0.1,
-            doc="size growth per unit distance outside the zone "
-            "(h = h_contact + growth * (d - contact_zone))",
-            check=positive("growth"),
-        ),
-    }
 
 
 def _portion(symmetric: str) -> Key:
@@ -69,7 +40,7 @@ SPHERE_KEYS = {
     ),
     "R": Key("float", REQUIRED, unit="length", doc="sphere radius", check=positive("R")),
     "portion": _portion("the whole lower hemisphere"),
-    **_graded("the lowest point (0, 0, 0)"),
+    **graded_keys("the lowest point (0, 0, 0)"),
 }
 
 ROLLER_KEYS = {
@@ -86,7 +57,7 @@ ROLLER_KEYS = {
         "float", REQUIRED, unit="length", doc="its full length along y", check=positive("length")
     ),
     "portion": _portion("the whole lower half"),
-    **_graded("the contact line x = z = 0"),
+    **graded_keys("the contact line x = z = 0"),
 }
 
 BOX_KEYS = {
@@ -113,30 +84,7 @@ BOX_KEYS = {
         doc="structured box: element size when nx/ny/nz are " "0 (n = round(size/h))",
         check=non_negative("h"),
     ),
-    "h_contact": Key(
-        "float",
-        0.0,
-        unit="length",
-        doc="graded box (gmsh): element size within contact_zone of focus (0 = "
-        "the structured box of nx/ny/nz or h)",
-        check=non_negative("h_contact"),
-    ),
-    "contact_zone": Key(
-        "float",
-        0.0,
-        unit="length",
-        doc="graded box: radius of the fine zone " "around focus",
-        check=positive("contact_zone"),
-    ),
-    "h_max": Key(
-        "float", 0.0, unit="length", doc="graded box: largest element size", check=positive("h_max")
-    ),
-    "growth": Key(
-        "float",
-        0.1,
-        doc="graded box: size growth per unit distance outside the " "fine zone",
-        check=positive("growth"),
-    ),
+    **graded_keys("focus", "box"),
     "focus": Key(
         "vec3",
         None,
@@ -178,7 +126,7 @@ PUNCH_KEYS = {
         'symmetry_x, symmetry_y), "half" (y >= 0) or "whole"',
         choices=("quarter", "half", "whole"),
     ),
-    **_graded("the rim of the flat end"),
+    **graded_keys("the rim of the flat end"),
 }
 
 SHELL_KEYS = {
@@ -242,10 +190,7 @@ def generator_faces(mesh: dict) -> tuple[str, ...]:
 
 def box_divisions(mesh: dict) -> tuple[int, int, int]:
     """The structured box's cells (nx, ny, nz): as given, or round(size / h)."""
-    return tuple(
-        mesh[n] or max(1, round(mesh[size] / mesh["h"]))
-        for n, size in (("nx", "width"), ("ny", "depth"), ("nz", "height"))
-    )
+    return divisions(mesh)
 
 
 # --------------------------------------------------------------------------- contact

@@ -33,8 +33,10 @@ from ..schema import (
     generator_tags,
     kind_dimension,
 )
+from ..schema.sizes import SIDES
 from ..toml_writing import toml_text
 from . import solid as space
+from .terms import terms_of
 
 
 _TYPE_HELP = {
@@ -71,9 +73,8 @@ def inert_keys(data: dict) -> dict[str, tuple]:
     inert, and a displacement's empty default {}.  Per table path ("analysis", "bc.<i>",
     "body.<i>.mesh"), the keys; a document written back without them validates to the same
     data."""
-    dimension = data["analysis"]["dimension"]
     out = space.other_dimension_keys(data)
-    if dimension == 2 and data["analysis"]["plane"] == "axisymmetric":
+    if data["analysis"]["plane"] == "axisymmetric":  # (a 3D case keeps the default, "strain")
         out["analysis"] = ("thickness",)
     for i, bc in enumerate(data["bc"]):
         if not bc["displacement"]:
@@ -91,7 +92,8 @@ class Validator:
 
     def __init__(self, source: str):
         self.source = source
-        self.dimension = 2  # [analysis] dimension, read first by :meth:`case`
+        # the terms of the case's [analysis] dimension, read first by :meth:`case`
+        self.terms = terms_of(ANALYSIS_KEYS["dimension"].default)
 
     def fail(self, key: str, message: str) -> CaseError:
         return CaseError(f"{self.source}: {key} {message}")
@@ -108,15 +110,13 @@ class Validator:
                 f"valid keys: {valid}"
             )
         for name in raw:
-            if name in keys and self.dimension not in keys[name].dims:
-                raise self.fail(
-                    prefix + name, space.wrong_dimension(prefix + name, raw[name], self.dimension)
-                )
+            if name in keys and self.terms.dimension not in keys[name].dims:
+                raise self.fail(prefix + name, self.terms.wrong_dimension(prefix + name, raw[name]))
         out = {}
         for name, spec in keys.items():
             full = prefix + name
             if name not in raw:
-                if spec.default is REQUIRED or self.dimension in spec.required_in:
+                if spec.default is REQUIRED or self.terms.dimension in spec.required_in:
                     raise self.fail(
                         full,
                         f"is missing: {spec.doc}"
@@ -125,7 +125,7 @@ class Validator:
                     )
                 out[name] = copy.deepcopy(spec.default)
                 if spec.type == "vec" and isinstance(spec.default, list):  # zeros, one a component
-                    out[name] = [0.0] * self.dimension
+                    out[name] = [0.0] * self.terms.dimension
                 continue
             out[name] = self.value(raw[name], spec, full)
         return out
@@ -135,7 +135,7 @@ class Validator:
         t = spec.type
         if t == "vec":  # one component per dimension of the case
             space.check_vector_length(self, v, full)
-            t = "vec2" if self.dimension == 2 else "vec3"
+            t = self.terms.vector_type
         bad = self.fail(full, f"= {shown} is not allowed: expected {_TYPE_HELP[t]}")
         if t == "float":
             if isinstance(v, bool) or not isinstance(v, (int, float)):
@@ -168,7 +168,7 @@ class Validator:
                     full, f"= {shown} is not allowed: expected {count} finite " f"numbers"
                 )
         elif t == "axes":
-            if isinstance(v, list) and "z" in v and self.dimension == 2:
+            if isinstance(v, list) and "z" in v and "z" not in self.terms.axes:
                 raise self.fail(
                     full,
                     f"= {shown} is not allowed in a 2D case: z is the third "
@@ -176,7 +176,7 @@ class Validator:
                 )
             if (
                 not isinstance(v, list)
-                or any(c not in ("x", "y", "z")[: self.dimension] for c in v)
+                or any(c not in self.terms.axes for c in v)
                 or len(set(v)) != len(v)
             ):
                 raise bad
@@ -214,7 +214,8 @@ class Validator:
     def inline_numbers(self, v: dict, t: str, full: str) -> dict:
         """An inline table of finite numbers: x/y of a displacement, or load factors."""
         if t == "xy":
-            other = [k for k in v if k not in ("x", "y", "z")[: self.dimension]]
+            axes = self.terms.axes
+            other = [k for k in v if k not in axes]
             if other and other[0] == "z":
                 raise self.fail(
                     f"{full}.z",
@@ -222,7 +223,7 @@ class Validator:
                     "component (set analysis.dimension = 3, or prescribe x and y)",
                 )
             if other:
-                names = "x and y" if self.dimension == 2 else "x, y and z"
+                names = f"{', '.join(axes[:-1])} and {axes[-1]}"
                 raise self.fail(
                     f"{full}.{other[0]}",
                     f"is not allowed: a displacement has "
@@ -266,7 +267,7 @@ class Validator:
                     f"{self.source}: unknown key {k}; valid top-level tables: "
                     f"{', '.join(known)}"
                 )
-        self.dimension = self.case_dimension(raw.get("analysis", {}))
+        self.terms = terms_of(self.case_dimension(raw.get("analysis", {})))
         data = {}
         for name, keys in TABLES.items():
             if name == "load":
@@ -378,7 +379,9 @@ class Validator:
         self.yield_strain(body["material"], f"{sub}material.")
         if "mesh" not in raw:
             choices = " or ".join(
-                toml_text(g) for g in MESH_VARIANTS if generator_dimension(g) == self.dimension
+                toml_text(g)
+                for g in MESH_VARIANTS
+                if generator_dimension(g) == self.terms.dimension
             )
             raise self.fail(
                 f"{sub}mesh",
@@ -420,16 +423,14 @@ class Validator:
             choices = " or ".join(
                 toml_text(g)
                 for g in MESH_VARIANTS
-                if generator_dimension(g) in (None, self.dimension)
+                if generator_dimension(g) in (None, self.terms.dimension)
             )
             what = "is missing" if gen is None else f"= {toml_text(gen)} is not allowed"
             raise self.fail(
                 prefix + "generator", f"{what}: use {choices}, or give " f'file = "mesh.msh"'
             )
-        if generator_dimension(gen) not in (None, self.dimension):
-            raise self.fail(
-                prefix + "generator", space.wrong_variant("generator", gen, self.dimension)
-            )
+        if generator_dimension(gen) not in (None, self.terms.dimension):
+            raise self.fail(prefix + "generator", self.terms.wrong_variant("generator", gen))
         mesh = self.table(raw, MESH_VARIANTS[gen], "[body.mesh]", prefix)
         check = {
             "quarter_cylinder": self.cylinder_mesh,
@@ -489,14 +490,7 @@ class Validator:
     def structured_block_mesh(self, mesh: dict, raw: dict, prefix: str) -> None:
         """nx/ny or h; the keys of the graded block would do nothing (h_max and growth shape
         the refined block too)."""
-        for n, size in (("nx", "width"), ("ny", "height")):
-            if mesh[n] == 0 and mesh["h"] == 0:
-                raise self.fail(
-                    prefix + n,
-                    f"is missing: give {n} (divisions along "
-                    f"{size}) or h (element size), or h_contact (a graded "
-                    f"gmsh mesh)",
-                )
+        self.structured_sizes(mesh, prefix)
         refined = mesh["refine_box"] is not None
         for key in GRADED_ONLY + GRADED_OR_REFINED:
             if key not in raw or (refined and key in GRADED_OR_REFINED):
@@ -522,6 +516,18 @@ class Validator:
             )
         if refined:
             self.refine_box(mesh, prefix)
+
+    def structured_sizes(self, mesh: dict, prefix: str) -> None:
+        """A structured block or box: the divisions along each of its sides
+        (:data:`slipstep.schema.sizes.SIDES`), or h."""
+        for n, size in SIDES[mesh["generator"]]:
+            if mesh[n] == 0 and mesh["h"] == 0:
+                raise self.fail(
+                    prefix + n,
+                    f"is missing: give {n} (divisions along "
+                    f"{size}) or h (element size), or h_contact (a graded "
+                    f"gmsh mesh)",
+                )
 
     def refine_box(self, mesh: dict, prefix: str) -> None:
         """The refined block: a box [x0, y0, x1, y1] inside the block, h_max >= the grid
@@ -624,7 +630,7 @@ class Validator:
     def need_edge(self, body: str, tag: str, key: str, edges: dict) -> None:
         """A body's edge tag (3D: face tag) must exist (when its generator tells them)."""
         known = edges[body]
-        what = "edge" if self.dimension == 2 else "face"
+        what = self.terms.boundary
         if known is not None and tag not in known:
             raise self.fail(
                 key,
@@ -635,7 +641,7 @@ class Validator:
     def bc(self, raw: dict, prefix: str, edges: dict) -> dict:
         bc = self.table(raw, BC_KEYS, "[[bc]]", prefix)
         self.need_body(bc["body"], prefix + "body", edges)
-        surface = "edge" if self.dimension == 2 else "face"
+        surface = self.terms.boundary
         if bool(bc[surface]) == bool(bc["nodes"]):
             raise self.fail(
                 prefix + surface,
@@ -672,8 +678,8 @@ class Validator:
             choices = " or ".join(toml_text(k) for k in CONTACT_VARIANTS)
             what = "is missing" if kind is None else f"= {toml_text(kind)} is not allowed"
             raise self.fail(prefix + "kind", f"{what}: use {choices}")
-        if kind_dimension(kind) not in (None, self.dimension):
-            raise self.fail(prefix + "kind", space.wrong_variant("kind", kind, self.dimension))
+        if kind_dimension(kind) not in (None, self.terms.dimension):
+            raise self.fail(prefix + "kind", self.terms.wrong_variant("kind", kind))
         if kind in ("node_to_node", "node_to_segment", "node_to_surface") and "motion" in raw:
             raise self.fail(
                 prefix + "motion",
@@ -695,7 +701,7 @@ class Validator:
         load = data["load"]
         if load is None:
             return
-        generator = "quarter_cylinder" if self.dimension == 2 else "sphere"
+        generator = self.terms.hertz_generator
         cylinders = [b["name"] for b in data["body"] if b["mesh"].get("generator") == generator]
         if load["body"]:
             self.need_body(load["body"], "load.body", edges)

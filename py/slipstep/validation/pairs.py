@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..mesh.triangles import node_normals
 from ..scene import Scene
 from ..mesh import tetrahedra as space_mesh
 from ..contact.surfaces import closest_points, containing_tetrahedra
@@ -23,10 +22,11 @@ def check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str, fix: s
     is geometrically impossible (it would hold the bodies together, or report a penetration
     that is not there)."""
     touching = gap <= tol
-    away_a = touching & (np.einsum("ij,ij->i", surface_normals(scene, seg_a, a), n) > 1e-6)
+    normals = scene.idealisation.surface_normals
+    away_a = touching & (np.einsum("ij,ij->i", normals(scene.nodes, seg_a, a), n) > 1e-6)
     away_b = np.zeros_like(away_a)
     if b is not None:
-        away_b = touching & (np.einsum("ij,ij->i", surface_normals(scene, seg_b, b), n) < -1e-6)
+        away_b = touching & (np.einsum("ij,ij->i", normals(scene.nodes, seg_b, b), n) < -1e-6)
     if (away_a | away_b).any():
         k = int(np.argmax(away_a | away_b))
         side = (
@@ -43,14 +43,30 @@ def check_facing(scene: Scene, a, n, gap, tol, seg_a, b, seg_b, key: str, fix: s
         )
 
 
-def surface_normals(scene: Scene, cells, ids) -> np.ndarray:
-    """A surface's outward normal at each node of ``ids``: the sum of its segments' unit normals
-    (2D, not normalised: zero where they cancel), or the unit area-weighted normal of its
-    triangles (3D)."""
-    if scene.dimension == 2:
-        return node_normals(scene.nodes, cells, ids)
-    m = space_mesh.node_normals(scene.nodes, cells, ids)
+def unit_face_normals(nodes: np.ndarray, triangles, ids) -> np.ndarray:
+    """A face's outward unit normal at each node of ``ids``: its triangles' area-weighted
+    normal, normalised (the 3D surface normal of :func:`check_facing`; 2D:
+    :func:`slipstep.mesh.triangles.node_normals`, not normalised)."""
+    m = space_mesh.node_normals(nodes, triangles, ids)
     return m / np.maximum(np.linalg.norm(m, axis=1), 1e-300)[:, None]
+
+
+def on_segments(nodes: np.ndarray, points, segments, tol: float) -> np.ndarray:
+    """Whether each of ``points`` lies on one of the ``segments`` (within tolerance of it and
+    strictly between its end nodes)."""
+    x = nodes[points][:, None, :]
+    p, q = nodes[segments[:, 0]][None], nodes[segments[:, 1]][None]
+    d = q - p
+    t = np.einsum("ijk,ijk->ij", x - p, d) / np.einsum("ijk,ijk->ij", d, d)
+    dist = np.linalg.norm(x - (p + t[..., None] * d), axis=2)
+    return ((dist <= tol) & (t > 1e-9) & (t < 1.0 - 1e-9)).any(axis=1)
+
+
+def on_triangles(nodes: np.ndarray, points, triangles, tol: float) -> np.ndarray:
+    """Whether each of ``points`` lies on one of the ``triangles`` (within tolerance of it, not
+    at one of its corners)."""
+    near = closest_points(nodes[points], nodes, triangles)
+    return (near["distance"] <= tol) & (near["bary"].max(axis=1) < 1.0 - 1e-9)
 
 
 def check_matching(
@@ -60,17 +76,7 @@ def check_matching(
     side's edge (within tolerance of one of its segments) would be free to pass through it."""
     if len(unpaired) == 0 or len(seg_other) == 0:
         return
-    if scene.dimension == 3:  # on a triangle: within tolerance, not at one of its corners
-        near = closest_points(scene.nodes[unpaired], scene.nodes, seg_other)
-        on = (near["distance"] <= tol) & (near["bary"].max(axis=1) < 1.0 - 1e-9)
-    else:
-        x = scene.nodes[unpaired][:, None, :]
-        p, q = scene.nodes[seg_other[:, 0]][None], scene.nodes[seg_other[:, 1]][None]
-        d = q - p
-        t = np.einsum("ijk,ijk->ij", x - p, d) / np.einsum("ijk,ijk->ij", d, d)
-        dist = np.linalg.norm(x - (p + t[..., None] * d), axis=2)
-        # on a segment: within tolerance of it and strictly between its end nodes
-        on = ((dist <= tol) & (t > 1e-9) & (t < 1.0 - 1e-9)).any(axis=1)
+    on = scene.idealisation.on_boundary(scene.nodes, unpaired, seg_other, tol)
     if on.any():
         k = int(unpaired[np.argmax(on)])
         raise scene.case.error(

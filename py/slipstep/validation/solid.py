@@ -1,75 +1,21 @@
-"""The case document's dimension (``[analysis] dimension``): keys, generators and contact kinds
-of the other dimension refused, one line each naming the key and what to use instead, and the
-checks of the 3D generators' and contact kinds' values (:mod:`slipstep.schema.solid`)."""
+"""The rules of the case document's dimension (``[analysis] dimension``) that the schema does not
+state key by key: the keys of the other dimension a validated document holds, a vector of the
+other dimension's length (the messages: :mod:`.terms`), and the checks of the 3D generators' and
+contact kinds' values (:mod:`slipstep.schema.solid`)."""
 
 from __future__ import annotations
 
 from ..schema import ANALYSIS_KEYS, ARRAY_KEYS, BODY_SUBTABLES, CONTACT_VARIANTS, MESH_VARIANTS
-from ..schema.solid import COUNTERPARTS
 from ..toml_writing import toml_text
-
-#: A key of one dimension and its part in the other.
-COUNTER_KEYS = {"edge": "face", "edge_a": "face_a", "edge_b": "face_b", "edge_file": "face_file"}
-COUNTER_KEYS.update({v: k for k, v in list(COUNTER_KEYS.items())})
-
-#: Why a 2D key has no part in a 3D case.
-_PLANE_ONLY = {
-    "plane": "a body in space is not a plane section",
-    "thickness": "a body in space has no out-of-plane thickness (forces are forces)",
-}
-
-
-def wrong_dimension(full: str, value, dimension: int) -> str:
-    """The message (after ``full``, the key as --set spells it) for a key given in a case of a
-    dimension it has no part in."""
-    name, shown = full.rpartition(".")[2], toml_text(value)
-    if dimension == 3:
-        if name in _PLANE_ONLY:
-            return (
-                f"= {shown} is not allowed in a 3D case (analysis.dimension = 3): "
-                f"{_PLANE_ONLY[name]}; remove {full}"
-            )
-        return (
-            f"= {shown} is not allowed in a 3D case (analysis.dimension = 3): a body in "
-            f"space has faces, not edges; use {COUNTER_KEYS[name]} = {shown}"
-        )
-    return (
-        f"= {shown} is not allowed in a 2D case: {name} is a key of 3D cases; set "
-        f"analysis.dimension = 3, or use {COUNTER_KEYS[name]}"
-    )
-
-
-def wrong_variant(what: str, value: str, dimension: int) -> str:
-    """The message (after ``generator`` / ``kind``) for a generator or contact kind of the other
-    dimension."""
-    other = 3 if dimension == 2 else 2
-    instead = COUNTERPARTS[value]
-    fix = (
-        f"set analysis.dimension = 3, or use {toml_text(instead)}"
-        if dimension == 2
-        else f"use {toml_text(instead)}, or remove analysis.dimension = 3"
-    )
-    return (
-        f"= {toml_text(value)} is not allowed in a {dimension}D case: it is a {other}D "
-        f"{what}; {fix}"
-    )
 
 
 def check_vector_length(validator, v, full: str) -> None:
     """A vector of the other dimension's length, named so (any other shape: the type check)."""
-    if not isinstance(v, list) or len(v) not in (2, 3) or len(v) == validator.dimension:
+    if not isinstance(v, list) or len(v) not in (2, 3) or len(v) == validator.terms.dimension:
         return
     if any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in v):
         return
-    if validator.dimension == 2:
-        raise validator.fail(
-            full,
-            f"= {toml_text(v)} is not allowed in a 2D case: give two "
-            f"components [x, y] (or set analysis.dimension = 3)",
-        )
-    raise validator.fail(
-        full, f"= {toml_text(v)} is not allowed in a 3D case: give three " f"components [x, y, z]"
-    )
+    raise validator.fail(full, validator.terms.wrong_length(v))
 
 
 def other_dimension_keys(data: dict) -> dict[str, tuple]:
@@ -158,13 +104,7 @@ _GRADED_BOX = ("contact_zone", "h_max", "focus")
 
 def _check_structured_box(validator, mesh: dict, raw: dict, prefix: str) -> None:
     """nx/ny/nz or h; the graded box's keys would do nothing."""
-    for n, size in (("nx", "width"), ("ny", "depth"), ("nz", "height")):
-        if mesh[n] == 0 and mesh["h"] == 0:
-            raise validator.fail(
-                prefix + n,
-                f"is missing: give {n} (divisions along {size}) "
-                f"or h (element size), or h_contact (a graded gmsh mesh)",
-            )
+    validator.structured_sizes(mesh, prefix)
     for key in _GRADED_BOX + ("growth",):
         if key in raw:
             raise validator.fail(
