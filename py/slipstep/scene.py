@@ -26,7 +26,8 @@ class Scene:
     meshes: dict[str, Mesh]
     offsets: dict[str, int]  # first global node id of each body
     nodes: np.ndarray  # (N, 2); 3D: (N, 3)
-    triangles: np.ndarray  # (M, 3); 3D: (0, 3), the elements are ``tetrahedra``
+    # (M, 3); 3D: (0, 3), the elements are ``tetrahedra``
+    triangles: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.int64))
     element_body: np.ndarray  # (M,) index into bodies
     # how the bodies are modelled, chosen once by build_scene (slipstep.idealisation): a 2D
     # Section or a 3D Solid, which the outputs ask instead of testing the dimension
@@ -72,10 +73,7 @@ class Scene:
         ``idealisation`` has them (``given``: the bodies whose mesh came from Python)."""
         bodies = [b["name"] for b in case.data["body"]]
         offsets, nodes, elements, element_body = merged_bodies(bodies, meshes)
-        if idealisation.dimension == 3:
-            cells = {"triangles": np.zeros((0, 3), dtype=np.int64), "tetrahedra": elements}
-        else:
-            cells = {"triangles": elements}
+        cells = {idealisation.cells_field: elements}
         return cls(
             case=case,
             bodies=bodies,

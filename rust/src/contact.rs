@@ -111,14 +111,16 @@ impl Frame<2, 1> {
 }
 
 impl Frame<3, 2> {
-    /// The frame of a pair in `dim` dimensions, its directions with three components: in 2D
-    /// the planar frame (z = 0; t2 = z, unused); in 3D the `tangents` given, or the engine's
-    /// own: t1 = (e × n)/|e × n| with e the coordinate axis least aligned with n, t2 = n × t1.
-    pub fn of_pair(dim: usize, normal: [f64; 3], tangents: Option<[[f64; 3]; 2]>) -> Self {
-        if dim == 2 {
-            let t = Frame::planar([normal[0], normal[1]]).tangent();
-            return Frame { normal, tangents: [[t[0], t[1], 0.0], [0.0, 0.0, 1.0]] };
-        }
+    /// A pair's frame in the plane, with three components: the planar frame (z = 0; t2 = z,
+    /// which a planar pair has no row along: `Pair::tangents`).
+    pub fn in_plane(normal: [f64; 3]) -> Self {
+        let t = Frame::planar([normal[0], normal[1]]).tangent();
+        Frame { normal, tangents: [[t[0], t[1], 0.0], [0.0, 0.0, 1.0]] }
+    }
+
+    /// A pair's frame in space: the `tangents` given, or the engine's own: t1 = (e × n)/|e × n|
+    /// with e the coordinate axis least aligned with n, t2 = n × t1.
+    pub fn in_space(normal: [f64; 3], tangents: Option<[[f64; 3]; 2]>) -> Self {
         let tangents = tangents.unwrap_or_else(|| {
             let least =
                 (0..3).fold(0, |k, i| if normal[i].abs() < normal[k].abs() { i } else { k });
@@ -283,7 +285,7 @@ impl Pair {
         mu: f64,
         fixed: &[bool],
     ) -> Self {
-        let frame = Frame::of_pair(2, [normal[0], normal[1], 0.0], None);
+        let frame = Frame::in_plane([normal[0], normal[1], 0.0]);
         let friction = Coulomb::new(mu, 0.0);
         Self::build(
             PairGeometry { node_a, node_b, weights: &[], dim: 2, frame },
@@ -303,7 +305,7 @@ impl Pair {
         mu: f64,
         fixed: &[bool],
     ) -> Self {
-        let frame = Frame::of_pair(2, [normal[0], normal[1], 0.0], None);
+        let frame = Frame::in_plane([normal[0], normal[1], 0.0]);
         let friction = Coulomb::new(mu, 0.0);
         Self::build(PairGeometry { node_a, node_b, weights, dim: 2, frame }, gap0, friction, fixed)
     }

@@ -6,6 +6,7 @@
 //! `Dim`. (What a dimension's elements are is `element::Discretization`, a step up.)
 
 use crate::bail;
+use crate::contact::Frame;
 use crate::error::Result;
 use crate::material::Plane;
 use crate::section::{Solid, StressState};
@@ -47,6 +48,10 @@ pub trait Dim: Copy + Clone + Debug + Default + Send + Sync + 'static {
     /// The out-of-plane thickness, in plane strain and plane stress; None in axisymmetry (forces
     /// are ring totals) and in space.
     fn thickness(section: &Self::Section) -> Option<f64>;
+
+    /// The frame of a contact pair of unit `normal` (`contact::Frame`): in the plane
+    /// t = (−n_y, n_x); in space the `tangents` given or the engine's own.
+    fn pair_frame(normal: [f64; 3], tangents: Option<[[f64; 3]; 2]>) -> Frame<3, 2>;
 
     /// Storage for what exists only in space (a pair's second tangent, its facets): the value
     /// itself in space, nothing in the plane.
@@ -134,6 +139,10 @@ impl Dim for Planar {
         section.plane.stress_state()
     }
 
+    fn pair_frame(normal: [f64; 3], _: Option<[[f64; 3]; 2]>) -> Frame<3, 2> {
+        Frame::in_plane(normal)
+    }
+
     fn is_axisymmetric(section: &PlaneSection) -> bool {
         section.plane == Plane::Axisymmetric
     }
@@ -165,6 +174,10 @@ impl Dim for Spatial {
 
     fn stress_state(_: &()) -> &'static dyn StressState {
         &Solid
+    }
+
+    fn pair_frame(normal: [f64; 3], tangents: Option<[[f64; 3]; 2]>) -> Frame<3, 2> {
+        Frame::in_space(normal, tangents)
     }
 
     fn is_axisymmetric(_: &()) -> bool {

@@ -18,7 +18,7 @@ pub struct PairInput {
     /// The target's unit normal (z = 0 in 2D).
     pub normal: [f64; 3],
     /// 3D: the pair's tangent basis (t1, t2), orthonormal with t1 × t2 = n; None: the
-    /// engine's own (`contact::Frame::of_pair`).
+    /// engine's own (`contact::Frame::in_space`).
     pub tangents: Option<[[f64; 3]; 2]>,
     pub gap: f64,
     pub mu: f64,

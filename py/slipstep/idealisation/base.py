@@ -23,6 +23,8 @@ class Idealisation(Terms):
     #: boundary facets (:mod:`slipstep.fenicsx.exchange`)
     cell_type: str
     xdmf_topology: tuple[str, str]
+    #: the :class:`~slipstep.scene.Scene` field that holds its elements
+    cells_field: str
     #: the functions that make a mesh given from Python
     given_mesh_from: str
     #: the components a resultant force and moment have, and the names of components

@@ -24,6 +24,7 @@ class Section(SectionTerms, Idealisation):
 
     stress_width = 4
     cell_type = "triangle"
+    cells_field = "triangles"
     xdmf_topology = ("Triangle", "Polyline")
     given_mesh_from = "slipstep.mesh.from_arrays or from_meshio"
     engine_moment_axes = (2,)

@@ -25,6 +25,7 @@ class Solid(SolidTerms, Idealisation):
     stress_width = 6
     stress_names = STRESS_NAMES_3D
     cell_type = "tetra"
+    cells_field = "tetrahedra"
     xdmf_topology = ("Tetrahedron", "Triangle")
     given_mesh_from = "slipstep.from_tetrahedra"
     force_components = (0, 1, 2)

@@ -11,7 +11,7 @@
 //! unloading, reloading and displacement control are the same loop. With no stages the path is
 //! one stage with every factor 1: P(s) = 0 + s·P, today's proportional load, to the bit.
 
-use crate::contact::{Frame, Shift};
+use crate::contact::Shift;
 use crate::dim::Dim;
 use crate::model::{Model, PairInput};
 
@@ -100,7 +100,7 @@ impl LoadPath {
         for pat in &model.patterns {
             forces.push(pat.force.clone());
             displacements.push(pat.displacement.clone());
-            shifts.push(obstacle_shifts(&model.pairs, model.dim(), &pat.motion));
+            shifts.push(obstacle_shifts::<D>(&model.pairs, &pat.motion));
         }
         LoadPath { factors, forces, displacements, shifts, stage_names }
     }
@@ -149,7 +149,7 @@ impl LoadPath {
 
 /// (c_n, c_t) = (−n·m, −t·m) of every pair whose contact's obstacle moves by m (eqs. 21, 25
 /// with the target translated); empty when the pattern moves nothing.
-fn obstacle_shifts(pairs: &[PairInput], dim: usize, motion: &[(usize, [f64; 3])]) -> Vec<Shift> {
+fn obstacle_shifts<D: Dim>(pairs: &[PairInput], motion: &[(usize, [f64; 3])]) -> Vec<Shift> {
     if motion.is_empty() {
         return vec![];
     }
@@ -157,10 +157,13 @@ fn obstacle_shifts(pairs: &[PairInput], dim: usize, motion: &[(usize, [f64; 3])]
         .iter()
         .map(|p| match motion.iter().find(|(c, _)| *c == p.contact) {
             Some((_, m)) => {
-                let frame = Frame::of_pair(dim, p.normal, p.tangents);
-                let [t1, t2] = frame.tangents;
+                let frame = D::pair_frame(p.normal, p.tangents);
                 let dot = |a: [f64; 3]| a[0] * m[0] + a[1] * m[1] + a[2] * m[2];
-                [-dot(frame.normal), -dot(t1), if dim == 3 { -dot(t2) } else { 0.0 }]
+                let mut shift = [-dot(frame.normal), 0.0, 0.0];
+                for k in 0..D::N - 1 {
+                    shift[k + 1] = -dot(frame.tangents[k]); // along the pair's own tangents
+                }
+                shift
             }
             None => [0.0; 3],
         })

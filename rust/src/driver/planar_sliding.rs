@@ -189,7 +189,7 @@ impl Path<'_> {
                 }
             }
         }
-        let [e1, e2] = Frame::of_pair(3, q, None).tangents; // an orthonormal basis of q⊥
+        let [e1, e2] = Frame::in_space(q, None).tangents; // an orthonormal basis of q⊥
         let r2 = Vector2::new(dot(e1, residual), dot(e2, residual));
         if r2.norm() <= STATIONARY * total {
             return None;

@@ -8,7 +8,7 @@ use super::path::{LoadPath, StageLoad};
 use super::space::{Reduced, Space};
 use super::state::State;
 use crate::bail;
-use crate::contact::{Frame, Pair, PairGeometry, SparseVec, Status, HELD_BY_SUPPORTS};
+use crate::contact::{Pair, PairGeometry, SparseVec, Status, HELD_BY_SUPPORTS};
 use crate::coulomb::Coulomb;
 use crate::dim::Dim;
 use crate::element::{Discretization, Elements};
@@ -467,7 +467,7 @@ fn contact_pairs<D: Dim>(model: &Model<D>, fixed: &[bool]) -> Result<Vec<Pair>> 
     for (k, p) in model.pairs.iter().enumerate() {
         let nn = (p.normal[0].powi(2) + p.normal[1].powi(2) + p.normal[2].powi(2)).sqrt();
         let normal = p.normal.map(|v| v / nn);
-        let frame = Frame::of_pair(dim, normal, p.tangents);
+        let frame = D::pair_frame(normal, p.tangents);
         let pair = Pair::build(
             PairGeometry { node_a: p.node_a, node_b: p.node_b, weights: &p.weights, dim, frame },
             p.gap.max(0.0),

@@ -143,7 +143,7 @@ struct FrictionPlane {
 
 impl FrictionPlane {
     fn new<D: Dim>(problem: &Problem<D>, body: usize, pairs: Vec<usize>, normal: [f64; 3]) -> Self {
-        let basis = crate::contact::Frame::of_pair(3, normal, None).tangents;
+        let basis = crate::contact::Frame::in_space(normal, None).tangents;
         let points: Vec<[f64; 3]> = pairs.iter().map(|&p| contact_point(problem, p)).collect();
         let centre = points
             .iter()
@@ -612,7 +612,7 @@ impl<D: Dim> Restraint<'_, D> {
     /// basis of the contact plane, and the compressive part along −n.
     fn resultants(&self, body: usize, n: &[f64; 3], s: f64) -> ([f64; 2], f64) {
         let f = self.body_load_at(body, s);
-        let [t1, t2] = crate::contact::Frame::of_pair(3, *n, None).tangents;
+        let [t1, t2] = crate::contact::Frame::in_space(*n, None).tangents;
         ([along(&f, &t1), along(&f, &t2)], -along(&f, n))
     }
 
