@@ -74,3 +74,14 @@ def test_plastic_zone_follows_hills_radius(run):
 def test_every_snapshot_is_in_equilibrium(run):
     worst, k, f = worst_equilibrium(run.scene.model, run.raw["snapshots"])
     assert worst <= EQUILIBRIUM_TOL, (k, f, worst)
+
+
+@needs_gmsh
+def test_a_scene_without_contact_candidates_gives_empty_contact_fields(run):
+    """No [[contact]]: the per-pair arrays of fields() and profile() are empty, shaped as in a
+    scene with pairs (they once failed to reshape zero values)."""
+    fields, profile = run.fields(), run.profile()
+    assert fields["u"].shape == (len(run.scene.nodes), 3)
+    assert fields["lambda_t"].shape == fields["rtd"].shape == (0, 2)
+    assert fields["gap"].shape == fields["pressure"].shape == (0,)
+    assert profile["slip"].shape == (0, 2) and profile["position"].shape == (0, 3)

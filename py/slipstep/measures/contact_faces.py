@@ -69,7 +69,8 @@ def pointwise(scene, snapshot: dict, key: str) -> np.ndarray:
     """A pair's gap (P,) or slip, the RTD (P, 2) in (t1, t2), at node a: the engine's value,
     except for node-to-surface rows (weighted means there), measured from node a's own closest
     target point (``scene.pair_foot``: triangle nodes, barycentric coordinates)."""
-    value = np.array(snapshot[key], dtype=float).reshape(len(scene.pair_xy), -1)
+    width = 1 if key == "gap" else 2  # (a scene without candidate pairs has none to reshape)
+    value = np.array(snapshot[key], dtype=float).reshape(len(scene.pair_xy), width)
     foot = scene.pair_foot
     rows = np.flatnonzero(foot[:, 0] >= 0) if len(foot) == len(value) else []
     if len(rows):
