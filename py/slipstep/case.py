@@ -3,8 +3,9 @@ validate (:mod:`slipstep.validation`).
 
 A case is a TOML file (schema in ``cases/README.md``; the same schema is declared in
 :mod:`slipstep.schema` and every key there is checked).  ``load_case`` returns a :class:`Case` whose
-``data`` is the validated document with every default filled in, so the rest of the package
-reads plain dicts and never guesses.
+``data`` is the validated document with every default filled in, and ``record`` the same tables
+as typed records (:mod:`slipstep.case_record`), which the rest of the package reads: it never
+guesses a key.
 
 Every problem is reported as a :class:`CaseError` with a one-line message that names the
 source, the key as ``--set`` would spell it, and the fix, e.g.::

@@ -17,7 +17,38 @@ from dataclasses import dataclass, fields
 from types import MappingProxyType
 from typing import Any, Mapping
 
-__all__ = ["CaseRecord", "CONTACT_KINDS"]
+__all__ = [
+    "CONTACT_KINDS",
+    "contact_record",
+    "CaseInfo",
+    "Analysis",
+    "HertzLoad",
+    "Output",
+    "Solver",
+    "Material",
+    "Body",
+    "Bc",
+    "PointLoad",
+    "LoadStage",
+    "Contact",
+    "Window2D",
+    "Window3D",
+    "RigidObstacle",
+    "RigidObstacle2D",
+    "RigidObstacle3D",
+    "RigidLine",
+    "RigidCircle",
+    "RigidPolyline",
+    "RigidPlane",
+    "RigidSphere",
+    "RigidCylinder",
+    "RigidSurface",
+    "Pair",
+    "NodeToNode",
+    "NodeToSegment",
+    "NodeToSurface",
+    "CaseRecord",
+]
 
 
 def _frozen(value):
@@ -143,7 +174,7 @@ class Bc(_Table):
     displacement: Mapping[str, float]
 
     @property
-    def surface(self) -> str:
+    def boundary_tag(self) -> str:
         """The boundary tag it names: its edge, or in 3D its face ("" for a node set)."""
         return self.face or self.edge
 
@@ -186,14 +217,15 @@ class Contact(_Table):
         raise NotImplementedError
 
     @property
-    def surfaces(self) -> tuple[tuple[str, str], ...]:
-        """(body, tag) of each surface it names, contactor first."""
+    def surfaces(self) -> tuple[tuple[str, str, str], ...]:
+        """(key, body, tag) of each surface it names, contactor first: ``edge``/``face`` of a
+        rigid obstacle, ``edge_a``/``face_a`` and ``edge_b``/``face_b`` of a pair."""
         raise NotImplementedError
 
     @property
     def contactor(self) -> tuple[str, str]:
         """(body, tag) of its contactor side."""
-        return self.surfaces[0]
+        return self.surfaces[0][1:]
 
     @property
     def motion_load(self) -> tuple[float, ...] | None:
@@ -235,13 +267,13 @@ class RigidObstacle(Contact):
         return (self.body,)
 
     @property
-    def surface(self) -> str:
-        """The body's candidate tag: its edge (3D: face)."""
+    def surface_key(self) -> str:
+        """The key of the body's candidate tag: "edge" (3D: "face")."""
         raise NotImplementedError
 
     @property
-    def surfaces(self) -> tuple[tuple[str, str], ...]:
-        return ((self.body, self.surface),)
+    def surfaces(self) -> tuple[tuple[str, str, str], ...]:
+        return ((self.surface_key, self.body, getattr(self, self.surface_key)),)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -252,8 +284,8 @@ class RigidObstacle2D(RigidObstacle, Window2D):
     motion: tuple[float, float] | None
 
     @property
-    def surface(self) -> str:
-        return self.edge
+    def surface_key(self) -> str:
+        return "edge"
 
     @property
     def motion_load(self) -> tuple[float, ...] | None:
@@ -268,8 +300,8 @@ class RigidObstacle3D(RigidObstacle, Window3D):
     motion: tuple[float, float, float] | None
 
     @property
-    def surface(self) -> str:
-        return self.face
+    def surface_key(self) -> str:
+        return "face"
 
     @property
     def motion_load(self) -> tuple[float, ...] | None:
@@ -353,9 +385,14 @@ class Pair(Contact):
     def bodies(self) -> tuple[str, ...]:
         return (self.body_a, self.body_b)
 
+    def side_key(self, side: str) -> str:
+        """The key of side ``side``'s ("a" or "b") tag: "edge" or "face"."""
+        raise NotImplementedError
+
     @property
-    def surfaces(self) -> tuple[tuple[str, str], ...]:
-        return ((self.body_a, self.surface_a), (self.body_b, self.surface_b))
+    def surfaces(self) -> tuple[tuple[str, str, str], ...]:
+        keys = ((f"{self.side_key(s)}_{s}", s) for s in "ab")
+        return tuple((key, getattr(self, f"body_{s}"), getattr(self, key)) for key, s in keys)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -369,13 +406,8 @@ class NodeToNode(Pair):
     face_b: str
     normal: tuple[float, ...] | None
 
-    @property
-    def surface_a(self) -> str:
-        return self.face_a or self.edge_a
-
-    @property
-    def surface_b(self) -> str:
-        return self.face_b or self.edge_b
+    def side_key(self, side: str) -> str:
+        return "face" if getattr(self, f"face_{side}") else "edge"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -385,13 +417,8 @@ class NodeToSegment(Pair, Window2D):
     edge_a: str
     edge_b: str
 
-    @property
-    def surface_a(self) -> str:
-        return self.edge_a
-
-    @property
-    def surface_b(self) -> str:
-        return self.edge_b
+    def side_key(self, side: str) -> str:
+        return "edge"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -401,13 +428,8 @@ class NodeToSurface(Pair, Window3D):
     face_a: str
     face_b: str
 
-    @property
-    def surface_a(self) -> str:
-        return self.face_a
-
-    @property
-    def surface_b(self) -> str:
-        return self.face_b
+    def side_key(self, side: str) -> str:
+        return "face"
 
 
 #: The record of each contact kind.
@@ -471,7 +493,11 @@ class CaseRecord:
         raise KeyError(name)
 
     @property
+    def hertz_body(self) -> Body | None:
+        """The body [load] P acts on (None without [load])."""
+        return None if self.load is None else self.body_named(self.load.body)
+
+    @property
     def frictionless(self) -> bool:
         """Whether every contact has mu = 0."""
         return all(c.mu == 0.0 for c in self.contact)
-

@@ -44,6 +44,7 @@ from slipstep.schema import (
     SOLVER_KEYS,
     STAGE_KEYS,
     TABLES,
+    contact_tags,
 )
 
 #: The annotation a field of each key kind has (a key whose default is None adds "| None").
@@ -134,6 +135,8 @@ def test_a_shipped_case_record_holds_the_validated_values(path):
     case = load_case(path)
     assert plain(case.record) == case.data
     assert case.record is case.record  # built once
+    for contact, table in zip(case.record.contact, case.data["contact"]):
+        assert list(contact.surfaces) == [tuple(t) for t in contact_tags(table)]
     for body in case.record.body:
         mesh = dict(body.mesh)
         keys = FILE_MESH_KEYS if "file" in mesh else MESH_VARIANTS[mesh["generator"]]
