@@ -13,12 +13,13 @@ values are those of the validated document (``Case.data``), defaults filled in.
 from __future__ import annotations
 
 import copy
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, fields
-from types import MappingProxyType
-from typing import Any, Mapping
+from typing import Any
 
 __all__ = [
     "CONTACT_KINDS",
+    "ReadOnlyTable",
     "contact_record",
     "CaseInfo",
     "Analysis",
@@ -51,12 +52,34 @@ __all__ = [
 ]
 
 
+class ReadOnlyTable(Mapping):
+    """A table of a record (an inline table, a mesh table), read-only; unlike a
+    ``MappingProxyType`` it copies and pickles, so a case does."""
+
+    __slots__ = ("_items",)
+
+    def __init__(self, items: dict):
+        self._items = dict(items)
+
+    def __getitem__(self, key: str):
+        return self._items[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._items)
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+    def __repr__(self) -> str:
+        return f"ReadOnlyTable({self._items!r})"
+
+
 def _frozen(value):
-    """``value`` with lists as tuples and dicts as read-only mappings, recursively."""
+    """``value`` with lists as tuples and dicts as read-only tables, recursively."""
     if isinstance(value, list):
         return tuple(_frozen(v) for v in value)
     if isinstance(value, dict):
-        return MappingProxyType({k: _frozen(v) for k, v in value.items()})
+        return ReadOnlyTable({k: _frozen(v) for k, v in value.items()})
     return value
 
 
@@ -148,7 +171,7 @@ class Body(_Table):
 
     @classmethod
     def of(cls, table: dict, **records):
-        mesh = MappingProxyType(copy.deepcopy(table["mesh"]))
+        mesh = ReadOnlyTable(copy.deepcopy(table["mesh"]))
         return super().of(table, mesh=mesh, material=Material.of(table["material"]))
 
     @property

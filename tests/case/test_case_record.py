@@ -5,7 +5,9 @@ case holds the validated document's values."""
 
 from __future__ import annotations
 
+import copy
 import dataclasses
+import pickle
 from dataclasses import fields
 
 import pytest
@@ -150,3 +152,10 @@ def test_the_records_are_read_only():
     with pytest.raises(TypeError):
         record.body[0].mesh["width"] = 3.0
     assert record.body_named(record.body[0].name) is record.body[0]
+
+
+def test_a_case_with_its_record_copies_and_pickles():
+    case = parse_case(MINIMAL)
+    record = case.record
+    assert pickle.loads(pickle.dumps(case)).record == record
+    assert copy.deepcopy(case).record == record
