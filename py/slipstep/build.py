@@ -23,8 +23,7 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
     and build the engine model, as the case's idealisation does it (2D:
     :func:`slipstep.builders.section.build_section_scene`, 3D:
     :func:`slipstep.builders.solid.build_solid_scene`)."""
-    data = case.data
-    bodies = [b["name"] for b in data["body"]]
+    bodies = [b.name for b in case.record.body]
     given = dict(meshes or {})
     unknown = sorted(set(given) - set(bodies))
     if unknown:
@@ -40,11 +39,7 @@ def build_scene(case: Case, meshes: dict[str, Mesh] | None = None) -> Scene:
             f"{given[wrong[0]].dimension}D, the case {case.dimension}D "
             f"(analysis.dimension): give a {case.dimension}D mesh"
         )
-    missing = [
-        b["name"]
-        for b in data["body"]
-        if b["mesh"].get("generator") == "given" and b["name"] not in given
-    ]
+    missing = [b.name for b in case.record.body if b.generator == "given" and b.name not in given]
     if missing:
         raise given_mesh_missing(case, missing[0], idealisation.given_mesh_from)
     body_meshes = {

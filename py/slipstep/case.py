@@ -3,8 +3,9 @@ validate (:mod:`slipstep.validation`).
 
 A case is a TOML file (schema in ``cases/README.md``; the same schema is declared in
 :mod:`slipstep.schema` and every key there is checked).  ``load_case`` returns a :class:`Case` whose
-``data`` is the validated document with every default filled in, so the rest of the package
-reads plain dicts and never guesses.
+``data`` is the validated document with every default filled in, and ``record`` the same tables
+as typed records (:mod:`slipstep.case_record`), which the rest of the package reads: it never
+guesses a key.
 
 Every problem is reported as a :class:`CaseError` with a one-line message that names the
 source, the key as ``--set`` would spell it, and the fix, e.g.::
@@ -28,9 +29,11 @@ from __future__ import annotations
 
 import tomllib
 from dataclasses import dataclass
+from functools import cached_property
 from importlib import resources
 from pathlib import Path
 
+from .case_record import CaseRecord
 from .errors import CaseError
 from .loads.path import LoadPath, load_path
 from .overrides import apply_override
@@ -41,7 +44,8 @@ __all__ = ["Case", "CaseError", "default_case_path", "load_case", "parse_case"]
 
 @dataclass
 class Case:
-    """A validated case: ``data`` holds every table with defaults filled in.
+    """A validated case: ``data`` holds every table with defaults filled in, ``record`` the
+    same as typed records (:class:`slipstep.case_record.CaseRecord`).
 
     ``source`` is how messages name the file; ``base_dir`` resolves relative mesh paths;
     ``overrides`` are the ``--set`` items applied before validation.
@@ -52,16 +56,23 @@ class Case:
     base_dir: Path
     overrides: tuple = ()
 
+    @cached_property
+    def record(self) -> CaseRecord:
+        """The validated tables as typed records (built once, from ``data``)."""
+        return CaseRecord.of(self.data)
+
     @property
     def name(self) -> str:
-        return self.data["case"]["name"]
+        return self.record.case.name
 
     @property
     def dimension(self) -> int:
         """2 (a plane section or rings: triangles) or 3 (space: tetrahedra)."""
-        return self.data["analysis"]["dimension"]
+        return self.record.analysis.dimension
 
     def body(self, name: str) -> dict:
+        """The validated [[body]] table called ``name`` (its record:
+        ``record.body_named(name)``)."""
         for b in self.data["body"]:
             if b["name"] == name:
                 return b
@@ -74,13 +85,13 @@ class Case:
     @property
     def path(self) -> LoadPath:
         """The load path: named loads, stages and the factor table (see :func:`load_path`)."""
-        return load_path(self.data, self.source)
+        return load_path(self.record, self.source)
 
     @property
     def units(self) -> dict[str, str]:
         """``[case] units`` read as "length, force, stress" (e.g. "mm, N, MPa"): {"length":
         "mm", "force": "N", "stress": "MPa"}; {} when the note is not three such words."""
-        words = [w.strip() for w in self.data["case"]["units"].split(",")]
+        words = [w.strip() for w in self.record.case.units.split(",")]
         if len(words) != 3 or not all(w and " " not in w and len(w) <= 8 for w in words):
             return {}
         return dict(zip(("length", "force", "stress"), words))

@@ -269,7 +269,7 @@ def _case(args):
 
 def _list() -> int:
     for name in shipped.names("cases"):
-        print(f"{name:28s} {load_case(shipped.path(name)).data['case']['description']}")
+        print(f"{name:28s} {load_case(shipped.path(name)).record.case.description}")
     for name in shipped.names("studies"):
         print(f"{name:28s} (study: slipstep sweep {name})")
     return 0

@@ -17,8 +17,8 @@ def solver_options(case: Case, snapshots=None) -> dict:
     :func:`slipstep.output.snapshots.requested` resolves the case's ``[output] snapshots``
     (None: that of a 2D case, where ``"auto"`` is ``"events"``)."""
     snaps = requested(case) if snapshots is None else snapshots
-    solver = case.data["solver"]
-    options = {key: solver[key] for key in SOLVER_KEYS}  # the engine's own keys, as given
+    solver = case.record.solver
+    options = {key: getattr(solver, key) for key in SOLVER_KEYS}  # the engine's keys, as given
     if snaps == "events":
         options["output"] = "events"
     else:

@@ -159,7 +159,8 @@ def element_prefix(array: str, elements: list, i: int) -> str:
     ``bc.1.``."""
     if len(elements) == 1:
         return f"{array}."
-    name = elements[i].get("name") if isinstance(elements[i], dict) else None
+    element = elements[i]  # a raw table, or a record of a validated one
+    name = element.get("name") if isinstance(element, dict) else getattr(element, "name", None)
     return f"{array}.{name}." if isinstance(name, str) and name else f"{array}.{i}."
 
 

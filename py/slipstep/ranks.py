@@ -17,7 +17,7 @@ MUMPS = "mumps"
 
 def uses_mumps(case) -> bool:
     """Whether the case's stiffness is factorized by MUMPS."""
-    return case.data["solver"].get("factorization") == MUMPS
+    return case.record.solver.factorization == MUMPS
 
 
 def start(case) -> int:

@@ -200,13 +200,13 @@ def _load_writers(scene: Scene, out, figures: bool | None, xdmf: bool | None):
     """A started thread that imports what writing ``out`` will need (matplotlib and its font
     for the figures, meshio for the XDMF: ~0.4 s together) while the engine runs, which
     releases the GIL; a no-op thread without ``out``."""
-    options = scene.case.data["output"]
+    options = scene.case.record.output
     wanted = []
-    if out is not None and (options["figures"] if figures is None else figures):
+    if out is not None and (options.figures if figures is None else figures):
         from .figures.frame import preload
 
         wanted.append(preload)
-    if out is not None and (options["xdmf"] if xdmf is None else xdmf):
+    if out is not None and (options.xdmf if xdmf is None else xdmf):
         wanted.append(lambda: __import__("meshio"))
 
     def load():

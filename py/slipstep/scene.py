@@ -71,7 +71,7 @@ class Scene:
         """The scene of a case's meshed bodies in one node numbering (:func:`merged_bodies`),
         before its contact pairs and engine model: triangles in 2D, tetrahedra in 3D, as the
         ``idealisation`` has them (``given``: the bodies whose mesh came from Python)."""
-        bodies = [b["name"] for b in case.data["body"]]
+        bodies = [b.name for b in case.record.body]
         offsets, nodes, elements, element_body = merged_bodies(bodies, meshes)
         cells = {idealisation.cells_field: elements}
         return cls(

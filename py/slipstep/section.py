@@ -19,7 +19,7 @@ AXIS_TOLERANCE = 1e-9
 
 def is_axisymmetric(case: Case) -> bool:
     """True for ``[analysis] plane = "axisymmetric"`` (x = r, y = z, rings about x = 0)."""
-    return case.data["analysis"]["plane"] == "axisymmetric"
+    return case.record.analysis.plane == "axisymmetric"
 
 
 def boundary_shares(

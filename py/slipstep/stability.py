@@ -103,7 +103,7 @@ def _run(path, overrides=(), mesh=None):
     error = ""
     try:
         case = load_case(path, list(overrides))
-        meshes = None if mesh is None else {case.data["body"][0]["name"]: mesh}
+        meshes = None if mesh is None else {case.record.body[0].name: mesh}
         scene = runner.prepare(case, meshes=meshes)
         result = runner.solve(scene)
         summary = summarize(scene, result, time.perf_counter() - t0)

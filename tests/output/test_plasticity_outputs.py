@@ -222,9 +222,8 @@ def test_hertz_map_is_zoomed_to_the_contact(hertz):
 
 # --------------------------------------------------------------------------- pieces
 def test_zoom_window_for_a_flat_above_the_body_and_without_a():
-    case = types.SimpleNamespace(
-        data={"contact": [{"kind": "rigid_line", "point": [0.0, 2.0], "normal": [0.0, -1.0]}]}
-    )
+    line = types.SimpleNamespace(kind="rigid_line", point=(0.0, 2.0), normal=(0.0, -1.0))
+    case = types.SimpleNamespace(record=types.SimpleNamespace(contact=(line,)))
     scene = types.SimpleNamespace(
         case=case, nodes=np.array([[-5.0, -9.0], [1.0, 2.0]]), reference={}
     )

@@ -53,19 +53,19 @@ def engine_model(
 def materials(case: Case) -> tuple[EngineMaterial, ...]:
     """The engine's material of each body, in body order (``Sy``, ``H`` only when plastic)."""
     out = []
-    for b in case.data["body"]:
-        m = b["material"]
-        if m["Sy"] is None:
-            out.append(EngineMaterial(E=m["E"], nu=m["nu"]))
+    for b in case.record.body:
+        m = b.material
+        if m.Sy is None:
+            out.append(EngineMaterial(E=m.E, nu=m.nu))
         else:
-            H = m["H"] if m["H"] is not None else 0.0
-            out.append(EngineMaterial(E=m["E"], nu=m["nu"], Sy=m["Sy"], H=H))
+            H = m.H if m.H is not None else 0.0
+            out.append(EngineMaterial(E=m.E, nu=m.nu, Sy=m.Sy, H=H))
     return tuple(out)
 
 
 def contact_names(case: Case) -> tuple[str, ...]:
     """The name of each [[contact]]: its ``name``, else ``contact <i>`` (0-based)."""
-    return tuple(c["name"] or f"contact {i}" for i, c in enumerate(case.data["contact"]))
+    return tuple(c.name or f"contact {i}" for i, c in enumerate(case.record.contact))
 
 
 def engine_load_path(

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from ..mesh import triangle_generators as generators
 from ..case import Case
-from ..contact.edges import contact_areas, contactor_edge, pair_rows
+from ..contact.edges import contact_areas, pair_rows
 from ..contact.pairs import contact_pairs
 from ..errors import CaseError
 from ..mesh.base import Mesh, MeshError
@@ -34,12 +34,12 @@ from ..validation.scene import (
 
 def mesh_body(case: Case, index: int) -> Mesh:
     """Mesh one body from its [body.mesh] table."""
-    body = case.data["body"][index]
-    spec = body["mesh"]
-    where = f"body {body['name']!r}"
-    if spec.get("generator") == "given":
+    body = case.record.body[index]
+    spec = body.mesh
+    where = f"body {body.name!r}"
+    if body.generator == "given":
         raise CaseError(
-            f'{case.source}: body.{body["name"]}.mesh.generator = "given": its mesh comes '
+            f'{case.source}: body.{body.name}.mesh.generator = "given": its mesh comes '
             f"from Python (slipstep.mesh.from_arrays or from_meshio), not from mesh_body"
         )
     try:
@@ -90,7 +90,7 @@ def build_section_scene(case: Case, body_meshes: dict, given: tuple, idealisatio
     from Python; ``idealisation``: the scene's, :class:`slipstep.idealisation.section.Section`)."""
     scene = Scene.of_bodies(case, body_meshes, given, idealisation)
     check_radii(scene)
-    pairs = contact_pairs(scene, pair_rows, contactor_edge, "length", foot_width=3)
+    pairs = contact_pairs(scene, pair_rows, "length", foot_width=3)
     check_duplicate_nodes(scene, pairs.to_engine())
     path = case.path
     fixed = supports(scene)
@@ -98,7 +98,7 @@ def build_section_scene(case: Case, body_meshes: dict, given: tuple, idealisatio
     options = solver_options(case)
     scene.pair_area = contact_areas(scene, pairs)
     patterns, stages = engine_load_path(scene, path)
-    analysis = case.data["analysis"]
+    analysis = case.record.analysis
     model = engine_model(
         scene,
         pairs=pairs,
@@ -108,8 +108,8 @@ def build_section_scene(case: Case, body_meshes: dict, given: tuple, idealisatio
         patterns=patterns,
         stages=stages,
         triangles=scene.triangles,
-        plane=analysis["plane"],
-        thickness=float(analysis["thickness"]),  # the engine ignores it for rings
+        plane=analysis.plane,
+        thickness=float(analysis.thickness),  # the engine ignores it for rings
     )
     scene.use_model(model)
     check_pairs_not_held(scene)
@@ -124,16 +124,16 @@ def hertz_reference(scene: Scene) -> dict:
     (:func:`slipstep.measures.references.hertz_line`; a and p0 grow as P^(1/2), ``load_exponent``), a
     sphere in axisymmetry (:func:`slipstep.measures.references.hertz_sphere`; a and p0 as P^(1/3), the
     approach delta as P^(2/3)).  ``contact`` says which ("line" or "sphere")."""
-    data = scene.case.data
-    load = data["load"]
+    case = scene.case.record
+    load = case.load
     if load is None:
         return {}
-    if not any(c["kind"] == "rigid_line" and c["body"] == load["body"] for c in data["contact"]):
+    if not any(c.kind == "rigid_line" and c.body == load.body for c in case.contact):
         return {}
-    body = scene.case.body(load["body"])
-    E, nu = body["material"]["E"], body["material"]["nu"]
-    P, R = load["P"], body["mesh"]["R"]
-    plane = data["analysis"]["plane"]
+    body = case.hertz_body
+    E, nu = body.material.E, body.material.nu
+    P, R = load.P, body.mesh["R"]
+    plane = case.analysis.plane
     E_star = effective_modulus(E, nu, plane)
     if plane == "axisymmetric":
         a, p0, delta = hertz_sphere(P, R, E, nu)

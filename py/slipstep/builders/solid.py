@@ -21,7 +21,7 @@ from ..output.snapshots import requested, step_bytes
 from ..loads.supports import supports
 from ..validation.scene import check_duplicate_nodes, check_pairs_not_held
 from ..mesh import tetrahedron_generators as generators
-from ..contact.faces import align_to_supports, contactor_face, pair_rows, tangent_basis
+from ..contact.faces import align_to_supports, pair_rows, tangent_basis
 from ..contact.pairs import contact_pairs
 from ..mesh.tetrahedra import TetMesh
 from ..mesh.tetrahedron_files import read_tet_mesh
@@ -31,15 +31,14 @@ from ..schema.solid import box_divisions
 def mesh_body_3d(case, index: int) -> TetMesh:
     """Mesh one body of a 3D case from its [body.mesh] table (not a "given" one: its mesh
     comes from Python, :func:`slipstep.build.build_scene`)."""
-    body = case.data["body"][index]
-    spec = body["mesh"]
+    body = case.record.body[index]
     try:
-        return _meshed(case, spec)
+        return _meshed(case, body.mesh)
     except MeshError as exc:
-        raise CaseError(f"{case.source}: body {body['name']!r}: {exc}") from None
+        raise CaseError(f"{case.source}: body {body.name!r}: {exc}") from None
 
 
-def _meshed(case, spec: dict) -> TetMesh:
+def _meshed(case, spec) -> TetMesh:
     if spec.get("file"):
         face_file = case.base_dir / spec["face_file"] if spec["face_file"] else None
         return read_tet_mesh(case.base_dir / spec["file"], face_file, spec["scale"])
@@ -74,7 +73,7 @@ def build_solid_scene(case, body_meshes: dict[str, TetMesh], given: tuple, ideal
     """The 3D scene of a case whose bodies are meshed (``given``: the bodies whose mesh came
     from Python; ``idealisation``: the scene's, :class:`slipstep.idealisation.solid.Solid`)."""
     scene = Scene.of_bodies(case, body_meshes, given, idealisation)
-    pairs = contact_pairs(scene, pair_rows, contactor_face, "area", 6, tangent_basis)
+    pairs = contact_pairs(scene, pair_rows, "area", 6, tangent_basis)
     scene.pair_length = np.full(len(scene.pair_area), np.nan)  # 2D only
     check_duplicate_nodes(scene, pairs.to_engine())
     path = case.path
@@ -111,14 +110,14 @@ def hertz_sphere_reference(scene) -> dict:
     """Hertz's sphere on a rigid flat (Johnson §4.2) for a 3D case with ``[load] P`` on a sphere
     and a ``rigid_plane`` contact on it: a, p0 (as P^(1/3)) and the approach delta (P^(2/3))
     of the full sphere under P, with E* = E/(1 - nu^2)."""
-    data = scene.case.data
-    load = data["load"]
+    case = scene.case.record
+    load = case.load
     if load is None or not any(
-        c["kind"] == "rigid_plane" and c["body"] == load["body"] for c in data["contact"]
+        c.kind == "rigid_plane" and c.body == load.body for c in case.contact
     ):
         return {}
-    body = scene.case.body(load["body"])
-    E, nu, P, R = body["material"]["E"], body["material"]["nu"], load["P"], body["mesh"]["R"]
+    material, R = case.hertz_body.material, case.hertz_body.mesh["R"]
+    E, nu, P = material.E, material.nu, load.P
     a, p0, delta = hertz_sphere(P, R, E, nu)
     return {
         "contact": "sphere",

@@ -14,41 +14,32 @@ from ..mesh import triangles as meshing
 from . import node_to_segment as mortar
 from ..engine_model import ContactPairs
 from ..scene import Scene
-from ..schema import RIGID_KINDS
+from ..case_record import (
+    Contact,
+    NodeToSegment,
+    RigidCircle,
+    RigidLine,
+    RigidObstacle2D,
+    RigidPolyline,
+)
 from ..section import is_axisymmetric, node_shares
 from ..validation.pairs import FLIP, check_facing, check_gaps
 from .pairs import node_to_node_pairs
 
 
-def contactor_edge(contact: dict) -> tuple[str, str]:
-    """(body, edge tag) of a [[contact]]'s contactor side: the deformable body of a
-    rigid obstacle (``rigid_line``, ``rigid_circle``, ``rigid_polyline``), body_a/edge_a of a
-    deformable pair."""
-    if contact["kind"] in RIGID_KINDS:
-        return contact["body"], contact["edge"]
-    return contact["body_a"], contact["edge_a"]
-
-
-def contact_bodies(contact: dict) -> list[str]:
-    """The deformable bodies a [[contact]] touches, contactor first."""
-    if contact["kind"] in RIGID_KINDS:
-        return [contact["body"]]
-    return [contact["body_a"], contact["body_b"]]
-
-
-def pair_rows(scene: Scene, c: dict, key: str) -> dict:
+def pair_rows(scene: Scene, c: Contact, key: str) -> dict:
     """The candidate pairs of one 2D ``[[contact]]`` (``key`` names it in messages): node_a,
     node_b (-1 rigid), normal (from the target towards node_a), initial gap, the node-to-segment
     weights, foot and own gap, and ``length``, node a's tributary length on its edge
     (:func:`slipstep.contact.pairs.contact_pairs` gathers them)."""
-    if c["kind"] == "node_to_segment":
+    if c.kind == "node_to_segment":
         a, b, normal, gap, length, weights, foot, point = _node_to_segment_pairs(scene, c, key)
     else:
-        if c["kind"] in RIGID_KINDS:
-            a, b, normal, gap = RIGID_PAIRS[c["kind"]](scene, c, key)
+        if isinstance(c, RigidObstacle2D):
+            a, b, normal, gap = RIGID_PAIRS[c.kind](scene, c, key)
         else:
             a, b, normal, gap = node_to_node_pairs(scene, c, key)
-        length = tributary_lengths(scene.nodes, scene.global_edge(*contactor_edge(c)), a)
+        length = tributary_lengths(scene.nodes, scene.global_edge(*c.contactor), a)
         weights = [[]] * len(a)
         foot, point = np.tile([-1.0, -1.0, 0.0], (len(a), 1)), np.full(len(a), np.nan)
     return {
@@ -72,33 +63,33 @@ def contact_areas(scene: Scene, pairs: ContactPairs) -> np.ndarray:
     consistent area: a uniform pressure p puts lambda = p x area on every node, so a smooth
     pressure is read node by node to O(h^2), also at the axis (the lumped disc pi (L/2)^2 there
     would read it 4/3 too high)."""
-    data = scene.case.data
-    plane, t = data["analysis"]["plane"], data["analysis"]["thickness"]
+    case = scene.case.record
+    plane, t = case.analysis.plane, case.analysis.thickness
     if plane != "axisymmetric":
         return scene.pair_length * t
     area = np.zeros(len(scene.pair_length))
-    for i, c in enumerate(data["contact"]):
+    for i, c in enumerate(case.contact):
         mine = np.flatnonzero(scene.pair_contact == i)
-        seg = scene.global_edge(*contactor_edge(c))
+        seg = scene.global_edge(*c.contactor)
         a = pairs.node_a[mine]
         area[mine] = node_shares(scene.nodes, seg, plane, t, a)
-        if c["kind"] == "node_to_segment":
+        if c.kind == "node_to_segment":
             area[mine] *= scene.pair_length[mine] / tributary_lengths(scene.nodes, seg, a)
     return area
 
 
-def _node_to_segment_pairs(scene: Scene, c: dict, key: str):
+def _node_to_segment_pairs(scene: Scene, c: NodeToSegment, key: str):
     """Mortar-style rows of the contactor nodes of edge_a in the window against the polyline
     edge_b (slipstep.contact.node_to_segment): node_a, node_b, normal, gap, tributary length, weights."""
-    seg_a = scene.global_edge(c["body_a"], c["edge_a"])
-    seg_b = scene.global_edge(c["body_b"], c["edge_b"])
+    seg_a = scene.global_edge(c.body_a, c.edge_a)
+    seg_b = scene.global_edge(c.body_b, c.edge_b)
     candidates = np.unique(seg_a)
     xy = scene.nodes[candidates]
     inside = (
-        (xy[:, 0] >= c["x_min"])
-        & (xy[:, 0] <= c["x_max"])
-        & (xy[:, 1] >= c["y_min"])
-        & (xy[:, 1] <= c["y_max"])
+        (xy[:, 0] >= c.x_min)
+        & (xy[:, 0] <= c.x_max)
+        & (xy[:, 1] >= c.y_min)
+        & (xy[:, 1] <= c.y_max)
     )
     length_scale = float(
         np.linalg.norm(scene.nodes[seg_a[:, 1]] - scene.nodes[seg_a[:, 0]], axis=1).min()
@@ -114,8 +105,8 @@ def _node_to_segment_pairs(scene: Scene, c: dict, key: str):
     if not rows["node_a"]:
         raise scene.case.error(
             f"{key}.edge_b",
-            f"no node of {c['body_a']}:{c['edge_a']} in the "
-            f"candidate window projects onto {c['body_b']}:{c['edge_b']}: "
+            f"no node of {c.body_a}:{c.edge_a} in the "
+            f"candidate window projects onto {c.body_b}:{c.edge_b}: "
             f"check the edges, or widen x_min/x_max/y_min/y_max",
         )
     a = np.asarray(rows["node_a"], dtype=np.int64)
@@ -124,12 +115,12 @@ def _node_to_segment_pairs(scene: Scene, c: dict, key: str):
         scene,
         a,
         np.minimum(gap, point),
-        c["tolerance"],
+        c.tolerance,
         key,
-        f"move body '{c['body_a']}' away from body '{c['body_b']}'",
+        f"move body '{c.body_a}' away from body '{c.body_b}'",
     )
     # a node that touches starts its row closed (slipstep.contact.node_to_segment: first point of contact)
-    gap = np.where((np.abs(gap) <= c["tolerance"]) | (np.abs(point) <= c["tolerance"]), 0.0, gap)
+    gap = np.where((np.abs(gap) <= c.tolerance) | (np.abs(point) <= c.tolerance), 0.0, gap)
     return (
         a,
         np.asarray(rows["node_b"], dtype=np.int64),
@@ -151,28 +142,28 @@ def tributary_lengths(nodes: np.ndarray, segments: np.ndarray, ids: np.ndarray) 
     return per_node[ids]
 
 
-def _window_candidates(scene: Scene, c: dict, key: str) -> np.ndarray:
+def _window_candidates(scene: Scene, c: RigidObstacle2D, key: str) -> np.ndarray:
     """Global ids (sorted) of the nodes of a rigid contact's ``edge`` inside its x/y window."""
-    candidates = np.unique(scene.global_edge(c["body"], c["edge"]))
+    candidates = np.unique(scene.global_edge(c.body, c.edge))
     xy = scene.nodes[candidates]
     inside = (
-        (xy[:, 0] >= c["x_min"])
-        & (xy[:, 0] <= c["x_max"])
-        & (xy[:, 1] >= c["y_min"])
-        & (xy[:, 1] <= c["y_max"])
+        (xy[:, 0] >= c.x_min)
+        & (xy[:, 0] <= c.x_max)
+        & (xy[:, 1] >= c.y_min)
+        & (xy[:, 1] <= c.y_max)
     )
     a = candidates[inside]
     if len(a) == 0:
         raise scene.case.error(
             f"{key}.x_max",
-            f"no node of edge '{c['edge']}' of body "
-            f"'{c['body']}' lies in the candidate window: widen x_min/x_max/"
+            f"no node of edge '{c.edge}' of body "
+            f"'{c.body}' lies in the candidate window: widen x_min/x_max/"
             f"y_min/y_max",
         )
     return a
 
 
-def _rigid_pairs(scene: Scene, c: dict, key: str, a, n, gap, fix: str, flip: str):
+def _rigid_pairs(scene: Scene, c: RigidObstacle2D, key: str, a, n, gap, fix: str, flip: str):
     """The pairs of a rigid obstacle from its candidates ``a``, their normals ``n`` (from the
     obstacle into the body, fixed: small sliding) and initial gaps: the facing and penetration
     checks, gaps within tolerance snapped to 0, node_b = -1."""
@@ -181,23 +172,23 @@ def _rigid_pairs(scene: Scene, c: dict, key: str, a, n, gap, fix: str, flip: str
         a,
         n,
         gap,
-        c["tolerance"],
-        scene.global_edge(c["body"], c["edge"]),
+        c.tolerance,
+        scene.global_edge(c.body, c.edge),
         None,
         None,
         key,
         flip,
     )
-    check_gaps(scene, a, gap, c["tolerance"], key, fix)
-    gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
+    check_gaps(scene, a, gap, c.tolerance, key, fix)
+    gap = np.where(np.abs(gap) <= c.tolerance, 0.0, gap)
     return a, np.full(len(a), -1, dtype=np.int64), n, gap
 
 
-def _rigid_line_pairs(scene: Scene, c: dict, key: str):
+def _rigid_line_pairs(scene: Scene, c: RigidLine, key: str):
     """Body nodes on ``edge`` within the x/y window, against the line through ``point``."""
     a = _window_candidates(scene, c, key)
-    n = np.asarray(c["normal"]) / np.linalg.norm(c["normal"])
-    gap = (scene.nodes[a] - np.asarray(c["point"])) @ n
+    n = np.asarray(c.normal) / np.linalg.norm(c.normal)
+    gap = (scene.nodes[a] - np.asarray(c.point)) @ n
     return _rigid_pairs(
         scene,
         c,
@@ -210,14 +201,14 @@ def _rigid_line_pairs(scene: Scene, c: dict, key: str):
     )
 
 
-def _rigid_circle_pairs(scene: Scene, c: dict, key: str):
+def _rigid_circle_pairs(scene: Scene, c: RigidCircle, key: str):
     """Body nodes on ``edge`` within the x/y window, against the circle (``centre``,
     ``radius``): per node the closest point of the circle, the normal from the circle into the
     body, (x - c)/|x - c| for a body ``outside`` it and (c - x)/|x - c| ``inside``, and the gap
     |x - c| - R (outside) or R - |x - c| (inside).  A candidate at the centre (within 1e-9 R:
     round-off) has no closest point, hence no normal: an error naming it."""
     a = _window_candidates(scene, c, key)
-    centre, radius = np.asarray(c["centre"], dtype=float), float(c["radius"])
+    centre, radius = np.asarray(c.centre, dtype=float), float(c.radius)
     d = scene.nodes[a] - centre
     r = np.linalg.norm(d, axis=1)
     at_centre = r <= 1e-9 * radius
@@ -232,7 +223,7 @@ def _rigid_circle_pairs(scene: Scene, c: dict, key: str):
             f"centre, or leave the node out of the candidates (x_min/x_max/"
             f"y_min/y_max)",
         )
-    sign = 1.0 if c["side"] == "outside" else -1.0
+    sign = 1.0 if c.side == "outside" else -1.0
     n = sign * d / r[:, None]
     gap = sign * (r - radius)
     return _rigid_pairs(
@@ -249,22 +240,22 @@ def _rigid_circle_pairs(scene: Scene, c: dict, key: str):
     )
 
 
-def _rigid_polyline_pairs(scene: Scene, c: dict, key: str):
+def _rigid_polyline_pairs(scene: Scene, c: RigidPolyline, key: str):
     """Body nodes on ``edge`` within the x/y window, against the polyline ``points``
     (:func:`polyline_closest`, told the body's outward normal at each node and the contact's
     tolerance, which set the contact direction of a node sitting on a convex corner).  A node
     that projects nowhere (its closest point is an end point of an open polyline and it lies
     beyond it) is not a candidate."""
     a = _window_candidates(scene, c, key)
-    outward = meshing.node_normals(scene.nodes, scene.global_edge(c["body"], c["edge"]), a)
+    outward = meshing.node_normals(scene.nodes, scene.global_edge(c.body, c.edge), a)
     near = polyline_closest(
-        np.asarray(c["points"], dtype=float), c["side"], scene.nodes[a], outward, c["tolerance"]
+        np.asarray(c.points, dtype=float), c.side, scene.nodes[a], outward, c.tolerance
     )
     if not near["onto"].any():
         raise scene.case.error(
             f"{key}.points",
-            f"no candidate node of edge '{c['edge']}' of "
-            f"body '{c['body']}' projects onto the rigid polyline (a "
+            f"no candidate node of edge '{c.edge}' of "
+            f"body '{c.body}' projects onto the rigid polyline (a "
             f"contactor node that projects nowhere is not a candidate): "
             f"extend the polyline (points) or widen the window (x_min/x_max/"
             f"y_min/y_max)",

@@ -12,6 +12,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..case_record import (
+    Contact,
+    NodeToNode,
+    NodeToSurface,
+    RigidObstacle3D,
+    RigidSurface,
+    Window3D,
+)
 from .pairs import node_to_node_pairs
 from ..validation.pairs import check_facing, check_gaps, check_outside
 from . import node_to_surface as mortar
@@ -73,32 +81,26 @@ def tributary_areas(nodes: np.ndarray, triangles: np.ndarray, ids: np.ndarray) -
     return per_node[np.asarray(ids)]
 
 
-def pair_rows(scene, c: dict, key: str) -> dict:
+def pair_rows(scene, c: Contact, key: str) -> dict:
     """The candidate pairs of one 3D ``[[contact]]`` (``key`` names it in messages): node_a,
     node_b (-1 rigid), normal, initial gap, the node-to-surface weights, foot and own gap, and
     ``area``, node a's area on its face (:func:`slipstep.contact.pairs.contact_pairs` gathers
     them, with the tangent basis of :func:`tangent_basis`)."""
-    if c["kind"] == "node_to_surface":
+    if c.kind == "node_to_surface":
         return _node_to_surface_pairs(scene, c, key)
-    if c["kind"] == "node_to_node":
+    if c.kind == "node_to_node":
         return _node_to_node_pairs(scene, c, key)
     return _rigid_pairs(scene, c, key)
 
 
-def contactor_face(contact: dict) -> tuple[str, str]:
-    """(body, face tag) of a 3D [[contact]]'s contactor side."""
-    if "body_a" in contact and contact.get("face_a"):
-        return contact["body_a"], contact["face_a"]
-    return contact["body"], contact["face"]
-
-
-def _window(scene, c: dict, key: str, body: str, face: str) -> np.ndarray:
+def _window(scene, c: Window3D, key: str, body: str, face: str) -> np.ndarray:
     """Global ids (sorted) of a face's nodes inside the contact's x/y/z window."""
     candidates = np.unique(scene.global_boundary(body, face))
     x = scene.nodes[candidates]
     inside = np.ones(len(candidates), dtype=bool)
     for axis, name in enumerate("xyz"):
-        inside &= (x[:, axis] >= c[f"{name}_min"]) & (x[:, axis] <= c[f"{name}_max"])
+        low, high = c.window(name)
+        inside &= (x[:, axis] >= low) & (x[:, axis] <= high)
     if not inside.any():
         raise scene.case.error(
             f"{key}.x_max",
@@ -109,30 +111,30 @@ def _window(scene, c: dict, key: str, body: str, face: str) -> np.ndarray:
     return candidates[inside]
 
 
-def _rigid_pairs(scene, c: dict, key: str) -> dict:
+def _rigid_pairs(scene, c: RigidObstacle3D, key: str) -> dict:
     """The pairs of a rigid obstacle: its shape gives each candidate's normal (from the obstacle
     into the body, fixed: small sliding) and gap; then the facing, penetration and
     outside-the-body checks, gaps within tolerance snapped to 0, node_b = -1."""
-    a = _window(scene, c, key, c["body"], c["face"])
-    n, gap, what, fix = SHAPES[c["kind"]](scene, c, key, a)
-    face = scene.global_boundary(c["body"], c["face"])
+    a = _window(scene, c, key, c.body, c.face)
+    n, gap, what, fix = SHAPES[c.kind](scene, c, key, a)
+    face = scene.global_boundary(c.body, c.face)
     check_facing(
         scene,
         a,
         n,
         gap,
-        c["tolerance"],
+        c.tolerance,
         face,
         None,
         None,
         key,
         f"check the obstacle's side or normal ({what})",
     )
-    check_gaps(scene, a, gap, c["tolerance"], key, fix)
-    check_outside(scene, a, n, gap, c["tolerance"], key, what)
-    if c["kind"] == "rigid_surface" and c["indenter"]:
+    check_gaps(scene, a, gap, c.tolerance, key, fix)
+    check_outside(scene, a, n, gap, c.tolerance, key, what)
+    if c.kind == "rigid_surface" and c.indenter:
         check_indenter_size(scene, c, key, float(gap.min()))
-    gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
+    gap = np.where(np.abs(gap) <= c.tolerance, 0.0, gap)
     return {
         "node_a": a,
         "node_b": np.full(len(a), -1, dtype=np.int64),
@@ -144,31 +146,31 @@ def _rigid_pairs(scene, c: dict, key: str) -> dict:
     }
 
 
-def check_indenter_size(scene, c: dict, key: str, gap: float) -> None:
+def check_indenter_size(scene, c: RigidSurface, key: str, gap: float) -> None:
     """A pyramid must stand higher than it is pressed in: its depth is its tip's largest travel
     down the path (the motion's -z times the factor, largest at a stage end) less its starting
     gap; a base at ``size`` above the tip within that depth would enter the body."""
     path = scene.case.path
-    index = next(i for i, x in enumerate(scene.case.data["contact"]) if x is c)
+    index = next(i for i, x in enumerate(scene.case.record.contact) if x is c)
     load = next((x for x in path.loads if x.array == "contact" and x.index == index), None)
     if load is None:
         return
     column = path.names.index(load.label)
-    depth = max(-row[column] * c["motion"][2] for row in path.factors) - max(gap, 0.0)
-    if depth >= c["size"]:
+    depth = max(-row[column] * c.motion[2] for row in path.factors) - max(gap, 0.0)
+    if depth >= c.size:
         raise scene.case.error(
             f"{key}.size",
-            f"= {c['size']:g} is not allowed: the "
-            f"{c['indenter']} pyramid is pressed {depth:.4g} deep, deeper "
+            f"= {c.size:g} is not allowed: the "
+            f"{c.indenter} pyramid is pressed {depth:.4g} deep, deeper "
             f"than its height above the tip: its base would enter the body; "
             f"give size > {depth:.4g} (e.g. {2 * depth:.3g})",
         )
 
 
 def _plane(scene, c, key, a):
-    n = np.asarray(c["normal"], dtype=float)
+    n = np.asarray(c.normal, dtype=float)
     n = n / np.linalg.norm(n)
-    gap = (scene.nodes[a] - np.asarray(c["point"])) @ n
+    gap = (scene.nodes[a] - np.asarray(c.point)) @ n
     return (
         np.tile(n, (len(a), 1)),
         gap,
@@ -181,7 +183,7 @@ def _radial(scene, c, key, a, d: np.ndarray, where: str):
     """Normal and gap of a body outside (inside) a round obstacle, d the offsets of the nodes
     from its centre (axis); a node at the centre (axis) has no normal: an error naming it."""
     r = np.linalg.norm(d, axis=1)
-    at_centre = r <= 1e-9 * c["radius"]
+    at_centre = r <= 1e-9 * c.radius
     if at_centre.any():
         k = int(np.argmax(at_centre))
         raise scene.case.error(
@@ -191,12 +193,12 @@ def _radial(scene, c, key, a, d: np.ndarray, where: str):
             f"point) is undefined: move the obstacle, or leave the node out "
             f"of the candidates (x_min ... z_max)",
         )
-    sign = 1.0 if c["side"] == "outside" else -1.0
-    return sign * d / r[:, None], sign * (r - c["radius"])
+    sign = 1.0 if c.side == "outside" else -1.0
+    return sign * d / r[:, None], sign * (r - c.radius)
 
 
 def _sphere(scene, c, key, a):
-    n, gap = _radial(scene, c, key, a, scene.nodes[a] - np.asarray(c["centre"]), "centre")
+    n, gap = _radial(scene, c, key, a, scene.nodes[a] - np.asarray(c.centre), "centre")
     return (
         n,
         gap,
@@ -206,9 +208,9 @@ def _sphere(scene, c, key, a):
 
 
 def _cylinder(scene, c, key, a):
-    e = np.asarray(c["axis"], dtype=float)
+    e = np.asarray(c.axis, dtype=float)
     e = e / np.linalg.norm(e)
-    d = scene.nodes[a] - np.asarray(c["point"])
+    d = scene.nodes[a] - np.asarray(c.point)
     n, gap = _radial(scene, c, key, a, d - np.outer(d @ e, e), "axis")
     return (
         n,
@@ -218,16 +220,16 @@ def _cylinder(scene, c, key, a):
     )
 
 
-def rigid_surface(case, c: dict, key: str) -> tuple[np.ndarray, np.ndarray]:
+def rigid_surface(case, c: RigidSurface, key: str) -> tuple[np.ndarray, np.ndarray]:
     """(points, triangles) of a ``rigid_surface``, oriented so that the body's side is the one
     the normals point to: a closed surface ("outside"/"inside") outwards (inwards), any surface
     ("front"/"back") as its first triangle (against it)."""
-    if c["indenter"]:
-        points, tris = pyramid(c["indenter"], c["tip"], c["size"])
+    if c.indenter:
+        points, tris = pyramid(c.indenter, c.tip, c.size)
     else:
-        points, tris = read_surface(case.base_dir / c["file"], c["scale"])
+        points, tris = read_surface(case.base_dir / c.file, c.scale)
     where = f"{case.source}: {key}.file"
-    if c["side"] in ("outside", "inside"):
+    if c.side in ("outside", "inside"):
         hole = open_edge(tris)
         if hole is not None:
             i, j, count = hole
@@ -235,14 +237,14 @@ def rigid_surface(case, c: dict, key: str) -> tuple[np.ndarray, np.ndarray]:
                 f"{key}.file",
                 f"the surface is not closed: its edge between "
                 f"vertices {i} and {j} belongs to {count} "
-                f"triangle(s), not 2; side = \"{c['side']}\" needs a "
+                f"triangle(s), not 2; side = \"{c.side}\" needs a "
                 f"closed surface: close it, or use side = \"front\" "
                 f"or \"back\" (the side its triangles face)",
             )
     tris = consistently_oriented(tris, where)
-    if c["side"] in ("outside", "inside") and enclosed_volume(points, tris) < 0:
+    if c.side in ("outside", "inside") and enclosed_volume(points, tris) < 0:
         tris = tris[:, [0, 2, 1]]  # outwards
-    if c["side"] in ("inside", "back"):
+    if c.side in ("inside", "back"):
         tris = tris[:, [0, 2, 1]]
     return points, tris
 
@@ -263,8 +265,8 @@ def _surface(scene, c, key, a):
     size = float(np.ptp(points, axis=0).max())
     meeting = near["near"] <= near["distance"][:, None] + 1e-9 * size
     on_feature = near["bary"].min(axis=1) <= 1e-9
-    touch = max(c["tolerance"], 1e-9 * size)
-    outward = node_normals(scene.nodes, scene.global_boundary(c["body"], c["face"]), a)
+    touch = max(c.tolerance, 1e-9 * size)
+    outward = node_normals(scene.nodes, scene.global_boundary(c.body, c.face), a)
     side = pseudo_normals(points, tris, near["triangle"], near["bary"])
     for p in np.flatnonzero(on_feature):
         mine = np.flatnonzero(meeting[p])
@@ -304,11 +306,11 @@ SHAPES = {
 }
 
 
-def _node_to_node_pairs(scene, c: dict, key: str) -> dict:
+def _node_to_node_pairs(scene, c: NodeToNode, key: str) -> dict:
     """Matching face nodes (:func:`slipstep.contact.pairs.node_to_node_pairs`), with the
     contactor nodes' areas."""
     a, b, n, gap = node_to_node_pairs(scene, c, key)
-    face_a = scene.global_boundary(c["body_a"], c["face_a"])
+    face_a = scene.global_boundary(c.body_a, c.face_a)
     return {
         "node_a": a,
         "node_b": b,
@@ -320,12 +322,12 @@ def _node_to_node_pairs(scene, c: dict, key: str) -> dict:
     }
 
 
-def _node_to_surface_pairs(scene, c: dict, key: str) -> dict:
+def _node_to_surface_pairs(scene, c: NodeToSurface, key: str) -> dict:
     """Mortar rows of the contactor nodes of face_a in the window against the triangles of
     face_b (:mod:`.mortar`)."""
-    face_a = scene.global_boundary(c["body_a"], c["face_a"])
-    face_b = scene.global_boundary(c["body_b"], c["face_b"])
-    candidates = _window(scene, c, key, c["body_a"], c["face_a"])
+    face_a = scene.global_boundary(c.body_a, c.face_a)
+    face_b = scene.global_boundary(c.body_b, c.face_b)
+    candidates = _window(scene, c, key, c.body_a, c.face_a)
     _, areas = triangle_normals(scene.nodes, face_a)
     rows = mortar.node_to_surface_rows(
         scene.nodes, face_a, face_b, candidates, 1e-9 * float(areas.min())
@@ -333,21 +335,19 @@ def _node_to_surface_pairs(scene, c: dict, key: str) -> dict:
     if not len(rows["node_a"]):
         raise scene.case.error(
             f"{key}.face_b",
-            f"no node of {c['body_a']}:{c['face_a']} in "
-            f"the candidate window projects onto {c['body_b']}:"
-            f"{c['face_b']}: check the faces, or widen the window",
+            f"no node of {c.body_a}:{c.face_a} in "
+            f"the candidate window projects onto {c.body_b}:"
+            f"{c.face_b}: check the faces, or widen the window",
         )
     a = rows["node_a"]
     check_gaps(
         scene,
         a,
         np.minimum(rows["gap"], rows["point_gap"]),
-        c["tolerance"],
+        c.tolerance,
         key,
-        f"move body '{c['body_a']}' away from body '{c['body_b']}'",
+        f"move body '{c.body_a}' away from body '{c.body_b}'",
     )
-    touching = (np.abs(rows["gap"]) <= c["tolerance"]) | (
-        np.abs(rows["point_gap"]) <= c["tolerance"]
-    )
+    touching = (np.abs(rows["gap"]) <= c.tolerance) | (np.abs(rows["point_gap"]) <= c.tolerance)
     rows["gap"] = np.where(touching, 0.0, rows["gap"])  # first point of contact: closed
     return rows

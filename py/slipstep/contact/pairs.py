@@ -11,34 +11,31 @@ from __future__ import annotations
 import numpy as np
 
 from ..engine_model import ContactPairs
-from ..schema import contact_tags
+from ..case_record import NodeToNode
 from ..validation.pairs import check_facing, check_gaps, check_matching
 
 #: The columns every contact's rows give (``weights``: per row a list of (node, weight)).
 COLUMNS = ("node_a", "node_b", "normal", "gap", "weights", "foot", "point_gap")
 
 
-def contact_pairs(
-    scene, rows_of, contactor, extent: str, foot_width: int, tangents=None
-) -> ContactPairs:
+def contact_pairs(scene, rows_of, extent: str, foot_width: int, tangents=None) -> ContactPairs:
     """The engine's ``pairs`` of every ``[[contact]]`` of the scene.
 
     ``rows_of(scene, contact, key)`` gives one contact's rows (:data:`COLUMNS` and ``extent``,
-    the size its force acts on: "length" in 2D, "area" in 3D), ``contactor(contact)`` the
-    (body, tag) of its contactor side, ``foot_width`` the columns of a row's foot, and
+    the size its force acts on: "length" in 2D, "area" in 3D), ``foot_width`` the columns of a row's foot, and
     ``tangents(normals)``, when given, each pair's tangent basis.  Fills the scene's pair
     positions, feet, own gaps, contact indices, ``pair_<extent>``, tangents and which contacts
     may be cut short (``contact_truncated``)."""
-    contacts = scene.case.data["contact"]
+    contacts = scene.case.record.contact
     cols = {k: [] for k in (*COLUMNS, extent, "mu", "contact")}
     for i, c in enumerate(contacts):
         key = "contact" if len(contacts) == 1 else f"contact.{i}"
         rows = rows_of(scene, c, key)
         n = len(rows["node_a"])
-        tag = scene.global_boundary(*contactor(c))
+        tag = scene.global_boundary(*c.contactor)
         scene.contact_truncated.append(bool(len(np.unique(rows["node_a"])) < len(np.unique(tag))))
         rows["contact"] = np.full(n, i, dtype=np.int64)
-        rows["mu"] = np.full(n, float(c["mu"]))
+        rows["mu"] = np.full(n, float(c.mu))
         for k in cols:
             if k == "weights":
                 cols[k].extend(rows.get("weights", [[]] * n))
@@ -116,42 +113,40 @@ def nearest_nodes(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     return index, distance
 
 
-def node_to_node_pairs(scene, c: dict, key: str):
+def node_to_node_pairs(scene, c: NodeToNode, key: str):
     """Each node of edge_a (3D: face_a) with the nearest node of edge_b (face_b) within
     ``tolerance``; the normal is body b's outward normal at node b, the mean of its edge_b
     segments' (face_b triangles', by area) there, or the given one."""
-    (_, body_a, tag_a), (_, body_b, tag_b) = contact_tags(c)
+    (_, body_a, tag_a), (_, body_b, tag_b) = c.surfaces
     seg_a = scene.global_boundary(body_a, tag_a)
     seg_b = scene.global_boundary(body_b, tag_b)
     nodes_a, nodes_b = np.unique(seg_a), np.unique(seg_b)
     nearest, distance = nearest_nodes(scene.nodes[nodes_a], scene.nodes[nodes_b])
-    ok = distance <= c["tolerance"]
+    ok = distance <= c.tolerance
     label_a, label_b = f"{body_a}:{tag_a}", f"{body_b}:{tag_b}"
     if not ok.any():
         raise scene.case.error(
             f"{key}.tolerance",
             f"no node of {label_a} is within "
-            f"{c['tolerance']:g} of a node of {label_b}: the meshes must "
+            f"{c.tolerance:g} of a node of {label_b}: the meshes must "
             f"match on the interface, or increase tolerance",
         )
     a, b = nodes_a[ok], nodes_b[nearest[ok]]
-    check_matching(scene, nodes_a[~ok], seg_b, c["tolerance"], label_a, label_b, key)
-    check_matching(scene, np.setdiff1d(nodes_b, b), seg_a, c["tolerance"], label_b, label_a, key)
+    check_matching(scene, nodes_a[~ok], seg_b, c.tolerance, label_a, label_b, key)
+    check_matching(scene, np.setdiff1d(nodes_b, b), seg_a, c.tolerance, label_b, label_a, key)
     if len(np.unique(b)) != len(b):
         raise scene.case.error(
             f"{key}.tolerance",
-            f"= {c['tolerance']:g} pairs one target node "
+            f"= {c.tolerance:g} pairs one target node "
             f"with several contactor nodes: decrease it",
         )
-    if c["normal"] is not None:
-        n = np.tile(np.asarray(c["normal"]) / np.linalg.norm(c["normal"]), (len(a), 1))
+    if c.normal is not None:
+        n = np.tile(np.asarray(c.normal) / np.linalg.norm(c.normal), (len(a), 1))
     else:
         n = scene.idealisation.surface_normals(scene.nodes, seg_b, b)
         n = n / np.linalg.norm(n, axis=1, keepdims=True)
     gap = np.einsum("ij,ij->i", scene.nodes[a] - scene.nodes[b], n)
-    check_facing(scene, a, n, gap, c["tolerance"], seg_a, b, seg_b, key)
-    check_gaps(
-        scene, a, gap, c["tolerance"], key, f"move body '{body_a}' away from body '{body_b}'"
-    )
-    gap = np.where(np.abs(gap) <= c["tolerance"], 0.0, gap)
+    check_facing(scene, a, n, gap, c.tolerance, seg_a, b, seg_b, key)
+    check_gaps(scene, a, gap, c.tolerance, key, f"move body '{body_a}' away from body '{body_b}'")
+    gap = np.where(np.abs(gap) <= c.tolerance, 0.0, gap)
     return a, b, n, gap

@@ -158,19 +158,17 @@ class BulkProblem:
         inv = np.empty(len(self.perm), dtype=np.int64)
         inv[self.perm] = np.arange(len(self.perm))
         out = []
-        for bc in scene.case.data["bc"]:
-            comps = {"xyz".index(c) for c in bc["fix"]}
-            surface = bc.get("face") or bc["edge"]
-            if surface:
-                facets = dm.facets(_edge_name(scene, bc["body"], surface))
-                if bc["symmetry"]:
+        for bc in scene.case.record.bc:
+            comps = {"xyz".index(c) for c in bc.fix}
+            if bc.boundary_tag:
+                facets = dm.facets(_edge_name(scene, bc.body, bc.boundary_tag))
+                if bc.symmetry:
                     comps.add(_facet_normal_axis(x, api.facet_nodes(dm.mesh, facets)))
                 for c in sorted(comps):
                     out.append(inv[api.locate_dofs(self.V, facets, component=c)])
-            elif bc["nodes"]:
+            elif bc.nodes:
                 nodes = (
-                    np.asarray(scene.meshes[bc["body"]].node_sets[bc["nodes"]])
-                    + scene.offsets[bc["body"]]
+                    np.asarray(scene.meshes[bc.body].node_sets[bc.nodes]) + scene.offsets[bc.body]
                 )
                 for c in sorted(comps):
                     out.append(self.dim * nodes + c)
@@ -194,29 +192,28 @@ class BulkProblem:
         """Edge (3D: face) loads assembled by UFL on the facet tags, plus point loads (slipstep
         dofs)."""
         scene, dm, ufl = self.scene, self.dm, api.ufl()
-        data = scene.case.data
+        case = scene.case.record
         n, v, dGamma = ufl.FacetNormal(dm.mesh), ufl.TestFunction(self.V), self.section.dGamma
         terms = []
-        for bc in data["bc"]:
-            surface = bc.get("face") or bc["edge"]
-            if surface and (bc["pressure"] != 0.0 or any(c != 0.0 for c in bc["traction"])):
-                tag = dm.edge_id(_edge_name(scene, bc["body"], surface))
-                traction = ufl.as_vector([float(c) for c in bc["traction"]])
-                terms.append(ufl.dot(traction - float(bc["pressure"]) * n, v) * dGamma(tag))
-        if data["load"] is not None:
-            tag = dm.edge_id(_edge_name(scene, data["load"]["body"], "top"))
+        for bc in case.bc:
+            if bc.boundary_tag and bc.force:
+                tag = dm.edge_id(_edge_name(scene, bc.body, bc.boundary_tag))
+                traction = ufl.as_vector([float(c) for c in bc.traction])
+                terms.append(ufl.dot(traction - float(bc.pressure) * n, v) * dGamma(tag))
+        if case.load is not None:
+            tag = dm.edge_id(_edge_name(scene, case.load.body, "top"))
             terms.append(ufl.dot(-scene.idealisation.cut_pressure(scene) * n, v) * dGamma(tag))
         f = np.zeros(self.dim * self.n_nodes)
         if terms:
             f = api.assemble_vector(sum(terms[1:], terms[0]))[self.perm]
-        for pl in data["point_load"]:  # per unit thickness (axisymmetry: the ring's total)
-            bodies = [pl["body"]] if pl["body"] else scene.bodies
+        for pl in case.point_load:  # per unit thickness (axisymmetry: the ring's total)
+            bodies = [pl.body] if pl.body else scene.bodies
             ids = np.concatenate(
                 [np.arange(scene.meshes[b].n_nodes) + scene.offsets[b] for b in bodies]
             )
-            node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1))]
+            node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl.at), axis=1))]
             f[self.dim * node : self.dim * (node + 1)] += self.section.point_force(
-                np.asarray(pl["force"])
+                np.asarray(pl.force)
             )
         return f
 

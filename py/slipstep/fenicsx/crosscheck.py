@@ -87,35 +87,31 @@ def hill_setup(scene) -> dict | None:
     """(shape, a, b, p, E, nu, Sy) when the scene is one of Hill's problems: one perfectly plastic
     body under a pressure on ``inner`` and no other load nor contact, a ``quarter_annulus`` in
     plane strain (the thick cylinder) or, in 3D, a ``shell`` (the thick sphere); else None."""
-    data = scene.case.data
-    if len(data["body"]) != 1 or data["contact"] or data["point_load"] or data["load"] is not None:
+    case = scene.case.record
+    if len(case.body) != 1 or case.contact or case.point_load or case.load is not None:
         return None
-    body = data["body"][0]
-    mesh, mat = body["mesh"], body["material"]
+    body = case.body[0]
+    mesh, mat = body.mesh, body.material
     hill = comparisons(scene).hill
     if (
         hill is None
-        or mesh.get("generator") != hill[0]
-        or data["analysis"]["plane"] != "strain"  # (a 3D case keeps this default)
-        or mat["Sy"] is None
-        or (mat["H"] or 0) != 0
+        or body.generator != hill[0]
+        or case.analysis.plane != "strain"  # (a 3D case keeps this default)
+        or mat.Sy is None
+        or (mat.H or 0) != 0
     ):
         return None
-    loads = [bc for bc in data["bc"] if bc["pressure"] != 0 or any(bc["traction"])]
-    if (
-        len(loads) != 1
-        or (loads[0].get("face") or loads[0].get("edge")) != "inner"
-        or any(loads[0]["traction"])
-    ):
+    loads = [bc for bc in case.bc if bc.pressure != 0 or any(bc.traction)]
+    if len(loads) != 1 or loads[0].boundary_tag != "inner" or any(loads[0].traction):
         return None
     return {
         "shape": hill[1],
         "a": mesh["a"],
         "b": mesh["b"],
-        "p": loads[0]["pressure"],
-        "E": mat["E"],
-        "nu": mat["nu"],
-        "Sy": mat["Sy"],
+        "p": loads[0].pressure,
+        "E": mat.E,
+        "nu": mat.nu,
+        "Sy": mat.Sy,
     }
 
 

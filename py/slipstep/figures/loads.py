@@ -200,7 +200,7 @@ def _friction_limit(scene, hist: dict, d: dict, row: int) -> float | None:
     if len(touching) != 1:
         return None
     c = int(touching[0])
-    mu = float(scene.case.data["contact"][c].get("mu", 0.0))
+    mu = float(scene.case.record.contact[c].mu)
     if mu <= 0:
         return None
     from ..measures.resultants import contact_planes

@@ -299,16 +299,16 @@ def zoom_window(scene, summary: dict):
     run's, else Hertz's): x in [-3a, 3a] (the scenes are symmetric about x = 0; clipped to the
     body) and depth 0..2.5a from the line into the body, the region of Fig. 5.
     """
-    contacts = [c for c in scene.case.data["contact"] if c["kind"] == "rigid_line"]
+    contacts = [c for c in scene.case.record.contact if c.kind == "rigid_line"]
     if not contacts:
         return None
     c = contacts[0]
-    n = np.asarray(c["normal"]) / np.linalg.norm(c["normal"])
+    n = np.asarray(c.normal) / np.linalg.norm(c.normal)
     a = summary.get("contact_half_width") or scene.reference.get("a_hertz") or 0.0
     if a <= 0.0 or abs(n[1]) < 1.0 - 1e-9:
         return None
     x_lo, x_hi = scene.nodes[:, 0].min(), scene.nodes[:, 0].max()
-    y_line = c["point"][1]
+    y_line = c.point[1]
     ys = sorted((y_line, y_line + np.sign(n[1]) * 2.5 * a))
     return (max(-3.0 * a, x_lo), min(3.0 * a, x_hi)), tuple(ys)
 

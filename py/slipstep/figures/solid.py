@@ -16,7 +16,6 @@ import numpy as np
 from ..output.fields import is_elastoplastic
 from .frame import STATUS_COLOURS, STATUS_LABELS, finish, given_axes, label, new_figure
 from ..measures.references import hertz_pressure
-from ..contact.faces import contactor_face
 from ..measures.contact_faces import (
     contact_frame,
     contact_numbers_3d,
@@ -123,11 +122,11 @@ def contact_area_figure(path: Path | None, scene, result, summary: dict, *, ax=N
     fig, axes = _panels(len(scene.engine_model.contact_names), ax, "contact area")
     for i, (ax_i, name) in enumerate(zip(axes, scene.engine_model.contact_names)):
         mine = prof["contact"] == i
-        frictionless = scene.case.data["contact"][i]["mu"] == 0.0
+        frictionless = scene.case.record.contact[i].mu == 0.0
         _, e1, e2 = view_axes(scene, i)
         centre = pressure_centre(scene, prof, i)
         plane = (scene.nodes - centre) @ np.stack([e1, e2]).T
-        face = scene.global_boundary(*contactor_face(scene.case.data["contact"][i]))
+        face = scene.global_boundary(*scene.case.record.contact[i].contactor)
         face = face[np.isin(face, prof["node_a"][mine]).all(axis=1)]
         if len(face):
             ax_i.triplot(plane[:, 0], plane[:, 1], face, color="0.85", lw=0.5)

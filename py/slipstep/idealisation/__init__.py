@@ -21,6 +21,6 @@ __all__ = ["Axisymmetric", "Idealisation", "Plane", "Section", "Solid", "of_case
 def of_case(case) -> Idealisation:
     """The idealisation a case's ``[analysis]`` table asks for: the one of its dimension's terms
     (:func:`slipstep.validation.terms.terms_of`, the validator's), in 2D by ``plane``."""
-    plane = case.data["analysis"]["plane"]
+    plane = case.record.analysis.plane
     section = Axisymmetric if plane == "axisymmetric" else Plane
     return {SectionTerms: section, SolidTerms: Solid}[type(terms_of(case.dimension))]()

@@ -100,7 +100,7 @@ class Plane(Section):
 
     def point_force_scale(self, case) -> float:
         """A [[point_load]] force is per unit thickness: times ``[analysis] thickness``."""
-        return case.data["analysis"]["thickness"]
+        return case.record.analysis.thickness
 
 
 class Axisymmetric(Section):

@@ -49,12 +49,12 @@ def sphere_cut_pressure(
 def sphere_load_pressure(scene) -> float:
     """The pressure of ``[load] P`` on the cut face ``top`` of its sphere body
     (:func:`sphere_cut_pressure` over the face as meshed)."""
-    load = scene.case.data["load"]
-    mesh = scene.case.body(load["body"])["mesh"]
+    load = scene.case.record.load
+    mesh = scene.case.record.hertz_body.mesh
     return sphere_cut_pressure(
-        load["P"],
+        load.P,
         mesh["R"],
         mesh["portion"],
         scene.nodes,
-        scene.global_boundary(load["body"], "top"),
+        scene.global_boundary(load.body, "top"),
     )

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..case_record import CaseRecord
 from ..errors import CaseError
 from ..overrides import element_key
 from ..toml_writing import toml_text
@@ -62,49 +63,29 @@ class LoadPath:
         return self.staged or bool(self.patterns)
 
 
-def case_loads(data: dict) -> tuple:
-    """Every load of a validated document, in order: [load], bc, point_load, contact."""
-    out = [Load("load", "load", "load", 0, True, False)] if data["load"] is not None else []
-    for i, bc in enumerate(data["bc"]):
-        force = bc["pressure"] != 0.0 or any(c != 0.0 for c in bc["traction"])
-        if force or bc["displacement"]:
-            out.append(
-                Load(
-                    bc["name"],
-                    element_key("bc", data["bc"], i),
-                    "bc",
-                    i,
-                    force,
-                    bool(bc["displacement"]),
-                )
-            )
-    for i, pl in enumerate(data["point_load"]):
-        out.append(
-            Load(
-                pl["name"],
-                element_key("point_load", data["point_load"], i),
-                "point_load",
-                i,
-                True,
-                False,
-            )
-        )
-    for i, c in enumerate(data["contact"]):
-        if c.get("motion") is not None:
-            out.append(
-                Load(
-                    c["name"], element_key("contact", data["contact"], i), "contact", i, False, True
-                )
-            )
+def case_loads(case: CaseRecord) -> tuple:
+    """Every load of a validated case, in order: [load], bc, point_load, contact."""
+    out = [Load("load", "load", "load", 0, True, False)] if case.load is not None else []
+    for i, bc in enumerate(case.bc):
+        if bc.force or bc.displacement:
+            key = element_key("bc", case.bc, i)
+            out.append(Load(bc.name, key, "bc", i, bc.force, bool(bc.displacement)))
+    for i, pl in enumerate(case.point_load):
+        key = element_key("point_load", case.point_load, i)
+        out.append(Load(pl.name, key, "point_load", i, True, False))
+    for i, c in enumerate(case.contact):
+        if c.motion_load is not None:
+            key = element_key("contact", case.contact, i)
+            out.append(Load(c.name, key, "contact", i, False, True))
     return tuple(out)
 
 
-def load_path(data: dict, source: str = "<case>") -> LoadPath:
-    """The load path of a validated document; CaseError for unnamed or duplicate loads, a
+def load_path(case: CaseRecord, source: str = "<case>") -> LoadPath:
+    """The load path of a validated case; CaseError for unnamed or duplicate loads, a
     displacement/motion load named "load", unknown names in factors, a stage that changes
     nothing."""
-    loads = case_loads(data)
-    stages = data.get("stage", [])
+    loads = case_loads(case)
+    stages = case.stage
     if not stages:
         patterns = tuple(x for x in loads if x.kinematic)
         _check_load_names(patterns, source)
@@ -130,7 +111,7 @@ def load_path(data: dict, source: str = "<case>") -> LoadPath:
     patterns = tuple(x for x in loads if x is not head)
     names = ("load", *(x.name for x in patterns))
     rows = _factor_rows(stages, names, head is not None, source)
-    stage_names = tuple(s["name"] or f"stage {k + 1}" for k, s in enumerate(stages))
+    stage_names = tuple(s.name or f"stage {k + 1}" for k, s in enumerate(stages))
     return LoadPath(loads, head, patterns, names, stage_names, rows, True)
 
 
@@ -152,14 +133,14 @@ def _check_load_names(loads, source: str) -> None:
         seen[x.label] = x.place
 
 
-def _factor_rows(stages: list, names: tuple, has_load: bool, source: str) -> tuple:
+def _factor_rows(stages: tuple, names: tuple, has_load: bool, source: str) -> tuple:
     """Factors at t = 0, 1, ..., n_stages: all 0 at first; a stage sets the loads it names,
     the others keep theirs."""
     valid = [n for n in names if n != "load" or has_load]
     current, rows = [0.0] * len(names), [(0.0,) * len(names)]
     for k, stage in enumerate(stages):
         key = element_key("stage", stages, k) + ".factors"
-        for name, value in stage["factors"].items():
+        for name, value in stage.factors.items():
             if name not in valid:
                 raise CaseError(
                     f"{source}: {key}.{name} = {toml_text(value)} is not allowed: no load "

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..case_record import Bc
 from .path import Load, case_loads
 from ..overrides import element_key
 from ..scene import Scene
@@ -20,25 +21,25 @@ def supports(scene: Scene) -> np.ndarray:
     a coordinate plane, dof = 3*node + component).  Fills ``scene.support_dofs``
     (per bc name: its fix, symmetry and displacement DOFs) and ``scene.prescribed`` (per load
     name: the displacement DOFs and their values at factor 1, never among the fixed ones)."""
-    bcs, dim = scene.case.data["bc"], scene.dimension
+    bcs, dim = scene.case.record.bc, scene.dimension
     holder = np.full(dim * len(scene.nodes), -1, dtype=np.int64)  # the bc fixing each DOF
     fixed, scene.support_dofs, scene.prescribed = [], {}, {}
     for i, bc in enumerate(bcs):
         nodes = _bc_nodes(scene, bc)
-        components = {"xyz".index(c) for c in bc["fix"]}
-        if bc["symmetry"]:
+        components = {"xyz".index(c) for c in bc.fix}
+        if bc.symmetry:
             components.add(_symmetry_component(scene, bc, element_key("bc", bcs, i)))
         dofs = [dim * nodes + c for c in sorted(components)]
         fixed.extend(dofs)
         for d in dofs:
             holder[d[holder[d] < 0]] = i
-        _add_support(scene, bc["name"] or f"bc {i}", dofs)
+        _add_support(scene, bc.name or f"bc {i}", dofs)
     owner = holder.copy()  # the bc fixing or prescribing each DOF
-    for load in case_loads(scene.case.data):
+    for load in case_loads(scene.case.record):
         if load.array == "bc" and load.kinematic:
             dofs, values = _prescribed(scene, load, owner, holder)
             scene.prescribed[load.label] = {"dofs": dofs, "values": values}
-            _add_support(scene, bcs[load.index]["name"] or f"bc {load.index}", [dofs])
+            _add_support(scene, bcs[load.index].name or f"bc {load.index}", [dofs])
     if is_axisymmetric(scene.case):
         fixed.append(_axis_supports(scene))
     if not fixed:
@@ -79,7 +80,7 @@ def _axis_supports(scene: Scene) -> np.ndarray:
         clash = np.isin(p["dofs"], dofs)
         if clash.any():
             node = int(p["dofs"][np.argmax(clash)]) // 2
-            load = next(x for x in case_loads(scene.case.data) if x.label == name)
+            load = next(x for x in case_loads(scene.case.record) if x.label == name)
             raise scene.case.error(
                 f"{load.key}.displacement.x",
                 f"node {node} (0, "
@@ -99,29 +100,23 @@ def _add_support(scene: Scene, name: str, dofs: list) -> None:
     scene.support_dofs[name] = np.unique(np.concatenate([old, *dofs])).astype(np.int64)
 
 
-def bc_surface(bc: dict) -> str:
-    """The boundary tag a [[bc]] names: its ``edge``, or in 3D its ``face`` ("" for a node
-    set)."""
-    return bc.get("face") or bc["edge"]
-
-
-def _bc_nodes(scene: Scene, bc: dict) -> np.ndarray:
+def _bc_nodes(scene: Scene, bc: Bc) -> np.ndarray:
     """Global ids (sorted, unique) of the nodes of a [[bc]]'s edge (face) or node set."""
-    mesh = scene.meshes[bc["body"]]
-    tag = bc_surface(bc)
-    nodes = np.unique(mesh.tags[tag]) if tag else mesh.node_sets[bc["nodes"]]
-    return np.unique(np.asarray(nodes, dtype=np.int64)) + scene.offsets[bc["body"]]
+    mesh = scene.meshes[bc.body]
+    tag = bc.boundary_tag
+    nodes = np.unique(mesh.tags[tag]) if tag else mesh.node_sets[bc.nodes]
+    return np.unique(np.asarray(nodes, dtype=np.int64)) + scene.offsets[bc.body]
 
 
-def _symmetry_component(scene: Scene, bc: dict, key: str) -> int:
+def _symmetry_component(scene: Scene, bc: Bc, key: str) -> int:
     """The component a ``symmetry`` edge holds: x for a vertical edge, y for a horizontal one
     (each segment normal within 1e-9 of the axis: straight up to round-off); in 3D the
     component normal to a plane face parallel to a coordinate plane."""
-    tag = bc_surface(bc)
-    n = scene.idealisation.facet_normals(scene.nodes, scene.global_boundary(bc["body"], tag))
+    tag = bc.boundary_tag
+    n = scene.idealisation.facet_normals(scene.nodes, scene.global_boundary(bc.body, tag))
     for c in range(scene.dimension):
         if np.all(np.abs(n[:, c]) > 1 - 1e-9):
-            if "xyz"[c] in bc["displacement"]:
+            if "xyz"[c] in bc.displacement:
                 raise scene.case.error(
                     f"{key}.displacement.{'xyz'[c]}",
                     f"symmetry = true "
@@ -140,12 +135,12 @@ def _symmetry_component(scene: Scene, bc: dict, key: str) -> int:
 def _prescribed(scene: Scene, load: Load, owner: np.ndarray, holder: np.ndarray):
     """(dofs, values) of a displacement [[bc]], sorted by DOF; a DOF already fixed or
     prescribed by another [[bc]] is an error (the engine eliminates each DOF once)."""
-    bcs, d = scene.case.data["bc"], scene.dimension
+    bcs, d = scene.case.record.bc, scene.dimension
     bc = bcs[load.index]
     nodes = _bc_nodes(scene, bc)
-    comps = sorted("xyz".index(c) for c in bc["displacement"])
+    comps = sorted("xyz".index(c) for c in bc.displacement)
     dofs = np.concatenate([d * nodes + c for c in comps])
-    values = np.concatenate([np.full(len(nodes), bc["displacement"]["xyz"[c]]) for c in comps])
+    values = np.concatenate([np.full(len(nodes), bc.displacement["xyz"[c]]) for c in comps])
     order = np.argsort(dofs, kind="stable")
     dofs, values = dofs[order], values[order]
     clash = owner[dofs] >= 0

@@ -14,7 +14,6 @@ from ..case import Case
 from .path import Load, LoadPath, case_loads
 from ..scene import Scene
 from ..section import boundary_shares, is_axisymmetric
-from .supports import bc_surface
 
 
 def edge_load(
@@ -52,7 +51,7 @@ def load_vector(scene: Scene) -> np.ndarray:
     rank = {"bc": 0, "load": 1, "point_load": 2}
     f = np.zeros(scene.n_dofs)
     for load in sorted(
-        (x for x in case_loads(scene.case.data) if x.force), key=lambda x: rank[x.array]
+        (x for x in case_loads(scene.case.record) if x.force), key=lambda x: rank[x.array]
     ):
         f += load_force(scene, load)
     return f
@@ -61,25 +60,23 @@ def load_vector(scene: Scene) -> np.ndarray:
 def load_force(scene: Scene, load: Load | None) -> np.ndarray:
     """The nodal force of one load at factor 1, thickness included (ring totals in
     axisymmetry; forces in 3D; zeros for None or a load without force)."""
-    data, d = scene.case.data, scene.dimension
+    case, d = scene.case.record, scene.dimension
     f = np.zeros(scene.n_dofs)
     if load is None or not load.force:
         return f
     if load.array == "load":
-        return boundary_load(
-            scene, data["load"]["body"], "top", scene.idealisation.cut_pressure(scene)
-        )
+        return boundary_load(scene, case.load.body, "top", scene.idealisation.cut_pressure(scene))
     if load.array == "bc":
-        bc = data["bc"][load.index]
-        return boundary_load(scene, bc["body"], bc_surface(bc), bc["pressure"], bc["traction"])
-    pl = data["point_load"][load.index]
-    candidates = [pl["body"]] if pl["body"] else scene.bodies
+        bc = case.bc[load.index]
+        return boundary_load(scene, bc.body, bc.boundary_tag, bc.pressure, bc.traction)
+    pl = case.point_load[load.index]
+    candidates = [pl.body] if pl.body else scene.bodies
     ids = np.concatenate(
         [np.arange(scene.meshes[b].n_nodes) + scene.offsets[b] for b in candidates]
     )
-    node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl["at"]), axis=1))]
+    node = ids[np.argmin(np.linalg.norm(scene.nodes[ids] - np.asarray(pl.at), axis=1))]
     weight = scene.idealisation.point_force_scale(scene.case)
-    f[d * node : d * node + d] += np.asarray(pl["force"]) * weight
+    f[d * node : d * node + d] += np.asarray(pl.force) * weight
     return f
 
 
@@ -98,15 +95,15 @@ def section_boundary_load(
     scene: Scene, segments: np.ndarray, pressure: float, traction
 ) -> np.ndarray:
     """:func:`edge_load` on a 2D scene's edge segments, with its thickness and plane."""
-    analysis = scene.case.data["analysis"]
+    analysis = scene.case.record.analysis
     return edge_load(
         scene.nodes,
         segments,
         len(scene.nodes),
-        analysis["thickness"],
+        analysis.thickness,
         pressure,
         traction,
-        plane=analysis["plane"],
+        plane=analysis.plane,
     )
 
 
@@ -118,9 +115,9 @@ def set_load_path(scene: Scene, path: LoadPath) -> None:
     scene.stage_names = list(path.stage_names)
     scene.n_stages = path.n_stages
     scene.factors = np.array(path.factors, dtype=np.float64)
-    contacts = scene.case.data["contact"]
+    contacts = scene.case.record.contact
     scene.motions = {
-        x.label: {"contact": x.index, "motion": list(contacts[x.index]["motion"])}
+        x.label: {"contact": x.index, "motion": list(contacts[x.index].motion_load)}
         for x in path.loads
         if x.array == "contact"
     }
@@ -128,8 +125,8 @@ def set_load_path(scene: Scene, path: LoadPath) -> None:
         scene.model["patterns"] = [load_pattern(scene, x, path.staged) for x in path.patterns]
     if path.staged:
         scene.model["stages"] = [
-            {"name": s["name"], "factors": np.array(row, dtype=np.float64)}
-            for s, row in zip(scene.case.data["stage"], path.factors[1:])
+            {"name": s.name, "factors": np.array(row, dtype=np.float64)}
+            for s, row in zip(scene.case.record.stage, path.factors[1:])
         ]
 
 
@@ -153,8 +150,8 @@ def hertz_cut_pressure(case: Case) -> float:
     length R (the other half is carried by the mirrored quarter).  In axisymmetry the quarter
     section is a hemisphere whose cut is the disc of radius R: q = P / (pi R^2) (a 3D sphere's
     cut: :func:`slipstep.loads.faces.sphere_cut_pressure`)."""
-    load = case.data["load"]
-    R = case.body(load["body"])["mesh"]["R"]
+    load = case.record.load
+    R = case.record.hertz_body.mesh["R"]
     if is_axisymmetric(case):
-        return load["P"] / (math.pi * R**2)
-    return load["P"] / (2.0 * R)
+        return load.P / (math.pi * R**2)
+    return load.P / (2.0 * R)

@@ -26,7 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contact.edges import contactor_edge, polyline_closest
+from ..case_record import NodeToNode
+from ..contact.edges import polyline_closest
 from ..output.history import event_times, final_time, load_factor, snapshot_time
 
 
@@ -50,22 +51,22 @@ def contact_axis(scene, index: int) -> tuple[np.ndarray, np.ndarray]:
     """(origin, tau) of [[contact]] ``index``: the point where s = 0 and the unit tangent there
     in the direction of increasing s (module docstring); s = (x - origin) . tau for a
     ``rigid_line`` and a ``node_to_node``."""
-    c = scene.case.data["contact"][index]
-    if c["kind"] == "rigid_circle":
+    c = scene.case.record.contact[index]
+    if c.kind == "rigid_circle":
         centre, u = _circle_reference(scene, index)
-        n = u if c["side"] == "outside" else -u  # the normal there, into the body
-        return centre + c["radius"] * u, np.array([n[1], -n[0]]) + 0.0
-    if c["kind"] == "rigid_polyline":
-        p = np.asarray(c["points"], dtype=float)
-        sign = 1.0 if c["side"] == "left" else -1.0
+        n = u if c.side == "outside" else -u  # the normal there, into the body
+        return centre + c.radius * u, np.array([n[1], -n[0]]) + 0.0
+    if c.kind == "rigid_polyline":
+        p = np.asarray(c.points, dtype=float)
+        sign = 1.0 if c.side == "left" else -1.0
         return p[0].copy(), sign * (p[1] - p[0]) / np.linalg.norm(p[1] - p[0]) + 0.0
-    if c["kind"] == "rigid_line":
-        n, origin = np.asarray(c["normal"], dtype=float), np.asarray(c["point"], dtype=float)
+    if c.kind == "rigid_line":
+        n, origin = np.asarray(c.normal, dtype=float), np.asarray(c.point, dtype=float)
     else:
         mine = scene.pair_contact == index
         n = (
-            np.asarray(c["normal"], dtype=float)
-            if c.get("normal") is not None
+            np.asarray(c.normal, dtype=float)
+            if isinstance(c, NodeToNode) and c.normal is not None
             else np.asarray(scene.model["pairs"]["normal"])[mine].sum(axis=0)
         )
         origin = np.zeros(2)
@@ -77,8 +78,8 @@ def contact_axis(scene, index: int) -> tuple[np.ndarray, np.ndarray]:
 def _circle_reference(scene, index: int) -> tuple[np.ndarray, np.ndarray]:
     """(centre, u) of a ``rigid_circle`` contact: u the unit direction from the centre to the
     node of its candidate pair with the smallest initial gap (the first of a tie), where s = 0."""
-    c = scene.case.data["contact"][index]
-    centre = np.asarray(c["centre"], dtype=float)
+    c = scene.case.record.contact[index]
+    centre = np.asarray(c.centre, dtype=float)
     mine = np.flatnonzero(scene.pair_contact == index)
     k = mine[np.argmin(np.asarray(scene.model["pairs"]["gap"])[mine])]
     v = scene.pair_xy[k] - centre
@@ -88,17 +89,15 @@ def _circle_reference(scene, index: int) -> tuple[np.ndarray, np.ndarray]:
 def contact_coordinate(scene, index: int, xy) -> np.ndarray:
     """s of the points ``xy`` (K, 2) along [[contact]] ``index`` (module docstring)."""
     xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-    c = scene.case.data["contact"][index]
-    if c["kind"] == "rigid_circle":
+    c = scene.case.record.contact[index]
+    if c.kind == "rigid_circle":
         centre, u = _circle_reference(scene, index)
         v = xy - centre
         theta = np.arctan2(u[0] * v[:, 1] - u[1] * v[:, 0], v @ u)  # counter-clockwise
-        return (-1.0 if c["side"] == "outside" else 1.0) * c["radius"] * theta + 0.0
-    if c["kind"] == "rigid_polyline":
-        sign = 1.0 if c["side"] == "left" else -1.0
-        return (
-            sign * polyline_closest(np.asarray(c["points"], dtype=float), c["side"], xy)["s"] + 0.0
-        )
+        return (-1.0 if c.side == "outside" else 1.0) * c.radius * theta + 0.0
+    if c.kind == "rigid_polyline":
+        sign = 1.0 if c.side == "left" else -1.0
+        return sign * polyline_closest(np.asarray(c.points, dtype=float), c.side, xy)["s"] + 0.0
     origin, tau = contact_axis(scene, index)
     return (xy - origin) @ tau
 
@@ -106,7 +105,7 @@ def contact_coordinate(scene, index: int, xy) -> np.ndarray:
 def pair_coordinate(scene) -> np.ndarray:
     """(P,) s of every candidate pair along its own contact (module docstring)."""
     s = np.zeros(len(scene.pair_xy))
-    for i in range(len(scene.case.data["contact"])):
+    for i in range(len(scene.case.record.contact)):
         mine = scene.pair_contact == i
         s[mine] = contact_coordinate(scene, i, scene.pair_xy[mine])
     return s
@@ -295,9 +294,9 @@ def reached_last_candidate(scene, snapshot) -> bool:
     unpaired nodes) has its last candidate on that side closed: the contact may be cut short."""
     status = np.asarray(snapshot["status"])
     s_pair = pair_coordinate(scene)
-    for i, c in enumerate(scene.case.data["contact"]):
+    for i, c in enumerate(scene.case.record.contact):
         mine = np.flatnonzero(scene.pair_contact == i)
-        edge = np.unique(scene.global_edge(*contactor_edge(c)))
+        edge = np.unique(scene.global_edge(*c.contactor))
         s_edge = contact_coordinate(scene, i, scene.nodes[edge])
         tol = 1e-9 * max(float(np.ptp(s_edge)), 1.0)  # round-off of the node coordinates
         for sign in (1.0, -1.0):
@@ -403,7 +402,7 @@ def force_displacement(scene, result) -> dict[str, dict]:
     which = np.asarray(scene.pair_contact, dtype=np.int64)
     for name, m in getattr(scene, "motions", {}).items():
         c, motion = int(m["contact"]), np.asarray(m["motion"], dtype=float)
-        if scene.case.data["contact"][c]["kind"] in ("rigid_circle", "rigid_polyline"):
+        if scene.case.record.contact[c].kind in ("rigid_circle", "rigid_polyline"):
             curve = _motion_curve(scene, result, c, motion, load_factor(scene, name, t))
             if curve is not None:
                 out[name] = {"t": t, **curve}

@@ -32,7 +32,6 @@ import math
 import numpy as np
 
 from .contact_edges import contactor_forces
-from ..contact.faces import contactor_face
 from ..mesh.tetrahedra import triangle_normals
 
 
@@ -120,21 +119,12 @@ def contact_profile_3d(scene, snapshot: dict) -> dict:
     return {k: (v if k == "pair" else np.asarray(v)[order]) for k, v in out.items()}
 
 
-def contact_bodies_3d(contact: dict) -> list[str]:
-    """The bodies a 3D [[contact]] touches, contactor first."""
-    return (
-        [contact["body_a"], contact["body_b"]]
-        if "body_a" in contact and contact.get("face_a")
-        else [contact["body"]]
-    )
-
-
 def mirror_planes(scene, index: int) -> list[tuple[int, float]]:
     """The symmetry planes (axis, value) the model of [[contact]] ``index`` is cut by: a plane
     x_axis = value that is a ``symmetry`` face of every body the contact touches, with the
     contact's candidates all on one side of it and some on it."""
     mine = scene.pair_xy[scene.pair_contact == index]
-    return mirror_planes_of(scene, contact_bodies_3d(scene.case.data["contact"][index]), mine)
+    return mirror_planes_of(scene, scene.case.record.contact[index].bodies, mine)
 
 
 def mirror_planes_of(scene, bodies, points: np.ndarray) -> list[tuple[int, float]]:
@@ -142,16 +132,15 @@ def mirror_planes_of(scene, bodies, points: np.ndarray) -> list[tuple[int, float
     ``symmetry`` face of each) with ``points`` all on one side of the plane and some on it: the
     planes across which the model's part of a contact, a load or a support is mirrored into the
     whole."""
-    data = scene.case.data
     mine = np.asarray(points, dtype=float).reshape(-1, 3)
     tol = 1e-9 * float(np.ptp(scene.nodes, axis=0).max())
     per_body = []
     for body in bodies:
         planes = set()
-        for bc in data["bc"]:
-            if not (bc["symmetry"] and bc["body"] == body):
+        for bc in scene.case.record.bc:
+            if not (bc.symmetry and bc.body == body):
                 continue
-            face = scene.nodes[np.unique(scene.global_boundary(body, bc["face"]))]
+            face = scene.nodes[np.unique(scene.global_boundary(body, bc.face))]
             axis = int(np.argmin(np.ptp(face, axis=0)))
             side = mine[:, axis] - face[0, axis]
             if ((side >= -tol).all() or (side <= tol).all()) and (np.abs(side) <= tol).any():
@@ -225,10 +214,10 @@ def zone_area(scene, index: int, chosen: np.ndarray) -> float:
     (``node_to_surface``) the area of the contactor face's triangles with a chosen row's node
     at a corner, else the sum of the chosen pairs' tributary areas ``scene.pair_area``."""
     mine = np.flatnonzero(scene.pair_contact == index)
-    contact = scene.case.data["contact"][index]
-    if contact["kind"] != "node_to_surface":
+    contact = scene.case.record.contact[index]
+    if contact.kind != "node_to_surface":
         return float(scene.pair_area[mine][chosen].sum())
-    face = scene.global_boundary(*contactor_face(contact))
+    face = scene.global_boundary(*contact.contactor)
     on = np.zeros(len(scene.nodes), dtype=bool)
     on[scene.model["pairs"]["node_a"][mine][chosen]] = True
     _, area = triangle_normals(scene.nodes, face)
@@ -315,7 +304,7 @@ def pressure_line(scene, snapshot: dict, index: int, samples: int = 201) -> dict
     nodal[prof["node_a"][mine]] = prof["pressure"][mine]
     origin = pressure_centre(scene, prof, index)
     n, e1, e2 = contact_frame(scene, index)
-    face = scene.global_boundary(*contactor_face(scene.case.data["contact"][index]))
+    face = scene.global_boundary(*scene.case.record.contact[index].contactor)
     face = face[np.isin(face, prof["node_a"][mine]).any(axis=1)]
     plane = (scene.nodes - origin) @ np.stack([e1, e2]).T
     along = plane[np.unique(face), 0]
@@ -346,9 +335,9 @@ def reached_window_edge(scene, snapshot: dict) -> bool:
     on their border, a candidate sharing a face triangle with a node that is none: the contact
     may extend beyond the candidates."""
     status, node_a = np.asarray(snapshot["status"]), scene.model["pairs"]["node_a"]
-    for i, c in enumerate(scene.case.data["contact"]):
+    for i, c in enumerate(scene.case.record.contact):
         mine = np.flatnonzero(scene.pair_contact == i)
-        face = scene.global_boundary(*contactor_face(c))
+        face = scene.global_boundary(*c.contactor)
         inside = np.isin(face, node_a[mine])
         border = face[inside.any(axis=1) & ~inside.all(axis=1)][
             inside[inside.any(axis=1) & ~inside.all(axis=1)]

@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..case_record import RigidCircle, RigidSphere, RigidSurface
 from ..output.history import load_factor, snapshot_time
 from ..loads.supports import support_groups
 
@@ -496,19 +497,19 @@ def indenter_shape(scene, index: int) -> tuple[str, float | None] | None:
     (:mod:`slipstep.measures.indentation`): a ``rigid_surface`` Vickers or Berkovich pyramid, a
     ``rigid_sphere`` (3D) or, in axisymmetry, a ``rigid_circle`` centred on the axis, with the
     body outside; None for any other obstacle."""
-    c = scene.case.data["contact"][index]
-    if c["kind"] == "rigid_surface" and c.get("indenter") in ("vickers", "berkovich"):
-        return c["indenter"], None
-    if c.get("side", "outside") != "outside":
+    c = scene.case.record.contact[index]
+    if isinstance(c, RigidSurface) and c.indenter in ("vickers", "berkovich"):
+        return c.indenter, None
+    if getattr(c, "side", "outside") != "outside":  # (a kind without a side: outside)
         return None
-    if c["kind"] == "rigid_sphere":
-        return "sphere", float(c["radius"])
+    if isinstance(c, RigidSphere):
+        return "sphere", float(c.radius)
     if (
-        c["kind"] == "rigid_circle"
+        isinstance(c, RigidCircle)
         and scene.model.get("plane") == "axisymmetric"
-        and abs(c["centre"][0]) <= 1e-12 * max(1.0, abs(c["radius"]))
+        and abs(c.centre[0]) <= 1e-12 * max(1.0, abs(c.radius))
     ):
-        return "sphere", float(c["radius"])
+        return "sphere", float(c.radius)
     return None
 
 

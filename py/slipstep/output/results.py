@@ -36,9 +36,9 @@ def write_results(
         raise InputError(
             f"{out}: cannot write the results there ({why}): choose another " f"--out folder"
         ) from None
-    options = scene.case.data["output"]
-    figures = options["figures"] if figures is None else figures
-    xdmf = options["xdmf"] if xdmf is None else xdmf
+    options = scene.case.record.output
+    figures = options.figures if figures is None else figures
+    xdmf = options.xdmf if xdmf is None else xdmf
     stage = out / f".partial-{os.getpid()}"
     if stage.exists():
         shutil.rmtree(stage)

@@ -80,7 +80,7 @@ def requested(case, bytes_per_step: float | None = None):
     """What the run asks the engine for: ``"events"`` or a list of path times (the stage ends
     are added by :func:`slipstep.options.solver_options`).  ``"auto"`` in 3D needs the size of a
     step (:func:`step_bytes`)."""
-    snaps = case.data["output"]["snapshots"]
+    snaps = case.record.output.snapshots
     if snaps != "auto":
         return snaps
     if terms_of(case.dimension).auto_snapshots == "events":

@@ -14,7 +14,6 @@ import math
 
 import numpy as np
 
-from ..contact.edges import contact_bodies
 from ..measures.contact_edges import (
     closed_extent,
     contact_axis,
@@ -55,16 +54,16 @@ def half_model_side(scene, index: int) -> int:
     to the contact surface and through its origin): a [[bc]] symmetry edge, or in axisymmetry
     its nodes on the axis x = 0 (then s = r and the half width is the contact radius); and
     every candidate pair lies at s >= 0 (or s <= 0); else 0."""
-    case = scene.case
+    case = scene.case.record
     origin, tau = contact_axis(scene, index)
     tol = 1e-9 * float(np.ptp(scene.nodes, axis=0).max())  # round-off of the node coordinates
-    for body in contact_bodies(case.data["contact"][index]):
+    for body in case.contact[index].bodies:
         mirrors = [
-            np.unique(scene.global_edge(body, bc["edge"]))
-            for bc in case.data["bc"]
-            if bc["symmetry"] and bc["body"] == body
+            np.unique(scene.global_edge(body, bc.edge))
+            for bc in case.bc
+            if bc.symmetry and bc.body == body
         ]
-        if is_axisymmetric(case):
+        if is_axisymmetric(scene.case):
             mirrors.append(_axis_nodes(scene, body))
         on_line = [
             len(ids) and np.abs((scene.nodes[ids] - origin) @ tau).max() <= tol for ids in mirrors
@@ -81,7 +80,7 @@ def half_model_side(scene, index: int) -> int:
 
 def half_model_sides(scene) -> list[int]:
     """:func:`half_model_side` of every [[contact]]."""
-    return [half_model_side(scene, i) for i in range(len(scene.case.data["contact"]))]
+    return [half_model_side(scene, i) for i in range(len(scene.case.record.contact))]
 
 
 def _axis_nodes(scene, body: str) -> np.ndarray:
@@ -113,7 +112,7 @@ def contact_summaries(scene, result, snapshot: dict, sides: list[int]) -> dict[s
         closed = closed_extent(s, status, last[mine], upcoming[mine], f)
         origin, tau = contact_axis(scene, i)
         out[name] = {
-            "kind": scene.case.data["contact"][i]["kind"],
+            "kind": scene.case.record.contact[i].kind,
             "origin": origin.tolist(),
             "tangent": tau.tolist(),
             "half_model": sides[i] != 0,
@@ -374,12 +373,12 @@ def johnson_first_yield(scene) -> float | None:
     ref = scene.reference
     if not ref:
         return None
-    material = scene.case.body(scene.case.data["load"]["body"])["material"]
-    sy = material["Sy"]
+    material = scene.case.record.hertz_body.material
+    sy = material.Sy
     if sy is None:
         return None
     if ref.get("contact") == "sphere":
-        return (sy / sphere_axis_yield(material["nu"])[0] / ref["p0_hertz"]) ** 3
+        return (sy / sphere_axis_yield(material.nu)[0] / ref["p0_hertz"]) ** 3
     return (JOHNSON_LINE_YIELD * sy / ref["p0_hertz"]) ** 2
 
 
@@ -405,7 +404,7 @@ def _hertz_numbers(scene, summary: dict, f: float) -> dict:
         f_fe = summary.get("first_yield_load_fraction")
         ref["first_yield_rel_error"] = None if f_fe is None else f_fe / f_johnson - 1.0
         if ref.get("contact") == "sphere":
-            nu = scene.case.body(scene.case.data["load"]["body"])["material"]["nu"]
+            nu = scene.case.record.hertz_body.material.nu
             depth = sphere_axis_yield(nu)[1] * ref["a_hertz"] * f_johnson ** (1.0 / 3.0)
             ref["first_yield_depth_huber"] = depth
     return ref
@@ -464,7 +463,7 @@ def summarize(scene, result, wall_time_s: float = float("nan")) -> dict:
         "n_elements": int(len(scene.elements)),
         "n_dofs": int(scene.n_dofs),
         "n_pairs": int(len(model["pairs"]["node_a"])),
-        "frictionless": all(c["mu"] == 0.0 for c in scene.case.data["contact"]),
+        "frictionless": scene.case.record.frictionless,
         "n_factorizations": int(result.get("n_factorizations", 0)),
         "n_factor_builds": int(result.get("n_factor_builds", 0)),
         "n_solves": int(result.get("n_solves", 0)),

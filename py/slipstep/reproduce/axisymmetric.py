@@ -73,7 +73,7 @@ def _task(cid: str, case: str, overrides, **options) -> dict:
 def _flat_mesh(scale: float) -> list[str]:
     from ..case import load_case
 
-    mesh = load_case(_case(SPHERE_FLAT)).data["body"][0]["mesh"]
+    mesh = load_case(_case(SPHERE_FLAT)).record.body[0].mesh
     return [
         f"mesh.h_contact={mesh['h_contact'] * scale:g}",
         f"mesh.growth={mesh['growth'] * scale:g}",
@@ -101,10 +101,10 @@ class ThickSphere:
 def thick_sphere() -> ThickSphere:
     from ..case import load_case
 
-    data = load_case(_case(THICK)).data
-    mesh, mat = data["body"][0]["mesh"], data["body"][0]["material"]
-    p = next(bc["pressure"] for bc in data["bc"] if bc["edge"] == "inner")
-    return ThickSphere(mesh["a"], mesh["b"], mat["Sy"], p)
+    case = load_case(_case(THICK)).record
+    mesh, mat = case.body[0].mesh, case.body[0].material
+    p = next(bc.pressure for bc in case.bc if bc.edge == "inner")
+    return ThickSphere(mesh["a"], mesh["b"], mat.Sy, p)
 
 
 def tasks(m: Meshes) -> list[dict]:
@@ -245,18 +245,18 @@ def sphere_flat_numbers(folder: Path, m: Meshes) -> dict:
     deviations from the fits over 1 <= w <= 50."""
     from ..case import load_case
 
-    data = load_case(_case(SPHERE_FLAT)).data
-    mat, R = data["body"][0]["material"], data["body"][0]["mesh"]["R"]
-    omega_max = data["contact"][0]["motion"][1]
-    E_star = mat["E"] / (1.0 - mat["nu"] ** 2)
+    case = load_case(_case(SPHERE_FLAT)).record
+    mat, R = case.body[0].material, case.body[0].mesh["R"]
+    omega_max = case.contact[0].motion[1]
+    E_star = mat.E / (1.0 - mat.nu**2)
     fits = {
-        "KE": (kogut_etsion_critical(R, E_star, mat["Sy"], mat["nu"]), kogut_etsion),
+        "KE": (kogut_etsion_critical(R, E_star, mat.Sy, mat.nu), kogut_etsion),
         "JG": (
-            jackson_green_critical(R, E_star, mat["Sy"], mat["nu"]),
-            lambda w: jackson_green(w, R, E_star, mat["Sy"], mat["nu"]),
+            jackson_green_critical(R, E_star, mat.Sy, mat.nu),
+            lambda w: jackson_green(w, R, E_star, mat.Sy, mat.nu),
         ),
     }
-    out = {"E": mat["E"], "nu": mat["nu"], "Y": mat["Sy"], "R": R, "meshes": []}
+    out = {"E": mat.E, "nu": mat.nu, "Y": mat.Sy, "R": R, "meshes": []}
     for i, (label, _) in enumerate(m.sphere_flat):
         s, d = _run(folder, f"axi_sphere_flat_{i}")
         omega, a, P = closure_curve(d, omega_max)

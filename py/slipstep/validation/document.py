@@ -8,6 +8,7 @@ from __future__ import annotations
 import copy
 import math
 
+from ..case_record import CaseRecord
 from ..errors import CaseError
 from ..loads.path import load_path
 from ..overrides import element_prefix
@@ -328,7 +329,8 @@ class Validator:
             for i, s in enumerate(stages)
         ]
         self.stage_names(data["stage"])
-        n_stages = load_path(data, self.source).n_stages  # checks loads, names and factors
+        path = load_path(CaseRecord.of(data), self.source)  # checks loads, names and factors
+        n_stages = path.n_stages
         snaps = data["output"]["snapshots"]
         reason = check_snapshot_times(snaps, n_stages) if isinstance(snaps, list) else None
         if reason:

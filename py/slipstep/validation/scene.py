@@ -8,7 +8,6 @@ import numpy as np
 
 from ..case import Case
 from ..errors import CaseError
-from ..schema import contact_tags
 from ..scene import Scene
 from ..section import AXIS_TOLERANCE, is_axisymmetric
 from ..toml_writing import point_text
@@ -17,17 +16,17 @@ from ..toml_writing import point_text
 def check_file_mesh_tags(case: Case, body_meshes: dict, surface: str) -> None:
     """Edge tags (3D: face tags; ``surface``: "edge" or "face") of file meshes are only known
     now: check the BCs and contacts that use them."""
-    data = case.data
+    bcs, contacts = case.record.bc, case.record.contact
     uses = []  # (key, body, tag)
-    for i, bc in enumerate(data["bc"]):
-        k = "bc." if len(data["bc"]) == 1 else f"bc.{i}."
-        if bc[surface]:
-            uses.append((k + surface, bc["body"], bc[surface], "tags"))
-        if bc["nodes"]:
-            uses.append((k + "nodes", bc["body"], bc["nodes"], "node_sets"))
-    for i, c in enumerate(data["contact"]):
-        k = "contact." if len(data["contact"]) == 1 else f"contact.{i}."
-        uses += [(k + key, body, tag, "tags") for key, body, tag in contact_tags(c)]
+    for i, bc in enumerate(bcs):
+        k = "bc." if len(bcs) == 1 else f"bc.{i}."
+        if getattr(bc, surface):
+            uses.append((k + surface, bc.body, getattr(bc, surface), "tags"))
+        if bc.nodes:
+            uses.append((k + "nodes", bc.body, bc.nodes, "node_sets"))
+    for i, c in enumerate(contacts):
+        k = "contact." if len(contacts) == 1 else f"contact.{i}."
+        uses += [(k + key, body, tag, "tags") for key, body, tag in c.surfaces]
     for key, body, tag, kind in uses:
         known = getattr(body_meshes[body], kind)
         if tag not in known:
@@ -108,7 +107,7 @@ def check_pairs_not_held(scene: Scene) -> None:
         k = int(np.argmin(free))
         i = int(pairs["node_a"][k])
         c = int(scene.pair_contact[k])
-        key = "contact" if len(scene.case.data["contact"]) == 1 else f"contact.{c}"
+        key = "contact" if len(scene.case.record.contact) == 1 else f"contact.{c}"
         raise scene.case.error(
             key,
             f"node {i} {point_text(scene.nodes[i])} is held by supports "
@@ -126,14 +125,14 @@ def check_stick_on_half_held(scene: Scene) -> None:
     held component (the engine's tolerance 1e-12; the normal entirely held is refused above).
     Refused with the fix (the rigid line's fixed normal is the user's, and is left to the
     engine)."""
-    pairs, contacts = scene.model["pairs"], scene.case.data["contact"]
+    pairs, contacts = scene.model["pairs"], scene.case.record.contact
     fixed = np.zeros(2 * len(scene.nodes), dtype=bool)
     fixed[scene.model["fixed_dofs"]] = True
     for p in scene.prescribed.values():
         fixed[p["dofs"]] = True
     a, n = np.asarray(pairs["node_a"]), np.asarray(pairs["normal"])
     curved = np.isin(
-        np.array([c["kind"] for c in contacts] or [""])[scene.pair_contact],
+        np.array([c.kind for c in contacts] or [""])[scene.pair_contact],
         ("rigid_circle", "rigid_polyline"),
     )
     held_x, held_y = fixed[2 * a], fixed[2 * a + 1]
