@@ -36,6 +36,9 @@ pub struct DofMap {
     pub dof_of_equation: Vec<usize>,
     /// DOFs per node (messages name the node and component).
     pub dim: usize,
+    /// The order's separators are surfaces (`Dim::WIDE_SEPARATORS`): its large dense
+    /// supernodes make a large factorization pay for threads.
+    pub wide_separators: bool,
 }
 
 impl DofMap {
@@ -67,7 +70,7 @@ impl DofMap {
                 dof_of_equation[*i] = d;
             }
         }
-        DofMap { role, n_equations, dof_of_equation, dim: 2 }
+        DofMap { role, n_equations, dof_of_equation, dim: 2, wide_separators: false }
     }
 
     pub fn equation(&self, dof: usize) -> Option<usize> {
@@ -148,7 +151,7 @@ impl DofMap {
         let mut node_is_trailing = vec![false; n_nodes];
         trailing.iter().for_each(|&d| node_is_trailing[d / dim] = true);
         // (Plane and axisymmetric: the trailing nodes joined into a clique, their DOFs all last.)
-        let planar = dim == 2;
+        let clique = <E::Space as Dim>::TRAILING_CLIQUE;
         let dissected = matches!(how, NodeOrder::NestedDissection(_));
         let in_graph =
             |n: usize| node_dofs(n).any(|d| is_equation(d) && !(dissected && is_trailing[d]));
@@ -166,7 +169,7 @@ impl DofMap {
         }
         let ends: Vec<usize> = graph_nodes
             .iter()
-            .filter(|&&n| planar && node_is_trailing[n])
+            .filter(|&&n| clique && node_is_trailing[n])
             .map(|&n| index[n])
             .collect();
         for (k, &a) in ends.iter().enumerate() {
@@ -184,12 +187,12 @@ impl DofMap {
         let leading_dofs = order
             .iter()
             .map(|&i| graph_nodes[i])
-            .filter(|&n| !(planar && node_is_trailing[n]))
+            .filter(|&n| !(clique && node_is_trailing[n]))
             .flat_map(node_dofs)
             .filter(|&d| !is_trailing[d]);
         // (A node left out of the dissection's graph has no equation but its trailing ones.)
         let rest = (0..n_nodes)
-            .filter(|&n| planar && node_is_trailing[n])
+            .filter(|&n| clique && node_is_trailing[n])
             .flat_map(node_dofs)
             .filter(|&d| !is_trailing[d]);
         let mut n_equations = 0;
@@ -201,7 +204,8 @@ impl DofMap {
                 bail!(Internal, "internal: trailing DOF {d} is not an equation");
             }
         }
-        Ok(DofMap { dim, ..DofMap::with_roles(role, n_equations) })
+        let wide_separators = <E::Space as Dim>::WIDE_SEPARATORS;
+        Ok(DofMap { dim, wide_separators, ..DofMap::with_roles(role, n_equations) })
     }
 }
 

@@ -724,7 +724,7 @@ impl<D: Dim> RateProblem<'_, D> {
                     let rates: Vec<f64> = f.slips.iter().map(|&s| y[s]).collect();
                     if rates.iter().fold(0.0f64, |a, &r| a.max(r)) <= SLIP_RATE * scale {
                         Status::Stick
-                    } else if self.p.pairs[p].tangents.len() == 1 {
+                    } else if self.p.pairs[p].slips_along_a_line() {
                         // along its one tangent, in the sense of the faster of its two sides
                         Status::Slip { direction: if rates[0] >= rates[1] { 1 } else { -1 } }
                     } else {
