@@ -25,8 +25,8 @@
 //! 1/cos(π/4) − 1 = 41 %, and its sides are wider than the facet design's band, so a pair the
 //! solution sticks beyond the round cone, or slips with a force across its slip beyond the
 //! band, gets the sides of the polygon laid about its direction and the problem is solved
-//! again (`rate_problem`'s `stuck_beyond_round_cone`, `stray_slips`): only where the solution needs them. With
-//! twelve sides (3.5 % at the corners, 14 unknowns per pair) the pad of issue 37, 258 pairs at
+//! again (`rate_problem`'s `stuck_beyond_round_cone`, `stray_slips`): only where the
+//! solution needs them. With twelve sides (3.5 % at the corners, 14 unknowns per pair) the pad of issue 37, 258 pairs at
 //! zero gap and force at t = 0, made LCPs of 3354 unknowns (~40 s each on this machine); with
 //! the square, 1290–1587 (2.4–4.2 s), the same statuses after the passes (144 stuck, 62
 //! slipping against 143/63: one pair of the solution's 258 at its cone's edge).
@@ -56,7 +56,7 @@ use crate::coulomb::Coulomb;
 
 /// Sides of the polygon about the round Coulomb cone of a pair at zero force in the 3D rate
 /// problem (see the module documentation): a square, refined where the solution needs it.
-pub(super) const FACETS: usize = 4;
+const FACETS: usize = 4;
 /// Two sides' normals are adjacent on a polygon when their dot product is within this of
 /// cos 2θ (round-off of a sine and cosine).
 const SAME_SIDE: f64 = 1e-9;
@@ -101,11 +101,11 @@ pub(super) fn facets(
 }
 
 /// The outward normals of a pair's cone facets in its tangential coordinates (friction force
-/// `lt`): along one tangent its two sides −t, +t (exact); in the plane the sides of the polygon
-/// it slips on (`polygon`: `coulomb`), or for a pair on the round cone `FACETS` sides of the
-/// polygon circumscribed about it, the first along its friction force (or `held`, the held
-/// slip direction of a slipping pair at zero force; t1 at zero force), so that a pair on the
-/// cone is on it, and the facets `laid` about its stray slips.
+/// `lt`): along one tangent its two sides −t, +t (exact); in its tangent plane the sides of
+/// the polygon it slips on (`polygon`: `coulomb`), or for a pair on the round cone `FACETS`
+/// sides of the polygon circumscribed about it, the first along its friction force (at zero
+/// force along `held`, the held slip direction of a slipping pair, else t1), so that a pair on
+/// the cone is on it, and the facets `laid` about its stray slips.
 pub(super) fn directions(
     law: &Coulomb,
     lt: &[f64],

@@ -62,10 +62,10 @@ pub(super) fn hold<D: Dim>(
 /// rank; else name the body, its free motion and why (a missing support, gross sliding).
 /// `mode_rhs`: the small system's rigid-body rows −Nᵀ r; `closed_normals`: the pairs of its
 /// normal rows.
-/// Returns the idle free motions (where slips turn, `Dim::SLIP_TURNS`), over all modes: unresisted, but neither loaded nor
-/// moved by any force of the system (a pressed body turning about the normal while its pairs,
-/// all slipping at zero force, have no direction yet to hold it by): the caller holds them
-/// still (α along them = 0), as nothing drives them.
+/// Returns the idle free motions where slips turn (`Dim::SLIP_TURNS`), over all modes:
+/// unresisted, but neither loaded nor moved by any force of the system (a pressed body turning
+/// about the normal while its pairs, all slipping at zero force, have no direction yet to hold
+/// it by): the caller holds them still (α along them = 0), as nothing drives them.
 pub(super) fn check_restrained<D: Dim>(
     problem: &Problem<D>,
     loads: &StageLoads,
