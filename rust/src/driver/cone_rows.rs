@@ -274,3 +274,81 @@ pub(super) fn norm(v: &[f64]) -> f64 {
         _ => v.iter().map(|x| x * x).sum::<f64>().sqrt(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ROUND_OFF: f64 = 1e-12;
+
+    fn close(a: [f64; 2], b: [f64; 2]) -> bool {
+        (a[0] - b[0]).abs() < ROUND_OFF && (a[1] - b[1]).abs() < ROUND_OFF
+    }
+
+    /// A force on the round cone (μλn = 1 along (0.6, 0.8)) is on the first side of the square
+    /// turned to it, and in space that side alone is an unknown; in the plane, on the side −t,
+    /// both sides are, the other with its slack μλn + λt = 2.
+    #[test]
+    fn only_the_sides_a_force_is_on_are_unknowns_in_space() {
+        let (law, tol) = (Coulomb::new(0.5, 0.1), 1e-12);
+        let lt = [0.6, 0.8];
+        let sides = directions(&law, &lt, None, None, &[], tol);
+        assert_eq!(sides.len(), FACETS);
+        assert!(close([sides[0][0], sides[0][1]], lt));
+        let on = facets(&law, (2.0, &lt), sides, tol);
+        assert!(on.len() == 1 && on[0].off.is_none() && close([on[0].dir[0], on[0].dir[1]], lt));
+        let line =
+            facets(&law, (2.0, &[-1.0]), directions(&law, &[-1.0], None, None, &[], tol), tol);
+        assert!(line[0] == Facet { dir: vec![-1.0], off: None });
+        assert!(line[1].dir == [1.0] && (line[1].off.unwrap() - 2.0).abs() < ROUND_OFF);
+    }
+
+    /// The solved slip rates read back: no rate above the noise sticks; along a line the pair
+    /// slips in the sense of its faster side; in the tangent plane on the one side that slips,
+    /// at the vertex between two adjacent sides of its polygon (e turned by θ), and at a corner
+    /// of the wider square along Σ v_j d_j (against its slip).
+    #[test]
+    fn the_solved_rates_give_the_status_and_where_the_pair_slips() {
+        let (law, noise) = (Coulomb::new(0.3, 0.1), 1e-12);
+        let line = [Facet { dir: vec![-1.0], off: None }, Facet { dir: vec![1.0], off: None }];
+        let status = |rates: &[f64]| slip_status(&law, true, &[0], (&line, false), rates, noise);
+        assert_eq!(status(&[0.0, 1e-13]), (Status::Stick, None));
+        assert_eq!(status(&[0.0, 2.0]), (Status::Slip { direction: -1 }, None));
+        assert_eq!(status(&[2.0, 1.0]), (Status::Slip { direction: 1 }, None));
+        let e = [0.6, 0.8];
+        let own: Vec<Facet> =
+            law.polygon(e, false).map(|d| Facet { dir: d.to_vec(), off: None }).collect();
+        let mut rates = vec![0.0; own.len()];
+        rates[2] = 1.0;
+        let (_, placed) = slip_status(&law, false, &[0, 1], (&own, true), &rates, noise);
+        let (d, vertex) = placed.expect("it slips in its tangent plane");
+        assert!(!vertex && close(d, [own[2].dir[0], own[2].dir[1]]));
+        (rates[0], rates[1], rates[2]) = (1.0, 0.5, 0.0);
+        let (d, vertex) = slip_status(&law, false, &[0, 1], (&own, true), &rates, noise).1.unwrap();
+        assert!(vertex && close(d, law.vertex_of(e, 1.0)));
+        let square: Vec<Facet> = directions(&law, &[1.0, 0.0], None, None, &[], noise)
+            .into_iter()
+            .map(|dir| Facet { dir, off: None })
+            .collect();
+        let (d, vertex) =
+            slip_status(&law, false, &[0, 1], (&square, false), &[3.0, 4.0, 0.0, 0.0], noise)
+                .1
+                .unwrap();
+        assert!(!vertex && close(d, [0.6, 0.8]), "{d:?}");
+    }
+
+    /// The checks of the facet passes: a force beyond the round cone (not one on it) gives its
+    /// direction; a force across the slip direction beyond tan θ μΛn (not one within) is
+    /// beyond the band.
+    #[test]
+    fn the_passes_find_forces_beyond_the_round_cone_and_the_band() {
+        let (law, tol) = (Coulomb::new(0.5, 0.1), 1e-12);
+        assert_eq!(beyond_round_cone(&law, (2.0, &[0.6, 0.8]), tol), None);
+        let d = beyond_round_cone(&law, (2.0, &[0.606, 0.808]), tol).expect("beyond");
+        assert!(close(d, [0.6, 0.8]));
+        let band = law.cross_bound(2.0);
+        let e = [1.0, 0.0];
+        assert!(!beyond_band(&law, e, (2.0, &[1.0, 0.9 * band]), tol));
+        assert!(beyond_band(&law, e, (2.0, &[1.0, -1.1 * band]), tol));
+    }
+}
