@@ -358,19 +358,7 @@ impl<D: Dim> Restraint<'_, D> {
                 continue;
             }
             let words: Vec<String> = free.iter().map(|v| self.describe_motion(&idx, v)).collect();
-            // in the plane a slipping pair's one tangent, held or not; in space the free ones
-            let tangents = |p: usize| {
-                let pair = &self.p.pairs[p];
-                match pair.tangents.as_slice() {
-                    [t] => vec![&t.w],
-                    _ => pair.free_tangents().map(|(_, t)| &t.w).collect(),
-                }
-            };
-            let slip_rows: Vec<Vec<f64>> = self
-                .slipping_pairs_of(body, state)
-                .flat_map(tangents)
-                .map(|w| idx.iter().map(|&k| w.dot(&self.p.bodies.mode_vectors[k])).collect())
-                .collect();
+            let slip_rows = self.slip_rows(state, body, &idx);
             let held_if_stuck = !slip_rows.is_empty()
                 && free_motions(&[rows_n.as_slice(), slip_rows.as_slice()].concat(), idx.len())
                     .is_empty();
@@ -398,6 +386,22 @@ impl<D: Dim> Restraint<'_, D> {
             bail!(FreeBody, "{name} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", words.join("; "));
         }
         Ok(idle)
+    }
+
+    /// The rows w_t·N_k (k in `idx`) of the tangents of the body's slipping pairs: in the plane
+    /// a pair's one tangent, held or not; in space its free ones.
+    fn slip_rows(&self, state: &State<D>, body: usize, idx: &[usize]) -> Vec<Vec<f64>> {
+        let tangents = |p: usize| {
+            let pair = &self.p.pairs[p];
+            match pair.tangents.as_slice() {
+                [t] => vec![&t.w],
+                _ => pair.free_tangents().map(|(_, t)| &t.w).collect(),
+            }
+        };
+        self.slipping_pairs_of(body, state)
+            .flat_map(tangents)
+            .map(|w| idx.iter().map(|&k| w.dot(&self.p.bodies.mode_vectors[k])).collect())
+            .collect()
     }
 
     /// Whether a free motion `v` of the body's modes `idx` is idle: no load along it (−Nᵀ r
