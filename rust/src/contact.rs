@@ -411,6 +411,12 @@ impl Pair {
         std::iter::once(&self.w_n).chain(self.tangents[..rows].iter().map(|t| &t.w)).collect()
     }
 
+    /// Its frame has one tangent (the plane): a slip is along ±t, its sense all there is to its
+    /// direction (eq. 41).
+    pub fn slips_along_a_line(&self) -> bool {
+        self.tangents.len() == 1
+    }
+
     /// Both tangents free (neither held by the supports): friction acts in the whole tangent
     /// plane, on the round cone and its facets. Never in 2D, whose frame has one tangent (the
     /// second counts as held).

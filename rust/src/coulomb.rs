@@ -316,6 +316,28 @@ impl Coulomb {
     }
 }
 
+/// The friction of a body's closed pairs taken together, for its check of gross sliding
+/// (`driver::restraint`): their mean coefficient μ̄, each pair counted once. Its capacity μ̄ N
+/// under the body's normal load N is the pairs' Σ μ λ_n when they share μ (Σ λ_n = N); with
+/// different coefficients it weights each pair alike, not by its λ_n: an estimate.
+#[derive(Debug, Clone, Copy)]
+pub struct MeanCoulomb {
+    pub mu: f64,
+}
+
+impl MeanCoulomb {
+    /// μ̄ of `laws` (0 with none).
+    pub fn of<'a>(laws: impl ExactSizeIterator<Item = &'a Coulomb>) -> Self {
+        let n = laws.len();
+        MeanCoulomb { mu: laws.map(|law| law.mu).sum::<f64>() / n.max(1) as f64 }
+    }
+
+    /// μ̄ N: the tangential load the pairs hold together under the normal load N ≥ 0.
+    pub fn capacity(&self, normal_load: f64) -> f64 {
+        self.mu * normal_load
+    }
+}
+
 /// θ = π/N for the smallest even N ≥ 4 with π/N ≤ `slip_turn` (0: the plane, no polygon).
 fn polygon_half_angle(slip_turn: f64) -> f64 {
     if slip_turn <= 0.0 {
@@ -352,6 +374,20 @@ mod tests {
             assert_eq!(law.on_facet(ln, [0.6, 0.8], [0.2, -0.4], true), [0.0, 0.0]);
             assert_eq!(law.vertex_force(ln, [0.6, 0.8]), [0.0, 0.0]);
         }
+    }
+
+    /// The pairs' mean law: μ̄ N is Σ μ λ_n when they share μ (normal forces summing to N),
+    /// the mean of their μ otherwise, and nothing without pairs.
+    #[test]
+    fn the_mean_law_holds_what_its_pairs_hold_together() {
+        let same = [Coulomb::new(0.3, 0.1); 3];
+        let lambda_n = [1.0, 2.5, 0.5];
+        let together: f64 = same.iter().zip(lambda_n).map(|(law, ln)| law.capacity(ln)).sum();
+        let n: f64 = lambda_n.iter().sum();
+        assert!((MeanCoulomb::of(same.iter()).capacity(n) - together).abs() < ROUND_OFF * n);
+        let mixed = [Coulomb::new(0.2, 0.1), Coulomb::new(0.6, 0.1)];
+        assert!((MeanCoulomb::of(mixed.iter()).mu - 0.4).abs() < ROUND_OFF);
+        assert_eq!(MeanCoulomb::of([].iter()).capacity(5.0), 0.0);
     }
 
     /// The polygon: N even sides, θ = π/N ≤ slip_turn, so that a reversed side is a side.

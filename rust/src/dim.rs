@@ -19,6 +19,24 @@ pub trait Dim: Copy + Clone + Debug + Default + Send + Sync + 'static {
     /// Elementary rigid motions of a body: translations, then rotations (3 in the plane, 6 in
     /// space).
     const RIGID_MODES: usize;
+    /// A slip's direction turns in the contact's tangent plane (space), rather than being one
+    /// of ±t along its one tangent (the plane, eq. 41).
+    const SLIP_TURNS: bool;
+    /// A body can turn about a contact's normal, a motion only friction resists (space; the
+    /// plane's one rotation is about its own normal, resisted by the normal forces).
+    const TURNS_ABOUT_A_NORMAL: bool;
+    /// An obstacle's motion counts in the force scale once per contact surface, as one punch
+    /// (space: E |Δc| ℓ), rather than per pair (the plane: E t |Δc|, as its histories have it;
+    /// `driver::problem`'s `motion_forces`).
+    const OBSTACLE_FORCE_PER_SURFACE: bool;
+    /// The nodes with a trailing (contact) DOF are joined into a clique and end the factor with
+    /// all their DOFs (the plane), rather than their trailing DOFs alone (space, where their
+    /// other DOFs would triple the dense last block; `linalg::DofMap::ordered`).
+    const TRAILING_CLIQUE: bool;
+    /// A fill-reducing order's separators are surfaces (space), not lines (the plane): its
+    /// dense supernodes are large, and a large factorization runs on every thread
+    /// (`factor::faer_llt`).
+    const WIDE_SEPARATORS: bool;
     /// A node's coordinates.
     type Point: Copy + Debug + Send + Sync + AsRef<[f64]>;
     /// An element's nodes: a triangle, counter-clockwise, or a tetrahedron, positively oriented.
@@ -118,6 +136,11 @@ pub struct PlaneSection {
 impl Dim for Planar {
     const N: usize = 2;
     const RIGID_MODES: usize = 3;
+    const SLIP_TURNS: bool = false;
+    const TURNS_ABOUT_A_NORMAL: bool = false;
+    const OBSTACLE_FORCE_PER_SURFACE: bool = false;
+    const TRAILING_CLIQUE: bool = true;
+    const WIDE_SEPARATORS: bool = false;
     type Point = [f64; 2];
     type Cell = [usize; 3];
     type Section = PlaneSection;
@@ -155,6 +178,11 @@ impl Dim for Planar {
 impl Dim for Spatial {
     const N: usize = 3;
     const RIGID_MODES: usize = 6;
+    const SLIP_TURNS: bool = true;
+    const TURNS_ABOUT_A_NORMAL: bool = true;
+    const OBSTACLE_FORCE_PER_SURFACE: bool = true;
+    const TRAILING_CLIQUE: bool = false;
+    const WIDE_SEPARATORS: bool = true;
     type Point = [f64; 3];
     type Cell = [usize; 4];
     type Section = ();

@@ -28,8 +28,10 @@ use std::f64::consts::PI;
 /// plane strain, plane stress and axisymmetry is `Element<4, 6>`, the linear tetrahedron
 /// `Element<6, 12>`.
 pub trait Element<const S: usize, const N: usize>: Send + Sync {
+    /// The space the element is in (`dim`).
+    type Space: Dim;
     /// DOFs per node (the space's dimension).
-    const DIM: usize;
+    const DIM: usize = <Self::Space as Dim>::N;
     /// The Voigt component (`material::Voigt`) of each row of B.
     const ROWS: [usize; S];
 
@@ -138,7 +140,7 @@ impl Cst {
 }
 
 impl Element<4, 6> for Cst {
-    const DIM: usize = 2;
+    type Space = Planar;
     const ROWS: [usize; 4] = PLANAR;
 
     fn nodes(&self) -> &[usize] {
@@ -201,7 +203,7 @@ impl Tet4 {
 }
 
 impl Element<6, 12> for Tet4 {
-    const DIM: usize = 3;
+    type Space = Spatial;
     const ROWS: [usize; 6] = [0, 1, 2, 3, 4, 5];
 
     fn nodes(&self) -> &[usize] {

@@ -36,6 +36,9 @@ pub struct DofMap {
     pub dof_of_equation: Vec<usize>,
     /// DOFs per node (messages name the node and component).
     pub dim: usize,
+    /// The order's separators are surfaces (`Dim::WIDE_SEPARATORS`): its large dense
+    /// supernodes make a large factorization pay for threads.
+    pub wide_separators: bool,
 }
 
 impl DofMap {
@@ -67,7 +70,7 @@ impl DofMap {
                 dof_of_equation[*i] = d;
             }
         }
-        DofMap { role, n_equations, dof_of_equation, dim: 2 }
+        DofMap { role, n_equations, dof_of_equation, dim: 2, wide_separators: false }
     }
 
     pub fn equation(&self, dof: usize) -> Option<usize> {
@@ -148,7 +151,7 @@ impl DofMap {
         let mut node_is_trailing = vec![false; n_nodes];
         trailing.iter().for_each(|&d| node_is_trailing[d / dim] = true);
         // (Plane and axisymmetric: the trailing nodes joined into a clique, their DOFs all last.)
-        let planar = dim == 2;
+        let clique = <E::Space as Dim>::TRAILING_CLIQUE;
         let dissected = matches!(how, NodeOrder::NestedDissection(_));
         let in_graph =
             |n: usize| node_dofs(n).any(|d| is_equation(d) && !(dissected && is_trailing[d]));
@@ -156,40 +159,22 @@ impl DofMap {
         let mut index = vec![usize::MAX; n_nodes];
         let graph_nodes: Vec<usize> = (0..n_nodes).filter(|&n| in_graph(n)).collect();
         graph_nodes.iter().enumerate().for_each(|(i, &n)| index[n] = i);
-        let mut edges = Vec::new();
-        for el in elements {
-            let ids: Vec<usize> =
-                el.nodes().iter().map(|&n| index[n]).filter(|&i| i != usize::MAX).collect();
-            for (k, &a) in ids.iter().enumerate() {
-                edges.extend(ids[k + 1..].iter().map(|&b| (a, b)));
-            }
-        }
         let ends: Vec<usize> = graph_nodes
             .iter()
-            .filter(|&&n| planar && node_is_trailing[n])
+            .filter(|&&n| clique && node_is_trailing[n])
             .map(|&n| index[n])
             .collect();
-        for (k, &a) in ends.iter().enumerate() {
-            edges.extend(ends[..k].iter().map(|&b| (a, b)));
-        }
-        let graph = NodeGraph::new(graph_nodes.len(), &edges);
-        drop(edges);
-        let order = match how {
-            NodeOrder::MinimumDegree => ordering::minimum_degree(&graph)?,
-            NodeOrder::NestedDissection(points) => {
-                let at: Vec<[f64; 3]> = graph_nodes.iter().map(|&n| points[n]).collect();
-                ordering::nested_dissection(&graph, &at)?
-            }
-        };
+        let order =
+            how.order(&node_graph(elements, &index, graph_nodes.len(), &ends), &graph_nodes)?;
         let leading_dofs = order
             .iter()
             .map(|&i| graph_nodes[i])
-            .filter(|&n| !(planar && node_is_trailing[n]))
+            .filter(|&n| !(clique && node_is_trailing[n]))
             .flat_map(node_dofs)
             .filter(|&d| !is_trailing[d]);
         // (A node left out of the dissection's graph has no equation but its trailing ones.)
         let rest = (0..n_nodes)
-            .filter(|&n| planar && node_is_trailing[n])
+            .filter(|&n| clique && node_is_trailing[n])
             .flat_map(node_dofs)
             .filter(|&d| !is_trailing[d]);
         let mut n_equations = 0;
@@ -201,8 +186,31 @@ impl DofMap {
                 bail!(Internal, "internal: trailing DOF {d} is not an equation");
             }
         }
-        Ok(DofMap { dim, ..DofMap::with_roles(role, n_equations) })
+        let wide_separators = <E::Space as Dim>::WIDE_SEPARATORS;
+        Ok(DofMap { dim, wide_separators, ..DofMap::with_roles(role, n_equations) })
     }
+}
+
+/// The node graph of `elements` over the nodes numbered by `index` (0..m; usize::MAX: left
+/// out), two nodes joined where an element joins them, and the nodes `clique` all joined.
+fn node_graph<E: Element<S, N>, const S: usize, const N: usize>(
+    elements: &[E],
+    index: &[usize],
+    m: usize,
+    clique: &[usize],
+) -> NodeGraph {
+    let mut edges = Vec::new();
+    for el in elements {
+        let ids: Vec<usize> =
+            el.nodes().iter().map(|&n| index[n]).filter(|&i| i != usize::MAX).collect();
+        for (k, &a) in ids.iter().enumerate() {
+            edges.extend(ids[k + 1..].iter().map(|&b| (a, b)));
+        }
+    }
+    for (k, &a) in clique.iter().enumerate() {
+        edges.extend(clique[..k].iter().map(|&b| (a, b)));
+    }
+    NodeGraph::new(m, &edges)
 }
 
 /// How `DofMap::ordered_by` orders the nodes (`ordering`).
@@ -221,6 +229,17 @@ pub enum NodeOrder<'a> {
 const DISSECTION_FROM: usize = 3000;
 
 impl<'a> NodeOrder<'a> {
+    /// The order of `graph`, whose node i is the mesh's node `nodes[i]`.
+    fn order(&self, graph: &NodeGraph, nodes: &[usize]) -> Result<Vec<usize>> {
+        match *self {
+            NodeOrder::MinimumDegree => ordering::minimum_degree(graph),
+            NodeOrder::NestedDissection(points) => {
+                let at: Vec<[f64; 3]> = nodes.iter().map(|&n| points[n]).collect();
+                ordering::nested_dissection(graph, &at)
+            }
+        }
+    }
+
     /// The order for `mesh` (`DISSECTION_FROM`; plane and axisymmetric meshes: minimum degree).
     pub fn of_mesh<D: Dim>(mesh: &'a Mesh<D>) -> Self {
         match D::in_space(&mesh.nodes) {

@@ -28,6 +28,7 @@
 //! | scale factors, S_min, ties, zero-length order, a window's bound | [`selection`] | eqs. 48–57 |
 //! | termination of zero-length runs: the statuses at a fixed load | [`anticycling`], [`rate_problem`] | |
 //! | the rate problem as a mixed LCP, solved by Lemke's method | [`mixed_lcp`] | |
+//! | the friction cone in the rate problem: its sides (±t; space's faceted cone), their rows, the statuses they give back | [`cone_rows`] | eqs. 2–3, 41 |
 //! | equilibrium, contact conditions, limit load | [`checks`] | eqs. 22–24, 1–2 |
 //! | event history, increments, snapshots | [`recording`] | |
 //! | status switches (step 6) | [`switching`] | eqs. 41, 50–55 |
@@ -61,6 +62,7 @@ mod advance;
 mod anticycling;
 mod checks;
 mod clock;
+mod cone_rows;
 mod engine;
 mod loads;
 mod mixed_lcp;

@@ -204,7 +204,7 @@ impl<'m, D: Dim> Problem<'m, D> {
     pub fn slip_ratios(&self, state: &State<D>, p: usize) -> [f64; 2] {
         let pair = &self.pairs[p];
         match state.status[p] {
-            _ if pair.tangents.len() == 1 => [pair.slip_ratio(state.status[p]), 0.0],
+            _ if pair.slips_along_a_line() => [pair.slip_ratio(state.status[p]), 0.0],
             Status::Slip { direction } if direction != 0 => {
                 pair.friction.slip_ratio(state.slip_dir(p), state.at_vertex(p))
             }
@@ -264,7 +264,7 @@ impl<'m, D: Dim> Problem<'m, D> {
     pub fn slip_force(&self, state: &State<D>, p: usize, lambda_t: [f64; 2]) -> [f64; 2] {
         let law = self.pairs[p].friction;
         match state.status[p] {
-            Status::Slip { direction } if self.pairs[p].tangents.len() == 1 => {
+            Status::Slip { direction } if self.pairs[p].slips_along_a_line() => {
                 [-(direction as f64) * law.capacity(state.lambda_n[p]), 0.0]
             }
             Status::Slip { direction } if direction != 0 && state.at_vertex(p) => {
@@ -380,7 +380,8 @@ impl<'m, D: Dim> Problem<'m, D> {
         let elastic: Vec<Tangent> =
             self.sections.iter().map(|s| s.tangent(&Voigt::zeros(), false)).collect();
         let young = self.sections.iter().map(|s| s.material.young).fold(0.0f64, f64::max);
-        let surfaces = if D::N == 3 { self.contact_surface_lengths() } else { vec![] };
+        let surfaces =
+            if D::OBSTACLE_FORCE_PER_SURFACE { self.contact_surface_lengths() } else { vec![] };
         let (mut norm, mut sum) = (0.0f64, 0.0f64);
         for k in 0..self.path.n_stages() {
             let stage = self.stage_load(k);
@@ -410,7 +411,7 @@ impl<'m, D: Dim> Problem<'m, D> {
     /// (t = `Model::depth`) as the 2D histories have always had it: the count there is ℓ/h,
     /// not its square.
     fn motion_forces(&self, stage: &StageLoad, young: f64, surfaces: &[f64]) -> Vec<f64> {
-        if D::N == 2 {
+        if !D::OBSTACLE_FORCE_PER_SURFACE {
             let pairs = 0..self.global_pairs().len();
             return pairs
                 .map(|p| (stage.shift(p, 1.0), stage.shift(p, 0.0)))

@@ -26,31 +26,14 @@
 //! (Klarbring), where Lemke always succeeds; otherwise restarts with other covering vectors
 //! help (`mixed_lcp`). It terminates in every case. The statuses follow from the solution.
 //!
-//! # In space (3D): the round cone faceted for this problem only
+//! # In space (3D): the round cone faceted
 //!
-//! The same problem with Λt = (Λt1, Λt2) and the cone |Λt| ≤ μΛn replaced by a polygon of
-//! `FACETS` sides (Klarbring's / Stewart and Trinkle's faceted cone): side j has the
-//! outward normal d_j in the tangent plane, its condition μΛn − d_jᵀΛt ≥ 0, and its own slip
-//! rate v_j ≥ 0, slip against its normal:
-//!   v + Σ_j v_j d_j = 0 (Λt free),   0 ≤ v_j ⊥ μΛn − d_jᵀΛt ≥ 0
-//! (2D is this with the two sides d = −t, +t). A pair with a force that has slipped since it
-//! closed has its own polygon (`coulomb`), and the problem takes its sides. For the others the
-//! polygon is *circumscribed* about the round cone and turned so that its first side's normal
-//! is the pair's friction force (its held slip direction; t1 at zero force): a pair on the
-//! round cone is on that side exactly, so a slipping pair keeps its direction. A side a force
-//! is not on has present slack and is not reachable at the increment's start (its slip rate is
-//! 0): in space it is no unknown (in the plane it keeps one, its row that slack, as the other
-//! side there always did). Only a pair at zero force sees the polygon's other sides: a square,
-//! 6 unknowns per zero-force pair (an inscribed one would put every pair on the round cone
-//! outside it, infeasible at the start). Its corners over-estimate the round capacity by
-//! 1/cos(π/4) − 1 = 41 %, and its sides are wider than the facet design's band, so a pair the
-//! solution sticks beyond the round cone, or slips with a force across its slip beyond the
-//! band, gets the sides of the polygon laid about its direction and the problem is solved
-//! again (`stuck_beyond_round_cone`, `stray_slips`): only where the solution needs them. With
-//! twelve sides (3.5 % at the corners, 14 unknowns per pair) the pad of issue 37, 258 pairs at
-//! zero gap and force at t = 0, made LCPs of 3354 unknowns (~40 s each on this machine); with
-//! the square, 1290–1587 (2.4–4.2 s), the same statuses after the passes (144 stuck, 62
-//! slipping against 143/63: one pair of the solution's 258 at its cone's edge).
+//! In space the cone |Λt| ≤ μΛn is replaced, for this problem only, by a polygon of sides d_j
+//! with a slip rate v_j ≥ 0 each: v + Σ_j v_j d_j = 0 (Λt free), 0 ≤ v_j ⊥ μΛn − d_jᵀΛt ≥ 0
+//! (the plane's is this with d = −t, +t). Each pair's sides, their rows, and the status and
+//! slip direction they give back are the cone's (`cone_rows`); the passes that lay facets
+//! about stray slips are `solve_rate_problem`'s, and the hand-back to the facet design of
+//! friction (`coulomb`) is `hold_slip_directions`.
 //!
 //! # A working set: the pairs presumed stuck
 //!
@@ -64,26 +47,8 @@
 //! its first LCP 0 unknowns (all 258 presumed), 135 pairs then wrong, the next 675 unknowns,
 //! 15 more, then 750; every LCP of its two rate problems 0.2–0.6 s (1.9–3.1 s with none
 //! presumed), the same contact (a, c, p0) as without.
-//!
-//! The hand-back to the facet design of friction (`coulomb`): the statuses the LCP picks
-//! become the pairs' statuses, and a pair it sets slipping slips on the side it slips on, at the
-//! vertex of two adjacent sides of a polygon, or (a corner of the wider twelve-gon) on the facet
-//! at the direction e = Σ v_j d_j / |Σ v_j d_j| (against its slip), with the facet's cross row
-//! from zero normal force on, its cross force free as on the polygon's side
-//! (`hold_slip_directions`); its turns from there are the facet design's own.
-//! The trial that follows is then the LCP's own conditions, but where a side is wider than
-//! the design's facet: a pair at zero force (its force the rate problem's, from zero) that
-//! slips on a side with a force across it beyond tan θ μΛn would turn its facet at
-//! once, and its neighbours' forces with it (the receding plate at μ = 2: stuck pairs at
-//! 0.75–0.88 of their cone slipped at once, and the last resort left one outside its cone).
-//! So such a slip lays three facets about its e, the sides of the polygon laid at e (2θ apart,
-//! whose corners are its vertices), and the problem is solved again (at most `FACET_PASSES`
-//! times). A pair slipping at a corner of two twelve-gon sides carries more than
-//! μΛn along e there (by at most 1/cos(π/12) − 1) and μ λ_n handed back: its trial's force
-//! differs from the LCP's by that, within what a stuck neighbour's margin absorbs.
-//! A tangent the supports hold (a symmetry plane) is not a coordinate: the pair has the two
-//! sides along its other tangent, as in 2D.
 
+use super::cone_rows::{self, Facet, PairUnknowns};
 use super::engine::Engine;
 use super::loads::StageLoads;
 use super::mixed_lcp::{self, Affine, Unknowns};
@@ -102,29 +67,10 @@ const CRITICAL_GAP: f64 = 1e-8;
 const GAP_ROUND_OFF: f64 = 1e-12;
 /// A slip rate above this × max|kinematic term| is slip, not stick.
 const SLIP_RATE: f64 = 1e-9;
-/// Sides of the polygon about the round Coulomb cone of a pair at zero force in the 3D rate
-/// problem (see the module documentation): a square, refined where the solution needs it.
-pub(super) const FACETS: usize = 4;
 /// Rounds of the working set (`RateProblem::solve`) before it presumes nothing.
 const WORKING_SET_ROUNDS: usize = 4;
 /// Solves of the 3D rate problem, facets laid about stray slips between them.
 const FACET_PASSES: usize = 4;
-/// Two sides' normals are adjacent on a polygon when their dot product is within this of
-/// cos 2θ (round-off of a sine and cosine).
-const SAME_SIDE: f64 = 1e-9;
-/// A force on a facet of the design agrees with it to this (relative): round-off of Lemke's
-/// solution.
-const FACET_AGREEMENT: f64 = 1e-6;
-
-/// One side of a pair's friction cone in its tangential coordinates: the outward normal d of
-/// the facet μΛn − dᵀΛt ≥ 0 (unit), its slip rate along −d; `off`: the present slack of a
-/// facet the pair is not on (None: on it). (In the plane such a side keeps its unknown, whose
-/// row is that slack; in space a polygon's sides the force is not on are no unknowns.)
-#[derive(Clone, PartialEq)]
-struct Facet {
-    dir: Vec<f64>,
-    off: Option<f64>,
-}
 
 /// How a pair enters the rate problem.
 #[derive(Clone, PartialEq)]
@@ -160,6 +106,14 @@ struct Solved {
     touching: Vec<bool>,
     y: Vec<f64>,
     scale: f64,
+}
+
+impl Solved {
+    /// The solved force of the i-th pair of q: Λn, and Λt along its tangential coordinates.
+    fn force(&self, i: usize) -> (f64, Vec<f64>) {
+        let f = &self.forces[i];
+        (f.normal.eval(&self.y), f.tangential.iter().map(|a| a.eval(&self.y)).collect())
+    }
 }
 
 /// The rate problem's answer: every pair's status and, in 3D, where each pair it sets slipping
@@ -202,21 +156,10 @@ pub(super) fn solve_rate_problem<D: Dim>(
         }
         (laid, presumed, compliance) = (rp.laid, Some(rp.presumed), rp.compliance);
         for (p, e) in stray {
-            laid[p].extend(facets_about(e, eng.problem.pairs[p].friction.turn));
+            laid[p].extend(cone_rows::facets_about(e, eng.problem.pairs[p].friction.turn));
         }
     }
     unreachable!("the passes end at FACET_PASSES")
-}
-
-/// The facet normals laid about a slip direction e (along t1, t2): e itself and its neighbours
-/// on the polygon laid at e (`coulomb`, sides 2θ apart), so that the facet at e reaches θ to
-/// either side, the facet design's band, and its corners are the polygon's vertices.
-fn facets_about(e: [f64; 2], turn: f64) -> [[f64; 2]; 3] {
-    let turned = |a: f64| {
-        let (s, c) = a.sin_cos();
-        [c * e[0] - s * e[1], s * e[0] + c * e[1]]
-    };
-    [e, turned(2.0 * turn), turned(-2.0 * turn)]
 }
 
 /// Where the pairs the rate problem set slipping slip, handed back to the facet design of
@@ -319,7 +262,7 @@ impl<D: Dim> RateProblem<'_, D> {
                 let f = &solved.forces[i];
                 let ln = f.normal.eval(&solved.y);
                 let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
-                ln < -tol || norm(&lt) > self.p.pairs[p].friction.capacity(ln) + tol
+                ln < -tol || cone_rows::norm(&lt) > self.p.pairs[p].friction.capacity(ln) + tol
             })
             .map(|(_, &p)| p)
             .collect()
@@ -391,11 +334,8 @@ impl<D: Dim> RateProblem<'_, D> {
             if self.tangents(p).len() == 1 {
                 continue; // one free tangent: its two sides are exact
             }
-            let f = &solved.forces[i];
-            let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
-            let band = self.p.pairs[p].friction.cross_bound(f.normal.eval(&solved.y));
-            let across = e[0] * lt[1] - e[1] * lt[0];
-            if across.abs() > band * (1.0 - FACET_AGREEMENT) + tol {
+            let (ln, lt) = solved.force(i);
+            if cone_rows::beyond_band(&self.p.pairs[p].friction, e, (ln, &lt), tol) {
                 stray.push((p, e));
             }
         }
@@ -421,16 +361,9 @@ impl<D: Dim> RateProblem<'_, D> {
             if self.tangents(p).len() == 1 || sol.status[p] != Status::Stick {
                 continue; // one free tangent: its two sides are exact
             }
-            let f = &solved.forces[i];
-            let lt: Vec<f64> = f.tangential.iter().map(|a| a.eval(&solved.y)).collect();
-            let size = norm(&lt);
-            if size
-                > self.p.pairs[p].friction.capacity(f.normal.eval(&solved.y))
-                    * (1.0 + FACET_AGREEMENT)
-                    + tol
-            {
-                beyond.push((p, [lt[0] / size, lt[1] / size]));
-            }
+            let (ln, lt) = solved.force(i);
+            let law = &self.p.pairs[p].friction;
+            beyond.extend(cone_rows::beyond_round_cone(law, (ln, &lt), tol).map(|d| (p, d)));
         }
         beyond
     }
@@ -514,66 +447,22 @@ impl<D: Dim> RateProblem<'_, D> {
         let polygon = self.p.polygon_of(state, p).filter(|_| closed);
         let margin = match polygon {
             Some(_) => -self.p.friction_excess(state, p),
-            None => self.p.pairs[p].friction.capacity(ln) - norm(&lt),
+            None => self.p.pairs[p].friction.capacity(ln) - cone_rows::norm(&lt),
         };
         match (pair.frictional(), closed) {
             (false, true) => Role::Normal,
             (false, false) => Role::Critical,
             (true, true) if margin > tol => Role::Stick,
             (true, closed) => {
-                // only the sides the force is on can slip at the increment's start (the others'
-                // slip rates are 0: their present slack is positive)
-                let facet = |dir: Vec<f64>| {
-                    let slack = pair.friction.capacity(ln)
-                        - dir.iter().zip(&lt).map(|(d, l)| d * l).sum::<f64>();
-                    Facet { dir, off: (slack > tol).then_some(slack) }
-                };
-                let space = lt.len() == 2;
-                let facets = self
-                    .facet_directions(state, p, &lt, polygon)
-                    .into_iter()
-                    .map(facet)
-                    .filter(|f| !space || f.off.is_none())
-                    .collect();
+                let held = Some(state.slip_dir(p)).filter(|e| {
+                    matches!(state.status[p], Status::Slip { .. }) && e[0].hypot(e[1]) > 0.0
+                });
+                let sides =
+                    cone_rows::directions(&pair.friction, &lt, polygon, held, &self.laid[p], tol);
+                let facets = cone_rows::facets(&pair.friction, (ln, &lt), sides, tol);
                 Role::Friction { closed, facets, polygon: polygon.is_some() }
             }
         }
-    }
-
-    /// The outward normals of pair p's cone facets in its tangential coordinates (friction
-    /// force λt): along one tangent its two sides −t, +t (exact); in the plane the sides of the
-    /// polygon it slips on (`coulomb`), or for a pair on the round cone `FACETS` sides of the
-    /// polygon circumscribed about it, the first along its friction force (or held slip
-    /// direction; t1 at zero force), so that a pair on the cone is on it, and the facets laid
-    /// about its stray slips.
-    fn facet_directions(
-        &self,
-        state: &State<D>,
-        p: usize,
-        lt: &[f64],
-        polygon: Option<([f64; 2], bool)>,
-    ) -> Vec<Vec<f64>> {
-        if lt.len() == 1 {
-            return vec![vec![-1.0], vec![1.0]];
-        }
-        if let Some((e, vertex)) = polygon {
-            return self.p.pairs[p].friction.polygon(e, vertex).map(|d| d.to_vec()).collect();
-        }
-        let laid = self.laid[p].iter().map(|d| d.to_vec());
-        let e = state.slip_dir(p);
-        let tol = CRITICAL_FORCE * self.p.scales.force;
-        let [c, s] = match norm(lt) {
-            size if size > tol => [lt[0] / size, lt[1] / size],
-            _ if matches!(state.status[p], Status::Slip { .. }) && e[0].hypot(e[1]) > 0.0 => e,
-            _ => [1.0, 0.0],
-        };
-        (0..FACETS)
-            .map(|j| {
-                let (sin, cos) = (2.0 * std::f64::consts::PI * j as f64 / FACETS as f64).sin_cos();
-                vec![cos * c - sin * s, sin * c + cos * s]
-            })
-            .chain(laid)
-            .collect()
     }
 
     /// The unknowns of one pair and its forces (Λn, Λt) in terms of them: Λn, then Λt along
@@ -659,9 +548,8 @@ impl<D: Dim> RateProblem<'_, D> {
     }
 
     /// The complementary rows of one pair's unknowns (see the module documentation): g' for Λn;
-    /// for Λt the slip rate v = 0 (stick) or v + Σ v_j d_j = 0 (slip against the facets'
-    /// normals); for each facet's slip rate v_j its facet μΛn − d_jᵀΛt, or its present slack
-    /// when the pair is not on it.
+    /// for Λt the slip rate v = 0 (stick), or on the cone its slip and facets' rows
+    /// (`cone_rows::slip_rows`).
     fn pair_rows(
         &self,
         prob: &mut Unknowns,
@@ -676,29 +564,8 @@ impl<D: Dim> RateProblem<'_, D> {
             Role::Normal | Role::Critical => {}
             Role::Stick => forces.t.iter().zip(v).for_each(|(&t, v)| prob.rows[t] = Some(v)),
             Role::Friction { facets, .. } => {
-                let mu = self.p.pairs[p].friction.mu; // the slack row μ λ_n − e·λ_t
-                for (k, (&t, v)) in forces.t.iter().zip(v).enumerate() {
-                    prob.rows[t] = Some(
-                        facets
-                            .iter()
-                            .zip(&forces.slips)
-                            .fold(v, |row, (f, &s)| row.scaled_add(f.dir[k], &Affine::var(s))),
-                    );
-                }
-                // A facet the pair is not on cannot be reached at the increment's start: its
-                // slip rate is 0 (its row the present slack), whatever the forces would be
-                // after the whole remaining load with the statuses held.
-                for (f, &s) in facets.iter().zip(&forces.slips) {
-                    prob.rows[s] = Some(match f.off {
-                        Some(slack) => Affine::constant(slack),
-                        None => Affine {
-                            coef: std::iter::once((forces.n, mu))
-                                .chain(forces.t.iter().zip(&f.dir).map(|(&t, &d)| (t, -d)))
-                                .collect(),
-                            constant: 0.0,
-                        },
-                    });
-                }
+                let unknowns = PairUnknowns { n: forces.n, t: &forces.t, slips: &forces.slips };
+                cone_rows::slip_rows(prob, self.p.pairs[p].friction.mu, facets, unknowns, v);
             }
         }
     }
@@ -722,76 +589,21 @@ impl<D: Dim> RateProblem<'_, D> {
                 Role::Friction { closed: false, .. } if opens => Status::Open,
                 Role::Friction { facets, polygon, .. } => {
                     let rates: Vec<f64> = f.slips.iter().map(|&s| y[s]).collect();
-                    if rates.iter().fold(0.0f64, |a, &r| a.max(r)) <= SLIP_RATE * scale {
-                        Status::Stick
-                    } else if self.p.pairs[p].tangents.len() == 1 {
-                        // along its one tangent, in the sense of the faster of its two sides
-                        Status::Slip { direction: if rates[0] >= rates[1] { 1 } else { -1 } }
-                    } else {
-                        slip_dir[p] =
-                            Some(self.placement(p, facets, &rates, SLIP_RATE * scale, *polygon));
-                        Status::Slip { direction: 1 }
-                    }
+                    let pair = &self.p.pairs[p];
+                    let (status, placed) = cone_rows::slip_status(
+                        &pair.friction,
+                        pair.slips_along_a_line(),
+                        &self.tangents(p),
+                        (facets, *polygon),
+                        &rates,
+                        SLIP_RATE * scale,
+                    );
+                    slip_dir[p] = placed;
+                    status
                 }
             };
         }
         RateSolution { status, slip_dir }
-    }
-
-    /// 3D: where a pair slipping at the facets' `rates` slips in the facet design (`coulomb`): on
-    /// the one side with a slip rate above `noise`, or at the vertex of two adjacent sides of a
-    /// polygon (its own, `polygon`, or laid about a stray slip: 2θ apart); else (a corner of
-    /// the rate problem's wider polygon) on the facet at its slip direction (`held_direction`).
-    fn placement(
-        &self,
-        p: usize,
-        facets: &[Facet],
-        rates: &[f64],
-        noise: f64,
-        polygon: bool,
-    ) -> ([f64; 2], bool) {
-        if self.tangents(p).len() == 1 {
-            return (self.held_direction(p, facets, rates), false); // along its one free tangent
-        }
-        let slipping: Vec<[f64; 2]> = facets
-            .iter()
-            .zip(rates)
-            .filter(|(_, &r)| r > noise)
-            .map(|(f, _)| [f.dir[0], f.dir[1]])
-            .collect();
-        let adjacent = |a: [f64; 2], b: [f64; 2]| {
-            (a[0] * b[0] + a[1] * b[1] - (2.0 * self.p.pairs[p].friction.turn).cos()).abs()
-                < SAME_SIDE
-        };
-        match slipping[..] {
-            [a] => (a, false),
-            [a, b] if polygon || adjacent(a, b) => {
-                let m = [a[0] + b[0], a[1] + b[1]];
-                let size = m[0].hypot(m[1]);
-                ([m[0] / size, m[1] / size], true)
-            }
-            _ => (self.held_direction(p, facets, rates), false),
-        }
-    }
-
-    /// 3D: the direction e (along t1, t2) of the friction force of a pair slipping at the
-    /// facets' rates: against its slip −Σ v_j d_j, the round cone's maximal dissipation.
-    fn held_direction(&self, p: usize, facets: &[Facet], rates: &[f64]) -> [f64; 2] {
-        let tangents = self.tangents(p);
-        let mut e = [0.0; 2];
-        for (f, &r) in facets.iter().zip(rates) {
-            tangents.iter().zip(&f.dir).for_each(|(&k, &d)| e[k] += r * d);
-        }
-        let size = e[0].hypot(e[1]);
-        e.map(|c| c / size)
-    }
-}
-
-/// The Euclidean norm of a pair's tangential components (|λt| along one).
-fn norm(v: &[f64]) -> f64 {
-    match v {
-        [x] => x.abs(),
-        _ => v.iter().map(|x| x * x).sum::<f64>().sqrt(),
     }
 }
 

@@ -19,6 +19,7 @@ use super::state::{State, TrialIncrement};
 use crate::bail;
 use crate::contact::SparseVec;
 use crate::contact::Status;
+use crate::coulomb::MeanCoulomb;
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::model::{EventKind, EventRecord, StopReason};
@@ -27,7 +28,7 @@ use nalgebra::DMatrix;
 
 /// A singular value of Cᵀ N below this × the largest is a motion no closed pair resists.
 const FREE_MOTION: f64 = 1e-9;
-/// T within this (relative) of μN is not gross sliding: the body is at the limit, not beyond.
+/// T within this (relative) of μ̄N is not gross sliding: the body is at the limit, not beyond.
 const CAPACITY_TIE: f64 = 1e-9;
 /// Unit normals whose dot product is within this of 1 are parallel (pairs on one plane).
 const PARALLEL: f64 = 1e-9;
@@ -61,10 +62,10 @@ pub(super) fn hold<D: Dim>(
 /// rank; else name the body, its free motion and why (a missing support, gross sliding).
 /// `mode_rhs`: the small system's rigid-body rows −Nᵀ r; `closed_normals`: the pairs of its
 /// normal rows.
-/// Returns the idle free motions (3D), over all modes: unresisted, but neither loaded nor
-/// moved by any force of the system (a pressed body turning about the normal while its pairs,
-/// all slipping at zero force, have no direction yet to hold it by): the caller holds them
-/// still (α along them = 0), as nothing drives them.
+/// Returns the idle free motions where slips turn (`Dim::SLIP_TURNS`), over all modes:
+/// unresisted, but neither loaded nor moved by any force of the system (a pressed body turning
+/// about the normal while its pairs, all slipping at zero force, have no direction yet to hold
+/// it by): the caller holds them still (α along them = 0), as nothing drives them.
 pub(super) fn check_restrained<D: Dim>(
     problem: &Problem<D>,
     loads: &StageLoads,
@@ -127,6 +128,17 @@ pub(super) fn friction_stop<D: Dim>(
         })
     });
     stop
+}
+
+/// A body's load against the friction of its closed pairs, for the check of gross sliding
+/// (`Restraint::sliding_load`): T, the tangential load; N, the normal load along their mean
+/// normal; μ̄N, what their friction holds together (`MeanCoulomb`); `under`: which load it is,
+/// in the message's words.
+struct SlidingLoad {
+    tangential: f64,
+    normal: f64,
+    capacity: f64,
+    under: &'static str,
 }
 
 /// A body held by friction alone on one plane (`Restraint::friction_held`): its closed pairs,
@@ -232,13 +244,13 @@ impl<D: Dim> Restraint<'_, D> {
                     self.lifted_or_tipped(&name, state, body, &idx, &free, events),
                     "lower the load, or add a support (fix/symmetry) that holds the body",
                 )
-            } else if let Some(capacity) = self.beyond_capacity(body, state, &idx, &slides[0]) {
+            } else if let Some(load) = self.beyond_capacity(body, state, &idx, &slides[0]) {
                 let push: f64 =
                     idx.iter().zip(&slides[0]).map(|(&k, c)| c * self.loads.mode_force[k][1]).sum();
                 (
                     format!(
                         "{name} slides as a whole {}",
-                        self.sliding(Some(push), &self.describe_motion(&idx, &slides[0]), capacity)
+                        self.sliding(Some(push), &self.describe_motion(&idx, &slides[0]), &load)
                     ),
                     "lower the tangential load, raise mu, or add a support (fix/symmetry)",
                 )
@@ -337,7 +349,7 @@ impl<D: Dim> Restraint<'_, D> {
             if free.is_empty() {
                 continue;
             }
-            if D::N == 3 && free.iter().all(|v| self.is_idle(a, m, mode_rhs, &idx, v)) {
+            if D::SLIP_TURNS && free.iter().all(|v| self.is_idle(a, m, mode_rhs, &idx, v)) {
                 idle.extend(free.iter().map(|v| {
                     let mut all = vec![0.0; mode_rhs.len()];
                     idx.iter().zip(v).for_each(|(&k, c)| all[k] = *c);
@@ -346,34 +358,23 @@ impl<D: Dim> Restraint<'_, D> {
                 continue;
             }
             let words: Vec<String> = free.iter().map(|v| self.describe_motion(&idx, v)).collect();
-            // in the plane a slipping pair's one tangent, held or not; in space the free ones
-            let tangents = |p: usize| {
-                let pair = &self.p.pairs[p];
-                match pair.tangents.as_slice() {
-                    [t] => vec![&t.w],
-                    _ => pair.free_tangents().map(|(_, t)| &t.w).collect(),
-                }
-            };
-            let slip_rows: Vec<Vec<f64>> = self
-                .slipping_pairs_of(body, state)
-                .flat_map(tangents)
-                .map(|w| idx.iter().map(|&k| w.dot(&self.p.bodies.mode_vectors[k])).collect())
-                .collect();
+            let slip_rows = self.slip_rows(state, body, &idx);
             let held_if_stuck = !slip_rows.is_empty()
                 && free_motions(&[rows_n.as_slice(), slip_rows.as_slice()].concat(), idx.len())
                     .is_empty();
             let name = self.p.model.body_name(self.p.bodies.first_element[body]);
             if held_if_stuck {
-                if let Some(capacity) = self.beyond_capacity(body, state, &idx, &free[0]) {
+                if let Some(load) = self.beyond_capacity(body, state, &idx, &free[0]) {
                     // −Nᵀ r along the motion is the out-of-balance force nothing holds.
                     let push: f64 = idx.iter().zip(&free[0]).map(|(&k, c)| -c * mode_rhs[k]).sum();
-                    // 3D: the free motions together (the load in the plane picks its direction)
-                    let (push, motion) = if D::N == 3 && free.len() > 1 {
+                    // where slips turn, the free motions together (the load in the contact
+                    // plane picks the direction)
+                    let (push, motion) = if D::SLIP_TURNS && free.len() > 1 {
                         (None, words.join("; "))
                     } else {
                         (Some(push), words[0].clone())
                     };
-                    bail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} {}: lower the tangential load, raise mu, or add a support", state.load_fraction, self.p.path.stage_names[state.stage], self.sliding(push, &motion, capacity));
+                    bail!(GrossSliding, "{name} slides as a whole at load fraction {:.6} of {} {}: lower the tangential load, raise mu, or add a support", state.load_fraction, self.p.path.stage_names[state.stage], self.sliding(push, &motion, &load));
                 }
                 bail!(FreeBody, "{name} is free to move ({}): its {} closed contact pair(s) slip or are frictionless, so they do not hold it in that direction, and no support does; add a support (fix/symmetry) there", words.join("; "), slip_rows.len());
             }
@@ -385,6 +386,22 @@ impl<D: Dim> Restraint<'_, D> {
             bail!(FreeBody, "{name} is free to move ({}): it has no support in that direction and its {closed} closed contact pair(s) do not hold it; add a support (fix/symmetry) or start a contact closed (gap 0)", words.join("; "));
         }
         Ok(idle)
+    }
+
+    /// The rows w_t·N_k (k in `idx`) of the tangents of the body's slipping pairs: in the plane
+    /// a pair's one tangent, held or not; in space its free ones.
+    fn slip_rows(&self, state: &State<D>, body: usize, idx: &[usize]) -> Vec<Vec<f64>> {
+        let tangents = |p: usize| {
+            let pair = &self.p.pairs[p];
+            match pair.tangents.as_slice() {
+                [t] => vec![&t.w],
+                _ => pair.free_tangents().map(|(_, t)| &t.w).collect(),
+            }
+        };
+        self.slipping_pairs_of(body, state)
+            .flat_map(tangents)
+            .map(|w| idx.iter().map(|&k| w.dot(&self.p.bodies.mode_vectors[k])).collect())
+            .collect()
     }
 
     /// Whether a free motion `v` of the body's modes `idx` is idle: no load along it (−Nᵀ r
@@ -483,47 +500,49 @@ impl<D: Dim> Restraint<'_, D> {
         w
     }
 
-    /// The body's load T along the sliding translation (3D: its part in the contact plane, at the
-    /// fraction checked), N along the mean normal of its closed pairs, and their mean μ; in 2D
-    /// under the stage's end load.
-    fn tangential_and_normal_load(
-        &self,
-        body: usize,
-        state: &State<D>,
-        idx: &[usize],
-        v: &[f64],
-    ) -> (f64, f64, f64) {
+    /// The body's load against the friction of its closed pairs (`SlidingLoad`): where it can
+    /// turn about their normal (`Dim::TURNS_ABOUT_A_NORMAL`: a turn has no translation to read
+    /// T along) its part in the contact plane at the fraction checked, else its part along the
+    /// sliding translation under the stage's end load.
+    fn sliding_load(&self, body: usize, state: &State<D>, idx: &[usize], v: &[f64]) -> SlidingLoad {
         let closed: Vec<usize> = (0..self.p.pairs.len())
             .filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body)
             .collect();
-        let mean = |f: &dyn Fn(&crate::contact::Pair) -> f64| {
-            closed.iter().map(|&p| f(&self.p.global_pairs()[p])).sum::<f64>()
-                / closed.len().max(1) as f64
+        let pairs = self.p.global_pairs();
+        let normal: Vec<f64> = (0..D::N)
+            .map(|k| {
+                closed.iter().map(|&p| pairs[p].normal[k]).sum::<f64>() / closed.len().max(1) as f64
+            })
+            .collect();
+        let friction = MeanCoulomb::of(closed.iter().map(|&p| &pairs[p].friction));
+        let ((tangential, n), under) = if D::TURNS_ABOUT_A_NORMAL {
+            (
+                self.load_in_contact_plane(body, state, &normal),
+                "under the load at that fraction (the stage's, where none is applied yet)",
+            )
+        } else {
+            let force = self.body_load(body);
+            let t = along(&force, &self.translation_of(idx, v)).abs();
+            ((t, along(&force, &normal).abs()), "under the stage's full load")
         };
-        let dim = D::N;
-        let normal: Vec<f64> = (0..dim).map(|k| mean(&|p| p.normal[k])).collect();
-        let mu = mean(&|p| p.friction.mu);
-        if dim == 3 {
-            // the load at the fraction checked (its remaining change where it is zero there,
-            // as before any load: the ratio of T to N is what friction holds or not), resolved
-            // on the contact plane: a turn about the normal has no translation to read T along
-            let now = self.body_load_at(body, state.load_fraction);
-            let force = if norm(&now) > LOAD_ROUND_OFF * self.p.scales.force {
-                now
-            } else {
-                self.body_load(body).iter().zip(&now).map(|(e, s)| e - s).collect()
-            };
-            let n = along(&force, &normal);
-            let unit = normal
-                .iter()
-                .map(|c| c / norm(&normal).max(f64::MIN_POSITIVE))
-                .collect::<Vec<f64>>();
-            let tangential: Vec<f64> = force.iter().zip(&unit).map(|(f, u)| f - n * u).collect();
-            return (norm(&tangential), n.abs(), mu);
-        }
-        let force = self.body_load(body);
-        let load_along = |dir: &[f64]| -> f64 { along(&force, dir) };
-        (load_along(&self.translation_of(idx, v)).abs(), load_along(&normal).abs(), mu)
+        SlidingLoad { tangential, normal: n, capacity: friction.capacity(n), under }
+    }
+
+    /// (T, N) of a body's load on the plane of the mean `normal` of its closed pairs: the load
+    /// at the fraction checked (its remaining change where it is zero there, as before any
+    /// load: the ratio of T to N is what friction holds or not), T its size in the plane.
+    fn load_in_contact_plane(&self, body: usize, state: &State<D>, normal: &[f64]) -> (f64, f64) {
+        let now = self.body_load_at(body, state.load_fraction);
+        let force = if norm(&now) > LOAD_ROUND_OFF * self.p.scales.force {
+            now
+        } else {
+            self.body_load(body).iter().zip(&now).map(|(e, s)| e - s).collect()
+        };
+        let n = along(&force, normal);
+        let unit =
+            normal.iter().map(|c| c / norm(normal).max(f64::MIN_POSITIVE)).collect::<Vec<f64>>();
+        let tangential: Vec<f64> = force.iter().zip(&unit).map(|(f, u)| f - n * u).collect();
+        (norm(&tangential), n.abs())
     }
 
     /// 3D bodies held by nothing but their closed pairs (all six rigid modes free: no support
@@ -537,7 +556,7 @@ impl<D: Dim> Restraint<'_, D> {
     ) -> impl Iterator<Item = FrictionPlane> + 's {
         self.bodies_with_modes()
             .into_iter()
-            .filter(|(_, idx)| D::N == 3 && idx.len() == 6)
+            .filter(|(_, idx)| D::TURNS_ABOUT_A_NORMAL && idx.len() == D::RIGID_MODES)
             .filter_map(move |(body, _)| {
                 let closed: Vec<usize> = (0..self.p.pairs.len())
                     .filter(|&p| state.status[p].is_closed() && self.p.body_of_pair(p) == body)
@@ -630,33 +649,30 @@ impl<D: Dim> Restraint<'_, D> {
         })
     }
 
-    /// (T, N, μ) of `tangential_and_normal_load` when T exceeds the capacity μN: gross sliding.
+    /// The body's `sliding_load` when T exceeds the capacity μ̄N: gross sliding.
     fn beyond_capacity(
         &self,
         body: usize,
         state: &State<D>,
         idx: &[usize],
         v: &[f64],
-    ) -> Option<(f64, f64, f64)> {
-        let (t, n, mu) = self.tangential_and_normal_load(body, state, idx, v);
-        (t > mu * n * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.p.scales.force)
-            .then_some((t, n, mu))
+    ) -> Option<SlidingLoad> {
+        let load = self.sliding_load(body, state, idx, v);
+        let t = load.tangential;
+        (t > load.capacity * (1.0 + CAPACITY_TIE) && t > LOAD_ROUND_OFF * self.p.scales.force)
+            .then_some(load)
     }
 
     /// "(±motion): …" of gross sliding, the sense that of `push`, the load along the motion
     /// (None: motions named together, no sense).
-    fn sliding(&self, push: Option<f64>, words: &str, (t, n, mu): (f64, f64, f64)) -> String {
+    fn sliding(&self, push: Option<f64>, words: &str, load: &SlidingLoad) -> String {
         let sense = match push {
             Some(p) if p >= 0.0 => "+",
             Some(_) => "−",
             None => "",
         };
-        let load = if D::N == 3 {
-            "under the load at that fraction (the stage's, where none is applied yet)"
-        } else {
-            "under the stage's full load"
-        };
-        format!("({sense}{words}): its closed pairs all slip; {load} the tangential load T = {t:.4e} exceeds the friction capacity μN = {:.4e} (N = {n:.4e} along the contact normal)", mu * n)
+        let SlidingLoad { tangential: t, normal: n, capacity, under } = load;
+        format!("({sense}{words}): its closed pairs all slip; {under} the tangential load T = {t:.4e} exceeds the friction capacity μN = {capacity:.4e} (N = {n:.4e} along the contact normal)")
     }
 
     /// The translation part (x, y[, z]) of a combination `v` of the body's modes `idx`.

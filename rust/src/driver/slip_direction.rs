@@ -35,7 +35,7 @@ pub(super) fn direct_new_slips<D: Dim>(
     inc: &TrialIncrement,
 ) -> (bool, f64) {
     let problem = &eng.problem;
-    if state.space().is_none() {
+    if !D::SLIP_TURNS {
         return (false, 0.0); // a slip along a line has its direction from its sense
     }
     let before = jumps_kept(eng, state).then(|| contact_forces(state));

@@ -47,7 +47,7 @@ pub(super) fn direct_unloaded_slips<D: Dim>(
     correction: &mut Correction,
 ) -> Result<bool> {
     let problem = &eng.problem;
-    if state.space().is_none() {
+    if !D::SLIP_TURNS {
         return Ok(false); // a slip along a line has no direction to turn
     }
     let cos_limit = problem.model.options.slip_turn.cos();

@@ -179,7 +179,7 @@ pub(super) fn switch<D: Dim>(problem: &Problem<D>, state: &mut State<D>, c: &Can
         EventKind::StickToSlip => {
             state.status[p] = Status::Slip { direction: c.direction };
             let now = state.lambda_t_of(p);
-            if state.space().is_some() {
+            if D::SLIP_TURNS {
                 let (e, vertex) = onset_facet(problem, state, p, now, c.toward);
                 state.set_facet(p, e, vertex);
             }

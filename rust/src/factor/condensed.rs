@@ -387,6 +387,7 @@ fn sub_map(map: &DofMap, eqs: &[usize]) -> DofMap {
         n_equations: eqs.len(),
         dof_of_equation: eqs.iter().map(|&e| map.dof_of_equation[e]).collect(),
         dim: map.dim,
+        wide_separators: map.wide_separators,
     }
 }
 

@@ -28,10 +28,12 @@ const PAR: Par = Par::Seq;
 /// 1.87e12 flops, 48.3 s → 31.9 s.
 const PARALLEL_FACTORIZATION_FLOPS: f64 = 1e11;
 
-/// The threads of the numeric factorization: all of the pool's for a mesh in space whose
-/// factorization costs at least `PARALLEL_FACTORIZATION_FLOPS`, else one.
+/// The threads of the numeric factorization: all of the pool's for an order with wide
+/// separators (a mesh in space, `DofMap::wide_separators`) whose factorization costs at least
+/// `PARALLEL_FACTORIZATION_FLOPS`, else one.
 fn factorization_par(symbolic: &SymbolicCholesky<usize>, map: &DofMap) -> Par {
-    if map.dim == 3 && work_of(symbolic).factorization_flops >= PARALLEL_FACTORIZATION_FLOPS {
+    if map.wide_separators && work_of(symbolic).factorization_flops >= PARALLEL_FACTORIZATION_FLOPS
+    {
         Par::rayon(0)
     } else {
         PAR
